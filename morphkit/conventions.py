@@ -1,0 +1,68 @@
+"""Coordinate conventions of morphkit, stated once. Every module points here.
+
+Pixels and images
+-----------------
+* An image is a numpy array of shape ``(H, W)`` or ``(H, W, C)``; rows first.
+* A pixel position is ``(x, y)``: ``x`` grows to the right (column), ``y`` grows
+  downwards (row). **The origin is the centre of the top-left pixel**: the pixel
+  ``img[r, c]`` is centred at ``(x, y) = (c, r)`` and the image covers
+  ``[-0.5, W - 0.5] x [-0.5, H - 0.5]``. This is the convention of
+  ``cv2.remap``, ``cv2.warpAffine`` and ``cv2.warpPerspective``.
+* Point arrays are ``(N, 2)`` in ``(x, y)`` order (``(N, 3)`` for 3-D points).
+* Output sizes in morphkit's API are array shapes ``(H, W)`` and are named
+  ``shape``/``out_shape``. The ``(w, h)`` order appears only at cv2 calls.
+
+Matrices and frames (pytransform3d style)
+-----------------------------------------
+* ``a2b`` is a 4x4 homogeneous transform that maps a point given in frame ``a``
+  to frame ``b``: ``p_b = a2b @ p_a``. ``b2a = inv(a2b)``.
+* ``H_dst_src`` is a 3x3 homography that maps pixel positions of image ``src``
+  to pixel positions of image ``dst``; ``A_dst_src`` (2x3) is the affine case.
+  Warping *with* ``H_dst_src`` fills ``dst`` by sampling ``src`` at
+  ``H_dst_src^-1 (x, y, 1)``.
+* World frame: right-handed, ``+z`` up; the ground plane is ``z = 0``.
+
+Camera frames
+-------------
+* **OpenCV camera frame** (``cam``/``cv``; morphkit's own): ``x`` right,
+  ``y`` down, ``z`` forward (the viewing direction). Intrinsics ``K`` map
+  ``(X/Z, Y/Z, 1)`` to pixel ``(x, y, 1)`` in the pixel-centre convention above.
+  **Depth** means ``Z`` in this frame: distance along the viewing axis, in
+  scene units, positive in front of the camera.
+* **OpenGL camera frame** (``gl``; pyrender's): ``x`` right, ``y`` up, ``z``
+  backward (the camera looks along ``-z``). A pyrender node pose is a
+  ``cam_gl2world`` transform.
+* The one conversion between them is :data:`CV_FROM_GL` (a 180 degree rotation
+  about ``x``, its own inverse): ``cam_cv2world = cam_gl2world @ CV_FROM_GL``
+  and ``world2cam_cv = CV_FROM_GL @ world2cam_gl``. Use :func:`gl_pose_from_cv`
+  and :func:`cv_pose_from_gl`; do not flip axes anywhere else.
+
+Depth images
+------------
+* Depth images are float32 ``(H, W)`` of linear depth (``Z`` above).
+  Pixels where no surface was hit hold :data:`BACKGROUND_DEPTH` (``+inf``): a
+  comparison ``receiver_depth > map_depth`` is then false, i.e. unshadowed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "gl_pose_from_cv", "cv_pose_from_gl"]
+
+#: 4x4 change of camera frame OpenGL -> OpenCV (equal to its inverse).
+CV_FROM_GL: np.ndarray = np.diag([1.0, -1.0, -1.0, 1.0])
+CV_FROM_GL.setflags(write=False)
+
+#: Value of depth-image pixels where no surface was hit.
+BACKGROUND_DEPTH: float = float("inf")
+
+
+def gl_pose_from_cv(cam_cv2world: np.ndarray) -> np.ndarray:
+    """Return ``cam_gl2world`` (a pyrender node pose) from ``cam_cv2world``."""
+    return np.asarray(cam_cv2world, dtype=np.float64) @ CV_FROM_GL
+
+
+def cv_pose_from_gl(cam_gl2world: np.ndarray) -> np.ndarray:
+    """Return ``cam_cv2world`` from a pyrender node pose ``cam_gl2world``."""
+    return np.asarray(cam_gl2world, dtype=np.float64) @ CV_FROM_GL

@@ -1,0 +1,75 @@
+"""The morphkit exception hierarchy: every error morphkit raises on purpose.
+
+Each message says what was expected and what was got; build messages with
+:func:`expected_got` so they read the same everywhere.
+
+Hierarchy::
+
+    MorphkitError
+    ├── ValidationError (also ValueError)    bad argument: shape, dtype, value, NaN
+    │   ├── MeshError                         unreadable, unknown or empty mesh
+    │   └── OutOfRangeError                   a position outside a baked range
+    ├── GeometryError                         degenerate geometry (refused, not repaired)
+    │   ├── FoldOverError                     a warp triangle flips or collapses
+    │   └── DegenerateViewError               camera inside object, epipole in image, ...
+    ├── RenderError                           the GL boundary failed
+    └── FileFormatError                       a saved file is corrupt, truncated or foreign
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "MorphkitError",
+    "ValidationError",
+    "MeshError",
+    "OutOfRangeError",
+    "GeometryError",
+    "FoldOverError",
+    "DegenerateViewError",
+    "RenderError",
+    "FileFormatError",
+    "expected_got",
+]
+
+
+class MorphkitError(Exception):
+    """Base class of every error morphkit raises on purpose."""
+
+
+class ValidationError(MorphkitError, ValueError):
+    """An argument has the wrong type, shape, dtype or value."""
+
+
+class MeshError(ValidationError):
+    """A mesh could not be found, read, or is empty/degenerate."""
+
+
+class OutOfRangeError(ValidationError):
+    """A position lies outside the range a precomputation covers."""
+
+
+class GeometryError(MorphkitError):
+    """The geometry is degenerate for the requested operation."""
+
+
+class FoldOverError(GeometryError):
+    """A destination triangle of a mesh warp flips orientation or has ~zero area."""
+
+
+class DegenerateViewError(GeometryError):
+    """A camera/light configuration cannot produce a meaningful image."""
+
+
+class RenderError(MorphkitError):
+    """The rendering boundary (pyrender/OpenGL) failed."""
+
+
+class FileFormatError(MorphkitError):
+    """A morphkit file is truncated, corrupt, of another version or for another setup."""
+
+
+def expected_got(what: str, expected: Any, got: Any) -> str:
+    """Format the standard message: ``"<what>: expected <expected>, got <got>"``."""
+    return f"{what}: expected {expected}, got {got}"

@@ -1,0 +1,132 @@
+"""Validators: convert and return their input, or raise a morphkit error that
+names what was expected and what was got. See :mod:`morphkit.conventions`."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from . import tol
+from .errors import ValidationError, expected_got
+
+__all__ = [
+    "as_points",
+    "as_image",
+    "as_finite_array",
+    "as_shape",
+    "as_pose",
+    "as_positive",
+    "as_unit_interval",
+]
+
+
+def _describe(a: Any) -> str:
+    if isinstance(a, np.ndarray):
+        return f"array of shape {a.shape} and dtype {a.dtype}"
+    return f"{type(a).__name__} {a!r}"[:120]
+
+
+def as_finite_array(
+    a: Any, name: str, *, shape: Sequence[int | None] | None = None, dtype: Any = np.float64
+) -> np.ndarray:
+    """Return ``a`` as a finite array of ``dtype``; ``None`` in ``shape`` matches any size."""
+    try:
+        arr = np.asarray(a, dtype=dtype)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got(name, "a numeric array", _describe(a))) from exc
+    if shape is not None:
+        ok = arr.ndim == len(shape) and all(
+            s is None or s == n for s, n in zip(shape, arr.shape, strict=False)
+        )
+        if not ok:
+            want = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ")"
+            raise ValidationError(expected_got(name, f"shape {want}", f"shape {arr.shape}"))
+    if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        raise ValidationError(expected_got(name, "finite values", f"{bad} NaN/inf entries"))
+    return arr
+
+
+def as_points(a: Any, name: str, *, dim: int = 2, min_count: int = 0) -> np.ndarray:
+    """Return ``a`` as a finite float64 ``(N, dim)`` array with ``N >= min_count``."""
+    arr = as_finite_array(a, name, shape=(None, dim))
+    if arr.shape[0] < min_count:
+        raise ValidationError(
+            expected_got(name, f"at least {min_count} points", f"{arr.shape[0]}")
+        )
+    return arr
+
+
+def as_image(
+    img: Any, name: str, *, channels: Sequence[int] | None = None, allow_nonfinite: bool = False
+) -> np.ndarray:
+    """Return ``img`` as a non-empty ``(H, W)`` or ``(H, W, C)`` numeric array.
+
+    ``channels`` restricts ``C`` (use 1 for 2-D images). Float images must be
+    finite unless ``allow_nonfinite`` (depth maps hold ``+inf`` background).
+    """
+    if not isinstance(img, np.ndarray):
+        raise ValidationError(expected_got(name, "a numpy array", _describe(img)))
+    if img.ndim not in (2, 3) or img.size == 0 or min(img.shape[:2]) < 1:
+        raise ValidationError(
+            expected_got(name, "a non-empty (H, W) or (H, W, C) image", f"shape {img.shape}")
+        )
+    if img.dtype.kind not in "uif" and img.dtype != np.bool_:
+        raise ValidationError(expected_got(name, "a numeric dtype", f"dtype {img.dtype}"))
+    c = 1 if img.ndim == 2 else img.shape[2]
+    if channels is not None and c not in channels:
+        raise ValidationError(expected_got(name, f"{list(channels)} channels", f"{c}"))
+    if img.dtype.kind == "f" and not allow_nonfinite and not np.all(np.isfinite(img)):
+        raise ValidationError(expected_got(name, "finite pixel values", "NaN/inf pixels"))
+    return img
+
+
+def as_shape(shape: Any, name: str) -> tuple[int, int]:
+    """Return ``shape`` as a positive ``(H, W)`` tuple of ints."""
+    try:
+        h, w = (int(v) for v in shape)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got(name, "an (H, W) pair of ints", repr(shape))) from exc
+    if h < 1 or w < 1:
+        raise ValidationError(expected_got(name, "positive (H, W)", f"({h}, {w})"))
+    return h, w
+
+
+def as_pose(T: Any, name: str) -> np.ndarray:
+    """Return ``T`` as a finite rigid 4x4 float64 transform (rotation + translation)."""
+    arr = as_finite_array(T, name, shape=(4, 4))
+    R = arr[:3, :3]
+    if not np.allclose(arr[3], [0, 0, 0, 1], atol=tol.POSE_ORTHO) or not np.allclose(
+        R.T @ R, np.eye(3), atol=tol.POSE_ORTHO
+    ):
+        raise ValidationError(
+            expected_got(name, "a rigid 4x4 transform (orthonormal rotation, last row 0 0 0 1)",
+                         "a non-rigid matrix")
+        )
+    if np.linalg.det(R) < 0:
+        raise ValidationError(expected_got(name, "a proper rotation (det +1)", "a reflection"))
+    return arr
+
+
+def as_positive(v: Any, name: str) -> float:
+    """Return ``v`` as a finite float > 0."""
+    try:
+        f = float(v)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got(name, "a positive number", repr(v))) from exc
+    if not np.isfinite(f) or f <= 0:
+        raise ValidationError(expected_got(name, "a finite number > 0", repr(v)))
+    return f
+
+
+def as_unit_interval(v: Any, name: str) -> float:
+    """Return ``v`` as a float in ``[0, 1]``."""
+    try:
+        f = float(v)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got(name, "a number in [0, 1]", repr(v))) from exc
+    if not (0.0 <= f <= 1.0):
+        raise ValidationError(expected_got(name, "a number in [0, 1]", repr(v)))
+    return f
