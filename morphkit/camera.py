@@ -1,0 +1,325 @@
+"""Camera and light-view math: poses, intrinsics, projection, unprojection.
+
+Pure numpy; no GL. Frames and pixel conventions are those of
+:mod:`morphkit.conventions` (OpenCV camera frame, pixel-centre origin); the
+OpenGL projection matrices here are the ones pyrender uses, so an image
+rendered through :mod:`morphkit.render` with a :class:`CameraModel` has its
+pixel ``(x, y)`` exactly where :meth:`CameraModel.project` puts it.
+
+A light's view is a :class:`CameraModel` too: orthographic for a directional
+light, perspective for a point/spot light.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from . import tol
+from .conventions import BACKGROUND_DEPTH, CV_FROM_GL
+from .errors import DegenerateViewError, ValidationError, expected_got
+from .validate import as_finite_array, as_pose, as_positive, as_shape
+
+__all__ = ["CameraModel", "look_at", "perspective", "orthographic"]
+
+Projection = Literal["perspective", "orthographic"]
+
+
+def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray | None = None) -> np.ndarray:
+    """Return ``cam_cv2world`` for a camera at ``eye`` looking at ``target``.
+
+    The OpenCV camera frame is used: ``+z`` towards ``target``, ``+y`` (image
+    down) is as close as possible to ``-up``. ``up`` defaults to world ``+z``,
+    or ``+y`` when the view is (anti)parallel to ``+z``.
+
+    Raises
+    ------
+    ValidationError
+        If ``eye`` equals ``target`` or a vector is not finite.
+    """
+    eye = as_finite_array(eye, "eye", shape=(3,))
+    target = as_finite_array(target, "target", shape=(3,))
+    fwd = target - eye
+    n = np.linalg.norm(fwd)
+    if n < tol.MIN_EXTENT:
+        raise ValidationError(expected_got("look_at", "eye != target", f"both at {eye.tolist()}"))
+    fwd = fwd / n
+    if up is None:
+        up = np.array([0.0, 0.0, 1.0])
+        if abs(fwd @ up) > 1 - 1e-6:
+            up = np.array([0.0, 1.0, 0.0])
+    up = as_finite_array(up, "up", shape=(3,))
+    right = np.cross(fwd, up)
+    if np.linalg.norm(right) < 1e-9:
+        raise ValidationError(expected_got("up", "a vector not parallel to the view direction",
+                                           up.tolist()))
+    right /= np.linalg.norm(right)
+    down = np.cross(fwd, right)
+    T = np.eye(4)
+    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = right, down, fwd, eye
+    return T
+
+
+@dataclass(frozen=True)
+class CameraModel:
+    """A pinhole (perspective) or orthographic camera; also a light's view.
+
+    Parameters
+    ----------
+    projection : {"perspective", "orthographic"}
+    shape : (H, W)
+        Image shape in pixels.
+    fx, fy : float
+        Perspective: focal lengths in pixels. Orthographic: pixels per scene
+        unit along ``x`` and ``y``.
+    cx, cy : float
+        Principal point in pixels, pixel-centre convention (the image centre
+        is ``((W - 1) / 2, (H - 1) / 2)``).
+    znear, zfar : float
+        Depth range along the viewing axis, ``0 < znear < zfar`` for both
+        projections (to see closer, move the camera back).
+    cam2world : (4, 4)
+        ``cam_cv2world`` pose (OpenCV camera frame; see conventions).
+
+    Convention
+    ----------
+    Perspective: ``x = fx X / Z + cx``, ``y = fy Y / Z + cy``.
+    Orthographic: ``x = fx X + cx``, ``y = fy Y + cy``.
+    ``(X, Y, Z) = world2cam @ p`` and ``depth = Z``.
+    """
+
+    projection: Projection
+    shape: tuple[int, int]
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    znear: float
+    zfar: float
+    cam2world: np.ndarray = field(repr=False)
+
+    def __post_init__(self) -> None:
+        if self.projection not in ("perspective", "orthographic"):
+            raise ValidationError(expected_got("projection", "'perspective' or 'orthographic'",
+                                               repr(self.projection)))
+        object.__setattr__(self, "shape", as_shape(self.shape, "shape"))
+        for name in ("fx", "fy"):
+            object.__setattr__(self, name, as_positive(getattr(self, name), name))
+        for name in ("cx", "cy"):
+            v = float(getattr(self, name))
+            if not np.isfinite(v):
+                raise ValidationError(expected_got(name, "a finite number", v))
+            object.__setattr__(self, name, v)
+        zn = as_positive(self.znear, "znear")
+        zf = as_positive(self.zfar, "zfar")
+        if not zf > zn * (1 + 1e-9):
+            raise ValidationError(expected_got("zfar", f"> znear ({zn})", zf))
+        object.__setattr__(self, "znear", zn)
+        object.__setattr__(self, "zfar", zf)
+        pose = as_pose(self.cam2world, "cam2world")
+        pose.setflags(write=False)
+        object.__setattr__(self, "cam2world", pose)
+
+    # ------------------------------------------------------------------ frames
+    @property
+    def world2cam(self) -> np.ndarray:
+        """``world2cam`` (OpenCV camera frame)."""
+        return np.linalg.inv(self.cam2world)
+
+    @property
+    def position(self) -> np.ndarray:
+        """Camera centre in world coordinates."""
+        return self.cam2world[:3, 3].copy()
+
+    @property
+    def axis(self) -> np.ndarray:
+        """Unit viewing direction (camera ``+z``) in world coordinates."""
+        return self.cam2world[:3, 2].copy()
+
+    @property
+    def K(self) -> np.ndarray:
+        """3x3 intrinsic matrix (for orthographic: the affine pixel scale)."""
+        return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
+
+    def with_pose(self, cam2world: np.ndarray) -> CameraModel:
+        """The same intrinsics at another pose."""
+        return CameraModel(self.projection, self.shape, self.fx, self.fy, self.cx, self.cy,
+                           self.znear, self.zfar, cam2world)
+
+    # -------------------------------------------------------------- projection
+    def texture_matrix(self) -> np.ndarray:
+        """4x4 projective-texture matrix ``T_pix_world``.
+
+        For a homogeneous world point ``p``, ``q = T @ p`` gives pixel
+        ``x = q[0] / q[3]``, ``y = q[1] / q[3]`` and linear depth ``q[2]``
+        (not divided; for orthographic ``q[3] = 1``). This is the
+        Segal et al. texture matrix with the NDC-to-texture step replaced by
+        morphkit's pixel-centre pixel coordinates and linear depth.
+        """
+        w2c = self.world2cam
+        T = np.zeros((4, 4))
+        if self.projection == "perspective":
+            T[:2] = (self.K @ w2c[:3])[:2]
+            T[2] = w2c[2]
+            T[3] = w2c[2]
+        else:
+            T[:2] = (self.K @ np.vstack([w2c[:2], [0, 0, 0, 1]]))[:2]
+            T[2] = w2c[2]
+            T[3] = [0, 0, 0, 1]
+        return T
+
+    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Project world points ``(N, 3)`` to pixels ``(N, 2)`` and depths ``(N,)``.
+
+
+        Raises
+        ------
+        DegenerateViewError
+            If a perspective projection is asked for a point with ``Z <= 0``.
+        """
+        pts = as_finite_array(points, "points", shape=(None, 3))
+        q = self.texture_matrix() @ np.c_[pts, np.ones(len(pts))].T
+        if self.projection == "perspective" and np.any(q[3] <= 0):
+            n = int(np.count_nonzero(q[3] <= 0))
+            raise DegenerateViewError(expected_got("points", "points in front of the camera (Z > 0)",
+                                                   f"{n} at or behind it"))
+        return (q[:2] / q[3]).T, q[2].copy()
+
+    def pixel_grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """Pixel-centre coordinates ``(x, y)``, each ``(H, W)`` float64."""
+        h, w = self.shape
+        return np.meshgrid(np.arange(w, dtype=np.float64), np.arange(h, dtype=np.float64))
+
+    def unproject(self, depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """World points of a depth image.
+
+        Parameters
+        ----------
+        depth : (H, W) float
+            Linear depth; background pixels hold ``+inf`` (or any non-finite).
+
+        Returns
+        -------
+        points : (H, W, 3) float64
+            World positions; background pixels hold 0 (never NaN).
+        valid : (H, W) bool
+            True where ``depth`` is finite and positive.
+        """
+        depth = np.asarray(depth, dtype=np.float64)
+        if depth.shape != self.shape:
+            raise ValidationError(expected_got("depth", f"shape {self.shape}", f"shape {depth.shape}"))
+        valid = np.isfinite(depth) & (depth > 0)
+        z = np.where(valid, depth, 0.0)
+        x, y = self.pixel_grid()
+        X = (x - self.cx) / self.fx
+        Y = (y - self.cy) / self.fy
+        if self.projection == "perspective":
+            X, Y = X * z, Y * z
+        cam = np.stack([X, Y, z], axis=-1)
+        world = cam @ self.cam2world[:3, :3].T + self.cam2world[:3, 3]
+        world[~valid] = 0.0
+        return world, valid
+
+    def rays(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per-pixel ray origins and unit directions in world, each ``(H, W, 3)``."""
+        x, y = self.pixel_grid()
+        X = (x - self.cx) / self.fx
+        Y = (y - self.cy) / self.fy
+        R, t = self.cam2world[:3, :3], self.cam2world[:3, 3]
+        if self.projection == "perspective":
+            d = np.stack([X, Y, np.ones_like(X)], -1) @ R.T
+            d /= np.linalg.norm(d, axis=-1, keepdims=True)
+            o = np.broadcast_to(t, d.shape).copy()
+        else:
+            o = np.stack([X, Y, np.zeros_like(X)], -1) @ R.T + t
+            d = np.broadcast_to(R[:, 2], o.shape).copy()
+        return o, d
+
+    # ------------------------------------------------------------------- GL side
+    def gl_projection(self) -> np.ndarray:
+        """The 4x4 OpenGL projection matrix pyrender uses for this camera.
+
+        Perspective matches ``pyrender.IntrinsicsCamera(fx, fy, cx + 0.5,
+        cy + 0.5, znear, zfar)`` (pyrender's principal point is measured from the
+        image *edge*); orthographic matches ``pyrender.OrthographicCamera`` with
+        ``xmag = W / (2 fx)``, ``ymag = H / (2 fy)`` and a centred principal point.
+        """
+        h, w = self.shape
+        n, f = self.znear, self.zfar
+        P = np.zeros((4, 4))
+        if self.projection == "perspective":
+            P[0, 0] = 2 * self.fx / w
+            P[1, 1] = 2 * self.fy / h
+            P[0, 2] = 1 - 2 * (self.cx + 0.5) / w
+            P[1, 2] = 2 * (self.cy + 0.5) / h - 1
+            P[2, 2] = (f + n) / (n - f)
+            P[2, 3] = 2 * f * n / (n - f)
+            P[3, 2] = -1
+        else:
+            self._require_centred()
+            P[0, 0] = 2 * self.fx / w
+            P[1, 1] = 2 * self.fy / h
+            P[2, 2] = 2 / (n - f)
+            P[2, 3] = (f + n) / (n - f)
+            P[3, 3] = 1
+        return P
+
+    def _require_centred(self) -> None:
+        h, w = self.shape
+        if abs(self.cx - (w - 1) / 2) > 1e-9 or abs(self.cy - (h - 1) / 2) > 1e-9:
+            raise ValidationError(expected_got(
+                "orthographic principal point", f"the image centre ({(w - 1) / 2}, {(h - 1) / 2})",
+                f"({self.cx}, {self.cy}); shift the camera instead"))
+
+    def linearize_window_depth(self, window: np.ndarray) -> np.ndarray:
+        """Linear depth from OpenGL window depth ``w`` in ``[0, 1]``.
+
+        Perspective: ``Z = 2 n f / (f + n - (2w - 1)(f - n))``.
+        Orthographic: ``Z = n + w (f - n)``. Pixels with ``w >= 1`` (the far
+        plane, i.e. nothing drawn) become :data:`BACKGROUND_DEPTH`.
+        """
+        wd = np.asarray(window, dtype=np.float64)
+        n, f = self.znear, self.zfar
+        if self.projection == "perspective":
+            z = 2 * n * f / (f + n - (2 * wd - 1) * (f - n))
+        else:
+            z = n + wd * (f - n)
+        return np.where(wd >= 1.0, BACKGROUND_DEPTH, z).astype(np.float32)
+
+    def gl_pose(self) -> np.ndarray:
+        """``cam_gl2world``: the pose of this camera as a pyrender node."""
+        return self.cam2world @ CV_FROM_GL
+
+    def assert_outside(self, lo: np.ndarray, hi: np.ndarray, what: str = "object") -> None:
+        """Raise :class:`DegenerateViewError` if the camera centre is inside an AABB."""
+        p = self.position
+        margin = tol.CAMERA_CLEARANCE * float(np.max(hi - lo))
+        if np.all(p > lo - margin) and np.all(p < hi + margin):
+            raise DegenerateViewError(expected_got(
+                "camera position", f"outside the {what}'s bounds {np.round(lo, 4).tolist()}.."
+                f"{np.round(hi, 4).tolist()}", np.round(p, 4).tolist()))
+
+
+def perspective(yfov: float, shape: tuple[int, int], cam2world: np.ndarray, *,
+                znear: float = 0.05, zfar: float = 100.0) -> CameraModel:
+    """A square-pixel pinhole camera with vertical field of view ``yfov`` (radians)
+    and the principal point at the image centre."""
+    h, w = as_shape(shape, "shape")
+    yfov = as_positive(yfov, "yfov")
+    if yfov >= np.pi:
+        raise ValidationError(expected_got("yfov", "an angle in (0, pi) radians", yfov))
+    f = h / (2 * np.tan(yfov / 2))
+    return CameraModel("perspective", (h, w), f, f, (w - 1) / 2, (h - 1) / 2, znear, zfar, cam2world)
+
+
+def orthographic(half_width: float, half_height: float, shape: tuple[int, int],
+                 cam2world: np.ndarray, *, znear: float, zfar: float) -> CameraModel:
+    """An orthographic camera seeing ``[-half_width, half_width] x
+    [-half_height, half_height]`` (scene units) of its image plane."""
+    h, w = as_shape(shape, "shape")
+    hw = as_positive(half_width, "half_width")
+    hh = as_positive(half_height, "half_height")
+    return CameraModel("orthographic", (h, w), w / (2 * hw), h / (2 * hh), (w - 1) / 2, (h - 1) / 2,
+                       znear, zfar, cam2world)

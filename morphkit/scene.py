@@ -1,0 +1,230 @@
+"""A small declarative scene: receiver, one object with a pose, one light, one camera.
+
+Pure data (numpy + trimesh); :mod:`morphkit.render` turns it into GL nodes,
+built once and updated by pose ("model only what a scene needs": moving the
+object changes a node pose, not the scene). Frames follow
+:mod:`morphkit.conventions` (world ``+z`` up, ground plane ``z = 0``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+import numpy as np
+import trimesh
+
+from . import tol
+from .camera import CameraModel
+from .errors import MeshError, ValidationError, expected_got
+from .validate import as_finite_array, as_pose, as_positive
+
+__all__ = [
+    "Receiver",
+    "DirectionalLight",
+    "PointLight",
+    "AreaLight",
+    "Light",
+    "SceneObject",
+    "Scene",
+    "translation",
+]
+
+
+def translation(x: float, y: float, z: float = 0.0) -> np.ndarray:
+    """A 4x4 pure translation."""
+    T = np.eye(4)
+    T[:3, 3] = (x, y, z)
+    return T
+
+
+def _unit(v: np.ndarray, name: str) -> np.ndarray:
+    v = as_finite_array(v, name, shape=(3,))
+    n = float(np.linalg.norm(v))
+    if n < tol.MIN_EXTENT:
+        raise ValidationError(expected_got(name, "a non-zero 3-vector", v.tolist()))
+    return v / n
+
+
+@dataclass(frozen=True)
+class Receiver:
+    """Shadow receivers: a square ground plane ``z = 0`` of half size
+    ``half_size`` centred on the origin, and optionally a wall, the plane
+    ``x = wall_x`` facing ``-x``, of height ``wall_height``.
+
+    Receivers receive shadows; they are not occluders."""
+
+    half_size: float = 2.0
+    wall_x: float | None = None
+    wall_height: float = 2.0
+    color: tuple[float, float, float] = (0.82, 0.80, 0.76)
+
+    def __post_init__(self) -> None:
+        as_positive(self.half_size, "half_size")
+        as_positive(self.wall_height, "wall_height")
+
+    @cached_property
+    def meshes(self) -> tuple[trimesh.Trimesh, ...]:
+        """The receiver surfaces as thin-free triangle meshes (two triangles each)."""
+        h = self.half_size
+        ground = trimesh.Trimesh(
+            vertices=[[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]],
+            faces=[[0, 1, 2], [0, 2, 3]], process=False)
+        out = [ground]
+        if self.wall_x is not None:
+            x, H = float(self.wall_x), self.wall_height
+            wall = trimesh.Trimesh(
+                vertices=[[x, -h, 0], [x, h, 0], [x, h, H], [x, -h, H]],
+                faces=[[0, 2, 1], [0, 3, 2]], process=False)
+            out.append(wall)
+        return tuple(out)
+
+
+@dataclass(frozen=True)
+class DirectionalLight:
+    """A light at infinity. ``direction`` is the direction light travels
+    (from the light towards the scene), normalised on construction."""
+
+    direction: np.ndarray
+    intensity: float = 3.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "direction", _unit(self.direction, "direction"))
+        as_positive(self.intensity, "intensity")
+
+    def to_light(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Unit directions from ``points (N, 3)`` towards the light, and the
+        distance to it (``inf``)."""
+        d = np.broadcast_to(-self.direction, points.shape).copy()
+        return d, np.full(len(points), np.inf)
+
+
+@dataclass(frozen=True)
+class PointLight:
+    """A point light at ``position`` (a spot light when used for a perspective
+    light view)."""
+
+    position: np.ndarray
+    intensity: float = 30.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", as_finite_array(self.position, "position", shape=(3,)))
+        as_positive(self.intensity, "intensity")
+
+    def to_light(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Unit directions from ``points (N, 3)`` towards the light and distances."""
+        v = self.position - points
+        dist = np.linalg.norm(v, axis=1)
+        if np.any(dist < tol.MIN_EXTENT):
+            raise ValidationError(expected_got("points", "points away from the point light",
+                                               "a point at the light position"))
+        return v / dist[:, None], dist
+
+
+@dataclass(frozen=True)
+class AreaLight:
+    """A rectangular area light: ``center + a u + b v`` for ``a, b in [-1, 1]``.
+
+    ``u`` and ``v`` are half-extent vectors (scene units); both must be non-zero
+    and not parallel (a zero-size light is refused: use :class:`PointLight`).
+    """
+
+    center: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    intensity: float = 30.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "center", as_finite_array(self.center, "center", shape=(3,)))
+        u = as_finite_array(self.u, "u", shape=(3,))
+        v = as_finite_array(self.v, "v", shape=(3,))
+        area = float(np.linalg.norm(np.cross(u, v)))
+        if area < tol.MIN_EXTENT:
+            raise ValidationError(expected_got(
+                "area light extent", "non-zero, non-parallel half-extent vectors u, v",
+                f"u={u.tolist()}, v={v.tolist()} (area {4 * area:g})"))
+        object.__setattr__(self, "u", u)
+        object.__setattr__(self, "v", v)
+        as_positive(self.intensity, "intensity")
+
+    def samples(self, n_u: int, n_v: int | None = None,
+                rng: np.random.Generator | None = None) -> np.ndarray:
+        """``n_u * n_v`` sample positions ``(N, 3)``: centres of an ``n_u x n_v``
+        grid of cells, jittered uniformly inside each cell when ``rng`` is given."""
+        n_v = n_u if n_v is None else n_v
+        if int(n_u) < 1 or int(n_v) < 1:
+            raise ValidationError(expected_got("light samples", "n_u, n_v >= 1", (n_u, n_v)))
+        a = (np.arange(n_u) + 0.5) / n_u
+        b = (np.arange(n_v) + 0.5) / n_v
+        A, B = np.meshgrid(a, b, indexing="ij")
+        if rng is not None:
+            A = A + (rng.random(A.shape) - 0.5) / n_u
+            B = B + (rng.random(B.shape) - 0.5) / n_v
+        A, B = 2 * A.ravel() - 1, 2 * B.ravel() - 1
+        return self.center + A[:, None] * self.u + B[:, None] * self.v
+
+    def point_lights(self, n_u: int, n_v: int | None = None,
+                     rng: np.random.Generator | None = None) -> list[PointLight]:
+        """The area light as point lights sharing its intensity equally."""
+        pos = self.samples(n_u, n_v, rng)
+        return [PointLight(p, self.intensity / len(pos)) for p in pos]
+
+
+Light = DirectionalLight | PointLight | AreaLight
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """One occluding object: a mesh and its ``object2world`` pose."""
+
+    mesh: trimesh.Trimesh
+    pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+    color: tuple[float, float, float] = (0.75, 0.35, 0.25)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.mesh, trimesh.Trimesh):
+            raise MeshError(expected_got("mesh", "a trimesh.Trimesh", type(self.mesh).__name__))
+        if len(self.mesh.faces) == 0:
+            raise MeshError(expected_got("mesh", "at least one face", "an empty mesh"))
+        object.__setattr__(self, "pose", as_pose(self.pose, "object pose"))
+
+    def world_bounds(self) -> np.ndarray:
+        """(2, 3) axis-aligned bounds of the posed mesh in world coordinates."""
+        corners = trimesh.bounds.corners(self.mesh.bounds)
+        w = corners @ self.pose[:3, :3].T + self.pose[:3, 3]
+        return np.array([w.min(0), w.max(0)])
+
+    def world_mesh(self) -> trimesh.Trimesh:
+        """A copy of the mesh in world coordinates (for ray casting)."""
+        m = self.mesh.copy()
+        m.apply_transform(self.pose)
+        return m
+
+    def moved(self, pose: np.ndarray) -> SceneObject:
+        """The same object at another pose (the mesh is shared, not copied)."""
+        return replace(self, pose=pose)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Receiver + one object + one light + one camera.
+
+    Raises :class:`~morphkit.errors.DegenerateViewError` when the camera is
+    inside the object's bounds.
+    """
+
+    obj: SceneObject
+    light: Light
+    camera: CameraModel
+    receiver: Receiver = field(default_factory=Receiver)
+    ambient: float = 0.35
+
+    def __post_init__(self) -> None:
+        lo, hi = self.obj.world_bounds()
+        self.camera.assert_outside(lo, hi, "object")
+        if not 0.0 <= float(self.ambient) <= 1.0:
+            raise ValidationError(expected_got("ambient", "a number in [0, 1]", self.ambient))
+
+    def with_object_pose(self, pose: np.ndarray) -> Scene:
+        """The same scene with the object moved."""
+        return replace(self, obj=self.obj.moved(pose))
