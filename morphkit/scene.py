@@ -15,8 +15,8 @@ import numpy as np
 import trimesh
 
 from . import tol
-from .camera import CameraModel
-from .errors import MeshError, ValidationError, expected_got
+from .camera import CameraModel, look_at, orthographic
+from .errors import DegenerateViewError, MeshError, ValidationError, expected_got
 from .validate import as_finite_array, as_pose, as_positive
 
 __all__ = [
@@ -28,6 +28,7 @@ __all__ = [
     "SceneObject",
     "Scene",
     "translation",
+    "light_view",
 ]
 
 
@@ -228,3 +229,66 @@ class Scene:
     def with_object_pose(self, pose: np.ndarray) -> Scene:
         """The same scene with the object moved."""
         return replace(self, obj=self.obj.moved(pose))
+
+
+def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: tuple[int, int], *,
+               margin: float = 0.02) -> CameraModel:
+    """The tightest light-view camera that sees every point of ``points (N, 3)``.
+
+    "Model only what a scene needs": fit the shadow map to the occluder (over its
+    range of motion, if ``points`` covers it), not to the whole scene.
+
+    * Directional light: an orthographic camera looking along ``light.direction``,
+      its window the bounding rectangle of the points across the light (plus
+      ``margin`` of its size on each side), its depth range the points' range.
+    * Point light: a perspective camera at the light, looking at the points'
+      bounding-box centre, principal point and focal lengths fitted so the
+      points' projections fill the image (square pixels are not required).
+
+    Raises
+    ------
+    DegenerateViewError
+        A point light inside (or on the plane of) the points' bounds.
+    """
+    pts = as_finite_array(points, "points", shape=(None, 3))
+    if len(pts) == 0:
+        raise ValidationError(expected_got("points", "at least one point", "none"))
+    h, w = shape
+    lo, hi = pts.min(0), pts.max(0)
+    centre = (lo + hi) / 2
+    radius = max(float(np.linalg.norm(hi - lo)) / 2, tol.MIN_EXTENT)
+    if isinstance(light, DirectionalLight):
+        pose = look_at(centre - light.direction * (2 * radius + 1.0), centre)
+        cam = (pts - pose[:3, 3]) @ pose[:3, :3]
+        xy_lo, xy_hi = cam[:, :2].min(0), cam[:, :2].max(0)
+        half = np.maximum((xy_hi - xy_lo) / 2, tol.MIN_EXTENT) * (1 + 2 * margin)
+        mid = (xy_lo + xy_hi) / 2
+        pose = pose.copy()
+        pose[:3, 3] += pose[:3, :2] @ mid  # shift the window onto the points
+        zlo, zhi = cam[:, 2].min(), cam[:, 2].max()
+        pad = margin * max(zhi - zlo, radius)
+        return orthographic(half[0], half[1], (h, w), pose, znear=max(zlo - pad, 1e-3),
+                            zfar=zhi + pad)
+    if isinstance(light, PointLight):
+        if np.linalg.norm(centre - light.position) < tol.MIN_EXTENT:
+            raise DegenerateViewError(expected_got("point light", "outside the occluder's bounds",
+                                                   f"at its centre {light.position.tolist()}"))
+        pose = look_at(light.position, centre)
+        cam = (pts - pose[:3, 3]) @ pose[:3, :3]
+        if np.any(cam[:, 2] <= tol.MIN_EXTENT):
+            raise DegenerateViewError(expected_got(
+                "point light", "all occluder points in front of the light (a frustum < 180 deg)",
+                f"{int(np.count_nonzero(cam[:, 2] <= tol.MIN_EXTENT))} points beside or behind it"))
+        u, v = cam[:, 0] / cam[:, 2], cam[:, 1] / cam[:, 2]
+        ulo, uhi, vlo, vhi = u.min(), u.max(), v.min(), v.max()
+        du = max(uhi - ulo, 1e-9) * (1 + 2 * margin)
+        dv = max(vhi - vlo, 1e-9) * (1 + 2 * margin)
+        fx, fy = w / du, h / dv
+        cx = (w - 1) / 2 - fx * (ulo + uhi) / 2
+        cy = (h - 1) / 2 - fy * (vlo + vhi) / 2
+        zlo, zhi = cam[:, 2].min(), cam[:, 2].max()
+        pad = margin * (zhi - zlo) + 1e-6
+        return CameraModel("perspective", (h, w), fx, fy, cx, cy, max(zlo - pad, zlo * 0.5),
+                           zhi + pad, pose)
+    raise ValidationError(expected_got("light", "a DirectionalLight or PointLight (sample an "
+                                       "AreaLight first)", type(light).__name__))

@@ -24,3 +24,10 @@ PYRENDER_BACKGROUND = 0.0
 #: Minimum relative distance (fraction of object size) of a camera from an
 #: object's bounding box before the camera is considered inside the object.
 CAMERA_CLEARANCE = 1e-3
+
+#: Ray origins for ray-cast shadows are pushed this far (scene units) towards the
+#: light, so a point lying on the occluder's surface does not hit itself. Embree
+#: intersects in float32: ~1e-7 relative, i.e. 1e-7 units on a unit-size
+#: object; 1e-4 is 1000x that and 1/10000 of the object size (sample meshes
+#: are normalised to size 1), far below a shadow-map texel.
+RAY_OFFSET = 1e-4
