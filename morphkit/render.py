@@ -236,16 +236,20 @@ class Renderer:
         return self._linear_depth(raw, camera)
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light],
-                    *, ambient: float = 0.35) -> tuple[np.ndarray, np.ndarray]:
+                    *, ambient: float = 0.35,
+                    background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                    ) -> tuple[np.ndarray, np.ndarray]:
         """Shaded colour ``(H, W, 3)`` uint8 and linear depth ``(H, W)`` float32.
 
         No shadows are drawn (shadows are morphkit's job); ``ambient`` is the
-        ambient light level (same for R, G, B). Background colour is black.
+        ambient light level (same for R, G, B); ``background`` is the RGB colour
+        in [0, 1] where nothing is drawn.
         """
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         ctx.set_camera(camera)
         ctx.set_lights(lights, ambient)
+        ctx.scene.bg_color = np.array([*background, 0.0])
         color, raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.NONE)
         return np.ascontiguousarray(color[..., :3]), self._linear_depth(raw, camera)
 

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Sourced by scripts/demo.sh and scripts/test.sh: installs what morphkit needs on a
+# fresh Debian/Ubuntu machine, idempotently.
+#   1. the system library libosmesa6 (headless OpenGL) via apt when missing
+#      (as root; otherwise it prints the sudo line to run and stops);
+#   2. a virtual environment in .venv (python3 >= 3.10);
+#   3. the morphkit package into it (editable), with extras given as $1 (e.g. "test").
+set -euo pipefail
+MORPHKIT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$MORPHKIT_ROOT"
+extras="${1:-}"
+
+need_apt=()
+if ! ldconfig -p 2>/dev/null | grep -q 'libOSMesa\.so'; then need_apt+=(libosmesa6); fi
+if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then need_apt+=(python3-venv); fi
+if [ "${#need_apt[@]}" -gt 0 ]; then
+  if [ "$(id -u)" = "0" ]; then
+    echo "morphkit setup: installing ${need_apt[*]} with apt-get"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq "${need_apt[@]}" >/dev/null
+  else
+    echo "morphkit setup: missing system packages: ${need_apt[*]}. Run:" >&2
+    echo "  sudo apt-get update && sudo apt-get install -y ${need_apt[*]}" >&2
+    exit 1
+  fi
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  echo "morphkit setup: creating .venv"
+  python3 -m venv .venv
+fi
+spec="."
+[ -n "$extras" ] && spec=".[${extras}]"
+echo "morphkit setup: installing morphkit${extras:+[$extras]} into .venv"
+.venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
+.venv/bin/python -m pip install -q --disable-pip-version-check -e "$spec"
+export PATH="$MORPHKIT_ROOT/.venv/bin:$PATH"

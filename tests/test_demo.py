@@ -1,0 +1,29 @@
+"""`morphkit demo` and the CLI end to end (small images)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from morphkit.cli import main
+
+
+def test_help_lists_subcommands(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["--help"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out
+    assert "demo" in out and "bench" in out
+
+
+@pytest.mark.gl
+def test_demo_quick_writes_indexed_files(tmp_path, capsys):
+    assert main(["demo", "--quick", "-o", str(tmp_path)]) == 0
+    index = json.loads((tmp_path / "index.json").read_text())
+    names = {f["path"] for f in index["files"]}
+    for mesh in ("teapot", "chair", "cow"):
+        assert f"{mesh}_scene.png" in names and f"{mesh}_light_depth.png" in names
+    for f in index["files"]:
+        assert (tmp_path / f["path"]).stat().st_size > 0
+    assert str(tmp_path) in capsys.readouterr().out

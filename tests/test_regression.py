@@ -1,0 +1,44 @@
+"""Image regression on a demo scene (teapot, 128^2, ray-cast hard shadows)."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+from imgcompare import check_image
+
+pytestmark = pytest.mark.gl
+
+# Tolerance: the frame comes from Mesa's software rasteriser (OSMesa/llvmpipe).
+# Across Mesa versions, edge pixels may fall on the other side of a triangle
+# edge and shading may differ by a rounding step, so we allow a small mean
+# difference (0.5 grey levels) and at most 0.5% of pixels differing by more
+# than 16 levels. A wrong shadow (e.g. offset by one pixel along its ~60 px
+# outline, or missing) changes > 1% of pixels by ~60 levels and fails.
+TOL = {"max_mean_abs": 0.5, "max_bad_fraction": 0.005, "bad_level": 16}
+
+
+@pytest.fixture(scope="module")
+def teapot_frame(renderer):
+    from morphkit.demo import demo_scene, ground_truth_frame
+    from morphkit.meshes import sample_mesh
+
+    return ground_truth_frame(renderer, demo_scene(sample_mesh("teapot"), size=128))
+
+
+def test_demo_teapot_scene_matches_reference(teapot_frame):
+    check_image("demo_teapot_scene_128", cv2.cvtColor(teapot_frame["shaded"], cv2.COLOR_RGB2BGR),
+                **TOL)
+
+
+def test_demo_teapot_visibility_matches_reference(teapot_frame):
+    vis = np.rint(teapot_frame["visibility"] * 255).astype(np.uint8)
+    check_image("demo_teapot_visibility_128", vis, **TOL)
+
+
+def test_shadow_darkens_only_where_visibility_is_zero(teapot_frame):
+    f = teapot_frame
+    shadowed = f["visibility"] == 0
+    assert shadowed.mean() > 0.01  # the teapot casts a visible shadow
+    np.testing.assert_array_equal(f["shaded"][shadowed], f["unlit"][shadowed])
+    np.testing.assert_array_equal(f["shaded"][~shadowed], f["lit"][~shadowed])
