@@ -1,0 +1,348 @@
+"""Tests of morphkit.meshes: sample meshes, normalisation and loading."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from scipy import ndimage
+
+from morphkit import meshes
+from morphkit.errors import MeshError, ValidationError
+from morphkit.meshes import (
+    SAMPLE_MESHES,
+    chair,
+    cow,
+    load_mesh,
+    normalize,
+    sample_mesh,
+    teapot,
+    teapot_face_count,
+)
+
+
+def assert_normalised(m: trimesh.Trimesh) -> None:
+    lo, hi = m.bounds
+    assert np.max(hi - lo) == pytest.approx(1.0, abs=1e-9)
+    assert lo[2] == pytest.approx(0.0, abs=1e-12)
+    assert (lo[0] + hi[0]) / 2 == pytest.approx(0.0, abs=1e-12)
+    assert (lo[1] + hi[1]) / 2 == pytest.approx(0.0, abs=1e-12)
+    assert np.all(np.isfinite(m.vertices))
+
+
+def outward_fraction(m: trimesh.Trimesh, seed: int = 0, n: int = 3000) -> float:
+    """Fraction of first ray hits (rays from outside) whose face normal faces the ray."""
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    origins = m.bounds.mean(axis=0) + 3.0 * d
+    dirs = -d + 0.15 * rng.normal(size=d.shape)
+    dirs /= np.linalg.norm(dirs, axis=1)[:, None]
+    tri = m.ray.intersects_first(origins, dirs)
+    hit = tri >= 0
+    assert hit.sum() > n // 10
+    dots = np.einsum("ij,ij->i", m.face_normals[tri[hit]], dirs[hit])
+    return float(np.mean(dots < 0))
+
+
+def slice_components(m: trimesh.Trimesh, z: float, step: float = 0.004) -> tuple[int, list, float]:
+    """Label the inside of a closed mesh on the plane ``z``: (count, centroids, area)."""
+    xs = np.arange(-0.5, 0.5 + step, step)
+    gx, gy = np.meshgrid(xs, xs, indexing="ij")
+    pts = np.stack([gx.ravel(), gy.ravel(), np.full(gx.size, z)], axis=1)
+    inside = m.contains(pts).reshape(gx.shape)
+    labels, count = ndimage.label(inside)
+    cents = ndimage.center_of_mass(inside, labels, range(1, count + 1))
+    cents = [(xs[0] + cx * step, xs[0] + cy * step) for cx, cy in cents]
+    return count, cents, float(inside.sum() * step * step)
+
+
+# --------------------------------------------------------------------------- teapot
+
+
+def test_teapot_control_data_is_newells_and_symmetric():
+    cp = meshes._teapot_control_points()
+    assert cp.shape == (32, 4, 4, 3)
+    assert np.array(meshes._TEAPOT_VERTICES.split(), float).size == 306 * 3
+    rot = np.array([[0, 1, 0], [-1, 0, 0], [0, 0, 1.0]])  # -90 deg about z
+    # Rim, body and lid: 4 quadrant patches, each the previous rotated by -90 deg.
+    for first in (0, 4, 8, 20, 24):
+        for q in range(4):
+            a, b = first + q, first + (q + 1) % 4
+            np.testing.assert_array_equal(cp[a] @ rot.T, cp[b])
+    # Bottom: the same, turning the other way.
+    for q in range(4):
+        np.testing.assert_array_equal(cp[28 + q] @ rot, cp[28 + (q + 1) % 4])
+    # Handle and spout: the y > 0 patch mirrors the y < 0 one (u reversed).
+    mirror = np.diag([1.0, -1.0, 1.0])
+    for a in (12, 14, 16, 18):
+        np.testing.assert_array_equal(cp[a] @ mirror, cp[a + 1][:, ::-1])
+    # Known extremes of the data: spout tip 3.525, handle -3, lid knob 3.15, bottom 0.
+    v = cp.reshape(-1, 3)
+    np.testing.assert_allclose(v.min(0), [-3.0, -2.0, 0.0])
+    np.testing.assert_allclose(v.max(0), [3.525, 2.0, 3.15])
+
+
+@pytest.mark.parametrize("res, expected", [(4, 992), (6, 2256), (8, 4032), (10, 6320)])
+def test_teapot_face_counts(res, expected):
+    m = teapot(res)
+    assert len(m.faces) == expected == teapot_face_count(res)
+    assert 900 <= len(m.faces) <= 6500
+
+
+def test_teapot_is_clean_and_upright():
+    m = teapot()
+    assert len(m.faces) == 4032
+    assert_normalised(m)
+    assert np.all(m.nondegenerate_faces())
+    assert m.is_winding_consistent
+    # Seams merged: body+rim+bottom, lid, handle and spout are 4 pieces.
+    assert len(m.split(only_watertight=False)) == 4
+    np.testing.assert_allclose(m.extents, [1.0, 0.622, 0.490], atol=0.005)
+    v = m.vertices
+    height = m.extents[2]
+    tip = v[np.argmax(v[:, 0])]  # spout tip: +x, high up
+    assert tip[0] > 0.45 and tip[2] > 0.7 * height
+    back = v[np.argmin(v[:, 0])]  # handle: -x, mid height
+    assert back[0] < -0.45 and 0.3 * height < back[2] < 0.8 * height
+    knob = v[np.argmax(v[:, 2])]  # lid knob on the axis, at the top
+    assert np.hypot(knob[0], knob[1]) < 0.05
+    assert abs(np.mean(v[:, 1])) < 1e-6  # symmetric about the xz plane
+
+
+def test_teapot_normals_point_outwards():
+    m = teapot(6)
+    assert outward_fraction(m) > 0.95
+    flipped = trimesh.Trimesh(m.vertices, m.faces[:, ::-1], process=False)
+    assert outward_fraction(flipped) < 0.05
+
+
+def test_teapot_rejects_bad_resolution():
+    for bad in (1, 65, 2.5, "8", True):
+        with pytest.raises(ValidationError, match="resolution: expected an int in"):
+            teapot(bad)
+
+
+# --------------------------------------------------------------------------- chair
+
+
+def test_chair_counts_and_normalisation():
+    m = chair()
+    assert 1300 <= len(m.faces) <= 1700
+    assert_normalised(m)
+    assert m.is_watertight and m.is_winding_consistent  # closed boxes, concatenated
+    assert m.extents[2] == pytest.approx(1.0)  # standing: the back is the tallest extent
+
+
+def test_chair_stands_on_four_legs():
+    m = chair()
+    count, cents, area = slice_components(m, 0.02)
+    assert count == 4
+    xs = sorted(c[0] for c in cents)
+    assert xs[0] < -0.15 and xs[-1] > 0.15
+
+
+@pytest.mark.parametrize("n", [1, 3, 5])
+def test_chair_back_has_open_gaps_between_slats(n):
+    m = chair(n)
+    lo, hi = m.bounds
+    seat_top = 0.47 / 0.95  # seat top / total height before normalisation
+    rail = 0.87 / 0.95
+    ys = np.linspace(lo[1] + 1e-3, hi[1] - 1e-3, 800)
+    for zf in (0.3, 0.5, 0.7):
+        z = seat_top + zf * (rail - seat_top)
+        origins = np.stack([np.full_like(ys, lo[0] - 1.0), ys, np.full_like(ys, z)], axis=1)
+        dirs = np.tile([1.0, 0.0, 0.0], (len(ys), 1))
+        hit = m.ray.intersects_any(origins, dirs)
+        # post, gap, slat, gap, ..., slat, gap, post: n + 1 runs of misses inside.
+        runs = np.flatnonzero(np.diff(hit.astype(int)) != 0)
+        assert hit[0] and hit[-1]
+        assert len(runs) == 2 * (n + 1)
+        gaps = np.count_nonzero(~hit) * (ys[1] - ys[0])
+        assert gaps > 0.15  # at least 15% of the width lets light through
+    # Control: at seat height and through the top rail nothing gets through.
+    for z in (0.45 / 0.95, 0.91 / 0.95):
+        origins = np.stack([np.full_like(ys, lo[0] - 1.0), ys, np.full_like(ys, z)], axis=1)
+        assert m.ray.intersects_any(origins, np.tile([1.0, 0.0, 0.0], (len(ys), 1))).all()
+
+
+def test_chair_rejects_bad_slats():
+    with pytest.raises(ValidationError, match="slats"):
+        chair(0)
+
+
+# --------------------------------------------------------------------------- cow
+
+
+@pytest.mark.parametrize("faces", [6000, 50_000])
+def test_cow_face_count_and_watertight(faces):
+    m = cow(faces)
+    assert abs(len(m.faces) / faces - 1) < 0.3
+    assert m.is_watertight and m.is_winding_consistent
+    assert m.body_count == 1
+    assert m.volume > 0  # outward normals
+    assert np.all(m.nondegenerate_faces())
+    assert_normalised(m)
+
+
+def test_cow_is_deterministic_and_cached_as_copies():
+    a = cow(6000)
+    a.vertices[:] = 0.0  # must not poison the cache
+    b = cow(6000)
+    meshes.cow.cache_clear()
+    c = cow(6000)
+    assert np.ptp(b.vertices) > 0
+    np.testing.assert_array_equal(b.vertices, c.vertices)
+    np.testing.assert_array_equal(b.faces, c.faces)
+
+
+def test_cow_stands_on_four_legs_facing_plus_x():
+    m = cow(6000)
+    count, cents, area = slice_components(m, 0.03)
+    assert count == 4
+    assert sum(c[0] > 0 for c in cents) == 2 and sum(c[1] > 0 for c in cents) == 2
+    _, _, body_area = slice_components(m, 0.45)
+    assert area < 0.15 * body_area  # legs are thin compared with the body
+    top = m.vertices[np.argmax(m.vertices[:, 2])]
+    assert top[0] > 0.2  # the head (ears) is the highest part, at +x
+    assert m.extents[0] == pytest.approx(1.0)  # long axis is x
+
+
+def test_cow_shape_is_stable_across_resolutions():
+    small, large = cow(6000), cow(50_000)
+    np.testing.assert_allclose(small.extents, large.extents, atol=0.01)
+    assert small.volume == pytest.approx(large.volume, rel=0.03)
+
+
+@pytest.mark.slow
+def test_cow_one_million_faces():
+    meshes.cow.cache_clear()
+    t0 = time.perf_counter()
+    m = cow(1_000_000)
+    assert time.perf_counter() - t0 < 20.0
+    assert abs(len(m.faces) / 1_000_000 - 1) < 0.3
+    assert m.is_watertight
+    meshes.cow.cache_clear()
+
+
+def test_cow_rejects_bad_counts():
+    for bad in (100, 5_000_000, 6000.0):
+        with pytest.raises(ValidationError, match="faces"):
+            cow(bad)
+
+
+# --------------------------------------------------------------------------- normalize
+
+
+def test_normalize_scales_centres_and_grounds():
+    box = trimesh.creation.box(extents=[2.0, 4.0, 1.0])
+    box.apply_translation([5.0, -3.0, 7.0])
+    before = box.vertices.copy()
+    m = normalize(box)
+    assert_normalised(m)
+    np.testing.assert_allclose(m.extents, [0.5, 1.0, 0.25])
+    np.testing.assert_array_equal(box.vertices, before)  # input untouched
+
+
+def test_normalize_rejects_bad_meshes():
+    with pytest.raises(MeshError, match="expected a mesh with at least one face, got 0 faces"):
+        normalize(trimesh.Trimesh())
+    bad = trimesh.creation.box()
+    bad.vertices[0] = np.nan
+    with pytest.raises(MeshError, match="expected finite vertex coordinates"):
+        normalize(bad)
+    flat = trimesh.Trimesh(np.zeros((3, 3)), [[0, 1, 2]], process=False)
+    with pytest.raises(MeshError, match="bounding box larger than"):
+        normalize(flat)
+    with pytest.raises(MeshError, match="expected a trimesh.Trimesh"):
+        normalize("teapot")  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- load_mesh
+
+
+@pytest.mark.parametrize("ext", ["obj", "ply", "stl", "glb"])
+def test_load_mesh_round_trip(tmp_path: Path, ext: str):
+    src = teapot(4)
+    src.apply_scale(3.0)  # load_mesh must normalise again
+    src.apply_translation([1.0, 2.0, 3.0])
+    path = tmp_path / f"teapot.{ext}"
+    src.export(path)
+    m = load_mesh(path)
+    ref = normalize(src)
+    assert len(m.faces) == len(ref.faces)
+    assert len(m.vertices) == len(ref.vertices)  # split vertices (STL) merged again
+    np.testing.assert_allclose(m.bounds, ref.bounds, atol=1e-6)
+    assert_normalised(m)
+    # Same surface: every loaded vertex is a reference vertex.
+    d, _ = trimesh.proximity.ProximityQuery(ref).vertex(m.vertices)
+    assert d.max() < 1e-6
+
+
+def test_load_mesh_concatenates_scenes(tmp_path: Path):
+    scene = trimesh.Scene()
+    scene.add_geometry(trimesh.creation.box(), geom_name="a")
+    scene.add_geometry(
+        trimesh.creation.box(), geom_name="b", transform=trimesh.transformations.translation_matrix([3, 0, 0])
+    )
+    path = tmp_path / "scene.glb"
+    scene.export(path)
+    m = load_mesh(path)
+    assert len(m.faces) == 24
+    np.testing.assert_allclose(m.extents, [1.0, 0.25, 0.25])
+
+
+def test_load_mesh_accepts_str_paths(tmp_path: Path):
+    path = tmp_path / "box.stl"
+    trimesh.creation.box().export(path)
+    assert len(load_mesh(str(path)).faces) == 12
+
+
+@pytest.mark.parametrize(
+    "name, content, match",
+    [
+        ("empty.obj", "", "expected a mesh with at least one face, got 0 faces"),
+        ("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "expected a mesh with at least one face, got 0 faces"),
+        ("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "expected finite vertex coordinates, got 1"),
+        ("inf.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "expected finite vertex coordinates, got 1"),
+        ("bad.unknownext", "v 0 0 0\n", "expected a file trimesh can read, got .*not supported"),
+        ("bad.glb", "definitely not a glb", "expected a file trimesh can read"),
+        ("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n", "trimesh can read"),
+    ],
+)
+def test_load_mesh_bad_files(tmp_path: Path, name: str, content: str, match: str):
+    path = tmp_path / name
+    path.write_text(content)
+    with pytest.raises(MeshError, match=match):
+        load_mesh(path)
+
+
+def test_load_mesh_missing_path(tmp_path: Path):
+    with pytest.raises(MeshError, match=r"expected an existing mesh file, got .*nope\.obj.*file not found"):
+        load_mesh(tmp_path / "nope.obj")
+    with pytest.raises(MeshError, match=r"\(a directory\)"):
+        load_mesh(tmp_path)
+
+
+# --------------------------------------------------------------------------- sample_mesh
+
+
+def test_sample_mesh_names():
+    assert SAMPLE_MESHES == ("teapot", "chair", "cow")
+    for name in SAMPLE_MESHES:
+        assert_normalised(sample_mesh(name))
+    assert len(sample_mesh("teapot", resolution=4).faces) == 992
+    assert len(sample_mesh("chair", slats=5).faces) == len(chair(5).faces)
+
+
+def test_sample_mesh_unknown_name_lists_valid_names():
+    with pytest.raises(ValidationError, match=r"expected one of \['teapot', 'chair', 'cow'\], got 'bunny'"):
+        sample_mesh("bunny")
+
+
+def test_sample_mesh_bad_keyword():
+    with pytest.raises(ValidationError, match="keywords the builder accepts"):
+        sample_mesh("teapot", size=3)
