@@ -31,3 +31,10 @@ CAMERA_CLEARANCE = 1e-3
 #: object; 1e-4 is 1000x that and 1/10000 of the object size (sample meshes
 #: are normalised to size 1), far below a shadow-map texel.
 RAY_OFFSET = 1e-4
+
+#: Outward margin (pixels) by which a warp's destination mesh boundary is pushed
+#: when deciding which output pixel centres it covers, so that centres lying on
+#: the boundary (the last row/column of an identity warp over the whole image)
+#: are covered, as a closed mesh should. Rounding in user coordinates is ~1e-12 px,
+#: far below it; samples at such centres move by < 1e-6 px (invisible).
+MESH_BOUNDARY_PX = 1e-6

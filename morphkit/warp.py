@@ -1,0 +1,670 @@
+"""Piecewise-affine mesh warping: fast, exact at pixel centres, and reusable.
+
+Convention
+----------
+* **Direction.** A warp is given by a *source* mesh ``src_pts`` (in the input
+  image) and a *destination* mesh ``dst_pts`` (in the output image) with the same
+  triangles. Each output pixel ``p`` inside destination triangle ``t`` is filled by
+  sampling the input image at ``A_src_dst[t] @ (x, y, 1)``, the affine map taking
+  the destination triangle onto the source triangle (a *backward* warp, like
+  ``cv2.remap``/``skimage.transform.warp``). Points move *from* ``src_pts`` *to*
+  ``dst_pts``.
+* **Pixels.** ``(x, y)`` order, ``x`` = column, ``y`` = row, origin at the
+  **centre** of the top-left pixel (see :mod:`morphkit.conventions`): the same
+  convention as ``cv2.warpAffine`` and ``skimage.transform.warp``.
+* **Coverage.** Output pixel centres are assigned to triangles exactly, with a
+  top-left fill rule: a pixel centre ``(x, y)`` belongs to the triangle whose
+  row section ``[x_left(y), x_right(y))`` contains ``x`` and whose rows
+  ``[y_min, y_max)`` contain ``y``. Each covered centre belongs to exactly one
+  triangle of a mesh without fold-overs; shared edges give both sides the same,
+  bit-identical crossing. The mesh as a whole is *closed*: for coverage its
+  boundary is pushed outwards by :data:`morphkit.tol.MESH_BOUNDARY_PX`, so
+  centres on the boundary (e.g. the last row and column of an identity warp)
+  are covered. Pixels outside every destination triangle get ``fill`` and
+  ``mask == False``.
+* **Sampling.** ``cv2.remap`` with ``BORDER_CONSTANT``: source positions outside
+  the input image read ``fill`` (linearly blended at the image border). Like
+  ``cv2.warpAffine``, OpenCV quantises sub-pixel positions to 1/32 px for
+  ``"linear"``; the maps themselves are exact (float32).
+* **Non-finite pixels** (e.g. depth maps whose background is ``+inf``) are safe
+  with ``"linear"``: an output pixel whose bilinear footprint touches a non-finite
+  source value (or a non-finite ``fill`` at the image border) takes the
+  ``"nearest"`` value instead, so ``inf * 0`` never produces NaN. ``"nearest"``
+  never mixes values and is the right choice for depth at silhouettes.
+
+Fold-over policy
+----------------
+morphkit refuses degenerate warps rather than repairing them:
+:class:`~morphkit.errors.FoldOverError` (naming the triangle indices) is raised
+when a destination triangle's orientation differs from its source triangle's,
+when its ``|area|`` is below :data:`morphkit.tol.TRIANGLE_AREA_PX2`, or when two
+destination triangles cover the same output pixel centre (a mesh that folds over
+while each triangle keeps its orientation). A source triangle of ~zero area is
+refused the same way when the :class:`MeshWarper` is built. Bad arguments
+(mismatched counts, NaN/inf points, triangle indices out of range, unknown
+interpolation) raise :class:`~morphkit.errors.ValidationError`.
+
+Reuse
+-----
+:class:`MeshWarper` keeps what depends on the source mesh only (validated points,
+triangles, source orientation). :meth:`MeshWarper.maps` turns destination points
+into :class:`WarpMaps` (per-pixel sampling maps of the mesh's bounding box plus
+the coverage mask), which :meth:`WarpMaps.apply` applies to any number of images
+or channels at the cost of one ``cv2.remap`` each.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from functools import lru_cache
+from typing import Any
+
+import cv2
+import numpy as np
+
+from . import tol
+from .errors import FoldOverError, ValidationError, expected_got
+from .validate import as_image, as_points, as_shape
+
+__all__ = ["warp_mesh", "MeshWarper", "WarpMaps", "grid_triangles", "delaunay_triangles", "grid_shape"]
+
+_INTERP = {"linear": cv2.INTER_LINEAR, "nearest": cv2.INTER_NEAREST}
+
+#: Map coordinate given to output pixels outside the mesh: far enough outside any
+#: image that cv2.remap writes the border value exactly (no blending).
+_OUTSIDE = -64.0
+
+#: dtypes cv2.remap handles natively; others are converted (see _to_cv).
+_CV_DTYPES = (np.uint8, np.uint16, np.int16, np.float32, np.float64)
+
+
+# --------------------------------------------------------------------------- topology
+
+
+def grid_triangles(rows: int, cols: int) -> np.ndarray:
+    """Triangles of a regular ``rows x cols`` grid of points in row-major order.
+
+    Point ``(r, c)`` has index ``r * cols + c``. Each cell is split along its
+    top-left to bottom-right diagonal into two triangles, listed cell by cell in
+    row-major order.
+
+    Parameters
+    ----------
+    rows, cols : int
+        Number of point rows and columns, each ``>= 2``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(2 * (rows - 1) * (cols - 1), 3)`` int32 vertex indices.
+    """
+    rows, cols = int(rows), int(cols)
+    if rows < 2 or cols < 2:
+        raise ValidationError(expected_got("grid_triangles rows, cols", ">= 2 each", (rows, cols)))
+    r, c = np.meshgrid(np.arange(rows - 1), np.arange(cols - 1), indexing="ij")
+    a = (r * cols + c).ravel()
+    b, d = a + 1, a + cols
+    e = d + 1
+    tris = np.empty((a.size, 2, 3), dtype=np.int32)
+    tris[:, 0] = np.stack([a, b, e], axis=1)
+    tris[:, 1] = np.stack([a, e, d], axis=1)
+    return tris.reshape(-1, 3)
+
+
+def delaunay_triangles(points: Any) -> np.ndarray:
+    """Delaunay triangulation of ``points`` (``(N, 2)``, ``N >= 3``, not collinear).
+
+    Returns ``(M, 3)`` int32 vertex indices, every triangle with positive signed
+    area in the pixel frame (``x`` right, ``y`` down).
+    """
+    from scipy.spatial import Delaunay, QhullError
+
+    pts = as_points(points, "points", min_count=3)
+    try:
+        tris = Delaunay(pts).simplices.astype(np.int32)
+    except QhullError as exc:
+        raise ValidationError(
+            expected_got("points", "points spanning a 2-D area", "degenerate (e.g. collinear) points")
+        ) from exc
+    neg = _signed_area(pts[tris]) < 0
+    tris[neg] = tris[neg][:, [0, 2, 1]]
+    return tris
+
+
+def grid_shape(points: Any) -> tuple[int, int] | None:
+    """Return ``(rows, cols)`` if ``points`` is a row-major axis-aligned lattice, else None.
+
+    A lattice here has ``rows, cols >= 2``, every row sharing one ``y`` and the
+    same strictly monotonic ``x`` sequence, and rows strictly monotonic in ``y``
+    (the spacing need not be uniform).
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    n = pts.shape[0]
+    if pts.ndim != 2 or pts.shape[1] != 2 or n < 4:
+        return None
+    scale = max(1.0, float(np.max(np.abs(pts))))
+    eps = 1e-9 * scale
+    same_y = np.abs(pts[:, 1] - pts[0, 1]) <= eps
+    cols = int(np.argmin(same_y)) if not same_y.all() else n
+    if cols < 2 or n % cols:
+        return None
+    rows = n // cols
+    if rows < 2:
+        return None
+    g = pts.reshape(rows, cols, 2)
+    if np.max(np.abs(g[:, :, 1] - g[:, :1, 1])) > eps or np.max(np.abs(g[:, :, 0] - g[:1, :, 0])) > eps:
+        return None
+    dx, dy = np.diff(g[0, :, 0]), np.diff(g[:, 0, 1])
+    if not ((dx > eps).all() or (dx < -eps).all()) or not ((dy > eps).all() or (dy < -eps).all()):
+        return None
+    return rows, cols
+
+
+def _signed_area(v: np.ndarray) -> np.ndarray:
+    """Signed areas of triangles ``v`` (M, 3, 2); positive = clockwise on screen."""
+    d1 = v[:, 1] - v[:, 0]
+    d2 = v[:, 2] - v[:, 0]
+    return 0.5 * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+
+
+def _list_indices(idx: np.ndarray, limit: int = 10) -> str:
+    head = ", ".join(str(int(i)) for i in idx[:limit])
+    return f"[{head}{', ...' if idx.size > limit else ''}] ({idx.size} in all)"
+
+
+def _as_triangles(triangles: Any, n_points: int) -> np.ndarray:
+    try:
+        arr = np.asarray(triangles)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got("triangles", "an (M, 3) integer array", repr(triangles))) from exc
+    if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] < 1:
+        raise ValidationError(expected_got("triangles", "shape (M, 3) with M >= 1", f"shape {arr.shape}"))
+    if arr.dtype.kind not in "iu":
+        if arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr)):
+            arr = arr.astype(np.int64)
+        else:
+            raise ValidationError(expected_got("triangles", "integer vertex indices", f"dtype {arr.dtype}"))
+    bad = np.flatnonzero(((arr < 0) | (arr >= n_points)).any(axis=1))
+    if bad.size:
+        raise ValidationError(
+            expected_got("triangles", f"indices in [0, {n_points})",
+                         f"out-of-range indices in triangles {_list_indices(bad)}")
+        )
+    rep = np.flatnonzero((arr[:, 0] == arr[:, 1]) | (arr[:, 1] == arr[:, 2]) | (arr[:, 0] == arr[:, 2]))
+    if rep.size:
+        raise ValidationError(
+            expected_got("triangles", "three distinct vertices each",
+                         f"repeated vertices in triangles {_list_indices(rep)}")
+        )
+    return np.ascontiguousarray(arr, dtype=np.int32)
+
+
+def _default_triangles(src: np.ndarray) -> np.ndarray:
+    shape = grid_shape(src)
+    if shape is not None:
+        return grid_triangles(*shape)
+    return delaunay_triangles(src)
+
+
+# --------------------------------------------------------------------------- images
+
+
+def _interp_flag(interpolation: Any) -> int:
+    if interpolation not in _INTERP:
+        raise ValidationError(expected_got("interpolation", "'linear' or 'nearest'", repr(interpolation)))
+    return _INTERP[interpolation]
+
+
+def _fill_values(fill: Any, channels: int, dtype: np.dtype) -> tuple[float, ...]:
+    try:
+        vals = np.broadcast_to(np.asarray(fill, dtype=np.float64).ravel(), (channels,))
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(
+            expected_got("fill", f"a number or {channels} numbers (one per channel)", repr(fill))
+        ) from exc
+    if dtype.kind != "f" and not np.all(np.isfinite(vals)):
+        raise ValidationError(expected_got("fill", f"finite values for a {dtype} image", repr(fill)))
+    return tuple(float(v) for v in vals)
+
+
+def _to_cv(image: np.ndarray) -> np.ndarray:
+    """Return ``image`` in a dtype cv2.remap accepts (values preserved exactly)."""
+    dt = image.dtype
+    if dt in _CV_DTYPES:
+        return np.ascontiguousarray(image)
+    if dt == np.bool_:
+        return image.astype(np.uint8) * np.uint8(255)
+    if dt == np.int8:
+        return image.astype(np.int16)
+    if dt == np.float16:
+        return image.astype(np.float32)
+    return image.astype(np.float64)  # (u)int32/64: exact below 2**53
+
+
+def _from_cv(out: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    if out.dtype == dtype:
+        return out
+    if dtype == np.bool_:
+        return out > 127
+    if dtype.kind in "iu":
+        info = np.iinfo(dtype)
+        return np.clip(np.rint(out), info.min, info.max).astype(dtype)
+    return out.astype(dtype)
+
+
+def _remap(img: np.ndarray, m: np.ndarray, flag: int, fill: tuple[float, ...]) -> np.ndarray:
+    """cv2.remap with constant border ``fill``; any channel count (cv2 borders take <= 4)."""
+    c = 1 if img.ndim == 2 else img.shape[2]
+    if c <= 4:
+        border = fill + (0.0,) * (4 - c)
+        return cv2.remap(img, m, None, flag, borderMode=cv2.BORDER_CONSTANT, borderValue=border)
+    parts = [
+        _remap(np.ascontiguousarray(img[:, :, k:k + 4]), m, flag, fill[k:k + 4]) for k in range(0, c, 4)
+    ]
+    parts = [p[:, :, None] if p.ndim == 2 else p for p in parts]
+    return np.concatenate(parts, axis=2)
+
+
+# --------------------------------------------------------------------------- maps
+
+
+@lru_cache(maxsize=16)
+def _xx(c0: int, c1: int, h: int) -> np.ndarray:
+    """(h * (c1 - c0), 2) float32: the pixel x coordinate, twice, for each ROI pixel."""
+    x = np.arange(c0, c1, dtype=np.float32)
+    out = np.repeat(np.tile(x, h), 2).reshape(-1, 2)
+    out.setflags(write=False)
+    return out
+
+
+class WarpMaps:
+    """Per-pixel sampling maps of one warp, reusable across images and channels.
+
+    Built by :meth:`MeshWarper.maps`. The maps cover the bounding box of the
+    destination mesh clipped to the output (``roi``); the rest of the output is
+    ``fill``. See the module docstring for the convention.
+
+    Attributes
+    ----------
+    out_shape : tuple[int, int]
+        ``(H, W)`` of the outputs.
+    roi : tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)``: the rows ``r0:r1`` and columns ``c0:c1`` the maps cover.
+    map_xy : numpy.ndarray or None
+        ``(r1 - r0, c1 - c0, 2)`` float32 source ``(x, y)`` for each ROI pixel
+        (a ``cv2.remap`` map; pixels outside the mesh hold a far-outside
+        position). None when the mesh covers no pixel centre.
+    """
+
+    __slots__ = ("out_shape", "roi", "map_xy", "_lens", "_mask")
+
+    def __init__(self, out_shape: tuple[int, int], roi: tuple[int, int, int, int],
+                 map_xy: np.ndarray | None, run_lens: np.ndarray | None) -> None:
+        self.out_shape = out_shape
+        self.roi = roi
+        self.map_xy = map_xy
+        self._lens = run_lens
+        self._mask: np.ndarray | None = None
+
+    @property
+    def mask(self) -> np.ndarray:
+        """``(H, W)`` bool: True where an output pixel centre lies in a destination triangle."""
+        if self._mask is None:
+            m = np.zeros(self.out_shape, dtype=bool)
+            if self.map_xy is not None:
+                r0, r1, c0, c1 = self.roi
+                pattern = np.zeros(self._lens.size, dtype=bool)
+                pattern[1::2] = True
+                m[r0:r1, c0:c1] = np.repeat(pattern, self._lens).reshape(r1 - r0, c1 - c0)
+            m.setflags(write=False)
+            self._mask = m
+        return self._mask
+
+    def apply(self, image: Any, *, interpolation: str = "linear", fill: Any = 0.0) -> np.ndarray:
+        """Warp ``image`` with these maps.
+
+        Parameters
+        ----------
+        image : numpy.ndarray
+            ``(h, w)`` or ``(h, w, C)`` of any numeric or bool dtype; float images
+            may hold NaN/inf (see the module docstring).
+        interpolation : {"linear", "nearest"}
+            Sampling of the source image.
+        fill : float or sequence of float
+            Value of uncovered pixels and of source positions outside ``image``;
+            one number or one per channel.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``out_shape`` (+ ``(C,)``), same dtype as ``image``.
+        """
+        img = as_image(image, "image", allow_nonfinite=True)
+        flag = _interp_flag(interpolation)
+        c = 1 if img.ndim == 2 else img.shape[2]
+        fills = _fill_values(fill, c, img.dtype)
+        src = _to_cv(img)
+        if src.dtype == np.uint8 and img.dtype == np.bool_:
+            fills = tuple(255.0 * (v != 0) for v in fills)
+        h, w = self.out_shape
+        full_shape = (h, w) if img.ndim == 2 else (h, w, c)
+        if self.map_xy is None:
+            out = np.empty(full_shape, dtype=src.dtype)
+            out[...] = fills if c > 1 else fills[0]
+            return _from_cv(out, img.dtype)
+        res = _remap(src, self.map_xy, flag, fills)
+        if res.ndim == 2 and img.ndim == 3:
+            res = res[:, :, None]
+        if flag == cv2.INTER_LINEAR and src.dtype.kind == "f":
+            # inf * 0 -> NaN guard: footprints touching a non-finite value go nearest.
+            bad = ~np.isfinite(res)
+            if bad.any():
+                near = _remap(src, self.map_xy, cv2.INTER_NEAREST, fills)
+                if near.ndim == 2 and img.ndim == 3:
+                    near = near[:, :, None]
+                res = np.where(bad, near, res)
+        r0, r1, c0, c1 = self.roi
+        if (r0, r1, c0, c1) != (0, h, 0, w):
+            out = np.empty(full_shape, dtype=res.dtype)
+            out[...] = fills if c > 1 else fills[0]
+            out[r0:r1, c0:c1] = res
+            res = out
+        return _from_cv(res, img.dtype)
+
+
+class MeshWarper:
+    """A reusable warp plan for a fixed source mesh (points + triangles).
+
+    Parameters
+    ----------
+    src_pts : array_like
+        ``(N, 2)`` source control points ``(x, y)`` in input-image pixels.
+    triangles : array_like, optional
+        ``(M, 3)`` vertex indices. Default: :func:`grid_triangles` when
+        ``src_pts`` is a row-major axis-aligned lattice (:func:`grid_shape`),
+        else :func:`delaunay_triangles` of ``src_pts``.
+
+    Raises
+    ------
+    ValidationError
+        Non-finite or malformed points, bad triangle indices.
+    FoldOverError
+        A source triangle has ``|area| < tol.TRIANGLE_AREA_PX2``.
+
+    Notes
+    -----
+    Per call, :meth:`maps` costs O(M) work for the per-triangle affines and the
+    exact scanline runs, plus O(pixels in the mesh's bounding box) to expand the
+    runs into float32 maps; applying them is one ``cv2.remap``.
+    """
+
+    def __init__(self, src_pts: Any, triangles: Any = None) -> None:
+        self.src_pts = as_points(src_pts, "src_pts", min_count=3)
+        self.src_pts.setflags(write=False)
+        if triangles is None:
+            tris = _default_triangles(self.src_pts)
+        else:
+            tris = _as_triangles(triangles, self.src_pts.shape[0])
+        tris.setflags(write=False)
+        self.triangles = tris
+        self._src_v = self.src_pts[tris]  # (M, 3, 2)
+        area = _signed_area(self._src_v)
+        small = np.flatnonzero(np.abs(area) < tol.TRIANGLE_AREA_PX2)
+        if small.size:
+            raise FoldOverError(
+                expected_got("source triangles", f"|area| >= {tol.TRIANGLE_AREA_PX2} px^2",
+                             f"degenerate triangles {_list_indices(small)}")
+            )
+        self._src_sign = np.sign(area)
+        self._boundary = _boundary_edges(tris, self.n_points)
+
+    @property
+    def n_points(self) -> int:
+        """Number of control points ``N``."""
+        return int(self.src_pts.shape[0])
+
+    def _check_dst(self, dst_pts: Any) -> np.ndarray:
+        dst = as_points(dst_pts, "dst_pts")
+        if dst.shape[0] != self.n_points:
+            raise ValidationError(
+                expected_got("dst_pts", f"{self.n_points} points (as many as src_pts)", f"{dst.shape[0]}")
+            )
+        return dst
+
+    def maps(self, dst_pts: Any, out_shape: Sequence[int]) -> WarpMaps:
+        """Compute the sampling maps (and coverage) for destination points ``dst_pts``.
+
+        Parameters
+        ----------
+        dst_pts : array_like
+            ``(N, 2)`` destination control points ``(x, y)`` in output pixels.
+        out_shape : (int, int)
+            ``(H, W)`` of the output.
+
+        Returns
+        -------
+        WarpMaps
+
+        Raises
+        ------
+        ValidationError
+            Wrong point count, NaN/inf points, bad ``out_shape``.
+        FoldOverError
+            Flipped or ~zero-area destination triangles, or overlapping ones.
+        """
+        dst = self._check_dst(dst_pts)
+        shape = as_shape(out_shape, "out_shape")
+        return _build_maps(dst, self.triangles, self._src_v, self._src_sign, self._boundary, shape)
+
+    def __call__(self, image: Any, dst_pts: Any, out_shape: Sequence[int], *,
+                 interpolation: str = "linear", fill: Any = 0.0,
+                 return_mask: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+        """Warp ``image`` onto the destination mesh ``dst_pts``; see :func:`warp_mesh`."""
+        _interp_flag(interpolation)
+        wm = self.maps(dst_pts, out_shape)
+        out = wm.apply(image, interpolation=interpolation, fill=fill)
+        return (out, wm.mask) if return_mask else out
+
+
+def _boundary_edges(tris: np.ndarray, n_points: int) -> np.ndarray:
+    """``(B, 3)`` int: ``(a, b, c)`` for each mesh-boundary edge ``ab`` of triangle ``abc``."""
+    a = tris.ravel()
+    b = tris[:, [1, 2, 0]].ravel()
+    c = tris[:, [2, 0, 1]].ravel()
+    key = np.minimum(a, b).astype(np.int64) * n_points + np.maximum(a, b)
+    _, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    per_edge = counts[inverse]
+    if per_edge.max() > 2:
+        raise ValidationError(
+            expected_got("triangles", "a manifold mesh (each edge in at most 2 triangles)",
+                         f"an edge shared by {int(per_edge.max())} triangles")
+        )
+    once = per_edge == 1
+    return np.stack([a[once], b[once], c[once]], axis=1)
+
+
+def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
+    """``dst`` with boundary vertices pushed outwards by ``tol.MESH_BOUNDARY_PX`` (closed coverage)."""
+    if boundary.size == 0:
+        return dst
+    pa, pb, pc = dst[boundary[:, 0]], dst[boundary[:, 1]], dst[boundary[:, 2]]
+    e = pb - pa
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1)
+    n /= np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-300)[:, None]
+    inward = np.einsum("ij,ij->i", n, pc - pa) > 0
+    n[inward] *= -1.0
+    off = np.zeros_like(dst)
+    np.add.at(off, boundary[:, 0], n)
+    np.add.at(off, boundary[:, 1], n)
+    return dst + tol.MESH_BOUNDARY_PX * off
+
+
+def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+                boundary: np.ndarray, shape: tuple[int, int]) -> WarpMaps:
+    H, W = shape
+    dv = dst[tris]  # (M, 3, 2)
+    d1 = dv[:, 1] - dv[:, 0]
+    d2 = dv[:, 2] - dv[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]  # 2 * signed area
+    bad = np.flatnonzero((np.sign(det) != src_sign) | (np.abs(det) < 2.0 * tol.TRIANGLE_AREA_PX2))
+    if bad.size:
+        raise FoldOverError(
+            "destination triangles fold over (orientation flipped relative to the source, or "
+            f"|area| < {tol.TRIANGLE_AREA_PX2} px^2): triangles {_list_indices(bad)}"
+        )
+
+    # Coverage geometry: the mesh closed at its boundary (pushed out by a hair).
+    cov = _expand_boundary(dst, boundary)
+    # ROI: bounding box of the pixel centres the mesh can cover (top-left rule).
+    lo = cov.min(axis=0)
+    hi = cov.max(axis=0)
+    r0 = int(min(max(np.ceil(lo[1]), 0), H))
+    r1 = int(min(max(np.ceil(hi[1]), 0), H))
+    c0 = int(min(max(np.ceil(lo[0]), 0), W))
+    c1 = int(min(max(np.ceil(hi[0]), 0), W))
+    roi = (r0, r1, c0, c1)
+    if r1 <= r0 or c1 <= c0:
+        return WarpMaps(shape, roi, None, None)
+    h, w = r1 - r0, c1 - c0
+
+    # Affine A_src_dst per triangle: src = J (p - d0) + s0, J = S D^-1.
+    sv = src_v
+    s1 = sv[:, 1] - sv[:, 0]
+    s2 = sv[:, 2] - sv[:, 0]
+    inv = 1.0 / det
+    # D^-1 = inv * [[d2y, -d2x], [-d1y, d1x]]
+    i00, i01 = d2[:, 1] * inv, -d2[:, 0] * inv
+    i10, i11 = -d1[:, 1] * inv, d1[:, 0] * inv
+    jxx = s1[:, 0] * i00 + s2[:, 0] * i10
+    jxy = s1[:, 0] * i01 + s2[:, 0] * i11
+    jyx = s1[:, 1] * i00 + s2[:, 1] * i10
+    jyy = s1[:, 1] * i01 + s2[:, 1] * i11
+    cx = sv[:, 0, 0] - jxx * dv[:, 0, 0] - jxy * dv[:, 0, 1]
+    cy = sv[:, 0, 1] - jyx * dv[:, 0, 0] - jyy * dv[:, 0, 1]
+
+    # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
+    cv_ = cov[tris]
+    order = np.argsort(cv_[:, :, 1], axis=1)
+    vs = np.take_along_axis(cv_, order[:, :, None], axis=1)
+    x0, y0 = vs[:, 0, 0], vs[:, 0, 1]
+    x1, y1 = vs[:, 1, 0], vs[:, 1, 1]
+    x2, y2 = vs[:, 2, 0], vs[:, 2, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s02 = (x2 - x0) / (y2 - y0)
+        s01 = (x1 - x0) / (y1 - y0)
+        s12 = (x2 - x1) / (y2 - y1)
+    ry0 = np.clip(np.ceil(y0), r0, r1).astype(np.int64)
+    ry1 = np.clip(np.ceil(y1), r0, r1).astype(np.int64)
+    ry2 = np.clip(np.ceil(y2), r0, r1).astype(np.int64)
+    M = tris.shape[0]
+    # Pieces: 2t = upper (rows [y0, y1), edges v0v2 & v0v1), 2t+1 = lower ([y1, y2), v0v2 & v1v2).
+    # Each edge is evaluated as x_top + (y - y_top) * slope with its top endpoint, so
+    # the two triangles sharing an edge compute bit-identical crossings.
+    par = np.empty((2 * M, 6))
+    par[:, 0] = np.repeat(x0, 2)
+    par[:, 1] = np.repeat(y0, 2)
+    par[:, 2] = np.repeat(s02, 2)
+    par[0::2, 3], par[1::2, 3] = x0, x1
+    par[0::2, 4], par[1::2, 4] = y0, y1
+    par[0::2, 5], par[1::2, 5] = s01, s12
+    ystart = np.empty(2 * M, dtype=np.int64)
+    ystart[0::2], ystart[1::2] = ry0, ry1
+    yend = np.empty(2 * M, dtype=np.int64)
+    yend[0::2], yend[1::2] = ry1, ry2
+    cnt = np.maximum(yend - ystart, 0)
+    n = int(cnt.sum())
+    if n == 0:
+        return WarpMaps(shape, roi, None, None)
+    piece = np.repeat(np.arange(2 * M), cnt)
+    first = np.cumsum(cnt) - cnt
+    yi = np.arange(n, dtype=np.int64) + np.repeat(ystart - first, cnt)
+    yf = yi.astype(np.float64)
+    g = par[piece]
+    xa = g[:, 0] + (yf - g[:, 1]) * g[:, 2]
+    xb = g[:, 3] + (yf - g[:, 4]) * g[:, 5]
+    xl = np.minimum(xa, xb)
+    xr = np.maximum(xa, xb)
+    np.ceil(xl, out=xl)
+    np.ceil(xr, out=xr)
+    np.clip(xl, c0, c1, out=xl)
+    np.clip(xr, c0, c1, out=xr)
+    rowbase = (yi - r0) * w - c0
+    start = rowbase + xl.astype(np.int64)
+    end = rowbase + xr.astype(np.int64)
+    keep = end > start
+    start, end, yi, piece = start[keep], end[keep], yi[keep], piece[keep]
+    if start.size == 0:
+        return WarpMaps(shape, roi, None, None)
+    o = np.argsort(start)
+    start, end, yi, tri = start[o], end[o], yi[o], piece[o] >> 1
+    k = start.size
+    gaps = np.empty(k + 1, dtype=np.int64)
+    gaps[0] = start[0]
+    gaps[1:-1] = start[1:] - end[:-1]
+    gaps[-1] = h * w - end[-1]
+    if gaps.min() < 0:
+        j = int(np.argmin(gaps[1:-1]))
+        pair = np.unique(tri[j:j + 2])
+        raise FoldOverError(
+            "destination triangles overlap (the mesh folds over although each triangle keeps its "
+            f"orientation): triangles {_list_indices(pair)} both cover pixel row {int(yi[j + 1])}"
+        )
+    lens = np.empty(2 * k + 1, dtype=np.int64)
+    lens[0::2] = gaps
+    lens[1::2] = end - start
+    slope = np.zeros((2 * k + 1, 2), dtype=np.float32)
+    off = np.full((2 * k + 1, 2), _OUTSIDE, dtype=np.float32)
+    slope[1::2, 0] = jxx[tri]
+    slope[1::2, 1] = jyx[tri]
+    off[1::2, 0] = jxy[tri] * yi + cx[tri]
+    off[1::2, 1] = jyy[tri] * yi + cy[tri]
+    m = np.repeat(slope, lens, axis=0)
+    np.multiply(m, _xx(c0, c1, h), out=m)
+    m += np.repeat(off, lens, axis=0)
+    return WarpMaps(shape, roi, m.reshape(h, w, 2), lens)
+
+
+def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], *,
+              triangles: Any = None, interpolation: str = "linear", fill: Any = 0.0,
+              return_mask: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """Piecewise-affine warp of ``image`` moving ``src_pts`` onto ``dst_pts``.
+
+    Convention: each destination triangle ``dst_pts[tri]`` is filled by sampling
+    ``image`` at the affinely corresponding point of the source triangle
+    ``src_pts[tri]`` (a backward map, as ``cv2.remap``); points are ``(x, y)``
+    with the origin at the centre of the top-left pixel. Details, fill rule and
+    the fold-over/non-finite policy: see :mod:`morphkit.warp`.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        ``(h, w)`` or ``(h, w, C)``, any numeric or bool dtype (uint8 RGB/RGBA,
+        float32 depth with ``+inf`` background, ...).
+    src_pts, dst_pts : array_like
+        ``(N, 2)`` control points in the input and the output image.
+    out_shape : (int, int)
+        ``(H, W)`` of the output.
+    triangles : array_like, optional
+        ``(M, 3)`` vertex indices; default grid topology for lattice ``src_pts``,
+        else Delaunay of ``src_pts``.
+    interpolation : {"linear", "nearest"}
+    fill : float or sequence of float
+        Value outside the mesh (and for source positions outside ``image``).
+    return_mask : bool
+        Also return the ``(H, W)`` bool mask of pixels covered by the mesh.
+
+    Returns
+    -------
+    numpy.ndarray or (numpy.ndarray, numpy.ndarray)
+        The warped image (``out_shape`` + channels, dtype of ``image``), and the
+        mask when ``return_mask``.
+
+    Raises
+    ------
+    ValidationError
+        Mismatched point counts, NaN/inf points, bad triangles, bad interpolation.
+    FoldOverError
+        Flipped, ~zero-area or overlapping destination triangles.
+    """
+    return MeshWarper(src_pts, triangles)(image, dst_pts, out_shape, interpolation=interpolation,
+                                          fill=fill, return_mask=return_mask)
