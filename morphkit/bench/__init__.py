@@ -1,0 +1,76 @@
+"""``morphkit bench``: benchmark suites, each timed against its baselines in one run.
+
+Registering a suite
+-------------------
+A suite is a callable ``suite(*, quick: bool) -> list[dict]`` (rows from
+:func:`morphkit.bench.harness.make_row`). Add it to :data:`SUITES`, preferably
+lazily so that importing :mod:`morphkit.bench` stays cheap::
+
+    SUITES["shadows"] = lazy_suite("morphkit.bench.shadow_suite", "run")
+
+or call :func:`register_suite` from the suite's own module. A suite module may
+define ``PLOT_OPTIONS`` (keyword arguments of
+:func:`morphkit.bench.harness.write_plots`, e.g. ``error_key``, ``panel_keys``)
+and ``FLOOR_METHOD`` (the method the table's ratio column divides by).
+
+Outputs of :func:`run_suite`: a table on stdout; ``json_path``: the rows as a
+JSON list; ``plot_path``: ``<stem>_time_vs_size.png`` and (when rows carry
+errors) ``<stem>_time_vs_error.png`` next to it.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from .harness import format_table, write_json, write_plots
+
+__all__ = ["SUITES", "run_suite", "register_suite", "lazy_suite"]
+
+Suite = Callable[..., list[dict[str, Any]]]
+
+
+def lazy_suite(module: str, attr: str = "run") -> Suite:
+    """A suite callable that imports ``module`` only when run."""
+
+    def suite(*, quick: bool = False) -> list[dict[str, Any]]:
+        return getattr(importlib.import_module(module), attr)(quick=quick)
+
+    suite.__module__ = module  # so run_suite finds PLOT_OPTIONS / FLOOR_METHOD
+    suite.__qualname__ = f"lazy_suite({module!r}, {attr!r})"
+    return suite
+
+
+#: Registered suites by name.
+SUITES: dict[str, Suite] = {
+    "warp": lazy_suite("morphkit.bench.warp_suite", "run"),
+}
+
+
+def register_suite(name: str, fn: Suite) -> Suite:
+    """Register (or replace) suite ``name``; returns ``fn`` (usable as a decorator factory's body)."""
+    SUITES[name] = fn
+    return fn
+
+
+def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = None,
+              plot_path: str | Path | None = None) -> list[dict[str, Any]]:
+    """Run suite ``name``, print its table, write JSON/plots when paths are given; return the rows."""
+    if name not in SUITES:
+        raise KeyError(f"unknown bench suite {name!r}; available: {', '.join(sorted(SUITES))}")
+    fn = SUITES[name]
+    rows = fn(quick=quick)
+    try:
+        mod = importlib.import_module(getattr(fn, "__module__", "") or "")
+    except ImportError:
+        mod = None
+    floor = getattr(mod, "FLOOR_METHOD", "remap")
+    print(format_table(rows, floor_method=floor), flush=True)
+    if json_path is not None:
+        print(f"wrote {write_json(rows, json_path)}")
+    if plot_path is not None:
+        for p in write_plots(rows, plot_path, **getattr(mod, "PLOT_OPTIONS", {})):
+            print(f"wrote {p}")
+    return rows

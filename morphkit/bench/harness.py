@@ -1,0 +1,246 @@
+"""Timing harness shared by every ``morphkit bench`` suite.
+
+A suite is a function ``suite(*, quick: bool) -> list[dict]`` returning rows
+built with :func:`make_row`. Each row is a JSON object with at least::
+
+    suite, method, params (object), ms_median, ms_min, ms_max, repeats,
+    metrics (object of error figures; may be empty), note (str, may be empty)
+
+Rows of one *case* share ``params``; the table prints each method's ratio to the
+case's floor method (``remap`` in the ``warp`` suite). Time every method of a
+case in the same run (ideally with :func:`time_calls`, which interleaves them)
+so ratios hold on a noisy machine.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import statistics
+import time
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "Timing",
+    "time_call",
+    "time_calls",
+    "auto_repeats",
+    "make_row",
+    "case_key",
+    "format_table",
+    "write_json",
+    "write_plots",
+]
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Wall-clock statistics of repeated calls, in milliseconds."""
+
+    ms_median: float
+    ms_min: float
+    ms_max: float
+    repeats: int
+
+    @classmethod
+    def from_seconds(cls, samples: Iterable[float]) -> Timing:
+        ms = [1e3 * s for s in samples]
+        if not ms:
+            raise ValueError("no timing samples")
+        return cls(statistics.median(ms), min(ms), max(ms), len(ms))
+
+
+def time_call(fn: Callable[[], Any], *, repeats: int = 7, warmup: int = 1) -> Timing:
+    """Time ``fn()``: ``warmup`` untimed calls, then ``repeats`` timed ones (perf_counter)."""
+    for _ in range(max(0, warmup)):
+        fn()
+    samples = []
+    for _ in range(max(1, repeats)):
+        t0 = time.perf_counter()
+        fn()
+        samples.append(time.perf_counter() - t0)
+    return Timing.from_seconds(samples)
+
+
+def time_calls(fns: Mapping[str, Callable[[], Any]], *, repeats: int = 7,
+               warmup: int = 1) -> dict[str, Timing]:
+    """Time several functions round-robin (warm-up each, then interleave the repeats).
+
+    Interleaving spreads machine noise evenly over the methods, so their ratios
+    are steadier than when each is timed in its own block.
+    """
+    for fn in fns.values():
+        for _ in range(max(0, warmup)):
+            fn()
+    samples: dict[str, list[float]] = {k: [] for k in fns}
+    for _ in range(max(1, repeats)):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            samples[k].append(time.perf_counter() - t0)
+    return {k: Timing.from_seconds(v) for k, v in samples.items()}
+
+
+def auto_repeats(fn: Callable[[], Any], *, budget_s: float, lo: int = 3, hi: int = 50) -> int:
+    """Number of repeats of ``fn`` that fit in ``budget_s`` (one probe call), clamped to [lo, hi]."""
+    t0 = time.perf_counter()
+    fn()
+    dt = max(time.perf_counter() - t0, 1e-6)
+    return int(min(hi, max(lo, budget_s // dt)))
+
+
+def make_row(suite: str, method: str, params: Mapping[str, Any], timing: Timing, *,
+             metrics: Mapping[str, float] | None = None, note: str = "") -> dict[str, Any]:
+    """Build one result row (plain JSON types)."""
+    return {
+        "suite": suite,
+        "method": method,
+        "params": dict(params),
+        "ms_median": float(timing.ms_median),
+        "ms_min": float(timing.ms_min),
+        "ms_max": float(timing.ms_max),
+        "repeats": int(timing.repeats),
+        "metrics": {k: float(v) for k, v in (metrics or {}).items()},
+        "note": note,
+    }
+
+
+def case_key(row: Mapping[str, Any]) -> str:
+    """Identify a row's case: its suite and params (method excluded)."""
+    return row["suite"] + "|" + json.dumps(row["params"], sort_keys=True)
+
+
+def _fmt(v: Any) -> str:
+    if isinstance(v, float):
+        if v == 0:
+            return "0"
+        if abs(v) >= 100:
+            return f"{v:.0f}"
+        if abs(v) >= 1:
+            return f"{v:.2f}"
+        if abs(v) >= 1e-3:
+            return f"{v:.3f}"
+        return f"{v:.1e}"
+    return str(v)
+
+
+def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "remap") -> str:
+    """Readable fixed-width table: params, method, median/min/max ms, ratio to the floor, metrics."""
+    if not rows:
+        return "(no rows)"
+    floors = {case_key(r): r["ms_median"] for r in rows if r["method"] == floor_method}
+    pkeys: list[str] = []
+    mkeys: list[str] = []
+    for r in rows:
+        pkeys += [k for k in r["params"] if k not in pkeys]
+        mkeys += [k for k in r["metrics"] if k not in mkeys]
+    ratio_col = f"x_{floor_method}" if floor_method else None
+    header = pkeys + ["method", "ms_median", "ms_min", "ms_max", "n"]
+    header += [ratio_col] if ratio_col else []
+    header += mkeys + ["note"]
+    table = [header]
+    for r in rows:
+        line = [_fmt(r["params"].get(k, "")) for k in pkeys]
+        line += [r["method"], _fmt(r["ms_median"]), _fmt(r["ms_min"]), _fmt(r["ms_max"]), str(r["repeats"])]
+        if ratio_col:
+            f = floors.get(case_key(r))
+            line.append(f"{r['ms_median'] / f:.2f}" if f else "")
+        line += [_fmt(r["metrics"][k]) if k in r["metrics"] else "" for k in mkeys]
+        line.append(r.get("note", ""))
+        table.append(line)
+    widths = [max(len(row[i]) for row in table) for i in range(len(header) - 1)]
+    out = []
+    for i, row in enumerate(table):
+        cells = [c.rjust(w) if j < len(pkeys) or j > len(pkeys) else c.ljust(w)
+                 for j, (c, w) in enumerate(zip(row[:-1], widths, strict=True))]
+        out.append("  ".join(cells + [row[-1]]).rstrip())
+        if i == 0:
+            out.append("-" * len(out[0]))
+    return "\n".join(out)
+
+
+def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
+    """Write the rows as a JSON list (parents created)."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(json.dumps(list(rows), indent=1, allow_nan=False) + "\n")
+    return p
+
+
+def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_key: str = "size",
+                error_key: str | None = None, panel_keys: tuple[str, ...] = ()) -> list[Path]:
+    """Write ``<stem>_time_vs_size.png`` and, where rows carry ``error_key``, ``<stem>_time_vs_error.png``.
+
+    Both go next to ``plot_path`` (its suffix is replaced). The time-vs-size
+    figure has one panel per combination of ``panel_keys`` values and one line
+    per method (log-log). Returns the paths written.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    p = Path(plot_path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    stem = p.with_suffix("")
+    written: list[Path] = []
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    colors = {m: f"C{i % 10}" for i, m in enumerate(methods)}
+
+    panels = list(dict.fromkeys(tuple(r["params"].get(k) for k in panel_keys) for r in rows))
+    ncol = min(4, len(panels))
+    nrow = math.ceil(len(panels) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
+    for ax, panel in zip(axes.ravel(), panels, strict=False):
+        for m in methods:
+            pts = sorted(
+                (r["params"][size_key], r["ms_median"], r["ms_min"], r["ms_max"])
+                for r in rows
+                if r["method"] == m and size_key in r["params"]
+                and tuple(r["params"].get(k) for k in panel_keys) == panel
+            )
+            if not pts:
+                continue
+            xs, med, lo, hi = zip(*pts, strict=True)
+            ax.plot(xs, med, "o-", color=colors[m], label=m, ms=3)
+            ax.fill_between(xs, lo, hi, color=colors[m], alpha=0.15, lw=0)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xlabel(size_key)
+        ax.set_ylabel("ms (median; band min-max)")
+        ax.set_title(", ".join(f"{k}={v}" for k, v in zip(panel_keys, panel, strict=True)) or "all",
+                     fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    out = Path(f"{stem}_time_vs_size.png")
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    written.append(out)
+
+    if error_key is not None:
+        err_rows = [r for r in rows if error_key in r["metrics"]]
+        if err_rows:
+            fig, ax = plt.subplots(figsize=(6.4, 4.4))
+            for m in methods:
+                pts = [(r["metrics"][error_key], r["ms_median"]) for r in err_rows if r["method"] == m]
+                if pts:
+                    ex, ey = zip(*pts, strict=True)
+                    ax.scatter([max(e, 1e-9) for e in ex], ey, s=14, color=colors[m], label=m)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel(f"{error_key} (errors below 1e-9 drawn at 1e-9)")
+            ax.set_ylabel("ms (median)")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=8)
+            fig.tight_layout()
+            out = Path(f"{stem}_time_vs_error.png")
+            fig.savefig(out, dpi=110)
+            plt.close(fig)
+            written.append(out)
+    return written
