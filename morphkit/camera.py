@@ -241,10 +241,12 @@ class CameraModel:
     def gl_projection(self) -> np.ndarray:
         """The 4x4 OpenGL projection matrix pyrender uses for this camera.
 
-        Perspective matches ``pyrender.IntrinsicsCamera(fx, fy, cx + 0.5,
+        Perspective equals ``pyrender.IntrinsicsCamera(fx, fy, cx + 0.5,
         cy + 0.5, znear, zfar)`` (pyrender's principal point is measured from the
-        image *edge*); orthographic matches ``pyrender.OrthographicCamera`` with
-        ``xmag = W / (2 fx)``, ``ymag = H / (2 fy)`` and a centred principal point.
+        image *edge*); orthographic is the standard ``glOrtho`` matrix with
+        half-extents ``W / (2 fx)`` and ``H / (2 fy)`` and a centred principal
+        point (pyrender's OrthographicCamera cannot express ``fx != fy``, so
+        :mod:`morphkit.render` passes this matrix to pyrender directly).
         """
         h, w = self.shape
         n, f = self.znear, self.zfar

@@ -87,6 +87,26 @@ def gl_available() -> tuple[bool, str]:
     return True, ""
 
 
+if pyrender is not None:
+
+    class _MatrixCamera(pyrender.Camera):
+        """A pyrender camera with morphkit's projection matrix.
+
+        pyrender's own cameras cannot express every CameraModel: its
+        OrthographicCamera ignores ``xmag`` (it forces square pixels from the
+        viewport's aspect), and off-centre principal points need
+        IntrinsicsCamera. :meth:`CameraModel.gl_projection` covers both.
+        """
+
+        def __init__(self, projection: np.ndarray, znear: float, zfar: float) -> None:
+            super().__init__(znear=znear, zfar=zfar)
+            self._P = np.asarray(projection, dtype=np.float64)
+
+        def get_projection_matrix(self, width: int | None = None, height: int | None = None
+                                  ) -> np.ndarray:
+            return self._P.copy()
+
+
 class _Context:
     """One GL context of a fixed shape with its scene and node cache."""
 
@@ -133,14 +153,7 @@ class _Context:
             self.scene.set_pose(node, np.asarray(it.pose, dtype=np.float64))
 
     def set_camera(self, camera: CameraModel) -> None:
-        if camera.projection == "perspective":
-            cam = pyrender.IntrinsicsCamera(camera.fx, camera.fy, camera.cx + 0.5, camera.cy + 0.5,
-                                            znear=camera.znear, zfar=camera.zfar)
-        else:
-            camera._require_centred()
-            h, w = camera.shape
-            cam = pyrender.OrthographicCamera(xmag=w / (2 * camera.fx), ymag=h / (2 * camera.fy),
-                                              znear=camera.znear, zfar=camera.zfar)
+        cam = _MatrixCamera(camera.gl_projection(), camera.znear, camera.zfar)
         if self.cam_node is not None:
             self.scene.remove_node(self.cam_node)
         self.cam_node = self.scene.add(cam, pose=camera.gl_pose())

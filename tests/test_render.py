@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.camera import look_at, orthographic, perspective
+from morphkit.camera import CameraModel, look_at, orthographic, perspective
 from morphkit.errors import ValidationError
 from morphkit.scene import DirectionalLight
 
@@ -86,10 +86,12 @@ def test_silhouette_registers_with_projection(renderer, projection):
 
     box = trimesh.creation.box((0.6, 0.4, 0.3))
     pose = look_at([0.2, -0.1, 3.0], [0, 0, 0], up=[0, 1, 0])
-    if projection == "orthographic":
-        cam = orthographic(1.0, 0.8, (80, 100), pose, znear=0.5, zfar=10)
-    else:
+    if projection == "orthographic":  # non-square texels: fx = 50, fy = 80 px/unit
+        cam = orthographic(1.0, 0.5, (80, 100), pose, znear=0.5, zfar=10)
+    else:  # off-centre principal point and fx != fy
         cam = perspective(np.deg2rad(35), (80, 100), pose, znear=0.5, zfar=10)
+        cam = CameraModel("perspective", cam.shape, cam.fx * 1.3, cam.fy, cam.cx + 7.0, cam.cy - 5.0,
+                          cam.znear, cam.zfar, cam.cam2world)
     covered = np.isfinite(renderer.depth(cam, [_item(box)]))
     px, _ = cam.project(box.vertices)
     hull = cv2.convexHull(px.astype(np.float32))
