@@ -97,6 +97,10 @@ def _texture(size: int, dtype: str) -> np.ndarray:
     return np.clip(np.rint(255.0 * rgba), 0, 255).astype(np.uint8)
 
 
+def _cross2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+
 def make_case(size: int, rows: int, cols: int, rng: np.random.Generator
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(src, dst, triangles)``: a lattice over a ``size``-pixel square, interior points jittered.
@@ -117,8 +121,8 @@ def make_case(size: int, rows: int, cols: int, rng: np.random.Generator
         dst[inner] += amp * noise[inner]
         tris = delaunay_triangles(dst)
         sv, dv = src[tris], dst[tris]
-        a_s = np.cross(sv[:, 1] - sv[:, 0], sv[:, 2] - sv[:, 0])
-        a_d = np.cross(dv[:, 1] - dv[:, 0], dv[:, 2] - dv[:, 0])
+        a_s = _cross2(sv[:, 1] - sv[:, 0], sv[:, 2] - sv[:, 0])
+        a_d = _cross2(dv[:, 1] - dv[:, 0], dv[:, 2] - dv[:, 0])
         if np.all(np.abs(a_s) > 1e-3 * np.abs(a_d).max()) and np.all(np.sign(a_s) == np.sign(a_d)):
             return src, dst, tris
         amp *= 0.5

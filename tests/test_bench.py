@@ -1,0 +1,105 @@
+"""Smoke tests of the bench harness and the warp suite (structure only: speed is never asserted)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from morphkit import bench
+from morphkit.bench.harness import (
+    Timing,
+    format_table,
+    make_row,
+    time_call,
+    time_calls,
+    write_json,
+    write_plots,
+)
+from morphkit.cli import main
+
+REQUIRED = {"suite", "method", "params", "ms_median", "ms_min", "ms_max", "repeats", "metrics"}
+
+
+def test_time_call_and_time_calls_count_calls():
+    calls = {"a": 0, "b": 0}
+
+    def fa():
+        calls["a"] += 1
+
+    def fb():
+        calls["b"] += 1
+
+    t = time_call(fa, repeats=4, warmup=2)
+    assert isinstance(t, Timing) and t.repeats == 4 and calls["a"] == 6
+    assert 0 <= t.ms_min <= t.ms_median <= t.ms_max
+    ts = time_calls({"a": fa, "b": fb}, repeats=3, warmup=1)
+    assert set(ts) == {"a", "b"} and ts["b"].repeats == 3
+    assert calls == {"a": 10, "b": 4}
+
+
+def _rows():
+    rows = []
+    for size in (8, 16):
+        for method, ms in (("remap", 1.0), ("fast", 2.0)):
+            rows.append(make_row("toy", method, {"size": size, "dtype": "float32"},
+                                 Timing(ms * size, ms * size * 0.9, ms * size * 1.2, 3),
+                                 metrics={"mean_abs_err": 1e-4 * ms} if method == "fast" else {},
+                                 note="n" if method == "fast" else ""))
+    return rows
+
+
+def test_rows_table_json_and_plots(tmp_path):
+    rows = _rows()
+    assert REQUIRED <= set(rows[0])
+    table = format_table(rows, floor_method="remap")
+    assert "x_remap" in table and "2.00" in table and "fast" in table
+    path = write_json(rows, tmp_path / "sub" / "rows.json")
+    assert json.loads(path.read_text()) == rows
+    written = write_plots(rows, tmp_path / "p.png", error_key="mean_abs_err", panel_keys=("dtype",))
+    assert [p.name for p in written] == ["p_time_vs_size.png", "p_time_vs_error.png"]
+    assert all(p.stat().st_size > 1000 for p in written)
+
+
+def test_run_suite_with_registered_toy_suite(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(bench.SUITES, "toy", lambda *, quick=False: _rows()[: 2 if quick else 4])
+    rows = bench.run_suite("toy", quick=True, json_path=tmp_path / "t.json", plot_path=tmp_path / "t.png")
+    assert len(rows) == 2
+    out = capsys.readouterr().out
+    assert "ms_median" in out and "t.json" in out
+    assert (tmp_path / "t_time_vs_size.png").exists()
+    with pytest.raises(KeyError, match="unknown bench suite"):
+        bench.run_suite("nope")
+    assert main(["bench", "nope"]) == 2
+
+
+def test_warp_suite_tiny_run():
+    from morphkit.bench.warp_suite import run
+
+    rows = run(sizes=(24,), grids=((3, 4),), dtypes=("float32", "uint8"), budget_s=0.0)
+    methods = {r["method"] for r in rows}
+    assert {"morphkit", "morphkit_apply", "remap", "per_triangle"} <= methods
+    for r in rows:
+        assert REQUIRED <= set(r)
+        assert r["suite"] == "warp" and r["params"]["size"] == 24 and r["repeats"] >= 3
+        assert r["ms_min"] <= r["ms_median"] <= r["ms_max"]
+    json.dumps(rows, allow_nan=False)
+    try:
+        import skimage  # noqa: F401
+    except ImportError:
+        return
+    assert "skimage" in methods
+    for r in rows:
+        if r["method"] in ("morphkit", "remap"):
+            assert r["metrics"]["mean_abs_err"] < 1e-3
+
+
+def test_per_triangle_baseline_is_close_to_identity():
+    from morphkit.bench.warp_suite import make_case, per_triangle_warp
+
+    rng = np.random.default_rng(0)
+    src, _, tris = make_case(32, 3, 3, rng)
+    img = rng.uniform(0, 1, (32, 32)).astype(np.float32)
+    out = per_triangle_warp(img, src, src, tris, (32, 32))
+    assert np.abs(out - img)[1:-1, 1:-1].max() < 1e-5
