@@ -55,6 +55,8 @@ or channels at the cost of one ``cv2.remap`` each.
 
 from __future__ import annotations
 
+import sys
+import threading
 from collections.abc import Sequence
 from functools import lru_cache
 from typing import Any
@@ -75,6 +77,7 @@ _INTERP = {"linear": cv2.INTER_LINEAR, "nearest": cv2.INTER_NEAREST}
 _OUTSIDE = -64.0
 
 #: dtypes cv2.remap handles natively; others are converted (see _to_cv).
+_LUT_MAX_TRIANGLES = 255
 _CV_DTYPES = (np.uint8, np.uint16, np.int16, np.float32, np.float64)
 
 
@@ -252,14 +255,16 @@ def _from_cv(out: np.ndarray, dtype: np.dtype) -> np.ndarray:
     return out.astype(dtype)
 
 
-def _remap(img: np.ndarray, m: np.ndarray, flag: int, fill: tuple[float, ...]) -> np.ndarray:
+def _remap(img: np.ndarray, m1: np.ndarray, m2: np.ndarray | None, flag: int,
+           fill: tuple[float, ...]) -> np.ndarray:
     """cv2.remap with constant border ``fill``; any channel count (cv2 borders take <= 4)."""
     c = 1 if img.ndim == 2 else img.shape[2]
     if c <= 4:
         border = fill + (0.0,) * (4 - c)
-        return cv2.remap(img, m, None, flag, borderMode=cv2.BORDER_CONSTANT, borderValue=border)
+        return cv2.remap(img, m1, m2, flag, borderMode=cv2.BORDER_CONSTANT, borderValue=border)
     parts = [
-        _remap(np.ascontiguousarray(img[:, :, k:k + 4]), m, flag, fill[k:k + 4]) for k in range(0, c, 4)
+        _remap(np.ascontiguousarray(img[:, :, k:k + 4]), m1, m2, flag, fill[k:k + 4])
+        for k in range(0, c, 4)
     ]
     parts = [p[:, :, None] if p.ndim == 2 else p for p in parts]
     return np.concatenate(parts, axis=2)
@@ -277,6 +282,63 @@ def _xx(c0: int, c1: int, h: int) -> np.ndarray:
     return out
 
 
+_local = threading.local()
+
+
+def _planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(X, Y, scratch)`` float32 ``shape`` arrays: pixel x, pixel y, and a per-thread work buffer.
+
+    Kept per thread for the last few output shapes: reusing the buffers avoids
+    fresh page faults on every call (they cost as much as the arithmetic).
+    """
+    cache = getattr(_local, "planes", None)
+    if cache is None:
+        cache = _local.planes = {}
+    hit = cache.get(shape)
+    if hit is None:
+        if len(cache) >= 4:
+            cache.pop(next(iter(cache)))
+        h, w = shape
+        X = np.empty(shape, dtype=np.float32)
+        X[...] = np.arange(w, dtype=np.float32)
+        Y = np.empty(shape, dtype=np.float32)
+        Y[...] = np.arange(h, dtype=np.float32)[:, None]
+        X.setflags(write=False)
+        Y.setflags(write=False)
+        hit = cache[shape] = (X, Y, np.empty(shape, dtype=np.float32))
+    return hit
+
+
+def _pooled(shape: tuple[int, int]) -> np.ndarray:
+    """A float32 ``shape`` array, recycled from dead :class:`WarpMaps` when possible."""
+    pool = getattr(_local, "pool", None)
+    if pool:
+        free = pool.get(shape)
+        if free:
+            return free.pop()
+    return np.empty(shape, dtype=np.float32)
+
+
+def _recycle(arr: np.ndarray | None) -> None:
+    """Return a map buffer to this thread's pool, unless anything else still refers to it.
+
+    (Fresh page-faulted buffers cost as much as computing the maps; a frame loop
+    that drops last frame's WarpMaps reuses its buffers.)
+    """
+    # references: the caller's local, the argument, getrefcount's own argument
+    if arr is None or arr.base is not None or sys.getrefcount(arr) > 3:
+        return
+    pool = getattr(_local, "pool", None)
+    if pool is None:
+        pool = _local.pool = {}
+    free = pool.setdefault(arr.shape, [])
+    if len(free) < 4:
+        if len(pool) > 4:
+            pool.clear()
+            pool[arr.shape] = free
+        free.append(arr)
+
+
 class WarpMaps:
     """Per-pixel sampling maps of one warp, reusable across images and channels.
 
@@ -290,28 +352,48 @@ class WarpMaps:
         ``(H, W)`` of the outputs.
     roi : tuple[int, int, int, int]
         ``(r0, r1, c0, c1)``: the rows ``r0:r1`` and columns ``c0:c1`` the maps cover.
-    map_xy : numpy.ndarray or None
-        ``(r1 - r0, c1 - c0, 2)`` float32 source ``(x, y)`` for each ROI pixel
-        (a ``cv2.remap`` map; pixels outside the mesh hold a far-outside
-        position). None when the mesh covers no pixel centre.
+    map1, map2 : numpy.ndarray or None
+        The ``cv2.remap`` maps of the ROI: float32 source ``x`` and ``y``
+        planes ``(r1 - r0, c1 - c0)``, or an interleaved ``(..., 2)`` map1 and
+        ``map2 = None``. Pixels outside the mesh hold a far-outside position.
+        ``map1`` is None when the mesh covers no pixel centre.
     """
 
-    __slots__ = ("out_shape", "roi", "map_xy", "_lens", "_mask")
+    __slots__ = ("out_shape", "roi", "map1", "map2", "_lens", "_mask")
 
     def __init__(self, out_shape: tuple[int, int], roi: tuple[int, int, int, int],
-                 map_xy: np.ndarray | None, run_lens: np.ndarray | None) -> None:
+                 map1: np.ndarray | None, map2: np.ndarray | None,
+                 run_lens: np.ndarray | None) -> None:
         self.out_shape = out_shape
         self.roi = roi
-        self.map_xy = map_xy
+        self.map1 = map1
+        self.map2 = map2
         self._lens = run_lens
         self._mask: np.ndarray | None = None
+
+    def __del__(self) -> None:
+        try:
+            if self._lens is not None and self.map2 is not None:
+                m1, m2 = self.map1, self.map2
+                self.map1 = self.map2 = None
+                _recycle(m1)
+                _recycle(m2)
+        except Exception:  # pragma: no cover - interpreter shutdown
+            pass
+
+    @property
+    def map_xy(self) -> np.ndarray | None:
+        """``(r1 - r0, c1 - c0, 2)`` float32 source ``(x, y)`` of each ROI pixel (a copy when split)."""
+        if self.map1 is None or self.map2 is None:
+            return self.map1
+        return np.stack([self.map1, self.map2], axis=2)
 
     @property
     def mask(self) -> np.ndarray:
         """``(H, W)`` bool: True where an output pixel centre lies in a destination triangle."""
         if self._mask is None:
             m = np.zeros(self.out_shape, dtype=bool)
-            if self.map_xy is not None:
+            if self.map1 is not None:
                 r0, r1, c0, c1 = self.roi
                 pattern = np.zeros(self._lens.size, dtype=bool)
                 pattern[1::2] = True
@@ -348,18 +430,18 @@ class WarpMaps:
             fills = tuple(255.0 * (v != 0) for v in fills)
         h, w = self.out_shape
         full_shape = (h, w) if img.ndim == 2 else (h, w, c)
-        if self.map_xy is None:
+        if self.map1 is None:
             out = np.empty(full_shape, dtype=src.dtype)
             out[...] = fills if c > 1 else fills[0]
             return _from_cv(out, img.dtype)
-        res = _remap(src, self.map_xy, flag, fills)
+        res = _remap(src, self.map1, self.map2, flag, fills)
         if res.ndim == 2 and img.ndim == 3:
             res = res[:, :, None]
         if flag == cv2.INTER_LINEAR and src.dtype.kind == "f":
             # inf * 0 -> NaN guard: footprints touching a non-finite value go nearest.
             bad = ~np.isfinite(res)
             if bad.any():
-                near = _remap(src, self.map_xy, cv2.INTER_NEAREST, fills)
+                near = _remap(src, self.map1, self.map2, cv2.INTER_NEAREST, fills)
                 if near.ndim == 2 and img.ndim == 3:
                     near = near[:, :, None]
                 res = np.where(bad, near, res)
@@ -502,6 +584,7 @@ def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
 def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
                 boundary: np.ndarray, shape: tuple[int, int]) -> WarpMaps:
     H, W = shape
+    M = tris.shape[0]
     dv = dst[tris]  # (M, 3, 2)
     d1 = dv[:, 1] - dv[:, 0]
     d2 = dv[:, 2] - dv[:, 0]
@@ -524,7 +607,7 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     c1 = int(min(max(np.ceil(hi[0]), 0), W))
     roi = (r0, r1, c0, c1)
     if r1 <= r0 or c1 <= c0:
-        return WarpMaps(shape, roi, None, None)
+        return WarpMaps(shape, roi, None, None, None)
     h, w = r1 - r0, c1 - c0
 
     # Affine A_src_dst per triangle: src = J (p - d0) + s0, J = S D^-1.
@@ -535,12 +618,12 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     # D^-1 = inv * [[d2y, -d2x], [-d1y, d1x]]
     i00, i01 = d2[:, 1] * inv, -d2[:, 0] * inv
     i10, i11 = -d1[:, 1] * inv, d1[:, 0] * inv
-    jxx = s1[:, 0] * i00 + s2[:, 0] * i10
-    jxy = s1[:, 0] * i01 + s2[:, 0] * i11
-    jyx = s1[:, 1] * i00 + s2[:, 1] * i10
-    jyy = s1[:, 1] * i01 + s2[:, 1] * i11
-    cx = sv[:, 0, 0] - jxx * dv[:, 0, 0] - jxy * dv[:, 0, 1]
-    cy = sv[:, 0, 1] - jyx * dv[:, 0, 0] - jyy * dv[:, 0, 1]
+    coef = np.empty((M, 6))  # [jxx, jyx | jxy, jyy | cx, cy]
+    coef[:, 0] = s1[:, 0] * i00 + s2[:, 0] * i10
+    coef[:, 1] = s1[:, 1] * i00 + s2[:, 1] * i10
+    coef[:, 2] = s1[:, 0] * i01 + s2[:, 0] * i11
+    coef[:, 3] = s1[:, 1] * i01 + s2[:, 1] * i11
+    coef[:, 4:] = sv[:, 0] - coef[:, 0:2] * dv[:, 0, 0:1] - coef[:, 2:4] * dv[:, 0, 1:2]
 
     # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
     cv_ = cov[tris]
@@ -549,41 +632,39 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     x0, y0 = vs[:, 0, 0], vs[:, 0, 1]
     x1, y1 = vs[:, 1, 0], vs[:, 1, 1]
     x2, y2 = vs[:, 2, 0], vs[:, 2, 1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s02 = (x2 - x0) / (y2 - y0)
-        s01 = (x1 - x0) / (y1 - y0)
-        s12 = (x2 - x1) / (y2 - y1)
-    ry0 = np.clip(np.ceil(y0), r0, r1).astype(np.int64)
-    ry1 = np.clip(np.ceil(y1), r0, r1).astype(np.int64)
-    ry2 = np.clip(np.ceil(y2), r0, r1).astype(np.int64)
-    M = tris.shape[0]
-    # Pieces: 2t = upper (rows [y0, y1), edges v0v2 & v0v1), 2t+1 = lower ([y1, y2), v0v2 & v1v2).
-    # Each edge is evaluated as x_top + (y - y_top) * slope with its top endpoint, so
-    # the two triangles sharing an edge compute bit-identical crossings.
-    par = np.empty((2 * M, 6))
-    par[:, 0] = np.repeat(x0, 2)
-    par[:, 1] = np.repeat(y0, 2)
-    par[:, 2] = np.repeat(s02, 2)
-    par[0::2, 3], par[1::2, 3] = x0, x1
-    par[0::2, 4], par[1::2, 4] = y0, y1
-    par[0::2, 5], par[1::2, 5] = s01, s12
-    ystart = np.empty(2 * M, dtype=np.int64)
-    ystart[0::2], ystart[1::2] = ry0, ry1
-    yend = np.empty(2 * M, dtype=np.int64)
-    yend[0::2], yend[1::2] = ry1, ry2
-    cnt = np.maximum(yend - ystart, 0)
+    # Pieces: 2t = upper half (rows [y0, y1), edges v0v2 & v0v1), 2t+1 = lower half
+    # (rows [y1, y2), edges v0v2 & v1v2). An edge with top end (xt, yt) and slope
+    # s = dx/dy crosses row y at q + y * s, q = xt - yt * s: the two triangles
+    # sharing an edge compute bit-identical crossings (same operands, same order).
+    ys = np.empty((M, 3))
+    ys[:, 0], ys[:, 1], ys[:, 2] = y0, y1, y2
+    np.ceil(ys, out=ys)
+    np.clip(ys, r0, r1, out=ys)
+    yr = ys.astype(np.int64)
+    ystart = yr[:, 0:2].ravel()  # (2M,) piece first rows
+    cnt = np.maximum(yr[:, 1:3].ravel() - ystart, 0)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        edge = np.empty((M, 3, 2))  # per triangle: edges v0v2, v0v1, v1v2 as (q, s)
+        edge[:, 0, 1] = (x2 - x0) / (y2 - y0)
+        edge[:, 1, 1] = (x1 - x0) / (y1 - y0)
+        edge[:, 2, 1] = (x2 - x1) / (y2 - y1)
+        edge[:, 0, 0] = x0 - y0 * edge[:, 0, 1]
+        edge[:, 1, 0] = x0 - y0 * edge[:, 1, 1]
+        edge[:, 2, 0] = x1 - y1 * edge[:, 2, 1]
     n = int(cnt.sum())
     if n == 0:
-        return WarpMaps(shape, roi, None, None)
-    piece = np.repeat(np.arange(2 * M), cnt)
-    first = np.cumsum(cnt) - cnt
-    yi = np.arange(n, dtype=np.int64) + np.repeat(ystart - first, cnt)
+        return WarpMaps(shape, roi, None, None, None)
+    long_ = np.repeat(np.repeat(edge[:, 0], 2, axis=0), cnt, axis=0)  # (n, 2)
+    short = np.repeat(edge[:, 1:3].reshape(2 * M, 2), cnt, axis=0)
+    yi = np.arange(n, dtype=np.int64)
+    yi += np.repeat(ystart - (np.cumsum(cnt) - cnt), cnt)
     yf = yi.astype(np.float64)
-    g = par[piece]
-    xa = g[:, 0] + (yf - g[:, 1]) * g[:, 2]
-    xb = g[:, 3] + (yf - g[:, 4]) * g[:, 5]
+    xa = long_[:, 1] * yf
+    xa += long_[:, 0]
+    xb = short[:, 1] * yf
+    xb += short[:, 0]
     xl = np.minimum(xa, xb)
-    xr = np.maximum(xa, xb)
+    xr = np.maximum(xa, xb, out=xa)
     np.ceil(xl, out=xl)
     np.ceil(xr, out=xr)
     np.clip(xl, c0, c1, out=xl)
@@ -591,37 +672,73 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     rowbase = (yi - r0) * w - c0
     start = rowbase + xl.astype(np.int64)
     end = rowbase + xr.astype(np.int64)
-    keep = end > start
-    start, end, yi, piece = start[keep], end[keep], yi[keep], piece[keep]
-    if start.size == 0:
-        return WarpMaps(shape, roi, None, None)
-    o = np.argsort(start)
-    start, end, yi, tri = start[o], end[o], yi[o], piece[o] >> 1
-    k = start.size
+    empty = end <= start
+    k = n - int(np.count_nonzero(empty))
+    if k == 0:
+        return WarpMaps(shape, roi, None, None, None)
+    # Sort runs by start: one int64 sort of start << bits | pair index (cheaper than argsort).
+    bits = max(1, (n - 1).bit_length())
+    if (h * w).bit_length() + bits <= 62:
+        key = start << bits
+        key |= np.arange(n, dtype=np.int64)
+        key[empty] = np.iinfo(np.int64).max
+        key.sort()
+        key = key[:k]
+        o = key & ((1 << bits) - 1)
+        start = key >> bits
+    else:  # pragma: no cover - > 2**40 pixel-runs
+        start[empty] = np.iinfo(np.int64).max
+        o = np.argsort(start)[:k]
+        start = start[o]
+    end = end[o]
+    tri = np.repeat(np.arange(2 * M, dtype=np.int64) >> 1, cnt)[o]
     gaps = np.empty(k + 1, dtype=np.int64)
     gaps[0] = start[0]
-    gaps[1:-1] = start[1:] - end[:-1]
+    np.subtract(start[1:], end[:-1], out=gaps[1:-1])
     gaps[-1] = h * w - end[-1]
     if gaps.min() < 0:
         j = int(np.argmin(gaps[1:-1]))
         pair = np.unique(tri[j:j + 2])
         raise FoldOverError(
             "destination triangles overlap (the mesh folds over although each triangle keeps its "
-            f"orientation): triangles {_list_indices(pair)} both cover pixel row {int(yi[j + 1])}"
+            f"orientation): triangles {_list_indices(pair)} both cover pixels of row "
+            f"{int(start[j + 1] // w) + r0}"
         )
     lens = np.empty(2 * k + 1, dtype=np.int64)
     lens[0::2] = gaps
-    lens[1::2] = end - start
+    np.subtract(end, start, out=lens[1::2])
+    if M <= _LUT_MAX_TRIANGLES:
+        # Few triangles: expand uint8 triangle labels, then per-pixel affines by cv2.LUT.
+        lab = np.full(2 * k + 1, 255, dtype=np.uint8)
+        lab[1::2] = tri
+        labels = np.repeat(lab, lens).reshape(h, w)
+        tables = np.zeros((6, 256), dtype=np.float32)
+        tables[:, :M] = coef.T
+        tables[4:6, 255] = _OUTSIDE
+        X, Y, scratch = _planes(shape)
+        X, Y, t = X[r0:r1, c0:c1], Y[r0:r1, c0:c1], scratch[:h, :w]
+        maps = []
+        for j in range(2):  # x then y: A[j,0] * X + A[j,1] * Y + c[j]
+            mj = _pooled((h, w))
+            cv2.LUT(labels, tables[j], dst=mj)
+            cv2.multiply(mj, X, dst=mj)
+            cv2.LUT(labels, tables[2 + j], dst=t)
+            cv2.multiply(t, Y, dst=t)
+            cv2.add(mj, t, dst=mj)
+            cv2.LUT(labels, tables[4 + j], dst=t)
+            cv2.add(mj, t, dst=mj)
+            maps.append(mj)
+        return WarpMaps(shape, roi, maps[0], maps[1], lens)
+    c = coef[tri]
+    run_y = (start // w + r0).astype(np.float64)
     slope = np.zeros((2 * k + 1, 2), dtype=np.float32)
     off = np.full((2 * k + 1, 2), _OUTSIDE, dtype=np.float32)
-    slope[1::2, 0] = jxx[tri]
-    slope[1::2, 1] = jyx[tri]
-    off[1::2, 0] = jxy[tri] * yi + cx[tri]
-    off[1::2, 1] = jyy[tri] * yi + cy[tri]
+    slope[1::2] = c[:, 0:2]
+    off[1::2] = c[:, 2:4] * run_y[:, None] + c[:, 4:6]
     m = np.repeat(slope, lens, axis=0)
     np.multiply(m, _xx(c0, c1, h), out=m)
     m += np.repeat(off, lens, axis=0)
-    return WarpMaps(shape, roi, m.reshape(h, w, 2), lens)
+    return WarpMaps(shape, roi, m.reshape(h, w, 2), None, lens)
 
 
 def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], *,

@@ -278,7 +278,7 @@ def test_depth_map_with_inf_background_never_nan():
     # footprints touching a non-finite value or the (inf) border: raw remap of an indicator
     maps = MeshWarper(src).maps(dst, (h, w))
     indicator = np.where(np.isfinite(depth), 0, np.nan).astype(np.float32)
-    touched = ~np.isfinite(cv2.remap(indicator, maps.map_xy, None, cv2.INTER_LINEAR,
+    touched = ~np.isfinite(cv2.remap(indicator, maps.map1, maps.map2, cv2.INTER_LINEAR,
                                      borderMode=cv2.BORDER_CONSTANT, borderValue=np.nan))
     sel = ok & ~touched
     assert sel.sum() > 100

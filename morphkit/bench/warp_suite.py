@@ -172,7 +172,7 @@ def run(*, quick: bool = False, sizes: tuple[int, ...] | None = None,
                           "channels": 1 if img.ndim == 2 else img.shape[2], "triangles": int(len(tris))}
                 warper = MeshWarper(src, tris)
                 wm = warper.maps(dst, shape)
-                mxy = np.ascontiguousarray(wm.map_xy)
+                m1, m2 = wm.map1, wm.map2
 
                 def f_morphkit(img=img, warper=warper, dst=dst, shape=shape):
                     return warper(img, dst, shape)
@@ -180,8 +180,8 @@ def run(*, quick: bool = False, sizes: tuple[int, ...] | None = None,
                 def f_apply(img=img, wm=wm):
                     return wm.apply(img)
 
-                def f_remap(img=img, mxy=mxy):
-                    return cv2.remap(img, mxy, None, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
+                def f_remap(img=img, m1=m1, m2=m2):
+                    return cv2.remap(img, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                                      borderValue=0)
 
                 def f_tri(img=img, src=src, dst=dst, tris=tris, shape=shape):
