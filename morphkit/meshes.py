@@ -297,19 +297,19 @@ def _teapot_control_points() -> np.ndarray:
     return verts[patches].reshape(32, 4, 4, 3)
 
 
-def teapot_face_count(resolution: int) -> int:
+def teapot_face_count(resolution: int, flange: bool = True) -> int:
     """Return the number of triangles :func:`teapot` builds at ``resolution``.
 
     Each of the 32 patches gives ``2 * resolution**2`` triangles; the 8 patches
     that meet at the lid and bottom poles lose the ``resolution`` triangles that
-    collapse to the pole: ``64 r^2 - 8 r``.
+    collapse to the pole: ``64 r^2 - 8 r``; the lid flange adds ``32 r``.
     """
     r = _as_int(resolution, "resolution", 2, 64)
-    return 64 * r * r - 8 * r
+    return 64 * r * r - 8 * r + (32 * r if flange else 0)
 
 
 @_cached(maxsize=8)
-def teapot(resolution: int = 8) -> trimesh.Trimesh:
+def teapot(resolution: int = 8, flange: bool = True) -> trimesh.Trimesh:
     """Return Newell's Utah teapot tessellated from its 32 Bezier patches.
 
     Every bicubic patch is evaluated on a ``(resolution + 1)^2`` grid of
@@ -319,16 +319,17 @@ def teapot(resolution: int = 8) -> trimesh.Trimesh:
     their normals point out of the teapot (the patch data is consistently
     oriented; a test checks this with ray casts).
 
-    Triangle counts (``64 r^2 - 8 r``, see :func:`teapot_face_count`):
+    Triangle counts (``64 r^2 - 8 r`` patches, plus ``32 r`` with the flange;
+    see :func:`teapot_face_count`):
 
-    ==========  =========
-    resolution  triangles
-    ==========  =========
-    4           992
-    6           2256
-    8           4032
-    10          6320
-    ==========  =========
+    ==========  =========  ============
+    resolution  triangles  with flange
+    ==========  =========  ============
+    4           992        1120
+    6           2256       2448
+    8           4032       4288
+    10          6320       6640
+    ==========  =========  ============
 
     The surface is open, as in Newell's data: the lid is a separate piece
     resting in the rim, the handle and spout are open tubes that pierce the
@@ -343,6 +344,11 @@ def teapot(resolution: int = 8) -> trimesh.Trimesh:
     ----------
     resolution : int, default 8
         Segments per patch edge, in ``[2, 64]``.
+    flange : bool, default True
+        Close the ring-shaped gap between lid (radius 1.3) and rim (radius 1.4)
+        with an annulus of ``32 * resolution`` triangles (not counted by
+        :func:`teapot_face_count`), so overhead lights cast a solid shadow.
+        ``False`` gives Newell's surface exactly.
 
     Returns
     -------
@@ -360,7 +366,22 @@ def teapot(resolution: int = 8) -> trimesh.Trimesh:
     # (a, c, b) / (a, d, c): with the data's (u, v) order this winds outwards.
     quad = np.concatenate([np.stack([a, c, b], axis=1), np.stack([a, d, c], axis=1)])
     faces = (quad[None] + (np.arange(32) * (r + 1) ** 2)[:, None, None]).reshape(-1, 3)
-    mesh = trimesh.Trimesh(grid.reshape(-1, 3), faces, process=False)
+    verts = grid.reshape(-1, 3)
+    if flange:
+        # Newell's lid ends at radius 1.3 and the body's rim starts at 1.4, both
+        # at z = 2.4: from above, light shines through a ring that the physical
+        # teapot (whose lid rests on the rim) does not have. Close it with an
+        # annulus at the rim's height.
+        n = 16 * r
+        ang = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        ring = np.concatenate([np.c_[rad * np.cos(ang), rad * np.sin(ang), np.full(n, 2.4)]
+                               for rad in (1.3, 1.4)])
+        k = np.arange(n)
+        k1 = (k + 1) % n
+        ann = np.concatenate([np.c_[k, n + k, n + k1], np.c_[k, n + k1, k1]]) + len(verts)
+        verts = np.concatenate([verts, ring])
+        faces = np.concatenate([faces, ann])  # normals up (+z), out of the pot
+    mesh = trimesh.Trimesh(verts, faces, process=False)
     mesh.merge_vertices()
     mesh.update_faces(mesh.nondegenerate_faces())
     mesh.remove_unreferenced_vertices()

@@ -88,13 +88,36 @@ def test_teapot_control_data_is_newells_and_symmetric():
 
 @pytest.mark.parametrize("res, expected", [(4, 992), (6, 2256), (8, 4032), (10, 6320)])
 def test_teapot_face_counts(res, expected):
-    m = teapot(res)
-    assert len(m.faces) == expected == teapot_face_count(res)
-    assert 900 <= len(m.faces) <= 6500
+    m = teapot(res, flange=False)
+    assert len(m.faces) == expected == teapot_face_count(res, flange=False)
+    flanged = teapot(res)
+    assert len(flanged.faces) == expected + 32 * res == teapot_face_count(res)
+    assert 900 <= len(flanged.faces) <= 7000
+
+
+def test_teapot_flange_closes_the_lid_gap():
+    """Vertical rays through the ring between lid (r = 1.3) and rim (r = 1.4,
+    data units) pass through Newell's surface but hit the flanged teapot."""
+    bare, closed = teapot(8, flange=False), teapot(8)
+    # the gap ring's centre in normalised units: data radius 1.35 about the body axis
+    s = 1.0 / 6.525  # data x extent -3.0 .. 3.525
+    axis_x = -(3.525 - 3.0) / 2 * s
+    ang = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    o = np.c_[axis_x + 1.35 * s * np.cos(ang), 1.35 * s * np.sin(ang), np.full(64, 2.0)]
+    d = np.tile([0.0, 0.0, -1.0], (64, 1))
+    # through the gap a ray still meets the body's bottom from inside: count hits above it
+    def first_hit_z(m):
+        loc, idx, _ = m.ray.intersects_location(o, d, multiple_hits=False)
+        z = np.full(64, -1.0)
+        z[idx] = loc[:, 2]
+        return z
+    rim_z = 2.4 / 3.15 * 0.49
+    assert np.mean(first_hit_z(bare) < 0.1) > 0.5  # most reach the bottom through the gap
+    assert np.all(first_hit_z(closed) > rim_z - 0.01)
 
 
 def test_teapot_is_clean_and_upright():
-    m = teapot()
+    m = teapot(flange=False)
     assert len(m.faces) == 4032
     assert_normalised(m)
     assert np.all(m.nondegenerate_faces())
@@ -334,7 +357,7 @@ def test_sample_mesh_names():
     assert SAMPLE_MESHES == ("teapot", "chair", "cow")
     for name in SAMPLE_MESHES:
         assert_normalised(sample_mesh(name))
-    assert len(sample_mesh("teapot", resolution=4).faces) == 992
+    assert len(sample_mesh("teapot", resolution=4).faces) == 1120
     assert len(sample_mesh("chair", slats=5).faces) == len(chair(5).faces)
 
 
