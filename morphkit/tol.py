@@ -38,3 +38,70 @@ RAY_OFFSET = 1e-4
 #: are covered, as a closed mesh should. Rounding in user coordinates is ~1e-12 px,
 #: far below it; samples at such centres move by < 1e-6 px (invisible).
 MESH_BOUNDARY_PX = 1e-6
+
+# --- view morphing (morphkit.viewmorph) -------------------------------------
+
+#: Default inlier threshold (pixels) of the robust fundamental-matrix fit
+#: (Sampson distance) and of the homography-degeneracy test (transfer
+#: distance). SIFT keypoints are localised to ~0.3-0.5 px; 1 px keeps good
+#: matches and rejects gross outliers. Exact projected points are ~1e-9 px.
+VM_THRESHOLD_PX = 1.0
+
+#: Points whose centred scatter has singular values s2 / s1 below this ratio are
+#: collinear: a 1000:1 elongated cloud leaves F (and any homography) undetermined
+#: in the short direction at the noise levels above.
+VM_COLLINEAR_RATIO = 1e-3
+
+#: Two pairs closer than this (pixels, in either image) are duplicates; the later
+#: one is dropped. Closer points only make sliver triangles in the morph mesh.
+VM_DUPLICATE_PX = 1e-3
+
+#: The pairs are "explained by a homography" (planar scene, pure rotation, zero
+#: baseline, identical images) when the homography's inliers reach this fraction
+#: of the fundamental matrix's inliers at the same threshold: every pair that
+#: fits F (almost) also fits the homography, so the data do not determine F
+#: (F = [e1]x H for any e1). 5% leaves room for the few off-plane points that
+#: a robust F fit would otherwise be built on.
+VM_HOMOGRAPHY_INLIER_RATIO = 0.95
+
+#: An epipole whose homogeneous w is below this fraction of |(x, y)| is at
+#: infinity (a 1e-9 relative w puts it ~1e9 image widths away).
+VM_EPIPOLE_INFINITY = 1e-9
+
+#: The views are already parallel (rectified; the pre-warp is skipped) when the
+#: inlier pairs' RMS vertical disparity y1 - y0 is at most this (pixels): below
+#: half a pixel a rectification would move points by less than its resampling blur.
+VM_PARALLEL_Y_PX = 0.5
+
+#: Rectification is refused when an epipole lies inside the image grown by this
+#: fraction of its diagonal on every side: the cameras (nearly) see each other
+#: and no homography sends the epipole to infinity without tearing the image.
+VM_EPIPOLE_MARGIN = 0.1
+
+#: Largest anisotropy (ratio of the singular values of the local Jacobian) a
+#: pre-warp may have anywhere over the image; 4:1 is a 76-degree tilt of the
+#: image plane (cos = 1/4), beyond which the rectified image is mostly smear.
+VM_MAX_ANISOTROPY = 4.0
+
+#: Largest ratio between the local area scales of a pre-warp over its image
+#: (and between the two images): beyond 16 (4x linear) one part of the image
+#: is under-sampled 4x while another is blown up.
+VM_MAX_SCALE_RATIO = 16.0
+
+#: Largest rectified canvas side, as a multiple of the larger input side: a
+#: bigger canvas means the pre-warp sends part of the image towards infinity.
+VM_MAX_CANVAS_FACTOR = 4.0
+
+#: Relative depth tolerance of the visibility test of geometric
+#: correspondences: a point is visible if its depth is at most (1 + rtol) times
+#: the rendered depth around its projection. 1% of a 3-unit camera distance is
+#: 0.03 units: above the 24-bit depth quantisation (~1e-4 relative) and the
+#: depth change across one pixel on moderately slanted surfaces, below the gap
+#: between a surface and what it hides on the sample meshes (>= 0.05 units).
+VM_VISIBILITY_RTOL = 0.01
+
+#: Smallest |signed area| (pixels^2) a morph-mesh triangle may reach for any
+#: s in [0, 1]; smaller ones count as fold-overs and a vertex is dropped.
+#: 1000x the warp's own refusal limit (tol.TRIANGLE_AREA_PX2) so float32 maps
+#: never meet it.
+VM_MIN_TRIANGLE_AREA_PX2 = 1e-3

@@ -1,0 +1,430 @@
+"""Point correspondences between two views, from three sources behind one type.
+
+* :func:`from_geometry` -- project known 3-D points (mesh vertices) into both
+  cameras, keeping those visible in both (depth test against each view's depth
+  map);
+* :func:`from_images` -- SIFT features, Lowe's ratio test and a mutual
+  (cross-check) test; outliers that survive are removed later by the robust
+  fundamental-matrix fit (:func:`morphkit.viewmorph.fundamental.estimate_fundamental`);
+* :func:`load_points` -- a JSON or CSV file of point pairs given by the user
+  (:func:`save_points` writes both formats).
+
+All of them return :class:`Correspondences`: ``pts0[i]`` in image 0 corresponds
+to ``pts1[i]`` in image 1, pixel ``(x, y)`` with the origin at the centre of the
+top-left pixel (:mod:`morphkit.conventions`).
+
+Cleaning (:meth:`Correspondences.cleaned`): exact and near duplicates (closer
+than :data:`morphkit.tol.VM_DUPLICATE_PX` in *either* image to an earlier pair)
+are dropped, keeping the first; NaN/inf coordinates are refused
+(:class:`~morphkit.errors.ValidationError`), never dropped silently.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+
+from .. import tol
+from ..camera import CameraModel
+from ..errors import FileFormatError, ValidationError, expected_got
+from ..validate import as_finite_array, as_image, as_points
+
+__all__ = [
+    "Correspondences",
+    "from_geometry",
+    "from_images",
+    "load_points",
+    "save_points",
+    "visible_in",
+]
+
+SOURCES = ("geometry", "features", "user")
+
+
+@dataclass(frozen=True)
+class Correspondences:
+    """Matched pixel positions in two images.
+
+    Parameters
+    ----------
+    pts0, pts1 : (N, 2) float64
+        ``(x, y)`` pixel positions in image 0 and image 1 (pixel-centre origin).
+    source : {"geometry", "features", "user"}
+        Where the pairs came from.
+    points3d : (N, 3) float64 or None
+        World points behind the pairs (``from_geometry`` only); used to post-warp
+        to a target camera.
+    depth : (N,) float64 or None
+        Mean depth of each pair's point in the two views (``from_geometry``
+        only); when present, fold-overs of the morph mesh are resolved by
+        dropping the farthest point of a folding triangle.
+    """
+
+    pts0: np.ndarray
+    pts1: np.ndarray
+    source: str = "user"
+    points3d: np.ndarray | None = field(default=None, repr=False)
+    depth: np.ndarray | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        p0 = as_points(self.pts0, "pts0")
+        p1 = as_points(self.pts1, "pts1")
+        if p0.shape != p1.shape:
+            raise ValidationError(expected_got("pts1", f"{p0.shape[0]} points (as many as pts0)",
+                                               f"{p1.shape[0]}"))
+        if self.source not in SOURCES:
+            raise ValidationError(expected_got("source", f"one of {SOURCES}", repr(self.source)))
+        p3 = None
+        if self.points3d is not None:
+            p3 = as_points(self.points3d, "points3d", dim=3)
+            if p3.shape[0] != p0.shape[0]:
+                raise ValidationError(expected_got("points3d", f"{p0.shape[0]} points", f"{p3.shape[0]}"))
+            p3.setflags(write=False)
+        dep = None
+        if self.depth is not None:
+            dep = as_finite_array(self.depth, "depth", shape=(p0.shape[0],))
+            dep.setflags(write=False)
+        object.__setattr__(self, "depth", dep)
+        p0.setflags(write=False)
+        p1.setflags(write=False)
+        object.__setattr__(self, "pts0", p0)
+        object.__setattr__(self, "pts1", p1)
+        object.__setattr__(self, "points3d", p3)
+
+    def __len__(self) -> int:
+        return int(self.pts0.shape[0])
+
+    def subset(self, keep: Any) -> Correspondences:
+        """The pairs selected by a boolean mask or an index array."""
+        keep = np.asarray(keep)
+        return Correspondences(self.pts0[keep], self.pts1[keep], self.source,
+                               None if self.points3d is None else self.points3d[keep],
+                               None if self.depth is None else self.depth[keep])
+
+    def swapped(self) -> Correspondences:
+        """The same pairs with the images exchanged."""
+        return Correspondences(self.pts1, self.pts0, self.source, self.points3d, self.depth)
+
+    def duplicates(self, tol_px: float = tol.VM_DUPLICATE_PX) -> np.ndarray:
+        """Boolean mask of pairs that repeat an earlier pair in either image.
+
+        A pair is a duplicate when its point in image 0 *or* its point in image
+        1 lies within ``tol_px`` (Chebyshev distance) of the point of an earlier
+        pair in the same image: both exact repeats and conflicting matches (one
+        point matched twice) would give zero-area mesh triangles.
+        """
+        dup = np.zeros(len(self), dtype=bool)
+        for pts in (self.pts0, self.pts1):
+            q = np.floor(pts / max(tol_px, 1e-12)).astype(np.int64)
+            # Neighbouring cells too, so that pairs straddling a cell border are found.
+            seen: dict[tuple[int, int], int] = {}
+            for i, (cx, cy) in enumerate(q):
+                hit = False
+                for dx in (-1, 0, 1):
+                    for dy in (-1, 0, 1):
+                        j = seen.get((cx + dx, cy + dy))
+                        if j is not None and np.max(np.abs(pts[j] - pts[i])) <= tol_px:
+                            hit = True
+                            break
+                    if hit:
+                        break
+                if hit:
+                    dup[i] = True
+                else:
+                    seen.setdefault((int(cx), int(cy)), i)
+        return dup
+
+    def cleaned(self, tol_px: float = tol.VM_DUPLICATE_PX) -> tuple[Correspondences, int]:
+        """Drop duplicates (see :meth:`duplicates`); return the rest and how many were dropped."""
+        dup = self.duplicates(tol_px)
+        return self.subset(~dup), int(dup.sum())
+
+
+# --------------------------------------------------------------------------- geometry
+
+
+def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None, *,
+               rtol: float = tol.VM_VISIBILITY_RTOL) -> tuple[np.ndarray, np.ndarray]:
+    """Project world ``points`` and test which are visible in ``camera``.
+
+    A point is visible when it is in front of the camera, inside the image
+    (``[-0.5, W - 0.5] x [-0.5, H - 0.5]``) and, if ``depth`` is given, not
+    farther than ``(1 + rtol)`` times the *smallest* depth among the (up to 4)
+    pixel centres around its projection (a conservative test near depth edges:
+    a point on the far side of a silhouette is dropped; a point on the
+    silhouette of its own surface, whose neighbouring centres see background
+    ``+inf``, is kept).
+
+    Returns
+    -------
+    px : (N, 2) float64
+        Projections (NaN for points behind the camera).
+    visible : (N,) bool
+    """
+    pts = as_finite_array(points, "points", shape=(None, 3))
+    cam_pts = (np.c_[pts, np.ones(len(pts))] @ camera.world2cam.T)[:, :3]
+    front = cam_pts[:, 2] > camera.znear
+    px = np.full((len(pts), 2), np.nan)
+    z = np.full(len(pts), np.nan)
+    if front.any():
+        px[front], z[front] = camera.project(pts[front])
+    h, w = camera.shape
+    with np.errstate(invalid="ignore"):
+        inside = (front & (px[:, 0] >= -0.5) & (px[:, 0] <= w - 0.5)
+                  & (px[:, 1] >= -0.5) & (px[:, 1] <= h - 0.5))
+    vis = inside.copy()
+    if depth is not None:
+        d = as_image(depth, "depth", channels=(1,), allow_nonfinite=True)
+        if d.shape != camera.shape:
+            raise ValidationError(expected_got("depth", f"shape {camera.shape}", f"shape {d.shape}"))
+        idx = np.flatnonzero(inside)
+        x0 = np.clip(np.floor(px[idx, 0]).astype(np.int64), 0, w - 1)
+        y0 = np.clip(np.floor(px[idx, 1]).astype(np.int64), 0, h - 1)
+        x1 = np.minimum(x0 + 1, w - 1)
+        y1 = np.minimum(y0 + 1, h - 1)
+        dd = np.stack([d[y0, x0], d[y0, x1], d[y1, x0], d[y1, x1]], axis=1).astype(np.float64)
+        dmin = np.min(dd, axis=1)
+        vis[idx] = z[idx] <= dmin * (1.0 + rtol)
+    return px, vis
+
+
+def _spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
+    """Indices of at most ``max_points`` rows of ``px``, spread evenly over the image.
+
+    Shuffle, then keep a point only if its grid cell (sized so that the points'
+    bounding box holds about ``max_points`` cells) is still empty; fill up with
+    the remaining shuffled points if fewer cells were occupied.
+    """
+    n = len(px)
+    if n <= max_points:
+        return np.arange(n)
+    order = rng.permutation(n)
+    lo, hi = px.min(axis=0), px.max(axis=0)
+    area = max(float(np.prod(np.maximum(hi - lo, 1.0))), 1.0)
+    cell = max(np.sqrt(area / max_points), 1e-6)
+    key = np.floor((px[order] - lo) / cell).astype(np.int64)
+    _, first = np.unique(key[:, 0] * 1_000_003 + key[:, 1], return_index=True)
+    chosen = order[np.sort(first)]
+    if len(chosen) >= max_points:
+        return np.sort(chosen[:max_points])
+    rest = np.setdiff1d(order, chosen, assume_unique=True)
+    rest = rest[rng.permutation(len(rest))][: max_points - len(chosen)]
+    return np.sort(np.r_[chosen, rest])
+
+
+def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
+                  depth0: np.ndarray | None = None, depth1: np.ndarray | None = None,
+                  max_points: int = 500, rtol: float = tol.VM_VISIBILITY_RTOL,
+                  rng: np.random.Generator | None = None) -> Correspondences:
+    """Correspondences from known geometry: project 3-D points into both views.
+
+    Parameters
+    ----------
+    points : (N, 3) array or trimesh.Trimesh
+        World points (a mesh gives its vertices).
+    camera0, camera1 : CameraModel
+        The two views.
+    depth0, depth1 : (H, W) float, optional
+        Linear depth maps of the two views (e.g. ``Renderer.depth``); without
+        them no occlusion test is made (only "in front and inside the image").
+    max_points : int
+        Keep at most this many pairs, spread evenly over image 0.
+    rtol : float
+        Relative depth tolerance of the visibility test (:func:`visible_in`).
+    rng : numpy.random.Generator, optional
+        For the subsampling (default ``np.random.default_rng(0)``).
+
+    Returns
+    -------
+    Correspondences
+        ``source="geometry"`` with ``points3d`` set; only points visible in both views.
+    """
+    verts = getattr(points, "vertices", points)
+    pts = as_finite_array(verts, "points", shape=(None, 3))
+    if int(max_points) < 1:
+        raise ValidationError(expected_got("max_points", "an int >= 1", max_points))
+    px0, v0 = visible_in(camera0, pts, depth0, rtol=rtol)
+    px1, v1 = visible_in(camera1, pts, depth1, rtol=rtol)
+    both = np.flatnonzero(v0 & v1)
+    rng = np.random.default_rng(0) if rng is None else rng
+    keep = both[_spread_subset(px0[both], int(max_points), rng)]
+    z = 0.5 * (_depth(camera0, pts[keep]) + _depth(camera1, pts[keep]))
+    return Correspondences(px0[keep], px1[keep], "geometry", pts[keep], z)
+
+
+def _depth(camera: CameraModel, pts: np.ndarray) -> np.ndarray:
+    return (np.c_[pts, np.ones(len(pts))] @ camera.world2cam[2])
+
+
+# --------------------------------------------------------------------------- images
+
+
+def _gray_u8(img: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """8-bit grey version of ``img`` and, for RGBA, the alpha > 0 mask (dilated 2 px)."""
+    a = as_image(img, "image", channels=(1, 3, 4))
+    if a.dtype == np.uint8:
+        f = a
+    elif a.dtype.kind == "f":
+        f = np.clip(np.rint(a * 255.0), 0, 255).astype(np.uint8)
+    else:
+        top = float(np.iinfo(a.dtype).max)
+        f = np.clip(np.rint(a.astype(np.float64) * (255.0 / top)), 0, 255).astype(np.uint8)
+    mask = None
+    if f.ndim == 3 and f.shape[2] == 4:
+        alpha = f[..., 3]
+        mask = cv2.dilate((alpha > 0).astype(np.uint8) * 255, np.ones((5, 5), np.uint8))
+        rgb = (f[..., :3].astype(np.float32) * (alpha[..., None] / 255.0)).astype(np.uint8)
+        gray = cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY)
+    elif f.ndim == 3:
+        gray = cv2.cvtColor(np.ascontiguousarray(f), cv2.COLOR_RGB2GRAY)
+    else:
+        gray = f
+    return np.ascontiguousarray(gray), mask
+
+
+def from_images(image0: np.ndarray, image1: np.ndarray, *, ratio: float = 0.75,
+                max_features: int = 4000, cross_check: bool = True) -> Correspondences:
+    """Correspondences from the images alone: SIFT + Lowe's ratio test + mutual check.
+
+    Grey, RGB and RGBA images of any of uint8/uint16/float (in [0, 1]) are
+    accepted; RGBA images are matched on their premultiplied colour, with
+    features only where alpha > 0 (dilated by 2 px). The result still contains
+    outliers: fit F robustly (``estimate_fundamental(method="auto")`` does).
+
+    Parameters
+    ----------
+    ratio : float
+        Lowe's ratio: keep a match whose best distance is below ``ratio`` times
+        the second best.
+    max_features : int
+        SIFT ``nfeatures`` per image.
+    cross_check : bool
+        Keep only mutual best matches (image 0 -> 1 and 1 -> 0 agree).
+
+    Returns
+    -------
+    Correspondences
+        ``source="features"``; possibly fewer than 8 pairs (then the view
+        morpher refuses it with a ValidationError).
+    """
+    if not 0.0 < float(ratio) <= 1.0:
+        raise ValidationError(expected_got("ratio", "a number in (0, 1]", ratio))
+    g0, m0 = _gray_u8(image0)
+    g1, m1 = _gray_u8(image1)
+    sift = cv2.SIFT_create(nfeatures=int(max_features))
+    k0, d0 = sift.detectAndCompute(g0, m0)
+    k1, d1 = sift.detectAndCompute(g1, m1)
+    empty = Correspondences(np.zeros((0, 2)), np.zeros((0, 2)), "features")
+    if d0 is None or d1 is None or len(k0) < 2 or len(k1) < 2:
+        return empty
+    bf = cv2.BFMatcher(cv2.NORM_L2)
+    fwd = bf.knnMatch(d0, d1, k=2)
+    good = {m.queryIdx: m.trainIdx for m, n in (p for p in fwd if len(p) == 2)
+            if m.distance < ratio * n.distance}
+    if cross_check and good:
+        back = bf.match(d1, d0)
+        best_back = {m.queryIdx: m.trainIdx for m in back}
+        good = {q: t for q, t in good.items() if best_back.get(t) == q}
+    if not good:
+        return empty
+    q = np.array(list(good.keys()))
+    t = np.array(list(good.values()))
+    p0 = np.array([k0[i].pt for i in q], dtype=np.float64)
+    p1 = np.array([k1[i].pt for i in t], dtype=np.float64)
+    # cv2 keypoints use the pixel-centre origin already (pixel (c, r) centred at (c, r)).
+    return Correspondences(p0, p1, "features")
+
+
+# --------------------------------------------------------------------------- files
+
+
+def load_points(path: str | Path) -> Correspondences:
+    """Read user correspondences from JSON or CSV.
+
+    Formats (pixel-centre ``(x, y)`` coordinates):
+
+    * JSON: ``{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}``, or a list of
+      ``[x0, y0, x1, y1]`` rows, or a list of ``{"x0", "y0", "x1", "y1"}`` objects;
+    * CSV: four columns ``x0, y0, x1, y1``, with or without that header line.
+
+    Raises
+    ------
+    FileFormatError
+        Unreadable file or unrecognised layout.
+    ValidationError
+        NaN/inf values or mismatched counts.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except OSError as exc:
+        raise FileFormatError(expected_got("points file", "a readable file", f"{p}: {exc}")) from exc
+    if p.suffix.lower() == ".json":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise FileFormatError(expected_got("points file", "valid JSON", f"{p}: {exc}")) from exc
+        if isinstance(data, dict) and "pts0" in data and "pts1" in data:
+            return Correspondences(np.asarray(data["pts0"], dtype=np.float64).reshape(-1, 2),
+                                   np.asarray(data["pts1"], dtype=np.float64).reshape(-1, 2), "user")
+        if isinstance(data, list) and data and isinstance(data[0], dict):
+            try:
+                rows = [[r["x0"], r["y0"], r["x1"], r["y1"]] for r in data]
+            except (KeyError, TypeError) as exc:
+                raise FileFormatError(expected_got("points file", "objects with x0, y0, x1, y1",
+                                                   f"{p}: {exc!r}")) from exc
+        elif isinstance(data, list):
+            rows = data
+        else:
+            raise FileFormatError(expected_got("points file", '{"pts0": ..., "pts1": ...} or a list of rows',
+                                               f"{type(data).__name__} in {p}"))
+    elif p.suffix.lower() in (".csv", ".txt"):
+        rows = []
+        for i, rec in enumerate(csv.reader(text.splitlines())):
+            if not rec or all(not c.strip() for c in rec):
+                continue
+            if i == 0 and not _is_number(rec[0]):
+                continue  # header
+            rows.append(rec)
+    else:
+        raise FileFormatError(expected_got("points file", "a .json or .csv file", str(p)))
+    try:
+        arr = np.asarray(rows, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise FileFormatError(expected_got("points file", "numeric rows x0, y0, x1, y1",
+                                           f"{p}: {exc}")) from exc
+    if arr.ndim != 2 or arr.shape[1] != 4:
+        raise FileFormatError(expected_got("points file", "rows of 4 numbers (x0, y0, x1, y1)",
+                                           f"shape {arr.shape} in {p}"))
+    return Correspondences(arr[:, :2], arr[:, 2:], "user")
+
+
+def _is_number(s: str) -> bool:
+    try:
+        float(s)
+    except ValueError:
+        return False
+    return True
+
+
+def save_points(path: str | Path, corr: Correspondences) -> Path:
+    """Write ``corr`` as JSON (``{"pts0", "pts1"}``) or CSV (``x0,y0,x1,y1``) by suffix."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    if p.suffix.lower() == ".json":
+        p.write_text(json.dumps({"pts0": corr.pts0.tolist(), "pts1": corr.pts1.tolist()}) + "\n")
+    elif p.suffix.lower() == ".csv":
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["x0", "y0", "x1", "y1"])
+            for a, b in zip(corr.pts0, corr.pts1, strict=True):
+                w.writerow([repr(float(a[0])), repr(float(a[1])), repr(float(b[0])), repr(float(b[1]))])
+    else:
+        raise ValidationError(expected_got("path", "a .json or .csv file name", str(p)))
+    return p

@@ -1,0 +1,347 @@
+"""The fundamental matrix: estimation, quality, epipoles, and the degenerate cases.
+
+Convention
+----------
+``F`` relates image 0 to image 1 by ``x1^T F x0 = 0`` for corresponding
+homogeneous pixels ``x0 = (x, y, 1)`` in image 0 and ``x1`` in image 1 (the
+order of ``cv2.findFundamentalMat(pts0, pts1)``). Pixels follow
+:mod:`morphkit.conventions` (origin at the centre of the top-left pixel), so F is
+expressed in those coordinates. The epipole ``e0`` (image 0) is the right null
+vector of F (``F e0 = 0``), ``e1`` (image 1) the left one (``e1^T F = 0``); both
+come from the SVD of F, never from an eigen-decomposition (F is not symmetric
+and its eigenvectors are not its null vectors). F is returned with unit
+Frobenius norm and its largest-magnitude entry positive.
+
+Policy on degenerate input (refused, never repaired silently)
+-------------------------------------------------------------
+* fewer than 8 pairs: :class:`~morphkit.errors.ValidationError`;
+* all points (in either image) on a line: :class:`~morphkit.errors.GeometryError`;
+* the pairs are explained by one homography (planar scene, pure rotation, zero
+  baseline, identical images): F is not determined,
+  :class:`~morphkit.errors.DegenerateViewError` (the view morpher catches this
+  case first and uses its documented homography fallback).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import cv2
+import numpy as np
+
+from .. import tol
+from ..camera import CameraModel
+from ..errors import DegenerateViewError, GeometryError, ValidationError, expected_got
+from ..validate import as_finite_array, as_points, as_positive
+
+__all__ = [
+    "FundamentalFit",
+    "estimate_fundamental",
+    "fundamental_from_cameras",
+    "epipoles",
+    "epipole_pixel",
+    "sampson_distance",
+    "epipolar_distance",
+    "check_spread",
+    "homography_degeneracy",
+    "normalize_f",
+]
+
+METHODS = ("auto", "8point", "magsac", "ransac")
+
+
+@dataclass(frozen=True)
+class FundamentalFit:
+    """A fitted fundamental matrix and its quality.
+
+    Attributes
+    ----------
+    F : (3, 3) float64
+        ``x1^T F x0 = 0`` (see the module convention), unit Frobenius norm.
+    inliers : (N,) bool
+        Pairs within ``threshold`` (Sampson distance, pixels) of F.
+    method : str
+        ``"8point"`` (normalised 8-point on all pairs) or ``"magsac"``/``"ransac"``
+        followed by a normalised 8-point refit on the inliers.
+    threshold : float
+        Inlier threshold in pixels.
+    sampson_rms, sampson_max : float
+        Sampson distance (first-order geometric error, pixels) over the inliers.
+    epipolar_rms : float
+        RMS symmetric point-to-epipolar-line distance (pixels) over the inliers.
+    """
+
+    F: np.ndarray
+    inliers: np.ndarray = field(repr=False)
+    method: str
+    threshold: float
+    sampson_rms: float
+    sampson_max: float
+    epipolar_rms: float
+
+    @property
+    def n_inliers(self) -> int:
+        """Number of inlier pairs."""
+        return int(self.inliers.sum())
+
+    def report(self) -> dict[str, Any]:
+        """A JSON-friendly summary."""
+        return {"method": self.method, "n_points": int(self.inliers.size), "n_inliers": self.n_inliers,
+                "threshold_px": self.threshold, "sampson_rms_px": self.sampson_rms,
+                "sampson_max_px": self.sampson_max, "epipolar_rms_px": self.epipolar_rms}
+
+
+def normalize_f(F: Any) -> np.ndarray:
+    """``F`` scaled to unit Frobenius norm with its largest-magnitude entry positive."""
+    F = as_finite_array(F, "F", shape=(3, 3))
+    n = np.linalg.norm(F)
+    if n < 1e-300:
+        raise GeometryError(expected_got("F", "a non-zero matrix", "all zeros"))
+    F = F / n
+    k = int(np.argmax(np.abs(F)))
+    return F if F.flat[k] > 0 else -F
+
+
+def _h(p: np.ndarray) -> np.ndarray:
+    return np.c_[p, np.ones(len(p))]
+
+
+def sampson_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
+    """Sampson distance (pixels) of each pair to F: the first-order geometric error.
+
+    ``d^2 = (x1^T F x0)^2 / ((F x0)_1^2 + (F x0)_2^2 + (F^T x1)_1^2 + (F^T x1)_2^2)``.
+    """
+    F = as_finite_array(F, "F", shape=(3, 3))
+    x0, x1 = _h(as_points(pts0, "pts0")), _h(as_points(pts1, "pts1"))
+    l1 = x0 @ F.T  # F x0: epipolar lines in image 1
+    l0 = x1 @ F  # F^T x1: lines in image 0
+    num = np.einsum("ij,ij->i", x1, l1)
+    den = l1[:, 0] ** 2 + l1[:, 1] ** 2 + l0[:, 0] ** 2 + l0[:, 1] ** 2
+    return np.abs(num) / np.sqrt(np.maximum(den, 1e-300))
+
+
+def epipolar_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
+    """Symmetric epipolar distance (pixels): RMS of the two point-to-epipolar-line distances."""
+    F = as_finite_array(F, "F", shape=(3, 3))
+    x0, x1 = _h(as_points(pts0, "pts0")), _h(as_points(pts1, "pts1"))
+    l1 = x0 @ F.T
+    l0 = x1 @ F
+    num = np.abs(np.einsum("ij,ij->i", x1, l1))
+    d1 = num / np.sqrt(np.maximum(l1[:, 0] ** 2 + l1[:, 1] ** 2, 1e-300))
+    d0 = num / np.sqrt(np.maximum(l0[:, 0] ** 2 + l0[:, 1] ** 2, 1e-300))
+    return np.sqrt(0.5 * (d0**2 + d1**2))
+
+
+def epipoles(F: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Epipoles ``(e0, e1)`` as unit homogeneous 3-vectors from the SVD of F.
+
+    ``e0`` is the right singular vector of the smallest singular value
+    (``F e0 = 0``: the image of camera 1's centre in image 0), ``e1`` the left one
+    (``e1^T F = 0``). Each is signed so that its last coordinate is >= 0 (an
+    epipole at infinity has last coordinate 0).
+    """
+    F = as_finite_array(F, "F", shape=(3, 3))
+    U, _, Vt = np.linalg.svd(F)
+    e0, e1 = Vt[2].copy(), U[:, 2].copy()
+    for e in (e0, e1):
+        if e[2] < 0 or (e[2] == 0 and e[np.argmax(np.abs(e[:2]))] < 0):
+            e *= -1.0
+    return e0, e1
+
+
+def epipole_pixel(e: np.ndarray) -> np.ndarray | None:
+    """Pixel position of a homogeneous epipole, or None when it is (numerically) at infinity."""
+    e = np.asarray(e, dtype=np.float64)
+    if abs(e[2]) <= tol.VM_EPIPOLE_INFINITY * np.linalg.norm(e[:2]):
+        return None
+    return e[:2] / e[2]
+
+
+def fundamental_from_cameras(camera0: CameraModel, camera1: CameraModel) -> np.ndarray:
+    """Geometric F of two perspective cameras: ``F = K1^-T [t]x R K0^-1``.
+
+    ``R, t`` take camera-0 coordinates to camera-1 coordinates
+    (``X1 = R X0 + t``, OpenCV camera frames). Normalised like
+    :func:`normalize_f`.
+
+    Raises
+    ------
+    ValidationError
+        An orthographic camera (its F is affine; not handled here).
+    DegenerateViewError
+        The camera centres coincide (F = 0: no epipolar geometry).
+    """
+    for name, c in (("camera0", camera0), ("camera1", camera1)):
+        if not isinstance(c, CameraModel) or c.projection != "perspective":
+            raise ValidationError(expected_got(name, "a perspective CameraModel", repr(c)[:80]))
+    w2c0, w2c1 = camera0.world2cam, camera1.world2cam
+    R = w2c1[:3, :3] @ w2c0[:3, :3].T
+    t = w2c1[:3, 3] - R @ w2c0[:3, 3]
+    if np.linalg.norm(t) < tol.MIN_EXTENT:
+        raise DegenerateViewError(expected_got("camera centres", "distinct (a baseline)", "the same point"))
+    tx = np.array([[0, -t[2], t[1]], [t[2], 0, -t[0]], [-t[1], t[0], 0]])
+    F = np.linalg.inv(camera1.K).T @ tx @ R @ np.linalg.inv(camera0.K)
+    return normalize_f(F)
+
+
+def check_spread(pts: Any, name: str) -> None:
+    """Raise :class:`GeometryError` if the points lie (numerically) on a line or a point.
+
+    Uses the singular values of the centred points: ``s2 / s1 <`` :data:`tol.VM_COLLINEAR_RATIO`.
+    """
+    p = as_points(pts, name)
+    c = p - p.mean(axis=0)
+    s = np.linalg.svd(c, compute_uv=False) if len(p) >= 2 else np.zeros(2)
+    if s[0] <= 1e-9 or s[1] < tol.VM_COLLINEAR_RATIO * s[0]:
+        ratio = 0.0 if s[0] <= 1e-9 else s[1] / s[0]
+        raise GeometryError(expected_got(
+            name, "points spanning a 2-D area (F and homographies are undetermined otherwise)",
+            f"collinear points (spread ratio {ratio:.2e} < {tol.VM_COLLINEAR_RATIO})"))
+
+
+def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THRESHOLD_PX,
+                          f_inliers: int | None = None) -> tuple[np.ndarray | None, float]:
+    """Do the pairs fit one homography (planar scene, pure rotation, zero baseline)?
+
+    Fits ``H_1_0`` (image 0 pixels to image 1 pixels) by least squares when every
+    pair fits within ``threshold``, else by RANSAC with that threshold.
+    The pairs are called degenerate when the homography's inliers number at
+    least :data:`tol.VM_HOMOGRAPHY_INLIER_RATIO` times ``f_inliers`` (the
+    inliers of the fundamental matrix; default: all pairs). A homography-consistent
+    pair is always F-consistent, so F then adds no information: it is not determined.
+
+    Returns
+    -------
+    H : (3, 3) float64 or None
+        ``H_1_0`` when degenerate, else None.
+    fraction : float
+        Homography inliers / ``f_inliers``.
+    """
+    p0 = as_points(pts0, "pts0", min_count=4)
+    p1 = as_points(pts1, "pts1", min_count=4)
+    threshold = as_positive(threshold, "threshold")
+    n_ref = len(p0) if f_inliers is None else max(int(f_inliers), 1)
+    H, _ = cv2.findHomography(p0, p1, 0)
+    if H is not None and np.all(np.isfinite(H)):
+        err = _transfer(H, p0, p1)
+        if np.max(err) <= threshold:
+            return H / H[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
+    H, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
+    if H is None or not np.all(np.isfinite(H)):
+        return None, 0.0
+    inl = int(mask.ravel().astype(bool).sum())
+    frac = inl / n_ref
+    if frac >= tol.VM_HOMOGRAPHY_INLIER_RATIO:
+        return H / H[2, 2], min(frac, 1.0)
+    return None, frac
+
+
+def _transfer(H: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    q = _h(p0) @ H.T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = q[:, :2] / q[:, 2:3]
+    d = np.linalg.norm(q - p1, axis=1)
+    return np.where(np.isfinite(d), d, np.inf)
+
+
+def _fit(pts0: np.ndarray, pts1: np.ndarray, flag: int, threshold: float, seed: int
+         ) -> tuple[np.ndarray | None, np.ndarray | None]:
+    if flag == cv2.FM_8POINT:
+        F, mask = cv2.findFundamentalMat(pts0, pts1, cv2.FM_8POINT)
+    else:
+        cv2.setRNGSeed(int(seed))  # FM_RANSAC draws from cv::theRNG; USAC is seeded internally
+        F, mask = cv2.findFundamentalMat(pts0, pts1, flag, threshold, 0.9999, 10000)
+    if F is None or F.shape != (3, 3) or not np.all(np.isfinite(F)):
+        return None, None
+    return F, None if mask is None else mask.ravel().astype(bool)
+
+
+def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
+                         threshold: float = tol.VM_THRESHOLD_PX, seed: int = 0,
+                         check_degenerate: bool = True) -> FundamentalFit:
+    """Estimate F (``x1^T F x0 = 0``) from pixel correspondences with ``cv2.findFundamentalMat``.
+
+    Parameters
+    ----------
+    pts0, pts1 : (N, 2) array_like
+        Pixel positions (pixel-centre origin), ``N >= 8``.
+    method : {"auto", "8point", "magsac", "ransac"}
+        ``"8point"``: normalised 8-point algorithm on every pair (for exact
+        points). ``"magsac"``/``"ransac"``: robust USAC fit (``USAC_MAGSAC``
+        scoring, or plain RANSAC scoring) with ``threshold``, then an 8-point
+        refit on its inliers. ``"auto"``: 8-point, kept if every pair lies within
+        ``threshold`` of it (exact or clean points), otherwise MAGSAC.
+    threshold : float
+        Inlier threshold (pixels, Sampson distance).
+    seed : int
+        Seed of the USAC sampler (results are reproducible).
+    check_degenerate : bool
+        Refuse pairs explained by one homography (see :func:`homography_degeneracy`).
+
+    Returns
+    -------
+    FundamentalFit
+
+    Raises
+    ------
+    ValidationError
+        Fewer than 8 pairs, NaN/inf, mismatched counts, unknown method.
+    GeometryError
+        Collinear points, or no fit found.
+    DegenerateViewError
+        The pairs fit one homography: F is not determined.
+    """
+    if method not in METHODS:
+        raise ValidationError(expected_got("method", f"one of {METHODS}", repr(method)))
+    p0 = as_points(pts0, "pts0")
+    p1 = as_points(pts1, "pts1")
+    if p0.shape != p1.shape:
+        raise ValidationError(expected_got("pts1", f"{len(p0)} points (as many as pts0)", f"{len(p1)}"))
+    if len(p0) < 8:
+        raise ValidationError(expected_got(
+            "correspondences", "at least 8 pairs (F has 7 degrees of freedom; the 8-point algorithm "
+            "needs 8)", f"{len(p0)}"))
+    threshold = as_positive(threshold, "threshold")
+    check_spread(p0, "pts0")
+    check_spread(p1, "pts1")
+
+    used = method
+    F = inl = None
+    if method in ("auto", "8point"):
+        F, _ = _fit(p0, p1, cv2.FM_8POINT, threshold, seed)
+        if F is not None:
+            d = sampson_distance(F, p0, p1)
+            inl = d <= threshold
+            if method == "auto" and not inl.all():
+                F = None
+            used = "8point"
+    if F is None and method != "8point":
+        flag = cv2.USAC_MAGSAC if method in ("auto", "magsac") else cv2.FM_RANSAC
+        F, mask = _fit(p0, p1, flag, threshold, seed)
+        used = "magsac" if flag == cv2.USAC_MAGSAC else "ransac"
+        if F is not None:
+            inl = sampson_distance(F, p0, p1) <= threshold
+            if inl.sum() >= 8:
+                F8, _ = _fit(p0[inl], p1[inl], cv2.FM_8POINT, threshold, seed)
+                if F8 is not None:
+                    inl8 = sampson_distance(F8, p0, p1) <= threshold
+                    if inl8.sum() >= inl.sum():
+                        F, inl = F8, inl8
+    if F is None or inl is None or inl.sum() < 8:
+        raise GeometryError(expected_got("fundamental matrix fit", "a fit with >= 8 inliers",
+                                         f"none (method {used}, threshold {threshold} px)"))
+    F = normalize_f(F)
+    if check_degenerate:
+        H, frac = homography_degeneracy(p0[inl], p1[inl], threshold=threshold)
+        if H is not None:
+            raise DegenerateViewError(expected_got(
+                "correspondences", "a general 3-D configuration (F determined)",
+                f"pairs explained by one homography ({100 * frac:.0f}% within {threshold} px): a planar "
+                "scene, pure rotation or zero baseline; F is not determined"))
+    d = sampson_distance(F, p0[inl], p1[inl])
+    e = epipolar_distance(F, p0[inl], p1[inl])
+    inl.setflags(write=False)
+    F.setflags(write=False)
+    return FundamentalFit(F, inl, used, threshold, float(np.sqrt(np.mean(d**2))), float(d.max()),
+                          float(np.sqrt(np.mean(e**2))))
