@@ -47,10 +47,22 @@ interpolation) raise :class:`~morphkit.errors.ValidationError`.
 Reuse
 -----
 :class:`MeshWarper` keeps what depends on the source mesh only (validated points,
-triangles, source orientation). :meth:`MeshWarper.maps` turns destination points
-into :class:`WarpMaps` (per-pixel sampling maps of the mesh's bounding box plus
-the coverage mask), which :meth:`WarpMaps.apply` applies to any number of images
-or channels at the cost of one ``cv2.remap`` each.
+triangles, source orientation, boundary edges). :meth:`MeshWarper.maps` turns
+destination points into :class:`WarpMaps` (per-pixel sampling maps of the mesh's
+bounding box plus the coverage mask), which :meth:`WarpMaps.apply` applies to any
+number of images or channels at the cost of one ``cv2.remap`` each.
+
+How the maps are built (per call, all vectorised): per-triangle affines
+``A_src_dst``; exact scanline runs ``[x_left, x_right)`` for every
+(triangle, pixel row) pair; one integer sort of the runs along the image; then
+either (<= 255 triangles) a uint8 triangle-label image expanded from the runs and
+per-pixel affines by ``cv2.LUT`` + ``cv2.multiply``/``cv2.add``, or (more
+triangles) the runs' slopes and offsets expanded with ``np.repeat``. Coordinate
+planes and scratch buffers are kept per thread and output shape, and the map
+buffers of a dropped :class:`WarpMaps` are recycled (only if nothing else refers
+to them): on this kind of machine fresh page-faulted memory costs as much as the
+arithmetic. ``MeshWarper`` and ``WarpMaps`` are safe to use from several
+threads only if each thread has its own objects.
 """
 
 from __future__ import annotations
@@ -475,9 +487,10 @@ class MeshWarper:
 
     Notes
     -----
-    Per call, :meth:`maps` costs O(M) work for the per-triangle affines and the
-    exact scanline runs, plus O(pixels in the mesh's bounding box) to expand the
-    runs into float32 maps; applying them is one ``cv2.remap``.
+    Per call, :meth:`maps` costs O(M + covered rows) work for the per-triangle
+    affines and the exact scanline runs, plus O(pixels in the mesh's bounding
+    box) to expand the runs into float32 maps; applying them is one
+    ``cv2.remap``. Measure with ``morphkit bench warp``.
     """
 
     def __init__(self, src_pts: Any, triangles: Any = None) -> None:
@@ -676,22 +689,25 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     k = n - int(np.count_nonzero(empty))
     if k == 0:
         return WarpMaps(shape, roi, None, None, None)
-    # Sort runs by start: one int64 sort of start << bits | pair index (cheaper than argsort).
-    bits = max(1, (n - 1).bit_length())
-    if (h * w).bit_length() + bits <= 62:
-        key = start << bits
-        key |= np.arange(n, dtype=np.int64)
+    # Sort runs by start with one int64 sort of start | length | triangle packed
+    # into a key (no argsort, no gathers); argsort fallback for huge inputs.
+    tri = np.repeat(np.arange(2 * M, dtype=np.int64) >> 1, cnt)
+    lenb = int(w).bit_length()
+    trib = max(1, (M - 1).bit_length())
+    if (h * w).bit_length() + lenb + trib <= 62:
+        key = start << (lenb + trib)
+        key |= (end - start) << trib
+        key |= tri
         key[empty] = np.iinfo(np.int64).max
         key.sort()
         key = key[:k]
-        o = key & ((1 << bits) - 1)
-        start = key >> bits
-    else:  # pragma: no cover - > 2**40 pixel-runs
+        tri = key & ((1 << trib) - 1)
+        start = key >> (lenb + trib)
+        end = start + ((key >> trib) & ((1 << lenb) - 1))
+    else:  # pragma: no cover - gigapixel outputs with millions of triangles
         start[empty] = np.iinfo(np.int64).max
         o = np.argsort(start)[:k]
-        start = start[o]
-    end = end[o]
-    tri = np.repeat(np.arange(2 * M, dtype=np.int64) >> 1, cnt)[o]
+        start, end, tri = start[o], end[o], tri[o]
     gaps = np.empty(k + 1, dtype=np.int64)
     gaps[0] = start[0]
     np.subtract(start[1:], end[:-1], out=gaps[1:-1])
