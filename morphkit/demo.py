@@ -29,11 +29,11 @@ import numpy as np
 import trimesh
 
 from .camera import look_at, perspective
-from .composite import shade
 from .groundtruth import hard_visibility, receiver_grid
 from .meshes import sample_mesh
-from .render import Item, Renderer, scene_items
+from .render import Item, Renderer
 from .scene import DirectionalLight, Receiver, Scene, SceneObject, light_view
+from .shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "demo_scene", "ground_truth_frame", "run_demo"]
 
@@ -41,7 +41,6 @@ DEMO_MESHES = ("teapot", "chair", "cow")
 
 #: The demo light: from the upper right-front, casting shadows back-left.
 DEMO_LIGHT_DIRECTION = (-0.55, 0.35, -1.0)
-SKY = (0.62, 0.71, 0.82)
 
 
 def demo_scene(mesh: trimesh.Trimesh, size: int = 512) -> Scene:
@@ -58,15 +57,8 @@ def ground_truth_frame(renderer: Renderer, scene: Scene) -> dict[str, np.ndarray
 
     Returns the images ``lit``, ``unlit``, ``depth``, ``visibility`` and ``shaded``.
     """
-    items = scene_items(scene)
-    lit, depth = renderer.color_depth(scene.camera, items, [scene.light], ambient=scene.ambient,
-                                      background=SKY)
-    unlit, _ = renderer.color_depth(scene.camera, items, [], ambient=scene.ambient, background=SKY)
-    world, valid = scene.camera.unproject(depth)
-    vis = np.ones(scene.camera.shape, np.float32)
-    vis[valid] = hard_visibility(world[valid], scene.light, scene.obj)
-    return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
-            "shaded": shade(lit, unlit, vis)}
+    return render_frame(renderer, scene, lambda pts, _n: hard_visibility(pts, scene.light, scene.obj),
+                        background=SKY)
 
 
 def colorize_depth(depth: np.ndarray) -> np.ndarray:

@@ -1,0 +1,28 @@
+"""Warped shadow maps (Kang & Ihm 2002) and their baselines.
+
+* :mod:`.rig` -- the object's range of motion and the light camera that follows it;
+* :mod:`.atlas` -- the k x k shadow atlas: bake, control points, run-time warp, file I/O;
+* :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
+* :mod:`.lookup` -- the projective depth comparison (bias documented there);
+* :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
+"""
+
+from __future__ import annotations
+
+from .atlas import ATLAS_VERSION, ShadowAtlas, bake_atlas
+from .baselines import DirectShadow, ImageBasedShadow
+from .lookup import ShadowBias, shadow_visibility
+from .rig import LightRig, MotionRange, RangeClampWarning
+
+__all__ = [
+    "ATLAS_VERSION",
+    "ShadowAtlas",
+    "bake_atlas",
+    "DirectShadow",
+    "ImageBasedShadow",
+    "ShadowBias",
+    "shadow_visibility",
+    "LightRig",
+    "MotionRange",
+    "RangeClampWarning",
+]

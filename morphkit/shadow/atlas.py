@@ -1,0 +1,460 @@
+"""Warped shadow maps (Kang & Ihm 2002): the k x k shadow atlas and its run-time warp.
+
+Bake
+----
+Light-view depth maps of the occluder are rendered at a ``k x k`` grid of
+positions over its :class:`~morphkit.shadow.rig.MotionRange` (default 3 x 3:
+the corners, and middle samples in line with the light), in the light camera
+of a :class:`~morphkit.shadow.rig.LightRig` (resolution spent on the object).
+
+Control points (automatic)
+--------------------------
+Kang & Ihm chose control points by hand. morphkit derives them from the known
+object: a regular ``rows x cols`` grid of image points over a map is lifted to
+3-D *anchors* that move rigidly with the object, so projecting them gives exact
+correspondences at any position. A grid point is lifted with the map's depth
+there, the depth field being extended beyond the silhouette by the nearest
+object depth and blurred by ``smooth`` grid spacings (so control points move
+with the parallax of the surface they cover, and depth jumps do not fold the
+mesh). Anchor kinds:
+
+* ``"sample"`` (default): every map lifts its own grid. A map's source control
+  points are then exactly its regular grid, and its warp to a position follows
+  the parallax of what *that* map sees.
+* ``"shared"``: the middle map's anchors for all maps (one set of points in
+  one-to-one correspondence across maps, as in the paper; needed by
+  ``dst="interpolate"``).
+* ``"plane"``: every grid point on the plane through the object's centre,
+  parallel to the image: a projective motion, which cannot fold.
+
+A warp that would fold (an occlusion change too large for the mesh) falls back
+to the plane anchors for that map (documented fallback, counted in
+:attr:`ShadowAtlas.fallbacks`).
+
+Run time
+--------
+For an object position, the 4 surrounding maps are each warped (piecewise
+affine, :class:`~morphkit.warp.MeshWarper`, built once per map) from their
+control points to the destination control points, and blended with bilinear
+weights (``"composed"``: each source resampled once). ``"three"`` does the
+paper's three warps instead (two row morphs, then a column morph). Destination
+control points are the anchors projected at the exact position (``"project"``,
+default) or bilinearly interpolated from the 4 maps (``"interpolate"``, the
+paper). Maps are warped as premultiplied ``[coverage, coverage * depth]``
+(:func:`split_coverage`), so bilinear sampling never mixes object depth with
+the background; the blended coverage is thresholded at 0.5.
+
+Depth values follow the model of :mod:`morphkit.shadow.rig`: moving the object
+by ``d`` moves every one of its light depths by the same amount, that of its
+anchor. Sources hold depth relative to their anchor's depth; the result adds
+the anchor depth at the run-time position.
+
+Outside the baked range: :class:`~morphkit.errors.OutOfRangeError`, or with
+``clamp=True`` the nearest position in range and a :class:`RangeClampWarning`.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import cv2
+import numpy as np
+import trimesh
+from scipy import ndimage
+
+from .. import tol
+from ..camera import CameraModel
+from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
+from ..scene import DirectionalLight, PointLight
+from ..warp import MeshWarper, grid_triangles
+from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
+
+__all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
+           "split_coverage"]
+
+ATLAS_FORMAT = "morphkit-shadow-atlas"
+ATLAS_VERSION = 1
+
+
+def split_coverage(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
+    """``(H, W, 2)`` float32 premultiplied ``[coverage, coverage * (depth - ref)]``:
+    coverage is 1 on the object and 0 on the background.
+
+    Bilinear interpolation of premultiplied channels blends object depths only:
+    ``channel1 / channel0`` is the mean depth of the covered part of a footprint,
+    never mixed with the background. ``ref`` (the object's anchor depth) makes
+    depth relative, so that the same source serves every position (the depth
+    model shifts all of an object's depths by the same amount).
+    """
+    cov = np.isfinite(depth)
+    out = np.zeros((*depth.shape, 2), np.float32)
+    out[..., 0] = cov
+    out[..., 1][cov] = depth[cov] - ref
+    return out
+
+
+def _merge(acc: np.ndarray, warped: np.ndarray, weight: float) -> None:
+    cv2.scaleAdd(warped, float(weight), acc, dst=acc)
+
+
+def _finish(acc: np.ndarray, ref: float) -> np.ndarray:
+    """Depth from premultiplied blended channels: ``+inf`` where coverage < 0.5."""
+    cov, num = cv2.split(acc)
+    out = cv2.divide(num, cov)
+    out += np.float32(ref)
+    out[cov < 0.5] = np.inf
+    return out
+
+
+@dataclass
+class ShadowAtlas:
+    """A baked k x k set of light-view depth maps with control points.
+
+    Build with :func:`bake_atlas`; save with :meth:`save`, load with :meth:`load`.
+    """
+
+    rig: LightRig
+    xs: np.ndarray
+    ys: np.ndarray
+    maps: np.ndarray  # (ky, kx, H, W) float32, +inf background
+    anchors: np.ndarray  # (ky, kx, N, 3) world points at translation (0, 0)
+    plane_anchors: np.ndarray  # (ky, kx, N, 3)
+    control_grid: tuple[int, int]
+    anchor_kind: str = "sample"
+    _warpers: dict[tuple[int, int], MeshWarper] = field(default_factory=dict, repr=False)
+    _split: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        self.triangles = grid_triangles(*self.control_grid)
+        ky, kx = self.maps.shape[:2]
+        self.control = np.stack([np.stack([self.project((self.xs[i], self.ys[j]), self.anchors[j, i])
+                                           for i in range(kx)]) for j in range(ky)])
+        self.fallbacks = 0
+        self.relaxed = 0
+
+    # ------------------------------------------------------------ geometry
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.rig.shape
+
+    @property
+    def grid(self) -> tuple[int, int]:
+        """``(ky, kx)`` sample grid."""
+        return self.maps.shape[0], self.maps.shape[1]
+
+    @property
+    def memory_bytes(self) -> int:
+        """Bytes of precomputed data (maps + anchors + control points)."""
+        return int(self.maps.nbytes + self.anchors.nbytes + self.control.nbytes)
+
+    def project(self, xy: Any, anchors: np.ndarray) -> np.ndarray:
+        """Pixel positions ``(N, 2)`` of ``anchors (N, 3)`` with the object at ``xy``."""
+        xy = np.asarray(xy, dtype=np.float64)
+        q = self.rig.camera_at(xy).texture_matrix() @ np.c_[anchors + np.r_[xy, 0.0],
+                                                              np.ones(len(anchors))].T
+        return (q[:2] / q[3]).T
+
+    def _dst_points(self, j: int, i: int, eq: np.ndarray) -> np.ndarray:
+        """Destination control points of map ``(j, i)`` for the object at ``eq``.
+
+        Where the surface anchors' parallax would fold a triangle (an occlusion
+        change), the offending vertices are pulled towards their plane-anchor
+        positions (``plane + a (surface - plane)``, ``a`` halved per round) until
+        no triangle folds: exact motion everywhere else, a projective motion at
+        the fold."""
+        surf = self.project(eq, self.anchors[j, i])
+        if self.anchor_kind == "plane":
+            return surf
+        plane = self.project(eq, self.plane_anchors[j, i])
+        tri = self.triangles
+        src = self.control[j, i]
+        sign = np.sign(_signed_area(src, tri))
+        alpha = np.ones(len(surf))
+        for _ in range(16):
+            dst = plane + alpha[:, None] * (surf - plane)
+            area = _signed_area(dst, tri)
+            bad = (np.sign(area) != sign) | (np.abs(area) < 4 * tol.TRIANGLE_AREA_PX2)
+            if not bad.any():
+                return dst
+            self.relaxed += 1
+            alpha[np.unique(tri[bad])] *= 0.5
+        return plane
+
+    def _warper(self, j: int, i: int) -> MeshWarper:
+        w = self._warpers.get((j, i))
+        if w is None:
+            w = self._warpers[(j, i)] = MeshWarper(self.control[j, i], self.triangles)
+        return w
+
+    def anchor_depth(self, xy: Any) -> float:
+        """Light depth of the object's anchor (bounding-box centre) at ``xy``."""
+        cam = self.rig.camera_at(np.asarray(xy, dtype=np.float64))
+        return float((self.rig.anchor0 + np.r_[xy, 0.0] - cam.position) @ cam.axis)
+
+    def _source(self, j: int, i: int) -> np.ndarray:
+        s = self._split.get((j, i))
+        if s is None:
+            ref = self.anchor_depth((self.xs[i], self.ys[j]))
+            s = self._split[(j, i)] = split_coverage(self.maps[j, i], ref)
+        return s
+
+    def cell(self, xy: np.ndarray) -> tuple[int, int, float, float]:
+        """``(j, i, v, u)``: the cell's lower sample indices and the fractions in it."""
+        i = int(np.clip(np.searchsorted(self.xs, xy[0], side="right") - 1, 0, len(self.xs) - 2))
+        j = int(np.clip(np.searchsorted(self.ys, xy[1], side="right") - 1, 0, len(self.ys) - 2))
+        u = float((xy[0] - self.xs[i]) / (self.xs[i + 1] - self.xs[i]))
+        v = float((xy[1] - self.ys[j]) / (self.ys[j + 1] - self.ys[j]))
+        return j, i, float(np.clip(v, 0, 1)), float(np.clip(u, 0, 1))
+
+    # ------------------------------------------------------------ run time
+    def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False,
+                   warps: Literal["composed", "three"] = "composed",
+                   dst: Literal["project", "interpolate"] = "project",
+                   ) -> tuple[np.ndarray, CameraModel]:
+        """The light depth map for the object at ``xy`` (and a point light moved by
+        ``light_offset``), and the light camera it belongs to.
+
+        Returns ``(depth (H, W) float32 with +inf background, camera)``.
+        """
+        if warps not in ("composed", "three") or dst not in ("project", "interpolate"):
+            raise ValidationError(expected_got("warps/dst", "'composed'|'three' and "
+                                               "'project'|'interpolate'", f"{warps!r}/{dst!r}"))
+        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
+        eq = self.rig.equivalent_position(xy, off, clamp=clamp)
+        cam = self.rig.camera_at(eq if off is None else eq + off, off)
+        j, i, v, u = self.cell(eq)
+        nb = [((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
+              ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)]
+        if (dst == "interpolate" or warps == "three") and self.anchor_kind == "sample":
+            raise ValidationError(expected_got(
+                "atlas anchors", "'shared' or 'plane' anchors for dst='interpolate' or "
+                "warps='three' (they need control points in correspondence across maps)",
+                "'sample' anchors"))
+        if warps == "three":
+            return self._three_warps(eq, j, i, u, v, dst), cam
+        interp = sum(w * self.control[jj, ii] for (jj, ii), w in nb) if dst == "interpolate" else None
+        acc = np.zeros((*self.shape, 2), np.float32)
+        for (jj, ii), w in nb:
+            if w <= 0.0:
+                continue
+            c_dst = interp if interp is not None else self._dst_points(jj, ii, eq)
+            _merge(acc, self._warp(jj, ii, c_dst, eq), w)
+        return _finish(acc, self.anchor_depth(eq)), cam
+
+    def _warp(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray) -> np.ndarray:
+        src = self._source(j, i)
+        if np.allclose(c_dst, self.control[j, i], rtol=0, atol=1e-6):
+            return src  # identity: exact sample position, or a directional light
+        try:
+            return self._warper(j, i)(src, c_dst, self.shape)
+        except FoldOverError:
+            # An occlusion change too large for the mesh: warp with plane anchors,
+            # whose motion is projective and cannot fold (documented fallback).
+            self.fallbacks += 1
+            src_pts = self.project((self.xs[i], self.ys[j]), self.plane_anchors[j, i])
+            dst_pts = self.project(eq, self.plane_anchors[j, i])
+            return MeshWarper(src_pts, self.triangles)(src, dst_pts, self.shape)
+
+    def _three_warps(self, eq: np.ndarray, j: int, i: int, u: float, v: float,
+                     dst: str) -> np.ndarray:
+        """Kang & Ihm's three warps: row morphs at fraction u, then a column morph at v."""
+        C = self.control
+        c_dst = (self.project(eq, self.anchors[j, i]) if dst == "project" else
+                 (1 - v) * ((1 - u) * C[j, i] + u * C[j, i + 1])
+                 + v * ((1 - u) * C[j + 1, i] + u * C[j + 1, i + 1]))
+        rows = []
+        for jj in (j, j + 1):
+            c_row = (1 - u) * C[jj, i] + u * C[jj, i + 1]
+            row = np.zeros((*self.shape, 2), np.float32)
+            for ii, w in ((i, 1 - u), (i + 1, u)):
+                if w > 0:
+                    _merge(row, self._warp(jj, ii, c_row, eq), w)
+            rows.append((c_row, row))  # premultiplied: a row morph is again a source
+        acc = np.zeros((*self.shape, 2), np.float32)
+        for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
+            if w > 0:
+                warped = row if np.array_equal(c_row, c_dst) else MeshWarper(c_row, self.triangles)(
+                    row, c_dst, self.shape)
+                _merge(acc, warped, w)
+        return _finish(acc, self.anchor_depth(eq))
+
+    # ------------------------------------------------------------ file I/O
+    def save(self, path: str | Path) -> Path:
+        """Write the atlas to one ``.npz`` file (maps, anchors, grid, light, range, rig, version)."""
+        path = Path(path)
+        meta = {
+            "format": ATLAS_FORMAT, "version": ATLAS_VERSION,
+            "light": _light_dict(self.rig.light),
+            "rig": self.rig.params(),
+            "control_grid": list(self.control_grid),
+            "anchor_kind": self.anchor_kind,
+        }
+        buf = io.BytesIO()
+        np.savez_compressed(buf, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8),
+                            xs=self.xs, ys=self.ys, maps=self.maps, anchors=self.anchors,
+                            plane_anchors=self.plane_anchors, triangles=self.triangles)
+        path.write_bytes(buf.getvalue())
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
+             ) -> ShadowAtlas:
+        """Read an atlas written by :meth:`save`.
+
+        Raises
+        ------
+        FileFormatError
+            Missing, truncated or corrupt file; another format or version; or,
+            when ``light`` is given, an atlas baked for another light.
+        """
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                data = {k: z[k] for k in ("meta", "xs", "ys", "maps", "anchors", "plane_anchors")}
+            meta = json.loads(bytes(data["meta"]).decode())
+        except FileNotFoundError as exc:
+            raise FileFormatError(expected_got("atlas file", "an existing file", str(path))) from exc
+        except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError, json.JSONDecodeError,
+                UnicodeDecodeError) as exc:
+            raise FileFormatError(expected_got(
+                "atlas file", f"a complete {ATLAS_FORMAT} .npz file",
+                f"an unreadable file {path.name} ({type(exc).__name__}: {exc})")) from exc
+        if meta.get("format") != ATLAS_FORMAT:
+            raise FileFormatError(expected_got("atlas format", ATLAS_FORMAT, meta.get("format")))
+        if meta.get("version") != ATLAS_VERSION:
+            raise FileFormatError(expected_got("atlas version", ATLAS_VERSION, meta.get("version")))
+        stored = _light_from_dict(meta["light"])
+        if light is not None and _light_dict(light) != meta["light"]:
+            raise FileFormatError(expected_got("atlas light", f"the light it is used with "
+                                               f"{_light_dict(light)}", f"baked for {meta['light']}"))
+        rig = LightRig.from_params(stored, meta["rig"])
+        atlas = cls(rig, data["xs"], data["ys"], data["maps"], data["anchors"], data["plane_anchors"],
+                    tuple(meta["control_grid"]), meta["anchor_kind"])
+        if atlas.maps.shape[2:] != rig.shape or atlas.maps.shape[:2] != (len(atlas.ys), len(atlas.xs)):
+            raise FileFormatError(expected_got("atlas maps", f"shape ({len(atlas.ys)}, {len(atlas.xs)}, "
+                                               f"{rig.shape[0]}, {rig.shape[1]})", atlas.maps.shape))
+        return atlas
+
+
+def _light_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
+    if isinstance(light, DirectionalLight):
+        return {"type": "directional", "direction": [round(float(v), 12) for v in light.direction]}
+    return {"type": "point", "position": [round(float(v), 12) for v in light.position]}
+
+
+def _light_from_dict(d: dict[str, Any]) -> DirectionalLight | PointLight:
+    if d.get("type") == "directional":
+        return DirectionalLight(np.array(d["direction"]))
+    if d.get("type") == "point":
+        return PointLight(np.array(d["position"]))
+    raise FileFormatError(expected_got("atlas light type", "'directional' or 'point'", d.get("type")))
+
+
+def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,
+               light: DirectionalLight | PointLight, shape: tuple[int, int], *, renderer: Any,
+               grid: int | tuple[int, int] = 3, control_grid: tuple[int, int] = (5, 15),
+               anchors: Literal["sample", "shared", "plane"] = "sample", margin: float = 0.04,
+               smooth: float = 0.0, uniform: bool = False, progress: bool = True) -> ShadowAtlas:
+    """Render the k x k light depth maps over ``motion`` and derive control points.
+
+    Parameters
+    ----------
+    renderer : morphkit.render.Renderer
+        The rendering boundary (passed in, so this module needs no GL itself).
+    grid : int or (ky, kx)
+        Samples per axis (>= 2). Odd counts put the middle sample in line with a
+        point light (Kang & Ihm); see :func:`~morphkit.shadow.rig.sample_axis`.
+    control_grid : (rows, cols)
+        Control points laid over each map (the paper used 5 x 15 and 7 x 15).
+    anchors : {"sample", "shared", "plane"}
+        How grid points are lifted to 3-D (module docstring).
+    smooth : float
+        Blur of the anchor depth field, in grid spacings (0: none).
+    uniform : bool
+        Evenly spaced samples even for odd ``grid`` (the image-based baseline).
+    progress : bool
+        Show a progress bar on a terminal (tqdm; silent when not a TTY).
+    """
+    from tqdm import tqdm
+
+    from ..render import Item
+
+    ky, kx = (grid, grid) if np.isscalar(grid) else tuple(int(g) for g in grid)  # type: ignore[misc]
+    rows, cols = (int(control_grid[0]), int(control_grid[1]))
+    if rows < 2 or cols < 2:
+        raise ValidationError(expected_got("control_grid", "(rows, cols) >= (2, 2)", control_grid))
+    if anchors not in ("sample", "shared", "plane"):
+        raise ValidationError(expected_got("anchors", "'sample', 'shared' or 'plane'", anchors))
+    rig = LightRig(light, mesh, base_pose, motion, shape, margin=margin)
+    mid = None
+    if isinstance(light, PointLight) and not uniform:
+        mid = light.position[:2] - rig.anchor0[:2]  # object centre under the light
+    xs = sample_axis(motion.lo[0], motion.hi[0], kx, None if mid is None else mid[0])
+    ys = sample_axis(motion.lo[1], motion.hi[1], ky, None if mid is None else mid[1])
+    H, W = rig.shape
+    maps = np.empty((ky, kx, H, W), np.float32)
+    bar = tqdm(total=ky * kx, desc="baking shadow atlas", unit="map", disable=not progress,
+               leave=False)
+    for j in range(ky):
+        for i in range(kx):
+            xy = np.array([xs[i], ys[j]])
+            maps[j, i] = renderer.depth(rig.camera_at(xy), [Item(mesh, rig.object_pose(xy))])
+            bar.update()
+    bar.close()
+    gx, gy = np.meshgrid(np.linspace(0, W - 1, cols), np.linspace(0, H - 1, rows))
+    pts = np.c_[gx.ravel(), gy.ravel()]
+    surf = np.empty((ky, kx, len(pts), 3))
+    plane = np.empty_like(surf)
+    for j in range(ky):
+        for i in range(kx):
+            xy = np.array([xs[i], ys[j]])
+            cam = rig.camera_at(xy)
+            anchor_z = float((rig.anchor0 + np.r_[xy, 0.0] - cam.position) @ cam.axis)
+            z = _anchor_depths(maps[j, i], pts, (rows, cols), anchor_z, smooth)
+            surf[j, i] = _lift(cam, pts, z) - np.r_[xy, 0.0]
+            plane[j, i] = _lift(cam, pts, np.full(len(pts), anchor_z)) - np.r_[xy, 0.0]
+    if anchors == "shared":
+        surf[:] = surf[ky // 2, kx // 2]
+        plane[:] = plane[ky // 2, kx // 2]
+    elif anchors == "plane":
+        surf = plane
+    return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
+
+
+def _signed_area(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def _anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fallback: float,
+                   smooth: float) -> np.ndarray:
+    """Depths for surface anchors at grid points ``pts``: the map's depth extended
+    beyond the silhouette by the nearest object depth (so the depth field, and
+    with it the parallax of the control points, is continuous across the
+    silhouette), blurred with a Gaussian of ``smooth`` grid spacings (so depth
+    jumps inside the object, e.g. seat/legs, do not fold the mesh)."""
+    cov = np.isfinite(depth)
+    if not cov.any():
+        return np.full(len(pts), fallback)
+    idx = ndimage.distance_transform_edt(~cov, return_distances=False, return_indices=True)
+    filled = depth[idx[0], idx[1]]
+    if smooth > 0:
+        h, w = depth.shape
+        sx = smooth * (w - 1) / max(grid[1] - 1, 1)
+        sy = smooth * (h - 1) / max(grid[0] - 1, 1)
+        filled = ndimage.gaussian_filter(filled, (sy, sx), mode="nearest")
+    return filled[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].astype(np.float64)
+
+
+def _lift(cam: CameraModel, pts: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """World points at pixel ``pts`` and depth ``z`` of ``cam``."""
+    X = (pts[:, 0] - cam.cx) / cam.fx
+    Y = (pts[:, 1] - cam.cy) / cam.fy
+    if cam.projection == "perspective":
+        X, Y = X * z, Y * z
+    return np.c_[X, Y, z] @ cam.cam2world[:3, :3].T + cam.cam2world[:3, 3]

@@ -1,0 +1,91 @@
+"""Baselines for warped shadow maps, with the same ``shadow_map`` API.
+
+* :class:`DirectShadow` (``direct``): re-render the light depth map at the exact
+  position every frame (through :mod:`morphkit.render`). No precomputed data.
+* :class:`ImageBasedShadow` (``ibr_nearest`` / ``ibr_blend``): the image-based
+  method of Kang & Ihm's ref. [4] (Lee & Ihm 2001): a dense ``k x k`` grid of
+  pre-rendered maps over the range (32 x 32 by default), taking the nearest
+  map, or blending the 4 neighbours with bilinear weights (no warping).
+
+All methods share the :class:`~morphkit.shadow.rig.LightRig`, so they differ
+only in what they store and how they produce a map. For fairness the image-based
+maps get the same exact depth model as the warp (depths shifted with the
+object's anchor), so their error is purely that of their shapes.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+import numpy as np
+import trimesh
+
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from .atlas import ShadowAtlas, _finish, _merge, bake_atlas
+from .rig import LightRig
+
+__all__ = ["DirectShadow", "ImageBasedShadow"]
+
+
+class DirectShadow:
+    """Re-render the light depth map at the exact position (``direct``)."""
+
+    name = "direct"
+    memory_bytes = 0
+
+    def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: Any) -> None:
+        from ..render import Item
+
+        self.rig, self.mesh, self.renderer, self._item = rig, mesh, renderer, Item
+
+    def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
+                   ) -> tuple[np.ndarray, CameraModel]:
+        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
+        eq = self.rig.equivalent_position(xy, off, clamp=clamp)
+        pose = self.rig.object_pose(eq if off is None else eq + off)
+        cam = self.rig.camera_at(eq if off is None else eq + off, off)
+        return self.renderer.depth(cam, [self._item(self.mesh, pose)]), cam
+
+
+class ImageBasedShadow:
+    """A dense grid of pre-rendered maps: nearest map, or a 4-neighbour blend."""
+
+    def __init__(self, atlas: ShadowAtlas, mode: Literal["nearest", "blend"] = "nearest") -> None:
+        if mode not in ("nearest", "blend"):
+            raise ValidationError(expected_got("mode", "'nearest' or 'blend'", repr(mode)))
+        self.atlas, self.mode = atlas, mode
+        self.name = f"ibr_{mode}"
+
+    @classmethod
+    def bake(cls, mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: Any, light: Any,
+             shape: tuple[int, int], *, renderer: Any, grid: int = 32,
+             mode: Literal["nearest", "blend"] = "nearest", progress: bool = True
+             ) -> ImageBasedShadow:
+        """Render a uniform ``grid x grid`` set of maps (even spacing, ends included)."""
+        atlas = bake_atlas(mesh, base_pose, motion, light, shape, renderer=renderer,
+                           grid=(grid, grid), anchors="plane", control_grid=(2, 2),
+                           uniform=True, progress=progress)
+        return cls(atlas, mode)
+
+    @property
+    def memory_bytes(self) -> int:
+        return int(self.atlas.maps.nbytes)
+
+    def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
+                   ) -> tuple[np.ndarray, CameraModel]:
+        a = self.atlas
+        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
+        eq = a.rig.equivalent_position(xy, off, clamp=clamp)
+        cam = a.rig.camera_at(eq if off is None else eq + off, off)
+        j, i, v, u = a.cell(eq)
+        if self.mode == "nearest":
+            jj, ii = j + int(v > 0.5), i + int(u > 0.5)
+            acc = a._source(jj, ii).copy()
+        else:
+            acc = np.zeros((*a.shape, 2), np.float32)
+            for (jj, ii), w in (((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
+                                ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)):
+                if w > 0:
+                    _merge(acc, a._source(jj, ii), w)
+        return _finish(acc, a.anchor_depth(eq)), cam

@@ -1,0 +1,59 @@
+"""A whole frame: camera render, per-pixel light visibility, composite.
+
+The camera view is rendered lit and unlit (:mod:`morphkit.render`), its depth
+unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`),
+and each visible point gets a light visibility from a callable: a shadow-map
+lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`) or the ray-cast
+ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
+
+``receiver_only=True`` is Kang & Ihm's mode (their hardware could only project
+the shadow texture onto receivers): the object itself is never shadowed, so
+self-shadowing is off. Default: every visible point is tested, object included.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ..composite import shade
+from ..scene import Scene
+from .lookup import normals_from_points
+
+__all__ = ["render_frame"]
+
+#: A visibility function: world points (N, 3) and unit normals (N, 3) -> (N,) in [0, 1].
+VisibilityFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+SKY = (0.62, 0.71, 0.82)
+
+
+def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
+                 receiver_only: bool = False, background: tuple[float, float, float] = SKY
+                 ) -> dict[str, np.ndarray]:
+    """Render ``scene`` from its camera and shadow it with ``visibility``.
+
+    Returns the images ``lit``, ``unlit`` (uint8 RGB), ``depth`` (float32),
+    ``visibility`` (float32 in [0, 1], 1 on the background) and ``shaded``.
+    """
+    from ..render import Item, scene_items
+
+    items = scene_items(scene)
+    cam = scene.camera
+    lit, depth = renderer.color_depth(cam, items, [scene.light], ambient=scene.ambient,
+                                      background=background)
+    unlit, _ = renderer.color_depth(cam, items, [], ambient=scene.ambient, background=background)
+    world, valid = cam.unproject(depth)
+    test = valid
+    if receiver_only:
+        obj_depth = renderer.depth(cam, [Item(scene.obj.mesh, scene.obj.pose)])
+        on_object = np.isfinite(obj_depth) & (np.abs(obj_depth - depth) <= 1e-4 * np.abs(depth))
+        test = valid & ~on_object
+    normals = normals_from_points(world, valid)
+    vis = np.ones(cam.shape, np.float32)
+    if test.any():
+        vis[test] = visibility(world[test], normals[test])
+    return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
+            "shaded": shade(lit, unlit, vis)}

@@ -1,0 +1,116 @@
+"""Projective shadow lookup: is a world point in the shadow of a light depth map?
+
+Each point is projected into the light camera with its projective-texture
+matrix (:meth:`~morphkit.camera.CameraModel.texture_matrix`), the shadow map is
+sampled at the nearest texel, and the point is shadowed when it lies farther
+from the light than the stored occluder depth plus a bias.
+
+Bias (documented once, here). A depth map stores one depth per texel; a
+surface seen at an angle ``theta`` to the light direction changes depth by up
+to ``texel * tan(theta)`` across one texel, so comparing a surface with its own
+map entry can wrongly report a shadow ("acne"). Too large a bias makes shadows
+start late ("peter-panning", visible at contact). morphkit uses
+
+    ``bias = texel_world * (constant + slope * min(tan(theta), max_tan))``
+
+with ``texel_world`` the size of one texel at the point's depth (``1/fx`` for an
+orthographic light, ``Z/fx`` for a perspective one), default ``constant = 1.0``,
+``slope = 1.0``, ``max_tan = 8``. ``theta`` comes from the surface normal when
+given, otherwise ``tan(theta) = 1``. Since morphkit's maps hold the occluder only
+(receivers are not drawn into them), a receiver never compares against itself:
+acne can only appear in self-shadowing on the object, and contact shadows lose at
+most ``bias`` of depth, i.e. about two texels.
+
+Points outside the map's window, or behind a point light, are lit (the light
+frustum is fitted to hold the whole occluder, so nothing there occludes).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..validate import as_finite_array
+
+__all__ = ["ShadowBias", "shadow_visibility", "normals_from_points"]
+
+
+@dataclass(frozen=True)
+class ShadowBias:
+    """Depth-comparison bias in units of one texel's world size (see module doc)."""
+
+    constant: float = 1.0
+    slope: float = 1.0
+    max_tan: float = 8.0
+
+
+def normals_from_points(points: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """Unit normals ``(H, W, 3)`` of a grid of world points (e.g. an unprojected
+    depth image), from central differences; zero where undefined."""
+    p = np.asarray(points, dtype=np.float64)
+    dx = np.zeros_like(p)
+    dy = np.zeros_like(p)
+    dx[:, 1:-1] = p[:, 2:] - p[:, :-2]
+    dy[1:-1] = p[2:] - p[:-2]
+    n = np.cross(dx, dy)
+    norm = np.linalg.norm(n, axis=-1, keepdims=True)
+    ok = (norm[..., 0] > 0) & valid
+    ok[:, [0, -1]] = False
+    ok[[0, -1], :] = False
+    n = np.where(ok[..., None], n / np.maximum(norm, 1e-300), 0.0)
+    return n
+
+
+def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: CameraModel, *,
+                      normals: np.ndarray | None = None, bias: ShadowBias | None = None
+                      ) -> np.ndarray:
+    """Visibility ``(N,)`` float32 (1 lit, 0 shadowed) of world ``points (N, 3)``.
+
+    Parameters
+    ----------
+    depth_map : (H, W) float32
+        Light-view linear depth of the occluder, ``+inf`` where empty.
+    light_cam : CameraModel
+        The camera ``depth_map`` was made with.
+    normals : (N, 3), optional
+        Unit surface normals for the slope term of the bias (zero rows: no slope info).
+    """
+    pts = as_finite_array(points, "points", shape=(None, 3))
+    dm = np.asarray(depth_map)
+    if dm.shape != light_cam.shape:
+        raise ValidationError(expected_got("depth_map", f"shape {light_cam.shape} of the light camera",
+                                           dm.shape))
+    b = ShadowBias() if bias is None else bias
+    q = light_cam.texture_matrix() @ np.c_[pts, np.ones(len(pts))].T
+    w = q[3]
+    front = w > 1e-12
+    x = np.where(front, q[0] / np.where(front, w, 1), -1e9)
+    y = np.where(front, q[1] / np.where(front, w, 1), -1e9)
+    z = q[2]
+    h, wd = light_cam.shape
+    c = np.rint(x)
+    r = np.rint(y)
+    inside = front & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
+    occ = np.full(len(pts), np.inf)
+    occ[inside] = dm[r[inside].astype(np.intp), c[inside].astype(np.intp)]
+    texel = 1.0 / light_cam.fx
+    if light_cam.projection == "perspective":
+        texel = np.abs(z) / light_cam.fx
+    if normals is None:
+        tan = np.ones(len(pts))
+    else:
+        n = as_finite_array(normals, "normals", shape=(len(pts), 3))
+        if light_cam.projection == "perspective":
+            to_light = light_cam.position - pts
+            to_light /= np.maximum(np.linalg.norm(to_light, axis=1, keepdims=True), 1e-300)
+        else:
+            to_light = np.broadcast_to(-light_cam.axis, pts.shape)
+        cos = np.abs(np.einsum("ij,ij->i", n, to_light))
+        has = np.linalg.norm(n, axis=1) > 0
+        tan = np.where(has, np.sqrt(np.maximum(1 - cos**2, 0)) / np.maximum(cos, 1e-6), 1.0)
+    bias_world = texel * (b.constant + b.slope * np.minimum(tan, b.max_tan))
+    shadowed = inside & (z > occ + bias_world)
+    return (~shadowed).astype(np.float32)
