@@ -34,6 +34,52 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_viewmorph(args: argparse.Namespace) -> int:
+    import cv2
+    import numpy as np
+
+    from .errors import FileFormatError
+    from .viewmorph import ViewMorpher, from_images, load_points
+
+    def read(path: str) -> np.ndarray:
+        img = cv2.imread(path, cv2.IMREAD_UNCHANGED)
+        if img is None:
+            raise FileFormatError(f"image {path!r}: expected a readable image file, got none")
+        if img.ndim == 3:
+            img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA if img.shape[2] == 4 else cv2.COLOR_BGR2RGB)
+        return img
+
+    def write(path: Path, img: np.ndarray) -> None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if img.ndim == 3:
+            img = cv2.cvtColor(img, cv2.COLOR_RGBA2BGRA if img.shape[2] == 4 else cv2.COLOR_RGB2BGR)
+        if img.dtype.kind == "f":
+            img = np.clip(np.rint(img * 255), 0, 255).astype(np.uint8)
+        if not cv2.imwrite(str(path), img):
+            raise FileFormatError(f"output {str(path)!r}: expected a writable image path, got a failure")
+
+    left, right = read(args.left), read(args.right)
+    corr = load_points(args.points) if args.points else from_images(left, right)
+    vm = ViewMorpher(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
+    rep = vm.report
+    fit = rep.get("fundamental", {})
+    print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
+          f"{rep['n_used']}/{rep['n_input']} pairs used ({rep['n_duplicates']} duplicates, "
+          f"{rep.get('n_outliers', 0)} outliers, {rep['n_dropped_foldover']} dropped for fold-overs)"
+          + (f", F by {fit['method']}: Sampson RMS {fit['sampson_rms_px']:.3f} px" if fit else "")
+          + (f"; fallback: {rep['fallback']}" if "fallback" in rep else ""))
+    out = Path(args.out)
+    kw = {"post": args.post, "frame": args.frame}
+    if args.frames:
+        for i, img in enumerate(vm.frames(args.frames, **kw)):
+            write(out / f"frame_{i:03d}.png", img)
+        print(f"wrote {args.frames} frames to {out.resolve()}")
+    else:
+        write(out, vm.morph(args.s, **kw))
+        print(f"wrote {out.resolve()}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="morphkit",
@@ -66,6 +112,31 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--plot", type=Path, default=None,
                    help="write plots to this path (PNG; a suffix is added per plot)")
     b.set_defaults(func=_cmd_bench)
+
+    v = sub.add_parser(
+        "viewmorph",
+        help="view-morph two images of the same object (Seitz & Dyer): the view in between",
+        description="Pre-warp LEFT and RIGHT to parallel views, morph them by s and post-warp the "
+        "result. Correspondences come from --points (JSON/CSV of x0,y0,x1,y1) or from SIFT matching "
+        "with a robust fundamental-matrix fit.",
+    )
+    v.add_argument("left", help="image at s = 0 (PNG/JPEG; grey, RGB or RGBA)")
+    v.add_argument("right", help="image at s = 1")
+    v.add_argument("--s", type=float, default=0.5, help="position between the views, in [0, 1] "
+                   "(default: %(default)s)")
+    v.add_argument("--points", default=None, help="correspondences file (.json or .csv)")
+    v.add_argument("--frames", type=int, default=0,
+                   help="write N in-between views (s = 0..1) as OUT/frame_NNN.png instead of one image")
+    v.add_argument("--prewarp", default="auto", choices=["auto", "opencv", "seitz-dyer", "none"],
+                   help="rectification (default: %(default)s; none = plain mesh morph)")
+    v.add_argument("--fallback", default="raise", choices=["raise", "morph"],
+                   help="if rectification is impossible: refuse, or plain mesh morph (default: %(default)s)")
+    v.add_argument("--post", default="interpolate", choices=["interpolate", "rectified"],
+                   help="post-warp: interpolated between the views, or none (default: %(default)s)")
+    v.add_argument("--frame", default="contain", choices=["contain", "fit", "fixed"],
+                   help="crop/size policy (default: %(default)s)")
+    v.add_argument("-o", "--out", required=True, help="output image (or folder with --frames)")
+    v.set_defaults(func=_cmd_viewmorph)
     return p
 
 

@@ -46,6 +46,8 @@ def lazy_suite(module: str, attr: str = "run") -> Suite:
 #: Registered suites by name.
 SUITES: dict[str, Suite] = {
     "warp": lazy_suite("morphkit.bench.warp_suite", "run"),
+    "shadows": lazy_suite("morphkit.bench.shadow_suite", "run"),
+    "viewmorph": lazy_suite("morphkit.bench.viewmorph_suite", "run"),
 }
 
 

@@ -289,7 +289,8 @@ def _gray_u8(img: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
 
 
 def from_images(image0: np.ndarray, image1: np.ndarray, *, ratio: float = 0.75,
-                max_features: int = 4000, cross_check: bool = True) -> Correspondences:
+                max_features: int = 4000, cross_check: bool = True,
+                contrast_threshold: float = 0.02) -> Correspondences:
     """Correspondences from the images alone: SIFT + Lowe's ratio test + mutual check.
 
     Grey, RGB and RGBA images of any of uint8/uint16/float (in [0, 1]) are
@@ -306,6 +307,9 @@ def from_images(image0: np.ndarray, image1: np.ndarray, *, ratio: float = 0.75,
         SIFT ``nfeatures`` per image.
     cross_check : bool
         Keep only mutual best matches (image 0 -> 1 and 1 -> 0 agree).
+    contrast_threshold : float
+        SIFT's ``contrastThreshold``; 0.02 (OpenCV's default is 0.04) finds ~30%
+        more matches on the flat-shaded renders of the bench.
 
     Returns
     -------
@@ -317,7 +321,7 @@ def from_images(image0: np.ndarray, image1: np.ndarray, *, ratio: float = 0.75,
         raise ValidationError(expected_got("ratio", "a number in (0, 1]", ratio))
     g0, m0 = _gray_u8(image0)
     g1, m1 = _gray_u8(image1)
-    sift = cv2.SIFT_create(nfeatures=int(max_features))
+    sift = cv2.SIFT_create(nfeatures=int(max_features), contrastThreshold=float(contrast_threshold))
     k0, d0 = sift.detectAndCompute(g0, m0)
     k1, d1 = sift.detectAndCompute(g1, m1)
     empty = Correspondences(np.zeros((0, 2)), np.zeros((0, 2)), "features")

@@ -87,6 +87,7 @@ import cv2
 import numpy as np
 
 from .. import tol
+from .. import warp as _warp
 from ..camera import CameraModel
 from ..errors import (
     DegenerateViewError,
@@ -165,22 +166,24 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
 
 def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.ndarray:
     """Inverse of :func:`to_premultiplied`: straight colour (+ alpha for RGBA) in ``dtype``."""
-    alpha = acc[:, :, -1]
-    color = acc[:, :, :-1]
-    safe = np.where(alpha > 1e-6, alpha, np.float32(1.0))
-    color = color / safe[:, :, None]
-    color[alpha <= 1e-6] = 0.0
+    acc = np.asarray(acc, dtype=np.float32)
+    alpha = acc[:, :, -1:]
     amax = _alpha_max(dtype)
+    # where alpha ~ 0 the premultiplied colour is ~0 too: dividing by a floor keeps it ~0
+    out = acc / np.maximum(alpha, np.float32(1e-6))
     if channels == 4:
-        out = np.concatenate([color, (alpha * np.float32(amax))[:, :, None]], axis=2)
+        np.multiply(alpha[:, :, 0], np.float32(amax), out=out[:, :, -1])
     elif channels == 1:
-        out = color[:, :, 0]
+        out = out[:, :, 0]
     else:
-        out = color
+        out = out[:, :, :-1]
     if dtype.kind == "f":
-        return out.astype(dtype)
+        return out.astype(dtype, copy=False)
+    if dtype == np.uint8:
+        return cv2.convertScaleAbs(out)  # rounds and saturates; values are >= 0 up to float noise
     info = np.iinfo(dtype)
-    return np.clip(np.rint(out), info.min, info.max).astype(dtype)
+    np.rint(out, out=out)
+    return np.clip(out, info.min, info.max).astype(dtype)
 
 
 def _layout(img: np.ndarray) -> int:
@@ -516,6 +519,9 @@ class ViewMorpher:
         sub = _xy_of(wm)
         c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], sub, np.float32(_FAR))
         self._c1 = c1
+        # Does the warp's position for uncovered pixels fall >= 2 px off the C1 canvas?
+        far = getattr(_warp, "_OUTSIDE", None)
+        self._c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
         self._rectified: tuple[np.ndarray, np.ndarray] | None = None
         self.report = report
 
@@ -763,8 +769,11 @@ class ViewMorpher:
         a1 = cv2.remap(self._prem[1], pos1, None, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                        borderValue=0)
         mix = cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
-        inside = wm0.mask[r_0:r_1, c_0:c_1]
-        mix[~inside] = 0.0  # outside the mesh: the C1 look-up of the far position is meaningless
+        if not self._c1_far:
+            # outside the mesh the C1 look-up of the warp's far position could land on the canvas
+            np.copyto(mix, 0.0, where=~wm0.mask[r_0:r_1, c_0:c_1, None])
+        if (r_0, r_1, c_0, c_1) == (0, h, 0, w):
+            return mix
         out[r_0:r_1, c_0:c_1] = mix
         return out
 

@@ -1,0 +1,209 @@
+"""Suite ``viewmorph``: view morphing against the billboard baselines, on rendered pairs.
+
+Scenes. Each sample mesh, split into eight colour groups by a 3-D checker
+(0.05 units) of its face centres (so the object has texture for SIFT and for PSNR/SSIM; the
+renderer has no texture maps), is rendered as RGBA (alpha = coverage) by
+cameras on a horizontal circle of radius 2.2 at height 1.0 looking at
+``(0, 0, 0.25)``, 30-degree vertical field of view. The pair is centred on
+azimuth 60 degrees (a three-quarter view of the teapot: spout and handle both
+visible) with baselines of 10, 20, 40 and 60 degrees. The ground truth for ``s``
+is the render from the camera on the circle at azimuth ``60 - b/2 + s b``.
+
+Methods (all from the same two reference renders):
+
+* ``viewmorph`` -- :class:`~morphkit.viewmorph.ViewMorpher` with geometric
+  correspondences (mesh vertices visible in both views by the depth test, up
+  to 600, F *estimated* from them), post-warp to the target camera (the
+  least-squares homography from the morph's correspondences to their
+  projections in that camera: the camera a billboard renderer knows);
+* ``viewmorph-interp`` -- the same morpher with the default post-warp
+  (interpolated between the two views; knows nothing of the target);
+* ``viewmorph-sift`` -- SIFT matches + robust F (USAC-MAGSAC), default post-warp
+  (when a pair yields too few matches the row's note says so);
+* ``morph`` -- mesh morph of the same geometric correspondences without pre- or
+  post-warp; ``crossfade`` -- premultiplied cross-dissolve;
+  ``nearest`` -- the nearer reference image (a classic billboard).
+
+Metrics: ``iou`` -- silhouette IoU (alpha > 0.5); ``psnr``/``ssim`` -- on the
+premultiplied RGB (composited over black) over the union of both object masks
+(data range 255); ``occluded`` -- fraction of the ground truth's object pixels
+whose surface point is *not* visible in both references (what no
+correspondence can carry); ``mae_occl``/``mae_vis`` -- mean absolute error
+(grey levels, premultiplied RGB) over those pixels and over the others.
+``err_iou = 1 - iou`` is plotted against time.
+
+Timing: ``ms_*`` is one :meth:`ViewMorpher.morph` call (correspondences given,
+the morpher built once per pair) or one baseline call, median of repeats at
+256^2; rows with ``size`` 512 time the teapot at 20 degrees, ``s = 0.5``.
+``viewmorph-build`` rows time the construction (cleaning, F, pre-warps, mesh).
+``--quick``: teapot only, baselines 20 and 40, ``s = 0.5``, sizes 256 and 512.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..camera import CameraModel, look_at, perspective
+from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
+from .harness import make_row, time_call
+
+__all__ = ["run", "render_pair", "textured_items", "circle_camera", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
+SUITE = "viewmorph"
+FLOOR_METHOD = "crossfade"
+PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("mesh",)}
+
+BASELINES = (10, 20, 40, 60)
+SS = (0.25, 0.5, 0.75)
+MESHES = ("teapot", "chair", "cow")
+CENTRE_AZIMUTH = 60.0
+RADIUS, HEIGHT = 2.2, 1.0
+LOOK_AT = np.array([0.0, 0.0, 0.25])
+PALETTE = ((0.85, 0.3, 0.25), (0.3, 0.6, 0.85), (0.9, 0.8, 0.3), (0.35, 0.75, 0.4), (0.8, 0.8, 0.8),
+           (0.55, 0.35, 0.7), (0.95, 0.55, 0.2), (0.2, 0.3, 0.35))
+CHECKER = 0.05  # scene units (meshes are normalised to size 1)
+
+
+def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
+    """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``)."""
+    a = np.radians(azimuth_deg)
+    eye = np.array([RADIUS * np.cos(a), RADIUS * np.sin(a), HEIGHT])
+    return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
+
+
+def textured_items(name: str) -> tuple[Any, list[Any]]:
+    """The sample mesh and its colour groups (a 3-D checker) as render items."""
+    from ..meshes import sample_mesh
+    from ..render import Item
+
+    mesh = sample_mesh(name)
+    cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)
+    key = (cell[:, 0] * 7 + cell[:, 1] * 3 + cell[:, 2] * 5) % len(PALETTE)
+    items = [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
+             for k in range(len(PALETTE)) if np.any(key == k)]
+    return mesh, items
+
+
+def render_pair(renderer: Any, items: list[Any], cams: list[CameraModel]
+                ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(rgba, depth)`` for each camera."""
+    from ..scene import DirectionalLight
+
+    light = [DirectionalLight(np.array([-1.0, -0.5, -1.0]))]
+    return [(renderer.source_view(c, items, light), renderer.depth(c, items)) for c in cams]
+
+
+def _premul(img: np.ndarray) -> np.ndarray:
+    return img[..., :3].astype(np.float64) * (img[..., 3:4] / 255.0)
+
+
+def _quality(pred: np.ndarray, gt: np.ndarray, occl: np.ndarray) -> dict[str, float]:
+    mp, mg = pred[..., 3] > 127, gt[..., 3] > 127
+    union = mp | mg
+    a, b = _premul(pred), _premul(gt)
+    iou = shadow_iou(mp, mg)
+    out = {"iou": iou, "err_iou": 1.0 - iou,
+           "psnr": psnr(a, b, data_range=255.0, mask=union),
+           "ssim": ssim(a, b, data_range=255.0, mask=union)}
+    vis = mg & ~occl
+    if occl.any():
+        out["mae_occl"] = mean_abs_error(a, b, mask=occl)
+    if vis.any():
+        out["mae_vis"] = mean_abs_error(a, b, mask=vis)
+    return out
+
+
+def _finite(m: dict[str, float]) -> dict[str, float]:
+    """Drop non-finite metrics (e.g. PSNR of identical images) so the JSON stays valid."""
+    return {k: float(v) for k, v in m.items() if np.isfinite(v)}
+
+
+def _occluded(cam: CameraModel, depth: np.ndarray, gt: np.ndarray, refs: list[tuple[CameraModel, np.ndarray]]
+              ) -> np.ndarray:
+    """Ground-truth object pixels whose surface point is not visible in every reference."""
+    from ..viewmorph.correspondences import visible_in
+
+    pts, valid = cam.unproject(depth)
+    obj = valid & (gt[..., 3] > 127)
+    idx = np.flatnonzero(obj)
+    both = np.ones(idx.size, bool)
+    for c, d in refs:
+        _, vis = visible_in(c, pts.reshape(-1, 3)[idx], d)
+        both &= vis
+    occl = np.zeros(obj.size, bool)
+    occl[idx[~both]] = True
+    return occl.reshape(obj.shape)
+
+
+def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss: tuple[float, ...],
+          size: int, repeats: int, rows: list[dict[str, Any]]) -> None:
+    from ..viewmorph import ViewMorpher, crossfade, from_geometry, from_images, nearest
+
+    a0, a1 = CENTRE_AZIMUTH - base / 2, CENTRE_AZIMUTH + base / 2
+    c0, c1 = circle_camera(a0, size), circle_camera(a1, size)
+    (i0, d0), (i1, d1) = render_pair(renderer, items, [c0, c1])
+    corr = from_geometry(mesh, c0, c1, depth0=d0, depth1=d1, max_points=600,
+                         rng=np.random.default_rng(0))
+    morphers: dict[str, Any] = {}
+    notes: dict[str, str] = {}
+    build = time_call(lambda: ViewMorpher(i0, i1, corr), repeats=max(1, repeats // 2), warmup=0)
+    vm = ViewMorpher(i0, i1, corr)
+    morphers["viewmorph"] = morphers["viewmorph-interp"] = vm
+    notes["viewmorph"] = notes["viewmorph-interp"] = (
+        f"{vm.mode}/{vm.rectification.method}, {vm.report['n_used']}/{len(corr)} pairs")
+    morphers["morph"] = ViewMorpher(i0, i1, corr, prewarp="none")
+    try:
+        sift = from_images(i0, i1)
+        vs = ViewMorpher(i0, i1, sift, fallback="morph")
+        morphers["viewmorph-sift"] = vs
+        notes["viewmorph-sift"] = (f"{vs.mode}/{vs.rectification.method}, {vs.report['n_used']}/"
+                                   f"{len(sift)} matches used")
+    except Exception as exc:  # too few matches etc.: reported, not hidden
+        notes["viewmorph-sift"] = f"failed: {type(exc).__name__}: {str(exc)[:80]}"
+    params0 = {"mesh": name, "baseline": base, "size": size}
+    bm = {"y_rms_px": vm.rectification.y_rms, "anisotropy": vm.rectification.anisotropy}
+    if vm.fit is not None:
+        bm["sampson_rms_px"] = vm.fit.sampson_rms
+    rows.append(make_row(SUITE, "viewmorph-build", dict(params0, s=-1.0), build, metrics=_finite(bm),
+                         note=notes["viewmorph"] + "; sift: " + notes["viewmorph-sift"]))
+    for s in ss:
+        ct = circle_camera(a0 + s * base, size)
+        ((gt, dg),) = render_pair(renderer, items, [ct])
+        occl = _occluded(ct, dg, gt, [(c0, d0), (c1, d1)])
+        calls = {
+            "viewmorph": lambda s=s, ct=ct: vm.morph(s, post=ct, frame="fixed"),
+            "viewmorph-interp": lambda s=s: vm.morph(s),
+            "morph": lambda s=s: morphers["morph"].morph(s),
+            "crossfade": lambda s=s: crossfade(i0, i1, s),
+            "nearest": lambda s=s: nearest(i0, i1, s),
+        }
+        if "viewmorph-sift" in morphers:
+            calls["viewmorph-sift"] = lambda s=s: morphers["viewmorph-sift"].morph(s)
+        params = dict(params0, s=s)
+        base_m = {"occluded": float(occl.sum() / max((gt[..., 3] > 127).sum(), 1))}
+        for method in ("viewmorph", "viewmorph-interp", "viewmorph-sift", "morph", "crossfade", "nearest"):
+            if method not in calls:
+                continue  # (viewmorph-sift failed: the build row's note says why)
+            t = time_call(calls[method], repeats=repeats, warmup=1)
+            m = _finite(dict(base_m, **_quality(calls[method](), gt, occl)))
+            rows.append(make_row(SUITE, method, params, t, metrics=m, note=notes.get(method, "")))
+
+
+def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    """Run the suite; see the module docstring."""
+    from ..render import Renderer
+
+    rows: list[dict[str, Any]] = []
+    meshes = ("teapot",) if quick else MESHES
+    bases = (20, 40) if quick else BASELINES
+    ss = (0.5,) if quick else SS
+    with Renderer() as r:
+        for name in meshes:
+            mesh, items = textured_items(name)
+            for base in bases:
+                _case(r, name, mesh, items, float(base), ss, 256, 5 if quick else 7, rows)
+        mesh, items = textured_items("teapot")
+        _case(r, "teapot", mesh, items, 20.0, (0.5,), 512, 5 if quick else 7, rows)
+    return rows
