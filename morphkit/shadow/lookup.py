@@ -48,19 +48,20 @@ class ShadowBias:
 
 
 def normals_from_points(points: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """Unit normals ``(H, W, 3)`` of a grid of world points (e.g. an unprojected
-    depth image), from central differences; zero where undefined."""
-    p = np.asarray(points, dtype=np.float64)
+    """Unit normals ``(H, W, 3)`` float32 of a grid of world points (e.g. an
+    unprojected depth image), from central differences; zero where undefined."""
+    p = np.asarray(points, dtype=np.float32)
     dx = np.zeros_like(p)
     dy = np.zeros_like(p)
     dx[:, 1:-1] = p[:, 2:] - p[:, :-2]
     dy[1:-1] = p[2:] - p[:-2]
     n = np.cross(dx, dy)
-    norm = np.linalg.norm(n, axis=-1, keepdims=True)
-    ok = (norm[..., 0] > 0) & valid
+    norm = np.sqrt(np.einsum("...k,...k->...", n, n))
+    ok = (norm > 0) & valid
     ok[:, [0, -1]] = False
     ok[[0, -1], :] = False
-    n = np.where(ok[..., None], n / np.maximum(norm, 1e-300), 0.0)
+    n /= np.where(ok, norm, 1.0)[..., None]
+    n[~ok] = 0.0
     return n
 
 
@@ -77,40 +78,46 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         The camera ``depth_map`` was made with.
     normals : (N, 3), optional
         Unit surface normals for the slope term of the bias (zero rows: no slope info).
+
+    Only points that project into the map's window are tested (the rest are lit).
     """
     pts = as_finite_array(points, "points", shape=(None, 3))
     dm = np.asarray(depth_map)
     if dm.shape != light_cam.shape:
         raise ValidationError(expected_got("depth_map", f"shape {light_cam.shape} of the light camera",
                                            dm.shape))
+    if normals is not None:
+        normals = as_finite_array(normals, "normals", shape=(len(pts), 3), dtype=np.float32)
     b = ShadowBias() if bias is None else bias
-    q = light_cam.texture_matrix() @ np.c_[pts, np.ones(len(pts))].T
-    w = q[3]
-    front = w > 1e-12
-    x = np.where(front, q[0] / np.where(front, w, 1), -1e9)
-    y = np.where(front, q[1] / np.where(front, w, 1), -1e9)
-    z = q[2]
+    T = light_cam.texture_matrix()
+    q = pts @ T[:, :3].T + T[:, 3]  # (N, 4): x w, y w, depth, w
+    w = q[:, 3]
     h, wd = light_cam.shape
-    c = np.rint(x)
-    r = np.rint(y)
-    inside = front & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
-    occ = np.full(len(pts), np.inf)
-    occ[inside] = dm[r[inside].astype(np.intp), c[inside].astype(np.intp)]
-    texel = 1.0 / light_cam.fx
-    if light_cam.projection == "perspective":
-        texel = np.abs(z) / light_cam.fx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.rint(q[:, 0] / w)
+        r = np.rint(q[:, 1] / w)
+    inside = (w > 1e-12) & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
+    vis = np.ones(len(pts), np.float32)
+    idx = np.flatnonzero(inside)
+    if len(idx) == 0:
+        return vis
+    occ = dm[r[idx].astype(np.intp), c[idx].astype(np.intp)]
+    hit = np.isfinite(occ)  # texels holding the occluder
+    idx, occ = idx[hit], occ[hit]
+    z = q[idx, 2]
+    texel = (np.abs(z) if light_cam.projection == "perspective" else 1.0) / light_cam.fx
     if normals is None:
-        tan = np.ones(len(pts))
+        tan = np.ones(len(idx))
     else:
-        n = as_finite_array(normals, "normals", shape=(len(pts), 3))
+        n = normals[idx].astype(np.float64)
         if light_cam.projection == "perspective":
-            to_light = light_cam.position - pts
-            to_light /= np.maximum(np.linalg.norm(to_light, axis=1, keepdims=True), 1e-300)
+            to_light = light_cam.position - pts[idx]
+            to_light /= np.sqrt(np.einsum("ij,ij->i", to_light, to_light))[:, None]
+            cos = np.abs(np.einsum("ij,ij->i", n, to_light))
         else:
-            to_light = np.broadcast_to(-light_cam.axis, pts.shape)
-        cos = np.abs(np.einsum("ij,ij->i", n, to_light))
-        has = np.linalg.norm(n, axis=1) > 0
+            cos = np.abs(n @ -light_cam.axis)
+        has = np.einsum("ij,ij->i", n, n) > 0
         tan = np.where(has, np.sqrt(np.maximum(1 - cos**2, 0)) / np.maximum(cos, 1e-6), 1.0)
     bias_world = texel * (b.constant + b.slope * np.minimum(tan, b.max_tan))
-    shadowed = inside & (z > occ + bias_world)
-    return (~shadowed).astype(np.float32)
+    vis[idx[z > occ + bias_world]] = 0.0
+    return vis

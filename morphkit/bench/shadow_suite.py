@@ -1,0 +1,251 @@
+"""``morphkit bench shadows``: warped shadow maps vs re-rendering vs image-based maps.
+
+Scene (stated once; every figure names it): a sample mesh (normalised: largest
+extent 1, resting on the ground) moving over the range ``[-0.6, 0.6]^2`` of
+the ground plane, lit by a **point light** at ``(0.25, -0.2, 2.4)`` (a spot
+light ~2 object sizes above the range: the shadow changes shape with
+position), and in a second scene by a **directional light** travelling
+``(-0.5, 0.35, -1)``. Light frusta follow the object (:mod:`morphkit.shadow.rig`).
+
+Ground truth: the ray-cast shadow (:mod:`morphkit.groundtruth`) at the centres of
+a ``256 x 256`` grid over the ground square ``[-1.7, 1.7]^2``. Metrics, averaged
+over seeded random positions in the range: ``iou`` (shadow-mask IoU, shadow =
+visibility < 0.5) and ``mae`` (mean absolute visibility error over the grid).
+
+Methods (one row each, timed in the same run, interleaved): ``warp`` (3 x 3
+atlas, composed warps, projected control points, 9 x 9 control grid unless the
+row says otherwise), ``warp_three`` (the paper's three warps with interpolated
+control points), ``direct`` (re-render per frame), ``ibr_nearest`` /
+``ibr_blend`` with ``grid`` maps per axis (32 by default, 3 for equal memory
+with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
+``what=frame`` time a whole frame (camera render lit + unlit at 512^2, shadow
+map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
+"""
+
+from __future__ import annotations
+
+import gc
+import time
+from typing import Any
+
+import numpy as np
+
+from ..groundtruth import hard_visibility, receiver_grid
+from ..meshes import sample_mesh
+from ..metrics import shadow_iou
+from ..scene import DirectionalLight, PointLight, SceneObject
+from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
+from .harness import Timing, make_row, time_calls
+
+SUITE = "shadows"
+FLOOR_METHOD = "direct"
+PLOT_OPTIONS = {"size_key": "size", "error_key": "iou_err", "panel_keys": ("mesh", "what", "light")}
+
+MOTION = MotionRange([-0.6, -0.6], [0.6, 0.6])
+POINT = PointLight([0.25, -0.2, 2.4])
+SUN = DirectionalLight([-0.5, 0.35, -1.0])
+GROUND_HALF, GROUND_N = 1.7, 256
+
+
+def _positions(n: int, seed: int = 2026) -> np.ndarray:
+    return np.random.default_rng(seed).uniform(MOTION.lo, MOTION.hi, (n, 2))
+
+
+class _Truth:
+    """Ray-cast ground truth per (mesh, light, position), computed once."""
+
+    def __init__(self) -> None:
+        self.grid = receiver_grid(GROUND_HALF, (GROUND_N, GROUND_N)).reshape(-1, 3)
+        self._cache: dict[tuple[int, int, bytes], np.ndarray] = {}
+
+    def __call__(self, mesh: Any, light: Any, xy: np.ndarray) -> np.ndarray:
+        key = (id(mesh), id(light), xy.tobytes())
+        v = self._cache.get(key)
+        if v is None:
+            pose = np.eye(4)
+            pose[:2, 3] = xy
+            v = self._cache[key] = hard_visibility(self.grid, light, SceneObject(mesh, pose))
+        return v
+
+
+def _errors(method: Any, mesh: Any, light: Any, xys: np.ndarray, truth: _Truth) -> dict[str, float]:
+    ious, maes = [], []
+    for xy in xys:
+        gt = truth(mesh, light, xy)
+        d, cam = method.shadow_map(xy)
+        est = shadow_visibility(truth.grid, d, cam)
+        ious.append(shadow_iou(est < 0.5, gt < 0.5))
+        maes.append(float(np.mean(np.abs(est - gt))))
+    return {"iou": float(np.mean(ious)), "iou_min": float(np.min(ious)),
+            "iou_err": 1.0 - float(np.mean(ious)), "mae": float(np.mean(maes))}
+
+
+def _time_maps(methods: dict[str, Any], xys: np.ndarray, repeats: int) -> dict[str, Timing]:
+    """Time one shadow map per call, cycling through positions (cells differ)."""
+    fns = {}
+    for name, m in methods.items():
+        it = {"k": 0}
+
+        def fn(m: Any = m, it: dict[str, int] = it) -> None:
+            m.shadow_map(xys[it["k"] % len(xys)])
+            it["k"] += 1
+
+        fns[name] = fn
+    return time_calls(fns, repeats=repeats, warmup=2)
+
+
+class _Warp:
+    """An atlas with fixed run-time options, as a method object."""
+
+    def __init__(self, atlas: Any, **kw: Any) -> None:
+        self.atlas, self.kw = atlas, kw
+
+    @property
+    def memory_bytes(self) -> int:
+        return self.atlas.memory_bytes
+
+    def shadow_map(self, xy: np.ndarray) -> Any:
+        return self.atlas.shadow_map(xy, **self.kw)
+
+
+def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+    rows: list[dict[str, Any]] = []
+    meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
+    sizes = [128, 256] if quick else [64, 128, 256, 512, 1024]
+    n_pos = 8 if quick else 50
+    ibr_k = 8 if quick else 32
+    xys = _positions(n_pos)
+    lights = [("point", POINT)] if quick else [("point", POINT), ("directional", SUN)]
+    for mesh_name in meshes:
+        mesh = sample_mesh(mesh_name)
+        for light_name, light in lights:
+            for size in sizes:
+                if size > 512 and light_name != "point":
+                    continue
+                shape = (size, size)
+                atlas = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
+                                   control_grid=(9, 9), progress=False)
+                methods: dict[str, Any] = {
+                    "warp": _Warp(atlas),
+                    "direct": DirectShadow(atlas.rig, mesh, renderer),
+                }
+                if light_name == "point":
+                    shared = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
+                                        anchors="shared", control_grid=(9, 9), progress=False)
+                    methods["warp_three"] = _Warp(shared, warps="three", dst="interpolate")
+                ibr3 = ImageBasedShadow.bake(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
+                                             grid=3, mode="blend", progress=False)
+                methods["ibr_blend_3"] = ibr3
+                k = ibr_k if size <= 512 else 16
+                ibr = ImageBasedShadow.bake(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
+                                            grid=k, mode="nearest", progress=False)
+                methods[f"ibr_nearest_{k}"] = ibr
+                methods[f"ibr_blend_{k}"] = ImageBasedShadow(ibr.atlas, "blend")
+                timings = _time_maps(methods, xys, repeats=5 if quick else 15)
+                for name, m in methods.items():
+                    err = _errors(m, mesh, light, xys, truth)
+                    err["mem_mb"] = m.memory_bytes / 2**20
+                    note = "" if size <= 512 or not name.startswith("ibr_") else "ibr grid 16 at 1024"
+                    rows.append(make_row(SUITE, name, {"what": "map", "mesh": mesh_name,
+                                                       "light": light_name, "size": size,
+                                                       "faces": len(mesh.faces)},
+                                         timings[name], metrics=err, note=note))
+                del ibr, ibr3, methods
+                gc.collect()
+    return rows
+
+
+def _control_grid_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+    rows = []
+    meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
+    grids = [(5, 15), (9, 9)] if quick else [(5, 15), (7, 15), (9, 9), (17, 17), (33, 33)]
+    xys = _positions(8 if quick else 20, seed=7)
+    size = 256 if quick else 512
+    for mesh_name in meshes:
+        mesh = sample_mesh(mesh_name)
+        methods = {}
+        for g in grids:
+            atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
+                               control_grid=g, progress=False)
+            methods[f"warp_{g[0]}x{g[1]}"] = _Warp(atlas)
+        timings = _time_maps(methods, xys, repeats=5 if quick else 10)
+        for name, m in methods.items():
+            rows.append(make_row(SUITE, name, {"what": "control_grid", "mesh": mesh_name,
+                                               "light": "point", "size": size},
+                                 timings[name], metrics=_errors(m, mesh, POINT, xys, truth)))
+    return rows
+
+
+def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+    """Cow from ~6k to ~1M faces at 512^2: warp vs direct time per shadow map."""
+    rows = []
+    faces = [6000, 50000] if quick else [6000, 50000, 300000, 1000000]
+    size = 256 if quick else 512
+    xys = _positions(10, seed=11)
+    for f in faces:
+        mesh = sample_mesh("cow", faces=f)
+        atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
+                           control_grid=(9, 9), progress=False)
+        methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
+        timings = _time_maps(methods, xys, repeats=5 if quick else 15)
+        for name in methods:
+            rows.append(make_row(SUITE, name, {"what": "complexity", "mesh": "cow", "light": "point",
+                                               "size": size, "faces": len(mesh.faces)},
+                                 timings[name]))
+    return rows
+
+
+def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+    """Whole frame: camera render (lit + unlit, 512^2) + shadow map + lookup + composite."""
+    from ..camera import look_at, perspective
+    from ..scene import Receiver, Scene
+    from ..shadow.frame import render_frame
+
+    rows = []
+    meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
+    sizes = [128, 256] if quick else [64, 128, 256, 512]
+    cam = perspective(np.deg2rad(45), (512, 512), look_at([2.4, -2.2, 1.8], [0.0, 0.0, 0.2]),
+                      znear=0.1, zfar=20)
+    xys = _positions(6, seed=5)
+    for mesh_name in meshes:
+        mesh = sample_mesh(mesh_name)
+        for size in sizes:
+            atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
+                               control_grid=(9, 9), progress=False)
+            methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
+            fns = {}
+            for name, m in methods.items():
+                it = {"k": 0}
+
+                def frame(m: Any = m, it: dict[str, int] = it, mesh: Any = mesh) -> None:
+                    xy = xys[it["k"] % len(xys)]
+                    it["k"] += 1
+                    pose = np.eye(4)
+                    pose[:2, 3] = xy
+                    scene = Scene(SceneObject(mesh, pose), POINT, cam, Receiver(2.0))
+                    d, lcam = m.shadow_map(xy)
+                    render_frame(renderer, scene,
+                                 lambda p, n, d=d, lcam=lcam: shadow_visibility(p, d, lcam, normals=n))
+
+                fns[name] = frame
+            timings = time_calls(fns, repeats=3 if quick else 7, warmup=1)
+            for name in methods:
+                rows.append(make_row(SUITE, name, {"what": "frame", "mesh": mesh_name, "light": "point",
+                                                   "size": size, "faces": len(mesh.faces)},
+                                     timings[name]))
+    return rows
+
+
+def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    """All shadow rows: accuracy + map time, control-grid sweep, complexity sweep, frames."""
+    from ..render import Renderer
+
+    t0 = time.perf_counter()
+    truth = _Truth()
+    with Renderer() as renderer:
+        rows = _accuracy_rows(renderer, quick, truth)
+        rows += _control_grid_rows(renderer, quick, truth)
+        rows += _complexity_rows(renderer, quick)
+        rows += _frame_rows(renderer, quick)
+    print(f"shadows suite: {len(rows)} rows in {time.perf_counter() - t0:.0f} s", flush=True)
+    return rows
