@@ -20,9 +20,9 @@ import numpy as np
 
 from ..composite import shade
 from ..scene import Scene
-from .lookup import normals_from_points
+from .lookup import normals_from_points, shadow_visibility
 
-__all__ = ["render_frame"]
+__all__ = ["render_frame", "compare_frames"]
 
 #: A visibility function: world points (N, 3) and unit normals (N, 3) -> (N,) in [0, 1].
 VisibilityFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -36,7 +36,9 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
     """Render ``scene`` from its camera and shadow it with ``visibility``.
 
     Returns the images ``lit``, ``unlit`` (uint8 RGB), ``depth`` (float32),
-    ``visibility`` (float32 in [0, 1], 1 on the background) and ``shaded``.
+    ``visibility`` (float32 in [0, 1], 1 on the background), ``shaded``, and
+    ``facing`` (bool: visible points whose normal faces the light, the pixels
+    where a shadow changes the image; on the others diffuse light is zero anyway).
     """
     from ..render import Item, scene_items
 
@@ -55,5 +57,30 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
     vis = np.ones(cam.shape, np.float32)
     if test.any():
         vis[test] = visibility(world[test], normals[test])
+    if hasattr(scene.light, "direction"):
+        to_light = np.broadcast_to(-scene.light.direction, world.shape)
+    else:
+        to_light = scene.light.center - world if hasattr(scene.light, "center") else (
+            scene.light.position - world)
+    facing = valid & (np.einsum("hwk,hwk->hw", normals, to_light) > 0)
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
-            "shaded": shade(lit, unlit, vis)}
+            "shaded": shade(lit, unlit, vis), "facing": facing}
+
+
+def compare_frames(renderer: Any, scene: Scene, methods: dict[str, Any], xy: np.ndarray
+                   ) -> dict[str, dict[str, np.ndarray]]:
+    """Frames of ``scene`` with its object at ``xy``, shadowed by each method's
+    shadow map (``method.shadow_map(xy) -> (depth, light_cam)``) and by the ray-cast
+    ground truth (key ``"raycast"``)."""
+    from ..groundtruth import hard_visibility
+
+    pose = scene.obj.pose.copy()
+    pose[:2, 3] = xy
+    sc = scene.with_object_pose(pose)
+    out = {}
+    for name, m in methods.items():
+        d, lcam = m.shadow_map(xy)
+        out[name] = render_frame(renderer, sc, lambda p, n, d=d, c=lcam: shadow_visibility(
+            p, d, c, normals=n))
+    out["raycast"] = render_frame(renderer, sc, lambda p, _n: hard_visibility(p, sc.light, sc.obj))
+    return out
