@@ -42,3 +42,35 @@ def test_shadow_darkens_only_where_visibility_is_zero(teapot_frame):
     assert shadowed.mean() > 0.01  # the teapot casts a visible shadow
     np.testing.assert_array_equal(f["shaded"][shadowed], f["unlit"][shadowed])
     np.testing.assert_array_equal(f["shaded"][~shadowed], f["lit"][~shadowed])
+
+
+@pytest.fixture(scope="module")
+def warped_cow(renderer):
+    from morphkit.demo import demo_scene
+    from morphkit.meshes import sample_mesh
+    from morphkit.scene import PointLight, Scene
+    from morphkit.shadow import MotionRange, bake_atlas
+    from morphkit.shadow.frame import compare_frames
+
+    cow = sample_mesh("cow")
+    light = PointLight([0.25, -0.2, 2.4])
+    atlas = bake_atlas(cow, np.eye(4), MotionRange([-0.6, -0.6], [0.6, 0.6]), light, (128, 128),
+                       renderer=renderer, control_grid=(9, 9), progress=False)
+    xy = np.array([0.23, -0.31])
+    depth, _ = atlas.shadow_map(xy)
+    base = demo_scene(cow, 128)
+    scene = Scene(base.obj, light, base.camera, base.receiver, ambient=base.ambient)
+    return depth, compare_frames(renderer, scene, {"warped": atlas}, xy)["warped"]
+
+
+def test_warped_shadow_map_matches_reference(warped_cow):
+    """The warped light depth map (cow, point light, 3x3 atlas, 128^2), colour-mapped."""
+    from morphkit.demo import colorize_depth
+
+    check_image("warped_cow_depth_128", colorize_depth(warped_cow[0]), **TOL)
+
+
+def test_warped_shadow_composite_matches_reference(warped_cow):
+    """The camera frame shadowed by the warped map (projective lookup + composite)."""
+    check_image("warped_cow_composite_128", cv2.cvtColor(warped_cow[1]["shaded"], cv2.COLOR_RGB2BGR),
+                **TOL)
