@@ -101,7 +101,7 @@ def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str,
         mesh = sample_mesh(name)
         t0 = time.perf_counter()
         atlas = bake_atlas(mesh, np.eye(4), motion, light, (size, size), renderer=renderer,
-                           control_grid=(9, 9), progress=False)
+                           progress=False)
         bake_ms = 1e3 * (time.perf_counter() - t0)
         scene = demo_scene(mesh, size)
         scene = Scene(scene.obj, light, scene.camera, scene.receiver, ambient=scene.ambient)

@@ -13,10 +13,10 @@ over seeded random positions in the range: ``iou`` (shadow-mask IoU, shadow =
 visibility < 0.5) and ``mae`` (mean absolute visibility error over the grid).
 
 Methods (one row each, timed in the same run, interleaved): ``warp`` (3 x 3
-atlas, composed warps, projected control points, 9 x 9 control grid unless the
+atlas, composed warps, projected control points, 17 x 17 control grid unless the
 row says otherwise), ``warp_three`` (the paper's three warps with interpolated
-control points), ``direct`` (re-render per frame), ``ibr_nearest`` /
-``ibr_blend`` with ``grid`` maps per axis (32 by default, 3 for equal memory
+control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
+``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory
 with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
 ``what=frame`` time a whole frame (camera render lit + unlit at 512^2, shadow
 map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
@@ -124,14 +124,14 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
                     continue
                 shape = (size, size)
                 atlas = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
-                                   control_grid=(9, 9), progress=False)
+                                   progress=False)
                 methods: dict[str, Any] = {
                     "warp": _Warp(atlas),
                     "direct": DirectShadow(atlas.rig, mesh, renderer),
                 }
                 if light_name == "point":
                     shared = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
-                                        anchors="shared", control_grid=(9, 9), progress=False)
+                                        anchors="shared", control_grid=(5, 15), progress=False)
                     methods["warp_three"] = _Warp(shared, warps="three", dst="interpolate")
                 ibr3 = ImageBasedShadow.bake(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
                                              grid=3, mode="blend", progress=False)
@@ -158,7 +158,7 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
 def _control_grid_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
-    grids = [(5, 15), (9, 9)] if quick else [(5, 15), (7, 15), (9, 9), (17, 17), (33, 33)]
+    grids = [(5, 15), (17, 17)] if quick else [(5, 15), (7, 15), (9, 9), (12, 12), (17, 17), (33, 33)]
     xys = _positions(8 if quick else 20, seed=7)
     size = 256 if quick else 512
     for mesh_name in meshes:
@@ -185,7 +185,7 @@ def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
     for f in faces:
         mesh = sample_mesh("cow", faces=f)
         atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
-                           control_grid=(9, 9), progress=False)
+                           progress=False)
         methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
         timings = _time_maps(methods, xys, repeats=5 if quick else 15)
         for name in methods:
@@ -211,7 +211,7 @@ def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
         mesh = sample_mesh(mesh_name)
         for size in sizes:
             atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
-                               control_grid=(9, 9), progress=False)
+                               progress=False)
             methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
             fns = {}
             for name, m in methods.items():

@@ -98,8 +98,17 @@ def split_coverage(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     return out
 
 
-def _merge(acc: np.ndarray, warped: np.ndarray, weight: float) -> None:
-    cv2.scaleAdd(warped, float(weight), acc, dst=acc)
+def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
+           ) -> None:
+    """``acc[roi] += weight * pixels`` for a ``(roi, pixels)`` pair from ``_warp``."""
+    (r0, r1, c0, c1), px = warped
+    if px.size == 0:
+        return
+    if (r0, c0) == (0, 0) and px.shape[:2] == acc.shape[:2]:
+        cv2.scaleAdd(px, float(weight), acc, dst=acc)
+    else:
+        view = acc[r0:r1, c0:c1]
+        view += np.float32(weight) * px
 
 
 def _finish(acc: np.ndarray, ref: float) -> np.ndarray:
@@ -127,6 +136,7 @@ class ShadowAtlas:
     control_grid: tuple[int, int]
     anchor_kind: str = "sample"
     _warpers: dict[tuple[int, int], MeshWarper] = field(default_factory=dict, repr=False)
+    _tex: dict[bytes, np.ndarray] = field(default_factory=dict, repr=False)
     _split: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
@@ -152,12 +162,24 @@ class ShadowAtlas:
         """Bytes of precomputed data (maps + anchors + control points)."""
         return int(self.maps.nbytes + self.anchors.nbytes + self.control.nbytes)
 
+    def _texture(self, xy: Any) -> np.ndarray:
+        """The light camera's texture matrix at ``xy`` (cached: each call of
+        :meth:`shadow_map` needs it for the 4 samples and the position)."""
+        xy = np.asarray(xy, dtype=np.float64)
+        key = xy.tobytes()
+        T = self._tex.get(key)
+        if T is None:
+            if len(self._tex) > 256:
+                self._tex.clear()
+            T = self._tex[key] = self.rig.camera_at(xy).texture_matrix()
+        return T
+
     def project(self, xy: Any, anchors: np.ndarray) -> np.ndarray:
         """Pixel positions ``(N, 2)`` of ``anchors (N, 3)`` with the object at ``xy``."""
         xy = np.asarray(xy, dtype=np.float64)
-        q = self.rig.camera_at(xy).texture_matrix() @ np.c_[anchors + np.r_[xy, 0.0],
-                                                              np.ones(len(anchors))].T
-        return (q[:2] / q[3]).T
+        T = self._texture(xy)
+        q = (anchors + np.r_[xy, 0.0]) @ T[:, :3].T + T[:, 3]
+        return q[:, :2] / q[:, 3:]
 
     def _dst_points(self, j: int, i: int, eq: np.ndarray) -> np.ndarray:
         """Destination control points of map ``(j, i)`` for the object at ``eq``.
@@ -193,8 +215,8 @@ class ShadowAtlas:
 
     def anchor_depth(self, xy: Any) -> float:
         """Light depth of the object's anchor (bounding-box centre) at ``xy``."""
-        cam = self.rig.camera_at(np.asarray(xy, dtype=np.float64))
-        return float((self.rig.anchor0 + np.r_[xy, 0.0] - cam.position) @ cam.axis)
+        T = self._texture(xy)
+        return float(T[2, :3] @ (self.rig.anchor0 + np.r_[np.asarray(xy, float), 0.0]) + T[2, 3])
 
     def _source(self, j: int, i: int) -> np.ndarray:
         s = self._split.get((j, i))
@@ -246,41 +268,68 @@ class ShadowAtlas:
             _merge(acc, self._warp(jj, ii, c_dst, eq), w)
         return _finish(acc, self.anchor_depth(eq)), cam
 
-    def _warp(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray) -> np.ndarray:
+    def _warp(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray
+              ) -> tuple[tuple[int, int, int, int], np.ndarray]:
+        """Source ``(j, i)`` warped to ``c_dst``: ``(roi, pixels)``, the premultiplied
+        result over the mesh's region ``roi = (r0, r1, c0, c1)`` (0 elsewhere)."""
         src = self._source(j, i)
         if np.allclose(c_dst, self.control[j, i], rtol=0, atol=1e-6):
-            return src  # identity: exact sample position, or a directional light
+            h, w = self.shape
+            return (0, h, 0, w), src  # identity: exact sample position, or a directional light
         try:
-            return self._warper(j, i)(src, c_dst, self.shape)
+            wm = self._warper(j, i).maps(c_dst, self.shape)
         except FoldOverError:
             # An occlusion change too large for the mesh: warp with plane anchors,
             # whose motion is projective and cannot fold (documented fallback).
             self.fallbacks += 1
             src_pts = self.project((self.xs[i], self.ys[j]), self.plane_anchors[j, i])
             dst_pts = self.project(eq, self.plane_anchors[j, i])
-            return MeshWarper(src_pts, self.triangles)(src, dst_pts, self.shape)
+            wm = MeshWarper(src_pts, self.triangles).maps(dst_pts, self.shape)
+        if wm.map1 is None:
+            return (0, 0, 0, 0), np.zeros((0, 0, 2), np.float32)
+        # Sources are finite, so one cv2.remap of the maps' region suffices
+        # (WarpMaps.apply would also guard against non-finite pixels).
+        return wm.roi, cv2.remap(src, wm.map1, wm.map2, cv2.INTER_LINEAR,
+                                 borderMode=cv2.BORDER_CONSTANT, borderValue=0)
 
     def _three_warps(self, eq: np.ndarray, j: int, i: int, u: float, v: float,
                      dst: str) -> np.ndarray:
-        """Kang & Ihm's three warps: row morphs at fraction u, then a column morph at v."""
-        C = self.control
-        c_dst = (self.project(eq, self.anchors[j, i]) if dst == "project" else
+        """Kang & Ihm's three warps: row morphs at fraction u, then a column morph at v.
+
+        If a warp folds, the whole computation is redone with plane anchors
+        (documented fallback, counted in :attr:`fallbacks`)."""
+        try:
+            return self._three_warps_with(self.control, self.anchors, eq, j, i, u, v, dst)
+        except FoldOverError:
+            self.fallbacks += 1
+            ky, kx = self.grid
+            plane = np.stack([np.stack([self.project((self.xs[b], self.ys[a]), self.plane_anchors[a, b])
+                                        for b in range(kx)]) for a in range(ky)])
+            return self._three_warps_with(plane, self.plane_anchors, eq, j, i, u, v, dst)
+
+    def _three_warps_with(self, C: np.ndarray, anchors: np.ndarray, eq: np.ndarray, j: int, i: int,
+                          u: float, v: float, dst: str) -> np.ndarray:
+        c_dst = (self.project(eq, anchors[j, i]) if dst == "project" else
                  (1 - v) * ((1 - u) * C[j, i] + u * C[j, i + 1])
                  + v * ((1 - u) * C[j + 1, i] + u * C[j + 1, i + 1]))
+        full = (0, self.shape[0], 0, self.shape[1])
         rows = []
         for jj in (j, j + 1):
             c_row = (1 - u) * C[jj, i] + u * C[jj, i + 1]
             row = np.zeros((*self.shape, 2), np.float32)
             for ii, w in ((i, 1 - u), (i + 1, u)):
                 if w > 0:
-                    _merge(row, self._warp(jj, ii, c_row, eq), w)
+                    src = self._source(jj, ii)
+                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else MeshWarper(
+                        C[jj, ii], self.triangles)(src, c_row, self.shape)
+                    _merge(row, (full, warped), w)
             rows.append((c_row, row))  # premultiplied: a row morph is again a source
         acc = np.zeros((*self.shape, 2), np.float32)
         for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
             if w > 0:
-                warped = row if np.array_equal(c_row, c_dst) else MeshWarper(c_row, self.triangles)(
-                    row, c_dst, self.shape)
-                _merge(acc, warped, w)
+                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else MeshWarper(
+                    c_row, self.triangles)(row, c_dst, self.shape)
+                _merge(acc, (full, warped), w)
         return _finish(acc, self.anchor_depth(eq))
 
     # ------------------------------------------------------------ file I/O
@@ -357,7 +406,7 @@ def _light_from_dict(d: dict[str, Any]) -> DirectionalLight | PointLight:
 
 def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,
                light: DirectionalLight | PointLight, shape: tuple[int, int], *, renderer: Any,
-               grid: int | tuple[int, int] = 3, control_grid: tuple[int, int] = (5, 15),
+               grid: int | tuple[int, int] = 3, control_grid: tuple[int, int] = (17, 17),
                anchors: Literal["sample", "shared", "plane"] = "sample", margin: float = 0.04,
                smooth: float = 0.0, uniform: bool = False, progress: bool = True) -> ShadowAtlas:
     """Render the k x k light depth maps over ``motion`` and derive control points.
@@ -370,7 +419,8 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         Samples per axis (>= 2). Odd counts put the middle sample in line with a
         point light (Kang & Ihm); see :func:`~morphkit.shadow.rig.sample_axis`.
     control_grid : (rows, cols)
-        Control points laid over each map (the paper used 5 x 15 and 7 x 15).
+        Control points laid over each map's silhouette box (the paper used
+        5 x 15 and 7 x 15; 17 x 17 measured best here, ``morphkit bench shadows``).
     anchors : {"sample", "shared", "plane"}
         How grid points are lifted to 3-D (module docstring).
     smooth : float
@@ -406,12 +456,16 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
             maps[j, i] = renderer.depth(rig.camera_at(xy), [Item(mesh, rig.object_pose(xy))])
             bar.update()
     bar.close()
-    gx, gy = np.meshgrid(np.linspace(0, W - 1, cols), np.linspace(0, H - 1, rows))
-    pts = np.c_[gx.ravel(), gy.ravel()]
-    surf = np.empty((ky, kx, len(pts), 3))
+    boxes = np.array([[_silhouette_box(maps[j, i]) for i in range(kx)] for j in range(ky)])
+    if anchors != "sample":  # one grid for all maps: the union of the silhouettes' boxes
+        boxes[:] = [boxes[..., 0].min(), boxes[..., 1].min(), boxes[..., 2].max(), boxes[..., 3].max()]
+    surf = np.empty((ky, kx, rows * cols, 3))
     plane = np.empty_like(surf)
     for j in range(ky):
         for i in range(kx):
+            x0, y0, x1, y1 = boxes[j, i]
+            gx, gy = np.meshgrid(np.linspace(x0, x1, cols), np.linspace(y0, y1, rows))
+            pts = np.c_[gx.ravel(), gy.ravel()]
             xy = np.array([xs[i], ys[j]])
             cam = rig.camera_at(xy)
             anchor_z = float((rig.anchor0 + np.r_[xy, 0.0] - cam.position) @ cam.axis)
@@ -424,6 +478,21 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     elif anchors == "plane":
         surf = plane
     return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
+
+
+def _silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, float, float, float]:
+    """``(x0, y0, x1, y1)``: the bounding box of a map's covered pixels, grown by
+    ``margin`` of the map size (at least 2 px) and clipped to the map; the whole
+    map when nothing is covered. Control grids span it: the warp's work and its
+    resolution go where the shadow is."""
+    h, w = depth.shape
+    rows = np.flatnonzero(np.isfinite(depth).any(1))
+    cols = np.flatnonzero(np.isfinite(depth).any(0))
+    if len(rows) == 0:
+        return 0.0, 0.0, float(w - 1), float(h - 1)
+    mx, my = max(2.0, margin * w), max(2.0, margin * h)
+    return (max(0.0, cols[0] - mx), max(0.0, rows[0] - my), min(w - 1.0, cols[-1] + mx),
+            min(h - 1.0, rows[-1] + my))
 
 
 def _signed_area(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
@@ -444,9 +513,8 @@ def _anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fa
     idx = ndimage.distance_transform_edt(~cov, return_distances=False, return_indices=True)
     filled = depth[idx[0], idx[1]]
     if smooth > 0:
-        h, w = depth.shape
-        sx = smooth * (w - 1) / max(grid[1] - 1, 1)
-        sy = smooth * (h - 1) / max(grid[0] - 1, 1)
+        sx = smooth * np.ptp(pts[:, 0]) / max(grid[1] - 1, 1)
+        sy = smooth * np.ptp(pts[:, 1]) / max(grid[0] - 1, 1)
         filled = ndimage.gaussian_filter(filled, (sy, sx), mode="nearest")
     return filled[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].astype(np.float64)
 

@@ -87,5 +87,5 @@ class ImageBasedShadow:
             for (jj, ii), w in (((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
                                 ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)):
                 if w > 0:
-                    _merge(acc, a._source(jj, ii), w)
+                    _merge(acc, ((0, a.shape[0], 0, a.shape[1]), a._source(jj, ii)), w)
         return _finish(acc, a.anchor_depth(eq)), cam
