@@ -47,6 +47,7 @@ def lazy_suite(module: str, attr: str = "run") -> Suite:
 SUITES: dict[str, Suite] = {
     "warp": lazy_suite("morphkit.bench.warp_suite", "run"),
     "shadows": lazy_suite("morphkit.bench.shadow_suite", "run"),
+    "render": lazy_suite("morphkit.bench.render_suite", "run"),
     "viewmorph": lazy_suite("morphkit.bench.viewmorph_suite", "run"),
 }
 
