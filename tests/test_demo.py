@@ -24,6 +24,8 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
     names = {f["path"] for f in index["files"]}
     for mesh in ("teapot", "chair", "cow"):
         assert f"{mesh}_scene.png" in names and f"{mesh}_light_depth.png" in names
+        assert f"{mesh}_warped_direct_raycast.png" in names and f"{mesh}_viewmorph.png" in names
+        assert 0.0 <= index["view_morphing"][mesh]["silhouette_iou"] <= 1.0
     for f in index["files"]:
         assert (tmp_path / f["path"]).stat().st_size > 0
     assert str(tmp_path) in capsys.readouterr().out
