@@ -299,6 +299,12 @@ def test_load_refuses_bad_files(tmp_path, point_atlas):
     np.savez(tmp_path / "v999.npz", **arrays)
     with pytest.raises(FileFormatError, match="atlas version: expected 1, got 999"):
         ShadowAtlas.load(tmp_path / "v999.npz")
+    meta["version"] = 1
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
+    arrays["control"] = arrays["control"] + 0.5
+    np.savez(tmp_path / "moved.npz", **arrays)
+    with pytest.raises(FileFormatError, match="atlas control points: expected consistent"):
+        ShadowAtlas.load(tmp_path / "moved.npz")
     with zipfile.ZipFile(tmp_path / "other.npz", "w") as z:
         z.writestr("x.npy", b"nope")
     with pytest.raises(FileFormatError, match="expected a complete morphkit-shadow-atlas"):

@@ -41,7 +41,7 @@ paper's three warps instead (two row morphs, then a column morph). Destination
 control points are the anchors projected at the exact position (``"project"``,
 default) or bilinearly interpolated from the 4 maps (``"interpolate"``, the
 paper). Maps are warped as premultiplied ``[coverage, coverage * depth]``
-(:func:`split_coverage`), so bilinear sampling never mixes object depth with
+(:func:`premultiply`), so bilinear sampling never mixes object depth with
 the background; the blended coverage is thresholded at 0.5.
 
 Depth values follow the model of :mod:`morphkit.shadow.rig`: moving the object
@@ -75,13 +75,13 @@ from ..warp import MeshWarper, grid_triangles
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
-           "split_coverage"]
+           "premultiply"]
 
 ATLAS_FORMAT = "morphkit-shadow-atlas"
 ATLAS_VERSION = 1
 
 
-def split_coverage(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
+def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     """``(H, W, 2)`` float32 premultiplied ``[coverage, coverage * (depth - ref)]``:
     coverage is 1 on the object and 0 on the background.
 
@@ -222,7 +222,7 @@ class ShadowAtlas:
         s = self._split.get((j, i))
         if s is None:
             ref = self.anchor_depth((self.xs[i], self.ys[j]))
-            s = self._split[(j, i)] = split_coverage(self.maps[j, i], ref)
+            s = self._split[(j, i)] = premultiply(self.maps[j, i], ref)
         return s
 
     def cell(self, xy: np.ndarray) -> tuple[int, int, float, float]:
@@ -346,7 +346,8 @@ class ShadowAtlas:
         buf = io.BytesIO()
         np.savez_compressed(buf, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8),
                             xs=self.xs, ys=self.ys, maps=self.maps, anchors=self.anchors,
-                            plane_anchors=self.plane_anchors, triangles=self.triangles)
+                            plane_anchors=self.plane_anchors, control=self.control,
+                            triangles=self.triangles)
         path.write_bytes(buf.getvalue())
         return path
 
@@ -364,7 +365,8 @@ class ShadowAtlas:
         path = Path(path)
         try:
             with np.load(path, allow_pickle=False) as z:
-                data = {k: z[k] for k in ("meta", "xs", "ys", "maps", "anchors", "plane_anchors")}
+                data = {k: z[k] for k in ("meta", "xs", "ys", "maps", "anchors", "plane_anchors",
+                                          "control", "triangles")}
             meta = json.loads(bytes(data["meta"]).decode())
         except FileNotFoundError as exc:
             raise FileFormatError(expected_got("atlas file", "an existing file", str(path))) from exc
@@ -387,6 +389,13 @@ class ShadowAtlas:
         if atlas.maps.shape[2:] != rig.shape or atlas.maps.shape[:2] != (len(atlas.ys), len(atlas.xs)):
             raise FileFormatError(expected_got("atlas maps", f"shape ({len(atlas.ys)}, {len(atlas.xs)}, "
                                                f"{rig.shape[0]}, {rig.shape[1]})", atlas.maps.shape))
+        # control points and triangles are stored for other readers; they must
+        # agree with what the anchors and the light rig give
+        if (data["control"].shape != atlas.control.shape
+                or not np.allclose(data["control"], atlas.control, rtol=0, atol=1e-6)
+                or not np.array_equal(data["triangles"], atlas.triangles)):
+            raise FileFormatError(expected_got("atlas control points", "consistent with its anchors "
+                                               "and light rig", "different values (corrupt file?)"))
         return atlas
 
 

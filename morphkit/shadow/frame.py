@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..composite import shade
-from ..scene import Scene
+from ..scene import AreaLight, DirectionalLight, Scene
 from .lookup import normals_from_points, shadow_visibility
 
 __all__ = ["render_frame", "compare_frames"]
@@ -57,11 +57,11 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
     vis = np.ones(cam.shape, np.float32)
     if test.any():
         vis[test] = visibility(world[test], normals[test])
-    if hasattr(scene.light, "direction"):
-        to_light = np.broadcast_to(-scene.light.direction, world.shape)
+    light = scene.light
+    if isinstance(light, DirectionalLight):
+        to_light = np.broadcast_to(-light.direction, world.shape)
     else:
-        to_light = scene.light.center - world if hasattr(scene.light, "center") else (
-            scene.light.position - world)
+        to_light = (light.center if isinstance(light, AreaLight) else light.position) - world
     facing = valid & (np.einsum("hwk,hwk->hw", normals, to_light) > 0)
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
             "shaded": shade(lit, unlit, vis), "facing": facing}
