@@ -144,6 +144,9 @@ class ShadowAtlas:
         ky, kx = self.maps.shape[:2]
         self.control = np.stack([np.stack([self.project((self.xs[i], self.ys[j]), self.anchors[j, i])
                                            for i in range(kx)]) for j in range(ky)])
+        # orientation of each map's source triangles, for the fold test per frame
+        self._src_sign = np.sign(np.stack([np.stack([_signed_area(self.control[j, i], self.triangles)
+                                                     for i in range(kx)]) for j in range(ky)]))
         self.fallbacks = 0
         self.relaxed = 0
 
@@ -192,19 +195,25 @@ class ShadowAtlas:
         surf = self.project(eq, self.anchors[j, i])
         if self.anchor_kind == "plane":
             return surf
-        plane = self.project(eq, self.plane_anchors[j, i])
         tri = self.triangles
-        src = self.control[j, i]
-        sign = np.sign(_signed_area(src, tri))
+        sign = self._src_sign[j, i]
+
+        def folded(pts: np.ndarray) -> np.ndarray:
+            area = _signed_area(pts, tri)
+            return (np.sign(area) != sign) | (np.abs(area) < 4 * tol.TRIANGLE_AREA_PX2)
+
+        bad = folded(surf)
+        if not bad.any():
+            return surf
+        plane = self.project(eq, self.plane_anchors[j, i])
         alpha = np.ones(len(surf))
         for _ in range(16):
-            dst = plane + alpha[:, None] * (surf - plane)
-            area = _signed_area(dst, tri)
-            bad = (np.sign(area) != sign) | (np.abs(area) < 4 * tol.TRIANGLE_AREA_PX2)
-            if not bad.any():
-                return dst
             self.relaxed += 1
             alpha[np.unique(tri[bad])] *= 0.5
+            dst = plane + alpha[:, None] * (surf - plane)
+            bad = folded(dst)
+            if not bad.any():
+                return dst
         return plane
 
     def _warper(self, j: int, i: int) -> MeshWarper:

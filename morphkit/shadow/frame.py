@@ -51,7 +51,8 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
     test = valid
     if receiver_only:
         obj_depth = renderer.depth(cam, [Item(scene.obj.mesh, scene.obj.pose)])
-        on_object = np.isfinite(obj_depth) & (np.abs(obj_depth - depth) <= 1e-4 * np.abs(depth))
+        with np.errstate(invalid="ignore"):  # inf - inf on the background
+            on_object = np.isfinite(obj_depth) & (np.abs(obj_depth - depth) <= 1e-4 * np.abs(depth))
         test = valid & ~on_object
     normals = normals_from_points(world, valid)
     vis = np.ones(cam.shape, np.float32)
