@@ -52,8 +52,13 @@ destination points into :class:`WarpMaps` (per-pixel sampling maps of the mesh's
 bounding box plus the coverage mask), which :meth:`WarpMaps.apply` applies to any
 number of images or channels at the cost of one ``cv2.remap`` each.
 
-How the maps are built (per call, all vectorised): per-triangle affines
-``A_src_dst``; exact scanline runs ``[x_left, x_right)`` for every
+How the maps are built (per call): per-triangle affines ``A_src_dst``, then by
+default one compiled pass (:mod:`morphkit._scanline`, numba) that walks every
+destination triangle's pixel rows and writes each covered pixel's source
+position, counting coverage to detect overlaps. The numpy path below is the
+reference (same coverage rule and edge arithmetic; ``tests/test_warp.py``
+checks the two agree) and runs when numba is missing or
+``MORPHKIT_WARP_NUMPY=1``: exact scanline runs ``[x_left, x_right)`` for every
 (triangle, pixel row) pair; one integer sort of the runs along the image; then
 either (<= 255 triangles) a uint8 triangle-label image expanded from the runs and
 per-pixel affines by ``cv2.LUT`` + ``cv2.multiply``/``cv2.add``, or (more
@@ -67,6 +72,7 @@ threads only if each thread has its own objects.
 
 from __future__ import annotations
 
+import os
 import sys
 import threading
 from collections.abc import Sequence
@@ -76,7 +82,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from . import tol
+from . import _scanline, tol
 from .errors import FoldOverError, ValidationError, expected_got
 from .validate import as_image, as_points, as_shape
 
@@ -371,21 +377,23 @@ class WarpMaps:
         ``map1`` is None when the mesh covers no pixel centre.
     """
 
-    __slots__ = ("out_shape", "roi", "map1", "map2", "_lens", "_mask")
+    __slots__ = ("out_shape", "roi", "map1", "map2", "_lens", "_mask", "_covered", "_pooled")
 
     def __init__(self, out_shape: tuple[int, int], roi: tuple[int, int, int, int],
                  map1: np.ndarray | None, map2: np.ndarray | None,
-                 run_lens: np.ndarray | None) -> None:
+                 run_lens: np.ndarray | None, covered: np.ndarray | None = None) -> None:
         self.out_shape = out_shape
         self.roi = roi
         self.map1 = map1
         self.map2 = map2
         self._lens = run_lens
+        self._covered = covered  # ROI coverage, when the maps come from the compiled scanline
         self._mask: np.ndarray | None = None
+        self._pooled = map2 is not None and (run_lens is not None or covered is not None)
 
     def __del__(self) -> None:
         try:
-            if self._lens is not None and self.map2 is not None:
+            if self._pooled:
                 m1, m2 = self.map1, self.map2
                 self.map1 = self.map2 = None
                 _recycle(m1)
@@ -407,9 +415,12 @@ class WarpMaps:
             m = np.zeros(self.out_shape, dtype=bool)
             if self.map1 is not None:
                 r0, r1, c0, c1 = self.roi
-                pattern = np.zeros(self._lens.size, dtype=bool)
-                pattern[1::2] = True
-                m[r0:r1, c0:c1] = np.repeat(pattern, self._lens).reshape(r1 - r0, c1 - c0)
+                if self._covered is not None:
+                    m[r0:r1, c0:c1] = self._covered
+                else:
+                    pattern = np.zeros(self._lens.size, dtype=bool)
+                    pattern[1::2] = True
+                    m[r0:r1, c0:c1] = np.repeat(pattern, self._lens).reshape(r1 - r0, c1 - c0)
             m.setflags(write=False)
             self._mask = m
         return self._mask
@@ -637,6 +648,8 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     coef[:, 2] = s1[:, 0] * i01 + s2[:, 0] * i11
     coef[:, 3] = s1[:, 1] * i01 + s2[:, 1] * i11
     coef[:, 4:] = sv[:, 0] - coef[:, 0:2] * dv[:, 0, 0:1] - coef[:, 2:4] * dv[:, 0, 1:2]
+    if _scanline.AVAILABLE and not _NUMPY_ONLY:
+        return _compiled_maps(shape, roi, cov, tris, coef)
 
     # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
     cv_ = cov[tris]
@@ -755,6 +768,46 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     np.multiply(m, _xx(c0, c1, h), out=m)
     m += np.repeat(off, lens, axis=0)
     return WarpMaps(shape, roi, m.reshape(h, w, 2), None, lens)
+
+
+#: Force the numpy reference path (tests compare it with the compiled one).
+_NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+
+
+def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: np.ndarray,
+                   tris: np.ndarray, coef: np.ndarray) -> WarpMaps:
+    """Maps by the compiled scanline (:mod:`morphkit._scanline`): same coverage
+    rule and edge arithmetic as the numpy path below, one pass over the pixels."""
+    r0, r1, c0, c1 = roi
+    h, w = r1 - r0, c1 - c0
+    mx, my = _pooled((h, w)), _pooled((h, w))
+    count = np.empty((h, w), dtype=np.uint8)
+    _scanline.fill_maps(cov, tris.astype(np.int64, copy=False), coef, r0, r1, c0, c1, _OUTSIDE,
+                        mx, my, count)
+    top = int(count.max())
+    if top > 1:
+        y, x = np.unravel_index(int(np.argmax(count > 1)), count.shape)
+        y, x = int(y) + r0, int(x) + c0
+        raise FoldOverError(
+            "destination triangles overlap (the mesh folds over although each triangle keeps its "
+            f"orientation): triangles {_list_indices(_covering(cov, tris, x, y))} both cover "
+            f"pixel ({x}, {y})"
+        )
+    if top == 0:
+        return WarpMaps(shape, roi, None, None, None)
+    return WarpMaps(shape, roi, mx, my, None, count.view(bool))
+
+
+def _covering(cov: np.ndarray, tris: np.ndarray, x: int, y: int) -> np.ndarray:
+    """Indices of the triangles whose closure contains the point ``(x, y)`` (error messages)."""
+    v = cov[tris]
+    p = np.array([x, y], dtype=np.float64)
+
+    def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
+
+    d = np.stack([cross(v[:, 0], v[:, 1]), cross(v[:, 1], v[:, 2]), cross(v[:, 2], v[:, 0])], 1)
+    return np.flatnonzero(np.all(d >= -1e-9, axis=1) | np.all(d <= 1e-9, axis=1))
 
 
 def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], *,

@@ -378,3 +378,46 @@ def test_overlapping_triangles_raise_foldover():
 def test_delaunay_rejects_collinear_points():
     with pytest.raises(ValidationError, match="2-D"):
         delaunay_triangles([[0, 0], [1, 1], [2, 2], [3, 3]])
+
+
+# ----------------------------------------------------------- compiled vs numpy path
+@pytest.mark.parametrize("shape, grid", [((512, 512), (5, 15)), ((97, 131), (4, 6)), ((200, 300), (17, 17))])
+def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
+    """The numba scanline (default) and the numpy reference path cover exactly the
+    same pixel centres and give the same source positions (up to float32 rounding
+    of the numpy path's arithmetic)."""
+    from morphkit import _scanline
+    from morphkit import warp as W
+
+    if not _scanline.AVAILABLE:
+        pytest.skip("numba not importable: only the numpy path exists")
+    rng = np.random.default_rng(sum(shape))
+    h, w = shape
+    rows, cols = grid
+    gx, gy = np.meshgrid(np.linspace(0, w - 1, cols), np.linspace(0, h - 1, rows))
+    src = np.c_[gx.ravel(), gy.ravel()]
+    dst = src + rng.normal(0, min(h, w) / (12 * max(rows, cols)), src.shape)
+    warper = MeshWarper(src)
+    monkeypatch.setattr(W, "_NUMPY_ONLY", True)
+    ref = warper.maps(dst, shape)
+    monkeypatch.setattr(W, "_NUMPY_ONLY", False)
+    fast = warper.maps(dst, shape)
+    np.testing.assert_array_equal(fast.mask, ref.mask)
+    r0, r1, c0, c1 = ref.roi
+    inside = ref.mask[r0:r1, c0:c1]
+    np.testing.assert_allclose(fast.map_xy[inside], ref.map_xy[inside], atol=1e-3)
+    assert np.all(fast.map_xy[~inside] == ref.map_xy[~inside])
+
+
+def test_compiled_path_reports_overlaps(monkeypatch):
+    from morphkit import _scanline
+
+    if not _scanline.AVAILABLE:
+        pytest.skip("numba not importable")
+    # two triangles with the same orientation stacked on top of each other
+    src = np.array([[0, 0], [10, 0], [0, 10], [20, 0], [30, 0], [20, 10]], float)
+    tris = np.array([[0, 1, 2], [3, 4, 5]])
+    dst = src.copy()
+    dst[3:] -= [20, 0]  # the second triangle moves onto the first
+    with pytest.raises(FoldOverError, match=r"overlap.*triangles \[0, 1\].* both cover pixel"):
+        warp_mesh(np.ones((12, 32), np.float32), src, dst, (12, 32), triangles=tris)
