@@ -162,7 +162,10 @@ class ShadowAtlas:
 
     @property
     def memory_bytes(self) -> int:
-        """Bytes of precomputed data (maps + anchors + control points)."""
+        """Bytes of the precomputed, persisted data (maps + anchors + control points).
+
+        At run time each map in use is also held premultiplied (2 channels), i.e.
+        up to twice the maps' bytes more; the image-based baselines pay the same."""
         return int(self.maps.nbytes + self.anchors.nbytes + self.control.nbytes)
 
     def _texture(self, xy: Any) -> np.ndarray:
