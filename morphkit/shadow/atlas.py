@@ -68,6 +68,7 @@ import trimesh
 from scipy import ndimage
 
 from .. import tol
+from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
@@ -104,19 +105,34 @@ def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray]
     (r0, r1, c0, c1), px = warped
     if px.size == 0:
         return
-    if (r0, c0) == (0, 0) and px.shape[:2] == acc.shape[:2]:
-        cv2.scaleAdd(px, float(weight), acc, dst=acc)
-    else:
-        view = acc[r0:r1, c0:c1]
-        view += np.float32(weight) * px
+    view = acc[r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
+    cv2.scaleAdd(px, float(weight), view, dst=view)
+
+
+def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
+    cov, num = cv2.split(acc)
+    out[...] = cv2.divide(num, cov)
+    out += np.float32(ref)
+    out[cov < 0.5] = np.inf
+
+
+def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
+    h, w = out.shape
+    for i in range(h):
+        for j in range(w):
+            den = acc[i, j, 0]
+            out[i, j] = acc[i, j, 1] / den + ref if den >= 0.5 else np.inf
+
+
+_finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
+                  else _finish_numpy)
 
 
 def _finish(acc: np.ndarray, ref: float) -> np.ndarray:
-    """Depth from premultiplied blended channels: ``+inf`` where coverage < 0.5."""
-    cov, num = cv2.split(acc)
-    out = cv2.divide(num, cov)
-    out += np.float32(ref)
-    out[cov < 0.5] = np.inf
+    """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
+    ``+inf`` where the blended coverage is below 0.5 (one compiled pass)."""
+    out = np.empty(acc.shape[:2], np.float32)
+    _finish_kernel(acc, np.float32(ref), out)
     return out
 
 
