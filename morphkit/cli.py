@@ -106,7 +106,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Time one benchmark suite with warm-up and repeats. Every baseline is timed in "
         "the same run so ratios hold on a noisy machine. Prints a table of medians.",
     )
-    b.add_argument("suite", help="suite name (e.g. warp)")
+    from .bench import SUITES  # lazy registry: names only, no suite is imported
+
+    b.add_argument("suite", help=f"suite name: one of {', '.join(sorted(SUITES))}")
     b.add_argument("--quick", action="store_true", help="a reduced sweep that finishes in under a minute")
     b.add_argument("--json", type=Path, default=None, help="write the rows as JSON to this path")
     b.add_argument("--plot", type=Path, default=None,
