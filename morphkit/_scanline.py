@@ -42,8 +42,6 @@ def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
     for i in range(h):
         for j in range(w):
             count[i, j] = 0
-            mx[i, j] = out_outside
-            my[i, j] = out_outside
     M = tris.shape[0]
     for t in range(M):
         ia = tris[t, 0]
@@ -102,6 +100,11 @@ def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                     xf = float(x)
                     mx[row, col] = a00 * xf + ox
                     my[row, col] = a10 * xf + oy
+    for i in range(h):  # pixels no triangle covers
+        for j in range(w):
+            if count[i, j] == 0:
+                mx[i, j] = out_outside
+                my[i, j] = out_outside
 
 
 if numba is not None:

@@ -460,7 +460,7 @@ class WarpMaps:
         res = _remap(src, self.map1, self.map2, flag, fills)
         if res.ndim == 2 and img.ndim == 3:
             res = res[:, :, None]
-        if flag == cv2.INTER_LINEAR and src.dtype.kind == "f":
+        if flag == cv2.INTER_LINEAR and src.dtype.kind == "f" and not np.isfinite(res).all():
             # inf * 0 -> NaN guard: footprints touching a non-finite value go nearest.
             bad = ~np.isfinite(res)
             if bad.any():
