@@ -485,7 +485,7 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     ys = sample_axis(motion.lo[1], motion.hi[1], ky, None if mid is None else mid[1])
     H, W = rig.shape
     maps = np.empty((ky, kx, H, W), np.float32)
-    bar = tqdm(total=ky * kx, desc="baking shadow atlas", unit="map", disable=not progress,
+    bar = tqdm(total=ky * kx, desc="baking shadow atlas", unit="map", disable=None if progress else True,
                leave=False)
     for j in range(ky):
         for i in range(kx):
