@@ -188,11 +188,14 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
     stem = p.with_suffix("")
     written: list[Path] = []
     methods = list(dict.fromkeys(r["method"] for r in rows))
-    colors = {m: f"C{i % 10}" for i, m in enumerate(methods)}
+    palette = plt.get_cmap("tab20").colors  # 20 distinct colours: suites have > 10 methods
+    colors = {m: palette[i % len(palette)] for i, m in enumerate(methods)}
 
-    panels = list(dict.fromkeys(tuple(r["params"].get(k) for k in panel_keys) for r in rows))
-    ncol = min(4, len(panels))
-    nrow = math.ceil(len(panels) / ncol)
+    # panels: one per combination of panel_keys among rows that have a size to plot against
+    panels = list(dict.fromkeys(tuple(r["params"].get(k) for k in panel_keys) for r in rows
+                                if size_key in r["params"]))
+    ncol = min(4, max(len(panels), 1))
+    nrow = max(math.ceil(len(panels) / ncol), 1)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
     for ax, panel in zip(axes.ravel(), panels, strict=False):
         for m in methods:
