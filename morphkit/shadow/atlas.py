@@ -274,9 +274,7 @@ class ShadowAtlas:
         if warps not in ("composed", "three") or dst not in ("project", "interpolate"):
             raise ValidationError(expected_got("warps/dst", "'composed'|'three' and "
                                                "'project'|'interpolate'", f"{warps!r}/{dst!r}"))
-        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
-        eq = self.rig.equivalent_position(xy, off, clamp=clamp)
-        cam = self.rig.camera_at(eq if off is None else eq + off, off)
+        eq, _pos, cam = self.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = self.cell(eq)
         nb = [((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
               ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)]

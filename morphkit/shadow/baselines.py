@@ -41,11 +41,8 @@ class DirectShadow:
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
-        eq = self.rig.equivalent_position(xy, off, clamp=clamp)
-        pose = self.rig.object_pose(eq if off is None else eq + off)
-        cam = self.rig.camera_at(eq if off is None else eq + off, off)
-        return self.renderer.depth(cam, [self._item(self.mesh, pose)]), cam
+        _eq, pos, cam = self.rig.resolve(xy, light_offset, clamp=clamp)
+        return self.renderer.depth(cam, [self._item(self.mesh, self.rig.object_pose(pos))]), cam
 
 
 class ImageBasedShadow:
@@ -75,9 +72,7 @@ class ImageBasedShadow:
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
         a = self.atlas
-        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
-        eq = a.rig.equivalent_position(xy, off, clamp=clamp)
-        cam = a.rig.camera_at(eq if off is None else eq + off, off)
+        eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)
         if self.mode == "nearest":
             jj, ii = j + int(v > 0.5), i + int(u > 0.5)

@@ -274,3 +274,13 @@ class LightRig:
             warnings.warn(f"position {xy.tolist()} is outside the baked range; clamped to "
                           f"{inside.tolist()}", RangeClampWarning, stacklevel=3)
         return inside
+
+    def resolve(self, xy: np.ndarray, light_offset: np.ndarray | None = None, *,
+                clamp: bool = False) -> tuple[np.ndarray, np.ndarray, CameraModel]:
+        """What every shadow method needs for one frame: the equivalent position
+        (:meth:`equivalent_position`), the object's own position (``eq`` plus the
+        light offset; differs from ``xy`` only when clamped) and the light camera."""
+        off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
+        eq = self.equivalent_position(xy, off, clamp=clamp)  # validates the offset
+        pos = eq if off is None else eq + off
+        return eq, pos, self.camera_at(pos, off)
