@@ -240,13 +240,17 @@ class Renderer:
         out[bg] = BACKGROUND_DEPTH
         return out
 
-    def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
-        """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``."""
+    def pyrender_depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
+        """pyrender's own depth output, uncorrected (background 0; orthographic
+        values wrong, see the module docstring). For comparisons only: use :meth:`depth`."""
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         ctx.set_camera(camera)
-        raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
-        return self._linear_depth(raw, camera)
+        return ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
+
+    def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
+        """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``."""
+        return self._linear_depth(self.pyrender_depth(camera, items), camera)
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light],
                     *, ambient: float = 0.35,

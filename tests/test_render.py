@@ -44,13 +44,10 @@ def test_depth_of_facing_plane(renderer, projection, dist):
 def test_pyrender_orthographic_depth_is_wrong_without_fix(renderer):
     """Documents the pyrender pitfall morphkit corrects: the raw value for a
     plane at 0.5 (n=0.05, f=100) is ~0.0502, ours is 0.5."""
-    import pyrender
-
     cam = orthographic(1, 1, (16, 16), look_at([0, 0, 0.5], [0, 0, 0], up=[0, 1, 0]),
                        znear=0.05, zfar=100)
     ours = renderer.depth(cam, [_item(PLANE)])
-    ctx = renderer._contexts[cam.shape]
-    raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
+    raw = renderer.pyrender_depth(cam, [_item(PLANE)])
     assert raw[8, 8] == pytest.approx(0.0502, abs=2e-4)
     assert ours[8, 8] == pytest.approx(0.5, rel=DEPTH_RTOL)
 

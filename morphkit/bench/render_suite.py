@@ -63,7 +63,7 @@ def _depth_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
 
 
 def _accuracy_rows(renderer: Any) -> list[dict[str, Any]]:
-    from ..render import Item, pyrender
+    from ..render import Item
 
     plane = trimesh.Trimesh([[-100, -100, 0], [100, -100, 0], [100, 100, 0], [-100, 100, 0]],
                             [[0, 1, 2], [0, 2, 3]], process=False)
@@ -78,8 +78,7 @@ def _accuracy_rows(renderer: Any) -> list[dict[str, Any]]:
             d = renderer.depth(cam, [Item(plane)])
             metrics = {"rel_err_max": float(np.abs(d / dist - 1).max())}
             if proj == "orthographic":
-                ctx = renderer._contexts[cam.shape]
-                raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
+                raw = renderer.pyrender_depth(cam, [Item(plane)])
                 metrics["pyrender_raw_rel_err"] = float(np.abs(raw / dist - 1).max())
             rows.append(make_row(SUITE, f"plane_{proj}", {"what": "accuracy", "dist": dist},
                                  Timing(0.0, 0.0, 0.0, 1), metrics=metrics))
