@@ -22,7 +22,7 @@ from .errors import ValidationError, expected_got
 from .scene import AreaLight, DirectionalLight, PointLight, SceneObject
 from .validate import as_finite_array, as_positive, as_shape
 
-__all__ = ["hard_visibility", "area_visibility", "visibility", "receiver_grid", "ground_pixels"]
+__all__ = ["hard_visibility", "area_visibility", "receiver_grid", "ground_pixels"]
 
 _CHUNK = 1 << 20  # rays per intersector call: bounds memory on 1M-ray queries
 
@@ -73,16 +73,6 @@ def area_visibility(points: np.ndarray, light: AreaLight, obj: SceneObject, n_u:
     for pl in samples:
         acc += hard_visibility(pts, pl, obj)
     return (acc / len(samples)).astype(np.float32)
-
-
-def visibility(points: np.ndarray, light: DirectionalLight | PointLight | AreaLight,
-               obj: SceneObject, *, samples: int = 8,
-               rng: np.random.Generator | None = None) -> np.ndarray:
-    """:func:`hard_visibility` or, for an area light, :func:`area_visibility`
-    with ``samples x samples`` light samples."""
-    if isinstance(light, AreaLight):
-        return area_visibility(points, light, obj, samples, samples, rng)
-    return hard_visibility(points, light, obj)
 
 
 def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:

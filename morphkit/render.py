@@ -53,7 +53,7 @@ except Exception as exc:  # pragma: no cover - depends on the machine
 else:
     _IMPORT_ERROR = None
 
-__all__ = ["Renderer", "Item", "scene_items", "gl_available"]
+__all__ = ["Renderer", "Item", "scene_items"]
 
 
 @dataclass(frozen=True)
@@ -73,18 +73,6 @@ def scene_items(scene: Scene, *, receivers: bool = True, obj: bool = True) -> li
     if obj:
         items.append(Item(scene.obj.mesh, scene.obj.pose, scene.obj.color))
     return items
-
-
-def gl_available() -> tuple[bool, str]:
-    """Whether an offscreen GL context can be created here, and why not."""
-    if pyrender is None:
-        return False, f"pyrender failed to import: {_IMPORT_ERROR!r}"
-    try:
-        r = pyrender.OffscreenRenderer(8, 8)
-        r.delete()
-    except Exception as exc:  # pragma: no cover - depends on the machine
-        return False, f"cannot create an offscreen GL context: {exc!r}"
-    return True, ""
 
 
 if pyrender is not None:
