@@ -27,10 +27,12 @@ frustum is fitted to hold the whole occluder, so nothing there occludes).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
@@ -88,7 +90,35 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
                                            dm.shape))
     if normals is not None:
         normals = as_finite_array(normals, "normals", shape=(len(pts), 3), dtype=np.float32)
-    b = ShadowBias() if bias is None else bias
+    vis = np.ones(len(pts), np.float32)
+    lookup_into(vis, pts, dm, light_cam, normals, ShadowBias() if bias is None else bias)
+    return vis
+
+
+def lookup_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: CameraModel,
+                normals: np.ndarray | None, b: ShadowBias) -> None:
+    """Set ``vis[k] = 0`` for every shadowed point (inputs already validated).
+
+    One compiled pass (numba) over the points; the numpy path
+    (:func:`_lookup_numpy`, the reference the tests compare with) runs without
+    numba or with ``MORPHKIT_WARP_NUMPY=1``.
+    """
+    if _lookup_kernel is None or _NUMPY_ONLY:
+        _lookup_numpy(vis, pts, dm, light_cam, normals, b)
+        return
+    persp = light_cam.projection == "perspective"
+    L = light_cam.position if persp else np.zeros(3)
+    nrm = np.zeros((0, 3), np.float32) if normals is None else np.ascontiguousarray(normals,
+                                                                                    np.float32)
+    _lookup_kernel(vis, np.ascontiguousarray(pts, np.float64), nrm,
+                   np.ascontiguousarray(light_cam.texture_matrix(), np.float64),
+                   np.ascontiguousarray(dm, np.float32), persp, float(light_cam.fx),
+                   np.asarray(L, np.float64), np.asarray(light_cam.axis, np.float64),
+                   float(b.constant), float(b.slope), float(b.max_tan))
+
+
+def _lookup_numpy(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: CameraModel,
+                  normals: np.ndarray | None, b: ShadowBias) -> None:
     T = light_cam.texture_matrix()
     q = pts @ T[:, :3].T + T[:, 3]  # (N, 4): x w, y w, depth, w
     w = q[:, 3]
@@ -97,10 +127,9 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         c = np.rint(q[:, 0] / w)
         r = np.rint(q[:, 1] / w)
     inside = (w > 1e-12) & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
-    vis = np.ones(len(pts), np.float32)
     idx = np.flatnonzero(inside)
     if len(idx) == 0:
-        return vis
+        return
     occ = dm[r[idx].astype(np.intp), c[idx].astype(np.intp)]
     hit = np.isfinite(occ)  # texels holding the occluder
     idx, occ = idx[hit], occ[hit]
@@ -120,4 +149,43 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         tan = np.where(has, np.sqrt(np.maximum(1 - cos**2, 0)) / np.maximum(cos, 1e-6), 1.0)
     bias_world = texel * (b.constant + b.slope * np.minimum(tan, b.max_tan))
     vis[idx[z > occ + bias_world]] = 0.0
-    return vis
+
+
+def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarray,
+                 dm: np.ndarray, persp: bool, fx: float, L: np.ndarray, axis: np.ndarray,
+                 b_const: float, b_slope: float, b_max: float) -> None:
+    """The per-point loop of :func:`_lookup_numpy` (same arithmetic, one pass)."""
+    h, wd = dm.shape
+    has_nrm = nrm.shape[0] > 0
+    for k in range(pts.shape[0]):
+        x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
+        qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
+        if not qw > 1e-12:
+            continue
+        c = np.rint((T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) / qw)
+        r = np.rint((T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) / qw)
+        if not (c >= 0 and c < wd and r >= 0 and r < h):
+            continue
+        occ = np.float64(dm[int(r), int(c)])
+        if not np.isfinite(occ):
+            continue
+        z = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
+        texel = (abs(z) if persp else 1.0) / fx
+        tan = 1.0
+        if has_nrm:
+            n0, n1, n2 = np.float64(nrm[k, 0]), np.float64(nrm[k, 1]), np.float64(nrm[k, 2])
+            if n0 * n0 + n1 * n1 + n2 * n2 > 0:
+                if persp:
+                    t0, t1, t2 = L[0] - x, L[1] - y, L[2] - z0
+                    tl = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+                    cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
+                else:
+                    cos = abs(-(n0 * axis[0] + n1 * axis[1] + n2 * axis[2]))
+                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, 1e-6)
+        if z > occ + texel * (b_const + b_slope * min(tan, b_max)):
+            vis[k] = 0.0
+
+
+_lookup_kernel = (_numba.njit(cache=True, nogil=True)(_lookup_loop) if _numba is not None
+                  else None)
+_NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
