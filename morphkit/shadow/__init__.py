@@ -4,6 +4,7 @@
 * :mod:`.atlas` -- the k x k shadow atlas: bake, control points, run-time warp, file I/O;
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
+* :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
 """
 
@@ -13,6 +14,7 @@ from .atlas import ATLAS_VERSION, ShadowAtlas, bake_atlas
 from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, shadow_visibility
 from .rig import LightRig, MotionRange, RangeClampWarning
+from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
 
 __all__ = [
     "ATLAS_VERSION",
@@ -25,4 +27,8 @@ __all__ = [
     "LightRig",
     "MotionRange",
     "RangeClampWarning",
+    "SoftShadow",
+    "bake_soft_atlas",
+    "light_offsets",
+    "soft_motion_range",
 ]
