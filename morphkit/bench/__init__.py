@@ -49,6 +49,7 @@ SUITES: dict[str, Suite] = {
     "shadows": lazy_suite("morphkit.bench.shadow_suite", "run"),
     "render": lazy_suite("morphkit.bench.render_suite", "run"),
     "viewmorph": lazy_suite("morphkit.bench.viewmorph_suite", "run"),
+    "soft": lazy_suite("morphkit.bench.soft_suite", "run"),
 }
 
 
