@@ -17,6 +17,7 @@ sort, repeat, LUTs, products); the kernel touches each pixel once.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -28,6 +29,10 @@ except ImportError:  # pragma: no cover - numba is a dependency
 __all__ = ["AVAILABLE", "fill_maps"]
 
 AVAILABLE = numba is not None
+
+#: ``MORPHKIT_WARP_NUMPY=1`` forces the numpy reference path of every compiled
+#: kernel (warp maps, shadow lookup, fold relaxation); tests compare the two.
+NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
 
 
 def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,

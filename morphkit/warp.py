@@ -72,7 +72,6 @@ threads only if each thread has its own objects.
 
 from __future__ import annotations
 
-import os
 import sys
 import threading
 from collections.abc import Sequence
@@ -771,7 +770,7 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
 
 
 #: Force the numpy reference path (tests compare it with the compiled one).
-_NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+_NUMPY_ONLY = _scanline.NUMPY_ONLY
 
 
 def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: np.ndarray,

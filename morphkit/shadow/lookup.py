@@ -27,11 +27,11 @@ frustum is fitted to hold the whole occluder, so nothing there occludes).
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
 from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
@@ -188,4 +188,3 @@ def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
 
 _lookup_kernel = (_numba.njit(cache=True, nogil=True)(_lookup_loop) if _numba is not None
                   else None)
-_NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
