@@ -107,3 +107,18 @@ def test_compiled_fold_relaxation_matches_the_numpy_reference(rng):
             np.testing.assert_array_equal(got, ref)
             assert not A._any_folded_numpy(ref, tri, sign, min_area)
     assert folded_cases > 20
+
+
+@pytest.mark.parametrize("cam", _cameras(), ids=["perspective", "orthographic"])
+def test_normals_of_an_unprojected_ground_face_up(cam):
+    """The ground ``z = 0`` seen from above: the normals from the unprojected grid
+    are ``+z`` (towards the camera), not ``-z`` -- the frame's light-facing mask
+    depends on it."""
+    from morphkit.shadow import normals_from_points
+
+    o, d = cam.rays()
+    t = -o[..., 2] / d[..., 2]  # ray-plane intersection with z = 0
+    world = o + t[..., None] * d
+    n = normals_from_points(world, np.ones(cam.shape, bool))
+    inner = n[1:-1, 1:-1].reshape(-1, 3)
+    np.testing.assert_allclose(inner, np.broadcast_to([0, 0, 1], inner.shape), atol=1e-5)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from .atlas import ATLAS_VERSION, ShadowAtlas, bake_atlas
 from .baselines import DirectShadow, ImageBasedShadow
-from .lookup import ShadowBias, shadow_visibility
+from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
 
@@ -24,6 +24,7 @@ __all__ = [
     "ImageBasedShadow",
     "ShadowBias",
     "shadow_visibility",
+    "normals_from_points",
     "LightRig",
     "MotionRange",
     "RangeClampWarning",

@@ -51,13 +51,17 @@ class ShadowBias:
 
 def normals_from_points(points: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """Unit normals ``(H, W, 3)`` float32 of a grid of world points (e.g. an
-    unprojected depth image), from central differences; zero where undefined."""
+    unprojected depth image), from central differences; zero where undefined.
+
+    Oriented towards the camera that produced the grid: with image ``x`` right
+    and ``y`` down (:mod:`morphkit.conventions`), ``d/dy x d/dx`` points at the
+    viewer, as the normal of a visible surface does."""
     p = np.asarray(points, dtype=np.float32)
     dx = np.zeros_like(p)
     dy = np.zeros_like(p)
     dx[:, 1:-1] = p[:, 2:] - p[:, :-2]
     dy[1:-1] = p[2:] - p[:-2]
-    n = np.cross(dx, dy)
+    n = np.cross(dy, dx)
     norm = np.sqrt(np.einsum("...k,...k->...", n, n))
     ok = (norm > 0) & valid
     ok[:, [0, -1]] = False
