@@ -11,7 +11,9 @@ triangles sharing an edge agree bit for bit. Each pixel counts the triangles
 covering it; a count above 1 is a fold-over, reported by the caller.
 
 numba earns its place here: the numpy path needs ~10 full-image passes (runs,
-sort, repeat, LUTs, products); the kernel touches each pixel once.
+sort, repeat, LUTs, products); the kernel touches each pixel once. The rows are
+split into bands filled in parallel (one per numba thread, ``prange``); a row's
+values depend only on the triangles' edges, so the bands change no value.
 """
 
 from __future__ import annotations
@@ -35,16 +37,18 @@ AVAILABLE = numba is not None
 NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
 
 
-def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
-               c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray,
-               count: np.ndarray) -> None:
-    """Fill ``mx``, ``my`` (``(r1 - r0, c1 - c0)`` float32) and ``count`` (uint8:
-    how many triangles cover each pixel; more than 1 is a fold-over, which the
-    caller checks; the maps then hold the last triangle's values).
+def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
+               c1: int, b0: int, b1: int, out_outside: float, mx: np.ndarray, my: np.ndarray,
+               count: np.ndarray) -> int:
+    """Fill rows ``[b0, b1)`` (absolute, inside ``[r0, r1)``) of ``mx``, ``my``
+    (``(r1 - r0, c1 - c0)`` float32) and ``count`` (uint8: how many triangles
+    cover each pixel; more than 1 is a fold-over, which the caller checks; the
+    maps then hold the last triangle's values). Returns the band's largest count.
+    Each row is computed from the triangle's edges alone, so splitting the image
+    into bands changes no value.
     """
-    h = r1 - r0
     w = c1 - c0
-    for i in range(h):
+    for i in range(b0 - r0, b1 - r0):
         for j in range(w):
             count[i, j] = 0
     M = tris.shape[0]
@@ -72,9 +76,9 @@ def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
         qu = x0 - y0 * su
         sd = (x2 - x1) / (y2 - y1)
         qd = x1 - y1 * sd
-        ya = min(max(math.ceil(y0), r0), r1)
-        yb = min(max(math.ceil(y1), r0), r1)
-        yc = min(max(math.ceil(y2), r0), r1)
+        ya = min(max(math.ceil(y0), b0), b1)
+        yb = min(max(math.ceil(y1), b0), b1)
+        yc = min(max(math.ceil(y2), b0), b1)
         a00 = coef[t, 0]
         a10 = coef[t, 1]
         a01 = coef[t, 2]
@@ -105,14 +109,47 @@ def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                     xf = float(x)
                     mx[row, col] = a00 * xf + ox
                     my[row, col] = a10 * xf + oy
-    for i in range(h):  # pixels no triangle covers
+    top = 0
+    for i in range(b0 - r0, b1 - r0):  # pixels no triangle covers
         for j in range(w):
-            if count[i, j] == 0:
+            c = count[i, j]
+            if c == 0:
                 mx[i, j] = out_outside
                 my[i, j] = out_outside
+            elif c > top:
+                top = c
+    return top
+
+
+def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
+               c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
+               n_bands: int) -> int:
+    """Fill the maps in ``n_bands`` bands of rows, in parallel (numba ``prange``:
+    the bands write disjoint rows); returns the largest count (0: nothing covered,
+    > 1: a fold-over)."""
+    tops = np.zeros(n_bands, np.int64)
+    h = r1 - r0
+    for b in _prange(n_bands):
+        tops[b] = _fill_band(cov, tris, coef, r0, r1, c0, c1, r0 + (h * b) // n_bands,
+                             r0 + (h * (b + 1)) // n_bands, out_outside, mx, my, count)
+    return int(tops.max())
+
+
+#: Rows per band below which the fill runs in one band (thread start-up costs more).
+MIN_BAND_ROWS = 64
+
+
+def n_bands(rows: int) -> int:
+    """How many bands to fill ``rows`` rows in: one per numba thread, at least
+    :data:`MIN_BAND_ROWS` rows each."""
+    threads = numba.get_num_threads() if numba is not None else 1
+    return max(1, min(threads, rows // MIN_BAND_ROWS))
 
 
 if numba is not None:
-    fill_maps = numba.njit(cache=True, nogil=True, error_model="numpy")(_fill_maps)
+    _prange = numba.prange
+    _fill_band = numba.njit(cache=True, nogil=True, error_model="numpy")(_fill_band)
+    fill_maps = numba.njit(cache=True, nogil=True, parallel=True, error_model="numpy")(_fill_maps)
 else:  # pragma: no cover
+    _prange = range
     fill_maps = _fill_maps

@@ -781,9 +781,8 @@ def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: 
     h, w = r1 - r0, c1 - c0
     mx, my = _pooled((h, w)), _pooled((h, w))
     count = np.empty((h, w), dtype=np.uint8)
-    _scanline.fill_maps(cov, tris.astype(np.int64, copy=False), coef, r0, r1, c0, c1, _OUTSIDE,
-                        mx, my, count)
-    top = int(count.max())
+    top = _scanline.fill_maps(cov, tris.astype(np.int64, copy=False), coef, r0, r1, c0, c1,
+                              _OUTSIDE, mx, my, count, _scanline.n_bands(h))
     if top > 1:
         y, x = np.unravel_index(int(np.argmax(count > 1)), count.shape)
         y, x = int(y) + r0, int(x) + c0
