@@ -36,7 +36,15 @@ from .camera import look_at, perspective
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
 from .render import Item, Renderer
-from .scene import DirectionalLight, PointLight, Receiver, Scene, SceneObject, light_view
+from .scene import (
+    AreaLight,
+    DirectionalLight,
+    PointLight,
+    Receiver,
+    Scene,
+    SceneObject,
+    light_view,
+)
 from .shadow.frame import SKY, compare_frames, render_frame
 
 __all__ = ["DEMO_MESHES", "demo_scene", "ground_truth_frame", "run_demo"]
@@ -124,23 +132,22 @@ def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str,
 
 
 #: Soft-shadow demo: the warped-shadow light grown into a 0.6 x 0.6 area light.
-SOFT_HALF_EXTENT = 0.3
+SOFT_LIGHT = AreaLight(WARP_LIGHT, [0.3, 0.0, 0.0], [0.0, 0.3, 0.0])
 
 
 def _soft_shadow_section(renderer: Renderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
     """Per mesh: soft shadows of an area light at a position between samples, by
     warping one atlas per light sample (9), by re-rendering per sample (9), and
     by ray casting (8 x 8 samples; 4 x 4 with ``quick``), side by side."""
-    from .scene import AreaLight
     from .shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 
-    h = SOFT_HALF_EXTENT
-    light = AreaLight(WARP_LIGHT, [h, 0.0, 0.0], [0.0, h, 0.0])
+    light = SOFT_LIGHT
     motion = MotionRange(*WARP_RANGE)
     xy = np.array(WARP_POSITION)
     dense = 4 if quick else 8
     map_size = min(size, 256)  # penumbrae are soft: 256^2 maps suffice (morphkit bench soft)
-    report: dict[str, Any] = {"light_center": list(WARP_LIGHT), "half_extent": h,
+    report: dict[str, Any] = {"light_center": light.center.tolist(),
+                              "half_extents": [light.u.tolist(), light.v.tolist()],
                               "position": list(WARP_POSITION), "samples": 9,
                               "map_size": map_size, "raycast_samples": dense * dense}
     for name in DEMO_MESHES:

@@ -15,6 +15,8 @@ their own triangle.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from . import tol
@@ -22,7 +24,8 @@ from .errors import ValidationError, expected_got
 from .scene import AreaLight, DirectionalLight, PointLight, SceneObject
 from .validate import as_finite_array, as_positive, as_shape
 
-__all__ = ["hard_visibility", "area_visibility", "receiver_grid", "ground_pixels"]
+__all__ = ["hard_visibility", "area_visibility", "sampled_visibility", "receiver_grid",
+           "ground_pixels"]
 
 _CHUNK = 1 << 20  # rays per intersector call: bounds memory on 1M-ray queries
 
@@ -67,12 +70,20 @@ def area_visibility(points: np.ndarray, light: AreaLight, obj: SceneObject, n_u:
                     n_v: int | None = None, rng: np.random.Generator | None = None) -> np.ndarray:
     """Fraction ``(N,)`` float32 of an area light's ``n_u x n_v`` samples (cell
     centres, jittered when ``rng`` is given) that each point sees."""
+    return sampled_visibility(points, light.point_lights(n_u, n_v, rng), obj)
+
+
+def sampled_visibility(points: np.ndarray, lights: Sequence[PointLight], obj: SceneObject
+                       ) -> np.ndarray:
+    """Fraction ``(N,)`` float32 of the point ``lights`` (an area light's samples)
+    that each point sees."""
+    if len(lights) == 0:
+        raise ValidationError(expected_got("lights", "at least one point light", "none"))
     pts = as_finite_array(points, "points", shape=(None, 3))
-    samples = light.point_lights(n_u, n_v, rng)
     acc = np.zeros(len(pts), np.float64)
-    for pl in samples:
+    for pl in lights:
         acc += hard_visibility(pts, pl, obj)
-    return (acc / len(samples)).astype(np.float32)
+    return (acc / len(lights)).astype(np.float32)
 
 
 def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:

@@ -14,11 +14,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from morphkit.demo import DEMO_MESHES, SOFT_HALF_EXTENT, WARP_LIGHT, WARP_POSITION, WARP_RANGE
+from morphkit.demo import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.groundtruth import area_visibility, receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
-from morphkit.scene import AreaLight, SceneObject
+from morphkit.scene import SceneObject
 from morphkit.shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from morphkit.shadow.soft import FIVE_SAMPLES
 
@@ -31,8 +31,7 @@ def main() -> None:
     ap.add_argument("--dense", type=int, default=16, help="ray-cast light samples per axis")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
-    h = SOFT_HALF_EXTENT
-    light = AreaLight(WARP_LIGHT, [h, 0.0, 0.0], [0.0, h, 0.0])
+    light = SOFT_LIGHT
     xy = np.array(WARP_POSITION)
     g = receiver_grid(1.7, (args.ground, args.ground)).reshape(-1, 3)
     with Renderer() as r:

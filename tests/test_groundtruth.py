@@ -120,3 +120,11 @@ def test_bad_input():
         DirectionalLight([0, 0, 0])
     with pytest.raises(ValidationError, match="area light extent: expected non-zero"):
         AreaLight([0, 0, 2], [0, 0, 0], [0, 1, 0])
+
+
+def test_sampled_visibility_needs_a_light():
+    from morphkit.groundtruth import sampled_visibility
+
+    obj = SceneObject(trimesh.creation.box((0.2, 0.2, 0.2)))
+    with pytest.raises(ValidationError, match="at least one point light.*none"):
+        sampled_visibility(np.zeros((1, 3)), [], obj)

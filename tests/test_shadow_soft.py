@@ -119,8 +119,8 @@ def test_soft_shadow_equals_raycast_away_from_every_samples_outline(plate, plate
     radius = int(np.ceil(3 * texel_px))
     truth = np.zeros((n_grid, n_grid))
     allowed = np.zeros((n_grid, n_grid))
-    for d in soft.offsets:
-        lit = hard_visibility(g, PointLight(AREA.center + np.r_[d, 0.0]), obj).reshape(n_grid, n_grid)
+    for pl in soft.point_lights():
+        lit = hard_visibility(g, pl, obj).reshape(n_grid, n_grid)
         truth += lit / soft.n_samples
         allowed += _band(lit < 0.5, radius) / soft.n_samples
     err = np.abs(est - truth)

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..groundtruth import area_visibility, receiver_grid
+from ..groundtruth import area_visibility, receiver_grid, sampled_visibility
 from ..meshes import sample_mesh
 from ..scene import AreaLight, SceneObject
 from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
@@ -63,29 +63,21 @@ class _Truth:
         self.dense = dense
         self._cache: dict[tuple[Any, ...], np.ndarray] = {}
 
-    def __call__(self, mesh_name: str, mesh: Any, xy: np.ndarray, samples: Any = None
-                 ) -> np.ndarray:
-        key = (mesh_name, xy.tobytes(), repr(samples))
+    def __call__(self, mesh_name: str, mesh: Any, xy: np.ndarray,
+                 same_as: SoftShadow | None = None) -> np.ndarray:
+        """Dense truth, or with ``same_as`` the truth with that method's own samples."""
+        key = (mesh_name, xy.tobytes(), None if same_as is None else same_as.offsets.tobytes())
         if key not in self._cache:
             pose = np.eye(4)
             pose[:2, 3] = xy
             obj = SceneObject(mesh, pose)
-            if samples is None:
-                v = area_visibility(self.grid, AREA, obj, self.dense)
-            else:  # exactly the method's samples, as point lights
-                from ..groundtruth import hard_visibility
-                from ..scene import PointLight
-                from ..shadow import light_offsets
-
-                offs = light_offsets(AREA, samples)
-                v = np.mean([hard_visibility(self.grid, PointLight(AREA.center + np.r_[d, 0.0]), obj)
-                             for d in offs], axis=0).astype(np.float32)
-            self._cache[key] = v
+            self._cache[key] = (area_visibility(self.grid, AREA, obj, self.dense) if same_as is None
+                                else sampled_visibility(self.grid, same_as.point_lights(), obj))
         return self._cache[key]
 
 
-def _errors(soft: SoftShadow, samples: Any, mesh_name: str, mesh: Any, xys: np.ndarray,
-            truth: _Truth) -> dict[str, float]:
+def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth: _Truth
+            ) -> dict[str, float]:
     mae, mae_shadow, mae_same = [], [], []
     for xy in xys:
         est = soft.visibility(xy, truth.grid)
@@ -94,7 +86,7 @@ def _errors(soft: SoftShadow, samples: Any, mesh_name: str, mesh: Any, xys: np.n
         mae.append(float(err.mean()))
         region = (gt < 1) | (est < 1)
         mae_shadow.append(float(err[region].mean()) if region.any() else 0.0)
-        mae_same.append(float(np.abs(est - truth(mesh_name, mesh, xy, samples)).mean()))
+        mae_same.append(float(np.abs(est - truth(mesh_name, mesh, xy, soft)).mean()))
     return {"mae": float(np.mean(mae)), "mae_shadow": float(np.mean(mae_shadow)),
             "mae_same": float(np.mean(mae_same))}
 
@@ -113,15 +105,12 @@ def _time(methods: dict[str, SoftShadow], xys: np.ndarray, grid: np.ndarray, rep
     return time_calls(fns, repeats=repeats, warmup=1)
 
 
-def _methods(atlas: Any, direct: DirectShadow, ns: list[int]) -> tuple[dict[str, SoftShadow],
-                                                                       dict[str, Any]]:
-    methods: dict[str, SoftShadow] = {"hard": SoftShadow(atlas, AREA, np.zeros((1, 2)))}
-    samples: dict[str, Any] = {"hard": np.zeros((1, 2))}
+def _methods(atlas: Any, direct: DirectShadow, ns: list[int]) -> dict[str, SoftShadow]:
+    methods = {"hard": SoftShadow(atlas, AREA, np.zeros((1, 2)))}
     for n in ns:
         for kind, m in (("warp", atlas), ("direct", direct)):
             methods[f"{kind}_{n}"] = SoftShadow(m, AREA, SAMPLES[n])
-            samples[f"{kind}_{n}"] = SAMPLES[n]
-    return methods, samples
+    return methods
 
 
 def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
@@ -135,10 +124,10 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
         for size in sizes:
             atlas = bake_soft_atlas(mesh, np.eye(4), MOTION, AREA, (size, size), renderer=renderer,
                                     progress=False)
-            methods, samples = _methods(atlas, DirectShadow(atlas.rig, mesh, renderer), ns)
+            methods = _methods(atlas, DirectShadow(atlas.rig, mesh, renderer), ns)
             timings = _time(methods, xys, truth.grid, repeats=3 if quick else 7)
             for name, m in methods.items():
-                err = _errors(m, samples[name], mesh_name, mesh, xys, truth)
+                err = _errors(m, mesh_name, mesh, xys, truth)
                 err["mem_mb"] = (atlas.memory_bytes if not name.startswith("direct") else 0) / 2**20
                 rows.append(make_row(SUITE, name, {"what": "soft", "mesh": mesh_name, "size": size,
                                                    "samples": m.n_samples,

@@ -150,6 +150,11 @@ class SoftShadow:
     def n_samples(self) -> int:
         return len(self.offsets)
 
+    def point_lights(self) -> list[PointLight]:
+        """The light samples as point lights (for the ray-cast truth with the same
+        samples: :func:`~morphkit.groundtruth.sampled_visibility`)."""
+        return [PointLight(self.light.center + np.r_[d, 0.0]) for d in self.offsets]
+
     def maps(self, xy: Any, *, clamp: bool = False) -> list[tuple[np.ndarray, Any]]:
         """The ``N`` hard shadow maps ``(depth, light camera)``, one per light sample."""
         return [self.method.shadow_map(xy, light_offset=d, clamp=clamp) for d in self.offsets]
