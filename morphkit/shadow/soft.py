@@ -48,7 +48,7 @@ from ..errors import ValidationError, expected_got
 from ..scene import AreaLight, PointLight
 from ..validate import as_finite_array
 from .atlas import ShadowAtlas, bake_atlas
-from .lookup import ShadowBias, shadow_visibility
+from .lookup import ShadowBias, lookup_into
 from .rig import MotionRange
 
 __all__ = ["SoftShadow", "bake_soft_atlas", "light_offsets", "soft_motion_range"]
@@ -164,9 +164,16 @@ class SoftShadow:
         """Fraction ``(P,)`` float32 of the light samples each world point sees,
         with the object at ``xy``: a multiple of ``1/N`` in ``[0, 1]``."""
         pts = as_finite_array(points, "points", shape=(None, 3))
+        if normals is not None:
+            normals = as_finite_array(normals, "normals", shape=(len(pts), 3), dtype=np.float32)
+        bias = ShadowBias() if self.bias is None else self.bias
         acc = np.zeros(len(pts), np.float32)
-        for depth, cam in self.maps(xy, clamp=clamp):
-            acc += shadow_visibility(pts, depth, cam, normals=normals, bias=self.bias)
+        lit = np.empty(len(pts), np.float32)
+        for d in self.offsets:  # one map at a time; inputs validated once, above
+            depth, cam = self.method.shadow_map(xy, light_offset=d, clamp=clamp)
+            lit.fill(1.0)
+            lookup_into(lit, pts, depth, cam, normals, bias)
+            acc += lit
         acc /= np.float32(self.n_samples)
         return np.clip(acc, 0.0, 1.0)
 
