@@ -14,6 +14,7 @@ from morphkit.bench.harness import (
     make_row,
     time_call,
     time_calls,
+    time_cycling,
     write_json,
     write_plots,
 )
@@ -37,6 +38,16 @@ def test_time_call_and_time_calls_count_calls():
     ts = time_calls({"a": fa, "b": fb}, repeats=3, warmup=1)
     assert set(ts) == {"a", "b"} and ts["b"].repeats == 3
     assert calls == {"a": 10, "b": 4}
+
+
+def test_time_cycling_feeds_each_method_the_inputs_in_turn():
+    seen = {"a": [], "b": []}
+    ts = time_cycling({"a": seen["a"].append, "b": seen["b"].append}, [1, 2, 3],
+                      repeats=4, warmup=1)
+    assert set(ts) == {"a", "b"} and ts["a"].repeats == 4
+    assert seen["a"] == seen["b"] == [1, 2, 3, 1, 2]  # 1 warm-up + 4 repeats, cycling
+    with pytest.raises(ValueError, match="no inputs"):
+        time_cycling({"a": seen["a"].append}, [])
 
 
 def _rows():

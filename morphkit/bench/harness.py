@@ -14,11 +14,12 @@ so ratios hold on a noisy machine.
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import statistics
 import time
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -82,6 +83,23 @@ def time_calls(fns: Mapping[str, Callable[[], Any]], *, repeats: int = 7,
             fn()
             samples[k].append(time.perf_counter() - t0)
     return {k: Timing.from_seconds(v) for k, v in samples.items()}
+
+
+def time_cycling(fns: Mapping[str, Callable[[Any], Any]], inputs: Sequence[Any], *,
+                 repeats: int = 7, warmup: int = 1) -> dict[str, Timing]:
+    """:func:`time_calls` where each call takes the next of ``inputs`` (cycling),
+    e.g. object positions, so that successive calls do not repeat the same case."""
+    if len(inputs) == 0:
+        raise ValueError("no inputs to cycle through")
+    wrapped = {}
+    for name, fn in fns.items():
+        it = itertools.cycle(inputs)
+
+        def call(fn: Callable[[Any], Any] = fn, it: Iterator[Any] = it) -> None:
+            fn(next(it))
+
+        wrapped[name] = call
+    return time_calls(wrapped, repeats=repeats, warmup=warmup)
 
 
 def auto_repeats(fn: Callable[[], Any], *, budget_s: float, lo: int = 3, hi: int = 50) -> int:

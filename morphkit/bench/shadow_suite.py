@@ -35,7 +35,7 @@ from ..meshes import sample_mesh
 from ..metrics import shadow_iou
 from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
-from .harness import Timing, make_row, time_calls
+from .harness import Timing, make_row, time_cycling
 
 SUITE = "shadows"
 FLOOR_METHOD = "direct"
@@ -82,16 +82,8 @@ def _errors(method: Any, mesh: Any, light: Any, xys: np.ndarray, truth: _Truth) 
 
 def _time_maps(methods: dict[str, Any], xys: np.ndarray, repeats: int) -> dict[str, Timing]:
     """Time one shadow map per call, cycling through positions (cells differ)."""
-    fns = {}
-    for name, m in methods.items():
-        it = {"k": 0}
-
-        def fn(m: Any = m, it: dict[str, int] = it) -> None:
-            m.shadow_map(xys[it["k"] % len(xys)])
-            it["k"] += 1
-
-        fns[name] = fn
-    return time_calls(fns, repeats=repeats, warmup=2)
+    return time_cycling({name: m.shadow_map for name, m in methods.items()}, xys,
+                        repeats=repeats, warmup=2)
 
 
 class _Warp:
@@ -215,11 +207,8 @@ def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
             methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
             fns = {}
             for name, m in methods.items():
-                it = {"k": 0}
 
-                def frame(m: Any = m, it: dict[str, int] = it, mesh: Any = mesh) -> None:
-                    xy = xys[it["k"] % len(xys)]
-                    it["k"] += 1
+                def frame(xy: np.ndarray, m: Any = m, mesh: Any = mesh) -> None:
                     pose = np.eye(4)
                     pose[:2, 3] = xy
                     scene = Scene(SceneObject(mesh, pose), POINT, cam, Receiver(2.0))
@@ -228,7 +217,7 @@ def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
                                  lambda p, n, d=d, lcam=lcam: shadow_visibility(p, d, lcam, normals=n))
 
                 fns[name] = frame
-            timings = time_calls(fns, repeats=3 if quick else 7, warmup=1)
+            timings = time_cycling(fns, xys, repeats=3 if quick else 7, warmup=1)
             for name in methods:
                 rows.append(make_row(SUITE, name, {"what": "frame", "mesh": mesh_name, "light": "point",
                                                    "size": size, "faces": len(mesh.faces)},

@@ -39,7 +39,7 @@ from ..meshes import sample_mesh
 from ..scene import AreaLight, SceneObject
 from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from ..shadow.soft import FIVE_SAMPLES
-from .harness import make_row, time_calls
+from .harness import make_row, time_cycling
 
 SUITE = "soft"
 FLOOR_METHOD = "direct_9"
@@ -93,16 +93,9 @@ def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth:
 
 def _time(methods: dict[str, SoftShadow], xys: np.ndarray, grid: np.ndarray, repeats: int
           ) -> dict[str, Any]:
-    fns = {}
-    for name, m in methods.items():
-        it = {"k": 0}
-
-        def fn(m: SoftShadow = m, it: dict[str, int] = it) -> None:
-            m.visibility(xys[it["k"] % len(xys)], grid)
-            it["k"] += 1
-
-        fns[name] = fn
-    return time_calls(fns, repeats=repeats, warmup=1)
+    """Time one soft visibility of ``grid`` per call, cycling through positions."""
+    fns = {name: (lambda xy, m=m: m.visibility(xy, grid)) for name, m in methods.items()}
+    return time_cycling(fns, xys, repeats=repeats, warmup=1)
 
 
 def _methods(atlas: Any, direct: DirectShadow, ns: list[int]) -> dict[str, SoftShadow]:

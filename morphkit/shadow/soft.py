@@ -38,6 +38,7 @@ accepted, e.g. the paper's 5 samples (centre and corners).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -155,9 +156,11 @@ class SoftShadow:
         samples: :func:`~morphkit.groundtruth.sampled_visibility`)."""
         return [PointLight(self.light.center + np.r_[d, 0.0]) for d in self.offsets]
 
-    def maps(self, xy: Any, *, clamp: bool = False) -> list[tuple[np.ndarray, Any]]:
-        """The ``N`` hard shadow maps ``(depth, light camera)``, one per light sample."""
-        return [self.method.shadow_map(xy, light_offset=d, clamp=clamp) for d in self.offsets]
+    def maps(self, xy: Any, *, clamp: bool = False) -> Iterator[tuple[np.ndarray, Any]]:
+        """The ``N`` hard shadow maps ``(depth, light camera)``, one per light sample,
+        made one at a time."""
+        for d in self.offsets:
+            yield self.method.shadow_map(xy, light_offset=d, clamp=clamp)
 
     def visibility(self, xy: Any, points: Any, normals: np.ndarray | None = None, *,
                    clamp: bool = False) -> np.ndarray:
@@ -169,8 +172,7 @@ class SoftShadow:
         bias = ShadowBias() if self.bias is None else self.bias
         acc = np.zeros(len(pts), np.float32)
         lit = np.empty(len(pts), np.float32)
-        for d in self.offsets:  # one map at a time; inputs validated once, above
-            depth, cam = self.method.shadow_map(xy, light_offset=d, clamp=clamp)
+        for depth, cam in self.maps(xy, clamp=clamp):  # inputs validated once, above
             lit.fill(1.0)
             lookup_into(lit, pts, depth, cam, normals, bias)
             acc += lit
