@@ -10,10 +10,17 @@ each edge crossing computed as ``s * y + q`` from the edge's own top end, so
 triangles sharing an edge agree bit for bit. Each pixel counts the triangles
 covering it; a count above 1 is a fold-over, reported by the caller.
 
+Counting is skipped when the mesh provably cannot overlap itself
+(:func:`mesh_injective`: a topological disk whose triangles all keep their
+orientation and whose boundary stays a simple polygon); the per-call set-up
+(fold test, closed boundary, ROI, affines) is compiled too
+(:func:`prepare_warp`). Large ROIs are split into bands of rows filled in
+parallel (one per numba thread, ``prange``); a row's values depend only on the
+triangles' edges, so the bands change no value. Small ones are filled in the
+calling thread (:data:`PARALLEL_MIN_PIXELS`).
+
 numba earns its place here: the numpy path needs ~10 full-image passes (runs,
-sort, repeat, LUTs, products); the kernel touches each pixel once. The rows are
-split into bands filled in parallel (one per numba thread, ``prange``); a row's
-values depend only on the triangles' edges, so the bands change no value.
+sort, repeat, LUTs, products); the kernel touches each pixel once.
 """
 
 from __future__ import annotations
@@ -35,13 +42,49 @@ try:  # optional at import time; morphkit.warp falls back to numpy without it
 except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
-__all__ = ["AVAILABLE", "fill_maps"]
+__all__ = ["AVAILABLE", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
 
 AVAILABLE = numba is not None
 
 #: ``MORPHKIT_WARP_NUMPY=1`` forces the numpy reference path of every compiled
 #: kernel (warp maps, shadow lookup, fold relaxation); tests compare the two.
 NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+
+
+def _tri_rows(cov: np.ndarray, tris: np.ndarray, t: int, b0: int, b1: int
+              ) -> tuple[int, int, int, float, float, float, float, float, float]:
+    """Scanline set-up of triangle ``t`` clipped to rows ``[b0, b1)``:
+    ``(ya, yb, yc, sl, ql, su, qu, sd, qd)``: the upper piece spans rows
+    ``[ya, yb)`` between edges ``(sl, ql)`` (long, top to bottom vertex) and
+    ``(su, qu)``, the lower piece rows ``[yb, yc)`` between ``(sl, ql)`` and
+    ``(sd, qd)``; an edge ``(s, q)`` crosses row ``y`` at ``s * y + q``."""
+    ia = tris[t, 0]
+    ib = tris[t, 1]
+    ic = tris[t, 2]
+    # sort the three vertices by y (stable, as numpy's argsort on 3 elements)
+    v0, v1, v2 = ia, ib, ic
+    if cov[v1, 1] < cov[v0, 1]:
+        v0, v1 = v1, v0
+    if cov[v2, 1] < cov[v1, 1]:
+        v1, v2 = v2, v1
+        if cov[v1, 1] < cov[v0, 1]:
+            v0, v1 = v1, v0
+    x0 = cov[v0, 0]
+    y0 = cov[v0, 1]
+    x1 = cov[v1, 0]
+    y1 = cov[v1, 1]
+    x2 = cov[v2, 0]
+    y2 = cov[v2, 1]
+    sl = (x2 - x0) / (y2 - y0)
+    ql = x0 - y0 * sl
+    su = (x1 - x0) / (y1 - y0)
+    qu = x0 - y0 * su
+    sd = (x2 - x1) / (y2 - y1)
+    qd = x1 - y1 * sd
+    ya = min(max(math.ceil(y0), b0), b1)
+    yb = min(max(math.ceil(y1), b0), b1)
+    yc = min(max(math.ceil(y2), b0), b1)
+    return ya, yb, yc, sl, ql, su, qu, sd, qd
 
 
 def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
@@ -58,34 +101,8 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
     for i in range(b0 - r0, b1 - r0):
         for j in range(w):
             count[i, j] = 0
-    M = tris.shape[0]
-    for t in range(M):
-        ia = tris[t, 0]
-        ib = tris[t, 1]
-        ic = tris[t, 2]
-        # sort the three vertices by y (stable, as numpy's argsort on 3 elements)
-        v0, v1, v2 = ia, ib, ic
-        if cov[v1, 1] < cov[v0, 1]:
-            v0, v1 = v1, v0
-        if cov[v2, 1] < cov[v1, 1]:
-            v1, v2 = v2, v1
-            if cov[v1, 1] < cov[v0, 1]:
-                v0, v1 = v1, v0
-        x0 = cov[v0, 0]
-        y0 = cov[v0, 1]
-        x1 = cov[v1, 0]
-        y1 = cov[v1, 1]
-        x2 = cov[v2, 0]
-        y2 = cov[v2, 1]
-        sl = (x2 - x0) / (y2 - y0)
-        ql = x0 - y0 * sl
-        su = (x1 - x0) / (y1 - y0)
-        qu = x0 - y0 * su
-        sd = (x2 - x1) / (y2 - y1)
-        qd = x1 - y1 * sd
-        ya = min(max(math.ceil(y0), b0), b1)
-        yb = min(max(math.ceil(y1), b0), b1)
-        yc = min(max(math.ceil(y2), b0), b1)
+    for t in range(tris.shape[0]):
+        ya, yb, yc, sl, ql, su, qu, sd, qd = _tri_rows(cov, tris, t, b0, b1)
         a00 = coef[t, 0]
         a10 = coef[t, 1]
         a01 = coef[t, 2]
@@ -128,35 +145,289 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
     return top
 
 
-def _fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
-               c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
-               n_bands: int) -> int:
-    """Fill the maps in ``n_bands`` bands of rows, in parallel (numba ``prange``:
-    the bands write disjoint rows); returns the largest count (0: nothing covered,
-    > 1: a fold-over)."""
-    tops = np.zeros(n_bands, np.int64)
+def _fill_band_injective(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int,
+                         c0: int, c1: int, b0: int, b1: int, out_outside: float, mx: np.ndarray,
+                         my: np.ndarray) -> int:
+    """:func:`_fill_band` for a mesh known not to overlap itself
+    (:func:`mesh_injective`): no coverage count; uncovered pixels are written
+    :data:`out_outside` first. Same rows, same values. Returns 1 if the band
+    covers a pixel, else 0."""
+    w = c1 - c0
+    for i in range(b0 - r0, b1 - r0):
+        for j in range(w):
+            mx[i, j] = out_outside
+            my[i, j] = out_outside
+    top = 0
+    for t in range(tris.shape[0]):
+        ya, yb, yc, sl, ql, su, qu, sd, qd = _tri_rows(cov, tris, t, b0, b1)
+        a00 = coef[t, 0]
+        a10 = coef[t, 1]
+        a01 = coef[t, 2]
+        a11 = coef[t, 3]
+        bx = coef[t, 4]
+        by = coef[t, 5]
+        for piece in range(2):
+            if piece == 0:
+                ys, ye, s, q = ya, yb, su, qu
+            else:
+                ys, ye, s, q = yb, yc, sd, qd
+            for y in range(ys, ye):
+                yf = float(y)
+                xa = sl * yf
+                xa += ql
+                xb = s * yf
+                xb += q
+                xl = min(max(math.ceil(min(xa, xb)), c0), c1)
+                xr = min(max(math.ceil(max(xa, xb)), c0), c1)
+                if xr <= xl:
+                    continue
+                top = 1
+                ox = a01 * yf + bx
+                oy = a11 * yf + by
+                mrow = mx[y - r0]
+                nrow = my[y - r0]
+                for x in range(xl, xr):
+                    xf = float(x)
+                    mrow[x - c0] = a00 * xf + ox
+                    nrow[x - c0] = a10 * xf + oy
+    return top
+
+
+def _fill_one(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
+              c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
+              n_bands: int, counting: bool, b: int) -> int:
+    """Band ``b`` of ``n_bands``: :func:`_fill_band` when ``counting``, else
+    :func:`_fill_band_injective` (the mesh is known not to overlap itself)."""
     h = r1 - r0
+    lo = r0 + (h * b) // n_bands
+    hi = r0 + (h * (b + 1)) // n_bands
+    if counting:
+        return _fill_band(cov, tris, coef, r0, r1, c0, c1, lo, hi, out_outside, mx, my, count)
+    return _fill_band_injective(cov, tris, coef, r0, r1, c0, c1, lo, hi, out_outside, mx, my)
+
+
+def _fill_parallel(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int,
+                   c0: int, c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray,
+                   count: np.ndarray, n_bands: int, counting: bool) -> int:
+    tops = np.zeros(n_bands, np.int64)
     for b in _prange(n_bands):
-        tops[b] = _fill_band(cov, tris, coef, r0, r1, c0, c1, r0 + (h * b) // n_bands,
-                             r0 + (h * (b + 1)) // n_bands, out_outside, mx, my, count)
+        tops[b] = _fill_one(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count, n_bands,
+                            counting, b)
     return int(tops.max())
 
 
-#: Rows per band below which the fill runs in one band (thread start-up costs more).
+def _fill_serial(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
+                 c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
+                 n_bands: int, counting: bool) -> int:
+    top = 0
+    for b in range(n_bands):
+        top = max(top, _fill_one(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count,
+                                 n_bands, counting, b))
+    return top
+
+
+def fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
+              c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
+              n_bands: int, counting: bool) -> int:
+    """Fill the maps of ROI rows ``[r0, r1)``, columns ``[c0, c1)`` in ``n_bands``
+    bands of rows (:func:`n_bands`): in parallel (numba ``prange``, the bands
+    write disjoint rows) when there are several, else in the calling thread.
+    ``counting``: count coverage in ``count`` (:func:`_fill_band`); otherwise
+    the mesh is known injective (:func:`_fill_band_injective`, ``count``
+    unused). Returns the largest count (0: nothing covered, > 1: a fold-over)."""
+    if n_bands > 1:
+        return _fill_parallel_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count,
+                                  n_bands, counting)
+    return _fill_serial_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count, 1,
+                            counting)
+
+
+def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> float:
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+
+
+def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: np.ndarray
+                    ) -> bool:
+    """Whether a mesh that is a topological disk (``loop``: its boundary
+    vertices in cycle order, :func:`morphkit.warp._disk_boundary`) is mapped by
+    ``cov`` without overlap: every triangle keeps the orientation ``sign`` and the
+    boundary polygon is simple. Then the map has degree 1 inside the boundary's
+    image and is one-to-one (each point's preimages all count +1 and sum to the
+    winding number 1). Conservative: touching or collinear boundary edges count
+    as crossing (the caller then counts coverage per pixel instead)."""
+    for t in range(tris.shape[0]):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        ar = _orient(cov[a, 0], cov[a, 1], cov[b, 0], cov[b, 1], cov[c, 0], cov[c, 1])
+        if ar == 0.0 or (ar > 0.0) != (sign[t] > 0.0):
+            return False
+    n = loop.shape[0]
+    for i in range(n):
+        p = cov[loop[i]]
+        q = cov[loop[(i + 1) % n]]
+        r = cov[loop[(i + 2) % n]]
+        # a spike: the boundary turns back on itself at q
+        if (_orient(p[0], p[1], q[0], q[1], r[0], r[1]) == 0.0
+                and (q[0] - p[0]) * (r[0] - q[0]) + (q[1] - p[1]) * (r[1] - q[1]) <= 0.0):
+            return False
+        lox = min(p[0], q[0])
+        hix = max(p[0], q[0])
+        loy = min(p[1], q[1])
+        hiy = max(p[1], q[1])
+        for j in range(i + 2, n):
+            if i == 0 and j == n - 1:
+                continue  # adjacent through the loop's closing edge
+            u = cov[loop[j]]
+            v = cov[loop[(j + 1) % n]]
+            if (max(u[0], v[0]) < lox or min(u[0], v[0]) > hix or max(u[1], v[1]) < loy
+                    or min(u[1], v[1]) > hiy):
+                continue
+            d1 = _orient(u[0], u[1], v[0], v[1], p[0], p[1])
+            d2 = _orient(u[0], u[1], v[0], v[1], q[0], q[1])
+            d3 = _orient(p[0], p[1], q[0], q[1], u[0], u[1])
+            d4 = _orient(p[0], p[1], q[0], q[1], v[0], v[1])
+            if d1 * d2 <= 0.0 and d3 * d4 <= 0.0:
+                return False
+    return True
+
+
+def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+                  boundary: np.ndarray, H: int, W: int, min_det: float, push: float,
+                  cov: np.ndarray, coef: np.ndarray) -> tuple[int, int, int, int, int]:
+    """The per-call set-up of :func:`morphkit.warp._prepare` in one compiled
+    pass (the numpy version is the reference and writes the error messages):
+    fold test, boundary pushed out by ``push`` into ``cov``, ROI, per-triangle
+    affines into ``coef``. Returns ``(n_folded, r0, r1, c0, c1)``; on
+    ``n_folded > 0`` nothing else is computed."""
+    M = tris.shape[0]
+    bad = 0
+    for t in range(M):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        d1x = dst[b, 0] - dst[a, 0]
+        d1y = dst[b, 1] - dst[a, 1]
+        d2x = dst[c, 0] - dst[a, 0]
+        d2y = dst[c, 1] - dst[a, 1]
+        det = d1x * d2y - d1y * d2x
+        sg = 1.0 if det > 0.0 else (-1.0 if det < 0.0 else 0.0)
+        if sg != src_sign[t] or abs(det) < min_det:
+            bad += 1
+    if bad:
+        return bad, 0, 0, 0, 0
+    n = dst.shape[0]
+    for i in range(n):
+        cov[i, 0] = 0.0
+        cov[i, 1] = 0.0
+    nb = boundary.shape[0]
+    nrm = np.empty((nb, 2))
+    for k in range(nb):
+        a = boundary[k, 0]
+        b = boundary[k, 1]
+        c = boundary[k, 2]
+        ex = dst[b, 0] - dst[a, 0]
+        ey = dst[b, 1] - dst[a, 1]
+        nx = ey
+        ny = -ex
+        ln = max(math.hypot(nx, ny), 1e-300)
+        nx /= ln
+        ny /= ln
+        if nx * (dst[c, 0] - dst[a, 0]) + ny * (dst[c, 1] - dst[a, 1]) > 0.0:
+            nx = -nx
+            ny = -ny
+        nrm[k, 0] = nx
+        nrm[k, 1] = ny
+    for col in range(2):  # the order of numpy's two np.add.at calls
+        for k in range(nb):
+            v = boundary[k, col]
+            cov[v, 0] += nrm[k, 0]
+            cov[v, 1] += nrm[k, 1]
+    lox = hix = loy = hiy = 0.0
+    for i in range(n):
+        x = dst[i, 0] + push * cov[i, 0]
+        y = dst[i, 1] + push * cov[i, 1]
+        cov[i, 0] = x
+        cov[i, 1] = y
+        if i == 0 or x < lox:
+            lox = x
+        if i == 0 or x > hix:
+            hix = x
+        if i == 0 or y < loy:
+            loy = y
+        if i == 0 or y > hiy:
+            hiy = y
+    r0 = min(max(math.ceil(loy), 0), H)
+    r1 = min(max(math.ceil(hiy), 0), H)
+    c0 = min(max(math.ceil(lox), 0), W)
+    c1 = min(max(math.ceil(hix), 0), W)
+    if r1 <= r0 or c1 <= c0:
+        return 0, r0, r1, c0, c1
+    for t in range(M):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        d1x = dst[b, 0] - dst[a, 0]
+        d1y = dst[b, 1] - dst[a, 1]
+        d2x = dst[c, 0] - dst[a, 0]
+        d2y = dst[c, 1] - dst[a, 1]
+        inv = 1.0 / (d1x * d2y - d1y * d2x)
+        i00 = d2y * inv
+        i01 = -d2x * inv
+        i10 = -d1y * inv
+        i11 = d1x * inv
+        s1x = src_v[t, 1, 0] - src_v[t, 0, 0]
+        s1y = src_v[t, 1, 1] - src_v[t, 0, 1]
+        s2x = src_v[t, 2, 0] - src_v[t, 0, 0]
+        s2y = src_v[t, 2, 1] - src_v[t, 0, 1]
+        j0 = s1x * i00 + s2x * i10
+        j1 = s1y * i00 + s2y * i10
+        j2 = s1x * i01 + s2x * i11
+        j3 = s1y * i01 + s2y * i11
+        coef[t, 0] = j0
+        coef[t, 1] = j1
+        coef[t, 2] = j2
+        coef[t, 3] = j3
+        coef[t, 4] = src_v[t, 0, 0] - j0 * dst[a, 0] - j2 * dst[a, 1]
+        coef[t, 5] = src_v[t, 0, 1] - j1 * dst[a, 0] - j3 * dst[a, 1]
+    return 0, r0, r1, c0, c1
+
+
+#: Rows per band, at least, when filling in parallel.
 MIN_BAND_ROWS = 64
 
+#: ROI pixels below which the fill runs in the calling thread. Waking numba's
+#: sleeping worker threads (OpenMP, passive waiting: see above) costs about
+#: 0.3 ms on this project's 2-core virtual machine, more than a whole 512^2
+#: fill (0.4 ms, one thread; 0.53 ms in two bands); at 1024^2 two bands win
+#: (2.1 vs 2.9 ms). Measured with ``morphkit bench warp``.
+PARALLEL_MIN_PIXELS = 1 << 19
 
-def n_bands(rows: int) -> int:
-    """How many bands to fill ``rows`` rows in: one per numba thread, at least
+
+def n_bands(rows: int, cols: int) -> int:
+    """How many bands to fill a ``rows x cols`` ROI in: 1 below
+    :data:`PARALLEL_MIN_PIXELS`, else one per numba thread, at least
     :data:`MIN_BAND_ROWS` rows each."""
-    threads = numba.get_num_threads() if numba is not None else 1
-    return max(1, min(threads, rows // MIN_BAND_ROWS))
+    if numba is None or rows * cols < PARALLEL_MIN_PIXELS:
+        return 1
+    return max(1, min(numba.get_num_threads(), rows // MIN_BAND_ROWS))
 
 
 if numba is not None:
     _prange = numba.prange
-    _fill_band = numba.njit(cache=True, nogil=True, error_model="numpy")(_fill_band)
-    fill_maps = numba.njit(cache=True, nogil=True, parallel=True, error_model="numpy")(_fill_maps)
+    _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+    _tri_rows = _jit(_tri_rows)
+    _fill_band = _jit(_fill_band)
+    _fill_band_injective = _jit(_fill_band_injective)
+    _fill_one = _jit(_fill_one)
+    _orient = _jit(_orient)
+    mesh_injective = _jit(_mesh_injective)
+    prepare_warp = _jit(_prepare_warp)
+    _fill_serial_jit = _jit(_fill_serial)
+    _fill_parallel_jit = numba.njit(cache=True, nogil=True, parallel=True,
+                                    error_model="numpy")(_fill_parallel)
 else:  # pragma: no cover
     _prange = range
-    fill_maps = _fill_maps
+    _fill_serial_jit = _fill_parallel_jit = _fill_serial
+    mesh_injective = _mesh_injective
+    prepare_warp = _prepare_warp

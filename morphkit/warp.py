@@ -55,7 +55,9 @@ number of images or channels at the cost of one ``cv2.remap`` each.
 How the maps are built (per call): per-triangle affines ``A_src_dst``, then by
 default one compiled pass (:mod:`morphkit._scanline`, numba) that walks every
 destination triangle's pixel rows and writes each covered pixel's source
-position, counting coverage to detect overlaps. The numpy path below is the
+position, counting coverage to detect overlaps unless the mesh is a disk
+whose boundary stays simple (it then cannot overlap: no count needed, and
+:attr:`WarpMaps.mask` is counted only when asked for). The numpy path below is the
 reference (same coverage rule and edge arithmetic; ``tests/test_warp.py``
 checks the two agree) and runs when numba is missing or
 ``MORPHKIT_WARP_NUMPY=1``: exact scanline runs ``[x_left, x_right)`` for every
@@ -415,7 +417,7 @@ class WarpMaps:
             if self.map1 is not None:
                 r0, r1, c0, c1 = self.roi
                 if self._covered is not None:
-                    m[r0:r1, c0:c1] = self._covered
+                    m[r0:r1, c0:c1] = self._covered() if callable(self._covered) else self._covered
                 else:
                     pattern = np.zeros(self._lens.size, dtype=bool)
                     pattern[1::2] = True
@@ -522,6 +524,7 @@ class MeshWarper:
             )
         self._src_sign = np.sign(area)
         self._boundary = _boundary_edges(tris, self.n_points)
+        self._loop = _disk_boundary(tris, self._src_sign)
 
     @property
     def n_points(self) -> int:
@@ -559,7 +562,8 @@ class MeshWarper:
         """
         dst = self._check_dst(dst_pts)
         shape = as_shape(out_shape, "out_shape")
-        return _build_maps(dst, self.triangles, self._src_v, self._src_sign, self._boundary, shape)
+        return _build_maps(dst, self.triangles, self._src_v, self._src_sign, self._boundary, shape,
+                           self._loop)
 
     def __call__(self, image: Any, dst_pts: Any, out_shape: Sequence[int], *,
                  interpolation: str = "linear", fill: Any = 0.0,
@@ -588,6 +592,61 @@ def _boundary_edges(tris: np.ndarray, n_points: int) -> np.ndarray:
     return np.stack([a[once], b[once], c[once]], axis=1)
 
 
+def _disk_boundary(tris: np.ndarray, sign: np.ndarray) -> np.ndarray | None:
+    """The boundary vertices of a mesh in cycle order, if the mesh is a
+    consistently oriented topological disk; else None.
+
+    With ``sign`` (each triangle's orientation in the source) each triangle is
+    oriented ``(a, b, c)`` or ``(a, c, b)``; the mesh is a disk when no directed
+    edge repeats (consistent orientation, a manifold), the directed edges without
+    a reverse form one cycle through distinct vertices, the triangles are
+    connected, and ``V - E + F == 1``. A disk whose warp keeps every triangle's
+    orientation and maps the boundary to a simple polygon cannot overlap itself
+    (:func:`morphkit._scanline.mesh_injective`): the compiled fill then skips
+    counting coverage per pixel.
+    """
+    if len(tris) == 0:
+        return None
+    t = tris.astype(np.int64)
+    flip = sign < 0
+    t[flip] = t[flip][:, [0, 2, 1]]
+    a = t.ravel()
+    b = t[:, [1, 2, 0]].ravel()
+    n = int(t.max()) + 1
+    key = a * n + b
+    if np.unique(key).size != key.size:
+        return None
+    bnd = ~np.isin(b * n + a, key)
+    ba, bb = a[bnd], b[bnd]
+    if ba.size < 3 or np.unique(ba).size != ba.size:
+        return None
+    nxt = dict(zip(ba.tolist(), bb.tolist(), strict=True))
+    loop = [int(ba[0])]
+    while True:
+        v = nxt.get(loop[-1])
+        if v is None:
+            return None
+        if v == loop[0]:
+            break
+        loop.append(v)
+        if len(loop) > ba.size:
+            return None
+    if len(loop) != ba.size:
+        return None  # several boundary loops (holes, several pieces)
+    used = np.unique(t)
+    n_edges = (key.size + ba.size) // 2
+    if used.size - n_edges + len(t) != 1:
+        return None
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    tri_id = np.repeat(np.arange(len(t)), 3)
+    adj = coo_matrix((np.ones(key.size), (tri_id, a)), shape=(len(t), n)).tocsr()
+    n_comp, _ = connected_components(adj @ adj.T, directed=False)
+    if n_comp != 1:
+        return None
+    return np.asarray(loop, dtype=np.int64)
+
+
 def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
     """``dst`` with boundary vertices pushed outwards by ``tol.MESH_BOUNDARY_PX`` (closed coverage)."""
     if boundary.size == 0:
@@ -604,10 +663,25 @@ def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
     return dst + tol.MESH_BOUNDARY_PX * off
 
 
-def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
-                boundary: np.ndarray, shape: tuple[int, int]) -> WarpMaps:
+def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+             boundary: np.ndarray, shape: tuple[int, int]
+             ) -> tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]:
+    """Fold test, coverage geometry and per-triangle affines of one warp:
+    ``(cov, coef, roi)``; ``roi`` is empty (``r1 <= r0`` or ``c1 <= c0``) when
+    the mesh covers no pixel centre of the output (``coef`` is then unset).
+    Compiled (:func:`morphkit._scanline.prepare_warp`) unless the numpy
+    reference is forced; this numpy body also writes the fold-over message."""
     H, W = shape
     M = tris.shape[0]
+    if _scanline.AVAILABLE and not _NUMPY_ONLY:
+        cov = np.empty_like(dst)
+        coef = np.empty((M, 6))
+        n_bad, r0, r1, c0, c1 = _scanline.prepare_warp(
+            dst, tris.astype(np.int64, copy=False), src_v, src_sign,
+            boundary.astype(np.int64, copy=False), H, W, 2.0 * tol.TRIANGLE_AREA_PX2,
+            tol.MESH_BOUNDARY_PX, cov, coef)
+        if n_bad == 0:
+            return cov, coef, (r0, r1, c0, c1)
     dv = dst[tris]  # (M, 3, 2)
     d1 = dv[:, 1] - dv[:, 0]
     d2 = dv[:, 2] - dv[:, 0]
@@ -630,8 +704,7 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     c1 = int(min(max(np.ceil(hi[0]), 0), W))
     roi = (r0, r1, c0, c1)
     if r1 <= r0 or c1 <= c0:
-        return WarpMaps(shape, roi, None, None, None)
-    h, w = r1 - r0, c1 - c0
+        return cov, np.empty((0, 6)), roi
 
     # Affine A_src_dst per triangle: src = J (p - d0) + s0, J = S D^-1.
     sv = src_v
@@ -647,8 +720,20 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     coef[:, 2] = s1[:, 0] * i01 + s2[:, 0] * i11
     coef[:, 3] = s1[:, 1] * i01 + s2[:, 1] * i11
     coef[:, 4:] = sv[:, 0] - coef[:, 0:2] * dv[:, 0, 0:1] - coef[:, 2:4] * dv[:, 0, 1:2]
+    return cov, coef, roi
+
+
+def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+                boundary: np.ndarray, shape: tuple[int, int], loop: np.ndarray | None = None
+                ) -> WarpMaps:
+    cov, coef, roi = _prepare(dst, tris, src_v, src_sign, boundary, shape)
+    r0, r1, c0, c1 = roi
+    if r1 <= r0 or c1 <= c0:
+        return WarpMaps(shape, roi, None, None, None)
+    h, w = r1 - r0, c1 - c0
+    M = tris.shape[0]
     if _scanline.AVAILABLE and not _NUMPY_ONLY:
-        return _compiled_maps(shape, roi, cov, tris, coef)
+        return _compiled_maps(shape, roi, cov, tris, coef, src_sign, loop)
 
     # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
     cv_ = cov[tris]
@@ -771,18 +856,39 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
 
 #: Force the numpy reference path (tests compare it with the compiled one).
 _NUMPY_ONLY = _scanline.NUMPY_ONLY
+_NO_COUNT = np.empty((0, 0), dtype=np.uint8)
 
 
 def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: np.ndarray,
-                   tris: np.ndarray, coef: np.ndarray) -> WarpMaps:
+                   tris: np.ndarray, coef: np.ndarray, sign: np.ndarray,
+                   loop: np.ndarray | None) -> WarpMaps:
     """Maps by the compiled scanline (:mod:`morphkit._scanline`): same coverage
-    rule and edge arithmetic as the numpy path below, one pass over the pixels."""
+    rule and edge arithmetic as the numpy path below, one pass over the pixels.
+    A disk mesh (``loop``, :func:`_disk_boundary`) that provably does not
+    overlap itself is filled without counting coverage per pixel."""
     r0, r1, c0, c1 = roi
     h, w = r1 - r0, c1 - c0
     mx, my = _pooled((h, w)), _pooled((h, w))
+    tris = tris.astype(np.int64, copy=False)
+    if loop is not None and _scanline.mesh_injective(cov, tris, sign, loop):
+        # No overlap possible: fill without counting; the mask, when asked for,
+        # is counted then (the same kernel as below).
+        top = _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, mx, my, _NO_COUNT,
+                                  _scanline.n_bands(h, w), False)
+        if top == 0:
+            return WarpMaps(shape, roi, None, None, None)
+
+        def covered() -> np.ndarray:
+            count = np.empty((h, w), dtype=np.uint8)
+            sx, sy = np.empty((h, w), np.float32), np.empty((h, w), np.float32)
+            _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, sx, sy, count,
+                                _scanline.n_bands(h, w), True)
+            return count.view(bool)
+
+        return WarpMaps(shape, roi, mx, my, None, covered)
     count = np.empty((h, w), dtype=np.uint8)
-    top = _scanline.fill_maps(cov, tris.astype(np.int64, copy=False), coef, r0, r1, c0, c1,
-                              _OUTSIDE, mx, my, count, _scanline.n_bands(h))
+    top = _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, mx, my, count,
+                              _scanline.n_bands(h, w), True)
     if top > 1:
         y, x = np.unravel_index(int(np.argmax(count > 1)), count.shape)
         y, x = int(y) + r0, int(x) + c0

@@ -423,13 +423,80 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
     src = np.c_[gx.ravel(), gy.ravel()]
     dst = src + rng.normal(0, 3.0, src.shape)
     warper = MeshWarper(src)
-    monkeypatch.setattr(_scanline, "n_bands", lambda rows: 1)
+    monkeypatch.setattr(_scanline, "n_bands", lambda rows, cols: 1)
     one = warper.maps(dst, (200, 300))
-    monkeypatch.setattr(_scanline, "n_bands", lambda rows: bands)
+    monkeypatch.setattr(_scanline, "n_bands", lambda rows, cols: bands)
     many = warper.maps(dst, (200, 300))
     assert one.roi == many.roi
     np.testing.assert_array_equal(many.mask, one.mask)
     np.testing.assert_array_equal(many.map_xy, one.map_xy)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_injective_fill_equals_counting_fill(monkeypatch, seed):
+    """A disk mesh proved not to overlap is filled without counting coverage;
+    forcing the counting fill gives bit-identical maps and mask."""
+    from morphkit import _scanline
+    from morphkit.warp import _prepare
+
+    if not _scanline.AVAILABLE:
+        pytest.skip("numba not importable")
+    rng = np.random.default_rng(seed)
+    gx, gy = np.meshgrid(np.linspace(3, 296, 11), np.linspace(2, 197, 7))
+    src = np.c_[gx.ravel(), gy.ravel()]
+    dst = src + rng.normal(0, 4.0, src.shape)
+    for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
+        assert warper._loop is not None
+        cov, _, _ = _prepare(dst, warper.triangles, warper._src_v, warper._src_sign,
+                             warper._boundary, (200, 300))
+        assert _scanline.mesh_injective(cov, warper.triangles.astype(np.int64), warper._src_sign,
+                                        warper._loop)
+        fast = warper.maps(dst, (200, 300))
+        monkeypatch.setattr(_scanline, "mesh_injective", lambda *a: False)
+        ref = warper.maps(dst, (200, 300))
+        monkeypatch.undo()
+        assert fast.roi == ref.roi
+        np.testing.assert_array_equal(fast.map_xy, ref.map_xy)
+        np.testing.assert_array_equal(fast.mask, ref.mask)
+
+
+def test_disk_boundary_recognises_disks_only():
+    """The no-count fill is only allowed for meshes that are topological disks."""
+    from morphkit.warp import _disk_boundary
+
+    def loop(pts, tris):
+        return _disk_boundary(np.asarray(tris), MeshWarper(pts, tris)._src_sign)
+
+    gx, gy = np.meshgrid(np.arange(4.0), np.arange(4.0))
+    pts = np.c_[gx.ravel(), gy.ravel()] * 10
+    tris = grid_triangles(4, 4)
+    ring = loop(pts, tris)
+    assert ring is not None and sorted(ring.tolist()) == [0, 1, 2, 3, 4, 7, 8, 11, 12, 13, 14, 15]
+    # a hole: drop the two triangles of the middle cell (cells are row-major, 2 each)
+    assert loop(pts, np.delete(tris, [8, 9], axis=0)) is None
+    # two pieces: the first and the last cell only
+    assert loop(pts, tris[[0, 1, 16, 17]]) is None
+    # a bow-tie: two triangles sharing one vertex (the boundary passes it twice)
+    bow = np.array([[0, 0], [10, 0], [5, 5], [10, 10], [0, 10]], float)
+    assert loop(bow, [[0, 1, 2], [2, 3, 4]]) is None
+
+
+def test_overlap_without_flips_is_found_on_a_disk():
+    """A strip wound round so that its end lies on its start: no triangle flips,
+    but the boundary crosses itself, so the fill counts coverage and refuses."""
+    n = 24
+    t = np.linspace(0.0, 1.0, n + 1)
+    src = np.r_[np.c_[t * 400 + 20, np.full(n + 1, 20.0)], np.c_[t * 400 + 20, np.full(n + 1, 40.0)]]
+    tris = np.array([[i, i + 1, n + 1 + i] for i in range(n)]
+                    + [[i + 1, n + 2 + i, n + 1 + i] for i in range(n)])
+    ang = t * 2.4 * np.pi  # more than a full turn
+    inner, outer = 60.0, 80.0
+    dst = np.r_[np.c_[150 + outer * np.cos(ang), 150 + outer * np.sin(ang)],
+                np.c_[150 + inner * np.cos(ang), 150 + inner * np.sin(ang)]]
+    warper = MeshWarper(src, tris)
+    assert warper._loop is not None
+    with pytest.raises(FoldOverError, match=r"overlap"):
+        warper.maps(dst, (300, 300))
 
 
 def test_compiled_path_reports_overlaps(monkeypatch):
