@@ -249,6 +249,39 @@ def test_modes_agree_at_samples_and_differ_between(renderer, cow):
         sample.shadow_map(xy, dst="interpolate")
 
 
+def test_nearest_blend_warps_only_the_nearest_map(point_atlas):
+    """blend='nearest' uses the sample map with the largest bilinear weight and
+    no other: emptying the cell's other 3 maps changes nothing, emptying that
+    one empties the shadow. At a sample it is the baked map, like 'bilinear'."""
+    a = point_atlas
+    j, i = 1, 1  # cell between samples (1, 1) and (2, 2)
+    xy = np.array([a.xs[i] + 0.7 * (a.xs[i + 1] - a.xs[i]), a.ys[j] + 0.2 * (a.ys[j + 1] - a.ys[j])])
+    nearest = (j, i + 1)  # weight 0.7 * 0.8, the largest
+    ref, _ = a.shadow_map(xy, blend="nearest")
+    blended, _ = a.shadow_map(xy)
+    assert np.isfinite(ref).sum() > 100
+    assert not np.array_equal(np.isfinite(ref), np.isfinite(blended))
+
+    def emptied(cells):
+        maps = a.maps.copy()
+        for jj, ii in cells:
+            maps[jj, ii] = np.inf
+        return ShadowAtlas(a.rig, a.xs, a.ys, maps, a.anchors, a.plane_anchors, a.control_grid,
+                           a.anchor_kind)
+
+    others = [(jj, ii) for jj in (j, j + 1) for ii in (i, i + 1) if (jj, ii) != nearest]
+    d, _ = emptied(others).shadow_map(xy, blend="nearest")
+    np.testing.assert_array_equal(d, ref)
+    d, _ = emptied([nearest]).shadow_map(xy, blend="nearest")
+    assert not np.isfinite(d).any()
+    s, _ = a.shadow_map((a.xs[2], a.ys[0]), blend="nearest")
+    np.testing.assert_array_equal(np.isfinite(s), np.isfinite(a.maps[0, 2]))
+    with pytest.raises(ValidationError, match=r"'bilinear'\|'nearest'.*'cubic'"):
+        a.shadow_map(xy, blend="cubic")
+    with pytest.raises(ValidationError, match="'composed' with blend='nearest'"):
+        a.shadow_map(xy, blend="nearest", warps="three")
+
+
 def test_baselines_memory_and_shape(renderer, cow, point_atlas):
     ibr = ImageBasedShadow.bake(cow, np.eye(4), MOTION, POINT, (160, 192), renderer=renderer,
                                 grid=4, mode="blend", progress=False)
