@@ -89,74 +89,27 @@ def _tri_rows(cov: np.ndarray, tris: np.ndarray, t: int, b0: int, b1: int
 
 def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
                c1: int, b0: int, b1: int, out_outside: float, mx: np.ndarray, my: np.ndarray,
-               count: np.ndarray) -> int:
+               count: np.ndarray, counting: bool) -> int:
     """Fill rows ``[b0, b1)`` (absolute, inside ``[r0, r1)``) of ``mx``, ``my``
-    (``(r1 - r0, c1 - c0)`` float32) and ``count`` (uint8: how many triangles
-    cover each pixel; more than 1 is a fold-over, which the caller checks; the
-    maps then hold the last triangle's values). Returns the band's largest count.
-    Each row is computed from the triangle's edges alone, so splitting the image
-    into bands changes no value.
+    (``(r1 - r0, c1 - c0)`` float32). Each row is computed from the triangle's
+    edges alone, so splitting the image into bands changes no value.
+
+    ``counting``: count in ``count`` (uint8) how many triangles cover each pixel
+    (more than 1 is a fold-over, which the caller checks; the maps then hold the
+    last triangle's values), write :data:`out_outside` where none does, and
+    return the band's largest count. Otherwise the mesh is known not to overlap
+    itself (:func:`mesh_injective`): the rows are written :data:`out_outside`
+    first, ``count`` is unused, and the return value is 1 if the band covers a
+    pixel, else 0. Both write the same values.
     """
     w = c1 - c0
     for i in range(b0 - r0, b1 - r0):
         for j in range(w):
-            count[i, j] = 0
-    for t in range(tris.shape[0]):
-        ya, yb, yc, sl, ql, su, qu, sd, qd = _tri_rows(cov, tris, t, b0, b1)
-        a00 = coef[t, 0]
-        a10 = coef[t, 1]
-        a01 = coef[t, 2]
-        a11 = coef[t, 3]
-        bx = coef[t, 4]
-        by = coef[t, 5]
-        for piece in range(2):
-            if piece == 0:
-                ys, ye, s, q = ya, yb, su, qu
+            if counting:
+                count[i, j] = 0
             else:
-                ys, ye, s, q = yb, yc, sd, qd
-            for y in range(ys, ye):
-                yf = float(y)
-                xa = sl * yf
-                xa += ql
-                xb = s * yf
-                xb += q
-                xl = min(max(math.ceil(min(xa, xb)), c0), c1)
-                xr = min(max(math.ceil(max(xa, xb)), c0), c1)
-                if xr <= xl:
-                    continue
-                ox = a01 * yf + bx
-                oy = a11 * yf + by
-                row = y - r0
-                for x in range(xl, xr):
-                    col = x - c0
-                    count[row, col] += 1
-                    xf = float(x)
-                    mx[row, col] = a00 * xf + ox
-                    my[row, col] = a10 * xf + oy
-    top = 0
-    for i in range(b0 - r0, b1 - r0):  # pixels no triangle covers
-        for j in range(w):
-            c = count[i, j]
-            if c == 0:
                 mx[i, j] = out_outside
                 my[i, j] = out_outside
-            elif c > top:
-                top = c
-    return top
-
-
-def _fill_band_injective(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int,
-                         c0: int, c1: int, b0: int, b1: int, out_outside: float, mx: np.ndarray,
-                         my: np.ndarray) -> int:
-    """:func:`_fill_band` for a mesh known not to overlap itself
-    (:func:`mesh_injective`): no coverage count; uncovered pixels are written
-    :data:`out_outside` first. Same rows, same values. Returns 1 if the band
-    covers a pixel, else 0."""
-    w = c1 - c0
-    for i in range(b0 - r0, b1 - r0):
-        for j in range(w):
-            mx[i, j] = out_outside
-            my[i, j] = out_outside
     top = 0
     for t in range(tris.shape[0]):
         ya, yb, yc, sl, ql, su, qu, sd, qd = _tri_rows(cov, tris, t, b0, b1)
@@ -181,29 +134,40 @@ def _fill_band_injective(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0
                 xr = min(max(math.ceil(max(xa, xb)), c0), c1)
                 if xr <= xl:
                     continue
-                top = 1
                 ox = a01 * yf + bx
                 oy = a11 * yf + by
                 mrow = mx[y - r0]
                 nrow = my[y - r0]
+                if counting:  # one branch per run: the pixel loops stay simple
+                    crow = count[y - r0]
+                    for x in range(xl, xr):
+                        crow[x - c0] += 1
+                else:
+                    top = 1
                 for x in range(xl, xr):
                     xf = float(x)
                     mrow[x - c0] = a00 * xf + ox
                     nrow[x - c0] = a10 * xf + oy
+    if counting:
+        for i in range(b0 - r0, b1 - r0):  # pixels no triangle covers
+            for j in range(w):
+                c = count[i, j]
+                if c == 0:
+                    mx[i, j] = out_outside
+                    my[i, j] = out_outside
+                elif c > top:
+                    top = c
     return top
 
 
 def _fill_one(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
               c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
               n_bands: int, counting: bool, b: int) -> int:
-    """Band ``b`` of ``n_bands``: :func:`_fill_band` when ``counting``, else
-    :func:`_fill_band_injective` (the mesh is known not to overlap itself)."""
+    """Band ``b`` of ``n_bands`` (:func:`_fill_band`)."""
     h = r1 - r0
     lo = r0 + (h * b) // n_bands
     hi = r0 + (h * (b + 1)) // n_bands
-    if counting:
-        return _fill_band(cov, tris, coef, r0, r1, c0, c1, lo, hi, out_outside, mx, my, count)
-    return _fill_band_injective(cov, tris, coef, r0, r1, c0, c1, lo, hi, out_outside, mx, my)
+    return _fill_band(cov, tris, coef, r0, r1, c0, c1, lo, hi, out_outside, mx, my, count, counting)
 
 
 def _fill_parallel(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int,
@@ -232,9 +196,9 @@ def fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: 
     """Fill the maps of ROI rows ``[r0, r1)``, columns ``[c0, c1)`` in ``n_bands``
     bands of rows (:func:`n_bands`): in parallel (numba ``prange``, the bands
     write disjoint rows) when there are several, else in the calling thread.
-    ``counting``: count coverage in ``count`` (:func:`_fill_band`); otherwise
-    the mesh is known injective (:func:`_fill_band_injective`, ``count``
-    unused). Returns the largest count (0: nothing covered, > 1: a fold-over)."""
+    ``counting``: count coverage in ``count``; otherwise the mesh is known
+    injective and ``count`` is unused (:func:`_fill_band`). Returns the largest
+    count (0: nothing covered, > 1: a fold-over)."""
     if n_bands > 1:
         return _fill_parallel_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count,
                                   n_bands, counting)
@@ -302,6 +266,7 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
     ``n_folded > 0`` nothing else is computed."""
     M = tris.shape[0]
     bad = 0
+    edges = np.empty((M, 5))  # d1 = v1 - v0, d2 = v2 - v0, det = d1 x d2 (2 * signed area)
     for t in range(M):
         a = tris[t, 0]
         b = tris[t, 1]
@@ -311,6 +276,11 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
         d2x = dst[c, 0] - dst[a, 0]
         d2y = dst[c, 1] - dst[a, 1]
         det = d1x * d2y - d1y * d2x
+        edges[t, 0] = d1x
+        edges[t, 1] = d1y
+        edges[t, 2] = d2x
+        edges[t, 3] = d2y
+        edges[t, 4] = det
         sg = 1.0 if det > 0.0 else (-1.0 if det < 0.0 else 0.0)
         if sg != src_sign[t] or abs(det) < min_det:
             bad += 1
@@ -365,13 +335,11 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
         return 0, r0, r1, c0, c1
     for t in range(M):
         a = tris[t, 0]
-        b = tris[t, 1]
-        c = tris[t, 2]
-        d1x = dst[b, 0] - dst[a, 0]
-        d1y = dst[b, 1] - dst[a, 1]
-        d2x = dst[c, 0] - dst[a, 0]
-        d2y = dst[c, 1] - dst[a, 1]
-        inv = 1.0 / (d1x * d2y - d1y * d2x)
+        d1x = edges[t, 0]
+        d1y = edges[t, 1]
+        d2x = edges[t, 2]
+        d2y = edges[t, 3]
+        inv = 1.0 / edges[t, 4]
         i00 = d2y * inv
         i01 = -d2x * inv
         i10 = -d1y * inv
@@ -418,7 +386,6 @@ if numba is not None:
     _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     _tri_rows = _jit(_tri_rows)
     _fill_band = _jit(_fill_band)
-    _fill_band_injective = _jit(_fill_band_injective)
     _fill_one = _jit(_fill_one)
     _orient = _jit(_orient)
     mesh_injective = _jit(_mesh_injective)

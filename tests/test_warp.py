@@ -409,6 +409,15 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     assert np.all(fast.map_xy[~inside] == ref.map_xy[~inside])
 
 
+def _jittered_lattice(rng: np.random.Generator, xs: tuple[float, float, int],
+                      ys: tuple[float, float, int], sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(src, dst)``: a row-major lattice ``linspace(*xs) x linspace(*ys)`` and
+    the same points moved by Gaussian noise of ``sigma`` px."""
+    gx, gy = np.meshgrid(np.linspace(*xs), np.linspace(*ys))
+    src = np.c_[gx.ravel(), gy.ravel()]
+    return src, src + rng.normal(0, sigma, src.shape)
+
+
 @pytest.mark.parametrize("bands", [2, 3, 7])
 def test_parallel_bands_change_no_value(monkeypatch, bands):
     """The compiled fill splits the rows into bands filled in parallel; each row
@@ -418,10 +427,7 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")
-    rng = np.random.default_rng(bands)
-    gx, gy = np.meshgrid(np.linspace(0, 299, 9), np.linspace(0, 199, 6))
-    src = np.c_[gx.ravel(), gy.ravel()]
-    dst = src + rng.normal(0, 3.0, src.shape)
+    src, dst = _jittered_lattice(np.random.default_rng(bands), (0, 299, 9), (0, 199, 6), 3.0)
     warper = MeshWarper(src)
     monkeypatch.setattr(_scanline, "n_bands", lambda rows, cols: 1)
     one = warper.maps(dst, (200, 300))
@@ -433,6 +439,28 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
+def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
+    """The compiled per-call set-up (closed boundary, ROI, affines) gives the
+    numpy reference's values bit for bit, so both paths cover the same pixels."""
+    import morphkit.warp as warp_module
+    from morphkit import _scanline
+    from morphkit.warp import _prepare
+
+    if not _scanline.AVAILABLE:
+        pytest.skip("numba not importable")
+    src, dst = _jittered_lattice(np.random.default_rng(seed), (-20, 330, 13), (5, 190, 8), 2.5)
+    for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
+        args = (dst, warper.triangles, warper._src_v, warper._src_sign, warper._boundary, (200, 300))
+        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", False)
+        fast = _prepare(*args)
+        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", True)
+        ref = _prepare(*args)
+        assert fast[2] == ref[2]
+        np.testing.assert_array_equal(fast[0], ref[0])
+        np.testing.assert_array_equal(fast[1], ref[1])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
 def test_injective_fill_equals_counting_fill(monkeypatch, seed):
     """A disk mesh proved not to overlap is filled without counting coverage;
     forcing the counting fill gives bit-identical maps and mask."""
@@ -441,10 +469,7 @@ def test_injective_fill_equals_counting_fill(monkeypatch, seed):
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")
-    rng = np.random.default_rng(seed)
-    gx, gy = np.meshgrid(np.linspace(3, 296, 11), np.linspace(2, 197, 7))
-    src = np.c_[gx.ravel(), gy.ravel()]
-    dst = src + rng.normal(0, 4.0, src.shape)
+    src, dst = _jittered_lattice(np.random.default_rng(seed), (3, 296, 11), (2, 197, 7), 4.0)
     for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
         assert warper._loop is not None
         cov, _, _ = _prepare(dst, warper.triangles, warper._src_v, warper._src_sign,
