@@ -512,6 +512,7 @@ class MeshWarper:
             tris = _default_triangles(self.src_pts)
         else:
             tris = _as_triangles(triangles, self.src_pts.shape[0])
+        tris = np.ascontiguousarray(tris, dtype=np.int64)  # as the compiled kernels take them
         tris.setflags(write=False)
         self.triangles = tris
         self._src_v = self.src_pts[tris]  # (M, 3, 2)
@@ -677,8 +678,7 @@ def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.
         cov = np.empty_like(dst)
         coef = np.empty((M, 6))
         n_bad, r0, r1, c0, c1 = _scanline.prepare_warp(
-            dst, tris.astype(np.int64, copy=False), src_v, src_sign,
-            boundary.astype(np.int64, copy=False), H, W, 2.0 * tol.TRIANGLE_AREA_PX2,
+            dst, tris, src_v, src_sign, boundary, H, W, 2.0 * tol.TRIANGLE_AREA_PX2,
             tol.MESH_BOUNDARY_PX, cov, coef)
         if n_bad == 0:
             return cov, coef, (r0, r1, c0, c1)
@@ -869,7 +869,6 @@ def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: 
     r0, r1, c0, c1 = roi
     h, w = r1 - r0, c1 - c0
     mx, my = _pooled((h, w)), _pooled((h, w))
-    tris = tris.astype(np.int64, copy=False)
     if loop is not None and _scanline.mesh_injective(cov, tris, sign, loop):
         # No overlap possible: fill without counting; the mask, when asked for,
         # is counted then (the same kernel as below).
