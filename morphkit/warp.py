@@ -461,8 +461,11 @@ class WarpMaps:
         res = _remap(src, self.map1, self.map2, flag, fills)
         if res.ndim == 2 and img.ndim == 3:
             res = res[:, :, None]
-        if flag == cv2.INTER_LINEAR and src.dtype.kind == "f" and not np.isfinite(res).all():
-            # inf * 0 -> NaN guard: footprints touching a non-finite value go nearest.
+        # inf * 0 -> NaN guard: footprints touching a non-finite value go nearest.
+        # Only a non-finite source can make one; check whichever array is
+        # smaller (the source is also more likely cached than the fresh output).
+        if (flag == cv2.INTER_LINEAR and src.dtype.kind == "f"
+                and not np.isfinite(src if src.size <= res.size else res).all()):
             bad = ~np.isfinite(res)
             if bad.any():
                 near = _remap(src, self.map1, self.map2, cv2.INTER_NEAREST, fills)
