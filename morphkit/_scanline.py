@@ -51,6 +51,7 @@ AVAILABLE = numba is not None
 NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
 
 
+#: Cast of a pixel offset known to be >= 0 (see ``_fill_band``).
 _u = numba.uint64 if numba is not None else int
 
 
@@ -138,9 +139,9 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                     continue
                 ox = a01 * yf + bx
                 oy = a11 * yf + by
-                # The run as slices indexed from 0: numba then knows every index
-                # is >= 0 and vectorises (indexing by ``x - c0`` checks for
-                # negative indices per pixel: 3x slower).
+                # Unsigned column offsets (x >= xl >= c0): a signed index makes
+                # numba test for negative (wrap-around) indices per pixel, which
+                # keeps the loops from vectorising (3x slower).
                 mrow = mx[y - r0]
                 nrow = my[y - r0]
                 if counting:  # one branch per run: the pixel loops stay simple
