@@ -42,7 +42,11 @@ control points are the anchors projected at the exact position (``"project"``,
 default) or bilinearly interpolated from the 4 maps (``"interpolate"``, the
 paper). Maps are warped as premultiplied ``[coverage, coverage * depth]``
 (:func:`premultiply`), so bilinear sampling never mixes object depth with
-the background; the blended coverage is thresholded at 0.5.
+the background; the blended coverage is thresholded at 0.5. The two channels are
+kept as planes ``(2, H, W)`` and remapped one at a time: measured here, two
+single-channel ``cv2.remap`` of a 512^2 float32 plane take 0.49 ms together, one
+two-channel remap 0.85-0.89 ms (OpenCV's vectorised remap covers 1, 3 and 4
+channels).
 
 Depth values follow the model of :mod:`morphkit.shadow.rig`: moving the object
 by ``d`` moves every one of its light depths by the same amount, that of its
@@ -73,7 +77,7 @@ from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
-from ..warp import MeshWarper, grid_triangles
+from ..warp import MeshWarper, WarpMaps, grid_triangles
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
@@ -84,7 +88,7 @@ ATLAS_VERSION = 1
 
 
 def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
-    """``(H, W, 2)`` float32 premultiplied ``[coverage, coverage * (depth - ref)]``:
+    """``(2, H, W)`` float32 planes, premultiplied: ``[coverage, coverage * (depth - ref)]``;
     coverage is 1 on the object and 0 on the background.
 
     Bilinear interpolation of premultiplied channels blends object depths only:
@@ -94,24 +98,50 @@ def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     model shifts all of an object's depths by the same amount).
     """
     cov = np.isfinite(depth)
-    out = np.zeros((*depth.shape, 2), np.float32)
-    out[..., 0] = cov
-    out[..., 1][cov] = depth[cov] - ref
+    out = np.zeros((2, *depth.shape), np.float32)
+    out[0] = cov
+    out[1][cov] = depth[cov] - ref
     return out
 
 
 def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
            ) -> None:
-    """``acc[roi] += weight * pixels`` for a ``(roi, pixels)`` pair from ``_warp``."""
+    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair from ``_warp``
+    (planes ``(2, h, w)``)."""
     (r0, r1, c0, c1), px = warped
     if px.size == 0:
         return
-    view = acc[r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
-    cv2.scaleAdd(px, float(weight), view, dst=view)
+    for k in range(2):
+        view = acc[k, r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
+        cv2.scaleAdd(px[k], float(weight), view, dst=view)
+
+
+def _remap_planes(src: np.ndarray, wm: WarpMaps) -> np.ndarray:
+    """``(2, h, w)``: each plane of ``src`` sampled by ``wm`` over its ROI.
+
+    Sources are finite, so one ``cv2.remap`` per plane suffices
+    (:meth:`WarpMaps.apply` would also guard against non-finite pixels)."""
+    r0, r1, c0, c1 = wm.roi
+    out = np.empty((2, r1 - r0, c1 - c0), np.float32)
+    for k in range(2):
+        cv2.remap(src[k], wm.map1, wm.map2, cv2.INTER_LINEAR, dst=out[k],
+                  borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    return out
+
+
+def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
+                 triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """``(2, H, W)``: the planes of ``src`` warped from ``src_pts`` to ``dst_pts`` (0 outside)."""
+    wm = MeshWarper(src_pts, triangles).maps(dst_pts, shape)
+    out = np.zeros((2, *shape), np.float32)
+    if wm.map1 is not None:
+        r0, r1, c0, c1 = wm.roi
+        out[:, r0:r1, c0:c1] = _remap_planes(src, wm)
+    return out
 
 
 def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
-    cov, num = cv2.split(acc)
+    cov, num = acc[0], acc[1]
     out[...] = cv2.divide(num, cov)
     out += np.float32(ref)
     out[cov < 0.5] = np.inf
@@ -121,8 +151,8 @@ def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
     h, w = out.shape
     for i in range(h):
         for j in range(w):
-            den = acc[i, j, 0]
-            out[i, j] = acc[i, j, 1] / den + ref if den >= 0.5 else np.inf
+            den = acc[0, i, j]
+            out[i, j] = acc[1, i, j] / den + ref if den >= 0.5 else np.inf
 
 
 _finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
@@ -132,7 +162,7 @@ _finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is
 def _finish(acc: np.ndarray, ref: float) -> np.ndarray:
     """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
     ``+inf`` where the blended coverage is below 0.5 (one compiled pass)."""
-    out = np.empty(acc.shape[:2], np.float32)
+    out = np.empty(acc.shape[1:], np.float32)
     _finish_kernel(acc, np.float32(ref), out)
     return out
 
@@ -293,7 +323,7 @@ class ShadowAtlas:
             nb = [(max(nb, key=lambda n: n[1])[0], 1.0)]  # max() keeps the first of ties
         if warps == "three":
             return self._three_warps(eq, j, i, u, v, dst), cam
-        acc = np.zeros((*self.shape, 2), np.float32)
+        acc = np.zeros((2, *self.shape), np.float32)
         for (jj, ii), w in nb:
             if w <= 0.0:
                 continue
@@ -319,11 +349,8 @@ class ShadowAtlas:
             dst_pts = self.project(eq, self.plane_anchors[j, i])
             wm = MeshWarper(src_pts, self.triangles).maps(dst_pts, self.shape)
         if wm.map1 is None:
-            return (0, 0, 0, 0), np.zeros((0, 0, 2), np.float32)
-        # Sources are finite, so one cv2.remap of the maps' region suffices
-        # (WarpMaps.apply would also guard against non-finite pixels).
-        return wm.roi, cv2.remap(src, wm.map1, wm.map2, cv2.INTER_LINEAR,
-                                 borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            return (0, 0, 0, 0), np.zeros((2, 0, 0), np.float32)
+        return wm.roi, _remap_planes(src, wm)
 
     def _three_warps(self, eq: np.ndarray, j: int, i: int, u: float, v: float,
                      dst: str) -> np.ndarray:
@@ -349,19 +376,19 @@ class ShadowAtlas:
         rows = []
         for jj in (j, j + 1):
             c_row = (1 - u) * C[jj, i] + u * C[jj, i + 1]
-            row = np.zeros((*self.shape, 2), np.float32)
+            row = np.zeros((2, *self.shape), np.float32)
             for ii, w in ((i, 1 - u), (i + 1, u)):
                 if w > 0:
                     src = self._source(jj, ii)
-                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else MeshWarper(
-                        C[jj, ii], self.triangles)(src, c_row, self.shape)
+                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else _warp_planes(
+                        src, C[jj, ii], c_row, self.triangles, self.shape)
                     _merge(row, (full, warped), w)
             rows.append((c_row, row))  # premultiplied: a row morph is again a source
-        acc = np.zeros((*self.shape, 2), np.float32)
+        acc = np.zeros((2, *self.shape), np.float32)
         for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
             if w > 0:
-                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else MeshWarper(
-                    c_row, self.triangles)(row, c_dst, self.shape)
+                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else _warp_planes(
+                    row, c_row, c_dst, self.triangles, self.shape)
                 _merge(acc, (full, warped), w)
         return _finish(acc, self.anchor_depth(eq))
 

@@ -78,7 +78,7 @@ class ImageBasedShadow:
             jj, ii = j + int(v > 0.5), i + int(u > 0.5)
             acc = a._source(jj, ii).copy()
         else:
-            acc = np.zeros((*a.shape, 2), np.float32)
+            acc = np.zeros((2, *a.shape), np.float32)
             for (jj, ii), w in (((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
                                 ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)):
                 if w > 0:
