@@ -276,14 +276,22 @@ def _from_cv(out: np.ndarray, dtype: np.dtype) -> np.ndarray:
 
 def _remap(img: np.ndarray, m1: np.ndarray, m2: np.ndarray | None, flag: int,
            fill: tuple[float, ...]) -> np.ndarray:
-    """cv2.remap with constant border ``fill``; any channel count (cv2 borders take <= 4)."""
+    """cv2.remap with constant border ``fill``; any channel count (cv2 borders take <= 4).
+
+    Channels go to OpenCV in groups of 4, 3 or 1, never 2: its vectorised remap
+    covers 1, 3 and 4 channels, and a two-channel image takes a slower path that
+    also samples with 1/32-pixel fixed-point weights (512^2 float32: 0.85 ms,
+    against 2 x 0.25 ms one plane at a time), so every channel count gets the
+    same interpolation.
+    """
     c = 1 if img.ndim == 2 else img.shape[2]
-    if c <= 4:
+    if c <= 4 and c != 2:
         border = fill + (0.0,) * (4 - c)
         return cv2.remap(img, m1, m2, flag, borderMode=cv2.BORDER_CONSTANT, borderValue=border)
+    step = 1 if c == 2 else 4
     parts = [
-        _remap(np.ascontiguousarray(img[:, :, k:k + 4]), m1, m2, flag, fill[k:k + 4])
-        for k in range(0, c, 4)
+        _remap(np.ascontiguousarray(img[:, :, k:k + step]), m1, m2, flag, fill[k:k + step])
+        for k in range(0, c, step)
     ]
     parts = [p[:, :, None] if p.ndim == 2 else p for p in parts]
     return np.concatenate(parts, axis=2)
