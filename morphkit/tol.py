@@ -105,3 +105,25 @@ VM_VISIBILITY_RTOL = 0.01
 #: 1000x the warp's own refusal limit (tol.TRIANGLE_AREA_PX2) so float32 maps
 #: never meet it.
 VM_MIN_TRIANGLE_AREA_PX2 = 1e-3
+
+#: Depth layers of a layered morph (``ViewMorpher(layers=k)``) overlap by this
+#: fraction of the pairs' depth range, so that a surface cut by a layer edge is
+#: drawn by both layers near the cut (the two meshes approximate the cut
+#: differently; without overlap thin cracks open there). More overlap also
+#: drags a little of the far side into the near layer. Measured on the chair,
+#: 20-degree baseline, s = 0.25/0.5/0.75 (``morphkit bench viewmorph`` scene),
+#: silhouette IoU / PSNR: 0 -> 0.972/0.967/0.981, 23.1/22.0/23.7 dB;
+#: 0.02 -> 0.970/0.965/0.979, 23.5/22.3/24.0 dB; 0.05 -> 0.971/0.963/0.976,
+#: 23.5/22.4/23.8 dB. 0.02 keeps most of both.
+VM_LAYER_OVERLAP = 0.02
+
+#: Fewest pairs a depth layer may hold; with fewer, the layer count drops (the
+#: fallback is reported in ``ViewMorpher.report["layers"]``). 8 is the pair count F needs,
+#: and a layer's mesh needs its own pairs to move differently from its neighbours.
+VM_MIN_LAYER_PAIRS = 8
+
+#: A post-warp to a target camera is the least-squares homography over at most
+#: this many pairs, spread over image 0. The fit costs ~0.4 us per pair (cv2):
+#: 2,200 dense pairs took 1.0 ms, 256 take 0.15 ms; on a noisy synthetic fit the
+#: RMS residual over all pairs grew by 0.3% (0.4274 vs 0.4262 px).
+VM_POST_FIT_PAIRS = 256

@@ -2,14 +2,16 @@
 
 One concept per module:
 
-* :mod:`~morphkit.viewmorph.correspondences` -- point pairs from geometry,
-  from image features, or from a user file;
+* :mod:`~morphkit.viewmorph.correspondences` -- point pairs from geometry
+  (mesh points or dense depth-map samples), from image features, or from a
+  user file; per-pixel depth keys for layered morphs;
 * :mod:`~morphkit.viewmorph.fundamental` -- F (``x1^T F x0 = 0``), its quality,
   epipoles (SVD null vectors), geometric F from cameras, degeneracy tests;
 * :mod:`~morphkit.viewmorph.rectify` -- the pre-warp (OpenCV/Hartley and
   Seitz & Dyer's rotations), normalised and checked;
 * :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher` (mesh morph in the
-  rectified frame, post-warp, crop policy, premultiplied blending) and the
+  rectified frame, optionally in depth layers, post-warp, crop policy,
+  premultiplied blending) and the
   ``crossfade``/``nearest`` baselines.
 
 Typical use::
@@ -21,7 +23,15 @@ Typical use::
 
 from __future__ import annotations
 
-from .correspondences import Correspondences, from_geometry, from_images, load_points, save_points
+from .correspondences import (
+    Correspondences,
+    from_depth,
+    from_geometry,
+    from_images,
+    load_points,
+    pair_depth,
+    save_points,
+)
 from .fundamental import (
     FundamentalFit,
     epipoles,
@@ -35,6 +45,8 @@ from .rectify import F0, Rectification, rectify
 __all__ = [
     "Correspondences",
     "from_geometry",
+    "from_depth",
+    "pair_depth",
     "from_images",
     "load_points",
     "save_points",

@@ -3,6 +3,12 @@
 * :func:`from_geometry` -- project known 3-D points (mesh vertices) into both
   cameras, keeping those visible in both (depth test against each view's depth
   map);
+* :func:`from_depth` -- the same from the two views' depth maps alone: every
+  ``step``-th object pixel and every ``contour_step``-th silhouette pixel of
+  each view, unprojected and kept where visible in the other (dense pairs that
+  follow the outline: what a piecewise-affine morph of a thin or holed object
+  needs); :func:`pair_depth` gives each pixel the same depth key for layered
+  morphs;
 * :func:`from_images` -- SIFT features, Lowe's ratio test and a mutual
   (cross-check) test; outliers that survive are removed later by the robust
   fundamental-matrix fit (:func:`morphkit.viewmorph.fundamental.estimate_fundamental`);
@@ -37,8 +43,10 @@ from ..validate import as_finite_array, as_image, as_points
 
 __all__ = [
     "Correspondences",
+    "from_depth",
     "from_geometry",
     "from_images",
+    "pair_depth",
     "load_points",
     "save_points",
     "visible_in",
@@ -260,6 +268,101 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
 
 def _depth(camera: CameraModel, pts: np.ndarray) -> np.ndarray:
     return (np.c_[pts, np.ones(len(pts))] @ camera.world2cam[2])
+
+
+def _depth_map(camera: CameraModel, depth: Any, name: str) -> np.ndarray:
+    d = as_image(depth, name, channels=(1,), allow_nonfinite=True).astype(np.float64)
+    if d.shape != camera.shape:
+        raise ValidationError(expected_got(name, f"shape {camera.shape} (the camera's)", f"shape {d.shape}"))
+    return d
+
+
+def _object_samples(camera: CameraModel, depth: np.ndarray, step: int, contour_step: int) -> np.ndarray:
+    """World points of every ``step``-th object pixel (a grid) and every ``contour_step``-th
+    pixel along each silhouette contour (object = finite depth)."""
+    mask = np.isfinite(depth) & (depth > 0)
+    h, w = depth.shape
+    ys, xs = np.mgrid[0:h:step, 0:w:step]
+    on = mask[ys, xs]
+    pix = [np.stack([xs[on], ys[on]], axis=1)]
+    if contour_step > 0:
+        contours, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_LIST, cv2.CHAIN_APPROX_NONE)
+        pix += [c[::contour_step, 0, :] for c in contours]
+    px = np.concatenate(pix).astype(np.int64)
+    pts, _ = camera.unproject(depth)
+    return pts[px[:, 1], px[:, 0]]
+
+
+def from_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, depth1: np.ndarray, *,
+               step: int = 6, contour_step: int = 2, max_points: int | None = None,
+               rtol: float = tol.VM_VISIBILITY_RTOL, rng: np.random.Generator | None = None
+               ) -> Correspondences:
+    """Dense correspondences from two views' depth maps (no mesh needed).
+
+    Samples of each view -- its object pixels on a ``step``-pixel grid and its
+    silhouette contours (:func:`cv2.findContours`) every ``contour_step``
+    pixels -- are unprojected with that view's depth and kept where
+    :func:`visible_in` both views. The contour samples put morph-mesh vertices
+    along the outline, so a piecewise-affine morph keeps thin parts and holes
+    (chair slats and legs) that the mesh's own vertices leave to interpolation.
+
+    Parameters
+    ----------
+    camera0, camera1 : CameraModel
+    depth0, depth1 : (H, W) float
+        Linear depth of each view, background non-finite (``Renderer.depth``).
+    step : int
+        Grid spacing (pixels) of the interior samples.
+    contour_step : int
+        Spacing (contour pixels) of the outline samples; 0 for none.
+    max_points : int, optional
+        Keep at most this many pairs, spread over image 0 (default: all).
+    rtol : float
+        Relative depth tolerance of the visibility test.
+    rng : numpy.random.Generator, optional
+        For the subsampling (default ``np.random.default_rng(0)``).
+
+    Returns
+    -------
+    Correspondences
+        ``source="geometry"``, ``points3d`` and ``depth`` (mean depth in the two
+        views, the key of :func:`pair_depth`) set.
+    """
+    if int(step) < 1:
+        raise ValidationError(expected_got("step", "an int >= 1", step))
+    if int(contour_step) < 0:
+        raise ValidationError(expected_got("contour_step", "an int >= 0", contour_step))
+    d0 = _depth_map(camera0, depth0, "depth0")
+    d1 = _depth_map(camera1, depth1, "depth1")
+    pts = np.r_[_object_samples(camera0, d0, int(step), int(contour_step)),
+                _object_samples(camera1, d1, int(step), int(contour_step))]
+    if len(pts) == 0:
+        raise ValidationError(expected_got("depth maps", "some finite (object) pixels", "none"))
+    n = len(pts) if max_points is None else int(max_points)
+    return from_geometry(pts, camera0, camera1, depth0=d0, depth1=d1, max_points=n, rtol=rtol, rng=rng)
+
+
+def pair_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, depth1: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Per-pixel depth keys of both views, in the measure of :attr:`Correspondences.depth`.
+
+    The key of a pixel of view ``i`` is the mean of its surface point's depth
+    in the two cameras (``+inf`` for background), the value a correspondence
+    through that point carries -- so pixels and pairs can be split into the
+    same depth layers (``ViewMorpher(..., layers=k, layer_depth=pair_depth(...))``).
+
+    Returns
+    -------
+    key0, key1 : (H, W) float64
+    """
+    keys = []
+    for cam, other, d, name in ((camera0, camera1, depth0, "depth0"), (camera1, camera0, depth1, "depth1")):
+        dm = _depth_map(cam, d, name)
+        pts, valid = cam.unproject(dm)
+        key = np.full(dm.shape, np.inf)
+        key[valid] = 0.5 * (dm[valid] + _depth(other, pts[valid]))
+        keys.append(key)
+    return keys[0], keys[1]
 
 
 # --------------------------------------------------------------------------- images
