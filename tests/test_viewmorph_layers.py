@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from morphkit import tol
 from morphkit.camera import CameraModel, look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.viewmorph import Correspondences, ViewMorpher, from_depth, pair_depth
@@ -196,7 +197,7 @@ def test_layer_arguments_are_checked(posts):
     corr = from_depth(c0, c1, d0, d1)
     keys = pair_depth(c0, c1, d0, d1)
     for bad in (0, 1.5, True):
-        with pytest.raises(ValidationError, match="layers.*an int >= 1"):
+        with pytest.raises(ValidationError, match="layers.*an int >= 1 or .auto."):
             ViewMorpher(i0, i1, corr, layers=bad, layer_depth=keys)
     no_depth = Correspondences(corr.pts0, corr.pts1)
     with pytest.raises(ValidationError, match="pairs with depths"):
@@ -228,3 +229,22 @@ def test_layered_morph_of_the_rendered_chair_meets_the_target(renderer):
         out = vm.morph(s, post=ct, frame="fixed")
         # the target at 20 degrees (bench, measured 0.965-0.979); one mesh gets 0.87-0.95
         assert iou(out[..., 3] > 127, gt[..., 3] > 127) >= 0.95
+
+
+def test_auto_layers_only_where_parts_cross(posts):
+    c0, c1, i0, i1, d0, d1 = posts
+    corr = from_depth(c0, c1, d0, d1, step=3, contour_step=1)
+    crossing = ViewMorpher(i0, i1, corr, layers="auto", layer_depth=pair_depth(c0, c1, d0, d1))
+    assert crossing.report["auto_dropped_fraction"] > tol.VM_AUTO_LAYER_DROP
+    assert crossing.report["layers"] == tol.VM_AUTO_LAYERS
+    # seen from 20 and 28 degrees the posts keep their left-right order: one mesh suffices
+    a0, a1 = cam(20.0), cam(28.0)
+    (j0, e0), (j1, e1) = ray_cast(a0), ray_cast(a1)
+    corr2 = from_depth(a0, a1, e0, e1, step=3, contour_step=1)
+    plain = ViewMorpher(j0, j1, corr2, layers="auto", layer_depth=pair_depth(a0, a1, e0, e1))
+    assert plain.report["auto_dropped_fraction"] <= tol.VM_AUTO_LAYER_DROP
+    assert plain.report["layers"] == 1
+    with pytest.raises(ValidationError, match="layer_depth"):
+        ViewMorpher(j0, j1, corr2, layers="auto")
+    with pytest.raises(ValidationError, match="an int >= 1 or 'auto'"):
+        ViewMorpher(j0, j1, corr2, layers="many", layer_depth=pair_depth(a0, a1, e0, e1))

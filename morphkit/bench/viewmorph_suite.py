@@ -16,6 +16,14 @@ Methods (all from the same two reference renders):
   to 600, F *estimated* from them), post-warp to the target camera (the
   least-squares homography from the morph's correspondences to their
   projections in that camera: the camera a billboard renderer knows);
+* ``viewmorph-layered`` -- the same, with dense correspondences from the two
+  depth maps (:func:`~morphkit.viewmorph.from_depth`: every 6th object pixel and
+  every 2nd silhouette pixel of each view) and two depth layers
+  (``layers=2``, keys from :func:`~morphkit.viewmorph.pair_depth`): what a
+  billboard baker that renders its references has at hand;
+* ``viewmorph-auto`` -- the same dense pairs with ``layers="auto"`` (two layers
+  only when one mesh drops more than ``tol.VM_AUTO_LAYER_DROP`` of the pairs to
+  fold-overs; the note says which);
 * ``viewmorph-interp`` -- the same morpher with the default post-warp
   (interpolated between the two views; knows nothing of the target);
 * ``viewmorph-sift`` -- SIFT matches + robust F (USAC-MAGSAC), default post-warp
@@ -35,7 +43,8 @@ correspondence can carry); ``mae_occl``/``mae_vis`` -- mean absolute error
 Timing: ``ms_*`` is one :meth:`ViewMorpher.morph` call (correspondences given,
 the morpher built once per pair) or one baseline call, median of repeats at
 256^2; rows with ``size`` 512 time the teapot at 20 degrees, ``s = 0.5``.
-``viewmorph-build`` rows time the construction (cleaning, F, pre-warps, mesh).
+``viewmorph-build`` rows time the construction (cleaning, F, pre-warps, mesh);
+``viewmorph-layered-build`` rows that of the layered morpher (from the pairs and keys).
 ``--quick``: teapot only, baselines 20 and 40, ``s = 0.5``, sizes 256 and 512.
 """
 
@@ -139,7 +148,15 @@ def _occluded(cam: CameraModel, depth: np.ndarray, gt: np.ndarray, refs: list[tu
 
 def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss: tuple[float, ...],
           size: int, repeats: int, rows: list[dict[str, Any]]) -> None:
-    from ..viewmorph import ViewMorpher, crossfade, from_geometry, from_images, nearest
+    from ..viewmorph import (
+        ViewMorpher,
+        crossfade,
+        from_depth,
+        from_geometry,
+        from_images,
+        nearest,
+        pair_depth,
+    )
 
     a0, a1 = CENTRE_AZIMUTH - base / 2, CENTRE_AZIMUTH + base / 2
     c0, c1 = circle_camera(a0, size), circle_camera(a1, size)
@@ -153,6 +170,17 @@ def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss
     morphers["viewmorph"] = morphers["viewmorph-interp"] = vm
     notes["viewmorph"] = notes["viewmorph-interp"] = (
         f"{vm.mode}/{vm.rectification.method}, {vm.report['n_used']}/{len(corr)} pairs")
+    dense = from_depth(c0, c1, d0, d1)
+    keys = pair_depth(c0, c1, d0, d1)
+    build_l = time_call(lambda: ViewMorpher(i0, i1, dense, layers=2, layer_depth=keys),
+                        repeats=max(1, repeats // 2), warmup=0)
+    vl = ViewMorpher(i0, i1, dense, layers=2, layer_depth=keys)
+    morphers["viewmorph-layered"] = vl
+    notes["viewmorph-layered"] = (f"{vl.mode}/{vl.rectification.method}, {vl.report['layers']} layers, "
+                                  f"{vl.report['n_used']} mesh pairs from {len(dense)}")
+    va = ViewMorpher(i0, i1, dense, layers="auto", layer_depth=keys)
+    notes["viewmorph-auto"] = (f"{va.report['layers']} layer(s): one mesh dropped "
+                               f"{100 * va.report['auto_dropped_fraction']:.2f}% of the pairs")
     morphers["morph"] = ViewMorpher(i0, i1, corr, prewarp="none")
     try:
         sift = from_images(i0, i1)
@@ -168,12 +196,16 @@ def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss
         bm["sampson_rms_px"] = vm.fit.sampson_rms
     rows.append(make_row(SUITE, "viewmorph-build", dict(params0, s=-1.0), build, metrics=_finite(bm),
                          note=notes["viewmorph"] + "; sift: " + notes["viewmorph-sift"]))
+    rows.append(make_row(SUITE, "viewmorph-layered-build", dict(params0, s=-1.0), build_l,
+                         note=notes["viewmorph-layered"]))
     for s in ss:
         ct = circle_camera(a0 + s * base, size)
         ((gt, dg),) = render_pair(renderer, items, [ct])
         occl = _occluded(ct, dg, gt, [(c0, d0), (c1, d1)])
         calls = {
             "viewmorph": lambda s=s, ct=ct: vm.morph(s, post=ct, frame="fixed"),
+            "viewmorph-layered": lambda s=s, ct=ct: vl.morph(s, post=ct, frame="fixed"),
+            "viewmorph-auto": lambda s=s, ct=ct: va.morph(s, post=ct, frame="fixed"),
             "viewmorph-interp": lambda s=s: vm.morph(s),
             "morph": lambda s=s: morphers["morph"].morph(s),
             "crossfade": lambda s=s: crossfade(i0, i1, s),
@@ -183,7 +215,8 @@ def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss
             calls["viewmorph-sift"] = lambda s=s: morphers["viewmorph-sift"].morph(s)
         params = dict(params0, s=s)
         base_m = {"occluded": float(occl.sum() / max((gt[..., 3] > 127).sum(), 1))}
-        for method in ("viewmorph", "viewmorph-interp", "viewmorph-sift", "morph", "crossfade", "nearest"):
+        for method in ("viewmorph", "viewmorph-layered", "viewmorph-auto", "viewmorph-interp",
+                       "viewmorph-sift", "morph", "crossfade", "nearest"):
             if method not in calls:
                 continue  # (viewmorph-sift failed: the build row's note says why)
             t = time_call(calls[method], repeats=repeats, warmup=1)

@@ -53,7 +53,11 @@ frame (one F, one pre-warp, one post-warp for all), its own premultiplied
 images, and a canvas fitted to its pixels (the farthest layer: the whole
 images); the layers are morphed separately and composited far to near with the
 premultiplied "over". Layers with fewer than :data:`tol.VM_MIN_LAYER_PAIRS`
-pairs are merged (the count used is ``report["layers"]``). Inside a slice,
+pairs are merged (the count used is ``report["layers"]``). ``layers="auto"``
+builds one mesh first and uses :data:`tol.VM_AUTO_LAYERS` layers only when
+more than :data:`tol.VM_AUTO_LAYER_DROP` of the pairs were dropped to
+fold-overs (``report["auto_dropped_fraction"]``): a mesh that had to give up
+that many points cannot follow the motion, a sign of parts crossing. Inside a slice,
 points can only swap order over distances below the slice's disparity range,
 so its fold-overs are small. Costs one morph per layer (the near layers over
 their own region only). Pixels in an overlap band are drawn by both layers:
@@ -101,7 +105,7 @@ images of different sizes               supported: output size interpolates betw
 grey / RGB / RGBA, mixed                promoted to the richer layout (grey < RGB < RGBA)
 different dtypes                        ValidationError
 s outside [0, 1]                        ValidationError
-layers > 1 without depths or keys       ValidationError (pairs need ``depth``, ``layer_depth`` keys)
+layers > 1/auto without depths or keys  ValidationError (pairs need ``depth``, ``layer_depth`` keys)
 a layer with < VM_MIN_LAYER_PAIRS pairs fewer layers (``report["layers"]``)
 ======================================  ============================================================
 """
@@ -473,8 +477,11 @@ class ViewMorpher:
         Side of the frame-point lattice.
     seed : int
         Seed of the robust estimators (and of the spread subset a camera post-warp is fitted on).
-    layers : int
-        Depth layers (see the module docstring); 1 is Seitz & Dyer's single mesh.
+    layers : int or "auto"
+        Depth layers (see the module docstring); 1 is Seitz & Dyer's single
+        mesh. ``"auto"``: one mesh, unless it had to drop more than
+        :data:`tol.VM_AUTO_LAYER_DROP` of the pairs to fold-overs (parts cross
+        between the views); then :data:`tol.VM_AUTO_LAYERS` layers.
     layer_depth : (key0, key1), optional
         Per-pixel depth keys of the two images (``+inf`` for background), in the
         measure of :attr:`Correspondences.depth` (:func:`~morphkit.viewmorph.pair_depth`);
@@ -507,9 +514,10 @@ class ViewMorpher:
             raise ValidationError(expected_got("prewarp", f"one of {PREWARPS}", repr(prewarp)))
         if fallback not in FALLBACKS:
             raise ValidationError(expected_got("fallback", f"one of {FALLBACKS}", repr(fallback)))
-        if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or layers < 1:
-            raise ValidationError(expected_got("layers", "an int >= 1", repr(layers)))
-        n_layers = int(layers)
+        if not (isinstance(layers, str) and layers == "auto") and (
+                isinstance(layers, (bool, str)) or not isinstance(layers, (int, np.integer)) or layers < 1):
+            raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(layers)))
+        n_layers: int | str = layers if isinstance(layers, str) else int(layers)
         overlap = float(layer_overlap)
         if not 0.0 <= overlap < 0.5:
             raise ValidationError(expected_got("layer_overlap", "a fraction in [0, 0.5)",
@@ -647,7 +655,7 @@ class ViewMorpher:
         return _Layer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
                       w0, w1, lo0, c1, c1_far)
 
-    def _build_layers(self, corr: Correspondences, layers: int, layer_depth: Any, overlap: float,
+    def _build_layers(self, corr: Correspondences, layers: int | str, layer_depth: Any, overlap: float,
                       frame_grid: int, report: dict[str, Any]) -> list[_Layer]:
         """Split pairs and pixels into depth layers (1-D k-means of the depths) and build each layer."""
         full = self._canvas_for(corr, None, None)
@@ -656,21 +664,23 @@ class ViewMorpher:
             return [self._make_layer(self._prem, corr, full, frame_grid)]
         if corr.depth is None:
             raise ValidationError(expected_got(
-                "correspondences", "pairs with depths for layers > 1 (from_geometry or from_depth)",
+                "correspondences", "pairs with depths for layers > 1 or 'auto' (from_geometry or from_depth)",
                 "pairs without depth"))
         if layer_depth is None or len(layer_depth) != 2:
             raise ValidationError(expected_got(
-                "layer_depth", "(key0, key1) per-pixel depth keys for layers > 1 (viewmorph.pair_depth)",
-                type(layer_depth).__name__))
-        keys = []
-        for key, shape, name in ((layer_depth[0], self.shape0, "layer_depth[0]"),
-                                 (layer_depth[1], self.shape1, "layer_depth[1]")):
-            k = as_image(key, name, channels=(1,), allow_nonfinite=True).astype(np.float64)
-            if k.shape != shape:
-                raise ValidationError(expected_got(name, f"shape {shape} (its image's)", f"shape {k.shape}"))
-            if np.isnan(k).any():
-                raise ValidationError(expected_got(name, "depths, +inf for background", "NaN values"))
-            keys.append(k)
+                "layer_depth", "(key0, key1) per-pixel depth keys for layers > 1 or 'auto' "
+                "(viewmorph.pair_depth)", type(layer_depth).__name__))
+        if layers == "auto":
+            one = self._make_layer(self._prem, corr, full, frame_grid)
+            frac = one.n_dropped / max(len(corr), 1)
+            report["auto_dropped_fraction"] = float(frac)
+            if frac <= tol.VM_AUTO_LAYER_DROP:
+                self._check_keys(layer_depth)
+                report["layers"] = 1
+                return [one]
+            layers = tol.VM_AUTO_LAYERS
+        assert isinstance(layers, int)
+        keys = self._check_keys(layer_depth)
         z = corr.depth
         n = min(int(layers), max(1, len(corr) // tol.VM_MIN_LAYER_PAIRS))
         while True:
@@ -696,6 +706,19 @@ class ViewMorpher:
                 bbox = self._canvas_for(sub, *(np.zeros((0, 2)) if b_ is None else b_ for b_ in boxes))
             out.append(self._make_layer(prem, sub, bbox, frame_grid))
         return out
+
+    def _check_keys(self, layer_depth: Any) -> list[np.ndarray]:
+        """The two per-pixel depth-key images, validated (float64, image shapes, no NaN)."""
+        keys = []
+        for key, shape, name in ((layer_depth[0], self.shape0, "layer_depth[0]"),
+                                 (layer_depth[1], self.shape1, "layer_depth[1]")):
+            k = as_image(key, name, channels=(1,), allow_nonfinite=True).astype(np.float64)
+            if k.shape != shape:
+                raise ValidationError(expected_got(name, f"shape {shape} (its image's)", f"shape {k.shape}"))
+            if np.isnan(k).any():
+                raise ValidationError(expected_got(name, "depths, +inf for background", "NaN values"))
+            keys.append(k)
+        return keys
 
     @staticmethod
     def _fit_f(corr: Correspondences, fundamental: Any, threshold: float, seed: int) -> FundamentalFit:
