@@ -8,8 +8,11 @@ writes, under OUT/<mesh>_<baseline>deg/:
 * ``left.png``, ``right.png`` -- the references (try ``morphkit viewmorph
   left.png right.png -o mid.png`` on them: SIFT correspondences);
 * ``points.json`` -- the geometric correspondences (``--points``);
-* ``morph.png`` and ``truth.png`` -- the view-morphed and the rendered middle view;
-* ``strip.png`` -- left | morph | truth | right side by side.
+* ``morph.png`` and ``truth.png`` -- the view-morphed (one mesh on the mesh's
+  vertices) and the rendered middle view;
+* ``layered.png`` -- the view morph on dense depth-map pairs with
+  ``layers="auto"`` (two depth layers where parts cross: the chair);
+* ``strip.png`` -- left | morph | layered | truth | right side by side.
 
 Usage: ``python samples/viewmorph_pairs.py [OUT] [--size 256]`` (needs GL).
 """
@@ -24,7 +27,7 @@ import numpy as np
 
 from morphkit.bench.viewmorph_suite import circle_camera, render_pair, textured_items
 from morphkit.render import Renderer
-from morphkit.viewmorph import ViewMorpher, from_geometry, save_points
+from morphkit.viewmorph import ViewMorpher, from_depth, from_geometry, pair_depth, save_points
 
 CENTRE = 60.0
 
@@ -52,15 +55,21 @@ def main() -> None:
                 corr = from_geometry(mesh, c0, c1, depth0=d0, depth1=d1, max_points=600)
                 vm = ViewMorpher(i0, i1, corr)
                 mid = vm.morph(0.5, post=cm, frame="fixed")
+                vl = ViewMorpher(i0, i1, from_depth(c0, c1, d0, d1), layers="auto",
+                                 layer_depth=pair_depth(c0, c1, d0, d1))
+                lay = vl.morph(0.5, post=cm, frame="fixed")
                 folder = out / f"{name}_{base:g}deg"
                 folder.mkdir(parents=True, exist_ok=True)
-                for fname, img in (("left", i0), ("right", i1), ("morph", mid), ("truth", gt)):
+                for fname, img in (("left", i0), ("right", i1), ("morph", mid), ("layered", lay),
+                                   ("truth", gt)):
                     write(folder / f"{fname}.png", img)
-                write(folder / "strip.png", np.concatenate([i0, mid, gt, i1], axis=1))
+                write(folder / "strip.png", np.concatenate([i0, mid, lay, gt, i1], axis=1))
                 save_points(folder / "points.json", corr)
-                m, g = mid[..., 3] > 127, gt[..., 3] > 127
-                print(f"{folder}: {vm.mode}/{vm.rectification.method}, silhouette IoU "
-                      f"{(m & g).sum() / max((m | g).sum(), 1):.3f}")
+                g = gt[..., 3] > 127
+                iou = [((im[..., 3] > 127) & g).sum() / max(((im[..., 3] > 127) | g).sum(), 1)
+                       for im in (mid, lay)]
+                print(f"{folder}: {vm.mode}/{vm.rectification.method}, silhouette IoU one mesh {iou[0]:.3f}, "
+                      f"{vl.report['layers']} layer(s) {iou[1]:.3f}")
 
 
 if __name__ == "__main__":
