@@ -933,15 +933,6 @@ class ViewMorpher:
     def _render_direct(self, s: float, P: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
         h, w = shape
         nch = self._prem[0].shape[2]
-        if len(self._layers) == 1:
-            got = self._render_layer(self._layers[0], s, P, shape)
-            if got is not None and got[0] == (0, h, 0, w):
-                return got[1]
-            out = np.zeros((h, w, nch), np.float32)
-            if got is not None:
-                r_0, r_1, c_0, c_1 = got[0]
-                out[r_0:r_1, c_0:c_1] = got[1]
-            return out
         out: np.ndarray | None = None
         for layer in reversed(self._layers):  # far to near, premultiplied "over"
             got = self._render_layer(layer, s, P, shape)
