@@ -357,6 +357,23 @@ def _mask_bbox(mask: np.ndarray) -> np.ndarray | None:
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=np.float64)
 
 
+def _over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int],
+          shape: tuple[int, int]) -> np.ndarray:
+    """Premultiplied ``part`` (rows ``r0:r1``, columns ``c0:c1`` of ``roi`` in an image of
+    ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place)."""
+    r_0, r_1, c_0, c_1 = roi
+    if out is None:
+        if roi == (0, shape[0], 0, shape[1]):
+            return part
+        out = np.zeros(shape + (part.shape[2],), np.float32)
+        out[r_0:r_1, c_0:c_1] = part
+        return out
+    view = out[r_0:r_1, c_0:c_1]
+    view *= 1.0 - part[:, :, -1:]
+    view += part
+    return out
+
+
 def _depth_edges(z: np.ndarray, n: int) -> np.ndarray:
     """Limits ``[min, e_1, ..., e_{n-1}, max]`` of ``n`` depth slices of ``z``: 1-D k-means
     (Lloyd's iterations from the quantiles; the edges are the midpoints between centres),
@@ -508,7 +525,7 @@ class ViewMorpher:
     def __init__(self, image0: Any, image1: Any, correspondences: Any, *, prewarp: str = "auto",
                  intrinsics: tuple[Any, Any] | None = None, fundamental: Any = None,
                  threshold: float = tol.VM_THRESHOLD_PX, fallback: str = "raise",
-                 frame_grid: int = 9, seed: int = 0, layers: int = 1, layer_depth: Any = None,
+                 frame_grid: int = 9, seed: int = 0, layers: int | str = 1, layer_depth: Any = None,
                  layer_overlap: float = tol.VM_LAYER_OVERLAP) -> None:
         if prewarp not in PREWARPS:
             raise ValidationError(expected_got("prewarp", f"one of {PREWARPS}", repr(prewarp)))
@@ -670,17 +687,16 @@ class ViewMorpher:
             raise ValidationError(expected_got(
                 "layer_depth", "(key0, key1) per-pixel depth keys for layers > 1 or 'auto' "
                 "(viewmorph.pair_depth)", type(layer_depth).__name__))
+        keys = self._check_keys(layer_depth)
         if layers == "auto":
             one = self._make_layer(self._prem, corr, full, frame_grid)
             frac = one.n_dropped / max(len(corr), 1)
             report["auto_dropped_fraction"] = float(frac)
             if frac <= tol.VM_AUTO_LAYER_DROP:
-                self._check_keys(layer_depth)
                 report["layers"] = 1
                 return [one]
             layers = tol.VM_AUTO_LAYERS
         assert isinstance(layers, int)
-        keys = self._check_keys(layer_depth)
         z = corr.depth
         n = min(int(layers), max(1, len(corr) // tol.VM_MIN_LAYER_PAIRS))
         while True:
@@ -936,19 +952,8 @@ class ViewMorpher:
         out: np.ndarray | None = None
         for layer in reversed(self._layers):  # far to near, premultiplied "over"
             got = self._render_layer(layer, s, P, shape)
-            if got is None:
-                continue
-            (r_0, r_1, c_0, c_1), part = got
-            if out is None:  # the farthest layer drawn: nothing to composite over
-                if (r_0, r_1, c_0, c_1) == (0, h, 0, w):
-                    out = part
-                else:
-                    out = np.zeros((h, w, nch), np.float32)
-                    out[r_0:r_1, c_0:c_1] = part
-                continue
-            view = out[r_0:r_1, c_0:c_1]
-            view *= 1.0 - part[:, :, -1:]
-            view += part
+            if got is not None:
+                out = _over(out, got[1], got[0], shape)
         return np.zeros((h, w, nch), np.float32) if out is None else out
 
     def _render_layer(self, layer: _Layer, s: float, P: np.ndarray, shape: tuple[int, int]
@@ -1035,11 +1040,6 @@ class ViewMorpher:
             T = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
             img = cv2.warpPerspective(acc, P @ T, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
                                       borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-            img = img.reshape(shape + (acc.shape[2],))
-            if out is None:
-                out = img
-            else:
-                out *= 1.0 - img[:, :, -1:]
-                out += img
+            out = _over(out, img.reshape(shape + (acc.shape[2],)), (0, shape[0], 0, shape[1]), shape)
         assert out is not None
         return out
