@@ -19,6 +19,11 @@ parallel (one per numba thread, ``prange``); a row's values depend only on the
 triangles' edges, so the bands change no value. Small ones are filled in the
 calling thread (:data:`PARALLEL_MIN_PIXELS`).
 
+:func:`accumulate` walks the same rows but, instead of writing maps, samples
+two source planes bilinearly at each pixel's source position and adds them,
+weighted, into an accumulator (the fused warp-and-blend of the shadow atlas).
+Its per-pixel bounds test is hoisted to one test per triangle.
+
 numba earns its place here: the numpy path needs ~10 full-image passes (runs,
 sort, repeat, LUTs, products); the kernel touches each pixel once.
 """
@@ -42,7 +47,7 @@ try:  # optional at import time; morphkit.warp falls back to numpy without it
 except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
-__all__ = ["AVAILABLE", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
+__all__ = ["AVAILABLE", "accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
 
 AVAILABLE = numba is not None
 
@@ -211,6 +216,126 @@ def fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: 
                                   n_bands, counting)
     return _fill_serial_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count, 1,
                             counting)
+
+
+def _sample_border(plane: np.ndarray, ix: int, iy: int, ax: float, ay: float) -> float:
+    """Bilinear sample of ``plane`` at ``(ix + ax, iy + ay)`` reading 0 outside it
+    (``cv2.BORDER_CONSTANT`` with value 0)."""
+    h, w = plane.shape
+    v = 0.0
+    for dy in range(2):
+        yy = iy + dy
+        if yy < 0 or yy >= h:
+            continue
+        wy = ay if dy else 1.0 - ay
+        for dx in range(2):
+            xx = ix + dx
+            if xx < 0 or xx >= w:
+                continue
+            v += wy * (ax if dx else 1.0 - ax) * plane[yy, xx]
+    return v
+
+
+def _accumulate(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, active: np.ndarray,
+                src: np.ndarray, weight: float, acc: np.ndarray, r0: int, r1: int, c0: int,
+                c1: int, box: np.ndarray) -> int:
+    """``acc[p, y, x] += weight * src[p](A_t (x, y))`` for ``p = 0, 1`` (bilinear,
+    0 outside ``src``) for every pixel centre ``(x, y)`` of every ``active``
+    triangle ``t``, in rows ``[r0, r1)`` and columns ``[c0, c1)`` (a band of the
+    ROI: rows are clipped as in :func:`_fill_band`): the warp maps and the remap
+    of :func:`fill_maps` fused into one pass, for a mesh known not to overlap
+    itself (:func:`mesh_injective`: each pixel is visited once). Same coverage
+    rule and edge arithmetic as :func:`_fill_band`; source positions are exact
+    (float64), where ``cv2.remap`` quantises them to 1/32 px. ``src`` and ``acc``
+    are ``(2, H, W)`` float32 (``acc`` C-contiguous); ``src`` must be finite.
+    ``box`` (int64 ``[y0, y1, x0, x1]``) is grown to hold every pixel written.
+    Returns the number of pixels written."""
+    h = src.shape[1]
+    w = src.shape[2]
+    s0 = src[0]
+    s1 = src[1]
+    acc0 = acc[0]
+    acc1 = acc[1]
+    wm1 = float(w - 1)
+    hm1 = float(h - 1)
+    n = 0
+    for t in range(tris.shape[0]):
+        if not active[t]:
+            continue
+        ya, yb, yc, sl, ql, su, qu, sd, qd = _tri_rows(cov, tris, t, r0, r1)
+        a00 = coef[t, 0]
+        a10 = coef[t, 1]
+        a01 = coef[t, 2]
+        a11 = coef[t, 3]
+        bx = coef[t, 4]
+        by = coef[t, 5]
+        # Bounds are tested per triangle: the pixels it covers lie in its
+        # (pushed-out) triangle ``cov``, whose image by the affine holds every
+        # source position read. Inside [0.5, size - 1.5] with room to spare,
+        # every footprint is in the source: no per-pixel test.
+        safe = True
+        for v in range(3):
+            px = cov[tris[t, v], 0]
+            py = cov[tris[t, v], 1]
+            sx = a00 * px + a01 * py + bx
+            sy = a10 * px + a11 * py + by
+            if not (0.5 <= sx <= wm1 - 0.5 and 0.5 <= sy <= hm1 - 0.5):
+                safe = False
+        for piece in range(2):
+            if piece == 0:
+                ys, ye, s, q = ya, yb, su, qu
+            else:
+                ys, ye, s, q = yb, yc, sd, qd
+            for y in range(ys, ye):
+                yf = float(y)
+                xa = sl * yf
+                xa += ql
+                xb = s * yf
+                xb += q
+                xl = min(max(math.ceil(min(xa, xb)), c0), c1)
+                xr = min(max(math.ceil(max(xa, xb)), c0), c1)
+                if xr <= xl:
+                    continue
+                n += xr - xl
+                box[0] = min(box[0], y)
+                box[1] = max(box[1], y + 1)
+                box[2] = min(box[2], xl)
+                box[3] = max(box[3], xr)
+                ox = a01 * yf + bx
+                oy = a11 * yf + by
+                out0 = acc0[_u(y)]
+                out1 = acc1[_u(y)]
+                if safe:
+                    for x in range(xl, xr):
+                        xf = float(x)
+                        sx = a00 * xf + ox
+                        sy = a10 * xf + oy
+                        ix = int(sx)  # truncation is floor here
+                        iy = int(sy)
+                        ax = np.float32(sx - ix)
+                        ay = np.float32(sy - iy)
+                        bx0 = np.float32(1.0) - ax
+                        by0 = np.float32(1.0) - ay
+                        u0 = _u(ix)
+                        u1 = _u(ix + 1)
+                        t0 = s0[_u(iy)]
+                        b0 = s0[_u(iy + 1)]
+                        v0 = by0 * (bx0 * t0[u0] + ax * t0[u1]) + ay * (bx0 * b0[u0] + ax * b0[u1])
+                        t0 = s1[_u(iy)]
+                        b0 = s1[_u(iy + 1)]
+                        v1 = by0 * (bx0 * t0[u0] + ax * t0[u1]) + ay * (bx0 * b0[u0] + ax * b0[u1])
+                        out0[_u(x)] += weight * v0
+                        out1[_u(x)] += weight * v1
+                else:
+                    for x in range(xl, xr):
+                        xf = float(x)
+                        sx = a00 * xf + ox
+                        sy = a10 * xf + oy
+                        fx = math.floor(sx)
+                        fy = math.floor(sy)
+                        out0[x] += weight * _sample_border(s0, int(fx), int(fy), sx - fx, sy - fy)
+                        out1[x] += weight * _sample_border(s1, int(fx), int(fy), sx - fx, sy - fy)
+    return n
 
 
 def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> float:
@@ -398,10 +523,14 @@ if numba is not None:
     mesh_injective = _jit(_mesh_injective)
     prepare_warp = _jit(_prepare_warp)
     _fill_serial_jit = _jit(_fill_serial)
+    _sample_border = _jit(_sample_border)
+    accumulate = numba.njit(cache=True, nogil=True, error_model="numpy",
+                            fastmath={"contract", "reassoc", "nsz", "arcp", "afn"})(_accumulate)
     _fill_parallel_jit = numba.njit(cache=True, nogil=True, parallel=True,
                                     error_model="numpy")(_fill_parallel)
 else:  # pragma: no cover
     _prange = range
     _fill_serial_jit = _fill_parallel_jit = _fill_serial
+    accumulate = _accumulate
     mesh_injective = _mesh_injective
     prepare_warp = _prepare_warp
