@@ -717,7 +717,9 @@ class MeshWarper:
 
         Raises :class:`~morphkit.errors.FoldOverError` as :meth:`maps` does,
         before any pixel is touched."""
-        dst = self._check_dst(dst_pts)
+        dst = np.asarray(dst_pts, dtype=np.float64)
+        if dst.shape != self.src_pts.shape or not np.isfinite(dst).all():
+            dst = self._check_dst(dst_pts)  # raises the full message (a per-frame path: checked lean)
         if _scanline.AVAILABLE and not _NUMPY_ONLY and self._loop is not None:
             cov, coef, roi = _prepare(dst, self.triangles, self._src_v, self._src_sign,
                                       self._boundary, shape)

@@ -14,7 +14,8 @@ from morphkit import warp as W
 from morphkit.errors import ValidationError
 from morphkit.warp import MeshWarper, _accumulate_warps, _Fused
 
-needs_numba = pytest.mark.skipif(not _scanline.AVAILABLE, reason="numba not importable")
+needs_numba = pytest.mark.skipif(not _scanline.AVAILABLE or _scanline.NUMPY_ONLY,
+                                 reason="the fused pass needs numba (and not MORPHKIT_WARP_NUMPY=1)")
 
 
 def two_planes(h: int, w: int, rng: np.random.Generator) -> np.ndarray:

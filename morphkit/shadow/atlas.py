@@ -85,7 +85,7 @@ from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
-from ..warp import MeshWarper, WarpMaps, _accumulate_warps, _roi_union, grid_triangles
+from ..warp import MeshWarper, _accumulate_warps, _roi_union, grid_triangles
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
@@ -114,8 +114,7 @@ def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
 
 def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
            ) -> None:
-    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair from ``_warp``
-    (planes ``(2, h, w)``)."""
+    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``)."""
     (r0, r1, c0, c1), px = warped
     if px.size == 0:
         return
@@ -124,62 +123,55 @@ def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray]
         cv2.scaleAdd(px[k], float(weight), view, dst=view)
 
 
-def _remap_planes(src: np.ndarray, wm: WarpMaps) -> np.ndarray:
-    """``(2, h, w)``: each plane of ``src`` sampled by ``wm`` over its ROI.
-
-    Sources are finite, so one ``cv2.remap`` per plane suffices
-    (:meth:`WarpMaps.apply` would also guard against non-finite pixels)."""
-    r0, r1, c0, c1 = wm.roi
-    out = np.empty((2, r1 - r0, c1 - c0), np.float32)
-    for k in range(2):
-        cv2.remap(src[k], wm.map1, wm.map2, cv2.INTER_LINEAR, dst=out[k],
-                  borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-    return out
-
-
 def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
                  triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    """``(2, H, W)``: the planes of ``src`` warped from ``src_pts`` to ``dst_pts`` (0 outside)."""
-    wm = MeshWarper(src_pts, triangles).maps(dst_pts, shape)
+    """``(2, H, W)``: the premultiplied planes of ``src`` warped from ``src_pts`` to
+    ``dst_pts`` (0 outside)."""
+    warper = MeshWarper(src_pts, triangles)
     out = np.zeros((2, *shape), np.float32)
-    if wm.map1 is not None:
-        r0, r1, c0, c1 = wm.roi
-        out[:, r0:r1, c0:c1] = _remap_planes(src, wm)
+    _accumulate_warps([(warper._accumulation(dst_pts, shape), src,
+                        warper.triangles_touching(src[0]), 1.0)], out)
     return out
 
 
-def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
-    cov, num = acc[0], acc[1]
-    out[...] = cv2.divide(num, cov)
-    out += np.float32(ref)
-    out[cov < 0.5] = np.inf
+def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
+                  c1: int, clear: bool) -> None:
+    cov, num = acc[0, r0:r1, c0:c1], acc[1, r0:r1, c0:c1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out[r0:r1, c0:c1] = np.where(cov >= 0.5, num / cov + np.float32(ref), np.inf)
+    if clear:
+        acc[:, r0:r1, c0:c1] = 0.0
 
 
-def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray) -> None:
-    h, w = out.shape
-    for i in range(h):
-        for j in range(w):
-            den = acc[0, i, j]
-            out[i, j] = acc[1, i, j] / den + ref if den >= 0.5 else np.inf
+def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
+                 c1: int, clear: bool) -> None:
+    for i in range(r0, r1):
+        den_row = acc[0, i]
+        num_row = acc[1, i]
+        out_row = out[i]
+        for j in range(c0, c1):
+            den = den_row[j]
+            out_row[j] = num_row[j] / den + ref if den >= 0.5 else np.inf
+        if clear:
+            den_row[c0:c1] = 0.0
+            num_row[c0:c1] = 0.0
 
 
 _finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
                   else _finish_numpy)
 
 
-def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None
-            ) -> np.ndarray:
+def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None, *,
+            clear: bool = False) -> np.ndarray:
     """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
     ``+inf`` where the blended coverage is below 0.5 (one compiled pass); only
-    over ``roi = (r0, r1, c0, c1)`` when given (``acc`` is 0 elsewhere)."""
-    if roi is None:
-        out = np.empty(acc.shape[1:], np.float32)
-        _finish_kernel(acc, np.float32(ref), out)
-        return out
-    out = np.full(acc.shape[1:], np.inf, np.float32)
-    r0, r1, c0, c1 = roi
+    over ``roi = (r0, r1, c0, c1)`` when given (``acc`` must be 0 elsewhere).
+    ``clear``: set the ``acc`` it read back to 0 in the same pass."""
+    h, w = acc.shape[1:]
+    r0, r1, c0, c1 = (0, h, 0, w) if roi is None else roi
+    out = np.full((h, w), np.inf, np.float32)
     if r1 > r0 and c1 > c0:
-        _finish_kernel(acc[:, r0:r1, c0:c1], np.float32(ref), out[r0:r1, c0:c1])
+        _finish_kernel(acc, np.float32(ref), out, r0, r1, c0, c1, clear)
     return out
 
 
@@ -365,13 +357,11 @@ class ShadowAtlas:
                 jobs.append(self._job(jj, ii, c_dst, eq, w))
         try:
             box = _roi_union(box, _accumulate_warps(jobs, acc))
-            out = _finish(acc, self.anchor_depth(eq), box)
+            # clear=True: the buffer is all zeros again for the next call
+            return _finish(acc, self.anchor_depth(eq), box, clear=True), cam
         except BaseException:
             acc.fill(0.0)
             raise
-        r0, r1, c0, c1 = box
-        acc[:, r0:r1, c0:c1] = 0.0  # the buffer is all zeros again for the next call
-        return out, cam
 
     def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:

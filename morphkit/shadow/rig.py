@@ -235,8 +235,9 @@ class LightRig:
                 raise ValidationError(expected_got("light_offset", "none for a directional light "
                                                    "(translating it changes nothing)", light_offset))
             pose[:3, 3] = anchor - self.axis * self.back
-            return CameraModel("orthographic", (h, w), self.fx, self.fy, (w - 1) / 2, (h - 1) / 2,
-                               self.znear, self.zfar, pose)
+            # the rig's own validated values (checked when it was fitted), per frame
+            return CameraModel._trusted("orthographic", (h, w), self.fx, self.fy, (w - 1) / 2,
+                                        (h - 1) / 2, self.znear, self.zfar, pose)
         L = self.light.position.copy()
         if light_offset is not None:
             L[:2] += as_finite_array(light_offset, "light_offset", shape=(2,))
@@ -247,8 +248,11 @@ class LightRig:
         # The object at xy seen from L + D is the object at xy - D seen from L, so
         # the depth range fitted over the motion range still holds (the caller
         # checks that xy - D lies in the range).
-        return CameraModel("perspective", (h, w), self.fx, self.fy, cx, cy, self.znear, self.zfar,
-                           pose)
+        if not (np.isfinite(cx) and np.isfinite(cy)):
+            raise ValidationError(expected_got("object anchor", "in front of the point light",
+                                               f"depth {a[2]:.3g} along its axis"))
+        return CameraModel._trusted("perspective", (h, w), self.fx, self.fy, cx, cy, self.znear,
+                                    self.zfar, pose)
 
     def equivalent_position(self, xy: np.ndarray, light_offset: np.ndarray | None = None, *,
                             clamp: bool = False) -> np.ndarray:
