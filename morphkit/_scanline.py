@@ -96,6 +96,20 @@ def _tri_rows(cov: np.ndarray, tris: np.ndarray, t: int, b0: int, b1: int
     return ya, yb, yc, sl, ql, su, qu, sd, qd
 
 
+def _row_span(sl: float, ql: float, s: float, q: float, yf: float, c0: int, c1: int
+              ) -> tuple[int, int]:
+    """Columns ``[xl, xr)`` of row ``yf`` between the edges ``(sl, ql)`` and
+    ``(s, q)`` (each crossing the row at ``s * yf + q``), clipped to ``[c0, c1)``:
+    the top-left rule of every kernel here."""
+    xa = sl * yf
+    xa += ql
+    xb = s * yf
+    xb += q
+    xl = min(max(math.ceil(min(xa, xb)), c0), c1)
+    xr = min(max(math.ceil(max(xa, xb)), c0), c1)
+    return xl, xr
+
+
 def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
                c1: int, b0: int, b1: int, out_outside: float, mx: np.ndarray, my: np.ndarray,
                count: np.ndarray, counting: bool) -> int:
@@ -134,12 +148,7 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                 ys, ye, s, q = yb, yc, sd, qd
             for y in range(ys, ye):
                 yf = float(y)
-                xa = sl * yf
-                xa += ql
-                xb = s * yf
-                xb += q
-                xl = min(max(math.ceil(min(xa, xb)), c0), c1)
-                xr = min(max(math.ceil(max(xa, xb)), c0), c1)
+                xl, xr = _row_span(sl, ql, s, q, yf, c0, c1)
                 if xr <= xl:
                     continue
                 ox = a01 * yf + bx
@@ -288,12 +297,7 @@ def _accumulate(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, active: np.
                 ys, ye, s, q = yb, yc, sd, qd
             for y in range(ys, ye):
                 yf = float(y)
-                xa = sl * yf
-                xa += ql
-                xb = s * yf
-                xb += q
-                xl = min(max(math.ceil(min(xa, xb)), c0), c1)
-                xr = min(max(math.ceil(max(xa, xb)), c0), c1)
+                xl, xr = _row_span(sl, ql, s, q, yf, c0, c1)
                 if xr <= xl:
                     continue
                 n += xr - xl
@@ -517,6 +521,7 @@ if numba is not None:
     _prange = numba.prange
     _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     _tri_rows = _jit(_tri_rows)
+    _row_span = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")(_row_span)
     _fill_band = _jit(_fill_band)
     _fill_one = _jit(_fill_one)
     _orient = _jit(_orient)

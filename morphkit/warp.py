@@ -698,7 +698,7 @@ class MeshWarper:
         """``(M,)`` bool: the triangles whose source footprint can read a nonzero
         pixel of ``support`` (``(h, w)``, the input image's nonzero pixels) with
         ``"linear"`` sampling: its bounding box, grown by 2 px, holds one. A warp
-        of the other triangles only reads zeros (see :meth:`_accumulate`)."""
+        of the other triangles only reads zeros (see :func:`_accumulate_warps`)."""
         sup = np.asarray(support)
         if sup.ndim != 2 or sup.size == 0:
             raise ValidationError(expected_got("support", "a non-empty (h, w) array", sup.shape))

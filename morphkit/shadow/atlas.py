@@ -53,8 +53,7 @@ into bands of rows over the CPUs (:func:`morphkit.warp._accumulate_warps`).
 Measured here (512^2, point light, 2-core VM), this took a bilinear map from
 5.5 to 2.0 ms (cow) with the same result as ``cv2.remap`` up to its 1/32 px
 quantisation; ``morphkit bench shadows`` has the current figures. ``"three"``
-still builds maps and remaps whole planes (two single-channel ``cv2.remap`` of a
-512^2 float32 plane: 0.49 ms; one two-channel remap: 0.85-0.89 ms).
+uses the same pass for each of its warps, over whole images.
 
 Depth values follow the model of :mod:`morphkit.shadow.rig`: moving the object
 by ``d`` moves every one of its light depths by the same amount, that of its
