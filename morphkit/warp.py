@@ -586,14 +586,20 @@ def _accumulate_warps(jobs: Sequence[tuple[_Fused | WarpMaps, np.ndarray, np.nda
 
     if n == 1:
         return _roi_union(box, band(0))
-    global _pool
-    if _pool is None:
-        _pool = ThreadPoolExecutor(max_workers=WARP_THREADS - 1, thread_name_prefix="morphkit-warp")
-    futures = [_pool.submit(band, b) for b in range(1, n)]
+    futures = [_band_pool().submit(band, b) for b in range(1, n)]
     box = _roi_union(box, band(0))
     for f in futures:
         box = _roi_union(box, f.result())
     return box
+
+
+def _band_pool() -> ThreadPoolExecutor:
+    """The threads that run bands ``1 .. WARP_THREADS - 1`` (band 0 runs in the caller)."""
+    global _pool
+    if _pool is None:
+        _pool = ThreadPoolExecutor(max_workers=max(WARP_THREADS - 1, 1),
+                                   thread_name_prefix="morphkit-warp")
+    return _pool
 
 
 def _roi_union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]

@@ -84,7 +84,15 @@ from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
-from ..warp import MeshWarper, _accumulate_warps, _roi_union, grid_triangles
+from ..warp import (
+    PARALLEL_MIN_PIXELS,
+    WARP_THREADS,
+    MeshWarper,
+    _accumulate_warps,
+    _roi_union,
+    grid_triangles,
+)
+from . import reproject as _rp
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
@@ -193,6 +201,7 @@ class ShadowAtlas:
     _tex: dict[bytes, np.ndarray] = field(default_factory=dict, repr=False)
     _split: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
     _touching: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
+    _support: dict[tuple[int, int], Any] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
         self.triangles = grid_triangles(*self.control_grid)
@@ -205,6 +214,7 @@ class ShadowAtlas:
         self.fallbacks = 0
         self.relaxed = 0
         self._acc: np.ndarray | None = None
+        self._scratch: list[np.ndarray] = []
 
     # ------------------------------------------------------------ geometry
     @property
@@ -300,7 +310,7 @@ class ShadowAtlas:
 
     # ------------------------------------------------------------ run time
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False,
-                   warps: Literal["composed", "three"] = "composed",
+                   warps: Literal["composed", "three", "reproject"] = "composed",
                    dst: Literal["project", "interpolate"] = "project",
                    blend: Literal["bilinear", "nearest"] = "bilinear",
                    ) -> tuple[np.ndarray, CameraModel]:
@@ -316,11 +326,14 @@ class ShadowAtlas:
 
         Returns ``(depth (H, W) float32 with +inf background, camera)``.
         """
-        if (warps not in ("composed", "three") or dst not in ("project", "interpolate")
+        if (warps not in ("composed", "three", "reproject") or dst not in ("project", "interpolate")
                 or blend not in ("bilinear", "nearest")):
             raise ValidationError(expected_got(
-                "warps/dst/blend", "'composed'|'three', 'project'|'interpolate' and "
+                "warps/dst/blend", "'composed'|'three'|'reproject', 'project'|'interpolate' and "
                 "'bilinear'|'nearest'", f"{warps!r}/{dst!r}/{blend!r}"))
+        if warps == "reproject" and dst != "project":
+            raise ValidationError(expected_got("dst", "'project' with warps='reproject' (it moves "
+                                               "pixels, not control points)", repr(dst)))
         if blend == "nearest" and warps == "three":
             raise ValidationError(expected_got("warps", "'composed' with blend='nearest' (one map "
                                                "is warped once)", "'three'"))
@@ -339,6 +352,10 @@ class ShadowAtlas:
             nb = [(max(nb, key=lambda n: n[1])[0], 1.0)]  # max() keeps the first of ties
         if warps == "three":
             return self._three_warps(eq, j, i, u, v, dst), cam
+        if warps == "reproject":
+            # the largest weight first: the others then mostly fill what it left
+            order = sorted((n for n in nb if n[1] > 0.0), key=lambda n: -n[1])
+            return self._reprojected(eq, [n for n, _w in order]), cam
         acc = self._acc  # kept between calls, all zeros (an atlas serves one thread at a time)
         if acc is None:
             acc = self._acc = np.zeros((2, *self.shape), np.float32)
@@ -361,6 +378,35 @@ class ShadowAtlas:
         except BaseException:
             acc.fill(0.0)
             raise
+
+    def _reprojected(self, eq: np.ndarray, sources: list[tuple[int, int]]) -> np.ndarray:
+        """The maps ``sources`` reprojected per pixel to the object at ``eq`` into
+        one z-buffer (:mod:`morphkit.shadow.reproject`)."""
+        rig = self.rig
+        cam = rig.camera_at(eq)
+        persp = cam.projection == "perspective"
+        jobs = []
+        pixels = 0
+        for jj, ii in sources:
+            prep = self._support.get((jj, ii))
+            if prep is None:  # per map, once: its support, spans, orphans and camera
+                prep = self._support[(jj, ii)] = (
+                    _rp.Source(self.maps[jj, ii]), rig.camera_at(np.array([self.xs[ii], self.ys[jj]])))
+            src, src_cam = prep
+            # e: the object's motion in the camera frame, less the camera's own
+            # (a directional light's camera moves with the object: e = 0)
+            d = (np.array([eq[0] - self.xs[ii], eq[1] - self.ys[jj], 0.0])
+                 - (cam.cam2world[:3, 3] - src_cam.cam2world[:3, 3]))
+            rp = _rp.Reprojection(persp, rig.fx, rig.fy, (src_cam.cx, src_cam.cy),
+                                  (cam.cx, cam.cy), rig.R.T @ d)
+            pixels += int(src.cum[-1])
+            jobs.append((src, rp))
+        out = np.full(self.shape, np.inf, np.float32)
+        threads = WARP_THREADS if pixels >= PARALLEL_MIN_PIXELS else 1
+        while len(self._scratch) < threads - 1:
+            self._scratch.append(np.full(self.shape, np.inf, np.float32))
+        _rp.reproject_maps(jobs, out, self._scratch, threads=threads)
+        return out
 
     def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
