@@ -15,7 +15,9 @@ visibility < 0.5) and ``mae`` (mean absolute visibility error over the grid).
 Methods (one row each, timed in the same run, interleaved): ``warp`` (3 x 3
 atlas, composed warps, projected control points, 17 x 17 control grid unless the
 row says otherwise), ``warp_nearest`` (the same atlas, only the nearest sample's
-map warped: ``blend="nearest"``), ``warp_three`` (the paper's three warps with interpolated
+map warped: ``blend="nearest"``), ``reproject`` (the same atlas, every pixel of the cell's maps moved in 3-D into
+one z-buffer: ``warps="reproject"``; ``reproject_s2`` with ``step=2``),
+``warp_three`` (the paper's three warps with interpolated
 control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
 ``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory
 with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
@@ -121,6 +123,8 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
                 methods: dict[str, Any] = {
                     "warp": _Warp(atlas),
                     "warp_nearest": _Warp(atlas, blend="nearest"),
+                    "reproject": _Warp(atlas, warps="reproject"),
+                    "reproject_s2": _Warp(atlas, warps="reproject", step=2),
                     "direct": DirectShadow(atlas.rig, mesh, renderer),
                 }
                 if light_name == "point":
@@ -181,6 +185,8 @@ def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
         atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
                            progress=False)
         methods = {"warp": _Warp(atlas), "warp_nearest": _Warp(atlas, blend="nearest"),
+                   "reproject": _Warp(atlas, warps="reproject"),
+                   "reproject_s2": _Warp(atlas, warps="reproject", step=2),
                    "direct": DirectShadow(atlas.rig, mesh, renderer)}
         timings = _time_maps(methods, xys, repeats=5 if quick else 15)
         for name in methods:
