@@ -15,8 +15,9 @@ visibility < 0.5) and ``mae`` (mean absolute visibility error over the grid).
 Methods (one row each, timed in the same run, interleaved): ``warp`` (3 x 3
 atlas, composed warps, projected control points, 17 x 17 control grid unless the
 row says otherwise), ``warp_nearest`` (the same atlas, only the nearest sample's
-map warped: ``blend="nearest"``), ``reproject`` (the same atlas, every pixel of the cell's maps moved in 3-D into
-one z-buffer: ``warps="reproject"``; ``reproject_s2`` with ``step=2``),
+map warped: ``blend="nearest"``), ``reproject`` (the same atlas, every pixel of
+the cell's maps moved in 3-D into one z-buffer: ``warps="reproject"``;
+``reproject_s2`` with ``step=2``),
 ``warp_three`` (the paper's three warps with interpolated
 control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
 ``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory

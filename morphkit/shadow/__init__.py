@@ -2,6 +2,7 @@
 
 * :mod:`.rig` -- the object's range of motion and the light camera that follows it;
 * :mod:`.atlas` -- the k x k shadow atlas: bake, control points, run-time warp, file I/O;
+* :mod:`.reproject` -- per-pixel 3-D reprojection of the atlas's maps (``warps="reproject"``);
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
