@@ -193,6 +193,14 @@ def _tri(px: float, py: float, x0: float, y0: float, z0: float, x1: float, y1: f
     return np.inf
 
 
+def _grow(xmin: float, xmax: float, ymin: float, ymax: float, x: float, y: float, valid: bool
+          ) -> tuple[float, float, float, float]:
+    """The box ``(xmin, xmax, ymin, ymax)`` grown by ``(x, y)`` if ``valid``."""
+    if valid:
+        return min(xmin, x), max(xmax, x), min(ymin, y), max(ymax, y)
+    return xmin, xmax, ymin, ymax
+
+
 def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.ndarray,
                  X: np.ndarray, Y: np.ndarray, Z: np.ndarray, step: int, lo: int, hi: int) -> None:
     """Destination ``X, Y`` and depth ``Z`` (``+inf``: background) of
@@ -295,30 +303,11 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
             xd = Xb[k + 1]
             yd = Yb[k + 1]
             # the quad's bounding box over its object vertices (3 or 4)
-            xmin = np.inf
-            xmax = -np.inf
-            ymin = np.inf
-            ymax = -np.inf
-            if va:
-                xmin = min(xmin, xa)
-                xmax = max(xmax, xa)
-                ymin = min(ymin, ya)
-                ymax = max(ymax, ya)
-            if vb:
-                xmin = min(xmin, xb)
-                xmax = max(xmax, xb)
-                ymin = min(ymin, yb)
-                ymax = max(ymax, yb)
-            if vc:
-                xmin = min(xmin, xc)
-                xmax = max(xmax, xc)
-                ymin = min(ymin, yc)
-                ymax = max(ymax, yc)
-            if vd:
-                xmin = min(xmin, xd)
-                xmax = max(xmax, xd)
-                ymin = min(ymin, yd)
-                ymax = max(ymax, yd)
+            xmin, xmax, ymin, ymax = np.inf, -np.inf, np.inf, -np.inf
+            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xa, ya, va)
+            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xb, yb, vb)
+            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xc, yc, vc)
+            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, vd)
             ia = max(math.ceil(xmin - _EDGE_EPS), 0)
             ib = min(math.floor(xmax + _EDGE_EPS), w - 1)
             ja = max(math.ceil(ymin - _EDGE_EPS), 0)
@@ -398,6 +387,7 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
 if _numba is not None:
     _jit = _numba.njit(cache=True, nogil=True, inline="always")
     _tri = _jit(_tri)
+    _grow = _jit(_grow)
     _project_row = _jit(_project_row)
     _reproject_kernel = _numba.njit(cache=True, nogil=True)(_reproject_loop)
 else:  # pragma: no cover - numba is a dependency
