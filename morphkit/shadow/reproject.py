@@ -54,7 +54,8 @@ from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
 from .._scanline import numba as _numba
 from ..errors import ValidationError, expected_got
 
-__all__ = ["STRETCH_PX", "Reprojection", "reproject_numpy", "orphans", "support_box"]
+__all__ = ["EARLY_Z_TEXELS", "SECONDARY_STEP", "STRETCH_PX", "Reprojection", "Source",
+           "orphans", "reproject_maps", "reproject_numpy", "row_spans", "support_box"]
 
 #: A reprojected triangle whose bounding box is wider or taller than this
 #: (destination pixels) spans a depth jump and is not drawn. Source triangles
@@ -201,6 +202,12 @@ def _grow(xmin: float, xmax: float, ymin: float, ymax: float, x: float, y: float
     return xmin, xmax, ymin, ymax
 
 
+def _fits(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float, lim: float) -> bool:
+    """Whether the triangle's bounding box is at most ``lim`` wide and tall."""
+    return (max(x0, x1, x2) - min(x0, x1, x2) <= lim
+            and max(y0, y1, y2) - min(y0, y1, y2) <= lim)
+
+
 def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.ndarray,
                  X: np.ndarray, Y: np.ndarray, Z: np.ndarray, step: int, lo: int, hi: int) -> None:
     """Destination ``X, Y`` and depth ``Z`` (``+inf``: background) of
@@ -320,19 +327,12 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
             t1 = vb and vc and vd
             t2 = (not (vb and vc)) and va and vb and vd
             t3 = (not (vb and vc)) and va and vc and vd
-            if xmax - xmin > stretch * step or ymax - ymin > stretch * step:
-                if t0:
-                    t0 = (max(xa, xb, xc) - min(xa, xb, xc) <= stretch * step
-                          and max(ya, yb, yc) - min(ya, yb, yc) <= stretch * step)
-                if t1:
-                    t1 = (max(xb, xd, xc) - min(xb, xd, xc) <= stretch * step
-                          and max(yb, yd, yc) - min(yb, yd, yc) <= stretch * step)
-                if t2:
-                    t2 = (max(xa, xb, xd) - min(xa, xb, xd) <= stretch * step
-                          and max(ya, yb, yd) - min(ya, yb, yd) <= stretch * step)
-                if t3:
-                    t3 = (max(xa, xd, xc) - min(xa, xd, xc) <= stretch * step
-                          and max(ya, yd, yc) - min(ya, yd, yc) <= stretch * step)
+            lim = stretch * step
+            if xmax - xmin > lim or ymax - ymin > lim:
+                t0 = t0 and _fits(xa, ya, xb, yb, xc, yc, lim)
+                t1 = t1 and _fits(xb, yb, xd, yd, xc, yc, lim)
+                t2 = t2 and _fits(xa, ya, xb, yb, xd, yd, lim)
+                t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, lim)
                 if not (t0 or t1 or t2 or t3):
                     continue
             jlo = min(jlo, ja)
@@ -388,6 +388,7 @@ if _numba is not None:
     _jit = _numba.njit(cache=True, nogil=True, inline="always")
     _tri = _jit(_tri)
     _grow = _jit(_grow)
+    _fits = _jit(_fits)
     _project_row = _jit(_project_row)
     _reproject_kernel = _numba.njit(cache=True, nogil=True)(_reproject_loop)
 else:  # pragma: no cover - numba is a dependency
