@@ -36,11 +36,18 @@ def _patch(n, d, lo, hi, e=(0.0, 0.0, 0.0)) -> np.ndarray:
     return np.where(inside, z, np.inf).astype(np.float32)
 
 
-def _run(maps_es, *, threads=1, early_z=rp.EARLY_Z_TEXELS, step=1, c_dst=C):
-    jobs = [(rp.Source(m), rp.Reprojection(True, FX, FY, C, c_dst, e)) for m, e in maps_es]
+def _job(m, e, c_dst=C):
+    """``(Source, Reprojection)`` of a map (or an already cropped Source) moved by e."""
+    src = m if isinstance(m, rp.Source) else rp.Source(m)
+    r0, c0 = src.origin
+    return src, rp.Reprojection(True, FX, FY, (C[0] - c0, C[1] - r0), c_dst, e)
+
+
+def _run(maps_es, *, threads=1, early_z=rp.EARLY_Z_TEXELS, c_dst=C):
+    jobs = [_job(m, e, c_dst) for m, e in maps_es]
     out = np.full((H, W), np.inf, np.float32)
     scratch = [np.full((H, W), np.inf, np.float32) for _ in range(threads - 1)]
-    box = rp.reproject_maps(jobs, out, scratch, threads=threads, early_z=early_z, step=step)
+    box = rp.reproject_maps(jobs, out, scratch, threads=threads, early_z=early_z)
     for s in scratch:  # left all +inf for the next call
         assert np.all(np.isinf(s))
     return out, box
@@ -145,13 +152,58 @@ def test_compiled_kernel_agrees_with_the_numpy_reference(monkeypatch):
     np.testing.assert_allclose(got[both], ref[both], rtol=1e-6)
 
 
-def test_secondary_maps_at_step_two_keep_the_first_map_intact():
-    """The first map is drawn at full resolution whatever the step: with a second
-    map that adds nothing new, the result equals the first map's alone."""
-    e = (0.03, 0.02, 0.05)
-    first, _ = _run([(_patch(**TILTED), e)])
-    both, _ = _run([(_patch(**TILTED), e), (_patch(**TILTED), e)], step=2)
-    np.testing.assert_array_equal(np.isfinite(both), np.isfinite(first))
+def _layer_at(primary, e_primary, secondary, e_secondary):
+    """The hidden layer of a map baked with the object at ``e_secondary`` against
+    one baked at ``e_primary`` (the motion between them: their difference)."""
+    move = _job(secondary, tuple(np.subtract(e_primary, e_secondary)))[1]
+    return rp.hidden_layer(primary, secondary, move)
+
+
+def _uncrop(src):
+    full = np.full((H, W), np.inf, np.float32)
+    r0, c0 = src.origin
+    full[r0:r0 + src.depth.shape[0], c0:c0 + src.depth.shape[1]] = src.depth
+    return full
+
+
+def test_hidden_layer_of_a_plane_is_at_most_its_rim():
+    """Two maps of one planar patch: the primary's surface, interpolated
+    bilinearly, explains every pixel of the other map away from the patch's
+    border (perspective depth is not bilinear in the image, but within a pixel
+    it differs by far less than a texel), so the layer keeps at most a rim."""
+    b = (0.05, -0.03, 0.02)
+    sec = _patch(**TILTED, e=b)
+    layer = _uncrop(_layer_at(_patch(**TILTED), (0, 0, 0), sec, b))
+    fin = np.isfinite(sec)
+    kept = np.isfinite(layer)
+    assert kept.sum() < 0.2 * fin.sum()
+    # the rim: landing next to the primary's border (a neighbour background),
+    # widened by one pixel so every quad touching such a pixel is whole
+    assert not np.any(kept & ndimage.binary_erosion(fin, iterations=3))
+    np.testing.assert_array_equal(layer[kept], sec[kept])  # depths untouched
+
+
+def test_layered_reprojection_equals_the_whole_maps_and_holds_the_disocclusion():
+    """The far plane behind the near strip, hidden from the primary's position,
+    is in the neighbour's layer; reprojecting the primary with that layer gives
+    the coverage of the two whole maps (and their depths within early z)."""
+    a, b, target = (0.0, 0.0, 0.0), (0.16, 0.0, 0.0), (0.08, 0.0, 0.0)
+    prim, sec = _occluded_scene(a), _occluded_scene(b)
+    layer = _layer_at(prim, a, sec, b)
+    assert layer.cum[-1] < 0.35 * np.isfinite(sec).sum()
+    # the neighbour's pixels that land, at a, where the primary holds the near
+    # strip in front of them (z 1.5 against 3): hidden from a, so in the layer
+    ys, xs = np.mgrid[0:H, 0:W].astype(np.float64)
+    x, y, z = _job(sec, tuple(np.subtract(a, b)))[1].move(xs, ys, sec.astype(np.float64))
+    i = np.clip(np.floor(x + 0.5), 0, W - 1).astype(int)
+    j = np.clip(np.floor(y + 0.5), 0, H - 1).astype(int)
+    behind = np.isfinite(sec) & (prim[j, i] < z - 1.0)
+    assert behind.sum() > 40 and np.all(np.isfinite(_uncrop(layer))[behind])
+    whole, _ = _run([(prim, tuple(np.subtract(target, a))), (sec, tuple(np.subtract(target, b)))])
+    got, _ = _run([(prim, tuple(np.subtract(target, a))), (layer, tuple(np.subtract(target, b)))])
+    np.testing.assert_array_equal(np.isfinite(got), np.isfinite(whole))
+    fin = np.isfinite(whole)
+    assert np.all(np.abs(got[fin] - whole[fin]) <= rp.EARLY_Z_TEXELS * whole[fin] / FX * 1.001)
 
 
 def test_orthographic_motion_is_a_translation():
@@ -174,6 +226,9 @@ def test_bad_input_is_refused():
         rp.Source(np.zeros((4, 4)))
     with pytest.raises(ValidationError, match="z-buffer"):
         rp.reproject_maps([], np.zeros((4, 4)), [])
+    with pytest.raises(ValidationError, match=r"secondary map: expected the primary's shape \(4, 4\)"):
+        rp.hidden_layer(np.zeros((4, 4), np.float32), np.zeros((4, 5), np.float32),
+                        rp.Reprojection(True, FX, FY, C, C, (0, 0, 0)))
 
 
 def test_orphans_are_pixels_in_no_triangle():
