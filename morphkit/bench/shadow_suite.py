@@ -16,8 +16,10 @@ Methods (one row each, timed in the same run, interleaved): ``warp`` (3 x 3
 atlas, composed warps, projected control points, 17 x 17 control grid unless the
 row says otherwise), ``warp_nearest`` (the same atlas, only the nearest sample's
 map warped: ``blend="nearest"``), ``reproject`` (the same atlas, every pixel of
-the cell's maps moved in 3-D into one z-buffer: ``warps="reproject"``;
-``reproject_s2`` with ``step=2``),
+the cell's largest-weight map and of its neighbours' hidden layers moved in 3-D
+into one z-buffer: ``warps="reproject"``; ``prep_ms`` is the one-off time to
+build the layers, ``layer_mb`` their run-time memory), ``reproject_full`` (the
+neighbours' whole maps instead: ``layers=False``),
 ``warp_three`` (the paper's three warps with interpolated
 control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
 ``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory
@@ -104,6 +106,12 @@ class _Warp:
         return self.atlas.shadow_map(xy, **self.kw)
 
 
+def _prepare(atlas: Any) -> dict[str, float]:
+    """Build the atlas's hidden layers ahead (timed once) and report their memory."""
+    seconds = atlas.prepare()
+    return {"prep_ms": 1e3 * seconds, "layer_mb": atlas.layer_bytes / 2**20}
+
+
 def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
@@ -125,9 +133,10 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
                     "warp": _Warp(atlas),
                     "warp_nearest": _Warp(atlas, blend="nearest"),
                     "reproject": _Warp(atlas, warps="reproject"),
-                    "reproject_s2": _Warp(atlas, warps="reproject", step=2),
+                    "reproject_full": _Warp(atlas, warps="reproject", layers=False),
                     "direct": DirectShadow(atlas.rig, mesh, renderer),
                 }
+                prep = _prepare(atlas)
                 if light_name == "point":
                     shared = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
                                         anchors="shared", control_grid=(5, 15), progress=False)
@@ -144,6 +153,8 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
                 for name, m in methods.items():
                     err = _errors(m, mesh, light, xys, truth)
                     err["mem_mb"] = m.memory_bytes / 2**20
+                    if name == "reproject":
+                        err.update(prep)
                     note = "" if size <= 512 or not name.startswith("ibr_") else "ibr grid 16 at 1024"
                     rows.append(make_row(SUITE, name, {"what": "map", "mesh": mesh_name,
                                                        "light": light_name, "size": size,
@@ -187,13 +198,14 @@ def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
                            progress=False)
         methods = {"warp": _Warp(atlas), "warp_nearest": _Warp(atlas, blend="nearest"),
                    "reproject": _Warp(atlas, warps="reproject"),
-                   "reproject_s2": _Warp(atlas, warps="reproject", step=2),
+                   "reproject_full": _Warp(atlas, warps="reproject", layers=False),
                    "direct": DirectShadow(atlas.rig, mesh, renderer)}
+        prep = _prepare(atlas)
         timings = _time_maps(methods, xys, repeats=5 if quick else 15)
         for name in methods:
             rows.append(make_row(SUITE, name, {"what": "complexity", "mesh": "cow", "light": "point",
                                                "size": size, "faces": len(mesh.faces)},
-                                 timings[name]))
+                                 timings[name], metrics=prep if name == "reproject" else None))
     return rows
 
 
@@ -214,7 +226,9 @@ def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
         for size in sizes:
             atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
                                progress=False)
-            methods = {"warp": _Warp(atlas), "direct": DirectShadow(atlas.rig, mesh, renderer)}
+            methods = {"warp": _Warp(atlas), "reproject": _Warp(atlas, warps="reproject"),
+                       "direct": DirectShadow(atlas.rig, mesh, renderer)}
+            atlas.prepare()
             fns = {}
             for name, m in methods.items():
 

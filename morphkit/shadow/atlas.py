@@ -419,8 +419,7 @@ class ShadowAtlas:
             # camera moves with the object (rig model), so there e = 0 exactly
             e = (rig.R.T @ np.array([eq[0] - self.xs[ii], eq[1] - self.ys[jj], 0.0]) if persp
                  else np.zeros(3))
-            r0, c0 = src.origin
-            rp = _rp.Reprojection(persp, rig.fx, rig.fy, (src_cam.cx - c0, src_cam.cy - r0),
+            rp = _rp.Reprojection(persp, rig.fx, rig.fy, (src_cam.cx, src_cam.cy),
                                   (cam.cx, cam.cy), e)
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
@@ -439,7 +438,7 @@ class ShadowAtlas:
                 _rp.Source(self.maps[j, i]), self.rig.camera_at(np.array([self.xs[i], self.ys[j]])))
         return prep
 
-    def _layer(self, primary: tuple[int, int], other: tuple[int, int]) -> _rp.Source:
+    def _layer(self, primary: tuple[int, int], other: tuple[int, int]) -> _rp.Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
         :func:`morphkit.shadow.reproject.hidden_layer`)."""
         lay = self._layers.get((primary, other))
@@ -474,7 +473,7 @@ class ShadowAtlas:
     @property
     def layer_bytes(self) -> int:
         """Bytes of the hidden layers built so far (run-time cache, not persisted)."""
-        return int(sum(lay.depth.nbytes for lay in self._layers.values()))
+        return int(sum(lay.nbytes for lay in self._layers.values()))
 
     def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:

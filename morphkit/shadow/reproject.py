@@ -36,7 +36,8 @@ reconstruction of Mark, McMillan & Bishop 1997):
    does not explain (hidden from its position, or at its silhouette): a layered
    depth image (Shade, Gortler, He & Szeliski 1998). A frame then reprojects
    the primary whole and its neighbours' layers: the same shadow as the whole
-   maps (IoU within 0.0002 at 512^2), with ~40% of their pixels.
+   maps (IoU within 0.0003 at 512^2) from about a third of their pixels, and a
+   layer costs only a list of runs of quads (:class:`Layer`).
 
 At a sample position the reprojection is the identity and reproduces the baked
 map exactly (every object pixel is a vertex of a drawn triangle or a point).
@@ -54,7 +55,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import cv2
 import numpy as np
 
 from .. import tol
@@ -63,7 +63,7 @@ from .._scanline import numba as _numba
 from ..errors import ValidationError, expected_got
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
-           "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
+           "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
            "reproject_numpy", "row_spans", "support_box"]
 
 #: A reprojected triangle whose bounding box is wider or taller than this
@@ -91,11 +91,12 @@ PARALLEL_MIN_SOURCE_PIXELS = 1 << 14
 #: A neighbour's pixel is *explained* by the primary map (not part of its
 #: :func:`hidden_layer`) when its depth, moved to the primary's sample, is within
 #: this many texels' world size of the primary's surface interpolated there.
-#: Measured (``morphkit bench shadows``-style run, 512^2, point light, 50
-#: positions, IoU vs ray cast, teapot / chair / cow): 0.5, 1 and 2 texels give
-#: the full union's IoU within 0.0003; a 3 x 3 min/max window instead of the
-#: interpolation drops the neighbours' silhouette pixels next to the primary's
-#: (0.9852 / 0.9825 / 0.9927 against 0.9900 / 0.9901 / 0.9938).
+#: Measured (512^2, point light, the 50 positions of ``morphkit bench shadows``,
+#: IoU vs ray cast, teapot / chair / cow): 0.9899 / 0.9898 / 0.9938 against the
+#: whole maps' 0.9900 / 0.9901 / 0.9938 (0.5 and 2 texels: within 0.0003 of
+#: that); a 3 x 3 min/max window instead of the interpolation explains away the
+#: neighbours' pixels just past the primary's silhouette, whose union draws the
+#: finer outline (0.9852 / 0.9825 / 0.9927).
 LAYER_TEXELS = 1.0
 
 #: Barycentric tolerance (~ pixels, triangles being ~1 px): centres on a shared
@@ -257,17 +258,97 @@ def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.n
             Z[k] = zd
 
 
+def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, Yb: np.ndarray,
+                Zb: np.ndarray, k0: int, k1: int, stretch: float, early_z: float, persp: bool,
+                zbuf: np.ndarray, jlo: int, jhi: int, ilo: int, ihi: int
+                ) -> tuple[int, int, int, int]:
+    """Draw quads ``k0 .. k1 - 1`` between two projected rows (``Xa, Ya, Za`` the
+    upper, ``Xb, Yb, Zb`` the lower; quad ``k`` joins their entries ``k, k + 1``)
+    into ``zbuf``; returns the written-pixel bounds ``(jlo, jhi, ilo, ihi)``
+    grown. ``early_z``: skip a quad at a centre already holding a depth no
+    farther than the quad's nearest vertex plus ``early_z`` (relative to that
+    depth for perspective, absolute for orthographic): it could lower that
+    depth by at most that much, and cannot change coverage."""
+    h, w = zbuf.shape
+    for k in range(k0, k1):
+        za = Za[k]
+        zb = Za[k + 1]
+        zc = Zb[k]
+        zd = Zb[k + 1]
+        va = za < np.inf
+        vb = zb < np.inf
+        vc = zc < np.inf
+        vd = zd < np.inf
+        if va + vb + vc + vd < 3:
+            continue
+        xa = Xa[k]
+        ya = Ya[k]
+        xb = Xa[k + 1]
+        yb = Ya[k + 1]
+        xc = Xb[k]
+        yc = Yb[k]
+        xd = Xb[k + 1]
+        yd = Yb[k + 1]
+        # the quad's bounding box over its object vertices (3 or 4)
+        xmin, xmax, ymin, ymax = np.inf, -np.inf, np.inf, -np.inf
+        xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xa, ya, va)
+        xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xb, yb, vb)
+        xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xc, yc, vc)
+        xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, vd)
+        ia = max(math.ceil(xmin - _EDGE_EPS), 0)
+        ib = min(math.floor(xmax + _EDGE_EPS), w - 1)
+        ja = max(math.ceil(ymin - _EDGE_EPS), 0)
+        jb = min(math.floor(ymax + _EDGE_EPS), h - 1)
+        if ib < ia or jb < ja:
+            continue
+        # which triangles: split along b-c; with 3 object pixels, their triangle.
+        # A triangle wider or taller than `stretch` spans a depth jump: not drawn.
+        t0 = va and vb and vc
+        t1 = vb and vc and vd
+        t2 = (not (vb and vc)) and va and vb and vd
+        t3 = (not (vb and vc)) and va and vc and vd
+        if xmax - xmin > stretch or ymax - ymin > stretch:
+            t0 = t0 and _fits(xa, ya, xb, yb, xc, yc, stretch)
+            t1 = t1 and _fits(xb, yb, xd, yd, xc, yc, stretch)
+            t2 = t2 and _fits(xa, ya, xb, yb, xd, yd, stretch)
+            t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, stretch)
+            if not (t0 or t1 or t2 or t3):
+                continue
+        jlo = min(jlo, ja)
+        jhi = max(jhi, jb + 1)
+        ilo = min(ilo, ia)
+        ihi = max(ihi, ib + 1)
+        znear = min(za, zb, zc, zd)
+        zskip = znear + early_z * (znear if persp else 1.0)
+        for j in range(ja, jb + 1):
+            for i in range(ia, ib + 1):
+                if zbuf[j, i] <= zskip:
+                    continue
+                # t0/t1 share only their diagonal unless the quad folds (then
+                # the first that holds the centre gives its depth); t2, t3
+                # exclude each other and t0, t1
+                z = np.inf
+                if t0:
+                    z = _tri(i, j, xa, ya, za, xb, yb, zb, xc, yc, zc)
+                if t1 and z == np.inf:
+                    z = _tri(i, j, xb, yb, zb, xd, yd, zd, xc, yc, zc)
+                if t2:
+                    z = _tri(i, j, xa, ya, za, xb, yb, zb, xd, yd, zd)
+                elif t3:
+                    z = _tri(i, j, xa, ya, za, xd, yd, zd, xc, yc, zc)
+                if z < zbuf[j, i]:
+                    zbuf[j, i] = z
+    return jlo, jhi, ilo, ihi
+
+
 def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: int, c1: int,
                     persp: bool, p: np.ndarray, orph: np.ndarray, stretch: float,
                     early_z: float, zbuf: np.ndarray, box: np.ndarray) -> None:
     """Draw the quads with top row in ``[q0, q1)`` and columns ``[c0, c1)`` of
     ``src`` (rows ``q0 .. q1`` are read; ``spans[r]`` holds row ``r``'s first and
     last + 1 object columns), and the points ``orph``, into ``zbuf``;
-    ``box`` grows to hold every pixel that may have been written. ``early_z``:
-    skip a quad at a centre already holding a depth no farther than the quad's
-    nearest vertex plus ``early_z`` (relative to that depth for perspective,
-    absolute for orthographic): it could lower that depth by at most that much,
-    and cannot change coverage. 0 skips only what cannot change the result."""
+    ``box`` grows to hold every pixel that may have been written (``early_z``:
+    :func:`_draw_quads`; 0 skips only what cannot change the result)."""
     n = c1 - c0
     Xa = np.empty(n)
     Ya = np.empty(n)
@@ -282,84 +363,13 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
     for r in range(q0, q1):
         if r + 1 >= src.shape[0]:
             break
-        rs = r + 1
-        _project_row(src, rs, c0, c1, persp, p, Xb, Yb, Zb, spans[rs, 0], spans[rs, 1])
-        lo = min(spans[r, 0], spans[rs, 0])
-        hi = max(spans[r, 1], spans[rs, 1])
-        if hi <= lo:
-            Xa, Xb = Xb, Xa
-            Ya, Yb = Yb, Ya
-            Za, Zb = Zb, Za
-            continue
-        for k in range(max(lo - c0 - 1, 0), min(hi - c0, n - 1)):
-            za = Za[k]
-            zb = Za[k + 1]
-            zc = Zb[k]
-            zd = Zb[k + 1]
-            va = za < np.inf
-            vb = zb < np.inf
-            vc = zc < np.inf
-            vd = zd < np.inf
-            if va + vb + vc + vd < 3:
-                continue
-            xa = Xa[k]
-            ya = Ya[k]
-            xb = Xa[k + 1]
-            yb = Ya[k + 1]
-            xc = Xb[k]
-            yc = Yb[k]
-            xd = Xb[k + 1]
-            yd = Yb[k + 1]
-            # the quad's bounding box over its object vertices (3 or 4)
-            xmin, xmax, ymin, ymax = np.inf, -np.inf, np.inf, -np.inf
-            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xa, ya, va)
-            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xb, yb, vb)
-            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xc, yc, vc)
-            xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, vd)
-            ia = max(math.ceil(xmin - _EDGE_EPS), 0)
-            ib = min(math.floor(xmax + _EDGE_EPS), w - 1)
-            ja = max(math.ceil(ymin - _EDGE_EPS), 0)
-            jb = min(math.floor(ymax + _EDGE_EPS), h - 1)
-            if ib < ia or jb < ja:
-                continue
-            # which triangles: split along b-c; with 3 object pixels, their triangle.
-            # A triangle wider or taller than `stretch` spans a depth jump: not drawn.
-            t0 = va and vb and vc
-            t1 = vb and vc and vd
-            t2 = (not (vb and vc)) and va and vb and vd
-            t3 = (not (vb and vc)) and va and vc and vd
-            lim = stretch
-            if xmax - xmin > lim or ymax - ymin > lim:
-                t0 = t0 and _fits(xa, ya, xb, yb, xc, yc, lim)
-                t1 = t1 and _fits(xb, yb, xd, yd, xc, yc, lim)
-                t2 = t2 and _fits(xa, ya, xb, yb, xd, yd, lim)
-                t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, lim)
-                if not (t0 or t1 or t2 or t3):
-                    continue
-            jlo = min(jlo, ja)
-            jhi = max(jhi, jb + 1)
-            ilo = min(ilo, ia)
-            ihi = max(ihi, ib + 1)
-            znear = min(za, zb, zc, zd)
-            zskip = znear + early_z * (znear if persp else 1.0)
-            for j in range(ja, jb + 1):
-                for i in range(ia, ib + 1):
-                    if zbuf[j, i] <= zskip:
-                        continue
-                    # t0/t1 share only their diagonal unless the quad folds (then
-                    # the first that holds the centre gives its depth); t2, t3
-                    # exclude each other and t0, t1
-                    z = np.inf
-                    if t0:
-                        z = _tri(i, j, xa, ya, za, xb, yb, zb, xc, yc, zc)
-                    if t1 and z == np.inf:
-                        z = _tri(i, j, xb, yb, zb, xd, yd, zd, xc, yc, zc)
-                    if t2:
-                        z = _tri(i, j, xa, ya, za, xb, yb, zb, xd, yd, zd)
-                    elif t3:
-                        z = _tri(i, j, xa, ya, za, xd, yd, zd, xc, yc, zc)
-                    if z < zbuf[j, i]:
-                        zbuf[j, i] = z
+        _project_row(src, r + 1, c0, c1, persp, p, Xb, Yb, Zb, spans[r + 1, 0], spans[r + 1, 1])
+        lo = min(spans[r, 0], spans[r + 1, 0])
+        hi = max(spans[r, 1], spans[r + 1, 1])
+        if hi > lo:
+            jlo, jhi, ilo, ihi = _draw_quads(Xa, Ya, Za, Xb, Yb, Zb, max(lo - c0 - 1, 0),
+                                             min(hi - c0, n - 1), stretch, early_z, persp, zbuf,
+                                             jlo, jhi, ilo, ihi)
         Xa, Xb = Xb, Xa
         Ya, Yb = Yb, Ya
         Za, Zb = Zb, Za
@@ -385,24 +395,57 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
     box[3] = ihi
 
 
+def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool, p: np.ndarray,
+               stretch: float, early_z: float, zbuf: np.ndarray, box: np.ndarray) -> None:
+    """Draw the quads of ``src`` listed by ``runs[t0:t1]`` (rows ``(r, a, b)``: the
+    quads with top row ``r`` and left columns ``a .. b - 1``) into ``zbuf``, as
+    :func:`_reproject_loop` draws them; ``box`` grows likewise."""
+    n = 1
+    for t in range(t0, t1):
+        n = max(n, runs[t, 2] - runs[t, 1] + 1)
+    Xa = np.empty(n)
+    Ya = np.empty(n)
+    Za = np.empty(n)
+    Xb = np.empty(n)
+    Yb = np.empty(n)
+    Zb = np.empty(n)
+    jlo, jhi, ilo, ihi = box[0], box[1], box[2], box[3]
+    for t in range(t0, t1):
+        r = runs[t, 0]
+        a = runs[t, 1]
+        b = runs[t, 2] + 1
+        _project_row(src, r, a, b, persp, p, Xa, Ya, Za, a, b)
+        _project_row(src, r + 1, a, b, persp, p, Xb, Yb, Zb, a, b)
+        jlo, jhi, ilo, ihi = _draw_quads(Xa, Ya, Za, Xb, Yb, Zb, 0, b - a - 1, stretch, early_z,
+                                         persp, zbuf, jlo, jhi, ilo, ihi)
+    box[0] = jlo
+    box[1] = jhi
+    box[2] = ilo
+    box[3] = ihi
+
+
 if _numba is not None:
     _jit = _numba.njit(cache=True, nogil=True, inline="always")
     _tri = _jit(_tri)
     _grow = _jit(_grow)
     _fits = _jit(_fits)
     _project_row = _jit(_project_row)
+    _draw_quads = _jit(_draw_quads)
     _reproject_kernel = _numba.njit(cache=True, nogil=True)(_reproject_loop)
+    _runs_kernel = _numba.njit(cache=True, nogil=True)(_runs_loop)
 else:  # pragma: no cover - numba is a dependency
-    _reproject_kernel = None
+    _reproject_kernel = _runs_kernel = None
 
 
 # ----------------------------------------------------------------- numpy reference
 def reproject_numpy(src: np.ndarray, rp: Reprojection, zbuf: np.ndarray, *,
-                    stretch: float = STRETCH_PX) -> None:
+                    stretch: float = STRETCH_PX, quads: np.ndarray | None = None) -> None:
     """The same drawing as the compiled kernel, vectorised over triangles: every
     triangle's candidate centres in its bounding box are tested at once, and the
     z-buffer minimum is taken with ``np.minimum.at``. An independent reference
-    (tests compare the two) and the fallback without numba."""
+    (tests compare the two) and the fallback without numba. ``quads``
+    (``(H - 1, W - 1)`` bool): draw only those quads, and no orphan points (a
+    :class:`Layer`)."""
     h, w = src.shape
     ys, xs = np.mgrid[0:h, 0:w].astype(np.float64)
     X, Y, Z = rp.move(xs, ys, src.astype(np.float64))
@@ -415,9 +458,11 @@ def reproject_numpy(src: np.ndarray, rp: Reprojection, zbuf: np.ndarray, *,
     tris = [(a, b, c, vb & vc & va), (b, d, c, vb & vc & vd),
             (a, b, d, ~(vb & vc) & va & vd & vb), (a, d, c, ~(vb & vc) & va & vd & vc)]
     for p0, p1, p2, ok in tris:
+        if quads is not None:
+            ok = ok & quads
         P = [np.stack([M[s][ok] for M in (X, Y, Z)]) for s in (p0, p1, p2)]
         _raster_numpy(P[0], P[1], P[2], zbuf, stretch)
-    orph = orphans(src)
+    orph = orphans(src) if quads is None else np.empty((0, 2), np.int64)
     h, w = zbuf.shape
     if len(orph):
         r, cc = orph[:, 0], orph[:, 1]
@@ -453,22 +498,21 @@ def _raster_numpy(p0: np.ndarray, p1: np.ndarray, p2: np.ndarray, zbuf: np.ndarr
             np.minimum.at(zbuf, (j[ok], i[ok]), z[ok].astype(zbuf.dtype))
 
 
+def _check_depth(depth: np.ndarray) -> np.ndarray:
+    if depth.dtype != np.float32 or depth.ndim != 2:
+        raise ValidationError(expected_got("depth map", "float32 (H, W)",
+                                           f"{depth.dtype} {depth.shape}"))
+    return depth
+
+
 class Source:
     """A map prepared for reprojection (what does not change per frame): its
-    :func:`support_box`, :func:`row_spans` and :func:`orphans`.
+    :func:`support_box`, :func:`row_spans` and :func:`orphans`."""
 
-    ``origin = (r0, c0)``: the map is a crop whose pixel ``(0, 0)`` is pixel
-    ``(c0, r0)`` of the camera's image (a :func:`hidden_layer` is stored cropped);
-    its :class:`Reprojection` then takes the principal point ``(cx - c0, cy - r0)``."""
+    __slots__ = ("depth", "box", "spans", "cum", "orphans", "_edges")
 
-    __slots__ = ("depth", "origin", "box", "spans", "cum", "orphans", "_edges")
-
-    def __init__(self, depth: np.ndarray, origin: tuple[int, int] = (0, 0)) -> None:
-        if depth.dtype != np.float32 or depth.ndim != 2:
-            raise ValidationError(expected_got("depth map", "float32 (H, W)",
-                                               f"{depth.dtype} {depth.shape}"))
-        self.depth = depth
-        self.origin = (int(origin[0]), int(origin[1]))
+    def __init__(self, depth: np.ndarray) -> None:
+        self.depth = _check_depth(depth)
         self.box = support_box(depth)
         self.spans, self.cum = row_spans(depth)
         self.orphans = orphans(depth)
@@ -487,8 +531,56 @@ class Source:
         return edges
 
 
+class Layer:
+    """The quads of a map that a frame draws, not the whole map (a
+    :func:`hidden_layer`): ``runs (K, 3)`` int64 rows ``(r, a, b)``, the quads with
+    top row ``r`` and left columns ``a .. b - 1``, in row-major order; ``cum
+    (K + 1,)`` the quads before each run (band splits). The map is shared, not
+    copied: a layer costs only its runs (:attr:`nbytes`)."""
+
+    __slots__ = ("depth", "runs", "cum", "_edges")
+
+    def __init__(self, depth: np.ndarray, quads: np.ndarray) -> None:
+        self.depth = _check_depth(depth)
+        h, w = depth.shape
+        if quads.shape != (max(h - 1, 0), max(w - 1, 0)):
+            raise ValidationError(expected_got("quads", f"a ({h - 1}, {w - 1}) mask", str(quads.shape)))
+        pad = np.zeros((quads.shape[0], quads.shape[1] + 2), np.int8)
+        pad[:, 1:-1] = quads
+        step = np.diff(pad, axis=1)
+        r, a = np.nonzero(step == 1)
+        _r, b = np.nonzero(step == -1)  # row-major, so starts and ends pair up
+        self.runs = np.stack([r, a, b], 1).astype(np.int64).reshape(-1, 3)
+        self.cum = np.zeros(len(self.runs) + 1, np.int64)
+        np.cumsum(b - a, out=self.cum[1:])
+        self._edges: dict[int, np.ndarray] = {}
+
+    @property
+    def nbytes(self) -> int:
+        return int(self.runs.nbytes + self.cum.nbytes)
+
+    def quads(self) -> np.ndarray:
+        """The ``(H - 1, W - 1)`` bool mask of the quads drawn."""
+        h, w = self.depth.shape
+        q = np.zeros((max(h - 1, 0), max(w - 1, 0)), bool)
+        for r, a, b in self.runs:
+            q[r, a:b] = True
+        return q
+
+    def band_edges(self, n: int) -> np.ndarray:
+        """``n + 1`` run indices splitting the runs into ``n`` bands of equal
+        quad counts (cached)."""
+        edges = self._edges.get(n)
+        if edges is None:
+            share = self.cum[-1] * np.arange(n + 1) / n
+            edges = np.searchsorted(self.cum, share, side="left").clip(0, len(self.runs))
+            edges[0], edges[-1] = 0, len(self.runs)
+            edges = self._edges[n] = edges.astype(np.int64)
+        return edges
+
+
 def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *,
-                 texels: float = LAYER_TEXELS) -> Source:
+                 texels: float = LAYER_TEXELS) -> Layer:
     """What ``secondary`` holds that ``primary`` does not: one layer of a layered
     depth image (Shade et al. 1998), so that a frame reprojects the primary map
     whole and only this part of its neighbour.
@@ -500,16 +592,17 @@ def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *
     (``z / fx``; orthographic ``1 / fx``) of the pixel's moved depth: the
     primary saw that surface there (bilinear: exact on a plane). The others
     (hidden from the primary's position, or at or past its silhouette, where
-    the union of maps draws a finer outline than any one) are kept with their
-    3 x 3 neighbourhood, so every quad that touches one is drawn as in the
-    whole map. Returns the layer cropped to its object pixels, as a
-    :class:`Source` with its ``origin`` (nothing hidden: one background pixel).
+    the union of maps draws a finer outline than any one) are *new*. The layer
+    is every quad of ``secondary`` with a new pixel among its corners (and 3 or
+    more object pixels), drawn as in the whole map.
     """
-    if primary.shape != secondary.shape:
+    primary = _check_depth(primary)
+    if primary.shape != _check_depth(secondary).shape:
         raise ValidationError(expected_got("secondary map", f"the primary's shape {primary.shape}",
                                            str(secondary.shape)))
     h, w = secondary.shape
-    r, c = np.nonzero(np.isfinite(secondary))
+    fin = np.isfinite(secondary)
+    r, c = np.nonzero(fin)
     x, y, z = rp.move(c.astype(np.float64), r.astype(np.float64), secondary[r, c].astype(np.float64))
     i0 = np.floor(x)
     j0 = np.floor(y)
@@ -524,17 +617,15 @@ def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *
               + (p[j0 + 1, i0] * (1 - ax) + p[j0 + 1, i0 + 1] * ax) * ay)
         tau = texels * (z if rp.perspective else 1.0) / rp.params[0]
         explained = inside & (np.abs(z - zi) <= tau)  # nan, inf: not explained
-    new = np.zeros((h, w), np.uint8)
-    new[r[~explained], c[~explained]] = 1
-    keep = cv2.dilate(new, np.ones((3, 3), np.uint8)).astype(bool) & np.isfinite(secondary)
-    layer = np.where(keep, secondary, np.float32(np.inf)).astype(np.float32)
-    r0, r1, c0, c1 = support_box(layer)
-    if r1 <= r0:
-        return Source(np.full((1, 1), np.inf, np.float32))
-    return Source(np.ascontiguousarray(layer[r0:r1, c0:c1]), (r0, c0))
+    new = np.zeros((h, w), bool)
+    new[r[~explained], c[~explained]] = True
+    f = fin.astype(np.int8)
+    solid = (f[:-1, :-1] + f[:-1, 1:] + f[1:, :-1] + f[1:, 1:]) >= 3
+    touched = new[:-1, :-1] | new[:-1, 1:] | new[1:, :-1] | new[1:, 1:]
+    return Layer(secondary, touched & solid)
 
 
-Job = tuple[Source, Reprojection]
+Job = tuple[Source | Layer, Reprojection]
 
 
 def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], *,
@@ -559,7 +650,8 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
     if _reproject_kernel is None or _NUMPY_ONLY:
         for src, rp in jobs:
             before = out.copy()
-            reproject_numpy(src.depth, rp, out, stretch=stretch)
+            reproject_numpy(src.depth, rp, out, stretch=stretch,
+                            quads=src.quads() if isinstance(src, Layer) else None)
             changed = np.argwhere(out != before)
             if len(changed):
                 box[:] = (min(box[0], changed[:, 0].min()), max(box[1], changed[:, 0].max() + 1),
@@ -569,16 +661,19 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
     n = max(1, min(int(threads), len(scratch) + 1))
     plan = []
     for k, (src, rp) in enumerate(jobs):
-        r0, r1, c0, c1 = src.box
-        if r1 <= r0:
-            continue
-        plan.append((k, src, rp, src.band_edges(n)))
+        if src.cum[-1] > 0:
+            plan.append((k, src, rp, src.band_edges(n)))
 
     def band(b: int, zbuf: np.ndarray) -> np.ndarray:
         bx = np.array([zbuf.shape[0], 0, zbuf.shape[1], 0], np.int64)
         for k, src, rp, edges in plan:
+            ez = early_z / rp.params[0] if k > 0 else 0.0
+            if isinstance(src, Layer):
+                _runs_kernel(src.depth, src.runs, int(edges[b]), int(edges[b + 1]), rp.perspective,
+                             rp.params, float(stretch), ez, zbuf, bx)
+                continue
             r0, r1, c0, c1 = src.box
-            if rp.identity and src.origin == (0, 0) and src.depth.shape == zbuf.shape:
+            if rp.identity:
                 if b == 0:  # a sample position: the map itself
                     o, m = zbuf[r0:r1, c0:c1], src.depth[r0:r1, c0:c1]
                     np.minimum(o, m, out=o)
@@ -587,7 +682,7 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
             _reproject_kernel(src.depth, src.spans, int(edges[b]), int(edges[b + 1]), c0, c1,
                               rp.perspective, rp.params,
                               src.orphans if b == 0 and k == 0 else no_points, float(stretch),
-                              early_z / rp.params[0] if k > 0 else 0.0, zbuf, bx)
+                              ez, zbuf, bx)
         return bx
 
     if n == 1:
