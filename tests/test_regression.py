@@ -44,8 +44,22 @@ def test_shadow_darkens_only_where_visibility_is_zero(teapot_frame):
     np.testing.assert_array_equal(f["shaded"][~shadowed], f["lit"][~shadowed])
 
 
-@pytest.fixture(scope="module")
-def warped_cow(renderer):
+class _Mode:
+    """An atlas used with fixed ``shadow_map`` options (what compare_frames calls)."""
+
+    def __init__(self, atlas, **kw):
+        self.atlas, self.kw = atlas, kw
+
+    def shadow_map(self, xy):
+        return self.atlas.shadow_map(xy, **self.kw)
+
+
+# the paper's mesh warp (the default) and the per-pixel reprojection
+WARPS = {"warped": {}, "reprojected": {"warps": "reproject"}}
+
+
+@pytest.fixture(scope="module", params=sorted(WARPS))
+def warped_cow(renderer, request):
     from morphkit.demo import demo_scene
     from morphkit.meshes import sample_mesh
     from morphkit.scene import PointLight, Scene
@@ -57,20 +71,22 @@ def warped_cow(renderer):
     atlas = bake_atlas(cow, np.eye(4), MotionRange([-0.6, -0.6], [0.6, 0.6]), light, (128, 128),
                        renderer=renderer, control_grid=(9, 9), progress=False)
     xy = np.array([0.23, -0.31])
-    depth, _ = atlas.shadow_map(xy)
+    mode = _Mode(atlas, **WARPS[request.param])
+    depth, _ = mode.shadow_map(xy)
     base = demo_scene(cow, 128)
     scene = Scene(base.obj, light, base.camera, base.receiver, ambient=base.ambient)
-    return depth, compare_frames(renderer, scene, {"warped": atlas}, xy)["warped"]
+    return request.param, depth, compare_frames(renderer, scene, {"m": mode}, xy)["m"]
 
 
 def test_warped_shadow_map_matches_reference(warped_cow):
     """The warped light depth map (cow, point light, 3x3 atlas, 128^2), colour-mapped."""
     from morphkit.demo import colorize_depth
 
-    check_image("warped_cow_depth_128", colorize_depth(warped_cow[0]), **TOL)
+    name, depth, _frame = warped_cow
+    check_image(f"{name}_cow_depth_128", colorize_depth(depth), **TOL)
 
 
 def test_warped_shadow_composite_matches_reference(warped_cow):
     """The camera frame shadowed by the warped map (projective lookup + composite)."""
-    check_image("warped_cow_composite_128", cv2.cvtColor(warped_cow[1]["shaded"], cv2.COLOR_RGB2BGR),
-                **TOL)
+    name, _depth, frame = warped_cow
+    check_image(f"{name}_cow_composite_128", cv2.cvtColor(frame["shaded"], cv2.COLOR_RGB2BGR), **TOL)
