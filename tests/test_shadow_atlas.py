@@ -30,6 +30,9 @@ pytestmark = pytest.mark.gl
 MOTION = MotionRange([-0.5, -0.4], [0.5, 0.4])
 POINT = PointLight([0.2, -0.1, 2.6])
 SUN = DirectionalLight([-0.5, 0.35, -1.0])
+#: the hard cases run with both run-time warps: the paper's mesh warp (default)
+#: and the per-pixel reprojection with hidden layers
+WARPS = ("composed", "reproject")
 
 
 @pytest.fixture(scope="module")
@@ -101,18 +104,19 @@ def test_shadow_on_receiver_against_ray_cast(renderer, cow, light):
         assert min(ious) > 0.9 and np.mean(ious) > np.mean(ious_direct) - 0.06
 
 
-def test_edges_corners_and_outside(point_atlas):
+@pytest.mark.parametrize("warps", WARPS)
+def test_edges_corners_and_outside(point_atlas, warps):
     a = point_atlas
     for xy in MOTION.corners():
-        d, _ = a.shadow_map(xy)
+        d, _ = a.shadow_map(xy, warps=warps)
         assert np.isfinite(d).any()
-    d, _ = a.shadow_map(np.array([MOTION.hi[0], 0.0]))  # an edge, between samples
-    assert np.isfinite(d).any()
+    d, _ = a.shadow_map(np.array([MOTION.hi[0], 0.0]), warps=warps)  # an edge, between samples
+    assert np.isfinite(d).any() and not np.isnan(d).any()
     with pytest.raises(OutOfRangeError, match="object position: expected inside the baked range"):
-        a.shadow_map(np.array([0.51, 0.0]))
+        a.shadow_map(np.array([0.51, 0.0]), warps=warps)
     with pytest.warns(RangeClampWarning, match="clamped"):
-        d2, _ = a.shadow_map(np.array([0.7, 0.0]), clamp=True)
-    d3, _ = a.shadow_map(np.array([0.5, 0.0]))
+        d2, _ = a.shadow_map(np.array([0.7, 0.0]), clamp=True, warps=warps)
+    d3, _ = a.shadow_map(np.array([0.5, 0.0]), warps=warps)
     np.testing.assert_array_equal(d2, d3)
 
 
@@ -121,33 +125,40 @@ def test_two_by_two_and_nine_by_nine_grids(renderer, cow, grid):
     atlas = bake_atlas(cow, np.eye(4), MOTION, POINT, (96, 128), renderer=renderer, grid=grid,
                        control_grid=(7, 7), progress=False)
     assert atlas.grid == (grid, grid) and atlas.maps.shape == (grid, grid, 96, 128)
-    d, cam = atlas.shadow_map(np.array([0.13, 0.07]))
-    assert d.shape == (96, 128) and np.isfinite(d).any() and not np.isnan(d).any()
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(np.array([0.13, 0.07]), warps=warps)
+        assert d.shape == (96, 128) and np.isfinite(d).any() and not np.isnan(d).any()
 
 
 def test_non_square_non_power_of_two_map(renderer, cow):
     atlas = bake_atlas(cow, np.eye(4), MOTION, SUN, (75, 131), renderer=renderer, progress=False)
-    d, cam = atlas.shadow_map(np.array([0.1, 0.2]))
-    assert d.shape == (75, 131) and cam.shape == (75, 131)
-    iou, _, _ = _shadow_iou(cow, SUN, d, cam, np.array([0.1, 0.2]))
-    assert iou > 0.95
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(np.array([0.1, 0.2]), warps=warps)
+        assert d.shape == (75, 131) and cam.shape == (75, 131)
+        iou, _, _ = _shadow_iou(cow, SUN, d, cam, np.array([0.1, 0.2]))
+        assert iou > 0.95
+    point = bake_atlas(cow, np.eye(4), MOTION, POINT, (75, 131), renderer=renderer, progress=False)
+    d, cam = point.shadow_map(np.array([0.1, 0.2]), warps="reproject")  # layers on odd sizes
+    assert d.shape == (75, 131) and np.isfinite(d).any() and not np.isnan(d).any()
+    assert _shadow_iou(cow, POINT, d, cam, np.array([0.1, 0.2]))[0] > 0.9
 
 
 def test_light_motion_equals_object_motion(renderer, cow, point_atlas):
     """A point light moved by D: the atlas map (object moved by -D) equals a direct
     render from the moved light, up to the warp's accuracy."""
-    xy, D = np.array([0.1, 0.05]), np.array([0.2, -0.15])
-    w, cam = point_atlas.shadow_map(xy, light_offset=D)
-    np.testing.assert_allclose(cam.position, POINT.position + np.r_[D, 0.0])
     from morphkit.render import Item
 
-    pose = np.eye(4)
-    pose[:2, 3] = xy
-    d = renderer.depth(cam, [Item(cow, pose)])
-    assert shadow_iou(np.isfinite(w), np.isfinite(d)) > 0.93
-    moved = PointLight(POINT.position + np.r_[D, 0.0])
-    iou, _, _ = _shadow_iou(cow, moved, w, cam, xy)
-    assert iou > 0.9
+    xy, D = np.array([0.1, 0.05]), np.array([0.2, -0.15])
+    for warps in WARPS:
+        w, cam = point_atlas.shadow_map(xy, light_offset=D, warps=warps)
+        np.testing.assert_allclose(cam.position, POINT.position + np.r_[D, 0.0])
+        pose = np.eye(4)
+        pose[:2, 3] = xy
+        d = renderer.depth(cam, [Item(cow, pose)])
+        assert shadow_iou(np.isfinite(w), np.isfinite(d)) > 0.93
+        moved = PointLight(POINT.position + np.r_[D, 0.0])
+        iou, _, _ = _shadow_iou(cow, moved, w, cam, xy)
+        assert iou > 0.9
 
 
 def test_grazing_light_long_shadow(renderer, cow):
@@ -155,9 +166,10 @@ def test_grazing_light_long_shadow(renderer, cow):
     light = DirectionalLight([1.0, 0.2, -np.tan(np.deg2rad(8))])
     atlas = bake_atlas(cow, np.eye(4), MOTION, light, (128, 256), renderer=renderer, progress=False)
     xy = np.array([-0.2, 0.1])
-    d, cam = atlas.shadow_map(xy)
-    iou, gt, _ = _shadow_iou(cow, light, d, cam, xy, half=4.0, n=200)
-    assert gt.sum() > 300 and iou > 0.9
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(xy, warps=warps)
+        iou, gt, _ = _shadow_iou(cow, light, d, cam, xy, half=4.0, n=200)
+        assert gt.sum() > 300 and iou > 0.9
 
 
 def test_contact_shadow_has_no_gap(renderer):
@@ -168,21 +180,23 @@ def test_contact_shadow_has_no_gap(renderer):
     base[2, 3] = 0.15
     light = DirectionalLight([0, 0, -1])
     atlas = bake_atlas(box, base, MOTION, light, (128, 128), renderer=renderer, progress=False)
-    d, cam = atlas.shadow_map(np.zeros(2))
     g = receiver_grid(0.5, (100, 100))  # 1 cm pixels; footprint [-0.2, 0.2]^2
-    vis = shadow_visibility(g.reshape(-1, 3), d, cam).reshape(100, 100)
     inside = (np.abs(g[..., 0]) < 0.19) & (np.abs(g[..., 1]) < 0.19)
     outside = (np.abs(g[..., 0]) > 0.21) | (np.abs(g[..., 1]) > 0.21)
-    assert np.all(vis[inside] == 0) and np.all(vis[outside] == 1)
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(np.zeros(2), warps=warps)
+        vis = shadow_visibility(g.reshape(-1, 3), d, cam).reshape(100, 100)
+        assert np.all(vis[inside] == 0) and np.all(vis[outside] == 1)
 
 
 def test_empty_shadow_from_below(renderer, cow):
     """Light travelling upwards: the object casts nothing on the ground below it."""
     light = DirectionalLight([0.1, 0.0, 1.0])
     atlas = bake_atlas(cow, np.eye(4), MOTION, light, (64, 64), renderer=renderer, progress=False)
-    d, cam = atlas.shadow_map(np.array([0.2, 0.1]))
     g = receiver_grid(1.5, (64, 64)).reshape(-1, 3)
-    assert np.all(shadow_visibility(g, d, cam) == 1.0)
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(np.array([0.2, 0.1]), warps=warps)
+        assert np.all(shadow_visibility(g, d, cam) == 1.0)
 
 
 def test_receiver_outside_the_light_frustum_is_lit(renderer, cow):
@@ -190,17 +204,18 @@ def test_receiver_outside_the_light_frustum_is_lit(renderer, cow):
     it: those points are lit (nothing there occludes), as the ray cast agrees."""
     xy = np.array([0.5, 0.4])
     atlas = bake_atlas(cow, np.eye(4), MOTION, POINT, (128, 128), renderer=renderer, progress=False)
-    d, cam = atlas.shadow_map(xy)
     g = receiver_grid(1.6, (120, 120)).reshape(-1, 3)
-    px, _ = cam.project(g)
-    outside = (px[:, 0] < -0.5) | (px[:, 0] > 127.5) | (px[:, 1] < -0.5) | (px[:, 1] > 127.5)
-    assert outside.mean() > 0.3
     pose = np.eye(4)
     pose[:2, 3] = xy
     gt = hard_visibility(g, POINT, SceneObject(cow, pose))
-    est = shadow_visibility(g, d, cam)
-    assert np.all(est[outside] == 1.0) and np.all(gt[outside] == 1.0)
-    assert (est < 0.5).sum() > 100
+    for warps in WARPS:
+        d, cam = atlas.shadow_map(xy, warps=warps)
+        px, _ = cam.project(g)
+        outside = (px[:, 0] < -0.5) | (px[:, 0] > 127.5) | (px[:, 1] < -0.5) | (px[:, 1] > 127.5)
+        assert outside.mean() > 0.3
+        est = shadow_visibility(g, d, cam)
+        assert np.all(est[outside] == 1.0) and np.all(gt[outside] == 1.0)
+        assert (est < 0.5).sum() > 100
 
 
 def test_chair_gaps_stay_open(renderer):
