@@ -44,16 +44,6 @@ def test_shadow_darkens_only_where_visibility_is_zero(teapot_frame):
     np.testing.assert_array_equal(f["shaded"][~shadowed], f["lit"][~shadowed])
 
 
-class _Mode:
-    """An atlas used with fixed ``shadow_map`` options (what compare_frames calls)."""
-
-    def __init__(self, atlas, **kw):
-        self.atlas, self.kw = atlas, kw
-
-    def shadow_map(self, xy):
-        return self.atlas.shadow_map(xy, **self.kw)
-
-
 # the paper's mesh warp (the default) and the per-pixel reprojection
 WARPS = {"warped": {}, "reprojected": {"warps": "reproject"}}
 
@@ -71,7 +61,7 @@ def warped_cow(renderer, request):
     atlas = bake_atlas(cow, np.eye(4), MotionRange([-0.6, -0.6], [0.6, 0.6]), light, (128, 128),
                        renderer=renderer, control_grid=(9, 9), progress=False)
     xy = np.array([0.23, -0.31])
-    mode = _Mode(atlas, **WARPS[request.param])
+    mode = atlas.method(**WARPS[request.param])
     depth, _ = mode.shadow_map(xy)
     base = demo_scene(cow, 128)
     scene = Scene(base.obj, light, base.camera, base.receiver, ambient=base.ambient)

@@ -488,3 +488,17 @@ def test_reproject_directional_light_and_light_offset(renderer, cow, point_atlas
         point_atlas.shadow_map(xy, warps="reproject", dst="interpolate")
     with pytest.raises(ValidationError, match="layers: expected a bool, got 1"):
         point_atlas.shadow_map(xy, warps="reproject", layers=1)
+
+
+def test_atlas_method_fixes_options_and_checks_them_at_once(point_atlas):
+    m = point_atlas.method(warps="reproject")
+    xy = np.array([0.1, 0.05])
+    assert m.rig is point_atlas.rig and m.memory_bytes == point_atlas.memory_bytes
+    np.testing.assert_array_equal(m.shadow_map(xy)[0],
+                                  point_atlas.shadow_map(xy, warps="reproject")[0])
+    np.testing.assert_array_equal(m.shadow_map(xy, warps="composed")[0],  # a call overrides
+                                  point_atlas.shadow_map(xy)[0])
+    with pytest.raises(ValidationError, match="'composed'\\|'three'\\|'reproject'"):
+        point_atlas.method(warps="remap")
+    with pytest.raises(ValidationError, match="'shared' or 'plane' anchors"):
+        point_atlas.method(warps="three")

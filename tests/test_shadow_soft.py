@@ -95,10 +95,11 @@ def _band(mask: np.ndarray, radius: int) -> np.ndarray:
 
 
 @pytest.mark.gl
+@pytest.mark.parametrize("warps", ["composed", "reproject"])
 @pytest.mark.parametrize("samples, rng_seed", [((3, 3), 5), (np.array([[1.0, -1.0]]), None)],
                          ids=["jittered-3x3", "one-corner"])
 def test_soft_shadow_equals_raycast_away_from_every_samples_outline(plate, plate_atlas, samples,
-                                                                     rng_seed):
+                                                                     rng_seed, warps):
     """Pointwise bound, derived: each sample's hard shadow may be wrong only within
     a few texels of its outline (nearest-texel lookup, bias, warp), so
     ``|soft - truth| <= (1/N) * #(samples whose outline band holds the point)``;
@@ -109,7 +110,7 @@ def test_soft_shadow_equals_raycast_away_from_every_samples_outline(plate, plate
     n_grid, half = 120, 0.9
     g = receiver_grid(half, (n_grid, n_grid)).reshape(-1, 3)
     rng = None if rng_seed is None else np.random.default_rng(rng_seed)
-    soft = SoftShadow(plate_atlas, AREA, samples, rng=rng)
+    soft = SoftShadow(plate_atlas.method(warps=warps), AREA, samples, rng=rng)
     xy = np.array([0.17, -0.11])
     pose = np.eye(4)
     pose[:2, 3] = xy

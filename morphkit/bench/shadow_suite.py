@@ -92,20 +92,6 @@ def _time_maps(methods: dict[str, Any], xys: np.ndarray, repeats: int) -> dict[s
                         repeats=repeats, warmup=2)
 
 
-class _Warp:
-    """An atlas with fixed run-time options, as a method object."""
-
-    def __init__(self, atlas: Any, **kw: Any) -> None:
-        self.atlas, self.kw = atlas, kw
-
-    @property
-    def memory_bytes(self) -> int:
-        return self.atlas.memory_bytes
-
-    def shadow_map(self, xy: np.ndarray) -> Any:
-        return self.atlas.shadow_map(xy, **self.kw)
-
-
 def _prepare(atlas: Any) -> dict[str, float]:
     """Build the atlas's hidden layers ahead (timed once) and report their memory."""
     seconds = atlas.prepare()
@@ -130,17 +116,17 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
                 atlas = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
                                    progress=False)
                 methods: dict[str, Any] = {
-                    "warp": _Warp(atlas),
-                    "warp_nearest": _Warp(atlas, blend="nearest"),
-                    "reproject": _Warp(atlas, warps="reproject"),
-                    "reproject_full": _Warp(atlas, warps="reproject", layers=False),
+                    "warp": atlas.method(),
+                    "warp_nearest": atlas.method(blend="nearest"),
+                    "reproject": atlas.method(warps="reproject"),
+                    "reproject_full": atlas.method(warps="reproject", layers=False),
                     "direct": DirectShadow(atlas.rig, mesh, renderer),
                 }
                 prep = _prepare(atlas)
                 if light_name == "point":
                     shared = bake_atlas(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
                                         anchors="shared", control_grid=(5, 15), progress=False)
-                    methods["warp_three"] = _Warp(shared, warps="three", dst="interpolate")
+                    methods["warp_three"] = shared.method(warps="three", dst="interpolate")
                 ibr3 = ImageBasedShadow.bake(mesh, np.eye(4), MOTION, light, shape, renderer=renderer,
                                              grid=3, mode="blend", progress=False)
                 methods["ibr_blend_3"] = ibr3
@@ -177,7 +163,7 @@ def _control_grid_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[s
         for g in grids:
             atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
                                control_grid=g, progress=False)
-            methods[f"warp_{g[0]}x{g[1]}"] = _Warp(atlas)
+            methods[f"warp_{g[0]}x{g[1]}"] = atlas.method()
         timings = _time_maps(methods, xys, repeats=5 if quick else 10)
         for name, m in methods.items():
             rows.append(make_row(SUITE, name, {"what": "control_grid", "mesh": mesh_name,
@@ -196,9 +182,9 @@ def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
         mesh = sample_mesh("cow", faces=f)
         atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
                            progress=False)
-        methods = {"warp": _Warp(atlas), "warp_nearest": _Warp(atlas, blend="nearest"),
-                   "reproject": _Warp(atlas, warps="reproject"),
-                   "reproject_full": _Warp(atlas, warps="reproject", layers=False),
+        methods = {"warp": atlas.method(), "warp_nearest": atlas.method(blend="nearest"),
+                   "reproject": atlas.method(warps="reproject"),
+                   "reproject_full": atlas.method(warps="reproject", layers=False),
                    "direct": DirectShadow(atlas.rig, mesh, renderer)}
         prep = _prepare(atlas)
         timings = _time_maps(methods, xys, repeats=5 if quick else 15)
@@ -226,7 +212,7 @@ def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
         for size in sizes:
             atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, (size, size), renderer=renderer,
                                progress=False)
-            methods = {"warp": _Warp(atlas), "reproject": _Warp(atlas, warps="reproject"),
+            methods = {"warp": atlas.method(), "reproject": atlas.method(warps="reproject"),
                        "direct": DirectShadow(atlas.rig, mesh, renderer)}
             atlas.prepare()
             fns = {}

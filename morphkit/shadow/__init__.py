@@ -11,13 +11,14 @@
 
 from __future__ import annotations
 
-from .atlas import ATLAS_VERSION, ShadowAtlas, bake_atlas
+from .atlas import ATLAS_VERSION, AtlasMethod, ShadowAtlas, bake_atlas
 from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
 
 __all__ = [
+    "AtlasMethod",
     "ATLAS_VERSION",
     "ShadowAtlas",
     "bake_atlas",

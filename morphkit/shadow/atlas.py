@@ -475,6 +475,16 @@ class ShadowAtlas:
         """Bytes of the hidden layers built so far (run-time cache, not persisted)."""
         return int(sum(lay.nbytes for lay in self._layers.values()))
 
+    def method(self, **options: Any) -> AtlasMethod:
+        """This atlas as a shadow method whose :meth:`shadow_map` uses ``options``
+        (e.g. ``warps="reproject"``) unless a call overrides them: for
+        :class:`~morphkit.shadow.soft.SoftShadow`,
+        :func:`~morphkit.shadow.frame.compare_frames` and the benchmarks.
+        Options are checked now, by one call at the range's first sample."""
+        m = AtlasMethod(self, options)
+        m.shadow_map(np.array([self.xs[0], self.ys[0]]))
+        return m
+
     def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
         """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
@@ -599,6 +609,24 @@ class ShadowAtlas:
             raise FileFormatError(expected_got("atlas control points", "consistent with its anchors "
                                                "and light rig", "different values (corrupt file?)"))
         return atlas
+
+
+class AtlasMethod:
+    """A :class:`ShadowAtlas` with fixed run-time options (:meth:`ShadowAtlas.method`)."""
+
+    def __init__(self, atlas: ShadowAtlas, options: dict[str, Any]) -> None:
+        self.atlas, self.options = atlas, dict(options)
+
+    @property
+    def rig(self) -> LightRig:
+        return self.atlas.rig
+
+    @property
+    def memory_bytes(self) -> int:
+        return self.atlas.memory_bytes
+
+    def shadow_map(self, xy: Any, **kw: Any) -> tuple[np.ndarray, CameraModel]:
+        return self.atlas.shadow_map(xy, **{**self.options, **kw})
 
 
 def _light_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
