@@ -14,7 +14,8 @@ directional light, this writes to the output folder:
   ground square (white lit, black shadowed);
 
 and, under a point light, ``<mesh>_warped_direct_raycast.png`` (hard shadow: warped
-3 x 3 atlas | re-rendered map | ray cast), under an area light,
+3 x 3 atlas | re-rendered map | ray cast) and ``<mesh>_reprojected_direct_raycast.png``
+(the same atlas with ``warps="reproject"``), under an area light,
 ``<mesh>_soft_warped_direct_raycast.png`` (soft shadow, 9 light samples: warped |
 re-rendered | ray cast), and ``<mesh>_viewmorph.png`` (view morphing);
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
@@ -117,17 +118,24 @@ def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str,
         bake_ms = 1e3 * (time.perf_counter() - t0)
         scene = demo_scene(mesh, size)
         scene = Scene(scene.obj, light, scene.camera, scene.receiver, ambient=scene.ambient)
-        frames = compare_frames(renderer, scene, {"warped": atlas,
-                                                  "direct": DirectShadow(atlas.rig, mesh, renderer)}, xy)
+        frames = compare_frames(renderer, scene, {
+            "warped": atlas, "reprojected": atlas.method(warps="reproject"),
+            "direct": DirectShadow(atlas.rig, mesh, renderer)}, xy)
         gt = frames["raycast"]["visibility"] < 0.5
         facing = frames["raycast"]["facing"]  # where a shadow changes the image
         report[name] = {"bake_ms": bake_ms, **{
             f"iou_{k}_vs_raycast_lightfacing_pixels": shadow_iou(
-                frames[k]["visibility"] < 0.5, gt, mask=facing) for k in ("warped", "direct")}}
+                frames[k]["visibility"] < 0.5, gt, mask=facing)
+            for k in ("warped", "reprojected", "direct")}}
         _write_rgb(add(f"{name}_warped_direct_raycast.png", "warped_shadow", name,
                        "point-light shadow at a position between the 3x3 samples: warped map | "
                        "re-rendered map | ray cast"),
                    np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
+        _write_rgb(add(f"{name}_reprojected_direct_raycast.png", "warped_shadow", name,
+                       "the same with warps='reproject' (per-pixel 3-D reprojection): "
+                       "reprojected map | re-rendered map | ray cast"),
+                   np.concatenate([frames[k]["shaded"] for k in ("reprojected", "direct", "raycast")],
+                                  1))
     return report
 
 

@@ -1,7 +1,8 @@
 """Write warped-shadow image pairs: for each sample mesh and a few positions between
-the 3 x 3 samples, the frame shadowed by the warped map next to the frame
-shadowed by a re-rendered map and by the ray cast (the ground truth), and the
-warped vs re-rendered light depth maps.
+the 3 x 3 samples, the frame shadowed by the warped map (the paper's mesh warp,
+and the per-pixel reprojection) next to the frame shadowed by a re-rendered map
+and by the ray cast (the ground truth), and the warped, reprojected and
+re-rendered light depth maps.
 
     python samples/warped_shadows.py OUT_DIR [--size 384] [--positions 3]
 """
@@ -39,19 +40,21 @@ def main() -> None:
             direct = DirectShadow(atlas.rig, mesh, r)
             base = demo_scene(mesh, args.size)
             scene = Scene(base.obj, light, base.camera, base.receiver, ambient=base.ambient)
+            methods = {"warped": atlas, "reprojected": atlas.method(warps="reproject"),
+                       "direct": direct}
             for k, xy in enumerate(xys):
-                f = compare_frames(r, scene, {"warped": atlas, "direct": direct}, xy)
-                strip = np.concatenate([f[m]["shaded"] for m in ("warped", "direct", "raycast")], 1)
-                path = args.out / f"{name}_{k}_warped_direct_raycast.png"
+                f = compare_frames(r, scene, methods, xy)
+                strip = np.concatenate([f[m]["shaded"] for m in (*methods, "raycast")], 1)
+                path = args.out / f"{name}_{k}_warped_reprojected_direct_raycast.png"
                 cv2.imwrite(str(path), cv2.cvtColor(strip, cv2.COLOR_RGB2BGR))
-                maps = [colorize_depth(m.shadow_map(xy)[0]) for m in (atlas, direct)]
-                cv2.imwrite(str(args.out / f"{name}_{k}_lightmap_warped_direct.png"),
+                maps = [colorize_depth(m.shadow_map(xy)[0]) for m in methods.values()]
+                cv2.imwrite(str(args.out / f"{name}_{k}_lightmap_warped_reprojected_direct.png"),
                             np.concatenate(maps, 1))
                 gt = f["raycast"]["visibility"] < 0.5
                 ious = {m: shadow_iou(f[m]["visibility"] < 0.5, gt, mask=f["raycast"]["facing"])
-                        for m in ("warped", "direct")}
+                        for m in methods}
                 print(f"{path}  position {np.round(xy, 3).tolist()}  IoU vs ray cast (light-facing "
-                      f"pixels): warped {ious['warped']:.3f}, direct {ious['direct']:.3f}")
+                      "pixels): " + ", ".join(f"{m} {ious[m]:.3f}" for m in methods))
 
 
 if __name__ == "__main__":

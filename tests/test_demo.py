@@ -26,6 +26,12 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         assert f"{mesh}_scene.png" in names and f"{mesh}_light_depth.png" in names
         assert f"{mesh}_warped_direct_raycast.png" in names and f"{mesh}_viewmorph.png" in names
         assert 0.0 <= index["view_morphing"][mesh]["silhouette_iou"] <= 1.0
+        assert f"{mesh}_reprojected_direct_raycast.png" in names
+        # the reprojected map is exact for what a map saw: about as close to the
+        # ray cast as the re-rendered map, up to its holes
+        hard = index["warped_shadows"][mesh]
+        assert (hard["iou_reprojected_vs_raycast_lightfacing_pixels"]
+                >= hard["iou_direct_vs_raycast_lightfacing_pixels"] - 0.03)
         assert f"{mesh}_soft_warped_direct_raycast.png" in names
         # Warped and re-rendered soft shadows use the same 9 light samples, so they
         # differ from the ray cast alike, up to outline bands: within 0.03 of each
