@@ -350,12 +350,8 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
     ``box`` grows to hold every pixel that may have been written (``early_z``:
     :func:`_draw_quads`; 0 skips only what cannot change the result)."""
     n = c1 - c0
-    Xa = np.empty(n)
-    Ya = np.empty(n)
-    Za = np.empty(n)
-    Xb = np.empty(n)
-    Yb = np.empty(n)
-    Zb = np.empty(n)
+    rows = np.empty((6, n))  # two projected rows: X, Y, Z of each
+    Xa, Ya, Za, Xb, Yb, Zb = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
     h, w = zbuf.shape
     jlo, jhi, ilo, ihi = box[0], box[1], box[2], box[3]
     if q1 > q0:
@@ -403,12 +399,8 @@ def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool,
     n = 1
     for t in range(t0, t1):
         n = max(n, runs[t, 2] - runs[t, 1] + 1)
-    Xa = np.empty(n)
-    Ya = np.empty(n)
-    Za = np.empty(n)
-    Xb = np.empty(n)
-    Yb = np.empty(n)
-    Zb = np.empty(n)
+    rows = np.empty((6, n))  # two projected rows: X, Y, Z of each
+    Xa, Ya, Za, Xb, Yb, Zb = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
     jlo, jhi, ilo, ihi = box[0], box[1], box[2], box[3]
     for t in range(t0, t1):
         r = runs[t, 0]
