@@ -409,21 +409,14 @@ class ShadowAtlas:
         """The maps ``sources`` reprojected per pixel to the object at ``eq`` into
         one z-buffer (:mod:`morphkit.shadow.reproject`); with ``layers`` the
         first whole and of the others their layers hidden from the first."""
-        rig = self.rig
-        cam = rig.camera_at(eq)
-        persp = cam.projection == "perspective"
+        cam = self.rig.camera_at(eq)
         jobs = []
         pixels = 0
         for k, (jj, ii) in enumerate(sources):
             src, src_cam = self._prepared(jj, ii)
             if k > 0 and layers:
                 src = self._layer(sources[0], (jj, ii))
-            # e: the object's motion in the camera frame; a directional light's
-            # camera moves with the object (rig model), so there e = 0 exactly
-            e = (rig.R.T @ np.array([eq[0] - self.xs[ii], eq[1] - self.ys[jj], 0.0]) if persp
-                 else np.zeros(3))
-            rp = _rp.Reprojection(persp, rig.fx, rig.fy, (src_cam.cx, src_cam.cy),
-                                  (cam.cx, cam.cy), e)
+            rp = self._reprojection(src_cam, cam, eq - np.array([self.xs[ii], self.ys[jj]]))
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
         out = np.full(self.shape, np.inf, np.float32)
@@ -441,19 +434,24 @@ class ShadowAtlas:
                 _rp.Source(self.maps[j, i]), self.rig.camera_at(np.array([self.xs[i], self.ys[j]])))
         return prep
 
+    def _reprojection(self, src_cam: CameraModel, dst_cam: CameraModel, dxy: np.ndarray
+                      ) -> _rp.Reprojection:
+        """How a map of ``src_cam`` moves into ``dst_cam`` with the object moved by
+        ``dxy`` on the ground: ``e = R^T d`` in the light frame; a directional
+        light's camera moves with the object (rig model), so there ``e = 0``."""
+        persp = dst_cam.projection == "perspective"
+        e = self.rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
+        return _rp.Reprojection(persp, self.rig.fx, self.rig.fy, (src_cam.cx, src_cam.cy),
+                                (dst_cam.cx, dst_cam.cy), e)
+
     def _layer(self, primary: tuple[int, int], other: tuple[int, int]) -> _rp.Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
         :func:`morphkit.shadow.reproject.hidden_layer`)."""
         lay = self._layers.get((primary, other))
         if lay is None:
             (jk, ik), (jn, i_n) = primary, other
-            cam_k = self._prepared(jk, ik)[1]
-            cam_n = self._prepared(jn, i_n)[1]
-            persp = cam_k.projection == "perspective"
-            e = (self.rig.R.T @ np.array([self.xs[ik] - self.xs[i_n], self.ys[jk] - self.ys[jn], 0.0])
-                 if persp else np.zeros(3))
-            rp = _rp.Reprojection(persp, self.rig.fx, self.rig.fy, (cam_n.cx, cam_n.cy),
-                                  (cam_k.cx, cam_k.cy), e)
+            rp = self._reprojection(self._prepared(jn, i_n)[1], self._prepared(jk, ik)[1],
+                                    np.array([self.xs[ik] - self.xs[i_n], self.ys[jk] - self.ys[jn]]))
             lay = self._layers[(primary, other)] = _rp.hidden_layer(
                 self.maps[jk, ik], self.maps[jn, i_n], rp)
         return lay

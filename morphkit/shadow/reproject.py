@@ -144,10 +144,10 @@ class Reprojection:
         fx, fy, cxs, cys, cxd, cyd, ex, ey, ez = self.params
         s = z if self.perspective else np.ones_like(z)
         zd = z + ez
-        X = s * (x - cxs) / fx + ex
-        Y = s * (y - cys) / fy + ey
         t = zd if self.perspective else np.ones_like(zd)
-        with np.errstate(invalid="ignore"):  # background: inf / inf, never drawn
+        with np.errstate(invalid="ignore"):  # background: inf * 0, inf / inf, never drawn
+            X = s * (x - cxs) / fx + ex
+            Y = s * (y - cys) / fy + ey
             return fx * X / t + cxd, fy * Y / t + cyd, zd
 
 
