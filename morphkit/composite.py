@@ -1,5 +1,7 @@
-"""Compositing shadows into a rendered frame.
+"""Compositing: shadows into a rendered frame, and premultiplied-alpha "over".
 
+Shadows
+-------
 A frame is rendered twice by :mod:`morphkit.render`: ``lit`` (ambient + the
 light) and ``unlit`` (ambient only). A pixel that sees a fraction ``v`` of the
 light is ``unlit + v (lit - unlit)``: ``v = 1`` is fully lit, ``v = 0`` is in
@@ -7,16 +9,25 @@ full shadow (only the ambient term is left), fractional ``v`` is a penumbra.
 This is exact for one light and a shading model linear in the light's
 intensity (pyrender's is). Visibility comes from a shadow map lookup or from
 :mod:`morphkit.groundtruth`.
+
+Premultiplied alpha
+-------------------
+:func:`to_premultiplied` turns grey/RGB/RGBA images of any dtype into float32
+``(H, W, C + 1)`` arrays of colour times alpha (input units) and alpha in
+``[0, 1]``; warps and blends of such arrays never bleed a transparent
+pixel's colour into its neighbours. :func:`over` composites one premultiplied
+image over another (Porter & Duff); :func:`from_premultiplied` goes back.
 """
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
 from .errors import ValidationError, expected_got
 from .validate import as_image
 
-__all__ = ["shade"]
+__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over"]
 
 
 def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndarray:
@@ -33,3 +44,71 @@ def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndar
     lo, hi = unlit.astype(np.float32), lit.astype(np.float32)
     out = lo + vis[..., None] * (hi - lo)
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def _alpha_max(dtype: np.dtype) -> float:
+    if dtype.kind == "f":
+        return 1.0
+    if dtype.kind in "iu":
+        return float(np.iinfo(dtype).max)
+    return 1.0
+
+
+def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
+    """float32 ``(H, W, C + 1)``: colour times alpha (input units), then alpha in [0, 1].
+
+    ``channels`` is the layout to promote to (1 grey, 3 RGB, 4 RGBA); grey/RGB
+    get alpha 1. Colour values stay in the input's units (0..255 for uint8).
+    """
+    img = as_image(image, "image", channels=(1, 3, 4))
+    amax = _alpha_max(img.dtype)
+    x = img.astype(np.float32)
+    if x.ndim == 2:
+        x = x[:, :, None]
+    c = x.shape[2]
+    if c == 4:
+        color, alpha = x[:, :, :3], x[:, :, 3:] / np.float32(amax)
+    else:
+        color, alpha = x, np.ones(x.shape[:2] + (1,), np.float32)
+    if channels >= 3 and color.shape[2] == 1:
+        color = np.repeat(color, 3, axis=2)
+    return np.ascontiguousarray(np.concatenate([color * alpha, alpha], axis=2))
+
+
+def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.ndarray:
+    """Inverse of :func:`to_premultiplied`: straight colour (+ alpha for RGBA) in ``dtype``."""
+    acc = np.asarray(acc, dtype=np.float32)
+    alpha = acc[:, :, -1:]
+    amax = _alpha_max(dtype)
+    # where alpha ~ 0 the premultiplied colour is ~0 too: dividing by a floor keeps it ~0
+    out = acc / np.maximum(alpha, np.float32(1e-6))
+    if channels == 4:
+        np.multiply(alpha[:, :, 0], np.float32(amax), out=out[:, :, -1])
+    elif channels == 1:
+        out = out[:, :, 0]
+    else:
+        out = out[:, :, :-1]
+    if dtype.kind == "f":
+        return out.astype(dtype, copy=False)
+    if dtype == np.uint8:
+        return cv2.convertScaleAbs(out)  # rounds and saturates; values are >= 0 up to float noise
+    info = np.iinfo(dtype)
+    np.rint(out, out=out)
+    return np.clip(out, info.min, info.max).astype(dtype)
+
+
+def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int],
+          shape: tuple[int, int]) -> np.ndarray:
+    """Premultiplied ``part`` (rows ``r0:r1``, columns ``c0:c1`` of ``roi`` in an image of
+    ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place)."""
+    r_0, r_1, c_0, c_1 = roi
+    if out is None:
+        if roi == (0, shape[0], 0, shape[1]):
+            return part
+        out = np.zeros(shape + (part.shape[2],), np.float32)
+        out[r_0:r_1, c_0:c_1] = part
+        return out
+    view = out[r_0:r_1, c_0:c_1]
+    view *= 1.0 - part[:, :, -1:]
+    view += part
+    return out

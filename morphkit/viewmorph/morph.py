@@ -121,6 +121,7 @@ import numpy as np
 from .. import tol
 from .. import warp as _warp
 from ..camera import CameraModel
+from ..composite import from_premultiplied, over, to_premultiplied
 from ..errors import (
     DegenerateViewError,
     FoldOverError,
@@ -142,8 +143,8 @@ from .fundamental import (
 )
 from .rectify import Rectification, apply_h, rectify
 
-__all__ = ["ViewMorpher", "PostWarpPoints", "crossfade", "nearest", "to_premultiplied",
-           "from_premultiplied", "PREWARPS", "FALLBACKS", "FRAMES"]
+__all__ = ["ViewMorpher", "PostWarpPoints", "crossfade", "nearest",
+           "PREWARPS", "FALLBACKS", "FRAMES"]
 
 PREWARPS = ("auto", "opencv", "seitz-dyer", "none")
 FALLBACKS = ("raise", "morph")
@@ -165,57 +166,6 @@ class PostWarpPoints:
 
 
 # --------------------------------------------------------------------------- image helpers
-
-
-def _alpha_max(dtype: np.dtype) -> float:
-    if dtype.kind == "f":
-        return 1.0
-    if dtype.kind in "iu":
-        return float(np.iinfo(dtype).max)
-    return 1.0
-
-
-def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
-    """float32 ``(H, W, C + 1)``: colour times alpha (input units), then alpha in [0, 1].
-
-    ``channels`` is the layout to promote to (1 grey, 3 RGB, 4 RGBA); grey/RGB
-    get alpha 1. Colour values stay in the input's units (0..255 for uint8).
-    """
-    img = as_image(image, "image", channels=(1, 3, 4))
-    amax = _alpha_max(img.dtype)
-    x = img.astype(np.float32)
-    if x.ndim == 2:
-        x = x[:, :, None]
-    c = x.shape[2]
-    if c == 4:
-        color, alpha = x[:, :, :3], x[:, :, 3:] / np.float32(amax)
-    else:
-        color, alpha = x, np.ones(x.shape[:2] + (1,), np.float32)
-    if channels >= 3 and color.shape[2] == 1:
-        color = np.repeat(color, 3, axis=2)
-    return np.ascontiguousarray(np.concatenate([color * alpha, alpha], axis=2))
-
-
-def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.ndarray:
-    """Inverse of :func:`to_premultiplied`: straight colour (+ alpha for RGBA) in ``dtype``."""
-    acc = np.asarray(acc, dtype=np.float32)
-    alpha = acc[:, :, -1:]
-    amax = _alpha_max(dtype)
-    # where alpha ~ 0 the premultiplied colour is ~0 too: dividing by a floor keeps it ~0
-    out = acc / np.maximum(alpha, np.float32(1e-6))
-    if channels == 4:
-        np.multiply(alpha[:, :, 0], np.float32(amax), out=out[:, :, -1])
-    elif channels == 1:
-        out = out[:, :, 0]
-    else:
-        out = out[:, :, :-1]
-    if dtype.kind == "f":
-        return out.astype(dtype, copy=False)
-    if dtype == np.uint8:
-        return cv2.convertScaleAbs(out)  # rounds and saturates; values are >= 0 up to float noise
-    info = np.iinfo(dtype)
-    np.rint(out, out=out)
-    return np.clip(out, info.min, info.max).astype(dtype)
 
 
 def _layout(img: np.ndarray) -> int:
@@ -355,23 +305,6 @@ def _mask_bbox(mask: np.ndarray) -> np.ndarray | None:
         return None
     x0, x1, y0, y1 = cols[0] - 0.5, cols[-1] + 0.5, rows[0] - 0.5, rows[-1] + 0.5
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=np.float64)
-
-
-def _over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int],
-          shape: tuple[int, int]) -> np.ndarray:
-    """Premultiplied ``part`` (rows ``r0:r1``, columns ``c0:c1`` of ``roi`` in an image of
-    ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place)."""
-    r_0, r_1, c_0, c_1 = roi
-    if out is None:
-        if roi == (0, shape[0], 0, shape[1]):
-            return part
-        out = np.zeros(shape + (part.shape[2],), np.float32)
-        out[r_0:r_1, c_0:c_1] = part
-        return out
-    view = out[r_0:r_1, c_0:c_1]
-    view *= 1.0 - part[:, :, -1:]
-    view += part
-    return out
 
 
 def _depth_edges(z: np.ndarray, n: int) -> np.ndarray:
@@ -953,7 +886,7 @@ class ViewMorpher:
         for layer in reversed(self._layers):  # far to near, premultiplied "over"
             got = self._render_layer(layer, s, P, shape)
             if got is not None:
-                out = _over(out, got[1], got[0], shape)
+                out = over(out, got[1], got[0], shape)
         return np.zeros((h, w, nch), np.float32) if out is None else out
 
     def _render_layer(self, layer: _Layer, s: float, P: np.ndarray, shape: tuple[int, int]
@@ -1040,6 +973,6 @@ class ViewMorpher:
             T = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
             img = cv2.warpPerspective(acc, P @ T, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
                                       borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-            out = _over(out, img.reshape(shape + (acc.shape[2],)), (0, shape[0], 0, shape[1]), shape)
+            out = over(out, img.reshape(shape + (acc.shape[2],)), (0, shape[0], 0, shape[1]), shape)
         assert out is not None
         return out
