@@ -1,0 +1,117 @@
+"""Writing files atomically: one place for every file morphkit writes.
+
+A file is written to a temporary file in the same folder, flushed and
+``fsync``-ed, then renamed over the target (``os.replace``, atomic on POSIX and
+Windows within one file system). A crash, a full disk or a killed process in
+the middle of a write leaves either the old file or the new one, never half of
+one; the temporary file is removed on failure.
+
+Images are encoded in memory first (``cv2.imencode``), so an unknown extension
+or an image OpenCV cannot encode is a :class:`~morphkit.errors.ValidationError`
+before anything touches the disk.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import IO, Any
+
+import cv2
+import numpy as np
+
+from .errors import ValidationError, expected_got
+
+__all__ = ["atomic_write", "write_bytes", "write_text", "write_json", "encode_image", "write_image"]
+
+
+def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]) -> Path:
+    """Call ``write(f)`` on a temporary binary file beside ``path``, then rename it to ``path``.
+
+    Parameters
+    ----------
+    path : path-like
+        The target file. Its folder must exist; an existing file is replaced
+        only once the new content is complete.
+    write : callable
+        Writes the whole content to the open binary file it is given.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValidationError
+        ``path`` is an existing folder.
+    OSError
+        The folder is missing or not writable, the disk is full, ...; the
+        target is then untouched and no temporary file is left.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise ValidationError(expected_got("output path", "a file path", f"the folder {p}"))
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".part", dir=p.parent if str(p.parent) else ".")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, p)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return p
+
+
+def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (:func:`atomic_write`)."""
+    return atomic_write(path, lambda f: f.write(data))
+
+
+def write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Write UTF-8 ``text`` to ``path`` atomically (:func:`atomic_write`)."""
+    return write_bytes(path, text.encode("utf-8"))
+
+
+def write_json(path: str | os.PathLike[str], obj: Any, *, indent: int | None = 2) -> Path:
+    """Write ``obj`` as JSON (no NaN/inf: they are not JSON) to ``path`` atomically."""
+    return write_text(path, json.dumps(obj, indent=indent, allow_nan=False) + "\n")
+
+
+def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
+    """Encode ``image`` (OpenCV channel order: BGR/BGRA) in the format named by ``path``'s extension.
+
+    Raises
+    ------
+    ValidationError
+        The extension is missing or unknown to OpenCV, or OpenCV cannot encode
+        this image in it.
+    """
+    ext = Path(path).suffix.lower()
+    if not ext:
+        raise ValidationError(expected_got("image file name", "an extension such as .png or .jpg",
+                                           f"{Path(path).name!r}"))
+    try:
+        ok, buf = cv2.imencode(ext, np.asarray(image))
+    except cv2.error as exc:
+        raise ValidationError(expected_got(f"image for {ext}", "an image OpenCV can encode in that format",
+                                           f"{np.asarray(image).dtype} {np.asarray(image).shape}: "
+                                           f"{str(exc).strip().splitlines()[-1]}")) from exc
+    if not ok:
+        raise ValidationError(expected_got(f"image for {ext}", "an image OpenCV can encode in that format",
+                                           f"{np.asarray(image).dtype} {np.asarray(image).shape}"))
+    return buf.tobytes()
+
+
+def write_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
+    """Encode ``image`` (BGR/BGRA, as ``cv2.imwrite``) and write it to ``path`` atomically."""
+    return write_bytes(path, encode_image(path, image))

@@ -1,0 +1,56 @@
+"""morphkit.fileio: atomic writes leave the old file or the new one, never half of one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from morphkit.errors import ValidationError
+from morphkit.fileio import atomic_write, write_image, write_json, write_text
+
+
+def test_write_replaces_and_leaves_no_temporary(tmp_path: Path) -> None:
+    p = tmp_path / "a.txt"
+    write_text(p, "old")
+    write_text(p, "new")
+    assert p.read_text() == "new"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["a.txt"]
+
+
+def test_failed_write_keeps_the_old_file(tmp_path: Path) -> None:
+    p = tmp_path / "a.bin"
+    p.write_bytes(b"good")
+
+    def half(f):  # writes part of the content, then fails (a full disk, a crash)
+        f.write(b"ba")
+        raise OSError("disk full")
+
+    with pytest.raises(OSError, match="disk full"):
+        atomic_write(p, half)
+    assert p.read_bytes() == b"good"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["a.bin"]
+
+
+def test_folder_target_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(ValidationError, match="expected a file path, got the folder"):
+        write_text(tmp_path, "x")
+
+
+def test_json_refuses_nan(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="not JSON compliant"):
+        write_json(tmp_path / "a.json", {"x": float("nan")})
+    assert not (tmp_path / "a.json").exists()
+
+
+def test_image_round_trip_and_bad_extension(tmp_path: Path) -> None:
+    img = np.random.default_rng(0).integers(0, 256, (8, 9, 3), dtype=np.uint8)
+    write_image(tmp_path / "a.png", img)
+    np.testing.assert_array_equal(cv2.imread(str(tmp_path / "a.png")), img)
+    with pytest.raises(ValidationError, match=r"image for \.xyz"):
+        write_image(tmp_path / "a.xyz", img)
+    with pytest.raises(ValidationError, match="an extension such as"):
+        write_image(tmp_path / "noext", img)
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["a.png"]
