@@ -1,0 +1,92 @@
+"""Run-time settings, read once from the environment when morphkit is imported.
+
+Every environment switch morphkit honours is read here and nowhere else; other
+modules import the resulting constants.
+
+=========================  ==================================================
+variable                   effect
+=========================  ==================================================
+``MORPHKIT_WARP_NUMPY=1``  every compiled kernel (warp maps, fused warps, shadow
+                           lookup, fold relaxation, reprojection) runs its numpy
+                           reference instead (:data:`COMPILED` is False); the
+                           tests compare the two paths.
+``MORPHKIT_WARP_THREADS``  threads of the banded warp and reprojection passes
+                           (:data:`WARP_THREADS`; default: CPUs, at most 4).
+``OMP_WAIT_POLICY``        defaults to ``PASSIVE`` (see below); a value you set wins.
+``PYOPENGL_PLATFORM``      defaults to ``osmesa`` (headless) in
+                           :func:`select_gl_platform`; a value you set wins.
+=========================  ==================================================
+
+Compiled kernels
+----------------
+:func:`compile_kernel` is the one gate between numba and numpy: it returns the
+jitted function, or ``None`` when numba cannot be imported. A caller keeps its
+numpy reference and runs the kernel only when :func:`use_compiled` says so.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+# numba's parallel bands run on OpenMP (libgomp) where available, whose idle
+# threads spin-wait by default: measured here, they halved the speed of the
+# cv2.remap that follows every fill (0.48 vs 0.25 ms at 512^2 on 2 cores).
+# Passive waiting keeps the cores free for OpenCV; set before libgomp loads, and
+# a value the user set wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+try:  # optional at import time: every kernel has a numpy reference
+    import numba
+except ImportError:  # pragma: no cover - numba is a dependency
+    numba = None
+
+__all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
+           "use_compiled", "select_gl_platform"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+#: numba could be imported.
+NUMBA_AVAILABLE: bool = numba is not None
+
+#: ``MORPHKIT_WARP_NUMPY=1`` forces the numpy reference path of every compiled kernel.
+NUMPY_ONLY: bool = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+
+#: Compiled kernels run (numba is there and ``MORPHKIT_WARP_NUMPY`` is unset).
+COMPILED: bool = NUMBA_AVAILABLE and not NUMPY_ONLY
+
+
+def _default_threads() -> int:
+    n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return min(4, n)
+
+
+#: Threads that share a banded pass (fused warp accumulation, reprojection), each
+#: taking a band of rows: one per CPU this process may use, at most 4;
+#: ``MORPHKIT_WARP_THREADS`` overrides.
+WARP_THREADS: int = max(1, int(os.environ.get("MORPHKIT_WARP_THREADS", 0)) or _default_threads())
+
+
+def compile_kernel(fn: F, **options: Any) -> F | None:
+    """``numba.njit(cache=True, nogil=True, **options)(fn)``, or None without numba.
+
+    Compiled even under ``MORPHKIT_WARP_NUMPY=1`` (tests compare the two
+    paths); callers decide with :func:`use_compiled`.
+    """
+    if numba is None:
+        return None
+    return numba.njit(cache=True, nogil=True, **options)(fn)
+
+
+def use_compiled(kernel: Callable[..., Any] | None) -> bool:
+    """True when ``kernel`` (from :func:`compile_kernel`) exists and compiled kernels are enabled."""
+    return kernel is not None and not NUMPY_ONLY
+
+
+def select_gl_platform() -> str:
+    """Select OSMesa (headless) for PyOpenGL unless ``PYOPENGL_PLATFORM`` is set; return the platform.
+
+    Must run before the first OpenGL import (:mod:`morphkit.render` calls it).
+    """
+    return os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
