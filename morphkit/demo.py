@@ -36,10 +36,11 @@ import trimesh
 from .camera import look_at, perspective
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
-from .render import Item, Renderer
+from .render import Renderer
 from .scene import (
     AreaLight,
     DirectionalLight,
+    Item,
     PointLight,
     Receiver,
     Scene,

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
 
 if "PYOPENGL_PLATFORM" not in os.environ:  # must precede the first OpenGL import
     os.environ["PYOPENGL_PLATFORM"] = "osmesa"
@@ -43,7 +42,7 @@ import trimesh
 from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
-from .scene import AreaLight, DirectionalLight, Light, PointLight, Scene
+from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 
 try:
     import pyrender
@@ -53,26 +52,7 @@ except Exception as exc:  # pragma: no cover - depends on the machine
 else:
     _IMPORT_ERROR = None
 
-__all__ = ["Renderer", "Item", "scene_items"]
-
-
-@dataclass(frozen=True)
-class Item:
-    """One mesh to draw: geometry, ``object2world`` pose and base colour (RGB in [0, 1])."""
-
-    mesh: trimesh.Trimesh
-    pose: np.ndarray = field(default_factory=lambda: np.eye(4))
-    color: tuple[float, float, float] = (0.7, 0.7, 0.7)
-
-
-def scene_items(scene: Scene, *, receivers: bool = True, obj: bool = True) -> list[Item]:
-    """The drawable items of a :class:`~morphkit.scene.Scene`."""
-    items: list[Item] = []
-    if receivers:
-        items += [Item(m, np.eye(4), scene.receiver.color) for m in scene.receiver.meshes]
-    if obj:
-        items.append(Item(scene.obj.mesh, scene.obj.pose, scene.obj.color))
-    return items
+__all__ = ["Renderer"]
 
 
 if pyrender is not None:

@@ -29,6 +29,8 @@ __all__ = [
     "Scene",
     "translation",
     "light_view",
+    "Item",
+    "scene_items",
 ]
 
 
@@ -292,3 +294,22 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
                            zhi + pad, pose)
     raise ValidationError(expected_got("light", "a DirectionalLight or PointLight (sample an "
                                        "AreaLight first)", type(light).__name__))
+
+
+@dataclass(frozen=True)
+class Item:
+    """One mesh to draw: geometry, ``object2world`` pose and base colour (RGB in [0, 1])."""
+
+    mesh: trimesh.Trimesh
+    pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+    color: tuple[float, float, float] = (0.7, 0.7, 0.7)
+
+
+def scene_items(scene: Scene, *, receivers: bool = True, obj: bool = True) -> list[Item]:
+    """The drawable items of a :class:`~morphkit.scene.Scene`."""
+    items: list[Item] = []
+    if receivers:
+        items += [Item(m, np.eye(4), scene.receiver.color) for m in scene.receiver.meshes]
+    if obj:
+        items.append(Item(scene.obj.mesh, scene.obj.pose, scene.obj.color))
+    return items

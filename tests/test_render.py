@@ -23,7 +23,7 @@ PLANE = trimesh.Trimesh([[-100, -100, 0], [100, -100, 0], [100, 100, 0], [-100, 
 
 
 def _item(mesh, pose=None):
-    from morphkit.render import Item
+    from morphkit.scene import Item
 
     return Item(mesh, np.eye(4) if pose is None else pose)
 

@@ -146,7 +146,7 @@ def test_non_square_non_power_of_two_map(renderer, cow):
 def test_light_motion_equals_object_motion(renderer, cow, point_atlas):
     """A point light moved by D: the atlas map (object moved by -D) equals a direct
     render from the moved light, up to the warp's accuracy."""
-    from morphkit.render import Item
+    from morphkit.scene import Item
 
     xy, D = np.array([0.1, 0.05]), np.array([0.2, -0.15])
     for warps in WARPS:

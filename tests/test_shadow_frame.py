@@ -40,7 +40,7 @@ def _vis(depth, lcam):
 
 
 def test_self_shadowing_darkens_the_object(renderer, setup):
-    from morphkit.render import Item
+    from morphkit.scene import Item
 
     scene, depth, lcam = setup
     full = render_frame(renderer, scene, _vis(depth, lcam))

@@ -265,8 +265,7 @@ def test_frame_policy_keeps_the_object_in_frame(rng):
 @pytest.mark.gl
 def test_morph_of_rendered_teapot_matches_the_intermediate_render(renderer):
     from morphkit.meshes import sample_mesh
-    from morphkit.render import Item
-    from morphkit.scene import DirectionalLight
+    from morphkit.scene import DirectionalLight, Item
 
     mesh = sample_mesh("teapot")
     items = [Item(mesh)]

@@ -32,7 +32,8 @@ PLOT_OPTIONS = {"size_key": "size", "panel_keys": ("what",)}
 
 
 def _depth_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
-    from ..render import Item, pyrender
+    from ..render import pyrender
+    from ..scene import Item
 
     rows = []
     faces = [6000, 50000] if quick else [6000, 50000, 300000, 1000000]
@@ -63,7 +64,7 @@ def _depth_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
 
 
 def _accuracy_rows(renderer: Any) -> list[dict[str, Any]]:
-    from ..render import Item
+    from ..scene import Item
 
     plane = trimesh.Trimesh([[-100, -100, 0], [100, -100, 0], [100, 100, 0], [-100, 100, 0]],
                             [[0, 1, 2], [0, 2, 3]], process=False)

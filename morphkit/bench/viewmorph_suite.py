@@ -85,7 +85,7 @@ def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
 def textured_items(name: str) -> tuple[Any, list[Any]]:
     """The sample mesh and its colour groups (a 3-D checker) as render items."""
     from ..meshes import sample_mesh
-    from ..render import Item
+    from ..scene import Item
 
     mesh = sample_mesh(name)
     cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)

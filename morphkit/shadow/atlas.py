@@ -672,7 +672,7 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     """
     from tqdm import tqdm
 
-    from ..render import Item
+    from ..scene import Item
 
     ky, kx = (grid, grid) if np.isscalar(grid) else tuple(int(g) for g in grid)  # type: ignore[misc]
     rows, cols = (int(control_grid[0]), int(control_grid[1]))

@@ -35,7 +35,7 @@ class DirectShadow:
     memory_bytes = 0
 
     def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: Any) -> None:
-        from ..render import Item
+        from ..scene import Item
 
         self.rig, self.mesh, self.renderer, self._item = rig, mesh, renderer, Item
 

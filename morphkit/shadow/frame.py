@@ -40,7 +40,7 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
     ``facing`` (bool: visible points whose normal faces the light, the pixels
     where a shadow changes the image; on the others diffuse light is zero anyway).
     """
-    from ..render import Item, scene_items
+    from ..scene import Item, scene_items
 
     items = scene_items(scene)
     cam = scene.camera
