@@ -33,71 +33,35 @@ import cv2
 import numpy as np
 import trimesh
 
-from .camera import look_at, perspective
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
 from .render import Renderer
 from .scene import (
-    AreaLight,
-    DirectionalLight,
     Item,
     PointLight,
-    Receiver,
     Scene,
     SceneObject,
     light_view,
 )
-from .shadow.frame import SKY, compare_frames, render_frame
+from .scenes import (
+    DEMO_LIGHT_DIRECTION,
+    DEMO_MESHES,
+    SOFT_LIGHT,
+    VIEWMORPH_BASELINE_DEG,
+    WARP_LIGHT,
+    WARP_POSITION,
+    WARP_RANGE,
+    demo_scene,
+    ground_truth_frame,
+)
+from .shadow.frame import compare_frames, render_frame
+from .visualize import colorize_depth
 
-__all__ = ["DEMO_MESHES", "demo_scene", "ground_truth_frame", "run_demo"]
-
-DEMO_MESHES = ("teapot", "chair", "cow")
-
-#: The demo light: from the upper right-front, casting shadows back-left.
-DEMO_LIGHT_DIRECTION = (-0.55, 0.35, -1.0)
-
-
-def demo_scene(mesh: trimesh.Trimesh, size: int = 512) -> Scene:
-    """A normalised mesh at the origin on the ground, a directional light and a
-    3/4 view camera (45 deg vertical field of view)."""
-    cam = perspective(np.deg2rad(40), (size, size), look_at([1.45, -1.35, 1.05], [-0.2, 0.2, 0.2]),
-                      znear=0.1, zfar=20.0)
-    return Scene(SceneObject(mesh), DirectionalLight(DEMO_LIGHT_DIRECTION, intensity=2.2), cam,
-                 Receiver(half_size=2.0), ambient=0.3)
-
-
-def ground_truth_frame(renderer: Renderer, scene: Scene) -> dict[str, np.ndarray]:
-    """Render ``scene`` and shadow it exactly by ray casting every visible pixel.
-
-    Returns the images ``lit``, ``unlit``, ``depth``, ``visibility`` and ``shaded``.
-    """
-    return render_frame(renderer, scene, lambda pts, _n: hard_visibility(pts, scene.light, scene.obj),
-                        background=SKY)
-
-
-def colorize_depth(depth: np.ndarray) -> np.ndarray:
-    """A BGR colour-mapped depth image (near bright), background black."""
-    fg = np.isfinite(depth)
-    out = np.zeros((*depth.shape, 3), np.uint8)
-    if fg.any():
-        d = depth[fg]
-        t = (d - d.min()) / max(float(d.max() - d.min()), 1e-12)
-        g = np.zeros(depth.shape, np.uint8)
-        g[fg] = np.clip(255 - 200 * t, 0, 255).astype(np.uint8)
-        out = cv2.applyColorMap(g, cv2.COLORMAP_VIRIDIS)
-        out[~fg] = 0
-    return out
-
+__all__ = ["run_demo"]
 
 def _write_rgb(path: Path, rgb: np.ndarray) -> None:
     if not cv2.imwrite(str(path), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
         raise OSError(f"could not write {path}")
-
-
-#: Warped-shadow demo: the object moves over this range under this point light.
-WARP_RANGE = ((-0.6, -0.6), (0.6, 0.6))
-WARP_LIGHT = (0.25, -0.2, 2.4)
-WARP_POSITION = (0.23, -0.31)  # between the 3 x 3 samples
 
 
 def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str, Any]:
@@ -138,10 +102,6 @@ def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str,
                    np.concatenate([frames[k]["shaded"] for k in ("reprojected", "direct", "raycast")],
                                   1))
     return report
-
-
-#: Soft-shadow demo: the warped-shadow light grown into a 0.6 x 0.6 area light.
-SOFT_LIGHT = AreaLight(WARP_LIGHT, [0.3, 0.0, 0.0], [0.0, 0.3, 0.0])
 
 
 def _soft_shadow_section(renderer: Renderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
@@ -189,18 +149,14 @@ def _soft_shadow_section(renderer: Renderer, size: int, add: Any, *, quick: bool
     return report
 
 
-#: View-morphing demo: references on a circle around the object, 20 deg apart.
-VIEWMORPH_BASELINE_DEG = 20.0
-
-
 def _viewmorph_section(renderer: Renderer, size: int, add: Any) -> dict[str, Any]:
     """Per mesh: left and right reference views, the view morph at s = 0.5 and the
     rendered middle view (ground truth), side by side, with the silhouette IoU.
 
     The morph uses dense pairs from the two depth maps and ``layers="auto"``
     (two depth layers where one mesh cannot follow crossing parts: the chair)."""
-    from .bench.viewmorph_suite import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
     from .metrics import shadow_iou
+    from .scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
     from .viewmorph import ViewMorpher, from_depth, pair_depth
 
     report: dict[str, Any] = {"baseline_deg": VIEWMORPH_BASELINE_DEG, "s": 0.5}

@@ -13,9 +13,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from morphkit.demo import DEMO_MESHES, demo_scene, ground_truth_frame
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
+from morphkit.scenes import DEMO_MESHES, demo_scene, ground_truth_frame
 
 
 def main() -> None:

@@ -20,8 +20,8 @@ TOL = {"max_mean_abs": 0.5, "max_bad_fraction": 0.005, "bad_level": 16}
 
 @pytest.fixture(scope="module")
 def teapot_frame(renderer):
-    from morphkit.demo import demo_scene, ground_truth_frame
     from morphkit.meshes import sample_mesh
+    from morphkit.scenes import demo_scene, ground_truth_frame
 
     return ground_truth_frame(renderer, demo_scene(sample_mesh("teapot"), size=128))
 
@@ -50,9 +50,9 @@ WARPS = {"warped": {}, "reprojected": {"warps": "reproject"}}
 
 @pytest.fixture(scope="module", params=sorted(WARPS))
 def warped_cow(renderer, request):
-    from morphkit.demo import demo_scene
     from morphkit.meshes import sample_mesh
     from morphkit.scene import PointLight, Scene
+    from morphkit.scenes import demo_scene
     from morphkit.shadow import MotionRange, bake_atlas
     from morphkit.shadow.frame import compare_frames
 
@@ -70,7 +70,7 @@ def warped_cow(renderer, request):
 
 def test_warped_shadow_map_matches_reference(warped_cow):
     """The warped light depth map (cow, point light, 3x3 atlas, 128^2), colour-mapped."""
-    from morphkit.demo import colorize_depth
+    from morphkit.visualize import colorize_depth
 
     name, depth, _frame = warped_cow
     check_image(f"{name}_cow_depth_128", colorize_depth(depth), **TOL)

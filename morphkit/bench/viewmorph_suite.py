@@ -54,11 +54,12 @@ from typing import Any
 
 import numpy as np
 
-from ..camera import CameraModel, look_at, perspective
+from ..camera import CameraModel
 from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
+from ..scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 from .harness import make_row, time_call
 
-__all__ = ["run", "render_pair", "textured_items", "circle_camera", "FLOOR_METHOD", "PLOT_OPTIONS"]
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
 SUITE = "viewmorph"
 FLOOR_METHOD = "crossfade"
@@ -67,43 +68,6 @@ PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("mesh",)}
 BASELINES = (10, 20, 40, 60)
 SS = (0.25, 0.5, 0.75)
 MESHES = ("teapot", "chair", "cow")
-CENTRE_AZIMUTH = 60.0
-RADIUS, HEIGHT = 2.2, 1.0
-LOOK_AT = np.array([0.0, 0.0, 0.25])
-PALETTE = ((0.85, 0.3, 0.25), (0.3, 0.6, 0.85), (0.9, 0.8, 0.3), (0.35, 0.75, 0.4), (0.8, 0.8, 0.8),
-           (0.55, 0.35, 0.7), (0.95, 0.55, 0.2), (0.2, 0.3, 0.35))
-CHECKER = 0.05  # scene units (meshes are normalised to size 1)
-
-
-def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
-    """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``)."""
-    a = np.radians(azimuth_deg)
-    eye = np.array([RADIUS * np.cos(a), RADIUS * np.sin(a), HEIGHT])
-    return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
-
-
-def textured_items(name: str) -> tuple[Any, list[Any]]:
-    """The sample mesh and its colour groups (a 3-D checker) as render items."""
-    from ..meshes import sample_mesh
-    from ..scene import Item
-
-    mesh = sample_mesh(name)
-    cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)
-    key = (cell[:, 0] * 7 + cell[:, 1] * 3 + cell[:, 2] * 5) % len(PALETTE)
-    items = [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
-             for k in range(len(PALETTE)) if np.any(key == k)]
-    return mesh, items
-
-
-def render_pair(renderer: Any, items: list[Any], cams: list[CameraModel]
-                ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``(rgba, depth)`` for each camera."""
-    from ..scene import DirectionalLight
-
-    light = [DirectionalLight(np.array([-1.0, -0.5, -1.0]))]
-    return [(renderer.source_view(c, items, light), renderer.depth(c, items)) for c in cams]
-
-
 def _premul(img: np.ndarray) -> np.ndarray:
     return img[..., :3].astype(np.float64) * (img[..., 3:4] / 255.0)
 

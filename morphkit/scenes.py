@@ -1,0 +1,107 @@
+"""The scenes shared by the demo, the benchmarks, the samples and the tests.
+
+One place for each set-up, so that a figure in ``docs/RESULTS.md``, a demo
+image and a test are about the same scene:
+
+* the shadow scenes: a normalised sample mesh on a ground square, a
+  directional light and a 3/4 view camera (:func:`demo_scene`); the point
+  light and range of motion of the warped-shadow scenes (:data:`WARP_LIGHT`,
+  :data:`WARP_RANGE`) and the area light of the soft-shadow scenes
+  (:data:`SOFT_LIGHT`);
+* the view-morphing scenes: cameras on a circle about the object
+  (:func:`circle_camera`), the sample meshes with a 3-D colour checker
+  (:func:`textured_items`) and their reference views (:func:`render_pair`).
+
+Nothing here imports :mod:`morphkit.bench`; the benchmark imports from here.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import trimesh
+
+from .camera import CameraModel, look_at, perspective
+from .groundtruth import hard_visibility
+from .meshes import sample_mesh
+from .scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
+from .shadow.frame import SKY, render_frame
+
+if TYPE_CHECKING:
+    from .render import Renderer
+
+__all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
+           "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
+           "circle_camera", "textured_items", "render_pair"]
+
+
+DEMO_MESHES = ("teapot", "chair", "cow")
+
+#: The demo light: from the upper right-front, casting shadows back-left.
+DEMO_LIGHT_DIRECTION = (-0.55, 0.35, -1.0)
+
+
+def demo_scene(mesh: trimesh.Trimesh, size: int = 512) -> Scene:
+    """A normalised mesh at the origin on the ground, a directional light and a
+    3/4 view camera (45 deg vertical field of view)."""
+    cam = perspective(np.deg2rad(40), (size, size), look_at([1.45, -1.35, 1.05], [-0.2, 0.2, 0.2]),
+                      znear=0.1, zfar=20.0)
+    return Scene(SceneObject(mesh), DirectionalLight(DEMO_LIGHT_DIRECTION, intensity=2.2), cam,
+                 Receiver(half_size=2.0), ambient=0.3)
+
+
+def ground_truth_frame(renderer: Renderer, scene: Scene) -> dict[str, np.ndarray]:
+    """Render ``scene`` and shadow it exactly by ray casting every visible pixel.
+
+    Returns the images ``lit``, ``unlit``, ``depth``, ``visibility`` and ``shaded``.
+    """
+    return render_frame(renderer, scene, lambda pts, _n: hard_visibility(pts, scene.light, scene.obj),
+                        background=SKY)
+
+
+#: Warped-shadow demo: the object moves over this range under this point light.
+WARP_RANGE = ((-0.6, -0.6), (0.6, 0.6))
+WARP_LIGHT = (0.25, -0.2, 2.4)
+WARP_POSITION = (0.23, -0.31)  # between the 3 x 3 samples
+
+
+#: Soft-shadow demo: the warped-shadow light grown into a 0.6 x 0.6 area light.
+SOFT_LIGHT = AreaLight(WARP_LIGHT, [0.3, 0.0, 0.0], [0.0, 0.3, 0.0])
+
+
+#: View-morphing demo: references on a circle around the object, 20 deg apart.
+VIEWMORPH_BASELINE_DEG = 20.0
+
+
+#: Azimuth (degrees) of the view-morphing scenes' middle view.
+CENTRE_AZIMUTH = 60.0
+RADIUS, HEIGHT = 2.2, 1.0
+LOOK_AT = np.array([0.0, 0.0, 0.25])
+PALETTE = ((0.85, 0.3, 0.25), (0.3, 0.6, 0.85), (0.9, 0.8, 0.3), (0.35, 0.75, 0.4), (0.8, 0.8, 0.8),
+           (0.55, 0.35, 0.7), (0.95, 0.55, 0.2), (0.2, 0.3, 0.35))
+CHECKER = 0.05  # scene units (meshes are normalised to size 1)
+
+
+def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
+    """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``)."""
+    a = np.radians(azimuth_deg)
+    eye = np.array([RADIUS * np.cos(a), RADIUS * np.sin(a), HEIGHT])
+    return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
+
+
+def textured_items(name: str) -> tuple[Any, list[Any]]:
+    """The sample mesh and its colour groups (a 3-D checker) as render items."""
+    mesh = sample_mesh(name)
+    cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)
+    key = (cell[:, 0] * 7 + cell[:, 1] * 3 + cell[:, 2] * 5) % len(PALETTE)
+    items = [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
+             for k in range(len(PALETTE)) if np.any(key == k)]
+    return mesh, items
+
+
+def render_pair(renderer: Any, items: list[Any], cams: list[CameraModel]
+                ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(rgba, depth)`` for each camera."""
+    light = [DirectionalLight(np.array([-1.0, -0.5, -1.0]))]
+    return [(renderer.source_view(c, items, light), renderer.depth(c, items)) for c in cams]

@@ -1,0 +1,22 @@
+"""Images for people to look at: colour maps of data that is not an image."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+__all__ = ["colorize_depth"]
+
+
+def colorize_depth(depth: np.ndarray) -> np.ndarray:
+    """A BGR colour-mapped depth image (near bright), background black."""
+    fg = np.isfinite(depth)
+    out = np.zeros((*depth.shape, 3), np.uint8)
+    if fg.any():
+        d = depth[fg]
+        t = (d - d.min()) / max(float(d.max() - d.min()), 1e-12)
+        g = np.zeros(depth.shape, np.uint8)
+        g[fg] = np.clip(255 - 200 * t, 0, 255).astype(np.uint8)
+        out = cv2.applyColorMap(g, cv2.COLORMAP_VIRIDIS)
+        out[~fg] = 0
+    return out
