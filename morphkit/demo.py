@@ -35,6 +35,7 @@ import trimesh
 
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
+from .protocols import SceneRenderer
 from .render import Renderer
 from .scene import (
     Item,
@@ -64,7 +65,7 @@ def _write_rgb(path: Path, rgb: np.ndarray) -> None:
         raise OSError(f"could not write {path}")
 
 
-def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str, Any]:
+def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str, Any]:
     """Per mesh: a 3 x 3 atlas, and the frame at a position between samples shadowed
     by the warped map, a re-rendered map and the ray cast, side by side."""
     from .metrics import shadow_iou
@@ -104,7 +105,7 @@ def _warped_shadow_section(renderer: Renderer, size: int, add: Any) -> dict[str,
     return report
 
 
-def _soft_shadow_section(renderer: Renderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
+def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
     """Per mesh: soft shadows of an area light at a position between samples, by
     warping one atlas per light sample (9), by re-rendering per sample (9), and
     by ray casting (8 x 8 samples; 4 x 4 with ``quick``), side by side."""
@@ -149,7 +150,7 @@ def _soft_shadow_section(renderer: Renderer, size: int, add: Any, *, quick: bool
     return report
 
 
-def _viewmorph_section(renderer: Renderer, size: int, add: Any) -> dict[str, Any]:
+def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str, Any]:
     """Per mesh: left and right reference views, the view morph at s = 0.5 and the
     rendered middle view (ground truth), side by side, with the silhouette IoU.
 

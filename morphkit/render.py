@@ -29,11 +29,7 @@ per context; moving an object only changes its node pose.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterable, Sequence
-
-if "PYOPENGL_PLATFORM" not in os.environ:  # must precede the first OpenGL import
-    os.environ["PYOPENGL_PLATFORM"] = "osmesa"
 
 import cv2
 import numpy as np
@@ -43,7 +39,9 @@ from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
+from .settings import select_gl_platform
 
+select_gl_platform()  # OSMesa unless PYOPENGL_PLATFORM is set; must precede the first OpenGL import
 try:
     import pyrender
 except Exception as exc:  # pragma: no cover - depends on the machine

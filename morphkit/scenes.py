@@ -17,7 +17,7 @@ Nothing here imports :mod:`morphkit.bench`; the benchmark imports from here.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import trimesh
@@ -25,11 +25,9 @@ import trimesh
 from .camera import CameraModel, look_at, perspective
 from .groundtruth import hard_visibility
 from .meshes import sample_mesh
+from .protocols import SceneRenderer
 from .scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
 from .shadow.frame import SKY, render_frame
-
-if TYPE_CHECKING:
-    from .render import Renderer
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
@@ -51,7 +49,7 @@ def demo_scene(mesh: trimesh.Trimesh, size: int = 512) -> Scene:
                  Receiver(half_size=2.0), ambient=0.3)
 
 
-def ground_truth_frame(renderer: Renderer, scene: Scene) -> dict[str, np.ndarray]:
+def ground_truth_frame(renderer: SceneRenderer, scene: Scene) -> dict[str, np.ndarray]:
     """Render ``scene`` and shadow it exactly by ray casting every visible pixel.
 
     Returns the images ``lit``, ``unlit``, ``depth``, ``visibility`` and ``shaded``.
@@ -100,7 +98,7 @@ def textured_items(name: str) -> tuple[Any, list[Any]]:
     return mesh, items
 
 
-def render_pair(renderer: Any, items: list[Any], cams: list[CameraModel]
+def render_pair(renderer: SceneRenderer, items: list[Any], cams: list[CameraModel]
                 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """``(rgba, depth)`` for each camera."""
     light = [DirectionalLight(np.array([-1.0, -0.5, -1.0]))]

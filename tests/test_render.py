@@ -149,3 +149,10 @@ def test_bad_items_are_refused(renderer):
         renderer.depth(cam, [trimesh.creation.box()])
     with pytest.raises(ValidationError, match="camera: expected a morphkit CameraModel"):
         renderer.depth("camera", [])
+
+
+def test_renderer_implements_the_scene_renderer_protocol(renderer):
+    from morphkit.protocols import SceneRenderer
+
+    assert isinstance(renderer, SceneRenderer)
+    assert not isinstance(object(), SceneRenderer)

@@ -23,6 +23,7 @@ import trimesh
 
 from ..camera import look_at, orthographic, perspective
 from ..meshes import sample_mesh
+from ..render import Renderer
 from ..scene import PointLight, light_view
 from .harness import Timing, make_row, time_call, time_calls
 
@@ -31,7 +32,7 @@ FLOOR_METHOD = "depth_6k"
 PLOT_OPTIONS = {"size_key": "size", "panel_keys": ("what",)}
 
 
-def _depth_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+def _depth_rows(renderer: Renderer, quick: bool) -> list[dict[str, Any]]:
     from ..render import pyrender
     from ..scene import Item
 
@@ -63,7 +64,7 @@ def _depth_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
-def _accuracy_rows(renderer: Any) -> list[dict[str, Any]]:
+def _accuracy_rows(renderer: Renderer) -> list[dict[str, Any]]:
     from ..scene import Item
 
     plane = trimesh.Trimesh([[-100, -100, 0], [100, -100, 0], [100, 100, 0], [-100, 100, 0]],

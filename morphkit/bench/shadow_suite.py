@@ -39,6 +39,7 @@ import numpy as np
 from ..groundtruth import hard_visibility, receiver_grid
 from ..meshes import sample_mesh
 from ..metrics import shadow_iou
+from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
 from .harness import Timing, make_row, time_cycling
@@ -98,7 +99,7 @@ def _prepare(atlas: Any) -> dict[str, float]:
     return {"prep_ms": 1e3 * seconds, "layer_mb": atlas.layer_bytes / 2**20}
 
 
-def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+def _accuracy_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
     sizes = [128, 256] if quick else [64, 128, 256, 512, 1024]
@@ -151,7 +152,7 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
     return rows
 
 
-def _control_grid_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+def _control_grid_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
     grids = [(5, 15), (17, 17)] if quick else [(5, 15), (7, 15), (9, 9), (12, 12), (17, 17), (33, 33)]
@@ -172,7 +173,7 @@ def _control_grid_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[s
     return rows
 
 
-def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
     """Cow from ~6k to ~1M faces at 512^2: warp vs direct time per shadow map."""
     rows = []
     faces = [6000, 50000] if quick else [6000, 50000, 300000, 1000000]
@@ -195,7 +196,7 @@ def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
-def _frame_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
     """Whole frame: camera render (lit + unlit, 512^2) + shadow map + lookup + composite."""
     from ..camera import look_at, perspective
     from ..scene import Receiver, Scene

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..groundtruth import area_visibility, receiver_grid, sampled_visibility
 from ..meshes import sample_mesh
+from ..protocols import SceneRenderer
 from ..scene import AreaLight, SceneObject
 from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from ..shadow.soft import FIVE_SAMPLES
@@ -106,7 +107,7 @@ def _methods(atlas: Any, direct: DirectShadow, ns: list[int]) -> dict[str, SoftS
     return methods
 
 
-def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+def _accuracy_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
     sizes = [128, 256] if quick else [128, 256, 512]
@@ -131,7 +132,7 @@ def _accuracy_rows(renderer: Any, quick: bool, truth: _Truth) -> list[dict[str, 
     return rows
 
 
-def _complexity_rows(renderer: Any, quick: bool) -> list[dict[str, Any]]:
+def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
     """Cow from ~6k to ~1M faces, 256^2 maps, 9 samples: time of one soft shadow."""
     rows = []
     faces = [6000, 50000] if quick else [6000, 50000, 300000, 1000000]

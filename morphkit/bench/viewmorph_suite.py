@@ -56,6 +56,7 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
+from ..protocols import SceneRenderer
 from ..scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 from .harness import make_row, time_call
 
@@ -110,7 +111,7 @@ def _occluded(cam: CameraModel, depth: np.ndarray, gt: np.ndarray, refs: list[tu
     return occl.reshape(obj.shape)
 
 
-def _case(renderer: Any, name: str, mesh: Any, items: list[Any], base: float, ss: tuple[float, ...],
+def _case(renderer: SceneRenderer, name: str, mesh: Any, items: list[Any], base: float, ss: tuple[float, ...],
           size: int, repeats: int, rows: list[dict[str, Any]]) -> None:
     from ..viewmorph import (
         ViewMorpher,

@@ -89,6 +89,7 @@ from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
 from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
+from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..warp import (
     WARP_THREADS,
@@ -645,7 +646,7 @@ def _light_from_dict(d: dict[str, Any]) -> DirectionalLight | PointLight:
 
 
 def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,
-               light: DirectionalLight | PointLight, shape: tuple[int, int], *, renderer: Any,
+               light: DirectionalLight | PointLight, shape: tuple[int, int], *, renderer: SceneRenderer,
                grid: int | tuple[int, int] = 3, control_grid: tuple[int, int] = (17, 17),
                anchors: Literal["sample", "shared", "plane"] = "sample", margin: float = 0.04,
                smooth: float = 0.0, uniform: bool = False, progress: bool = True) -> ShadowAtlas:

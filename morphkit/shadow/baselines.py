@@ -22,6 +22,7 @@ import trimesh
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..protocols import SceneRenderer
 from .atlas import ShadowAtlas, _finish, _merge, bake_atlas
 from .rig import LightRig
 
@@ -34,7 +35,7 @@ class DirectShadow:
     name = "direct"
     memory_bytes = 0
 
-    def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: Any) -> None:
+    def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> None:
         from ..scene import Item
 
         self.rig, self.mesh, self.renderer, self._item = rig, mesh, renderer, Item
@@ -56,7 +57,7 @@ class ImageBasedShadow:
 
     @classmethod
     def bake(cls, mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: Any, light: Any,
-             shape: tuple[int, int], *, renderer: Any, grid: int = 32,
+             shape: tuple[int, int], *, renderer: SceneRenderer, grid: int = 32,
              mode: Literal["nearest", "blend"] = "nearest", progress: bool = True
              ) -> ImageBasedShadow:
         """Render a uniform ``grid x grid`` set of maps (even spacing, ends included)."""

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..composite import shade
+from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, Scene
 from .lookup import normals_from_points, shadow_visibility
 
@@ -30,7 +31,7 @@ VisibilityFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
 SKY = (0.62, 0.71, 0.82)
 
 
-def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
+def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn, *,
                  receiver_only: bool = False, background: tuple[float, float, float] = SKY
                  ) -> dict[str, np.ndarray]:
     """Render ``scene`` from its camera and shadow it with ``visibility``.
@@ -68,7 +69,7 @@ def render_frame(renderer: Any, scene: Scene, visibility: VisibilityFn, *,
             "shaded": shade(lit, unlit, vis), "facing": facing}
 
 
-def compare_frames(renderer: Any, scene: Scene, methods: dict[str, Any], xy: np.ndarray
+def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, Any], xy: np.ndarray
                    ) -> dict[str, dict[str, np.ndarray]]:
     """Frames of ``scene`` with its object at ``xy``, shadowed by each method's
     shadow map (``method.shadow_map(xy) -> (depth, light_cam)``) and by the ray-cast

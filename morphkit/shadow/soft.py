@@ -46,6 +46,7 @@ import trimesh
 
 from .. import tol
 from ..errors import ValidationError, expected_got
+from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight
 from ..validate import as_finite_array
 from .atlas import ShadowAtlas, bake_atlas
@@ -103,7 +104,7 @@ def soft_motion_range(motion: MotionRange, light: AreaLight) -> MotionRange:
 
 
 def bake_soft_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,
-                    light: AreaLight, shape: tuple[int, int], *, renderer: Any,
+                    light: AreaLight, shape: tuple[int, int], *, renderer: SceneRenderer,
                     **kwargs: Any) -> ShadowAtlas:
     """Bake the atlas an area light needs: a point light at its centre, over
     :func:`soft_motion_range` (keyword arguments go to

@@ -1,0 +1,45 @@
+"""Interfaces shared across morphkit, declared once (``typing.Protocol``).
+
+:class:`SceneRenderer` is what every module that needs pictures of meshes asks
+for: :class:`morphkit.render.Renderer` (pyrender, OSMesa) implements it, and a
+test or a user can pass any other object with the same methods. Only
+:mod:`morphkit.render` imports pyrender; code typed against this protocol runs
+and type-checks without a GL context.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from .camera import CameraModel
+from .scene import Item, Light
+
+__all__ = ["SceneRenderer"]
+
+
+@runtime_checkable
+class SceneRenderer(Protocol):
+    """Renders :class:`~morphkit.scene.Item` lists through a :class:`~morphkit.camera.CameraModel`.
+
+    Frames and units follow :mod:`morphkit.conventions`: images ``(H, W[, C])``
+    of ``camera.shape``, linear depth ``Z`` in scene units, background ``+inf``.
+    """
+
+    def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
+        """Linear depth, float32 ``(H, W)``; ``+inf`` where nothing was hit."""
+        ...
+
+    def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                    ambient: float = 0.35,
+                    background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """Shaded colour, uint8 ``(H, W, 3)`` RGB, and linear depth, float32 ``(H, W)``."""
+        ...
+
+    def source_view(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                    ambient: float = 0.35, supersample: int = 3) -> np.ndarray:
+        """Straight-alpha RGBA, uint8 ``(H, W, 4)``, of ``items`` on a transparent background."""
+        ...
