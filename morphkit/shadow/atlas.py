@@ -79,14 +79,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-import cv2
 import numpy as np
 import trimesh
-from scipy import ndimage
 
 from .. import tol
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..protocols import SceneRenderer
@@ -99,6 +95,9 @@ from ..warp import (
     grid_triangles,
 )
 from . import reproject as _rp
+from .controls import _anchor_depths, _lift, _silhouette_box
+from .fold import _RELAX_ROUNDS, _any_folded, _relax, _signed_area
+from .planes import _finish, _merge, _warp_planes, premultiply
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
@@ -106,86 +105,6 @@ __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "AT
 
 ATLAS_FORMAT = "morphkit-shadow-atlas"
 ATLAS_VERSION = 1
-
-
-def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
-    """``(2, H, W)`` float32 planes, premultiplied: ``[coverage, coverage * (depth - ref)]``;
-    coverage is 1 on the object and 0 on the background.
-
-    Bilinear interpolation of premultiplied channels blends object depths only:
-    ``channel1 / channel0`` is the mean depth of the covered part of a footprint,
-    never mixed with the background. ``ref`` (the object's anchor depth) makes
-    depth relative, so that the same source serves every position (the depth
-    model shifts all of an object's depths by the same amount).
-    """
-    cov = np.isfinite(depth)
-    out = np.zeros((2, *depth.shape), np.float32)
-    out[0] = cov
-    out[1][cov] = depth[cov] - ref
-    return out
-
-
-def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
-           ) -> None:
-    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``)."""
-    (r0, r1, c0, c1), px = warped
-    if px.size == 0:
-        return
-    for k in range(2):
-        view = acc[k, r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
-        cv2.scaleAdd(px[k], float(weight), view, dst=view)
-
-
-def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
-                 triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
-    """``(2, H, W)``: the premultiplied planes of ``src`` warped from ``src_pts`` to
-    ``dst_pts`` (0 outside)."""
-    warper = MeshWarper(src_pts, triangles)
-    out = np.zeros((2, *shape), np.float32)
-    _accumulate_warps([(warper._accumulation(dst_pts, shape), src,
-                        warper.triangles_touching(src[0]), 1.0)], out)
-    return out
-
-
-def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
-                  c1: int, clear: bool) -> None:
-    cov, num = acc[0, r0:r1, c0:c1], acc[1, r0:r1, c0:c1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out[r0:r1, c0:c1] = np.where(cov >= 0.5, num / cov + np.float32(ref), np.inf)
-    if clear:
-        acc[:, r0:r1, c0:c1] = 0.0
-
-
-def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
-                 c1: int, clear: bool) -> None:
-    for i in range(r0, r1):
-        den_row = acc[0, i]
-        num_row = acc[1, i]
-        out_row = out[i]
-        for j in range(c0, c1):
-            den = den_row[j]
-            out_row[j] = num_row[j] / den + ref if den >= 0.5 else np.inf
-        if clear:
-            den_row[c0:c1] = 0.0
-            num_row[c0:c1] = 0.0
-
-
-_finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
-                  else _finish_numpy)
-
-
-def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None, *,
-            clear: bool = False) -> np.ndarray:
-    """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
-    ``+inf`` where the blended coverage is below 0.5 (one compiled pass); only
-    over ``roi = (r0, r1, c0, c1)`` when given (``acc`` must be 0 elsewhere).
-    ``clear``: set the ``acc`` it read back to 0 in the same pass."""
-    h, w = acc.shape[1:]
-    r0, r1, c0, c1 = (0, h, 0, w) if roi is None else roi
-    out = np.full((h, w), np.inf, np.float32)
-    if r1 > r0 and c1 > c0:
-        _finish_kernel(acc, np.float32(ref), out, r0, r1, c0, c1, clear)
-    return out
 
 
 @dataclass
@@ -721,134 +640,3 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
 
 
-def _silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, float, float, float]:
-    """``(x0, y0, x1, y1)``: the bounding box of a map's covered pixels, grown by
-    ``margin`` of the map size (at least 2 px) and clipped to the map; the whole
-    map when nothing is covered. Control grids span it: the warp's work and its
-    resolution go where the shadow is."""
-    h, w = depth.shape
-    rows = np.flatnonzero(np.isfinite(depth).any(1))
-    cols = np.flatnonzero(np.isfinite(depth).any(0))
-    if len(rows) == 0:
-        return 0.0, 0.0, float(w - 1), float(h - 1)
-    mx, my = max(2.0, margin * w), max(2.0, margin * h)
-    return (max(0.0, cols[0] - mx), max(0.0, rows[0] - my), min(w - 1.0, cols[-1] + mx),
-            min(h - 1.0, rows[-1] + my))
-
-
-def _signed_area(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-
-
-#: Rounds of the fold relaxation before falling back to plane anchors.
-_RELAX_ROUNDS = 16
-
-
-def _folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
-                  ) -> np.ndarray:
-    area = _signed_area(pts, tri)
-    return (np.sign(area) != sign) | (np.abs(area) < min_area)
-
-
-def _any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
-                      ) -> bool:
-    return bool(_folded_numpy(pts, tri, sign, min_area).any())
-
-
-def _relax_numpy(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
-                 min_area: float, rounds: int, out: np.ndarray) -> int:
-    """Pull the vertices of folded triangles towards their plane positions,
-    ``out = plane + a (surf - plane)`` with ``a`` halved per round for every vertex
-    of a folded triangle, until nothing folds. Returns the number of rounds taken,
-    negated when ``rounds`` did not suffice (``out`` is then meaningless).
-    This is the reference for the compiled :func:`_relax_loop`."""
-    alpha = np.ones(len(surf))
-    bad = _folded_numpy(surf, tri, sign, min_area)
-    for k in range(rounds):
-        alpha[np.unique(tri[bad])] *= 0.5
-        out[...] = plane + alpha[:, None] * (surf - plane)
-        bad = _folded_numpy(out, tri, sign, min_area)
-        if not bad.any():
-            return k + 1
-    return -rounds
-
-
-def _tri_folded(p: np.ndarray, tri: np.ndarray, sign: np.ndarray, t: int, min_area: float
-                ) -> bool:
-    a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
-    area = ((p[b, 0] - p[a, 0]) * (p[c, 1] - p[a, 1])
-            - (p[b, 1] - p[a, 1]) * (p[c, 0] - p[a, 0]))
-    s = 1.0 if area > 0 else (-1.0 if area < 0 else 0.0)
-    return s != sign[t] or abs(area) < min_area
-
-
-def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
-                     ) -> bool:
-    for t in range(tri.shape[0]):
-        if _tri_folded(pts, tri, sign, t, min_area):
-            return True
-    return False
-
-
-def _relax_loop(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
-                min_area: float, rounds: int, out: np.ndarray) -> int:
-    n, m = surf.shape[0], tri.shape[0]
-    alpha = np.ones(n)
-    mark = np.zeros(n, np.bool_)
-    for t in range(m):
-        if _tri_folded(surf, tri, sign, t, min_area):
-            mark[tri[t, 0]] = mark[tri[t, 1]] = mark[tri[t, 2]] = True
-    for k in range(rounds):
-        for v in range(n):
-            if mark[v]:
-                alpha[v] *= 0.5
-                mark[v] = False
-            out[v, 0] = plane[v, 0] + alpha[v] * (surf[v, 0] - plane[v, 0])
-            out[v, 1] = plane[v, 1] + alpha[v] * (surf[v, 1] - plane[v, 1])
-        bad = False
-        for t in range(m):
-            if _tri_folded(out, tri, sign, t, min_area):
-                bad = True
-                mark[tri[t, 0]] = mark[tri[t, 1]] = mark[tri[t, 2]] = True
-        if not bad:
-            return k + 1
-    return -rounds
-
-
-if _numba is not None and not _NUMPY_ONLY:
-    _jit = _numba.njit(cache=True, nogil=True)
-    _tri_folded = _jit(_tri_folded)
-    _any_folded = _jit(_any_folded_loop)
-    _relax = _jit(_relax_loop)
-else:  # the numpy reference
-    _any_folded = _any_folded_numpy
-    _relax = _relax_numpy
-
-
-def _anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fallback: float,
-                   smooth: float) -> np.ndarray:
-    """Depths for surface anchors at grid points ``pts``: the map's depth extended
-    beyond the silhouette by the nearest object depth (so the depth field, and
-    with it the parallax of the control points, is continuous across the
-    silhouette), blurred with a Gaussian of ``smooth`` grid spacings (so depth
-    jumps inside the object, e.g. seat/legs, do not fold the mesh)."""
-    cov = np.isfinite(depth)
-    if not cov.any():
-        return np.full(len(pts), fallback)
-    idx = ndimage.distance_transform_edt(~cov, return_distances=False, return_indices=True)
-    filled = depth[idx[0], idx[1]]
-    if smooth > 0:
-        sx = smooth * np.ptp(pts[:, 0]) / max(grid[1] - 1, 1)
-        sy = smooth * np.ptp(pts[:, 1]) / max(grid[0] - 1, 1)
-        filled = ndimage.gaussian_filter(filled, (sy, sx), mode="nearest")
-    return filled[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].astype(np.float64)
-
-
-def _lift(cam: CameraModel, pts: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """World points at pixel ``pts`` and depth ``z`` of ``cam``."""
-    X = (pts[:, 0] - cam.cx) / cam.fx
-    Y = (pts[:, 1] - cam.cy) / cam.fy
-    if cam.projection == "perspective":
-        X, Y = X * z, Y * z
-    return np.c_[X, Y, z] @ cam.cam2world[:3, :3].T + cam.cam2world[:3, 3]

@@ -1,0 +1,98 @@
+"""Fold-over relaxation of a shadow atlas's destination control points (compiled, numpy reference)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
+from .._scanline import numba as _numba
+
+
+def _signed_area(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+#: Rounds of the fold relaxation before falling back to plane anchors.
+_RELAX_ROUNDS = 16
+
+
+def _folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
+                  ) -> np.ndarray:
+    area = _signed_area(pts, tri)
+    return (np.sign(area) != sign) | (np.abs(area) < min_area)
+
+
+def _any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
+                      ) -> bool:
+    return bool(_folded_numpy(pts, tri, sign, min_area).any())
+
+
+def _relax_numpy(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
+                 min_area: float, rounds: int, out: np.ndarray) -> int:
+    """Pull the vertices of folded triangles towards their plane positions,
+    ``out = plane + a (surf - plane)`` with ``a`` halved per round for every vertex
+    of a folded triangle, until nothing folds. Returns the number of rounds taken,
+    negated when ``rounds`` did not suffice (``out`` is then meaningless).
+    This is the reference for the compiled :func:`_relax_loop`."""
+    alpha = np.ones(len(surf))
+    bad = _folded_numpy(surf, tri, sign, min_area)
+    for k in range(rounds):
+        alpha[np.unique(tri[bad])] *= 0.5
+        out[...] = plane + alpha[:, None] * (surf - plane)
+        bad = _folded_numpy(out, tri, sign, min_area)
+        if not bad.any():
+            return k + 1
+    return -rounds
+
+
+def _tri_folded(p: np.ndarray, tri: np.ndarray, sign: np.ndarray, t: int, min_area: float
+                ) -> bool:
+    a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
+    area = ((p[b, 0] - p[a, 0]) * (p[c, 1] - p[a, 1])
+            - (p[b, 1] - p[a, 1]) * (p[c, 0] - p[a, 0]))
+    s = 1.0 if area > 0 else (-1.0 if area < 0 else 0.0)
+    return s != sign[t] or abs(area) < min_area
+
+
+def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
+                     ) -> bool:
+    for t in range(tri.shape[0]):
+        if _tri_folded(pts, tri, sign, t, min_area):
+            return True
+    return False
+
+
+def _relax_loop(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
+                min_area: float, rounds: int, out: np.ndarray) -> int:
+    n, m = surf.shape[0], tri.shape[0]
+    alpha = np.ones(n)
+    mark = np.zeros(n, np.bool_)
+    for t in range(m):
+        if _tri_folded(surf, tri, sign, t, min_area):
+            mark[tri[t, 0]] = mark[tri[t, 1]] = mark[tri[t, 2]] = True
+    for k in range(rounds):
+        for v in range(n):
+            if mark[v]:
+                alpha[v] *= 0.5
+                mark[v] = False
+            out[v, 0] = plane[v, 0] + alpha[v] * (surf[v, 0] - plane[v, 0])
+            out[v, 1] = plane[v, 1] + alpha[v] * (surf[v, 1] - plane[v, 1])
+        bad = False
+        for t in range(m):
+            if _tri_folded(out, tri, sign, t, min_area):
+                bad = True
+                mark[tri[t, 0]] = mark[tri[t, 1]] = mark[tri[t, 2]] = True
+        if not bad:
+            return k + 1
+    return -rounds
+
+
+if _numba is not None and not _NUMPY_ONLY:
+    _jit = _numba.njit(cache=True, nogil=True)
+    _tri_folded = _jit(_tri_folded)
+    _any_folded = _jit(_any_folded_loop)
+    _relax = _jit(_relax_loop)
+else:  # the numpy reference
+    _any_folded = _any_folded_numpy
+    _relax = _relax_numpy

@@ -1,0 +1,95 @@
+"""Depth maps as premultiplied planes, so warps and blends never mix depth with background.
+
+A depth map becomes two float32 planes ``[coverage, coverage * (depth - ref)]``
+(:func:`premultiply`); bilinear sampling and weighted sums of such planes blend
+object depths only, and :func:`_finish` turns the result back into depth
+(``+inf`` where the blended coverage is below 0.5).
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from .._scanline import numba as _numba
+from ..warp import MeshWarper, _accumulate_warps
+
+
+def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
+    """``(2, H, W)`` float32 planes, premultiplied: ``[coverage, coverage * (depth - ref)]``;
+    coverage is 1 on the object and 0 on the background.
+
+    Bilinear interpolation of premultiplied channels blends object depths only:
+    ``channel1 / channel0`` is the mean depth of the covered part of a footprint,
+    never mixed with the background. ``ref`` (the object's anchor depth) makes
+    depth relative, so that the same source serves every position (the depth
+    model shifts all of an object's depths by the same amount).
+    """
+    cov = np.isfinite(depth)
+    out = np.zeros((2, *depth.shape), np.float32)
+    out[0] = cov
+    out[1][cov] = depth[cov] - ref
+    return out
+
+
+def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
+           ) -> None:
+    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``)."""
+    (r0, r1, c0, c1), px = warped
+    if px.size == 0:
+        return
+    for k in range(2):
+        view = acc[k, r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
+        cv2.scaleAdd(px[k], float(weight), view, dst=view)
+
+
+def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
+                 triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """``(2, H, W)``: the premultiplied planes of ``src`` warped from ``src_pts`` to
+    ``dst_pts`` (0 outside)."""
+    warper = MeshWarper(src_pts, triangles)
+    out = np.zeros((2, *shape), np.float32)
+    _accumulate_warps([(warper._accumulation(dst_pts, shape), src,
+                        warper.triangles_touching(src[0]), 1.0)], out)
+    return out
+
+
+def _finish_numpy(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
+                  c1: int, clear: bool) -> None:
+    cov, num = acc[0, r0:r1, c0:c1], acc[1, r0:r1, c0:c1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out[r0:r1, c0:c1] = np.where(cov >= 0.5, num / cov + np.float32(ref), np.inf)
+    if clear:
+        acc[:, r0:r1, c0:c1] = 0.0
+
+
+def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int, c0: int,
+                 c1: int, clear: bool) -> None:
+    for i in range(r0, r1):
+        den_row = acc[0, i]
+        num_row = acc[1, i]
+        out_row = out[i]
+        for j in range(c0, c1):
+            den = den_row[j]
+            out_row[j] = num_row[j] / den + ref if den >= 0.5 else np.inf
+        if clear:
+            den_row[c0:c1] = 0.0
+            num_row[c0:c1] = 0.0
+
+
+_finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
+                  else _finish_numpy)
+
+
+def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None, *,
+            clear: bool = False) -> np.ndarray:
+    """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
+    ``+inf`` where the blended coverage is below 0.5 (one compiled pass); only
+    over ``roi = (r0, r1, c0, c1)`` when given (``acc`` must be 0 elsewhere).
+    ``clear``: set the ``acc`` it read back to 0 in the same pass."""
+    h, w = acc.shape[1:]
+    r0, r1, c0, c1 = (0, h, 0, w) if roi is None else roi
+    out = np.full((h, w), np.inf, np.float32)
+    if r1 > r0 and c1 > c0:
+        _finish_kernel(acc, np.float32(ref), out, r0, r1, c0, c1, clear)
+    return out
