@@ -41,7 +41,7 @@ paper's three warps instead (two row morphs, then a column morph). Destination
 control points are the anchors projected at the exact position (``"project"``,
 default) or bilinearly interpolated from the 4 maps (``"interpolate"``, the
 paper). Maps are warped as premultiplied ``[coverage, coverage * depth]``
-(:func:`premultiply`), so bilinear sampling never mixes object depth with
+(:func:`~morphkit.shadow.planes.depth_planes`), so bilinear sampling never mixes object depth with
 the background; the blended coverage is thresholded at 0.5.
 
 Only what can hold the shadow is warped: a map's triangles whose source
@@ -95,13 +95,12 @@ from ..warp import (
     grid_triangles,
 )
 from . import reproject as _rp
-from .controls import _anchor_depths, _lift, _silhouette_box
-from .fold import _RELAX_ROUNDS, _any_folded, _relax, _signed_area
-from .planes import _finish, _merge, _warp_planes, premultiply
+from .controls import anchor_depths, lift, silhouette_box
+from .fold import RELAX_ROUNDS, any_folded, relax_folds, signed_areas
+from .planes import add_planes, depth_planes, planes_to_depth, warp_planes
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 
-__all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION",
-           "premultiply"]
+__all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION"]
 
 ATLAS_FORMAT = "morphkit-shadow-atlas"
 ATLAS_VERSION = 1
@@ -136,7 +135,7 @@ class ShadowAtlas:
         self.control = np.stack([np.stack([self.project((self.xs[i], self.ys[j]), self.anchors[j, i])
                                            for i in range(kx)]) for j in range(ky)])
         # orientation of each map's source triangles, for the fold test per frame
-        self._src_sign = np.sign(np.stack([np.stack([_signed_area(self.control[j, i], self.triangles)
+        self._src_sign = np.sign(np.stack([np.stack([signed_areas(self.control[j, i], self.triangles)
                                                      for i in range(kx)]) for j in range(ky)]))
         self.fallbacks = 0
         self.relaxed = 0
@@ -194,11 +193,11 @@ class ShadowAtlas:
         tri = self.triangles
         sign = self._src_sign[j, i]
         min_area = 4 * tol.TRIANGLE_AREA_PX2
-        if not _any_folded(surf, tri, sign, min_area):
+        if not any_folded(surf, tri, sign, min_area):
             return surf
         plane = self.project(eq, self.plane_anchors[j, i])
         dst = np.empty_like(surf)
-        rounds = _relax(surf, plane, tri, sign, min_area, _RELAX_ROUNDS, dst)
+        rounds = relax_folds(surf, plane, tri, sign, min_area, RELAX_ROUNDS, dst)
         self.relaxed += abs(rounds)
         return dst if rounds > 0 else plane
 
@@ -224,7 +223,7 @@ class ShadowAtlas:
         s = self._split.get((j, i))
         if s is None:
             ref = self.anchor_depth((self.xs[i], self.ys[j]))
-            s = self._split[(j, i)] = premultiply(self.maps[j, i], ref)
+            s = self._split[(j, i)] = depth_planes(self.maps[j, i], ref)
         return s
 
     def cell(self, xy: np.ndarray) -> tuple[int, int, float, float]:
@@ -313,13 +312,13 @@ class ShadowAtlas:
             if float(np.abs(c_dst - self.control[jj, ii]).max()) <= 1e-6:
                 # identity: exact sample position, or a directional light
                 box = (0, self.shape[0], 0, self.shape[1])
-                _merge(acc, (box, self._source(jj, ii)), w)
+                add_planes(acc, (box, self._source(jj, ii)), w)
             else:
                 jobs.append(self._job(jj, ii, c_dst, eq, w))
         try:
             box = _roi_union(box, _accumulate_warps(jobs, acc))
             # clear=True: the buffer is all zeros again for the next call
-            return _finish(acc, self.anchor_depth(eq), box, clear=True), cam
+            return planes_to_depth(acc, self.anchor_depth(eq), box, clear=True), cam
         except BaseException:
             acc.fill(0.0)
             raise
@@ -453,17 +452,17 @@ class ShadowAtlas:
             for ii, w in ((i, 1 - u), (i + 1, u)):
                 if w > 0:
                     src = self._source(jj, ii)
-                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else _warp_planes(
+                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else warp_planes(
                         src, C[jj, ii], c_row, self.triangles, self.shape)
-                    _merge(row, (full, warped), w)
+                    add_planes(row, (full, warped), w)
             rows.append((c_row, row))  # premultiplied: a row morph is again a source
         acc = np.zeros((2, *self.shape), np.float32)
         for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
             if w > 0:
-                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else _warp_planes(
+                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else warp_planes(
                     row, c_row, c_dst, self.triangles, self.shape)
-                _merge(acc, (full, warped), w)
-        return _finish(acc, self.anchor_depth(eq))
+                add_planes(acc, (full, warped), w)
+        return planes_to_depth(acc, self.anchor_depth(eq))
 
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
@@ -616,7 +615,7 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
             maps[j, i] = renderer.depth(rig.camera_at(xy), [Item(mesh, rig.object_pose(xy))])
             bar.update()
     bar.close()
-    boxes = np.array([[_silhouette_box(maps[j, i]) for i in range(kx)] for j in range(ky)])
+    boxes = np.array([[silhouette_box(maps[j, i]) for i in range(kx)] for j in range(ky)])
     if anchors != "sample":  # one grid for all maps: the union of the silhouettes' boxes
         boxes[:] = [boxes[..., 0].min(), boxes[..., 1].min(), boxes[..., 2].max(), boxes[..., 3].max()]
     surf = np.empty((ky, kx, rows * cols, 3))
@@ -629,9 +628,9 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
             xy = np.array([xs[i], ys[j]])
             cam = rig.camera_at(xy)
             anchor_z = float((rig.anchor0 + np.r_[xy, 0.0] - cam.position) @ cam.axis)
-            z = _anchor_depths(maps[j, i], pts, (rows, cols), anchor_z, smooth)
-            surf[j, i] = _lift(cam, pts, z) - np.r_[xy, 0.0]
-            plane[j, i] = _lift(cam, pts, np.full(len(pts), anchor_z)) - np.r_[xy, 0.0]
+            z = anchor_depths(maps[j, i], pts, (rows, cols), anchor_z, smooth)
+            surf[j, i] = lift(cam, pts, z) - np.r_[xy, 0.0]
+            plane[j, i] = lift(cam, pts, np.full(len(pts), anchor_z)) - np.r_[xy, 0.0]
     if anchors == "shared":
         surf[:] = surf[ky // 2, kx // 2]
         plane[:] = plane[ky // 2, kx // 2]

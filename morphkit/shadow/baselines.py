@@ -23,7 +23,8 @@ import trimesh
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
-from .atlas import ShadowAtlas, _finish, _merge, bake_atlas
+from .atlas import ShadowAtlas, bake_atlas
+from .planes import add_planes, planes_to_depth
 from .rig import LightRig
 
 __all__ = ["DirectShadow", "ImageBasedShadow"]
@@ -83,5 +84,5 @@ class ImageBasedShadow:
             for (jj, ii), w in (((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
                                 ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)):
                 if w > 0:
-                    _merge(acc, ((0, a.shape[0], 0, a.shape[1]), a._source(jj, ii)), w)
-        return _finish(acc, a.anchor_depth(eq)), cam
+                    add_planes(acc, ((0, a.shape[0], 0, a.shape[1]), a._source(jj, ii)), w)
+        return planes_to_depth(acc, a.anchor_depth(eq)), cam

@@ -7,8 +7,10 @@ from scipy import ndimage
 
 from ..camera import CameraModel
 
+__all__ = ["silhouette_box", "anchor_depths", "lift"]
 
-def _silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, float, float, float]:
+
+def silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, float, float, float]:
     """``(x0, y0, x1, y1)``: the bounding box of a map's covered pixels, grown by
     ``margin`` of the map size (at least 2 px) and clipped to the map; the whole
     map when nothing is covered. Control grids span it: the warp's work and its
@@ -23,7 +25,7 @@ def _silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, flo
             min(h - 1.0, rows[-1] + my))
 
 
-def _anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fallback: float,
+def anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fallback: float,
                    smooth: float) -> np.ndarray:
     """Depths for surface anchors at grid points ``pts``: the map's depth extended
     beyond the silhouette by the nearest object depth (so the depth field, and
@@ -42,7 +44,7 @@ def _anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fa
     return filled[np.rint(pts[:, 1]).astype(int), np.rint(pts[:, 0]).astype(int)].astype(np.float64)
 
 
-def _lift(cam: CameraModel, pts: np.ndarray, z: np.ndarray) -> np.ndarray:
+def lift(cam: CameraModel, pts: np.ndarray, z: np.ndarray) -> np.ndarray:
     """World points at pixel ``pts`` and depth ``z`` of ``cam``."""
     X = (pts[:, 0] - cam.cx) / cam.fx
     Y = (pts[:, 1] - cam.cy) / cam.fy

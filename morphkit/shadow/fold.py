@@ -4,43 +4,45 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
+from ..settings import COMPILED, compile_kernel
+
+__all__ = ["signed_areas", "RELAX_ROUNDS", "folded_numpy", "any_folded", "any_folded_numpy", "relax_folds",
+           "relax_folds_numpy", "relax_folds_python"]
 
 
-def _signed_area(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+def signed_areas(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
 #: Rounds of the fold relaxation before falling back to plane anchors.
-_RELAX_ROUNDS = 16
+RELAX_ROUNDS = 16
 
 
-def _folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
+def folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                   ) -> np.ndarray:
-    area = _signed_area(pts, tri)
+    area = signed_areas(pts, tri)
     return (np.sign(area) != sign) | (np.abs(area) < min_area)
 
 
-def _any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
+def any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                       ) -> bool:
-    return bool(_folded_numpy(pts, tri, sign, min_area).any())
+    return bool(folded_numpy(pts, tri, sign, min_area).any())
 
 
-def _relax_numpy(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
+def relax_folds_numpy(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
                  min_area: float, rounds: int, out: np.ndarray) -> int:
     """Pull the vertices of folded triangles towards their plane positions,
     ``out = plane + a (surf - plane)`` with ``a`` halved per round for every vertex
     of a folded triangle, until nothing folds. Returns the number of rounds taken,
     negated when ``rounds`` did not suffice (``out`` is then meaningless).
-    This is the reference for the compiled :func:`_relax_loop`."""
+    This is the reference for the compiled :func:`relax_folds_python`."""
     alpha = np.ones(len(surf))
-    bad = _folded_numpy(surf, tri, sign, min_area)
+    bad = folded_numpy(surf, tri, sign, min_area)
     for k in range(rounds):
         alpha[np.unique(tri[bad])] *= 0.5
         out[...] = plane + alpha[:, None] * (surf - plane)
-        bad = _folded_numpy(out, tri, sign, min_area)
+        bad = folded_numpy(out, tri, sign, min_area)
         if not bad.any():
             return k + 1
     return -rounds
@@ -63,7 +65,7 @@ def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_are
     return False
 
 
-def _relax_loop(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
+def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
                 min_area: float, rounds: int, out: np.ndarray) -> int:
     n, m = surf.shape[0], tri.shape[0]
     alpha = np.ones(n)
@@ -88,11 +90,11 @@ def _relax_loop(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.n
     return -rounds
 
 
-if _numba is not None and not _NUMPY_ONLY:
-    _jit = _numba.njit(cache=True, nogil=True)
-    _tri_folded = _jit(_tri_folded)
-    _any_folded = _jit(_any_folded_loop)
-    _relax = _jit(_relax_loop)
-else:  # the numpy reference
-    _any_folded = _any_folded_numpy
-    _relax = _relax_numpy
+#: Whether a destination mesh folds (compiled, or the numpy reference).
+any_folded = any_folded_numpy
+#: The fold relaxation (compiled, or the numpy reference :func:`relax_folds_numpy`).
+relax_folds = relax_folds_numpy
+if COMPILED:
+    _tri_folded = compile_kernel(_tri_folded)
+    any_folded = compile_kernel(_any_folded_loop)
+    relax_folds = compile_kernel(relax_folds_python)

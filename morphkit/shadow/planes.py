@@ -1,8 +1,8 @@
 """Depth maps as premultiplied planes, so warps and blends never mix depth with background.
 
 A depth map becomes two float32 planes ``[coverage, coverage * (depth - ref)]``
-(:func:`premultiply`); bilinear sampling and weighted sums of such planes blend
-object depths only, and :func:`_finish` turns the result back into depth
+(:func:`depth_planes`); bilinear sampling and weighted sums of such planes blend
+object depths only, and :func:`planes_to_depth` turns the result back into depth
 (``+inf`` where the blended coverage is below 0.5).
 """
 
@@ -11,11 +11,13 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .._scanline import numba as _numba
+from ..settings import compile_kernel, use_compiled
 from ..warp import MeshWarper, _accumulate_warps
 
+__all__ = ["depth_planes", "add_planes", "warp_planes", "planes_to_depth"]
 
-def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
+
+def depth_planes(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     """``(2, H, W)`` float32 planes, premultiplied: ``[coverage, coverage * (depth - ref)]``;
     coverage is 1 on the object and 0 on the background.
 
@@ -32,7 +34,7 @@ def premultiply(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     return out
 
 
-def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
+def add_planes(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
            ) -> None:
     """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``)."""
     (r0, r1, c0, c1), px = warped
@@ -43,7 +45,7 @@ def _merge(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray]
         cv2.scaleAdd(px[k], float(weight), view, dst=view)
 
 
-def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
+def warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
                  triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """``(2, H, W)``: the premultiplied planes of ``src`` warped from ``src_pts`` to
     ``dst_pts`` (0 outside)."""
@@ -77,11 +79,10 @@ def _finish_loop(acc: np.ndarray, ref: float, out: np.ndarray, r0: int, r1: int,
             num_row[c0:c1] = 0.0
 
 
-_finish_kernel = (_numba.njit(cache=True, nogil=True)(_finish_loop) if _numba is not None
-                  else _finish_numpy)
+_finish_compiled = compile_kernel(_finish_loop)
 
 
-def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None, *,
+def planes_to_depth(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None = None, *,
             clear: bool = False) -> np.ndarray:
     """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
     ``+inf`` where the blended coverage is below 0.5 (one compiled pass); only
@@ -91,5 +92,6 @@ def _finish(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] | None =
     r0, r1, c0, c1 = (0, h, 0, w) if roi is None else roi
     out = np.full((h, w), np.inf, np.float32)
     if r1 > r0 and c1 > c0:
-        _finish_kernel(acc, np.float32(ref), out, r0, r1, c0, c1, clear)
+        kernel = _finish_compiled if use_compiled(_finish_compiled) else _finish_numpy
+        kernel(acc, np.float32(ref), out, r0, r1, c0, c1, clear)
     return out
