@@ -350,6 +350,10 @@ def test_baselines_memory_and_shape(renderer, cow, point_atlas):
     np.testing.assert_array_equal(np.isfinite(dn), fin)
     with pytest.raises(ValidationError, match="mode: expected 'nearest' or 'blend'"):
         ImageBasedShadow(ibr.atlas, "bilinear")
+    from morphkit.shadow import ShadowMethod
+
+    for m in (ibr, near, DirectShadow(point_atlas.rig, cow, renderer)):  # one interface for all
+        assert isinstance(m, ShadowMethod) and m.rig is not None and m.name
 
 
 # ----------------------------------------------------------------- file I/O
@@ -491,13 +495,26 @@ def test_reproject_directional_light_and_light_offset(renderer, cow, point_atlas
 
 
 def test_atlas_method_fixes_options_and_checks_them_at_once(point_atlas):
+    from morphkit.shadow import ComposedWarp, ReprojectedMaps, ShadowMethod, ThreeWarps
+
     m = point_atlas.method(warps="reproject")
     xy = np.array([0.1, 0.05])
+    assert isinstance(m, ReprojectedMaps) and isinstance(m, ShadowMethod) and m.name == "reproject"
+    assert point_atlas.method(warps="reproject") is m  # built once per set of options
     assert m.rig is point_atlas.rig and m.memory_bytes == point_atlas.memory_bytes
     np.testing.assert_array_equal(m.shadow_map(xy)[0],
                                   point_atlas.shadow_map(xy, warps="reproject")[0])
-    np.testing.assert_array_equal(m.shadow_map(xy, warps="composed")[0],  # a call overrides
-                                  point_atlas.shadow_map(xy)[0])
+    composed = point_atlas.method()
+    assert isinstance(composed, ComposedWarp) and composed.name == "warp"
+    np.testing.assert_array_equal(composed.shadow_map(xy)[0], point_atlas.shadow_map(xy)[0])
+    assert point_atlas.method(blend="nearest").name == "warp_nearest"
+    assert point_atlas.method(warps="reproject", layers=False).name == "reproject_full"
+    assert isinstance(point_atlas, ShadowMethod)  # the atlas itself, with its default method
+    with pytest.raises(ValidationError, match="nearest: expected a bool, got 'yes'"):
+        ComposedWarp(point_atlas, nearest="yes")
+    with pytest.raises(ValidationError, match="'shared' or 'plane' anchors for dst='interpolate' or "
+                                              "warps='three'"):
+        ThreeWarps(point_atlas)
     with pytest.raises(ValidationError, match="'composed'\\|'three'\\|'reproject'"):
         point_atlas.method(warps="remap")
     with pytest.raises(ValidationError, match="'shared' or 'plane' anchors"):

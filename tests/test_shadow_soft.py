@@ -196,3 +196,5 @@ def test_methods_for_another_light_are_refused(renderer, plate):
                      renderer=renderer, progress=False)
     with pytest.raises(ValidationError, match=r"centre \[0.2, -0.1, 2.4\].*at \[0.0, 0.0, 2.4\]"):
         SoftShadow(off, AREA)
+    with pytest.raises(ValidationError, match="method: expected a ShadowMethod .*got dict"):
+        SoftShadow({"rig": off.rig}, AREA)

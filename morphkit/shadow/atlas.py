@@ -88,17 +88,17 @@ from ..errors import FileFormatError, FoldOverError, ValidationError, expected_g
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..warp import (
-    WARP_THREADS,
     MeshWarper,
-    _accumulate_warps,
-    _roi_union,
     grid_triangles,
 )
-from . import reproject as _rp
 from .controls import anchor_depths, lift, silhouette_box
 from .fold import RELAX_ROUNDS, any_folded, relax_folds, signed_areas
-from .planes import add_planes, depth_planes, planes_to_depth, warp_planes
+from .method import ShadowMethod
+from .planes import depth_planes
+from .reproject import Layer, Reprojection, Source, hidden_layer
+from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
+from .warped import ComposedWarp, ThreeWarps, check_flag
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION"]
 
@@ -128,6 +128,7 @@ class ShadowAtlas:
     _support: dict[tuple[int, int], Any] = field(default_factory=dict, repr=False)
     _layers: dict[tuple[tuple[int, int], tuple[int, int]], Any] = field(default_factory=dict,
                                                                         repr=False)
+    name: str = field(default="warp", init=False)
 
     def __post_init__(self) -> None:
         self.triangles = grid_triangles(*self.control_grid)
@@ -139,8 +140,7 @@ class ShadowAtlas:
                                                      for i in range(kx)]) for j in range(ky)]))
         self.fallbacks = 0
         self.relaxed = 0
-        self._acc: np.ndarray | None = None
-        self._scratch: list[np.ndarray] = []
+        self._methods: dict[tuple[Any, ...], ShadowMethod] = {}
 
     # ------------------------------------------------------------ geometry
     @property
@@ -179,7 +179,7 @@ class ShadowAtlas:
         q = (anchors + np.r_[xy, 0.0]) @ T[:, :3].T + T[:, 3]
         return q[:, :2] / q[:, 3:]
 
-    def _dst_points(self, j: int, i: int, eq: np.ndarray) -> np.ndarray:
+    def dst_points(self, j: int, i: int, eq: np.ndarray) -> np.ndarray:
         """Destination control points of map ``(j, i)`` for the object at ``eq``.
 
         Where the surface anchors' parallax would fold a triangle (an occlusion
@@ -201,7 +201,8 @@ class ShadowAtlas:
         self.relaxed += abs(rounds)
         return dst if rounds > 0 else plane
 
-    def _warper(self, j: int, i: int) -> MeshWarper:
+    def warper(self, j: int, i: int) -> MeshWarper:
+        """The :class:`~morphkit.warp.MeshWarper` of map ``(j, i)``'s control points (cached)."""
         w = self._warpers.get((j, i))
         if w is None:
             w = self._warpers[(j, i)] = MeshWarper(self.control[j, i], self.triangles)
@@ -212,14 +213,15 @@ class ShadowAtlas:
         T = self._texture(xy)
         return float(T[2, :3] @ (self.rig.anchor0 + np.r_[np.asarray(xy, float), 0.0]) + T[2, 3])
 
-    def _active(self, j: int, i: int) -> np.ndarray:
+    def active_triangles(self, j: int, i: int) -> np.ndarray:
         """Triangles of map ``(j, i)``'s mesh whose source holds the object (cached)."""
         a = self._touching.get((j, i))
         if a is None:
-            a = self._touching[(j, i)] = self._warper(j, i).triangles_touching(self._source(j, i)[0])
+            a = self._touching[(j, i)] = self.warper(j, i).triangles_touching(self.source_planes(j, i)[0])
         return a
 
-    def _source(self, j: int, i: int) -> np.ndarray:
+    def source_planes(self, j: int, i: int) -> np.ndarray:
+        """Map ``(j, i)`` as coverage-depth planes ``(2, H, W)`` relative to its anchor depth (cached)."""
         s = self._split.get((j, i))
         if s is None:
             ref = self.anchor_depth((self.xs[i], self.ys[j]))
@@ -242,136 +244,76 @@ class ShadowAtlas:
                    layers: bool = True,
                    ) -> tuple[np.ndarray, CameraModel]:
         """The light depth map for the object at ``xy`` (and a point light moved by
-        ``light_offset``), and the light camera it belongs to.
+        ``light_offset``), and the light camera it belongs to: a convenience over
+        the atlas's shadow methods (:meth:`method`).
 
-        ``blend="bilinear"`` (default, the paper) warps the cell's 4 maps and
-        blends them with bilinear weights; ``"nearest"`` warps only the sample
-        map with the largest weight (ties: the lower index): a quarter of the
-        work, somewhat less accurate, and the shadow may change abruptly where
-        the nearest sample changes (``morphkit bench shadows``, row
-        ``warp_nearest``).
-
-        ``warps="reproject"`` moves every pixel of the cell's maps in 3-D
-        instead (exact for every surface point a map saw; no control points) and
-        keeps the nearest depth (:mod:`morphkit.shadow.reproject`): closer to a
-        re-render than the piecewise-affine warps where parallax varies inside
-        a mesh triangle (the chair's slats over its seat), in about the time
-        of ``"composed"`` (512^2: 2.1-3.1 ms against 2.3-2.8 ms).
-        ``blend="nearest"`` reprojects one map (holes where it saw nothing).
-        ``layers`` (reproject only): the largest-weight map is reprojected
-        whole and of the others only what it does not hold
-        (:func:`~morphkit.shadow.reproject.hidden_layer`, built once per pair of
-        neighbouring samples, on first use or by :meth:`prepare`): the same
-        shadow (IoU within 0.0003) in half the time or less; ``False``
-        reprojects every map whole (``morphkit bench shadows``, rows
-        ``reproject`` and ``reproject_full``).
+        ``warps`` picks the algorithm: ``"composed"`` (default,
+        :class:`~morphkit.shadow.warped.ComposedWarp`), ``"three"`` (the paper's,
+        :class:`~morphkit.shadow.warped.ThreeWarps`) or ``"reproject"``
+        (:class:`~morphkit.shadow.reprojected.ReprojectedMaps`); ``dst="interpolate"``
+        interpolates the destination control points (the paper), ``blend="nearest"``
+        uses only the nearest sample's map, ``layers`` (reproject only) reprojects
+        the other maps' hidden layers instead of whole maps. Accuracy and speed of
+        each: ``morphkit bench shadows`` and ``docs/RESULTS.md``.
 
         Returns ``(depth (H, W) float32 with +inf background, camera)``.
         """
-        if (warps not in ("composed", "three", "reproject") or dst not in ("project", "interpolate")
-                or blend not in ("bilinear", "nearest")):
-            raise ValidationError(expected_got(
-                "warps/dst/blend", "'composed'|'three'|'reproject', 'project'|'interpolate' and "
-                "'bilinear'|'nearest'", f"{warps!r}/{dst!r}/{blend!r}"))
-        if not isinstance(layers, bool | np.bool_):
-            raise ValidationError(expected_got("layers", "a bool", repr(layers)))
-        if warps == "reproject" and dst != "project":
-            raise ValidationError(expected_got("dst", "'project' with warps='reproject' (it moves "
-                                               "pixels, not control points)", repr(dst)))
-        if blend == "nearest" and warps == "three":
-            raise ValidationError(expected_got("warps", "'composed' with blend='nearest' (one map "
-                                               "is warped once)", "'three'"))
-        if (dst == "interpolate" or warps == "three") and self.anchor_kind == "sample":
-            raise ValidationError(expected_got(
-                "atlas anchors", "'shared' or 'plane' anchors for dst='interpolate' or "
-                "warps='three' (they need control points in correspondence across maps)",
-                "'sample' anchors"))
-        eq, _pos, cam = self.rig.resolve(xy, light_offset, clamp=clamp)
-        j, i, v, u = self.cell(eq)
-        nb = [((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
-              ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)]
-        # the destination control points interpolated from all 4 maps (the paper)
-        interp = sum(w * self.control[jj, ii] for (jj, ii), w in nb) if dst == "interpolate" else None
-        if blend == "nearest":
-            nb = [(max(nb, key=lambda n: n[1])[0], 1.0)]  # max() keeps the first of ties
-        if warps == "three":
-            return self._three_warps(eq, j, i, u, v, dst), cam
-        if warps == "reproject":
-            # the largest weight first: the others then mostly fill what it left
-            order = sorted((n for n in nb if n[1] > 0.0), key=lambda n: -n[1])
-            return self._reprojected(eq, [n for n, _w in order], bool(layers)), cam
-        acc = self._acc  # kept between calls, all zeros (an atlas serves one thread at a time)
-        if acc is None:
-            acc = self._acc = np.zeros((2, *self.shape), np.float32)
-        jobs = []
-        box = (0, 0, 0, 0)
-        for (jj, ii), w in nb:
-            if w <= 0.0:
-                continue
-            c_dst = interp if interp is not None else self._dst_points(jj, ii, eq)
-            if float(np.abs(c_dst - self.control[jj, ii]).max()) <= 1e-6:
-                # identity: exact sample position, or a directional light
-                box = (0, self.shape[0], 0, self.shape[1])
-                add_planes(acc, (box, self._source(jj, ii)), w)
-            else:
-                jobs.append(self._job(jj, ii, c_dst, eq, w))
-        try:
-            box = _roi_union(box, _accumulate_warps(jobs, acc))
-            # clear=True: the buffer is all zeros again for the next call
-            return planes_to_depth(acc, self.anchor_depth(eq), box, clear=True), cam
-        except BaseException:
-            acc.fill(0.0)
-            raise
+        return self.method(warps=warps, dst=dst, blend=blend, layers=layers).shadow_map(
+            xy, light_offset=light_offset, clamp=clamp)
 
-    def _reprojected(self, eq: np.ndarray, sources: list[tuple[int, int]], layers: bool
-                     ) -> np.ndarray:
-        """The maps ``sources`` reprojected per pixel to the object at ``eq`` into
-        one z-buffer (:mod:`morphkit.shadow.reproject`); with ``layers`` the
-        first whole and of the others their layers hidden from the first."""
-        cam = self.rig.camera_at(eq)
-        jobs = []
-        pixels = 0
-        for k, (jj, ii) in enumerate(sources):
-            src, src_cam = self._prepared(jj, ii)
-            if k > 0 and layers:
-                src = self._layer(sources[0], (jj, ii))
-            rp = self._reprojection(src_cam, cam, eq - np.array([self.xs[ii], self.ys[jj]]))
-            pixels += int(src.cum[-1])
-            jobs.append((src, rp))
-        out = np.full(self.shape, np.inf, np.float32)
-        threads = WARP_THREADS if pixels >= _rp.PARALLEL_MIN_SOURCE_PIXELS else 1
-        while len(self._scratch) < threads - 1:
-            self._scratch.append(np.full(self.shape, np.inf, np.float32))
-        _rp.reproject_maps(jobs, out, self._scratch, threads=threads)
-        return out
+    def method(self, *, warps: Literal["composed", "three", "reproject"] = "composed",
+               dst: Literal["project", "interpolate"] = "project",
+               blend: Literal["bilinear", "nearest"] = "bilinear", layers: bool = True) -> ShadowMethod:
+        """This atlas as the :class:`~morphkit.shadow.method.ShadowMethod` named by the
+        options of :meth:`shadow_map` (checked now), for
+        :class:`~morphkit.shadow.soft.SoftShadow`,
+        :func:`~morphkit.shadow.frame.compare_frames` and the benchmarks.
 
-    def _prepared(self, j: int, i: int) -> tuple[_rp.Source, CameraModel]:
+        The object is built once per set of options and kept (it holds the
+        run-time buffers); one object serves one thread at a time.
+
+        Raises
+        ------
+        ValidationError
+            Unknown option values or combinations that have no algorithm
+            (``blend="nearest"`` with ``warps="three"``, ``dst="interpolate"`` with
+            ``warps="reproject"``), or ``dst="interpolate"``/``warps="three"`` on
+            an atlas of ``"sample"`` anchors.
+        """
+        key = (warps, dst, blend, layers)
+        m = self._methods.get(key) if isinstance(layers, bool) else None
+        if m is None:
+            m = _make_method(self, warps, dst, blend, layers)
+            self._methods[key] = m
+        return m
+
+    def reprojection_source(self, j: int, i: int) -> tuple[Source, CameraModel]:
         """Map ``(j, i)`` as a reprojection source, and its camera (cached)."""
         prep = self._support.get((j, i))
         if prep is None:
             prep = self._support[(j, i)] = (
-                _rp.Source(self.maps[j, i]), self.rig.camera_at(np.array([self.xs[i], self.ys[j]])))
+                Source(self.maps[j, i]), self.rig.camera_at(np.array([self.xs[i], self.ys[j]])))
         return prep
 
-    def _reprojection(self, src_cam: CameraModel, dst_cam: CameraModel, dxy: np.ndarray
-                      ) -> _rp.Reprojection:
+    def reprojection(self, src_cam: CameraModel, dst_cam: CameraModel, dxy: np.ndarray
+                      ) -> Reprojection:
         """How a map of ``src_cam`` moves into ``dst_cam`` with the object moved by
         ``dxy`` on the ground: ``e = R^T d`` in the light frame; a directional
         light's camera moves with the object (rig model), so there ``e = 0``."""
         persp = dst_cam.projection == "perspective"
         e = self.rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
-        return _rp.Reprojection(persp, self.rig.fx, self.rig.fy, (src_cam.cx, src_cam.cy),
+        return Reprojection(persp, self.rig.fx, self.rig.fy, (src_cam.cx, src_cam.cy),
                                 (dst_cam.cx, dst_cam.cy), e)
 
-    def _layer(self, primary: tuple[int, int], other: tuple[int, int]) -> _rp.Layer:
+    def hidden_layer(self, primary: tuple[int, int], other: tuple[int, int]) -> Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
         :func:`morphkit.shadow.reproject.hidden_layer`)."""
         lay = self._layers.get((primary, other))
         if lay is None:
             (jk, ik), (jn, i_n) = primary, other
-            rp = self._reprojection(self._prepared(jn, i_n)[1], self._prepared(jk, ik)[1],
+            rp = self.reprojection(self.reprojection_source(jn, i_n)[1], self.reprojection_source(jk, ik)[1],
                                     np.array([self.xs[ik] - self.xs[i_n], self.ys[jk] - self.ys[jn]]))
-            lay = self._layers[(primary, other)] = _rp.hidden_layer(
+            lay = self._layers[(primary, other)] = hidden_layer(
                 self.maps[jk, ik], self.maps[jn, i_n], rp)
         return lay
 
@@ -387,7 +329,7 @@ class ShadowAtlas:
                 for jn in range(max(j - 1, 0), min(j + 2, ky)):
                     for i_n in range(max(i - 1, 0), min(i + 2, kx)):
                         if (jn, i_n) != (j, i):
-                            self._layer((j, i), (jn, i_n))
+                            self.hidden_layer((j, i), (jn, i_n))
         return time.perf_counter() - t0
 
     @property
@@ -395,25 +337,15 @@ class ShadowAtlas:
         """Bytes of the hidden layers built so far (run-time cache, not persisted)."""
         return int(sum(lay.nbytes for lay in self._layers.values()))
 
-    def method(self, **options: Any) -> AtlasMethod:
-        """This atlas as a shadow method whose :meth:`shadow_map` uses ``options``
-        (e.g. ``warps="reproject"``) unless a call overrides them: for
-        :class:`~morphkit.shadow.soft.SoftShadow`,
-        :func:`~morphkit.shadow.frame.compare_frames` and the benchmarks.
-        Options are checked now, by one call at the range's first sample."""
-        m = AtlasMethod(self, options)
-        m.shadow_map(np.array([self.xs[0], self.ys[0]]))
-        return m
-
-    def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
+    def warp_job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
         """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
         ``c_dst`` (:func:`morphkit.warp._accumulate_warps`): premultiplied, and only
         the triangles whose source holds the object are warped (the rest add 0)."""
-        src = self._source(j, i)
-        warper = self._warper(j, i)
+        src = self.source_planes(j, i)
+        warper = self.warper(j, i)
         try:
-            return warper._accumulation(c_dst, self.shape), src, self._active(j, i), weight
+            return warper._accumulation(c_dst, self.shape), src, self.active_triangles(j, i), weight
         except FoldOverError:
             # An occlusion change too large for the mesh: warp with plane anchors,
             # whose motion is projective and cannot fold (documented fallback).
@@ -423,46 +355,6 @@ class ShadowAtlas:
             warper = MeshWarper(src_pts, self.triangles)
             return (warper._accumulation(dst_pts, self.shape), src,
                     warper.triangles_touching(src[0]), weight)
-
-    def _three_warps(self, eq: np.ndarray, j: int, i: int, u: float, v: float,
-                     dst: str) -> np.ndarray:
-        """Kang & Ihm's three warps: row morphs at fraction u, then a column morph at v.
-
-        If a warp folds, the whole computation is redone with plane anchors
-        (documented fallback, counted in :attr:`fallbacks`)."""
-        try:
-            return self._three_warps_with(self.control, self.anchors, eq, j, i, u, v, dst)
-        except FoldOverError:
-            self.fallbacks += 1
-            ky, kx = self.grid
-            plane = np.stack([np.stack([self.project((self.xs[b], self.ys[a]), self.plane_anchors[a, b])
-                                        for b in range(kx)]) for a in range(ky)])
-            return self._three_warps_with(plane, self.plane_anchors, eq, j, i, u, v, dst)
-
-    def _three_warps_with(self, C: np.ndarray, anchors: np.ndarray, eq: np.ndarray, j: int, i: int,
-                          u: float, v: float, dst: str) -> np.ndarray:
-        c_dst = (self.project(eq, anchors[j, i]) if dst == "project" else
-                 (1 - v) * ((1 - u) * C[j, i] + u * C[j, i + 1])
-                 + v * ((1 - u) * C[j + 1, i] + u * C[j + 1, i + 1]))
-        full = (0, self.shape[0], 0, self.shape[1])
-        rows = []
-        for jj in (j, j + 1):
-            c_row = (1 - u) * C[jj, i] + u * C[jj, i + 1]
-            row = np.zeros((2, *self.shape), np.float32)
-            for ii, w in ((i, 1 - u), (i + 1, u)):
-                if w > 0:
-                    src = self._source(jj, ii)
-                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else warp_planes(
-                        src, C[jj, ii], c_row, self.triangles, self.shape)
-                    add_planes(row, (full, warped), w)
-            rows.append((c_row, row))  # premultiplied: a row morph is again a source
-        acc = np.zeros((2, *self.shape), np.float32)
-        for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
-            if w > 0:
-                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else warp_planes(
-                    row, c_row, c_dst, self.triangles, self.shape)
-                add_planes(acc, (full, warped), w)
-        return planes_to_depth(acc, self.anchor_depth(eq))
 
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
@@ -529,24 +421,6 @@ class ShadowAtlas:
             raise FileFormatError(expected_got("atlas control points", "consistent with its anchors "
                                                "and light rig", "different values (corrupt file?)"))
         return atlas
-
-
-class AtlasMethod:
-    """A :class:`ShadowAtlas` with fixed run-time options (:meth:`ShadowAtlas.method`)."""
-
-    def __init__(self, atlas: ShadowAtlas, options: dict[str, Any]) -> None:
-        self.atlas, self.options = atlas, dict(options)
-
-    @property
-    def rig(self) -> LightRig:
-        return self.atlas.rig
-
-    @property
-    def memory_bytes(self) -> int:
-        return self.atlas.memory_bytes
-
-    def shadow_map(self, xy: Any, **kw: Any) -> tuple[np.ndarray, CameraModel]:
-        return self.atlas.shadow_map(xy, **{**self.options, **kw})
 
 
 def _light_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
@@ -639,3 +513,27 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
 
 
+
+
+_WARPS = ("composed", "three", "reproject")
+
+
+def _make_method(atlas: ShadowAtlas, warps: str, dst: str, blend: str, layers: Any) -> ShadowMethod:
+    """The shadow method object for :meth:`ShadowAtlas.method`'s options."""
+    if warps not in _WARPS or dst not in ("project", "interpolate") or blend not in ("bilinear", "nearest"):
+        raise ValidationError(expected_got(
+            "warps/dst/blend", "'composed'|'three'|'reproject', 'project'|'interpolate' and "
+            "'bilinear'|'nearest'", f"{warps!r}/{dst!r}/{blend!r}"))
+    layers = check_flag(layers, "layers")
+    interpolate, nearest = dst == "interpolate", blend == "nearest"
+    if warps == "reproject":
+        if interpolate:
+            raise ValidationError(expected_got("dst", "'project' with warps='reproject' (it moves "
+                                               "pixels, not control points)", repr(dst)))
+        return ReprojectedMaps(atlas, nearest=nearest, layers=layers)
+    if warps == "three":
+        if nearest:
+            raise ValidationError(expected_got("warps", "'composed' with blend='nearest' (one map "
+                                               "is warped once)", "'three'"))
+        return ThreeWarps(atlas, interpolate=interpolate)
+    return ComposedWarp(atlas, interpolate=interpolate, nearest=nearest)

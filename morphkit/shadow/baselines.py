@@ -23,7 +23,9 @@ import trimesh
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
+from ..scene import Item
 from .atlas import ShadowAtlas, bake_atlas
+from .method import bilinear_weights
 from .planes import add_planes, planes_to_depth
 from .rig import LightRig
 
@@ -37,14 +39,13 @@ class DirectShadow:
     memory_bytes = 0
 
     def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> None:
-        from ..scene import Item
-
-        self.rig, self.mesh, self.renderer, self._item = rig, mesh, renderer, Item
+        self.rig, self.mesh, self.renderer = rig, mesh, renderer
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
         _eq, pos, cam = self.rig.resolve(xy, light_offset, clamp=clamp)
-        return self.renderer.depth(cam, [self._item(self.mesh, self.rig.object_pose(pos))]), cam
+        return self.renderer.depth(cam, [Item(self.mesh, self.rig.object_pose(pos))]), cam
 
 
 class ImageBasedShadow:
@@ -68,21 +69,27 @@ class ImageBasedShadow:
         return cls(atlas, mode)
 
     @property
+    def rig(self) -> LightRig:
+        """The grid's light rig."""
+        return self.atlas.rig
+
+    @property
     def memory_bytes(self) -> int:
+        """Bytes of the stored maps."""
         return int(self.atlas.maps.nbytes)
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
         a = self.atlas
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)
         if self.mode == "nearest":
             jj, ii = j + int(v > 0.5), i + int(u > 0.5)
-            acc = a._source(jj, ii).copy()
+            acc = a.source_planes(jj, ii).copy()
         else:
             acc = np.zeros((2, *a.shape), np.float32)
-            for (jj, ii), w in (((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
-                                ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)):
+            for (jj, ii), w in bilinear_weights(j, i, v, u):
                 if w > 0:
-                    add_planes(acc, ((0, a.shape[0], 0, a.shape[1]), a._source(jj, ii)), w)
+                    add_planes(acc, ((0, a.shape[0], 0, a.shape[1]), a.source_planes(jj, ii)), w)
         return planes_to_depth(acc, a.anchor_depth(eq)), cam

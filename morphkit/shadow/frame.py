@@ -14,7 +14,6 @@ self-shadowing is off. Default: every visible point is tested, object included.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
@@ -22,6 +21,7 @@ from ..composite import shade
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, Scene
 from .lookup import normals_from_points, shadow_visibility
+from .method import ShadowMethod
 
 __all__ = ["render_frame", "compare_frames"]
 
@@ -69,7 +69,7 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
             "shaded": shade(lit, unlit, vis), "facing": facing}
 
 
-def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, Any], xy: np.ndarray
+def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, ShadowMethod], xy: np.ndarray
                    ) -> dict[str, dict[str, np.ndarray]]:
     """Frames of ``scene`` with its object at ``xy``, shadowed by each method's
     shadow map (``method.shadow_map(xy) -> (depth, light_cam)``) and by the ray-cast

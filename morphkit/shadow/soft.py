@@ -51,6 +51,7 @@ from ..scene import AreaLight, PointLight
 from ..validate import as_finite_array
 from .atlas import ShadowAtlas, bake_atlas
 from .lookup import ShadowBias, lookup_into
+from .method import ShadowMethod
 from .rig import MotionRange
 
 __all__ = ["SoftShadow", "bake_soft_atlas", "light_offsets", "soft_motion_range"]
@@ -119,12 +120,13 @@ class SoftShadow:
 
     Parameters
     ----------
-    method
-        Anything with ``shadow_map(xy, light_offset=..., clamp=...) -> (depth,
-        camera)`` and a ``rig`` made for a point light at the area light's centre:
-        a :class:`~morphkit.shadow.atlas.ShadowAtlas` (``warp``), a
-        :class:`~morphkit.shadow.baselines.DirectShadow` (``direct``: ``N``
-        renders) or an :class:`~morphkit.shadow.baselines.ImageBasedShadow`.
+    method : ShadowMethod
+        Any :class:`~morphkit.shadow.method.ShadowMethod` whose ``rig`` is made for
+        a point light at the area light's centre: a
+        :class:`~morphkit.shadow.atlas.ShadowAtlas` or one of its methods
+        (``atlas.method(warps="reproject")``), a
+        :class:`~morphkit.shadow.baselines.DirectShadow` (``N`` renders) or an
+        :class:`~morphkit.shadow.baselines.ImageBasedShadow`.
     light : AreaLight
     samples
         ``k``, ``(n_u, n_v)`` or an ``(N, 2)`` array of light coordinates.
@@ -134,14 +136,17 @@ class SoftShadow:
         Depth-comparison bias of every lookup.
     """
 
-    def __init__(self, method: Any, light: AreaLight, samples: Any = (3, 3), *,
+    def __init__(self, method: ShadowMethod, light: AreaLight, samples: Any = (3, 3), *,
                  rng: np.random.Generator | None = None, bias: ShadowBias | None = None) -> None:
         self.offsets = light_offsets(light, samples, rng)
-        rig = getattr(method, "rig", None) or getattr(getattr(method, "atlas", None), "rig", None)
-        if rig is None or not isinstance(rig.light, PointLight):
+        if not isinstance(method, ShadowMethod):
+            raise ValidationError(expected_got("method", "a ShadowMethod (name, rig, memory_bytes, "
+                                               "shadow_map)", type(method).__name__))
+        rig = method.rig
+        if not isinstance(rig.light, PointLight):
             raise ValidationError(expected_got(
                 "method", "a shadow method made for a PointLight at the area light's centre",
-                f"{type(method).__name__} for {type(getattr(rig, 'light', None)).__name__}"))
+                f"{type(method).__name__} for {type(rig.light).__name__}"))
         if not np.allclose(rig.light.position, light.center, rtol=0, atol=1e-9):
             raise ValidationError(expected_got(
                 "method's light", f"a point light at the area light's centre {light.center.tolist()}",
