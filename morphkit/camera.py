@@ -123,13 +123,16 @@ class CameraModel:
         object.__setattr__(self, "cam2world", pose)
 
     @classmethod
-    def _trusted(cls, projection: Projection, shape: tuple[int, int], fx: float, fy: float,
-                 cx: float, cy: float, znear: float, zfar: float, cam2world: np.ndarray
-                 ) -> CameraModel:
-        """A camera from values the caller has already validated (same fields and
-        types as the checked constructor leaves): for per-frame cameras such as
-        :meth:`morphkit.shadow.rig.LightRig.camera_at`, which vary a validated
-        camera's principal point and position. Skips ~0.07 ms of checks."""
+    def unchecked(cls, projection: Projection, shape: tuple[int, int], fx: float, fy: float,
+                  cx: float, cy: float, znear: float, zfar: float, cam2world: np.ndarray
+                  ) -> CameraModel:
+        """A camera from values the caller has already validated, without checking them again.
+
+        Same fields and types as the checked constructor leaves. For per-frame
+        cameras derived from a validated one, such as
+        :meth:`morphkit.shadow.rig.LightRig.camera_at`, which varies a validated
+        camera's principal point and position every frame; anything else should
+        use the constructor (or :func:`perspective`/:func:`orthographic`)."""
         cam = object.__new__(cls)
         pose = np.array(cam2world, dtype=np.float64)
         pose.setflags(write=False)

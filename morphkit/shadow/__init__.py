@@ -2,7 +2,8 @@
 
 * :mod:`.method` -- :class:`ShadowMethod`, the interface every hard-shadow method implements;
 * :mod:`.rig` -- the object's range of motion and the light camera that follows it;
-* :mod:`.atlas` -- the k x k shadow atlas: bake, per-map building blocks, file I/O;
+* :mod:`.atlas` -- the k x k shadow atlas: bake and per-map building blocks;
+* :mod:`.atlasfile` -- the atlas file (save/load, checked);
 * :mod:`.controls` -- automatic control points (silhouette box, anchor depths, lifting);
 * :mod:`.planes` -- depth maps as coverage-depth planes (warped and blended without mixing background);
 * :mod:`.fold` -- fold-over relaxation of destination control points;
@@ -17,7 +18,8 @@
 
 from __future__ import annotations
 
-from .atlas import ATLAS_VERSION, ShadowAtlas, bake_atlas
+from .atlas import ShadowAtlas, bake_atlas
+from .atlasfile import ATLAS_VERSION
 from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .method import ShadowMethod, bilinear_weights

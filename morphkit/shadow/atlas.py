@@ -71,10 +71,7 @@ Outside the baked range: :class:`~morphkit.errors.OutOfRangeError`, or with
 
 from __future__ import annotations
 
-import io
-import json
 import time
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -84,7 +81,7 @@ import trimesh
 
 from .. import tol
 from ..camera import CameraModel
-from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
+from ..errors import FoldOverError, ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..warp import (
@@ -100,10 +97,8 @@ from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 from .warped import ComposedWarp, ThreeWarps, check_flag
 
-__all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning", "ATLAS_FORMAT", "ATLAS_VERSION"]
+__all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning"]
 
-ATLAS_FORMAT = "morphkit-shadow-atlas"
-ATLAS_VERSION = 1
 
 
 @dataclass
@@ -358,83 +353,18 @@ class ShadowAtlas:
 
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
-        """Write the atlas to one ``.npz`` file (maps, anchors, grid, light, range, rig, version)."""
-        path = Path(path)
-        meta = {
-            "format": ATLAS_FORMAT, "version": ATLAS_VERSION,
-            "light": _light_dict(self.rig.light),
-            "rig": self.rig.params(),
-            "control_grid": list(self.control_grid),
-            "anchor_kind": self.anchor_kind,
-        }
-        buf = io.BytesIO()
-        np.savez_compressed(buf, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8),
-                            xs=self.xs, ys=self.ys, maps=self.maps, anchors=self.anchors,
-                            plane_anchors=self.plane_anchors, control=self.control,
-                            triangles=self.triangles)
-        path.write_bytes(buf.getvalue())
-        return path
+        """Write the atlas to one ``.npz`` file, atomically (:func:`morphkit.shadow.atlasfile.save_atlas`)."""
+        from .atlasfile import save_atlas
+
+        return save_atlas(self, path)
 
     @classmethod
     def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
              ) -> ShadowAtlas:
-        """Read an atlas written by :meth:`save`.
+        """Read an atlas written by :meth:`save` (:func:`morphkit.shadow.atlasfile.load_atlas`)."""
+        from .atlasfile import load_atlas
 
-        Raises
-        ------
-        FileFormatError
-            Missing, truncated or corrupt file; another format or version; or,
-            when ``light`` is given, an atlas baked for another light.
-        """
-        path = Path(path)
-        try:
-            with np.load(path, allow_pickle=False) as z:
-                data = {k: z[k] for k in ("meta", "xs", "ys", "maps", "anchors", "plane_anchors",
-                                          "control", "triangles")}
-            meta = json.loads(bytes(data["meta"]).decode())
-        except FileNotFoundError as exc:
-            raise FileFormatError(expected_got("atlas file", "an existing file", str(path))) from exc
-        except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError, json.JSONDecodeError,
-                UnicodeDecodeError) as exc:
-            raise FileFormatError(expected_got(
-                "atlas file", f"a complete {ATLAS_FORMAT} .npz file",
-                f"an unreadable file {path.name} ({type(exc).__name__}: {exc})")) from exc
-        if meta.get("format") != ATLAS_FORMAT:
-            raise FileFormatError(expected_got("atlas format", ATLAS_FORMAT, meta.get("format")))
-        if meta.get("version") != ATLAS_VERSION:
-            raise FileFormatError(expected_got("atlas version", ATLAS_VERSION, meta.get("version")))
-        stored = _light_from_dict(meta["light"])
-        if light is not None and _light_dict(light) != meta["light"]:
-            raise FileFormatError(expected_got("atlas light", f"the light it is used with "
-                                               f"{_light_dict(light)}", f"baked for {meta['light']}"))
-        rig = LightRig.from_params(stored, meta["rig"])
-        atlas = cls(rig, data["xs"], data["ys"], data["maps"], data["anchors"], data["plane_anchors"],
-                    tuple(meta["control_grid"]), meta["anchor_kind"])
-        if atlas.maps.shape[2:] != rig.shape or atlas.maps.shape[:2] != (len(atlas.ys), len(atlas.xs)):
-            raise FileFormatError(expected_got("atlas maps", f"shape ({len(atlas.ys)}, {len(atlas.xs)}, "
-                                               f"{rig.shape[0]}, {rig.shape[1]})", atlas.maps.shape))
-        # control points and triangles are stored for other readers; they must
-        # agree with what the anchors and the light rig give
-        if (data["control"].shape != atlas.control.shape
-                or not np.allclose(data["control"], atlas.control, rtol=0, atol=1e-6)
-                or not np.array_equal(data["triangles"], atlas.triangles)):
-            raise FileFormatError(expected_got("atlas control points", "consistent with its anchors "
-                                               "and light rig", "different values (corrupt file?)"))
-        return atlas
-
-
-def _light_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
-    if isinstance(light, DirectionalLight):
-        return {"type": "directional", "direction": [round(float(v), 12) for v in light.direction]}
-    return {"type": "point", "position": [round(float(v), 12) for v in light.position]}
-
-
-def _light_from_dict(d: dict[str, Any]) -> DirectionalLight | PointLight:
-    if d.get("type") == "directional":
-        return DirectionalLight(np.array(d["direction"]))
-    if d.get("type") == "point":
-        return PointLight(np.array(d["position"]))
-    raise FileFormatError(expected_got("atlas light type", "'directional' or 'point'", d.get("type")))
+        return load_atlas(path, light=light)
 
 
 def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,

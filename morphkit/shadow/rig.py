@@ -236,7 +236,7 @@ class LightRig:
                                                    "(translating it changes nothing)", light_offset))
             pose[:3, 3] = anchor - self.axis * self.back
             # the rig's own validated values (checked when it was fitted), per frame
-            return CameraModel._trusted("orthographic", (h, w), self.fx, self.fy, (w - 1) / 2,
+            return CameraModel.unchecked("orthographic", (h, w), self.fx, self.fy, (w - 1) / 2,
                                         (h - 1) / 2, self.znear, self.zfar, pose)
         L = self.light.position.copy()
         if light_offset is not None:
@@ -251,7 +251,7 @@ class LightRig:
         if not (np.isfinite(cx) and np.isfinite(cy)):
             raise ValidationError(expected_got("object anchor", "in front of the point light",
                                                f"depth {a[2]:.3g} along its axis"))
-        return CameraModel._trusted("perspective", (h, w), self.fx, self.fy, cx, cy, self.znear,
+        return CameraModel.unchecked("perspective", (h, w), self.fx, self.fy, cx, cy, self.znear,
                                     self.zfar, pose)
 
     def equivalent_position(self, xy: np.ndarray, light_offset: np.ndarray | None = None, *,
