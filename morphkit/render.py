@@ -156,8 +156,8 @@ def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]
 class Renderer:
     """A reusable headless renderer (create once, render many frames).
 
-    Creating a GL context costs 5-75 ms here; rendering a 6k-face mesh at 512^2
-    about 10 ms. Keep one :class:`Renderer` for a whole session; it keeps one
+    Creating a GL context costs far more than rendering a frame in it (``morphkit
+    bench render``). Keep one :class:`Renderer` for a whole session; it keeps one
     context per image shape. Call :meth:`close` (or use ``with``) to free GL.
     """
 

@@ -33,6 +33,14 @@ to the plane anchors for that map (documented fallback, counted in
 
 Run time
 --------
+The run-time algorithms are shadow methods of their own
+(:class:`~morphkit.shadow.method.ShadowMethod`), built by :meth:`ShadowAtlas.method`:
+:class:`~morphkit.shadow.warped.ComposedWarp` (default),
+:class:`~morphkit.shadow.warped.ThreeWarps` and
+:class:`~morphkit.shadow.reprojected.ReprojectedMaps`; the atlas holds the data
+and the per-map building blocks they share (sources, warpers, destination
+control points, hidden layers), each built once and cached.
+
 For an object position, the 4 surrounding maps are each warped (piecewise
 affine, :class:`~morphkit.warp.MeshWarper`, built once per map) from their
 control points to the destination control points, and blended with bilinear
@@ -41,18 +49,17 @@ paper's three warps instead (two row morphs, then a column morph). Destination
 control points are the anchors projected at the exact position (``"project"``,
 default) or bilinearly interpolated from the 4 maps (``"interpolate"``, the
 paper). Maps are warped as premultiplied ``[coverage, coverage * depth]``
-(:func:`~morphkit.shadow.planes.depth_planes`), so bilinear sampling never mixes object depth with
-the background; the blended coverage is thresholded at 0.5.
+(:func:`~morphkit.shadow.planes.depth_planes`), so bilinear sampling never
+mixes object depth with the background; the blended coverage is thresholded at 0.5.
 
 Only what can hold the shadow is warped: a map's triangles whose source
 footprint holds no object pixel (computed once per map,
 :meth:`~morphkit.warp.MeshWarper.triangles_touching`) would add zeros and are
 skipped, and the composed warps run as one fused, compiled pass per map
 (sampling positions, bilinear taps and the weighted sum; no map images), split
-into bands of rows over the CPUs (:func:`morphkit.warp._accumulate_warps`).
-Measured here (512^2, point light, 2-core VM), this took a bilinear map from
-5.5 to 2.0 ms (cow) with the same result as ``cv2.remap`` up to its 1/32 px
-quantisation; ``morphkit bench shadows`` has the current figures. ``"three"``
+into bands of rows over the CPUs (:func:`morphkit.warp.accumulate_warps`), with
+the same result as ``cv2.remap`` up to its 1/32 px quantisation
+(``morphkit bench shadows`` and ``docs/RESULTS.md`` have the figures). ``"three"``
 uses the same pass for each of its warps, over whole images.
 
 ``warps="reproject"`` replaces the mesh by a per-pixel 3-D motion of the maps'
