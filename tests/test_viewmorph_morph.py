@@ -13,7 +13,8 @@ import pytest
 from morphkit.camera import look_at, perspective
 from morphkit.errors import DegenerateViewError, GeometryError, ValidationError
 from morphkit.viewmorph import Correspondences, ViewMorpher, crossfade, from_geometry, nearest
-from morphkit.viewmorph.morph import PostWarpPoints, _min_area_over_s
+from morphkit.viewmorph.mesh import _min_area_over_s
+from morphkit.viewmorph.postwarp import PostWarpPoints
 from morphkit.viewmorph.rectify import apply_h
 
 TARGET = np.array([0.0, 0.0, 0.25])

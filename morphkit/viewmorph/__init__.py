@@ -23,6 +23,7 @@ Typical use::
 
 from __future__ import annotations
 
+from .baselines import crossfade, nearest
 from .correspondences import (
     Correspondences,
     from_depth,
@@ -39,7 +40,8 @@ from .fundamental import (
     fundamental_from_cameras,
     sampson_distance,
 )
-from .morph import PostWarpPoints, ViewMorpher, crossfade, nearest
+from .morph import ViewMorpher
+from .postwarp import PostWarpPoints
 from .rectify import F0, Rectification, rectify
 
 __all__ = [

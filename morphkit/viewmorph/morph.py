@@ -21,50 +21,10 @@ Convention
 * Warps are backward (``cv2.remap``): each output pixel samples image ``i`` at
   the position the mesh gives it.
 
-The morph mesh
---------------
-Vertices are the (inlier, de-duplicated) correspondences plus *frame points*: a
-``frame_grid x frame_grid`` lattice over the rectified canvas (the bounding box
-of both rectified images, grown by a margin), whose outer ring always stays and
-whose inner points are dropped near the correspondences. Frame points move by
-the median disparity of the correspondences (the background behaves like a
-fronto-parallel plane at the object's median depth). Triangles: Delaunay of the
-vertices at ``s = 1/2``. **Fold-overs**: a triangle whose signed area reaches
-:data:`tol.VM_MIN_TRIANGLE_AREA_PX2` for some ``s`` in ``[0, 1]`` (checked
-exactly: the area is quadratic in ``s``) loses a vertex -- an inner frame point
-if it has one, else the correspondence whose disparity deviates most from its
-neighbours' median -- and the mesh is re-triangulated, until none folds (the
-number dropped is reported in :attr:`ViewMorpher.report`).
-
-Depth layers
-------------
-One mesh cannot show parts that pass behind each other between the views (a
-chair's back leg crossing behind a front leg: Seitz & Dyer's monotonicity
-assumption fails, the crossing triangles fold and their points are dropped, so
-the hidden part is smeared). ``layers=k`` (with ``layer_depth``, per-pixel
-depth keys of both images from :func:`~morphkit.viewmorph.pair_depth`, and
-pairs carrying depths, from :func:`~morphkit.viewmorph.from_geometry` or
-:func:`~morphkit.viewmorph.from_depth`) splits the pairs into ``k`` depth
-slices by 1-D k-means of their depths (cuts fall in the gaps between separate
-parts, and evenly through a continuous range; overlapping by :data:`tol.VM_LAYER_OVERLAP` of the
-depth range) and the pixels of each image by the same limits (background goes
-to the farthest layer). Each layer has its own mesh in the *shared* rectified
-frame (one F, one pre-warp, one post-warp for all), its own premultiplied
-images, and a canvas fitted to its pixels (the farthest layer: the whole
-images); the layers are morphed separately and composited far to near with the
-premultiplied "over". Layers with fewer than :data:`tol.VM_MIN_LAYER_PAIRS`
-pairs are merged (the count used is ``report["layers"]``). ``layers="auto"``
-builds one mesh first and uses :data:`tol.VM_AUTO_LAYERS` layers only when
-more than :data:`tol.VM_AUTO_LAYER_DROP` of the pairs were dropped to
-fold-overs (``report["auto_dropped_fraction"]``): a mesh that had to give up
-that many points cannot follow the motion, a sign of parts crossing. Inside a slice,
-points can only swap order over distances below the slice's disparity range,
-so its fold-overs are small. Costs one morph per layer (the near layers over
-their own region only). Pixels in an overlap band are drawn by both layers:
-exact where opaque; a semi-transparent (anti-aliased) pixel there gets alpha
-``a (2 - a)`` instead of ``a`` (disjoint pixel sets, measured on the chair at
-20 degrees, cost 0.7 dB PSNR through cracks at the cut; ``layer_overlap=0``
-gives them).
+The morph mesh and depth layers
+-------------------------------
+See :mod:`morphkit.viewmorph.mesh` (frame points, fold-overs) and
+:mod:`morphkit.viewmorph.layers` (``layers=k``, ``layers="auto"``).
 
 Rendering paths
 ---------------
@@ -112,7 +72,6 @@ a layer with < VM_MIN_LAYER_PAIRS pairs fewer layers (``report["layers"]``)
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import cv2
@@ -130,7 +89,8 @@ from ..errors import (
     expected_got,
 )
 from ..validate import as_finite_array, as_image, as_points, as_shape, as_unit_interval
-from ..warp import MeshWarper, delaunay_triangles
+from ..warp import MeshWarper
+from .baselines import _prepare_pair
 from .correspondences import Correspondences, _spread_subset
 from .fundamental import (
     FundamentalFit,
@@ -141,10 +101,12 @@ from .fundamental import (
     normalize_f,
     sampson_distance,
 )
+from .layers import _concat, _depth_edges, _Layer, _mask_bbox
+from .mesh import _build_mesh
+from .postwarp import PostWarpPoints, _corners, _homography_4pt
 from .rectify import Rectification, apply_h, rectify
 
-__all__ = ["ViewMorpher", "PostWarpPoints", "crossfade", "nearest",
-           "PREWARPS", "FALLBACKS", "FRAMES"]
+__all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]
 
 PREWARPS = ("auto", "opencv", "seitz-dyer", "none")
 FALLBACKS = ("raise", "morph")
@@ -153,53 +115,6 @@ PATHS = ("direct", "rectified")
 
 #: Far-outside sampling position (pixels) for uncovered output pixels.
 _FAR = -1.0e5
-
-
-@dataclass(frozen=True)
-class PostWarpPoints:
-    """Post-warp given by image points: correspondences ``index`` (into
-    :attr:`ViewMorpher.correspondences`) must land on ``points`` (``(k, 2)``
-    output pixels, ``k >= 4``); the homography is their least-squares fit."""
-
-    index: Any
-    points: Any
-
-
-# --------------------------------------------------------------------------- image helpers
-
-
-def _layout(img: np.ndarray) -> int:
-    return 1 if img.ndim == 2 else int(img.shape[2])
-
-
-def _prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int, np.dtype]:
-    a = as_image(image0, "image0", channels=(1, 3, 4))
-    b = as_image(image1, "image1", channels=(1, 3, 4))
-    if a.dtype != b.dtype:
-        raise ValidationError(expected_got("image1 dtype", f"{a.dtype} (as image0)", f"{b.dtype}"))
-    if a.dtype == np.bool_:
-        raise ValidationError(expected_got("image dtype", "a numeric dtype", "bool"))
-    ch = max(_layout(a), _layout(b))
-    return a, b, ch, a.dtype
-
-
-def crossfade(image0: Any, image1: Any, s: float) -> np.ndarray:
-    """Premultiplied cross-dissolve ``(1 - s) I0 + s I1`` (images of the same shape).
-
-    Layouts are promoted like :class:`ViewMorpher`; the output has the richer layout.
-    """
-    s = as_unit_interval(s, "s")
-    a, b, ch, dt = _prepare_pair(image0, image1)
-    if a.shape[:2] != b.shape[:2]:
-        raise ValidationError(expected_got("image1 shape", f"{a.shape[:2]} (as image0)", f"{b.shape[:2]}"))
-    acc = cv2.addWeighted(to_premultiplied(a, ch), 1.0 - s, to_premultiplied(b, ch), s, 0.0)
-    return from_premultiplied(acc, ch, dt)
-
-
-def nearest(image0: Any, image1: Any, s: float) -> np.ndarray:
-    """The reference image nearer to ``s`` (image 0 for ``s <= 1/2``): a classic billboard."""
-    s = as_unit_interval(s, "s")
-    return np.array(image0 if s <= 0.5 else image1, copy=True)
 
 
 def _remap_args(wm: Any) -> tuple[np.ndarray, np.ndarray | None]:
@@ -213,190 +128,6 @@ def _remap_args(wm: Any) -> tuple[np.ndarray, np.ndarray | None]:
 def _xy_of(wm: Any) -> np.ndarray:
     m1, m2 = _remap_args(wm)
     return np.ascontiguousarray(m1 if m2 is None else np.stack([m1, m2], axis=2))
-
-
-def _corners(shape: tuple[int, int]) -> np.ndarray:
-    h, w = shape
-    return np.array([[-0.5, -0.5], [w - 0.5, -0.5], [w - 0.5, h - 0.5], [-0.5, h - 0.5]])
-
-
-def _homography_4pt(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
-    """``H_dst_src`` from four point pairs, solved in float64 (cv2's version is float32)."""
-    A = np.zeros((8, 8))
-    b = np.zeros(8)
-    for i, ((x, y), (u, v)) in enumerate(zip(src, dst, strict=True)):
-        A[2 * i] = [x, y, 1, 0, 0, 0, -u * x, -u * y]
-        A[2 * i + 1] = [0, 0, 0, x, y, 1, -v * x, -v * y]
-        b[2 * i], b[2 * i + 1] = u, v
-    try:
-        h = np.linalg.solve(A, b)
-    except np.linalg.LinAlgError as exc:
-        raise GeometryError(expected_got("post-warp corners", "a non-degenerate quadrilateral",
-                                         "three collinear corners")) from exc
-    return np.r_[h, 1.0].reshape(3, 3)
-
-
-# --------------------------------------------------------------------------- mesh
-
-
-def _signed_area2(v: np.ndarray) -> np.ndarray:
-    d1 = v[:, 1] - v[:, 0]
-    d2 = v[:, 2] - v[:, 0]
-    return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-
-
-def _min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """Minimum over s in [0, 1] of the signed area of each triangle of ``(1 - s) r0 + s r1``,
-    signed so that positive means "oriented as at s = 1/2"."""
-    a = r0[tris]
-    b = r1[tris] - r0[tris]
-    u0, w0 = a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]
-    u1, w1 = b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]
-
-    def cr(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-        return p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]
-
-    c0 = cr(u0, w0)
-    c1 = cr(u0, w1) + cr(u1, w0)
-    c2 = cr(u1, w1)
-    sign = np.sign(c0 + 0.5 * c1 + 0.25 * c2)
-    sign[sign == 0] = 1.0
-    c0, c1, c2 = c0 * sign, c1 * sign, c2 * sign
-    vals = [c0, c0 + c1 + c2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sv = np.where(c2 > 0, -c1 / (2 * c2), -1.0)
-    inside = (sv > 0) & (sv < 1)
-    vals.append(np.where(inside, c0 + c1 * sv + c2 * sv * sv, np.inf))
-    return 0.5 * np.min(np.stack(vals), axis=0)
-
-
-@dataclass
-class _Layer:
-    """One depth layer: its premultiplied images, its morph mesh and the look-ups built from it."""
-
-    prem: tuple[np.ndarray, np.ndarray]
-    canvas: tuple[np.ndarray, np.ndarray]
-    r0: np.ndarray
-    r1: np.ndarray
-    tris: np.ndarray
-    is_corr: np.ndarray
-    corr: Correspondences
-    n_dropped: int
-    w0: MeshWarper
-    w1: MeshWarper
-    c1_origin: np.ndarray
-    c1: np.ndarray
-    c1_far: bool
-    rectified: tuple[np.ndarray, np.ndarray] | None = None
-
-
-def _concat(parts: list[Correspondences]) -> Correspondences:
-    """The pairs of several :class:`Correspondences` in order (3-D points/depths kept if all have them)."""
-    p3 = None if any(c.points3d is None for c in parts) else np.concatenate([c.points3d for c in parts])
-    dep = None if any(c.depth is None for c in parts) else np.concatenate([c.depth for c in parts])
-    return Correspondences(np.concatenate([c.pts0 for c in parts]), np.concatenate([c.pts1 for c in parts]),
-                           parts[0].source, p3, dep)
-
-
-def _mask_bbox(mask: np.ndarray) -> np.ndarray | None:
-    """Corners (pixel edges) of the bounding box of ``mask``'s True pixels, or None."""
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    if rows.size == 0:
-        return None
-    x0, x1, y0, y1 = cols[0] - 0.5, cols[-1] + 0.5, rows[0] - 0.5, rows[-1] + 0.5
-    return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=np.float64)
-
-
-def _depth_edges(z: np.ndarray, n: int) -> np.ndarray:
-    """Limits ``[min, e_1, ..., e_{n-1}, max]`` of ``n`` depth slices of ``z``: 1-D k-means
-    (Lloyd's iterations from the quantiles; the edges are the midpoints between centres),
-    so that slices part at the gaps between separate parts and evenly through a continuum."""
-    zs = np.sort(np.asarray(z, dtype=np.float64))
-    centres = np.quantile(zs, (np.arange(n) + 0.5) / n)
-    for _ in range(100):
-        mids = 0.5 * (centres[1:] + centres[:-1])
-        lab = np.searchsorted(mids, zs)
-        new = np.array([zs[lab == i].mean() if np.any(lab == i) else centres[i] for i in range(n)])
-        if np.allclose(new, centres, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(zs).max()))):
-            break
-        centres = new
-    return np.r_[zs[0], 0.5 * (centres[1:] + centres[:-1]), zs[-1]]
-
-
-def _build_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, np.ndarray], grid: int,
-                depth: np.ndarray | None = None
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    """Frame points + correspondences, Delaunay at s = 1/2, fold-over cleanup.
-
-    Returns ``(r0, r1, tris, corr_index, n_dropped)``: rectified vertex positions
-    in both images, triangles, for each vertex the index of its correspondence
-    (``-1`` for frame points), and how many correspondences were dropped.
-    """
-    lo, hi = bbox
-    disp = r1c - r0c
-    dmed = np.median(disp, axis=0)
-    n = max(int(grid), 2)
-    xs = np.linspace(lo[0], hi[0], n)
-    ys = np.linspace(lo[1], hi[1], n)
-    gx, gy = np.meshgrid(xs, ys)
-    g = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    ring = (gx == xs[0]) | (gx == xs[-1]) | (gy == ys[0]) | (gy == ys[-1])
-    ring = ring.ravel()
-    cell = float(max(xs[1] - xs[0], ys[1] - ys[0]))
-    dev = float(np.max(np.linalg.norm(disp - dmed, axis=1))) if len(disp) else 0.0
-    radius = 0.75 * cell + dev
-    if len(r0c):
-        from scipy.spatial import cKDTree
-
-        tree = cKDTree(np.r_[r0c, r1c])
-        dist, _ = tree.query(g)
-        keep_g = ring | (dist > radius)
-    else:
-        keep_g = np.ones(len(g), bool)
-    g, ring = g[keep_g], ring[keep_g]
-    r0 = np.r_[g, r0c]
-    r1 = np.r_[g + dmed, r1c]
-    idx = np.r_[np.full(len(g), -1), np.arange(len(r0c))]
-    is_ring = np.r_[ring, np.zeros(len(r0c), bool)]
-    dropped = 0
-    for _ in range(200):
-        mid = 0.5 * (r0 + r1)
-        tris = delaunay_triangles(mid)
-        amin = _min_area_over_s(r0, r1, tris)
-        bad = np.flatnonzero(amin < tol.VM_MIN_TRIANGLE_AREA_PX2)
-        if bad.size == 0:
-            return r0, r1, tris, idx, dropped
-        d = r1 - r0
-        # neighbours' median disparity, per vertex
-        nb: list[list[int]] = [[] for _ in range(len(r0))]
-        for t in tris:
-            for a in range(3):
-                nb[t[a]].extend((int(t[(a + 1) % 3]), int(t[(a + 2) % 3])))
-        drop: set[int] = set()
-        for t in tris[bad]:
-            inner = [v for v in t if idx[v] < 0 and not is_ring[v]]
-            if inner:
-                drop.add(int(inner[0]))
-                continue
-            cands = [v for v in t if idx[v] >= 0]
-            if not cands:
-                continue
-            if depth is not None:
-                # the farthest point: the occluder's outline stays, the occluded side gives way
-                drop.add(int(cands[int(np.argmax(depth[idx[cands]]))]))
-                continue
-            devs = [np.linalg.norm(d[v] - np.median(d[nb[v]], axis=0)) if nb[v] else 0.0 for v in cands]
-            drop.add(int(cands[int(np.argmax(devs))]))
-        if not drop:
-            break
-        keep = np.ones(len(r0), bool)
-        keep[list(drop)] = False
-        dropped += int(np.count_nonzero(idx[~keep] >= 0))
-        r0, r1, idx, is_ring = r0[keep], r1[keep], idx[keep], is_ring[keep]
-        if np.count_nonzero(idx >= 0) < 3:
-            break
-    raise FoldOverError(expected_got("morph mesh", "no triangle folding over for s in [0, 1]",
-                                     "fold-overs left after dropping vertices"))
 
 
 # --------------------------------------------------------------------------- morpher

@@ -1,0 +1,51 @@
+"""Image-only baselines of view morphing: a premultiplied cross-dissolve and the nearer
+reference image (what a classic billboard shows); both validate and promote the pair
+like :class:`~morphkit.viewmorph.morph.ViewMorpher`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cv2
+import numpy as np
+
+from ..composite import from_premultiplied, to_premultiplied
+from ..errors import ValidationError, expected_got
+from ..validate import as_image, as_unit_interval
+
+__all__ = ["crossfade", "nearest"]
+
+
+def _layout(img: np.ndarray) -> int:
+    return 1 if img.ndim == 2 else int(img.shape[2])
+
+
+def _prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int, np.dtype]:
+    a = as_image(image0, "image0", channels=(1, 3, 4))
+    b = as_image(image1, "image1", channels=(1, 3, 4))
+    if a.dtype != b.dtype:
+        raise ValidationError(expected_got("image1 dtype", f"{a.dtype} (as image0)", f"{b.dtype}"))
+    if a.dtype == np.bool_:
+        raise ValidationError(expected_got("image dtype", "a numeric dtype", "bool"))
+    ch = max(_layout(a), _layout(b))
+    return a, b, ch, a.dtype
+
+
+def crossfade(image0: Any, image1: Any, s: float) -> np.ndarray:
+    """Premultiplied cross-dissolve ``(1 - s) I0 + s I1`` (images of the same shape).
+
+    Layouts are promoted like :class:`ViewMorpher`; the output has the richer layout.
+    """
+    s = as_unit_interval(s, "s")
+    a, b, ch, dt = _prepare_pair(image0, image1)
+    if a.shape[:2] != b.shape[:2]:
+        raise ValidationError(expected_got("image1 shape", f"{a.shape[:2]} (as image0)", f"{b.shape[:2]}"))
+    acc = cv2.addWeighted(to_premultiplied(a, ch), 1.0 - s, to_premultiplied(b, ch), s, 0.0)
+    return from_premultiplied(acc, ch, dt)
+
+
+def nearest(image0: Any, image1: Any, s: float) -> np.ndarray:
+    """The reference image nearer to ``s`` (image 0 for ``s <= 1/2``): a classic billboard."""
+    s = as_unit_interval(s, "s")
+    return np.array(image0 if s <= 0.5 else image1, copy=True)

@@ -1,0 +1,134 @@
+"""The morph mesh in the rectified frame: frame points, Delaunay at s = 1/2, fold-overs.
+
+The morph mesh
+--------------
+Vertices are the (inlier, de-duplicated) correspondences plus *frame points*: a
+``frame_grid x frame_grid`` lattice over the rectified canvas (the bounding box
+of both rectified images, grown by a margin), whose outer ring always stays and
+whose inner points are dropped near the correspondences. Frame points move by
+the median disparity of the correspondences (the background behaves like a
+fronto-parallel plane at the object's median depth). Triangles: Delaunay of the
+vertices at ``s = 1/2``. **Fold-overs**: a triangle whose signed area reaches
+:data:`tol.VM_MIN_TRIANGLE_AREA_PX2` for some ``s`` in ``[0, 1]`` (checked
+exactly: the area is quadratic in ``s``) loses a vertex -- an inner frame point
+if it has one, else the correspondence whose disparity deviates most from its
+neighbours' median -- and the mesh is re-triangulated, until none folds (the
+number dropped is reported in :attr:`ViewMorpher.report`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import tol
+from ..errors import FoldOverError, expected_got
+from ..warp import delaunay_triangles
+
+__all__: list[str] = []
+
+
+def _signed_area2(v: np.ndarray) -> np.ndarray:
+    d1 = v[:, 1] - v[:, 0]
+    d2 = v[:, 2] - v[:, 0]
+    return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+
+
+def _min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """Minimum over s in [0, 1] of the signed area of each triangle of ``(1 - s) r0 + s r1``,
+    signed so that positive means "oriented as at s = 1/2"."""
+    a = r0[tris]
+    b = r1[tris] - r0[tris]
+    u0, w0 = a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]
+    u1, w1 = b[:, 1] - b[:, 0], b[:, 2] - b[:, 0]
+
+    def cr(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        return p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]
+
+    c0 = cr(u0, w0)
+    c1 = cr(u0, w1) + cr(u1, w0)
+    c2 = cr(u1, w1)
+    sign = np.sign(c0 + 0.5 * c1 + 0.25 * c2)
+    sign[sign == 0] = 1.0
+    c0, c1, c2 = c0 * sign, c1 * sign, c2 * sign
+    vals = [c0, c0 + c1 + c2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sv = np.where(c2 > 0, -c1 / (2 * c2), -1.0)
+    inside = (sv > 0) & (sv < 1)
+    vals.append(np.where(inside, c0 + c1 * sv + c2 * sv * sv, np.inf))
+    return 0.5 * np.min(np.stack(vals), axis=0)
+
+
+def _build_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, np.ndarray], grid: int,
+                depth: np.ndarray | None = None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    """Frame points + correspondences, Delaunay at s = 1/2, fold-over cleanup.
+
+    Returns ``(r0, r1, tris, corr_index, n_dropped)``: rectified vertex positions
+    in both images, triangles, for each vertex the index of its correspondence
+    (``-1`` for frame points), and how many correspondences were dropped.
+    """
+    lo, hi = bbox
+    disp = r1c - r0c
+    dmed = np.median(disp, axis=0)
+    n = max(int(grid), 2)
+    xs = np.linspace(lo[0], hi[0], n)
+    ys = np.linspace(lo[1], hi[1], n)
+    gx, gy = np.meshgrid(xs, ys)
+    g = np.stack([gx.ravel(), gy.ravel()], axis=1)
+    ring = (gx == xs[0]) | (gx == xs[-1]) | (gy == ys[0]) | (gy == ys[-1])
+    ring = ring.ravel()
+    cell = float(max(xs[1] - xs[0], ys[1] - ys[0]))
+    dev = float(np.max(np.linalg.norm(disp - dmed, axis=1))) if len(disp) else 0.0
+    radius = 0.75 * cell + dev
+    if len(r0c):
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(np.r_[r0c, r1c])
+        dist, _ = tree.query(g)
+        keep_g = ring | (dist > radius)
+    else:
+        keep_g = np.ones(len(g), bool)
+    g, ring = g[keep_g], ring[keep_g]
+    r0 = np.r_[g, r0c]
+    r1 = np.r_[g + dmed, r1c]
+    idx = np.r_[np.full(len(g), -1), np.arange(len(r0c))]
+    is_ring = np.r_[ring, np.zeros(len(r0c), bool)]
+    dropped = 0
+    for _ in range(200):
+        mid = 0.5 * (r0 + r1)
+        tris = delaunay_triangles(mid)
+        amin = _min_area_over_s(r0, r1, tris)
+        bad = np.flatnonzero(amin < tol.VM_MIN_TRIANGLE_AREA_PX2)
+        if bad.size == 0:
+            return r0, r1, tris, idx, dropped
+        d = r1 - r0
+        # neighbours' median disparity, per vertex
+        nb: list[list[int]] = [[] for _ in range(len(r0))]
+        for t in tris:
+            for a in range(3):
+                nb[t[a]].extend((int(t[(a + 1) % 3]), int(t[(a + 2) % 3])))
+        drop: set[int] = set()
+        for t in tris[bad]:
+            inner = [v for v in t if idx[v] < 0 and not is_ring[v]]
+            if inner:
+                drop.add(int(inner[0]))
+                continue
+            cands = [v for v in t if idx[v] >= 0]
+            if not cands:
+                continue
+            if depth is not None:
+                # the farthest point: the occluder's outline stays, the occluded side gives way
+                drop.add(int(cands[int(np.argmax(depth[idx[cands]]))]))
+                continue
+            devs = [np.linalg.norm(d[v] - np.median(d[nb[v]], axis=0)) if nb[v] else 0.0 for v in cands]
+            drop.add(int(cands[int(np.argmax(devs))]))
+        if not drop:
+            break
+        keep = np.ones(len(r0), bool)
+        keep[list(drop)] = False
+        dropped += int(np.count_nonzero(idx[~keep] >= 0))
+        r0, r1, idx, is_ring = r0[keep], r1[keep], idx[keep], is_ring[keep]
+        if np.count_nonzero(idx >= 0) < 3:
+            break
+    raise FoldOverError(expected_got("morph mesh", "no triangle folding over for s in [0, 1]",
+                                     "fold-overs left after dropping vertices"))
