@@ -12,24 +12,10 @@ import numpy as np
 
 from ..composite import from_premultiplied, to_premultiplied
 from ..errors import ValidationError, expected_got
-from ..validate import as_image, as_unit_interval
+from ..validate import as_unit_interval
+from .images import _prepare_pair
 
 __all__ = ["crossfade", "nearest"]
-
-
-def _layout(img: np.ndarray) -> int:
-    return 1 if img.ndim == 2 else int(img.shape[2])
-
-
-def _prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int, np.dtype]:
-    a = as_image(image0, "image0", channels=(1, 3, 4))
-    b = as_image(image1, "image1", channels=(1, 3, 4))
-    if a.dtype != b.dtype:
-        raise ValidationError(expected_got("image1 dtype", f"{a.dtype} (as image0)", f"{b.dtype}"))
-    if a.dtype == np.bool_:
-        raise ValidationError(expected_got("image dtype", "a numeric dtype", "bool"))
-    ch = max(_layout(a), _layout(b))
-    return a, b, ch, a.dtype
 
 
 def crossfade(image0: Any, image1: Any, s: float) -> np.ndarray:

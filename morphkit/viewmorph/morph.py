@@ -90,7 +90,6 @@ from ..errors import (
 )
 from ..validate import as_finite_array, as_image, as_points, as_shape, as_unit_interval
 from ..warp import MeshWarper
-from .baselines import _prepare_pair
 from .correspondences import Correspondences, _spread_subset
 from .fundamental import (
     FundamentalFit,
@@ -101,9 +100,10 @@ from .fundamental import (
     normalize_f,
     sampson_distance,
 )
+from .images import _corners, _prepare_pair
 from .layers import _concat, _depth_edges, _Layer, _mask_bbox
 from .mesh import _build_mesh
-from .postwarp import PostWarpPoints, _corners, _homography_4pt
+from .postwarp import PostWarpPoints, _homography_4pt
 from .rectify import Rectification, apply_h, rectify
 
 __all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]

@@ -26,11 +26,6 @@ class PostWarpPoints:
     points: Any
 
 
-def _corners(shape: tuple[int, int]) -> np.ndarray:
-    h, w = shape
-    return np.array([[-0.5, -0.5], [w - 0.5, -0.5], [w - 0.5, h - 0.5], [-0.5, h - 0.5]])
-
-
 def _homography_4pt(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
     """``H_dst_src`` from four point pairs, solved in float64 (cv2's version is float32)."""
     A = np.zeros((8, 8))
