@@ -13,7 +13,7 @@ import pytest
 from morphkit.camera import look_at, perspective
 from morphkit.errors import DegenerateViewError, GeometryError, ValidationError
 from morphkit.viewmorph import Correspondences, ViewMorpher, crossfade, from_geometry, nearest
-from morphkit.viewmorph.mesh import _min_area_over_s
+from morphkit.viewmorph.mesh import min_area_over_s
 from morphkit.viewmorph.postwarp import PostWarpPoints
 from morphkit.viewmorph.rectify import apply_h
 
@@ -226,7 +226,7 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
     p1[far] = p1[far[::-1]]
     vm = ViewMorpher(i0, i1, (corr.pts0, p1), prewarp="none")
     assert vm.report["n_dropped_foldover"] >= 1
-    amin = _min_area_over_s(vm._r0, vm._r1, vm.triangles)
+    amin = min_area_over_s(vm._r0, vm._r1, vm.triangles)
     assert amin.min() > 0
     vm.morph(0.5)
 
@@ -234,10 +234,10 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
 def test_min_area_over_s_is_exact():
     r0 = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
     r1 = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, -10.0]])  # flips through zero at s = 1/2
-    a = _min_area_over_s(r0, r1, np.array([[0, 1, 2]]))
+    a = min_area_over_s(r0, r1, np.array([[0, 1, 2]]))
     assert a[0] <= 0
     r1 = r0 + [3.0, 1.0]  # translation: area constant 50
-    assert np.isclose(_min_area_over_s(r0, r1, np.array([[0, 1, 2]]))[0], 50.0)
+    assert np.isclose(min_area_over_s(r0, r1, np.array([[0, 1, 2]]))[0], 50.0)
 
 
 def test_premultiplied_crossfade_keeps_colour_under_transparency():

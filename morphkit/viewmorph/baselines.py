@@ -13,7 +13,7 @@ import numpy as np
 from ..composite import from_premultiplied, to_premultiplied
 from ..errors import ValidationError, expected_got
 from ..validate import as_unit_interval
-from .images import _prepare_pair
+from .images import prepare_pair
 
 __all__ = ["crossfade", "nearest"]
 
@@ -24,7 +24,7 @@ def crossfade(image0: Any, image1: Any, s: float) -> np.ndarray:
     Layouts are promoted like :class:`ViewMorpher`; the output has the richer layout.
     """
     s = as_unit_interval(s, "s")
-    a, b, ch, dt = _prepare_pair(image0, image1)
+    a, b, ch, dt = prepare_pair(image0, image1)
     if a.shape[:2] != b.shape[:2]:
         raise ValidationError(expected_got("image1 shape", f"{a.shape[:2]} (as image0)", f"{b.shape[:2]}"))
     acc = cv2.addWeighted(to_premultiplied(a, ch), 1.0 - s, to_premultiplied(b, ch), s, 0.0)

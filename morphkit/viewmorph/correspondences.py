@@ -49,6 +49,7 @@ __all__ = [
     "pair_depth",
     "load_points",
     "save_points",
+    "spread_subset",
     "visible_in",
 ]
 
@@ -202,12 +203,27 @@ def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None
     return px, vis
 
 
-def _spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
+def spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
     """Indices of at most ``max_points`` rows of ``px``, spread evenly over the image.
 
     Shuffle, then keep a point only if its grid cell (sized so that the points'
     bounding box holds about ``max_points`` cells) is still empty; fill up with
     the remaining shuffled points if fewer cells were occupied.
+
+    Parameters
+    ----------
+    px : (N, 2) float
+        Pixel positions (any one image's frame).
+    max_points : int
+        Most indices returned.
+    rng : numpy.random.Generator
+        Draws the shuffles.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(min(N, max_points),)`` int64 row indices into ``px``, sorted
+        (all of ``0 .. N - 1`` when ``N <= max_points``).
     """
     n = len(px)
     if n <= max_points:
@@ -261,7 +277,7 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
     px1, v1 = visible_in(camera1, pts, depth1, rtol=rtol)
     both = np.flatnonzero(v0 & v1)
     rng = np.random.default_rng(0) if rng is None else rng
-    keep = both[_spread_subset(px0[both], int(max_points), rng)]
+    keep = both[spread_subset(px0[both], int(max_points), rng)]
     z = 0.5 * (_depth(camera0, pts[keep]) + _depth(camera1, pts[keep]))
     return Correspondences(px0[keep], px1[keep], "geometry", pts[keep], z)
 

@@ -24,7 +24,7 @@ from .. import tol
 from ..errors import FoldOverError, expected_got
 from ..warp import delaunay_triangles
 
-__all__: list[str] = []
+__all__ = ["build_morph_mesh", "min_area_over_s"]
 
 
 def _signed_area2(v: np.ndarray) -> np.ndarray:
@@ -33,9 +33,26 @@ def _signed_area2(v: np.ndarray) -> np.ndarray:
     return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
 
 
-def _min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
+def min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """Minimum over s in [0, 1] of the signed area of each triangle of ``(1 - s) r0 + s r1``,
-    signed so that positive means "oriented as at s = 1/2"."""
+    signed so that positive means "oriented as at s = 1/2".
+
+    The area is quadratic in ``s``: its minimum is exact (the ends and the
+    vertex of the parabola when it lies inside).
+
+    Parameters
+    ----------
+    r0, r1 : (V, 2) float
+        Vertex positions at ``s = 0`` and ``s = 1`` (one frame, e.g. rectified).
+    tris : (M, 3) int
+        Triangles indexing the vertices.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M,)`` float64 minimum signed areas (square pixels of that frame);
+        ``<= 0`` means the triangle folds over for some ``s``.
+    """
     a = r0[tris]
     b = r1[tris] - r0[tris]
     u0, w0 = a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]
@@ -58,14 +75,40 @@ def _min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.nda
     return 0.5 * np.min(np.stack(vals), axis=0)
 
 
-def _build_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, np.ndarray], grid: int,
+def build_morph_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, np.ndarray], grid: int,
                 depth: np.ndarray | None = None
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    """Frame points + correspondences, Delaunay at s = 1/2, fold-over cleanup.
+    """Frame points + correspondences, Delaunay at s = 1/2, fold-over cleanup (module docstring).
 
-    Returns ``(r0, r1, tris, corr_index, n_dropped)``: rectified vertex positions
-    in both images, triangles, for each vertex the index of its correspondence
-    (``-1`` for frame points), and how many correspondences were dropped.
+    Parameters
+    ----------
+    r0c, r1c : (N, 2) float
+        The correspondences' rectified positions from image 0 and image 1.
+    bbox : (lo, hi), each (2,) float
+        The rectified canvas the frame points span (corners ``lo``, ``hi``).
+    grid : int
+        Side of the frame-point lattice (at least 2 used).
+    depth : (N,) float, optional
+        The pairs' depths: a folding triangle then drops its farthest pair
+        (else the one whose disparity deviates most from its neighbours').
+
+    Returns
+    -------
+    r0, r1 : numpy.ndarray
+        ``(V, 2)`` float64 rectified vertex positions at ``s = 0`` and ``s = 1``
+        (frame points first, then the kept pairs in order).
+    tris : numpy.ndarray
+        ``(M, 3)`` int32 triangles (Delaunay at ``s = 1/2``), none folding for
+        ``s`` in ``[0, 1]``.
+    corr_index : numpy.ndarray
+        ``(V,)`` int64: each vertex's correspondence index, ``-1`` for frame points.
+    n_dropped : int
+        Correspondences dropped to fold-overs.
+
+    Raises
+    ------
+    FoldOverError
+        Fold-overs left after dropping vertices.
     """
     lo, hi = bbox
     disp = r1c - r0c
@@ -97,7 +140,7 @@ def _build_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, np.nda
     for _ in range(200):
         mid = 0.5 * (r0 + r1)
         tris = delaunay_triangles(mid)
-        amin = _min_area_over_s(r0, r1, tris)
+        amin = min_area_over_s(r0, r1, tris)
         bad = np.flatnonzero(amin < tol.VM_MIN_TRIANGLE_AREA_PX2)
         if bad.size == 0:
             return r0, r1, tris, idx, dropped

@@ -90,7 +90,7 @@ from ..errors import (
 )
 from ..validate import as_finite_array, as_image, as_points, as_shape, as_unit_interval
 from ..warp import MeshWarper
-from .correspondences import Correspondences, _spread_subset
+from .correspondences import Correspondences, spread_subset
 from .fundamental import (
     FundamentalFit,
     check_spread,
@@ -100,10 +100,10 @@ from .fundamental import (
     normalize_f,
     sampson_distance,
 )
-from .images import _corners, _prepare_pair
-from .layers import _concat, _depth_edges, _Layer, _mask_bbox
-from .mesh import _build_mesh
-from .postwarp import PostWarpPoints, _homography_4pt
+from .images import image_corners, prepare_pair
+from .layers import MorphLayer, concat_correspondences, depth_edges, mask_bbox
+from .mesh import build_morph_mesh
+from .postwarp import PostWarpPoints, homography_4pt
 from .rectify import Rectification, apply_h, rectify
 
 __all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]
@@ -203,7 +203,7 @@ class ViewMorpher:
         if not 0.0 <= overlap < 0.5:
             raise ValidationError(expected_got("layer_overlap", "a fraction in [0, 0.5)",
                                                repr(layer_overlap)))
-        a, b, ch, dt = _prepare_pair(image0, image1)
+        a, b, ch, dt = prepare_pair(image0, image1)
         self.shape0: tuple[int, int] = a.shape[:2]
         self.shape1: tuple[int, int] = b.shape[:2]
         self.channels, self.dtype = ch, dt
@@ -277,12 +277,12 @@ class ViewMorpher:
         self._r1 = np.concatenate([L.r1 for L in self._layers])
         self.triangles = np.concatenate([L.tris + o for L, o in zip(self._layers, offs, strict=False)])
         self._is_corr = np.concatenate([L.is_corr for L in self._layers])
-        self.correspondences = _concat([L.corr for L in self._layers])
+        self.correspondences = concat_correspondences([L.corr for L in self._layers])
         report["n_dropped_foldover"] = sum(L.n_dropped for L in self._layers)
         report["n_frame_points"] = int(np.count_nonzero(~self._is_corr))
         report["n_used"] = len(self.correspondences)
         # the pairs a post-warp to a camera is fitted on: at most VM_POST_FIT_PAIRS, spread over image 0
-        self._post_fit_index = _spread_subset(self.correspondences.pts0, tol.VM_POST_FIT_PAIRS,
+        self._post_fit_index = spread_subset(self.correspondences.pts0, tol.VM_POST_FIT_PAIRS,
                                               np.random.default_rng(seed))
         self._rectified: tuple[np.ndarray, np.ndarray] | None = None
         self.report = report
@@ -296,7 +296,7 @@ class ViewMorpher:
         parts = [r0c, r1c]
         for box, shape, H in ((box0, self.shape0, self.H0), (box1, self.shape1, self.H1)):
             if box is None:
-                box = _corners(shape)
+                box = image_corners(shape)
             if len(box):
                 parts.append(apply_h(H, box))
         allp = np.concatenate(parts)
@@ -309,10 +309,10 @@ class ViewMorpher:
         return self._safe_bbox(lo - margin, hi + margin, centre)
 
     def _make_layer(self, prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
-                    bbox: tuple[np.ndarray, np.ndarray], frame_grid: int) -> _Layer:
+                    bbox: tuple[np.ndarray, np.ndarray], frame_grid: int) -> MorphLayer:
         """Mesh (frame points + pairs, fold-overs resolved), warpers and the C1 look-up of one layer."""
         r0c, r1c = apply_h(self.H0, corr.pts0), apply_h(self.H1, corr.pts1)
-        r0, r1, tris, idx, ndrop = _build_mesh(r0c, r1c, bbox, frame_grid, corr.depth)
+        r0, r1, tris, idx, ndrop = build_morph_mesh(r0c, r1c, bbox, frame_grid, corr.depth)
         used = idx[idx >= 0]
         is_corr = idx >= 0
         # vertex positions in the original images (correspondences exactly, frame points by H^-1)
@@ -333,11 +333,11 @@ class ViewMorpher:
         far = getattr(_warp, "_OUTSIDE", None)
         c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
         lo, hi = bbox
-        return _Layer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
+        return MorphLayer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
                       w0, w1, lo0, c1, c1_far)
 
     def _build_layers(self, corr: Correspondences, layers: int | str, layer_depth: Any, overlap: float,
-                      frame_grid: int, report: dict[str, Any]) -> list[_Layer]:
+                      frame_grid: int, report: dict[str, Any]) -> list[MorphLayer]:
         """Split pairs and pixels into depth layers (1-D k-means of the depths) and build each layer."""
         full = self._canvas_for(corr, None, None)
         if layers == 1:
@@ -364,7 +364,7 @@ class ViewMorpher:
         z = corr.depth
         n = min(int(layers), max(1, len(corr) // tol.VM_MIN_LAYER_PAIRS))
         while True:
-            edges = _depth_edges(z, n)
+            edges = depth_edges(z, n)
             m = float(overlap) * float(edges[-1] - edges[0])
             lims = [(-np.inf if i == 0 else edges[i] - m, np.inf if i == n - 1 else edges[i + 1] + m)
                     for i in range(n)]
@@ -382,7 +382,7 @@ class ViewMorpher:
             if i == n - 1:
                 bbox = full  # the farthest layer holds the background: the whole images
             else:
-                boxes = [_mask_bbox(mk) for mk in masks]
+                boxes = [mask_bbox(mk) for mk in masks]
                 bbox = self._canvas_for(sub, *(np.zeros((0, 2)) if b_ is None else b_ for b_ in boxes))
             out.append(self._make_layer(prem, sub, bbox, frame_grid))
         return out
@@ -469,12 +469,12 @@ class ViewMorpher:
         s = as_unit_interval(s, "s")
         q = self.vertices(s)
         if isinstance(post, str) and post == "interpolate":
-            c0 = apply_h(self.H0, _corners(self.shape0))
-            c1 = apply_h(self.H1, _corners(self.shape1))
+            c0 = apply_h(self.H0, image_corners(self.shape0))
+            c1 = apply_h(self.H1, image_corners(self.shape1))
             shape = self.out_shape(s)
             src = (1 - s) * c0 + s * c1
-            dst = (1 - s) * _corners(self.shape0) + s * _corners(self.shape1)
-            return _homography_4pt(src, dst), shape
+            dst = (1 - s) * image_corners(self.shape0) + s * image_corners(self.shape1)
+            return homography_4pt(src, dst), shape
         if isinstance(post, str) and post == "rectified":
             lo, hi = self._canvas
             P = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
@@ -524,7 +524,7 @@ class ViewMorpher:
         flo, fhi = np.array([-0.5, -0.5]), np.array([w - 0.5, h - 0.5])
         if frame == "contain":
             def over(p: np.ndarray, sh: tuple[int, int]) -> float:
-                c = _corners(sh)
+                c = image_corners(sh)
                 return float(max(0.0, np.max(c[0] - p.min(axis=0)), np.max(p.max(axis=0) - c[2])))
             slack = (1 - s) * over(self.correspondences.pts0, self.shape0) + \
                 s * over(self.correspondences.pts1, self.shape1)
@@ -600,7 +600,7 @@ class ViewMorpher:
         return [self.morph(float(s), **kw) for s in np.linspace(0.0, 1.0, n)]
 
     @staticmethod
-    def _dst(layer: _Layer, s: float, P: np.ndarray) -> np.ndarray:
+    def _dst(layer: MorphLayer, s: float, P: np.ndarray) -> np.ndarray:
         q = np.c_[layer.r0 + s * (layer.r1 - layer.r0), np.ones(len(layer.r0))] @ P.T
         w = q[:, 2]
         wc = np.median(w)
@@ -620,7 +620,7 @@ class ViewMorpher:
                 out = over(out, got[1], got[0], shape)
         return np.zeros((h, w, nch), np.float32) if out is None else out
 
-    def _render_layer(self, layer: _Layer, s: float, P: np.ndarray, shape: tuple[int, int]
+    def _render_layer(self, layer: MorphLayer, s: float, P: np.ndarray, shape: tuple[int, int]
                       ) -> tuple[tuple[int, int, int, int], np.ndarray] | None:
         """One layer's premultiplied morph over its region of interest (None if it covers nothing)."""
         dst = self._dst(layer, s, P)

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import GeometryError, expected_got
 
-__all__ = ["PostWarpPoints"]
+__all__ = ["PostWarpPoints", "homography_4pt"]
 
 
 @dataclass(frozen=True)
@@ -26,8 +26,25 @@ class PostWarpPoints:
     points: Any
 
 
-def _homography_4pt(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
-    """``H_dst_src`` from four point pairs, solved in float64 (cv2's version is float32)."""
+def homography_4pt(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """``H_dst_src`` from four point pairs, solved in float64 (cv2's version is float32).
+
+    Parameters
+    ----------
+    src, dst : (4, 2) float
+        Four points in the source frame and where they must land in the
+        destination frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` float64 ``H_dst_src`` with ``H[2, 2] = 1``: ``dst ~ H (src, 1)``.
+
+    Raises
+    ------
+    GeometryError
+        Degenerate quadrilaterals (three collinear points).
+    """
     A = np.zeros((8, 8))
     b = np.zeros(8)
     for i, ((x, y), (u, v)) in enumerate(zip(src, dst, strict=True)):
