@@ -27,12 +27,6 @@ from ..warp import delaunay_triangles
 __all__ = ["build_morph_mesh", "min_area_over_s"]
 
 
-def _signed_area2(v: np.ndarray) -> np.ndarray:
-    d1 = v[:, 1] - v[:, 0]
-    d2 = v[:, 2] - v[:, 0]
-    return d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-
-
 def min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """Minimum over s in [0, 1] of the signed area of each triangle of ``(1 - s) r0 + s r1``,
     signed so that positive means "oriented as at s = 1/2".
