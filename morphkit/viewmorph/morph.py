@@ -72,13 +72,13 @@ a layer with < VM_MIN_LAYER_PAIRS pairs fewer layers (``report["layers"]``)
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Any
 
 import cv2
 import numpy as np
 
 from .. import tol
-from .. import warp as _warp
 from ..camera import CameraModel
 from ..composite import from_premultiplied, over, to_premultiplied
 from ..errors import (
@@ -117,17 +117,29 @@ PATHS = ("direct", "rectified")
 _FAR = -1.0e5
 
 
-def _remap_args(wm: Any) -> tuple[np.ndarray, np.ndarray | None]:
-    """``(map1, map2)`` for ``cv2.remap`` from a :class:`morphkit.warp.WarpMaps`."""
-    m1 = getattr(wm, "map1", None)
-    if m1 is None and hasattr(wm, "map_xy"):
-        return wm.map_xy, None
-    return m1, getattr(wm, "map2", None)
+@lru_cache(maxsize=1)
+def _warp_outside_position() -> float | None:
+    """The source position :meth:`MeshWarper.maps` gives output pixels outside the mesh.
 
+    :class:`~morphkit.warp.WarpMaps` documents it as "a far-outside position";
+    it is read once from a probe warp (a triangle over part of a 3 x 3 output).
 
-def _xy_of(wm: Any) -> np.ndarray:
-    m1, m2 = _remap_args(wm)
-    return np.ascontiguousarray(m1 if m2 is None else np.stack([m1, m2], axis=2))
+    Returns
+    -------
+    float or None
+        That position's ``x`` (= ``y``) in source pixels, or None unless every
+        uncovered probe pixel holds that one value in both coordinates (the
+        C1 look-up then always masks; see :attr:`MorphLayer.c1_far`).
+    """
+    tri = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    wm = MeshWarper(tri).maps(tri, (3, 3))
+    if wm.map1 is None:
+        return None
+    r_0, r_1, c_0, c_1 = wm.roi
+    out = wm.map_xy[~wm.mask[r_0:r_1, c_0:c_1]]
+    if out.size == 0 or not np.all(out == out.flat[0]):
+        return None
+    return float(out.flat[0])
 
 
 # --------------------------------------------------------------------------- morpher
@@ -328,9 +340,9 @@ class ViewMorpher:
         wm = w1.maps(p0 - lo0, c1_shape)
         c1 = np.full(c1_shape + (2,), _FAR, np.float32)
         r_0, r_1, c_0, c_1 = wm.roi
-        c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], _xy_of(wm), np.float32(_FAR))
+        c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], wm.map_xy, np.float32(_FAR))
         # Does the warp's position for uncovered pixels fall >= 2 px off the C1 canvas?
-        far = getattr(_warp, "_OUTSIDE", None)
+        far = _warp_outside_position()
         c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
         lo, hi = bbox
         return MorphLayer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
@@ -627,13 +639,13 @@ class ViewMorpher:
         prem0, prem1 = layer.prem
         if s >= 1.0:
             wm1 = self._maps(layer.w1, dst, shape)
-            m1, m2 = _remap_args(wm1)
+            m1, m2 = wm1.map1, wm1.map2
             if m1 is None:
                 return None
             return wm1.roi, cv2.remap(prem1, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                                       borderValue=0)
         wm0 = self._maps(layer.w0, dst, shape)
-        m1, m2 = _remap_args(wm0)
+        m1, m2 = wm0.map1, wm0.map2
         if m1 is None:
             return None
         r_0, r_1, c_0, c_1 = wm0.roi
