@@ -78,7 +78,7 @@ def test_rectified_vertices_interpolate_linearly(rng):
     r0 = apply_h(vm.H0, vm.correspondences.pts0)
     r1 = apply_h(vm.H1, vm.correspondences.pts1)
     assert np.abs(r0[:, 1] - r1[:, 1]).max() < 1e-4  # F from the 8-point fit: ~1e-6 px
-    q = vm.vertices(0.3)[vm._is_corr]
+    q = vm.vertices(0.3)[vm.is_correspondence]
     assert np.allclose(q, 0.7 * r0 + 0.3 * r1)
 
 
@@ -88,13 +88,13 @@ def test_post_warp_to_a_camera_puts_points_where_that_camera_sees_them(rng):
     mid = circle_cam(60, size=(96, 96))
     P, shape = vm.post_homography(0.5, mid)
     assert shape == (96, 96)
-    got = apply_h(P, vm.vertices(0.5)[vm._is_corr])
+    got = apply_h(P, vm.vertices(0.5)[vm.is_correspondence])
     want, _ = mid.project(vm.correspondences.points3d)
     # the morph's camera sits on the chord between the two centres, the target on the
     # circle: the residual is that parallax, < 1 px at 20 degrees and this size
     assert np.sqrt(np.mean(np.sum((got - want) ** 2, axis=1))) < 1.0
     P4, _ = vm.post_homography(0.5, PostWarpPoints(np.arange(4), want[:4]))
-    assert np.abs(apply_h(P4, vm.vertices(0.5)[vm._is_corr][:4]) - want[:4]).max() < 1e-4
+    assert np.abs(apply_h(P4, vm.vertices(0.5)[vm.is_correspondence][:4]) - want[:4]).max() < 1e-4
 
 
 def test_direct_and_rectified_paths_agree(rng):
@@ -226,7 +226,7 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
     p1[far] = p1[far[::-1]]
     vm = ViewMorpher(i0, i1, (corr.pts0, p1), prewarp="none")
     assert vm.report["n_dropped_foldover"] >= 1
-    amin = min_area_over_s(vm._r0, vm._r1, vm.triangles)
+    amin = min_area_over_s(vm.vertices(0.0), vm.vertices(1.0), vm.triangles)
     assert amin.min() > 0
     vm.morph(0.5)
 
@@ -255,10 +255,10 @@ def test_frame_policy_keeps_the_object_in_frame(rng):
     shift = np.array([[1.0, 0, 60], [0, 1, 0], [0, 0, 1]])
     P, shape = vm.post_homography(0.5)
     for frame in ("contain", "fit"):
-        P2 = vm._frame(shift @ P, 0.5, shape, frame)
-        obj = apply_h(P2, vm.vertices(0.5)[vm._is_corr])
+        P2 = vm.apply_frame(shift @ P, 0.5, shape, frame)
+        obj = apply_h(P2, vm.vertices(0.5)[vm.is_correspondence])
         assert obj.min() >= -0.5 - 1e-6 and obj.max(axis=0)[0] <= shape[1] - 0.5 + 1e-6
-    assert np.array_equal(vm._frame(shift @ P, 0.5, shape, "fixed"), shift @ P)
+    assert np.array_equal(vm.apply_frame(shift @ P, 0.5, shape, "fixed"), shift @ P)
     with pytest.raises(ValidationError, match="frame"):
         vm.morph(0.5, frame="crop")
 

@@ -21,10 +21,12 @@ from __future__ import annotations
 import numpy as np
 
 from .. import tol
-from ..errors import FoldOverError, expected_got
+from ..errors import DegenerateViewError, FoldOverError, expected_got
 from ..warp import delaunay_triangles
+from .images import image_corners
+from .rectify import apply_h
 
-__all__ = ["build_morph_mesh", "min_area_over_s"]
+__all__ = ["build_morph_mesh", "min_area_over_s", "mesh_canvas"]
 
 
 def min_area_over_s(r0: np.ndarray, r1: np.ndarray, tris: np.ndarray) -> np.ndarray:
@@ -169,3 +171,72 @@ def build_morph_mesh(r0c: np.ndarray, r1c: np.ndarray, bbox: tuple[np.ndarray, n
             break
     raise FoldOverError(expected_got("morph mesh", "no triangle folding over for s in [0, 1]",
                                      "fold-overs left after dropping vertices"))
+
+
+def mesh_canvas(H_rect_0: np.ndarray, H_rect_1: np.ndarray, pts0: np.ndarray, pts1: np.ndarray,
+                shape0: tuple[int, int], shape1: tuple[int, int], box0: np.ndarray | None = None,
+                box1: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The rectified region a morph mesh must cover (the frame points' ``bbox``).
+
+    The bounding box of the pairs and of the given image-space quadrilaterals,
+    all pre-warped, capped at :data:`tol.VM_MAX_CANVAS_FACTOR` times the larger
+    image side about the pairs' centre, grown by a margin, then shrunk until
+    both inverse pre-warps keep its corners in front.
+
+    Parameters
+    ----------
+    H_rect_0, H_rect_1 : (3, 3) float
+        The pre-warps (image-``i`` pixels to the rectified frame).
+    pts0, pts1 : (N, 2) float
+        The pairs in image 0 and image 1 pixels.
+    shape0, shape1 : (H, W)
+        The image shapes.
+    box0, box1 : (k, 2) float, optional
+        Image-``i`` pixel outlines to cover as well; None: the whole image
+        (its corners), ``k = 0``: nothing more.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray
+        ``(2,)`` float64 corners of the canvas in the rectified frame.
+
+    Raises
+    ------
+    DegenerateViewError
+        No region around the pairs stays in front of both views.
+    """
+    r0c, r1c = apply_h(H_rect_0, pts0), apply_h(H_rect_1, pts1)
+    parts = [r0c, r1c]
+    for box, shape, H in ((box0, shape0, H_rect_0), (box1, shape1, H_rect_1)):
+        if box is None:
+            box = image_corners(shape)
+        if len(box):
+            parts.append(apply_h(H, box))
+    allp = np.concatenate(parts)
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    size = float(max(max(shape0), max(shape1)))
+    centre = 0.5 * (r0c.mean(axis=0) + r1c.mean(axis=0))
+    lim = 0.5 * tol.VM_MAX_CANVAS_FACTOR * size
+    lo, hi = np.maximum(lo, centre - lim), np.minimum(hi, centre + lim)
+    margin = 0.05 * float(np.max(hi - lo)) + 4.0
+    return _in_front(lo - margin, hi + margin, centre, (np.linalg.inv(H_rect_0), np.linalg.inv(H_rect_1)))
+
+
+def _in_front(lo: np.ndarray, hi: np.ndarray, centre: np.ndarray, H_img_rect: tuple[np.ndarray, np.ndarray]
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Shrink the rectified canvas ``lo, hi`` about ``centre`` until both inverse pre-warps
+    (``H_img_rect``: rectified frame to image ``i``) keep its corners in front."""
+    for _ in range(40):
+        c = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+        ok = True
+        for Hinv in H_img_rect:
+            w = np.c_[c, np.ones(4)] @ Hinv[2]
+            wc = np.r_[centre, 1.0] @ Hinv[2]
+            if np.any(w * np.sign(wc) <= 0.05 * abs(wc)):
+                ok = False
+        if ok:
+            return lo, hi
+        lo = centre + 0.85 * (lo - centre)
+        hi = centre + 0.85 * (hi - centre)
+    raise DegenerateViewError(expected_got("rectified canvas", "a region in front of both views",
+                                           "none found"))

@@ -72,7 +72,6 @@ a layer with < VM_MIN_LAYER_PAIRS pairs fewer layers (``report["layers"]``)
 
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import Any
 
 import cv2
@@ -88,7 +87,7 @@ from ..errors import (
     ValidationError,
     expected_got,
 )
-from ..validate import as_finite_array, as_image, as_points, as_shape, as_unit_interval
+from ..validate import as_finite_array, as_points, as_shape, as_unit_interval
 from ..warp import MeshWarper
 from .correspondences import Correspondences, spread_subset
 from .fundamental import (
@@ -100,46 +99,23 @@ from .fundamental import (
     normalize_f,
     sampson_distance,
 )
-from .images import image_corners, prepare_pair
-from .layers import MorphLayer, concat_correspondences, depth_edges, mask_bbox
-from .mesh import build_morph_mesh
-from .postwarp import PostWarpPoints, homography_4pt
+from .images import prepare_pair
+from .layers import FAR_POSITION, MorphLayer, build_layers, concat_correspondences
+from .postwarp import (
+    FRAMES,
+    PostWarpPoints,
+    fit_post_homography,
+    frame_post_homography,
+    interpolated_post_homography,
+    overshoot,
+)
 from .rectify import Rectification, apply_h, rectify
 
 __all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]
 
 PREWARPS = ("auto", "opencv", "seitz-dyer", "none")
 FALLBACKS = ("raise", "morph")
-FRAMES = ("contain", "fixed", "fit")
 PATHS = ("direct", "rectified")
-
-#: Far-outside sampling position (pixels) for uncovered output pixels.
-_FAR = -1.0e5
-
-
-@lru_cache(maxsize=1)
-def _warp_outside_position() -> float | None:
-    """The source position :meth:`MeshWarper.maps` gives output pixels outside the mesh.
-
-    :class:`~morphkit.warp.WarpMaps` documents it as "a far-outside position";
-    it is read once from a probe warp (a triangle over part of a 3 x 3 output).
-
-    Returns
-    -------
-    float or None
-        That position's ``x`` (= ``y``) in source pixels, or None unless every
-        uncovered probe pixel holds that one value in both coordinates (the
-        C1 look-up then always masks; see :attr:`MorphLayer.c1_far`).
-    """
-    tri = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
-    wm = MeshWarper(tri).maps(tri, (3, 3))
-    if wm.map1 is None:
-        return None
-    r_0, r_1, c_0, c_1 = wm.roi
-    out = wm.map_xy[~wm.mask[r_0:r_1, c_0:c_1]]
-    if out.size == 0 or not np.all(out == out.flat[0]):
-        return None
-    return float(out.flat[0])
 
 
 # --------------------------------------------------------------------------- morpher
@@ -193,6 +169,9 @@ class ViewMorpher:
         fold-overs); with layers, each layer's in turn (pairs in an overlap repeat).
     triangles : (M, 3) int
         The mesh triangles (all layers'), indexing :meth:`vertices`.
+    is_correspondence : (V,) bool
+        For each vertex of :meth:`vertices`: True for the pairs (in the order of
+        :attr:`correspondences`), False for frame points.
     report : dict
         What happened: counts of input/duplicate/outlier/dropped pairs, F quality,
         rectification quality, fallback reasons.
@@ -275,23 +254,25 @@ class ViewMorpher:
         self.mode = mode
         self.rectification = rect
         self.H0, self.H1 = rect.H0, rect.H1
-        self._H0inv, self._H1inv = np.linalg.inv(self.H0), np.linalg.inv(self.H1)
         if self.fit is not None:
             report["fundamental"] = self.fit.report()
         report["rectification"] = rect.report()
         report["mode"] = mode
 
         # ---- depth layers, each with its own mesh in the shared rectified frame
-        self._layers = self._build_layers(corr, n_layers, layer_depth, overlap, frame_grid, report)
+        self._layers, layer_report = build_layers(
+            self._prem, corr, n_layers, layer_depth, overlap, frame_grid,
+            H_rect_0=self.H0, H_rect_1=self.H1, shape0=self.shape0, shape1=self.shape1)
+        report.update(layer_report)
         self._canvas = self._layers[-1].canvas  # the farthest (or only) layer covers the whole images
         offs = np.cumsum([0] + [len(L.r0) for L in self._layers])
         self._r0 = np.concatenate([L.r0 for L in self._layers])
         self._r1 = np.concatenate([L.r1 for L in self._layers])
         self.triangles = np.concatenate([L.tris + o for L, o in zip(self._layers, offs, strict=False)])
-        self._is_corr = np.concatenate([L.is_corr for L in self._layers])
+        self.is_correspondence = np.concatenate([L.is_corr for L in self._layers])
         self.correspondences = concat_correspondences([L.corr for L in self._layers])
         report["n_dropped_foldover"] = sum(L.n_dropped for L in self._layers)
-        report["n_frame_points"] = int(np.count_nonzero(~self._is_corr))
+        report["n_frame_points"] = int(np.count_nonzero(~self.is_correspondence))
         report["n_used"] = len(self.correspondences)
         # the pairs a post-warp to a camera is fitted on: at most VM_POST_FIT_PAIRS, spread over image 0
         self._post_fit_index = spread_subset(self.correspondences.pts0, tol.VM_POST_FIT_PAIRS,
@@ -300,118 +281,6 @@ class ViewMorpher:
         self.report = report
 
     # ---------------------------------------------------------------- construction helpers
-    def _canvas_for(self, corr: Correspondences, box0: np.ndarray | None, box1: np.ndarray | None
-                    ) -> tuple[np.ndarray, np.ndarray]:
-        """The rectified region a mesh must cover: the pairs and the given image-space
-        quadrilaterals (``None``: the whole image), grown by a margin, capped, kept in front."""
-        r0c, r1c = apply_h(self.H0, corr.pts0), apply_h(self.H1, corr.pts1)
-        parts = [r0c, r1c]
-        for box, shape, H in ((box0, self.shape0, self.H0), (box1, self.shape1, self.H1)):
-            if box is None:
-                box = image_corners(shape)
-            if len(box):
-                parts.append(apply_h(H, box))
-        allp = np.concatenate(parts)
-        lo, hi = allp.min(axis=0), allp.max(axis=0)
-        size = float(max(max(self.shape0), max(self.shape1)))
-        centre = 0.5 * (r0c.mean(axis=0) + r1c.mean(axis=0))
-        lim = 0.5 * tol.VM_MAX_CANVAS_FACTOR * size
-        lo, hi = np.maximum(lo, centre - lim), np.minimum(hi, centre + lim)
-        margin = 0.05 * float(np.max(hi - lo)) + 4.0
-        return self._safe_bbox(lo - margin, hi + margin, centre)
-
-    def _make_layer(self, prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
-                    bbox: tuple[np.ndarray, np.ndarray], frame_grid: int) -> MorphLayer:
-        """Mesh (frame points + pairs, fold-overs resolved), warpers and the C1 look-up of one layer."""
-        r0c, r1c = apply_h(self.H0, corr.pts0), apply_h(self.H1, corr.pts1)
-        r0, r1, tris, idx, ndrop = build_morph_mesh(r0c, r1c, bbox, frame_grid, corr.depth)
-        used = idx[idx >= 0]
-        is_corr = idx >= 0
-        # vertex positions in the original images (correspondences exactly, frame points by H^-1)
-        p0 = apply_h(self._H0inv, r0)
-        p1 = apply_h(self._H1inv, r1)
-        p0[is_corr] = corr.pts0[used]
-        p1[is_corr] = corr.pts1[used]
-        w0, w1 = MeshWarper(p0, tris), MeshWarper(p1, tris)
-        # C1: for each image-0 pixel of the mesh's footprint, its image-1 position (s-independent)
-        lo0 = np.floor(p0.min(axis=0)) - 1
-        hi0 = np.ceil(p0.max(axis=0)) + 1
-        c1_shape = (int(hi0[1] - lo0[1]) + 1, int(hi0[0] - lo0[0]) + 1)
-        wm = w1.maps(p0 - lo0, c1_shape)
-        c1 = np.full(c1_shape + (2,), _FAR, np.float32)
-        r_0, r_1, c_0, c_1 = wm.roi
-        c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], wm.map_xy, np.float32(_FAR))
-        # Does the warp's position for uncovered pixels fall >= 2 px off the C1 canvas?
-        far = _warp_outside_position()
-        c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
-        lo, hi = bbox
-        return MorphLayer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
-                      w0, w1, lo0, c1, c1_far)
-
-    def _build_layers(self, corr: Correspondences, layers: int | str, layer_depth: Any, overlap: float,
-                      frame_grid: int, report: dict[str, Any]) -> list[MorphLayer]:
-        """Split pairs and pixels into depth layers (1-D k-means of the depths) and build each layer."""
-        full = self._canvas_for(corr, None, None)
-        if layers == 1:
-            report["layers"] = 1
-            return [self._make_layer(self._prem, corr, full, frame_grid)]
-        if corr.depth is None:
-            raise ValidationError(expected_got(
-                "correspondences", "pairs with depths for layers > 1 or 'auto' (from_geometry or from_depth)",
-                "pairs without depth"))
-        if layer_depth is None or len(layer_depth) != 2:
-            raise ValidationError(expected_got(
-                "layer_depth", "(key0, key1) per-pixel depth keys for layers > 1 or 'auto' "
-                "(viewmorph.pair_depth)", type(layer_depth).__name__))
-        keys = self._check_keys(layer_depth)
-        if layers == "auto":
-            one = self._make_layer(self._prem, corr, full, frame_grid)
-            frac = one.n_dropped / max(len(corr), 1)
-            report["auto_dropped_fraction"] = float(frac)
-            if frac <= tol.VM_AUTO_LAYER_DROP:
-                report["layers"] = 1
-                return [one]
-            layers = tol.VM_AUTO_LAYERS
-        assert isinstance(layers, int)
-        z = corr.depth
-        n = min(int(layers), max(1, len(corr) // tol.VM_MIN_LAYER_PAIRS))
-        while True:
-            edges = depth_edges(z, n)
-            m = float(overlap) * float(edges[-1] - edges[0])
-            lims = [(-np.inf if i == 0 else edges[i] - m, np.inf if i == n - 1 else edges[i + 1] + m)
-                    for i in range(n)]
-            sels = [(z >= a) & (z <= b) for a, b in lims]
-            if n == 1 or min(int(c.sum()) for c in sels) >= tol.VM_MIN_LAYER_PAIRS:
-                break
-            n -= 1
-        report["layers"] = n
-        report["layer_edges"] = [float(e) for e in edges[1:-1]]
-        out = []
-        for i, ((a, b), sel) in enumerate(zip(lims, sels, strict=True)):
-            masks = [(k >= a) & (k <= b) for k in keys]
-            prem = (self._prem[0] * masks[0][..., None], self._prem[1] * masks[1][..., None])
-            sub = corr.subset(sel)
-            if i == n - 1:
-                bbox = full  # the farthest layer holds the background: the whole images
-            else:
-                boxes = [mask_bbox(mk) for mk in masks]
-                bbox = self._canvas_for(sub, *(np.zeros((0, 2)) if b_ is None else b_ for b_ in boxes))
-            out.append(self._make_layer(prem, sub, bbox, frame_grid))
-        return out
-
-    def _check_keys(self, layer_depth: Any) -> list[np.ndarray]:
-        """The two per-pixel depth-key images, validated (float64, image shapes, no NaN)."""
-        keys = []
-        for key, shape, name in ((layer_depth[0], self.shape0, "layer_depth[0]"),
-                                 (layer_depth[1], self.shape1, "layer_depth[1]")):
-            k = as_image(key, name, channels=(1,), allow_nonfinite=True).astype(np.float64)
-            if k.shape != shape:
-                raise ValidationError(expected_got(name, f"shape {shape} (its image's)", f"shape {k.shape}"))
-            if np.isnan(k).any():
-                raise ValidationError(expected_got(name, "depths, +inf for background", "NaN values"))
-            keys.append(k)
-        return keys
-
     @staticmethod
     def _fit_f(corr: Correspondences, fundamental: Any, threshold: float, seed: int) -> FundamentalFit:
         if fundamental is None:
@@ -426,24 +295,6 @@ class ViewMorpher:
         e = epipolar_distance(F, corr.pts0[inl], corr.pts1[inl])
         return FundamentalFit(F, inl, "given", threshold, float(np.sqrt(np.mean(d[inl] ** 2))),
                               float(d[inl].max()), float(np.sqrt(np.mean(e**2))))
-
-    def _safe_bbox(self, lo: np.ndarray, hi: np.ndarray, centre: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray]:
-        """Shrink the rectified canvas until both inverse pre-warps keep its corners in front."""
-        for _ in range(40):
-            c = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
-            ok = True
-            for Hinv in (self._H0inv, self._H1inv):
-                w = np.c_[c, np.ones(4)] @ Hinv[2]
-                wc = np.r_[centre, 1.0] @ Hinv[2]
-                if np.any(w * np.sign(wc) <= 0.05 * abs(wc)):
-                    ok = False
-            if ok:
-                return lo, hi
-            lo = centre + 0.85 * (lo - centre)
-            hi = centre + 0.85 * (hi - centre)
-        raise DegenerateViewError(expected_got("rectified canvas", "a region in front of both views",
-                                               "none found"))
 
     # ---------------------------------------------------------------- geometry per s
     def vertices(self, s: float) -> np.ndarray:
@@ -481,12 +332,8 @@ class ViewMorpher:
         s = as_unit_interval(s, "s")
         q = self.vertices(s)
         if isinstance(post, str) and post == "interpolate":
-            c0 = apply_h(self.H0, image_corners(self.shape0))
-            c1 = apply_h(self.H1, image_corners(self.shape1))
-            shape = self.out_shape(s)
-            src = (1 - s) * c0 + s * c1
-            dst = (1 - s) * image_corners(self.shape0) + s * image_corners(self.shape1)
-            return homography_4pt(src, dst), shape
+            P = interpolated_post_homography(self.H0, self.H1, self.shape0, self.shape1, s)
+            return P, self.out_shape(s)
         if isinstance(post, str) and post == "rectified":
             lo, hi = self._canvas
             P = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
@@ -497,7 +344,7 @@ class ViewMorpher:
                                                    "(points3d)", "correspondences without 3-D points"))
             idx = self._post_fit_index
             tgt, _ = post.project(self.correspondences.points3d[idx])
-            P = self._fit_h(q[self._is_corr][idx], tgt)
+            P = fit_post_homography(q[self.is_correspondence][idx], tgt)
             return P, post.shape
         if isinstance(post, PostWarpPoints):
             index = np.asarray(post.index, dtype=np.int64).ravel()
@@ -505,7 +352,7 @@ class ViewMorpher:
             if index.size != len(pts) or np.any(index < 0) or np.any(index >= len(self.correspondences)):
                 raise ValidationError(expected_got("post index", f"{len(pts)} indices in "
                                                    f"[0, {len(self.correspondences)})", index.tolist()[:8]))
-            P = self._fit_h(q[self._is_corr][index], pts)
+            P = fit_post_homography(q[self.is_correspondence][index], pts)
             return P, self.out_shape(s)
         if isinstance(post, str):
             raise ValidationError(expected_got("post", "'interpolate', 'rectified', a 3x3 array, a "
@@ -515,44 +362,35 @@ class ViewMorpher:
             raise ValidationError(expected_got("post", "a regular homography", "a singular matrix"))
         return P, self.out_shape(s)
 
-    @staticmethod
-    def _fit_h(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
-        if len(src) < 4:
-            raise ValidationError(expected_got("post-warp points", "at least 4", f"{len(src)}"))
-        check_spread(src, "post-warp source points")
-        check_spread(dst, "post-warp target points")
-        H, _ = cv2.findHomography(src, dst, 0)
-        if H is None or not np.all(np.isfinite(H)):
-            raise GeometryError(expected_got("post-warp homography fit", "a solution", "none"))
-        return H / H[2, 2]
+    def apply_frame(self, H_out_rect: np.ndarray, s: float, shape: tuple[int, int], frame: str) -> np.ndarray:
+        """A post-warp with the crop/size policy ``frame`` applied (see :meth:`morph`).
 
-    def _frame(self, P: np.ndarray, s: float, shape: tuple[int, int], frame: str) -> np.ndarray:
-        """Apply the crop/size policy: a similarity left-multiplied onto ``P``."""
+        Parameters
+        ----------
+        H_out_rect : (3, 3) float
+            A post-warp (rectified-interpolated frame to output pixels).
+        s : float in [0, 1]
+        shape : (H, W)
+            The output shape.
+        frame : {"contain", "fixed", "fit"}
+            See :func:`~morphkit.viewmorph.postwarp.frame_post_homography`; under
+            ``"contain"`` the pairs may leave the frame as far as they leave
+            the input images (interpolated by ``s``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3, 3)`` float64: ``S @ H_out_rect`` (``S`` a scale and shift in
+            output pixels), or ``H_out_rect`` itself.
+        """
         if frame == "fixed":
-            return P
-        obj = apply_h(P, self.vertices(s)[self._is_corr])
-        blo, bhi = obj.min(axis=0), obj.max(axis=0)
-        h, w = shape
-        flo, fhi = np.array([-0.5, -0.5]), np.array([w - 0.5, h - 0.5])
+            return H_out_rect
+        slack = 0.0
         if frame == "contain":
-            def over(p: np.ndarray, sh: tuple[int, int]) -> float:
-                c = image_corners(sh)
-                return float(max(0.0, np.max(c[0] - p.min(axis=0)), np.max(p.max(axis=0) - c[2])))
-            slack = (1 - s) * over(self.correspondences.pts0, self.shape0) + \
-                s * over(self.correspondences.pts1, self.shape1)
-            if np.all(blo >= flo - slack - 1e-9) and np.all(bhi <= fhi + slack + 1e-9):
-                return P
-            margin = 0.02
-        else:
-            margin = 0.05
-        size = fhi - flo
-        inner_lo, inner_hi = flo + margin * size, fhi - margin * size
-        k = float(np.min((inner_hi - inner_lo) / np.maximum(bhi - blo, 1e-9)))
-        if frame == "contain":
-            k = min(k, 1.0)
-        cb, cf = 0.5 * (blo + bhi), 0.5 * (flo + fhi)
-        S = np.array([[k, 0.0, cf[0] - k * cb[0]], [0.0, k, cf[1] - k * cb[1]], [0.0, 0.0, 1.0]])
-        return S @ P
+            slack = (1 - s) * overshoot(self.correspondences.pts0, self.shape0) + \
+                s * overshoot(self.correspondences.pts1, self.shape1)
+        obj = self.vertices(s)[self.is_correspondence]
+        return frame_post_homography(H_out_rect, obj, shape, frame, slack)
 
     # ---------------------------------------------------------------- rendering
     def morph(self, s: float, *, post: Any = "interpolate", out_shape: Any = None, frame: str = "contain",
@@ -600,7 +438,7 @@ class ViewMorpher:
         P, shape = self.post_homography(s, post)
         if out_shape is not None:
             shape = as_shape(out_shape, "out_shape")
-        P = self._frame(P, s, shape, frame)
+        P = self.apply_frame(P, s, shape, frame)
         acc = self._render_direct(s, P, shape) if path == "direct" else self._render_rectified(s, P, shape)
         return from_premultiplied(acc, self.channels, self.dtype)
 
@@ -659,7 +497,7 @@ class ViewMorpher:
         else:
             mx, my = m1 - np.float32(ox), m2 - np.float32(oy)
         pos1 = cv2.remap(layer.c1, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                         borderValue=(_FAR, _FAR, 0, 0))
+                         borderValue=(FAR_POSITION, FAR_POSITION, 0, 0))
         a1 = cv2.remap(prem1, pos1, None, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         mix = cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
         if not layer.c1_far:
