@@ -177,8 +177,8 @@ def test_layers_render_the_same_on_both_paths(posts):
     # the vertices of every layer are reported, and the post-warp maps them as in one mesh
     q = vm.vertices(0.5)
     assert q.shape == (len(vm.is_correspondence), 2) and vm.triangles.max() < len(q)
-    P, _ = vm.post_homography(0.5, cam(60.0))
-    got = apply_h(P, q[vm.is_correspondence])
+    H_out_rect, _ = vm.post_homography(0.5, cam(60.0))
+    got = apply_h(H_out_rect, q[vm.is_correspondence])
     want, _ = cam(60.0).project(vm.correspondences.points3d)
     assert np.sqrt(np.mean(np.sum((got - want) ** 2, axis=1))) < 1.0
 

@@ -213,8 +213,8 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
 
     Returns
     -------
-    H : (3, 3) float64 or None
-        ``H_1_0`` when degenerate, else None.
+    H_1_0 : (3, 3) float64 or None
+        The homography (image-0 to image-1 pixels) when degenerate, else None.
     fraction : float
         Homography inliers / ``f_inliers``.
     """
@@ -222,23 +222,23 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
     p1 = as_points(pts1, "pts1", min_count=4)
     threshold = as_positive(threshold, "threshold")
     n_ref = len(p0) if f_inliers is None else max(int(f_inliers), 1)
-    H, _ = cv2.findHomography(p0, p1, 0)
-    if H is not None and np.all(np.isfinite(H)):
-        err = _transfer(H, p0, p1)
+    H_1_0, _ = cv2.findHomography(p0, p1, 0)
+    if H_1_0 is not None and np.all(np.isfinite(H_1_0)):
+        err = _transfer(H_1_0, p0, p1)
         if np.max(err) <= threshold:
-            return H / H[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
-    H, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
-    if H is None or not np.all(np.isfinite(H)):
+            return H_1_0 / H_1_0[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
+    H_1_0, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
+    if H_1_0 is None or not np.all(np.isfinite(H_1_0)):
         return None, 0.0
     inl = int(mask.ravel().astype(bool).sum())
     frac = inl / n_ref
     if frac >= tol.VM_HOMOGRAPHY_INLIER_RATIO:
-        return H / H[2, 2], min(frac, 1.0)
+        return H_1_0 / H_1_0[2, 2], min(frac, 1.0)
     return None, frac
 
 
-def _transfer(H: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
-    q = _h(p0) @ H.T
+def _transfer(H_1_0: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    q = _h(p0) @ H_1_0.T
     with np.errstate(divide="ignore", invalid="ignore"):
         q = q[:, :2] / q[:, 2:3]
     d = np.linalg.norm(q - p1, axis=1)
@@ -333,8 +333,8 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
                                          f"none (method {used}, threshold {threshold} px)"))
     F = normalize_f(F)
     if check_degenerate:
-        H, frac = homography_degeneracy(p0[inl], p1[inl], threshold=threshold)
-        if H is not None:
+        H_1_0, frac = homography_degeneracy(p0[inl], p1[inl], threshold=threshold)
+        if H_1_0 is not None:
             raise DegenerateViewError(expected_got(
                 "correspondences", "a general 3-D configuration (F determined)",
                 f"pairs explained by one homography ({100 * frac:.0f}% within {threshold} px): a planar "

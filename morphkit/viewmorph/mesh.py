@@ -207,11 +207,11 @@ def mesh_canvas(H_rect_0: np.ndarray, H_rect_1: np.ndarray, pts0: np.ndarray, pt
     """
     r0c, r1c = apply_h(H_rect_0, pts0), apply_h(H_rect_1, pts1)
     parts = [r0c, r1c]
-    for box, shape, H in ((box0, shape0, H_rect_0), (box1, shape1, H_rect_1)):
+    for box, shape, H_rect_i in ((box0, shape0, H_rect_0), (box1, shape1, H_rect_1)):
         if box is None:
             box = image_corners(shape)
         if len(box):
-            parts.append(apply_h(H, box))
+            parts.append(apply_h(H_rect_i, box))
     allp = np.concatenate(parts)
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     size = float(max(max(shape0), max(shape1)))
@@ -229,9 +229,9 @@ def _in_front(lo: np.ndarray, hi: np.ndarray, centre: np.ndarray, H_img_rect: tu
     for _ in range(40):
         c = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
         ok = True
-        for Hinv in H_img_rect:
-            w = np.c_[c, np.ones(4)] @ Hinv[2]
-            wc = np.r_[centre, 1.0] @ Hinv[2]
+        for H_i_rect in H_img_rect:
+            w = np.c_[c, np.ones(4)] @ H_i_rect[2]
+            wc = np.r_[centre, 1.0] @ H_i_rect[2]
             if np.any(w * np.sign(wc) <= 0.05 * abs(wc)):
                 ok = False
         if ok:

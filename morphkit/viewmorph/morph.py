@@ -9,15 +9,18 @@ Convention
 ----------
 * Pixels: ``(x, y)``, origin at the centre of the top-left pixel
   (:mod:`morphkit.conventions`); shapes are ``(H, W)``.
-* ``H0 = H_rect_0`` and ``H1 = H_rect_1`` map image pixels to the shared
-  rectified frame (:mod:`morphkit.viewmorph.rectify`). The rectified positions of
-  a pair, ``r0 = H0 p0`` and ``r1 = H1 p1``, share their ``y``; the morph at ``s``
-  puts the pair at ``q(s) = (1 - s) r0 + s r1`` (rectified-interpolated frame).
-* The post-warp ``P = H_out_rect`` maps that frame to output pixels. Default
-  (``post="interpolate"``): the homography taking the interpolated rectified
-  image corners ``(1 - s) H0 c0 + s H1 c1`` to the interpolated output corners
-  ``(1 - s) c0 + s c1`` (so ``P = H0^-1`` at ``s = 0`` and ``H1^-1`` at ``s = 1``;
-  in between it interpolates the two views' image planes).
+* The pre-warps ``H_rect_0`` and ``H_rect_1`` map image-0 and image-1 pixels to
+  the shared rectified frame (:mod:`morphkit.viewmorph.rectify`). The rectified
+  positions of a pair, ``r0 = H_rect_0 p0`` and ``r1 = H_rect_1 p1``, share their
+  ``y``; the morph at ``s`` puts the pair at ``q(s) = (1 - s) r0 + s r1`` (the
+  rectified-interpolated frame).
+* The post-warp ``H_out_rect`` maps that frame to output pixels
+  (:mod:`morphkit.viewmorph.postwarp`). Default (``post="interpolate"``): the
+  homography taking the interpolated rectified image corners
+  ``(1 - s) H_rect_0 c0 + s H_rect_1 c1`` to the interpolated output corners
+  ``(1 - s) c0 + s c1`` (so ``H_out_rect = H_rect_0^-1`` at ``s = 0`` and
+  ``H_rect_1^-1`` at ``s = 1``; in between it interpolates the two views' image
+  planes).
 * Warps are backward (``cv2.remap``): each output pixel samples image ``i`` at
   the position the mesh gives it.
 
@@ -53,14 +56,14 @@ fewer than 8 pairs (after cleaning)     ValidationError
 NaN/inf coordinates                     ValidationError
 duplicated pairs                        dropped (kept the first), counted in ``report``
 collinear points                        GeometryError
-one homography explains the pairs       mode ``"homography"``: ``H0 = I``, ``H1 = H_0_1``; morph of
-(planar scene, pure rotation, zero      aligned images, post-warp interpolating ``I .. H_1_0``
+one homography explains the pairs       mode ``"homography"``: ``H_rect_0 = I``, ``H_rect_1 = H_0_1``;
+(planar scene, pure rotation, zero      morph of aligned images, post-warp interpolating ``I .. H_1_0``
 baseline, identical images)             (identical images give the input at every s)
 outliers                                robust F (USAC-MAGSAC); only inliers are used
 views already parallel                  mode ``"parallel"``: no pre-warp
 epipole in/near an image, or pre-warps  DegenerateViewError; ``fallback="morph"``: mode ``"morph"``
 too distorting                          (plain mesh morph, no pre-/post-warp), reason in ``report``
-fold-overs                              vertices dropped (see above); FoldOverError if that fails
+fold-overs                              vertices dropped (viewmorph.mesh); FoldOverError if that fails
 images of different sizes               supported: output size interpolates between them
 grey / RGB / RGBA, mixed                promoted to the richer layout (grey < RGB < RGBA)
 different dtypes                        ValidationError
@@ -218,8 +221,8 @@ class ViewMorpher:
         if prewarp == "none":
             mode = "morph"
         else:
-            Hh, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
-            if Hh is None:
+            H_1_0, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
+            if H_1_0 is None:
                 try:
                     self.fit = self._fit_f(corr, fundamental, threshold, seed)
                 except GeometryError as exc:
@@ -230,14 +233,14 @@ class ViewMorpher:
                 inl = self.fit.inliers
                 report["n_outliers"] = int(np.count_nonzero(~inl))
                 corr = corr.subset(inl)
-                Hh, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
+                H_1_0, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
             report["homography_inlier_fraction"] = float(frac)
-            if Hh is not None:
+            if H_1_0 is not None:
                 mode = "homography"
                 self.fit = None
-                inv = np.linalg.inv(Hh)
-                rect = Rectification(np.eye(3), inv / inv[2, 2], "homography",
-                                     float(np.sqrt(np.mean((apply_h(inv, corr.pts1) - corr.pts0) ** 2))),
+                H_0_1 = np.linalg.inv(H_1_0)
+                rect = Rectification(np.eye(3), H_0_1 / H_0_1[2, 2], "homography",
+                                     float(np.sqrt(np.mean((apply_h(H_0_1, corr.pts1) - corr.pts0) ** 2))),
                                      1.0, 1.0, {})
             elif mode == "viewmorph":
                 try:
@@ -253,7 +256,7 @@ class ViewMorpher:
             rect = Rectification(np.eye(3), np.eye(3), "none", float("nan"), 1.0, 1.0, {})
         self.mode = mode
         self.rectification = rect
-        self.H0, self.H1 = rect.H0, rect.H1
+        self.H_rect_0, self.H_rect_1 = rect.H_rect_0, rect.H_rect_1
         if self.fit is not None:
             report["fundamental"] = self.fit.report()
         report["rectification"] = rect.report()
@@ -262,7 +265,7 @@ class ViewMorpher:
         # ---- depth layers, each with its own mesh in the shared rectified frame
         self._layers, layer_report = build_layers(
             self._prem, corr, n_layers, layer_depth, overlap, frame_grid,
-            H_rect_0=self.H0, H_rect_1=self.H1, shape0=self.shape0, shape1=self.shape1)
+            H_rect_0=self.H_rect_0, H_rect_1=self.H_rect_1, shape0=self.shape0, shape1=self.shape1)
         report.update(layer_report)
         self._canvas = self._layers[-1].canvas  # the farthest (or only) layer covers the whole images
         offs = np.cumsum([0] + [len(L.r0) for L in self._layers])
@@ -309,14 +312,14 @@ class ViewMorpher:
                 int(round((1 - s) * self.shape0[1] + s * self.shape1[1])))
 
     def post_homography(self, s: float, post: Any = "interpolate") -> tuple[np.ndarray, tuple[int, int]]:
-        """The post-warp ``P = H_out_rect`` for ``s`` and its default output shape.
+        """The post-warp ``H_out_rect`` for ``s`` and its default output shape.
 
         Parameters
         ----------
         post : "interpolate", "rectified", (3, 3) array, CameraModel or PostWarpPoints
             ``"interpolate"``: corners interpolated between the two views (module
             convention). ``"rectified"``: no post-warp (a translation to the
-            rectified canvas, whose size is returned). A (3, 3) array: ``P``
+            rectified canvas, whose size is returned). A (3, 3) array: ``H_out_rect``
             itself. A :class:`~morphkit.camera.CameraModel`: the least-squares
             homography taking ``q(s)`` of the correspondences (at most
             :data:`tol.VM_POST_FIT_PAIRS` of them, spread over image 0) to their
@@ -326,41 +329,42 @@ class ViewMorpher:
 
         Convention
         ----------
-        ``P`` maps rectified-interpolated coordinates (pixel-centre origin) to
-        output pixels: ``out = P q``.
+        ``H_out_rect`` maps rectified-interpolated coordinates (pixel-centre origin) to
+        output pixels: ``out = H_out_rect q``.
         """
         s = as_unit_interval(s, "s")
         q = self.vertices(s)
         if isinstance(post, str) and post == "interpolate":
-            P = interpolated_post_homography(self.H0, self.H1, self.shape0, self.shape1, s)
-            return P, self.out_shape(s)
+            H_out_rect = interpolated_post_homography(self.H_rect_0, self.H_rect_1, self.shape0, self.shape1,
+                                                      s)
+            return H_out_rect, self.out_shape(s)
         if isinstance(post, str) and post == "rectified":
             lo, hi = self._canvas
-            P = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
-            return P, (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
+            H_out_rect = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
+            return H_out_rect, (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
         if isinstance(post, CameraModel):
             if self.correspondences.points3d is None:
                 raise ValidationError(expected_got("post", "a camera only with correspondences from geometry "
                                                    "(points3d)", "correspondences without 3-D points"))
             idx = self._post_fit_index
             tgt, _ = post.project(self.correspondences.points3d[idx])
-            P = fit_post_homography(q[self.is_correspondence][idx], tgt)
-            return P, post.shape
+            H_out_rect = fit_post_homography(q[self.is_correspondence][idx], tgt)
+            return H_out_rect, post.shape
         if isinstance(post, PostWarpPoints):
             index = np.asarray(post.index, dtype=np.int64).ravel()
             pts = as_points(post.points, "post points", min_count=4)
             if index.size != len(pts) or np.any(index < 0) or np.any(index >= len(self.correspondences)):
                 raise ValidationError(expected_got("post index", f"{len(pts)} indices in "
                                                    f"[0, {len(self.correspondences)})", index.tolist()[:8]))
-            P = fit_post_homography(q[self.is_correspondence][index], pts)
-            return P, self.out_shape(s)
+            H_out_rect = fit_post_homography(q[self.is_correspondence][index], pts)
+            return H_out_rect, self.out_shape(s)
         if isinstance(post, str):
             raise ValidationError(expected_got("post", "'interpolate', 'rectified', a 3x3 array, a "
                                                "CameraModel or PostWarpPoints", repr(post)))
-        P = as_finite_array(post, "post", shape=(3, 3))
-        if abs(np.linalg.det(P)) < 1e-300:
+        H_out_rect = as_finite_array(post, "post", shape=(3, 3))
+        if abs(np.linalg.det(H_out_rect)) < 1e-300:
             raise ValidationError(expected_got("post", "a regular homography", "a singular matrix"))
-        return P, self.out_shape(s)
+        return H_out_rect, self.out_shape(s)
 
     def apply_frame(self, H_out_rect: np.ndarray, s: float, shape: tuple[int, int], frame: str) -> np.ndarray:
         """A post-warp with the crop/size policy ``frame`` applied (see :meth:`morph`).
@@ -380,8 +384,8 @@ class ViewMorpher:
         Returns
         -------
         numpy.ndarray
-            ``(3, 3)`` float64: ``S @ H_out_rect`` (``S`` a scale and shift in
-            output pixels), or ``H_out_rect`` itself.
+            ``(3, 3)`` float64: ``H_framed_out @ H_out_rect`` (a scale and shift
+            of output pixels), or ``H_out_rect`` itself.
         """
         if frame == "fixed":
             return H_out_rect
@@ -409,7 +413,7 @@ class ViewMorpher:
             and shifts only when the object (the correspondences' bounding box)
             would leave the frame further than it leaves the inputs;
             ``"fit"`` always scales the object to fill the frame with a 5%
-            margin; ``"fixed"`` keeps ``P`` as is.
+            margin; ``"fixed"`` keeps ``H_out_rect`` as is.
         path : {"direct", "rectified"}
             See the module docstring.
 
@@ -420,7 +424,7 @@ class ViewMorpher:
 
         Convention
         ----------
-        Output pixel ``p`` shows the mesh point ``P^-1 p`` of the
+        Output pixel ``p`` shows the mesh point ``H_out_rect^-1 p`` of the
         rectified-interpolated frame; pixel-centre origin throughout.
 
         Raises
@@ -435,11 +439,14 @@ class ViewMorpher:
             raise ValidationError(expected_got("frame", f"one of {FRAMES}", repr(frame)))
         if path not in PATHS:
             raise ValidationError(expected_got("path", f"one of {PATHS}", repr(path)))
-        P, shape = self.post_homography(s, post)
+        H_out_rect, shape = self.post_homography(s, post)
         if out_shape is not None:
             shape = as_shape(out_shape, "out_shape")
-        P = self.apply_frame(P, s, shape, frame)
-        acc = self._render_direct(s, P, shape) if path == "direct" else self._render_rectified(s, P, shape)
+        H_out_rect = self.apply_frame(H_out_rect, s, shape, frame)
+        if path == "direct":
+            acc = self._render_direct(s, H_out_rect, shape)
+        else:
+            acc = self._render_rectified(s, H_out_rect, shape)
         return from_premultiplied(acc, self.channels, self.dtype)
 
     def frames(self, n: int, **kw: Any) -> list[np.ndarray]:
@@ -450,8 +457,8 @@ class ViewMorpher:
         return [self.morph(float(s), **kw) for s in np.linspace(0.0, 1.0, n)]
 
     @staticmethod
-    def _dst(layer: MorphLayer, s: float, P: np.ndarray) -> np.ndarray:
-        q = np.c_[layer.r0 + s * (layer.r1 - layer.r0), np.ones(len(layer.r0))] @ P.T
+    def _dst(layer: MorphLayer, s: float, H_out_rect: np.ndarray) -> np.ndarray:
+        q = np.c_[layer.r0 + s * (layer.r1 - layer.r0), np.ones(len(layer.r0))] @ H_out_rect.T
         w = q[:, 2]
         wc = np.median(w)
         if np.any(w * np.sign(wc) <= 1e-9 * abs(wc)):
@@ -460,20 +467,20 @@ class ViewMorpher:
                 "one sending part of it through infinity"))
         return q[:, :2] / w[:, None]
 
-    def _render_direct(self, s: float, P: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    def _render_direct(self, s: float, H_out_rect: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
         h, w = shape
         nch = self._prem[0].shape[2]
         out: np.ndarray | None = None
         for layer in reversed(self._layers):  # far to near, premultiplied "over"
-            got = self._render_layer(layer, s, P, shape)
+            got = self._render_layer(layer, s, H_out_rect, shape)
             if got is not None:
                 out = over(out, got[1], got[0], shape)
         return np.zeros((h, w, nch), np.float32) if out is None else out
 
-    def _render_layer(self, layer: MorphLayer, s: float, P: np.ndarray, shape: tuple[int, int]
+    def _render_layer(self, layer: MorphLayer, s: float, H_out_rect: np.ndarray, shape: tuple[int, int]
                       ) -> tuple[tuple[int, int, int, int], np.ndarray] | None:
         """One layer's premultiplied morph over its region of interest (None if it covers nothing)."""
-        dst = self._dst(layer, s, P)
+        dst = self._dst(layer, s, H_out_rect)
         prem0, prem1 = layer.prem
         if s >= 1.0:
             wm1 = self._maps(layer.w1, dst, shape)
@@ -514,14 +521,14 @@ class ViewMorpher:
 
     # ---------------------------------------------------------------- Seitz & Dyer literally
     @staticmethod
-    def _prewarp_images(prem: tuple[np.ndarray, np.ndarray], Hs: tuple[np.ndarray, np.ndarray],
+    def _prewarp_images(prem: tuple[np.ndarray, np.ndarray], H_rect_img: tuple[np.ndarray, np.ndarray],
                         canvas: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = canvas
         shape = (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
-        T = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
-        ims = tuple(cv2.warpPerspective(p, T @ H, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
-                                        borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-                    for p, H in zip(prem, Hs, strict=True))
+        H_canvas_rect = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
+        ims = tuple(cv2.warpPerspective(p, H_canvas_rect @ H_rect_i, (shape[1], shape[0]),
+                                        flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+                    for p, H_rect_i in zip(prem, H_rect_img, strict=True))
         return ims[0], ims[1]
 
     def rectified_images(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -530,15 +537,16 @@ class ViewMorpher:
         Convention: canvas pixel ``(x, y)`` is rectified-frame point ``(x, y) + origin``.
         """
         if self._rectified is None:
-            self._rectified = self._prewarp_images(self._prem, (self.H0, self.H1), self._canvas)
+            self._rectified = self._prewarp_images(self._prem, (self.H_rect_0, self.H_rect_1), self._canvas)
         return self._rectified[0], self._rectified[1], self._canvas[0].copy()
 
-    def _render_rectified(self, s: float, P: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    def _render_rectified(self, s: float, H_out_rect: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
         out: np.ndarray | None = None
         for layer in reversed(self._layers):  # far to near, premultiplied "over"
             if layer.rectified is None:
                 layer.rectified = (self.rectified_images()[:2] if len(self._layers) == 1 else
-                                   self._prewarp_images(layer.prem, (self.H0, self.H1), layer.canvas))
+                                   self._prewarp_images(layer.prem, (self.H_rect_0, self.H_rect_1),
+                                                        layer.canvas))
             rect0, rect1 = layer.rectified
             lo = layer.canvas[0]
             cshape = rect0.shape[:2]
@@ -551,9 +559,9 @@ class ViewMorpher:
                 part = wm.apply(img, fill=0.0)
                 acc = part * np.float32(wgt) if acc is None else cv2.addWeighted(acc, 1.0, part, wgt, 0.0)
             assert acc is not None
-            T = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
-            img = cv2.warpPerspective(acc, P @ T, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
-                                      borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            H_rect_canvas = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
+            img = cv2.warpPerspective(acc, H_out_rect @ H_rect_canvas, (shape[1], shape[0]),
+                                      flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
             out = over(out, img.reshape(shape + (acc.shape[2],)), (0, shape[0], 0, shape[1]), shape)
         assert out is not None
         return out

@@ -1,7 +1,12 @@
 """Post-warp: homographies from the rectified-interpolated frame to output pixels.
 
-Convention: see :mod:`morphkit.viewmorph.morph` (``P = H_out_rect`` maps the
-rectified-interpolated frame to output pixels).
+A post-warp ``H_out_rect`` maps the rectified-interpolated frame (where the
+morph at ``s`` puts a pair at ``q(s) = (1 - s) H_rect_0 p0 + s H_rect_1 p1``; see
+:mod:`morphkit.viewmorph.morph`) to output pixels (pixel-centre origin):
+``out = H_out_rect q``. It comes from the two views' image planes
+(:func:`interpolated_post_homography`), from points or a camera
+(:func:`fit_post_homography`, :class:`PostWarpPoints`), or is given; a crop/size
+policy then scales and shifts it in the output (:func:`frame_post_homography`).
 """
 
 from __future__ import annotations
@@ -123,10 +128,10 @@ def fit_post_homography(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
         raise ValidationError(expected_got("post-warp points", "at least 4", f"{len(src)}"))
     check_spread(src, "post-warp source points")
     check_spread(dst, "post-warp target points")
-    H, _ = cv2.findHomography(src, dst, 0)
-    if H is None or not np.all(np.isfinite(H)):
+    H_out_rect, _ = cv2.findHomography(src, dst, 0)
+    if H_out_rect is None or not np.all(np.isfinite(H_out_rect)):
         raise GeometryError(expected_got("post-warp homography fit", "a solution", "none"))
-    return H / H[2, 2]
+    return H_out_rect / H_out_rect[2, 2]
 
 
 def overshoot(points: np.ndarray, shape: tuple[int, int]) -> float:
@@ -172,8 +177,9 @@ def frame_post_homography(H_out_rect: np.ndarray, object_rect: np.ndarray, shape
     Returns
     -------
     numpy.ndarray
-        ``(3, 3)`` float64 ``S @ H_out_rect`` (``S`` a scale and shift in output
-        pixels), or ``H_out_rect`` itself when nothing changes.
+        ``(3, 3)`` float64 ``H_framed_out @ H_out_rect`` (``H_framed_out`` a
+        scale and shift of output pixels), or ``H_out_rect`` itself when nothing
+        changes.
     """
     if frame == "fixed":
         return H_out_rect
@@ -193,5 +199,5 @@ def frame_post_homography(H_out_rect: np.ndarray, object_rect: np.ndarray, shape
     if frame == "contain":
         k = min(k, 1.0)
     cb, cf = 0.5 * (blo + bhi), 0.5 * (flo + fhi)
-    S = np.array([[k, 0.0, cf[0] - k * cb[0]], [0.0, k, cf[1] - k * cb[1]], [0.0, 0.0, 1.0]])
-    return S @ H_out_rect
+    H_framed_out = np.array([[k, 0.0, cf[0] - k * cb[0]], [0.0, k, cf[1] - k * cb[1]], [0.0, 0.0, 1.0]])
+    return H_framed_out @ H_out_rect
