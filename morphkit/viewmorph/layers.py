@@ -26,9 +26,8 @@ points can only swap order over distances below the slice's disparity range,
 so its fold-overs are small. Costs one morph per layer (the near layers over
 their own region only). Pixels in an overlap band are drawn by both layers:
 exact where opaque; a semi-transparent (anti-aliased) pixel there gets alpha
-``a (2 - a)`` instead of ``a`` (disjoint pixel sets, measured on the chair at
-20 degrees, cost 0.7 dB PSNR through cracks at the cut; ``layer_overlap=0``
-gives them).
+``a (2 - a)`` instead of ``a`` (disjoint pixel sets leave cracks at the cut;
+``layer_overlap=0`` gives them).
 """
 
 from __future__ import annotations

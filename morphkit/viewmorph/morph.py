@@ -167,6 +167,15 @@ class ViewMorpher:
         ``"viewmorph"``, ``"parallel"``, ``"homography"`` or ``"morph"``.
     fit : FundamentalFit or None
     rectification : Rectification
+    H_rect_0, H_rect_1 : (3, 3) float64
+        The pre-warps (image-``i`` pixels to the rectified frame; identities
+        without a pre-warp).
+    shape0, shape1 : (H, W)
+        The reference images' shapes.
+    channels : int
+        The output layout (1 grey, 3 RGB, 4 RGBA: the richer input's).
+    dtype : numpy.dtype
+        The inputs' (and outputs') dtype.
     correspondences : Correspondences
         The pairs kept in the mesh (inliers, de-duplicated, not dropped for
         fold-overs); with layers, each layer's in turn (pairs in an overlap repeat).
@@ -301,12 +310,34 @@ class ViewMorpher:
 
     # ---------------------------------------------------------------- geometry per s
     def vertices(self, s: float) -> np.ndarray:
-        """Mesh vertices ``q(s) = (1 - s) r0 + s r1`` in the rectified-interpolated frame."""
+        """Mesh vertices ``q(s) = (1 - s) r0 + s r1`` in the rectified-interpolated frame.
+
+        Parameters
+        ----------
+        s : float in [0, 1]
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(V, 2)`` float64 positions of all layers' vertices (frame points
+            and pairs; :attr:`is_correspondence` tells them apart), indexed by
+            :attr:`triangles`.
+        """
         s = as_unit_interval(s, "s")
         return self._r0 + s * (self._r1 - self._r0)
 
     def out_shape(self, s: float) -> tuple[int, int]:
-        """Default output shape: the input shapes interpolated by ``s`` (rounded)."""
+        """Default output shape: the input shapes interpolated by ``s`` (rounded).
+
+        Parameters
+        ----------
+        s : float in [0, 1]
+
+        Returns
+        -------
+        tuple of int
+            ``(H, W)``.
+        """
         s = as_unit_interval(s, "s")
         return (int(round((1 - s) * self.shape0[0] + s * self.shape1[0])),
                 int(round((1 - s) * self.shape0[1] + s * self.shape1[1])))
@@ -326,6 +357,14 @@ class ViewMorpher:
             projections in that camera (needs ``points3d``, i.e. correspondences
             from geometry); the camera's shape. :class:`PostWarpPoints`:
             least squares on the given points.
+
+        Returns
+        -------
+        H_out_rect : numpy.ndarray
+            ``(3, 3)`` float64 post-warp (before the crop/size policy of
+            :meth:`apply_frame`).
+        shape : tuple of int
+            The default output ``(H, W)`` for it.
 
         Convention
         ----------
@@ -450,7 +489,20 @@ class ViewMorpher:
         return from_premultiplied(acc, self.channels, self.dtype)
 
     def frames(self, n: int, **kw: Any) -> list[np.ndarray]:
-        """``n >= 2`` views at ``s = 0, 1/(n-1), ..., 1`` (keyword arguments go to :meth:`morph`)."""
+        """``n >= 2`` views at ``s = 0, 1/(n-1), ..., 1``.
+
+        Parameters
+        ----------
+        n : int
+            Number of views, ``>= 2``.
+        **kw
+            Keyword arguments of :meth:`morph`.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            The views, as :meth:`morph` returns them.
+        """
         n = int(n)
         if n < 2:
             raise ValidationError(expected_got("n", "an int >= 2", n))
@@ -533,6 +585,15 @@ class ViewMorpher:
 
     def rectified_images(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The two pre-warped (premultiplied float32) images on the rectified canvas, and its origin.
+
+        Returns
+        -------
+        rect0, rect1 : numpy.ndarray
+            float32 ``(h, w, C + 1)`` premultiplied images (colour times alpha,
+            then alpha; :func:`morphkit.composite.to_premultiplied`), warped by
+            ``H_rect_0`` / ``H_rect_1`` onto the canvas (cached; do not modify).
+        origin : numpy.ndarray
+            ``(2,)`` float64 rectified-frame position of canvas pixel ``(0, 0)``.
 
         Convention: canvas pixel ``(x, y)`` is rectified-frame point ``(x, y) + origin``.
         """

@@ -33,7 +33,15 @@ FRAMES = ("contain", "fixed", "fit")
 class PostWarpPoints:
     """Post-warp given by image points: correspondences ``index`` (into
     :attr:`ViewMorpher.correspondences`) must land on ``points`` (``(k, 2)``
-    output pixels, ``k >= 4``); the homography is their least-squares fit."""
+    output pixels, ``k >= 4``); the homography is their least-squares fit.
+
+    Attributes
+    ----------
+    index : (k,) int
+        Indices into :attr:`~morphkit.viewmorph.morph.ViewMorpher.correspondences`.
+    points : (k, 2) float
+        Where those pairs must land, in output pixels (pixel-centre origin).
+    """
 
     index: Any
     points: Any

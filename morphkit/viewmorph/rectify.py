@@ -111,7 +111,13 @@ class Rectification:
     candidates: dict[str, Any]
 
     def report(self) -> dict[str, Any]:
-        """A JSON-friendly summary."""
+        """A JSON-friendly summary.
+
+        Returns
+        -------
+        dict
+            ``method``, ``y_rms_px``, ``anisotropy``, ``scale_ratio``, ``candidates``.
+        """
         return {"method": self.method, "y_rms_px": self.y_rms, "anisotropy": self.anisotropy,
                 "scale_ratio": self.scale_ratio, "candidates": self.candidates}
 
@@ -120,7 +126,21 @@ class Rectification:
 
 
 def apply_h(H: np.ndarray, pts: np.ndarray) -> np.ndarray:
-    """Apply homography ``H`` to ``(N, 2)`` points (``H_dst_src``: src pixels to dst pixels)."""
+    """Apply homography ``H`` to ``(N, 2)`` points (``H_dst_src``: src pixels to dst pixels).
+
+    Parameters
+    ----------
+    H : (3, 3) float
+        ``H_dst_src``.
+    pts : (N, 2) float
+        Points in the source frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 2)`` float64 points in the destination frame (``inf``/NaN for
+        points ``H`` sends to infinity).
+    """
     p = np.c_[pts, np.ones(len(pts))] @ np.asarray(H, dtype=np.float64).T
     return p[:, :2] / p[:, 2:3]
 
@@ -152,6 +172,18 @@ def prewarp_distortion(H: Any, shape: tuple[int, int]) -> dict[str, float]:
     centre is positive: ``w_min <= 0`` means the image crosses the line that goes
     to infinity), ``"anisotropy"`` (max singular-value ratio), ``"scale_min"``,
     ``"scale_max"`` (local area scale ``|det J|``).
+
+    Parameters
+    ----------
+    H : (3, 3) float
+        A pre-warp ``H_rect_i`` (image pixels to the rectified frame).
+    shape : (H, W)
+        The image's shape.
+
+    Returns
+    -------
+    dict of str to float
+        The five measures above, over the grid.
     """
     H = as_finite_array(H, "H", shape=(3, 3))
     shape = as_shape(shape, "shape")
@@ -169,7 +201,17 @@ def prewarp_distortion(H: Any, shape: tuple[int, int]) -> dict[str, float]:
 
 
 def default_intrinsics(shape: tuple[int, int]) -> np.ndarray:
-    """A guess of ``K`` for an uncalibrated image: focal ``max(H, W)`` px, centred principal point."""
+    """A guess of ``K`` for an uncalibrated image: focal ``max(H, W)`` px, centred principal point.
+
+    Parameters
+    ----------
+    shape : (H, W)
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` float64 intrinsics (pixel-centre origin).
+    """
     h, w = as_shape(shape, "shape")
     f = float(max(h, w))
     return np.array([[f, 0.0, (w - 1) / 2], [0.0, f, (h - 1) / 2], [0.0, 0.0, 1.0]])
@@ -192,6 +234,20 @@ def rectify_opencv(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int]) -> tup
     Convention: ``H_rect_i`` maps image-``i`` pixels (pixel-centre origin) to the
     rectified frame; ``x1r^T F0 x0r = 0`` up to the estimation error. Not yet
     normalised (see :func:`normalize_prewarps`).
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        ``x1^T F x0 = 0`` in pixels.
+    pts0, pts1 : (N, 2) float
+        Inlier pairs, ``N >= 8``.
+    shape0 : (H, W)
+        Image 0's shape.
+
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 pre-warps.
 
     Raises
     ------
@@ -218,6 +274,16 @@ def seitz_dyer_angles(F_hat: Any) -> dict[str, Any]:
     theta1`` (about ``d_i``, radians, reduced modulo pi into [-pi/2, pi/2]),
     ``phi0, phi1`` (about the optical axis) and the rotations ``R0, R1``
     (``R_i = R_z(phi_i) R_{d_i}(theta_i)``).
+
+    Parameters
+    ----------
+    F_hat : (3, 3) float
+        F in normalised coordinates.
+
+    Returns
+    -------
+    dict
+        ``d0, d1`` ``(3,)``, ``theta0, theta1, phi0, phi1`` float, ``R0, R1`` ``(3, 3)``.
 
     Raises
     ------
@@ -270,6 +336,11 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
     K0, K1 : (3, 3), optional
         Intrinsics; default :func:`default_intrinsics`.
 
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 pre-warps.
+
     Raises
     ------
     DegenerateViewError
@@ -306,6 +377,23 @@ def normalize_prewarps(H_rect_0: Any, H_rect_1: Any, pts0: Any, pts1: Any) -> tu
     the origin. The homogeneous ``w`` is made positive at the centroids.
 
     Convention: input and output ``H_rect_i`` map image-``i`` pixels to the rectified frame.
+
+    Parameters
+    ----------
+    H_rect_0, H_rect_1 : (3, 3) float
+        A rectifying pair of pre-warps.
+    pts0, pts1 : (N, 2) float
+        The pairs in image-0 and image-1 pixels, ``N >= 1``.
+
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 normalised pre-warps.
+
+    Raises
+    ------
+    DegenerateViewError
+        A pre-warp with a singular local Jacobian.
     """
     H_rect_0 = as_finite_array(H_rect_0, "H_rect_0", shape=(3, 3))
     H_rect_1 = as_finite_array(H_rect_1, "H_rect_1", shape=(3, 3))
