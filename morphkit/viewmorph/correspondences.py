@@ -31,7 +31,7 @@ import csv
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -43,6 +43,7 @@ from ..validate import as_finite_array, as_image, as_points
 
 __all__ = [
     "Correspondences",
+    "HasVertices",
     "from_depth",
     "from_geometry",
     "from_images",
@@ -54,6 +55,13 @@ __all__ = [
 ]
 
 SOURCES = ("geometry", "features", "user")
+
+
+@runtime_checkable
+class HasVertices(Protocol):
+    """A mesh-like object whose ``vertices`` are ``(N, 3)`` world points (e.g. ``trimesh.Trimesh``)."""
+
+    vertices: Any
 
 
 @dataclass(frozen=True)
@@ -302,8 +310,8 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
 
     Parameters
     ----------
-    points : (N, 3) array or trimesh.Trimesh
-        World points (a mesh gives its vertices).
+    points : (N, 3) array or HasVertices
+        World points (a mesh, e.g. ``trimesh.Trimesh``, gives its vertices).
     camera0, camera1 : CameraModel
         The two views.
     depth0, depth1 : (H, W) float, optional
@@ -321,7 +329,7 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
     Correspondences
         ``source="geometry"`` with ``points3d`` set; only points visible in both views.
     """
-    verts = getattr(points, "vertices", points)
+    verts = points.vertices if isinstance(points, HasVertices) else points
     pts = as_finite_array(verts, "points", shape=(None, 3))
     if int(max_points) < 1:
         raise ValidationError(expected_got("max_points", "an int >= 1", max_points))
