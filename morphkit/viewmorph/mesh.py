@@ -1,4 +1,5 @@
-"""The morph mesh in the rectified frame: frame points, Delaunay at s = 1/2, fold-overs.
+"""The morph mesh in the rectified frame: frame points, Delaunay at s = 1/2, fold-overs, and the
+rectified canvas the mesh covers (:func:`mesh_canvas`).
 
 The morph mesh
 --------------
