@@ -170,11 +170,11 @@ def test_rectified_pairs_share_y(rng, method, base):
     F = fundamental_from_cameras(c0, c1)
     r = rectify(F, corr.pts0, corr.pts1, c0.shape, c1.shape, method=method)
     assert r.method == method
-    r0, r1 = apply_h(r.H0, corr.pts0), apply_h(r.H1, corr.pts1)
+    r0, r1 = apply_h(r.H_rect_0, corr.pts0), apply_h(r.H_rect_1, corr.pts1)
     assert np.abs(r1[:, 1] - r0[:, 1]).max() < 1e-6
-    assert proportional(np.linalg.inv(r.H1).T @ F @ np.linalg.inv(r.H0), F0) < 1e-6
+    assert proportional(np.linalg.inv(r.H_rect_1).T @ F @ np.linalg.inv(r.H_rect_0), F0) < 1e-6
     # normalised: a similarity (no mirror) at the centroid, centroids at the origin
-    assert np.linalg.det(r.H0[:2, :2]) != 0
+    assert np.linalg.det(r.H_rect_0[:2, :2]) != 0
     assert np.abs(r0.mean(axis=0)).max() < 1e-6 and np.abs(r1[:, 0].mean()) < 1e-6
     assert r.anisotropy < 1.5
 
@@ -189,8 +189,8 @@ def test_seitz_dyer_rotations_send_epipoles_to_infinity_on_x(rng):
         assert abs(er[2]) < 1e-12 and abs(er[1]) < 1e-12
         assert abs(ang[f"theta{i}"]) <= np.pi / 2 + 1e-12
     # with the true intrinsics the pre-warps are rotations: the rectified F is F0 up to T
-    H0, H1 = seitz_dyer_prewarps(F, c0.shape, c1.shape, K0=c0.K, K1=c1.K)
-    assert proportional(np.linalg.inv(H1).T @ F @ np.linalg.inv(H0), F0) < 1e-9
+    H_rect_0, H_rect_1 = seitz_dyer_prewarps(F, c0.shape, c1.shape, K0=c0.K, K1=c1.K)
+    assert proportional(np.linalg.inv(H_rect_1).T @ F @ np.linalg.inv(H_rect_0), F0) < 1e-9
 
 
 def test_opencv_and_seitz_dyer_agree_after_normalisation_on_symmetric_views(rng):
@@ -204,8 +204,8 @@ def test_opencv_and_seitz_dyer_agree_after_normalisation_on_symmetric_views(rng)
 def test_normalize_prewarps_is_local_similarity(rng):
     c0, c1, corr = pair(rng)
     F = fundamental_from_cameras(c0, c1)
-    H0, H1 = normalize_prewarps(*seitz_dyer_prewarps(F, c0.shape, c1.shape), corr.pts0, corr.pts1)
-    for H, p in ((H0, corr.pts0), (H1, corr.pts1)):
+    H_rect_0, H_rect_1 = normalize_prewarps(*seitz_dyer_prewarps(F, c0.shape, c1.shape), corr.pts0, corr.pts1)
+    for H, p in ((H_rect_0, corr.pts0), (H_rect_1, corr.pts1)):
         c = p.mean(axis=0)
         eps = 1e-3
         J = np.stack([(apply_h(H, [c + [eps, 0]]) - apply_h(H, [c - [eps, 0]]))[0] / (2 * eps),
@@ -223,7 +223,7 @@ def test_parallel_views_skip_the_prewarp(rng):
     F = estimate_fundamental(corr.pts0, corr.pts1).F
     r = rectify(F, corr.pts0, corr.pts1, c0.shape, c1.shape)
     assert r.method == "parallel"
-    assert np.array_equal(r.H0, np.eye(3)) and np.array_equal(r.H1, np.eye(3))
+    assert np.array_equal(r.H_rect_0, np.eye(3)) and np.array_equal(r.H_rect_1, np.eye(3))
 
 
 def test_epipole_inside_the_image_refused(rng):

@@ -176,9 +176,9 @@ def test_layers_render_the_same_on_both_paths(posts):
     assert iou(ma, mb) > 0.9
     # the vertices of every layer are reported, and the post-warp maps them as in one mesh
     q = vm.vertices(0.5)
-    assert q.shape == (len(vm._r0), 2) and vm.triangles.max() < len(q)
-    P, _ = vm.post_homography(0.5, cam(60.0))
-    got = apply_h(P, q[vm._is_corr])
+    assert q.shape == (len(vm.is_correspondence), 2) and vm.triangles.max() < len(q)
+    H_out_rect, _ = vm.post_homography(0.5, cam(60.0))
+    got = apply_h(H_out_rect, q[vm.is_correspondence])
     want, _ = cam(60.0).project(vm.correspondences.points3d)
     assert np.sqrt(np.mean(np.sum((got - want) ** 2, axis=1))) < 1.0
 

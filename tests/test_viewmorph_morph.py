@@ -13,7 +13,8 @@ import pytest
 from morphkit.camera import look_at, perspective
 from morphkit.errors import DegenerateViewError, GeometryError, ValidationError
 from morphkit.viewmorph import Correspondences, ViewMorpher, crossfade, from_geometry, nearest
-from morphkit.viewmorph.morph import PostWarpPoints, _min_area_over_s
+from morphkit.viewmorph.mesh import min_area_over_s
+from morphkit.viewmorph.postwarp import PostWarpPoints
 from morphkit.viewmorph.rectify import apply_h
 
 TARGET = np.array([0.0, 0.0, 0.25])
@@ -74,10 +75,10 @@ def test_identical_images_give_the_input_at_every_s(rng):
 def test_rectified_vertices_interpolate_linearly(rng):
     _, _, corr, i0, i1 = setup(rng)
     vm = ViewMorpher(i0, i1, corr)
-    r0 = apply_h(vm.H0, vm.correspondences.pts0)
-    r1 = apply_h(vm.H1, vm.correspondences.pts1)
+    r0 = apply_h(vm.H_rect_0, vm.correspondences.pts0)
+    r1 = apply_h(vm.H_rect_1, vm.correspondences.pts1)
     assert np.abs(r0[:, 1] - r1[:, 1]).max() < 1e-4  # F from the 8-point fit: ~1e-6 px
-    q = vm.vertices(0.3)[vm._is_corr]
+    q = vm.vertices(0.3)[vm.is_correspondence]
     assert np.allclose(q, 0.7 * r0 + 0.3 * r1)
 
 
@@ -85,15 +86,15 @@ def test_post_warp_to_a_camera_puts_points_where_that_camera_sees_them(rng):
     c0, c1, corr, i0, i1 = setup(rng, base=20)
     vm = ViewMorpher(i0, i1, corr)
     mid = circle_cam(60, size=(96, 96))
-    P, shape = vm.post_homography(0.5, mid)
+    H_out_rect, shape = vm.post_homography(0.5, mid)
     assert shape == (96, 96)
-    got = apply_h(P, vm.vertices(0.5)[vm._is_corr])
+    got = apply_h(H_out_rect, vm.vertices(0.5)[vm.is_correspondence])
     want, _ = mid.project(vm.correspondences.points3d)
     # the morph's camera sits on the chord between the two centres, the target on the
     # circle: the residual is that parallax, < 1 px at 20 degrees and this size
     assert np.sqrt(np.mean(np.sum((got - want) ** 2, axis=1))) < 1.0
-    P4, _ = vm.post_homography(0.5, PostWarpPoints(np.arange(4), want[:4]))
-    assert np.abs(apply_h(P4, vm.vertices(0.5)[vm._is_corr][:4]) - want[:4]).max() < 1e-4
+    H_out_rect_4, _ = vm.post_homography(0.5, PostWarpPoints(np.arange(4), want[:4]))
+    assert np.abs(apply_h(H_out_rect_4, vm.vertices(0.5)[vm.is_correspondence][:4]) - want[:4]).max() < 1e-4
 
 
 def test_direct_and_rectified_paths_agree(rng):
@@ -213,7 +214,7 @@ def test_epipole_inside_image_refused_or_plain_morph(rng):
         ViewMorpher(i0, i1, corr)
     vm = ViewMorpher(i0, i1, corr, fallback="morph")
     assert vm.mode == "morph" and "epipole" in vm.report["fallback"]
-    assert np.array_equal(vm.H0, np.eye(3))
+    assert np.array_equal(vm.H_rect_0, np.eye(3))
     assert vm.morph(0.5).shape == i0.shape
 
 
@@ -225,7 +226,7 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
     p1[far] = p1[far[::-1]]
     vm = ViewMorpher(i0, i1, (corr.pts0, p1), prewarp="none")
     assert vm.report["n_dropped_foldover"] >= 1
-    amin = _min_area_over_s(vm._r0, vm._r1, vm.triangles)
+    amin = min_area_over_s(vm.vertices(0.0), vm.vertices(1.0), vm.triangles)
     assert amin.min() > 0
     vm.morph(0.5)
 
@@ -233,10 +234,10 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
 def test_min_area_over_s_is_exact():
     r0 = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
     r1 = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, -10.0]])  # flips through zero at s = 1/2
-    a = _min_area_over_s(r0, r1, np.array([[0, 1, 2]]))
+    a = min_area_over_s(r0, r1, np.array([[0, 1, 2]]))
     assert a[0] <= 0
     r1 = r0 + [3.0, 1.0]  # translation: area constant 50
-    assert np.isclose(_min_area_over_s(r0, r1, np.array([[0, 1, 2]]))[0], 50.0)
+    assert np.isclose(min_area_over_s(r0, r1, np.array([[0, 1, 2]]))[0], 50.0)
 
 
 def test_premultiplied_crossfade_keeps_colour_under_transparency():
@@ -251,13 +252,13 @@ def test_premultiplied_crossfade_keeps_colour_under_transparency():
 def test_frame_policy_keeps_the_object_in_frame(rng):
     _, _, corr, i0, i1 = setup(rng, base=20)
     vm = ViewMorpher(i0, i1, corr)
-    shift = np.array([[1.0, 0, 60], [0, 1, 0], [0, 0, 1]])
-    P, shape = vm.post_homography(0.5)
+    H_shift = np.array([[1.0, 0, 60], [0, 1, 0], [0, 0, 1]])
+    H_out_rect, shape = vm.post_homography(0.5)
     for frame in ("contain", "fit"):
-        P2 = vm._frame(shift @ P, 0.5, shape, frame)
-        obj = apply_h(P2, vm.vertices(0.5)[vm._is_corr])
+        H_framed = vm.apply_frame(H_shift @ H_out_rect, 0.5, shape, frame)
+        obj = apply_h(H_framed, vm.vertices(0.5)[vm.is_correspondence])
         assert obj.min() >= -0.5 - 1e-6 and obj.max(axis=0)[0] <= shape[1] - 0.5 + 1e-6
-    assert np.array_equal(vm._frame(shift @ P, 0.5, shape, "fixed"), shift @ P)
+    assert np.array_equal(vm.apply_frame(H_shift @ H_out_rect, 0.5, shape, "fixed"), H_shift @ H_out_rect)
     with pytest.raises(ValidationError, match="frame"):
         vm.morph(0.5, frame="crop")
 

@@ -7,12 +7,25 @@ One concept per module:
   user file; per-pixel depth keys for layered morphs;
 * :mod:`~morphkit.viewmorph.fundamental` -- F (``x1^T F x0 = 0``), its quality,
   epipoles (SVD null vectors), geometric F from cameras, degeneracy tests;
-* :mod:`~morphkit.viewmorph.rectify` -- the pre-warp (OpenCV/Hartley and
-  Seitz & Dyer's rotations), normalised and checked;
-* :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher` (mesh morph in the
-  rectified frame, optionally in depth layers, post-warp, crop policy,
-  premultiplied blending) and the
-  ``crossfade``/``nearest`` baselines.
+* :mod:`~morphkit.viewmorph.rectify` -- the pre-warp ``H_rect_0``/``H_rect_1``
+  (OpenCV/Hartley and Seitz & Dyer's rotations), normalised and checked;
+* :mod:`~morphkit.viewmorph.images` -- the reference pair: validation, layout
+  promotion (grey < RGB < RGBA), image corners;
+* :mod:`~morphkit.viewmorph.mesh` -- the morph mesh in the rectified frame
+  (frame points, Delaunay at ``s = 1/2``, exact fold-over test and repair) and
+  the rectified canvas it covers;
+* :mod:`~morphkit.viewmorph.layers` -- depth layers: depth slices of pairs and
+  pixels, and each layer's mesh, warpers and image-1 look-up
+  (:class:`~morphkit.viewmorph.layers.MorphLayer`);
+* :mod:`~morphkit.viewmorph.postwarp` -- the post-warp ``H_out_rect`` (image
+  planes interpolated between the views, fitted to points or a camera) and the
+  output crop/size policy;
+* :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher`: builds all of the
+  above once per pair, then renders the view at each ``s`` (direct or
+  rectified path, layers composited with the premultiplied "over" of
+  :mod:`morphkit.composite`);
+* :mod:`~morphkit.viewmorph.baselines` -- the image-only baselines
+  :func:`crossfade` and :func:`nearest`.
 
 Typical use::
 
@@ -23,8 +36,10 @@ Typical use::
 
 from __future__ import annotations
 
+from .baselines import crossfade, nearest
 from .correspondences import (
     Correspondences,
+    HasVertices,
     from_depth,
     from_geometry,
     from_images,
@@ -39,11 +54,13 @@ from .fundamental import (
     fundamental_from_cameras,
     sampson_distance,
 )
-from .morph import PostWarpPoints, ViewMorpher, crossfade, nearest
+from .morph import ViewMorpher
+from .postwarp import PostWarpPoints
 from .rectify import F0, Rectification, rectify
 
 __all__ = [
     "Correspondences",
+    "HasVertices",
     "from_geometry",
     "from_depth",
     "pair_depth",

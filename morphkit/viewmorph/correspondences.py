@@ -31,7 +31,7 @@ import csv
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -43,16 +43,25 @@ from ..validate import as_finite_array, as_image, as_points
 
 __all__ = [
     "Correspondences",
+    "HasVertices",
     "from_depth",
     "from_geometry",
     "from_images",
     "pair_depth",
     "load_points",
     "save_points",
+    "spread_subset",
     "visible_in",
 ]
 
 SOURCES = ("geometry", "features", "user")
+
+
+@runtime_checkable
+class HasVertices(Protocol):
+    """A mesh-like object whose ``vertices`` are ``(N, 3)`` world points (e.g. ``trimesh.Trimesh``)."""
+
+    vertices: Any
 
 
 @dataclass(frozen=True)
@@ -109,14 +118,31 @@ class Correspondences:
         return int(self.pts0.shape[0])
 
     def subset(self, keep: Any) -> Correspondences:
-        """The pairs selected by a boolean mask or an index array."""
+        """The pairs selected by a boolean mask or an index array.
+
+        Parameters
+        ----------
+        keep : (N,) bool or (k,) int
+            A mask over the pairs or indices into them.
+
+        Returns
+        -------
+        Correspondences
+            The selected pairs (with their ``points3d``/``depth``), same source.
+        """
         keep = np.asarray(keep)
         return Correspondences(self.pts0[keep], self.pts1[keep], self.source,
                                None if self.points3d is None else self.points3d[keep],
                                None if self.depth is None else self.depth[keep])
 
     def swapped(self) -> Correspondences:
-        """The same pairs with the images exchanged."""
+        """The same pairs with the images exchanged.
+
+        Returns
+        -------
+        Correspondences
+            ``pts0`` and ``pts1`` swapped; ``points3d`` and ``depth`` (symmetric) kept.
+        """
         return Correspondences(self.pts1, self.pts0, self.source, self.points3d, self.depth)
 
     def duplicates(self, tol_px: float = tol.VM_DUPLICATE_PX) -> np.ndarray:
@@ -126,6 +152,16 @@ class Correspondences:
         1 lies within ``tol_px`` (Chebyshev distance) of the point of an earlier
         pair in the same image: both exact repeats and conflicting matches (one
         point matched twice) would give zero-area mesh triangles.
+
+        Parameters
+        ----------
+        tol_px : float
+            Distance (pixels, Chebyshev) under which two points count as one.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` bool: True for pairs that repeat an earlier one.
         """
         dup = np.zeros(len(self), dtype=bool)
         for pts in (self.pts0, self.pts1):
@@ -149,7 +185,20 @@ class Correspondences:
         return dup
 
     def cleaned(self, tol_px: float = tol.VM_DUPLICATE_PX) -> tuple[Correspondences, int]:
-        """Drop duplicates (see :meth:`duplicates`); return the rest and how many were dropped."""
+        """Drop duplicates (see :meth:`duplicates`); return the rest and how many were dropped.
+
+        Parameters
+        ----------
+        tol_px : float
+            See :meth:`duplicates`.
+
+        Returns
+        -------
+        kept : Correspondences
+            The pairs that repeat no earlier pair, in order.
+        n_dropped : int
+            How many pairs were dropped.
+        """
         dup = self.duplicates(tol_px)
         return self.subset(~dup), int(dup.sum())
 
@@ -168,6 +217,18 @@ def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None
     a point on the far side of a silhouette is dropped; a point on the
     silhouette of its own surface, whose neighbouring centres see background
     ``+inf``, is kept).
+
+    Parameters
+    ----------
+    camera : CameraModel
+        The view (its ``world2cam``, image shape ``(H, W)`` and near plane).
+    points : (N, 3) float
+        World points.
+    depth : (H, W) float or None
+        The view's depth map (the measure of :meth:`CameraModel.project`'s
+        depth; ``+inf`` for background), or None for no occlusion test.
+    rtol : float
+        Relative depth tolerance of the occlusion test.
 
     Returns
     -------
@@ -202,12 +263,27 @@ def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None
     return px, vis
 
 
-def _spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
+def spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
     """Indices of at most ``max_points`` rows of ``px``, spread evenly over the image.
 
     Shuffle, then keep a point only if its grid cell (sized so that the points'
     bounding box holds about ``max_points`` cells) is still empty; fill up with
     the remaining shuffled points if fewer cells were occupied.
+
+    Parameters
+    ----------
+    px : (N, 2) float
+        Pixel positions (any one image's frame).
+    max_points : int
+        Most indices returned.
+    rng : numpy.random.Generator
+        Draws the shuffles.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(min(N, max_points),)`` int64 row indices into ``px``, sorted
+        (all of ``0 .. N - 1`` when ``N <= max_points``).
     """
     n = len(px)
     if n <= max_points:
@@ -234,8 +310,8 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
 
     Parameters
     ----------
-    points : (N, 3) array or trimesh.Trimesh
-        World points (a mesh gives its vertices).
+    points : (N, 3) array or HasVertices
+        World points (a mesh, e.g. ``trimesh.Trimesh``, gives its vertices).
     camera0, camera1 : CameraModel
         The two views.
     depth0, depth1 : (H, W) float, optional
@@ -253,7 +329,7 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
     Correspondences
         ``source="geometry"`` with ``points3d`` set; only points visible in both views.
     """
-    verts = getattr(points, "vertices", points)
+    verts = points.vertices if isinstance(points, HasVertices) else points
     pts = as_finite_array(verts, "points", shape=(None, 3))
     if int(max_points) < 1:
         raise ValidationError(expected_got("max_points", "an int >= 1", max_points))
@@ -261,7 +337,7 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
     px1, v1 = visible_in(camera1, pts, depth1, rtol=rtol)
     both = np.flatnonzero(v0 & v1)
     rng = np.random.default_rng(0) if rng is None else rng
-    keep = both[_spread_subset(px0[both], int(max_points), rng)]
+    keep = both[spread_subset(px0[both], int(max_points), rng)]
     z = 0.5 * (_depth(camera0, pts[keep]) + _depth(camera1, pts[keep]))
     return Correspondences(px0[keep], px1[keep], "geometry", pts[keep], z)
 
@@ -351,9 +427,17 @@ def pair_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
     through that point carries -- so pixels and pairs can be split into the
     same depth layers (``ViewMorpher(..., layers=k, layer_depth=pair_depth(...))``).
 
+    Parameters
+    ----------
+    camera0, camera1 : CameraModel
+        The two views.
+    depth0, depth1 : (H_i, W_i) float
+        Their depth maps (``+inf`` for background), of the cameras' shapes.
+
     Returns
     -------
-    key0, key1 : (H, W) float64
+    key0, key1 : (H_i, W_i) float64
+        Each pixel's key, ``+inf`` for background.
     """
     keys = []
     for cam, other, d, name in ((camera0, camera1, depth0, "depth0"), (camera1, camera0, depth1, "depth1")):
@@ -411,7 +495,7 @@ def from_images(image0: np.ndarray, image1: np.ndarray, *, ratio: float = 0.75,
     cross_check : bool
         Keep only mutual best matches (image 0 -> 1 and 1 -> 0 agree).
     contrast_threshold : float
-        SIFT's ``contrastThreshold``; 0.02 (OpenCV's default is 0.04) finds ~30%
+        SIFT's ``contrastThreshold``; lower than OpenCV's default (0.04) to find
         more matches on the flat-shaded renders of the bench.
 
     Returns
@@ -459,6 +543,16 @@ def load_points(path: str | Path) -> Correspondences:
     * JSON: ``{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}``, or a list of
       ``[x0, y0, x1, y1]`` rows, or a list of ``{"x0", "y0", "x1", "y1"}`` objects;
     * CSV: four columns ``x0, y0, x1, y1``, with or without that header line.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.json``, ``.csv`` or ``.txt`` (CSV) file.
+
+    Returns
+    -------
+    Correspondences
+        The pairs, ``source="user"``.
 
     Raises
     ------
@@ -521,7 +615,25 @@ def _is_number(s: str) -> bool:
 
 
 def save_points(path: str | Path, corr: Correspondences) -> Path:
-    """Write ``corr`` as JSON (``{"pts0", "pts1"}``) or CSV (``x0,y0,x1,y1``) by suffix."""
+    """Write ``corr`` as JSON (``{"pts0", "pts1"}``) or CSV (``x0,y0,x1,y1``) by suffix.
+
+    Parameters
+    ----------
+    path : str or Path
+        A ``.json`` or ``.csv`` file name (parent folders are created).
+    corr : Correspondences
+        The pairs (only ``pts0``/``pts1`` are written).
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValidationError
+        Another suffix.
+    """
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     if p.suffix.lower() == ".json":

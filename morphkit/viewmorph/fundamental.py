@@ -82,18 +82,41 @@ class FundamentalFit:
 
     @property
     def n_inliers(self) -> int:
-        """Number of inlier pairs."""
+        """Number of inlier pairs (``int``)."""
         return int(self.inliers.sum())
 
     def report(self) -> dict[str, Any]:
-        """A JSON-friendly summary."""
+        """A JSON-friendly summary.
+
+        Returns
+        -------
+        dict
+            ``method``, ``n_points``, ``n_inliers``, ``threshold_px``,
+            ``sampson_rms_px``, ``sampson_max_px``, ``epipolar_rms_px``.
+        """
         return {"method": self.method, "n_points": int(self.inliers.size), "n_inliers": self.n_inliers,
                 "threshold_px": self.threshold, "sampson_rms_px": self.sampson_rms,
                 "sampson_max_px": self.sampson_max, "epipolar_rms_px": self.epipolar_rms}
 
 
 def normalize_f(F: Any) -> np.ndarray:
-    """``F`` scaled to unit Frobenius norm with its largest-magnitude entry positive."""
+    """``F`` scaled to unit Frobenius norm with its largest-magnitude entry positive.
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        A fundamental matrix (any scale and sign).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` float64, the same epipolar geometry.
+
+    Raises
+    ------
+    GeometryError
+        ``F`` is zero.
+    """
     F = as_finite_array(F, "F", shape=(3, 3))
     n = np.linalg.norm(F)
     if n < 1e-300:
@@ -111,6 +134,18 @@ def sampson_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
     """Sampson distance (pixels) of each pair to F: the first-order geometric error.
 
     ``d^2 = (x1^T F x0)^2 / ((F x0)_1^2 + (F x0)_2^2 + (F^T x1)_1^2 + (F^T x1)_2^2)``.
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        ``x1^T F x0 = 0`` in pixels.
+    pts0, pts1 : (N, 2) float
+        The pairs in image-0 and image-1 pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` float64 distances in pixels.
     """
     F = as_finite_array(F, "F", shape=(3, 3))
     x0, x1 = _h(as_points(pts0, "pts0")), _h(as_points(pts1, "pts1"))
@@ -122,7 +157,20 @@ def sampson_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
 
 
 def epipolar_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
-    """Symmetric epipolar distance (pixels): RMS of the two point-to-epipolar-line distances."""
+    """Symmetric epipolar distance (pixels): RMS of the two point-to-epipolar-line distances.
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        ``x1^T F x0 = 0`` in pixels.
+    pts0, pts1 : (N, 2) float
+        The pairs in image-0 and image-1 pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` float64 distances in pixels.
+    """
     F = as_finite_array(F, "F", shape=(3, 3))
     x0, x1 = _h(as_points(pts0, "pts0")), _h(as_points(pts1, "pts1"))
     l1 = x0 @ F.T
@@ -140,6 +188,17 @@ def epipoles(F: Any) -> tuple[np.ndarray, np.ndarray]:
     (``F e0 = 0``: the image of camera 1's centre in image 0), ``e1`` the left one
     (``e1^T F = 0``). Each is signed so that its last coordinate is >= 0 (an
     epipole at infinity has last coordinate 0).
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        ``x1^T F x0 = 0``.
+
+    Returns
+    -------
+    e0, e1 : numpy.ndarray
+        ``(3,)`` float64 homogeneous epipoles in image 0 and image 1 (pixels of
+        ``F``'s frames).
     """
     F = as_finite_array(F, "F", shape=(3, 3))
     U, _, Vt = np.linalg.svd(F)
@@ -151,7 +210,19 @@ def epipoles(F: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 def epipole_pixel(e: np.ndarray) -> np.ndarray | None:
-    """Pixel position of a homogeneous epipole, or None when it is (numerically) at infinity."""
+    """Pixel position of a homogeneous epipole, or None when it is (numerically) at infinity.
+
+    Parameters
+    ----------
+    e : (3,) float
+        A homogeneous epipole (:func:`epipoles`).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(2,)`` float64 pixel ``(x, y)``, or None when ``|e_z|`` is at most
+        :data:`tol.VM_EPIPOLE_INFINITY` times ``|(e_x, e_y)|``.
+    """
     e = np.asarray(e, dtype=np.float64)
     if abs(e[2]) <= tol.VM_EPIPOLE_INFINITY * np.linalg.norm(e[:2]):
         return None
@@ -164,6 +235,16 @@ def fundamental_from_cameras(camera0: CameraModel, camera1: CameraModel) -> np.n
     ``R, t`` take camera-0 coordinates to camera-1 coordinates
     (``X1 = R X0 + t``, OpenCV camera frames). Normalised like
     :func:`normalize_f`.
+
+    Parameters
+    ----------
+    camera0, camera1 : CameraModel
+        Two perspective cameras.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` float64 F with ``x1^T F x0 = 0`` (pixels of the two cameras).
 
     Raises
     ------
@@ -189,6 +270,18 @@ def check_spread(pts: Any, name: str) -> None:
     """Raise :class:`GeometryError` if the points lie (numerically) on a line or a point.
 
     Uses the singular values of the centred points: ``s2 / s1 <`` :data:`tol.VM_COLLINEAR_RATIO`.
+
+    Parameters
+    ----------
+    pts : (N, 2) float
+        The points (any one frame).
+    name : str
+        What they are, for the message.
+
+    Raises
+    ------
+    GeometryError
+        The points do not span a 2-D area.
     """
     p = as_points(pts, name)
     c = p - p.mean(axis=0)
@@ -211,10 +304,19 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
     inliers of the fundamental matrix; default: all pairs). A homography-consistent
     pair is always F-consistent, so F then adds no information: it is not determined.
 
+    Parameters
+    ----------
+    pts0, pts1 : (N, 2) float
+        The pairs in image-0 and image-1 pixels, ``N >= 4``.
+    threshold : float
+        Transfer error (pixels, in image 1) within which a pair fits.
+    f_inliers : int, optional
+        Inliers of the fundamental matrix (default: ``N``).
+
     Returns
     -------
-    H : (3, 3) float64 or None
-        ``H_1_0`` when degenerate, else None.
+    H_1_0 : (3, 3) float64 or None
+        The homography (image-0 to image-1 pixels) when degenerate, else None.
     fraction : float
         Homography inliers / ``f_inliers``.
     """
@@ -222,23 +324,23 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
     p1 = as_points(pts1, "pts1", min_count=4)
     threshold = as_positive(threshold, "threshold")
     n_ref = len(p0) if f_inliers is None else max(int(f_inliers), 1)
-    H, _ = cv2.findHomography(p0, p1, 0)
-    if H is not None and np.all(np.isfinite(H)):
-        err = _transfer(H, p0, p1)
+    H_1_0, _ = cv2.findHomography(p0, p1, 0)
+    if H_1_0 is not None and np.all(np.isfinite(H_1_0)):
+        err = _transfer(H_1_0, p0, p1)
         if np.max(err) <= threshold:
-            return H / H[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
-    H, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
-    if H is None or not np.all(np.isfinite(H)):
+            return H_1_0 / H_1_0[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
+    H_1_0, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
+    if H_1_0 is None or not np.all(np.isfinite(H_1_0)):
         return None, 0.0
     inl = int(mask.ravel().astype(bool).sum())
     frac = inl / n_ref
     if frac >= tol.VM_HOMOGRAPHY_INLIER_RATIO:
-        return H / H[2, 2], min(frac, 1.0)
+        return H_1_0 / H_1_0[2, 2], min(frac, 1.0)
     return None, frac
 
 
-def _transfer(H: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
-    q = _h(p0) @ H.T
+def _transfer(H_1_0: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    q = _h(p0) @ H_1_0.T
     with np.errstate(divide="ignore", invalid="ignore"):
         q = q[:, :2] / q[:, 2:3]
     d = np.linalg.norm(q - p1, axis=1)
@@ -333,8 +435,8 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
                                          f"none (method {used}, threshold {threshold} px)"))
     F = normalize_f(F)
     if check_degenerate:
-        H, frac = homography_degeneracy(p0[inl], p1[inl], threshold=threshold)
-        if H is not None:
+        H_1_0, frac = homography_degeneracy(p0[inl], p1[inl], threshold=threshold)
+        if H_1_0 is not None:
             raise DegenerateViewError(expected_got(
                 "correspondences", "a general 3-D configuration (F determined)",
                 f"pairs explained by one homography ({100 * frac:.0f}% within {threshold} px): a planar "

@@ -32,9 +32,9 @@ correspondences go to the origin.
 
 Convention
 ----------
-``H0`` (``H_rect_0``) maps image-0 pixels to the shared rectified frame and
-``H1`` (``H_rect_1``) image-1 pixels to it: warping image ``i`` *with* ``Hi``
-(``cv2.warpPerspective(img, Hi, ...)``) rectifies it. After rectification
+``H_rect_0`` maps image-0 pixels to the shared rectified frame and
+``H_rect_1`` image-1 pixels to it: warping image ``i`` *with* ``H_rect_i``
+(``cv2.warpPerspective(img, H_rect_i, ...)``) rectifies it. After rectification
 corresponding points share their ``y``: ``x1r^T F0 x0r = 0``. Pixels use the
 pixel-centre origin of :mod:`morphkit.conventions`; the rectified frame has its
 origin at the correspondences' centroid (it is not an image; see
@@ -86,12 +86,12 @@ class Rectification:
 
     Attributes
     ----------
-    H0, H1 : (3, 3) float64
-        ``H_rect_0``, ``H_rect_1`` (see the module convention).
+    H_rect_0, H_rect_1 : (3, 3) float64
+        The pre-warps (see the module convention).
     method : str
         ``"opencv"``, ``"seitz-dyer"``, ``"parallel"`` (views already parallel:
-        identities), ``"homography"`` (the homography fallback: ``H0 = I``,
-        ``H1 = H_0_1``) or ``"none"`` (plain morph: identities).
+        identities), ``"homography"`` (the homography fallback: ``H_rect_0 = I``,
+        ``H_rect_1 = H_0_1``) or ``"none"`` (plain morph: identities).
     y_rms : float
         RMS of ``y1r - y0r`` over the pairs after rectification (pixels).
     anisotropy : float
@@ -102,8 +102,8 @@ class Rectification:
         For ``"auto"``: the quality of each construction tried (or why it failed).
     """
 
-    H0: np.ndarray
-    H1: np.ndarray
+    H_rect_0: np.ndarray
+    H_rect_1: np.ndarray
     method: str
     y_rms: float
     anisotropy: float
@@ -111,7 +111,13 @@ class Rectification:
     candidates: dict[str, Any]
 
     def report(self) -> dict[str, Any]:
-        """A JSON-friendly summary."""
+        """A JSON-friendly summary.
+
+        Returns
+        -------
+        dict
+            ``method``, ``y_rms_px``, ``anisotropy``, ``scale_ratio``, ``candidates``.
+        """
         return {"method": self.method, "y_rms_px": self.y_rms, "anisotropy": self.anisotropy,
                 "scale_ratio": self.scale_ratio, "candidates": self.candidates}
 
@@ -120,7 +126,21 @@ class Rectification:
 
 
 def apply_h(H: np.ndarray, pts: np.ndarray) -> np.ndarray:
-    """Apply homography ``H`` to ``(N, 2)`` points (``H_dst_src``: src pixels to dst pixels)."""
+    """Apply homography ``H`` to ``(N, 2)`` points (``H_dst_src``: src pixels to dst pixels).
+
+    Parameters
+    ----------
+    H : (3, 3) float
+        ``H_dst_src``.
+    pts : (N, 2) float
+        Points in the source frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 2)`` float64 points in the destination frame (``inf``/NaN for
+        points ``H`` sends to infinity).
+    """
     p = np.c_[pts, np.ones(len(pts))] @ np.asarray(H, dtype=np.float64).T
     return p[:, :2] / p[:, 2:3]
 
@@ -152,6 +172,18 @@ def prewarp_distortion(H: Any, shape: tuple[int, int]) -> dict[str, float]:
     centre is positive: ``w_min <= 0`` means the image crosses the line that goes
     to infinity), ``"anisotropy"`` (max singular-value ratio), ``"scale_min"``,
     ``"scale_max"`` (local area scale ``|det J|``).
+
+    Parameters
+    ----------
+    H : (3, 3) float
+        A pre-warp ``H_rect_i`` (image pixels to the rectified frame).
+    shape : (H, W)
+        The image's shape.
+
+    Returns
+    -------
+    dict of str to float
+        The five measures above, over the grid.
     """
     H = as_finite_array(H, "H", shape=(3, 3))
     shape = as_shape(shape, "shape")
@@ -169,7 +201,17 @@ def prewarp_distortion(H: Any, shape: tuple[int, int]) -> dict[str, float]:
 
 
 def default_intrinsics(shape: tuple[int, int]) -> np.ndarray:
-    """A guess of ``K`` for an uncalibrated image: focal ``max(H, W)`` px, centred principal point."""
+    """A guess of ``K`` for an uncalibrated image: focal ``max(H, W)`` px, centred principal point.
+
+    Parameters
+    ----------
+    shape : (H, W)
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)`` float64 intrinsics (pixel-centre origin).
+    """
     h, w = as_shape(shape, "shape")
     f = float(max(h, w))
     return np.array([[f, 0.0, (w - 1) / 2], [0.0, f, (h - 1) / 2], [0.0, 0.0, 1.0]])
@@ -189,9 +231,23 @@ def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
 def rectify_opencv(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Raw pre-warps ``(H_rect_0, H_rect_1)`` from ``cv2.stereoRectifyUncalibrated``.
 
-    Convention: ``Hi`` maps image-``i`` pixels (pixel-centre origin) to the
+    Convention: ``H_rect_i`` maps image-``i`` pixels (pixel-centre origin) to the
     rectified frame; ``x1r^T F0 x0r = 0`` up to the estimation error. Not yet
     normalised (see :func:`normalize_prewarps`).
+
+    Parameters
+    ----------
+    F : (3, 3) float
+        ``x1^T F x0 = 0`` in pixels.
+    pts0, pts1 : (N, 2) float
+        Inlier pairs, ``N >= 8``.
+    shape0 : (H, W)
+        Image 0's shape.
+
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 pre-warps.
 
     Raises
     ------
@@ -202,12 +258,12 @@ def rectify_opencv(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int]) -> tup
     p0 = as_points(pts0, "pts0", min_count=8)
     p1 = as_points(pts1, "pts1", min_count=8)
     h, w = as_shape(shape0, "shape0")
-    ok, H0, H1 = cv2.stereoRectifyUncalibrated(p0, p1, F, (w, h), threshold=0)
-    if not ok or H0 is None or H1 is None or abs(np.linalg.det(H0)) < 1e-300 \
-            or abs(np.linalg.det(H1)) < 1e-300:
+    ok, H_rect_0, H_rect_1 = cv2.stereoRectifyUncalibrated(p0, p1, F, (w, h), threshold=0)
+    if not ok or H_rect_0 is None or H_rect_1 is None or abs(np.linalg.det(H_rect_0)) < 1e-300 \
+            or abs(np.linalg.det(H_rect_1)) < 1e-300:
         raise GeometryError(expected_got("cv2.stereoRectifyUncalibrated", "two regular homographies",
                                          "failure"))
-    return np.asarray(H0, dtype=np.float64), np.asarray(H1, dtype=np.float64)
+    return np.asarray(H_rect_0, dtype=np.float64), np.asarray(H_rect_1, dtype=np.float64)
 
 
 def seitz_dyer_angles(F_hat: Any) -> dict[str, Any]:
@@ -218,6 +274,16 @@ def seitz_dyer_angles(F_hat: Any) -> dict[str, Any]:
     theta1`` (about ``d_i``, radians, reduced modulo pi into [-pi/2, pi/2]),
     ``phi0, phi1`` (about the optical axis) and the rotations ``R0, R1``
     (``R_i = R_z(phi_i) R_{d_i}(theta_i)``).
+
+    Parameters
+    ----------
+    F_hat : (3, 3) float
+        F in normalised coordinates.
+
+    Returns
+    -------
+    dict
+        ``d0, d1`` ``(3,)``, ``theta0, theta1, phi0, phi1`` float, ``R0, R1`` ``(3, 3)``.
 
     Raises
     ------
@@ -258,7 +324,7 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
 
     ``H_rect_0 = R0 K0^-1`` and ``H_rect_1 = T R1 K1^-1`` (see the module
     docstring), so that ``H_rect_1^-T F H_rect_0^-1`` is proportional to
-    :data:`F0`. Convention: ``Hi`` maps image-``i`` pixels (pixel-centre origin)
+    :data:`F0`. Convention: ``H_rect_i`` maps image-``i`` pixels (pixel-centre origin)
     to the rectified frame. Not yet normalised (see :func:`normalize_prewarps`).
 
     Parameters
@@ -269,6 +335,11 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
         Image shapes (for the default intrinsics).
     K0, K1 : (3, 3), optional
         Intrinsics; default :func:`default_intrinsics`.
+
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 pre-warps.
 
     Raises
     ------
@@ -294,10 +365,10 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
     return R0 @ np.linalg.inv(K0), T @ R1 @ np.linalg.inv(K1)
 
 
-def normalize_prewarps(H0: Any, H1: Any, pts0: Any, pts1: Any) -> tuple[np.ndarray, np.ndarray]:
+def normalize_prewarps(H_rect_0: Any, H_rect_1: Any, pts0: Any, pts1: Any) -> tuple[np.ndarray, np.ndarray]:
     """Normalise a rectifying pair so each image is locally a similarity of the original.
 
-    With ``J_i`` the Jacobian of ``Hi`` at the centroid of image ``i``'s points,
+    With ``J_i`` the Jacobian of ``H_rect_i`` at the centroid of image ``i``'s points,
     the pair is left-multiplied by ``A_i = [[a_i, k_i, t_i], [0, s, t], [0, 0, 1]]``:
     a common ``y`` scale ``s`` and shift ``t`` (rectified ``y`` stays shared, F0
     is kept) and a per-image ``x`` row chosen so that ``A_i J_i`` is a rotation
@@ -305,15 +376,32 @@ def normalize_prewarps(H0: Any, H1: Any, pts0: Any, pts1: Any) -> tuple[np.ndarr
     two local scales 1; ``t_i, t`` put each image's centroid of rectified points at
     the origin. The homogeneous ``w`` is made positive at the centroids.
 
-    Convention: input and output ``Hi`` map image-``i`` pixels to the rectified frame.
+    Convention: input and output ``H_rect_i`` map image-``i`` pixels to the rectified frame.
+
+    Parameters
+    ----------
+    H_rect_0, H_rect_1 : (3, 3) float
+        A rectifying pair of pre-warps.
+    pts0, pts1 : (N, 2) float
+        The pairs in image-0 and image-1 pixels, ``N >= 1``.
+
+    Returns
+    -------
+    H_rect_0, H_rect_1 : numpy.ndarray
+        ``(3, 3)`` float64 normalised pre-warps.
+
+    Raises
+    ------
+    DegenerateViewError
+        A pre-warp with a singular local Jacobian.
     """
-    H0 = as_finite_array(H0, "H0", shape=(3, 3))
-    H1 = as_finite_array(H1, "H1", shape=(3, 3))
+    H_rect_0 = as_finite_array(H_rect_0, "H_rect_0", shape=(3, 3))
+    H_rect_1 = as_finite_array(H_rect_1, "H_rect_1", shape=(3, 3))
     p0 = as_points(pts0, "pts0", min_count=1)
     p1 = as_points(pts1, "pts1", min_count=1)
     out = []
     Js = []
-    for H, p in ((H0, p0), (H1, p1)):
+    for H, p in ((H_rect_0, p0), (H_rect_1, p1)):
         c = p.mean(axis=0, keepdims=True)
         J, w = _jacobian(H, c)
         Hn = H / w[0]  # w = 1 at the centroid
@@ -361,11 +449,11 @@ def _epipole_check(F: np.ndarray, shape0: tuple[int, int], shape1: tuple[int, in
                 f"({px[0]:.1f}, {px[1]:.1f}) in a {w}x{h} image: the cameras (nearly) see each other"))
 
 
-def _quality(H0: np.ndarray, H1: np.ndarray, p0: np.ndarray, p1: np.ndarray,
+def _quality(H_rect_0: np.ndarray, H_rect_1: np.ndarray, p0: np.ndarray, p1: np.ndarray,
              shape0: tuple[int, int], shape1: tuple[int, int]) -> dict[str, float]:
-    d0 = prewarp_distortion(H0, shape0)
-    d1 = prewarp_distortion(H1, shape1)
-    r0, r1 = apply_h(H0, p0), apply_h(H1, p1)
+    d0 = prewarp_distortion(H_rect_0, shape0)
+    d1 = prewarp_distortion(H_rect_1, shape1)
+    r0, r1 = apply_h(H_rect_0, p0), apply_h(H_rect_1, p1)
     return {
         "y_rms": float(np.sqrt(np.mean((r1[:, 1] - r0[:, 1]) ** 2))),
         "w_min": min(d0["w_min"], d1["w_min"]),
@@ -411,7 +499,7 @@ def rectify(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int], shape1: tuple
 
     Convention
     ----------
-    ``Hi`` maps image-``i`` pixels to the rectified frame (see the module docstring).
+    ``H_rect_i`` maps image-``i`` pixels to the rectified frame (see the module docstring).
 
     Raises
     ------
@@ -435,22 +523,22 @@ def rectify(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int], shape1: tuple
     for m in tried:
         try:
             if m == "opencv":
-                H0, H1 = rectify_opencv(F, p0, p1, shape0)
+                H_rect_0, H_rect_1 = rectify_opencv(F, p0, p1, shape0)
             else:
-                H0, H1 = seitz_dyer_prewarps(F, shape0, shape1, K0=K0, K1=K1)
-            H0, H1 = normalize_prewarps(H0, H1, p0, p1)
+                H_rect_0, H_rect_1 = seitz_dyer_prewarps(F, shape0, shape1, K0=K0, K1=K1)
+            H_rect_0, H_rect_1 = normalize_prewarps(H_rect_0, H_rect_1, p0, p1)
         except GeometryError as exc:
             cands[m] = {"refused": str(exc)}
             continue
-        q = _quality(H0, H1, p0, p1, shape0, shape1)
+        q = _quality(H_rect_0, H_rect_1, p0, p1, shape0, shape1)
         why = _refusal(q)
         cands[m] = dict(q, refused=why) if why else q
         if why is None:
-            good.append((q["anisotropy"], m, H0, H1, q))
+            good.append((q["anisotropy"], m, H_rect_0, H_rect_1, q))
     if not good:
         reasons = "; ".join(f"{m}: {c.get('refused')}" for m, c in cands.items())
         raise DegenerateViewError(expected_got("rectification", "pre-warps within the distortion limits",
                                                reasons))
     good.sort(key=lambda t: t[0])
-    _, m, H0, H1, q = good[0]
-    return Rectification(H0, H1, m, q["y_rms"], q["anisotropy"], q["scale_ratio"], cands)
+    _, m, H_rect_0, H_rect_1, q = good[0]
+    return Rectification(H_rect_0, H_rect_1, m, q["y_rms"], q["anisotropy"], q["scale_ratio"], cands)
