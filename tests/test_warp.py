@@ -403,8 +403,9 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     """The numba scanline (default) and the numpy reference path cover exactly the
     same pixel centres and give the same source positions (up to float32 rounding
     of the numpy path's arithmetic)."""
-    from morphkit import _scanline
-    from morphkit import warp as W
+    from morphkit.warp import build
+    from morphkit.warp import scanline as _scanline
+    from morphkit.warp import warper as warper_module
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable: only the numpy path exists")
@@ -415,9 +416,11 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     src = np.c_[gx.ravel(), gy.ravel()]
     dst = src + rng.normal(0, min(h, w) / (12 * max(rows, cols)), src.shape)
     warper = MeshWarper(src)
-    monkeypatch.setattr(W, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(build, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(warper_module, "_NUMPY_ONLY", True)
     ref = warper.maps(dst, shape)
-    monkeypatch.setattr(W, "_NUMPY_ONLY", False)
+    monkeypatch.setattr(build, "_NUMPY_ONLY", False)
+    monkeypatch.setattr(warper_module, "_NUMPY_ONLY", False)
     fast = warper.maps(dst, shape)
     np.testing.assert_array_equal(fast.mask, ref.mask)
     r0, r1, c0, c1 = ref.roi
@@ -440,7 +443,7 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
     """The compiled fill splits the rows into bands filled in parallel; each row
     depends only on the triangle edges, so any band count gives bit-identical maps
     and coverage (including the fold-over count on the band seams)."""
-    from morphkit import _scanline
+    from morphkit.warp import scanline as _scanline
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")
@@ -459,9 +462,9 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
 def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
     """The compiled per-call set-up (closed boundary, ROI, affines) gives the
     numpy reference's values bit for bit, so both paths cover the same pixels."""
-    import morphkit.warp as warp_module
-    from morphkit import _scanline
+    import morphkit.warp.build as warp_module
     from morphkit.warp import _prepare
+    from morphkit.warp import scanline as _scanline
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")
@@ -481,8 +484,8 @@ def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
 def test_injective_fill_equals_counting_fill(monkeypatch, seed):
     """A disk mesh proved not to overlap is filled without counting coverage;
     forcing the counting fill gives bit-identical maps and mask."""
-    from morphkit import _scanline
     from morphkit.warp import _prepare
+    from morphkit.warp import scanline as _scanline
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")
@@ -542,7 +545,7 @@ def test_overlap_without_flips_is_found_on_a_disk():
 
 
 def test_compiled_path_reports_overlaps(monkeypatch):
-    from morphkit import _scanline
+    from morphkit.warp import scanline as _scanline
 
     if not _scanline.AVAILABLE:
         pytest.skip("numba not importable")

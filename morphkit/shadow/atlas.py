@@ -85,8 +85,6 @@ import trimesh
 from scipy import ndimage
 
 from .. import tol
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
@@ -97,6 +95,8 @@ from ..warp import (
     _roi_union,
     grid_triangles,
 )
+from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
+from ..warp.scanline import numba as _numba
 from . import reproject as _rp
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 

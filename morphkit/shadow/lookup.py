@@ -31,11 +31,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
+from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
+from ..warp.scanline import numba as _numba
 
 __all__ = ["ShadowBias", "shadow_visibility", "normals_from_points"]
 

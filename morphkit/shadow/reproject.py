@@ -58,9 +58,9 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..errors import ValidationError, expected_got
+from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
+from ..warp.scanline import numba as _numba
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
            "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
