@@ -403,11 +403,9 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     """The numba scanline (default) and the numpy reference path cover exactly the
     same pixel centres and give the same source positions (up to float32 rounding
     of the numpy path's arithmetic)."""
-    from morphkit.warp import build
-    from morphkit.warp import scanline as _scanline
-    from morphkit.warp import warper as warper_module
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable: only the numpy path exists")
     rng = np.random.default_rng(sum(shape))
     h, w = shape
@@ -416,11 +414,9 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     src = np.c_[gx.ravel(), gy.ravel()]
     dst = src + rng.normal(0, min(h, w) / (12 * max(rows, cols)), src.shape)
     warper = MeshWarper(src)
-    monkeypatch.setattr(build, "_NUMPY_ONLY", True)
-    monkeypatch.setattr(warper_module, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
     ref = warper.maps(dst, shape)
-    monkeypatch.setattr(build, "_NUMPY_ONLY", False)
-    monkeypatch.setattr(warper_module, "_NUMPY_ONLY", False)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", False)
     fast = warper.maps(dst, shape)
     np.testing.assert_array_equal(fast.mask, ref.mask)
     r0, r1, c0, c1 = ref.roi
@@ -443,9 +439,10 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
     """The compiled fill splits the rows into bands filled in parallel; each row
     depends only on the triangle edges, so any band count gives bit-identical maps
     and coverage (including the fold-over count on the band seams)."""
+    from morphkit import settings
     from morphkit.warp import scanline as _scanline
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(bands), (0, 299, 9), (0, 199, 6), 3.0)
     warper = MeshWarper(src)
@@ -462,18 +459,17 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
 def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
     """The compiled per-call set-up (closed boundary, ROI, affines) gives the
     numpy reference's values bit for bit, so both paths cover the same pixels."""
-    import morphkit.warp.build as warp_module
+    from morphkit import settings
     from morphkit.warp import _prepare
-    from morphkit.warp import scanline as _scanline
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(seed), (-20, 330, 13), (5, 190, 8), 2.5)
     for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
         args = (dst, warper.triangles, warper._src_v, warper._src_sign, warper._boundary, (200, 300))
-        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", False)
+        monkeypatch.setattr(settings, "NUMPY_ONLY", False)
         fast = _prepare(*args)
-        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", True)
+        monkeypatch.setattr(settings, "NUMPY_ONLY", True)
         ref = _prepare(*args)
         assert fast[2] == ref[2]
         np.testing.assert_array_equal(fast[0], ref[0])
@@ -484,10 +480,11 @@ def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
 def test_injective_fill_equals_counting_fill(monkeypatch, seed):
     """A disk mesh proved not to overlap is filled without counting coverage;
     forcing the counting fill gives bit-identical maps and mask."""
+    from morphkit import settings
     from morphkit.warp import _prepare
     from morphkit.warp import scanline as _scanline
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(seed), (3, 296, 11), (2, 197, 7), 4.0)
     for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
@@ -545,9 +542,9 @@ def test_overlap_without_flips_is_found_on_a_disk():
 
 
 def test_compiled_path_reports_overlaps(monkeypatch):
-    from morphkit.warp import scanline as _scanline
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     # two triangles with the same orientation stacked on top of each other
     src = np.array([[0, 0], [10, 0], [0, 10], [20, 0], [30, 0], [20, 10]], float)

@@ -9,13 +9,12 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from morphkit import settings
 from morphkit.errors import ValidationError
-from morphkit.warp import MeshWarper, _accumulate_warps, _Fused, build
+from morphkit.warp import MeshWarper, _accumulate_warps, _Fused
 from morphkit.warp import accumulate as W
-from morphkit.warp import scanline as _scanline
-from morphkit.warp import warper as warper_module
 
-needs_numba = pytest.mark.skipif(not _scanline.AVAILABLE or _scanline.NUMPY_ONLY,
+needs_numba = pytest.mark.skipif(not settings.COMPILED,
                                  reason="the fused pass needs numba (and not MORPHKIT_WARP_NUMPY=1)")
 
 
@@ -87,8 +86,7 @@ def test_fused_pass_agrees_with_maps_and_remap(monkeypatch):
     everything = np.ones(len(warper.triangles), bool)
     fused = np.zeros((2, h, w), np.float32)
     _accumulate_warps([(warper._accumulation(dst_pts, (h, w)), src, everything, 1.0)], fused)
-    monkeypatch.setattr(build, "_NUMPY_ONLY", True)
-    monkeypatch.setattr(warper_module, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
     plan = warper._accumulation(dst_pts, (h, w))
     assert not isinstance(plan, _Fused)
     ref = np.zeros((2, h, w), np.float32)

@@ -88,6 +88,8 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
 from ..scene import DirectionalLight, PointLight
+from ..settings import NUMPY_ONLY as _NUMPY_ONLY
+from ..settings import numba as _numba
 from ..warp import (
     WARP_THREADS,
     MeshWarper,
@@ -95,8 +97,6 @@ from ..warp import (
     _roi_union,
     grid_triangles,
 )
-from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
-from ..warp.scanline import numba as _numba
 from . import reproject as _rp
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 

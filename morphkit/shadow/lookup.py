@@ -33,9 +33,9 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..settings import NUMPY_ONLY as _NUMPY_ONLY
+from ..settings import numba as _numba
 from ..validate import as_finite_array
-from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
-from ..warp.scanline import numba as _numba
 
 __all__ = ["ShadowBias", "shadow_visibility", "normals_from_points"]
 

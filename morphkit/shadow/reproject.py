@@ -59,8 +59,8 @@ import numpy as np
 
 from .. import tol
 from ..errors import ValidationError, expected_got
-from ..warp.scanline import NUMPY_ONLY as _NUMPY_ONLY
-from ..warp.scanline import numba as _numba
+from ..settings import NUMPY_ONLY as _NUMPY_ONLY
+from ..settings import numba as _numba
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
            "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",

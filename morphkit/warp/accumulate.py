@@ -3,7 +3,6 @@ run-time blend), in bands of rows over a thread pool."""
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
@@ -12,6 +11,7 @@ import cv2
 import numpy as np
 
 from ..errors import ValidationError, expected_got
+from ..settings import WARP_THREADS
 from . import scanline as _scanline
 from .maps import WarpMaps
 
@@ -25,13 +25,6 @@ class _Fused(NamedTuple):
     tris: np.ndarray
     roi: tuple[int, int, int, int]
 
-
-#: Threads that share a fused accumulation (:func:`_accumulate_warps`), each
-#: taking a band of rows: one per CPU this process may use, at most 4;
-#: ``MORPHKIT_WARP_THREADS`` overrides.
-WARP_THREADS = max(1, int(os.environ.get("MORPHKIT_WARP_THREADS", 0))
-                   or min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                          else (os.cpu_count() or 1)))
 
 #: ROI pixels (summed over the warps of one call) below which a fused
 #: accumulation runs in the calling thread: handing a band to a pool thread

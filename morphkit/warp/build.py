@@ -8,6 +8,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FoldOverError
+from ..settings import use_compiled
 from . import scanline as _scanline
 from .maps import _OUTSIDE, WarpMaps
 from .mesh import _list_indices
@@ -42,7 +43,7 @@ def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.
     reference is forced; this numpy body also writes the fold-over message."""
     H, W = shape
     M = tris.shape[0]
-    if _scanline.AVAILABLE and not _NUMPY_ONLY:
+    if use_compiled(_scanline.prepare_warp):
         cov = np.empty_like(dst)
         coef = np.empty((M, 6))
         n_bad, r0, r1, c0, c1 = _scanline.prepare_warp(
@@ -100,7 +101,7 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
         return WarpMaps(shape, roi, None, None, None)
     h, w = r1 - r0, c1 - c0
     M = tris.shape[0]
-    if _scanline.AVAILABLE and not _NUMPY_ONLY:
+    if use_compiled(_scanline.fill_maps):
         return _compiled_maps(shape, roi, cov, tris, coef, src_sign, loop)
 
     # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
@@ -222,8 +223,6 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     return WarpMaps(shape, roi, m.reshape(h, w, 2), None, lens)
 
 
-#: Force the numpy reference path (tests compare it with the compiled one).
-_NUMPY_ONLY = _scanline.NUMPY_ONLY
 _NO_COUNT = np.empty((0, 0), dtype=np.uint8)
 
 

@@ -31,29 +31,12 @@ sort, repeat, LUTs, products); the kernel touches each pixel once.
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
-# numba's parallel bands run on OpenMP (libgomp) where available, whose idle
-# threads spin-wait by default: measured here, they halved the speed of the
-# cv2.remap that follows every fill (0.48 vs 0.25 ms at 512^2 on 2 cores).
-# Passive waiting keeps the cores free for OpenCV; set before libgomp loads, and
-# a value the user set wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+from ..settings import compile_kernel, numba
 
-try:  # optional at import time; morphkit.warp falls back to numpy without it
-    import numba
-except ImportError:  # pragma: no cover - numba is a dependency
-    numba = None
-
-__all__ = ["AVAILABLE", "accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
-
-AVAILABLE = numba is not None
-
-#: ``MORPHKIT_WARP_NUMPY=1`` forces the numpy reference path of every compiled
-#: kernel (warp maps, shadow lookup, fold relaxation); tests compare the two.
-NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
 
 
 #: Cast of a pixel offset known to be >= 0 (see ``_fill_band``).
@@ -519,23 +502,19 @@ def n_bands(rows: int, cols: int) -> int:
 
 if numba is not None:
     _prange = numba.prange
-    _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    _tri_rows = _jit(_tri_rows)
-    _row_span = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")(_row_span)
-    _fill_band = _jit(_fill_band)
-    _fill_one = _jit(_fill_one)
-    _orient = _jit(_orient)
-    mesh_injective = _jit(_mesh_injective)
-    prepare_warp = _jit(_prepare_warp)
-    _fill_serial_jit = _jit(_fill_serial)
-    _sample_border = _jit(_sample_border)
-    accumulate = numba.njit(cache=True, nogil=True, error_model="numpy",
-                            fastmath={"contract", "reassoc", "nsz", "arcp", "afn"})(_accumulate)
-    _fill_parallel_jit = numba.njit(cache=True, nogil=True, parallel=True,
-                                    error_model="numpy")(_fill_parallel)
-else:  # pragma: no cover
+    _tri_rows = compile_kernel(_tri_rows, error_model="numpy")
+    _row_span = compile_kernel(_row_span, error_model="numpy", inline="always")
+    _fill_band = compile_kernel(_fill_band, error_model="numpy")
+    _fill_one = compile_kernel(_fill_one, error_model="numpy")
+    _orient = compile_kernel(_orient, error_model="numpy")
+    mesh_injective = compile_kernel(_mesh_injective, error_model="numpy")
+    prepare_warp = compile_kernel(_prepare_warp, error_model="numpy")
+    _fill_serial_jit = compile_kernel(_fill_serial, error_model="numpy")
+    _sample_border = compile_kernel(_sample_border, error_model="numpy")
+    accumulate = compile_kernel(_accumulate, error_model="numpy",
+                                fastmath={"contract", "reassoc", "nsz", "arcp", "afn"})
+    _fill_parallel_jit = compile_kernel(_fill_parallel, parallel=True, error_model="numpy")
+else:  # pragma: no cover - no numba: the public kernels are None, as compile_kernel returns
+    # them, and callers run their numpy references (morphkit.settings.use_compiled)
     _prange = range
-    _fill_serial_jit = _fill_parallel_jit = _fill_serial
-    accumulate = _accumulate
-    mesh_injective = _mesh_injective
-    prepare_warp = _prepare_warp
+    fill_maps = accumulate = mesh_injective = prepare_warp = None

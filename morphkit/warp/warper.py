@@ -11,10 +11,11 @@ import numpy as np
 
 from .. import tol
 from ..errors import FoldOverError, ValidationError, expected_got
+from ..settings import use_compiled
 from ..validate import as_points, as_shape
 from . import scanline as _scanline
 from .accumulate import _Fused
-from .build import _NUMPY_ONLY, _build_maps, _prepare
+from .build import _build_maps, _prepare
 from .maps import WarpMaps, _interp_flag
 from .mesh import (
     _as_triangles,
@@ -140,7 +141,7 @@ class MeshWarper:
         dst = np.asarray(dst_pts, dtype=np.float64)
         if dst.shape != self.src_pts.shape or not np.isfinite(dst).all():
             dst = self._check_dst(dst_pts)  # raises the full message (a per-frame path: checked lean)
-        if _scanline.AVAILABLE and not _NUMPY_ONLY and self._loop is not None:
+        if use_compiled(_scanline.accumulate) and self._loop is not None:
             cov, coef, roi = _prepare(dst, self.triangles, self._src_v, self._src_sign,
                                       self._boundary, shape)
             r0, r1, c0, c1 = roi
