@@ -49,7 +49,7 @@ footprint holds no object pixel (computed once per map,
 :meth:`~morphkit.warp.MeshWarper.triangles_touching`) would add zeros and are
 skipped, and the composed warps run as one fused, compiled pass per map
 (sampling positions, bilinear taps and the weighted sum; no map images), split
-into bands of rows over the CPUs (:func:`morphkit.warp._accumulate_warps`).
+into bands of rows over the CPUs (:func:`morphkit.warp.accumulate_warps`).
 Measured here (512^2, point light, 2-core VM), this took a bilinear map from
 5.5 to 2.0 ms (cow) with the same result as ``cv2.remap`` up to its 1/32 px
 quantisation; ``morphkit bench shadows`` has the current figures. ``"three"``
@@ -93,9 +93,9 @@ from ..settings import numba as _numba
 from ..warp import (
     WARP_THREADS,
     MeshWarper,
-    _accumulate_warps,
-    _roi_union,
+    accumulate_warps,
     grid_triangles,
+    roi_union,
 )
 from . import reproject as _rp
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
@@ -141,8 +141,8 @@ def _warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
     ``dst_pts`` (0 outside)."""
     warper = MeshWarper(src_pts, triangles)
     out = np.zeros((2, *shape), np.float32)
-    _accumulate_warps([(warper._accumulation(dst_pts, shape), src,
-                        warper.triangles_touching(src[0]), 1.0)], out)
+    accumulate_warps([(warper.accumulation(dst_pts, shape), src,
+                       warper.triangles_touching(src[0]), 1.0)], out)
     return out
 
 
@@ -397,7 +397,7 @@ class ShadowAtlas:
             else:
                 jobs.append(self._job(jj, ii, c_dst, eq, w))
         try:
-            box = _roi_union(box, _accumulate_warps(jobs, acc))
+            box = roi_union(box, accumulate_warps(jobs, acc))
             # clear=True: the buffer is all zeros again for the next call
             return _finish(acc, self.anchor_depth(eq), box, clear=True), cam
         except BaseException:
@@ -489,12 +489,12 @@ class ShadowAtlas:
     def _job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
         """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
-        ``c_dst`` (:func:`morphkit.warp._accumulate_warps`): premultiplied, and only
+        ``c_dst`` (:func:`morphkit.warp.accumulate_warps`): premultiplied, and only
         the triangles whose source holds the object are warped (the rest add 0)."""
         src = self._source(j, i)
         warper = self._warper(j, i)
         try:
-            return warper._accumulation(c_dst, self.shape), src, self._active(j, i), weight
+            return warper.accumulation(c_dst, self.shape), src, self._active(j, i), weight
         except FoldOverError:
             # An occlusion change too large for the mesh: warp with plane anchors,
             # whose motion is projective and cannot fold (documented fallback).
@@ -502,7 +502,7 @@ class ShadowAtlas:
             src_pts = self.project((self.xs[i], self.ys[j]), self.plane_anchors[j, i])
             dst_pts = self.project(eq, self.plane_anchors[j, i])
             warper = MeshWarper(src_pts, self.triangles)
-            return (warper._accumulation(dst_pts, self.shape), src,
+            return (warper.accumulation(dst_pts, self.shape), src,
                     warper.triangles_touching(src[0]), weight)
 
     def _three_warps(self, eq: np.ndarray, j: int, i: int, u: float, v: float,

@@ -679,9 +679,9 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
 
     if n == 1:
         return _box(band(0, out))
-    from ..warp import _band_pool
+    from ..warp import band_pool
 
-    futures = [_band_pool().submit(band, b, scratch[b - 1]) for b in range(1, n)]
+    futures = [band_pool().submit(band, b, scratch[b - 1]) for b in range(1, n)]
     box = band(0, out)
     for b, f in enumerate(futures, start=1):
         bx = f.result()

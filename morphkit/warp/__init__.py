@@ -72,7 +72,7 @@ arithmetic. ``MeshWarper`` and ``WarpMaps`` are safe to use from several
 threads only if each thread has its own objects.
 
 Fused accumulation (for callers that blend several warped sources, e.g. the
-shadow atlas): :func:`_accumulate_warps` adds ``weight * warp(src)`` of
+shadow atlas): :func:`accumulate_warps` adds ``weight * warp(src)`` of
 two-plane float32 sources straight into an accumulator, sampling each pixel's
 source position bilinearly in the same compiled pass that finds it
 (:func:`morphkit._scanline.accumulate`): no map images, no remap, only the
@@ -84,11 +84,13 @@ themselves, and the numpy reference mode, go through :meth:`MeshWarper.maps`.
 
 from __future__ import annotations
 
-# the private names other modules use until they get public homes
-from .accumulate import PARALLEL_MIN_PIXELS, WARP_THREADS, _accumulate_warps, _band_pool, _Fused, _roi_union  # noqa: F401, E501, I001
-from .build import _prepare  # noqa: F401
+from ..settings import WARP_THREADS
+from .accumulate import PARALLEL_MIN_PIXELS, Accumulation, accumulate_warps, band_pool, roi_union
+from .build import _prepare  # noqa: F401 - the private names other modules use until they get public homes
 from .maps import _OUTSIDE, WarpMaps  # noqa: F401
 from .mesh import _disk_boundary, delaunay_triangles, grid_shape, grid_triangles  # noqa: F401
 from .warper import MeshWarper, warp_mesh
 
-__all__ = ["warp_mesh", "MeshWarper", "WarpMaps", "grid_triangles", "delaunay_triangles", "grid_shape"]
+__all__ = ["warp_mesh", "MeshWarper", "WarpMaps", "grid_triangles", "delaunay_triangles", "grid_shape",
+           "accumulate_warps", "Accumulation", "roi_union", "band_pool", "PARALLEL_MIN_PIXELS",
+           "WARP_THREADS"]

@@ -16,9 +16,25 @@ from . import scanline as _scanline
 from .maps import WarpMaps
 
 
-class _Fused(NamedTuple):
-    """A warp for the compiled fused pass (:func:`morphkit._scanline.accumulate`):
-    coverage geometry, per-triangle affines, triangles and ROI (``_prepare``)."""
+class Accumulation(NamedTuple):
+    """The plan of one warp for the compiled fused pass of :func:`accumulate_warps`
+    (:func:`morphkit.warp.scanline.accumulate`), made by
+    :meth:`~morphkit.warp.MeshWarper.accumulation` for a mesh that provably does
+    not overlap itself.
+
+    Attributes
+    ----------
+    cov : numpy.ndarray
+        ``(N, 2)`` float64 coverage geometry: the destination points ``(x, y)``
+        (output pixels), the boundary pushed out by :data:`morphkit.tol.MESH_BOUNDARY_PX`.
+    coef : numpy.ndarray
+        ``(M, 6)`` float64 per-triangle affines ``A_src_dst`` (output pixel to
+        source pixel) as ``[jxx, jyx, jxy, jyy, cx, cy]``.
+    tris : numpy.ndarray
+        ``(M, 3)`` int64 vertex indices.
+    roi : tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)``: the output rows and columns the mesh can cover.
+    """
 
     cov: np.ndarray
     coef: np.ndarray
@@ -32,24 +48,44 @@ class _Fused(NamedTuple):
 PARALLEL_MIN_PIXELS = 1 << 16
 
 _pool: ThreadPoolExecutor | None = None
+_pool_workers = 0
 
 
-def _accumulate_warps(jobs: Sequence[tuple[_Fused | WarpMaps, np.ndarray, np.ndarray, float]],
-                      acc: np.ndarray) -> tuple[int, int, int, int]:
-    """``acc += sum(weight * warp(src))`` over ``jobs`` of ``(plan, src, active,
-    weight)``: ``plan`` from :meth:`MeshWarper._accumulation`; ``src`` two
-    finite float32 planes ``(2, h, w)`` (premultiplied coverage and value; not
-    checked: the callers' sources are); ``active`` the triangles to visit
-    (:meth:`MeshWarper.triangles_touching` of ``src``'s support: the others read
-    only zeros); ``acc (2, H, W)`` float32, C-contiguous. Sampling is linear,
-    0 outside the mesh and outside ``src``. Returns the ROI ``(r0, r1, c0, c1)``
-    holding every pixel written (empty: none).
+def accumulate_warps(jobs: Sequence[tuple[Accumulation | WarpMaps, np.ndarray, np.ndarray, float]],
+                     acc: np.ndarray) -> tuple[int, int, int, int]:
+    """``acc += sum(weight * warp(src))`` over several warped two-plane sources.
 
-    Fused plans run in one compiled pass per warp, split into bands of rows
-    over :data:`WARP_THREADS` threads when large enough (the bands write
-    disjoint rows, so the result does not depend on the split); map plans by one
-    ``cv2.remap`` per plane and ``cv2.scaleAdd``. The two agree up to OpenCV's
-    1/32 px quantisation of source positions."""
+    :class:`Accumulation` plans run in one compiled pass per warp, split into
+    bands of rows over :data:`~morphkit.settings.WARP_THREADS` threads when the
+    warps cover at least :data:`PARALLEL_MIN_PIXELS` (the bands write disjoint
+    rows, so the result does not depend on the split); :class:`WarpMaps` plans
+    by one ``cv2.remap`` per plane and ``cv2.scaleAdd``. The two agree up to
+    OpenCV's 1/32 px quantisation of source positions.
+
+    Parameters
+    ----------
+    jobs : sequence of (plan, src, active, weight)
+        ``plan``: from :meth:`~morphkit.warp.MeshWarper.accumulation` (same
+        output shape as ``acc``). ``src``: ``(2, h, w)`` float32 finite planes
+        in source pixels (premultiplied coverage and value; finiteness is not
+        checked). ``active``: ``(M,)`` bool, the triangles to visit
+        (:meth:`~morphkit.warp.MeshWarper.triangles_touching` of ``src``'s
+        support: the others read only zeros). ``weight``: float.
+    acc : numpy.ndarray
+        ``(2, H, W)`` float32, C-contiguous, output pixels; added to in place.
+        Sampling is linear, 0 outside the mesh and outside ``src``.
+
+    Returns
+    -------
+    tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)``: a box of output pixels holding every pixel
+        written (empty, ``r1 <= r0``, when none was).
+
+    Raises
+    ------
+    ValidationError
+        ``acc`` or a ``src`` of the wrong dtype or shape.
+    """
     if acc.dtype != np.float32 or acc.ndim != 3 or acc.shape[0] != 2 or not acc.flags.c_contiguous:
         raise ValidationError(expected_got("acc", "C-contiguous float32 (2, H, W)",
                                            f"{acc.dtype} {acc.shape}"))
@@ -58,7 +94,7 @@ def _accumulate_warps(jobs: Sequence[tuple[_Fused | WarpMaps, np.ndarray, np.nda
     for plan, src, active, weight in jobs:
         if src.dtype != np.float32 or src.ndim != 3 or src.shape[0] != 2:
             raise ValidationError(expected_got("src", "float32 (2, h, w)", f"{src.dtype} {src.shape}"))
-        if isinstance(plan, _Fused):
+        if isinstance(plan, Accumulation):
             fused.append((plan, src, active, np.float32(weight)))
             continue
         if plan.map1 is None:
@@ -70,7 +106,7 @@ def _accumulate_warps(jobs: Sequence[tuple[_Fused | WarpMaps, np.ndarray, np.nda
                       borderMode=cv2.BORDER_CONSTANT, borderValue=0)
             view = acc[k, r0:r1, c0:c1]  # rows strided, each row contiguous: a valid cv::Mat
             cv2.scaleAdd(px, float(weight), view, dst=view)
-        box = _roi_union(box, plan.roi)
+        box = roi_union(box, plan.roi)
     if not fused:
         return box
     pixels = sum((p.roi[1] - p.roi[0]) * (p.roi[3] - p.roi[2]) for p, *_ in fused)
@@ -89,30 +125,54 @@ def _accumulate_warps(jobs: Sequence[tuple[_Fused | WarpMaps, np.ndarray, np.nda
             bx[:] = (hi, lo, c1, c0)
             if hi > lo and _scanline.accumulate(plan.cov, plan.tris, plan.coef, active, src,
                                                 weight, acc, lo, hi, c0, c1, bx):
-                out = _roi_union(out, (int(bx[0]), int(bx[1]), int(bx[2]), int(bx[3])))
+                out = roi_union(out, (int(bx[0]), int(bx[1]), int(bx[2]), int(bx[3])))
         return out
 
     if n == 1:
-        return _roi_union(box, band(0))
-    futures = [_band_pool().submit(band, b) for b in range(1, n)]
-    box = _roi_union(box, band(0))
+        return roi_union(box, band(0))
+    futures = [band_pool().submit(band, b) for b in range(1, n)]
+    box = roi_union(box, band(0))
     for f in futures:
-        box = _roi_union(box, f.result())
+        box = roi_union(box, f.result())
     return box
 
 
-def _band_pool() -> ThreadPoolExecutor:
-    """The threads that run bands ``1 .. WARP_THREADS - 1`` (band 0 runs in the caller)."""
-    global _pool
-    if _pool is None:
-        _pool = ThreadPoolExecutor(max_workers=max(WARP_THREADS - 1, 1),
-                                   thread_name_prefix="morphkit-warp")
+def band_pool() -> ThreadPoolExecutor:
+    """The shared pool of threads that run bands ``1 .. WARP_THREADS - 1`` of a
+    banded pass (band 0 runs in the calling thread): :func:`accumulate_warps` and
+    the shadow reprojection (:mod:`morphkit.shadow.reproject`).
+
+    Returns
+    -------
+    concurrent.futures.ThreadPoolExecutor
+        ``max(WARP_THREADS - 1, 1)`` workers, made on the first call and made
+        again (the old pool finishing its work) if ``WARP_THREADS`` has changed.
+    """
+    global _pool, _pool_workers
+    workers = max(WARP_THREADS - 1, 1)
+    if _pool is None or _pool_workers != workers:
+        if _pool is not None:
+            _pool.shutdown(wait=False)
+        _pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="morphkit-warp")
+        _pool_workers = workers
     return _pool
 
 
-def _roi_union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]
-               ) -> tuple[int, int, int, int]:
-    """Bounding box of two ROIs ``(r0, r1, c0, c1)``; an empty one (``r1 <= r0``) adds nothing."""
+def roi_union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]
+              ) -> tuple[int, int, int, int]:
+    """Bounding box of two ROIs.
+
+    Parameters
+    ----------
+    a, b : tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)`` boxes of pixel rows ``r0:r1`` and columns
+        ``c0:c1``; an empty one (``r1 <= r0``) adds nothing.
+
+    Returns
+    -------
+    tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)`` holding both.
+    """
     if a[1] <= a[0]:
         return b
     if b[1] <= b[0]:

@@ -14,7 +14,7 @@ from ..errors import FoldOverError, ValidationError, expected_got
 from ..settings import use_compiled
 from ..validate import as_points, as_shape
 from . import scanline as _scanline
-from .accumulate import _Fused
+from .accumulate import Accumulation
 from .build import _build_maps, _prepare
 from .maps import WarpMaps, _interp_flag
 from .mesh import (
@@ -119,7 +119,7 @@ class MeshWarper:
         """``(M,)`` bool: the triangles whose source footprint can read a nonzero
         pixel of ``support`` (``(h, w)``, the input image's nonzero pixels) with
         ``"linear"`` sampling: its bounding box, grown by 2 px, holds one. A warp
-        of the other triangles only reads zeros (see :func:`_accumulate_warps`)."""
+        of the other triangles only reads zeros (see :func:`~morphkit.warp.accumulate_warps`)."""
         sup = np.asarray(support)
         if sup.ndim != 2 or sup.size == 0:
             raise ValidationError(expected_got("support", "a non-empty (h, w) array", sup.shape))
@@ -131,13 +131,30 @@ class MeshWarper:
         y0, y1 = (np.clip(v, 0, h).astype(np.intp) for v in (lo[:, 1], hi[:, 1]))
         return (ii[y1, x1] - ii[y0, x1] - ii[y1, x0] + ii[y0, x0]) > 0
 
-    def _accumulation(self, dst_pts: Any, shape: tuple[int, int]) -> _Fused | WarpMaps:
-        """The plan of an accumulated warp to ``dst_pts`` (:func:`_accumulate_warps`):
-        the compiled fused pass when the mesh provably does not overlap itself,
-        else :meth:`maps` (also without numba, or with ``MORPHKIT_WARP_NUMPY=1``).
+    def accumulation(self, dst_pts: Any, shape: tuple[int, int]) -> Accumulation | WarpMaps:
+        """The plan of this mesh warped to ``dst_pts``, for :func:`~morphkit.warp.accumulate_warps`.
 
-        Raises :class:`~morphkit.errors.FoldOverError` as :meth:`maps` does,
-        before any pixel is touched."""
+        Parameters
+        ----------
+        dst_pts : array_like
+            ``(N, 2)`` destination control points ``(x, y)`` in output pixels.
+        shape : tuple[int, int]
+            ``(H, W)`` of the accumulator (not validated: a per-frame path).
+
+        Returns
+        -------
+        Accumulation or WarpMaps
+            An :class:`~morphkit.warp.Accumulation` (the compiled fused pass)
+            when the mesh provably does not overlap itself; else :meth:`maps`
+            (also without numba, or with ``MORPHKIT_WARP_NUMPY=1``).
+
+        Raises
+        ------
+        ValidationError
+            Wrong point count, NaN/inf points.
+        FoldOverError
+            As :meth:`maps`, before any pixel is touched.
+        """
         dst = np.asarray(dst_pts, dtype=np.float64)
         if dst.shape != self.src_pts.shape or not np.isfinite(dst).all():
             dst = self._check_dst(dst_pts)  # raises the full message (a per-frame path: checked lean)
@@ -148,7 +165,7 @@ class MeshWarper:
             if r1 <= r0 or c1 <= c0:
                 return WarpMaps(shape, roi, None, None, None)
             if _scanline.mesh_injective(cov, self.triangles, self._src_sign, self._loop):
-                return _Fused(cov, coef, self.triangles, roi)
+                return Accumulation(cov, coef, self.triangles, roi)
         return self.maps(dst, shape)
 
     def __call__(self, image: Any, dst_pts: Any, out_shape: Sequence[int], *,
