@@ -119,7 +119,6 @@ import cv2
 import numpy as np
 
 from .. import tol
-from .. import warp as _warp
 from ..camera import CameraModel
 from ..composite import from_premultiplied, over, to_premultiplied
 from ..errors import (
@@ -130,7 +129,7 @@ from ..errors import (
     expected_got,
 )
 from ..validate import as_finite_array, as_image, as_points, as_shape, as_unit_interval
-from ..warp import MeshWarper, delaunay_triangles
+from ..warp import OUTSIDE, MeshWarper, delaunay_triangles
 from .correspondences import Correspondences, _spread_subset
 from .fundamental import (
     FundamentalFit,
@@ -599,7 +598,7 @@ class ViewMorpher:
         r_0, r_1, c_0, c_1 = wm.roi
         c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], _xy_of(wm), np.float32(_FAR))
         # Does the warp's position for uncovered pixels fall >= 2 px off the C1 canvas?
-        far = getattr(_warp, "_OUTSIDE", None)
+        far = OUTSIDE
         c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
         lo, hi = bbox
         return _Layer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,

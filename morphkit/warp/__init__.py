@@ -53,7 +53,7 @@ bounding box plus the coverage mask), which :meth:`WarpMaps.apply` applies to an
 number of images or channels at the cost of one ``cv2.remap`` each.
 
 How the maps are built (per call): per-triangle affines ``A_src_dst``, then by
-default one compiled pass (:mod:`morphkit._scanline`, numba) that walks every
+default one compiled pass (:mod:`morphkit.warp.scanline`, numba) that walks every
 destination triangle's pixel rows and writes each covered pixel's source
 position, counting coverage to detect overlaps unless the mesh is a disk
 whose boundary stays simple (it then cannot overlap: no count needed, and
@@ -75,7 +75,7 @@ Fused accumulation (for callers that blend several warped sources, e.g. the
 shadow atlas): :func:`accumulate_warps` adds ``weight * warp(src)`` of
 two-plane float32 sources straight into an accumulator, sampling each pixel's
 source position bilinearly in the same compiled pass that finds it
-(:func:`morphkit._scanline.accumulate`): no map images, no remap, only the
+(:func:`morphkit.warp.scanline.accumulate`): no map images, no remap, only the
 triangles :meth:`MeshWarper.triangles_touching` says can read nonzero source
 pixels, and bands of rows on :data:`WARP_THREADS` threads. Source positions are
 exact there (OpenCV quantises them to 1/32 px); meshes that might overlap
@@ -86,11 +86,10 @@ from __future__ import annotations
 
 from ..settings import WARP_THREADS
 from .accumulate import PARALLEL_MIN_PIXELS, Accumulation, accumulate_warps, band_pool, roi_union
-from .build import _prepare  # noqa: F401 - the private names other modules use until they get public homes
-from .maps import _OUTSIDE, WarpMaps  # noqa: F401
-from .mesh import _disk_boundary, delaunay_triangles, grid_shape, grid_triangles  # noqa: F401
+from .maps import OUTSIDE, WarpMaps
+from .mesh import delaunay_triangles, grid_shape, grid_triangles
 from .warper import MeshWarper, warp_mesh
 
 __all__ = ["warp_mesh", "MeshWarper", "WarpMaps", "grid_triangles", "delaunay_triangles", "grid_shape",
-           "accumulate_warps", "Accumulation", "roi_union", "band_pool", "PARALLEL_MIN_PIXELS",
+           "OUTSIDE", "accumulate_warps", "Accumulation", "roi_union", "band_pool", "PARALLEL_MIN_PIXELS",
            "WARP_THREADS"]

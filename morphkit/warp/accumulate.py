@@ -12,8 +12,10 @@ import numpy as np
 
 from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS
-from . import scanline as _scanline
+from . import scanline
 from .maps import WarpMaps
+
+__all__ = ["Accumulation", "accumulate_warps", "band_pool", "roi_union", "PARALLEL_MIN_PIXELS"]
 
 
 class Accumulation(NamedTuple):
@@ -123,7 +125,7 @@ def accumulate_warps(jobs: Sequence[tuple[Accumulation | WarpMaps, np.ndarray, n
             r0, r1, c0, c1 = plan.roi
             lo, hi = max(r0, b0), min(r1, b1)
             bx[:] = (hi, lo, c1, c0)
-            if hi > lo and _scanline.accumulate(plan.cov, plan.tris, plan.coef, active, src,
+            if hi > lo and scanline.accumulate(plan.cov, plan.tris, plan.coef, active, src,
                                                 weight, acc, lo, hi, c0, c1, bx):
                 out = roi_union(out, (int(bx[0]), int(bx[1]), int(bx[2]), int(bx[3])))
         return out

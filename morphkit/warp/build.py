@@ -9,10 +9,12 @@ import numpy as np
 from .. import tol
 from ..errors import FoldOverError
 from ..settings import use_compiled
-from . import scanline as _scanline
-from .maps import _OUTSIDE, WarpMaps
-from .mesh import _list_indices
-from .pool import _planes, _pooled, _xx
+from . import scanline
+from .maps import OUTSIDE, WarpMaps
+from .mesh import list_indices
+from .pool import coordinate_planes, map_buffer, pixel_x_pairs
+
+__all__ = ["prepare", "build_maps"]
 
 _LUT_MAX_TRIANGLES = 255
 
@@ -33,20 +35,53 @@ def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
     return dst + tol.MESH_BOUNDARY_PX * off
 
 
-def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
-             boundary: np.ndarray, shape: tuple[int, int]
-             ) -> tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]:
-    """Fold test, coverage geometry and per-triangle affines of one warp:
-    ``(cov, coef, roi)``; ``roi`` is empty (``r1 <= r0`` or ``c1 <= c0``) when
-    the mesh covers no pixel centre of the output (``coef`` is then unset).
-    Compiled (:func:`morphkit._scanline.prepare_warp`) unless the numpy
-    reference is forced; this numpy body also writes the fold-over message."""
+def prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+            boundary: np.ndarray, shape: tuple[int, int]
+            ) -> tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]:
+    """Fold test, coverage geometry and per-triangle affines of one warp.
+
+    Compiled (:func:`morphkit.warp.scanline.prepare_warp`) unless the numpy
+    reference is forced (:func:`morphkit.settings.use_compiled`); this numpy
+    body also writes the fold-over message.
+
+    Parameters
+    ----------
+    dst : numpy.ndarray
+        ``(N, 2)`` float64 destination points ``(x, y)``, output pixels.
+    tris : numpy.ndarray
+        ``(M, 3)`` int64 vertex indices.
+    src_v : numpy.ndarray
+        ``(M, 3, 2)`` float64 source triangle vertices, input pixels.
+    src_sign : numpy.ndarray
+        ``(M,)`` float64 orientation of each source triangle (``-1`` or ``1``).
+    boundary : numpy.ndarray
+        ``(B, 3)`` boundary edges (:func:`morphkit.warp.mesh.boundary_edges`).
+    shape : tuple[int, int]
+        ``(H, W)`` of the output.
+
+    Returns
+    -------
+    cov : numpy.ndarray
+        ``(N, 2)`` float64: ``dst`` with the boundary pushed out by
+        :data:`morphkit.tol.MESH_BOUNDARY_PX` (the coverage geometry).
+    coef : numpy.ndarray
+        ``(M, 6)`` float64 affines ``A_src_dst`` as ``[jxx, jyx, jxy, jyy, cx, cy]``
+        (unset when ``roi`` is empty).
+    roi : tuple[int, int, int, int]
+        ``(r0, r1, c0, c1)`` of the pixel centres the mesh can cover; empty
+        (``r1 <= r0`` or ``c1 <= c0``) when it covers none.
+
+    Raises
+    ------
+    FoldOverError
+        A destination triangle flips or has ``|area| < tol.TRIANGLE_AREA_PX2``.
+    """
     H, W = shape
     M = tris.shape[0]
-    if use_compiled(_scanline.prepare_warp):
+    if use_compiled(scanline.prepare_warp):
         cov = np.empty_like(dst)
         coef = np.empty((M, 6))
-        n_bad, r0, r1, c0, c1 = _scanline.prepare_warp(
+        n_bad, r0, r1, c0, c1 = scanline.prepare_warp(
             dst, tris, src_v, src_sign, boundary, H, W, 2.0 * tol.TRIANGLE_AREA_PX2,
             tol.MESH_BOUNDARY_PX, cov, coef)
         if n_bad == 0:
@@ -59,7 +94,7 @@ def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.
     if bad.size:
         raise FoldOverError(
             "destination triangles fold over (orientation flipped relative to the source, or "
-            f"|area| < {tol.TRIANGLE_AREA_PX2} px^2): triangles {_list_indices(bad)}"
+            f"|area| < {tol.TRIANGLE_AREA_PX2} px^2): triangles {list_indices(bad)}"
         )
 
     # Coverage geometry: the mesh closed at its boundary (pushed out by a hair).
@@ -92,16 +127,39 @@ def _prepare(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.
     return cov, coef, roi
 
 
-def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
-                boundary: np.ndarray, shape: tuple[int, int], loop: np.ndarray | None = None
-                ) -> WarpMaps:
-    cov, coef, roi = _prepare(dst, tris, src_v, src_sign, boundary, shape)
+def build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
+               boundary: np.ndarray, shape: tuple[int, int], loop: np.ndarray | None = None
+               ) -> WarpMaps:
+    """The :class:`~morphkit.warp.WarpMaps` of one warp (:func:`prepare`, then the fill).
+
+    By the compiled scanline unless the numpy reference is forced
+    (:func:`morphkit.settings.use_compiled`); both cover the same pixel centres.
+
+    Parameters
+    ----------
+    dst, tris, src_v, src_sign, boundary, shape
+        As :func:`prepare`.
+    loop : numpy.ndarray or None
+        ``(B,)`` boundary cycle of a disk mesh (:func:`morphkit.warp.mesh.disk_boundary`):
+        the compiled fill then skips counting coverage when the warp provably
+        does not overlap itself.
+
+    Returns
+    -------
+    WarpMaps
+
+    Raises
+    ------
+    FoldOverError
+        Flipped or ~zero-area destination triangles, or overlapping ones.
+    """
+    cov, coef, roi = prepare(dst, tris, src_v, src_sign, boundary, shape)
     r0, r1, c0, c1 = roi
     if r1 <= r0 or c1 <= c0:
         return WarpMaps(shape, roi, None, None, None)
     h, w = r1 - r0, c1 - c0
     M = tris.shape[0]
-    if use_compiled(_scanline.fill_maps):
+    if use_compiled(scanline.fill_maps):
         return _compiled_maps(shape, roi, cov, tris, coef, src_sign, loop)
 
     # Scanline runs, exact at pixel centres. Vertices sorted by y: v0 top, v2 bottom.
@@ -183,7 +241,7 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
         pair = np.unique(tri[j:j + 2])
         raise FoldOverError(
             "destination triangles overlap (the mesh folds over although each triangle keeps its "
-            f"orientation): triangles {_list_indices(pair)} both cover pixels of row "
+            f"orientation): triangles {list_indices(pair)} both cover pixels of row "
             f"{int(start[j + 1] // w) + r0}"
         )
     lens = np.empty(2 * k + 1, dtype=np.int64)
@@ -196,12 +254,12 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
         labels = np.repeat(lab, lens).reshape(h, w)
         tables = np.zeros((6, 256), dtype=np.float32)
         tables[:, :M] = coef.T
-        tables[4:6, 255] = _OUTSIDE
-        X, Y, scratch = _planes(shape)
+        tables[4:6, 255] = OUTSIDE
+        X, Y, scratch = coordinate_planes(shape)
         X, Y, t = X[r0:r1, c0:c1], Y[r0:r1, c0:c1], scratch[:h, :w]
         maps = []
         for j in range(2):  # x then y: A[j,0] * X + A[j,1] * Y + c[j]
-            mj = _pooled((h, w))
+            mj = map_buffer((h, w))
             cv2.LUT(labels, tables[j], dst=mj)
             cv2.multiply(mj, X, dst=mj)
             cv2.LUT(labels, tables[2 + j], dst=t)
@@ -214,11 +272,11 @@ def _build_maps(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: 
     c = coef[tri]
     run_y = (start // w + r0).astype(np.float64)
     slope = np.zeros((2 * k + 1, 2), dtype=np.float32)
-    off = np.full((2 * k + 1, 2), _OUTSIDE, dtype=np.float32)
+    off = np.full((2 * k + 1, 2), OUTSIDE, dtype=np.float32)
     slope[1::2] = c[:, 0:2]
     off[1::2] = c[:, 2:4] * run_y[:, None] + c[:, 4:6]
     m = np.repeat(slope, lens, axis=0)
-    np.multiply(m, _xx(c0, c1, h), out=m)
+    np.multiply(m, pixel_x_pairs(c0, c1, h), out=m)
     m += np.repeat(off, lens, axis=0)
     return WarpMaps(shape, roi, m.reshape(h, w, 2), None, lens)
 
@@ -229,38 +287,38 @@ _NO_COUNT = np.empty((0, 0), dtype=np.uint8)
 def _compiled_maps(shape: tuple[int, int], roi: tuple[int, int, int, int], cov: np.ndarray,
                    tris: np.ndarray, coef: np.ndarray, sign: np.ndarray,
                    loop: np.ndarray | None) -> WarpMaps:
-    """Maps by the compiled scanline (:mod:`morphkit._scanline`): same coverage
+    """Maps by the compiled scanline (:mod:`morphkit.warp.scanline`): same coverage
     rule and edge arithmetic as the numpy path below, one pass over the pixels.
-    A disk mesh (``loop``, :func:`_disk_boundary`) that provably does not
+    A disk mesh (``loop``, :func:`morphkit.warp.mesh.disk_boundary`) that provably does not
     overlap itself is filled without counting coverage per pixel."""
     r0, r1, c0, c1 = roi
     h, w = r1 - r0, c1 - c0
-    mx, my = _pooled((h, w)), _pooled((h, w))
-    if loop is not None and _scanline.mesh_injective(cov, tris, sign, loop):
+    mx, my = map_buffer((h, w)), map_buffer((h, w))
+    if loop is not None and scanline.mesh_injective(cov, tris, sign, loop):
         # No overlap possible: fill without counting; the mask, when asked for,
         # is counted then (the same kernel as below).
-        top = _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, mx, my, _NO_COUNT,
-                                  _scanline.n_bands(h, w), False)
+        top = scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, OUTSIDE, mx, my, _NO_COUNT,
+                                  scanline.n_bands(h, w), False)
         if top == 0:
             return WarpMaps(shape, roi, None, None, None)
 
         def covered() -> np.ndarray:
             count = np.empty((h, w), dtype=np.uint8)
             sx, sy = np.empty((h, w), np.float32), np.empty((h, w), np.float32)
-            _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, sx, sy, count,
-                                _scanline.n_bands(h, w), True)
+            scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, OUTSIDE, sx, sy, count,
+                                scanline.n_bands(h, w), True)
             return count.view(bool)
 
         return WarpMaps(shape, roi, mx, my, None, covered)
     count = np.empty((h, w), dtype=np.uint8)
-    top = _scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, _OUTSIDE, mx, my, count,
-                              _scanline.n_bands(h, w), True)
+    top = scanline.fill_maps(cov, tris, coef, r0, r1, c0, c1, OUTSIDE, mx, my, count,
+                              scanline.n_bands(h, w), True)
     if top > 1:
         y, x = np.unravel_index(int(np.argmax(count > 1)), count.shape)
         y, x = int(y) + r0, int(x) + c0
         raise FoldOverError(
             "destination triangles overlap (the mesh folds over although each triangle keeps its "
-            f"orientation): triangles {_list_indices(_covering(cov, tris, x, y))} both cover "
+            f"orientation): triangles {list_indices(_covering(cov, tris, x, y))} both cover "
             f"pixel ({x}, {y})"
         )
     if top == 0:

@@ -10,13 +10,16 @@ import numpy as np
 
 from ..errors import ValidationError, expected_got
 from ..validate import as_image
-from .pool import _recycle
+from .pool import recycle
+
+__all__ = ["WarpMaps", "OUTSIDE", "interp_flag"]
 
 _INTERP = {"linear": cv2.INTER_LINEAR, "nearest": cv2.INTER_NEAREST}
 
-#: Map coordinate given to output pixels outside the mesh: far enough outside any
-#: image that cv2.remap writes the border value exactly (no blending).
-_OUTSIDE = -64.0
+#: Map coordinate (source ``x`` and ``y``, pixels) given to output pixels outside
+#: the mesh: far enough outside any image that cv2.remap writes the border value
+#: exactly (no blending).
+OUTSIDE = -64.0
 
 #: dtypes cv2.remap handles natively; others are converted (see _to_cv).
 _CV_DTYPES = (np.uint8, np.uint16, np.int16, np.float32, np.float64)
@@ -25,7 +28,23 @@ _CV_DTYPES = (np.uint8, np.uint16, np.int16, np.float32, np.float64)
 # --------------------------------------------------------------------------- images
 
 
-def _interp_flag(interpolation: Any) -> int:
+def interp_flag(interpolation: Any) -> int:
+    """The OpenCV flag of an interpolation name.
+
+    Parameters
+    ----------
+    interpolation : {"linear", "nearest"}
+
+    Returns
+    -------
+    int
+        ``cv2.INTER_LINEAR`` or ``cv2.INTER_NEAREST``.
+
+    Raises
+    ------
+    ValidationError
+        Any other value.
+    """
     if interpolation not in _INTERP:
         raise ValidationError(expected_got("interpolation", "'linear' or 'nearest'", repr(interpolation)))
     return _INTERP[interpolation]
@@ -94,9 +113,9 @@ def _remap(img: np.ndarray, m1: np.ndarray, m2: np.ndarray | None, flag: int,
 class WarpMaps:
     """Per-pixel sampling maps of one warp, reusable across images and channels.
 
-    Built by :meth:`MeshWarper.maps`. The maps cover the bounding box of the
-    destination mesh clipped to the output (``roi``); the rest of the output is
-    ``fill``. See the module docstring for the convention.
+    Built by :meth:`~morphkit.warp.MeshWarper.maps`. The maps cover the bounding
+    box of the destination mesh clipped to the output (``roi``); the rest of the
+    output is ``fill``. See :mod:`morphkit.warp` for the convention.
 
     Attributes
     ----------
@@ -107,7 +126,7 @@ class WarpMaps:
     map1, map2 : numpy.ndarray or None
         The ``cv2.remap`` maps of the ROI: float32 source ``x`` and ``y``
         planes ``(r1 - r0, c1 - c0)``, or an interleaved ``(..., 2)`` map1 and
-        ``map2 = None``. Pixels outside the mesh hold a far-outside position.
+        ``map2 = None``. Pixels outside the mesh hold :data:`OUTSIDE`.
         ``map1`` is None when the mesh covers no pixel centre.
     """
 
@@ -130,8 +149,8 @@ class WarpMaps:
             if self._pooled:
                 m1, m2 = self.map1, self.map2
                 self.map1 = self.map2 = None
-                _recycle(m1)
-                _recycle(m2)
+                recycle(m1)
+                recycle(m2)
         except Exception:  # pragma: no cover - interpreter shutdown
             pass
 
@@ -179,7 +198,7 @@ class WarpMaps:
             ``out_shape`` (+ ``(C,)``), same dtype as ``image``.
         """
         img = as_image(image, "image", allow_nonfinite=True)
-        flag = _interp_flag(interpolation)
+        flag = interp_flag(interpolation)
         c = 1 if img.ndim == 2 else img.shape[2]
         fills = _fill_values(fill, c, img.dtype)
         src = _to_cv(img)

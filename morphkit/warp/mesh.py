@@ -10,6 +10,9 @@ import numpy as np
 from ..errors import ValidationError, expected_got
 from ..validate import as_points
 
+__all__ = ["grid_triangles", "delaunay_triangles", "grid_shape", "signed_area", "list_indices",
+           "as_triangles", "default_triangles", "boundary_edges", "disk_boundary"]
+
 # --------------------------------------------------------------------------- topology
 
 
@@ -58,7 +61,7 @@ def delaunay_triangles(points: Any) -> np.ndarray:
         raise ValidationError(
             expected_got("points", "points spanning a 2-D area", "degenerate (e.g. collinear) points")
         ) from exc
-    neg = _signed_area(pts[tris]) < 0
+    neg = signed_area(pts[tris]) < 0
     tris[neg] = tris[neg][:, [0, 2, 1]]
     return tris
 
@@ -92,19 +95,63 @@ def grid_shape(points: Any) -> tuple[int, int] | None:
     return rows, cols
 
 
-def _signed_area(v: np.ndarray) -> np.ndarray:
-    """Signed areas of triangles ``v`` (M, 3, 2); positive = clockwise on screen."""
+def signed_area(v: np.ndarray) -> np.ndarray:
+    """Signed areas of triangles in the pixel frame.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        ``(M, 3, 2)`` float vertices ``(x, y)`` of each triangle, pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M,)`` float64 signed areas in px^2; positive = clockwise on screen
+        (``x`` right, ``y`` down).
+    """
     d1 = v[:, 1] - v[:, 0]
     d2 = v[:, 2] - v[:, 0]
     return 0.5 * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
 
 
-def _list_indices(idx: np.ndarray, limit: int = 10) -> str:
+def list_indices(idx: np.ndarray, limit: int = 10) -> str:
+    """Triangle indices for an error message: ``"[3, 7, ...] (12 in all)"``.
+
+    Parameters
+    ----------
+    idx : numpy.ndarray
+        ``(K,)`` integer indices.
+    limit : int
+        How many to list before ``...``.
+
+    Returns
+    -------
+    str
+    """
     head = ", ".join(str(int(i)) for i in idx[:limit])
     return f"[{head}{', ...' if idx.size > limit else ''}] ({idx.size} in all)"
 
 
-def _as_triangles(triangles: Any, n_points: int) -> np.ndarray:
+def as_triangles(triangles: Any, n_points: int) -> np.ndarray:
+    """Validate triangle vertex indices into a mesh of ``n_points`` points.
+
+    Parameters
+    ----------
+    triangles : array_like
+        ``(M, 3)`` integer (or integral float) vertex indices, ``M >= 1``.
+    n_points : int
+        Number of mesh points ``N``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 3)`` int32, C-contiguous.
+
+    Raises
+    ------
+    ValidationError
+        Wrong shape or dtype, indices outside ``[0, N)``, a repeated vertex.
+    """
     try:
         arr = np.asarray(triangles)
     except (TypeError, ValueError) as exc:
@@ -120,26 +167,57 @@ def _as_triangles(triangles: Any, n_points: int) -> np.ndarray:
     if bad.size:
         raise ValidationError(
             expected_got("triangles", f"indices in [0, {n_points})",
-                         f"out-of-range indices in triangles {_list_indices(bad)}")
+                         f"out-of-range indices in triangles {list_indices(bad)}")
         )
     rep = np.flatnonzero((arr[:, 0] == arr[:, 1]) | (arr[:, 1] == arr[:, 2]) | (arr[:, 0] == arr[:, 2]))
     if rep.size:
         raise ValidationError(
             expected_got("triangles", "three distinct vertices each",
-                         f"repeated vertices in triangles {_list_indices(rep)}")
+                         f"repeated vertices in triangles {list_indices(rep)}")
         )
     return np.ascontiguousarray(arr, dtype=np.int32)
 
 
-def _default_triangles(src: np.ndarray) -> np.ndarray:
+def default_triangles(src: np.ndarray) -> np.ndarray:
+    """The default topology of a source mesh: :func:`grid_triangles` when
+    ``src`` is a lattice (:func:`grid_shape`), else :func:`delaunay_triangles`.
+
+    Parameters
+    ----------
+    src : numpy.ndarray
+        ``(N, 2)`` float64 source points ``(x, y)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 3)`` int32 vertex indices.
+    """
     shape = grid_shape(src)
     if shape is not None:
         return grid_triangles(*shape)
     return delaunay_triangles(src)
 
 
-def _boundary_edges(tris: np.ndarray, n_points: int) -> np.ndarray:
-    """``(B, 3)`` int: ``(a, b, c)`` for each mesh-boundary edge ``ab`` of triangle ``abc``."""
+def boundary_edges(tris: np.ndarray, n_points: int) -> np.ndarray:
+    """The mesh-boundary edges (those in one triangle only).
+
+    Parameters
+    ----------
+    tris : numpy.ndarray
+        ``(M, 3)`` integer vertex indices.
+    n_points : int
+        Number of mesh points ``N``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(B, 3)`` integer ``(a, b, c)`` for each boundary edge ``ab`` of triangle ``abc``.
+
+    Raises
+    ------
+    ValidationError
+        An edge shared by more than two triangles (not a manifold).
+    """
     a = tris.ravel()
     b = tris[:, [1, 2, 0]].ravel()
     c = tris[:, [2, 0, 1]].ravel()
@@ -155,17 +233,32 @@ def _boundary_edges(tris: np.ndarray, n_points: int) -> np.ndarray:
     return np.stack([a[once], b[once], c[once]], axis=1)
 
 
-def _disk_boundary(tris: np.ndarray, sign: np.ndarray) -> np.ndarray | None:
+def disk_boundary(tris: np.ndarray, sign: np.ndarray) -> np.ndarray | None:
     """The boundary vertices of a mesh in cycle order, if the mesh is a
     consistently oriented topological disk; else None.
 
-    With ``sign`` (each triangle's orientation in the source) each triangle is
+    Parameters
+    ----------
+    tris : numpy.ndarray
+        ``(M, 3)`` integer vertex indices.
+    sign : numpy.ndarray
+        ``(M,)`` float, each triangle's orientation in the source
+        (``np.sign`` of :func:`signed_area`).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(B,)`` int64 boundary vertex indices in cycle order, or None.
+
+    Notes
+    -----
+    With ``sign`` each triangle is
     oriented ``(a, b, c)`` or ``(a, c, b)``; the mesh is a disk when no directed
     edge repeats (consistent orientation, a manifold), the directed edges without
     a reverse form one cycle through distinct vertices, the triangles are
     connected, and ``V - E + F == 1``. A disk whose warp keeps every triangle's
     orientation and maps the boundary to a simple polygon cannot overlap itself
-    (:func:`morphkit._scanline.mesh_injective`): the compiled fill then skips
+    (:func:`morphkit.warp.scanline.mesh_injective`): the compiled fill then skips
     counting coverage per pixel.
     """
     if len(tris) == 0:

@@ -9,10 +9,25 @@ from functools import lru_cache
 
 import numpy as np
 
+__all__ = ["pixel_x_pairs", "coordinate_planes", "map_buffer", "recycle"]
+
 
 @lru_cache(maxsize=16)
-def _xx(c0: int, c1: int, h: int) -> np.ndarray:
-    """(h * (c1 - c0), 2) float32: the pixel x coordinate, twice, for each ROI pixel."""
+def pixel_x_pairs(c0: int, c1: int, h: int) -> np.ndarray:
+    """The pixel ``x`` of each pixel of a ROI, twice (an interleaved map's two columns).
+
+    Parameters
+    ----------
+    c0, c1 : int
+        The ROI's columns ``c0:c1``.
+    h : int
+        Its number of rows.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(h * (c1 - c0), 2)`` float32, read-only, cached.
+    """
     x = np.arange(c0, c1, dtype=np.float32)
     out = np.repeat(np.tile(x, h), 2).reshape(-1, 2)
     out.setflags(write=False)
@@ -22,11 +37,22 @@ def _xx(c0: int, c1: int, h: int) -> np.ndarray:
 _local = threading.local()
 
 
-def _planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(X, Y, scratch)`` float32 ``shape`` arrays: pixel x, pixel y, and a per-thread work buffer.
+def coordinate_planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pixel coordinate planes and a work buffer of one output shape, kept per thread.
 
-    Kept per thread for the last few output shapes: reusing the buffers avoids
-    fresh page faults on every call (they cost as much as the arithmetic).
+    Kept for the last few output shapes: reusing the buffers avoids fresh page
+    faults on every call (they cost as much as the arithmetic).
+
+    Parameters
+    ----------
+    shape : tuple[int, int]
+        ``(H, W)``.
+
+    Returns
+    -------
+    tuple[numpy.ndarray, numpy.ndarray, numpy.ndarray]
+        ``(X, Y, scratch)``, each ``(H, W)`` float32: pixel ``x`` and ``y``
+        (read-only) and this thread's scratch buffer.
     """
     cache = getattr(_local, "planes", None)
     if cache is None:
@@ -46,8 +72,20 @@ def _planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return hit
 
 
-def _pooled(shape: tuple[int, int]) -> np.ndarray:
-    """A float32 ``shape`` array, recycled from dead :class:`WarpMaps` when possible."""
+def map_buffer(shape: tuple[int, int]) -> np.ndarray:
+    """A map buffer, recycled (:func:`recycle`) from a dead
+    :class:`~morphkit.warp.WarpMaps` of this thread when possible.
+
+    Parameters
+    ----------
+    shape : tuple[int, int]
+        ``(h, w)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(h, w)`` float32, contents undefined.
+    """
     pool = getattr(_local, "pool", None)
     if pool:
         free = pool.get(shape)
@@ -56,11 +94,18 @@ def _pooled(shape: tuple[int, int]) -> np.ndarray:
     return np.empty(shape, dtype=np.float32)
 
 
-def _recycle(arr: np.ndarray | None) -> None:
-    """Return a map buffer to this thread's pool, unless anything else still refers to it.
+def recycle(arr: np.ndarray | None) -> None:
+    """Return a map buffer to this thread's pool (:func:`map_buffer`), unless
+    anything else still refers to it.
 
-    (Fresh page-faulted buffers cost as much as computing the maps; a frame loop
-    that drops last frame's WarpMaps reuses its buffers.)
+    Fresh page-faulted buffers cost as much as computing the maps; a frame loop
+    that drops last frame's WarpMaps reuses its buffers.
+
+    Parameters
+    ----------
+    arr : numpy.ndarray or None
+        A float32 buffer from :func:`map_buffer`, held only by the caller's
+        local variable (a view, or one with other references, is left alone).
     """
     # references: the caller's local, the argument, getrefcount's own argument
     if arr is None or arr.base is not None or sys.getrefcount(arr) > 3:

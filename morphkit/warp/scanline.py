@@ -3,7 +3,7 @@
 One pass over the destination triangles writes, for every output pixel centre a
 triangle covers, its source position ``A_src_dst[t] @ (x, y, 1)``; pixels no
 triangle covers get :data:`OUTSIDE`. The coverage rule and the edge arithmetic
-are exactly those of :func:`morphkit.warp._build_maps`' numpy path (the
+are exactly those of :func:`morphkit.warp.build.build_maps`' numpy path (the
 reference implementation, kept for tests and for machines without numba): rows
 ``[ceil(y_top), ceil(y_bottom))``, columns ``[ceil(x_left), ceil(x_right))``,
 each edge crossing computed as ``s * y + q`` from the edge's own top end, so
@@ -332,7 +332,7 @@ def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) ->
 def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: np.ndarray
                     ) -> bool:
     """Whether a mesh that is a topological disk (``loop``: its boundary
-    vertices in cycle order, :func:`morphkit.warp._disk_boundary`) is mapped by
+    vertices in cycle order, :func:`morphkit.warp.mesh.disk_boundary`) is mapped by
     ``cov`` without overlap: every triangle keeps the orientation ``sign`` and the
     boundary polygon is simple. Then the map has degree 1 inside the boundary's
     image and is one-to-one (each point's preimages all count +1 and sum to the
@@ -378,7 +378,7 @@ def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: n
 def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
                   boundary: np.ndarray, H: int, W: int, min_det: float, push: float,
                   cov: np.ndarray, coef: np.ndarray) -> tuple[int, int, int, int, int]:
-    """The per-call set-up of :func:`morphkit.warp._prepare` in one compiled
+    """The per-call set-up of :func:`morphkit.warp.build.prepare` in one compiled
     pass (the numpy version is the reference and writes the error messages):
     fold test, boundary pushed out by ``push`` into ``cov``, ROI, per-triangle
     affines into ``coef``. Returns ``(n_folded, r0, r1, c0, c1)``; on

@@ -13,18 +13,20 @@ from .. import tol
 from ..errors import FoldOverError, ValidationError, expected_got
 from ..settings import use_compiled
 from ..validate import as_points, as_shape
-from . import scanline as _scanline
+from . import scanline
 from .accumulate import Accumulation
-from .build import _build_maps, _prepare
-from .maps import WarpMaps, _interp_flag
+from .build import build_maps, prepare
+from .maps import WarpMaps, interp_flag
 from .mesh import (
-    _as_triangles,
-    _boundary_edges,
-    _default_triangles,
-    _disk_boundary,
-    _list_indices,
-    _signed_area,
+    as_triangles,
+    boundary_edges,
+    default_triangles,
+    disk_boundary,
+    list_indices,
+    signed_area,
 )
+
+__all__ = ["MeshWarper", "warp_mesh"]
 
 
 class MeshWarper:
@@ -35,9 +37,10 @@ class MeshWarper:
     src_pts : array_like
         ``(N, 2)`` source control points ``(x, y)`` in input-image pixels.
     triangles : array_like, optional
-        ``(M, 3)`` vertex indices. Default: :func:`grid_triangles` when
-        ``src_pts`` is a row-major axis-aligned lattice (:func:`grid_shape`),
-        else :func:`delaunay_triangles` of ``src_pts``.
+        ``(M, 3)`` vertex indices. Default: :func:`~morphkit.warp.grid_triangles`
+        when ``src_pts`` is a row-major axis-aligned lattice
+        (:func:`~morphkit.warp.grid_shape`), else
+        :func:`~morphkit.warp.delaunay_triangles` of ``src_pts``.
 
     Raises
     ------
@@ -58,23 +61,23 @@ class MeshWarper:
         self.src_pts = as_points(src_pts, "src_pts", min_count=3)
         self.src_pts.setflags(write=False)
         if triangles is None:
-            tris = _default_triangles(self.src_pts)
+            tris = default_triangles(self.src_pts)
         else:
-            tris = _as_triangles(triangles, self.src_pts.shape[0])
+            tris = as_triangles(triangles, self.src_pts.shape[0])
         tris = np.ascontiguousarray(tris, dtype=np.int64)  # as the compiled kernels take them
         tris.setflags(write=False)
         self.triangles = tris
         self._src_v = self.src_pts[tris]  # (M, 3, 2)
-        area = _signed_area(self._src_v)
+        area = signed_area(self._src_v)
         small = np.flatnonzero(np.abs(area) < tol.TRIANGLE_AREA_PX2)
         if small.size:
             raise FoldOverError(
                 expected_got("source triangles", f"|area| >= {tol.TRIANGLE_AREA_PX2} px^2",
-                             f"degenerate triangles {_list_indices(small)}")
+                             f"degenerate triangles {list_indices(small)}")
             )
         self._src_sign = np.sign(area)
-        self._boundary = _boundary_edges(tris, self.n_points)
-        self._loop = _disk_boundary(tris, self._src_sign)
+        self._boundary = boundary_edges(tris, self.n_points)
+        self._loop = disk_boundary(tris, self._src_sign)
 
     @property
     def n_points(self) -> int:
@@ -112,7 +115,7 @@ class MeshWarper:
         """
         dst = self._check_dst(dst_pts)
         shape = as_shape(out_shape, "out_shape")
-        return _build_maps(dst, self.triangles, self._src_v, self._src_sign, self._boundary, shape,
+        return build_maps(dst, self.triangles, self._src_v, self._src_sign, self._boundary, shape,
                            self._loop)
 
     def triangles_touching(self, support: Any) -> np.ndarray:
@@ -158,13 +161,13 @@ class MeshWarper:
         dst = np.asarray(dst_pts, dtype=np.float64)
         if dst.shape != self.src_pts.shape or not np.isfinite(dst).all():
             dst = self._check_dst(dst_pts)  # raises the full message (a per-frame path: checked lean)
-        if use_compiled(_scanline.accumulate) and self._loop is not None:
-            cov, coef, roi = _prepare(dst, self.triangles, self._src_v, self._src_sign,
+        if use_compiled(scanline.accumulate) and self._loop is not None:
+            cov, coef, roi = prepare(dst, self.triangles, self._src_v, self._src_sign,
                                       self._boundary, shape)
             r0, r1, c0, c1 = roi
             if r1 <= r0 or c1 <= c0:
                 return WarpMaps(shape, roi, None, None, None)
-            if _scanline.mesh_injective(cov, self.triangles, self._src_sign, self._loop):
+            if scanline.mesh_injective(cov, self.triangles, self._src_sign, self._loop):
                 return Accumulation(cov, coef, self.triangles, roi)
         return self.maps(dst, shape)
 
@@ -172,7 +175,7 @@ class MeshWarper:
                  interpolation: str = "linear", fill: Any = 0.0,
                  return_mask: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """Warp ``image`` onto the destination mesh ``dst_pts``; see :func:`warp_mesh`."""
-        _interp_flag(interpolation)
+        interp_flag(interpolation)
         wm = self.maps(dst_pts, out_shape)
         out = wm.apply(image, interpolation=interpolation, fill=fill)
         return (out, wm.mask) if return_mask else out
