@@ -52,34 +52,59 @@ destination points into :class:`WarpMaps` (per-pixel sampling maps of the mesh's
 bounding box plus the coverage mask), which :meth:`WarpMaps.apply` applies to any
 number of images or channels at the cost of one ``cv2.remap`` each.
 
-How the maps are built (per call): per-triangle affines ``A_src_dst``, then by
-default one compiled pass (:mod:`morphkit.warp.scanline`, numba) that walks every
-destination triangle's pixel rows and writes each covered pixel's source
-position, counting coverage to detect overlaps unless the mesh is a disk
-whose boundary stays simple (it then cannot overlap: no count needed, and
-:attr:`WarpMaps.mask` is counted only when asked for). The numpy path below is the
-reference (same coverage rule and edge arithmetic; ``tests/test_warp.py``
-checks the two agree) and runs when numba is missing or
-``MORPHKIT_WARP_NUMPY=1``: exact scanline runs ``[x_left, x_right)`` for every
-(triangle, pixel row) pair; one integer sort of the runs along the image; then
-either (<= 255 triangles) a uint8 triangle-label image expanded from the runs and
-per-pixel affines by ``cv2.LUT`` + ``cv2.multiply``/``cv2.add``, or (more
+How the maps are built (per call, :mod:`.build`): per-triangle affines
+``A_src_dst``, then by default one compiled pass (:mod:`.scanline`, numba) that
+walks every destination triangle's pixel rows and writes each covered pixel's source
+position, counting coverage to detect overlaps unless the mesh is a disk whose
+boundary stays simple (it then cannot overlap: no count needed, and
+:attr:`WarpMaps.mask` is counted only when asked for). The numpy path is the
+reference (same coverage rule and edge arithmetic; ``tests/test_warp.py`` checks the
+two agree) and runs when numba is missing or ``MORPHKIT_WARP_NUMPY=1``
+(:func:`morphkit.settings.use_compiled`): exact scanline runs ``[x_left, x_right)``
+for every (triangle, pixel row) pair; one integer sort of the runs along the image;
+then either (<= 255 triangles) a uint8 triangle-label image expanded from the runs
+and per-pixel affines by ``cv2.LUT`` + ``cv2.multiply``/``cv2.add``, or (more
 triangles) the runs' slopes and offsets expanded with ``np.repeat``. Coordinate
-planes and scratch buffers are kept per thread and output shape, and the map
-buffers of a dropped :class:`WarpMaps` are recycled (only if nothing else refers
-to them): on this kind of machine fresh page-faulted memory costs as much as the
-arithmetic. ``MeshWarper`` and ``WarpMaps`` are safe to use from several
-threads only if each thread has its own objects.
+planes and scratch buffers are kept per thread and output shape (:mod:`.pool`), and
+the map buffers of a dropped :class:`WarpMaps` are recycled (only if nothing else
+refers to them): fresh page-faulted memory costs as much as the arithmetic.
+``MeshWarper`` and ``WarpMaps`` are safe to use from several threads only if each
+thread has its own objects.
 
-Fused accumulation (for callers that blend several warped sources, e.g. the
-shadow atlas): :func:`accumulate_warps` adds ``weight * warp(src)`` of
-two-plane float32 sources straight into an accumulator, sampling each pixel's
-source position bilinearly in the same compiled pass that finds it
+Fused accumulation (:mod:`.accumulate`, for callers that blend several warped
+sources, e.g. the shadow atlas): :func:`accumulate_warps` adds
+``weight * warp(src)`` of two-plane float32 sources straight into an accumulator,
+sampling each pixel's source position bilinearly in the same compiled pass that finds it
 (:func:`morphkit.warp.scanline.accumulate`): no map images, no remap, only the
-triangles :meth:`MeshWarper.triangles_touching` says can read nonzero source
-pixels, and bands of rows on :data:`WARP_THREADS` threads. Source positions are
-exact there (OpenCV quantises them to 1/32 px); meshes that might overlap
-themselves, and the numpy reference mode, go through :meth:`MeshWarper.maps`.
+triangles :meth:`MeshWarper.triangles_touching` says can read nonzero source pixels,
+and bands of rows on :data:`WARP_THREADS` threads. Source positions are exact there
+(OpenCV quantises them to 1/32 px); meshes that might overlap themselves, and the
+numpy reference mode, go through :meth:`MeshWarper.maps`
+(:meth:`MeshWarper.accumulation` chooses the :class:`Accumulation` plan).
+
+Modules
+-------
+This package re-exports its public API; the modules hold one concept each:
+
+* :mod:`.mesh` -- topology and its checks: :func:`grid_triangles`,
+  :func:`delaunay_triangles`, :func:`grid_shape`, triangle validation,
+  boundary edges, the topological-disk test.
+* :mod:`.warper` -- :class:`MeshWarper` (the plan of a fixed source mesh) and
+  :func:`warp_mesh`.
+* :mod:`.build` -- building :class:`WarpMaps`: fold test, per-triangle
+  affines, the compiled fill and the numpy reference path.
+* :mod:`.maps` -- :class:`WarpMaps` and applying them: ``cv2.remap`` with
+  constant borders, channel grouping (never two channels at once), dtype
+  conversion, the non-finite guard; :data:`OUTSIDE`.
+* :mod:`.accumulate` -- the fused accumulation: :func:`accumulate_warps`,
+  :class:`Accumulation`, :func:`band_pool`, :func:`roi_union`,
+  :data:`PARALLEL_MIN_PIXELS`.
+* :mod:`.pool` -- per-thread coordinate planes and recycled map buffers.
+* :mod:`.scanline` -- the compiled (numba) kernels: map fill, fused
+  accumulation, per-call set-up, injectivity test.
+
+:data:`WARP_THREADS` is :data:`morphkit.settings.WARP_THREADS` (environment
+switches are read there only).
 """
 
 from __future__ import annotations

@@ -45,8 +45,9 @@ class Accumulation(NamedTuple):
 
 
 #: ROI pixels (summed over the warps of one call) below which a fused
-#: accumulation runs in the calling thread: handing a band to a pool thread
-#: costs some 50 us here (2-core VM), as much as ~10k pixels of work.
+#: accumulation runs in the calling thread: below it, handing a band to a pool
+#: thread costs more than the band's work saves (figures: ``docs/RESULTS.md``,
+#: soft shadows).
 PARALLEL_MIN_PIXELS = 1 << 16
 
 _pool: ThreadPoolExecutor | None = None

@@ -92,10 +92,10 @@ def _remap(img: np.ndarray, m1: np.ndarray, m2: np.ndarray | None, flag: int,
     """cv2.remap with constant border ``fill``; any channel count (cv2 borders take <= 4).
 
     Channels go to OpenCV in groups of 4, 3 or 1, never 2: its vectorised remap
-    covers 1, 3 and 4 channels, and a two-channel image takes a slower path that
-    also samples with 1/32-pixel fixed-point weights (512^2 float32: 0.85 ms,
-    against 2 x 0.25 ms one plane at a time), so every channel count gets the
-    same interpolation.
+    covers 1, 3 and 4 channels, and a two-channel image takes a slower path
+    (slower than two one-plane remaps: ``docs/RESULTS.md``, mesh warp) that also
+    samples with 1/32-pixel fixed-point weights; so every channel count is fast
+    and gets the same interpolation.
     """
     c = 1 if img.ndim == 2 else img.shape[2]
     if c <= 4 and c != 2:

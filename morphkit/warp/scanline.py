@@ -2,7 +2,7 @@
 
 One pass over the destination triangles writes, for every output pixel centre a
 triangle covers, its source position ``A_src_dst[t] @ (x, y, 1)``; pixels no
-triangle covers get :data:`OUTSIDE`. The coverage rule and the edge arithmetic
+triangle covers get :data:`morphkit.warp.OUTSIDE`. The coverage rule and the edge arithmetic
 are exactly those of :func:`morphkit.warp.build.build_maps`' numpy path (the
 reference implementation, kept for tests and for machines without numba): rows
 ``[ceil(y_top), ceil(y_bottom))``, columns ``[ceil(x_left), ceil(x_right))``,
@@ -138,7 +138,7 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                 oy = a11 * yf + by
                 # Unsigned column offsets (x >= xl >= c0): a signed index makes
                 # numba test for negative (wrap-around) indices per pixel, which
-                # keeps the loops from vectorising (3x slower).
+                # keeps the loops from vectorising (docs/RESULTS.md, mesh warp).
                 mrow = mx[y - r0]
                 nrow = my[y - r0]
                 if counting:  # one branch per run: the pixel loops stay simple
@@ -483,11 +483,11 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
 #: Rows per band, at least, when filling in parallel.
 MIN_BAND_ROWS = 64
 
-#: ROI pixels below which the fill runs in the calling thread. Waking numba's
-#: sleeping worker threads (OpenMP, passive waiting: see above) costs about
-#: 0.3 ms on this project's 2-core virtual machine, more than a whole 512^2
-#: fill (0.4 ms, one thread; 0.53 ms in two bands); at 1024^2 two bands win
-#: (2.1 vs 2.9 ms). Measured with ``morphkit bench warp``.
+#: ROI pixels below which the fill runs in the calling thread: waking numba's
+#: sleeping worker threads (OpenMP, passive waiting: :mod:`morphkit.settings`)
+#: costs more than a whole fill of a ROI this small in one thread, while larger
+#: ones gain from the bands (figures: ``docs/RESULTS.md``, mesh warp; measure
+#: with ``morphkit bench warp``).
 PARALLEL_MIN_PIXELS = 1 << 19
 
 
