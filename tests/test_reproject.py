@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from morphkit import settings
 from morphkit.errors import ValidationError
 from morphkit.shadow import reproject as rp
 
@@ -141,7 +142,7 @@ def test_compiled_kernel_agrees_with_the_numpy_reference(monkeypatch):
     e = (0.037, -0.029, 0.08)
     maps = [(_occluded_scene((0, 0, 0)), e), (_patch(**TILTED), (-0.02, 0.01, 0.03))]
     got, _ = _run(maps, early_z=0.0)
-    monkeypatch.setattr(rp, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
     ref, _ = _run(maps, early_z=0.0)
     # same triangles and coverage rule; barycentrics by division (numpy) or by
     # edge functions (kernel), and where a quad folds the kernel keeps its first
@@ -160,7 +161,7 @@ def test_layer_kernel_agrees_with_the_numpy_reference(monkeypatch):
     assert np.isfinite(got).sum() > 1000
     for t in (2, 3):  # bands split the runs: the same minimum
         np.testing.assert_array_equal(_run(maps, threads=t, early_z=0.0)[0], got)
-    monkeypatch.setattr(rp, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
     ref, _ = _run(maps, early_z=0.0)
     np.testing.assert_array_equal(np.isfinite(got), np.isfinite(ref))
     both = np.isfinite(ref)

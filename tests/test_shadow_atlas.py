@@ -304,17 +304,16 @@ def test_fused_warp_agrees_with_the_remap_path(monkeypatch, point_atlas):
     blended coverage sits within OpenCV's 1/32 px quantisation of 0.5 (none measured
     here; 3 allowed), depths by the same quantisation times the depth gradient
     (measured <= 2e-6 here; 1e-4 allowed, a ten-thousandth of the object's depth)."""
-    from morphkit import _scanline
-    from morphkit import warp as W
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable: only the reference path exists")
     a = point_atlas
     for xy in [np.array([0.17, -0.23]), np.array([-0.41, 0.33]), np.array([0.05, 0.02])]:
         fast, _ = a.shadow_map(xy)
-        monkeypatch.setattr(W, "_NUMPY_ONLY", True)
+        monkeypatch.setattr(settings, "NUMPY_ONLY", True)
         ref, _ = a.shadow_map(xy)
-        monkeypatch.setattr(W, "_NUMPY_ONLY", False)
+        monkeypatch.setattr(settings, "NUMPY_ONLY", False)
         fin_f, fin_r = np.isfinite(fast), np.isfinite(ref)
         assert (fin_f != fin_r).sum() <= 3
         both = fin_f & fin_r

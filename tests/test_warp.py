@@ -17,6 +17,8 @@ from morphkit.warp import (
     grid_triangles,
     warp_mesh,
 )
+from morphkit.warp.build import prepare
+from morphkit.warp.mesh import boundary_edges, disk_boundary, signed_area
 
 
 def lattice(rows: int, cols: int, h: int, w: int) -> np.ndarray:
@@ -24,6 +26,15 @@ def lattice(rows: int, cols: int, h: int, w: int) -> np.ndarray:
     ys = np.linspace(0.0, h - 1.0, rows)
     X, Y = np.meshgrid(xs, ys)
     return np.stack([X.ravel(), Y.ravel()], axis=1)
+
+
+def mesh_setup(warper: MeshWarper) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """``(src_v, src_sign, boundary, loop)`` of a warper's source mesh (what
+    MeshWarper keeps), from the public helpers of morphkit.warp.mesh."""
+    src_v = warper.src_pts[warper.triangles]
+    sign = np.sign(signed_area(src_v))
+    return (src_v, sign, boundary_edges(warper.triangles, warper.n_points),
+            disk_boundary(warper.triangles, sign))
 
 
 def smooth_image(h: int, w: int, channels: int | None = None) -> np.ndarray:
@@ -403,10 +414,9 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     """The numba scanline (default) and the numpy reference path cover exactly the
     same pixel centres and give the same source positions (up to float32 rounding
     of the numpy path's arithmetic)."""
-    from morphkit import _scanline
-    from morphkit import warp as W
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable: only the numpy path exists")
     rng = np.random.default_rng(sum(shape))
     h, w = shape
@@ -415,9 +425,9 @@ def test_compiled_maps_equal_numpy_reference(monkeypatch, shape, grid):
     src = np.c_[gx.ravel(), gy.ravel()]
     dst = src + rng.normal(0, min(h, w) / (12 * max(rows, cols)), src.shape)
     warper = MeshWarper(src)
-    monkeypatch.setattr(W, "_NUMPY_ONLY", True)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
     ref = warper.maps(dst, shape)
-    monkeypatch.setattr(W, "_NUMPY_ONLY", False)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", False)
     fast = warper.maps(dst, shape)
     np.testing.assert_array_equal(fast.mask, ref.mask)
     r0, r1, c0, c1 = ref.roi
@@ -440,15 +450,16 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
     """The compiled fill splits the rows into bands filled in parallel; each row
     depends only on the triangle edges, so any band count gives bit-identical maps
     and coverage (including the fold-over count on the band seams)."""
-    from morphkit import _scanline
+    from morphkit import settings
+    from morphkit.warp import scanline
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(bands), (0, 299, 9), (0, 199, 6), 3.0)
     warper = MeshWarper(src)
-    monkeypatch.setattr(_scanline, "n_bands", lambda rows, cols: 1)
+    monkeypatch.setattr(scanline, "n_bands", lambda rows, cols: 1)
     one = warper.maps(dst, (200, 300))
-    monkeypatch.setattr(_scanline, "n_bands", lambda rows, cols: bands)
+    monkeypatch.setattr(scanline, "n_bands", lambda rows, cols: bands)
     many = warper.maps(dst, (200, 300))
     assert one.roi == many.roi
     np.testing.assert_array_equal(many.mask, one.mask)
@@ -459,19 +470,18 @@ def test_parallel_bands_change_no_value(monkeypatch, bands):
 def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
     """The compiled per-call set-up (closed boundary, ROI, affines) gives the
     numpy reference's values bit for bit, so both paths cover the same pixels."""
-    import morphkit.warp as warp_module
-    from morphkit import _scanline
-    from morphkit.warp import _prepare
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(seed), (-20, 330, 13), (5, 190, 8), 2.5)
     for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
-        args = (dst, warper.triangles, warper._src_v, warper._src_sign, warper._boundary, (200, 300))
-        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", False)
-        fast = _prepare(*args)
-        monkeypatch.setattr(warp_module, "_NUMPY_ONLY", True)
-        ref = _prepare(*args)
+        src_v, sign, boundary, _ = mesh_setup(warper)
+        args = (dst, warper.triangles, src_v, sign, boundary, (200, 300))
+        monkeypatch.setattr(settings, "NUMPY_ONLY", False)
+        fast = prepare(*args)
+        monkeypatch.setattr(settings, "NUMPY_ONLY", True)
+        ref = prepare(*args)
         assert fast[2] == ref[2]
         np.testing.assert_array_equal(fast[0], ref[0])
         np.testing.assert_array_equal(fast[1], ref[1])
@@ -481,20 +491,19 @@ def test_compiled_setup_is_bit_identical_to_numpy(monkeypatch, seed):
 def test_injective_fill_equals_counting_fill(monkeypatch, seed):
     """A disk mesh proved not to overlap is filled without counting coverage;
     forcing the counting fill gives bit-identical maps and mask."""
-    from morphkit import _scanline
-    from morphkit.warp import _prepare
+    from morphkit import settings
+    from morphkit.warp import scanline
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     src, dst = _jittered_lattice(np.random.default_rng(seed), (3, 296, 11), (2, 197, 7), 4.0)
     for warper in (MeshWarper(src), MeshWarper(src, delaunay_triangles(src))):
-        assert warper._loop is not None
-        cov, _, _ = _prepare(dst, warper.triangles, warper._src_v, warper._src_sign,
-                             warper._boundary, (200, 300))
-        assert _scanline.mesh_injective(cov, warper.triangles.astype(np.int64), warper._src_sign,
-                                        warper._loop)
+        src_v, sign, boundary, loop = mesh_setup(warper)
+        assert loop is not None
+        cov, _, _ = prepare(dst, warper.triangles, src_v, sign, boundary, (200, 300))
+        assert scanline.mesh_injective(cov, warper.triangles.astype(np.int64), sign, loop)
         fast = warper.maps(dst, (200, 300))
-        monkeypatch.setattr(_scanline, "mesh_injective", lambda *a: False)
+        monkeypatch.setattr(scanline, "mesh_injective", lambda *a: False)
         ref = warper.maps(dst, (200, 300))
         monkeypatch.undo()
         assert fast.roi == ref.roi
@@ -504,10 +513,8 @@ def test_injective_fill_equals_counting_fill(monkeypatch, seed):
 
 def test_disk_boundary_recognises_disks_only():
     """The no-count fill is only allowed for meshes that are topological disks."""
-    from morphkit.warp import _disk_boundary
-
     def loop(pts, tris):
-        return _disk_boundary(np.asarray(tris), MeshWarper(pts, tris)._src_sign)
+        return disk_boundary(np.asarray(tris), mesh_setup(MeshWarper(pts, tris))[1])
 
     gx, gy = np.meshgrid(np.arange(4.0), np.arange(4.0))
     pts = np.c_[gx.ravel(), gy.ravel()] * 10
@@ -536,15 +543,15 @@ def test_overlap_without_flips_is_found_on_a_disk():
     dst = np.r_[np.c_[150 + outer * np.cos(ang), 150 + outer * np.sin(ang)],
                 np.c_[150 + inner * np.cos(ang), 150 + inner * np.sin(ang)]]
     warper = MeshWarper(src, tris)
-    assert warper._loop is not None
+    assert mesh_setup(warper)[3] is not None
     with pytest.raises(FoldOverError, match=r"overlap"):
         warper.maps(dst, (300, 300))
 
 
 def test_compiled_path_reports_overlaps(monkeypatch):
-    from morphkit import _scanline
+    from morphkit import settings
 
-    if not _scanline.AVAILABLE:
+    if not settings.NUMBA_AVAILABLE:
         pytest.skip("numba not importable")
     # two triangles with the same orientation stacked on top of each other
     src = np.array([[0, 0], [10, 0], [0, 10], [20, 0], [30, 0], [20, 10]], float)

@@ -1,5 +1,5 @@
-"""Tests of the fused warp-and-accumulate pass (morphkit.warp._accumulate_warps,
-morphkit._scanline.accumulate): exact bilinear values of a known affine warp,
+"""Tests of the fused warp-and-accumulate pass (morphkit.warp.accumulate_warps,
+morphkit.warp.scanline.accumulate): exact bilinear values of a known affine warp,
 agreement with the maps + cv2.remap path, skipping triangles that read only
 zeros, independence of the thread split, and bad input."""
 
@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from morphkit import _scanline
-from morphkit import warp as W
+from morphkit import settings
 from morphkit.errors import ValidationError
-from morphkit.warp import MeshWarper, _accumulate_warps, _Fused
+from morphkit.warp import Accumulation, MeshWarper, accumulate_warps
+from morphkit.warp import accumulate as W
 
-needs_numba = pytest.mark.skipif(not _scanline.AVAILABLE or _scanline.NUMPY_ONLY,
+needs_numba = pytest.mark.skipif(not settings.COMPILED,
                                  reason="the fused pass needs numba (and not MORPHKIT_WARP_NUMPY=1)")
 
 
@@ -54,10 +54,10 @@ def test_affine_warp_gives_exact_bilinear_values(margin, offset):
     dst_pts = src_pts @ A.T + np.asarray(offset)
     warper = MeshWarper(src_pts)
     acc = np.zeros((2, h, w), np.float32)
-    plan = warper._accumulation(dst_pts, (h, w))
-    assert isinstance(plan, _Fused)
+    plan = warper.accumulation(dst_pts, (h, w))
+    assert isinstance(plan, Accumulation)
     everything = np.ones(len(warper.triangles), bool)
-    roi = _accumulate_warps([(plan, src, everything, 0.75)], acc)
+    roi = accumulate_warps([(plan, src, everything, 0.75)], acc)
     mask = warper.maps(dst_pts, (h, w)).mask  # the covered pixel centres (tested in test_warp)
     r0, r1, c0, c1 = roi
     assert mask.any() and not mask[:r0].any() and not mask[r1:].any()
@@ -85,12 +85,12 @@ def test_fused_pass_agrees_with_maps_and_remap(monkeypatch):
     warper = MeshWarper(src_pts)
     everything = np.ones(len(warper.triangles), bool)
     fused = np.zeros((2, h, w), np.float32)
-    _accumulate_warps([(warper._accumulation(dst_pts, (h, w)), src, everything, 1.0)], fused)
-    monkeypatch.setattr(W, "_NUMPY_ONLY", True)
-    plan = warper._accumulation(dst_pts, (h, w))
-    assert not isinstance(plan, _Fused)
+    accumulate_warps([(warper.accumulation(dst_pts, (h, w)), src, everything, 1.0)], fused)
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
+    plan = warper.accumulation(dst_pts, (h, w))
+    assert not isinstance(plan, Accumulation)
     ref = np.zeros((2, h, w), np.float32)
-    _accumulate_warps([(plan, src, everything, 1.0)], ref)
+    accumulate_warps([(plan, src, everything, 1.0)], ref)
     steps = [max(np.abs(np.diff(s, axis=a)).max() for a in (0, 1)) for s in src]
     for k in range(2):
         assert np.abs(fused[k] - ref[k]).max() <= steps[k] / 32 + 1e-5
@@ -110,11 +110,11 @@ def test_skipped_triangles_only_read_zeros():
     warper = MeshWarper(src_pts)
     active = warper.triangles_touching(src[0])
     assert 0 < active.sum() < 0.2 * len(active)
-    plan = warper._accumulation(dst_pts, (h, w))
+    plan = warper.accumulation(dst_pts, (h, w))
     some = np.zeros((2, h, w), np.float32)
     all_ = np.zeros((2, h, w), np.float32)
-    _accumulate_warps([(plan, src, active, 0.5)], some)
-    _accumulate_warps([(plan, src, np.ones_like(active), 0.5)], all_)
+    accumulate_warps([(plan, src, active, 0.5)], some)
+    accumulate_warps([(plan, src, np.ones_like(active), 0.5)], all_)
     np.testing.assert_array_equal(some, all_)
     assert some[0].max() > 0.4
 
@@ -147,17 +147,15 @@ def test_thread_bands_change_no_value(monkeypatch, threads):
         src_pts = lattice(7, 9, 0, w - 1, 0, h - 1)
         dst_pts = src_pts + rng.normal(0, 2.0, src_pts.shape) + [k * 3.0, -k * 2.0]
         warper = MeshWarper(src_pts)
-        jobs.append((warper._accumulation(dst_pts, (h, w)), src,
-                     warper.triangles_touching(src[0]), 0.25))
+        jobs.append((warper.accumulation(dst_pts, (h, w)), src,
+                    warper.triangles_touching(src[0]), 0.25))
     monkeypatch.setattr(W, "PARALLEL_MIN_PIXELS", 0)
     monkeypatch.setattr(W, "WARP_THREADS", 1)
     one = np.zeros((2, h, w), np.float32)
-    box1 = _accumulate_warps(jobs, one)
+    box1 = accumulate_warps(jobs, one)
     monkeypatch.setattr(W, "WARP_THREADS", threads)
-    W._pool = None  # a pool sized for this thread count
     many = np.zeros((2, h, w), np.float32)
-    box_n = _accumulate_warps(jobs, many)
-    W._pool = None
+    box_n = accumulate_warps(jobs, many)
     np.testing.assert_array_equal(many, one)
     assert box_n == box1
 
@@ -165,11 +163,11 @@ def test_thread_bands_change_no_value(monkeypatch, threads):
 def test_accumulate_refuses_bad_buffers():
     warper = MeshWarper(lattice(3, 3, 0, 31, 0, 31))
     pts = warper.src_pts + 0.5
-    plan = warper._accumulation(pts, (32, 32))
+    plan = warper.accumulation(pts, (32, 32))
     src = np.zeros((2, 32, 32), np.float32)
     act = np.ones(len(warper.triangles), bool)
     with pytest.raises(ValidationError, match=r"acc.*C-contiguous float32 \(2, H, W\).*float64"):
-        _accumulate_warps([(plan, src, act, 1.0)], np.zeros((2, 32, 32)))
+        accumulate_warps([(plan, src, act, 1.0)], np.zeros((2, 32, 32)))
     with pytest.raises(ValidationError, match=r"src.*float32 \(2, h, w\).*\(3, 32, 32\)"):
-        _accumulate_warps([(plan, np.zeros((3, 32, 32), np.float32), act, 1.0)],
+        accumulate_warps([(plan, np.zeros((3, 32, 32), np.float32), act, 1.0)],
                           np.zeros((2, 32, 32), np.float32))

@@ -342,12 +342,12 @@ class ShadowAtlas:
     def warp_job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
         """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
-        ``c_dst`` (:func:`morphkit.warp._accumulate_warps`): premultiplied, and only
+        ``c_dst`` (:func:`morphkit.warp.accumulate_warps`): premultiplied, and only
         the triangles whose source holds the object are warped (the rest add 0)."""
         src = self.source_planes(j, i)
         warper = self.warper(j, i)
         try:
-            return warper._accumulation(c_dst, self.shape), src, self.active_triangles(j, i), weight
+            return warper.accumulation(c_dst, self.shape), src, self.active_triangles(j, i), weight
         except FoldOverError:
             # An occlusion change too large for the mesh: warp with plane anchors,
             # whose motion is projective and cannot fold (documented fallback).
@@ -355,7 +355,7 @@ class ShadowAtlas:
             src_pts = self.project((self.xs[i], self.ys[j]), self.plane_anchors[j, i])
             dst_pts = self.project(eq, self.plane_anchors[j, i])
             warper = MeshWarper(src_pts, self.triangles)
-            return (warper._accumulation(dst_pts, self.shape), src,
+            return (warper.accumulation(dst_pts, self.shape), src,
                     warper.triangles_touching(src[0]), weight)
 
     # ------------------------------------------------------------ file I/O

@@ -31,10 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..settings import compile_kernel, use_compiled
 from ..validate import as_finite_array
 
 __all__ = ["ShadowBias", "shadow_visibility", "normals_from_points"]
@@ -107,7 +106,7 @@ def lookup_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
     (:func:`_lookup_numpy`, the reference the tests compare with) runs without
     numba or with ``MORPHKIT_WARP_NUMPY=1``.
     """
-    if _lookup_kernel is None or _NUMPY_ONLY:
+    if not use_compiled(_lookup_kernel):
         _lookup_numpy(vis, pts, dm, light_cam, normals, b)
         return
     persp = light_cam.projection == "perspective"
@@ -190,5 +189,4 @@ def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
             vis[k] = 0.0
 
 
-_lookup_kernel = (_numba.njit(cache=True, nogil=True)(_lookup_loop) if _numba is not None
-                  else None)
+_lookup_kernel = compile_kernel(_lookup_loop)

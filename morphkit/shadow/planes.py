@@ -12,7 +12,7 @@ import cv2
 import numpy as np
 
 from ..settings import compile_kernel, use_compiled
-from ..warp import MeshWarper, _accumulate_warps
+from ..warp import MeshWarper, accumulate_warps
 
 __all__ = ["depth_planes", "add_planes", "warp_planes", "planes_to_depth"]
 
@@ -51,7 +51,7 @@ def warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
     ``dst_pts`` (0 outside)."""
     warper = MeshWarper(src_pts, triangles)
     out = np.zeros((2, *shape), np.float32)
-    _accumulate_warps([(warper._accumulation(dst_pts, shape), src,
+    accumulate_warps([(warper.accumulation(dst_pts, shape), src,
                         warper.triangles_touching(src[0]), 1.0)], out)
     return out
 

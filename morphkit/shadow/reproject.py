@@ -58,9 +58,8 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
-from .._scanline import numba as _numba
 from ..errors import ValidationError, expected_got
+from ..settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
            "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
@@ -416,17 +415,14 @@ def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool,
     box[3] = ihi
 
 
-if _numba is not None:
-    _jit = _numba.njit(cache=True, nogil=True, inline="always")
-    _tri = _jit(_tri)
-    _grow = _jit(_grow)
-    _fits = _jit(_fits)
-    _project_row = _jit(_project_row)
-    _draw_quads = _jit(_draw_quads)
-    _reproject_kernel = _numba.njit(cache=True, nogil=True)(_reproject_loop)
-    _runs_kernel = _numba.njit(cache=True, nogil=True)(_runs_loop)
-else:  # pragma: no cover - numba is a dependency
-    _reproject_kernel = _runs_kernel = None
+if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they compile
+    _tri = compile_kernel(_tri, inline="always")
+    _grow = compile_kernel(_grow, inline="always")
+    _fits = compile_kernel(_fits, inline="always")
+    _project_row = compile_kernel(_project_row, inline="always")
+    _draw_quads = compile_kernel(_draw_quads, inline="always")
+_reproject_kernel = compile_kernel(_reproject_loop)
+_runs_kernel = compile_kernel(_runs_loop)
 
 
 # ----------------------------------------------------------------- numpy reference
@@ -639,7 +635,7 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
     if out.dtype != np.float32 or out.ndim != 2:
         raise ValidationError(expected_got("out", "a float32 (H, W) z-buffer", f"{out.dtype} {out.shape}"))
     box = np.array([out.shape[0], 0, out.shape[1], 0], np.int64)
-    if _reproject_kernel is None or _NUMPY_ONLY:
+    if not use_compiled(_reproject_kernel):
         for src, rp in jobs:
             before = out.copy()
             reproject_numpy(src.depth, rp, out, stretch=stretch,
@@ -679,9 +675,9 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
 
     if n == 1:
         return _box(band(0, out))
-    from ..warp import _band_pool
+    from ..warp import band_pool
 
-    futures = [_band_pool().submit(band, b, scratch[b - 1]) for b in range(1, n)]
+    futures = [band_pool().submit(band, b, scratch[b - 1]) for b in range(1, n)]
     box = band(0, out)
     for b, f in enumerate(futures, start=1):
         bx = f.result()

@@ -30,8 +30,7 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import FoldOverError, ValidationError, expected_got
-from ..warp import _accumulate_warps as accumulate_warps  # TODO(merge s15-warp): public names
-from ..warp import _roi_union as roi_union
+from ..warp import accumulate_warps, roi_union
 from .method import bilinear_weights
 from .planes import add_planes, planes_to_depth, warp_planes
 from .rig import LightRig

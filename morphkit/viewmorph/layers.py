@@ -33,7 +33,6 @@ exact where opaque; a semi-transparent (anti-aliased) pixel there gets alpha
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -41,7 +40,7 @@ import numpy as np
 from .. import tol
 from ..errors import ValidationError, expected_got
 from ..validate import as_image
-from ..warp import MeshWarper
+from ..warp import OUTSIDE, MeshWarper
 from .correspondences import Correspondences
 from .mesh import build_morph_mesh, mesh_canvas
 from .rectify import apply_h
@@ -254,31 +253,6 @@ def check_depth_keys(layer_depth: Any, shape0: tuple[int, int], shape1: tuple[in
     return keys
 
 
-@lru_cache(maxsize=1)
-def _warp_outside_position() -> float | None:
-    """The source position :meth:`MeshWarper.maps` gives output pixels outside the mesh.
-
-    :class:`~morphkit.warp.WarpMaps` documents it as "a far-outside position";
-    it is read once from a probe warp (a triangle over part of a 3 x 3 output).
-
-    Returns
-    -------
-    float or None
-        That position's ``x`` (= ``y``) in source pixels, or None unless every
-        uncovered probe pixel holds that one value in both coordinates (the
-        C1 look-up then always masks; see :attr:`MorphLayer.c1_far`).
-    """
-    tri = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
-    wm = MeshWarper(tri).maps(tri, (3, 3))
-    if wm.map1 is None:
-        return None
-    r_0, r_1, c_0, c_1 = wm.roi
-    out = wm.map_xy[~wm.mask[r_0:r_1, c_0:c_1]]
-    if out.size == 0 or not np.all(out == out.flat[0]):
-        return None
-    return float(out.flat[0])
-
-
 def build_layer(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
                 bbox: tuple[np.ndarray, np.ndarray], frame_grid: int, H_rect_0: np.ndarray,
                 H_rect_1: np.ndarray) -> MorphLayer:
@@ -326,8 +300,7 @@ def build_layer(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
     r_0, r_1, c_0, c_1 = wm.roi
     c1[r_0:r_1, c_0:c_1] = np.where(wm.mask[r_0:r_1, c_0:c_1, None], wm.map_xy, np.float32(FAR_POSITION))
     # Does the warp's position for uncovered pixels fall >= 2 px off the C1 canvas?
-    far = _warp_outside_position()
-    c1_far = far is not None and float(far) - float(lo0.max()) <= -2.0
+    c1_far = float(OUTSIDE) - float(lo0.max()) <= -2.0
     lo, hi = bbox
     return MorphLayer(prem, (np.floor(lo), np.ceil(hi)), r0, r1, tris, is_corr, corr.subset(used), ndrop,
                       w0, w1, lo0, c1, c1_far)

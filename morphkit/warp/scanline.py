@@ -2,8 +2,8 @@
 
 One pass over the destination triangles writes, for every output pixel centre a
 triangle covers, its source position ``A_src_dst[t] @ (x, y, 1)``; pixels no
-triangle covers get :data:`OUTSIDE`. The coverage rule and the edge arithmetic
-are exactly those of :func:`morphkit.warp._build_maps`' numpy path (the
+triangle covers get :data:`morphkit.warp.OUTSIDE`. The coverage rule and the edge arithmetic
+are exactly those of :func:`morphkit.warp.build.build_maps`' numpy path (the
 reference implementation, kept for tests and for machines without numba): rows
 ``[ceil(y_top), ceil(y_bottom))``, columns ``[ceil(x_left), ceil(x_right))``,
 each edge crossing computed as ``s * y + q`` from the edge's own top end, so
@@ -31,29 +31,12 @@ sort, repeat, LUTs, products); the kernel touches each pixel once.
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
-# numba's parallel bands run on OpenMP (libgomp) where available, whose idle
-# threads spin-wait by default: measured here, they halved the speed of the
-# cv2.remap that follows every fill (0.48 vs 0.25 ms at 512^2 on 2 cores).
-# Passive waiting keeps the cores free for OpenCV; set before libgomp loads, and
-# a value the user set wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+from ..settings import compile_kernel, numba
 
-try:  # optional at import time; morphkit.warp falls back to numpy without it
-    import numba
-except ImportError:  # pragma: no cover - numba is a dependency
-    numba = None
-
-__all__ = ["AVAILABLE", "accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
-
-AVAILABLE = numba is not None
-
-#: ``MORPHKIT_WARP_NUMPY=1`` forces the numpy reference path of every compiled
-#: kernel (warp maps, shadow lookup, fold relaxation); tests compare the two.
-NUMPY_ONLY = bool(os.environ.get("MORPHKIT_WARP_NUMPY"))
+__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
 
 
 #: Cast of a pixel offset known to be >= 0 (see ``_fill_band``).
@@ -155,7 +138,7 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
                 oy = a11 * yf + by
                 # Unsigned column offsets (x >= xl >= c0): a signed index makes
                 # numba test for negative (wrap-around) indices per pixel, which
-                # keeps the loops from vectorising (3x slower).
+                # keeps the loops from vectorising (docs/RESULTS.md, mesh warp).
                 mrow = mx[y - r0]
                 nrow = my[y - r0]
                 if counting:  # one branch per run: the pixel loops stay simple
@@ -349,7 +332,7 @@ def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) ->
 def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: np.ndarray
                     ) -> bool:
     """Whether a mesh that is a topological disk (``loop``: its boundary
-    vertices in cycle order, :func:`morphkit.warp._disk_boundary`) is mapped by
+    vertices in cycle order, :func:`morphkit.warp.mesh.disk_boundary`) is mapped by
     ``cov`` without overlap: every triangle keeps the orientation ``sign`` and the
     boundary polygon is simple. Then the map has degree 1 inside the boundary's
     image and is one-to-one (each point's preimages all count +1 and sum to the
@@ -395,7 +378,7 @@ def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: n
 def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign: np.ndarray,
                   boundary: np.ndarray, H: int, W: int, min_det: float, push: float,
                   cov: np.ndarray, coef: np.ndarray) -> tuple[int, int, int, int, int]:
-    """The per-call set-up of :func:`morphkit.warp._prepare` in one compiled
+    """The per-call set-up of :func:`morphkit.warp.build.prepare` in one compiled
     pass (the numpy version is the reference and writes the error messages):
     fold test, boundary pushed out by ``push`` into ``cov``, ROI, per-triangle
     affines into ``coef``. Returns ``(n_folded, r0, r1, c0, c1)``; on
@@ -500,11 +483,11 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
 #: Rows per band, at least, when filling in parallel.
 MIN_BAND_ROWS = 64
 
-#: ROI pixels below which the fill runs in the calling thread. Waking numba's
-#: sleeping worker threads (OpenMP, passive waiting: see above) costs about
-#: 0.3 ms on this project's 2-core virtual machine, more than a whole 512^2
-#: fill (0.4 ms, one thread; 0.53 ms in two bands); at 1024^2 two bands win
-#: (2.1 vs 2.9 ms). Measured with ``morphkit bench warp``.
+#: ROI pixels below which the fill runs in the calling thread: waking numba's
+#: sleeping worker threads (OpenMP, passive waiting: :mod:`morphkit.settings`)
+#: costs more than a whole fill of a ROI this small in one thread, while larger
+#: ones gain from the bands (figures: ``docs/RESULTS.md``, mesh warp; measure
+#: with ``morphkit bench warp``).
 PARALLEL_MIN_PIXELS = 1 << 19
 
 
@@ -519,23 +502,19 @@ def n_bands(rows: int, cols: int) -> int:
 
 if numba is not None:
     _prange = numba.prange
-    _jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    _tri_rows = _jit(_tri_rows)
-    _row_span = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")(_row_span)
-    _fill_band = _jit(_fill_band)
-    _fill_one = _jit(_fill_one)
-    _orient = _jit(_orient)
-    mesh_injective = _jit(_mesh_injective)
-    prepare_warp = _jit(_prepare_warp)
-    _fill_serial_jit = _jit(_fill_serial)
-    _sample_border = _jit(_sample_border)
-    accumulate = numba.njit(cache=True, nogil=True, error_model="numpy",
-                            fastmath={"contract", "reassoc", "nsz", "arcp", "afn"})(_accumulate)
-    _fill_parallel_jit = numba.njit(cache=True, nogil=True, parallel=True,
-                                    error_model="numpy")(_fill_parallel)
-else:  # pragma: no cover
+    _tri_rows = compile_kernel(_tri_rows, error_model="numpy")
+    _row_span = compile_kernel(_row_span, error_model="numpy", inline="always")
+    _fill_band = compile_kernel(_fill_band, error_model="numpy")
+    _fill_one = compile_kernel(_fill_one, error_model="numpy")
+    _orient = compile_kernel(_orient, error_model="numpy")
+    mesh_injective = compile_kernel(_mesh_injective, error_model="numpy")
+    prepare_warp = compile_kernel(_prepare_warp, error_model="numpy")
+    _fill_serial_jit = compile_kernel(_fill_serial, error_model="numpy")
+    _sample_border = compile_kernel(_sample_border, error_model="numpy")
+    accumulate = compile_kernel(_accumulate, error_model="numpy",
+                                fastmath={"contract", "reassoc", "nsz", "arcp", "afn"})
+    _fill_parallel_jit = compile_kernel(_fill_parallel, parallel=True, error_model="numpy")
+else:  # pragma: no cover - no numba: the public kernels are None, as compile_kernel returns
+    # them, and callers run their numpy references (morphkit.settings.use_compiled)
     _prange = range
-    _fill_serial_jit = _fill_parallel_jit = _fill_serial
-    accumulate = _accumulate
-    mesh_injective = _mesh_injective
-    prepare_warp = _prepare_warp
+    fill_maps = accumulate = mesh_injective = prepare_warp = None
