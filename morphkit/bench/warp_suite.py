@@ -34,7 +34,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from ..warp import MeshWarper, delaunay_triangles
+from ..warp import MeshWarper, WarpMaps, delaunay_triangles
 from .harness import auto_repeats, make_row, time_call, time_calls
 
 __all__ = ["run", "per_triangle_warp", "make_case", "FLOOR_METHOD", "PLOT_OPTIONS"]
@@ -174,17 +174,20 @@ def run(*, quick: bool = False, sizes: tuple[int, ...] | None = None,
                 wm = warper.maps(dst, shape)
                 m1, m2 = wm.map1, wm.map2
 
-                def f_morphkit(img=img, warper=warper, dst=dst, shape=shape):
+                def f_morphkit(img: np.ndarray = img, warper: MeshWarper = warper, dst: np.ndarray = dst,
+                               shape: tuple[int, int] = shape) -> np.ndarray:
                     return warper(img, dst, shape)
 
-                def f_apply(img=img, wm=wm):
+                def f_apply(img: np.ndarray = img, wm: WarpMaps = wm) -> np.ndarray:
                     return wm.apply(img)
 
-                def f_remap(img=img, m1=m1, m2=m2):
+                def f_remap(img: np.ndarray = img, m1: np.ndarray = m1,
+                            m2: np.ndarray | None = m2) -> np.ndarray:
                     return cv2.remap(img, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                                      borderValue=0)
 
-                def f_tri(img=img, src=src, dst=dst, tris=tris, shape=shape):
+                def f_tri(img: np.ndarray = img, src: np.ndarray = src, dst: np.ndarray = dst,
+                          tris: np.ndarray = tris, shape: tuple[int, int] = shape) -> np.ndarray:
                     return per_triangle_warp(img, src, dst, tris, shape)
 
                 fns = {"morphkit": f_morphkit, "morphkit_apply": f_apply, "remap": f_remap,
@@ -201,7 +204,8 @@ def run(*, quick: bool = False, sizes: tuple[int, ...] | None = None,
                 timings = time_calls(fns, repeats=n, warmup=1)
                 if PiecewiseAffineTransform is not None and size <= sk_max:
 
-                    def f_sk(img=img, src=src, dst=dst):
+                    def f_sk(img: np.ndarray = img, src: np.ndarray = src,
+                             dst: np.ndarray = dst) -> np.ndarray:
                         return sk_warp(img, _sk_transform(PiecewiseAffineTransform, dst, src), order=1,
                                        preserve_range=True, cval=0.0)
 

@@ -1,0 +1,91 @@
+"""The package's shape, checked: what the structure rules promise is true of the source.
+
+* a module uses another module's public names only (no ``from .x import _y``);
+* pyrender/OpenGL are imported by :mod:`morphkit.render` alone (the numpy/OpenCV
+  core runs without a GL context);
+* environment variables are read by :mod:`morphkit.settings` alone;
+* nothing outside :mod:`morphkit.bench` (and the CLI's ``bench`` command)
+  imports the benchmarks: scenes shared with them live in :mod:`morphkit.scenes`.
+
+Attribute access to other objects' private members is ruff's ``SLF001``
+(enabled in ``pyproject.toml``).
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "morphkit"
+SOURCES = sorted(PACKAGE.rglob("*.py"))
+
+
+def _module(path: Path) -> str:
+    rel = path.relative_to(PACKAGE.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
+    """``(line, absolute module, imported names)`` of every import in ``path``."""
+    mod = _module(path)
+    package = mod if path.name == "__init__.py" else mod.rpartition(".")[0]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")
+                anchor = anchor[: len(anchor) - (node.level - 1)]
+                base = ".".join(anchor + ([base] if base else []))
+            out.append((node.lineno, base, [a.name for a in node.names]))
+        elif isinstance(node, ast.Import):
+            out.extend((node.lineno, a.name, []) for a in node.names)
+    return out
+
+
+def test_the_scan_sees_the_package():
+    assert len(SOURCES) > 30 and any(p.name == "render.py" for p in SOURCES)
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_private_names_imported_across_modules(path):
+    def submodule(mod: str, name: str) -> bool:  # ``from . import _kernels``: a package's own module
+        folder = PACKAGE.parent.joinpath(*mod.split("."))
+        return (folder / f"{name}.py").is_file() or (folder / name / "__init__.py").is_file()
+
+    bad = [f"line {ln}: from {mod} import {name}" for ln, mod, names in _imports(path)
+           for name in names if name.startswith("_") and not name.startswith("__")
+           and mod.startswith("morphkit") and mod != _module(path) and not submodule(mod, name)]
+    assert not bad, f"{path.name} imports private names of other modules: {bad}"
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_gl_stays_behind_the_render_module(path):
+    gl = [f"line {ln}: {mod}" for ln, mod, _ in _imports(path)
+          if mod.split(".")[0] in ("pyrender", "OpenGL", "pyglet")]
+    if _module(path) == "morphkit.render":
+        assert gl, "render.py is where pyrender is imported"
+    else:
+        assert not gl, f"{path.name} imports GL modules: {gl}"
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_environment_is_read_in_settings_only(path):
+    uses = [n.lineno for n in ast.walk(ast.parse(path.read_text()))
+            if isinstance(n, ast.Attribute) and n.attr in ("environ", "getenv")]
+    if _module(path) != "morphkit.settings":
+        assert not uses, f"{path.name} reads the environment at lines {uses}: use morphkit.settings"
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_only_the_bench_and_the_cli_import_the_bench(path):
+    mod = _module(path)
+    if mod.startswith("morphkit.bench") or mod == "morphkit.cli":
+        return
+    bad = [f"line {ln}: {m}" for ln, m, _ in _imports(path) if m.startswith("morphkit.bench")]
+    assert not bad, f"{path.name} imports the benchmark: {bad}"
