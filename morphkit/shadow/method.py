@@ -16,14 +16,17 @@ motion is stated in :mod:`morphkit.shadow.rig`.
 
 from __future__ import annotations
 
-from typing import Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..camera import CameraModel
 from .rig import LightRig
 
-__all__ = ["ShadowMethod", "bilinear_weights"]
+if TYPE_CHECKING:
+    from .atlas import ShadowAtlas
+
+__all__ = ["ShadowMethod", "AtlasMethodBase", "bilinear_weights"]
 
 
 @runtime_checkable
@@ -72,6 +75,25 @@ class ShadowMethod(Protocol):
             The light camera the map belongs to.
         """
         ...
+
+
+class AtlasMethodBase:
+    """What the shadow methods of an atlas share: the atlas, its rig and its persisted bytes."""
+
+    name = "warp"
+
+    def __init__(self, atlas: ShadowAtlas) -> None:
+        self.atlas = atlas
+
+    @property
+    def rig(self) -> LightRig:
+        """The atlas's light rig."""
+        return self.atlas.rig
+
+    @property
+    def memory_bytes(self) -> int:
+        """The atlas's persisted bytes (:attr:`ShadowAtlas.memory_bytes`)."""
+        return self.atlas.memory_bytes
 
 
 def bilinear_weights(j: int, i: int, v: float, u: float) -> list[tuple[tuple[int, int], float]]:

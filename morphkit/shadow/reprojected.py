@@ -20,18 +20,17 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..settings import WARP_THREADS
-from .method import bilinear_weights
+from .method import AtlasMethodBase, bilinear_weights
 from .reproject import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
 from .warped import check_flag
 
 if TYPE_CHECKING:
     from .atlas import ShadowAtlas
-    from .rig import LightRig
 
 __all__ = ["ReprojectedMaps"]
 
 
-class ReprojectedMaps:
+class ReprojectedMaps(AtlasMethodBase):
     """The cell's maps reprojected per pixel into one z-buffer (a :class:`ShadowMethod`).
 
     Parameters
@@ -49,21 +48,11 @@ class ReprojectedMaps:
     """
 
     def __init__(self, atlas: ShadowAtlas, *, nearest: bool = False, layers: bool = True) -> None:
-        self.atlas = atlas
+        super().__init__(atlas)
         self.nearest = check_flag(nearest, "nearest")
         self.layers = check_flag(layers, "layers")
         self.name = "reproject" + ("_nearest" if self.nearest else "") + ("" if self.layers else "_full")
         self._scratch: list[np.ndarray] = []
-
-    @property
-    def rig(self) -> LightRig:
-        """The atlas's light rig."""
-        return self.atlas.rig
-
-    @property
-    def memory_bytes(self) -> int:
-        """The atlas's persisted bytes (hidden layers are a run-time cache: ``atlas.layer_bytes``)."""
-        return self.atlas.memory_bytes
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:

@@ -31,9 +31,8 @@ import numpy as np
 from ..camera import CameraModel
 from ..errors import FoldOverError, ValidationError, expected_got
 from ..warp import accumulate_warps, roi_union
-from .method import bilinear_weights
+from .method import AtlasMethodBase, bilinear_weights
 from .planes import add_planes, planes_to_depth, warp_planes
-from .rig import LightRig
 
 if TYPE_CHECKING:
     from .atlas import ShadowAtlas
@@ -55,26 +54,7 @@ def _check_correspondence(atlas: ShadowAtlas, what: str) -> None:
             "correspondence across maps)", "'sample' anchors"))
 
 
-class _AtlasMethod:
-    """What the atlas methods share: the atlas, its rig and memory."""
-
-    name = "warp"
-
-    def __init__(self, atlas: ShadowAtlas) -> None:
-        self.atlas = atlas
-
-    @property
-    def rig(self) -> LightRig:
-        """The atlas's light rig."""
-        return self.atlas.rig
-
-    @property
-    def memory_bytes(self) -> int:
-        """The atlas's persisted bytes (:attr:`ShadowAtlas.memory_bytes`)."""
-        return self.atlas.memory_bytes
-
-
-class ComposedWarp(_AtlasMethod):
+class ComposedWarp(AtlasMethodBase):
     """Warp the cell's maps once each to the destination and blend them (a :class:`ShadowMethod`).
 
     Parameters
@@ -136,7 +116,7 @@ class ComposedWarp(_AtlasMethod):
             raise
 
 
-class ThreeWarps(_AtlasMethod):
+class ThreeWarps(AtlasMethodBase):
     """Kang & Ihm's three warps: row morphs at the fraction ``u``, then a column morph at ``v``.
 
     Parameters
