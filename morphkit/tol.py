@@ -39,6 +39,20 @@ RAY_OFFSET = 1e-4
 #: far below it; samples at such centres move by < 1e-6 px (invisible).
 MESH_BOUNDARY_PX = 1e-6
 
+#: Relative length below which a mesh counts as flat in a direction
+#: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
+#: (or second bounding-box extent) over its first. Vertex coordinates round at
+#: ~1e-16 of the mesh size; 1e-9 is far above that and far below any real
+#: feature (a nanometre on a one-metre object).
+MESH_ZERO_LENGTH_REL = 1e-9
+
+#: A mesh face whose area is below this times the squared largest extent of the
+#: mesh has zero area (:func:`morphkit.meshes.check_mesh`); a mesh whose faces
+#: all have zero area has no surface to draw and is refused. The cross product
+#: of collinear float64 edges of length ~L rounds to ~1e-16 L^2; 1e-12 L^2 is
+#: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
+MESH_ZERO_AREA_REL = 1e-12
+
 # --- view morphing (morphkit.viewmorph) -------------------------------------
 
 #: Default inlier threshold (pixels) of the robust fundamental-matrix fit

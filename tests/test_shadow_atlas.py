@@ -416,6 +416,36 @@ def test_bake_bad_arguments(renderer, cow):
         bake_atlas(cow, np.eye(4), MOTION, SUN, (32, 32), renderer=renderer, progress=False)
 
 
+class _NoRender:
+    """A renderer that must not be reached: the sizes are refused before any work."""
+
+    def depth(self, *_a, **_k):
+        raise AssertionError("rendered although the sizes exceed the limit")
+
+    color_depth = source_view = depth
+
+
+def _nan_box():
+    m = trimesh.creation.box()
+    m.vertices[0] = np.nan
+    return m
+
+
+@pytest.mark.parametrize("mesh, match", [
+    (None, r"mesh: expected a trimesh.Trimesh, got NoneType"),
+    (trimesh.Trimesh(), r"mesh: expected a mesh with at least one face, got 0 faces"),
+    (_nan_box(), r"mesh: expected finite vertex coordinates, got 1 non-finite"),
+    (trimesh.Trimesh(np.c_[np.arange(4.0), np.arange(4.0), np.zeros(4)], [[0, 1, 2], [1, 2, 3]],
+                     process=False), r"mesh: expected a surface .*got all vertices on one line"),
+], ids=["none", "empty", "nan", "collinear"])
+def test_bake_checks_the_mesh_first(mesh, match):
+    """An all-collinear mesh used to bake an empty atlas; the others raised raw errors."""
+    from morphkit.errors import MeshError
+
+    with pytest.raises(MeshError, match=match):
+        bake_atlas(mesh, np.eye(4), MOTION, SUN, (32, 32), renderer=_NoRender(), progress=False)
+
+
 # ------------------------------------------------------------- warps="reproject"
 def test_reproject_at_a_sample_reproduces_the_baked_map(point_atlas):
     a = point_atlas

@@ -89,6 +89,7 @@ import trimesh
 from .. import tol
 from ..camera import CameraModel
 from ..errors import FoldOverError, ValidationError, expected_got
+from ..meshes import check_mesh
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..warp import (
@@ -399,11 +400,17 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         Evenly spaced samples even for odd ``grid`` (the image-based baseline).
     progress : bool
         Show a progress bar on a terminal (tqdm; silent when not a TTY).
+
+    Raises
+    ------
+    MeshError
+        ``mesh`` cannot be drawn (:func:`morphkit.meshes.check_mesh`).
     """
     from tqdm import tqdm
 
     from ..scene import Item
 
+    mesh = check_mesh(mesh, "mesh")
     ky, kx = (grid, grid) if np.isscalar(grid) else tuple(int(g) for g in grid)  # type: ignore[misc]
     rows, cols = (int(control_grid[0]), int(control_grid[1]))
     if rows < 2 or cols < 2:
