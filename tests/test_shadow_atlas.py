@@ -411,6 +411,14 @@ def test_bake_bad_arguments(renderer, cow):
         bake_atlas(cow, np.eye(4), MOTION, SUN, (32, 32), renderer=renderer, grid=1, progress=False)
     with pytest.raises(ValidationError, match="shadow map shape: expected positive"):
         bake_atlas(cow, np.eye(4), MOTION, SUN, (0, 32), renderer=renderer, progress=False)
+    with pytest.raises(ValidationError, match=r"shadow map shape: expected an \(H, W\) pair of integers, "
+                       r"got \(32.5, 32\)"):
+        bake_atlas(cow, np.eye(4), MOTION, SUN, (32.5, 32), renderer=renderer, progress=False)
+    with pytest.raises(ValidationError, match=r"grid: expected k >= 2 samples per axis .*got 2.5"):
+        bake_atlas(cow, np.eye(4), MOTION, SUN, (32, 32), renderer=renderer, grid=2.5, progress=False)
+    with pytest.raises(ValidationError, match=r"control_grid: expected \(rows, cols\) >= \(2, 2\)"):
+        bake_atlas(cow, np.eye(4), MOTION, SUN, (32, 32), renderer=renderer, control_grid=(5.5, 5),
+                   progress=False)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         bake_atlas(cow, np.eye(4), MOTION, SUN, (32, 32), renderer=renderer, progress=False)
@@ -423,6 +431,17 @@ class _NoRender:
         raise AssertionError("rendered although the sizes exceed the limit")
 
     color_depth = source_view = depth
+
+
+@pytest.mark.parametrize("shape, grid, match", [
+    ((20000, 20000), 3, r"shadow map shape: expected at most 67108864 pixels"),
+    ((100000, 100000), 3, r"shadow map shape: expected at most 67108864 pixels"),
+    ((8192, 8192), 9, r"atlas maps: expected at most 4294967296 bytes \(morphkit.tol.MAX_BUFFER_BYTES\), "
+                      r"got 9 x 9 maps of 8192 x 8192 float32 = 21743271936 bytes"),
+])
+def test_bake_refuses_sizes_beyond_the_limits_before_allocating(cow, shape, grid, match):
+    with pytest.raises(ValidationError, match=match):
+        bake_atlas(cow, np.eye(4), MOTION, SUN, shape, renderer=_NoRender(), grid=grid, progress=False)
 
 
 def _nan_box():

@@ -58,6 +58,8 @@ def test_soft_range_grows_by_the_light_extent():
     (np.array([[0.0, 0.0], [1.5, 0.0]]), r"each in \[-1, 1\]\^2.*1.5"),
     (np.zeros((0, 2)), "at least one"),
     (2.5, "an int k"),
+    ((10**4, 10**4), r"at most 4096 \(morphkit.tol.MAX_LIGHT_SAMPLES\), got 10000 x 10000"),
+    (np.zeros((5000, 2)), r"at most 4096 \(morphkit.tol.MAX_LIGHT_SAMPLES\), got 5000"),
 ])
 def test_bad_sample_specs_are_refused(samples, match):
     with pytest.raises(ValidationError, match=match):
