@@ -389,11 +389,18 @@ def test_load_refuses_bad_files(tmp_path, point_atlas):
     meta["version"] = 999
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
     np.savez(tmp_path / "v999.npz", **arrays)
-    with pytest.raises(FileFormatError, match="atlas version: expected 1, got 999"):
+    with pytest.raises(FileFormatError, match=r"atlas version: expected 2 .*re-bake.*, got 999"):
         ShadowAtlas.load(tmp_path / "v999.npz")
-    meta["version"] = 1
-    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
+    meta["version"] = 2
     arrays["control"] = arrays["control"] + 0.5
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
+    np.savez(tmp_path / "moved.npz", **arrays)
+    with pytest.raises(FileFormatError, match="atlas array 'control': expected sha256"):
+        ShadowAtlas.load(tmp_path / "moved.npz")
+    from morphkit.shadow.atlasfile import array_digest
+
+    meta["arrays"]["control"]["sha256"] = array_digest(arrays["control"])  # consistent checksum
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
     np.savez(tmp_path / "moved.npz", **arrays)
     with pytest.raises(FileFormatError, match="atlas control points: expected consistent"):
         ShadowAtlas.load(tmp_path / "moved.npz")
