@@ -19,7 +19,17 @@ def test_help_lists_subcommands(capsys):
 
 @pytest.mark.gl
 def test_demo_quick_writes_indexed_files(tmp_path, capsys):
-    assert main(["demo", "--quick", "-o", str(tmp_path)]) == 0
+    # a previous demo: replaced only with --overwrite; its files that the new demo
+    # does not write again go, files it did not list stay
+    (tmp_path / "index.json").write_text(json.dumps({"files": [{"path": "old_extra.png"},
+                                                              {"path": "teapot_scene.png"}]}))
+    (tmp_path / "old_extra.png").write_bytes(b"old")
+    (tmp_path / "notes.txt").write_text("mine")
+    assert main(["demo", "--quick", "-o", str(tmp_path)]) == 2
+    assert "pass --overwrite" in capsys.readouterr().err
+    assert main(["demo", "--quick", "--overwrite", "-o", str(tmp_path)]) == 0
+    assert not (tmp_path / "old_extra.png").exists() and (tmp_path / "notes.txt").read_text() == "mine"
+    assert not list(tmp_path.glob(".*.part"))  # no temporary left
     index = json.loads((tmp_path / "index.json").read_text())
     names = {f["path"] for f in index["files"]}
     for mesh in ("teapot", "chair", "cow"):
