@@ -424,7 +424,13 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
 ]
 
 
-@pytest.mark.parametrize("description, fn, exc, match", ROWS, ids=[r[0] for r in ROWS])
+#: rows that import the GL module (morphkit.demo imports morphkit.render; no context is made)
+_GL = ("run_demo", "cli demo")
+
+
+@pytest.mark.parametrize("description, fn, exc, match", [
+    pytest.param(*r, marks=pytest.mark.gl) if r[0].startswith(_GL) else r for r in ROWS],
+    ids=[r[0] for r in ROWS])
 def test_bad_input_is_handled(tmp_path, description, fn, exc, match):
     if "/proc/" in description + match and not Path("/proc/self").exists():
         pytest.skip("needs Linux /proc")
