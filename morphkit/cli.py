@@ -2,6 +2,10 @@
 
 Heavy modules are imported inside each subcommand so ``morphkit --help`` is fast
 and needs no GL context.
+
+Errors: every command's morphkit errors and OS errors are caught in :func:`main`
+and printed as one line ``morphkit: error: ...`` on stderr (exit code 1); usage
+errors exit with 2 (argparse's, and a refused overwrite). No traceback.
 """
 
 from __future__ import annotations
@@ -15,19 +19,42 @@ from .errors import MorphkitError
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from .demo import run_demo
+    from .demo import previous_demo, run_demo
 
-    index = run_demo(Path(args.out), size=args.size, quick=args.quick)
+    old = previous_demo(args.out)
+    if old is not None and not args.overwrite:
+        print(f"morphkit: error: {args.out} already holds a demo ({old.name}); pass --overwrite to "
+              "replace it", file=sys.stderr)
+        return 2
+    index = run_demo(Path(args.out), size=args.size, quick=args.quick, overwrite=args.overwrite)
     print(f"morphkit demo: wrote {len(index['files'])} files to {Path(args.out).resolve()}")
     print(f"index: {Path(args.out).resolve() / 'index.json'}")
     return 0
 
 
+def _check_output_file(path: Path | None, what: str) -> None:
+    """Refuse, before any work, an output file path that is a folder or lies under a file."""
+    from .errors import ValidationError, expected_got
+
+    if path is None:
+        return
+    if path.is_dir():
+        raise ValidationError(expected_got(what, "a file path", f"the folder {path}"))
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise ValidationError(expected_got(what, "a path under a folder", f"{path} (under the file "
+                                                   f"{parent})"))
+            break
+
+
 def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import SUITES, run_suite
 
+    _check_output_file(args.json, "--json")
+    _check_output_file(args.plot, "--plot")
     if args.suite not in SUITES:
-        print(f"unknown suite {args.suite!r}; available: {', '.join(sorted(SUITES))}",
+        print(f"morphkit: error: unknown suite {args.suite!r}; available: {', '.join(sorted(SUITES))}",
               file=sys.stderr)
         return 2
     run_suite(args.suite, quick=args.quick, json_path=args.json, plot_path=args.plot)
@@ -42,6 +69,9 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     from .viewmorph import ViewMorpher, from_images, load_points
 
     def read(path: str) -> np.ndarray:
+        if not Path(path).is_file():  # (OpenCV would also print a warning of its own)
+            raise FileFormatError(f"image {path!r}: expected a readable image file, got "
+                                  f"{'a folder' if Path(path).is_dir() else 'no such file'}")
         img = cv2.imread(path, cv2.IMREAD_UNCHANGED)
         if img is None:
             raise FileFormatError(f"image {path!r}: expected a readable image file, got none")
@@ -50,16 +80,28 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
         return img
 
     def write(path: Path, img: np.ndarray) -> None:
+        from .fileio import write_image
+
         path.parent.mkdir(parents=True, exist_ok=True)
         if img.ndim == 3:
             img = cv2.cvtColor(img, cv2.COLOR_RGBA2BGRA if img.shape[2] == 4 else cv2.COLOR_RGB2BGR)
         if img.dtype.kind == "f":
             img = np.clip(np.rint(img * 255), 0, 255).astype(np.uint8)
-        if not cv2.imwrite(str(path), img):
-            raise FileFormatError(f"output {str(path)!r}: expected a writable image path, got a failure")
+        write_image(path, img)  # atomic; an unknown extension fails before the disk is touched
 
+    _check_output_file(None if args.frames else Path(args.out), "output image")
     left, right = read(args.left), read(args.right)
-    corr = load_points(args.points) if args.points else from_images(left, right)
+    if args.points:
+        try:
+            corr = load_points(args.points)
+        except (MorphkitError, OSError):
+            raise
+        except (ValueError, TypeError, KeyError, IndexError) as exc:  # a layout load_points did not foresee
+            raise FileFormatError(f"points file {args.points!r}: expected x0, y0, x1, y1 rows or "
+                                  f'{{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}}, got '
+                                  f"{type(exc).__name__}: {exc}") from exc
+    else:
+        corr = from_images(left, right)
     vm = ViewMorpher(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
     rep = vm.report
     fit = rep.get("fundamental", {})
@@ -98,6 +140,8 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("-o", "--out", default="morphkit-demo", help="output folder (default: %(default)s)")
     d.add_argument("--size", type=int, default=512, help="image size in pixels (default: %(default)s)")
     d.add_argument("--quick", action="store_true", help="smaller images and meshes, for a smoke test")
+    d.add_argument("--overwrite", action="store_true",
+                   help="replace a previous demo in OUT (without it, such a folder is left as it is)")
     d.set_defaults(func=_cmd_demo)
 
     b = sub.add_parser(
@@ -146,8 +190,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args))
-    except MorphkitError as exc:
-        print(f"morphkit: error: {exc}", file=sys.stderr)
+    except (MorphkitError, OSError) as exc:
+        msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
+        print(f"morphkit: error: {msg}", file=sys.stderr)
         return 1
 
 

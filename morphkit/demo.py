@@ -20,6 +20,12 @@ and, under a point light, ``<mesh>_warped_direct_raycast.png`` (hard shadow: war
 re-rendered | ray cast), and ``<mesh>_viewmorph.png`` (view morphing);
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
 scene parameters and timings). Later features add their outputs here.
+
+Every file is written atomically (:mod:`morphkit.fileio`), ``index.json`` last. A
+folder that already holds a demo (an ``index.json``) is replaced only when asked
+(``overwrite=True``, ``morphkit demo --overwrite``); the previous demo's files
+that the new one does not write again are then removed (only files its index
+names).
 """
 
 from __future__ import annotations
@@ -33,6 +39,8 @@ import cv2
 import numpy as np
 import trimesh
 
+from .errors import ValidationError, expected_got
+from .fileio import write_image, write_json
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
 from .protocols import SceneRenderer
@@ -61,8 +69,7 @@ from .visualize import colorize_depth
 __all__ = ["run_demo"]
 
 def _write_rgb(path: Path, rgb: np.ndarray) -> None:
-    if not cv2.imwrite(str(path), cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)):
-        raise OSError(f"could not write {path}")
+    write_image(path, cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
 
 
 def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str, Any]:
@@ -175,15 +182,50 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str
                         "build_ms": 1e3 * (t1 - t0), "morph_ms": 1e3 * (t2 - t1), "mode": vm.mode,
                         "layers": vm.report["layers"]}
         strip = np.concatenate([i0, mid, gt, i1], axis=1)
-        cv2.imwrite(str(add(f"{name}_viewmorph.png", "viewmorph", name,
-                            "left reference | view morph s=0.5 | rendered middle view | right reference")),
+        write_image(add(f"{name}_viewmorph.png", "viewmorph", name,
+                        "left reference | view morph s=0.5 | rendered middle view | right reference"),
                     cv2.cvtColor(strip, cv2.COLOR_RGBA2BGRA))
     return report
 
 
-def run_demo(out: Path, *, size: int = 512, quick: bool = False) -> dict[str, Any]:
-    """Render the demo scenes into ``out``; return (and write) the index."""
+def previous_demo(out: str | Path) -> Path | None:
+    """The ``index.json`` of a demo already in folder ``out``, or None."""
+    index = Path(out) / "index.json"
+    return index if index.is_file() else None
+
+
+def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
+             overwrite: bool = False) -> dict[str, Any]:
+    """Render the demo scenes into folder ``out`` (created); return (and write) the index.
+
+    Parameters
+    ----------
+    out : path-like
+        Output folder.
+    size : int
+        Image side in pixels (128 at most with ``quick``).
+    quick : bool
+        Smaller images, for a smoke test.
+    overwrite : bool
+        Replace a previous demo in ``out`` (module docstring).
+
+    Raises
+    ------
+    ValidationError
+        ``out`` is a file, or holds a previous demo and ``overwrite`` is False
+        (checked before anything is rendered or written).
+    OSError
+        ``out`` cannot be created or written (read-only, a file on its path, ...).
+    """
     out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValidationError(expected_got("demo output", "a folder", f"the file {out}"))
+    old = previous_demo(out)
+    if old is not None and not overwrite:
+        raise ValidationError(expected_got(
+            "demo output folder", "one without a previous demo (--overwrite / overwrite=True replaces it)",
+            f"{out} holding {old.name}"))
+    old_files = _indexed_files(old) if old is not None else set()
     out.mkdir(parents=True, exist_ok=True)
     if quick:
         size = min(size, 128)
@@ -215,14 +257,14 @@ def run_demo(out: Path, *, size: int = 512, quick: bool = False) -> dict[str, An
                            "camera view with ray-cast hard shadows (ground truth)"), frame["shaded"])
             _write_rgb(add(f"{name}_noshadow.png", "scene", name, "camera view without shadows"),
                        frame["lit"])
-            cv2.imwrite(str(add(f"{name}_visibility.png", "visibility", name,
-                                "ray-cast light visibility per camera pixel (white = lit)")),
+            write_image(add(f"{name}_visibility.png", "visibility", name,
+                            "ray-cast light visibility per camera pixel (white = lit)"),
                         np.rint(frame["visibility"] * 255).astype(np.uint8))
-            cv2.imwrite(str(add(f"{name}_light_depth.png", "light_depth", name,
-                                "light-view depth map, orthographic, fitted to the object")),
+            write_image(add(f"{name}_light_depth.png", "light_depth", name,
+                            "light-view depth map, orthographic, fitted to the object"),
                         colorize_depth(ldepth))
-            cv2.imwrite(str(add(f"{name}_ground_shadow.png", "ground_shadow", name,
-                                "ray-cast shadow on a top-down image of the ground (black = shadow)")),
+            write_image(add(f"{name}_ground_shadow.png", "ground_shadow", name,
+                            "ray-cast shadow on a top-down image of the ground (black = shadow)"),
                         np.rint(gvis * 255).astype(np.uint8))
             overview.append(frame["shaded"])
         warped = _warped_shadow_section(renderer, size, add)
@@ -240,5 +282,18 @@ def run_demo(out: Path, *, size: int = 512, quick: bool = False) -> dict[str, An
         "soft_shadows": soft,
         "view_morphing": morphs,
     }
-    (out / "index.json").write_text(json.dumps(index, indent=2))
+    write_json(out / "index.json", index)
+    for stale in old_files - {f["path"] for f in files}:  # the previous demo's, not rewritten
+        (out / stale).unlink(missing_ok=True)
     return index
+
+
+def _indexed_files(index: Path) -> set[str]:
+    """Names of the files a previous demo's index lists (plain names inside its folder only)."""
+    try:
+        data = json.loads(index.read_text())
+        names = {f["path"] for f in data["files"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        return set()  # unreadable: nothing is removed
+    return {n for n in names
+            if isinstance(n, str) and n == Path(n).name and n not in ("", ".", "..", "index.json")}

@@ -55,7 +55,11 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]
     p = Path(path)
     if p.is_dir():
         raise ValidationError(expected_got("output path", "a file path", f"the folder {p}"))
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".part", dir=p.parent if str(p.parent) else ".")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".part",
+                                   dir=p.parent if str(p.parent) else ".")
+    except OSError as exc:  # name the target, not the temporary file
+        raise type(exc)(exc.errno, f"cannot write {p}: {exc.strerror}") from exc
     try:
         with os.fdopen(fd, "wb") as f:
             write(f)

@@ -47,6 +47,7 @@ __all__ = [
     "chair",
     "cow",
     "normalize",
+    "check_mesh",
     "load_mesh",
     "sample_mesh",
     "teapot_face_count",
@@ -86,7 +87,7 @@ def normalize(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
         If ``mesh`` is not a ``trimesh.Trimesh``, has no faces, has non-finite
         vertices or a bounding box smaller than ``tol.MIN_EXTENT``.
     """
-    _check_mesh(mesh, "mesh")
+    check_mesh(mesh, "mesh")
     out = mesh.copy()
     lo, hi = out.bounds
     extent = float(np.max(hi - lo))
@@ -103,15 +104,67 @@ def normalize(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     return out
 
 
-def _check_mesh(mesh: Any, name: str) -> None:
+def check_mesh(mesh: Any, name: str) -> trimesh.Trimesh:
+    """Check that ``mesh`` is a triangle mesh morphkit can draw, and return it unchanged.
+
+    Every entry point that takes a user's mesh calls this first (:func:`load_mesh`,
+    :func:`normalize`, :func:`morphkit.shadow.bake_atlas`, ...), so a bad mesh is a
+    :class:`~morphkit.errors.MeshError` naming what is wrong, never a raw
+    ``TypeError``/``IndexError`` later, nor an empty result (an all-collinear mesh
+    bakes an empty shadow atlas).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The mesh (any frame; not modified).
+    name : str
+        How the error message names it (``"mesh"``, ``"mesh file 'x.obj'"``).
+
+    Returns
+    -------
+    trimesh.Trimesh
+        ``mesh`` itself.
+
+    Raises
+    ------
+    MeshError
+        ``mesh`` is not a ``trimesh.Trimesh``; has no faces; has face indices
+        outside its vertices; has NaN/inf vertex coordinates; its bounding box
+        is at most ``tol.MIN_EXTENT`` (a point); all its vertices lie on one
+        line (a bounding box with a zero extent, relative to the largest,
+        ``tol.MESH_ZERO_LENGTH_REL``, in all but one axis); or every face has
+        zero area (below ``tol.MESH_ZERO_AREA_REL`` times the largest extent
+        squared).
+    """
     if not isinstance(mesh, trimesh.Trimesh):
         raise MeshError(expected_got(name, "a trimesh.Trimesh", type(mesh).__name__))
-    if len(mesh.faces) == 0:
+    faces = np.asarray(mesh.faces)
+    if len(faces) == 0:
         raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
     v = np.asarray(mesh.vertices)
+    if faces.min() < 0 or faces.max() >= len(v):
+        raise MeshError(expected_got(name, f"face indices in [0, {len(v)})",
+                                     f"indices up to {int(faces.max())}"))
     if not np.all(np.isfinite(v)):
         bad = int(np.count_nonzero(~np.all(np.isfinite(v), axis=1)))
         raise MeshError(expected_got(name, "finite vertex coordinates", f"{bad} non-finite vertices"))
+    used = v[np.unique(faces)]
+    ext = np.sort(used.max(0) - used.min(0))
+    if not ext[2] > tol.MIN_EXTENT:
+        raise MeshError(expected_got(name, f"a bounding box larger than {tol.MIN_EXTENT}",
+                                     f"extent {float(ext[2])}"))
+    # a line: project the vertices off their principal direction (not only the
+    # axis-aligned box: a diagonal line has three non-zero box extents)
+    c = used - used.mean(0)
+    sv = np.linalg.svd(c, compute_uv=False)
+    if sv[1] <= tol.MESH_ZERO_LENGTH_REL * sv[0] or ext[1] <= tol.MESH_ZERO_LENGTH_REL * ext[2]:
+        raise MeshError(expected_got(name, "a surface (a bounding box with at most one zero extent)",
+                                     "all vertices on one line"))
+    tri = v[faces]
+    area2 = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    if not np.any(area2 / 2 > tol.MESH_ZERO_AREA_REL * ext[2] ** 2):
+        raise MeshError(expected_got(name, "a surface with area", f"{len(faces)} faces of zero area"))
+    return mesh
 
 
 def _cached(maxsize: int) -> Callable[[Callable[..., trimesh.Trimesh]], Callable[..., trimesh.Trimesh]]:
@@ -754,7 +807,7 @@ def load_mesh(path: str | Path) -> trimesh.Trimesh:
         raise MeshError(
             expected_got(f"mesh file {str(p)!r}", "a mesh with at least one face", "0 faces")
         )
-    _check_mesh(loaded, f"mesh file {str(p)!r}")
+    check_mesh(loaded, f"mesh file {str(p)!r}")
     loaded.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
     return normalize(loaded)
 

@@ -17,7 +17,7 @@ import trimesh
 from . import tol
 from .camera import CameraModel, look_at, orthographic
 from .errors import DegenerateViewError, MeshError, ValidationError, expected_got
-from .validate import as_finite_array, as_pose, as_positive
+from .validate import as_finite_array, as_int, as_pose, as_positive
 
 __all__ = [
     "Receiver",
@@ -153,10 +153,18 @@ class AreaLight:
     def samples(self, n_u: int, n_v: int | None = None,
                 rng: np.random.Generator | None = None) -> np.ndarray:
         """``n_u * n_v`` sample positions ``(N, 3)``: centres of an ``n_u x n_v``
-        grid of cells, jittered uniformly inside each cell when ``rng`` is given."""
+        grid of cells, jittered uniformly inside each cell when ``rng`` is given.
+
+        ``n_u``, ``n_v`` are integers >= 1 with ``n_u * n_v`` at most
+        :data:`morphkit.tol.MAX_LIGHT_SAMPLES` (checked before allocating)."""
         n_v = n_u if n_v is None else n_v
-        if int(n_u) < 1 or int(n_v) < 1:
+        n_u, n_v = as_int(n_u, "n_u"), as_int(n_v, "n_v")
+        if n_u < 1 or n_v < 1:
             raise ValidationError(expected_got("light samples", "n_u, n_v >= 1", (n_u, n_v)))
+        if n_u * n_v > tol.MAX_LIGHT_SAMPLES:
+            raise ValidationError(expected_got(
+                "light samples", f"at most {tol.MAX_LIGHT_SAMPLES} (morphkit.tol.MAX_LIGHT_SAMPLES)",
+                f"{n_u} x {n_v}"))
         a = (np.arange(n_u) + 0.5) / n_u
         b = (np.arange(n_v) + 0.5) / n_v
         A, B = np.meshgrid(a, b, indexing="ij")

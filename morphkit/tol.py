@@ -39,6 +39,43 @@ RAY_OFFSET = 1e-4
 #: far below it; samples at such centres move by < 1e-6 px (invisible).
 MESH_BOUNDARY_PX = 1e-6
 
+#: Relative length below which a mesh counts as flat in a direction
+#: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
+#: (or second bounding-box extent) over its first. Vertex coordinates round at
+#: ~1e-16 of the mesh size; 1e-9 is far above that and far below any real
+#: feature (a nanometre on a one-metre object).
+MESH_ZERO_LENGTH_REL = 1e-9
+
+#: A mesh face whose area is below this times the squared largest extent of the
+#: mesh has zero area (:func:`morphkit.meshes.check_mesh`); a mesh whose faces
+#: all have zero area has no surface to draw and is refused. The cross product
+#: of collinear float64 edges of length ~L rounds to ~1e-16 L^2; 1e-12 L^2 is
+#: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
+MESH_ZERO_AREA_REL = 1e-12
+
+# --- size limits (checked before anything is allocated) ---------------------
+
+#: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
+#: frame holds several per-pixel buffers at once (unprojected world points and
+#: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):
+#: about 60 bytes a pixel, i.e. ~4 GB at this size. Larger sizes were refused
+#: only by a raw ``MemoryError`` after seconds of work (20000^2) or not at all;
+#: they are now a ``ValidationError`` from :func:`morphkit.validate.as_shape`
+#: before any allocation. The benchmarks go up to 1024^2, 64x below.
+MAX_IMAGE_PIXELS = 2**26
+
+#: Most bytes one array morphkit allocates for the caller's sizes may take
+#: (4 GiB): a shadow atlas's maps (``ky * kx * H * W`` float32) are the largest;
+#: a 3 x 3 atlas of 8192^2 maps (2.25 GiB) fits, a 9 x 9 one (20 GiB) does not.
+MAX_BUFFER_BYTES = 2**32
+
+#: Most light samples of an area light (``n_u * n_v``, or rows of an explicit
+#: sample array). A soft shadow's visibility is a multiple of ``1 / N``: at
+#: 4096 (64 x 64) that step is already 16x finer than one 8-bit grey level, and
+#: every sample costs one shadow map per frame (a warp or a render), so more
+#: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
+MAX_LIGHT_SAMPLES = 4096
+
 # --- view morphing (morphkit.viewmorph) -------------------------------------
 
 #: Default inlier threshold (pixels) of the robust fundamental-matrix fit

@@ -16,6 +16,7 @@ __all__ = [
     "as_image",
     "as_finite_array",
     "as_shape",
+    "as_int",
     "as_pose",
     "as_positive",
     "as_unit_interval",
@@ -84,14 +85,62 @@ def as_image(
 
 
 def as_shape(shape: Any, name: str) -> tuple[int, int]:
-    """Return ``shape`` as a positive ``(H, W)`` tuple of ints."""
+    """Return ``shape`` as a positive ``(H, W)`` tuple of ints.
+
+    Each value must be an integer (``int``, a numpy integer, or an integral
+    float such as ``32.0``); ``32.5`` is refused, not truncated. ``H * W`` may
+    be at most :data:`morphkit.tol.MAX_IMAGE_PIXELS`, checked here before any
+    buffer of that shape is allocated.
+
+    Raises
+    ------
+    ValidationError
+        Not a pair of integers, not positive, or more pixels than the limit.
+    """
+    want = "an (H, W) pair of integers"
     try:
-        h, w = (int(v) for v in shape)
-    except (TypeError, ValueError) as exc:
-        raise ValidationError(expected_got(name, "an (H, W) pair of ints", repr(shape))) from exc
+        vals = tuple(shape)
+    except TypeError as exc:
+        raise ValidationError(expected_got(name, want, _describe(shape))) from exc
+    if len(vals) != 2:
+        raise ValidationError(expected_got(name, want, repr(shape)[:120]))
+    out = []
+    for v in vals:
+        if isinstance(v, bool | np.bool_) or not isinstance(v, int | float | np.integer | np.floating):
+            raise ValidationError(expected_got(name, want, repr(shape)[:120]))
+        if not (np.isfinite(v) and float(v) == int(v)):
+            raise ValidationError(expected_got(name, want, f"({vals[0]}, {vals[1]})"))
+        out.append(int(v))
+    h, w = out
     if h < 1 or w < 1:
         raise ValidationError(expected_got(name, "positive (H, W)", f"({h}, {w})"))
+    if h * w > tol.MAX_IMAGE_PIXELS:
+        raise ValidationError(expected_got(
+            name, f"at most {tol.MAX_IMAGE_PIXELS} pixels (morphkit.tol.MAX_IMAGE_PIXELS)",
+            f"({h}, {w}) = {h * w} pixels"))
     return h, w
+
+
+def as_int(v: Any, name: str, *, lo: int | None = None, hi: int | None = None) -> int:
+    """Return ``v`` as an int in ``[lo, hi]`` (a bound that is None is not checked).
+
+    ``v`` must be an integer (``int``, a numpy integer, or an integral float
+    such as ``3.0``); ``2.5`` is refused, not truncated, and so are ``bool``
+    and strings.
+    """
+    if lo is not None and hi is not None:
+        want = f"an integer in [{lo}, {hi}]"
+    elif lo is not None:
+        want = f"an integer >= {lo}"
+    else:
+        want = "an integer" if hi is None else f"an integer <= {hi}"
+    ok = not isinstance(v, bool | np.bool_) and isinstance(v, int | float | np.integer | np.floating)
+    if not ok or not (np.isfinite(v) and float(v) == int(v)):
+        raise ValidationError(expected_got(name, want, repr(v)[:120]))
+    n = int(v)
+    if (lo is not None and n < lo) or (hi is not None and n > hi):
+        raise ValidationError(expected_got(name, want, n))
+    return n
 
 
 def as_pose(T: Any, name: str) -> np.ndarray:

@@ -13,6 +13,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from morphkit.fileio import write_image
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.scenes import DEMO_MESHES, demo_scene, ground_truth_frame
@@ -29,7 +30,7 @@ def main() -> None:
             f = ground_truth_frame(r, demo_scene(sample_mesh(name), args.size))
             pair = np.concatenate([f["lit"], f["shaded"]], axis=1)
             path = args.out / f"{name}_pair_noshadow_vs_raycast.png"
-            cv2.imwrite(str(path), cv2.cvtColor(pair, cv2.COLOR_RGB2BGR))
+            write_image(path, cv2.cvtColor(pair, cv2.COLOR_RGB2BGR))
             print(path)
 
 

@@ -11,9 +11,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
 
+from morphkit.fileio import write_image
 from morphkit.groundtruth import area_visibility, receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
@@ -49,7 +49,7 @@ def main() -> None:
                 strip = np.concatenate([vis["warped"], vis["direct"], truth]).reshape(
                     3, args.ground, args.ground)
                 path = args.out / f"{name}_soft{n}_warped_direct_raycast.png"
-                cv2.imwrite(str(path), np.rint(np.concatenate(list(strip), 1) * 255).astype(np.uint8))
+                write_image(path, np.rint(np.concatenate(list(strip), 1) * 255).astype(np.uint8))
                 err = {k: float(np.abs(v - truth).mean()) for k, v in vis.items()}
                 print(f"{path}  mean abs visibility error vs ray cast ({args.dense}^2 samples, "
                       f"ground [-1.7, 1.7]^2): warped {err['warped']:.4f}, direct {err['direct']:.4f}")

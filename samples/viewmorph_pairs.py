@@ -25,6 +25,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from morphkit.fileio import write_image
 from morphkit.render import Renderer
 from morphkit.scenes import circle_camera, render_pair, textured_items
 from morphkit.viewmorph import ViewMorpher, from_depth, from_geometry, pair_depth, save_points
@@ -33,7 +34,7 @@ CENTRE = 60.0
 
 
 def write(path: Path, rgba: np.ndarray) -> None:
-    cv2.imwrite(str(path), cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA))
+    write_image(path, cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA))
 
 
 def main() -> None:

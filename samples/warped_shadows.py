@@ -15,6 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from morphkit.fileio import write_image
 from morphkit.meshes import sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
@@ -47,9 +48,9 @@ def main() -> None:
                 f = compare_frames(r, scene, methods, xy)
                 strip = np.concatenate([f[m]["shaded"] for m in (*methods, "raycast")], 1)
                 path = args.out / f"{name}_{k}_warped_reprojected_direct_raycast.png"
-                cv2.imwrite(str(path), cv2.cvtColor(strip, cv2.COLOR_RGB2BGR))
+                write_image(path, cv2.cvtColor(strip, cv2.COLOR_RGB2BGR))
                 maps = [colorize_depth(m.shadow_map(xy)[0]) for m in methods.values()]
-                cv2.imwrite(str(args.out / f"{name}_{k}_lightmap_warped_reprojected_direct.png"),
+                write_image(args.out / f"{name}_{k}_lightmap_warped_reprojected_direct.png",
                             np.concatenate(maps, 1))
                 gt = f["raycast"]["visibility"] < 0.5
                 ious = {m: shadow_iou(f[m]["visibility"] < 0.5, gt, mask=f["raycast"]["facing"])

@@ -80,7 +80,10 @@ def test_run_suite_with_registered_toy_suite(tmp_path, capsys, monkeypatch):
     out = capsys.readouterr().out
     assert "ms_median" in out and "t.json" in out
     assert (tmp_path / "t_time_vs_size.png").exists()
-    with pytest.raises(KeyError, match="unknown bench suite"):
+    from morphkit.errors import ValidationError
+
+    with pytest.raises(ValidationError,
+                       match="bench suite: expected one of .*warp.*, got unknown suite 'nope'"):
         bench.run_suite("nope")
     assert main(["bench", "nope"]) == 2
 

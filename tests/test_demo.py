@@ -19,13 +19,27 @@ def test_help_lists_subcommands(capsys):
 
 @pytest.mark.gl
 def test_demo_quick_writes_indexed_files(tmp_path, capsys):
-    assert main(["demo", "--quick", "-o", str(tmp_path)]) == 0
+    # a previous demo: replaced only with --overwrite; its files that the new demo
+    # does not write again go, files it did not list stay
+    (tmp_path / "index.json").write_text(json.dumps({"files": [{"path": "old_extra.png"},
+                                                              {"path": "teapot_scene.png"}]}))
+    (tmp_path / "old_extra.png").write_bytes(b"old")
+    (tmp_path / "notes.txt").write_text("mine")
+    assert main(["demo", "--quick", "-o", str(tmp_path)]) == 2
+    assert "pass --overwrite" in capsys.readouterr().err
+    assert main(["demo", "--quick", "--overwrite", "-o", str(tmp_path)]) == 0
+    assert not (tmp_path / "old_extra.png").exists() and (tmp_path / "notes.txt").read_text() == "mine"
+    assert not list(tmp_path.glob(".*.part"))  # no temporary left
     index = json.loads((tmp_path / "index.json").read_text())
     names = {f["path"] for f in index["files"]}
     for mesh in ("teapot", "chair", "cow"):
         assert f"{mesh}_scene.png" in names and f"{mesh}_light_depth.png" in names
         assert f"{mesh}_warped_direct_raycast.png" in names and f"{mesh}_viewmorph.png" in names
-        assert 0.0 <= index["view_morphing"][mesh]["silhouette_iou"] <= 1.0
+        # view morph at s = 0.5, 20 deg baseline, 128^2 (quick): measured 0.959 (teapot),
+        # 0.965 (chair), 0.976 (cow); 256^2 in docs/RESULTS.md: 0.965-0.985. 0.93 leaves
+        # 0.029 for rasterisation at 128^2 and stays above the nearest reference view
+        # (0.907 teapot, 0.562 chair, 0.776 cow at 256^2): a morph that fails falls below.
+        assert index["view_morphing"][mesh]["silhouette_iou"] > 0.93
         assert f"{mesh}_reprojected_direct_raycast.png" in names
         # the reprojected map is exact for what a map saw: about as close to the
         # ray cast as the re-rendered map, up to its holes

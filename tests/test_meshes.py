@@ -15,6 +15,7 @@ from morphkit.errors import MeshError, ValidationError
 from morphkit.meshes import (
     SAMPLE_MESHES,
     chair,
+    check_mesh,
     cow,
     load_mesh,
     normalize,
@@ -282,6 +283,70 @@ def test_normalize_rejects_bad_meshes():
         normalize(flat)
     with pytest.raises(MeshError, match="expected a trimesh.Trimesh"):
         normalize("teapot")  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- check_mesh
+
+
+def test_check_mesh_returns_good_meshes_unchanged():
+    box = trimesh.creation.box()
+    assert check_mesh(box, "m") is box
+    flat = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], process=False)
+    assert check_mesh(flat, "m") is flat  # a planar mesh (one zero extent) has area: fine
+
+
+def _collinear() -> trimesh.Trimesh:
+    """Six vertices on one line, four faces: zero area, a segment's bounding box."""
+    v = np.c_[np.linspace(0, 1, 6), 2 * np.linspace(0, 1, 6), np.zeros(6)]
+    return trimesh.Trimesh(v, [[0, 1, 2], [1, 2, 3], [2, 3, 4], [3, 4, 5]], process=False)
+
+
+def _zero_area_faces() -> trimesh.Trimesh:
+    """A 3-D bounding box, but every face is a needle (two coincident vertices)."""
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    return trimesh.Trimesh(v, [[0, 1, 1], [0, 2, 2], [0, 3, 3], [1, 2, 2]], process=False)
+
+
+def _nan_mesh() -> trimesh.Trimesh:
+    m = trimesh.creation.box()
+    m.vertices[3] = [np.nan, 0, 0]
+    return m
+
+
+def _inf_mesh() -> trimesh.Trimesh:
+    m = trimesh.creation.box()
+    m.vertices[[1, 5]] = np.inf
+    return m
+
+
+@pytest.mark.parametrize("mesh, match", [
+    ("teapot.obj", r"m: expected a trimesh.Trimesh, got str"),
+    (trimesh.PointCloud(np.eye(3)), r"m: expected a trimesh.Trimesh, got PointCloud"),
+    (trimesh.Trimesh(), r"m: expected a mesh with at least one face, got 0 faces"),
+    (trimesh.Trimesh(np.eye(3), [[0, 1, 5]], process=False),
+     r"m: expected face indices in \[0, 3\), got indices up to 5"),
+    (_nan_mesh(), r"m: expected finite vertex coordinates, got 1 non-finite vertices"),
+    (_inf_mesh(), r"m: expected finite vertex coordinates, got 2 non-finite vertices"),
+    (trimesh.Trimesh(np.zeros((3, 3)), [[0, 1, 2]], process=False),
+     r"m: expected a bounding box larger than 1e-09, got extent 0.0"),
+    (_collinear(), r"m: expected a surface \(a bounding box with at most one zero extent\), "
+                   r"got all vertices on one line"),
+    (_zero_area_faces(), r"m: expected a surface with area, got 4 faces of zero area"),
+], ids=["str", "pointcloud", "empty", "bad-index", "nan", "inf", "point", "collinear", "zero-area"])
+def test_check_mesh_refuses_what_cannot_be_drawn(mesh, match):
+    with pytest.raises(MeshError, match=match):
+        check_mesh(mesh, "m")
+
+
+@pytest.mark.parametrize("content, match", [
+    ("v 0 0 0\nv 1 1 1\nv 2 2 2\nv 3 3 3\nf 1 2 3\nf 2 3 4\n", "all vertices on one line"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 2\nf 1 3 3\nf 1 4 4\n", "faces of zero area"),
+])
+def test_load_mesh_refuses_meshes_without_area(tmp_path: Path, content: str, match: str):
+    path = tmp_path / "degenerate.obj"
+    path.write_text(content)
+    with pytest.raises(MeshError, match=match):
+        load_mesh(path)
 
 
 # --------------------------------------------------------------------------- load_mesh

@@ -81,3 +81,13 @@ def test_area_light_samples_are_stratified(rng):
     assert np.all(np.abs(j - s)[:, 0] <= 0.125 + 1e-12)  # stays in its cell
     with pytest.raises(ValidationError, match="light samples: expected n_u, n_v >= 1"):
         light.samples(0)
+
+
+@pytest.mark.parametrize("n_u, n_v, match", [
+    (2.5, 2, r"n_u: expected an integer, got 2.5"),
+    (10**4, 10**4, r"light samples: expected at most 4096 \(morphkit.tol.MAX_LIGHT_SAMPLES\), "
+                   r"got 10000 x 10000"),
+])
+def test_area_light_sample_counts_are_integral_and_bounded(n_u, n_v, match):
+    with pytest.raises(ValidationError, match=match):
+        AreaLight([0, 0, 2], [0.5, 0, 0], [0, 0.25, 0]).samples(n_u, n_v)

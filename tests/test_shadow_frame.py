@@ -7,6 +7,7 @@ import pytest
 import trimesh
 
 from morphkit.camera import look_at, perspective
+from morphkit.errors import ValidationError
 from morphkit.scene import DirectionalLight, Receiver, Scene, SceneObject, translation
 from morphkit.shadow import MotionRange, bake_atlas, shadow_visibility
 from morphkit.shadow.frame import render_frame
@@ -58,3 +59,28 @@ def test_self_shadowing_darkens_the_object(renderer, setup):
     # shaded = unlit where visibility is 0, lit where 1
     z = full["visibility"] == 0
     np.testing.assert_array_equal(full["shaded"][z], full["unlit"][z])
+
+
+@pytest.mark.parametrize("visibility, match", [
+    (lambda p, n: np.ones(len(p) - 1, np.float32),
+     r"visibility\(points, normals\): expected \(\d+,\) values in \[0, 1\], got shape \(\d+,\)"),
+    (lambda p, n: np.ones((len(p), 1), np.float32),
+     r"visibility\(points, normals\): expected \(\d+,\) values in \[0, 1\], got shape \(\d+, 1\)"),
+    (lambda p, n: np.full(len(p), np.nan), r"visibility\(points, normals\): expected .*values in \[0, 1\], "
+                                          r"got \d+ values outside \[0, 1\] or NaN"),
+    (lambda p, n: np.full(len(p), 2.0), r"got \d+ values outside \[0, 1\] or NaN"),
+    (lambda p, n: None, r"visibility\(points, normals\): expected .*got NoneType"),
+    ("not callable", r"visibility: expected a callable \(points, normals\) -> \(N,\) values, got str"),
+], ids=["short", "2-d", "nan", "above-one", "none", "str"])
+def test_render_frame_refuses_a_bad_visibility(renderer, setup, visibility, match):
+    scene, _depth, _lcam = setup
+    with pytest.raises(ValidationError, match=match):
+        render_frame(renderer, scene, visibility)
+
+
+def test_render_frame_refuses_what_is_not_a_scene_or_renderer(renderer, setup):
+    scene, depth, lcam = setup
+    with pytest.raises(ValidationError, match="scene: expected a morphkit.scene.Scene, got dict"):
+        render_frame(renderer, {"camera": scene.camera}, _vis(depth, lcam))
+    with pytest.raises(ValidationError, match="renderer: expected a SceneRenderer .*got str"):
+        render_frame("pyrender", scene, _vis(depth, lcam))

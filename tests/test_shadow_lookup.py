@@ -76,6 +76,33 @@ def test_lookup_refuses_nan_points():
         shadow_visibility(np.array([[0.0, np.nan, 0.0]]), np.ones(cam.shape, np.float32), cam)
 
 
+def _map_with(value, dtype=np.float32):
+    dm = np.full(_cameras()[0].shape, 2.0, dtype)
+    dm[10, 20] = value
+    return dm
+
+
+@pytest.mark.parametrize("depth_map, match", [
+    (_map_with(np.nan), r"depth_map: expected finite or \+inf depths, got 1 NaN/-inf texels"),
+    (_map_with(-np.inf), r"depth_map: expected finite or \+inf depths, got 1 NaN/-inf texels"),
+    (np.full((48, 64), 2, np.int32), r"depth_map: expected a float32/float64 depth map, got int32"),
+    (np.full((48, 64), True), r"depth_map: expected a float32/float64 depth map, got bool"),
+    ([[2.0] * 64] * 48, r"depth_map: expected a numpy array, got list"),
+    (np.full((48, 64, 1), 2.0, np.float32), r"depth_map: expected shape \(48, 64\)"),
+], ids=["nan", "-inf", "int", "bool", "list", "3-d"])
+def test_lookup_refuses_depth_maps_it_cannot_compare(depth_map, match):
+    """NaN compares false with every depth (a NaN texel lit everything behind it)
+    and an integer map held truncated depths: both used to pass silently."""
+    cam = _cameras()[0]
+    with pytest.raises(ValidationError, match=match):
+        shadow_visibility(np.zeros((1, 3)), depth_map, cam)
+
+
+def test_lookup_refuses_a_light_camera_that_is_not_one():
+    with pytest.raises(ValidationError, match="light_cam: expected a CameraModel, got dict"):
+        shadow_visibility(np.zeros((1, 3)), np.ones((48, 64), np.float32), {"shape": (48, 64)})
+
+
 # ------------------------------------------------- fold relaxation (atlas)
 def test_compiled_fold_relaxation_matches_the_numpy_reference(rng):
     """The atlas pulls the vertices of folded destination triangles towards their

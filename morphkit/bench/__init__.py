@@ -61,9 +61,14 @@ def register_suite(name: str, fn: Suite) -> Suite:
 
 def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = None,
               plot_path: str | Path | None = None) -> list[dict[str, Any]]:
-    """Run suite ``name``, print its table, write JSON/plots when paths are given; return the rows."""
+    """Run suite ``name``, print its table, write JSON/plots when paths are given; return the rows.
+
+    Raises :class:`~morphkit.errors.ValidationError` for an unknown ``name``."""
     if name not in SUITES:
-        raise KeyError(f"unknown bench suite {name!r}; available: {', '.join(sorted(SUITES))}")
+        from ..errors import ValidationError, expected_got
+
+        raise ValidationError(expected_got("bench suite", f"one of {', '.join(sorted(SUITES))}",
+                                           f"unknown suite {name!r}"))
     fn = SUITES[name]
     rows = fn(quick=quick)
     try:

@@ -14,6 +14,7 @@ so ratios hold on a noisy machine.
 
 from __future__ import annotations
 
+import io
 import itertools
 import json
 import math
@@ -23,6 +24,8 @@ from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from .. import fileio
 
 __all__ = [
     "Timing",
@@ -181,11 +184,17 @@ def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "r
 
 
 def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
-    """Write the rows as a JSON list (parents created)."""
+    """Write the rows as a JSON list (parents created), atomically (:mod:`morphkit.fileio`)."""
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    p.write_text(json.dumps(list(rows), indent=1, allow_nan=False) + "\n")
-    return p
+    return fileio.write_json(p, list(rows), indent=1)
+
+
+def _save_figure(fig: Any, path: Path) -> Path:
+    """Render ``fig`` to PNG in memory and write it atomically (:mod:`morphkit.fileio`)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    return fileio.write_bytes(path, buf.getvalue())
 
 
 def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_key: str = "size",
@@ -240,8 +249,10 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
         ax.set_visible(False)
     fig.tight_layout()
     out = Path(f"{stem}_time_vs_size.png")
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    try:
+        _save_figure(fig, out)
+    finally:
+        plt.close(fig)
     written.append(out)
 
     if error_key is not None:
@@ -261,7 +272,9 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
             ax.legend(fontsize=8)
             fig.tight_layout()
             out = Path(f"{stem}_time_vs_error.png")
-            fig.savefig(out, dpi=110)
-            plt.close(fig)
+            try:
+                _save_figure(fig, out)
+            finally:
+                plt.close(fig)
             written.append(out)
     return written

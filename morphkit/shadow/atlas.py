@@ -89,8 +89,10 @@ import trimesh
 from .. import tol
 from ..camera import CameraModel
 from ..errors import FoldOverError, ValidationError, expected_got
+from ..meshes import check_mesh
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
+from ..validate import as_int, as_shape
 from ..warp import (
     MeshWarper,
     grid_triangles,
@@ -399,24 +401,38 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         Evenly spaced samples even for odd ``grid`` (the image-based baseline).
     progress : bool
         Show a progress bar on a terminal (tqdm; silent when not a TTY).
+
+    Raises
+    ------
+    MeshError
+        ``mesh`` cannot be drawn (:func:`morphkit.meshes.check_mesh`).
+    ValidationError
+        Bad options; a non-integral ``shape``, ``grid`` or ``control_grid``; a
+        map above :data:`morphkit.tol.MAX_IMAGE_PIXELS` or maps above
+        :data:`morphkit.tol.MAX_BUFFER_BYTES` in all (checked before anything
+        is rendered or allocated).
     """
     from tqdm import tqdm
 
     from ..scene import Item
 
-    ky, kx = (grid, grid) if np.isscalar(grid) else tuple(int(g) for g in grid)  # type: ignore[misc]
-    rows, cols = (int(control_grid[0]), int(control_grid[1]))
-    if rows < 2 or cols < 2:
-        raise ValidationError(expected_got("control_grid", "(rows, cols) >= (2, 2)", control_grid))
+    mesh = check_mesh(mesh, "mesh")
+    ky, kx = _pair(grid, "grid", 2, "k >= 2 samples per axis (an integer, or a pair (ky, kx))")
+    rows, cols = _pair(control_grid, "control_grid", 2, "(rows, cols) >= (2, 2) of integers")
     if anchors not in ("sample", "shared", "plane"):
         raise ValidationError(expected_got("anchors", "'sample', 'shared' or 'plane'", anchors))
+    H, W = as_shape(shape, "shadow map shape")
+    nbytes = ky * kx * H * W * np.dtype(np.float32).itemsize
+    if nbytes > tol.MAX_BUFFER_BYTES:  # before LightRig or the maps allocate anything
+        raise ValidationError(expected_got(
+            "atlas maps", f"at most {tol.MAX_BUFFER_BYTES} bytes (morphkit.tol.MAX_BUFFER_BYTES)",
+            f"{ky} x {kx} maps of {H} x {W} float32 = {nbytes} bytes"))
     rig = LightRig(light, mesh, base_pose, motion, shape, margin=margin)
     mid = None
     if isinstance(light, PointLight) and not uniform:
         mid = light.position[:2] - rig.anchor0[:2]  # object centre under the light
     xs = sample_axis(motion.lo[0], motion.hi[0], kx, None if mid is None else mid[0])
     ys = sample_axis(motion.lo[1], motion.hi[1], ky, None if mid is None else mid[1])
-    H, W = rig.shape
     maps = np.empty((ky, kx, H, W), np.float32)
     bar = tqdm(total=ky * kx, desc="baking shadow atlas", unit="map", disable=None if progress else True,
                leave=False)
@@ -453,6 +469,20 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
 
 
 _WARPS = ("composed", "three", "reproject")
+
+
+def _pair(v: Any, name: str, lo: int, want: str) -> tuple[int, int]:
+    """``v`` (an int, or a pair of ints) as a pair of ints >= ``lo``; ``2.5`` is refused."""
+    vals = (v, v) if np.isscalar(v) else tuple(v) if isinstance(v, tuple | list | np.ndarray) else None
+    if vals is None or len(vals) != 2:
+        raise ValidationError(expected_got(name, want, repr(v)[:120]))
+    try:
+        a, b = (as_int(x, name) for x in vals)
+    except ValidationError as exc:
+        raise ValidationError(expected_got(name, want, repr(v)[:120])) from exc
+    if a < lo or b < lo:
+        raise ValidationError(expected_got(name, want, repr(v)[:120]))
+    return a, b
 
 
 def _make_method(atlas: ShadowAtlas, warps: str, dst: str, blend: str, layers: Any) -> ShadowMethod:

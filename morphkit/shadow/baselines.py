@@ -22,6 +22,7 @@ import trimesh
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..meshes import check_mesh
 from ..protocols import SceneRenderer
 from ..scene import Item
 from .atlas import ShadowAtlas, bake_atlas
@@ -39,7 +40,7 @@ class DirectShadow:
     memory_bytes = 0
 
     def __init__(self, rig: LightRig, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> None:
-        self.rig, self.mesh, self.renderer = rig, mesh, renderer
+        self.rig, self.mesh, self.renderer = rig, check_mesh(mesh, "mesh"), renderer
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:

@@ -18,6 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..composite import shade
+from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, Scene
 from .lookup import normals_from_points, shadow_visibility
@@ -40,9 +41,24 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     ``visibility`` (float32 in [0, 1], 1 on the background), ``shaded``, and
     ``facing`` (bool: visible points whose normal faces the light, the pixels
     where a shadow changes the image; on the others diffuse light is zero anyway).
+
+    Raises
+    ------
+    ValidationError
+        ``renderer`` is not a :class:`~morphkit.protocols.SceneRenderer`, ``scene``
+        not a :class:`~morphkit.scene.Scene`, ``visibility`` not callable, or what it
+        returns is not ``(N,)`` values in ``[0, 1]`` for the ``N`` points it was given.
     """
     from ..scene import Item, scene_items
 
+    if not isinstance(renderer, SceneRenderer):
+        raise ValidationError(expected_got("renderer", "a SceneRenderer (depth, color_depth, source_view)",
+                                           type(renderer).__name__))
+    if not isinstance(scene, Scene):
+        raise ValidationError(expected_got("scene", "a morphkit.scene.Scene", type(scene).__name__))
+    if not callable(visibility):
+        raise ValidationError(expected_got("visibility", "a callable (points, normals) -> (N,) values",
+                                           type(visibility).__name__))
     items = scene_items(scene)
     cam = scene.camera
     lit, depth = renderer.color_depth(cam, items, [scene.light], ambient=scene.ambient,
@@ -58,7 +74,7 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     normals = normals_from_points(world, valid)
     vis = np.ones(cam.shape, np.float32)
     if test.any():
-        vis[test] = visibility(world[test], normals[test])
+        vis[test] = _checked_visibility(visibility(world[test], normals[test]), int(test.sum()))
     light = scene.light
     if isinstance(light, DirectionalLight):
         to_light = np.broadcast_to(-light.direction, world.shape)
@@ -67,6 +83,20 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     facing = valid & (np.einsum("hwk,hwk->hw", normals, to_light) > 0)
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
             "shaded": shade(lit, unlit, vis), "facing": facing}
+
+
+def _checked_visibility(v: object, n: int) -> np.ndarray:
+    """``v`` as ``(n,)`` float32 values in [0, 1], or a ValidationError."""
+    what, want = "visibility(points, normals)", f"({n},) values in [0, 1]"
+    if not isinstance(v, np.ndarray) or v.dtype.kind not in "fiub":
+        raise ValidationError(expected_got(what, want, type(v).__name__ if not isinstance(v, np.ndarray)
+                                           else f"dtype {v.dtype}"))
+    if v.shape != (n,):
+        raise ValidationError(expected_got(what, want, f"shape {v.shape}"))
+    bad = int(np.count_nonzero(~((v >= 0) & (v <= 1))))
+    if bad:
+        raise ValidationError(expected_got(what, want, f"{bad} values outside [0, 1] or NaN"))
+    return v.astype(np.float32, copy=False)
 
 
 def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, ShadowMethod], xy: np.ndarray

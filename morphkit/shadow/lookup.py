@@ -36,7 +36,7 @@ from ..errors import ValidationError, expected_got
 from ..settings import compile_kernel, use_compiled
 from ..validate import as_finite_array
 
-__all__ = ["ShadowBias", "shadow_visibility", "normals_from_points"]
+__all__ = ["ShadowBias", "shadow_visibility", "normals_from_points", "check_depth_map"]
 
 
 @dataclass(frozen=True)
@@ -85,17 +85,40 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         Unit surface normals for the slope term of the bias (zero rows: no slope info).
 
     Only points that project into the map's window are tested (the rest are lit).
+
+    Raises
+    ------
+    ValidationError
+        Points not ``(N, 3)`` finite; ``light_cam`` not a :class:`~morphkit.camera.CameraModel`;
+        ``depth_map`` not a float array of the camera's shape, or holding NaN or
+        ``-inf`` (NaN compares false with every depth, so it would light
+        everything behind it; an integer map holds truncated depths).
     """
     pts = as_finite_array(points, "points", shape=(None, 3))
-    dm = np.asarray(depth_map)
-    if dm.shape != light_cam.shape:
-        raise ValidationError(expected_got("depth_map", f"shape {light_cam.shape} of the light camera",
-                                           dm.shape))
+    if not isinstance(light_cam, CameraModel):
+        raise ValidationError(expected_got("light_cam", "a CameraModel", type(light_cam).__name__))
+    dm = check_depth_map(depth_map, light_cam.shape)
     if normals is not None:
         normals = as_finite_array(normals, "normals", shape=(len(pts), 3), dtype=np.float32)
     vis = np.ones(len(pts), np.float32)
     lookup_into(vis, pts, dm, light_cam, normals, ShadowBias() if bias is None else bias)
     return vis
+
+
+def check_depth_map(depth_map: np.ndarray, shape: tuple[int, int], name: str = "depth_map") -> np.ndarray:
+    """Return ``depth_map`` if it is a float32/float64 ``shape`` array of depths that are
+    finite or ``+inf`` (empty texels); otherwise raise :class:`~morphkit.errors.ValidationError`."""
+    if not isinstance(depth_map, np.ndarray):
+        raise ValidationError(expected_got(name, "a numpy array", type(depth_map).__name__))
+    if depth_map.dtype not in (np.float32, np.float64):
+        raise ValidationError(expected_got(name, "a float32/float64 depth map", str(depth_map.dtype)))
+    if depth_map.shape != tuple(shape):
+        raise ValidationError(expected_got(name, f"shape {tuple(shape)} of the light camera",
+                                           depth_map.shape))
+    bad = int(np.count_nonzero(np.isnan(depth_map) | (depth_map == -np.inf)))
+    if bad:
+        raise ValidationError(expected_got(name, "finite or +inf depths", f"{bad} NaN/-inf texels"))
+    return depth_map
 
 
 def lookup_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: CameraModel,

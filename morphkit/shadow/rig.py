@@ -39,6 +39,7 @@ import trimesh
 from .. import tol
 from ..camera import CameraModel, look_at
 from ..errors import DegenerateViewError, OutOfRangeError, ValidationError, expected_got
+from ..meshes import check_mesh
 from ..scene import DirectionalLight, PointLight, translation
 from ..validate import as_finite_array, as_pose, as_shape
 
@@ -129,6 +130,9 @@ class LightRig:
         if not isinstance(light, DirectionalLight | PointLight):
             raise ValidationError(expected_got("light", "a DirectionalLight or PointLight (sample an "
                                                "AreaLight into point lights)", type(light).__name__))
+        mesh = check_mesh(mesh, "mesh")
+        if not isinstance(motion, MotionRange):
+            raise ValidationError(expected_got("motion", "a MotionRange", type(motion).__name__))
         self.light = light
         self.motion = motion
         self.shape = as_shape(shape, "shadow map shape")

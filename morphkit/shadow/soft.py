@@ -75,11 +75,20 @@ def _check_parallel(light: AreaLight) -> AreaLight:
 def light_offsets(light: AreaLight, samples: Any = (3, 3),
                   rng: np.random.Generator | None = None) -> np.ndarray:
     """Offsets ``(N, 2)`` of the light samples from the light's centre, in the
-    motion plane (see the module docstring for ``samples``)."""
+    motion plane (see the module docstring for ``samples``; at most
+    :data:`morphkit.tol.MAX_LIGHT_SAMPLES` of them)."""
     light = _check_parallel(light)
-    arr = np.asarray(samples, dtype=np.float64)
+    try:
+        arr = np.asarray(samples, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got("light samples", "an int k, a pair (n_u, n_v) or an (N, 2) "
+                                           "array of light coordinates", repr(samples)[:120])) from exc
     if arr.ndim == 2:
         ab = as_finite_array(arr, "light samples (a, b)", shape=(None, 2))
+        if len(ab) > tol.MAX_LIGHT_SAMPLES:
+            raise ValidationError(expected_got(
+                "light samples (a, b)", f"at most {tol.MAX_LIGHT_SAMPLES} "
+                "(morphkit.tol.MAX_LIGHT_SAMPLES)", len(ab)))
         if len(ab) == 0 or np.any(np.abs(ab) > 1 + 1e-12):
             raise ValidationError(expected_got("light samples (a, b)",
                                                "at least one, each in [-1, 1]^2",
