@@ -179,7 +179,9 @@ def test_outliers_are_removed(rng):
     assert vm.mode == "viewmorph"
     assert vm.report["n_outliers"] >= 0.9 * bad.size
     assert vm.report["fundamental"]["method"] == "magsac"
-    assert vm.morph(0.5).shape == i0.shape
+    # with the outliers gone the morph is as good as a clean one: s = 0 reproduces image 0
+    diff = np.abs(vm.morph(0.0).astype(int) - i0.astype(int))
+    assert diff.max() <= 1 and np.mean(diff > 0) < 0.01
 
 
 def test_planar_scene_uses_the_homography_fallback(rng):
@@ -215,7 +217,13 @@ def test_epipole_inside_image_refused_or_plain_morph(rng):
     vm = ViewMorpher(i0, i1, corr, fallback="morph")
     assert vm.mode == "morph" and "epipole" in vm.report["fallback"]
     assert np.array_equal(vm.H_rect_0, np.eye(3))
-    assert vm.morph(0.5).shape == i0.shape
+    # the plain morph (no pre-warp, identity post-warp) still has exact end points
+    for s_end, ref in ((0.0, i0), (1.0, i1)):
+        out = vm.morph(s_end)
+        assert out.shape == ref.shape
+        covered = np.any(out > 0, axis=2)  # the mesh covers the correspondences' hull only
+        diff = np.abs(out.astype(int) - ref.astype(int))[covered]
+        assert covered.mean() > 0.2 and diff.max() <= 1 and np.mean(diff > 0) < 0.01, s_end
 
 
 def test_fold_overs_are_resolved_by_dropping_vertices(rng):
@@ -228,7 +236,33 @@ def test_fold_overs_are_resolved_by_dropping_vertices(rng):
     assert vm.report["n_dropped_foldover"] >= 1
     amin = min_area_over_s(vm.vertices(0.0), vm.vertices(1.0), vm.triangles)
     assert amin.min() > 0
-    vm.morph(0.5)
+    # the resolved mesh still morphs: the end points reproduce the inputs (dropping a vertex
+    # re-triangulates, it does not move the remaining ones), the middle is opaque where both are
+    for s_end, ref in ((0.0, i0), (1.0, i1)):
+        diff = np.abs(vm.morph(s_end).astype(int) - ref.astype(int))
+        assert diff.max() <= 1 and np.mean(diff > 0) < 0.01, (s_end, diff.max())
+    mid = vm.morph(0.5)
+    assert mid.shape == i0.shape and np.mean(mid[..., 3] == 255) > 0.9
+
+
+@pytest.mark.parametrize("s", [0.25, 0.5, 0.8])
+def test_colour_is_kept_under_partial_coverage(rng, s):
+    """Premultiplied blending: two views of one flat colour with different, partial
+    alpha morph to exactly that colour wherever anything is drawn (straight-alpha
+    blending would darken the edges towards the transparent background's black)."""
+    _, _, corr, _, _ = setup(rng, channels=4)
+    colour = np.array([200, 60, 20], np.uint8)
+    imgs = []
+    for _ in range(2):
+        img = np.zeros((96, 96, 4), np.uint8)
+        img[..., :3] = colour
+        img[..., 3] = texture(rng, (96, 96), 1)  # alpha varies smoothly over 0..255
+        imgs.append(img)
+    out = ViewMorpher(imgs[0], imgs[1], corr).morph(s)
+    drawn = out[..., 3] >= 8  # below 8/255 alpha, 8-bit rounding of colour / alpha dominates
+    assert drawn.mean() > 0.5
+    err = np.abs(out[..., :3][drawn].astype(int) - colour.astype(int))
+    assert err.max() <= 2  # colour / alpha rounded to uint8 at alpha >= 8/255
 
 
 def test_min_area_over_s_is_exact():
