@@ -89,6 +89,7 @@ from .._scanline import NUMPY_ONLY as _NUMPY_ONLY
 from .._scanline import numba as _numba
 from ..camera import CameraModel
 from ..errors import FileFormatError, FoldOverError, ValidationError, expected_got
+from ..fileio import write_bytes
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..warp import (
@@ -562,8 +563,7 @@ class ShadowAtlas:
                             xs=self.xs, ys=self.ys, maps=self.maps, anchors=self.anchors,
                             plane_anchors=self.plane_anchors, control=self.control,
                             triangles=self.triangles)
-        path.write_bytes(buf.getvalue())
-        return path
+        return write_bytes(path, buf.getvalue())
 
     @classmethod
     def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
