@@ -1,0 +1,90 @@
+"""Where bake tasks run: a Dask client on a local cluster of worker processes, or on a scheduler.
+
+* Default: :class:`distributed.LocalCluster` with ``workers`` worker
+  *processes* (one thread each, so one GL context each: OSMesa and numpy's
+  GIL-bound work scale with processes, not threads); ``workers`` defaults to
+  the CPUs this process may use.
+* ``scheduler="tcp://host:port"``: a :class:`distributed.Client` on an
+  existing Dask scheduler; the same tasks are submitted. Start one with
+  ``dask scheduler`` and, on each machine, ``dask worker tcp://host:8786
+  --nthreads 1 --nworkers N`` (morphkit installed there; input and output
+  paths must be the same on every machine, e.g. a shared file system). An
+  address that does not answer within :data:`CONNECT_TIMEOUT_S`, or a
+  scheduler without any worker after that long, is a
+  :class:`~morphkit.errors.ClusterError` (no hang).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from ..errors import ClusterError, ValidationError, expected_got
+
+__all__ = ["CONNECT_TIMEOUT_S", "default_workers", "open_client"]
+
+#: Seconds to wait for a scheduler to answer, and then for its first worker.
+CONNECT_TIMEOUT_S = 5.0
+
+
+def default_workers() -> int:
+    """The CPUs this process may use (the default number of local worker processes)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+@contextmanager
+def open_client(*, workers: int | None = None, scheduler: str | None = None,
+                timeout: float = CONNECT_TIMEOUT_S) -> Iterator[object]:
+    """A :class:`distributed.Client`, closed (with its local cluster) on exit.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local worker processes (default :func:`default_workers`); not with ``scheduler``.
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
+    timeout : float
+        Seconds to wait for the scheduler, then for at least one worker.
+
+    Raises
+    ------
+    ValidationError
+        Both ``workers`` and ``scheduler``, or ``workers < 1``.
+    ClusterError
+        The scheduler does not answer, or has no worker, within ``timeout``.
+    """
+    from distributed import Client, LocalCluster
+
+    if workers is not None and scheduler is not None:
+        raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=timeout, set_as_default=False)
+        except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
+            raise ClusterError(expected_got("Dask scheduler", f"one answering at {scheduler!r} within "
+                                            f"{timeout:g} s", f"{type(exc).__name__}: {exc}")) from exc
+        try:
+            try:
+                client.wait_for_workers(1, timeout=timeout)
+            except (TimeoutError, OSError) as exc:
+                raise ClusterError(expected_got(f"Dask scheduler {scheduler!r}", "at least one worker "
+                                                f"within {timeout:g} s", "none")) from exc
+            yield client
+        finally:
+            client.close()
+        return
+    n = default_workers() if workers is None else workers
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    try:
+        client = Client(cluster, set_as_default=False)
+        try:
+            yield client
+        finally:
+            client.close()
+    finally:
+        cluster.close()
