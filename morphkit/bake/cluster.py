@@ -36,7 +36,7 @@ def default_workers() -> int:
 
 @contextmanager
 def open_client(*, workers: int | None = None, scheduler: str | None = None,
-                timeout: float = CONNECT_TIMEOUT_S) -> Iterator[object]:
+                timeout: float | None = None) -> Iterator[object]:
     """A :class:`distributed.Client`, closed (with its local cluster) on exit.
 
     Parameters
@@ -45,8 +45,9 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
         Local worker processes (default :func:`default_workers`); not with ``scheduler``.
     scheduler : str, optional
         Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
-    timeout : float
-        Seconds to wait for the scheduler, then for at least one worker.
+    timeout : float, optional
+        Seconds to wait for the scheduler, then for at least one worker
+        (default :data:`CONNECT_TIMEOUT_S`, read at call time).
 
     Raises
     ------
@@ -59,6 +60,7 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
 
     if workers is not None and scheduler is not None:
         raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
     if scheduler is not None:
         try:
             client = Client(scheduler, timeout=timeout, set_as_default=False)
@@ -78,8 +80,9 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
     n = default_workers() if workers is None else workers
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    # the scheduler's HTTP server always starts: a free port on localhost (8787 may be taken)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                           dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
     try:
         client = Client(cluster, set_as_default=False)
         try:
