@@ -3,8 +3,9 @@
 The driver (this module) finds the mesh files (:mod:`.inputs`), checks the
 output folder is writable before any work, reads the manifest (:mod:`.manifest`),
 hashes every input and keeps each asset whose outputs are up to date. The rest
-become one task per asset (:func:`.worker.bake_task`), submitted to a Dask
-client (:mod:`.cluster`: local worker processes, or an existing scheduler). As
+become one task per asset (:func:`.worker.bake_task`), submitted largest input
+first (so the run does not end on one long task) to a Dask client
+(:mod:`.cluster`: local worker processes, or an existing scheduler). As
 results arrive (``as_completed``) each is journaled at once, so a crash loses no
 finished asset; the manifest is rewritten atomically every
 :data:`COMMIT_INTERVAL_S` and at the end. A task that raises (an unreadable,
@@ -154,6 +155,8 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
             tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
         else:
             manifest.mark_skipped(a.name, str(a.path))
+    # largest inputs first: a long task started last would leave the other workers idle at the end
+    tasks.sort(key=lambda t: -t.input_bytes)
     names = [a.name for a in assets]
     n_skipped = len(assets) - len(tasks)
     bar = tqdm(total=len(assets), initial=n_skipped, unit="asset", desc="morphkit bake",
