@@ -7,8 +7,9 @@
 * ``scheduler="tcp://host:port"``: a :class:`distributed.Client` on an
   existing Dask scheduler; the same tasks are submitted. Start one with
   ``dask scheduler`` and, on each machine, ``dask worker tcp://host:8786
-  --nthreads 1 --nworkers N`` (morphkit installed there; input and output
-  paths must be the same on every machine, e.g. a shared file system). An
+  --nthreads 1 --nworkers N`` (the same morphkit installed on the scheduler and
+  the workers: the scheduler unpickles the tasks; input and output paths must be
+  the same on every machine, e.g. a shared file system). An
   address that does not answer within :data:`CONNECT_TIMEOUT_S`, or a
   scheduler without any worker after that long, is a
   :class:`~morphkit.errors.ClusterError` (no hang).
@@ -16,12 +17,14 @@
 Local workers keep glibc's own memory management: Dask starts worker
 processes with ``MALLOC_TRIM_THRESHOLD_=65536`` (to hand freed memory back to
 the system early), which also switches off glibc's dynamic mmap threshold, so
-every large temporary numpy array of a bake costs fresh page faults: measured
-here, a worker baked about 1.4x slower than the same loop in the parent
-process with it, and as fast without it (:data:`LOCAL_WORKER_ENVIRON`). For
+every large temporary numpy array of a bake costs fresh page faults; a worker
+then bakes markedly slower than the same loop in the parent process, and as
+fast without it (figures: ``docs/RESULTS.md``, bake section;
+:data:`LOCAL_WORKER_CONFIG`). For
 your own cluster, start workers with
-``DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON__MALLOC_TRIM_THRESHOLD_=None`` (or
-the same key in a Dask config file).
+``DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON='{"MALLOC_TRIM_THRESHOLD_": None}'``
+(or ``MALLOC_TRIM_THRESHOLD_: null`` under ``distributed.nanny.pre-spawn-environ``
+in a Dask config file).
 """
 
 from __future__ import annotations
@@ -33,14 +36,14 @@ from contextlib import contextmanager
 
 from ..errors import ClusterError, ValidationError, expected_got
 
-__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_ENVIRON", "default_workers", "open_client"]
+__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client"]
 
 #: Seconds to wait for a scheduler to answer, and then for its first worker.
 CONNECT_TIMEOUT_S = 5.0
 
 
 #: Dask configuration of the local cluster's worker processes (see the module docstring).
-LOCAL_WORKER_ENVIRON = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+LOCAL_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
 
 
 def default_workers() -> int:
@@ -96,7 +99,7 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
         raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
     import dask
 
-    with _quiet_logs(), dask.config.set(LOCAL_WORKER_ENVIRON):
+    with _quiet_logs(), dask.config.set(LOCAL_WORKER_CONFIG):
         # the scheduler's HTTP server always starts: a free port on localhost (8787 may be taken)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)

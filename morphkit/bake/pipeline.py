@@ -217,7 +217,9 @@ def _describe(exc: BaseException) -> str:
     from distributed import KilledWorker
 
     if isinstance(exc, KilledWorker):
-        return f"the worker process died while baking this asset, every time it was tried ({exc})"
-    return f"{type(exc).__name__}: {exc}"
+        text = f"the worker process died while baking this asset, every time it was tried ({exc})"
+    else:
+        text = f"{type(exc).__name__}: {exc}"
+    return " ".join(text.split())  # one line (Dask's messages span several)
 
 

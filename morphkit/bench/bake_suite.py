@@ -15,8 +15,14 @@ Rows (``what``):
   cluster of 1 / 2 worker processes (:func:`~morphkit.bake.open_client`, as
   ``morphkit bake`` starts it) started beforehand (start-up timed apart,
   workers warmed: imports and GL context), into a fresh output folder each time
-  (everything baked: input hashing, manifest journal and commits included).
-  Metrics: ``assets_per_min`` and ``speedup`` over ``serial``.
+  (everything baked: input hashing, manifest journal and commits included);
+  ``dask_1_malloc_trim`` -- ``dask_1`` on a cluster with Dask's default worker
+  setting ``MALLOC_TRIM_THRESHOLD_=65536``, which ``morphkit bake`` drops
+  (:data:`morphkit.bake.cluster.LOCAL_WORKER_CONFIG`).
+  Metrics: ``assets_per_min`` and ``speedup`` over ``serial`` (best of the
+  repeats: the machine is shared), ``driver_cpu_s``: CPU time of this process
+  during the run (the serial loop itself; for Dask the driver and the local
+  cluster's scheduler, which share the machine with the workers).
 * ``startup``: starting (and closing) a local cluster of 1 / 2 workers, once each.
 * ``rerun``: ``bake_library`` again on a complete output folder, nothing changed
   (every input and output hashed, no cluster started); metric
@@ -32,6 +38,7 @@ The projection for a larger cluster from these figures is in ``docs/RESULTS.md``
 
 from __future__ import annotations
 
+import logging
 import shutil
 import tempfile
 import time
@@ -98,6 +105,8 @@ def _serial(paths: list[Path], kind: ShadowAtlasKind, out: Path) -> None:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    from distributed import Client, LocalCluster
+
     kind = ShadowAtlasKind(atlas_size=256 if quick else 512)
     options = BakeOptions((kind,))
     repeats = 1 if quick else 3
@@ -119,16 +128,26 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
                 startup[w] = time.perf_counter() - t0
                 clients[w].run(warm_worker)
             address = {w: c.scheduler.address for w, c in clients.items()}
-            samples: dict[str, list[float]] = {"serial": [], "dask_1": [], "dask_2": []}
+            # the same 1-worker cluster with Dask's default worker memory settings
+            dask_default = stack.enter_context(LocalCluster(
+                n_workers=1, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
+                silence_logs=logging.ERROR))
+            with Client(dask_default, set_as_default=False) as c:
+                c.run(warm_worker)
+            address[0] = dask_default.scheduler_address
+            samples: dict[str, list[float]] = {"serial": [], "dask_1": [], "dask_2": [],
+                                               "dask_1_malloc_trim": []}
+            cpu: dict[str, list[float]] = {k: [] for k in samples}
             first_out = None
             for r in range(repeats):
                 for method in samples:
                     out = tmp / f"out_{method}_{r}"
+                    c0 = time.process_time()
                     t0 = time.perf_counter()
                     if method == "serial":
                         _serial(paths, kind, out)
                     else:
-                        w = int(method[-1])
+                        w = 0 if method.endswith("trim") else int(method[-1])
                         m = bake_library([tmp / "lib"], out, options=options,
                                          scheduler=address[w], progress=False)
                         if m.run["failed"]:
@@ -136,6 +155,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
                         if w == 2:
                             first_out = out
                     samples[method].append(time.perf_counter() - t0)
+                    cpu[method].append(time.process_time() - c0)
                     if out != first_out:
                         shutil.rmtree(out)
             serial_s = min(samples["serial"])
@@ -143,7 +163,8 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
                 t = Timing.from_seconds(s)
                 best = min(s)
                 rows.append(make_row(SUITE, method, case, t, metrics={
-                    "assets_per_min": 60.0 * n / best, "speedup": serial_s / best},
+                    "assets_per_min": 60.0 * n / best, "speedup": serial_s / best,
+                    "driver_cpu_s": min(cpu[method])},
                     note="best of repeats for the metrics" if len(s) > 1 else ""))
             for w, s in startup.items():
                 rows.append(make_row(SUITE, f"start_{w}_workers", {"what": "startup", "assets": n},
