@@ -14,17 +14,22 @@
   scheduler without any worker after that long, is a
   :class:`~morphkit.errors.ClusterError` (no hang).
 
-Local workers keep glibc's own memory management: Dask starts worker
-processes with ``MALLOC_TRIM_THRESHOLD_=65536`` (to hand freed memory back to
-the system early), which also switches off glibc's dynamic mmap threshold, so
-every large temporary numpy array of a bake costs fresh page faults; a worker
-then bakes markedly slower than the same loop in the parent process, and as
-fast without it (figures: ``docs/RESULTS.md``, bake section;
-:data:`LOCAL_WORKER_CONFIG`). For
-your own cluster, start workers with
+Local workers are configured for bakes (:data:`LOCAL_WORKER_CONFIG`):
+
+* they keep glibc's own memory management: Dask starts worker processes with
+  ``MALLOC_TRIM_THRESHOLD_=65536`` (to hand freed memory back to the system
+  early), which also switches off glibc's dynamic mmap threshold, so every large
+  temporary numpy array of a bake costs fresh page faults; a worker then bakes
+  markedly slower than the same loop in the parent process, and as fast without
+  it (figures: ``docs/RESULTS.md``, bake section);
+* Dask's statistical profiler of the worker threads (for its dashboard, which a
+  bake does not show) is off: it samples the task's thread every 10 ms, which
+  costs the task CPU.
+
+For your own cluster, start workers with
 ``DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON='{"MALLOC_TRIM_THRESHOLD_": None}'``
-(or ``MALLOC_TRIM_THRESHOLD_: null`` under ``distributed.nanny.pre-spawn-environ``
-in a Dask config file).
+and ``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED=False`` (or the same keys in
+a Dask config file).
 """
 
 from __future__ import annotations
@@ -43,7 +48,8 @@ CONNECT_TIMEOUT_S = 5.0
 
 
 #: Dask configuration of the local cluster's worker processes (see the module docstring).
-LOCAL_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+LOCAL_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                       "distributed.worker.profile.enabled": False}
 
 
 def default_workers() -> int:

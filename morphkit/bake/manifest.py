@@ -9,7 +9,7 @@ One JSON file, ``<out>/manifest.json`` (:data:`MANIFEST_NAME`)::
                        "status": "baked" | "skipped" | "failed", "error": str | null,
                        "outputs": {kind: {"file" (relative to <out>), "sha256", "bytes",
                                           "version", "options", "seconds"}},
-                       "timings_s": {"load", kind..., "total"}, "worker", "updated"}}}
+                       "timings_s": {"load", kind..., "total", "cpu"}, "worker", "updated"}}}
 
 ``status`` is what the last run did with the asset; ``outputs`` always lists the
 files that are current for the recorded input.

@@ -75,7 +75,8 @@ class BakeTask:
 
 @dataclass(frozen=True)
 class TaskResult:
-    """What :func:`bake_task` made: one output record per kind, timings (s), who ran it;
+    """What :func:`bake_task` made: one output record per kind, timings (s: ``load``, one per
+    kind, ``total``, and ``cpu``, the worker process's CPU time during the task), who ran it;
     or, when the mesh could not be baked, ``error`` (and no outputs)."""
 
     name: str
@@ -104,6 +105,7 @@ def bake_task(task: BakeTask) -> TaskResult:
 
 def _bake(task: BakeTask, worker: str) -> TaskResult:
     t0 = time.perf_counter()
+    c0 = time.process_time()
     digest, _ = file_digest(task.input_path)
     if digest != task.input_sha256:
         raise MeshError(expected_got(f"mesh file {task.input_path!r}",
@@ -124,4 +126,5 @@ def _bake(task: BakeTask, worker: str) -> TaskResult:
         outputs[kind.name] = OutputRecord(rel, sha, nbytes, kind.version, kind.options(), dt)
         timings[kind.name] = dt
     timings["total"] = time.perf_counter() - t0
+    timings["cpu"] = time.process_time() - c0  # this worker process's CPU meanwhile, all threads
     return TaskResult(task.name, outputs, timings, worker)
