@@ -356,11 +356,10 @@ def test_driver_crash_mid_run_loses_no_finished_asset(tmp_path, scheduler, clean
     real_record = Manifest.record
     done: list[str] = []
 
-    def record_then_crash(self, rec):
-        real_record(self, rec)
-        done.append(rec.name)
-        if len(done) == 2:
-            raise RuntimeError("simulated crash of the driver")
+    def record_then_crash(self, *recs):  # the first results are journaled, then the driver dies
+        real_record(self, *recs)
+        done.extend(r.name for r in recs)
+        raise RuntimeError("simulated crash of the driver")
 
     monkeypatch.setattr(Manifest, "record", record_then_crash)
     with pytest.raises(RuntimeError, match="simulated crash"):
@@ -370,7 +369,9 @@ def test_driver_crash_mid_run_loses_no_finished_asset(tmp_path, scheduler, clean
 
     m = bake_library([lib], out, options=OPTS, scheduler=scheduler, progress=False)
     assert {k for k, r in m.assets.items() if r.status == "skipped"} == set(done)
-    assert m.run["baked"] == len(MESHES) - 2 and m.run["failed"] == 0
+    # 2 workers, 4 tasks: the first results to arrive are at most 2 (the rest is still to bake)
+    assert 1 <= len(done) <= 2
+    assert m.run["baked"] == len(MESHES) - len(done) and m.run["failed"] == 0
     assert {p: (out / p).stat().st_mtime_ns for p in kept} == kept  # not baked again
     assert outputs(out) == clean
 

@@ -74,13 +74,13 @@ def test_atomic_output_renames_on_success_and_cleans_up_on_failure(tmp_path: Pat
     assert sorted(x.name for x in tmp_path.iterdir()) == ["clip.mp4"]
 
 
-def test_append_line_appends_and_refuses_newlines(tmp_path: Path) -> None:
-    from morphkit.fileio import append_line
+def test_append_lines_appends_and_refuses_newlines(tmp_path: Path) -> None:
+    from morphkit.fileio import append_lines
 
     log = tmp_path / "log.jsonl"
-    append_line(log, '{"a": 1}')
-    append_line(log, '{"b": 2}')
-    assert log.read_text() == '{"a": 1}\n{"b": 2}\n'
+    append_lines(log, ['{"a": 1}'])
+    append_lines(log, ['{"b": 2}', '{"c": 3}'])
+    assert log.read_text() == '{"a": 1}\n{"b": 2}\n{"c": 3}\n'
     with pytest.raises(ValidationError, match="expected one line without newlines, got 2 lines"):
-        append_line(log, "x\ny")
-    assert log.read_text() == '{"a": 1}\n{"b": 2}\n'
+        append_lines(log, ["fine", "x\ny"])
+    assert log.read_text() == '{"a": 1}\n{"b": 2}\n{"c": 3}\n'  # nothing of the refused batch

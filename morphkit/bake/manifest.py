@@ -17,12 +17,13 @@ files that are current for the recorded input.
 Nothing lost. The manifest file is only ever replaced atomically
 (:func:`morphkit.fileio.write_json`), and every finished asset's record is first
 appended to a journal, ``<out>/manifest.journal`` (:data:`JOURNAL_NAME`, one
-JSON record per line, ``fsync``-ed: :func:`morphkit.fileio.append_line`), the
-moment its result arrives. :meth:`Manifest.commit` folds the journal into the
-manifest and removes it; :meth:`Manifest.open` replays a journal a crash left
-behind (a truncated last line is skipped). So a run killed at any point keeps
-every asset that finished, at the cost of one appended line per asset instead
-of rewriting the whole manifest per asset.
+JSON record per line, ``fsync``-ed: :func:`morphkit.fileio.append_lines`), the
+moment its result arrives (results that arrive together share one disk sync).
+:meth:`Manifest.commit` folds the journal into the manifest and removes it;
+:meth:`Manifest.open` replays a journal a crash left behind (a truncated last
+line is skipped). So a run killed at any point keeps every asset that finished,
+at the cost of one appended line per asset instead of rewriting the whole
+manifest per asset.
 
 Incremental: :meth:`Manifest.up_to_date` says whether an asset's output for a
 kind can be kept: same input hash, same options and format version, and the
@@ -41,7 +42,7 @@ from typing import Any
 
 from .. import __version__
 from ..errors import FileFormatError, expected_got
-from ..fileio import append_line, write_json
+from ..fileio import append_lines, write_json
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "OutputRecord",
@@ -191,11 +192,12 @@ class Manifest:
         return path.is_file() and path.stat().st_size == out.bytes and file_digest(path)[0] == out.sha256
 
     # --------------------------------------------------------------- updates
-    def record(self, rec: AssetRecord) -> None:
-        """Set ``rec`` and append it to the journal (durable at once)."""
-        rec.updated = rec.updated or utc_now()
-        self.assets[rec.name] = rec
-        append_line(self.journal, json.dumps(rec.to_dict(), allow_nan=False))
+    def record(self, *recs: AssetRecord) -> None:
+        """Set each record and append them to the journal (durable at once, one disk sync)."""
+        for rec in recs:
+            rec.updated = rec.updated or utc_now()
+            self.assets[rec.name] = rec
+        append_lines(self.journal, [json.dumps(r.to_dict(), allow_nan=False) for r in recs])
 
     def mark_skipped(self, name: str, input_path: str) -> None:
         """This run kept ``name``'s outputs, baked from ``input_path`` (in memory; written by

@@ -6,9 +6,10 @@ hashes every input and keeps each asset whose outputs are up to date. The rest
 become one task per asset (:func:`.worker.bake_task`), submitted largest input
 first (so the run does not end on one long task) to a Dask client
 (:mod:`.cluster`: local worker processes, or an existing scheduler). As
-results arrive (``as_completed``) each is journaled at once, so a crash loses no
-finished asset; the manifest is rewritten atomically every
-:data:`COMMIT_INTERVAL_S` and at the end. A task that raises (an unreadable,
+results arrive (``as_completed``, in the batches that arrive together) each is
+journaled at once, so a crash loses no finished asset; the manifest is rewritten
+atomically every :data:`COMMIT_INTERVAL_S` (longer for a huge manifest) and at
+the end. A task that raises (an unreadable,
 empty or degenerate mesh) or whose worker died more often than Dask allows
 (``distributed.scheduler.allowed-failures``; a worker killed once is replaced
 and its task re-run) is recorded as failed with its error; the others go on.
@@ -21,20 +22,25 @@ import tempfile
 import time
 import uuid
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ValidationError, expected_got
 from .cluster import open_client
-from .inputs import find_inputs
+from .inputs import AssetInput, find_inputs
 from .kinds import AssetKind, ShadowAtlasKind
 from .manifest import AssetRecord, Manifest, file_digest, utc_now
 from .worker import BakeTask, bake_task
 
-__all__ = ["BakeOptions", "bake_library", "check_writable", "COMMIT_INTERVAL_S"]
+__all__ = ["BakeOptions", "bake_library", "check_writable", "COMMIT_INTERVAL_S", "HASH_THREADS"]
 
-#: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest).
+#: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest);
+#: longer for a manifest so large that rewriting it would take over 5% of the time.
 COMMIT_INTERVAL_S = 2.0
+
+#: Threads hashing inputs and existing outputs before a run.
+HASH_THREADS = 8
 
 
 @dataclass(frozen=True)
@@ -147,14 +153,18 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     manifest = Manifest.open(folder)
     manifest.options = options.as_dict()
 
-    tasks: list[BakeTask] = []
-    for a in assets:
+    def plan(a: AssetInput) -> tuple[AssetInput, str, int, tuple[AssetKind, ...]]:
         sha, size = file_digest(a.path)
-        stale = tuple(k for k in options.kinds if not manifest.up_to_date(a.name, sha, k))
-        if stale:
-            tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
-        else:
-            manifest.mark_skipped(a.name, str(a.path))
+        return a, sha, size, tuple(k for k in options.kinds if not manifest.up_to_date(a.name, sha, k))
+
+    tasks: list[BakeTask] = []
+    # hashing reads every input and every existing output: threads (hashlib releases the GIL)
+    with ThreadPoolExecutor(max_workers=HASH_THREADS) as pool:
+        for a, sha, size, stale in pool.map(plan, assets):
+            if stale:
+                tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
+            else:
+                manifest.mark_skipped(a.name, str(a.path))
     # largest inputs first: a long task started last would leave the other workers idle at the end
     tasks.sort(key=lambda t: -t.input_bytes)
     names = [a.name for a in assets]
@@ -169,20 +179,23 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
                 token = uuid.uuid4().hex[:8]
                 futures = {client.submit(bake_task, t, key=f"morphkit-bake-{token}-{i}-{t.name}",
                                          pure=False): t for i, t in enumerate(tasks)}
-                last_commit = time.perf_counter()
+                last_commit, commit_s = time.perf_counter(), 0.0
                 n_failed = 0
-                for fut in as_completed(list(futures), loop=client.loop):
-                    task = futures.pop(fut)
-                    rec = _record(manifest, task, fut)
-                    fut.release()
-                    manifest.record(rec)
-                    n_failed += rec.status == "failed"
-                    bar.update()
+                for batch in as_completed(list(futures), loop=client.loop).batches():
+                    recs = [_record(manifest, futures.pop(fut), fut) for fut in batch]
+                    for fut in batch:
+                        fut.release()
+                    manifest.record(*recs)  # the results that arrived together: one disk sync
+                    n_failed += sum(r.status == "failed" for r in recs)
+                    bar.update(len(recs))
                     if n_failed:
                         bar.set_postfix(failed=n_failed, refresh=False)
-                    if time.perf_counter() - last_commit > COMMIT_INTERVAL_S:
+                    # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
+                    if time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s):
+                        t0 = time.perf_counter()
                         manifest.commit()
                         last_commit = time.perf_counter()
+                        commit_s = last_commit - t0
     finally:
         bar.close()
     counts = manifest.counts(names)

@@ -39,7 +39,8 @@ Rows (``what``):
   trivial tasks through the 2-worker client (``client.map`` of 400 no-ops, wall
   time / 400: submission, scheduling, transfer and result of each task);
   ``idle_cluster`` -- this process's CPU while that cluster idles (``cpu_per_s``);
-  ``journal_append`` -- the driver's fsync-ed manifest journal line per result.
+  ``journal_append`` -- the driver's fsync-ed manifest journal line for one
+  result (results that arrive together share one).
 
 The projection for a larger cluster from these figures is in ``docs/RESULTS.md``.
 """
@@ -57,7 +58,7 @@ from pathlib import Path
 from typing import Any
 
 from ..bake import BakeOptions, ShadowAtlasKind, bake_library, find_inputs, open_client, worker_renderer
-from ..fileio import append_line
+from ..fileio import append_lines
 from ..meshes import chair, cow, load_mesh, teapot
 from .harness import Timing, make_row
 
@@ -233,7 +234,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
         per = []
         for i in range(200):
             t0 = time.perf_counter()
-            append_line(log, f'{{"name": "x{i}", "status": "baked", "outputs": {{}}}}')
+            append_lines(log, [f'{{"name": "x{i}", "status": "baked", "outputs": {{}}}}'])
             per.append(time.perf_counter() - t0)
         rows.append(make_row(SUITE, "journal_append", {"what": "overhead", "assets": 200},
                              Timing.from_seconds(per), note="per result (fsync)"))
