@@ -213,9 +213,14 @@ def _record(manifest: Manifest, task: BakeTask, fut: object) -> AssetRecord:
     keep = {} if old is None or old.input_sha256 != task.input_sha256 else dict(old.outputs)
     base = {"name": task.name, "input": task.input_path, "input_sha256": task.input_sha256,
             "input_bytes": task.input_bytes}
-    exc = fut.exception()  # type: ignore[attr-defined]
-    res = None if exc is not None else fut.result()  # type: ignore[attr-defined]
-    error = _describe(exc) if exc is not None else res.error
+    res = None
+    if fut.cancelled():  # type: ignore[attr-defined]
+        error = "the task was cancelled (the scheduler or its workers went away); a rerun bakes it"
+    elif (exc := fut.exception()) is not None:  # type: ignore[attr-defined]
+        error = _describe(exc)
+    else:
+        res = fut.result()  # type: ignore[attr-defined]
+        error = res.error
     if error is not None:
         for k in task.kinds:
             keep.pop(k.name, None)
