@@ -8,6 +8,7 @@ so the numpy/OpenCV core works without a GL context.
 from __future__ import annotations
 
 from .errors import (
+    ClusterError,
     DegenerateViewError,
     FileFormatError,
     FoldOverError,
@@ -32,4 +33,5 @@ __all__ = [
     "DegenerateViewError",
     "RenderError",
     "FileFormatError",
+    "ClusterError",
 ]

@@ -1,4 +1,4 @@
-"""The ``morphkit`` command line: ``demo``, ``bench`` (and later ``viewmorph``).
+"""The ``morphkit`` command line: ``demo``, ``bench``, ``viewmorph``, ``bake``, ``shadows``.
 
 Heavy modules are imported inside each subcommand so ``morphkit --help`` is fast
 and needs no GL context.
@@ -122,6 +122,72 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bake_kinds(args: argparse.Namespace) -> tuple:
+    from .bake import ShadowAtlasKind
+    from .errors import ValidationError, expected_got
+
+    if args.views is not None and not args.billboard:
+        raise ValidationError(expected_got("--views", "together with --billboard", "--views alone"))
+    if args.billboard:  # the billboard kind (issue 16) is wired where morphkit.billboard exists
+        raise ValidationError(expected_got("--billboard", "a morphkit with the billboard asset kind "
+                                           "(morphkit.billboard)", "none in this build"))
+    given = {"atlas_size": args.atlas_size, "grid": args.grid,
+             "range": None if args.range is None else tuple(args.range),
+             "light": None if args.light is None else tuple(args.light)}
+    atlas = ShadowAtlasKind(**{k: v for k, v in given.items() if v is not None},
+                            directional=args.directional)
+    return (atlas,)
+
+
+def _cmd_bake(args: argparse.Namespace) -> int:
+    from .bake import BakeOptions, bake_library
+
+    options = BakeOptions(_bake_kinds(args))
+    manifest = bake_library(args.inputs, args.out, options=options, workers=args.workers,
+                            scheduler=args.scheduler, progress=not args.quiet)
+    for name, error in sorted(manifest.failed().items()):
+        print(f"morphkit bake: failed: {name}: {error}", file=sys.stderr)
+    print(f"morphkit bake: {manifest.summary()}; manifest {manifest.path}")
+    return 1 if manifest.run.get("failed", 0) else 0
+
+
+def _cmd_shadows(args: argparse.Namespace) -> int:
+    from .bake import check_writable
+    from .bake.playback import (
+        CirclePath,
+        LinePath,
+        PointsPath,
+        area_light_for,
+        baked_mesh,
+        render_shadow_sequence,
+    )
+    from .errors import ValidationError, expected_got
+    from .render import Renderer
+    from .shadow import ShadowAtlas
+
+    if args.samples is not None and args.area_light is None:
+        raise ValidationError(expected_got("--samples", "together with --area-light", "--samples alone"))
+    path_cls = {"line": LinePath, "circle": CirclePath}.get(args.path)
+    if path_cls is None:
+        if args.frames is not None:
+            raise ValidationError(expected_got("--frames", "with --path line or circle (a CSV file gives "
+                                               "its own positions)", f"--path {args.path}"))
+        path = PointsPath.from_csv(args.path)
+    else:
+        path = path_cls() if args.frames is None else path_cls(args.frames)
+    atlas = ShadowAtlas.load(args.atlas)
+    mesh = baked_mesh(args.atlas, args.mesh)
+    area = None if args.area_light is None else area_light_for(atlas, *args.area_light)
+    out = check_writable(args.out)
+    with Renderer() as renderer:
+        res = render_shadow_sequence(atlas, mesh, path, out, renderer=renderer, size=args.size,
+                                     area_light=area, samples=3 if args.samples is None else args.samples,
+                                     progress=not args.quiet)
+    kind = "hard" if area is None else f"soft, {args.area_light[0]:g} x {args.area_light[1]:g} area light"
+    print(f"morphkit shadows: {len(res['frames'])} frames ({kind}) in {out}; video {res['video']}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="morphkit",
@@ -183,6 +249,67 @@ def build_parser() -> argparse.ArgumentParser:
                    help="crop/size policy (default: %(default)s)")
     v.add_argument("-o", "--out", required=True, help="output image (or folder with --frames)")
     v.set_defaults(func=_cmd_viewmorph)
+
+    k = sub.add_parser(
+        "bake",
+        help="bake every mesh of a library (files or folders) into OUT, on Dask; resumable",
+        description="Bake each mesh (any format trimesh loads; folders are searched recursively) into "
+        "OUT: one file per asset and kind (a shadow atlas: <name>.atlas.npz) and manifest.json (input "
+        "hashes, options, output hashes and sizes, timings, status). Assets whose input and options "
+        "match the manifest are skipped. Runs on local worker processes (one GL context each) or on an "
+        "existing Dask scheduler. Exit code 1 if any asset failed (listed on stderr and in the manifest).",
+    )
+    # defaults are morphkit.bake.ShadowAtlasKind's (not imported here: --help stays fast; a test
+    # checks that the numbers below are its defaults)
+    k.add_argument("inputs", nargs="+", metavar="MESH_OR_FOLDER", help="mesh files and folders")
+    k.add_argument("-o", "--out", required=True, help="output folder (created)")
+    k.add_argument("--atlas-size", type=int, default=None, metavar="N",
+                   help="side of each shadow map in pixels (default: 512)")
+    k.add_argument("--grid", type=int, default=None, metavar="K", help="shadow maps per axis, K x K "
+                   "(default: 3)")
+    k.add_argument("--range", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=None,
+                   help="the object's range of motion on the ground (default: -0.6 -0.6 0.6 0.6)")
+    k.add_argument("--light", type=float, nargs=3, metavar=("X", "Y", "Z"), default=None,
+                   help="point light position, or with --directional the direction light travels "
+                   "(default: 0.25 -0.2 2.4)")
+    k.add_argument("--directional", action="store_true", help="a directional light (see --light)")
+    where = k.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="local worker processes (default: the CPU count)")
+    where.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="an existing Dask scheduler, e.g. tcp://host:8786 (see README)")
+    k.add_argument("--billboard", action="store_true",
+                   help="also bake a view-morphing billboard asset per mesh (needs morphkit.billboard)")
+    k.add_argument("--views", type=int, default=None, metavar="K",
+                   help="billboard reference views (with --billboard)")
+    k.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    k.set_defaults(func=_cmd_bake)
+
+    h = sub.add_parser(
+        "shadows",
+        help="render a baked atlas's scene along an object path with warped shadows (PNGs + video)",
+        description="Move the mesh an atlas was baked from along a path over the atlas's range and "
+        "render each frame with the warped shadow: hard, or soft with --area-light. Writes "
+        "OUT/frame_NNNN.png and OUT/shadows.mp4. The mesh comes from the bake manifest (its folder or a "
+        "parent), hash-checked, or from --mesh.",
+    )
+    h.add_argument("atlas", help="a baked shadow atlas (.atlas.npz)")
+    h.add_argument("--path", default="line", metavar="line|circle|FILE.csv",
+                   help="the object's path: the range's diagonal, a circle, or x,y rows (default: "
+                   "%(default)s)")
+    h.add_argument("--frames", type=int, default=None, metavar="N",
+                   help="frames along line or circle (default: 48)")
+    h.add_argument("--area-light", type=float, nargs=2, metavar=("W", "H"), default=None,
+                   help="soft shadows of a W x H area light centred on the atlas's point light")
+    h.add_argument("--samples", type=int, default=None, metavar="N",
+                   help="light samples per axis with --area-light (N x N; default: 3)")
+    h.add_argument("--size", type=int, default=512, metavar="N",
+                   help="frame size in pixels (default: %(default)s)")
+    h.add_argument("--mesh", default=None, help="the mesh file the atlas was baked from, if not where "
+                   "the manifest says")
+    h.add_argument("-o", "--out", required=True, help="output folder (created)")
+    h.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    h.set_defaults(func=_cmd_shadows)
     return p
 
 

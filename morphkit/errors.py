@@ -13,7 +13,8 @@ Hierarchy::
     │   ├── FoldOverError                     a warp triangle flips or collapses
     │   └── DegenerateViewError               camera inside object, epipole in image, ...
     ├── RenderError                           the GL boundary failed
-    └── FileFormatError                       a saved file is corrupt, truncated or foreign
+    ├── FileFormatError                       a saved file is corrupt, truncated or foreign
+    └── ClusterError                          the Dask scheduler is unreachable or has no workers
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ __all__ = [
     "DegenerateViewError",
     "RenderError",
     "FileFormatError",
+    "ClusterError",
     "expected_got",
 ]
 
@@ -68,6 +70,10 @@ class RenderError(MorphkitError):
 
 class FileFormatError(MorphkitError):
     """A morphkit file is truncated, corrupt, of another version or for another setup."""
+
+
+class ClusterError(MorphkitError):
+    """The distributed engine (a Dask scheduler and its workers) cannot be reached or used."""
 
 
 def expected_got(what: str, expected: Any, got: Any) -> str:

@@ -6,6 +6,12 @@ Windows within one file system). A crash, a full disk or a killed process in
 the middle of a write leaves either the old file or the new one, never half of
 one; the temporary file is removed on failure.
 
+Two writes are not a whole file at once: :func:`atomic_output` gives a writer
+that needs a file name (``cv2.VideoWriter``) a temporary path beside the
+target, renamed over it on success; :func:`append_lines` appends lines to a
+log (a journal), flushed and ``fsync``-ed, so a crash leaves at most a
+truncated last line, which readers skip.
+
 Images are encoded in memory first (``cv2.imencode``), so an unknown extension
 or an image OpenCV cannot encode is a :class:`~morphkit.errors.ValidationError`
 before anything touches the disk.
@@ -16,7 +22,8 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
 
@@ -25,7 +32,8 @@ import numpy as np
 
 from .errors import ValidationError, expected_got
 
-__all__ = ["atomic_write", "write_bytes", "write_text", "write_json", "encode_image", "write_image"]
+__all__ = ["atomic_write", "atomic_output", "append_lines", "write_bytes", "write_text", "write_json",
+           "encode_image", "write_image"]
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]) -> Path:
@@ -73,6 +81,86 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]
         except FileNotFoundError:
             pass
         raise
+    return p
+
+
+@contextmanager
+def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """A temporary path beside ``path`` (same suffix) to write; renamed to ``path`` on success.
+
+    For writers that open the file themselves (``cv2.VideoWriter`` picks the
+    container from the suffix). On a clean exit of the ``with`` block the
+    temporary file is ``fsync``-ed and renamed over ``path``; on an exception
+    it is removed and ``path`` is untouched.
+
+    Parameters
+    ----------
+    path : path-like
+        The target file; its folder must exist.
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary path (an empty file exists there).
+
+    Raises
+    ------
+    ValidationError
+        ``path`` is an existing folder, or the block left no file at the temporary path.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise ValidationError(expected_got("output path", "a file path", f"the folder {p}"))
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=f".part{p.suffix}",
+                               dir=p.parent if str(p.parent) else ".")
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        if not os.path.isfile(tmp):
+            raise ValidationError(expected_got(f"temporary output for {p.name}", "a written file",
+                                               "nothing"))
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, p)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
+    """Append lines (a newline added to each) to ``path``, creating it; one write, flushed and
+    ``fsync``-ed once (a group commit: many records cost one disk sync).
+
+    Parameters
+    ----------
+    path : path-like
+        The log file; its folder must exist.
+    lines : sequence of str
+        Lines of text, each without a newline.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValidationError
+        A line contains a newline (nothing is written).
+    """
+    for line in lines:
+        if "\n" in line or "\r" in line:
+            raise ValidationError(expected_got("log line", "one line without newlines",
+                                               f"{len(line.splitlines())} lines"))
+    p = Path(path)
+    with open(p, "ab") as f:
+        f.write("".join(f"{line}\n" for line in lines).encode("utf-8"))
+        f.flush()
+        os.fsync(f.fileno())
     return p
 
 

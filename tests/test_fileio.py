@@ -54,3 +54,33 @@ def test_image_round_trip_and_bad_extension(tmp_path: Path) -> None:
     with pytest.raises(ValidationError, match="an extension such as"):
         write_image(tmp_path / "noext", img)
     assert sorted(x.name for x in tmp_path.iterdir()) == ["a.png"]
+
+
+def test_atomic_output_renames_on_success_and_cleans_up_on_failure(tmp_path: Path) -> None:
+    from morphkit.fileio import atomic_output
+
+    target = tmp_path / "clip.mp4"
+    target.write_bytes(b"old")
+    with pytest.raises(RuntimeError, match="writer crashed"), atomic_output(target) as tmp:
+        assert tmp.parent == tmp_path and tmp.suffix == ".mp4" and tmp != target
+        tmp.write_bytes(b"half")
+        raise RuntimeError("writer crashed")
+    assert target.read_bytes() == b"old"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["clip.mp4"]
+    with atomic_output(target) as tmp:
+        tmp.write_bytes(b"new")
+        assert target.read_bytes() == b"old"  # not renamed before the block ends
+    assert target.read_bytes() == b"new"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["clip.mp4"]
+
+
+def test_append_lines_appends_and_refuses_newlines(tmp_path: Path) -> None:
+    from morphkit.fileio import append_lines
+
+    log = tmp_path / "log.jsonl"
+    append_lines(log, ['{"a": 1}'])
+    append_lines(log, ['{"b": 2}', '{"c": 3}'])
+    assert log.read_text() == '{"a": 1}\n{"b": 2}\n{"c": 3}\n'
+    with pytest.raises(ValidationError, match="expected one line without newlines, got 2 lines"):
+        append_lines(log, ["fine", "x\ny"])
+    assert log.read_text() == '{"a": 1}\n{"b": 2}\n{"c": 3}\n'  # nothing of the refused batch

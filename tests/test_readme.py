@@ -24,7 +24,11 @@ def test_readme_has_examples():
 
 @pytest.mark.gl
 def test_readme_examples_run(tmp_path, monkeypatch):
+    from morphkit.meshes import sample_mesh
+
     monkeypatch.chdir(tmp_path)
+    (tmp_path / "props").mkdir()  # the bake example's input folder: one small mesh
+    sample_mesh("teapot").export(tmp_path / "props" / "teapot.ply")
     # the mesh-warp example names its inputs: a small image and a 2x2 grid moved by a known shift
     src = np.array([[2.0, 2.0], [20.0, 2.0], [2.0, 20.0], [20.0, 20.0]])
     ns: dict = {"image": np.zeros((24, 24), np.float32), "src_pts": src, "dst_pts": src + 0.5,
@@ -34,3 +38,4 @@ def test_readme_examples_run(tmp_path, monkeypatch):
     assert (tmp_path / "teapot.atlas.npz").is_file()
     assert ns["vis"].shape == (256 * 256,) and 0.0 <= ns["vis"].min() <= ns["vis"].max() <= 1.0
     assert ns["maps"].mask.any()
+    assert (tmp_path / "baked" / "teapot.atlas.npz").is_file() and not ns["manifest"].failed()

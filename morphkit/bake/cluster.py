@@ -1,0 +1,131 @@
+"""Where bake tasks run: a Dask client on a local cluster of worker processes, or on a scheduler.
+
+* Default: :class:`distributed.LocalCluster` with ``workers`` worker
+  *processes* (one thread each, so one GL context each: OSMesa and numpy's
+  GIL-bound work scale with processes, not threads); ``workers`` defaults to
+  the CPUs this process may use.
+* ``scheduler="tcp://host:port"``: a :class:`distributed.Client` on an
+  existing Dask scheduler; the same tasks are submitted. Start one with
+  ``dask scheduler`` and, on each machine, ``dask worker tcp://host:8786
+  --nthreads 1 --nworkers N`` (the same morphkit installed on the scheduler and
+  the workers: the scheduler unpickles the tasks; input and output paths must be
+  the same on every machine, e.g. a shared file system). An
+  address that does not answer within :data:`CONNECT_TIMEOUT_S`, or a
+  scheduler without any worker after that long, is a
+  :class:`~morphkit.errors.ClusterError` (no hang).
+
+Local workers are configured for bakes (:data:`LOCAL_WORKER_CONFIG`):
+
+* they keep glibc's own memory management: Dask starts worker processes with
+  ``MALLOC_TRIM_THRESHOLD_=65536`` (to hand freed memory back to the system
+  early), which also switches off glibc's dynamic mmap threshold, so every large
+  temporary numpy array of a bake costs fresh page faults; a worker then bakes
+  markedly slower than the same loop in the parent process, and as fast without
+  it (figures: ``docs/RESULTS.md``, bake section);
+* Dask's statistical profiler of the worker threads (for its dashboard, which a
+  bake does not show) is off: it samples the task's thread every 10 ms, which
+  costs the task CPU.
+
+For your own cluster, start workers with
+``DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON='{"MALLOC_TRIM_THRESHOLD_": None}'``
+and ``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED=False`` (or the same keys in
+a Dask config file).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from ..errors import ClusterError, ValidationError, expected_got
+
+__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client"]
+
+#: Seconds to wait for a scheduler to answer, and then for its first worker.
+CONNECT_TIMEOUT_S = 5.0
+
+
+#: Dask configuration of the local cluster's worker processes (see the module docstring).
+LOCAL_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                       "distributed.worker.profile.enabled": False}
+
+
+def default_workers() -> int:
+    """The CPUs this process may use (the default number of local worker processes)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+@contextmanager
+def open_client(*, workers: int | None = None, scheduler: str | None = None,
+                timeout: float | None = None) -> Iterator[object]:
+    """A :class:`distributed.Client`, closed (with its local cluster) on exit.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local worker processes (default :func:`default_workers`); not with ``scheduler``.
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``.
+    timeout : float, optional
+        Seconds to wait for the scheduler, then for at least one worker
+        (default :data:`CONNECT_TIMEOUT_S`, read at call time).
+
+    Raises
+    ------
+    ValidationError
+        Both ``workers`` and ``scheduler``, or ``workers < 1``.
+    ClusterError
+        The scheduler does not answer, or has no worker, within ``timeout``.
+    """
+    from distributed import Client, LocalCluster
+
+    if workers is not None and scheduler is not None:
+        raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=timeout, set_as_default=False)
+        except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
+            raise ClusterError(expected_got("Dask scheduler", f"one answering at {scheduler!r} within "
+                                            f"{timeout:g} s", f"{type(exc).__name__}: {exc}")) from exc
+        try:
+            try:
+                client.wait_for_workers(1, timeout=timeout)
+            except (TimeoutError, OSError) as exc:
+                raise ClusterError(expected_got(f"Dask scheduler {scheduler!r}", "at least one worker "
+                                                f"within {timeout:g} s", "none")) from exc
+            yield client
+        finally:
+            client.close()
+        return
+    n = default_workers() if workers is None else workers
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
+    import dask
+
+    with _quiet_logs(), dask.config.set(LOCAL_WORKER_CONFIG):
+        # the scheduler's HTTP server always starts: a free port on localhost (8787 may be taken)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+        try:
+            client = Client(cluster, set_as_default=False)
+            try:
+                yield client
+            finally:
+                client.close()
+        finally:
+            cluster.close()
+
+
+@contextmanager
+def _quiet_logs() -> Iterator[None]:
+    """Dask's INFO lines (workers starting and closing) off, errors still shown."""
+    logger = logging.getLogger("distributed")
+    old = logger.level
+    logger.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        logger.setLevel(old)

@@ -1,0 +1,135 @@
+"""Kinds of baked asset: what ``morphkit bake`` makes of one mesh.
+
+A kind is an object implementing :class:`AssetKind`: a ``name`` (the key in
+the manifest), a file ``suffix`` (outputs are ``<out>/<asset><suffix>``), the
+``version`` of the file format it writes, its ``options()`` (JSON: an asset
+is re-baked when they change) and ``bake(mesh, renderer)``, which returns
+something that saves itself to one file atomically (:class:`SavableAsset`:
+:meth:`ShadowAtlas.save <morphkit.shadow.atlas.ShadowAtlas.save>`, a
+billboard asset's ``save``). Kinds are pickled to the worker processes, so a
+kind is plain data (a frozen dataclass) plus those methods.
+
+Implemented here: :class:`ShadowAtlasKind` (Kang & Ihm's k x k shadow atlas,
+:func:`morphkit.shadow.bake_atlas`). A billboard kind plugs in the same way
+(``bake`` returning ``morphkit.billboard.bake_asset(mesh, renderer, views=K,
+size=S)``, suffix ``.billboard.npz``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+import trimesh
+
+from ..errors import ValidationError, expected_got
+from ..protocols import SceneRenderer
+from ..scene import DirectionalLight, PointLight
+from ..scenes import WARP_LIGHT, WARP_RANGE
+from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
+from ..validate import as_finite_array
+
+__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "output_name"]
+
+
+@runtime_checkable
+class SavableAsset(Protocol):
+    """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`)."""
+
+    def save(self, path: str | Path) -> Path:
+        """Write the asset to ``path`` (its folder exists); return ``path``."""
+        ...
+
+
+@runtime_checkable
+class AssetKind(Protocol):
+    """One kind of baked asset (see the module docstring)."""
+
+    #: Key of this kind in the manifest, e.g. ``"shadow-atlas"``.
+    name: str
+    #: Output file suffix, e.g. ``".atlas.npz"``.
+    suffix: str
+    #: Version of the file format written (recorded in the manifest; a change re-bakes).
+    version: int
+
+    def options(self) -> dict[str, Any]:
+        """The options that determine the output, as plain JSON values."""
+        ...
+
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+        """Bake one normalised mesh (:func:`morphkit.meshes.load_mesh`) with ``renderer``."""
+        ...
+
+
+@dataclass(frozen=True)
+class ShadowAtlasKind:
+    """The k x k warped-shadow atlas of an object moving over a range (:func:`~morphkit.shadow.bake_atlas`).
+
+    Parameters
+    ----------
+    atlas_size : int
+        Side of each square light-view depth map, in pixels (8..8192).
+    grid : int
+        Maps per axis, ``k >= 2`` (3: Kang & Ihm's 3 x 3).
+    range : (x0, y0, x1, y1)
+        The object's translations on the ground, world units (:class:`~morphkit.shadow.MotionRange`).
+    light : (x, y, z)
+        Point light position; with ``directional`` the direction the light travels.
+    directional : bool
+        A :class:`~morphkit.scene.DirectionalLight` instead of a point light.
+    """
+
+    atlas_size: int = 512
+    grid: int = 3
+    range: tuple[float, float, float, float] = (*WARP_RANGE[0], *WARP_RANGE[1])
+    light: tuple[float, float, float] = WARP_LIGHT
+    directional: bool = False
+
+    name: ClassVar[str] = "shadow-atlas"
+    suffix: ClassVar[str] = ".atlas.npz"
+    version: ClassVar[int] = ATLAS_VERSION
+
+    def __post_init__(self) -> None:
+        size = _int_in(self.atlas_size, "atlas size", 8, 8192)
+        grid = _int_in(self.grid, "grid", 2, 64)
+        rng = as_finite_array(self.range, "range (x0, y0, x1, y1)", shape=(4,))
+        light = as_finite_array(self.light, "light", shape=(3,))
+        object.__setattr__(self, "atlas_size", size)
+        object.__setattr__(self, "grid", grid)
+        object.__setattr__(self, "range", tuple(float(v) for v in rng))
+        object.__setattr__(self, "light", tuple(float(v) for v in light))
+        object.__setattr__(self, "directional", bool(self.directional))
+        self.motion()  # validates the range
+        self.scene_light()  # and the light
+
+    def motion(self) -> MotionRange:
+        """The object's range of motion."""
+        x0, y0, x1, y1 = self.range
+        return MotionRange(np.array([x0, y0]), np.array([x1, y1]))
+
+    def scene_light(self) -> DirectionalLight | PointLight:
+        """The light the atlas is baked for."""
+        v = np.array(self.light)
+        return DirectionalLight(v) if self.directional else PointLight(v)
+
+    def options(self) -> dict[str, Any]:
+        return {"atlas_size": self.atlas_size, "grid": self.grid, "range": list(self.range),
+                "light": list(self.light), "directional": self.directional}
+
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+        return bake_atlas(mesh, np.eye(4), self.motion(), self.scene_light(),
+                          (self.atlas_size, self.atlas_size), renderer=renderer, grid=self.grid,
+                          progress=False)
+
+
+def _int_in(v: Any, what: str, lo: int, hi: int) -> int:
+    if isinstance(v, bool) or not isinstance(v, int | np.integer) or not lo <= int(v) <= hi:
+        raise ValidationError(expected_got(what, f"an integer in [{lo}, {hi}]", repr(v)))
+    return int(v)
+
+
+def output_name(asset: str, kind: AssetKind) -> str:
+    """The output file of ``asset`` for ``kind``, relative to the output folder (POSIX)."""
+    return f"{asset}{kind.suffix}"

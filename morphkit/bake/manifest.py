@@ -1,0 +1,240 @@
+"""The bake manifest: what was baked from what, with which options, and how it went.
+
+One JSON file, ``<out>/manifest.json`` (:data:`MANIFEST_NAME`)::
+
+    {"format": "morphkit-bake-manifest", "version": 1, "morphkit_version": "...",
+     "options": {kind: {...}},               # the last run's options, per kind
+     "run": {"started", "wall_s", "workers", "scheduler", "baked", "skipped", "failed"},
+     "assets": {name: {"input": abs path, "input_sha256", "input_bytes",
+                       "status": "baked" | "skipped" | "failed", "error": str | null,
+                       "outputs": {kind: {"file" (relative to <out>), "sha256", "bytes",
+                                          "version", "options", "seconds"}},
+                       "timings_s": {"load", kind..., "total", "cpu"}, "worker", "updated"}}}
+
+``status`` is what the last run did with the asset; ``outputs`` always lists the
+files that are current for the recorded input.
+
+Nothing lost. The manifest file is only ever replaced atomically
+(:func:`morphkit.fileio.write_json`), and every finished asset's record is first
+appended to a journal, ``<out>/manifest.journal`` (:data:`JOURNAL_NAME`, one
+JSON record per line, ``fsync``-ed: :func:`morphkit.fileio.append_lines`), the
+moment its result arrives (results that arrive together share one disk sync).
+:meth:`Manifest.commit` folds the journal into the manifest and removes it;
+:meth:`Manifest.open` replays a journal a crash left behind (a truncated last
+line is skipped). So a run killed at any point keeps every asset that finished,
+at the cost of one appended line per asset instead of rewriting the whole
+manifest per asset.
+
+Incremental: :meth:`Manifest.up_to_date` says whether an asset's output for a
+kind can be kept: same input hash, same options and format version, and the
+file still there with the recorded hash.
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import os
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .. import __version__
+from ..errors import FileFormatError, expected_got
+from ..fileio import append_lines, write_json
+from .kinds import AssetKind, output_name
+
+__all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "OutputRecord",
+           "AssetRecord", "Manifest", "file_digest", "utc_now"]
+
+MANIFEST_NAME = "manifest.json"
+JOURNAL_NAME = "manifest.journal"
+MANIFEST_FORMAT = "morphkit-bake-manifest"
+MANIFEST_VERSION = 1
+
+
+def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
+    """``(sha256 hex digest, size in bytes)`` of a file's content."""
+    h = hashlib.sha256()
+    n = 0
+    with open(path, "rb") as f:
+        while chunk := f.read(1 << 20):
+            h.update(chunk)
+            n += len(chunk)
+    return h.hexdigest(), n
+
+
+def utc_now() -> str:
+    """The current time, ISO 8601 UTC, to the second."""
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def _canonical(obj: Any) -> Any:
+    """``obj`` as it reads back from JSON (tuples become lists), for comparisons."""
+    return json.loads(json.dumps(obj))
+
+
+@dataclass
+class OutputRecord:
+    """One output file of one asset for one kind."""
+
+    file: str  # POSIX path relative to the output folder
+    sha256: str
+    bytes: int
+    version: int
+    options: dict[str, Any]
+    seconds: float
+
+
+@dataclass
+class AssetRecord:
+    """What the manifest knows of one asset (see the module docstring)."""
+
+    name: str
+    input: str
+    input_sha256: str
+    input_bytes: int
+    status: str  # "baked" | "skipped" | "failed"
+    error: str | None = None
+    outputs: dict[str, OutputRecord] = field(default_factory=dict)
+    timings_s: dict[str, float] = field(default_factory=dict)
+    worker: str | None = None
+    updated: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> AssetRecord:
+        d = dict(d)
+        d["outputs"] = {k: OutputRecord(**v) for k, v in d.get("outputs", {}).items()}
+        return cls(**d)
+
+
+class Manifest:
+    """The manifest of one output folder (open with :meth:`open`).
+
+    Attributes
+    ----------
+    folder : pathlib.Path
+        The output folder.
+    assets : dict of str to AssetRecord
+        Every asset ever baked into the folder, by name.
+    options : dict
+        The last run's options per kind.
+    run : dict
+        The last run: started, wall_s, workers, scheduler, baked, skipped, failed.
+    """
+
+    def __init__(self, folder: Path, assets: dict[str, AssetRecord] | None = None,
+                 options: dict[str, Any] | None = None, run: dict[str, Any] | None = None) -> None:
+        self.folder = Path(folder)
+        self.assets: dict[str, AssetRecord] = dict(assets or {})
+        self.options: dict[str, Any] = dict(options or {})
+        self.run: dict[str, Any] = dict(run or {})
+
+    @property
+    def path(self) -> Path:
+        return self.folder / MANIFEST_NAME
+
+    @property
+    def journal(self) -> Path:
+        return self.folder / JOURNAL_NAME
+
+    @classmethod
+    def open(cls, folder: str | os.PathLike[str]) -> Manifest:
+        """Read ``<folder>/manifest.json`` (empty if absent) and replay a journal left by a crash.
+
+        Raises
+        ------
+        FileFormatError
+            The manifest is unreadable or of another format or version.
+        """
+        folder = Path(folder)
+        m = cls(folder)
+        if m.path.exists():
+            try:
+                d = json.loads(m.path.read_text(encoding="utf-8"))
+                if d.get("format") != MANIFEST_FORMAT:
+                    raise FileFormatError(expected_got(f"manifest {m.path}", MANIFEST_FORMAT,
+                                                       d.get("format")))
+                if d.get("version") != MANIFEST_VERSION:
+                    raise FileFormatError(expected_got(f"manifest {m.path} version", MANIFEST_VERSION,
+                                                       d.get("version")))
+                m.assets = {k: AssetRecord.from_dict(v) for k, v in d["assets"].items()}
+                m.options, m.run = d.get("options", {}), d.get("run", {})
+            except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError) as exc:
+                raise FileFormatError(expected_got(f"manifest {m.path}", f"a {MANIFEST_FORMAT} JSON file",
+                                                   f"{type(exc).__name__}: {exc}")) from exc
+        if m.journal.exists():
+            for line in m.journal.read_text(encoding="utf-8", errors="replace").splitlines():
+                try:
+                    rec = AssetRecord.from_dict(json.loads(line))
+                except (ValueError, KeyError, TypeError):
+                    continue  # the line a crash cut short
+                m.assets[rec.name] = rec
+        return m
+
+    # ----------------------------------------------------------- incremental
+    def up_to_date(self, name: str, input_sha256: str, kind: AssetKind) -> bool:
+        """True when ``name``'s output for ``kind`` was baked from this input with these options
+        and format version, and the file is still there with the recorded hash."""
+        rec = self.assets.get(name)
+        out = None if rec is None else rec.outputs.get(kind.name)
+        if rec is None or out is None or rec.input_sha256 != input_sha256:
+            return False
+        if out.version != kind.version or _canonical(out.options) != _canonical(kind.options()):
+            return False
+        if out.file != output_name(name, kind):
+            return False
+        path = self.folder / out.file
+        return path.is_file() and path.stat().st_size == out.bytes and file_digest(path)[0] == out.sha256
+
+    # --------------------------------------------------------------- updates
+    def record(self, *recs: AssetRecord) -> None:
+        """Set each record and append them to the journal (durable at once, one disk sync)."""
+        for rec in recs:
+            rec.updated = rec.updated or utc_now()
+            self.assets[rec.name] = rec
+        append_lines(self.journal, [json.dumps(r.to_dict(), allow_nan=False) for r in recs])
+
+    def mark_skipped(self, name: str, input_path: str) -> None:
+        """This run kept ``name``'s outputs, baked from ``input_path`` (in memory; written by
+        :meth:`commit`)."""
+        self.assets[name].input = input_path
+        self.assets[name].status = "skipped"
+        self.assets[name].error = None
+
+    def commit(self) -> Path:
+        """Write the manifest atomically, then drop the journal it now contains."""
+        write_json(self.path, self.to_dict())
+        try:
+            self.journal.unlink()
+        except FileNotFoundError:
+            pass
+        return self.path
+
+    # ----------------------------------------------------------------- views
+    def to_dict(self) -> dict[str, Any]:
+        return {"format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "morphkit_version": __version__,
+                "options": self.options, "run": self.run,
+                "assets": {k: self.assets[k].to_dict() for k in sorted(self.assets)}}
+
+    def counts(self, names: list[str] | None = None) -> dict[str, int]:
+        """How many of ``names`` (default: all assets) are baked, skipped and failed."""
+        keys = self.assets if names is None else names
+        out = {"baked": 0, "skipped": 0, "failed": 0}
+        for k in keys:
+            out[self.assets[k].status] += 1
+        return out
+
+    def failed(self) -> dict[str, str]:
+        """``{name: error}`` of the assets that failed."""
+        return {k: r.error or "" for k, r in self.assets.items() if r.status == "failed"}
+
+    def summary(self) -> str:
+        """One line on the last run: baked, skipped, failed, wall time."""
+        r = self.run
+        return (f"{r.get('baked', 0)} baked, {r.get('skipped', 0)} skipped, {r.get('failed', 0)} failed "
+                f"in {r.get('wall_s', 0.0):.1f} s")

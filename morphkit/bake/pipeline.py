@@ -1,0 +1,243 @@
+"""``bake_library``: bake every mesh of a library into an output folder, on Dask.
+
+The driver (this module) finds the mesh files (:mod:`.inputs`), checks the
+output folder is writable before any work, reads the manifest (:mod:`.manifest`),
+hashes every input and keeps each asset whose outputs are up to date. The rest
+become one task per asset (:func:`.worker.bake_task`), submitted largest input
+first (so the run does not end on one long task) to a Dask client
+(:mod:`.cluster`: local worker processes, or an existing scheduler). As
+results arrive (``as_completed``, in the batches that arrive together) each is
+journaled at once, so a crash loses no finished asset; the manifest is rewritten
+atomically every :data:`COMMIT_INTERVAL_S` (longer for a huge manifest) and at
+the end. A task that raises (an unreadable,
+empty or degenerate mesh) or whose worker died more often than Dask allows
+(``distributed.scheduler.allowed-failures``; a worker killed once is replaced
+and its task re-run) is recorded as failed with its error; the others go on.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+import uuid
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import ValidationError, expected_got
+from .cluster import open_client
+from .inputs import AssetInput, find_inputs
+from .kinds import AssetKind, ShadowAtlasKind
+from .manifest import AssetRecord, Manifest, file_digest, utc_now
+from .worker import BakeTask, bake_task
+
+__all__ = ["BakeOptions", "bake_library", "check_writable", "COMMIT_INTERVAL_S", "HASH_THREADS"]
+
+#: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest);
+#: longer for a manifest so large that rewriting it would take over 5% of the time.
+COMMIT_INTERVAL_S = 2.0
+
+#: Threads hashing inputs and existing outputs before a run.
+HASH_THREADS = 8
+
+
+@dataclass(frozen=True)
+class BakeOptions:
+    """What to bake of every asset: one or more kinds (:class:`~morphkit.bake.kinds.AssetKind`).
+
+    Parameters
+    ----------
+    kinds : tuple of AssetKind
+        Distinct names and suffixes; default: one :class:`~morphkit.bake.kinds.ShadowAtlasKind`.
+    """
+
+    kinds: tuple[AssetKind, ...] = field(default_factory=lambda: (ShadowAtlasKind(),))
+
+    def __post_init__(self) -> None:
+        kinds = tuple(self.kinds)
+        if not kinds:
+            raise ValidationError(expected_got("bake kinds", "at least one", "none"))
+        for k in kinds:
+            if not isinstance(k, AssetKind):
+                raise ValidationError(expected_got("bake kind", "an AssetKind (name, suffix, version, "
+                                                   "options(), bake())", type(k).__name__))
+        for attr in ("name", "suffix"):
+            values = [getattr(k, attr) for k in kinds]
+            if len(set(values)) != len(values):
+                raise ValidationError(expected_got(f"bake kind {attr}s", "distinct", values))
+        object.__setattr__(self, "kinds", kinds)
+
+    def as_dict(self) -> dict[str, dict]:
+        """``{kind name: options}``."""
+        return {k.name: k.options() for k in self.kinds}
+
+
+def check_writable(folder: str | os.PathLike[str]) -> Path:
+    """Create ``folder`` if needed and prove it writable by creating and removing a probe file.
+
+    Raises
+    ------
+    ValidationError
+        The folder cannot be created or written (a file in the way, no permission, read-only).
+    """
+    p = Path(folder)
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".morphkit-probe-", dir=p)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise ValidationError(expected_got("output folder", "a folder morphkit can create and write",
+                                           f"{str(p)!r} ({type(exc).__name__}: {exc.strerror or exc})")
+                              ) from exc
+    return p.resolve()
+
+
+def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[str],
+                 out: str | os.PathLike[str], *, options: BakeOptions | None = None,
+                 workers: int | None = None, scheduler: str | None = None,
+                 progress: bool = True) -> Manifest:
+    """Bake every mesh of ``inputs`` into ``out``, skipping what is up to date.
+
+    Parameters
+    ----------
+    inputs : path-like or sequence of path-like
+        Mesh files (any format trimesh loads) and folders (searched recursively;
+        :func:`~morphkit.bake.inputs.find_inputs` names the assets).
+    out : path-like
+        Output folder (created): ``<name><suffix>`` per asset and kind, and
+        ``manifest.json``.
+    options : BakeOptions, optional
+        The kinds to bake (default: the shadow atlas with its defaults).
+    workers : int, optional
+        Local worker processes (default: the CPU count). Not with ``scheduler``.
+    scheduler : str, optional
+        Address of an existing Dask scheduler (``tcp://host:port``).
+    progress : bool
+        A progress bar over the assets on a terminal (tqdm, on stderr).
+
+    Returns
+    -------
+    Manifest
+        Also written to ``out/manifest.json``; ``manifest.run`` has the counts
+        of this run and ``manifest.failed()`` the errors.
+
+    Raises
+    ------
+    MeshError
+        An input is missing, or no mesh file was found.
+    ValidationError
+        The output folder is not writable, two inputs share an asset name, or
+        both ``workers`` and ``scheduler`` are given (all before any work).
+    ClusterError
+        The scheduler is unreachable or has no worker.
+    FileFormatError
+        ``out`` holds a manifest that is not one.
+    """
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    options = BakeOptions() if options is None else options
+    if not isinstance(options, BakeOptions):
+        raise ValidationError(expected_got("options", "a BakeOptions", type(options).__name__))
+    if workers is not None and scheduler is not None:
+        raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
+    t_start = time.perf_counter()
+    started = utc_now()
+    assets = find_inputs(inputs)
+    folder = check_writable(out)
+    manifest = Manifest.open(folder)
+    manifest.options = options.as_dict()
+
+    def plan(a: AssetInput) -> tuple[AssetInput, str, int, tuple[AssetKind, ...]]:
+        sha, size = file_digest(a.path)
+        return a, sha, size, tuple(k for k in options.kinds if not manifest.up_to_date(a.name, sha, k))
+
+    tasks: list[BakeTask] = []
+    # hashing reads every input and every existing output: threads (hashlib releases the GIL)
+    with ThreadPoolExecutor(max_workers=HASH_THREADS) as pool:
+        for a, sha, size, stale in pool.map(plan, assets):
+            if stale:
+                tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
+            else:
+                manifest.mark_skipped(a.name, str(a.path))
+    # largest inputs first: a long task started last would leave the other workers idle at the end
+    tasks.sort(key=lambda t: -t.input_bytes)
+    names = [a.name for a in assets]
+    n_skipped = len(assets) - len(tasks)
+    bar = tqdm(total=len(assets), initial=n_skipped, unit="asset", desc="morphkit bake",
+               disable=None if progress else True, dynamic_ncols=True)
+    n_workers = 0
+    try:
+        if tasks:
+            with open_client(workers=workers, scheduler=scheduler) as client:
+                n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+                token = uuid.uuid4().hex[:8]
+                futures = {client.submit(bake_task, t, key=f"morphkit-bake-{token}-{i}-{t.name}",
+                                         pure=False): t for i, t in enumerate(tasks)}
+                last_commit, commit_s = time.perf_counter(), 0.0
+                n_failed = 0
+                for batch in as_completed(list(futures), loop=client.loop).batches():
+                    recs = [_record(manifest, futures.pop(fut), fut) for fut in batch]
+                    for fut in batch:
+                        fut.release()
+                    manifest.record(*recs)  # the results that arrived together: one disk sync
+                    n_failed += sum(r.status == "failed" for r in recs)
+                    bar.update(len(recs))
+                    if n_failed:
+                        bar.set_postfix(failed=n_failed, refresh=False)
+                    # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
+                    if time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s):
+                        t0 = time.perf_counter()
+                        manifest.commit()
+                        last_commit = time.perf_counter()
+                        commit_s = last_commit - t0
+    finally:
+        bar.close()
+    counts = manifest.counts(names)
+    manifest.run = {"started": started, "wall_s": round(time.perf_counter() - t_start, 3),
+                    "workers": n_workers if tasks else 0,
+                    "scheduler": scheduler or ("local" if tasks else None),
+                    "assets": len(assets), **counts}
+    manifest.commit()
+    return manifest
+
+
+def _record(manifest: Manifest, task: BakeTask, fut: object) -> AssetRecord:
+    """The manifest record of a finished future: its outputs, or its error."""
+    old = manifest.assets.get(task.name)
+    keep = {} if old is None or old.input_sha256 != task.input_sha256 else dict(old.outputs)
+    base = {"name": task.name, "input": task.input_path, "input_sha256": task.input_sha256,
+            "input_bytes": task.input_bytes}
+    res = None
+    if fut.cancelled():  # type: ignore[attr-defined]
+        error = "the task was cancelled (the scheduler or its workers went away); a rerun bakes it"
+    elif (exc := fut.exception()) is not None:  # type: ignore[attr-defined]
+        error = _describe(exc)
+    else:
+        res = fut.result()  # type: ignore[attr-defined]
+        error = res.error
+    if error is not None:
+        for k in task.kinds:
+            keep.pop(k.name, None)
+        return AssetRecord(**base, status="failed", error=error, outputs=keep,
+                           worker=None if res is None else res.worker)
+    keep.update(res.outputs)
+    return AssetRecord(**base, status="baked", outputs=keep,
+                       timings_s={k: round(v, 4) for k, v in res.timings_s.items()}, worker=res.worker)
+
+
+def _describe(exc: BaseException) -> str:
+    from distributed import KilledWorker
+
+    if isinstance(exc, KilledWorker):
+        text = f"the worker process died while baking this asset, every time it was tried ({exc})"
+    else:
+        text = f"{type(exc).__name__}: {exc}"
+    return " ".join(text.split())  # one line (Dask's messages span several)
+
+

@@ -1,0 +1,293 @@
+"""``morphkit shadows``: the scene of a baked shadow atlas along an object path, to frames and a video.
+
+The object moves along a path (:class:`LinePath`, :class:`CirclePath`, or the
+positions of a CSV file, :class:`PointsPath`) over the atlas's range; each
+frame is rendered from a 3/4 view camera with the shadow of the warped atlas
+(:func:`morphkit.shadow.frame.render_frame`): hard under the atlas's light, or
+soft under an area light centred on it (:class:`morphkit.shadow.SoftShadow`,
+one warp per light sample; the path then keeps to the range shrunk by the
+light's extent, where every sample's map can be warped).
+
+The mesh. An atlas stores light-view maps, not the mesh the frames show. The
+bake's manifest records each atlas's input file and its sha256, so
+:func:`baked_mesh` finds the ``manifest.json`` in the atlas's folder or a parent
+folder and loads that file after checking its hash; ``mesh=`` (``--mesh``)
+names the file instead (still checked against the manifest's hash when the
+atlas is listed in one, e.g. when the library moved).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+import cv2
+import numpy as np
+import trimesh
+
+from ..camera import look_at, perspective
+from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
+from ..fileio import atomic_output, write_image
+from ..meshes import load_mesh
+from ..protocols import SceneRenderer
+from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
+from ..shadow import MotionRange, ShadowAtlas, SoftShadow, shadow_visibility
+from ..shadow.frame import render_frame
+from .manifest import MANIFEST_NAME, Manifest, file_digest
+
+__all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",
+           "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
+
+#: The video beside the frames.
+VIDEO_NAME = "shadows.mp4"
+
+
+@runtime_checkable
+class ObjectPath(Protocol):
+    """Object positions ``(x, y)`` on the ground over a range of motion."""
+
+    def positions(self, motion: MotionRange) -> np.ndarray:
+        """``(N, 2)`` float64 world positions, inside ``motion``."""
+        ...
+
+
+def _frames(n: Any) -> int:
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or not 1 <= int(n) <= 100000:
+        raise ValidationError(expected_got("frames", "an integer in [1, 100000]", repr(n)))
+    return int(n)
+
+
+@dataclass(frozen=True)
+class LinePath:
+    """``frames`` positions on the range's diagonal, from ``lo`` to ``hi``."""
+
+    frames: int = 48
+
+    def positions(self, motion: MotionRange) -> np.ndarray:
+        t = np.linspace(0.0, 1.0, _frames(self.frames))[:, None]
+        return motion.lo + t * (motion.hi - motion.lo)
+
+
+@dataclass(frozen=True)
+class CirclePath:
+    """``frames`` positions once around an ellipse at the range's centre (radii 0.45 of its size)."""
+
+    frames: int = 48
+
+    def positions(self, motion: MotionRange) -> np.ndarray:
+        a = np.linspace(0.0, 2 * np.pi, _frames(self.frames), endpoint=False)
+        r = 0.45 * (motion.hi - motion.lo)
+        return motion.center + np.c_[r[0] * np.cos(a), r[1] * np.sin(a)]
+
+
+@dataclass(frozen=True)
+class PointsPath:
+    """Given positions ``(N, 2)``; each must lie in the range."""
+
+    points: np.ndarray
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> PointsPath:
+        """Rows ``x,y`` (a header line and ``#`` comments are skipped).
+
+        Raises
+        ------
+        ValidationError
+            Missing or unreadable file, or not two finite numbers per row.
+        """
+        p = Path(path)
+        if not p.is_file():
+            raise ValidationError(expected_got("path file", "an existing CSV file of x,y rows",
+                                               f"{str(p)!r} (not found)"))
+        rows = []
+        for i, line in enumerate(p.read_text(encoding="utf-8", errors="replace").splitlines()):
+            line = line.split("#", 1)[0].strip()
+            if not line:
+                continue
+            cells = [c.strip() for c in line.split(",")]
+            try:
+                xy = [float(c) for c in cells]
+            except ValueError:
+                if not rows and i == 0:  # a header
+                    continue
+                raise ValidationError(expected_got(f"path file {p.name} line {i + 1}",
+                                                   "two numbers x,y", repr(line))) from None
+            if len(xy) != 2 or not np.all(np.isfinite(xy)):
+                raise ValidationError(expected_got(f"path file {p.name} line {i + 1}",
+                                                   "two finite numbers x,y", repr(line)))
+            rows.append(xy)
+        if not rows:
+            raise ValidationError(expected_got(f"path file {p.name}", "at least one x,y row", "none"))
+        return cls(np.array(rows, np.float64))
+
+    def positions(self, motion: MotionRange) -> np.ndarray:
+        return np.array([motion.check(xy) for xy in np.asarray(self.points, np.float64)])
+
+
+def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] | None = None
+               ) -> trimesh.Trimesh:
+    """The mesh an atlas was baked from (see the module docstring), normalised as the bake did.
+
+    Raises
+    ------
+    ValidationError
+        No ``mesh`` and no manifest listing the atlas.
+    FileFormatError
+        The mesh file's content differs from the one the atlas was baked from.
+    MeshError
+        The mesh file is missing or unreadable.
+    """
+    atlas = Path(atlas_path).resolve()
+    recorded: tuple[str, str] | None = None
+    for folder in [atlas.parent, *atlas.parent.parents]:
+        if (folder / MANIFEST_NAME).is_file():
+            for rec in Manifest.open(folder).assets.values():
+                if any((folder / o.file).resolve() == atlas for o in rec.outputs.values()):
+                    recorded = (rec.input, rec.input_sha256)
+                    break
+        if recorded is not None:
+            break
+    if mesh is None and recorded is None:
+        raise ValidationError(expected_got(f"mesh of {atlas.name}", "a bake manifest listing the atlas "
+                                           "(its folder or a parent), or --mesh", "neither"))
+    path = Path(mesh) if mesh is not None else Path(recorded[0])  # type: ignore[index]
+    if recorded is not None:
+        if not path.is_file():
+            raise MeshError(expected_got("mesh the atlas was baked from", "an existing file",
+                                         f"{str(path)!r} (not found; give its new place with --mesh)"))
+        got = file_digest(path)[0]
+        if got != recorded[1]:
+            raise FileFormatError(expected_got(f"mesh {str(path)!r}", "the file the atlas was baked from "
+                                               f"(sha256 {recorded[1][:12]})", f"sha256 {got[:12]}"))
+    return load_mesh(path)
+
+
+def area_light_for(atlas: ShadowAtlas, width: float, height: float) -> AreaLight:
+    """A ``width x height`` area light parallel to the ground, centred on the atlas's point light.
+
+    Raises
+    ------
+    ValidationError
+        The atlas was baked for a directional light, or a size is not positive.
+    """
+    light = atlas.rig.light
+    if not isinstance(light, PointLight):
+        raise ValidationError(expected_got("atlas light for an area light", "a point light at its centre",
+                                           type(light).__name__))
+    w, h = float(width), float(height)
+    if not (np.isfinite(w) and np.isfinite(h) and w > 0 and h > 0):
+        raise ValidationError(expected_got("area light size", "width, height > 0", (width, height)))
+    return AreaLight(light.position, [w / 2, 0.0, 0.0], [0.0, h / 2, 0.0])
+
+
+def _usable_range(atlas: ShadowAtlas, area: AreaLight | None) -> MotionRange:
+    motion = atlas.rig.motion
+    if area is None:
+        return motion
+    ext = np.abs(area.u[:2]) + np.abs(area.v[:2])
+    if np.any(motion.hi - motion.lo <= 2 * ext):
+        raise ValidationError(expected_got(
+            "area light", f"smaller than the baked range ({(motion.hi - motion.lo).round(6).tolist()}) "
+            "on both axes, so some object positions see every light sample inside it",
+            f"{(2 * ext).round(6).tolist()}"))
+    return MotionRange(motion.lo + ext, motion.hi - ext)
+
+
+def playback_scene(mesh: trimesh.Trimesh, atlas: ShadowAtlas, size: int,
+                   light: AreaLight | None = None) -> Scene:
+    """The scene the frames show: the mesh on a ground square covering the range, the atlas's
+    light (or ``light``), and a 3/4 view camera of ``size x size`` pixels that sees the whole
+    range with the object anywhere on it."""
+    motion = atlas.rig.motion
+    # a sphere around the range and the object on it (normalised: size 1), seen whole at 40 deg
+    fov = np.deg2rad(40)
+    centre = np.r_[motion.center, 0.35]
+    radius = 0.5 * float(np.linalg.norm(motion.hi - motion.lo)) + 0.6
+    view = np.array([1.65, -1.55, 0.85]) / np.linalg.norm([1.65, -1.55, 0.85])
+    dist = radius / np.sin(fov / 2)
+    cam = perspective(fov, (size, size), look_at(centre + dist * view, centre), znear=0.1,
+                      zfar=dist + 4 * radius)
+    half = max(2.0, float(np.max(np.abs(np.r_[motion.lo, motion.hi]))) + 1.5)
+    obj = SceneObject(mesh, atlas.rig.object_pose(motion.center))
+    return Scene(obj, atlas.rig.light if light is None else light, cam, Receiver(half_size=half),
+                 ambient=0.3)
+
+
+def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: ObjectPath,
+                           out: str | os.PathLike[str], *, renderer: SceneRenderer, size: int = 512,
+                           area_light: AreaLight | None = None, samples: int = 3, fps: float = 24.0,
+                           progress: bool = True) -> dict[str, Any]:
+    """Render the frames of ``mesh`` moving along ``path`` with the atlas's warped shadow.
+
+    Parameters
+    ----------
+    atlas : ShadowAtlas
+    mesh : trimesh.Trimesh
+        The mesh the atlas was baked from (:func:`baked_mesh`).
+    path : ObjectPath
+    out : path-like
+        Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (mp4v).
+    renderer : SceneRenderer
+    size : int
+        Frame side in pixels.
+    area_light : AreaLight, optional
+        Soft shadows of this light (:func:`area_light_for`), ``samples x samples`` light samples.
+    fps : float
+        Frame rate of the video.
+
+    Returns
+    -------
+    dict
+        ``frames`` (paths), ``video`` (path), ``positions`` (list of (x, y)).
+
+    Raises
+    ------
+    OutOfRangeError
+        A position of the path lies outside the usable range.
+    RenderError
+        OpenCV has no mp4v video writer here.
+    """
+    from tqdm import tqdm
+
+    if isinstance(size, bool) or not isinstance(size, int) or not 16 <= size <= 8192:
+        raise ValidationError(expected_got("frame size", "an integer in [16, 8192]", repr(size)))
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= 64:
+        raise ValidationError(expected_got("light samples per axis", "an integer in [1, 64]",
+                                           repr(samples)))
+    if not isinstance(path, ObjectPath):
+        raise ValidationError(expected_got("path", "an ObjectPath", type(path).__name__))
+    motion = _usable_range(atlas, area_light)
+    positions = path.positions(motion)
+    soft = None if area_light is None else SoftShadow(atlas, area_light, (samples, samples))
+    scene = playback_scene(mesh, atlas, size, area_light)
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    frames: list[Path] = []
+    video = folder / VIDEO_NAME
+    with atomic_output(video) as tmp:
+        writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), float(fps), (size, size))
+        if not writer.isOpened():
+            raise RenderError(expected_got("video writer", "OpenCV's mp4v writer", "none available"))
+        try:
+            for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
+                                        disable=None if progress else True, leave=False)):
+                sc = scene.with_object_pose(atlas.rig.object_pose(xy))
+                if soft is not None:
+                    vis = soft.visibility_fn(xy)
+                else:
+                    depth, lcam = atlas.shadow_map(xy)
+                    vis = _hard(depth, lcam)
+                bgr = cv2.cvtColor(render_frame(renderer, sc, vis)["shaded"], cv2.COLOR_RGB2BGR)
+                frames.append(write_image(folder / f"frame_{i:04d}.png", bgr))
+                writer.write(bgr)
+        finally:
+            writer.release()
+    return {"frames": frames, "video": video, "positions": positions.tolist()}
+
+
+def _hard(depth: np.ndarray, lcam: Any) -> Any:
+    return lambda p, n: shadow_visibility(p, depth, lcam, normals=n)
+
+

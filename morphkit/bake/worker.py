@@ -1,0 +1,130 @@
+"""The worker side of a bake: one task bakes one asset, in whatever process runs it.
+
+A task (:class:`BakeTask`, plain picklable data) names the mesh file, the hash
+the driver read, the output folder and the kinds to bake. :func:`bake_task`
+re-hashes the file (a file changed since the driver read it is refused, so
+the manifest's hash is the one baked), loads it with
+:func:`morphkit.meshes.load_mesh`, bakes each kind and saves each output
+atomically (the kinds' ``save`` writes through :mod:`morphkit.fileio`), then
+hashes what it wrote. A mesh that cannot be baked (a
+:class:`~morphkit.errors.MorphkitError`: unreadable, empty, degenerate) gives a
+result carrying the error message, which the driver records; any other
+exception is a bug and propagates through Dask (the driver records it too).
+
+One GL context per worker thread: :func:`worker_renderer` creates a
+:class:`~morphkit.render.Renderer` the first time a thread asks and reuses it
+for every later task of that thread (a Dask worker started by ``morphkit
+bake`` has one thread); they are closed when the process exits.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import socket
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import MeshError, MorphkitError, expected_got
+from ..meshes import load_mesh
+from ..protocols import SceneRenderer
+from .kinds import AssetKind, output_name
+from .manifest import OutputRecord, file_digest
+
+__all__ = ["BakeTask", "TaskResult", "bake_task", "worker_renderer"]
+
+_local = threading.local()
+_opened: list[SceneRenderer] = []
+_lock = threading.Lock()
+
+
+def worker_renderer() -> SceneRenderer:
+    """This thread's renderer, created on first use and kept until the process exits."""
+    r = getattr(_local, "renderer", None)
+    if r is None:
+        from ..render import Renderer  # GL only where a task runs
+
+        r = _local.renderer = Renderer()
+        with _lock:
+            if not _opened:
+                atexit.register(_close_all)
+            _opened.append(r)
+    return r
+
+
+def _close_all() -> None:
+    with _lock:
+        for r in _opened:
+            r.close()  # type: ignore[attr-defined]
+        _opened.clear()
+
+
+@dataclass(frozen=True)
+class BakeTask:
+    """One asset to bake: ``<out_dir>/<name><kind.suffix>`` for each of ``kinds``."""
+
+    name: str
+    input_path: str
+    input_sha256: str
+    input_bytes: int
+    out_dir: str
+    kinds: tuple[AssetKind, ...]
+
+
+@dataclass(frozen=True)
+class TaskResult:
+    """What :func:`bake_task` made: one output record per kind, timings (s: ``load``, one per
+    kind, ``total``, and ``cpu``, the worker process's CPU time during the task), who ran it;
+    or, when the mesh could not be baked, ``error`` (and no outputs)."""
+
+    name: str
+    outputs: dict[str, OutputRecord]
+    timings_s: dict[str, float]
+    worker: str
+    error: str | None = None
+
+
+def bake_task(task: BakeTask) -> TaskResult:
+    """Bake one asset (see the module docstring).
+
+    Returns
+    -------
+    TaskResult
+        The outputs, or ``error``: ``"<ErrorType>: <message>"`` when the file is
+        unreadable, empty or degenerate, changed since it was hashed, or a kind
+        refused the mesh (any :class:`~morphkit.errors.MorphkitError`).
+    """
+    worker = f"{socket.gethostname()}:{os.getpid()}"
+    try:
+        return _bake(task, worker)
+    except MorphkitError as exc:
+        return TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: {exc}")
+
+
+def _bake(task: BakeTask, worker: str) -> TaskResult:
+    t0 = time.perf_counter()
+    c0 = time.process_time()
+    digest, _ = file_digest(task.input_path)
+    if digest != task.input_sha256:
+        raise MeshError(expected_got(f"mesh file {task.input_path!r}",
+                                     f"the content hashed before the bake (sha256 {task.input_sha256[:12]})",
+                                     f"sha256 {digest[:12]} (changed while baking)"))
+    mesh = load_mesh(task.input_path)
+    timings = {"load": time.perf_counter() - t0}
+    renderer = worker_renderer()
+    outputs = {}
+    for kind in task.kinds:
+        t = time.perf_counter()
+        rel = output_name(task.name, kind)
+        target = Path(task.out_dir) / rel
+        target.parent.mkdir(parents=True, exist_ok=True)
+        kind.bake(mesh, renderer).save(target)
+        sha, nbytes = file_digest(target)
+        dt = time.perf_counter() - t
+        outputs[kind.name] = OutputRecord(rel, sha, nbytes, kind.version, kind.options(), dt)
+        timings[kind.name] = dt
+    timings["total"] = time.perf_counter() - t0
+    timings["cpu"] = time.process_time() - c0  # this worker process's CPU meanwhile, all threads
+    return TaskResult(task.name, outputs, timings, worker)
