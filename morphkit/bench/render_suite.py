@@ -27,6 +27,8 @@ from ..render import Renderer
 from ..scene import PointLight, light_view
 from .harness import Timing, make_row, time_call, time_calls
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "render"
 FLOOR_METHOD = "depth_6k"
 PLOT_OPTIONS = {"size_key": "size", "panel_keys": ("what",)}

@@ -44,6 +44,8 @@ from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
 from .harness import Timing, make_row, time_cycling
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "shadows"
 FLOOR_METHOD = "direct"
 PLOT_OPTIONS = {"size_key": "size", "error_key": "iou_err", "panel_keys": ("mesh", "what", "light")}

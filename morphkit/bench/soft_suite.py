@@ -42,6 +42,8 @@ from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import make_row, time_cycling
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "soft"
 FLOOR_METHOD = "direct_9"
 PLOT_OPTIONS = {"size_key": "size", "error_key": "mae_shadow", "panel_keys": ("mesh", "what")}

@@ -36,7 +36,8 @@ import numpy as np
 
 from ..settings import compile_kernel, numba
 
-__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
+__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp", "MIN_BAND_ROWS",
+           "PARALLEL_MIN_PIXELS"]
 
 
 #: Cast of a pixel offset known to be >= 0 (see ``_fill_band``).
