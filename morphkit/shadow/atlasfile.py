@@ -23,7 +23,9 @@ from .rig import LightRig
 
 __all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "save_atlas", "load_atlas", "light_to_dict", "light_from_dict"]
 
+#: The format name stored in every atlas file.
 ATLAS_FORMAT = "morphkit-shadow-atlas"
+#: The atlas file format version this code reads and writes (another is a FileFormatError).
 ATLAS_VERSION = 1
 
 
@@ -95,12 +97,42 @@ def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None 
 
 
 def light_to_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
+    """The JSON form of a light, as stored in an atlas file.
+
+    Parameters
+    ----------
+    light : DirectionalLight or PointLight
+        The light (world frame).
+
+    Returns
+    -------
+    dict
+        ``{"type": "directional", "direction": [x, y, z]}`` or
+        ``{"type": "point", "position": [x, y, z]}`` (floats rounded to 12 digits).
+    """
     if isinstance(light, DirectionalLight):
         return {"type": "directional", "direction": [round(float(v), 12) for v in light.direction]}
     return {"type": "point", "position": [round(float(v), 12) for v in light.position]}
 
 
 def light_from_dict(d: dict[str, Any]) -> DirectionalLight | PointLight:
+    """The light stored by :func:`light_to_dict`.
+
+    Parameters
+    ----------
+    d : dict
+        A dict as :func:`light_to_dict` writes it.
+
+    Returns
+    -------
+    DirectionalLight or PointLight
+        The light (world frame).
+
+    Raises
+    ------
+    FileFormatError
+        When ``d["type"]`` is neither ``"directional"`` nor ``"point"``.
+    """
     if d.get("type") == "directional":
         return DirectionalLight(np.array(d["direction"]))
     if d.get("type") == "point":
