@@ -368,9 +368,9 @@ class ViewMorpher:
         shape : tuple of int
             The default output ``(H, W)`` for it.
 
-        Convention
-        ----------
-        ``H_out_rect`` maps rectified-interpolated coordinates (pixel-centre origin) to
+        Notes
+        -----
+        Convention: ``H_out_rect`` maps rectified-interpolated coordinates (pixel-centre origin) to
         output pixels: ``out = H_out_rect q``.
         """
         s = as_unit_interval(s, "s")
@@ -463,9 +463,9 @@ class ViewMorpher:
         numpy.ndarray
             The layout (grey/RGB/RGBA, promoted) and dtype of the inputs.
 
-        Convention
-        ----------
-        Output pixel ``p`` shows the mesh point ``H_out_rect^-1 p`` of the
+        Notes
+        -----
+        Convention: Output pixel ``p`` shows the mesh point ``H_out_rect^-1 p`` of the
         rectified-interpolated frame; pixel-centre origin throughout.
 
         Raises
