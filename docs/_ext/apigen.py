@@ -15,7 +15,8 @@ re-exported or imported spelling (``morphkit.shadow.ShadowAtlas``, ``ShadowAtlas
 defining page by :func:`resolve_alias`; a reference that reaches nothing documented still
 fails the build (``nitpicky``).
 
-Checks beyond numpydoc's validation: module data needs a ``#:`` comment (:func:`data_docstring`).
+Checks beyond numpydoc's validation: module data needs a ``#:`` comment (:func:`data_docstring`);
+what numpydoc's parser only warns about (an unknown section) fails (:func:`docstring_sections`).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import inspect
 import pkgutil
 import re
 import types
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
@@ -413,6 +415,21 @@ def data_docstring(app: Sphinx, what: str, name: str, obj: Any, options: Any, li
         logger.warning("apigen: %s has no docstring (add a '#:' comment above its assignment)", name)
 
 
+def docstring_sections(app: Sphinx, what: str, name: str, obj: Any, options: Any, lines: list[str]
+                       ) -> None:
+    """Fail on what numpydoc's parser only warns about in Python (an unknown section such as
+    ``Convention`` is dropped from the page); runs before numpydoc rewrites ``lines``."""
+    if what == "module" or not name.startswith(PACKAGE + "."):
+        return
+    from numpydoc.docscrape import NumpyDocString
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        NumpyDocString("\n".join(lines))
+    for w in caught:
+        logger.warning("apigen: %s: %s", name, str(w.message).splitlines()[0])
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     """Register the generator, the alias resolver and the checks."""
     app.connect("builder-inited", generate)
@@ -420,5 +437,6 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("warn-missing-reference", external_reference)
     app.connect("autodoc-process-bases", public_bases)
     app.connect("autodoc-process-docstring", data_docstring)
+    app.connect("autodoc-process-docstring", docstring_sections, priority=400)
     app.connect("autodoc-process-signature", dataclass_signature)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
