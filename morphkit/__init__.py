@@ -20,6 +20,7 @@ from .errors import (
     ValidationError,
 )
 
+#: The package version (as in ``pyproject.toml``).
 __version__ = "0.1.0"
 
 __all__ = [

@@ -83,9 +83,9 @@ class CameraModel:
     cam2world : (4, 4)
         ``cam_cv2world`` pose (OpenCV camera frame; see conventions).
 
-    Convention
-    ----------
-    Perspective: ``x = fx X / Z + cx``, ``y = fy Y / Z + cy``.
+    Notes
+    -----
+    Convention. Perspective: ``x = fx X / Z + cx``, ``y = fy Y / Z + cy``.
     Orthographic: ``x = fx X + cx``, ``y = fy Y + cy``.
     ``(X, Y, Z) = world2cam @ p`` and ``depth = Z``.
     """

@@ -189,6 +189,13 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``morphkit`` argument parser: the ``demo``, ``bench`` and ``viewmorph`` commands.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Parsed arguments carry the command's handler as ``func``.
+    """
     p = argparse.ArgumentParser(
         prog="morphkit",
         description="Shadows and view-dependent billboards by warping images instead of "
@@ -314,6 +321,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``morphkit`` command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments after the program name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError`
+        (printed to stderr as ``morphkit: error: ...``).
+    """
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args))

@@ -100,7 +100,22 @@ def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.nd
 def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int],
           shape: tuple[int, int]) -> np.ndarray:
     """Premultiplied ``part`` (rows ``r0:r1``, columns ``c0:c1`` of ``roi`` in an image of
-    ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place)."""
+    ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place).
+
+    Examples
+    --------
+    One red pixel with alpha 0.4 (102 / 255) over an opaque grey 2 x 2 image, at row 0,
+    column 1: ``0.4 * 255 + 0.6 * 100 = 162`` in red, ``0.6 * 100 = 60`` in green and blue.
+
+    >>> import numpy as np
+    >>> from morphkit.composite import from_premultiplied, over, to_premultiplied
+    >>> back = to_premultiplied(np.full((2, 2, 3), 100, np.uint8), 3)  # (2, 2, 4), alpha 1
+    >>> red = to_premultiplied(np.array([[[255, 0, 0, 102]]], np.uint8), 4)
+    >>> out = over(back, red, (0, 1, 1, 2), (2, 2))
+    >>> from_premultiplied(out, 3, np.dtype(np.uint8))[0]
+    array([[100, 100, 100],
+           [162,  60,  60]], dtype=uint8)
+    """
     r_0, r_1, c_0, c_1 = roi
     if out is None:
         if roi == (0, shape[0], 0, shape[1]):

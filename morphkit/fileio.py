@@ -59,6 +59,28 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]
     OSError
         The folder is missing or not writable, the disk is full, ...; the
         target is then untouched and no temporary file is left.
+
+    Examples
+    --------
+    A write that fails half-way leaves the previous file as it was, and no temporary file:
+
+    >>> import json, tempfile
+    >>> from pathlib import Path
+    >>> from morphkit.fileio import atomic_write, write_json
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = write_json(Path(tmp.name) / "rows.json", {"iou": 0.97})
+    >>> def fail(f):
+    ...     f.write(b'{"iou": 0.')
+    ...     raise OSError("disk full")
+    >>> atomic_write(path, fail)
+    Traceback (most recent call last):
+    ...
+    OSError: disk full
+    >>> json.loads(path.read_text())
+    {'iou': 0.97}
+    >>> [p.name for p in Path(tmp.name).iterdir()]
+    ['rows.json']
+    >>> tmp.cleanup()
     """
     p = Path(path)
     if p.is_dir():

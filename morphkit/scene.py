@@ -181,6 +181,7 @@ class AreaLight:
         return [PointLight(p, self.intensity / len(pos)) for p in pos]
 
 
+#: Any of the light types.
 Light = DirectionalLight | PointLight | AreaLight
 
 

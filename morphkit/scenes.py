@@ -34,6 +34,7 @@ __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_fr
            "circle_camera", "textured_items", "render_pair"]
 
 
+#: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
 DEMO_MESHES = ("teapot", "chair", "cow")
 
 #: The demo light: from the upper right-front, casting shadows back-left.
@@ -60,7 +61,9 @@ def ground_truth_frame(renderer: SceneRenderer, scene: Scene) -> dict[str, np.nd
 
 #: Warped-shadow demo: the object moves over this range under this point light.
 WARP_RANGE = ((-0.6, -0.6), (0.6, 0.6))
+#: The warped-shadow demo's point light position (world frame).
 WARP_LIGHT = (0.25, -0.2, 2.4)
+#: The object position ``(x, y)`` the warped-shadow demo shows.
 WARP_POSITION = (0.23, -0.31)  # between the 3 x 3 samples
 
 

@@ -7,7 +7,7 @@ repeating numbers.
 
 from __future__ import annotations
 
-#: Smallest |signed area| (pixels^2) of a warp triangle that still counts as a
+#: Smallest absolute signed area (pixels^2) of a warp triangle that still counts as a
 #: triangle. A 1e-6 px^2 triangle maps its whole source onto a point.
 TRIANGLE_AREA_PX2 = 1e-6
 
@@ -101,7 +101,7 @@ VM_DUPLICATE_PX = 1e-3
 #: a robust F fit would otherwise be built on.
 VM_HOMOGRAPHY_INLIER_RATIO = 0.95
 
-#: An epipole whose homogeneous w is below this fraction of |(x, y)| is at
+#: An epipole whose homogeneous w is below this fraction of the norm of (x, y) is at
 #: infinity (a 1e-9 relative w puts it ~1e9 image widths away).
 VM_EPIPOLE_INFINITY = 1e-9
 
@@ -137,7 +137,7 @@ VM_MAX_CANVAS_FACTOR = 4.0
 #: between a surface and what it hides on the sample meshes (>= 0.05 units).
 VM_VISIBILITY_RTOL = 0.01
 
-#: Smallest |signed area| (pixels^2) a morph-mesh triangle may reach for any
+#: Smallest absolute signed area (pixels^2) a morph-mesh triangle may reach for any
 #: s in [0, 1]; smaller ones count as fold-overs and a vertex is dropped.
 #: 1000x the warp's own refusal limit (tol.TRIANGLE_AREA_PX2) so float32 maps
 #: never meet it.

@@ -1,6 +1,11 @@
-"""Write an image pair per sample mesh: the frame without shadows, and with
+"""Ground-truth shadows
+=====================
+
+Write an image pair per sample mesh: the frame without shadows, and with
 exact ray-cast hard shadows (the ground truth every shadow method in morphkit
 is measured against).
+
+Usage::
 
     python samples/ground_truth_shadows.py OUT_DIR [--size 384]
 """
@@ -20,7 +25,7 @@ from morphkit.scenes import DEMO_MESHES, demo_scene, ground_truth_frame
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.partition("\n")[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--size", type=int, default=384)
     args = ap.parse_args()

@@ -1,7 +1,12 @@
-"""Write soft-shadow image pairs: for each sample mesh under a square area light,
+"""Soft shadows: warped, re-rendered and ray cast
+===============================================
+
+Write soft-shadow image pairs: for each sample mesh under a square area light,
 the top-down soft shadow on the ground made by warping one 3 x 3 atlas per light
 sample, next to the one made by re-rendering per sample and the ray-cast ground
 truth, for 5, 9 and 16 light samples; prints the mean abs visibility error.
+
+Usage::
 
     python samples/soft_shadows.py OUT_DIR [--size 256] [--ground 256] [--dense 16]
 """
@@ -24,7 +29,7 @@ from morphkit.shadow.soft import FIVE_SAMPLES
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.partition("\n")[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--size", type=int, default=256, help="shadow-map size")
     ap.add_argument("--ground", type=int, default=256, help="ground image size")

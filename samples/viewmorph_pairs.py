@@ -1,4 +1,7 @@
-"""Write view-morphing sample pairs: the two references, the morph and the ground truth.
+"""View morphing against the rendered in-between view
+====================================================
+
+Write view-morphing sample pairs: the two references, the morph and the ground truth.
 
 For each sample mesh and baseline this renders the bench scene
 (:mod:`morphkit.bench.viewmorph_suite`), view-morphs the pair at ``s = 0.5``
@@ -38,7 +41,7 @@ def write(path: Path, rgba: np.ndarray) -> None:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.partition("\n")[0])
     ap.add_argument("out", nargs="?", default="viewmorph-samples")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--meshes", nargs="+", default=["teapot", "chair", "cow"])

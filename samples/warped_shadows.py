@@ -1,8 +1,13 @@
-"""Write warped-shadow image pairs: for each sample mesh and a few positions between
+"""Warped shadow maps: mesh warp, reprojection, re-render and ray cast
+=====================================================================
+
+Write warped-shadow image pairs: for each sample mesh and a few positions between
 the 3 x 3 samples, the frame shadowed by the warped map (the paper's mesh warp,
 and the per-pixel reprojection) next to the frame shadowed by a re-rendered map
 and by the ray cast (the ground truth), and the warped, reprojected and
 re-rendered light depth maps.
+
+Usage::
 
     python samples/warped_shadows.py OUT_DIR [--size 384] [--positions 3]
 """
@@ -27,7 +32,7 @@ from morphkit.visualize import colorize_depth
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=__doc__.partition("\n")[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--size", type=int, default=384)
     ap.add_argument("--positions", type=int, default=3)

@@ -1,7 +1,13 @@
 #!/usr/bin/env bash
 # Set everything up (see scripts/setup.sh, with the test extras) and run the test
-# suite and the linter. Extra arguments go to pytest (e.g. -m "not gl").
+# suite (with the doctests of the modules listed in pyproject.toml) and the linter,
+# then build the documentation with warnings as errors (scripts/docs.sh).
+# Extra arguments go to pytest (e.g. -m "not gl"); with them, the docs are not built
+# (the gallery needs GL, and a subset of the tests is not a full check).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh" test
-ruff check morphkit tests samples
+ruff check morphkit tests samples docs
 python -m pytest -q "$@"
+if [ "$#" -eq 0 ]; then
+  bash "$MORPHKIT_ROOT/scripts/docs.sh"
+fi

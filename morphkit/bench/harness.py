@@ -51,6 +51,18 @@ class Timing:
 
     @classmethod
     def from_seconds(cls, samples: Iterable[float]) -> Timing:
+        """The statistics of call durations given in seconds.
+
+        Parameters
+        ----------
+        samples : iterable of float
+            Durations of the timed calls, in seconds (at least one).
+
+        Returns
+        -------
+        Timing
+            Median, minimum and maximum in milliseconds, and the number of samples.
+        """
         ms = [1e3 * s for s in samples]
         if not ms:
             raise ValueError("no timing samples")

@@ -27,8 +27,12 @@ from ..render import Renderer
 from ..scene import PointLight, light_view
 from .harness import Timing, make_row, time_call, time_calls
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "render"
+#: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "depth_6k"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
 PLOT_OPTIONS = {"size_key": "size", "panel_keys": ("what",)}
 
 
@@ -88,6 +92,18 @@ def _accuracy_rows(renderer: Renderer) -> list[dict[str, Any]]:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    """Run the suite (the rows are described in the module docstring).
+
+    Parameters
+    ----------
+    quick : bool
+        The reduced sweep (two mesh sizes).
+
+    Returns
+    -------
+    list of dict
+        One row per case, as :func:`morphkit.bench.harness.make_row` makes them.
+    """
     from ..render import Renderer
 
     with Renderer() as renderer:

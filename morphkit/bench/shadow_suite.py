@@ -44,8 +44,12 @@ from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
 from .harness import Timing, make_row, time_cycling
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "shadows"
+#: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "direct"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
 PLOT_OPTIONS = {"size_key": "size", "error_key": "iou_err", "panel_keys": ("mesh", "what", "light")}
 
 MOTION = MotionRange([-0.6, -0.6], [0.6, 0.6])

@@ -42,8 +42,12 @@ from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import make_row, time_cycling
 
+__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+
 SUITE = "soft"
+#: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "direct_9"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
 PLOT_OPTIONS = {"size_key": "size", "error_key": "mae_shadow", "panel_keys": ("mesh", "what")}
 
 MOTION = MotionRange([-0.6, -0.6], [0.6, 0.6])

@@ -63,7 +63,9 @@ from .harness import make_row, time_call
 __all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
 SUITE = "viewmorph"
+#: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "crossfade"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
 PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("mesh",)}
 
 BASELINES = (10, 20, 40, 60)

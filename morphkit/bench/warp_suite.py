@@ -39,7 +39,9 @@ from .harness import auto_repeats, make_row, time_call, time_calls
 
 __all__ = ["run", "per_triangle_warp", "make_case", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
+#: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "remap"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
 PLOT_OPTIONS: dict[str, Any] = {"error_key": "mean_abs_err", "panel_keys": ("dtype", "grid")}
 
 SIZES_FULL = (64, 128, 256, 512, 1024)

@@ -115,6 +115,12 @@ class ShadowAtlas:
     """A baked k x k set of light-view depth maps with control points.
 
     Build with :func:`bake_atlas`; save with :meth:`save`, load with :meth:`load`.
+
+    Attributes
+    ----------
+    fallbacks : int
+        Map warps that would have folded and used the plane anchors instead, counted since
+        the atlas was made or loaded (a run-time count, not saved).
     """
 
     rig: LightRig
@@ -149,6 +155,7 @@ class ShadowAtlas:
     # ------------------------------------------------------------ geometry
     @property
     def shape(self) -> tuple[int, int]:
+        """``(H, W)`` of every map (the light rig's image shape)."""
         return self.rig.shape
 
     @property

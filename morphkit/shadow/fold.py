@@ -11,6 +11,20 @@ __all__ = ["signed_areas", "RELAX_ROUNDS", "folded_numpy", "any_folded", "any_fo
 
 
 def signed_areas(pts: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Twice the signed area of each triangle (positive counter-clockwise in ``(x, y)``).
+
+    Parameters
+    ----------
+    pts : ndarray, float (N, 2)
+        Vertex positions ``(x, y)`` (pixels).
+    tri : ndarray, int (M, 3)
+        Vertex indices per triangle.
+
+    Returns
+    -------
+    ndarray, float (M,)
+        The cross product ``(b - a) x (c - a)`` per triangle (pixels^2).
+    """
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
@@ -21,12 +35,31 @@ RELAX_ROUNDS = 16
 
 def folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                   ) -> np.ndarray:
+    """Which triangles fold: their orientation differs from ``sign``, or they are too small.
+
+    Parameters
+    ----------
+    pts : ndarray, float (N, 2)
+        Vertex positions ``(x, y)`` (pixels).
+    tri : ndarray, int (M, 3)
+        Vertex indices per triangle.
+    sign : ndarray, float (M,)
+        The orientation each triangle must keep (+1 or -1).
+    min_area : float
+        Smallest absolute value of :func:`signed_areas` that still counts as a triangle.
+
+    Returns
+    -------
+    ndarray, bool (M,)
+        True where the triangle folds.
+    """
     area = signed_areas(pts, tri)
     return (np.sign(area) != sign) | (np.abs(area) < min_area)
 
 
 def any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                       ) -> bool:
+    """Whether any triangle folds (:func:`folded_numpy`; same parameters); the numpy reference."""
     return bool(folded_numpy(pts, tri, sign, min_area).any())
 
 
@@ -59,6 +92,7 @@ def _tri_folded(p: np.ndarray, tri: np.ndarray, sign: np.ndarray, t: int, min_ar
 
 def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                      ) -> bool:
+    """Whether any triangle folds (:func:`folded_numpy`; same parameters), stopping at the first."""
     for t in range(tri.shape[0]):
         if _tri_folded(pts, tri, sign, t, min_area):
             return True
@@ -67,6 +101,7 @@ def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_are
 
 def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
                 min_area: float, rounds: int, out: np.ndarray) -> int:
+    """:func:`relax_folds_numpy` as loops, for numba (same parameters and result)."""
     n, m = surf.shape[0], tri.shape[0]
     alpha = np.ones(n)
     mark = np.zeros(n, np.bool_)

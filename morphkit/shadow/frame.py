@@ -24,7 +24,7 @@ from ..scene import AreaLight, DirectionalLight, Scene
 from .lookup import normals_from_points, shadow_visibility
 from .method import ShadowMethod
 
-__all__ = ["render_frame", "compare_frames"]
+__all__ = ["render_frame", "compare_frames", "VisibilityFn"]
 
 #: A visibility function: world points (N, 3) and unit normals (N, 3) -> (N,) in [0, 1].
 VisibilityFn = Callable[[np.ndarray, np.ndarray], np.ndarray]

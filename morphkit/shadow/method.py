@@ -46,10 +46,14 @@ class ShadowMethod(Protocol):
     name: str
 
     @property
-    def rig(self) -> LightRig: ...
+    def rig(self) -> LightRig:
+        """The light camera and range of motion the maps are made for."""
+        ...
 
     @property
-    def memory_bytes(self) -> int: ...
+    def memory_bytes(self) -> int:
+        """Bytes of precomputed data the method keeps (0 for re-rendering)."""
+        ...
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:

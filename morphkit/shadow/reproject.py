@@ -134,6 +134,7 @@ class Reprojection:
 
     @property
     def identity(self) -> bool:
+        """True when nothing moves: equal principal points and ``e = 0``."""
         p = self.params
         return bool(p[2] == p[4] and p[3] == p[5] and not np.any(p[6:]))
 
@@ -522,7 +523,7 @@ class Source:
 class Layer:
     """The quads of a map that a frame draws, not the whole map (a
     :func:`hidden_layer`): ``runs (K, 3)`` int64 rows ``(r, a, b)``, the quads with
-    top row ``r`` and left columns ``a .. b - 1``, in row-major order; ``cum
+    top row ``r`` and left columns ``a`` to ``b - 1``, in row-major order; ``cum
     (K + 1,)`` the quads before each run (band splits). The map is shared, not
     copied: a layer costs only its runs (:attr:`nbytes`)."""
 
@@ -545,6 +546,7 @@ class Layer:
 
     @property
     def nbytes(self) -> int:
+        """Bytes the layer keeps (its runs and their cumulative quad counts; the map is shared)."""
         return int(self.runs.nbytes + self.cum.nbytes)
 
     def quads(self) -> np.ndarray:

@@ -69,6 +69,7 @@ class MotionRange:
 
     @property
     def center(self) -> np.ndarray:
+        """The range's centre ``(x, y)``, float64 ``(2,)`` (world units, on the motion plane)."""
         return (self.lo + self.hi) / 2
 
     def check(self, xy: np.ndarray, *, clamp: bool = False) -> np.ndarray:
@@ -85,6 +86,7 @@ class MotionRange:
             f"y in [{self.lo[1]:g}, {self.hi[1]:g}]", np.round(xy, 6).tolist()))
 
     def corners(self) -> np.ndarray:
+        """The range's corners, float64 ``(4, 2)``: lower-left, lower-right, upper-left, upper-right."""
         return np.array([[self.lo[0], self.lo[1]], [self.hi[0], self.lo[1]],
                          [self.lo[0], self.hi[1]], [self.hi[0], self.hi[1]]])
 

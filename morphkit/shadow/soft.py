@@ -164,6 +164,7 @@ class SoftShadow:
 
     @property
     def n_samples(self) -> int:
+        """The number ``N`` of light samples (each a warped map, weight ``1/N``)."""
         return len(self.offsets)
 
     def point_lights(self) -> list[PointLight]:

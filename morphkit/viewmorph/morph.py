@@ -48,7 +48,7 @@ and colour is divided by the mixed alpha. Grey/RGB outputs drop alpha (pixels
 seen by neither image are 0); RGBA outputs keep straight alpha.
 
 Fallbacks and refusals (``fallback="raise"`` refuses, ``"morph"`` degrades)
---------------------------------------------------------------------------
+---------------------------------------------------------------------------
 ======================================  ============================================================
 case                                    policy
 ======================================  ============================================================
@@ -69,7 +69,7 @@ grey / RGB / RGBA, mixed                promoted to the richer layout (grey < RG
 different dtypes                        ValidationError
 s outside [0, 1]                        ValidationError
 layers > 1/auto without depths or keys  ValidationError (pairs need ``depth``, ``layer_depth`` keys)
-a layer with < VM_MIN_LAYER_PAIRS pairs fewer layers (``report["layers"]``)
+a layer below VM_MIN_LAYER_PAIRS pairs  fewer layers (``report["layers"]``)
 ======================================  ============================================================
 """
 
@@ -116,7 +116,9 @@ from .rectify import Rectification, apply_h, rectify
 
 __all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]
 
+#: The values of ``ViewMorpher(prewarp=...)`` (and ``morphkit viewmorph --prewarp``).
 PREWARPS = ("auto", "opencv", "seitz-dyer", "none")
+#: The values of ``ViewMorpher(fallback=...)``: refuse a degenerate pair, or plain mesh morph.
 FALLBACKS = ("raise", "morph")
 PATHS = ("direct", "rectified")
 
@@ -366,9 +368,9 @@ class ViewMorpher:
         shape : tuple of int
             The default output ``(H, W)`` for it.
 
-        Convention
-        ----------
-        ``H_out_rect`` maps rectified-interpolated coordinates (pixel-centre origin) to
+        Notes
+        -----
+        Convention: ``H_out_rect`` maps rectified-interpolated coordinates (pixel-centre origin) to
         output pixels: ``out = H_out_rect q``.
         """
         s = as_unit_interval(s, "s")
@@ -461,9 +463,9 @@ class ViewMorpher:
         numpy.ndarray
             The layout (grey/RGB/RGBA, promoted) and dtype of the inputs.
 
-        Convention
-        ----------
-        Output pixel ``p`` shows the mesh point ``H_out_rect^-1 p`` of the
+        Notes
+        -----
+        Convention: Output pixel ``p`` shows the mesh point ``H_out_rect^-1 p`` of the
         rectified-interpolated frame; pixel-centre origin throughout.
 
         Raises

@@ -497,9 +497,9 @@ def rectify(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int], shape1: tuple
         ``method="parallel"`` with identities when the views are already
         parallel (RMS ``y1 - y0`` <= :data:`tol.VM_PARALLEL_Y_PX`).
 
-    Convention
-    ----------
-    ``H_rect_i`` maps image-``i`` pixels to the rectified frame (see the module docstring).
+    Notes
+    -----
+    Convention: ``H_rect_i`` maps image-``i`` pixels to the rectified frame (see the module docstring).
 
     Raises
     ------

@@ -32,6 +32,15 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
     -------
     numpy.ndarray
         ``(2 * (rows - 1) * (cols - 1), 3)`` int32 vertex indices.
+
+    Examples
+    --------
+    >>> from morphkit.warp import grid_triangles
+    >>> grid_triangles(2, 3)  # points 0 1 2 over 3 4 5: two cells, two triangles each
+    array([[0, 1, 4],
+           [0, 4, 3],
+           [1, 2, 5],
+           [1, 5, 4]], dtype=int32)
     """
     rows, cols = int(rows), int(cols)
     if rows < 2 or cols < 2:

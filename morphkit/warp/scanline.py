@@ -36,7 +36,8 @@ import numpy as np
 
 from ..settings import compile_kernel, numba
 
-__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp"]
+__all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp", "MIN_BAND_ROWS",
+           "PARALLEL_MIN_PIXELS"]
 
 
 #: Cast of a pixel offset known to be >= 0 (see ``_fill_band``).
@@ -167,7 +168,7 @@ def _fill_band(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1:
 def _fill_one(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: int, c0: int,
               c1: int, out_outside: float, mx: np.ndarray, my: np.ndarray, count: np.ndarray,
               n_bands: int, counting: bool, b: int) -> int:
-    """Band ``b`` of ``n_bands`` (:func:`_fill_band`)."""
+    """Band ``b`` of ``n_bands`` (``_fill_band``)."""
     h = r1 - r0
     lo = r0 + (h * b) // n_bands
     hi = r0 + (h * (b + 1)) // n_bands
@@ -201,7 +202,7 @@ def fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: 
     bands of rows (:func:`n_bands`): in parallel (numba ``prange``, the bands
     write disjoint rows) when there are several, else in the calling thread.
     ``counting``: count coverage in ``count``; otherwise the mesh is known
-    injective and ``count`` is unused (:func:`_fill_band`). Returns the largest
+    injective and ``count`` is unused (``_fill_band``). Returns the largest
     count (0: nothing covered, > 1: a fold-over)."""
     if n_bands > 1:
         return _fill_parallel_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count,
@@ -234,10 +235,10 @@ def _accumulate(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, active: np.
     """``acc[p, y, x] += weight * src[p](A_t (x, y))`` for ``p = 0, 1`` (bilinear,
     0 outside ``src``) for every pixel centre ``(x, y)`` of every ``active``
     triangle ``t``, in rows ``[r0, r1)`` and columns ``[c0, c1)`` (a band of the
-    ROI: rows are clipped as in :func:`_fill_band`): the warp maps and the remap
+    ROI: rows are clipped as in ``_fill_band``): the warp maps and the remap
     of :func:`fill_maps` fused into one pass, for a mesh known not to overlap
     itself (:func:`mesh_injective`: each pixel is visited once). Same coverage
-    rule and edge arithmetic as :func:`_fill_band`; source positions are exact
+    rule and edge arithmetic as ``_fill_band``; source positions are exact
     (float64), where ``cv2.remap`` quantises them to 1/32 px. ``src`` and ``acc``
     are ``(2, H, W)`` float32 (``acc`` C-contiguous); ``src`` must be finite.
     ``box`` (int64 ``[y0, y1, x0, x1]``) is grown to hold every pixel written.

@@ -222,6 +222,24 @@ def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], 
         Mismatched point counts, NaN/inf points, bad triangles, bad interpolation.
     FoldOverError
         Flipped, ~zero-area or overlapping destination triangles.
+
+    Examples
+    --------
+    Move a 4 x 4 image one pixel to the right with one quad (two triangles) on the
+    corner pixels' centres; column 0 is outside the moved mesh and gets ``fill``:
+
+    >>> import numpy as np
+    >>> from morphkit.warp import warp_mesh
+    >>> img = np.arange(16, dtype=np.float32).reshape(4, 4)
+    >>> src = np.array([[0, 0], [3, 0], [0, 3], [3, 3]], float)
+    >>> out, mask = warp_mesh(img, src, src + [1, 0], (4, 4), return_mask=True)
+    >>> out
+    array([[ 0.,  0.,  1.,  2.],
+           [ 0.,  4.,  5.,  6.],
+           [ 0.,  8.,  9., 10.],
+           [ 0., 12., 13., 14.]], dtype=float32)
+    >>> mask[0]
+    array([False,  True,  True,  True])
     """
     return MeshWarper(src_pts, triangles)(image, dst_pts, out_shape, interpolation=interpolation,
                                           fill=fill, return_mask=return_mask)
