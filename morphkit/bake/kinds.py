@@ -115,10 +115,12 @@ class ShadowAtlasKind:
         return DirectionalLight(v) if self.directional else PointLight(v)
 
     def options(self) -> dict[str, Any]:
+        """The options that decide the output (recorded in the manifest; a change re-bakes)."""
         return {"atlas_size": self.atlas_size, "grid": self.grid, "range": list(self.range),
                 "light": list(self.light), "directional": self.directional}
 
     def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+        """The shadow atlas of ``mesh`` (:func:`~morphkit.shadow.bake_atlas`) with these options."""
         return bake_atlas(mesh, np.eye(4), self.motion(), self.scene_light(),
                           (self.atlas_size, self.atlas_size), renderer=renderer, grid=self.grid,
                           progress=False)

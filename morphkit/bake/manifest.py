@@ -48,9 +48,13 @@ from .kinds import AssetKind, output_name
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "OutputRecord",
            "AssetRecord", "Manifest", "file_digest", "utc_now"]
 
+#: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
+#: File name of the append-only journal of finished assets (replayed by the next run).
 JOURNAL_NAME = "manifest.journal"
+#: The format name stored in the manifest.
 MANIFEST_FORMAT = "morphkit-bake-manifest"
+#: The manifest format version this code reads and writes.
 MANIFEST_VERSION = 1
 
 
@@ -103,10 +107,12 @@ class AssetRecord:
     updated: str = ""
 
     def to_dict(self) -> dict[str, Any]:
+        """The record as JSON types (the manifest's ``assets`` entry)."""
         return asdict(self)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> AssetRecord:
+        """The record from its :meth:`to_dict` form."""
         d = dict(d)
         d["outputs"] = {k: OutputRecord(**v) for k, v in d.get("outputs", {}).items()}
         return cls(**d)
@@ -136,10 +142,12 @@ class Manifest:
 
     @property
     def path(self) -> Path:
+        """The manifest file (``<folder>/manifest.json``)."""
         return self.folder / MANIFEST_NAME
 
     @property
     def journal(self) -> Path:
+        """The journal file (``<folder>/manifest.journal``)."""
         return self.folder / JOURNAL_NAME
 
     @classmethod
@@ -217,6 +225,7 @@ class Manifest:
 
     # ----------------------------------------------------------------- views
     def to_dict(self) -> dict[str, Any]:
+        """The whole manifest as JSON types (what ``manifest.json`` holds)."""
         return {"format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "morphkit_version": __version__,
                 "options": self.options, "run": self.run,
                 "assets": {k: self.assets[k].to_dict() for k in sorted(self.assets)}}

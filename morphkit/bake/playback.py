@@ -66,6 +66,7 @@ class LinePath:
     frames: int = 48
 
     def positions(self, motion: MotionRange) -> np.ndarray:
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
         t = np.linspace(0.0, 1.0, _frames(self.frames))[:, None]
         return motion.lo + t * (motion.hi - motion.lo)
 
@@ -77,6 +78,7 @@ class CirclePath:
     frames: int = 48
 
     def positions(self, motion: MotionRange) -> np.ndarray:
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
         a = np.linspace(0.0, 2 * np.pi, _frames(self.frames), endpoint=False)
         r = 0.45 * (motion.hi - motion.lo)
         return motion.center + np.c_[r[0] * np.cos(a), r[1] * np.sin(a)]
@@ -123,6 +125,7 @@ class PointsPath:
         return cls(np.array(rows, np.float64))
 
     def positions(self, motion: MotionRange) -> np.ndarray:
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
         return np.array([motion.check(xy) for xy in np.asarray(self.points, np.float64)])
 
 

@@ -62,8 +62,11 @@ from ..fileio import append_lines
 from ..meshes import chair, cow, load_mesh, teapot
 from .harness import Timing, make_row
 
+#: The suite's name in bench rows.
 SUITE = "bake"
+#: The method the table's ratio column divides by: the hand-written serial loop.
 FLOOR_METHOD = "serial"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
 PLOT_OPTIONS = {"size_key": "assets", "panel_keys": ("what",)}
 
 #: (builder, argument, suffix) of the library's meshes; quick takes every other one.
@@ -143,6 +146,7 @@ def _cluster(workers: int, dask_defaults: bool) -> Iterator[Any]:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    """The suite's rows (``morphkit bench bake``); ``quick``: fewer and smaller meshes."""
     kind = ShadowAtlasKind(atlas_size=256 if quick else 512)
     options = BakeOptions((kind,))
     repeats = 1 if quick else 3

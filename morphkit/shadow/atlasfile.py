@@ -40,6 +40,7 @@ from .rig import LightRig, MotionRange
 __all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas", "array_digest",
            "light_to_dict", "light_from_dict"]
 
+#: The format name stored in every atlas file.
 ATLAS_FORMAT = "morphkit-shadow-atlas"
 #: Version 2: per-array dtype, shape and SHA-256 in the metadata (``"arrays"``).
 ATLAS_VERSION = 2
