@@ -74,7 +74,12 @@ if pyrender is not None:
 
 
 class _Context:
-    """One GL context of a fixed shape with its scene and node cache."""
+    """One GL context of a fixed shape with its scene and node cache.
+
+    Each (mesh, colour) is converted and uploaded once (one ``pyrender.Mesh``);
+    several :class:`~morphkit.scene.Item` s sharing it (instances of one mesh at
+    several poses) get one node each, all referring to that uploaded mesh.
+    """
 
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
@@ -84,20 +89,21 @@ class _Context:
             raise RenderError(f"cannot create an offscreen GL context of shape {shape}: {exc!r}. "
                               "Is libosmesa6 installed (apt-get install libosmesa6)?") from exc
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
-        # id(trimesh) -> (trimesh kept alive, {color: node})
-        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...], pyrender.Node]]] = {}
+        # id(trimesh) -> (trimesh kept alive, {color: [node, ...]}): node 0 stays in the scene
+        # (hidden through its mesh's visibility), further instance nodes are added when needed
+        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...], list[pyrender.Node]]]] = {}
         self.cam_node: pyrender.Node | None = None
         self.light_nodes: list[pyrender.Node] = []
 
-    def node_for(self, item: Item) -> pyrender.Node:
+    def _pool(self, item: Item) -> list[pyrender.Node]:
         key = id(item.mesh)
         entry = self.nodes.get(key)
         if entry is None or entry[0] is not item.mesh:
             entry = (item.mesh, {})
             self.nodes[key] = entry
         color = tuple(float(c) for c in item.color)
-        node = entry[1].get(color)
-        if node is None:
+        pool = entry[1].get(color)
+        if pool is None:
             mat = pyrender.MetallicRoughnessMaterial(
                 baseColorFactor=[*color, 1.0], metallicFactor=0.0, roughnessFactor=0.9,
                 doubleSided=True)
@@ -105,18 +111,27 @@ class _Context:
             # (flat shading would triple the vertex count of a 1M-face mesh).
             smooth = len(item.mesh.faces) > 20000
             pm = pyrender.Mesh.from_trimesh(item.mesh, material=mat, smooth=smooth)
-            node = self.scene.add(pm, pose=np.eye(4))
-            entry[1][color] = node
-        return node
+            pool = entry[1][color] = [self.scene.add(pm, pose=np.eye(4))]
+        return pool
 
     def show(self, items: Sequence[Item]) -> None:
-        wanted = {id(self.node_for(it)): it for it in items}
-        for _mesh, by_color in self.nodes.values():
-            for node in by_color.values():
-                node.mesh.is_visible = id(node) in wanted
+        groups: dict[int, tuple[list[pyrender.Node], list[Item]]] = {}
         for it in items:
-            node = self.node_for(it)
-            self.scene.set_pose(node, np.asarray(it.pose, dtype=np.float64))
+            pool = self._pool(it)
+            groups.setdefault(id(pool), (pool, []))[1].append(it)
+        for _mesh, by_color in self.nodes.values():
+            for pool in by_color.values():
+                used = groups.get(id(pool), (pool, []))[1]
+                pool[0].mesh.is_visible = bool(used)
+                while len(pool) < len(used):  # one more instance of this mesh: share its upload
+                    pool.append(self.scene.add(pool[0].mesh, pose=np.eye(4)))
+                for k, node in enumerate(pool):
+                    if k < len(used):
+                        if k > 0 and not self.scene.has_node(node):
+                            self.scene.add_node(node)
+                        self.scene.set_pose(node, np.asarray(used[k].pose, dtype=np.float64))
+                    elif k > 0 and self.scene.has_node(node):
+                        self.scene.remove_node(node)
 
     def set_camera(self, camera: CameraModel) -> None:
         cam = _MatrixCamera(camera.gl_projection(), camera.znear, camera.zfar)

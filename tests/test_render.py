@@ -156,3 +156,25 @@ def test_renderer_implements_the_scene_renderer_protocol(renderer):
 
     assert isinstance(renderer, SceneRenderer)
     assert not isinstance(object(), SceneRenderer)
+
+
+def test_items_sharing_a_mesh_are_drawn_at_every_pose(renderer):
+    """Instances: three items of one mesh at three poses give three silhouettes, each
+    where its pose puts it; fewer items later hide the surplus instances again."""
+    box = trimesh.creation.box((0.5, 0.5, 0.5))
+    cam = orthographic(3, 1, (16, 48), look_at([0, 0, 5], [0, 0, 0], up=[0, 1, 0]),
+                       znear=1, zfar=10)
+
+    def at(x):
+        T = np.eye(4)
+        T[0, 3] = x
+        return _item(box, T)
+
+    three = np.isfinite(renderer.depth(cam, [at(-2.0), at(0.0), at(2.0)])).any(0)
+    # 48 px over 6 units: 8 px/unit, x = 0 at column 23.5; a 0.5-unit box spans 4 columns,
+    # e.g. x = 2 covers 37.5..41.5: columns 38..41 (runs as [first, last + 1))
+    runs = np.flatnonzero(np.diff(np.r_[0, three.astype(int), 0]))
+    assert runs.reshape(-1, 2).tolist() == [[6, 10], [22, 26], [38, 42]]
+    one = np.isfinite(renderer.depth(cam, [at(2.0)])).any(0)
+    assert np.flatnonzero(one).tolist() == [38, 39, 40, 41]
+    assert np.all(np.isinf(renderer.depth(cam, [])))
