@@ -99,6 +99,10 @@ class BillboardSource(Protocol):
         """Reference view ``k``, ``(h, w, 4)`` float32 premultiplied."""
         ...
 
+    def classic(self, level: int = 0) -> np.ndarray:
+        """The classic billboard's one image (the front view, azimuth 0), ``(h, w, 4)``."""
+        ...
+
     def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
         """The view at fraction ``s`` from reference ``i`` to ``j`` (view-morphed), ``(h, w, 4)``."""
         ...

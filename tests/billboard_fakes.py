@@ -86,6 +86,9 @@ class FakeAsset:
         self.calls["reference"] += 1
         return self.view(self.ring.azimuths_deg()[k], level)
 
+    def classic(self, level: int = 0) -> np.ndarray:
+        return self.view(0.0, level)
+
     def _az(self, i: int, j: int, s: float) -> float:
         az = self.ring.azimuths_deg()
         span = (az[j] - az[i]) % 360.0 or 360.0

@@ -11,7 +11,8 @@ frames compare like with like:
   level)``; ``s`` is quantised to about ``quantum_deg`` of azimuth
   (:func:`~.cache.quantise_s`). At ``s = 0`` or ``1`` the reference itself is used.
 * :class:`ClassicMode` -- a classic billboard: one fixed image per asset (its
-  view from the front, azimuth 0) whatever the viewing direction.
+  front view, azimuth 0, :meth:`BillboardSource.classic`) whatever the viewing
+  direction.
 * :class:`NearestMode` -- an impostor that switches to the nearest reference.
 * :class:`CrossfadeMode` -- the two nearest references blended by ``s``.
 * :class:`MeshMode` -- the real meshes, rendered by a
@@ -181,31 +182,14 @@ class NearestMode(BillboardMode):
 
 
 class ClassicMode(BillboardMode):
-    """A classic billboard: the asset's front view (azimuth 0) from every direction.
-
-    The front image is the reference there, or (a two-view ring has none at 0)
-    the morph at azimuth 0, made once per asset and level.
-    """
+    """A classic billboard: the asset's one fixed image (:meth:`BillboardSource.classic`, its
+    front view) from every direction."""
 
     name = "classic"
 
-    def __init__(self) -> None:
-        self._front: dict[tuple[str, int], np.ndarray] = {}
-
-    def front(self, asset: BillboardSource, level: int) -> np.ndarray:
-        """The asset's fixed image at ``level``."""
-        key = (asset.name, int(level))
-        img = self._front.get(key)
-        if img is None:
-            i, j, s, _ = asset.ring.pair(0.0)
-            img = (asset.reference(i, level) if s <= 0 else asset.reference(j, level) if s >= 1
-                   else asset.morph(i, j, s, level))
-            self._front[key] = img
-        return img
-
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
-        """The front image; ``outside_deg`` 0 (a classic billboard never leaves its "arc")."""
-        return self.front(asset, placement.level), 0.0
+        """The front image; ``outside_deg`` 0 (a classic billboard has no arc)."""
+        return asset.classic(placement.level), 0.0
 
 
 @dataclass
