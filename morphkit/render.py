@@ -21,6 +21,14 @@ orthographic one, ``Z = (f + n + z_ndc (f - n)) / 2``, which simplifies to
 ``Z = f + n - n f / d``. Perspective depth is pyrender's value unchanged.
 Tested against analytic planes in ``tests/test_render.py``.
 
+Shader programs. pyrender caches its compiled shader programs under a key that
+includes ``OpenGL.contextdata.getContext()``; with PyOpenGL >= 3.1.9 on OSMesa
+that call returns a new pointer object every time, so the cache never hits and
+every primitive of every frame compiled and linked a new program (and kept it:
+one GL program per drawn item and frame).
+Each context here gets a program cache keyed by the shaders and defines only
+(one cache per context, so the context needs no key).
+
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and
 one ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and
 reused for every frame of that shape. Meshes are converted and uploaded once
@@ -54,6 +62,29 @@ __all__ = ["Renderer"]
 
 
 if pyrender is not None:
+    from pyrender.shader_program import ShaderProgram, ShaderProgramCache
+
+    class _ContextProgramCache(ShaderProgramCache):
+        """pyrender's program cache for one GL context, keyed by shaders and defines only
+        (see the module notes: pyrender's key includes an OSMesa pointer object that
+        changes at every call)."""
+
+        def __init__(self) -> None:
+            super().__init__()
+            self._by_source: dict[tuple[object, ...], ShaderProgram] = {}
+
+        def get_program(self, vertex_shader: str, fragment_shader: str, geometry_shader: str | None = None,
+                        defines: dict[str, int] | None = None) -> ShaderProgram:
+            key = (vertex_shader, fragment_shader, geometry_shader, tuple(sorted((defines or {}).items())))
+            prog = self._by_source.get(key)
+            if prog is None:
+                prog = self._by_source[key] = super().get_program(vertex_shader, fragment_shader,
+                                                                  geometry_shader, defines)
+            return prog
+
+        def clear(self) -> None:
+            super().clear()
+            self._by_source = {}
 
     class _MatrixCamera(pyrender.Camera):
         """A pyrender camera with morphkit's projection matrix.
@@ -88,6 +119,9 @@ class _Context:
         except Exception as exc:
             raise RenderError(f"cannot create an offscreen GL context of shape {shape}: {exc!r}. "
                               "Is libosmesa6 installed (apt-get install libosmesa6)?") from exc
+        # pyrender keeps its renderer and program cache in private attributes; replacing the
+        # cache is the one way around its per-call cache miss (module notes)
+        self.renderer._renderer._program_cache = _ContextProgramCache()
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
         # id(trimesh) -> (trimesh kept alive, {color: [node, ...]}): node 0 stays in the scene
         # (hidden through its mesh's visibility), further instance nodes are added when needed

@@ -178,3 +178,17 @@ def test_items_sharing_a_mesh_are_drawn_at_every_pose(renderer):
     one = np.isfinite(renderer.depth(cam, [at(2.0)])).any(0)
     assert np.flatnonzero(one).tolist() == [38, 39, 40, 41]
     assert np.all(np.isinf(renderer.depth(cam, [])))
+
+
+def test_shader_programs_are_compiled_once_per_context(renderer):
+    """pyrender's own cache missed at every call on OSMesa (module notes of render.py):
+    20 items drawn in two frames must leave one colour program in the context's cache."""
+    box = trimesh.creation.box((0.2, 0.2, 0.2))
+    cam = perspective(np.deg2rad(40), (24, 28), look_at([3, -3, 3], [0, 0, 0]), znear=0.5, zfar=20)
+    from morphkit.scene import translation
+
+    items = [_item(box, translation(0.1 * k, 0.0)) for k in range(20)]
+    for _ in range(2):
+        renderer.color_depth(cam, items, [DirectionalLight([-1, 1, -1])])
+    cache = renderer._contexts[(24, 28)].renderer._renderer._program_cache
+    assert len(cache._program_cache) == 1
