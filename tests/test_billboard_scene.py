@@ -238,7 +238,7 @@ def _seen_from(azimuth_deg, yaw=0.0):
 
 def test_morph_mode_images_and_cache_keys():
     scene, asset = _scene([("fake", 0, 0, 20.0)], backdrop=FLAT)
-    mode = MorphMode(MorphCache(capacity=8), quantum_deg=2.0)  # 30 steps over the 60 deg arc
+    mode = MorphMode(MorphCache(capacity=8), quantum_deg=2.0, blend=False)  # 30 steps over the 60 deg arc
     f = scene.render(_seen_from(-10.0, 20.0), mode)
     assert f.placements[0].azimuth_deg == pytest.approx(-10.0)
     assert (f.stats.hits, f.stats.misses) == (0, 1)
@@ -250,6 +250,24 @@ def test_morph_mode_images_and_cache_keys():
     # at an end of the arc the reference itself is drawn, without the cache
     h = scene.render(_seen_from(30.0, 20.0), mode)
     assert (h.stats.hits, h.stats.misses) == (0, 0) and asset.calls["morph"] == 1
+
+
+def test_morph_mode_blends_the_two_grid_steps_around_s():
+    """Seen from -10.5 deg on a 2-degree grid over the +-30 arc: s = 19.5/60 = 9.75/30 lies
+    3/4 of the way from step 9/30 (-12 deg) to 10/30 (-10 deg): 0.25 m(9/30) + 0.75 m(10/30)."""
+    scene, asset = _scene([("fake", 0, 0)], backdrop=FLAT)
+    mode = MorphMode(MorphCache(capacity=8), quantum_deg=2.0)
+    pl = scene.plan(_seen_from(-10.5)).placements[0]
+    img, _ = mode.image(asset, pl)
+    shape = asset.shape(pl.level)
+    expect = 0.25 * ellipse_view(-30 + 18.0, shape) + 0.75 * ellipse_view(-30 + 20.0, shape)
+    np.testing.assert_allclose(img, expect, atol=1e-6)
+    assert (mode.cache.counts.hits, mode.cache.counts.misses) == (0, 2)
+    mode.image(asset, scene.plan(_seen_from(-11.5)).placements[0])  # same two steps: two hits
+    assert (mode.cache.counts.hits, mode.cache.counts.misses) == (2, 2)
+    on_step, _ = mode.image(asset, scene.plan(_seen_from(-10.0)).placements[0])  # on a step: one image
+    np.testing.assert_allclose(on_step, ellipse_view(-10.0, shape), atol=1e-6)
+    assert mode.cache.counts.hits == 3
 
 
 def test_two_views_outside_the_arc_are_clamped_and_reported():

@@ -11,7 +11,9 @@ scene reports them per frame.
 
 Quantising ``s`` trades accuracy for reuse: :func:`quantise_s` rounds ``s`` to
 steps of about ``quantum_deg`` degrees of viewing azimuth between the pair's two
-references.
+references; :func:`bracket_s` gives the two steps around ``s`` and the weight
+between them, so that a mode can blend two cached images and change smoothly
+with the view (no jump when ``s`` crosses a step).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import numpy as np
 from ..errors import ValidationError, expected_got
 from ..validate import as_positive
 
-__all__ = ["CacheCounts", "MorphCache", "morph_key", "quantise_s"]
+__all__ = ["CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s"]
 
 
 @dataclass(frozen=True)
@@ -148,6 +150,31 @@ def quantise_s(s: float, span_deg: float, quantum_deg: float) -> float:
         return float(s)
     n = max(1, int(round(abs(span_deg) / quantum_deg)))
     return math.floor(s * n + 0.5) / n
+
+
+def bracket_s(s: float, span_deg: float, quantum_deg: float) -> tuple[float, float, float]:
+    """The steps ``s_lo <= s <= s_hi`` of :func:`quantise_s`'s grid around ``s`` and the weight of ``s_hi``.
+
+    Parameters
+    ----------
+    s, span_deg, quantum_deg
+        As in :func:`quantise_s` (``quantum_deg > 0``).
+
+    Returns
+    -------
+    s_lo, s_hi : float
+        Neighbouring steps ``k / n`` and ``(k + 1) / n`` (``s_hi = s_lo`` when ``s``
+        lies on a step, up to 1e-9 of a step).
+    w : float
+        ``(s - s_lo) / (s_hi - s_lo)`` in ``[0, 1)`` (0 on a step).
+    """
+    n = max(1, int(round(abs(span_deg) / quantum_deg)))
+    x = min(max(float(s), 0.0), 1.0) * n
+    k = math.floor(x + 1e-9)
+    w = x - k
+    if w <= 1e-9 or k >= n:
+        return min(k, n) / n, min(k, n) / n, 0.0
+    return k / n, (k + 1) / n, w
 
 
 def morph_key(asset: str, i: int, j: int, s_q: float, level: int) -> tuple[str, int, int, float, int]:

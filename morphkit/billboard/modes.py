@@ -8,8 +8,13 @@ frames compare like with like:
   each billboard's viewing azimuth picks the two bracketing references and
   ``s`` (:meth:`ViewPairing.pair`), the asset view-morphs them, through a
   bounded LRU :class:`~.cache.MorphCache` keyed ``(asset, i, j, quantised s,
-  level)``; ``s`` is quantised to about ``quantum_deg`` of azimuth
-  (:func:`~.cache.quantise_s`). At ``s = 0`` or ``1`` the reference itself is used.
+  level)``; ``s`` lies on a grid of about ``quantum_deg`` of azimuth. By default
+  the two cached morphs on the grid around ``s`` are blended by where ``s`` lies
+  between them (:func:`~.cache.bracket_s`): the image changes continuously with
+  the view (no step when ``s`` crosses a grid line) while the cache keys change
+  only every ``quantum_deg``; ``blend=False`` rounds ``s`` to the nearest grid
+  step instead (:func:`~.cache.quantise_s`). On the grid's ends (``s = 0`` or
+  ``1``) the reference itself is used.
 * :class:`ClassicMode` -- a classic billboard: one fixed image per asset (its
   front view, azimuth 0, :meth:`BillboardSource.classic`) whatever the viewing
   direction.
@@ -37,13 +42,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Protocol, runtime_checkable
 
+import cv2
 import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..protocols import BillboardSource, SceneRenderer
 from ..scene import Item, Light
-from .cache import CacheCounts, MorphCache, morph_key, quantise_s
+from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
 from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
 
@@ -128,16 +134,22 @@ class MorphMode(BillboardMode):
     cache : MorphCache, optional
         Default: ``MorphCache()``.
     quantum_deg : float
-        Step of viewing azimuth ``s`` is rounded to (0: exact ``s``, every frame a miss).
+        Grid step of ``s`` in degrees of viewing azimuth (0: exact ``s``, a cache
+        entry per distinct azimuth).
+    blend : bool
+        Blend the two cached images around ``s`` (default) or round ``s`` to the grid.
     """
 
     name = "morph"
 
-    def __init__(self, cache: MorphCache | None = None, *, quantum_deg: float = 0.5) -> None:
+    def __init__(self, cache: MorphCache | None = None, *, quantum_deg: float = 1.0,
+                 blend: bool = True) -> None:
         self._cache = MorphCache() if cache is None else cache
         if not isinstance(self._cache, MorphCache):
             raise ValidationError(expected_got("cache", "a MorphCache", type(cache).__name__))
         self.quantum_deg = _check_quantum(quantum_deg)
+        self.blend = bool(blend)
+        self._spans: dict[tuple[str, int, int], float] = {}  # pair_span_deg per (asset, i, j)
 
     @property
     def cache(self) -> MorphCache:
@@ -147,17 +159,30 @@ class MorphMode(BillboardMode):
     def _make(self, asset: BillboardSource, i: int, j: int, s: float, level: int) -> np.ndarray:
         return asset.morph(i, j, s, level)
 
+    def _at(self, asset: BillboardSource, i: int, j: int, s: float, level: int) -> np.ndarray:
+        if s <= 0.0:
+            return asset.reference(i, level)
+        if s >= 1.0:
+            return asset.reference(j, level)
+        return self._cache.get(morph_key(asset.name, i, j, s, level),
+                               lambda: self._make(asset, i, j, s, level))
+
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
-        """The morph at the placement's azimuth (quantised), from the cache; see :class:`BillboardMode`."""
+        """The image at the placement's azimuth (on the grid, or blended between two grid
+        steps), from the cache; see :class:`BillboardMode`."""
         i, j, s, outside = asset.ring.pair(placement.azimuth_deg)
-        s_q = quantise_s(s, pair_span_deg(asset, i, j), self.quantum_deg)
         lv = placement.level
-        if s_q <= 0.0:
-            return asset.reference(i, lv), outside
-        if s_q >= 1.0:
-            return asset.reference(j, lv), outside
-        key = morph_key(asset.name, i, j, s_q, lv)
-        return self._cache.get(key, lambda: self._make(asset, i, j, s_q, lv)), outside
+        span = self._spans.get((asset.name, i, j))
+        if span is None:
+            span = self._spans[(asset.name, i, j)] = pair_span_deg(asset, i, j)
+        if self.quantum_deg == 0.0 or not self.blend:
+            return self._at(asset, i, j, quantise_s(s, span, self.quantum_deg), lv), outside
+        s_lo, s_hi, w = bracket_s(s, span, self.quantum_deg)
+        lo = self._at(asset, i, j, s_lo, lv)
+        if w == 0.0:
+            return lo, outside
+        hi = self._at(asset, i, j, s_hi, lv)
+        return cv2.addWeighted(lo, 1.0 - w, hi, w, 0.0), outside
 
 
 class CrossfadeMode(MorphMode):
