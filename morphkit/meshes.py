@@ -643,26 +643,46 @@ def _project(field: Callable[[np.ndarray], np.ndarray], v: np.ndarray, steps: in
 
 #: Largest triangle count polygonised directly; above it the base mesh is
 #: Loop-subdivided (x4 triangles per level).
-_COW_BASE_MAX = 40_000
+_IMPLICIT_BASE_MAX = 40_000
 #: Triangles per square metre-of-grid-spacing: MT gives ~``_COW_DENSITY / h^2``
 #: triangles for the cow (calibrated; refined by a secant step).
 _COW_DENSITY = 72.0
 
 
-def _cow_base(target: int) -> trimesh.Trimesh:
-    """Polygonise the cow with about ``target`` triangles (within ~10%)."""
-    lo, hi = _COW_BOX
-    h = math.sqrt(_COW_DENSITY / target)
-    verts, faces = _marching_tetrahedra(_cow_field, lo, hi, h)
+def _implicit_base(field: Callable[[np.ndarray], np.ndarray], box: tuple[np.ndarray, np.ndarray],
+                   density: float, target: int) -> trimesh.Trimesh:
+    """Polygonise ``field < 0`` inside ``box`` with about ``target`` triangles (within ~10%).
+
+    ``density`` (triangles times grid spacing squared, calibrated per shape) gives
+    the first grid spacing; up to three secant steps on the spacing refine the count.
+    """
+    lo, hi = box
+    h = math.sqrt(density / target)
+    verts, faces = _marching_tetrahedra(field, lo, hi, h)
     for _ in range(3):
         if abs(len(faces) / target - 1.0) < 0.08:
             break
         h *= math.sqrt(len(faces) / target)
-        verts, faces = _marching_tetrahedra(_cow_field, lo, hi, h)
+        verts, faces = _marching_tetrahedra(field, lo, hi, h)
     mesh = trimesh.Trimesh(verts, faces, process=False)
     trimesh.smoothing.filter_taubin(mesh, iterations=40)  # relax MT slivers
-    mesh.vertices = _project(_cow_field, np.asarray(mesh.vertices))
+    mesh.vertices = _project(field, np.asarray(mesh.vertices))
     return mesh
+
+
+def _implicit_mesh(field: Callable[[np.ndarray], np.ndarray], box: tuple[np.ndarray, np.ndarray],
+                   density: float, faces: int) -> trimesh.Trimesh:
+    """The normalised closed mesh of ``field < 0`` with about ``faces`` triangles: polygonised
+    directly up to ``_IMPLICIT_BASE_MAX`` triangles, above that ``faces / 4^k`` triangles and ``k``
+    levels of Loop subdivision (each x4, keeps the mesh closed and smooth)."""
+    k = 0
+    while faces / 4**k > _IMPLICIT_BASE_MAX:
+        k += 1
+    mesh = _implicit_base(field, box, density, round(faces / 4**k))
+    if k:
+        v, f = trimesh.remesh.subdivide_loop(mesh.vertices, mesh.faces, iterations=k)
+        mesh = trimesh.Trimesh(v, f, process=False)
+    return normalize(mesh)
 
 
 @_cached(maxsize=4)  # a 1M-face cow holds ~60 MB
@@ -696,14 +716,7 @@ def cow(faces: int = 6000) -> trimesh.Trimesh:
         head towards ``+x``.
     """
     n = _as_int(faces, "faces", 4000, 4_000_000)
-    k = 0
-    while n / 4**k > _COW_BASE_MAX:
-        k += 1
-    mesh = _cow_base(round(n / 4**k))
-    if k:
-        v, f = trimesh.remesh.subdivide_loop(mesh.vertices, mesh.faces, iterations=k)
-        mesh = trimesh.Trimesh(v, f, process=False)
-    return normalize(mesh)
+    return _implicit_mesh(_cow_field, _COW_BOX, _COW_DENSITY, n)
 
 
 # --------------------------------------------------------------------------
