@@ -143,6 +143,16 @@ VM_AUTO_LAYER_DROP = 0.005
 #: 20 deg from 0.885 to 0.965 IoU (s = 1/2); three gave 0.963 at 1.4x the time.
 VM_AUTO_LAYERS = 2
 
+# --- billboard assets (morphkit.billboard) ----------------------------------
+
+#: Fewest correspondences (from the two depth maps, before cleaning) a pair of
+#: neighbouring reference views must share to be baked into an asset; fewer is
+#: refused at bake time. 4x the 8 pairs F needs, so the robust fit has a margin;
+#: a morph mesh with fewer points cannot follow an object's outline (the
+#: bake's sampling gives ~500-1000 pairs for the sample meshes at 256^2 and
+#: 45-60 degrees, and ~150-300 at 64^2).
+BB_MIN_CORRESPONDENCES = 32
+
 # --- billboard scenes (morphkit.billboard) ---------------------------------
 
 #: A camera is "directly above" a billboard (its facing about the up axis and its

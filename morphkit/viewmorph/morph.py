@@ -66,6 +66,18 @@ exact where opaque; a semi-transparent (anti-aliased) pixel there gets alpha
 20 degrees, cost 0.7 dB PSNR through cracks at the cut; ``layer_overlap=0``
 gives them).
 
+**Occluded is not empty** (``fill_occluded=True``, layered morphs only): a
+layer's pixels that a *nearer* layer hides in one image (their depth key lies
+in front of the layer) say nothing about the layer there; by default they are
+transparent, so where the near part moves away between the views the far part
+shows a half-transparent hole (alpha ``1 - s`` or ``s``). With
+``fill_occluded``, each layer carries a *known* mask per image (1 except where
+a nearer layer hides it), warped with the image, and the two warped images are
+mixed with weights ``(1 - s) k0`` and ``s k1`` normalised by their sum: where
+one image does not see the layer, the other fills it at full weight. Pixels
+known empty (background, or a farther surface) still count, so silhouettes
+blend as before.
+
 Rendering paths
 ---------------
 ``path="direct"`` (default): the pre-warp, the interpolation and the post-warp
@@ -236,6 +248,17 @@ def _homography_4pt(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
     return np.r_[h, 1.0].reshape(3, 3)
 
 
+def _known_mix(a0: np.ndarray, a1: np.ndarray, s: float) -> np.ndarray:
+    """Mix two warped premultiplied images whose last channel is a "known" weight
+    (``fill_occluded``): ``(k0 (1 - s) a0 + k1 s a1) / (k0 (1 - s) + k1 s)``, 0 where
+    neither is known; the known channel is dropped."""
+    w0 = a0[..., -1:] * np.float32(1.0 - s)
+    w1 = a1[..., -1:] * np.float32(s)
+    wsum = w0 + w1
+    num = a0[..., :-1] * w0 + a1[..., :-1] * w1
+    return np.where(wsum > 1e-6, num / np.maximum(wsum, np.float32(1e-6)), np.float32(0.0)).astype(np.float32)
+
+
 # --------------------------------------------------------------------------- mesh
 
 
@@ -288,6 +311,7 @@ class _Layer:
     c1: np.ndarray
     c1_far: bool
     rectified: tuple[np.ndarray, np.ndarray] | None = None
+    known: bool = False  # prem carries a last "known" channel (fill_occluded)
 
 
 def _concat(parts: list[Correspondences]) -> Correspondences:
@@ -438,6 +462,10 @@ class ViewMorpher:
         required for ``layers > 1``.
     layer_overlap : float
         Overlap of neighbouring layers, a fraction of the pairs' depth range.
+    fill_occluded : bool
+        Layered morphs: where a nearer layer hides a layer in one image, fill it
+        from the other image instead of blending with transparency (see
+        "Occluded is not empty" in the module docstring). No effect with one layer.
 
     Attributes
     ----------
@@ -459,7 +487,7 @@ class ViewMorpher:
                  intrinsics: tuple[Any, Any] | None = None, fundamental: Any = None,
                  threshold: float = tol.VM_THRESHOLD_PX, fallback: str = "raise",
                  frame_grid: int = 9, seed: int = 0, layers: int | str = 1, layer_depth: Any = None,
-                 layer_overlap: float = tol.VM_LAYER_OVERLAP) -> None:
+                 layer_overlap: float = tol.VM_LAYER_OVERLAP, fill_occluded: bool = False) -> None:
         if prewarp not in PREWARPS:
             raise ValidationError(expected_got("prewarp", f"one of {PREWARPS}", repr(prewarp)))
         if fallback not in FALLBACKS:
@@ -472,6 +500,9 @@ class ViewMorpher:
         if not 0.0 <= overlap < 0.5:
             raise ValidationError(expected_got("layer_overlap", "a fraction in [0, 0.5)",
                                                repr(layer_overlap)))
+        if not isinstance(fill_occluded, (bool, np.bool_)):
+            raise ValidationError(expected_got("fill_occluded", "a bool", repr(fill_occluded)))
+        self._fill_occluded = bool(fill_occluded)
         a, b, ch, dt = _prepare_pair(image0, image1)
         self.shape0: tuple[int, int] = a.shape[:2]
         self.shape1: tuple[int, int] = b.shape[:2]
@@ -644,16 +675,23 @@ class ViewMorpher:
         report["layers"] = n
         report["layer_edges"] = [float(e) for e in edges[1:-1]]
         out = []
+        report["fill_occluded"] = self._fill_occluded and n > 1
         for i, ((a, b), sel) in enumerate(zip(lims, sels, strict=True)):
             masks = [(k >= a) & (k <= b) for k in keys]
             prem = (self._prem[0] * masks[0][..., None], self._prem[1] * masks[1][..., None])
+            if self._fill_occluded and n > 1:
+                # last channel: "known" = not hidden by a nearer layer (key in front of this layer's range)
+                prem = (np.concatenate([prem[0], (keys[0] >= a)[..., None].astype(np.float32)], axis=2),
+                        np.concatenate([prem[1], (keys[1] >= a)[..., None].astype(np.float32)], axis=2))
             sub = corr.subset(sel)
             if i == n - 1:
                 bbox = full  # the farthest layer holds the background: the whole images
             else:
                 boxes = [_mask_bbox(mk) for mk in masks]
                 bbox = self._canvas_for(sub, *(np.zeros((0, 2)) if b_ is None else b_ for b_ in boxes))
-            out.append(self._make_layer(prem, sub, bbox, frame_grid))
+            layer = self._make_layer(prem, sub, bbox, frame_grid)
+            layer.known = prem[0].shape[2] > self._prem[0].shape[2]
+            out.append(layer)
         return out
 
     def _check_keys(self, layer_depth: Any) -> list[np.ndarray]:
@@ -899,8 +937,8 @@ class ViewMorpher:
             m1, m2 = _remap_args(wm1)
             if m1 is None:
                 return None
-            return wm1.roi, cv2.remap(prem1, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                                      borderValue=0)
+            a1 = cv2.remap(prem1, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            return wm1.roi, (a1[..., :-1] if layer.known else a1)
         wm0 = self._maps(layer.w0, dst, shape)
         m1, m2 = _remap_args(wm0)
         if m1 is None:
@@ -908,7 +946,7 @@ class ViewMorpher:
         r_0, r_1, c_0, c_1 = wm0.roi
         a0 = cv2.remap(prem0, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         if s <= 0.0:
-            return wm0.roi, a0
+            return wm0.roi, (a0[..., :-1] if layer.known else a0)
         # image-1 positions: look the image-0 positions up in C1 (piecewise affine, s-independent)
         ox, oy = layer.c1_origin
         if m2 is None:
@@ -918,7 +956,7 @@ class ViewMorpher:
         pos1 = cv2.remap(layer.c1, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                          borderValue=(_FAR, _FAR, 0, 0))
         a1 = cv2.remap(prem1, pos1, None, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-        mix = cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
+        mix = _known_mix(a0, a1, s) if layer.known else cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
         if not layer.c1_far:
             # outside the mesh the C1 look-up of the warp's far position could land on the canvas
             np.copyto(mix, 0.0, where=~wm0.mask[r_0:r_1, c_0:c_1, None])
@@ -962,14 +1000,16 @@ class ViewMorpher:
             lo = layer.canvas[0]
             cshape = rect0.shape[:2]
             q = layer.r0 + s * (layer.r1 - layer.r0) - lo
-            acc = None
-            for img, r, wgt in ((rect0, layer.r0, 1.0 - s), (rect1, layer.r1, s)):
-                if wgt <= 0.0:
-                    continue
-                wm = MeshWarper(r - lo, layer.tris).maps(q, cshape)
-                part = wm.apply(img, fill=0.0)
-                acc = part * np.float32(wgt) if acc is None else cv2.addWeighted(acc, 1.0, part, wgt, 0.0)
-            assert acc is not None
+            parts = [(MeshWarper(r - lo, layer.tris).maps(q, cshape).apply(img, fill=0.0), wgt)
+                     for img, r, wgt in ((rect0, layer.r0, 1.0 - s), (rect1, layer.r1, s)) if wgt > 0.0]
+            if layer.known and len(parts) == 2:
+                acc = _known_mix(parts[0][0], parts[1][0], s)
+            elif layer.known:
+                acc = np.ascontiguousarray(parts[0][0][..., :-1])
+            else:
+                acc = parts[0][0] * np.float32(parts[0][1])
+                if len(parts) == 2:
+                    acc = cv2.addWeighted(acc, 1.0, parts[1][0], parts[1][1], 0.0)
             T = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
             img = cv2.warpPerspective(acc, P @ T, (shape[1], shape[0]), flags=cv2.INTER_LINEAR,
                                       borderMode=cv2.BORDER_CONSTANT, borderValue=0)
