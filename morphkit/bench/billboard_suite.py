@@ -1,0 +1,311 @@
+"""Suite ``billboards``: billboard scenes against the real meshes -- accuracy, stability, speed.
+
+Scene rows (this part of the suite; each kind of row is its own function):
+
+* :func:`scene_accuracy_rows` -- per-billboard silhouette IoU (alpha > 0.5) and
+  PSNR (final RGB, data range 255) over each billboard's screen box
+  (:func:`morphkit.billboard.compare.box_errors`), against
+  the real meshes rendered from the same camera with the same instance poses,
+  items and lights (:class:`~morphkit.billboard.MeshMode`, supersampled
+  coverage like the assets' references), composited over the same backdrop
+  (no fog), along an orbit of the scene; for morph, classic, nearest and
+  crossfade. ``K = 2`` rows are split by where the viewing azimuth lies:
+  ``inside`` the arc, ``outside`` it by up to 30 degrees; ring rows cover 360.
+* :func:`temporal_rows` -- the billboard layer's mean absolute change per
+  0.5-degree step of an orbit about one instance (the quad stays centred, so
+  only its image changes), its maximum over its median: popping shows as
+  spikes where a nearest view switches (``max_over_median`` is written as 1e9
+  where the median change is 0: nothing moves between most steps).
+* :func:`speed_rows` -- frame time of 10, 100 and 1000 billboards at 640 x 480
+  (the pan's middle frame over a field of density one per 1.5^2 units) for the
+  morph (cold cache: a new cache every frame; warm: the same frame again),
+  crossfade (cold, warm), classic and the real meshes (one render of every
+  instance in the frustum, depth-buffer coverage).
+* :func:`hit_rate_rows` -- the morph cache's hit rate, entries and bytes along
+  an orbit of the 1000-billboard field, 0.5 and 3 degrees per frame (the cache
+  warm from frame to frame), with the frame times along the path.
+
+``run`` bakes the assets (cow at about 5k and >= 50k faces, K = 2 and K = 8,
+256^2, 3 levels) and gathers every row. ``--quick``: smaller sizes and counts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ..billboard import (
+    Backdrop,
+    BillboardMode,
+    BillboardScene,
+    ClassicMode,
+    CrossfadeMode,
+    Instances,
+    MeshMode,
+    MorphCache,
+    MorphMode,
+    NearestMode,
+    OrbitPath,
+    PanPath,
+    place_random,
+)
+from ..billboard.compare import box_errors
+from ..protocols import BillboardSource, SceneRenderer
+from ..scene import Item, Light
+from .harness import Timing, make_row, time_call
+
+__all__ = ["scene_accuracy_rows", "temporal_rows", "speed_rows", "hit_rate_rows", "step_changes", "run_scene",
+           "SUITE", "FLOOR_METHOD"]
+
+SUITE = "billboards"
+FLOOR_METHOD = "classic"
+PLOT_OPTIONS: dict[str, Any] = {"size_key": "billboards", "panel_keys": ("faces",)}
+
+#: Camera elevation of the accuracy and stability orbits (the assets' default ring elevation).
+ELEVATION_DEG = 10.0
+
+
+def _modes(cache_capacity: int = 4096) -> dict[str, BillboardMode]:
+    return {"morph": MorphMode(MorphCache(cache_capacity)), "classic": ClassicMode(),
+            "nearest": NearestMode(), "crossfade": CrossfadeMode(MorphCache(cache_capacity))}
+
+
+def _accuracy_scene(asset: BillboardSource, rng: np.random.Generator) -> BillboardScene:
+    # 9 instances on a 3 x 3 grid 2.5 units apart, random yaws: the orbit sees each from every side
+    g = np.linspace(-2.5, 2.5, 3)
+    xy = np.array([(x, y) for x in g for y in g])
+    inst = Instances((asset.name,), np.zeros(9, np.int64), xy, rng.uniform(0, 360, 9), np.ones(9))
+    return BillboardScene({asset.name: asset}, inst, backdrop=Backdrop())
+
+
+def scene_accuracy_rows(assets: Sequence[BillboardSource], meshes: Mapping[str, Sequence[Item]],
+                        renderer: SceneRenderer, lights: Sequence[Light], ambient: float, *,
+                        frames: int = 24, shape: tuple[int, int] = (480, 640),
+                        seed: int = 0) -> list[dict[str, Any]]:
+    """Per-billboard accuracy of each mode against the real meshes along an orbit (see the module notes).
+
+    Parameters
+    ----------
+    assets : sequence of BillboardSource
+        One row group per asset (its ring: ``K = 2`` split inside/outside the arc).
+    meshes : mapping of str to sequence of Item
+        The items each asset was baked from (object frame).
+    renderer : SceneRenderer
+    lights, ambient
+        The bake's lights and ambient level.
+    frames : int
+        Orbit frames (a full circle).
+    shape : (H, W)
+    seed : int
+        Seeds the instances' yaws.
+
+    Returns
+    -------
+    list of dict
+        Rows (``make_row``) with mean ``iou``/``psnr`` and the number of billboard samples ``n``.
+    """
+    rows: list[dict[str, Any]] = []
+    for asset in assets:
+        scene = _accuracy_scene(asset, np.random.default_rng(seed))
+        radius = 8.0
+        height = float(asset.pivot[2]) + radius * np.tan(np.radians(ELEVATION_DEG))
+        path = OrbitPath(centre=(0.0, 0.0, float(asset.pivot[2])), radius=radius, height=height,
+                         start_deg=0.0, end_deg=360.0 * (frames - 1) / frames)
+        truth_mode = MeshMode(renderer, {asset.name: meshes[asset.name]}, lights, ambient, supersample=3)
+        samples: dict[str, list[dict[str, Any]]] = {m: [] for m in _modes()}
+        ms: dict[str, list[float]] = {m: [] for m in _modes()}
+        modes = _modes()
+        for cam in path.cameras(frames, shape):
+            truth = scene.render(cam, truth_mode)
+            for name, mode in modes.items():
+                f = scene.render(cam, mode)
+                samples[name] += box_errors(f, truth)
+                ms[name].append(f.stats.ms / 1e3)
+        k = asset.ring.views
+        groups: dict[str, Any] = {"all": lambda o: True}
+        if k == 2:
+            groups = {"inside": lambda o: o == 0.0, "outside<=30": lambda o: 0.0 < o <= 30.0}
+        for gname, keep in groups.items():
+            for name, errs in samples.items():
+                sel = [e for e in errs if keep(asset.ring.pair(e["azimuth_deg"])[3])]
+                if not sel:
+                    continue
+                rows.append(make_row(SUITE, name, {"case": "accuracy", "asset": asset.name, "views": k,
+                                                   "azimuths": gname, "size": asset.size[0]},
+                                     Timing.from_seconds(ms[name]),
+                                     metrics={"iou": float(np.mean([e["iou"] for e in sel])),
+                                              "psnr": float(np.mean([e["psnr"] for e in sel])),
+                                              "n": float(len(sel))},
+                                     note=f"{len(sel)} billboard views, {frames} orbit frames (frame times: "
+                                     "9 billboards, cache warm from frame to frame)"))
+    return rows
+
+
+def step_changes(layers: Sequence[np.ndarray]) -> np.ndarray:
+    """Mean absolute change of consecutive premultiplied layers ``(H, W, 4)`` over the pixels
+    either covers (alpha > 0), ``(len - 1,)``."""
+    out = []
+    for a, b in zip(layers[:-1], layers[1:], strict=True):
+        m = (a[..., 3] > 0) | (b[..., 3] > 0)
+        out.append(float(np.abs(a[m] - b[m]).mean()) if m.any() else 0.0)
+    return np.array(out)
+
+
+def temporal_rows(asset: BillboardSource, meshes: Mapping[str, Sequence[Item]] | None = None,
+                  renderer: SceneRenderer | None = None, lights: Sequence[Light] = (),
+                  ambient: float = 0.35, *, start_deg: float = -30.0, end_deg: float = 30.0,
+                  step_deg: float = 0.5, shape: tuple[int, int] = (480, 640)) -> list[dict[str, Any]]:
+    """Image change per ``step_deg`` orbit step about one instance, per mode (see the module notes).
+
+    With ``meshes`` and ``renderer``, the real meshes' row is added as the reference.
+
+    Returns
+    -------
+    list of dict
+        Rows with ``step_max``, ``step_median``, ``max_over_median``.
+    """
+    inst = Instances((asset.name,), np.zeros(1, np.int64), np.zeros((1, 2)), np.zeros(1), np.ones(1))
+    scene = BillboardScene({asset.name: asset}, inst, backdrop=Backdrop())
+    radius = 4.0 * max(asset.half_extent)
+    height = float(asset.pivot[2]) + radius * np.tan(np.radians(ELEVATION_DEG))
+    path = OrbitPath(centre=tuple(float(v) for v in asset.pivot), radius=radius, height=height)
+    n = int(round((end_deg - start_deg) / step_deg)) + 1
+    cams = [path.camera_at_deg(start_deg + k * step_deg, shape) for k in range(n)]
+    modes: dict[str, Any] = dict(_modes())
+    if meshes is not None and renderer is not None:
+        modes["mesh"] = MeshMode(renderer, {asset.name: meshes[asset.name]}, lights, ambient, supersample=3)
+    rows = []
+    for name, mode in modes.items():
+        frames = [scene.render(c, mode) for c in cams]
+        d = step_changes([f.layer for f in frames])
+        med, mx = float(np.median(d)), float(d.max())
+        rows.append(make_row(SUITE, name, {"case": "temporal", "asset": asset.name, "views": asset.ring.views,
+                                           "from_deg": start_deg, "to_deg": end_deg, "step_deg": step_deg},
+                             Timing.from_seconds([f.stats.ms / 1e3 for f in frames]),
+                             metrics={"step_max": mx, "step_median": med,
+                                      "max_over_median": mx / med if med > 0 else 1e9},
+                             note=f"{len(d)} steps"))
+    return rows
+
+
+def _field(asset: BillboardSource, n: int, seed: int) -> tuple[BillboardScene, float]:
+    inst = place_random([asset.name], n, np.random.default_rng(seed))
+    half = max(1.0, 1.5 * np.sqrt(n) / 2)
+    return BillboardScene({asset.name: asset}, inst, backdrop=Backdrop()), half
+
+
+def speed_rows(asset: BillboardSource, items: Sequence[Item], renderer: SceneRenderer,
+               lights: Sequence[Light], ambient: float, *, counts: Sequence[int] = (10, 100, 1000),
+               shape: tuple[int, int] = (480, 640), faces: int = 0, repeats: int = 5,
+               mesh_repeats: int = 3, seed: int = 0) -> list[dict[str, Any]]:
+    """Frame times per billboard count and mode, cold and warm cache (see the module notes).
+
+    Returns
+    -------
+    list of dict
+        Rows with ``n_drawn``, ``hit_rate`` (warm rows) in the metrics.
+    """
+    rows: list[dict[str, Any]] = []
+    for n in counts:
+        rows += _speed_case(asset, items, renderer, lights, ambient, n, shape, faces, repeats, mesh_repeats,
+                            seed)
+    return rows
+
+
+def _speed_case(asset: BillboardSource, items: Sequence[Item], renderer: SceneRenderer,
+                lights: Sequence[Light], ambient: float, n: int, shape: tuple[int, int], faces: int,
+                repeats: int, mesh_repeats: int, seed: int) -> list[dict[str, Any]]:
+    scene, half = _field(asset, n, seed)
+    cam = PanPath.over(half).camera_at(0.5, shape)
+    params = {"case": "speed", "asset": asset.name, "faces": faces, "views": asset.ring.views,
+              "billboards": n, "size": asset.size[0]}
+    drawn = float(len(scene.plan(cam).placements))
+    rows = []
+
+    def row(method: str, t: Timing, note: str = "", **metrics: float) -> None:
+        rows.append(make_row(SUITE, method, params, t, metrics={"n_drawn": drawn, **metrics}, note=note))
+
+    for name, cls in (("morph", MorphMode), ("crossfade", CrossfadeMode)):
+        row(f"{name}-cold", time_call(lambda cls=cls: scene.render(cam, cls(MorphCache())),
+                                      repeats=max(2, repeats // 2), warmup=1), "a new cache every frame")
+        warm = cls(MorphCache())
+        t = time_call(lambda warm=warm: scene.render(cam, warm), repeats=repeats, warmup=1)
+        row(f"{name}-warm", t, "the same frame again", hit_rate=scene.render(cam, warm).stats.hit_rate)
+    classic = ClassicMode()
+    row("classic", time_call(lambda: scene.render(cam, classic), repeats=repeats, warmup=1))
+    mesh = MeshMode(renderer, {asset.name: items}, lights, ambient)
+    row("mesh", time_call(lambda: scene.render(cam, mesh), repeats=mesh_repeats, warmup=1),
+        "every instance in the frustum rendered")
+    return rows
+
+
+def hit_rate_rows(asset: BillboardSource, *, n: int = 1000, frames: int = 60, step_deg: float = 0.5,
+                  shape: tuple[int, int] = (480, 640), quantum_deg: float = 1.0, capacity: int = 4096,
+                  seed: int = 0) -> list[dict[str, Any]]:
+    """The morph cache along an orbit of an ``n``-billboard field, ``step_deg`` per frame
+    (see the module notes); the timing is the frame time along the path (warm from frame to frame).
+
+    Returns
+    -------
+    list of dict
+        One row: ``hit_rate`` after the first frame, ``cache_entries``, ``cache_mb``, ``n_drawn``.
+    """
+    scene, half = _field(asset, n, seed)
+    base = OrbitPath.around(half)
+    path = replace(base, end_deg=base.start_deg + step_deg * (frames - 1))
+    mode = MorphMode(MorphCache(capacity), quantum_deg=quantum_deg)
+    hits = misses = drawn = 0
+    ms = []
+    for k, cam in enumerate(path.cameras(frames, shape)):
+        f = scene.render(cam, mode)
+        if k > 0:  # the first frame fills the cache
+            hits += f.stats.hits
+            misses += f.stats.misses
+            drawn += f.stats.n_drawn
+            ms.append(f.stats.ms)
+    rate = hits / max(hits + misses, 1)
+    return [make_row(SUITE, "morph-path", {"case": "hit_rate", "asset": asset.name, "views": asset.ring.views,
+                                           "billboards": n, "frames": frames, "step_deg": step_deg,
+                                           "quantum_deg": quantum_deg},
+                     Timing.from_seconds([m / 1e3 for m in ms]),
+                     metrics={"hit_rate": rate, "cache_entries": float(len(mode.cache)),
+                              "cache_mb": mode.cache.nbytes / 2**20, "n_drawn": drawn / max(len(ms), 1)},
+                     note="orbit about the field; counts after the first frame")]
+
+
+def run_scene(*, quick: bool = False) -> list[dict[str, Any]]:
+    """Bake the bench assets and gather every scene row (see the module notes)."""
+    from ..billboard.asset import BAKE_AMBIENT, bake_asset, bake_items, bake_lights
+    from ..meshes import normalize, sample_mesh
+    from ..render import Renderer
+
+    size = 128 if quick else 256
+    lights, ambient = bake_lights(), BAKE_AMBIENT
+    rows: list[dict[str, Any]] = []
+    with Renderer() as r:
+        cows = {f: normalize(sample_mesh("cow", faces=f)) for f in ((6000,) if quick else (6000, 60000))}
+        small = cows[6000]
+        assets = [bake_asset(small, r, name=f"cow{k}", views=k, size=size, levels=3) for k in (2, 8)]
+        items = {a.name: bake_items(small) for a in assets}
+        rows += scene_accuracy_rows(assets, items, r, lights, ambient, frames=8 if quick else 24,
+                                    shape=(240, 320) if quick else (480, 640))
+        for a in assets:
+            rows += temporal_rows(a, items, r, lights, ambient,
+                                  start_deg=-30.0 if a.ring.views == 2 else 0.0,
+                                  end_deg=(0.0 if quick else 30.0) if a.ring.views == 2 else (45.0 if quick
+                                                                                              else 90.0))
+        for f, mesh in cows.items():
+            a8 = bake_asset(mesh, r, name=f"cow{f}", views=8, size=size, levels=3)
+            rows += speed_rows(a8, bake_items(mesh), r, lights, ambient,
+                               counts=(10, 100) if quick else (10, 100, 1000), faces=len(mesh.faces),
+                               repeats=3 if quick else 5, mesh_repeats=2 if quick else 3)
+        for step in (0.5, 3.0):
+            rows += hit_rate_rows(assets[1], n=100 if quick else 1000, frames=10 if quick else 60,
+                                  step_deg=step)
+    return rows
+
+
+run = run_scene
