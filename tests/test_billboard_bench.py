@@ -64,7 +64,7 @@ def test_speed_and_accuracy_rows(renderer):
     rows = speed_rows(asset, _box_items(), renderer, light, 0.35, counts=(4,), shape=(36, 48), repeats=2,
                       mesh_repeats=1)
     assert {r["method"] for r in rows} == {"morph-cold", "morph-warm", "crossfade-cold", "crossfade-warm",
-                                           "classic", "mesh"}
+                                           "classic", "mesh", "gl-quads"}
     warm = next(r for r in rows if r["method"] == "morph-warm")
     assert warm["metrics"]["hit_rate"] == 1.0 and warm["params"]["billboards"] == 4
     acc = scene_accuracy_rows([asset], {"fake": _box_items()}, renderer, light, 0.35, frames=2,

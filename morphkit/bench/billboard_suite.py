@@ -22,6 +22,10 @@ Scene rows (this part of the suite; each kind of row is its own function):
   crossfade (cold, warm), classic and the real meshes (one render of every
   instance in the frustum, depth-buffer coverage); the warm modes and classic
   are timed interleaved (:func:`~morphkit.bench.harness.time_calls`).
+  ``gl-quads`` draws one untextured quad per instance through pyrender: a lower
+  bound of compositing the billboards as textured quads in GL, the alternative
+  to the OpenCV compositor (it pays pyrender's per-node cost before any
+  texture upload).
 * :func:`hit_rate_rows` -- the morph cache's hit rate, entries and bytes along
   an orbit of the 1000-billboard field, 0.5 and 3 degrees per frame (the cache
   warm from frame to frame), with the frame times along the path.
@@ -37,6 +41,7 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+import trimesh
 
 from ..billboard import (
     Backdrop,
@@ -245,7 +250,18 @@ def _speed_case(asset: BillboardSource, items: Sequence[Item], renderer: SceneRe
     mesh = MeshMode(renderer, {asset.name: items}, lights, ambient)
     row("mesh", time_call(lambda: scene.render(cam, mesh), repeats=mesh_repeats, warmup=1),
         "every instance in the frustum rendered")
+    quads = MeshMode(renderer, {asset.name: [Item(_quad_mesh(asset))]}, lights, ambient)
+    row("gl-quads", time_call(lambda: scene.render(cam, quads), repeats=mesh_repeats, warmup=1),
+        "one untextured quad per instance in pyrender: a lower bound of a GL textured-quad compositor")
     return rows
+
+
+def _quad_mesh(asset: BillboardSource) -> trimesh.Trimesh:
+    """The asset's billboard quad (facing +x) as a two-triangle mesh."""
+    hw, hh = asset.half_extent
+    px, py, pz = (float(v) for v in asset.pivot)
+    v = [[px, py - hw, pz - hh], [px, py + hw, pz - hh], [px, py + hw, pz + hh], [px, py - hw, pz + hh]]
+    return trimesh.Trimesh(v, [[0, 1, 2], [0, 2, 3]], process=False)
 
 
 def hit_rate_rows(asset: BillboardSource, *, n: int = 1000, frames: int = 60, step_deg: float = 0.5,
