@@ -110,13 +110,15 @@ def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
 
 
 def mesh_hash(mesh: trimesh.Trimesh) -> str:
-    """sha256 (hex) of the normalised mesh's vertices (float64) and faces (int64).
+    """sha256 (hex) of the normalised mesh's vertices (float64, rounded to 1e-9) and faces (int64).
 
     Parameters
     ----------
     mesh : trimesh.Trimesh
         Any mesh; it is normalised first (:func:`morphkit.meshes.normalize`), so
-        the hash names the shape an asset was baked from.
+        the hash names the shape an asset was baked from. The rounding (1e-9 of
+        the normalised size) makes a moved or rescaled copy hash alike: its
+        normalisation differs from the original's in the last bits only.
 
     Returns
     -------
@@ -125,7 +127,8 @@ def mesh_hash(mesh: trimesh.Trimesh) -> str:
     """
     norm = normalize(mesh)
     h = hashlib.sha256()
-    h.update(np.ascontiguousarray(norm.vertices, dtype=np.float64).tobytes())
+    v = np.round(np.asarray(norm.vertices, dtype=np.float64), 9) + 0.0  # + 0.0: no negative zeros
+    h.update(np.ascontiguousarray(v).tobytes())
     h.update(np.ascontiguousarray(norm.faces, dtype=np.int64).tobytes())
     return h.hexdigest()
 
@@ -142,6 +145,16 @@ def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
     p = to_premultiplied(rgba, 4)  # colour in 0..255 times alpha, alpha in [0, 1]
     p[..., :3] *= np.float32(1.0 / 255.0)
     return p
+
+
+def _check_levels(levels: Any, cameras: QuadCameras) -> int:
+    """``levels`` as an int >= 1 whose smallest level is at least 8 px on a side."""
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
+        raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
+    if min(cameras.level_shape(int(levels) - 1)) < 8:
+        raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
+                                           f"{int(levels)} levels of {cameras.shape}"))
+    return int(levels)
 
 
 def _check_level(level: Any, levels: int) -> int:
@@ -194,13 +207,7 @@ class BillboardAsset:
                                                self.cameras.elevation_deg))
         if [tuple(p) for p in record.pairs] != self.ring.pairs():
             raise ValidationError(expected_got("pairs", self.ring.pairs(), record.pairs))
-        levels = record.levels
-        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
-            raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
-        self.levels = int(levels)
-        if min(self.cameras.level_shape(self.levels - 1)) < 8:
-            raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
-                                               f"{self.levels} levels of {self.cameras.shape}"))
+        self.levels = _check_levels(record.levels, self.cameras)
         if not (record.layers == "auto" or (isinstance(record.layers, int) and record.layers >= 1)):
             raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(record.layers)))
         self.layers = record.layers
@@ -518,6 +525,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     digest = mesh_hash(norm)
     az = ring.azimuths_deg()
     cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az)
+    _check_levels(levels, cams)
     items, lights = bake_items(norm), bake_lights()
     front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)
     pairs = ring.pairs()
