@@ -50,6 +50,7 @@ SUITES: dict[str, Suite] = {
     "render": lazy_suite("morphkit.bench.render_suite", "run"),
     "viewmorph": lazy_suite("morphkit.bench.viewmorph_suite", "run"),
     "soft": lazy_suite("morphkit.bench.soft_suite", "run"),
+    "billboards": lazy_suite("morphkit.bench.billboard_suite", "run"),
 }
 
 

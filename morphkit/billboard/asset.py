@@ -15,6 +15,7 @@ The morph
 For a pair ``(i, j)`` and ``s`` in ``(0, 1)``: a
 :class:`~morphkit.viewmorph.ViewMorpher` of the two references with dense
 correspondences from their depth maps (:func:`~morphkit.viewmorph.from_depth`),
+plus each view's outline points the other does not see (:data:`RIM_STEP`),
 F estimated from them, the pre-warps, and depth layers where parts cross
 (:data:`DEFAULT_LAYERS`, keys from :func:`~morphkit.viewmorph.pair_depth`; a layer's
 pixels hidden by a nearer layer in one view are filled from the other view,
@@ -86,6 +87,14 @@ __all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_ligh
 
 #: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
 BAKE_AMBIENT = 0.35
+
+#: Outline ("rim") points of each reference are kept in its pairs' correspondences even
+#: where the other view does not see them (:func:`~morphkit.viewmorph.from_depth` with
+#: ``rtol=inf``), every ``RIM_STEP`` times the outline spacing of the shared points: they
+#: carry each view's silhouette along its geometric motion, where the shared points alone
+#: leave it to the mesh's interpolation (a half-transparent halo at the outline). Denser
+#: rims fold over more and cost bake time for no gain (``morphkit bench billboards``).
+RIM_STEP = 4
 
 #: ``ViewMorpher(layers=...)`` of the assets' morphs: three depth layers. Neighbouring
 #: references 30-60 degrees apart see parts pass behind each other for every sample
@@ -546,15 +555,17 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         step, contour_step = _sampling(cams.shape)
         points = []
         for i, j in pairs:
-            corr = from_depth(cams.camera(az[i]), cams.camera(az[j]), depths[i], depths[j], step=step,
-                              contour_step=contour_step)
+            ci, cj = cams.camera(az[i]), cams.camera(az[j])
+            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step)
             if len(corr) < tol.BB_MIN_CORRESPONDENCES:
                 raise DegenerateViewError(expected_got(
                     f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",
                     f"at least {tol.BB_MIN_CORRESPONDENCES} correspondences (tol.BB_MIN_CORRESPONDENCES) "
                     "between the two views", len(corr)))
-            assert corr.points3d is not None
-            points.append(corr.points3d.astype(np.float32))
+            rim = from_depth(ci, cj, depths[i], depths[j], step=0, contour_step=RIM_STEP * contour_step,
+                             rtol=np.inf)
+            assert corr.points3d is not None and rim.points3d is not None
+            points.append(np.concatenate([corr.points3d, rim.points3d]).astype(np.float32))
             bar.update()
         record = AssetRecord(
             name=name, mesh_hash=digest,

@@ -1,0 +1,334 @@
+"""Suite ``billboards``: view-morphed billboard assets against the classic billboard and impostors.
+
+Assets. Each mesh of :data:`morphkit.meshes.BILLBOARD_MESHES` (teapot, chair, cow,
+tree, person; normalised, coloured by the 3-D checker of
+:func:`morphkit.billboard.bake_items`, lit by :func:`morphkit.billboard.bake_lights`)
+is baked with :func:`morphkit.billboard.bake_asset` (elevation 10 degrees).
+
+Ground truth. For a viewing azimuth the asset shows the view of a virtual camera
+(:meth:`BillboardAsset.camera`: the in-between camera of the morph, on the chord
+between the two references); pyrender renders the mesh with that camera, the
+bake's items and lights, and every method's image is compared with it in the
+image frame of the billboard quad (the whole image is the billboard's box).
+Beyond the arc of a ``K = 2`` asset the truth is the view from the ring camera
+at the true azimuth (``asset.cameras.camera``), while the asset shows the
+clamped reference.
+
+Metrics (per azimuth, then averaged): ``iou`` -- silhouette IoU (alpha > 0.5,
+:func:`morphkit.metrics.shadow_iou`), ``err_iou = 1 - iou``; ``psnr`` -- on the
+premultiplied RGB (the billboard over black) over the whole box, data range 1
+(:func:`morphkit.metrics.psnr`; identical images are capped at 99 dB); ``*_min``
+-- the worst azimuth. ``ms_*``: one call of the method (medians over the azimuths).
+
+Sections (a list, :data:`SECTIONS`, of functions ``(cache, quick) -> rows``;
+other sections -- frame time, temporal stability -- append theirs):
+
+* ``pair`` -- ``K = 2`` (+-30 degrees): ``morph``, ``classic`` (one image: the
+  front view at azimuth 0), ``nearest`` and ``crossfade`` of the same two
+  references, at azimuths +-5, +-15, +-25 inside the arc (``pair-inside``: the
+  midpoints of six equal parts of the arc, so no method meets its own reference)
+  and +-35, +-45, +-60 (``pair-outside``, 5-30 degrees beyond it);
+* ``ring`` -- ``K = 6, 8, 12`` over 360 degrees, at 24 azimuths ``7.5 + 15 n``
+  (never a reference): ``morph``, ``nearest``, ``crossfade`` of the ring, ``classic``;
+* ``equal-memory`` -- the ``K = 8`` morph ring at ``S^2`` against ``nearest`` /
+  ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same bytes:
+  the same colour bytes (``dense-images``: 32 views) and the same bytes in all
+  (``dense-total``: as many views as the morph asset's :attr:`memory_bytes`,
+  which adds its depth maps and correspondences, pays for); the dense views are
+  upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
+  render;
+* ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (every pair's
+  morpher at every level built, as a bake does; ``cpu_ms``: the process's CPU
+  time, all threads, next to the wall time: on a loaded machine the wall time
+  includes waiting), and one ``morph`` / ``crossfade`` / ``nearest`` call of
+  that asset.
+
+Rows with ``mesh = "all"`` average the per-mesh rows.
+``--quick``: chair and tree, 128^2 (``equal-memory``: 128^2 vs 64^2), ``K = 8``
+ring only, 12 ring azimuths, one bake.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import Any
+
+import cv2
+import numpy as np
+import trimesh
+
+from ..billboard import (
+    BAKE_AMBIENT,
+    BillboardAsset,
+    QuadCameras,
+    ViewRing,
+    bake_asset,
+    bake_items,
+    bake_lights,
+)
+from ..camera import CameraModel
+from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
+from ..metrics import psnr, shadow_iou
+from ..protocols import SceneRenderer
+from .harness import Timing, make_row, time_call, time_calls
+
+__all__ = ["run", "AssetCache", "SECTIONS", "FLOOR_METHOD", "PLOT_OPTIONS", "quality"]
+
+SUITE = "billboards"
+FLOOR_METHOD = "crossfade"
+PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("section",)}
+
+PAIR_INSIDE = (-25.0, -15.0, -5.0, 5.0, 15.0, 25.0)
+PAIR_OUTSIDE = (-60.0, -45.0, -35.0, 35.0, 45.0, 60.0)
+RINGS = (6, 8, 12)
+PSNR_CAP = 99.0
+
+
+class AssetCache:
+    """Meshes, baked assets and ground-truth renders shared by the suite's sections.
+
+    Parameters
+    ----------
+    renderer : SceneRenderer
+    """
+
+    def __init__(self, renderer: SceneRenderer) -> None:
+        self.renderer = renderer
+        self._meshes: dict[str, trimesh.Trimesh] = {}
+        self._items: dict[str, list[Any]] = {}
+        self._assets: dict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = {}
+
+    def mesh(self, name: str) -> trimesh.Trimesh:
+        """The normalised sample mesh ``name``."""
+        if name not in self._meshes:
+            self._meshes[name] = normalize(sample_mesh(name))
+            self._items[name] = bake_items(self._meshes[name])
+        return self._meshes[name]
+
+    def asset(self, name: str, views: int, size: int, levels: int = 1) -> BillboardAsset:
+        """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once."""
+        key = (name, views, size, levels)
+        if key not in self._assets:
+            t0 = time.perf_counter()
+            a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels)
+            self._assets[key] = (a, time.perf_counter() - t0)
+        return self._assets[key][0]
+
+    def bake_seconds(self, name: str, views: int, size: int, levels: int = 1) -> float:
+        """Wall time of the (first) bake of that asset."""
+        self.asset(name, views, size, levels)
+        return self._assets[(name, views, size, levels)][1]
+
+    def truth(self, name: str, camera: CameraModel) -> np.ndarray:
+        """Premultiplied float32 RGBA render of mesh ``name`` by ``camera`` (bake items and lights)."""
+        self.mesh(name)
+        img = self.renderer.source_view(camera, self._items[name], bake_lights(), ambient=BAKE_AMBIENT)
+        a = img.astype(np.float32) / 255.0
+        return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2)
+
+
+def quality(pred: np.ndarray, truth: np.ndarray) -> tuple[float, float]:
+    """``(iou, psnr)`` of a premultiplied RGBA image against the truth (module docstring)."""
+    iou = shadow_iou(pred[..., 3] > 0.5, truth[..., 3] > 0.5)
+    p = psnr(pred[..., :3], truth[..., :3], data_range=1.0)
+    return iou, min(p, PSNR_CAP)
+
+
+def _metrics(vals: list[tuple[float, float]]) -> dict[str, float]:
+    v = np.asarray(vals, dtype=np.float64)
+    return {"iou": float(v[:, 0].mean()), "err_iou": float(1.0 - v[:, 0].mean()),
+            "psnr": float(v[:, 1].mean()), "iou_min": float(v[:, 0].min()), "psnr_min": float(v[:, 1].min())}
+
+
+def _evaluate(methods: dict[str, Callable[[float], np.ndarray]], truths: dict[float, np.ndarray],
+              section: str, params: dict[str, Any], notes: dict[str, str] | None = None
+              ) -> list[dict[str, Any]]:
+    """One row per method: metrics over the azimuths of ``truths``, the per-call times."""
+    rows = []
+    for method, fn in methods.items():
+        vals, secs = [], []
+        for az, gt in truths.items():
+            t0 = time.perf_counter()
+            img = fn(az)
+            secs.append(time.perf_counter() - t0)
+            vals.append(quality(img, gt))
+        rows.append(make_row(SUITE, method, dict(section=section, **params), Timing.from_seconds(secs),
+                             metrics=_metrics(vals), note=(notes or {}).get(method, "")))
+    return rows
+
+
+def _ring_methods(asset: BillboardAsset) -> dict[str, Callable[[float], np.ndarray]]:
+    def via_pair(fn: Callable[[int, int, float], np.ndarray]) -> Callable[[float], np.ndarray]:
+        def call(az: float) -> np.ndarray:
+            i, j, s, _ = asset.ring.pair(az)
+            return fn(i, j, s)
+        return call
+
+    return {"morph": via_pair(asset.morph), "classic": lambda az: asset.classic(),
+            "nearest": via_pair(asset.nearest), "crossfade": via_pair(asset.crossfade)}
+
+
+def _meshes(quick: bool) -> tuple[str, ...]:
+    return ("chair", "tree") if quick else BILLBOARD_MESHES
+
+
+def _size(quick: bool) -> int:
+    return 128 if quick else 256
+
+
+def _means(rows: list[dict[str, Any]], section: str, params: dict[str, Any]) -> list[dict[str, Any]]:
+    """Rows ``mesh = "all"``: each method's metrics and times averaged over the meshes."""
+    out = []
+    for method in dict.fromkeys(r["method"] for r in rows):
+        sel = [r for r in rows if r["method"] == method]
+        metrics = {k: float(np.mean([r["metrics"][k] for r in sel])) for k in sel[0]["metrics"]}
+        t = Timing(float(np.mean([r["ms_median"] for r in sel])), min(r["ms_min"] for r in sel),
+                   max(r["ms_max"] for r in sel), sum(r["repeats"] for r in sel))
+        out.append(make_row(SUITE, method, dict(section=section, mesh="all", **params), t, metrics=metrics,
+                            note=f"mean over {len(sel)} meshes"))
+    return out
+
+
+# --------------------------------------------------------------------------- sections
+
+
+def pair_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
+    """``K = 2`` inside the arc and beyond it (module docstring)."""
+    size = _size(quick)
+    rows: dict[str, list[dict[str, Any]]] = {"pair-inside": [], "pair-outside": []}
+    for name in _meshes(quick):
+        asset = cache.asset(name, 2, size)
+        vm = asset.morpher(0)
+        note = f"{vm.mode}, {vm.report['layers']} layers, {vm.report['n_used']} mesh pairs"
+        inside = {az: cache.truth(name, asset.camera(az)) for az in PAIR_INSIDE}
+        outside = {az: cache.truth(name, asset.cameras.camera(az)) for az in PAIR_OUTSIDE}
+        params = {"mesh": name, "views": 2, "size": size}
+        rows["pair-inside"] += _evaluate(_ring_methods(asset), inside, "pair-inside", params, {"morph": note})
+        rows["pair-outside"] += _evaluate(_ring_methods(asset), outside, "pair-outside", params,
+                                          {"morph": "clamped to the nearer reference (= nearest)"})
+    out: list[dict[str, Any]] = []
+    for section, rs in rows.items():
+        out += rs + _means(rs, section, {"views": 2, "size": size})
+    return out
+
+
+def ring_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
+    """Rings of K views over 360 degrees (module docstring)."""
+    size = _size(quick)
+    azimuths = np.arange(12 if quick else 24) * (30.0 if quick else 15.0) + 7.5
+    out: list[dict[str, Any]] = []
+    for k in ((8,) if quick else RINGS):
+        rs: list[dict[str, Any]] = []
+        for name in _meshes(quick):
+            asset = cache.asset(name, k, size)
+            truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
+            layers = sorted({asset.morpher(p).report["layers"] for p in range(k)})
+            rs += _evaluate(_ring_methods(asset), truths, "ring", {"mesh": name, "views": k, "size": size},
+                            {"morph": f"layers {layers}"})
+        out += rs + _means(rs, "ring", {"views": k, "size": size})
+    return out
+
+
+def _dense_views(cache: AssetCache, name: str, quad: QuadCameras, n: int) -> tuple[ViewRing, np.ndarray]:
+    """``n`` views on a full ring rendered by the camera rule of ``quad`` (premultiplied float32)."""
+    ring = ViewRing(n)
+    return ring, np.stack([cache.truth(name, quad.camera(a)) for a in ring.azimuths_deg()])
+
+
+def equal_memory_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
+    """The K = 8 morph ring against denser rings of half-resolution views of the same bytes."""
+    size = _size(quick)
+    small = size // 2
+    azimuths = np.arange(12 if quick else 24) * (30.0 if quick else 15.0) + 7.5
+    rs: list[dict[str, Any]] = []
+    for name in _meshes(quick):
+        asset = cache.asset(name, 8, size)
+        truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
+        params = {"mesh": name, "views": 8, "size": size}
+        morph_rows = _evaluate({"morph": _ring_methods(asset)["morph"]}, truths, "equal-memory", params,
+                               {"morph": f"{asset.memory_bytes} bytes ({asset.image_bytes} colour)"})
+        rs += morph_rows
+        per_view = 4 * small * small
+        counts = {"dense-images": asset.image_bytes // per_view,
+                  "dense-total": asset.memory_bytes // per_view}
+        q = asset.cameras
+        for label, n in counts.items():
+            dense_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (small, small))
+            big_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (size, size))
+            ring, views = _dense_views(cache, name, dense_quad, int(n))
+            az_ref = ring.azimuths_deg()
+            dense_truth = {}
+            for az in azimuths:
+                i, j, s, _ = ring.pair(float(az))
+                dense_truth[float(az)] = cache.truth(name, big_quad.chord_camera(az_ref[i], az_ref[j], s))
+
+            def up(img: np.ndarray) -> np.ndarray:
+                return cv2.resize(img, (size, size), interpolation=cv2.INTER_LINEAR)
+
+            def nearest(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+                i, j, s, _ = ring.pair(az)
+                return up(views[i if s <= 0.5 else j])
+
+            def crossfade(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+                i, j, s, _ = ring.pair(az)
+                return up(cv2.addWeighted(views[i], 1.0 - s, views[j], s, 0.0))
+
+            note = f"{n} views of {small}^2: {int(n) * per_view} bytes"
+            rs += _evaluate({f"{label}-nearest": nearest, f"{label}-crossfade": crossfade}, dense_truth,
+                            "equal-memory", params, {f"{label}-nearest": note, f"{label}-crossfade": note})
+    return rs + _means(rs, "equal-memory", {"views": 8, "size": size})
+
+
+def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
+    """Bake time of a K = 8, 256^2, 3-level asset, and one call of each method on it."""
+    rows: list[dict[str, Any]] = []
+    renderer = cache.renderer
+    bake_asset(cache.mesh("teapot"), renderer, views=2, size=64, levels=1)  # warm-up (compiled kernels)
+    for name in (("cow",) if quick else BILLBOARD_MESHES):
+        mesh = cache.mesh(name)
+        holder: list[BillboardAsset] = []
+        cpu: list[float] = []
+
+        def bake(mesh: trimesh.Trimesh = mesh, name: str = name, holder: list[BillboardAsset] = holder,
+                 cpu: list[float] = cpu) -> None:
+            c0 = time.process_time()
+            holder[:] = [bake_asset(mesh, renderer, name=name, views=8, size=256, levels=3)]
+            cpu.append(time.process_time() - c0)
+
+        t = time_call(bake, repeats=1 if quick else 2, warmup=0)
+        asset = holder[0]
+        params = {"section": "bake", "mesh": name, "views": 8, "size": 256}
+        metrics = {"faces": float(len(mesh.faces)), "memory_bytes": float(asset.memory_bytes),
+                   "cpu_ms": 1e3 * float(np.median(cpu))}
+        rows.append(make_row(SUITE, "bake", params, t, metrics=metrics,
+                             note="8 renders + 8 pairs x 3 levels of morphers (target < 2 s)"))
+        rows += _call_rows(asset, name, 5 if quick else 11)
+    return rows
+
+
+def _call_rows(asset: BillboardAsset, name: str, repeats: int) -> list[dict[str, Any]]:
+    """One call of ``morph``, ``crossfade`` and ``nearest`` at azimuth 100, level 0."""
+    i, j, s, _ = asset.ring.pair(100.0)
+    calls = time_calls({"morph": lambda: asset.morph(i, j, s), "crossfade": lambda: asset.crossfade(i, j, s),
+                        "nearest": lambda: asset.nearest(i, j, s)}, repeats=repeats)
+    params = {"section": "call", "mesh": name, "views": asset.ring.views, "size": asset.size[0]}
+    return [make_row(SUITE, method, params, tm, note=f"azimuth 100 (pair {(i, j)}, s = {s:.3f}), level 0")
+            for method, tm in calls.items()]
+
+
+#: The suite's sections, in order; each ``(cache, quick) -> rows``.
+SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
+    pair_rows, ring_rows, equal_memory_rows, bake_rows]
+
+
+def run(*, quick: bool = False) -> list[dict[str, Any]]:
+    """Run every section of :data:`SECTIONS`; see the module docstring."""
+    from ..render import Renderer
+
+    rows: list[dict[str, Any]] = []
+    with Renderer() as r:
+        cache = AssetCache(r)
+        for section in SECTIONS:
+            rows += section(cache, quick)
+    return rows
