@@ -67,6 +67,8 @@ def test_speed_and_accuracy_rows(renderer):
                                            "classic", "mesh", "gl-quads"}
     warm = next(r for r in rows if r["method"] == "morph-warm")
     assert warm["metrics"]["hit_rate"] == 1.0 and warm["params"]["billboards"] == 4
+    assert warm["metrics"]["x_classic"] == pytest.approx(
+        warm["ms_median"] / next(r["ms_median"] for r in rows if r["method"] == "classic"))
     acc = scene_accuracy_rows([asset], {"fake": _box_items()}, renderer, light, 0.35, frames=2,
                               shape=(36, 48))
     groups = {(r["method"], r["params"]["azimuths"]) for r in acc}

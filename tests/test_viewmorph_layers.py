@@ -101,14 +101,47 @@ def test_from_depth_samples_the_outline(posts):
 
 def test_from_depth_refuses_bad_input(posts):
     c0, c1, _, _, d0, d1 = posts
-    with pytest.raises(ValidationError, match="step"):
-        from_depth(c0, c1, d0, d1, step=0)
+    with pytest.raises(ValidationError, match="step: expected an int >= 0"):
+        from_depth(c0, c1, d0, d1, step=-1)
+    with pytest.raises(ValidationError, match=r"interior or outline samples \(not both 0\)"):
+        from_depth(c0, c1, d0, d1, step=0, contour_step=0)
     with pytest.raises(ValidationError, match="contour_step"):
         from_depth(c0, c1, d0, d1, contour_step=-1)
     with pytest.raises(ValidationError, match=r"depth1.*shape \(96, 96\)"):
         from_depth(c0, c1, d0, d1[:50])
     with pytest.raises(ValidationError, match="finite"):
         from_depth(c0, c1, np.full(SIZE, np.inf), np.full(SIZE, np.inf))
+
+
+def test_from_depth_outline_only_and_without_occlusion_test(posts):
+    import cv2
+
+    from morphkit.viewmorph.correspondences import visible_in
+
+    c0, c1, _, _, d0, d1 = posts
+    shared = from_depth(c0, c1, d0, d1, step=0, contour_step=1)
+    every = from_depth(c0, c1, d0, d1, step=0, contour_step=1, rtol=np.inf)
+    # step=0: every pair is an outline pixel of the view it was sampled in (an object pixel next to
+    # the background, on the pixel grid)
+    for corr in (shared, every):
+        ok = np.zeros(len(corr), bool)
+        for pts, d in ((corr.pts0, d0), (corr.pts1, d1)):
+            obj = np.isfinite(d)
+            edge = obj & cv2.dilate((~obj).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+            q = np.rint(pts).astype(int)
+            on_grid = np.all(np.abs(pts - q) < 1e-6, axis=1)
+            inside = on_grid & np.all((q >= 0) & (q < 96), axis=1)
+            ok[inside] |= edge[q[inside, 1], q[inside, 0]]
+        assert ok.all()
+    # rtol=inf keeps the outline points one view sees and the other does not (the posts hide
+    # each other's sides); the default keeps only those both see
+    _, v0 = visible_in(c0, every.points3d, d0)
+    _, v1 = visible_in(c1, every.points3d, d1)
+    assert np.all(v0 | v1) and np.count_nonzero(~(v0 & v1)) > 10
+    assert len(every) == len(shared) + np.count_nonzero(~(v0 & v1))
+    for c, px in ((c0, every.pts0), (c1, every.pts1)):  # still the projections of their points
+        want, _ = c.project(every.points3d)
+        assert np.abs(px - want).max() < 1e-9
 
 
 def test_pair_depth_keys_match_the_pairs_depths(posts):

@@ -15,6 +15,7 @@ The morph
 For a pair ``(i, j)`` and ``s`` in ``(0, 1)``: a
 :class:`~morphkit.viewmorph.ViewMorpher` of the two references with dense
 correspondences from their depth maps (:func:`~morphkit.viewmorph.from_depth`),
+plus each view's outline points the other does not see (:data:`RIM_STEP`),
 F estimated from them, the pre-warps, and depth layers where parts cross
 (:data:`DEFAULT_LAYERS`, keys from :func:`~morphkit.viewmorph.pair_depth`; a layer's
 pixels hidden by a nearer layer in one view are filled from the other view,
@@ -87,6 +88,14 @@ __all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_ligh
 #: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
 BAKE_AMBIENT = 0.35
 
+#: Outline ("rim") points of each reference are kept in its pairs' correspondences even
+#: where the other view does not see them (:func:`~morphkit.viewmorph.from_depth` with
+#: ``rtol=inf``), every ``RIM_STEP`` times the outline spacing of the shared points: they
+#: carry each view's silhouette along its geometric motion, where the shared points alone
+#: leave it to the mesh's interpolation (a half-transparent halo at the outline). Denser
+#: rims fold over more and cost bake time for no gain (``morphkit bench billboards``).
+RIM_STEP = 4
+
 #: ``ViewMorpher(layers=...)`` of the assets' morphs: three depth layers. Neighbouring
 #: references 30-60 degrees apart see parts pass behind each other for every sample
 #: mesh, so ``"auto"`` always layered (with two); three followed the crossings better
@@ -110,13 +119,15 @@ def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
 
 
 def mesh_hash(mesh: trimesh.Trimesh) -> str:
-    """sha256 (hex) of the normalised mesh's vertices (float64) and faces (int64).
+    """sha256 (hex) of the normalised mesh's vertices (float64, rounded to 1e-9) and faces (int64).
 
     Parameters
     ----------
     mesh : trimesh.Trimesh
         Any mesh; it is normalised first (:func:`morphkit.meshes.normalize`), so
-        the hash names the shape an asset was baked from.
+        the hash names the shape an asset was baked from. The rounding (1e-9 of
+        the normalised size) makes a moved or rescaled copy hash alike: its
+        normalisation differs from the original's in the last bits only.
 
     Returns
     -------
@@ -125,7 +136,8 @@ def mesh_hash(mesh: trimesh.Trimesh) -> str:
     """
     norm = normalize(mesh)
     h = hashlib.sha256()
-    h.update(np.ascontiguousarray(norm.vertices, dtype=np.float64).tobytes())
+    v = np.round(np.asarray(norm.vertices, dtype=np.float64), 9) + 0.0  # + 0.0: no negative zeros
+    h.update(np.ascontiguousarray(v).tobytes())
     h.update(np.ascontiguousarray(norm.faces, dtype=np.int64).tobytes())
     return h.hexdigest()
 
@@ -142,6 +154,16 @@ def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
     p = to_premultiplied(rgba, 4)  # colour in 0..255 times alpha, alpha in [0, 1]
     p[..., :3] *= np.float32(1.0 / 255.0)
     return p
+
+
+def _check_levels(levels: Any, cameras: QuadCameras) -> int:
+    """``levels`` as an int >= 1 whose smallest level is at least 8 px on a side."""
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
+        raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
+    if min(cameras.level_shape(int(levels) - 1)) < 8:
+        raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
+                                           f"{int(levels)} levels of {cameras.shape}"))
+    return int(levels)
 
 
 def _check_level(level: Any, levels: int) -> int:
@@ -194,13 +216,7 @@ class BillboardAsset:
                                                self.cameras.elevation_deg))
         if [tuple(p) for p in record.pairs] != self.ring.pairs():
             raise ValidationError(expected_got("pairs", self.ring.pairs(), record.pairs))
-        levels = record.levels
-        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
-            raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
-        self.levels = int(levels)
-        if min(self.cameras.level_shape(self.levels - 1)) < 8:
-            raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
-                                               f"{self.levels} levels of {self.cameras.shape}"))
+        self.levels = _check_levels(record.levels, self.cameras)
         if not (record.layers == "auto" or (isinstance(record.layers, int) and record.layers >= 1)):
             raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(record.layers)))
         self.layers = record.layers
@@ -518,6 +534,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     digest = mesh_hash(norm)
     az = ring.azimuths_deg()
     cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az)
+    _check_levels(levels, cams)
     items, lights = bake_items(norm), bake_lights()
     front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)
     pairs = ring.pairs()
@@ -538,15 +555,17 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         step, contour_step = _sampling(cams.shape)
         points = []
         for i, j in pairs:
-            corr = from_depth(cams.camera(az[i]), cams.camera(az[j]), depths[i], depths[j], step=step,
-                              contour_step=contour_step)
+            ci, cj = cams.camera(az[i]), cams.camera(az[j])
+            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step)
             if len(corr) < tol.BB_MIN_CORRESPONDENCES:
                 raise DegenerateViewError(expected_got(
                     f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",
                     f"at least {tol.BB_MIN_CORRESPONDENCES} correspondences (tol.BB_MIN_CORRESPONDENCES) "
                     "between the two views", len(corr)))
-            assert corr.points3d is not None
-            points.append(corr.points3d.astype(np.float32))
+            rim = from_depth(ci, cj, depths[i], depths[j], step=0, contour_step=RIM_STEP * contour_step,
+                             rtol=np.inf)
+            assert corr.points3d is not None and rim.points3d is not None
+            points.append(np.concatenate([corr.points3d, rim.points3d]).astype(np.float32))
             bar.update()
         record = AssetRecord(
             name=name, mesh_hash=digest,
