@@ -37,8 +37,8 @@ other sections -- frame time, temporal stability -- append theirs):
   which adds its depth maps and correspondences, pays for); the dense views are
   upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
   render;
-* ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (every pair's
-  morpher at every level built, as a bake does; ``cpu_ms``: the process's CPU
+* ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (renders, every
+  pair's correspondences and level-0 morpher, as a bake does; ``cpu_ms``: the process's CPU
   time, all threads, next to the wall time: on a loaded machine the wall time
   includes waiting), and one ``morph`` / ``crossfade`` / ``nearest`` call of
   that asset.
@@ -302,7 +302,7 @@ def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
         metrics = {"faces": float(len(mesh.faces)), "memory_bytes": float(asset.memory_bytes),
                    "cpu_ms": 1e3 * float(np.median(cpu))}
         rows.append(make_row(SUITE, "bake", params, t, metrics=metrics,
-                             note="8 renders + 8 pairs x 3 levels of morphers (target < 2 s)"))
+                             note="8 renders + the level-0 morphers of 8 pairs (target < 2 s)"))
         rows += _call_rows(asset, name, 5 if quick else 11)
     return rows
 
