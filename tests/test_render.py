@@ -156,3 +156,21 @@ def test_renderer_implements_the_scene_renderer_protocol(renderer):
 
     assert isinstance(renderer, SceneRenderer)
     assert not isinstance(object(), SceneRenderer)
+
+
+@pytest.mark.gl
+def test_colour_renders_reuse_their_shader_programs(renderer):
+    """pyrender keys its compiled programs by the GL context handle, a new object on every call
+    under OSMesa: without render._ProgramCache each colour render compiled its programs again
+    and kept the old ones (~25 MB per render)."""
+    cam = perspective(np.radians(40), (40, 48), look_at([2.0, 0.5, 1.0], [0.0, 0.0, 0.0]))
+    items = [_item(trimesh.creation.box([0.5, 0.5, 0.5])), _item(trimesh.creation.icosphere(1, 0.3))]
+    light = [DirectionalLight([0.0, 0.0, -1.0])]
+    first = renderer.color_depth(cam, items, light)
+    cache = renderer._contexts[cam.shape].renderer._renderer._program_cache._program_cache  # test-only
+    n = len(cache)
+    assert n >= 1
+    for _ in range(3):
+        again = renderer.color_depth(cam, items, light)
+        np.testing.assert_array_equal(again[0], first[0])
+    assert len(cache) == n
