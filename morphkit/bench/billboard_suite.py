@@ -51,6 +51,7 @@ ring only, 12 ring azimuths, one bake.
 from __future__ import annotations
 
 import time
+from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any
 
@@ -91,13 +92,17 @@ class AssetCache:
     Parameters
     ----------
     renderer : SceneRenderer
+    max_assets : int
+        Baked assets kept (least recently used dropped; an asset with its morphers
+        holds ~100 MB at 256^2): a section asking again re-bakes.
     """
 
-    def __init__(self, renderer: SceneRenderer) -> None:
+    def __init__(self, renderer: SceneRenderer, max_assets: int = 4) -> None:
         self.renderer = renderer
+        self.max_assets = int(max_assets)
         self._meshes: dict[str, trimesh.Trimesh] = {}
         self._items: dict[str, list[Any]] = {}
-        self._assets: dict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = {}
+        self._assets: OrderedDict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = OrderedDict()
 
     def mesh(self, name: str) -> trimesh.Trimesh:
         """The normalised sample mesh ``name``."""
@@ -110,9 +115,12 @@ class AssetCache:
         """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once."""
         key = (name, views, size, levels)
         if key not in self._assets:
+            while len(self._assets) >= self.max_assets:
+                self._assets.popitem(last=False)
             t0 = time.perf_counter()
             a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels)
             self._assets[key] = (a, time.perf_counter() - t0)
+        self._assets.move_to_end(key)
         return self._assets[key][0]
 
     def bake_seconds(self, name: str, views: int, size: int, levels: int = 1) -> float:
