@@ -30,9 +30,9 @@ other sections -- frame time, temporal stability -- append theirs):
   and +-35, +-45, +-60 (``pair-outside``, 5-30 degrees beyond it);
 * ``ring`` -- ``K = 6, 8, 12`` over 360 degrees, at 24 azimuths ``7.5 + 15 n``
   (never a reference): ``morph``, ``nearest``, ``crossfade`` of the ring, ``classic``;
-* ``equal-memory`` -- the ``K = 8`` morph ring at ``S^2`` against ``nearest`` /
-  ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same bytes:
-  the same colour bytes (``dense-images``: 32 views) and the same bytes in all
+* ``equal-memory`` -- the ``K = 8`` and ``K = 12`` morph rings at ``S^2`` against
+  ``nearest`` / ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same
+  bytes: the same colour bytes (``dense-images``: 4 K views) and the same bytes in all
   (``dense-total``: as many views as the morph asset's :attr:`memory_bytes`,
   which adds its depth maps and correspondences, pays for); the dense views are
   upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
@@ -45,7 +45,7 @@ other sections -- frame time, temporal stability -- append theirs):
 
 Rows with ``mesh = "all"`` average the per-mesh rows.
 ``--quick``: chair and tree, 128^2 (``equal-memory``: 128^2 vs 64^2), ``K = 8``
-ring only, 12 ring azimuths, one bake.
+rings only, 12 ring azimuths, one bake.
 """
 
 from __future__ import annotations
@@ -245,47 +245,54 @@ def _dense_views(cache: AssetCache, name: str, quad: QuadCameras, n: int) -> tup
 
 
 def equal_memory_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
-    """The K = 8 morph ring against denser rings of half-resolution views of the same bytes."""
+    """K-view morph rings (K = 8, and 12 unless quick) against denser rings of half-resolution
+    views of the same bytes."""
     size = _size(quick)
+    out: list[dict[str, Any]] = []
+    for k in ((8,) if quick else (8, 12)):
+        rs: list[dict[str, Any]] = []
+        for name in _meshes(quick):
+            rs += _equal_memory_case(cache, name, k, size, quick)
+        out += rs + _means(rs, "equal-memory", {"views": k, "size": size})
+    return out
+
+
+def _equal_memory_case(cache: AssetCache, name: str, k: int, size: int, quick: bool) -> list[dict[str, Any]]:
     small = size // 2
     azimuths = np.arange(12 if quick else 24) * (30.0 if quick else 15.0) + 7.5
-    rs: list[dict[str, Any]] = []
-    for name in _meshes(quick):
-        asset = cache.asset(name, 8, size)
-        truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
-        params = {"mesh": name, "views": 8, "size": size}
-        morph_rows = _evaluate({"morph": _ring_methods(asset)["morph"]}, truths, "equal-memory", params,
-                               {"morph": f"{asset.memory_bytes} bytes ({asset.image_bytes} colour)"})
-        rs += morph_rows
-        per_view = 4 * small * small
-        counts = {"dense-images": asset.image_bytes // per_view,
-                  "dense-total": asset.memory_bytes // per_view}
-        q = asset.cameras
-        for label, n in counts.items():
-            dense_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (small, small))
-            big_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (size, size))
-            ring, views = _dense_views(cache, name, dense_quad, int(n))
-            az_ref = ring.azimuths_deg()
-            dense_truth = {}
-            for az in azimuths:
-                i, j, s, _ = ring.pair(float(az))
-                dense_truth[float(az)] = cache.truth(name, big_quad.chord_camera(az_ref[i], az_ref[j], s))
+    asset = cache.asset(name, k, size)
+    truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
+    params = {"mesh": name, "views": k, "size": size}
+    rs = _evaluate({"morph": _ring_methods(asset)["morph"]}, truths, "equal-memory", params,
+                   {"morph": f"{asset.memory_bytes} bytes ({asset.image_bytes} colour)"})
+    per_view = 4 * small * small
+    counts = {"dense-images": asset.image_bytes // per_view, "dense-total": asset.memory_bytes // per_view}
+    q = asset.cameras
+    dense_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (small, small))
+    big_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (size, size))
+    for label, n in counts.items():
+        ring, views = _dense_views(cache, name, dense_quad, int(n))
+        az_ref = ring.azimuths_deg()
+        dense_truth = {}
+        for az in azimuths:
+            i, j, s, _ = ring.pair(float(az))
+            dense_truth[float(az)] = cache.truth(name, big_quad.chord_camera(az_ref[i], az_ref[j], s))
 
-            def up(img: np.ndarray) -> np.ndarray:
-                return cv2.resize(img, (size, size), interpolation=cv2.INTER_LINEAR)
+        def up(img: np.ndarray) -> np.ndarray:
+            return cv2.resize(img, (size, size), interpolation=cv2.INTER_LINEAR)
 
-            def nearest(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
-                i, j, s, _ = ring.pair(az)
-                return up(views[i if s <= 0.5 else j])
+        def nearest(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+            i, j, s, _ = ring.pair(az)
+            return up(views[i if s <= 0.5 else j])
 
-            def crossfade(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
-                i, j, s, _ = ring.pair(az)
-                return up(cv2.addWeighted(views[i], 1.0 - s, views[j], s, 0.0))
+        def crossfade(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+            i, j, s, _ = ring.pair(az)
+            return up(cv2.addWeighted(views[i], 1.0 - s, views[j], s, 0.0))
 
-            note = f"{n} views of {small}^2: {int(n) * per_view} bytes"
-            rs += _evaluate({f"{label}-nearest": nearest, f"{label}-crossfade": crossfade}, dense_truth,
-                            "equal-memory", params, {f"{label}-nearest": note, f"{label}-crossfade": note})
-    return rs + _means(rs, "equal-memory", {"views": 8, "size": size})
+        note = f"{n} views of {small}^2: {int(n) * per_view} bytes"
+        rs += _evaluate({f"{label}-nearest": nearest, f"{label}-crossfade": crossfade}, dense_truth,
+                        "equal-memory", params, {f"{label}-nearest": note, f"{label}-crossfade": note})
+    return rs
 
 
 def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
