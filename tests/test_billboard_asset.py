@@ -384,3 +384,24 @@ def test_bake_arguments_are_checked(renderer):
         bake_asset(mesh, renderer, views=8, arc_deg=60.0, size=SIZE)
     with pytest.raises(MeshError, match="trimesh.Trimesh"):
         bake_asset("teapot", renderer, size=SIZE)
+
+
+@pytest.mark.gl
+def test_bake_builds_level_0_and_a_lower_level_that_fails_falls_back(chair_pair):
+    _, baked = chair_pair
+    asset = BillboardAsset(baked.record())  # as loaded: no morpher built yet
+    assert not asset.level_fallbacks
+    real = asset.morpher
+
+    def failing(pair: int, level: int = 0):
+        if level > 0:
+            raise DegenerateViewError("billboard pair (0, 1) at level 1: cannot be built (test)")
+        return real(pair, level)
+
+    asset.morpher = failing  # type: ignore[method-assign]
+    out = asset.morph(0, 1, 0.4, 1)
+    assert asset.level_fallbacks == {(0, 1)}
+    want = cv2.resize(asset.morph(0, 1, 0.4, 0), (SIZE // 2, SIZE // 2), interpolation=cv2.INTER_AREA)
+    np.testing.assert_array_equal(out, want)
+    with pytest.raises(DegenerateViewError, match="level 1"):
+        asset.prepare()  # building ahead still reports the failure

@@ -30,15 +30,15 @@ other sections -- frame time, temporal stability -- append theirs):
   and +-35, +-45, +-60 (``pair-outside``, 5-30 degrees beyond it);
 * ``ring`` -- ``K = 6, 8, 12`` over 360 degrees, at 24 azimuths ``7.5 + 15 n``
   (never a reference): ``morph``, ``nearest``, ``crossfade`` of the ring, ``classic``;
-* ``equal-memory`` -- the ``K = 8`` morph ring at ``S^2`` against ``nearest`` /
-  ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same bytes:
-  the same colour bytes (``dense-images``: 32 views) and the same bytes in all
+* ``equal-memory`` -- the ``K = 8`` and ``K = 12`` morph rings at ``S^2`` against
+  ``nearest`` / ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same
+  bytes: the same colour bytes (``dense-images``: 4 K views) and the same bytes in all
   (``dense-total``: as many views as the morph asset's :attr:`memory_bytes`,
   which adds its depth maps and correspondences, pays for); the dense views are
   upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
   render;
-* ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (every pair's
-  morpher at every level built, as a bake does; ``cpu_ms``: the process's CPU
+* ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (renders, every
+  pair's correspondences and level-0 morpher, as a bake does; ``cpu_ms``: the process's CPU
   time, all threads, next to the wall time: on a loaded machine the wall time
   includes waiting), and one ``morph`` / ``crossfade`` / ``nearest`` call of
   that asset.
@@ -78,13 +78,14 @@ other sections -- frame time, temporal stability -- append theirs):
 
 Rows with ``mesh = "all"`` average the per-mesh rows.
 ``--quick``: chair and tree, 128^2 (``equal-memory``: 128^2 vs 64^2), ``K = 8``
-ring only, 12 ring azimuths, one bake; scenes at 320 x 240, 10 and 100
+rings only, 12 ring azimuths, one bake; scenes at 320 x 240, 10 and 100
 billboards, the ~6k-face cow only.
 """
 
 from __future__ import annotations
 
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -142,13 +143,17 @@ class AssetCache:
     Parameters
     ----------
     renderer : SceneRenderer
+    max_assets : int
+        Baked assets kept (least recently used dropped; an asset with its morphers
+        holds ~100 MB at 256^2): a section asking again re-bakes.
     """
 
-    def __init__(self, renderer: SceneRenderer) -> None:
+    def __init__(self, renderer: SceneRenderer, max_assets: int = 4) -> None:
         self.renderer = renderer
+        self.max_assets = int(max_assets)
         self._meshes: dict[str, trimesh.Trimesh] = {}
         self._items: dict[str, list[Any]] = {}
-        self._assets: dict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = {}
+        self._assets: OrderedDict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = OrderedDict()
 
     def mesh(self, name: str) -> trimesh.Trimesh:
         """The normalised sample mesh ``name``."""
@@ -161,9 +166,12 @@ class AssetCache:
         """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once."""
         key = (name, views, size, levels)
         if key not in self._assets:
+            while len(self._assets) >= self.max_assets:
+                self._assets.popitem(last=False)
             t0 = time.perf_counter()
             a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels)
             self._assets[key] = (a, time.perf_counter() - t0)
+        self._assets.move_to_end(key)
         return self._assets[key][0]
 
     def bake_seconds(self, name: str, views: int, size: int, levels: int = 1) -> float:
@@ -288,47 +296,54 @@ def _dense_views(cache: AssetCache, name: str, quad: QuadCameras, n: int) -> tup
 
 
 def equal_memory_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
-    """The K = 8 morph ring against denser rings of half-resolution views of the same bytes."""
+    """K-view morph rings (K = 8, and 12 unless quick) against denser rings of half-resolution
+    views of the same bytes."""
     size = _size(quick)
+    out: list[dict[str, Any]] = []
+    for k in ((8,) if quick else (8, 12)):
+        rs: list[dict[str, Any]] = []
+        for name in _meshes(quick):
+            rs += _equal_memory_case(cache, name, k, size, quick)
+        out += rs + _means(rs, "equal-memory", {"views": k, "size": size})
+    return out
+
+
+def _equal_memory_case(cache: AssetCache, name: str, k: int, size: int, quick: bool) -> list[dict[str, Any]]:
     small = size // 2
     azimuths = np.arange(12 if quick else 24) * (30.0 if quick else 15.0) + 7.5
-    rs: list[dict[str, Any]] = []
-    for name in _meshes(quick):
-        asset = cache.asset(name, 8, size)
-        truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
-        params = {"mesh": name, "views": 8, "size": size}
-        morph_rows = _evaluate({"morph": _ring_methods(asset)["morph"]}, truths, "equal-memory", params,
-                               {"morph": f"{asset.memory_bytes} bytes ({asset.image_bytes} colour)"})
-        rs += morph_rows
-        per_view = 4 * small * small
-        counts = {"dense-images": asset.image_bytes // per_view,
-                  "dense-total": asset.memory_bytes // per_view}
-        q = asset.cameras
-        for label, n in counts.items():
-            dense_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (small, small))
-            big_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (size, size))
-            ring, views = _dense_views(cache, name, dense_quad, int(n))
-            az_ref = ring.azimuths_deg()
-            dense_truth = {}
-            for az in azimuths:
-                i, j, s, _ = ring.pair(float(az))
-                dense_truth[float(az)] = cache.truth(name, big_quad.chord_camera(az_ref[i], az_ref[j], s))
+    asset = cache.asset(name, k, size)
+    truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
+    params = {"mesh": name, "views": k, "size": size}
+    rs = _evaluate({"morph": _ring_methods(asset)["morph"]}, truths, "equal-memory", params,
+                   {"morph": f"{asset.memory_bytes} bytes ({asset.image_bytes} colour)"})
+    per_view = 4 * small * small
+    counts = {"dense-images": asset.image_bytes // per_view, "dense-total": asset.memory_bytes // per_view}
+    q = asset.cameras
+    dense_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (small, small))
+    big_quad = QuadCameras(q.pivot, q.distance, q.elevation_deg, q.half_extent, (size, size))
+    for label, n in counts.items():
+        ring, views = _dense_views(cache, name, dense_quad, int(n))
+        az_ref = ring.azimuths_deg()
+        dense_truth = {}
+        for az in azimuths:
+            i, j, s, _ = ring.pair(float(az))
+            dense_truth[float(az)] = cache.truth(name, big_quad.chord_camera(az_ref[i], az_ref[j], s))
 
-            def up(img: np.ndarray) -> np.ndarray:
-                return cv2.resize(img, (size, size), interpolation=cv2.INTER_LINEAR)
+        def up(img: np.ndarray) -> np.ndarray:
+            return cv2.resize(img, (size, size), interpolation=cv2.INTER_LINEAR)
 
-            def nearest(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
-                i, j, s, _ = ring.pair(az)
-                return up(views[i if s <= 0.5 else j])
+        def nearest(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+            i, j, s, _ = ring.pair(az)
+            return up(views[i if s <= 0.5 else j])
 
-            def crossfade(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
-                i, j, s, _ = ring.pair(az)
-                return up(cv2.addWeighted(views[i], 1.0 - s, views[j], s, 0.0))
+        def crossfade(az: float, ring: ViewRing = ring, views: np.ndarray = views) -> np.ndarray:
+            i, j, s, _ = ring.pair(az)
+            return up(cv2.addWeighted(views[i], 1.0 - s, views[j], s, 0.0))
 
-            note = f"{n} views of {small}^2: {int(n) * per_view} bytes"
-            rs += _evaluate({f"{label}-nearest": nearest, f"{label}-crossfade": crossfade}, dense_truth,
-                            "equal-memory", params, {f"{label}-nearest": note, f"{label}-crossfade": note})
-    return rs + _means(rs, "equal-memory", {"views": 8, "size": size})
+        note = f"{n} views of {small}^2: {int(n) * per_view} bytes"
+        rs += _evaluate({f"{label}-nearest": nearest, f"{label}-crossfade": crossfade}, dense_truth,
+                        "equal-memory", params, {f"{label}-nearest": note, f"{label}-crossfade": note})
+    return rs
 
 
 def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
@@ -353,7 +368,7 @@ def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
         metrics = {"faces": float(len(mesh.faces)), "memory_bytes": float(asset.memory_bytes),
                    "cpu_ms": 1e3 * float(np.median(cpu))}
         rows.append(make_row(SUITE, "bake", params, t, metrics=metrics,
-                             note="8 renders + 8 pairs x 3 levels of morphers (target < 2 s)"))
+                             note="8 renders + the level-0 morphers of 8 pairs (target < 2 s)"))
         rows += _call_rows(asset, name, 5 if quick else 11)
     return rows
 

@@ -36,10 +36,12 @@ about ``2^-l`` of level 0: the premultiplied references area-averaged
 edges). A level's morpher uses the level-0 correspondences projected into the
 level's cameras, thinned to ``4^-l`` of them (spread over the image,
 :func:`~morphkit.viewmorph.from_geometry`), and the depth keys resized
-(nearest). **Morphers are built at bake time** for every pair and level
-(:meth:`BillboardAsset.prepare`), so a pair that cannot be morphed is refused
-there, never at frame time; a loaded asset builds them **lazily** on first use
-from the same stored data (or all at once with :meth:`BillboardAsset.prepare`).
+(nearest). **The bake builds every pair's level-0 morpher**, so a pair that
+cannot be morphed is refused there, never at frame time; the other levels, and
+every morpher of a loaded asset (from the same stored data), are built
+**lazily** on first use, or all at once by :meth:`BillboardAsset.prepare`. A
+lower level whose morpher cannot be built falls back to the level-0 morph,
+area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 
 Lighting
 --------
@@ -55,6 +57,7 @@ from __future__ import annotations
 import hashlib
 import math
 import os
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -246,6 +249,10 @@ class BillboardAsset:
         self._points = [np.asarray(record.points3d[offs[p]:offs[p + 1]], dtype=np.float64)
                         for p in range(len(self.ring.pairs()))]
         self._morphers: dict[tuple[int, int], ViewMorpher] = {}
+        self._cams: dict[tuple[int, int], CameraModel] = {}
+        #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
+        #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
+        self.level_fallbacks: set[tuple[int, int]] = set()
 
     # ------------------------------------------------------------------ data
     def _pyramid_level(self, base: np.ndarray, level: int) -> np.ndarray:
@@ -347,6 +354,14 @@ class BillboardAsset:
         ------
         ValidationError
             Not neighbours, ``s`` outside [0, 1], a bad level.
+
+        Notes
+        -----
+        The first morph of a (pair, level) builds its morpher (the bake builds level 0;
+        :meth:`prepare` builds the rest ahead). A level whose morpher cannot be built --
+        its level-0 morpher was built at bake time, from the same points -- falls back to
+        the level-0 morph, area-averaged, and is listed in :attr:`level_fallbacks`:
+        never an error at frame time.
         """
         i, j = self.ring.check_pair(i, j)
         s = _check_s(s)
@@ -357,7 +372,16 @@ class BillboardAsset:
             return self.reference(i, level).copy()
         if s == 1.0:
             return self.reference(j, level).copy()
-        vm = self.morpher(self.ring.pairs().index((i, j)), level)
+        p = self.ring.pairs().index((i, j))
+        if level > 0 and (p, level) not in self.level_fallbacks:
+            try:
+                self.morpher(p, level)
+            except DegenerateViewError:  # level 0 of this pair was built at bake time
+                self.level_fallbacks.add((p, level))
+        if (p, level) in self.level_fallbacks:
+            h, w = self.cameras.level_shape(level)
+            return cv2.resize(self.morph(i, j, s, 0), (w, h), interpolation=cv2.INTER_AREA)
+        vm = self.morpher(p, level)
         az = self.ring.azimuths_deg()
         cam = self.cameras.chord_camera(az[i], az[j], s, level)
         return to_premultiplied(vm.morph(s, post=cam, frame="fixed"), 4)
@@ -372,8 +396,7 @@ class BillboardAsset:
             raise ValidationError(expected_got("pair", f"an int in [0, {len(pairs)})", repr(pair)))
         level = _check_level(level, self.levels)
         i, j = pairs[int(pair)]
-        az = self.ring.azimuths_deg()
-        ci, cj = self.cameras.camera(az[i], level), self.cameras.camera(az[j], level)
+        ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
         pts = self._points[int(pair)]
         n = len(pts) if level == 0 else max(tol.BB_MIN_CORRESPONDENCES, math.ceil(len(pts) / 4**level))
         return from_geometry(pts, ci, cj, max_points=n, rng=np.random.default_rng(0))
@@ -389,7 +412,7 @@ class BillboardAsset:
         corr = self.correspondences(pair, level)
         i, j = self.ring.pairs()[int(pair)]
         az = self.ring.azimuths_deg()
-        ci, cj = self.cameras.camera(az[i], level), self.cameras.camera(az[j], level)
+        ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
         h, w = self.cameras.level_shape(level)
         di, dj = (self._depth[k] if level == 0 else
                   cv2.resize(self._depth[k], (w, h), interpolation=cv2.INTER_NEAREST) for k in (i, j))
@@ -405,16 +428,23 @@ class BillboardAsset:
         self._morphers[key] = vm
         return vm
 
-    def prepare(self) -> BillboardAsset:
-        """Build every (pair, level) morpher now (the bake does; a loaded asset builds them on
-        first use). Returns ``self``.
+    def _ref_camera(self, k: int, level: int) -> CameraModel:
+        cam = self._cams.get((k, level))
+        if cam is None:
+            cam = self._cams[(k, level)] = self.cameras.camera(self.ring.azimuths_deg()[k], level)
+        return cam
+
+    def prepare(self, levels: Sequence[int] | None = None) -> BillboardAsset:
+        """Build the morphers of every pair at ``levels`` (default: all) now, instead of on
+        first use. The bake builds level 0 (so every pair is checked there); call this
+        before timing frames so no frame pays for a build. Returns ``self``.
 
         Raises
         ------
         DegenerateViewError
             A pair cannot be morphed at some level (the message names the pair and level).
         """
-        for lv in range(self.levels):
+        for lv in range(self.levels) if levels is None else levels:
             for p in range(len(self.ring.pairs())):
                 self.morpher(p, lv)
         return self
@@ -512,7 +542,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     Returns
     -------
     BillboardAsset
-        With every (pair, level) morpher built.
+        With every pair's level-0 morpher built (the rest on first use or by ``prepare()``).
 
     Raises
     ------
@@ -579,7 +609,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
             points3d=np.concatenate(points),
             offsets=np.cumsum([0] + [len(p) for p in points]).astype(np.int64),
             front=front)
-        asset = BillboardAsset(record).prepare()
+        asset = BillboardAsset(record).prepare(levels=[0])
         bar.update()
     finally:
         bar.close()
