@@ -1,4 +1,4 @@
-"""The ``morphkit`` command line: ``demo``, ``bench``, ``viewmorph``, ``bake``, ``shadows``.
+"""The ``morphkit`` command line: ``demo``, ``bench``, ``viewmorph``, ``billboards``, ``bake``, ``shadows``.
 
 Heavy modules are imported inside each subcommand so ``morphkit --help`` is fast
 and needs no GL context.
@@ -188,6 +188,92 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
     return 0
 
 
+def parse_size(text: str) -> tuple[int, int]:
+    """``"WxH"`` (e.g. ``640x480``) as an image shape ``(H, W)``.
+
+    Raises
+    ------
+    ValidationError
+        Not two positive integers joined by ``x``.
+    """
+    from .errors import ValidationError, expected_got
+
+    parts = str(text).lower().split("x")
+    try:
+        w, h = (int(v) for v in parts)
+    except ValueError:
+        w = h = 0
+    if len(parts) != 2 or w < 1 or h < 1 or w > 16384 or h > 16384:
+        raise ValidationError(expected_got("--size", "WIDTHxHEIGHT, two integers in 1..16384 (e.g. 640x480)",
+                                           repr(text)))
+    return h, w
+
+
+def _writable_folder(path: Path) -> Path:
+    """Create ``path`` (and parents) and check a file can be written there, before any work."""
+    import tempfile
+
+    from .errors import ValidationError, expected_got
+
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as exc:
+        raise ValidationError(expected_got("output folder", "a folder that can be created and written",
+                                           f"{str(path)!r}: {exc.strerror or exc}")) from exc
+    return path
+
+
+def _cmd_billboards(args: argparse.Namespace) -> int:
+    from .errors import ValidationError, expected_got
+
+    # every user error is refused before anything is baked or written
+    shape = parse_size(args.size)
+    for name, v, lo in (("--n", args.n, 0), ("--frames", args.frames, 1), ("--views", args.views, 2),
+                        ("--asset-size", args.asset_size, 16)):
+        if v < lo:
+            raise ValidationError(expected_got(name, f"an int >= {lo}", v))
+    from .billboard.sources import check_specs, resolve_assets
+
+    specs = args.asset or ["tree", "person"]
+    check_specs(specs)
+    out = _writable_folder(Path(args.out))
+
+    import numpy as np
+
+    from .billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode, place_random
+    from .billboard.asset import BAKE_AMBIENT, bake_lights
+    from .billboard.paths import make_path
+    from .billboard.sequence import write_sequence
+    from .render import Renderer
+
+    with Renderer() as r:
+        res = resolve_assets(specs, r, views=args.views, size=args.asset_size, progress=True)
+        names = list(res.assets)
+        inst = place_random(names, args.n, np.random.default_rng(args.seed))
+        half = float(np.abs(inst.xy).max()) if len(inst) else 1.0
+        fog = None if args.no_fog else Fog()
+        scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog))
+        cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
+        truth = None
+        if all(nm in res.items for nm in names):
+            truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
+        else:
+            print("morphkit billboards: no mesh for " + ", ".join(nm for nm in names if nm not in res.items)
+                  + ": comparisons with the real meshes are skipped", file=sys.stderr)
+        summary = write_sequence(scene, cams, out, mode=MorphMode(MorphCache()), truth=truth,
+                                 progress=args.frames >= 10)
+    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
+          f"({args.path}), cache hit rate {summary['hit_rate']:.1%}")
+    for c in summary["compared"]:
+        errs = "; ".join(f"{m} IoU {e['iou']:.3f} PSNR {e['psnr']:.1f} dB" for m, e in c["errors"].items()
+                         if e["n"])
+        print(f"  {c['file']}: classic | morph | mesh; per billboard vs mesh: {errs}")
+    print(f"wrote {len(summary['files'])} files to {out.resolve()}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``morphkit`` argument parser: the ``demo``, ``bench`` and ``viewmorph`` commands.
 
@@ -317,6 +403,31 @@ def build_parser() -> argparse.ArgumentParser:
     h.add_argument("-o", "--out", required=True, help="output folder (created)")
     h.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     h.set_defaults(func=_cmd_shadows)
+
+    bb = sub.add_parser(
+        "billboards",
+        help="a scene of view-morphed billboards along a camera path: frames, video, Fig. 5 comparisons",
+        description="Bake (or load) billboard assets, place N instances from a seed on a ground, and "
+        "render a camera path with view-morphed billboards: OUT/frames/*.png, OUT/billboards.mp4, "
+        "OUT/compare_*.png (classic | view-morphed | real meshes) and OUT/billboards.json.",
+    )
+    bb.add_argument("--asset", action="append", default=None, metavar="NAME_OR_FILE",
+                    help="a sample mesh name (baked) or a .npz asset file (loaded); repeat for several "
+                    "(default: tree and person)")
+    bb.add_argument("--n", type=int, default=200, help="number of billboards (default: %(default)s)")
+    bb.add_argument("--path", default="pan", choices=["pan", "orbit", "fly"],
+                    help="camera path: the paper's pan, an orbit or a fly-through (default: %(default)s)")
+    bb.add_argument("--views", type=int, default=8,
+                    help="reference views per baked asset: 2 is the paper's pair, more a full ring "
+                    "(default: %(default)s)")
+    bb.add_argument("--frames", type=int, default=48, help="frames along the path (default: %(default)s)")
+    bb.add_argument("--size", default="640x480", help="frame size WxH (default: %(default)s)")
+    bb.add_argument("--asset-size", type=int, default=128,
+                    help="reference view side of baked assets, pixels (default: %(default)s)")
+    bb.add_argument("--seed", type=int, default=0, help="placement seed (default: %(default)s)")
+    bb.add_argument("--no-fog", action="store_true", help="no distance fog")
+    bb.add_argument("-o", "--out", required=True, help="output folder")
+    bb.set_defaults(func=_cmd_billboards)
     return p
 
 
@@ -331,8 +442,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError`
-        (printed to stderr as ``morphkit: error: ...``).
+        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError` or an
+        ``OSError`` (a file system failure: disk full, folder removed), printed to stderr as one
+        line ``morphkit: error: ...``.
     """
     args = build_parser().parse_args(argv)
     try:

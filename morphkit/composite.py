@@ -17,6 +17,9 @@ Premultiplied alpha
 ``[0, 1]``; warps and blends of such arrays never bleed a transparent
 pixel's colour into its neighbours. :func:`over` composites one premultiplied
 image over another (Porter & Duff); :func:`from_premultiplied` goes back.
+:func:`over_warped` warps a premultiplied image by a homography into a region
+of interest of another and composites it "over" there (a billboard quad onto a
+frame), touching only that region.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import numpy as np
 from .errors import ValidationError, expected_got
 from .validate import as_image
 
-__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over"]
+__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped"]
 
 
 def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndarray:
@@ -125,5 +128,56 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
         return out
     view = out[r_0:r_1, c_0:c_1]
     view *= 1.0 - part[:, :, -1:]
+    view += part
+    return out
+
+
+def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,
+                roi: tuple[int, int, int, int], *, mask: np.ndarray | None = None,
+                fade: float = 0.0, fade_color: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                interpolation: int = cv2.INTER_LINEAR) -> np.ndarray:
+    """Warp premultiplied ``src`` by ``H_out_src`` and composite it "over" ``out`` inside ``roi``.
+
+    Parameters
+    ----------
+    out : (H, W, C) float32
+        Premultiplied image, alpha last; updated in place (only rows ``r0:r1``,
+        columns ``c0:c1``).
+    src : (h, w, C) float32
+        Premultiplied image, alpha last, same ``C`` (``C <= 4``).
+    H_out_src : (3, 3) float
+        Homography from ``src`` pixels to ``out`` pixels (pixel-centre convention
+        of :mod:`morphkit.conventions`).
+    roi : (r0, r1, c0, c1)
+        The region of ``out`` to draw into (where the warped ``src`` lands).
+    mask : (r1 - r0, c1 - c0) float32, optional
+        Coverage in ``[0, 1]`` multiplied into the warped image (e.g. a polygon
+        clipped at a camera's near plane).
+    fade : float
+        Blend the warped colour towards ``fade_color`` (straight RGB in the colour
+        units of ``out``) by this fraction, keeping its alpha (distance fog).
+    interpolation : int
+        OpenCV interpolation flag (bilinear by default).
+
+    Returns
+    -------
+    (H, W, C) float32
+        ``out``.
+    """
+    r0, r1, c0, c1 = roi
+    T = np.array([[1.0, 0.0, -c0], [0.0, 1.0, -r0], [0.0, 0.0, 1.0]])
+    part = cv2.warpPerspective(src, T @ np.asarray(H_out_src, dtype=np.float64), (c1 - c0, r1 - r0),
+                               flags=interpolation, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    if part.ndim == 2:
+        part = part[:, :, None]
+    if mask is not None:
+        part *= mask[:, :, None]
+    alpha = part[:, :, -1:]
+    if fade > 0.0:
+        f = np.float32(fade)
+        part[:, :, :-1] *= 1.0 - f
+        part[:, :, :-1] += alpha * (f * np.asarray(fade_color, np.float32))
+    view = out[r0:r1, c0:c1]
+    view *= 1.0 - alpha
     view += part
     return out

@@ -18,6 +18,9 @@ and, under a point light, ``<mesh>_warped_direct_raycast.png`` (hard shadow: war
 (the same atlas with ``warps="reproject"``), under an area light,
 ``<mesh>_soft_warped_direct_raycast.png`` (soft shadow, 9 light samples: warped |
 re-rendered | ray cast), and ``<mesh>_viewmorph.png`` (view morphing);
+``billboards_compare.png`` (a scene of trees and people as classic | view-morphed
+billboards | real meshes, the second paper's Fig. 5) and ``billboards_error.png``
+(the absolute difference of classic and of view-morphed billboards from the meshes);
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
 scene parameters and timings). Later features add their outputs here.
 
@@ -188,6 +191,38 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str
     return report
 
 
+def _billboard_section(renderer: SceneRenderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
+    """A field of trees and people (K = 8 rings), one camera of the paper's pan: classic |
+    view-morphed | real meshes, the per-billboard errors against the meshes, and an error figure."""
+    from .billboard import Backdrop, BillboardScene, ClassicMode, MeshMode, MorphMode, PanPath, place_random
+    from .billboard.asset import BAKE_AMBIENT, bake_lights
+    from .billboard.compare import compare_modes
+    from .billboard.sources import resolve_assets
+
+    t0 = time.perf_counter()
+    res = resolve_assets(["tree", "person"], renderer, views=8, size=64 if quick else 128,
+                         levels=2 if quick else 3)
+    bake_ms = 1e3 * (time.perf_counter() - t0)
+    n = 12 if quick else 30
+    inst = place_random(list(res.assets), n, np.random.default_rng(0))
+    scene = BillboardScene(res.assets, inst, backdrop=Backdrop())
+    cam = PanPath.over(float(np.abs(inst.xy).max())).camera_at(0.5, (size * 3 // 4, size))
+    cmp = compare_modes(scene, cam, {"classic": ClassicMode(), "morph": MorphMode()},
+                        MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT, supersample=2))
+    _write_rgb(add("billboards_compare.png", "billboards", "tree+person",
+                   "billboard scene: classic | view-morphed | real meshes (paper 2, Fig. 5)"), cmp.strip)
+    truth = cmp.frames["mesh"].rgb.astype(np.int16)
+    diffs = [np.abs(cmp.frames[m].rgb.astype(np.int16) - truth).max(axis=2).astype(np.uint8)
+             for m in ("classic", "morph")]
+    err = cv2.applyColorMap(cv2.convertScaleAbs(np.concatenate(diffs, axis=1), alpha=2.0),
+                            cv2.COLORMAP_INFERNO)
+    write_image(add("billboards_error.png", "billboards", "tree+person",
+                    "largest channel difference from the meshes (x2, inferno): classic | view-morphed"), err)
+    return {"instances": n, "views": 8, "bake_ms": bake_ms,
+            "frame_ms": {m: f.stats.ms for m, f in cmp.frames.items()},
+            "per_billboard_vs_mesh": cmp.errors}
+
+
 def previous_demo(out: str | Path) -> Path | None:
     """The ``index.json`` of a demo already in folder ``out``, or None."""
     index = Path(out) / "index.json"
@@ -270,6 +305,7 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
         warped = _warped_shadow_section(renderer, size, add)
         soft = _soft_shadow_section(renderer, size, add, quick=quick)
         morphs = _viewmorph_section(renderer, min(size, 384), add)
+        billboards = _billboard_section(renderer, min(size, 512), add, quick=quick)
     _write_rgb(add("overview.png", "overview", "all", "the three demo scenes side by side"),
                np.concatenate(overview, axis=1))
     index = {
@@ -281,6 +317,7 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
         "warped_shadows": warped,
         "soft_shadows": soft,
         "view_morphing": morphs,
+        "billboards": billboards,
     }
     write_json(out / "index.json", index)
     for stale in old_files - {f["path"] for f in files}:  # the previous demo's, not rewritten

@@ -21,6 +21,14 @@ orthographic one, ``Z = (f + n + z_ndc (f - n)) / 2``, which simplifies to
 ``Z = f + n - n f / d``. Perspective depth is pyrender's value unchanged.
 Tested against analytic planes in ``tests/test_render.py``.
 
+Shader programs. pyrender caches its compiled shader programs under a key that
+includes ``OpenGL.contextdata.getContext()``; with PyOpenGL >= 3.1.9 on OSMesa
+that call returns a new pointer object every time, so the cache never hits and
+every primitive of every frame compiled and linked a new program (and kept it:
+one GL program per drawn item and frame).
+Each context here gets a program cache keyed by the shaders and defines only
+(``_ProgramCache``: one cache per context, so the context needs no key).
+
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and
 one ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and
 reused for every frame of that shape. Meshes are converted and uploaded once
@@ -29,6 +37,7 @@ per context; moving an object only changes its node pose.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Sequence
 
 import cv2
@@ -54,7 +63,6 @@ __all__ = ["Renderer"]
 
 
 if pyrender is not None:
-
     class _MatrixCamera(pyrender.Camera):
         """A pyrender camera with morphkit's projection matrix.
 
@@ -72,32 +80,66 @@ if pyrender is not None:
                                   ) -> np.ndarray:
             return self._P.copy()
 
+    class _ProgramCache(pyrender.shader_program.ShaderProgramCache):
+        """pyrender's shader-program cache, keyed without the GL context handle.
+
+        pyrender keys each compiled program by ``OpenGL.contextdata.getContext()``,
+        which under OSMesa is a new pointer object on every call: the key never
+        matched, so every colour render compiled its programs again and kept the
+        old ones (measured: 8 programs, ~25 MB and ~40 ms per render of 8 items).
+        Each :class:`_Context` has its own renderer and cache, so the context is
+        implicit in the cache.
+        """
+
+        def get_program(self, vertex_shader: str, fragment_shader: str, geometry_shader: str | None = None,
+                        defines: dict | None = None) -> pyrender.shader_program.ShaderProgram:
+            defines = {} if defines is None else defines
+            names = [os.path.basename(f) for f in (vertex_shader, fragment_shader, geometry_shader)
+                     if f is not None]
+            key = tuple(sorted([(n, 1) for n in names] + list(defines.items())))
+            program = self._program_cache.get(key)
+            if program is None:
+                vs, fs, gs = (None if f is None else os.path.join(self.shader_dir, f)
+                              for f in (vertex_shader, fragment_shader, geometry_shader))
+                program = self._program_cache[key] = pyrender.shader_program.ShaderProgram(
+                    vertex_shader=vs, fragment_shader=fs, geometry_shader=gs, defines=defines)
+            return program
+
 
 class _Context:
-    """One GL context of a fixed shape with its scene and node cache."""
+    """One GL context of a fixed shape with its scene and node cache.
+
+    Each (mesh, colour) is converted and uploaded once (one ``pyrender.Mesh``);
+    several :class:`~morphkit.scene.Item` s sharing it (instances of one mesh at
+    several poses) get one node each, all referring to that uploaded mesh.
+    """
 
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
         try:
             self.renderer = pyrender.OffscreenRenderer(viewport_width=w, viewport_height=h)
+            # pyrender has no public hook for its shader cache (see _ProgramCache): the one
+            # reach into a third-party private attribute, kept behind this GL boundary
+            self.renderer._renderer._program_cache = _ProgramCache()  # noqa: SLF001
         except Exception as exc:
             raise RenderError(f"cannot create an offscreen GL context of shape {shape}: {exc!r}. "
                               "Is libosmesa6 installed (apt-get install libosmesa6)?") from exc
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
-        # id(trimesh) -> (trimesh kept alive, {color: node})
-        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...], pyrender.Node]]] = {}
+        # id(trimesh) -> (trimesh kept alive, {color: [node, ...]}): node 0 stays in the scene
+        # (hidden through its mesh's visibility), further instance nodes are added when needed
+        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...], list[pyrender.Node]]]] = {}
         self.cam_node: pyrender.Node | None = None
         self.light_nodes: list[pyrender.Node] = []
 
-    def node_for(self, item: Item) -> pyrender.Node:
+    def _pool(self, item: Item) -> list[pyrender.Node]:
         key = id(item.mesh)
         entry = self.nodes.get(key)
         if entry is None or entry[0] is not item.mesh:
             entry = (item.mesh, {})
             self.nodes[key] = entry
         color = tuple(float(c) for c in item.color)
-        node = entry[1].get(color)
-        if node is None:
+        pool = entry[1].get(color)
+        if pool is None:
             mat = pyrender.MetallicRoughnessMaterial(
                 baseColorFactor=[*color, 1.0], metallicFactor=0.0, roughnessFactor=0.9,
                 doubleSided=True)
@@ -105,18 +147,27 @@ class _Context:
             # (flat shading would triple the vertex count of a 1M-face mesh).
             smooth = len(item.mesh.faces) > 20000
             pm = pyrender.Mesh.from_trimesh(item.mesh, material=mat, smooth=smooth)
-            node = self.scene.add(pm, pose=np.eye(4))
-            entry[1][color] = node
-        return node
+            pool = entry[1][color] = [self.scene.add(pm, pose=np.eye(4))]
+        return pool
 
     def show(self, items: Sequence[Item]) -> None:
-        wanted = {id(self.node_for(it)): it for it in items}
-        for _mesh, by_color in self.nodes.values():
-            for node in by_color.values():
-                node.mesh.is_visible = id(node) in wanted
+        groups: dict[int, tuple[list[pyrender.Node], list[Item]]] = {}
         for it in items:
-            node = self.node_for(it)
-            self.scene.set_pose(node, np.asarray(it.pose, dtype=np.float64))
+            pool = self._pool(it)
+            groups.setdefault(id(pool), (pool, []))[1].append(it)
+        for _mesh, by_color in self.nodes.values():
+            for pool in by_color.values():
+                used = groups.get(id(pool), (pool, []))[1]
+                pool[0].mesh.is_visible = bool(used)
+                while len(pool) < len(used):  # one more instance of this mesh: share its upload
+                    pool.append(self.scene.add(pool[0].mesh, pose=np.eye(4)))
+                for k, node in enumerate(pool):
+                    if k < len(used):
+                        if k > 0 and not self.scene.has_node(node):
+                            self.scene.add_node(node)
+                        self.scene.set_pose(node, np.asarray(used[k].pose, dtype=np.float64))
+                    elif k > 0 and self.scene.has_node(node):
+                        self.scene.remove_node(node)
 
     def set_camera(self, camera: CameraModel) -> None:
         cam = _MatrixCamera(camera.gl_projection(), camera.znear, camera.zfar)

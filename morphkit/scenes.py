@@ -31,7 +31,7 @@ from .shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
-           "circle_camera", "textured_items", "render_pair"]
+           "circle_camera", "checker_items", "textured_items", "render_pair"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -91,14 +91,31 @@ def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
     return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
 
 
-def textured_items(name: str) -> tuple[Any, list[Any]]:
-    """The sample mesh and its colour groups (a 3-D checker) as render items."""
-    mesh = sample_mesh(name)
+def checker_items(mesh: trimesh.Trimesh) -> list[Item]:
+    """``mesh`` split into colour groups by a 3-D checker of its face centres, as render items.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Any mesh, in its own frame (cells of :data:`CHECKER` scene units from the origin).
+
+    Returns
+    -------
+    list of Item
+        One item per colour of :data:`PALETTE` that occurs (identity pose), each a
+        submesh of the faces whose centre falls in a cell of that colour: texture for
+        SIFT and for PSNR (the renderer has no texture maps).
+    """
     cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)
     key = (cell[:, 0] * 7 + cell[:, 1] * 3 + cell[:, 2] * 5) % len(PALETTE)
-    items = [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
-             for k in range(len(PALETTE)) if np.any(key == k)]
-    return mesh, items
+    return [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
+            for k in range(len(PALETTE)) if np.any(key == k)]
+
+
+def textured_items(name: str) -> tuple[Any, list[Any]]:
+    """The sample mesh and its colour groups (:func:`checker_items`) as render items."""
+    mesh = sample_mesh(name)
+    return mesh, checker_items(mesh)
 
 
 def render_pair(renderer: SceneRenderer, items: list[Any], cams: list[CameraModel]

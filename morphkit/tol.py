@@ -179,3 +179,29 @@ VM_AUTO_LAYER_DROP = 0.005
 #: How many layers ``layers="auto"`` uses when it layers: two took the chair at
 #: 20 deg from 0.885 to 0.965 IoU (s = 1/2); three gave 0.963 at 1.4x the time.
 VM_AUTO_LAYERS = 2
+
+# --- billboard assets (morphkit.billboard) ----------------------------------
+
+#: Fewest correspondences (from the two depth maps, before cleaning) a pair of
+#: neighbouring reference views must share to be baked into an asset; fewer is
+#: refused at bake time. 4x the 8 pairs F needs, so the robust fit has a margin;
+#: a morph mesh with fewer points cannot follow an object's outline (the
+#: bake's sampling gives ~500-1000 pairs for the sample meshes at 256^2 and
+#: 45-60 degrees, and ~150-300 at 64^2).
+BB_MIN_CORRESPONDENCES = 32
+
+# --- billboard scenes (morphkit.billboard) ---------------------------------
+
+#: A camera is "directly above" a billboard (its facing about the up axis and its
+#: viewing azimuth are undefined) when the horizontal distance to it is below this
+#: fraction of the full distance: the direction then lies within 1e-6 rad (0.00006
+#: deg) of vertical, where a float64 atan2 still works but the quad would spin
+#: arbitrarily for a tiny camera move. The fallback is documented in
+#: :mod:`morphkit.billboard.facing`.
+BB_ABOVE_RATIO = 1e-6
+
+#: A billboard quad whose screen projection covers less than this area (pixels^2)
+#: is skipped as too small, whatever its height: an axial quad seen (nearly)
+#: edge-on, e.g. from directly above, projects to a sliver whose homography is
+#: (nearly) singular; half a pixel of area holds at most one pixel centre.
+BB_MIN_AREA_PX2 = 0.5

@@ -117,3 +117,35 @@ def test_per_triangle_baseline_is_close_to_identity():
     img = rng.uniform(0, 1, (32, 32)).astype(np.float32)
     out = per_triangle_warp(img, src, src, tris, (32, 32))
     assert np.abs(out - img)[1:-1, 1:-1].max() < 1e-5
+
+
+def test_billboards_suite_is_registered_with_open_sections():
+    from morphkit.bench import billboard_suite
+
+    assert "billboards" in bench.SUITES
+    assert billboard_suite.SECTIONS[:4] == [billboard_suite.pair_rows, billboard_suite.ring_rows,
+                                           billboard_suite.equal_memory_rows, billboard_suite.bake_rows]
+    a = np.zeros((8, 8, 4), np.float32)
+    a[2:6, 2:6] = 1.0
+    iou, p = billboard_suite.quality(a, a)
+    assert iou == 1.0 and p == billboard_suite.PSNR_CAP  # identical: capped, JSON-safe
+    b = a.copy()
+    b[2:6, 2:4] = 0.0
+    iou, p = billboard_suite.quality(b, a)
+    assert iou == 0.5 and p == pytest.approx(10 * np.log10(1 / (3 * 8 / (8 * 8 * 3))))
+
+
+@pytest.mark.gl
+def test_billboards_pair_section_tiny_run(renderer, monkeypatch):
+    from morphkit.bench import billboard_suite as bs
+
+    monkeypatch.setattr(bs, "_meshes", lambda quick: ("person",))
+    monkeypatch.setattr(bs, "_size", lambda quick: 64)
+    rows = bs.pair_rows(bs.AssetCache(renderer), True)
+    by = {(r["params"]["section"], r["params"]["mesh"], r["method"]): r for r in rows}
+    assert len(rows) == 16  # 2 sections x (person + all) x 4 methods
+    inside = {m: by[("pair-inside", "person", m)]["metrics"] for m in ("morph", "classic", "crossfade")}
+    assert inside["morph"]["iou"] > inside["crossfade"]["iou"]
+    outside = {m: by[("pair-outside", "person", m)]["metrics"] for m in ("morph", "nearest")}
+    assert outside["morph"] == outside["nearest"]  # clamped: the morph is the nearer reference
+    assert by[("pair-inside", "all", "morph")]["metrics"] == inside["morph"]

@@ -13,15 +13,18 @@ from scipy import ndimage
 from morphkit import meshes
 from morphkit.errors import MeshError, ValidationError
 from morphkit.meshes import (
+    BILLBOARD_MESHES,
     SAMPLE_MESHES,
     chair,
     check_mesh,
     cow,
     load_mesh,
     normalize,
+    person,
     sample_mesh,
     teapot,
     teapot_face_count,
+    tree,
 )
 
 
@@ -258,6 +261,71 @@ def test_cow_rejects_bad_counts():
             cow(bad)
 
 
+# --------------------------------------------------------------------------- tree and person
+
+
+@pytest.mark.parametrize("builder", [tree, person])
+@pytest.mark.parametrize("faces", [6000, 50_000])
+def test_tree_and_person_face_count_and_watertight(builder, faces):
+    m = builder(faces)
+    assert abs(len(m.faces) / faces - 1) < 0.1
+    assert m.is_watertight and m.is_winding_consistent
+    assert m.body_count == 1
+    assert m.volume > 0  # outward normals
+    assert np.all(m.nondegenerate_faces())
+    assert_normalised(m)
+    assert m.extents[2] == pytest.approx(1.0)  # upright: the height is the largest extent
+
+
+@pytest.mark.parametrize("builder", [tree, person])
+def test_tree_and_person_are_deterministic_and_cached_as_copies(builder):
+    a = builder(6000)
+    a.vertices[:] = 0.0  # must not poison the cache
+    b = builder(6000)
+    builder.cache_clear()
+    c = builder(6000)
+    assert np.ptp(b.vertices) > 0
+    np.testing.assert_array_equal(b.vertices, c.vertices)
+    np.testing.assert_array_equal(b.faces, c.faces)
+
+
+def test_tree_is_non_convex_with_overhanging_layers_and_a_branch_to_plus_x():
+    m = tree()
+    assert m.volume < 0.75 * m.convex_hull.volume
+    count, cents, trunk_area = slice_components(m, 0.05)  # below the branch and the foliage: the trunk
+    assert count == 1 and np.hypot(*cents[0]) < 0.05
+    # the second foliage layer's base (1.3 of 2.98 m: z = 0.436) overhangs the first layer's top:
+    # the cross-section grows going up through it (radius 0.47 m -> 0.63 m of the two cones)
+    _, _, below = slice_components(m, 0.41)
+    _, _, above = slice_components(m, 0.45)
+    assert above > 1.3 * below
+    assert trunk_area < 0.05 * below
+    tip = m.vertices[np.argmax(m.vertices[:, 0])]
+    assert tip[2] < 0.3  # the farthest point towards +x is the low branch's blob
+
+
+def test_person_walks_towards_plus_x_with_limbs_clear_of_the_torso():
+    m = person()
+    assert m.volume < 0.4 * m.convex_hull.volume
+    count, cents, _ = slice_components(m, 0.1)  # the two shins, in stride
+    assert count == 2
+    front, back = sorted(cents, key=lambda c: -c[0])
+    assert front[0] > 0.03 and front[1] > 0  # left (+y) leg forward
+    assert back[0] < -0.03 and back[1] < 0
+    count, cents, _ = slice_components(m, 0.62)  # torso and two hanging arms, separate
+    assert count == 3
+    right, torso, left = sorted(cents, key=lambda c: c[1])
+    assert abs(torso[1]) < 0.03 and right[1] < -0.12 and left[1] > 0.12
+    assert right[0] > 0.03 and left[0] < -0.03  # arms swing opposite to the legs
+
+
+def test_tree_and_person_reject_bad_counts():
+    for builder in (tree, person):
+        for bad in (100, 5_000_000, 6000.0):
+            with pytest.raises(ValidationError, match="faces"):
+                builder(bad)
+
+
 # --------------------------------------------------------------------------- normalize
 
 
@@ -420,14 +488,17 @@ def test_load_mesh_missing_path(tmp_path: Path):
 
 def test_sample_mesh_names():
     assert SAMPLE_MESHES == ("teapot", "chair", "cow")
-    for name in SAMPLE_MESHES:
+    assert BILLBOARD_MESHES == ("teapot", "chair", "cow", "tree", "person")
+    for name in BILLBOARD_MESHES:
         assert_normalised(sample_mesh(name))
+    assert len(sample_mesh("tree", faces=5000).faces) == len(tree(5000).faces)
     assert len(sample_mesh("teapot", resolution=4).faces) == 1120
     assert len(sample_mesh("chair", slats=5).faces) == len(chair(5).faces)
 
 
 def test_sample_mesh_unknown_name_lists_valid_names():
-    with pytest.raises(ValidationError, match=r"expected one of \['teapot', 'chair', 'cow'\], got 'bunny'"):
+    with pytest.raises(ValidationError,
+                       match=r"expected one of \['teapot', 'chair', 'cow', 'tree', 'person'\], got 'bunny'"):
         sample_mesh("bunny")
 
 

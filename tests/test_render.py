@@ -156,3 +156,43 @@ def test_renderer_implements_the_scene_renderer_protocol(renderer):
 
     assert isinstance(renderer, SceneRenderer)
     assert not isinstance(object(), SceneRenderer)
+
+
+def test_items_sharing_a_mesh_are_drawn_at_every_pose(renderer):
+    """Instances: three items of one mesh at three poses give three silhouettes, each
+    where its pose puts it; fewer items later hide the surplus instances again."""
+    box = trimesh.creation.box((0.5, 0.5, 0.5))
+    cam = orthographic(3, 1, (16, 48), look_at([0, 0, 5], [0, 0, 0], up=[0, 1, 0]),
+                       znear=1, zfar=10)
+
+    def at(x):
+        T = np.eye(4)
+        T[0, 3] = x
+        return _item(box, T)
+
+    three = np.isfinite(renderer.depth(cam, [at(-2.0), at(0.0), at(2.0)])).any(0)
+    # 48 px over 6 units: 8 px/unit, x = 0 at column 23.5; a 0.5-unit box spans 4 columns,
+    # e.g. x = 2 covers 37.5..41.5: columns 38..41 (runs as [first, last + 1))
+    runs = np.flatnonzero(np.diff(np.r_[0, three.astype(int), 0]))
+    assert runs.reshape(-1, 2).tolist() == [[6, 10], [22, 26], [38, 42]]
+    one = np.isfinite(renderer.depth(cam, [at(2.0)])).any(0)
+    assert np.flatnonzero(one).tolist() == [38, 39, 40, 41]
+    assert np.all(np.isinf(renderer.depth(cam, [])))
+
+
+@pytest.mark.gl
+def test_colour_renders_reuse_their_shader_programs(renderer):
+    """pyrender keys its compiled programs by the GL context handle, a new object on every call
+    under OSMesa: without render._ProgramCache each colour render compiled its programs again
+    and kept the old ones (~25 MB per render)."""
+    cam = perspective(np.radians(40), (40, 48), look_at([2.0, 0.5, 1.0], [0.0, 0.0, 0.0]))
+    items = [_item(trimesh.creation.box([0.5, 0.5, 0.5])), _item(trimesh.creation.icosphere(1, 0.3))]
+    light = [DirectionalLight([0.0, 0.0, -1.0])]
+    first = renderer.color_depth(cam, items, light)
+    cache = renderer._contexts[cam.shape].renderer._renderer._program_cache._program_cache  # test-only
+    n = len(cache)
+    assert n >= 1
+    for _ in range(3):
+        again = renderer.color_depth(cam, items, light)
+        np.testing.assert_array_equal(again[0], first[0])
+    assert len(cache) == n

@@ -51,6 +51,7 @@ SUITES: dict[str, Suite] = {
     "viewmorph": lazy_suite("morphkit.bench.viewmorph_suite", "run"),
     "soft": lazy_suite("morphkit.bench.soft_suite", "run"),
     "bake": lazy_suite("morphkit.bench.bake_suite", "run"),
+    "billboards": lazy_suite("morphkit.bench.billboard_suite", "run"),
 }
 
 

@@ -358,9 +358,11 @@ def _object_samples(camera: CameraModel, depth: np.ndarray, step: int, contour_s
     pixel along each silhouette contour (object = finite depth)."""
     mask = np.isfinite(depth) & (depth > 0)
     h, w = depth.shape
-    ys, xs = np.mgrid[0:h:step, 0:w:step]
-    on = mask[ys, xs]
-    pix = [np.stack([xs[on], ys[on]], axis=1)]
+    pix = [np.zeros((0, 2), np.int64)]
+    if step > 0:
+        ys, xs = np.mgrid[0:h:step, 0:w:step]
+        on = mask[ys, xs]
+        pix.append(np.stack([xs[on], ys[on]], axis=1))
     if contour_step > 0:
         contours, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_LIST, cv2.CHAIN_APPROX_NONE)
         pix += [c[::contour_step, 0, :] for c in contours]
@@ -388,13 +390,16 @@ def from_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
     depth0, depth1 : (H, W) float
         Linear depth of each view, background non-finite (``Renderer.depth``).
     step : int
-        Grid spacing (pixels) of the interior samples.
+        Grid spacing (pixels) of the interior samples; 0 for none.
     contour_step : int
         Spacing (contour pixels) of the outline samples; 0 for none.
     max_points : int, optional
         Keep at most this many pairs, spread over image 0 (default: all).
     rtol : float
-        Relative depth tolerance of the visibility test.
+        Relative depth tolerance of the visibility test. ``inf`` keeps every
+        sample that projects into both images: a sample is always seen by its own
+        view, and the other's pixel is then where it *would* be (e.g. a view's
+        silhouette points, which the other view sees from behind).
     rng : numpy.random.Generator, optional
         For the subsampling (default ``np.random.default_rng(0)``).
 
@@ -404,10 +409,13 @@ def from_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
         ``source="geometry"``, ``points3d`` and ``depth`` (mean depth in the two
         views, the key of :func:`pair_depth`) set.
     """
-    if int(step) < 1:
-        raise ValidationError(expected_got("step", "an int >= 1", step))
+    if int(step) < 0:
+        raise ValidationError(expected_got("step", "an int >= 0", step))
     if int(contour_step) < 0:
         raise ValidationError(expected_got("contour_step", "an int >= 0", contour_step))
+    if int(step) == 0 and int(contour_step) == 0:
+        raise ValidationError(expected_got("step, contour_step", "interior or outline samples (not both 0)",
+                                           (step, contour_step)))
     d0 = _depth_map(camera0, depth0, "depth0")
     d1 = _depth_map(camera1, depth1, "depth1")
     pts = np.r_[_object_samples(camera0, d0, int(step), int(contour_step)),

@@ -24,6 +24,7 @@ Policy on degenerate input (refused, never repaired silently)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -304,6 +305,13 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
     inliers of the fundamental matrix; default: all pairs). A homography-consistent
     pair is always F-consistent, so F then adds no information: it is not determined.
 
+    RANSAC only has to find such a homography if one exists: with ``r`` the
+    smallest inlier ratio that makes the pairs degenerate, a random 4-pair sample
+    is all inliers with probability ``r^4``, so ``log(1e-9) / log(1 - r^4)``
+    samples (13 for ``r = 0.95``; at least 20, at most 2000) miss it with
+    probability below ``1e-9``. (The best homography of non-degenerate pairs is
+    not searched for further.)
+
     Parameters
     ----------
     pts0, pts1 : (N, 2) float
@@ -318,7 +326,8 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
     H_1_0 : (3, 3) float64 or None
         The homography (image-0 to image-1 pixels) when degenerate, else None.
     fraction : float
-        Homography inliers / ``f_inliers``.
+        Homography inliers / ``f_inliers`` (not degenerate: of the best sample
+        tried, a lower bound).
     """
     p0 = as_points(pts0, "pts0", min_count=4)
     p1 = as_points(pts1, "pts1", min_count=4)
@@ -329,7 +338,11 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
         err = _transfer(H_1_0, p0, p1)
         if np.max(err) <= threshold:
             return H_1_0 / H_1_0[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
-    H_1_0, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=2000, confidence=0.999)
+    r = min(1.0, tol.VM_HOMOGRAPHY_INLIER_RATIO * n_ref / len(p0))
+    r4 = r**4
+    iters = 20 if r4 >= 1.0 else 2000 if r4 < 1e-6 else \
+        int(min(2000, max(20, math.ceil(math.log(1e-9) / math.log1p(-r4)))))
+    H_1_0, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=iters, confidence=0.999)
     if H_1_0 is None or not np.all(np.isfinite(H_1_0)):
         return None, 0.0
     inl = int(mask.ravel().astype(bool).sum())

@@ -45,7 +45,8 @@ from .correspondences import Correspondences
 from .mesh import build_morph_mesh, mesh_canvas
 from .rectify import apply_h
 
-__all__ = ["MorphLayer", "FAR_POSITION", "build_layer", "build_layers", "check_depth_keys", "depth_slices",
+__all__ = ["MorphLayer", "known_mix", "FAR_POSITION", "build_layer", "build_layers", "check_depth_keys",
+           "depth_slices",
            "concat_correspondences", "mask_bbox", "depth_edges"]
 
 #: Sampling position (pixels, both coordinates) of the C1 look-up's cells the mesh
@@ -107,6 +108,34 @@ class MorphLayer:
     c1: np.ndarray
     c1_far: bool
     rectified: tuple[np.ndarray, np.ndarray] | None = None
+    #: ``prem`` carries a last "known" channel (``fill_occluded``; :func:`known_mix`).
+    known: bool = False
+
+
+def known_mix(a0: np.ndarray, a1: np.ndarray, s: float) -> np.ndarray:
+    """Mix two warped premultiplied images whose last channel is a "known" weight.
+
+    ``(k0 (1 - s) a0 + k1 s a1) / (k0 (1 - s) + k1 s)``, 0 where neither is known;
+    the known channel is dropped (``fill_occluded``: where a nearer layer hides this
+    one in one image, the other image fills it at full weight).
+
+    Parameters
+    ----------
+    a0, a1 : numpy.ndarray
+        float32 ``(h, w, C + 2)``: premultiplied colour, alpha, then the known weight.
+    s : float
+        The morph fraction in ``[0, 1]``.
+
+    Returns
+    -------
+    numpy.ndarray
+        float32 ``(h, w, C + 1)`` premultiplied colour and alpha.
+    """
+    w0 = a0[..., -1:] * np.float32(1.0 - s)
+    w1 = a1[..., -1:] * np.float32(s)
+    wsum = w0 + w1
+    num = a0[..., :-1] * w0 + a1[..., :-1] * w1
+    return np.where(wsum > 1e-6, num / np.maximum(wsum, np.float32(1e-6)), np.float32(0.0)).astype(np.float32)
 
 
 def concat_correspondences(parts: list[Correspondences]) -> Correspondences:
@@ -308,8 +337,8 @@ def build_layer(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
 
 def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, layers: int | str,
                  layer_depth: Any, overlap: float, frame_grid: int, *, H_rect_0: np.ndarray,
-                 H_rect_1: np.ndarray, shape0: tuple[int, int], shape1: tuple[int, int]
-                 ) -> tuple[list[MorphLayer], dict[str, Any]]:
+                 H_rect_1: np.ndarray, shape0: tuple[int, int], shape1: tuple[int, int],
+                 fill_occluded: bool = False) -> tuple[list[MorphLayer], dict[str, Any]]:
     """Split pairs and pixels into depth layers (module docstring) and build each layer.
 
     Parameters
@@ -330,6 +359,9 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
         The pre-warps (image-``i`` pixels to the rectified frame).
     shape0, shape1 : (H, W)
         The images' shapes.
+    fill_occluded : bool
+        Give each layer a "known" channel (not hidden by a nearer layer) so the
+        other image fills what one image does not see (:func:`known_mix`).
 
     Returns
     -------
@@ -368,15 +400,22 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
     n = len(lims)
     report["layers"] = n
     report["layer_edges"] = [float(e) for e in edges[1:-1]]
+    report["fill_occluded"] = bool(fill_occluded) and n > 1
     out = []
     for i, ((a, b), sel) in enumerate(zip(lims, sels, strict=True)):
         masks = [(k >= a) & (k <= b) for k in keys]
         prem_i = (prem[0] * masks[0][..., None], prem[1] * masks[1][..., None])
+        if report["fill_occluded"]:
+            # last channel: "known" = not hidden by a nearer layer (key in front of this layer's range)
+            prem_i = (np.concatenate([prem_i[0], (keys[0] >= a)[..., None].astype(np.float32)], axis=2),
+                      np.concatenate([prem_i[1], (keys[1] >= a)[..., None].astype(np.float32)], axis=2))
         sub = corr.subset(sel)
         if i == n - 1:
             bbox = full  # the farthest layer holds the background: the whole images
         else:
             boxes = [np.zeros((0, 2)) if b_ is None else b_ for b_ in (mask_bbox(mk) for mk in masks)]
             bbox = mesh_canvas(H_rect_0, H_rect_1, sub.pts0, sub.pts1, shape0, shape1, *boxes)
-        out.append(build_layer(prem_i, sub, bbox, frame_grid, H_rect_0, H_rect_1))
+        layer = build_layer(prem_i, sub, bbox, frame_grid, H_rect_0, H_rect_1)
+        layer.known = bool(report["fill_occluded"])
+        out.append(layer)
     return out, report

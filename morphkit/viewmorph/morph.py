@@ -103,7 +103,7 @@ from .fundamental import (
     sampson_distance,
 )
 from .images import prepare_pair
-from .layers import FAR_POSITION, MorphLayer, build_layers, concat_correspondences
+from .layers import FAR_POSITION, MorphLayer, build_layers, concat_correspondences, known_mix
 from .postwarp import (
     FRAMES,
     PostWarpPoints,
@@ -162,6 +162,10 @@ class ViewMorpher:
         required for ``layers > 1``.
     layer_overlap : float
         Overlap of neighbouring layers, a fraction of the pairs' depth range.
+    fill_occluded : bool
+        Layered morphs: where a nearer layer hides a layer in one image, fill it
+        from the other image instead of blending with transparency
+        (:func:`~morphkit.viewmorph.layers.known_mix`). No effect with one layer.
 
     Attributes
     ----------
@@ -195,7 +199,7 @@ class ViewMorpher:
                  intrinsics: tuple[Any, Any] | None = None, fundamental: Any = None,
                  threshold: float = tol.VM_THRESHOLD_PX, fallback: str = "raise",
                  frame_grid: int = 9, seed: int = 0, layers: int | str = 1, layer_depth: Any = None,
-                 layer_overlap: float = tol.VM_LAYER_OVERLAP) -> None:
+                 layer_overlap: float = tol.VM_LAYER_OVERLAP, fill_occluded: bool = False) -> None:
         if prewarp not in PREWARPS:
             raise ValidationError(expected_got("prewarp", f"one of {PREWARPS}", repr(prewarp)))
         if fallback not in FALLBACKS:
@@ -208,6 +212,8 @@ class ViewMorpher:
         if not 0.0 <= overlap < 0.5:
             raise ValidationError(expected_got("layer_overlap", "a fraction in [0, 0.5)",
                                                repr(layer_overlap)))
+        if not isinstance(fill_occluded, bool | np.bool_):
+            raise ValidationError(expected_got("fill_occluded", "a bool", repr(fill_occluded)))
         a, b, ch, dt = prepare_pair(image0, image1)
         self.shape0: tuple[int, int] = a.shape[:2]
         self.shape1: tuple[int, int] = b.shape[:2]
@@ -276,7 +282,8 @@ class ViewMorpher:
         # ---- depth layers, each with its own mesh in the shared rectified frame
         self._layers, layer_report = build_layers(
             self._prem, corr, n_layers, layer_depth, overlap, frame_grid,
-            H_rect_0=self.H_rect_0, H_rect_1=self.H_rect_1, shape0=self.shape0, shape1=self.shape1)
+            H_rect_0=self.H_rect_0, H_rect_1=self.H_rect_1, shape0=self.shape0, shape1=self.shape1,
+            fill_occluded=bool(fill_occluded))
         report.update(layer_report)
         self._canvas = self._layers[-1].canvas  # the farthest (or only) layer covers the whole images
         offs = np.cumsum([0] + [len(L.r0) for L in self._layers])
@@ -541,8 +548,8 @@ class ViewMorpher:
             m1, m2 = wm1.map1, wm1.map2
             if m1 is None:
                 return None
-            return wm1.roi, cv2.remap(prem1, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                                      borderValue=0)
+            a1 = cv2.remap(prem1, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            return wm1.roi, (a1[..., :-1] if layer.known else a1)
         wm0 = self._maps(layer.w0, dst, shape)
         m1, m2 = wm0.map1, wm0.map2
         if m1 is None:
@@ -550,7 +557,7 @@ class ViewMorpher:
         r_0, r_1, c_0, c_1 = wm0.roi
         a0 = cv2.remap(prem0, m1, m2, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         if s <= 0.0:
-            return wm0.roi, a0
+            return wm0.roi, (a0[..., :-1] if layer.known else a0)
         # image-1 positions: look the image-0 positions up in C1 (piecewise affine, s-independent)
         ox, oy = layer.c1_origin
         if m2 is None:
@@ -560,7 +567,7 @@ class ViewMorpher:
         pos1 = cv2.remap(layer.c1, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                          borderValue=(FAR_POSITION, FAR_POSITION, 0, 0))
         a1 = cv2.remap(prem1, pos1, None, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-        mix = cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
+        mix = known_mix(a0, a1, s) if layer.known else cv2.addWeighted(a0, 1.0 - s, a1, s, 0.0)
         if not layer.c1_far:
             # outside the mesh the C1 look-up of the warp's far position could land on the canvas
             np.copyto(mix, 0.0, where=~wm0.mask[r_0:r_1, c_0:c_1, None])
@@ -614,14 +621,16 @@ class ViewMorpher:
             lo = layer.canvas[0]
             cshape = rect0.shape[:2]
             q = layer.r0 + s * (layer.r1 - layer.r0) - lo
-            acc = None
-            for img, r, wgt in ((rect0, layer.r0, 1.0 - s), (rect1, layer.r1, s)):
-                if wgt <= 0.0:
-                    continue
-                wm = MeshWarper(r - lo, layer.tris).maps(q, cshape)
-                part = wm.apply(img, fill=0.0)
-                acc = part * np.float32(wgt) if acc is None else cv2.addWeighted(acc, 1.0, part, wgt, 0.0)
-            assert acc is not None
+            parts = [(MeshWarper(r - lo, layer.tris).maps(q, cshape).apply(img, fill=0.0), wgt)
+                     for img, r, wgt in ((rect0, layer.r0, 1.0 - s), (rect1, layer.r1, s)) if wgt > 0.0]
+            if layer.known and len(parts) == 2:
+                acc = known_mix(parts[0][0], parts[1][0], s)
+            elif layer.known:
+                acc = np.ascontiguousarray(parts[0][0][..., :-1])
+            else:
+                acc = parts[0][0] * np.float32(parts[0][1])
+                if len(parts) == 2:
+                    acc = cv2.addWeighted(acc, 1.0, parts[1][0], parts[1][1], 0.0)
             H_rect_canvas = np.array([[1.0, 0.0, lo[0]], [0.0, 1.0, lo[1]], [0.0, 0.0, 1.0]])
             img = cv2.warpPerspective(acc, H_out_rect @ H_rect_canvas, (shape[1], shape[0]),
                                       flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)

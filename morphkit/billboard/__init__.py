@@ -1,0 +1,83 @@
+"""View-dependent billboards (paper 2's system): assets with reference views on a ring,
+view-morphed by viewing direction, and scenes of many of them.
+
+One concept per module.
+
+Asset side:
+
+* :mod:`.ring` -- :class:`ViewRing`: where the reference views are (K = 2: the paper's
+  +-30 degree pair; K >= 3: a full ring) and which pair and fraction serve a viewing azimuth;
+* :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
+  maps onto;
+* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset` / :func:`bake_asset`: references,
+  the front view (classic billboard), the pair morphs and their pyramid; one versioned file.
+
+Scene side:
+
+* :mod:`.instances` -- N instances (asset, position, yaw, scale);
+* :mod:`.paths` -- camera paths: the paper's pan, an orbit, a fly-through;
+* :mod:`.facing` -- axial (the paper's) or screen-aligned quads, viewing azimuths;
+* :mod:`.frustum` -- frustum culling, near-plane clipping, quad homographies;
+* :mod:`.lod` -- pyramid level from the on-screen size;
+* :mod:`.cache` -- the bounded LRU morph cache with hit/miss counts;
+* :mod:`.backdrop` -- ground, sky and distance fog;
+* :mod:`.scene` -- the scene and its per-frame plan;
+* :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
+* :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
+* :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
+  meshes and Fig. 5 strips, video files, a path written to files, assets from names or files.
+
+An asset is anything implementing :class:`morphkit.protocols.BillboardSource`.
+Nothing here imports pyrender; bakes and the mesh mode render through a
+:class:`morphkit.protocols.SceneRenderer`.
+
+Typical use::
+
+    import numpy as np
+    from morphkit.billboard import BillboardScene, MorphMode, PanPath, bake_asset, place_random
+    from morphkit.meshes import sample_mesh
+    from morphkit.render import Renderer
+
+    with Renderer() as r:
+        tree = bake_asset(sample_mesh("tree"), r, name="tree", views=8)
+    scene = BillboardScene({"tree": tree}, place_random(["tree"], 500, np.random.default_rng(0)))
+    mode = MorphMode()
+    for cam in PanPath.over(17.0).cameras(48):
+        frame = scene.render(cam, mode)      # frame.rgb, frame.stats.hits / misses
+"""
+
+from __future__ import annotations
+
+from .asset import BAKE_AMBIENT, BillboardAsset, bake_asset, bake_items, bake_lights, mesh_hash
+from .assetfile import FORMAT, VERSION
+from .backdrop import Backdrop, Fog, Ground, Sky
+from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
+from .cameras import QuadCameras
+from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .instances import Instance, Instances, place_random
+from .modes import (
+    BillboardMode,
+    ClassicMode,
+    CrossfadeMode,
+    FrameMode,
+    MeshMode,
+    MorphMode,
+    NearestMode,
+)
+from .paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
+from .ring import ViewRing, wrap_deg
+from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
+
+__all__ = [
+    # asset side
+    "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "bake_items",
+    "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg",
+    # scene side
+    "Backdrop", "Fog", "Ground", "Sky",
+    "CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s",
+    "Facing", "AxialFacing", "ScreenFacing", "ViewDirections", "view_directions", "paper_angle",
+    "Instance", "Instances", "place_random",
+    "FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode", "MeshMode",
+    "CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path",
+    "BillboardScene", "Frame", "FramePlan", "FrameStats", "Placement",
+]

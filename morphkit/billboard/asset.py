@@ -1,0 +1,617 @@
+"""Billboard assets: reference views of one mesh on a ring, and the view morphs between them.
+
+An asset holds, for one (normalised) mesh, ``K`` reference views rendered on a
+:class:`~morphkit.billboard.ring.ViewRing` by the camera rule of
+:class:`~morphkit.billboard.cameras.QuadCameras` (premultiplied RGBA and linear
+depth), a front view for the classic billboard, and for each pair of
+neighbouring references the correspondences their view morph needs. Every
+image it returns -- a reference, a morph at any ``s``, a crossfade -- is in the
+image frame of the camera of the rule at its azimuth, so it maps onto the
+billboard quad by one rule (:mod:`.cameras`): the quad's geometry does not
+depend on ``s`` or on the level.
+
+The morph
+---------
+For a pair ``(i, j)`` and ``s`` in ``(0, 1)``: a
+:class:`~morphkit.viewmorph.ViewMorpher` of the two references with dense
+correspondences from their depth maps (:func:`~morphkit.viewmorph.from_depth`),
+plus each view's outline points the other does not see (:data:`RIM_STEP`),
+F estimated from them, the pre-warps, and depth layers where parts cross
+(:data:`DEFAULT_LAYERS`, keys from :func:`~morphkit.viewmorph.pair_depth`; a layer's
+pixels hidden by a nearer layer in one view are filled from the other view,
+``fill_occluded=True``), morphed
+at ``s`` and post-warped to the in-between camera
+(:meth:`~morphkit.billboard.QuadCameras.chord_camera`: centre ``(1 - s) C_i + s C_j``,
+image plane and quad by the rule; ``post=camera``, the least-squares homography
+taking the morphed correspondences to their projections in that camera -- exact
+in theory, since the morph is the view from that centre). ``s`` is the chord
+fraction of :mod:`.ring`. At ``s = 0`` and ``s = 1`` exactly, the reference
+itself is returned (no resampling).
+
+Level of detail
+---------------
+Level ``l`` (``0 <= l < levels``) images have shape ``cameras.level_shape(l)``,
+about ``2^-l`` of level 0: the premultiplied references area-averaged
+(``cv2.resize``, ``INTER_AREA``, which keeps the image's edges on the quad's
+edges). A level's morpher uses the level-0 correspondences projected into the
+level's cameras, thinned to ``4^-l`` of them (spread over the image,
+:func:`~morphkit.viewmorph.from_geometry`), and the depth keys resized
+(nearest). **The bake builds every pair's level-0 morpher**, so a pair that
+cannot be morphed is refused there, never at frame time; the other levels, and
+every morpher of a loaded asset (from the same stored data), are built
+**lazily** on first use, or all at once by :meth:`BillboardAsset.prepare`. A
+lower level whose morpher cannot be built falls back to the level-0 morph,
+area-averaged (:attr:`BillboardAsset.level_fallbacks`).
+
+Lighting
+--------
+The bake renders :func:`bake_items` (the mesh coloured by a 3-D checker,
+:func:`morphkit.scenes.checker_items`) under :func:`bake_lights` (one
+directional light straight down) with ambient :data:`BAKE_AMBIENT`: the
+lighting does not depend on the view or on an instance's yaw, so a ground
+truth rendered from any direction with the same items and lights matches.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import cv2
+import numpy as np
+import trimesh
+
+from .. import tol
+from ..camera import CameraModel
+from ..composite import from_premultiplied, to_premultiplied
+from ..errors import (
+    DegenerateViewError,
+    FileFormatError,
+    GeometryError,
+    MeshError,
+    ValidationError,
+    expected_got,
+)
+from ..meshes import normalize
+from ..protocols import SceneRenderer
+from ..scene import DirectionalLight, Item, Light
+from ..scenes import checker_items
+from ..viewmorph import Correspondences, ViewMorpher, from_depth, from_geometry, pair_depth
+from .assetfile import AssetRecord, read_record, write_record
+from .cameras import QuadCameras
+from .ring import ViewRing
+
+__all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
+           "DEFAULT_LAYERS"]
+
+#: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
+BAKE_AMBIENT = 0.35
+
+#: Outline ("rim") points of each reference are kept in its pairs' correspondences even
+#: where the other view does not see them (:func:`~morphkit.viewmorph.from_depth` with
+#: ``rtol=inf``), every ``RIM_STEP`` times the outline spacing of the shared points: they
+#: carry each view's silhouette along its geometric motion, where the shared points alone
+#: leave it to the mesh's interpolation (a half-transparent halo at the outline). Denser
+#: rims fold over more and cost bake time for no gain (``morphkit bench billboards``).
+RIM_STEP = 4
+
+#: ``ViewMorpher(layers=...)`` of the assets' morphs: three depth layers. Neighbouring
+#: references 30-60 degrees apart see parts pass behind each other for every sample
+#: mesh, so ``"auto"`` always layered (with two); three followed the crossings better
+#: (``morphkit bench billboards``; docs/RESULTS.md).
+DEFAULT_LAYERS: int | str = 3
+
+
+def bake_lights() -> list[Light]:
+    """The lights of the bake renders: one directional light straight down (``-z``),
+    intensity 3 (yaw- and view-independent; with :data:`BAKE_AMBIENT`)."""
+    return [DirectionalLight(np.array([0.0, 0.0, -1.0]), intensity=3.0)]
+
+
+def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
+    """The render items of a bake: ``mesh`` (object frame, identity pose) coloured by the
+    3-D checker of :func:`morphkit.scenes.checker_items`. Pass the normalised mesh
+    (:func:`morphkit.meshes.normalize`) to match an asset's references."""
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise MeshError(expected_got("mesh", "a trimesh.Trimesh", type(mesh).__name__))
+    return checker_items(mesh)
+
+
+def mesh_hash(mesh: trimesh.Trimesh) -> str:
+    """sha256 (hex) of the normalised mesh's vertices (float64, rounded to 1e-9) and faces (int64).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Any mesh; it is normalised first (:func:`morphkit.meshes.normalize`), so
+        the hash names the shape an asset was baked from. The rounding (1e-9 of
+        the normalised size) makes a moved or rescaled copy hash alike: its
+        normalisation differs from the original's in the last bits only.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
+    norm = normalize(mesh)
+    h = hashlib.sha256()
+    v = np.round(np.asarray(norm.vertices, dtype=np.float64), 9) + 0.0  # + 0.0: no negative zeros
+    h.update(np.ascontiguousarray(v).tobytes())
+    h.update(np.ascontiguousarray(norm.faces, dtype=np.int64).tobytes())
+    return h.hexdigest()
+
+
+def _sampling(shape: tuple[int, int]) -> tuple[int, int]:
+    """``(step, contour_step)`` of :func:`from_depth` for views of ``shape``: the
+    bench's 6 and 2 at 256^2, scaled with the image (so the pairs cover the object alike)."""
+    side = min(shape)
+    return max(2, round(6 * side / 256)), max(1, round(2 * side / 256))
+
+
+def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
+    """uint8 straight RGBA -> premultiplied float32 RGBA, colour and alpha in [0, 1]."""
+    p = to_premultiplied(rgba, 4)  # colour in 0..255 times alpha, alpha in [0, 1]
+    p[..., :3] *= np.float32(1.0 / 255.0)
+    return p
+
+
+def _check_levels(levels: Any, cameras: QuadCameras) -> int:
+    """``levels`` as an int >= 1 whose smallest level is at least 8 px on a side."""
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
+        raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
+    if min(cameras.level_shape(int(levels) - 1)) < 8:
+        raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
+                                           f"{int(levels)} levels of {cameras.shape}"))
+    return int(levels)
+
+
+def _check_level(level: Any, levels: int) -> int:
+    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or not 0 <= int(level) < levels:
+        raise ValidationError(expected_got("level", f"an int in [0, {levels})", repr(level)))
+    return int(level)
+
+
+def _check_s(s: Any) -> float:
+    try:
+        v = float(s)
+    except (TypeError, ValueError) as exc:
+        raise ValidationError(expected_got("s", "a number in [0, 1]", repr(s))) from exc
+    if not 0.0 <= v <= 1.0:
+        raise ValidationError(expected_got("s", "a number in [0, 1]", v))
+    return v
+
+
+class BillboardAsset:
+    """One mesh's reference views, front view and pair morphs (see the module docstring).
+
+    Build one with :func:`bake_asset` or :meth:`load`; the constructor takes the
+    stored data (an :class:`~morphkit.billboard.assetfile.AssetRecord`).
+
+    Attributes
+    ----------
+    name : str
+    mesh_hash : str
+        :func:`mesh_hash` of the mesh the asset was baked from.
+    ring : ViewRing
+    cameras : QuadCameras
+        The camera rule and quad.
+    levels : int
+        Pyramid levels (level ``l``: ``cameras.level_shape(l)``).
+    layers : int or "auto"
+        ``ViewMorpher(layers=...)`` of the morphs.
+    """
+
+    def __init__(self, record: AssetRecord) -> None:
+        self.name = record.name
+        if not self.name:
+            raise ValidationError(expected_got("name", "a non-empty string", repr(self.name)))
+        self.mesh_hash = record.mesh_hash
+        self.ring = ViewRing(record.ring["views"], record.ring["arc_deg"], record.ring["elevation_deg"])
+        q = record.quad
+        self.cameras = QuadCameras(np.asarray(q["pivot"], dtype=np.float64), q["distance"],
+                                   q["elevation_deg"], tuple(q["half_extent"]), tuple(q["shape"]))
+        if self.cameras.elevation_deg != self.ring.elevation_deg:
+            raise ValidationError(expected_got("quad elevation", f"the ring's {self.ring.elevation_deg}",
+                                               self.cameras.elevation_deg))
+        if [tuple(p) for p in record.pairs] != self.ring.pairs():
+            raise ValidationError(expected_got("pairs", self.ring.pairs(), record.pairs))
+        self.levels = _check_levels(record.levels, self.cameras)
+        if not (record.layers == "auto" or (isinstance(record.layers, int) and record.layers >= 1)):
+            raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(record.layers)))
+        self.layers = record.layers
+        k = self.ring.views
+        h, w = self.cameras.shape
+        if record.images.shape != (k, h, w, 4) or record.images.dtype != np.uint8:
+            raise ValidationError(expected_got("images", f"uint8 ({k}, {h}, {w}, 4)",
+                                               f"{record.images.dtype} {record.images.shape}"))
+        if record.depth.shape != (k, h, w):
+            raise ValidationError(expected_got("depth", f"({k}, {h}, {w})", record.depth.shape))
+        self._record = record
+        az = self.ring.azimuths_deg()
+        self._front_view = int(record.front_view)
+        if self._front_view >= 0 and az[self._front_view] != 0.0:
+            raise ValidationError(expected_got("front_view", "a reference at azimuth 0",
+                                               f"view {self._front_view} at {az[self._front_view]}"))
+        # premultiplied float32 pyramids, read-only: [level] -> (K, h, w, 4); front: [level] -> (h, w, 4)
+        base = np.stack([_unit_premultiplied(im) for im in record.images])
+        self._prem = [self._pyramid_level(base, lv) for lv in range(self.levels)]
+        if self._front_view < 0:
+            fb = _unit_premultiplied(record.front)
+            self._front = [self._pyramid_level(fb[None], lv)[0] for lv in range(self.levels)]
+        else:
+            self._front = [p[self._front_view] for p in self._prem]
+        self._depth = np.asarray(record.depth, dtype=np.float32)
+        offs = record.offsets
+        self._points = [np.asarray(record.points3d[offs[p]:offs[p + 1]], dtype=np.float64)
+                        for p in range(len(self.ring.pairs()))]
+        self._morphers: dict[tuple[int, int], ViewMorpher] = {}
+        self._cams: dict[tuple[int, int], CameraModel] = {}
+        #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
+        #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
+        self.level_fallbacks: set[tuple[int, int]] = set()
+
+    # ------------------------------------------------------------------ data
+    def _pyramid_level(self, base: np.ndarray, level: int) -> np.ndarray:
+        if level == 0:
+            out = np.ascontiguousarray(base, dtype=np.float32)
+        else:
+            h, w = self.cameras.level_shape(level)
+            out = np.stack([cv2.resize(b, (w, h), interpolation=cv2.INTER_AREA) for b in base])
+        out.setflags(write=False)
+        return out
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """``(H, W)`` of the level-0 images."""
+        return self.cameras.shape
+
+    @property
+    def half_extent(self) -> tuple[float, float]:
+        """``(half_width, half_height)`` of the billboard quad, scene units (object frame)."""
+        return self.cameras.half_extent
+
+    @property
+    def pivot(self) -> np.ndarray:
+        """``(3,)`` quad centre in the object frame."""
+        return self.cameras.pivot
+
+    @property
+    def image_bytes(self) -> int:
+        """Bytes of the colour images at 8 bits per channel (RGBA), all levels: the references
+        and, when it is not one of them, the front view (what a texture memory would hold)."""
+        n = sum(4 * self.ring.views * int(np.prod(self.cameras.level_shape(lv))) for lv in range(self.levels))
+        if self._front_view < 0:
+            n += sum(4 * int(np.prod(self.cameras.level_shape(lv))) for lv in range(self.levels))
+        return n
+
+    @property
+    def memory_bytes(self) -> int:
+        """Bytes of the asset's data at its storage precision: :attr:`image_bytes`, plus the
+        float16 depth maps (level 0) and the float32 correspondence points its morphs are
+        built from. (Built morphers hold more; they are caches.)"""
+        rec = self._record
+        return self.image_bytes + int(rec.depth.nbytes) + int(rec.points3d.nbytes) + int(rec.offsets.nbytes)
+
+    def camera(self, azimuth_deg: float, level: int = 0) -> CameraModel:
+        """The camera of the view the asset shows for a viewing azimuth, at ``level``.
+
+        ``ring.pair(azimuth_deg)`` gives ``(i, j, s)``; this is the in-between camera of that
+        morph (:meth:`QuadCameras.chord_camera`), the frame of :meth:`morph` ``(i, j, s)``
+        (render the mesh with it for a ground truth). For ``K = 2`` outside the arc, the
+        clamped reference's camera (the true view from there is ``cameras.camera(azimuth_deg)``).
+        """
+        level = _check_level(level, self.levels)
+        i, j, s, _ = self.ring.pair(azimuth_deg)
+        az = self.ring.azimuths_deg()
+        return self.cameras.chord_camera(az[i], az[j], s, level)
+
+    def reference(self, k: int, level: int = 0) -> np.ndarray:
+        """Reference view ``k``: premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only."""
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= int(k) < self.ring.views:
+            raise ValidationError(expected_got("view index k", f"an int in [0, {self.ring.views})", repr(k)))
+        return self._prem[_check_level(level, self.levels)][int(k)]
+
+    def classic(self, level: int = 0) -> np.ndarray:
+        """The front view (azimuth 0): the classic billboard's one image for every direction.
+        Premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only."""
+        return self._front[_check_level(level, self.levels)]
+
+    def crossfade(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+        """Baseline: ``(1 - s) reference(i) + s reference(j)`` (premultiplied), new float32 array."""
+        i, j = self.ring.check_pair(i, j)
+        s = _check_s(s)
+        return cv2.addWeighted(self.reference(i, level), 1.0 - s, self.reference(j, level), s, 0.0)
+
+    def nearest(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+        """Baseline: the nearer reference (``i`` for ``s <= 1/2``), read-only."""
+        i, j = self.ring.check_pair(i, j)
+        return self.reference(i if _check_s(s) <= 0.5 else j, level)
+
+    def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+        """The view at fraction ``s`` from reference ``i`` to ``j`` (neighbours; either order).
+
+        Parameters
+        ----------
+        i, j : int
+            Neighbouring references (:meth:`ViewRing.pairs`, or reversed).
+        s : float
+            In [0, 1], the chord fraction (:mod:`.ring`); the view's azimuth is
+            ``ring.pair_azimuth_deg(i, j, s)`` and its camera ``cameras.chord_camera``.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        numpy.ndarray
+            Premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1] (a new array) in the frame of
+            :meth:`camera` at that azimuth and level; exactly :meth:`reference` at ``s = 0, 1``.
+
+        Raises
+        ------
+        ValidationError
+            Not neighbours, ``s`` outside [0, 1], a bad level.
+
+        Notes
+        -----
+        The first morph of a (pair, level) builds its morpher (the bake builds level 0;
+        :meth:`prepare` builds the rest ahead). A level whose morpher cannot be built --
+        its level-0 morpher was built at bake time, from the same points -- falls back to
+        the level-0 morph, area-averaged, and is listed in :attr:`level_fallbacks`:
+        never an error at frame time.
+        """
+        i, j = self.ring.check_pair(i, j)
+        s = _check_s(s)
+        level = _check_level(level, self.levels)
+        if (i, j) not in self.ring.pairs():
+            i, j, s = j, i, 1.0 - s
+        if s == 0.0:
+            return self.reference(i, level).copy()
+        if s == 1.0:
+            return self.reference(j, level).copy()
+        p = self.ring.pairs().index((i, j))
+        if level > 0 and (p, level) not in self.level_fallbacks:
+            try:
+                self.morpher(p, level)
+            except DegenerateViewError:  # level 0 of this pair was built at bake time
+                self.level_fallbacks.add((p, level))
+        if (p, level) in self.level_fallbacks:
+            h, w = self.cameras.level_shape(level)
+            return cv2.resize(self.morph(i, j, s, 0), (w, h), interpolation=cv2.INTER_AREA)
+        vm = self.morpher(p, level)
+        az = self.ring.azimuths_deg()
+        cam = self.cameras.chord_camera(az[i], az[j], s, level)
+        return to_premultiplied(vm.morph(s, post=cam, frame="fixed"), 4)
+
+    # ------------------------------------------------------------------ morphers
+    def correspondences(self, pair: int, level: int = 0) -> Correspondences:
+        """The correspondences of ``ring.pairs()[pair]`` at ``level``: the stored points
+        projected into the pair's level cameras (thinned to ``4^-level`` of them)."""
+        pairs = self.ring.pairs()
+        if isinstance(pair, bool) or not isinstance(pair, (int, np.integer)) \
+                or not 0 <= int(pair) < len(pairs):
+            raise ValidationError(expected_got("pair", f"an int in [0, {len(pairs)})", repr(pair)))
+        level = _check_level(level, self.levels)
+        i, j = pairs[int(pair)]
+        ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
+        pts = self._points[int(pair)]
+        n = len(pts) if level == 0 else max(tol.BB_MIN_CORRESPONDENCES, math.ceil(len(pts) / 4**level))
+        return from_geometry(pts, ci, cj, max_points=n, rng=np.random.default_rng(0))
+
+    def morpher(self, pair: int, level: int = 0) -> ViewMorpher:
+        """The (cached) :class:`ViewMorpher` of ``ring.pairs()[pair]`` at ``level``: straight
+        RGBA float32 references of that level in, the pair's correspondences, depth keys."""
+        level = _check_level(level, self.levels)
+        key = (int(pair), level)
+        vm = self._morphers.get(key)
+        if vm is not None:
+            return vm
+        corr = self.correspondences(pair, level)
+        i, j = self.ring.pairs()[int(pair)]
+        az = self.ring.azimuths_deg()
+        ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
+        h, w = self.cameras.level_shape(level)
+        di, dj = (self._depth[k] if level == 0 else
+                  cv2.resize(self._depth[k], (w, h), interpolation=cv2.INTER_NEAREST) for k in (i, j))
+        imgs = [from_premultiplied(self._prem[level][k], 4, np.dtype(np.float32)) for k in (i, j)]
+        try:
+            vm = ViewMorpher(imgs[0], imgs[1], corr, layers=self.layers,
+                             layer_depth=pair_depth(ci, cj, di, dj),
+                             fill_occluded=True)
+        except (ValidationError, GeometryError) as exc:
+            raise DegenerateViewError(expected_got(
+                f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) at level {level}",
+                "two views a view morph can join", f"{type(exc).__name__}: {exc}")) from exc
+        self._morphers[key] = vm
+        return vm
+
+    def _ref_camera(self, k: int, level: int) -> CameraModel:
+        cam = self._cams.get((k, level))
+        if cam is None:
+            cam = self._cams[(k, level)] = self.cameras.camera(self.ring.azimuths_deg()[k], level)
+        return cam
+
+    def prepare(self, levels: Sequence[int] | None = None) -> BillboardAsset:
+        """Build the morphers of every pair at ``levels`` (default: all) now, instead of on
+        first use. The bake builds level 0 (so every pair is checked there); call this
+        before timing frames so no frame pays for a build. Returns ``self``.
+
+        Raises
+        ------
+        DegenerateViewError
+            A pair cannot be morphed at some level (the message names the pair and level).
+        """
+        for lv in range(self.levels) if levels is None else levels:
+            for p in range(len(self.ring.pairs())):
+                self.morpher(p, lv)
+        return self
+
+    # ------------------------------------------------------------------ files
+    def record(self) -> AssetRecord:
+        """The stored data (what :meth:`save` writes)."""
+        return self._record
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the asset to one versioned ``.npz`` file (:mod:`.assetfile`), atomically."""
+        return write_record(path, self._record)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str], *, mesh: trimesh.Trimesh | None = None) -> BillboardAsset:
+        """Read an asset written by :meth:`save`; morphers are built on first use.
+
+        Parameters
+        ----------
+        path : path-like
+        mesh : trimesh.Trimesh, optional
+            The mesh the asset is meant for; its :func:`mesh_hash` must be the file's.
+
+        Raises
+        ------
+        FileFormatError
+            Missing, truncated or corrupt file, another format or version, missing keys,
+            inconsistent contents (cameras that do not follow the rule); with ``mesh``,
+            an asset baked from another mesh (the message names both hashes).
+        """
+        rec = read_record(path)
+        if mesh is not None:
+            want = mesh_hash(mesh)
+            if want != rec.mesh_hash:
+                raise FileFormatError(expected_got(
+                    f"billboard asset {Path(path).name} mesh hash", f"{want} (the given mesh's)",
+                    f"{rec.mesh_hash} (baked from another mesh)"))
+        try:
+            asset = cls(rec)
+        except (ValidationError, GeometryError) as exc:
+            raise FileFormatError(expected_got(f"billboard asset {Path(path).name}", "consistent contents",
+                                               str(exc))) from exc
+        asset._check_cameras()
+        return asset
+
+    def _check_cameras(self) -> None:
+        for k, (a, c) in enumerate(zip(self.ring.azimuths_deg(), self._record.cameras, strict=True)):
+            cam = self.cameras.camera(a)
+            try:
+                ok = (float(c["azimuth_deg"]) == float(a)
+                      and np.allclose(np.asarray(c["K"], dtype=np.float64), cam.K, rtol=0, atol=1e-9)
+                      and np.allclose(np.asarray(c["cam2world"], dtype=np.float64), cam.cam2world,
+                                      rtol=0, atol=1e-9))
+            except (KeyError, TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise FileFormatError(expected_got(f"billboard asset camera {k}",
+                                                   "the camera rule's (quad and ring in the file)", c))
+
+
+def _camera_dict(azimuth_deg: float, cam: CameraModel) -> dict[str, Any]:
+    return {"azimuth_deg": float(azimuth_deg), "K": cam.K.tolist(), "cam2world": cam.cam2world.tolist()}
+
+
+def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "asset", views: int = 2,
+               size: int | tuple[int, int] = 256, arc_deg: float | None = None, elevation_deg: float = 10.0,
+               levels: int = 3, layers: int | str = DEFAULT_LAYERS, progress: bool = False) -> BillboardAsset:
+    """Render ``mesh``'s reference views and prepare every pair's morph (see the module docstring).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Any mesh; it is normalised (:func:`morphkit.meshes.normalize`) first: the
+        asset's object frame is the normalised mesh's.
+    renderer : SceneRenderer
+        E.g. :class:`morphkit.render.Renderer`.
+    name : str
+        The asset's name (cache keys, file names).
+    views : int
+        ``K >= 2`` (:class:`ViewRing`); ``K = 1`` is refused (the classic billboard
+        needs no bake: :meth:`BillboardAsset.classic` of any asset).
+    size : int or (H, W)
+        Level-0 image shape (an int: square).
+    arc_deg : float, optional
+        ``K = 2``: angle between the two views (default 60: +-30 degrees). Leave out for ``K >= 3``.
+    elevation_deg : float
+        Camera elevation, degrees.
+    levels : int
+        Pyramid levels (each half the resolution of the one before; the smallest >= 8 px).
+    layers : int or "auto"
+        Depth layers of the morphs (``ViewMorpher(layers=...)``).
+    progress : bool
+        Show a progress bar (tqdm; silent when not a terminal).
+
+    Returns
+    -------
+    BillboardAsset
+        With every pair's level-0 morpher built (the rest on first use or by ``prepare()``).
+
+    Raises
+    ------
+    ValidationError
+        Bad arguments (``K = 1`` included).
+    MeshError
+        ``mesh`` is not a usable mesh.
+    DegenerateViewError
+        A pair of neighbouring views shares fewer than :data:`tol.BB_MIN_CORRESPONDENCES`
+        correspondences, or cannot be morphed (F, pre-warp); the message names the pair.
+    """
+    from tqdm import tqdm
+
+    ring = ViewRing(views, arc_deg, elevation_deg)
+    shape = (size, size) if isinstance(size, (int, np.integer)) and not isinstance(size, bool) else size
+    if not isinstance(name, str) or not name:
+        raise ValidationError(expected_got("name", "a non-empty string", repr(name)))
+    norm = normalize(mesh)
+    digest = mesh_hash(norm)
+    az = ring.azimuths_deg()
+    cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az)
+    _check_levels(levels, cams)
+    items, lights = bake_items(norm), bake_lights()
+    front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)
+    pairs = ring.pairs()
+    bar = tqdm(total=ring.views + (front_view < 0) + len(pairs) + 1, desc=f"baking billboard {name}",
+               unit="step", disable=None if progress else True, leave=False)
+    try:
+        images, depths = [], []
+        for a in az:
+            cam = cams.camera(a)
+            images.append(renderer.source_view(cam, items, lights, ambient=BAKE_AMBIENT))
+            depths.append(renderer.depth(cam, items))
+            bar.update()
+        if front_view < 0:
+            front = renderer.source_view(cams.camera(0.0), items, lights, ambient=BAKE_AMBIENT)
+            bar.update()
+        else:
+            front = np.zeros((0, 0, 4), np.uint8)
+        step, contour_step = _sampling(cams.shape)
+        points = []
+        for i, j in pairs:
+            ci, cj = cams.camera(az[i]), cams.camera(az[j])
+            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step)
+            if len(corr) < tol.BB_MIN_CORRESPONDENCES:
+                raise DegenerateViewError(expected_got(
+                    f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",
+                    f"at least {tol.BB_MIN_CORRESPONDENCES} correspondences (tol.BB_MIN_CORRESPONDENCES) "
+                    "between the two views", len(corr)))
+            rim = from_depth(ci, cj, depths[i], depths[j], step=0, contour_step=RIM_STEP * contour_step,
+                             rtol=np.inf)
+            assert corr.points3d is not None and rim.points3d is not None
+            points.append(np.concatenate([corr.points3d, rim.points3d]).astype(np.float32))
+            bar.update()
+        record = AssetRecord(
+            name=name, mesh_hash=digest,
+            ring={"views": ring.views, "arc_deg": ring.arc_deg, "elevation_deg": ring.elevation_deg},
+            quad={"pivot": cams.pivot.tolist(), "distance": cams.distance,
+                  "elevation_deg": cams.elevation_deg, "half_extent": list(cams.half_extent),
+                  "shape": list(cams.shape)},
+            levels=levels, layers=layers, pairs=pairs, front_view=front_view,
+            cameras=[_camera_dict(a, cams.camera(a)) for a in az],
+            images=np.stack(images), depth=np.stack(depths).astype(np.float16),
+            points3d=np.concatenate(points),
+            offsets=np.cumsum([0] + [len(p) for p in points]).astype(np.int64),
+            front=front)
+        asset = BillboardAsset(record).prepare(levels=[0])
+        bar.update()
+    finally:
+        bar.close()
+    return asset
+

@@ -1,0 +1,134 @@
+"""The backdrop of a billboard scene: a ground, a sky and distance fog, drawn in numpy.
+
+Every camera pixel's ray (:meth:`CameraModel.rays`) either meets the ground
+plane ``z = 0`` -- a checker of two colours (or one flat colour) -- or the sky, a
+vertical gradient from a horizon colour to a zenith colour. Distance fog (like
+the paper's Fig. 1) blends a colour in by ``1 - exp(-density * distance)``; the
+ground gets it per pixel, billboards per instance (:meth:`Fog.factor` at the
+pivot's distance). The image is drawn once per camera and reused while the
+camera stays (:meth:`Backdrop.draw` keeps the last one).
+
+Colours are RGB in ``[0, 1]``; images are float32 ``(H, W, 3)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..validate import as_finite_array
+
+__all__ = ["Fog", "Ground", "Sky", "Backdrop"]
+
+
+def _rgb(c: object, name: str) -> tuple[float, float, float]:
+    v = as_finite_array(c, name, shape=(3,))
+    if v.min() < 0 or v.max() > 1:
+        raise ValidationError(expected_got(name, "RGB values in [0, 1]", v.tolist()))
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+@dataclass(frozen=True)
+class Fog:
+    """Exponential distance fog: a point at distance ``d`` keeps ``exp(-density d)`` of its colour.
+
+    Parameters
+    ----------
+    color : RGB in [0, 1]
+    density : float
+        Per scene unit (>= 0; 0 is no fog).
+    """
+
+    color: tuple[float, float, float] = (0.78, 0.84, 0.90)
+    density: float = 0.03
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "color", _rgb(self.color, "fog color"))
+        d = float(self.density)
+        if not np.isfinite(d) or d < 0:
+            raise ValidationError(expected_got("fog density", "a finite number >= 0", self.density))
+        object.__setattr__(self, "density", d)
+
+    def factor(self, distance: np.ndarray) -> np.ndarray:
+        """Fraction of fog colour, ``1 - exp(-density * distance)``, same shape as ``distance``."""
+        return -np.expm1(-self.density * np.asarray(distance, dtype=np.float64))
+
+
+@dataclass(frozen=True)
+class Ground:
+    """The ground plane ``z = 0``: a checker of ``cell``-sized squares, or flat (``cell=None``)."""
+
+    color_a: tuple[float, float, float] = (0.42, 0.55, 0.32)
+    color_b: tuple[float, float, float] = (0.36, 0.48, 0.27)
+    cell: float | None = 1.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "color_a", _rgb(self.color_a, "ground color_a"))
+        object.__setattr__(self, "color_b", _rgb(self.color_b, "ground color_b"))
+        if self.cell is not None and not (np.isfinite(self.cell) and self.cell > 0):
+            raise ValidationError(expected_got("ground cell", "None or a finite number > 0", self.cell))
+
+
+@dataclass(frozen=True)
+class Sky:
+    """A vertical gradient: ``horizon`` at elevation 0 to ``zenith`` straight up."""
+
+    horizon: tuple[float, float, float] = (0.78, 0.84, 0.90)
+    zenith: tuple[float, float, float] = (0.35, 0.55, 0.85)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "horizon", _rgb(self.horizon, "sky horizon"))
+        object.__setattr__(self, "zenith", _rgb(self.zenith, "sky zenith"))
+
+
+@dataclass
+class Backdrop:
+    """Ground + sky (+ fog) of a scene; :meth:`draw` renders them for a camera.
+
+    Parameters
+    ----------
+    ground : Ground
+    sky : Sky
+    fog : Fog or None
+    """
+
+    ground: Ground = field(default_factory=Ground)
+    sky: Sky = field(default_factory=Sky)
+    fog: Fog | None = None
+    _last: tuple[tuple[object, ...], np.ndarray] | None = field(default=None, init=False, repr=False)
+
+    def draw(self, camera: CameraModel) -> np.ndarray:
+        """The backdrop seen by ``camera``: float32 ``(H, W, 3)`` RGB in ``[0, 1]`` (read-only;
+        the same array while the camera is unchanged)."""
+        key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
+               camera.cam2world.tobytes())
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
+        o, d = camera.rays()
+        dz = d[..., 2]
+        down = dz < -1e-12
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(down, -o[..., 2] / dz, np.inf)
+        hit = down & (t > 0)
+        img = np.empty(camera.shape + (3,), np.float32)
+        elev = np.clip(dz, 0.0, 1.0)[..., None]
+        sky_h, sky_z = np.asarray(self.sky.horizon), np.asarray(self.sky.zenith)
+        img[:] = sky_h + np.sqrt(elev) * (sky_z - sky_h)
+        if hit.any():
+            p = o[hit] + t[hit, None] * d[hit]
+            ca, cb = np.asarray(self.ground.color_a), np.asarray(self.ground.color_b)
+            if self.ground.cell is None:
+                col = np.broadcast_to(ca, p[:, :3].shape).copy()
+            else:
+                parity = (np.floor(p[:, 0] / self.ground.cell) + np.floor(p[:, 1] / self.ground.cell)) % 2
+                col = np.where(parity[:, None] > 0.5, cb, ca)
+            if self.fog is not None:
+                f = self.fog.factor(t[hit])[:, None]
+                col = col * (1 - f) + f * np.asarray(self.fog.color)
+            img[hit] = col
+        img.setflags(write=False)
+        self._last = (key, img)
+        return img

@@ -1,0 +1,211 @@
+"""Billboard instances: which asset stands where, turned how far, how large.
+
+A scene holds ``N`` instances, stored as arrays (struct of arrays) so that a
+frame can cull and orient 10,000 of them in a few numpy passes. Frames follow
+:mod:`morphkit.conventions` (world ``+z`` up, the ground is ``z = 0``): an
+instance's ``object2world`` pose is ``translation(x, y, 0) @ Rz(yaw) @ scale``,
+so its asset's object frame stands on the ground at ``(x, y)`` with its front
+(object ``+x``, azimuth 0) turned ``yaw_deg`` counter-clockwise about ``+z``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ValidationError, expected_got
+from ..validate import as_finite_array, as_positive
+
+__all__ = ["Instance", "Instances", "place_random"]
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One billboard instance (a record of :class:`Instances`).
+
+    Parameters
+    ----------
+    asset : str
+        Name of the asset it shows (a key of the scene's assets).
+    x, y : float
+        Position on the ground, scene units.
+    yaw_deg : float
+        Turn of the asset's front about ``+z``, degrees, counter-clockwise.
+    scale : float
+        Uniform scale of the asset (> 0).
+    """
+
+    asset: str
+    x: float
+    y: float
+    yaw_deg: float = 0.0
+    scale: float = 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class Instances:
+    """``N`` billboard instances as arrays.
+
+    Parameters
+    ----------
+    names : tuple of str
+        The distinct asset names; ``asset`` indexes into it.
+    asset : (N,) int64
+        Asset index of each instance.
+    xy : (N, 2) float64
+        Ground positions, scene units.
+    yaw_deg : (N,) float64
+        Yaw of each instance, degrees.
+    scale : (N,) float64
+        Scale of each instance, > 0.
+
+    Raises
+    ------
+    ValidationError
+        Mismatched lengths, an asset index out of range, non-finite values, a
+        scale <= 0, an empty or non-string asset name.
+    """
+
+    names: tuple[str, ...]
+    asset: np.ndarray
+    xy: np.ndarray
+    yaw_deg: np.ndarray
+    scale: np.ndarray
+
+    def __post_init__(self) -> None:
+        names = tuple(self.names)
+        for nm in names:
+            if not isinstance(nm, str) or not nm:
+                raise ValidationError(expected_got("asset name", "a non-empty string", repr(nm)))
+        asset = np.asarray(self.asset)
+        if asset.ndim != 1 or (asset.size and asset.dtype.kind not in "iu"):
+            raise ValidationError(expected_got("asset indices", "a 1-D integer array",
+                                               f"shape {asset.shape}, dtype {asset.dtype}"))
+        n = len(asset)
+        asset = asset.astype(np.int64)
+        if n and (asset.min() < 0 or asset.max() >= len(names)):
+            raise ValidationError(expected_got("asset indices", f"in [0, {len(names)})",
+                                               f"[{asset.min()}, {asset.max()}]"))
+        xy = as_finite_array(self.xy, "instance positions", shape=(n, 2))
+        yaw = as_finite_array(self.yaw_deg, "instance yaw_deg", shape=(n,))
+        scale = as_finite_array(self.scale, "instance scale", shape=(n,))
+        if n and scale.min() <= 0:
+            raise ValidationError(expected_got("instance scale", "values > 0", f"min {scale.min():g}"))
+        for name, v in (("names", names), ("asset", asset), ("xy", xy), ("yaw_deg", yaw),
+                        ("scale", scale)):
+            if isinstance(v, np.ndarray):
+                v.setflags(write=False)
+            object.__setattr__(self, name, v)
+
+    def __len__(self) -> int:
+        return len(self.asset)
+
+    @classmethod
+    def from_records(cls, records: Iterable[Instance | Sequence[object]]) -> Instances:
+        """Instances from a list of :class:`Instance` or ``(asset, x, y[, yaw_deg[, scale]])`` tuples.
+
+        Raises
+        ------
+        ValidationError
+            A record of the wrong form or with bad values.
+        """
+        recs: list[Instance] = []
+        for r in records:
+            if isinstance(r, Instance):
+                recs.append(r)
+                continue
+            try:
+                recs.append(Instance(*r))  # type: ignore[arg-type]
+            except TypeError as exc:
+                raise ValidationError(expected_got("instance record", "(asset, x, y[, yaw_deg[, scale]])",
+                                                   repr(r)[:80])) from exc
+        names = tuple(dict.fromkeys(r.asset for r in recs))
+        index = {nm: k for k, nm in enumerate(names)}
+        try:
+            xy = np.array([[float(r.x), float(r.y)] for r in recs], dtype=np.float64).reshape(-1, 2)
+            yaw = np.array([float(r.yaw_deg) for r in recs], dtype=np.float64)
+            scale = np.array([float(r.scale) for r in recs], dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise ValidationError(expected_got("instance record", "numbers for x, y, yaw_deg, scale",
+                                               str(exc))) from exc
+        return cls(names, np.array([index[r.asset] for r in recs], dtype=np.int64), xy, yaw, scale)
+
+    def record(self, k: int) -> Instance:
+        """Instance ``k`` as a record."""
+        return Instance(self.names[int(self.asset[k])], float(self.xy[k, 0]), float(self.xy[k, 1]),
+                        float(self.yaw_deg[k]), float(self.scale[k]))
+
+    def object2world(self, k: int) -> np.ndarray:
+        """``object2world`` (4, 4) of instance ``k``: ``translation(x, y, 0) @ Rz(yaw) @ scale``.
+
+        Not rigid when ``scale != 1`` (a uniform scale: render it, do not invert it as a pose).
+        """
+        a = np.radians(self.yaw_deg[k])
+        c, s, m = np.cos(a), np.sin(a), self.scale[k]
+        T = np.eye(4)
+        T[:3, :3] = m * np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        T[:2, 3] = self.xy[k]
+        return T
+
+    def pivots(self, pivot_by_asset: Sequence[np.ndarray]) -> np.ndarray:
+        """World positions ``(N, 3)`` of each instance's asset pivot (object frame ``(3,)``,
+        one per name in ``names``), yawed and scaled with the instance."""
+        piv = np.asarray([np.asarray(p, dtype=np.float64) for p in pivot_by_asset]).reshape(-1, 3)
+        if len(piv) != len(self.names):
+            raise ValidationError(expected_got("pivots", f"one per asset name ({len(self.names)})",
+                                               len(piv)))
+        p = piv[self.asset] * self.scale[:, None]
+        a = np.radians(self.yaw_deg)
+        c, s = np.cos(a), np.sin(a)
+        out = np.empty((len(self), 3))
+        out[:, 0] = self.xy[:, 0] + c * p[:, 0] - s * p[:, 1]
+        out[:, 1] = self.xy[:, 1] + s * p[:, 0] + c * p[:, 1]
+        out[:, 2] = p[:, 2]
+        return out
+
+
+def place_random(names: Sequence[str], n: int, rng: np.random.Generator, *,
+                 half_size: float | None = None, spacing: float = 1.5,
+                 yaw_deg: tuple[float, float] = (0.0, 360.0),
+                 scale: tuple[float, float] = (0.8, 1.25)) -> Instances:
+    """``n`` instances of the assets ``names``, placed uniformly at random.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Assets to choose from (uniformly).
+    n : int
+        Number of instances (>= 0).
+    rng : numpy.random.Generator
+        The random source (``np.random.default_rng(seed)``).
+    half_size : float, optional
+        Positions are uniform over ``[-half_size, half_size]^2``; default
+        ``max(1, spacing * sqrt(n) / 2)``: about one instance per ``spacing^2``.
+    spacing : float
+        Mean distance between neighbours when ``half_size`` is not given.
+    yaw_deg, scale : (lo, hi)
+        Uniform ranges of yaw (degrees) and scale (> 0).
+
+    Returns
+    -------
+    Instances
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise ValidationError(expected_got("rng", "a numpy Generator (np.random.default_rng(seed))",
+                                           type(rng).__name__))
+    names = tuple(names)
+    if not names:
+        raise ValidationError(expected_got("asset names", "at least one", "none"))
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValidationError(expected_got("instance count", "an int >= 0", repr(n)))
+    spacing = as_positive(spacing, "spacing")
+    half = max(1.0, spacing * np.sqrt(n) / 2) if half_size is None else as_positive(half_size, "half_size")
+    lo_s, hi_s = (as_positive(v, "scale") for v in scale)
+    if hi_s < lo_s:
+        raise ValidationError(expected_got("scale range", "lo <= hi", scale))
+    y0, y1 = (float(v) for v in yaw_deg)
+    xy = rng.uniform(-half, half, size=(n, 2))
+    return Instances(names, rng.integers(0, len(names), size=n), xy, rng.uniform(y0, y1, size=n),
+                     rng.uniform(lo_s, hi_s, size=n))

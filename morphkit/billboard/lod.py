@@ -1,0 +1,48 @@
+"""Level of detail: which pyramid level of an asset's images a billboard needs on screen.
+
+Level ``l`` of an asset holds its images at ``2^-l`` of the full resolution.
+A billboard that covers ``p`` pixels of height on screen takes the smallest
+image that is still at least ``p`` pixels high, i.e. ``l = floor(log2(h0 / p))``
+clamped to the asset's levels: the warp then shrinks the image by less than
+2x (bilinear sampling stays nearly alias free) and never enlarges it unless
+even level 0 is smaller than the billboard.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["screen_height_px", "select_levels"]
+
+
+def screen_height_px(fy: float, half_height: np.ndarray, depth: np.ndarray, znear: float) -> np.ndarray:
+    """On-screen height in pixels of quads of half height ``half_height (N,)`` (scene units)
+    whose centres lie at camera depth ``depth (N,)``: ``2 fy half_height / depth``; ``inf`` at
+    or in front of the near plane (such a quad fills the view)."""
+    z = np.asarray(depth, dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        return np.where(z > znear, 2.0 * fy * np.asarray(half_height) / np.maximum(z, znear), np.inf)
+
+
+def select_levels(height_px: np.ndarray, base_height: int | np.ndarray,
+                  levels: int | np.ndarray) -> np.ndarray:
+    """Pyramid level per billboard, ``(N,)`` int64 in ``[0, levels - 1]``.
+
+    Parameters
+    ----------
+    height_px : (N,) float
+        On-screen heights (pixels, > 0; ``inf`` allowed).
+    base_height : int or (N,) int
+        Image height at level 0 (per billboard, or one for all).
+    levels : int or (N,) int
+        Levels the asset holds (>= 1; per billboard, or one for all).
+
+    Returns
+    -------
+    (N,) int64
+        ``clip(floor(log2(base_height / height_px)), 0, levels - 1)``.
+    """
+    p = np.maximum(np.asarray(height_px, dtype=np.float64), 1e-9)
+    with np.errstate(divide="ignore"):  # inf heights: log2(0) = -inf, clipped to level 0
+        lv = np.floor(np.log2(np.asarray(base_height, dtype=np.float64) / p))
+    return np.clip(lv, 0, np.maximum(np.asarray(levels) - 1, 0)).astype(np.int64)

@@ -1,0 +1,248 @@
+"""Camera paths through a billboard scene: the paper's pan, an orbit, a fly-through.
+
+A path is an object (:class:`CameraPath`) giving a perspective
+:class:`~morphkit.camera.CameraModel` for a parameter ``t`` in ``[0, 1]``, and
+:meth:`CameraPath.cameras` samples it at ``frames`` evenly spaced ``t``
+(``t = k / (frames - 1)``). Default image: 640 x 480 (``shape=(480, 640)``).
+World frame of :mod:`morphkit.conventions` (``+z`` up, ground ``z = 0``);
+headings are degrees counter-clockwise from ``+x``.
+
+* :class:`PanPath` -- the paper's Fig. 6: the eye stays, the view of interest
+  pans from left to right (heading from ``heading_deg + pan_deg / 2`` down to
+  ``heading_deg - pan_deg / 2``).
+* :class:`OrbitPath` -- the eye circles a centre at a fixed radius and height,
+  looking at the centre (the temporal-stability measure steps it by 0.5 deg).
+* :class:`FlyPath` -- the eye flies low along a line across the field, swaying
+  sideways, looking ahead and a little down: billboards pass close by and
+  through the near plane.
+
+:data:`PATHS` builds each with defaults fitted to a field of instances of half
+size ``half_size`` (:func:`~.instances.place_random`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..camera import CameraModel, look_at, perspective
+from ..errors import ValidationError, expected_got
+from ..validate import as_finite_array, as_positive, as_shape
+
+__all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path"]
+
+DEFAULT_SHAPE = (480, 640)
+
+
+@runtime_checkable
+class CameraPath(Protocol):
+    """A camera moving with a parameter ``t`` in ``[0, 1]``."""
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """The camera at ``t`` with images of ``shape (H, W)``."""
+        ...
+
+    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
+        """``frames`` cameras at ``t = k / (frames - 1)``."""
+        ...
+
+
+def _check_frames(frames: int) -> int:
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 1:
+        raise ValidationError(expected_got("frames", "an int >= 1", repr(frames)))
+    return int(frames)
+
+
+def _ts(frames: int) -> np.ndarray:
+    n = _check_frames(frames)
+    return np.linspace(0.0, 1.0, n) if n > 1 else np.zeros(1)
+
+
+@dataclass(frozen=True)
+class _Lens:
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def camera(self, eye: np.ndarray, target: np.ndarray, shape: tuple[int, int]) -> CameraModel:
+        return perspective(np.radians(self.yfov_deg), as_shape(shape, "shape"), look_at(eye, target),
+                           znear=self.znear, zfar=self.zfar)
+
+
+def _heading(deg: float, pitch_deg: float) -> np.ndarray:
+    a, p = np.radians(deg), np.radians(pitch_deg)
+    return np.array([np.cos(a) * np.cos(p), np.sin(a) * np.cos(p), -np.sin(p)])
+
+
+@dataclass(frozen=True)
+class PanPath:
+    """The eye at ``eye``; the heading pans from left to right across ``pan_deg``.
+
+    Parameters
+    ----------
+    eye : (3,) float
+    heading_deg : float
+        Heading of the middle of the pan.
+    pan_deg : float
+        Total sweep (left to right).
+    pitch_deg : float
+        Downward tilt of the view.
+    yfov_deg, znear, zfar : float
+        The lens.
+    """
+
+    eye: tuple[float, float, float] = (0.0, -12.0, 1.6)
+    heading_deg: float = 90.0
+    pan_deg: float = 60.0
+    pitch_deg: float = 8.0
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """See :class:`CameraPath`."""
+        eye = as_finite_array(self.eye, "eye", shape=(3,))
+        h = self.heading_deg + self.pan_deg * (0.5 - float(t))
+        return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, eye + _heading(h, self.pitch_deg),
+                                                                  shape)
+
+    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
+        """See :class:`CameraPath`."""
+        return [self.camera_at(t, shape) for t in _ts(frames)]
+
+    @classmethod
+    def over(cls, half_size: float) -> PanPath:
+        """A pan from just outside the field's ``-y`` edge, at eye height, over the field."""
+        hs = as_positive(half_size, "half_size")
+        return cls(eye=(0.0, -hs - 2.0, 1.6))
+
+
+@dataclass(frozen=True)
+class OrbitPath:
+    """The eye on a circle of ``radius`` about ``centre``, at ``height``, looking at ``centre``.
+
+    Parameters
+    ----------
+    centre : (3,) float
+        What the camera looks at; the circle is about its vertical axis.
+    radius, height : float
+        Of the circle (height above the ground).
+    start_deg, end_deg : float
+        Azimuths of the eye at ``t = 0`` and ``t = 1`` (counter-clockwise from ``+x``).
+    yfov_deg, znear, zfar : float
+        The lens.
+    """
+
+    centre: tuple[float, float, float] = (0.0, 0.0, 0.5)
+    radius: float = 10.0
+    height: float = 2.0
+    start_deg: float = -90.0
+    end_deg: float = 90.0
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def camera_at_deg(self, azimuth_deg: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """The camera with its eye at ``azimuth_deg`` on the circle."""
+        c = as_finite_array(self.centre, "centre", shape=(3,))
+        r = as_positive(self.radius, "radius")
+        a = np.radians(azimuth_deg)
+        eye = np.array([c[0] + r * np.cos(a), c[1] + r * np.sin(a), float(self.height)])
+        return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, c, shape)
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """See :class:`CameraPath`."""
+        return self.camera_at_deg(self.start_deg + float(t) * (self.end_deg - self.start_deg), shape)
+
+    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
+        """See :class:`CameraPath`."""
+        return [self.camera_at(t, shape) for t in _ts(frames)]
+
+    @classmethod
+    def around(cls, half_size: float) -> OrbitPath:
+        """Half a circle about the field's centre, just outside it."""
+        hs = as_positive(half_size, "half_size")
+        return cls(radius=hs * 1.25 + 3.0, height=1.5 + 0.15 * hs)
+
+
+@dataclass(frozen=True)
+class FlyPath:
+    """The eye flies from ``start`` to ``end`` (ground positions) at ``height``, swaying sideways.
+
+    Parameters
+    ----------
+    start, end : (2,) float
+        Ground positions at ``t = 0`` and ``t = 1``.
+    height : float
+        Eye height.
+    sway : float
+        Amplitude of a sideways sine (one period over the path), scene units.
+    pitch_deg : float
+        Downward tilt of the view.
+    yfov_deg, znear, zfar : float
+        The lens.
+    """
+
+    start: tuple[float, float] = (0.0, -12.0)
+    end: tuple[float, float] = (0.0, 12.0)
+    height: float = 0.9
+    sway: float = 1.0
+    pitch_deg: float = 5.0
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def _position(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        a = as_finite_array(self.start, "start", shape=(2,))
+        b = as_finite_array(self.end, "end", shape=(2,))
+        d = b - a
+        n = float(np.linalg.norm(d))
+        if n == 0:
+            raise ValidationError(expected_got("fly path", "start != end", f"both at {a.tolist()}"))
+        side = np.array([-d[1], d[0]]) / n
+        w = 2 * np.pi * t
+        pos = a + t * d + self.sway * np.sin(w) * side
+        vel = d + self.sway * 2 * np.pi * np.cos(w) * side
+        return pos, vel
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """See :class:`CameraPath`."""
+        pos, vel = self._position(float(t))
+        eye = np.array([pos[0], pos[1], float(self.height)])
+        heading = np.degrees(np.arctan2(vel[1], vel[0]))
+        return _Lens(self.yfov_deg, self.znear, self.zfar).camera(
+            eye, eye + _heading(heading, self.pitch_deg), shape)
+
+    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
+        """See :class:`CameraPath`."""
+        return [self.camera_at(t, shape) for t in _ts(frames)]
+
+    @classmethod
+    def across(cls, half_size: float) -> FlyPath:
+        """Across the field along ``+y``, from outside one edge to outside the other."""
+        hs = as_positive(half_size, "half_size")
+        return cls(start=(0.3, -hs - 2.0), end=(0.3, hs + 2.0))
+
+
+#: Path builders by name, each taking the half size of the field of instances.
+PATHS: dict[str, Callable[[float], CameraPath]] = {
+    "pan": PanPath.over,
+    "orbit": OrbitPath.around,
+    "fly": FlyPath.across,
+}
+
+
+def make_path(name: str, half_size: float) -> CameraPath:
+    """The path ``name`` (a key of :data:`PATHS`) fitted to a field of half size ``half_size``.
+
+    Raises
+    ------
+    ValidationError
+        An unknown name.
+    """
+    if name not in PATHS:
+        raise ValidationError(expected_got("camera path", f"one of {sorted(PATHS)}", repr(name)))
+    return PATHS[name](half_size)

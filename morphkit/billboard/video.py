@@ -1,0 +1,98 @@
+"""Writing a frame sequence as a video file through OpenCV's writer, atomically.
+
+:class:`VideoFile` opens ``cv2.VideoWriter`` on a temporary file beside the
+target (same folder, same extension, so OpenCV picks the container from it) and
+renames it over the target only when :meth:`VideoFile.close` is reached after
+every frame was written -- a crash or an error mid-sequence leaves the old file
+(or none), never half a video (as :mod:`morphkit.fileio` does for other files).
+Use it as a context manager: leaving the ``with`` block by an exception removes
+the temporary file.
+
+Codecs: ``mp4v`` for ``.mp4``, ``MJPG`` for ``.avi``.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from types import TracebackType
+
+import cv2
+import numpy as np
+
+from ..errors import ValidationError, expected_got
+
+__all__ = ["VideoFile", "CODECS"]
+
+#: FourCC per file extension.
+CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
+
+
+class VideoFile:
+    """A video written frame by frame, renamed into place on :meth:`close`.
+
+    Parameters
+    ----------
+    path : path-like
+        The target, ``.mp4`` or ``.avi``; its folder must exist.
+    fps : float
+        Frames per second.
+    shape : (H, W)
+        Frame shape; every frame must have it.
+
+    Raises
+    ------
+    ValidationError
+        An unknown extension, a bad fps, or OpenCV cannot open a writer for it.
+    """
+
+    def __init__(self, path: str | os.PathLike[str], fps: float, shape: tuple[int, int]) -> None:
+        self.path = Path(path)
+        ext = self.path.suffix.lower()
+        if ext not in CODECS:
+            raise ValidationError(expected_got("video file", f"a name ending in one of {sorted(CODECS)}",
+                                               repr(self.path.name)))
+        if not (np.isfinite(fps) and fps > 0):
+            raise ValidationError(expected_got("fps", "a finite number > 0", fps))
+        self.shape = (int(shape[0]), int(shape[1]))
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=ext, dir=self.path.parent)
+        os.close(fd)
+        self._tmp = Path(tmp)
+        self._writer = cv2.VideoWriter(str(self._tmp), cv2.VideoWriter_fourcc(*CODECS[ext]), float(fps),
+                                       (self.shape[1], self.shape[0]))
+        if not self._writer.isOpened():
+            self._tmp.unlink(missing_ok=True)
+            raise ValidationError(expected_got("video writer", f"OpenCV able to write {ext} files",
+                                               "a writer that did not open"))
+        self.frames = 0
+
+    def write(self, rgb: np.ndarray) -> None:
+        """Append one uint8 RGB frame ``(H, W, 3)``."""
+        if rgb.shape != self.shape + (3,) or rgb.dtype != np.uint8:
+            raise ValidationError(expected_got("video frame", f"uint8 {self.shape + (3,)}",
+                                               f"{rgb.dtype} {rgb.shape}"))
+        self._writer.write(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
+        self.frames += 1
+
+    def close(self) -> Path:
+        """Finish the file and rename it over the target; returns the target."""
+        self._writer.release()
+        os.chmod(self._tmp, 0o644)
+        os.replace(self._tmp, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        """Drop the temporary file; the target is untouched."""
+        self._writer.release()
+        self._tmp.unlink(missing_ok=True)
+
+    def __enter__(self) -> VideoFile:
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()

@@ -1,0 +1,76 @@
+"""``morphkit billboards``: user errors as one line and a non-zero exit; a tiny run end to end."""
+
+from __future__ import annotations
+
+import json
+
+import cv2
+import pytest
+
+from morphkit.cli import main, parse_size
+from morphkit.errors import ValidationError
+
+
+def _one_line_error(capsys, argv):
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code != 0
+    assert err.startswith("morphkit: error: ") and err.count("\n") == 1 and "Traceback" not in err
+    return err
+
+
+@pytest.mark.parametrize("size", ["640", "640x", "0x480", "axb", "640x480x3", "-640x480", "99999x10"])
+def test_bad_size(capsys, tmp_path, size):
+    err = _one_line_error(capsys, ["billboards", f"--size={size}", "-o", str(tmp_path / "o")])
+    assert "--size: expected WIDTHxHEIGHT" in err
+    assert not (tmp_path / "o").exists()  # refused before anything was written
+
+
+def test_parse_size():
+    assert parse_size("640x480") == (480, 640) and parse_size("64X48") == (48, 64)
+    with pytest.raises(ValidationError, match="--size: expected"):
+        parse_size("64*48")
+
+
+def test_bad_asset_name(capsys, tmp_path):
+    err = _one_line_error(capsys, ["billboards", "--asset", "tree", "--asset", "unicorn",
+                                   "-o", str(tmp_path / "o")])
+    assert "asset: expected a sample mesh name" in err and "'unicorn'" in err
+    assert not (tmp_path / "o").exists()
+    err = _one_line_error(capsys, ["billboards", "--asset", str(tmp_path / "missing.npz"),
+                                   "-o", str(tmp_path / "o")])
+    assert "missing.npz" in err
+
+
+def test_unwritable_output(capsys, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    err = _one_line_error(capsys, ["billboards", "-o", str(blocker / "out")])
+    assert "output folder: expected a folder that can be created and written" in err
+    err = _one_line_error(capsys, ["billboards", "-o", str(blocker)])
+    assert "output folder" in err
+
+
+def test_bad_counts(capsys, tmp_path):
+    err = _one_line_error(capsys, ["billboards", "--n", "-3", "-o", str(tmp_path)])
+    assert "--n: expected an int >= 0" in err
+    assert "--views: expected an int >= 2" in _one_line_error(
+        capsys, ["billboards", "--views", "1", "-o", str(tmp_path)])
+
+
+@pytest.mark.gl
+def test_tiny_run_writes_frames_video_and_comparisons(capsys, tmp_path):
+    out = tmp_path / "bb"
+    assert main(["billboards", "--asset", "tree", "--n", "6", "--frames", "3", "--size", "96x72",
+                 "--views", "2", "--asset-size", "64", "--path", "orbit", "-o", str(out)]) == 0
+    summary = json.loads((out / "billboards.json").read_text())
+    assert summary["frames"] == 3 and summary["instances"] == 6
+    for f in summary["files"]:
+        assert (out / f).stat().st_size > 0
+    assert sorted(p.name for p in (out / "frames").iterdir()) == ["frame_0000.png", "frame_0001.png",
+                                                                  "frame_0002.png"]
+    strip = cv2.imread(str(out / "compare_0000.png"))
+    assert strip.shape == (72, 3 * 96, 3)  # classic | morph | mesh
+    assert [c["frame"] for c in summary["compared"]] == [0, 1, 2]
+    printed = capsys.readouterr().out
+    assert "cache hit rate" in printed and str(out.resolve()) in printed

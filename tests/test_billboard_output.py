@@ -1,0 +1,71 @@
+"""Billboard outputs without GL: the frame sequence, the video file, the comparison helpers."""
+
+from __future__ import annotations
+
+import json
+
+import cv2
+import numpy as np
+import pytest
+from billboard_fakes import FakeAsset
+
+from morphkit.billboard import BillboardScene, ClassicMode, MorphMode, OrbitPath, place_random
+from morphkit.billboard.compare import box_errors, compare_modes, mean_errors
+from morphkit.billboard.sequence import compare_indices, write_sequence
+from morphkit.billboard.video import VideoFile
+from morphkit.errors import ValidationError
+
+
+def _scene():
+    asset = FakeAsset("fake", views=8)
+    inst = place_random(["fake"], 20, np.random.default_rng(2), half_size=3.0)
+    return BillboardScene({"fake": asset}, inst)
+
+
+def test_write_sequence_writes_frames_video_and_summary(tmp_path):
+    scene = _scene()
+    cams = OrbitPath(radius=6.0, height=1.5).cameras(4, shape=(48, 64))
+    summary = write_sequence(scene, cams, tmp_path / "out", fps=10)
+    out = tmp_path / "out"
+    assert sorted(p.name for p in (out / "frames").iterdir()) == [f"frame_{k:04d}.png" for k in range(4)]
+    first = cv2.imread(str(out / "frames" / "frame_0000.png"))
+    expect = scene.render(cams[0], MorphMode()).rgb
+    np.testing.assert_array_equal(first, cv2.cvtColor(expect, cv2.COLOR_RGB2BGR))
+    cap = cv2.VideoCapture(str(out / "billboards.mp4"))
+    n = 0
+    while cap.read()[0]:
+        n += 1
+    assert n == 4
+    data = json.loads((out / "billboards.json").read_text())
+    assert data["frames"] == 4 and len(data["per_frame"]) == 4 and data["mode"] == "morph"
+    assert data == json.loads(json.dumps(summary))
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporary file left
+
+
+def test_video_file_is_atomic_and_validated(tmp_path):
+    target = tmp_path / "v.mp4"
+    target.write_bytes(b"old")
+    with pytest.raises(RuntimeError, match="boom"), VideoFile(target, 10, (16, 16)) as v:
+        v.write(np.zeros((16, 16, 3), np.uint8))
+        raise RuntimeError("boom")
+    assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["v.mp4"]
+    with pytest.raises(ValidationError, match="video file: expected a name ending in one of"):
+        VideoFile(tmp_path / "v.gif", 10, (16, 16))
+    with VideoFile(target, 10, (16, 16)) as v, pytest.raises(ValidationError, match="video frame: expected"):
+        v.write(np.zeros((8, 8, 3), np.uint8))
+
+
+def test_compare_helpers():
+    assert compare_indices(10, 3) == [0, 4, 9]  # round(4.5) = 4
+    assert compare_indices(1, 3) == [0] and compare_indices(0, 3) == []
+    scene = _scene()
+    cam = OrbitPath(radius=6.0, height=1.5).camera_at(0.3, (48, 64))
+    morph = MorphMode()
+    cmp = compare_modes(scene, cam, {"classic": ClassicMode()}, morph)  # the "truth" here is the morph
+    assert list(cmp.frames) == ["classic", "mesh"] and cmp.strip.shape == (48, 128, 3)
+    same = box_errors(cmp.frames["mesh"], cmp.frames["mesh"])
+    assert same and all(e["iou"] == 1.0 and e["psnr"] == 100.0 for e in same)
+    m = mean_errors(box_errors(cmp.frames["classic"], cmp.frames["mesh"]))
+    assert m["n"] == len(cmp.frames["classic"].placements) and m["iou"] < 1.0
+    assert cmp.errors["classic"] == m
+    assert np.isnan(mean_errors([])["iou"])
