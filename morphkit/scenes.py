@@ -31,7 +31,7 @@ from .shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
-           "circle_camera", "checker_items", "textured_items", "render_pair"]
+           "circle_camera", "checker_items", "textured_items", "render_pair", "PALETTE", "CHECKER"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -79,9 +79,11 @@ VIEWMORPH_BASELINE_DEG = 20.0
 CENTRE_AZIMUTH = 60.0
 RADIUS, HEIGHT = 2.2, 1.0
 LOOK_AT = np.array([0.0, 0.0, 0.25])
+#: Colours of the 3-D checker of :func:`checker_items` (RGB in [0, 1]).
 PALETTE = ((0.85, 0.3, 0.25), (0.3, 0.6, 0.85), (0.9, 0.8, 0.3), (0.35, 0.75, 0.4), (0.8, 0.8, 0.8),
            (0.55, 0.35, 0.7), (0.95, 0.55, 0.2), (0.2, 0.3, 0.35))
-CHECKER = 0.05  # scene units (meshes are normalised to size 1)
+#: Cell size of the 3-D checker of :func:`checker_items`, scene units (meshes are normalised to size 1).
+CHECKER = 0.05
 
 
 def circle_camera(azimuth_deg: float, size: int) -> CameraModel:

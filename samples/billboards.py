@@ -1,12 +1,16 @@
-"""Write billboard comparison strips: classic | view-morphed | real meshes (the paper's Fig. 5).
+"""Billboards: classic, view-morphed and real meshes
+=================================================
 
+Write billboard comparison strips: classic | view-morphed | real meshes (the paper's Fig. 5).
 Bakes the tree and the person (a ring of 8 views, 128^2), places 40 of them on
 a checkered ground from a seed, and for five cameras of the paper's pan (its
 Fig. 6) writes OUT/strip_<k>.png -- classic billboards | view-morphed
 billboards | the real meshes rendered from the same camera -- and prints each
 mode's mean per-billboard silhouette IoU and PSNR against the meshes.
 
-Usage: ``python samples/billboards.py [OUT] [--n 40] [--views 8] [--size 640x480]`` (needs GL).
+Usage::
+
+    python samples/billboards.py [OUT] [--n 40] [--views 8] [--size 640x480] [--frames 5]
 """
 
 from __future__ import annotations
@@ -35,12 +39,13 @@ from morphkit.render import Renderer
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description="billboard comparison strips (classic | morph | meshes)")
     ap.add_argument("out", nargs="?", default="billboard-samples")
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--views", type=int, default=8)
     ap.add_argument("--size", default="640x480")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--frames", type=int, default=5, help="cameras along the pan")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -52,7 +57,7 @@ def main() -> None:
         truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT, supersample=2)
         modes = {"classic": ClassicMode(), "morph": MorphMode()}
         half = float(np.abs(inst.xy).max())
-        for k, cam in enumerate(PanPath.over(half).cameras(5, shape)):
+        for k, cam in enumerate(PanPath.over(half).cameras(args.frames, shape)):
             cmp = compare_modes(scene, cam, modes, truth)
             path = write_image(out / f"strip_{k}.png", cv2.cvtColor(cmp.strip, cv2.COLOR_RGB2BGR))
             figs = "; ".join(f"{m}: IoU {e['iou']:.3f}, PSNR {e['psnr']:.1f} dB"

@@ -22,6 +22,7 @@ GALLERY_ARGS: dict[str, list[str]] = {
     "warped_shadows.py": ["--size", "256", "--positions", "1"],
     "soft_shadows.py": ["--size", "192", "--ground", "192", "--dense", "8"],
     "viewmorph_pairs.py": ["--size", "192", "--baselines", "20"],
+    "billboards.py": ["--n", "20", "--size", "320x240", "--frames", "2"],
 }
 
 #: Glob patterns (relative to the output folder) of the images shown per sample, in this order

@@ -33,8 +33,9 @@ other sections -- frame time, temporal stability -- append theirs):
 * ``equal-memory`` -- the ``K = 8`` and ``K = 12`` morph rings at ``S^2`` against
   ``nearest`` / ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same
   bytes: the same colour bytes (``dense-images``: 4 K views) and the same bytes in all
-  (``dense-total``: as many views as the morph asset's :attr:`memory_bytes`,
-  which adds its depth maps and correspondences, pays for); the dense views are
+  (``dense-total``: as many views as the morph asset's
+  :attr:`~morphkit.billboard.asset.BillboardAsset.memory_bytes`, which adds its depth
+  maps and correspondences, pays for); the dense views are
   upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
   render;
 * ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (renders, every
@@ -127,8 +128,11 @@ from .harness import Timing, make_row, time_call, time_calls
 __all__ = ["run", "AssetCache", "SECTIONS", "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows",
            "scene_accuracy_rows", "temporal_rows", "speed_rows", "hit_rate_rows", "step_changes"]
 
+#: The suite's name in bench rows.
 SUITE = "billboards"
+#: The method the table's ratio column divides by.
 FLOOR_METHOD = "crossfade"
+#: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
 PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("section",)}
 
 PAIR_INSIDE = (-25.0, -15.0, -5.0, 5.0, 15.0, 25.0)

@@ -86,7 +86,7 @@ from .cameras import QuadCameras
 from .ring import ViewRing
 
 __all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
-           "DEFAULT_LAYERS"]
+           "DEFAULT_LAYERS", "RIM_STEP"]
 
 #: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
 BAKE_AMBIENT = 0.35

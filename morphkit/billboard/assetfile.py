@@ -54,7 +54,9 @@ from ..fileio import write_bytes
 
 __all__ = ["FORMAT", "VERSION", "AssetRecord", "write_record", "read_record"]
 
+#: The format name stored in every billboard asset file.
 FORMAT = "morphkit-billboard"
+#: The asset file format version this code reads and writes (another is a FileFormatError).
 VERSION = 1
 
 _ARRAYS = ("images", "depth", "points3d", "offsets", "front")

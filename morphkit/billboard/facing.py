@@ -6,7 +6,7 @@ Two rules, one object each (:class:`Facing`):
   the paper's billboard for objects symmetric about the vertical (trees,
   people): its normal is the horizontal direction from the billboard to the eye.
   The paper writes the turn from the quad's rest normal ``B_n`` as
-  ``theta = pi - acos(L_os . B_n)`` with ``L_os`` the unit direction from the
+  ``theta = pi - acos(dot(L_os, B_n))`` with ``L_os`` the unit direction from the
   eye to the billboard (horizontal); :func:`paper_angle` is that formula, and
   the quad orientation here equals it (tested).
 * :class:`ScreenFacing` -- the quad lies parallel to the image plane (the
@@ -134,7 +134,7 @@ class ScreenFacing:
 
 
 def paper_angle(l_os: np.ndarray, b_n: np.ndarray) -> float:
-    """The paper's billboard turn ``theta = pi - acos(L_os . B_n)`` (radians, in ``[0, pi]``).
+    """The paper's billboard turn ``theta = pi - acos(dot(L_os, B_n))`` (radians, in ``[0, pi]``).
 
     Parameters
     ----------

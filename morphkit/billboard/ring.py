@@ -19,7 +19,7 @@ Two layouts:
 (:meth:`morphkit.billboard.BillboardAsset.classic`), not a morph.
 
 The fraction ``s`` is along the chord
-------------------------------------
+-------------------------------------
 A view morph (Seitz & Dyer) interpolating two views by ``s`` is the view from
 the camera centre ``(1 - s) C_i + s C_j``: on the straight line between the
 two reference cameras, not on the circle through them. So ``s`` is the

@@ -30,7 +30,7 @@ CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
 
 
 class VideoFile:
-    """A video written frame by frame, renamed into place on :meth:`close`.
+    """A video written frame by frame, renamed into place on :meth:`VideoFile.close`.
 
     Parameters
     ----------

@@ -127,7 +127,7 @@ PATHS = ("direct", "rectified")
 
 
 class ViewMorpher:
-    """View morphing between two reference images; build once, call :meth:`morph` per ``s``.
+    """View morphing between two reference images; build once, call :meth:`ViewMorpher.morph` per ``s``.
 
     Parameters
     ----------
@@ -415,7 +415,7 @@ class ViewMorpher:
         return H_out_rect, self.out_shape(s)
 
     def apply_frame(self, H_out_rect: np.ndarray, s: float, shape: tuple[int, int], frame: str) -> np.ndarray:
-        """A post-warp with the crop/size policy ``frame`` applied (see :meth:`morph`).
+        """A post-warp with the crop/size policy ``frame`` applied (see :meth:`ViewMorpher.morph`).
 
         Parameters
         ----------
@@ -505,12 +505,12 @@ class ViewMorpher:
         n : int
             Number of views, ``>= 2``.
         **kw
-            Keyword arguments of :meth:`morph`.
+            Keyword arguments of :meth:`ViewMorpher.morph`.
 
         Returns
         -------
         list of numpy.ndarray
-            The views, as :meth:`morph` returns them.
+            The views, as :meth:`ViewMorpher.morph` returns them.
         """
         n = int(n)
         if n < 2:
