@@ -123,19 +123,18 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
 
 def _bake_kinds(args: argparse.Namespace) -> tuple:
-    from .bake import ShadowAtlasKind
+    from .bake import BillboardKind, ShadowAtlasKind
     from .errors import ValidationError, expected_got
 
     if args.views is not None and not args.billboard:
         raise ValidationError(expected_got("--views", "together with --billboard", "--views alone"))
-    if args.billboard:  # the billboard kind (issue 16) is wired where morphkit.billboard exists
-        raise ValidationError(expected_got("--billboard", "a morphkit with the billboard asset kind "
-                                           "(morphkit.billboard)", "none in this build"))
     given = {"atlas_size": args.atlas_size, "grid": args.grid,
              "range": None if args.range is None else tuple(args.range),
              "light": None if args.light is None else tuple(args.light)}
     atlas = ShadowAtlasKind(**{k: v for k, v in given.items() if v is not None},
                             directional=args.directional)
+    if args.billboard:
+        return (atlas, BillboardKind(**({} if args.views is None else {"views": args.views})))
     return (atlas,)
 
 
@@ -372,7 +371,7 @@ def build_parser() -> argparse.ArgumentParser:
     where.add_argument("--scheduler", default=None, metavar="ADDRESS",
                        help="an existing Dask scheduler, e.g. tcp://host:8786 (see README)")
     k.add_argument("--billboard", action="store_true",
-                   help="also bake a view-morphing billboard asset per mesh (needs morphkit.billboard)")
+                   help="also bake a view-morphing billboard asset per mesh (<name>.billboard.npz)")
     k.add_argument("--views", type=int, default=None, metavar="K",
                    help="billboard reference views (with --billboard)")
     k.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

@@ -273,6 +273,27 @@ def test_baked_atlas_loads_and_matches_its_options(tmp_path, scheduler):
 
 
 @pytest.mark.gl
+def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
+    from morphkit.bake import BillboardKind
+    from morphkit.billboard import BillboardAsset
+    from morphkit.billboard.asset import mesh_hash
+    from morphkit.meshes import load_mesh
+
+    lib = make_library(tmp_path / "lib")
+    kind = BillboardKind(views=2, size=64)
+    m = bake_library([lib / "box.ply"], tmp_path / "out", options=BakeOptions((TINY, kind)),
+                     scheduler=scheduler, progress=False)
+    assert m.run["baked"] == 1 and not m.failed()
+    rec = m.assets["box"].outputs["billboard"]
+    assert rec.file == "box.billboard.npz" and rec.options == {"views": 2, "size": 64}
+    asset = BillboardAsset.load(tmp_path / "out" / rec.file, mesh=load_mesh(lib / "box.ply"))
+    assert asset.ring.views == 2 and asset.mesh_hash == mesh_hash(load_mesh(lib / "box.ply"))
+    assert (tmp_path / "out" / "box.atlas.npz").is_file()
+    with pytest.raises(ValidationError, match=r"billboard size: expected an integer in \[16, 2048\]"):
+        BillboardKind(size=8)
+
+
+@pytest.mark.gl
 def test_rerun_skips_what_is_up_to_date_and_rebakes_what_changed(tmp_path, scheduler):
     lib = make_library(tmp_path / "lib")
     out = tmp_path / "out"
@@ -422,8 +443,8 @@ def one_line_error(err: str) -> str:
     (["bake", "{lib}", "-o", "{tmp}/out", "--scheduler", "tcp://127.0.0.1:9"],
      "Dask scheduler: expected one answering at 'tcp://127.0.0.1:9' within 1 s"),
     (["bake", "{lib}", "-o", "{tmp}/out", "--views", "4"], "--views: expected together with --billboard"),
-    (["bake", "{lib}", "-o", "{tmp}/out", "--billboard", "--views", "4"],
-     "--billboard: expected a morphkit with the billboard asset kind"),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--billboard", "--views", "1"],
+     r"billboard views: expected an integer in \[2, 64\], got 1"),
     (["shadows", "{tmp}/missing.atlas.npz", "-o", "{tmp}/frames"], "atlas file: expected an existing file"),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--samples", "2"],
      "--samples: expected together with --area-light"),

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from .cluster import CONNECT_TIMEOUT_S, default_workers, open_client
 from .inputs import MESH_SUFFIXES, AssetInput, find_inputs
-from .kinds import AssetKind, SavableAsset, ShadowAtlasKind, output_name
+from .kinds import AssetKind, BillboardKind, SavableAsset, ShadowAtlasKind, output_name
 from .manifest import MANIFEST_NAME, AssetRecord, Manifest, OutputRecord, file_digest
 from .pipeline import BakeOptions, bake_library, check_writable
 from .worker import BakeTask, TaskResult, bake_task, worker_renderer
@@ -35,6 +35,7 @@ __all__ = [
     "AssetKind",
     "SavableAsset",
     "ShadowAtlasKind",
+    "BillboardKind",
     "output_name",
     "AssetInput",
     "MESH_SUFFIXES",

@@ -24,6 +24,8 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import trimesh
 
+from ..billboard import bake_asset
+from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
@@ -31,7 +33,7 @@ from ..scenes import WARP_LIGHT, WARP_RANGE
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
 from ..validate import as_finite_array
 
-__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "output_name"]
+__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "output_name"]
 
 
 @runtime_checkable
@@ -124,6 +126,38 @@ class ShadowAtlasKind:
         return bake_atlas(mesh, np.eye(4), self.motion(), self.scene_light(),
                           (self.atlas_size, self.atlas_size), renderer=renderer, grid=self.grid,
                           progress=False)
+
+
+@dataclass(frozen=True)
+class BillboardKind:
+    """The view-morphing billboard asset of a mesh (:func:`~morphkit.billboard.bake_asset`).
+
+    Parameters
+    ----------
+    views : int
+        Reference views on the ring: 2 is the paper's left/right pair, more a full ring.
+    size : int
+        Side of the square level-0 reference views, in pixels (16..2048).
+    """
+
+    views: int = 2
+    size: int = 256
+
+    name: ClassVar[str] = "billboard"
+    suffix: ClassVar[str] = ".billboard.npz"
+    version: ClassVar[int] = BILLBOARD_VERSION
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "views", _int_in(self.views, "billboard views", 2, 64))
+        object.__setattr__(self, "size", _int_in(self.size, "billboard size", 16, 2048))
+
+    def options(self) -> dict[str, Any]:
+        """The options that decide the output (recorded in the manifest; a change re-bakes)."""
+        return {"views": self.views, "size": self.size}
+
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+        """The billboard asset of ``mesh`` (reference views and every pair's morph prepared)."""
+        return bake_asset(mesh, renderer, views=self.views, size=self.size)
 
 
 def _int_in(v: Any, what: str, lo: int, hi: int) -> int:
