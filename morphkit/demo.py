@@ -69,13 +69,68 @@ from .scenes import (
 from .shadow.frame import compare_frames, render_frame
 from .visualize import colorize_depth
 
-__all__ = ["run_demo"]
+__all__ = ["run_demo", "previous_demo", "overview_row", "OVERVIEW_TILE"]
 
 def _write_rgb(path: Path, rgb: np.ndarray) -> None:
     write_image(path, cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
 
 
-def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str, Any]:
+#: Height (pixels) of each image in ``overview.png``.
+OVERVIEW_TILE = 256
+
+
+def _on_white(img: np.ndarray) -> np.ndarray:
+    """RGB uint8 of an RGB or straight-alpha RGBA uint8 image, composited over white."""
+    if img.shape[2] == 3:
+        return img
+    a = img[..., 3:].astype(np.float32) / 255.0
+    return np.rint(img[..., :3] * a + 255.0 * (1.0 - a)).astype(np.uint8)
+
+
+def overview_row(what: str, ours: np.ndarray, truth: np.ndarray, truth_name: str, figure: str) -> np.ndarray:
+    """One row of ``overview.png``: morphkit's image | the ground truth, captioned with the error.
+
+    Parameters
+    ----------
+    what : str
+        The technique and scene, e.g. ``"warped hard shadow (cow)"``.
+    ours, truth : numpy.ndarray
+        uint8 ``(H, W, 3)`` RGB or ``(H, W, 4)`` straight-alpha RGBA (shown over white).
+    truth_name : str
+        What the truth is, e.g. ``"ray cast"``.
+    figure : str
+        The error figure, printed on the caption.
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8 ``(OVERVIEW_TILE + 44, W', 3)`` RGB: a two-line caption over the two images.
+    """
+    tiles = []
+    for img in (ours, truth):
+        img = _on_white(img)
+        w = round(img.shape[1] * OVERVIEW_TILE / img.shape[0])
+        tiles.append(cv2.resize(img, (w, OVERVIEW_TILE), interpolation=cv2.INTER_AREA))
+    body = np.concatenate([tiles[0], np.full((OVERVIEW_TILE, 6, 3), 255, np.uint8), tiles[1]], axis=1)
+    lines = [what, f"left: morphkit | right: {truth_name} | {figure}"]
+    font, scale = cv2.FONT_HERSHEY_SIMPLEX, 0.5
+    width = max(body.shape[1], *(cv2.getTextSize(t, font, scale, 1)[0][0] + 12 for t in lines))
+    body = np.pad(body, ((0, 0), (0, width - body.shape[1]), (0, 0)), constant_values=255)
+    bar = np.full((44, width, 3), 255, np.uint8)
+    for k, t in enumerate(lines):
+        cv2.putText(bar, t, (6, 17 + 20 * k), font, scale, (20, 20, 20), 1, cv2.LINE_AA)
+    return np.concatenate([bar, body], axis=0)
+
+
+def _stack_rows(rows: list[np.ndarray]) -> np.ndarray:
+    """Rows of different widths one under the other, padded with white on the right."""
+    w = max(r.shape[1] for r in rows)
+    return np.concatenate([np.pad(r, ((0, 4), (0, w - r.shape[1]), (0, 0)), constant_values=255)
+                           for r in rows], axis=0)
+
+
+def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray]
+                           ) -> dict[str, Any]:
     """Per mesh: a 3 x 3 atlas, and the frame at a position between samples shadowed
     by the warped map, a re-rendered map and the ray cast, side by side."""
     from .metrics import shadow_iou
@@ -107,6 +162,11 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any) -> dict
                        "point-light shadow at a position between the 3x3 samples: warped map | "
                        "re-rendered map | ray cast"),
                    np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
+        if name == "cow":
+            rows.append(overview_row("warped hard shadow, point light (cow, 3x3 atlas)",
+                                     frames["warped"]["shaded"], frames["raycast"]["shaded"], "ray cast",
+                                     "shadow IoU {:.3f}".format(
+                                         report[name]["iou_warped_vs_raycast_lightfacing_pixels"])))
         _write_rgb(add(f"{name}_reprojected_direct_raycast.png", "warped_shadow", name,
                        "the same with warps='reproject' (per-pixel 3-D reprojection): "
                        "reprojected map | re-rendered map | ray cast"),
@@ -115,7 +175,8 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any) -> dict
     return report
 
 
-def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
+def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray], *,
+                         quick: bool) -> dict[str, Any]:
     """Per mesh: soft shadows of an area light at a position between samples, by
     warping one atlas per light sample (9), by re-rendering per sample (9), and
     by ray casting (8 x 8 samples; 4 x 4 with ``quick``), side by side."""
@@ -153,6 +214,11 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, *, quick:
         report[name] = {f"frame_ms_{k}": v for k, v in ms.items()} | {
             f"mae_{k}_vs_raycast_lightfacing_pixels": float(np.abs(
                 frames[k]["visibility"][facing] - truth).mean()) for k in methods}
+        if name == "teapot":
+            rows.append(overview_row("soft shadow, area light (teapot, 9 warped samples)",
+                                     frames["warped"]["shaded"], frames["raycast"]["shaded"],
+                                     f"ray cast {dense}x{dense}", "mean |visibility error| "
+                                     f"{report[name]['mae_warped_vs_raycast_lightfacing_pixels']:.4f}"))
         _write_rgb(add(f"{name}_soft_warped_direct_raycast.png", "soft_shadow", name,
                        "area-light soft shadow: warped (9 samples) | re-rendered (9 samples) | "
                        f"ray cast ({dense}x{dense} samples)"),
@@ -160,7 +226,8 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, *, quick:
     return report
 
 
-def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str, Any]:
+def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray]
+                       ) -> dict[str, Any]:
     """Per mesh: left and right reference views, the view morph at s = 0.5 and the
     rendered middle view (ground truth), side by side, with the silhouette IoU.
 
@@ -184,6 +251,10 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str
         report[name] = {"silhouette_iou": shadow_iou(mid[..., 3] > 127, gt[..., 3] > 127),
                         "build_ms": 1e3 * (t1 - t0), "morph_ms": 1e3 * (t2 - t1), "mode": vm.mode,
                         "layers": vm.report["layers"]}
+        if name == "chair":
+            rows.append(overview_row(f"view morph s=0.5, {VIEWMORPH_BASELINE_DEG:g} deg apart (chair)",
+                                     mid, gt, "rendered middle view",
+                                     f"silhouette IoU {report[name]['silhouette_iou']:.3f}"))
         strip = np.concatenate([i0, mid, gt, i1], axis=1)
         write_image(add(f"{name}_viewmorph.png", "viewmorph", name,
                         "left reference | view morph s=0.5 | rendered middle view | right reference"),
@@ -191,7 +262,8 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any) -> dict[str
     return report
 
 
-def _billboard_section(renderer: SceneRenderer, size: int, add: Any, *, quick: bool) -> dict[str, Any]:
+def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray], *,
+                       quick: bool) -> dict[str, Any]:
     """A field of trees and people (K = 8 rings), one camera of the paper's pan: classic |
     view-morphed | real meshes, the per-billboard errors against the meshes, and an error figure."""
     from .billboard import Backdrop, BillboardScene, ClassicMode, MeshMode, MorphMode, PanPath, place_random
@@ -211,6 +283,10 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, *, quick: b
                         MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT, supersample=2))
     _write_rgb(add("billboards_compare.png", "billboards", "tree+person",
                    "billboard scene: classic | view-morphed | real meshes (paper 2, Fig. 5)"), cmp.strip)
+    e = cmp.errors["morph"]
+    rows.append(overview_row(f"view-morphed billboards (trees, people; {n} instances, K = 8)",
+                             cmp.frames["morph"].rgb, cmp.frames["mesh"].rgb, "real meshes",
+                             f"per billboard IoU {e['iou']:.3f}, PSNR {e['psnr']:.1f} dB"))
     truth = cmp.frames["mesh"].rgb.astype(np.int16)
     diffs = [np.abs(cmp.frames[m].rgb.astype(np.int16) - truth).max(axis=2).astype(np.uint8)
              for m in ("classic", "morph")]
@@ -302,11 +378,16 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
                             "ray-cast shadow on a top-down image of the ground (black = shadow)"),
                         np.rint(gvis * 255).astype(np.uint8))
             overview.append(frame["shaded"])
-        warped = _warped_shadow_section(renderer, size, add)
-        soft = _soft_shadow_section(renderer, size, add, quick=quick)
-        morphs = _viewmorph_section(renderer, min(size, 384), add)
-        billboards = _billboard_section(renderer, min(size, 512), add, quick=quick)
-    _write_rgb(add("overview.png", "overview", "all", "the three demo scenes side by side"),
+        rows: list[np.ndarray] = []
+        warped = _warped_shadow_section(renderer, size, add, rows)
+        soft = _soft_shadow_section(renderer, size, add, rows, quick=quick)
+        morphs = _viewmorph_section(renderer, min(size, 384), add, rows)
+        billboards = _billboard_section(renderer, min(size, 512), add, rows, quick=quick)
+    _write_rgb(add("overview.png", "overview", "all", "morphkit's results beside their ground truth, "
+                   "each with its error: warped hard shadow, soft shadow, view morph, billboards"),
+               _stack_rows(rows))
+    _write_rgb(add("groundtruth_overview.png", "overview", "all",
+                   "the three demo scenes with ray-cast (exact) hard shadows side by side"),
                np.concatenate(overview, axis=1))
     index = {
         "morphkit_demo": 1,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import cv2
 import pytest
 
 from morphkit.cli import main
@@ -54,6 +55,13 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         warped = soft["mae_warped_vs_raycast_lightfacing_pixels"]
         assert warped <= soft["mae_direct_vs_raycast_lightfacing_pixels"] + 0.03 and warped < 0.1
     assert {"billboards_compare.png", "billboards_error.png"} <= names
+    # the first picture is morphkit's output: four rows (warped, soft, view morph, billboards),
+    # each a captioned pair of OVERVIEW_TILE-high images; the ray-cast scenes have their own file
+    from morphkit.demo import OVERVIEW_TILE
+
+    assert {"overview.png", "groundtruth_overview.png"} <= names
+    overview = cv2.imread(str(tmp_path / "overview.png"))
+    assert overview.shape[0] == 4 * (OVERVIEW_TILE + 44 + 4)
     # view-morphed billboards outline the meshes better than classic ones (quick demo, 128 px wide:
     # measured IoU 0.93 vs 0.79 over 11 billboards); 0.05 leaves room for the tiny sizes
     bb = index["billboards"]["per_billboard_vs_mesh"]
