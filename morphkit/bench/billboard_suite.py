@@ -37,7 +37,8 @@ other sections -- frame time, temporal stability -- append theirs):
   :attr:`~morphkit.billboard.asset.BillboardAsset.memory_bytes`, which adds its depth
   maps and correspondences, pays for); the dense views are
   upsampled (bilinear) to ``S^2`` and compared with their own chord camera's
-  render;
+  render; 24 azimuths ``5 + 137.5 m`` degrees (the golden angle: none falls on
+  a reference of any ring);
 * ``bake`` -- :func:`bake_asset` ``K = 8`` at 256^2, three levels (renders, every
   pair's correspondences and level-0 morpher, as a bake does; ``cpu_ms``: the process's CPU
   time, all threads, next to the wall time: on a loaded machine the wall time
@@ -293,6 +294,13 @@ def ring_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     return out
 
 
+def _golden_azimuths(n: int) -> np.ndarray:
+    """``n`` azimuths ``5 + 137.5078 m`` (mod 360, the golden angle): spread evenly over the
+    circle and incommensurate with every ring's spacing, so no ring's references are favoured
+    (``7.5 + 15 m`` would fall exactly on a 48-view ring's references)."""
+    return np.mod(5.0 + (180.0 * (3.0 - np.sqrt(5.0))) * np.arange(n), 360.0)
+
+
 def _dense_views(cache: AssetCache, name: str, quad: QuadCameras, n: int) -> tuple[ViewRing, np.ndarray]:
     """``n`` views on a full ring rendered by the camera rule of ``quad`` (premultiplied float32)."""
     ring = ViewRing(n)
@@ -314,7 +322,7 @@ def equal_memory_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
 
 def _equal_memory_case(cache: AssetCache, name: str, k: int, size: int, quick: bool) -> list[dict[str, Any]]:
     small = size // 2
-    azimuths = np.arange(12 if quick else 24) * (30.0 if quick else 15.0) + 7.5
+    azimuths = _golden_azimuths(12 if quick else 24)
     asset = cache.asset(name, k, size)
     truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
     params = {"mesh": name, "views": k, "size": size}
