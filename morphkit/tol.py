@@ -39,6 +39,14 @@ RAY_OFFSET = 1e-4
 #: far below it; samples at such centres move by < 1e-6 px (invisible).
 MESH_BOUNDARY_PX = 1e-6
 
+#: Largest |x| or |y| (pixels) of a mesh warp's control points
+#: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
+#: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image
+#: fits; there float64 still resolves an edge crossing to ~2e-9 px and float32
+#: maps to 1 px, while at 1e20 px the crossings of an image's pixel centres
+#: cancel to nothing and the warp silently covered no pixel.
+MAX_COORD_PX = 1e7
+
 # --- view morphing (morphkit.viewmorph) -------------------------------------
 
 #: Default inlier threshold (pixels) of the robust fundamental-matrix fit
