@@ -55,7 +55,14 @@ from .fundamental import (
     fundamental_from_cameras,
     sampson_distance,
 )
-from .matching import from_images
+from .matching import (
+    DEFAULT_MATCHER,
+    CombinedMatcher,
+    FlowMatcher,
+    ImageMatcher,
+    SiftMatcher,
+    from_images,
+)
 from .morph import ViewMorpher
 from .postwarp import PostWarpPoints
 from .rectify import F0, Rectification, rectify
@@ -67,6 +74,11 @@ __all__ = [
     "from_depth",
     "pair_depth",
     "from_images",
+    "ImageMatcher",
+    "SiftMatcher",
+    "FlowMatcher",
+    "CombinedMatcher",
+    "DEFAULT_MATCHER",
     "load_points",
     "save_points",
     "FundamentalFit",
