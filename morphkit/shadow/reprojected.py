@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import settings
 from ..camera import CameraModel
-from ..settings import WARP_THREADS
 from .method import bilinear_weights
 from .reproject import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
 from .warped import check_flag
@@ -45,7 +45,9 @@ class ReprojectedMaps:
 
     Notes
     -----
-    Keeps scratch z-buffers: one object serves one thread at a time.
+    The z-buffer is split into bands of rows over :data:`morphkit.settings.WARP_THREADS`
+    threads (read per call); the result does not depend on the thread count
+    (:func:`~morphkit.shadow.reproject.reproject_maps`).
     """
 
     def __init__(self, atlas: ShadowAtlas, *, nearest: bool = False, layers: bool = True) -> None:
@@ -53,7 +55,6 @@ class ReprojectedMaps:
         self.nearest = check_flag(nearest, "nearest")
         self.layers = check_flag(layers, "layers")
         self.name = "reproject" + ("_nearest" if self.nearest else "") + ("" if self.layers else "_full")
-        self._scratch: list[np.ndarray] = []
 
     @property
     def rig(self) -> LightRig:
@@ -90,8 +91,6 @@ class ReprojectedMaps:
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
         out = np.full(a.shape, np.inf, np.float32)
-        threads = WARP_THREADS if pixels >= PARALLEL_MIN_SOURCE_PIXELS else 1
-        while len(self._scratch) < threads - 1:
-            self._scratch.append(np.full(a.shape, np.inf, np.float32))
-        reproject_maps(jobs, out, self._scratch, threads=threads)
+        threads = settings.WARP_THREADS if pixels >= PARALLEL_MIN_SOURCE_PIXELS else 1
+        reproject_maps(jobs, out, threads=threads)
         return out
