@@ -157,19 +157,27 @@ def test_the_issue_pair_morphs_from_the_images_alone(renderer):
 @pytest.mark.gl
 def test_refused_F_of_sparse_sift_matches_is_replaced_by_the_better_affine_F(renderer):
     (c0, c1, _), ((i0, d0), (i1, d1), _) = _issue_pair(renderer)
-    # the matcher of the issue's report (SIFT alone: 40 matches); its F put the epipole in the image
+    # the matcher of the issue's report (SIFT alone: 40 matches). USAC's F from so few matches
+    # depends on their order; in some orders it put the epipole in the image (the refusal the
+    # issue reported). 16 seeded orders: every one must morph, through the affine F when refused.
     corr = from_images(i0, i1, matcher=SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1))
     assert 30 <= len(corr) <= 60
-    vm = ViewMorpher(i0, i1, corr)
-    assert vm.fit.method == "affine" and vm.report["affine"]["used"]
-    assert "epipole" in vm.report["affine"]["f_refused"]
-    cleaned = corr.cleaned()[0]
-    general = estimate_fundamental(cleaned.pts0, cleaned.pts1, check_degenerate=False)
-    # judged on exact pairs from the depth maps (true F: ~1e-14 px): the affine F is the better
-    # geometry (measured 0.45 px RMS against the refused F's 1.14 px)
-    exact = from_depth(c0, c1, d0, d1)
+    exact = from_depth(c0, c1, d0, d1)  # exact pairs: the true F fits them to ~1e-14 px
 
     def rms(F):
         return float(np.sqrt(np.mean(sampson_distance(F, exact.pts0, exact.pts1) ** 2)))
 
-    assert rms(vm.fit.F) < 0.6 and rms(vm.fit.F) < 0.5 * rms(general.F)
+    rng = np.random.default_rng(0)
+    replaced = 0
+    for _ in range(16):
+        shuffled = corr.subset(rng.permutation(len(corr)))
+        vm = ViewMorpher(i0, i1, shuffled)  # fallback="raise": a refusal fails the test
+        if vm.fit.method != "affine":
+            continue
+        replaced += 1
+        assert vm.report["affine"]["used"] and "epipole" in vm.report["affine"]["f_refused"]
+        cleaned = shuffled.cleaned()[0]
+        general = estimate_fundamental(cleaned.pts0, cleaned.pts1, check_degenerate=False)
+        # the affine F is the better geometry (measured 0.46 px RMS against 0.97-1.14 px)
+        assert rms(vm.fit.F) < 0.6 and rms(vm.fit.F) < 0.6 * rms(general.F)
+    assert replaced >= 1  # measured: 2 of the 16 orders

@@ -140,7 +140,10 @@ class SiftMatcher:
             if k > 1:
                 g = cv2.resize(g, None, fx=k, fy=k, interpolation=cv2.INTER_CUBIC)
                 m = None if m is None else cv2.resize(m, None, fx=k, fy=k, interpolation=cv2.INTER_NEAREST)
-            found.append(sift.detectAndCompute(g, m))
+            # the robust fits depend on the order of the pairs (USAC's F from few matches does);
+            # cv2.SIFT finds keypoints in parallel and does not promise an order: sort them
+            kps = sorted(sift.detect(g, m), key=lambda k: (k.pt[1], k.pt[0], k.size, k.angle, k.response))
+            found.append(sift.compute(g, kps) if kps else ((), None))
         (k0, d0), (k1, d1) = found
         if d0 is None or d1 is None or len(k0) < 2 or len(k1) < 2:
             return _empty()
