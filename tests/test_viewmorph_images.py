@@ -125,6 +125,21 @@ def test_affine_fundamental_exact_robust_and_reproducible(rng):
         estimate_affine_fundamental(np.c_[np.arange(10.0), np.arange(10.0)], p1[:10])
 
 
+def test_few_pairs_where_usac_finds_no_model_are_a_geometry_error():
+    # 10 SIFT pairs of a rendered chair (10 degrees apart, azimuth 270, 192^2) on which OpenCV 5.0's
+    # USAC-MAGSAC failed an internal assertion (cv2.error) instead of returning no model
+    rows = np.array([[59.39, 26.44, 128.5, 122.72], [117.8, 54.83, 119.94, 55.69],
+                     [115.15, 56.43, 112.88, 57.24], [96.57, 56.64, 97.84, 56.9],
+                     [66.07, 67.49, 59.89, 65.94], [97.22, 69.08, 89.78, 68.96],
+                     [108.74, 69.26, 101.57, 69.64], [101.28, 73.4, 93.66, 73.53],
+                     [94.95, 73.8, 87.34, 73.77], [63.21, 143.77, 57.85, 139.17]])
+    with pytest.raises(GeometryError, match="fundamental matrix fit: expected a fit with >= 8 inliers"):
+        estimate_fundamental(rows[:, :2], rows[:, 2:])
+    img = np.zeros((192, 192, 3), np.uint8)
+    vm = ViewMorpher(img, img, (rows[:, :2], rows[:, 2:]), fallback="morph")
+    assert vm.mode == "morph" and "fundamental matrix fit" in vm.report["fallback"]
+
+
 def _issue_pair(renderer):
     """The issue's pair: teapot, 192^2, references 20 degrees apart about azimuth 60, and the middle view."""
     from morphkit.scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items

@@ -369,11 +369,16 @@ def _transfer(H_1_0: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
 
 def _fit(pts0: np.ndarray, pts1: np.ndarray, flag: int, threshold: float, seed: int
          ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    if flag == cv2.FM_8POINT:
-        F, mask = cv2.findFundamentalMat(pts0, pts1, cv2.FM_8POINT)
-    else:
-        cv2.setRNGSeed(int(seed))  # FM_RANSAC draws from cv::theRNG; USAC is seeded internally
-        F, mask = cv2.findFundamentalMat(pts0, pts1, flag, threshold, 0.9999, 10000)
+    try:
+        if flag == cv2.FM_8POINT:
+            F, mask = cv2.findFundamentalMat(pts0, pts1, cv2.FM_8POINT)
+        else:
+            cv2.setRNGSeed(int(seed))  # FM_RANSAC draws from cv::theRNG; USAC is seeded internally
+            F, mask = cv2.findFundamentalMat(pts0, pts1, flag, threshold, 0.9999, 10000)
+    except cv2.error:
+        # OpenCV 5.0's USAC asserts (!model.empty() in setModelParameters) on some sets of
+        # few pairs where it finds no model: no fit, as a None return would say
+        return None, None
     if F is None or F.shape != (3, 3) or not np.all(np.isfinite(F)):
         return None, None
     return F, None if mask is None else mask.ravel().astype(bool)
