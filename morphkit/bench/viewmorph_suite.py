@@ -58,15 +58,17 @@ aggregates the 8 pairs of one mesh and baseline:
 * ``images`` -- the image-only path as a user runs it:
   ``ViewMorpher(i0, i1, from_images(i0, i1))`` (SIFT and dense flow, robust F,
   the affine F in place of a refused one), ``fallback="raise"``;
-* ``images-sift`` -- the same with SIFT matches only, as before dense matching
-  (``SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)``);
+* ``images-sift`` -- the same with SIFT matches only, the matcher of before dense
+  matching (``SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)``),
+  with the affine-F replacement;
 * ``images-depth`` -- the same morpher on dense pairs from the two depth maps
   (:func:`~morphkit.viewmorph.from_depth`): what the image-only path is compared with.
 
 Metrics: ``success`` -- fraction of the pairs morphed (not refused);
 ``iou``/``iou_min`` -- mean/min silhouette IoU of the successful ones against
 the rendered middle view; ``iou_depth`` (``images`` rows) -- mean IoU of the
-``images-depth`` morph on the same pairs; ``affine`` -- pairs whose refused F
+``images-depth`` morph on the same pairs; ``iou_crossfade`` -- mean IoU of the
+cross-dissolve of the same (successful) pairs; ``affine`` -- pairs whose refused F
 was replaced by the affine F; ``matches`` -- median pairs matched. Time: one
 pair's matching, construction and morph (median over the pairs).
 ``--quick``: teapot, 20 degrees, azimuths 0, 90, 180, 270.
@@ -223,13 +225,15 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
     """The ``images``/``images-sift``/``images-depth`` rows of one mesh and baseline."""
     import time
 
-    from ..viewmorph import SiftMatcher, ViewMorpher, from_depth, from_images
+    from ..viewmorph import SiftMatcher, ViewMorpher, crossfade, from_depth, from_images
 
     sift = SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)
     got: dict[str, list[dict[str, Any]]] = {"images": [], "images-sift": [], "images-depth": []}
+    fade: dict[float, float] = {}
     for az in azimuths:
         c0, c1, ct = (circle_camera(a, size) for a in (az - base / 2, az + base / 2, az))
         (i0, d0), (i1, d1), (gt, _) = render_pair(renderer, items, [c0, c1, ct])
+        fade[az] = shadow_iou(crossfade(i0, i1, 0.5)[..., 3] > 127, gt[..., 3] > 127)
         pairs = {"images": lambda i0=i0, i1=i1: from_images(i0, i1),
                  "images-sift": lambda i0=i0, i1=i1: from_images(i0, i1, matcher=sift),
                  "images-depth": lambda c0=c0, c1=c1, d0=d0, d1=d1: from_depth(c0, c1, d0, d1)}
@@ -255,6 +259,8 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
         if ok:
             m.update(iou=float(np.mean([r["iou"] for r in ok])), iou_min=float(min(r["iou"] for r in ok)))
             m["err_iou"] = 1.0 - m["iou"]
+        if ok:
+            m["iou_crossfade"] = float(np.mean([fade[r["az"]] for r in ok]))
         if method == "images" and ok:
             depth = {r["az"]: r for r in got["images-depth"] if r["ok"]}
             both = [depth[r["az"]]["iou"] for r in ok if r["az"] in depth]
