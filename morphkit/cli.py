@@ -65,31 +65,57 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import cv2
     import numpy as np
 
-    from .errors import FileFormatError
+    from .errors import FileFormatError, ValidationError, expected_got
+    from .fileio import encode_image, write_bytes
     from .viewmorph import ViewMorpher, from_images, load_points
 
     def read(path: str) -> np.ndarray:
-        if not Path(path).is_file():  # (OpenCV would also print a warning of its own)
-            raise FileFormatError(f"image {path!r}: expected a readable image file, got "
-                                  f"{'a folder' if Path(path).is_dir() else 'no such file'}")
-        img = cv2.imread(path, cv2.IMREAD_UNCHANGED)
+        # decoded from bytes: cv2.imread prints its own warning for a missing file
+        p = Path(path)
+        if not p.is_file():
+            raise FileFormatError(expected_got(f"image {path!r}", "an existing file",
+                                               "a folder" if p.is_dir() else "nothing there"))
+        try:
+            data = np.fromfile(p, dtype=np.uint8)
+        except OSError as exc:
+            raise FileFormatError(expected_got(f"image {path!r}", "a readable file",
+                                               exc.strerror or exc)) from exc
+        img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
         if img is None:
-            raise FileFormatError(f"image {path!r}: expected a readable image file, got none")
+            raise FileFormatError(expected_got(f"image {path!r}", "an image file OpenCV can decode",
+                                               f"{data.size} bytes it cannot"))
         if img.ndim == 3:
             img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA if img.shape[2] == 4 else cv2.COLOR_BGR2RGB)
         return img
 
-    def write(path: Path, img: np.ndarray) -> None:
-        from .fileio import write_image
-
-        path.parent.mkdir(parents=True, exist_ok=True)
+    def encode(path: Path, img: np.ndarray) -> bytes:
         if img.ndim == 3:
             img = cv2.cvtColor(img, cv2.COLOR_RGBA2BGRA if img.shape[2] == 4 else cv2.COLOR_RGB2BGR)
         if img.dtype.kind == "f":
             img = np.clip(np.rint(img * 255), 0, 255).astype(np.uint8)
-        write_image(path, img)  # atomic; an unknown extension fails before the disk is touched
+        return encode_image(path, img)  # ValidationError for an unknown extension, before any write
 
-    _check_output_file(None if args.frames else Path(args.out), "output image")
+    def write(path: Path, data: bytes) -> None:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            write_bytes(path, data)  # atomic; ValidationError when path is a folder
+        except OSError as exc:
+            raise ValidationError(expected_got("output", "a writable image path",
+                                               f"{str(path)!r}: {exc.strerror or exc}")) from exc
+
+    # the output is checked before the work: a folder, a file in the way, an unknown extension
+    out = Path(args.out)
+    folder = out if args.frames else out.parent
+    in_the_way = next((a for a in (folder, *folder.parents) if a.exists() and not a.is_dir()), None)
+    if in_the_way is not None:
+        expected = "a folder path" if args.frames else "a path whose parents are folders"
+        raise ValidationError(expected_got("output" + (" with --frames" if args.frames else ""), expected,
+                                           f"{str(out)!r}, where {str(in_the_way)!r} is a file"))
+    if not args.frames:
+        if out.is_dir():
+            raise ValidationError(expected_got("output", "an image file path (or --frames N for a folder)",
+                                               f"the folder {str(out)!r}"))
+        encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
     left, right = read(args.left), read(args.right)
     if args.points:
         try:
@@ -110,14 +136,14 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
           f"{rep.get('n_outliers', 0)} outliers, {rep['n_dropped_foldover']} dropped for fold-overs)"
           + (f", F by {fit['method']}: Sampson RMS {fit['sampson_rms_px']:.3f} px" if fit else "")
           + (f"; fallback: {rep['fallback']}" if "fallback" in rep else ""))
-    out = Path(args.out)
     kw = {"post": args.post, "frame": args.frame}
     if args.frames:
         for i, img in enumerate(vm.frames(args.frames, **kw)):
-            write(out / f"frame_{i:03d}.png", img)
+            name = out / f"frame_{i:03d}.png"
+            write(name, encode(name, img))
         print(f"wrote {args.frames} frames to {out.resolve()}")
     else:
-        write(out, vm.morph(args.s, **kw))
+        write(out, encode(out, vm.morph(args.s, **kw)))
         print(f"wrote {out.resolve()}")
     return 0
 
@@ -321,8 +347,8 @@ def build_parser() -> argparse.ArgumentParser:
         "viewmorph",
         help="view-morph two images of the same object (Seitz & Dyer): the view in between",
         description="Pre-warp LEFT and RIGHT to parallel views, morph them by s and post-warp the "
-        "result. Correspondences come from --points (JSON/CSV of x0,y0,x1,y1) or from SIFT matching "
-        "with a robust fundamental-matrix fit.",
+        "result. Correspondences come from --points (JSON/CSV of x0,y0,x1,y1) or from the images "
+        "(SIFT and dense optical flow) with a robust fundamental-matrix fit.",
     )
     v.add_argument("left", help="image at s = 0 (PNG/JPEG; grey, RGB or RGBA)")
     v.add_argument("right", help="image at s = 1")

@@ -9,6 +9,11 @@ Pixels and images
   ``[-0.5, W - 0.5] x [-0.5, H - 0.5]``. This is the convention of
   ``cv2.remap``, ``cv2.warpAffine`` and ``cv2.warpPerspective``.
 * Point arrays are ``(N, 2)`` in ``(x, y)`` order (``(N, 3)`` for 3-D points).
+* OpenCV's SIFT keypoints are not quite in this convention: SIFT detects on
+  the image doubled (its first octave) and maps keypoints back by halving,
+  where ``(x + 0.5) / 2 - 0.5`` would be right, so ``KeyPoint.pt`` lies
+  :data:`SIFT_KEYPOINT_OFFSET_PX` right of and below the feature (measured on
+  Gaussian blobs: +0.247, +0.246 px); :mod:`morphkit.viewmorph.matching` subtracts it.
 * Output sizes in morphkit's API are array shapes ``(H, W)`` and are named
   ``shape``/``out_shape``. The ``(w, h)`` order appears only at cv2 calls.
 
@@ -48,7 +53,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "gl_pose_from_cv", "cv_pose_from_gl"]
+__all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "SIFT_KEYPOINT_OFFSET_PX", "gl_pose_from_cv", "cv_pose_from_gl"]
 
 #: 4x4 change of camera frame OpenGL -> OpenCV (equal to its inverse).
 CV_FROM_GL: np.ndarray = np.diag([1.0, -1.0, -1.0, 1.0])
@@ -56,6 +61,10 @@ CV_FROM_GL.setflags(write=False)
 
 #: Value of depth-image pixels where no surface was hit.
 BACKGROUND_DEPTH: float = float("inf")
+
+#: How far (pixels, in x and in y) ``cv2.SIFT`` puts a keypoint right of and
+#: below its feature, in the pixels of the image it was given (see above).
+SIFT_KEYPOINT_OFFSET_PX: float = 0.25
 
 
 def gl_pose_from_cv(cam_cv2world: np.ndarray) -> np.ndarray:

@@ -76,6 +76,14 @@ MAX_BUFFER_BYTES = 2**32
 #: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
 MAX_LIGHT_SAMPLES = 4096
 
+#: Largest |x| or |y| (pixels) of a mesh warp's control points
+#: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
+#: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image
+#: fits; there float64 still resolves an edge crossing to ~2e-9 px and float32
+#: maps to 1 px, while at 1e20 px the crossings of an image's pixel centres
+#: cancel to nothing and the warp silently covered no pixel.
+MAX_COORD_PX = 1e7
+
 # --- view morphing (morphkit.viewmorph) -------------------------------------
 
 #: Default inlier threshold (pixels) of the robust fundamental-matrix fit
@@ -205,3 +213,32 @@ BB_ABOVE_RATIO = 1e-6
 #: edge-on, e.g. from directly above, projects to a sliver whose homography is
 #: (nearly) singular; half a pixel of area holds at most one pixel centre.
 BB_MIN_AREA_PX2 = 0.5
+
+#: Largest forward-backward disagreement (pixels) of a pair from dense optical
+#: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the
+#: forward flow and back by the backward flow must land within this of where it
+#: started. Where DIS flow is right it is sub-pixel (median error 0.1 px on a
+#: translated smooth texture, tests/test_viewmorph_images.py); at occlusions and
+#: silhouettes the two flows disagree by pixels. 1 px is the inlier threshold of
+#: F (:data:`VM_THRESHOLD_PX`): a kept pair is not already an outlier.
+VM_FLOW_FB_PX = 1.0
+
+#: An estimated F whose pre-warps are refused (epipole in or near an image, or
+#: too distorting) is replaced by the affine F (epipoles at infinity) when the
+#: affine F keeps at least this fraction of the general F's inliers: the views
+#: are then nearly affine, and the general F's epipole is fitted to the
+#: matches' noise. Set from exact pairs (``from_depth``), not from the success
+#: rate: on the bench circle at 192^2 an affine F keeps, within 1 px, 97-100%
+#: of the pairs at a 10-degree baseline, 79-100% at 20 and 64-100% at 40; 0.6
+#: accepts views as far from affine as those and refuses pairs an affine F
+#: explains worse (they fall back as any refused pair does).
+VM_AFFINE_INLIER_RATIO = 0.6
+
+#: ... and when, over the pairs both explain, the affine F's RMS Sampson
+#: distance is at most this many times the general F's: the general F's extra
+#: freedom then fits noise, not perspective. Exact pairs (``from_depth``,
+#: ``from_geometry``) fit the general F to ~1e-9 px and an affine F to 0.1-0.5 px
+#: (ratios above 1e5: a real epipole in the image stays refused); SIFT and flow
+#: matches of the 72 bench pairs at 192^2 gave ratios 0.5-2.0 (1.1 median): a
+#: factor of 2 means F must halve the residual to count as determined.
+VM_AFFINE_RMS_RATIO = 2.0

@@ -50,13 +50,13 @@ def test_viewmorph_writes_its_output(pair, capsys):
 
 
 @pytest.mark.parametrize("case, match", [
-    ("parent-is-a-file", r"output image: expected a path under a folder, got .*afile/o.png \(under the file"),
+    ("parent-is-a-file", r"output: expected a path whose parents are folders, got .*afile/o.png.*is a file"),
     ("unknown-extension", r"image for .xyz: expected an image OpenCV can encode in that format"),
-    ("output-is-a-folder", r"output image: expected a file path, got the folder"),
+    ("output-is-a-folder", r"output: expected an image file path .*, got the folder"),
     ("system-path", r"cannot write /proc/morphkit-test.png"),
     ("points-not-json", r"points file: expected valid JSON"),
     ("points-bad-layout", r"points file .*layout.json.*: expected x0, y0, x1, y1 rows .*got ValueError"),
-    ("missing-input", r"image .*missing.png.*: expected a readable image file"),
+    ("missing-input", r"image .*missing.png.*: expected an existing file, got nothing there"),
 ])
 def test_viewmorph_errors_are_one_line(pair, capsys, case, match):
     d = pair["dir"]

@@ -46,10 +46,7 @@ def _job(m, e, c_dst=C):
 def _run(maps_es, *, threads=1, early_z=rp.EARLY_Z_TEXELS, c_dst=C):
     jobs = [_job(m, e, c_dst) for m, e in maps_es]
     out = np.full((H, W), np.inf, np.float32)
-    scratch = [np.full((H, W), np.inf, np.float32) for _ in range(threads - 1)]
-    box = rp.reproject_maps(jobs, out, scratch, threads=threads, early_z=early_z)
-    for s in scratch:  # left all +inf for the next call
-        assert np.all(np.isinf(s))
+    box = rp.reproject_maps(jobs, out, threads=threads, early_z=early_z)
     return out, box
 
 
@@ -124,18 +121,18 @@ def test_depth_jump_is_not_bridged_and_another_map_fills_the_disocclusion():
     np.testing.assert_allclose(two[both], want[both], rtol=1e-4)
 
 
-def test_thread_split_changes_no_coverage_and_no_depth_without_early_z():
+def test_thread_split_changes_nothing_bit_for_bit():
+    """Bands own disjoint output rows and draw in the one-thread order: the same bits for any
+    thread count, with early z (whose skips depend on what a pixel already holds) too."""
     e1, e2 = (0.05, -0.02, 0.1), (-0.03, 0.04, -0.05)
     maps = [(_occluded_scene((0, 0, 0)), e1), (_patch(**TILTED), e2)]
-    ref, box = _run(maps, threads=1, early_z=0.0)
-    for t in (2, 3, 5):
-        got, b = _run(maps, threads=t, early_z=0.0)
-        np.testing.assert_array_equal(got, ref)  # a z-buffer minimum: order-free
-        assert b == box
-        got, _ = _run(maps, threads=t)  # early z: coverage exact, depth within its bound
-        np.testing.assert_array_equal(np.isfinite(got), np.isfinite(ref))
-        fin = np.isfinite(ref)
-        assert np.all(np.abs(got[fin] - ref[fin]) <= rp.EARLY_Z_TEXELS * ref[fin] / FX * 1.001)
+    for early_z in (0.0, rp.EARLY_Z_TEXELS, 50.0):  # 50 texels: early z skips much more
+        ref, box = _run(maps, threads=1, early_z=early_z)
+        assert np.isfinite(ref).sum() > 1500
+        for t in (2, 3, 4, 5):
+            got, b = _run(maps, threads=t, early_z=early_z)
+            np.testing.assert_array_equal(got, ref)
+            assert b == box
 
 
 def test_compiled_kernel_agrees_with_the_numpy_reference(monkeypatch):
@@ -230,7 +227,7 @@ def test_orthographic_motion_is_a_translation():
     src = _patch(**TILTED)
     rp_o = rp.Reprojection(False, 100.0, 100.0, C, C, (0.03, -0.02, 0.5))  # 3 px right, 2 up
     out = np.full((H, W), np.inf, np.float32)
-    rp.reproject_maps([(rp.Source(src), rp_o)], out, [])
+    rp.reproject_maps([(rp.Source(src), rp_o)], out)
     want = np.full_like(src, np.inf)
     want[:-2, 3:] = src[2:, :-3] + np.float32(0.5)
     np.testing.assert_array_equal(np.isfinite(out), np.isfinite(want))
@@ -245,7 +242,7 @@ def test_bad_input_is_refused():
     with pytest.raises(ValidationError, match=r"float32 \(H, W\).*float64"):
         rp.Source(np.zeros((4, 4)))
     with pytest.raises(ValidationError, match="z-buffer"):
-        rp.reproject_maps([], np.zeros((4, 4)), [])
+        rp.reproject_maps([], np.zeros((4, 4)))
     with pytest.raises(ValidationError, match=r"quads: expected a \(3, 3\) mask, got \(4, 4\)"):
         rp.Layer(np.zeros((4, 4), np.float32), np.zeros((4, 4), bool))
     with pytest.raises(ValidationError, match=r"secondary map: expected the primary's shape \(4, 4\)"):

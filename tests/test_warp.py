@@ -346,6 +346,36 @@ def test_bad_points_and_counts():
         warp_mesh(np.zeros((10, 10, 3, 2)), src, src, (10, 10))
 
 
+def test_nan_pixels_refused_with_their_count():
+    src = lattice(3, 3, 10, 10)
+    img = np.zeros((10, 10, 2), np.float32)
+    img[2, 3, 0] = img[7, 1, 1] = img[5, 5, 1] = np.nan
+    with pytest.raises(ValidationError, match=r"image: expected no NaN pixels.*got 3 NaN values"):
+        warp_mesh(img, src, src, (10, 10))
+    with pytest.raises(ValidationError, match="got 3 NaN values"):
+        MeshWarper(src).maps(src, (10, 10)).apply(img, interpolation="nearest")
+    img[np.isnan(img)] = np.inf  # +inf (a depth background) stays allowed
+    out = warp_mesh(img, src, src, (10, 10), interpolation="nearest")
+    np.testing.assert_array_equal(out, img)  # an identity warp of a nearest sample
+
+
+def test_coordinates_beyond_the_limit_refused():
+    src = lattice(3, 3, 10, 10)
+    img = np.ones((10, 10), np.float32)
+    far = (src - 4.5) * 1e20 + 4.5  # used to give an empty mask without a word
+    with pytest.raises(ValidationError, match=r"dst_pts: expected coordinates within \+-1e\+07 px.*"
+                       r"8 points beyond it \(largest \|coordinate\| 4\.5e\+20\)"):
+        warp_mesh(img, src, far, (10, 10))
+    with pytest.raises(ValidationError, match="src_pts: expected coordinates within"):
+        MeshWarper(far)
+    with pytest.raises(ValidationError, match="dst_pts: expected coordinates within"):
+        MeshWarper(src).accumulation(far, (10, 10))
+    # at the limit the warp still holds: a mesh scaled up about the image centre covers it all
+    big = (src - 4.5) * (tol.MAX_COORD_PX / 5.0) + 4.5
+    out, mask = warp_mesh(img, src, big, (10, 10), return_mask=True)
+    assert mask.all() and np.all(out == 1.0)
+
+
 def test_bad_triangles():
     src = lattice(3, 3, 10, 10)
     with pytest.raises(ValidationError, match=r"indices in \[0, 9\).*triangles \[1\]"):

@@ -26,8 +26,9 @@ Methods (all from the same two reference renders):
   fold-overs; the note says which);
 * ``viewmorph-interp`` -- the same morpher with the default post-warp
   (interpolated between the two views; knows nothing of the target);
-* ``viewmorph-sift`` -- SIFT matches + robust F (USAC-MAGSAC), default post-warp
-  (when a pair yields too few matches the row's note says so);
+* ``viewmorph-images`` -- correspondences from the images alone
+  (:func:`~morphkit.viewmorph.from_images`: SIFT and dense flow) + robust F,
+  default post-warp, ``fallback="morph"`` (the build row's note says what was used);
 * ``morph`` -- mesh morph of the same geometric correspondences without pre- or
   post-warp; ``crossfade`` -- premultiplied cross-dissolve;
   ``nearest`` -- the nearer reference image (a classic billboard).
@@ -46,6 +47,31 @@ the morpher built once per pair) or one baseline call, median of repeats at
 ``viewmorph-build`` rows time the construction (cleaning, F, pre-warps, mesh);
 ``viewmorph-layered-build`` rows that of the layered morpher (from the pairs and keys).
 ``--quick``: teapot only, baselines 20 and 40, ``s = 0.5``, sizes 256 and 512.
+
+Image-only success rate (rows ``images``, ``images-sift``, ``images-depth``):
+many pairs at 192^2 -- the three meshes, baselines 10, 20 and 40 degrees,
+pairs centred on azimuths 0, 45, ..., 315 (8 per mesh and baseline; the views
+of each pair at ``azimuth -/+ baseline/2``), ``s = 0.5``, ground truth the
+render from the middle camera, default (interpolated) post-warp. Each row
+aggregates the 8 pairs of one mesh and baseline:
+
+* ``images`` -- the image-only path as a user runs it:
+  ``ViewMorpher(i0, i1, from_images(i0, i1))`` (SIFT and dense flow, robust F,
+  the affine F in place of a refused one), ``fallback="raise"``;
+* ``images-sift`` -- the same with SIFT matches only, the matcher of before dense
+  matching (``SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)``),
+  with the affine-F replacement;
+* ``images-depth`` -- the same morpher on dense pairs from the two depth maps
+  (:func:`~morphkit.viewmorph.from_depth`): what the image-only path is compared with.
+
+Metrics: ``success`` -- fraction of the pairs morphed (not refused);
+``iou``/``iou_min`` -- mean/min silhouette IoU of the successful ones against
+the rendered middle view; ``iou_depth`` (``images`` rows) -- mean IoU of the
+``images-depth`` morph on the same pairs; ``iou_crossfade`` -- mean IoU of the
+cross-dissolve of the same (successful) pairs; ``affine`` -- pairs whose refused F
+was replaced by the affine F; ``matches`` -- median pairs matched. Time: one
+pair's matching, construction and morph (median over the pairs).
+``--quick``: teapot, 20 degrees, azimuths 0, 90, 180, 270.
 """
 
 from __future__ import annotations
@@ -55,10 +81,11 @@ from typing import Any
 import numpy as np
 
 from ..camera import CameraModel
+from ..errors import MorphkitError
 from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
 from ..protocols import SceneRenderer
 from ..scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
-from .harness import make_row, time_call
+from .harness import Timing, make_row, time_call
 
 __all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
@@ -71,6 +98,9 @@ PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("mesh",)}
 BASELINES = (10, 20, 40, 60)
 SS = (0.25, 0.5, 0.75)
 MESHES = ("teapot", "chair", "cow")
+IMAGE_ONLY_BASELINES = (10, 20, 40)
+IMAGE_ONLY_AZIMUTHS = tuple(float(a) for a in range(0, 360, 45))
+IMAGE_ONLY_SIZE = 192
 def _premul(img: np.ndarray) -> np.ndarray:
     return img[..., :3].astype(np.float64) * (img[..., 3:4] / 255.0)
 
@@ -150,19 +180,20 @@ def _case(renderer: SceneRenderer, name: str, mesh: Any, items: list[Any], base:
                                f"{100 * va.report['auto_dropped_fraction']:.2f}% of the pairs")
     morphers["morph"] = ViewMorpher(i0, i1, corr, prewarp="none")
     try:
-        sift = from_images(i0, i1)
-        vs = ViewMorpher(i0, i1, sift, fallback="morph")
-        morphers["viewmorph-sift"] = vs
-        notes["viewmorph-sift"] = (f"{vs.mode}/{vs.rectification.method}, {vs.report['n_used']}/"
-                                   f"{len(sift)} matches used")
-    except Exception as exc:  # too few matches etc.: reported, not hidden
-        notes["viewmorph-sift"] = f"failed: {type(exc).__name__}: {str(exc)[:80]}"
+        matched = from_images(i0, i1)
+        vs = ViewMorpher(i0, i1, matched, fallback="morph")
+        morphers["viewmorph-images"] = vs
+        notes["viewmorph-images"] = (f"{vs.mode}/{vs.rectification.method}"
+                                     f"{'' if vs.fit is None else ' F ' + vs.fit.method}, "
+                                     f"{vs.report['n_used']}/{len(matched)} matches used")
+    except MorphkitError as exc:  # too few matches etc.: reported, not hidden
+        notes["viewmorph-images"] = f"failed: {type(exc).__name__}: {str(exc)[:80]}"
     params0 = {"mesh": name, "baseline": base, "size": size}
     bm = {"y_rms_px": vm.rectification.y_rms, "anisotropy": vm.rectification.anisotropy}
     if vm.fit is not None:
         bm["sampson_rms_px"] = vm.fit.sampson_rms
     rows.append(make_row(SUITE, "viewmorph-build", dict(params0, s=-1.0), build, metrics=_finite(bm),
-                         note=notes["viewmorph"] + "; sift: " + notes["viewmorph-sift"]))
+                         note=notes["viewmorph"] + "; images: " + notes["viewmorph-images"]))
     rows.append(make_row(SUITE, "viewmorph-layered-build", dict(params0, s=-1.0), build_l,
                          note=notes["viewmorph-layered"]))
     for s in ss:
@@ -178,17 +209,68 @@ def _case(renderer: SceneRenderer, name: str, mesh: Any, items: list[Any], base:
             "crossfade": lambda s=s: crossfade(i0, i1, s),
             "nearest": lambda s=s: nearest(i0, i1, s),
         }
-        if "viewmorph-sift" in morphers:
-            calls["viewmorph-sift"] = lambda s=s: morphers["viewmorph-sift"].morph(s)
+        if "viewmorph-images" in morphers:
+            calls["viewmorph-images"] = lambda s=s: morphers["viewmorph-images"].morph(s)
         params = dict(params0, s=s)
         base_m = {"occluded": float(occl.sum() / max((gt[..., 3] > 127).sum(), 1))}
         for method in ("viewmorph", "viewmorph-layered", "viewmorph-auto", "viewmorph-interp",
-                       "viewmorph-sift", "morph", "crossfade", "nearest"):
+                       "viewmorph-images", "morph", "crossfade", "nearest"):
             if method not in calls:
-                continue  # (viewmorph-sift failed: the build row's note says why)
+                continue  # (viewmorph-images failed: the build row's note says why)
             t = time_call(calls[method], repeats=repeats, warmup=1)
             m = _finite(dict(base_m, **_quality(calls[method](), gt, occl)))
             rows.append(make_row(SUITE, method, params, t, metrics=m, note=notes.get(method, "")))
+
+
+def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: float,
+                azimuths: tuple[float, ...], size: int, rows: list[dict[str, Any]]) -> None:
+    """The ``images``/``images-sift``/``images-depth`` rows of one mesh and baseline."""
+    import time
+
+    from ..viewmorph import SiftMatcher, ViewMorpher, crossfade, from_depth, from_images
+
+    sift = SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)
+    got: dict[str, list[dict[str, Any]]] = {"images": [], "images-sift": [], "images-depth": []}
+    fade: dict[float, float] = {}
+    for az in azimuths:
+        c0, c1, ct = (circle_camera(a, size) for a in (az - base / 2, az + base / 2, az))
+        (i0, d0), (i1, d1), (gt, _) = render_pair(renderer, items, [c0, c1, ct])
+        fade[az] = shadow_iou(crossfade(i0, i1, 0.5)[..., 3] > 127, gt[..., 3] > 127)
+        pairs = {"images": lambda i0=i0, i1=i1: from_images(i0, i1),
+                 "images-sift": lambda i0=i0, i1=i1: from_images(i0, i1, matcher=sift),
+                 "images-depth": lambda c0=c0, c1=c1, d0=d0, d1=d1: from_depth(c0, c1, d0, d1)}
+        for method, make in pairs.items():
+            t0 = time.perf_counter()
+            corr = make()
+            try:
+                vm = ViewMorpher(i0, i1, corr)
+                out = vm.morph(0.5)
+            except MorphkitError as exc:
+                got[method].append({"ok": False, "s": time.perf_counter() - t0, "n": len(corr), "az": az,
+                                    "why": type(exc).__name__})
+                continue
+            dt = time.perf_counter() - t0
+            iou = shadow_iou(out[..., 3] > 127, gt[..., 3] > 127)
+            got[method].append({"ok": True, "s": dt, "n": len(corr), "az": az, "iou": iou,
+                                "affine": bool(vm.report.get("affine", {}).get("used"))})
+    params = {"mesh": name, "baseline": base, "size": size, "s": 0.5, "pairs": len(azimuths)}
+    for method, res in got.items():
+        ok = [r for r in res if r["ok"]]
+        m: dict[str, float] = {"success": len(ok) / len(res), "affine": float(sum(r["affine"] for r in ok)),
+                               "matches": float(np.median([r["n"] for r in res]))}
+        if ok:
+            m.update(iou=float(np.mean([r["iou"] for r in ok])), iou_min=float(min(r["iou"] for r in ok)))
+            m["err_iou"] = 1.0 - m["iou"]
+        if ok:
+            m["iou_crossfade"] = float(np.mean([fade[r["az"]] for r in ok]))
+        if method == "images" and ok:
+            depth = {r["az"]: r for r in got["images-depth"] if r["ok"]}
+            both = [depth[r["az"]]["iou"] for r in ok if r["az"] in depth]
+            if both:
+                m["iou_depth"] = float(np.mean(both))
+        failed = [f"az {r['az']:g}: {r['why']}" for r in res if not r["ok"]]
+        rows.append(make_row(SUITE, method, params, Timing.from_seconds([r["s"] for r in res]), metrics=m,
+                             note="; ".join(failed)))
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
@@ -206,4 +288,9 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
                 _case(r, name, mesh, items, float(base), ss, 256, 5 if quick else 7, rows)
         mesh, items = textured_items("teapot")
         _case(r, "teapot", mesh, items, 20.0, (0.5,), 512, 5 if quick else 7, rows)
+        for name in meshes:
+            _, items = textured_items(name)
+            for base in (20,) if quick else IMAGE_ONLY_BASELINES:
+                azimuths = IMAGE_ONLY_AZIMUTHS[::2] if quick else IMAGE_ONLY_AZIMUTHS
+                _image_only(r, name, items, float(base), azimuths, IMAGE_ONLY_SIZE, rows)
     return rows

@@ -42,6 +42,13 @@ reconstruction of Mark, McMillan & Bishop 1997):
 At a sample position the reprojection is the identity and reproduces the baked
 map exactly (every object pixel is a vertex of a drawn triangle or a point).
 
+Threads and determinism: :func:`reproject_maps` splits the *output* rows into
+bands, one per thread; a band draws, in the single-threaded order, every quad
+that can reach its rows (found from bounds on each source row's destination
+``y``: :meth:`Reprojection.row_y_range`) and writes only its own rows. Every
+output pixel then sees the same sequence of writes and early-z tests whatever
+the thread count: the z-buffer is bit-identical for 1, 2 or 4 threads.
+
 Convention: pixel centres at integer ``(x, y)``, origin at the top-left pixel
 centre (:mod:`morphkit.conventions`); a triangle covers the centres inside or
 on its edges. Depths are linear light-camera ``Z``; ``+inf`` is background.
@@ -63,7 +70,7 @@ from ..settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
            "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
-           "reproject_numpy", "row_spans", "support_box"]
+           "reproject_numpy", "row_depth_range", "row_spans", "support_box"]
 
 #: A reprojected triangle whose bounding box is wider or taller than this
 #: (destination pixels) spans a depth jump and is not drawn. Source triangles
@@ -138,6 +145,42 @@ class Reprojection:
         p = self.params
         return bool(p[2] == p[4] and p[3] == p[5] and not np.any(p[6:]))
 
+    def row_y_range(self, zrange: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds of the destination ``y`` of source rows' object pixels.
+
+        Parameters
+        ----------
+        zrange : (K, 2) float
+            Each row's smallest and largest object depth (rows of
+            :func:`row_depth_range`; ``(+inf, -inf)`` for a row without one).
+        rows : (K,) int
+            The source rows (their ``y``).
+
+        Returns
+        -------
+        lo, hi : (K,) float64
+            ``lo <= y' <= hi`` for every object pixel of the row (``+inf, -inf``
+            for an empty row). Exact bounds: ``y'`` depends on the row and the
+            depth only, monotonically in the depth (perspective) or not at all
+            (orthographic).
+        """
+        fx, fy, _cxs, cys, _cxd, cyd, _ex, ey, ez = self.params
+        h = zrange.shape[0]
+        yr = (np.asarray(rows, dtype=np.float64) - cys) / fy
+        ok = zrange[:, 0] <= zrange[:, 1]
+        lo = np.full(h, np.inf)
+        hi = np.full(h, -np.inf)
+        if self.perspective:
+            with np.errstate(invalid="ignore", divide="ignore"):  # empty rows: masked below
+                a = fy * (zrange[:, 0] * yr + ey) / (zrange[:, 0] + ez) + cyd
+                b = fy * (zrange[:, 1] * yr + ey) / (zrange[:, 1] + ez) + cyd
+            lo[ok] = np.minimum(a, b)[ok]
+            hi[ok] = np.maximum(a, b)[ok]
+        else:
+            y = fy * (yr + ey) + cyd
+            lo[ok] = hi[ok] = y[ok]
+        return lo, hi
+
     def move(self, x: np.ndarray, y: np.ndarray, z: np.ndarray
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Destination ``(x', y', z')`` of source pixels ``(x, y)`` at depths ``z`` (numpy)."""
@@ -172,6 +215,14 @@ def row_spans(depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     cum = np.zeros(h + 1, np.int64)
     np.cumsum(fin.sum(1), out=cum[1:])
     return np.stack([first, last], 1).astype(np.int64), cum
+
+
+def row_depth_range(depth: np.ndarray) -> np.ndarray:
+    """``(H, 2)`` float64: each row's smallest and largest object (finite) depth,
+    ``(+inf, -inf)`` for a row without one."""
+    fin = np.isfinite(depth)
+    d = depth.astype(np.float64)
+    return np.stack([np.where(fin, d, np.inf).min(1), np.where(fin, d, -np.inf).max(1)], 1)
 
 
 def orphans(depth: np.ndarray) -> np.ndarray:
@@ -260,15 +311,15 @@ def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.n
 
 def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, Yb: np.ndarray,
                 Zb: np.ndarray, k0: int, k1: int, stretch: float, early_z: float, persp: bool,
-                zbuf: np.ndarray, jlo: int, jhi: int, ilo: int, ihi: int
+                zbuf: np.ndarray, jlo: int, jhi: int, ilo: int, ihi: int, jmin: int, jmax: int
                 ) -> tuple[int, int, int, int]:
     """Draw quads ``k0 .. k1 - 1`` between two projected rows (``Xa, Ya, Za`` the
     upper, ``Xb, Yb, Zb`` the lower; quad ``k`` joins their entries ``k, k + 1``)
-    into ``zbuf``; returns the written-pixel bounds ``(jlo, jhi, ilo, ihi)``
-    grown. ``early_z``: skip a quad at a centre already holding a depth no
-    farther than the quad's nearest vertex plus ``early_z`` (relative to that
-    depth for perspective, absolute for orthographic): it could lower that
-    depth by at most that much, and cannot change coverage."""
+    into rows ``[jmin, jmax)`` of ``zbuf``; returns the written-pixel bounds
+    ``(jlo, jhi, ilo, ihi)`` grown. ``early_z``: skip a quad at a centre already
+    holding a depth no farther than the quad's nearest vertex plus ``early_z``
+    (relative to that depth for perspective, absolute for orthographic): it
+    could lower that depth by at most that much, and cannot change coverage."""
     h, w = zbuf.shape
     for k in range(k0, k1):
         za = Za[k]
@@ -297,8 +348,8 @@ def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, 
         xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, vd)
         ia = max(math.ceil(xmin - _EDGE_EPS), 0)
         ib = min(math.floor(xmax + _EDGE_EPS), w - 1)
-        ja = max(math.ceil(ymin - _EDGE_EPS), 0)
-        jb = min(math.floor(ymax + _EDGE_EPS), h - 1)
+        ja = max(math.ceil(ymin - _EDGE_EPS), 0, jmin)
+        jb = min(math.floor(ymax + _EDGE_EPS), h - 1, jmax - 1)
         if ib < ia or jb < ja:
             continue
         # which triangles: split along b-c; with 3 object pixels, their triangle.
@@ -343,12 +394,12 @@ def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, 
 
 def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: int, c1: int,
                     persp: bool, p: np.ndarray, orph: np.ndarray, stretch: float,
-                    early_z: float, zbuf: np.ndarray, box: np.ndarray) -> None:
+                    early_z: float, zbuf: np.ndarray, box: np.ndarray, jmin: int, jmax: int) -> None:
     """Draw the quads with top row in ``[q0, q1)`` and columns ``[c0, c1)`` of
     ``src`` (rows ``q0 .. q1`` are read; ``spans[r]`` holds row ``r``'s first and
-    last + 1 object columns), and the points ``orph``, into ``zbuf``;
-    ``box`` grows to hold every pixel that may have been written (``early_z``:
-    :func:`_draw_quads`; 0 skips only what cannot change the result)."""
+    last + 1 object columns), and the points ``orph``, into rows ``[jmin, jmax)``
+    of ``zbuf``; ``box`` grows to hold every pixel that may have been written
+    (``early_z``: :func:`_draw_quads`; 0 skips only what cannot change the result)."""
     n = c1 - c0
     rows = np.empty((6, n))  # two projected rows: X, Y, Z of each
     Xa, Ya, Za, Xb, Yb, Zb = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
@@ -365,7 +416,7 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
         if hi > lo:
             jlo, jhi, ilo, ihi = _draw_quads(Xa, Ya, Za, Xb, Yb, Zb, max(lo - c0 - 1, 0),
                                              min(hi - c0, n - 1), stretch, early_z, persp, zbuf,
-                                             jlo, jhi, ilo, ihi)
+                                             jlo, jhi, ilo, ihi, jmin, jmax)
         Xa, Xb = Xb, Xa
         Ya, Yb = Yb, Ya
         Za, Zb = Zb, Za
@@ -379,7 +430,7 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
         if one_z[0] < np.inf:
             i = math.floor(one_x[0] + 0.5)
             j = math.floor(one_y[0] + 0.5)
-            if 0 <= i < w and 0 <= j < h and one_z[0] < zbuf[j, i]:
+            if 0 <= i < w and max(jmin, 0) <= j < min(jmax, h) and one_z[0] < zbuf[j, i]:
                 zbuf[j, i] = one_z[0]
                 jlo = min(jlo, j)
                 jhi = max(jhi, j + 1)
@@ -392,10 +443,12 @@ def _reproject_loop(src: np.ndarray, spans: np.ndarray, q0: int, q1: int, c0: in
 
 
 def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool, p: np.ndarray,
-               stretch: float, early_z: float, zbuf: np.ndarray, box: np.ndarray) -> None:
+               stretch: float, early_z: float, zbuf: np.ndarray, box: np.ndarray, jmin: int,
+               jmax: int) -> None:
     """Draw the quads of ``src`` listed by ``runs[t0:t1]`` (rows ``(r, a, b)``: the
-    quads with top row ``r`` and left columns ``a .. b - 1``) into ``zbuf``, as
-    :func:`_reproject_loop` draws them; ``box`` grows likewise."""
+    quads with top row ``r`` and left columns ``a .. b - 1``) into rows
+    ``[jmin, jmax)`` of ``zbuf``, as :func:`_reproject_loop` draws them; ``box``
+    grows likewise."""
     n = 1
     for t in range(t0, t1):
         n = max(n, runs[t, 2] - runs[t, 1] + 1)
@@ -409,11 +462,73 @@ def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool,
         _project_row(src, r, a, b, persp, p, Xa, Ya, Za, a, b)
         _project_row(src, r + 1, a, b, persp, p, Xb, Yb, Zb, a, b)
         jlo, jhi, ilo, ihi = _draw_quads(Xa, Ya, Za, Xb, Yb, Zb, 0, b - a - 1, stretch, early_z,
-                                         persp, zbuf, jlo, jhi, ilo, ihi)
+                                         persp, zbuf, jlo, jhi, ilo, ihi, jmin, jmax)
     box[0] = jlo
     box[1] = jhi
     box[2] = ilo
     box[3] = ihi
+
+
+def _quad_hull(zrange: np.ndarray, persp: bool, p: np.ndarray, q0: int, q1: int, jmin: int, jmax: int
+               ) -> tuple[int, int]:
+    """The first and last + 1 quad rows in ``[q0, q1)`` whose quads (or points) can
+    write a destination row in ``[jmin, jmax)`` (``(0, 0)``: none). A quad row's
+    destination ``y`` lies within the bounds of its two source rows' (exact, as
+    :meth:`Reprojection.row_y_range`), widened by a pixel for the rounding."""
+    fy = p[1]
+    cys = p[3]
+    cyd = p[5]
+    ey = p[7]
+    ez = p[8]
+    h = zrange.shape[0]
+    first = -1
+    last = -1
+    for q in range(q0, q1):
+        lo = np.inf
+        hi = -np.inf
+        for r in range(q, min(q + 2, h)):
+            za = zrange[r, 0]
+            zb = zrange[r, 1]
+            if za > zb:
+                continue
+            yr = (r - cys) / fy
+            if persp:
+                ya = fy * (za * yr + ey) / (za + ez) + cyd
+                yb = fy * (zb * yr + ey) / (zb + ez) + cyd
+            else:
+                ya = fy * (yr + ey) + cyd
+                yb = ya
+            lo = min(lo, ya, yb)
+            hi = max(hi, ya, yb)
+        if hi + 1.0 >= jmin and lo - 1.0 < jmax:
+            if first < 0:
+                first = q
+            last = q
+    if first < 0:
+        return 0, 0
+    return first, last + 1
+
+
+def _work_rows(zrange: np.ndarray, work: np.ndarray, persp: bool, p: np.ndarray, hist: np.ndarray) -> None:
+    """Add each source row's ``work`` to ``hist`` at the middle of its destination rows."""
+    fy = p[1]
+    cys = p[3]
+    cyd = p[5]
+    ey = p[7]
+    ez = p[8]
+    n = hist.shape[0]
+    for r in range(zrange.shape[0]):
+        za = zrange[r, 0]
+        zb = zrange[r, 1]
+        if work[r] <= 0 or za > zb:
+            continue
+        yr = (r - cys) / fy
+        if persp:
+            y = 0.5 * (fy * (za * yr + ey) / (za + ez) + fy * (zb * yr + ey) / (zb + ez)) + cyd
+        else:
+            y = fy * (yr + ey) + cyd
+        j = min(max(int(math.floor(y)), 0), n - 1)
+        hist[j] += work[r]
 
 
 if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they compile
@@ -424,6 +539,8 @@ if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they
     _draw_quads = compile_kernel(_draw_quads, inline="always")
 _reproject_kernel = compile_kernel(_reproject_loop)
 _runs_kernel = compile_kernel(_runs_loop)
+_hull_kernel = compile_kernel(_quad_hull)
+_work_kernel = compile_kernel(_work_rows)
 
 
 # ----------------------------------------------------------------- numpy reference
@@ -496,28 +613,18 @@ def _check_depth(depth: np.ndarray) -> np.ndarray:
 
 class Source:
     """A map prepared for reprojection (what does not change per frame): its
-    :func:`support_box`, :func:`row_spans` and :func:`orphans`."""
+    :func:`support_box`, :func:`row_spans`, :func:`orphans` and
+    :func:`row_depth_range`."""
 
-    __slots__ = ("depth", "box", "spans", "cum", "orphans", "_edges")
+    __slots__ = ("depth", "box", "spans", "cum", "orphans", "zrange", "row_work")
 
     def __init__(self, depth: np.ndarray) -> None:
         self.depth = _check_depth(depth)
         self.box = support_box(depth)
         self.spans, self.cum = row_spans(depth)
         self.orphans = orphans(depth)
-        self._edges: dict[int, np.ndarray] = {}
-
-    def band_edges(self, n: int) -> np.ndarray:
-        """``n + 1`` quad-row edges splitting the support into ``n`` bands of equal
-        object-pixel counts (cached)."""
-        edges = self._edges.get(n)
-        if edges is None:
-            r0, r1 = self.box[0], self.box[1]
-            share = self.cum[r0] + (self.cum[r1] - self.cum[r0]) * np.arange(n + 1) / n
-            edges = np.searchsorted(self.cum, share, side="left").clip(r0, max(r1 - 1, r0))
-            edges[0], edges[-1] = r0, max(r1 - 1, r0)
-            edges = self._edges[n] = edges.astype(np.int64)
-        return edges
+        self.zrange = row_depth_range(depth)
+        self.row_work = np.diff(self.cum).astype(np.float64)  # object pixels per row
 
 
 class Layer:
@@ -527,7 +634,7 @@ class Layer:
     (K + 1,)`` the quads before each run (band splits). The map is shared, not
     copied: a layer costs only its runs (:attr:`nbytes`)."""
 
-    __slots__ = ("depth", "runs", "cum", "_edges")
+    __slots__ = ("depth", "runs", "cum", "zrange", "row_work")
 
     def __init__(self, depth: np.ndarray, quads: np.ndarray) -> None:
         self.depth = _check_depth(depth)
@@ -542,7 +649,8 @@ class Layer:
         self.runs = np.stack([r, a, b], 1).astype(np.int64).reshape(-1, 3)
         self.cum = np.zeros(len(self.runs) + 1, np.int64)
         np.cumsum(b - a, out=self.cum[1:])
-        self._edges: dict[int, np.ndarray] = {}
+        self.zrange = row_depth_range(depth)
+        self.row_work = np.bincount(r, weights=b - a, minlength=h).astype(np.float64)  # quads per row
 
     @property
     def nbytes(self) -> int:
@@ -557,16 +665,6 @@ class Layer:
             q[r, a:b] = True
         return q
 
-    def band_edges(self, n: int) -> np.ndarray:
-        """``n + 1`` run indices splitting the runs into ``n`` bands of equal
-        quad counts (cached)."""
-        edges = self._edges.get(n)
-        if edges is None:
-            share = self.cum[-1] * np.arange(n + 1) / n
-            edges = np.searchsorted(self.cum, share, side="left").clip(0, len(self.runs))
-            edges[0], edges[-1] = 0, len(self.runs)
-            edges = self._edges[n] = edges.astype(np.int64)
-        return edges
 
 
 def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *,
@@ -618,8 +716,21 @@ def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *
 Job = tuple[Source | Layer, Reprojection]
 
 
-def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], *,
-                   threads: int = 1, stretch: float = STRETCH_PX,
+def _output_bands(plan: list[tuple[int, Source | Layer, Reprojection]], h: int, n: int) -> np.ndarray:
+    """``n + 1`` output-row edges (``0 .. h``) splitting the frame's work (object
+    pixels, quads) about evenly: each source row's work counted at the middle of
+    its destination rows. Only the balance depends on this, never the result."""
+    hist = np.zeros(h)
+    for _k, src, rp in plan:
+        _work_kernel(src.zrange, src.row_work, rp.perspective, rp.params, hist)
+    cum = np.cumsum(hist)
+    if cum[-1] <= 0:
+        return np.linspace(0, h, n + 1).astype(np.int64)
+    edges = np.searchsorted(cum, cum[-1] * np.arange(1, n) / n, side="left") + 1
+    return np.r_[0, np.clip(edges, 0, h), h].astype(np.int64)
+
+
+def reproject_maps(jobs: list[Job], out: np.ndarray, *, threads: int = 1, stretch: float = STRETCH_PX,
                    early_z: float = EARLY_Z_TEXELS) -> tuple[int, int, int, int]:
     """Reproject every ``(source, rp)`` of ``jobs`` into the z-buffer ``out``
     (``(H, W)`` float32, min), the first job with its orphan points, the others
@@ -627,13 +738,14 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
     :func:`hidden_layer` s) with ``early_z``. Returns the ROI
     ``(r0, r1, c0, c1)`` holding every pixel written.
 
-    With ``threads > 1`` each map's quad rows are split into that many bands of
-    equal object-pixel counts; band ``b > 0`` draws into ``scratch[b - 1]``
-    (float32, all ``+inf``; left so), merged into ``out`` by a minimum over its
-    ROI. Coverage does not depend on the split (depths within ``early_z``).
-    Compiled (numba) unless ``MORPHKIT_WARP_NUMPY=1``: then
-    :func:`reproject_numpy` per map, in one thread, with every map's orphans
-    and no early z (the exact union)."""
+    With ``threads > 1`` the output rows are split into that many bands of
+    about equal work; each band draws, in the order one thread would, every
+    quad and point whose destination can reach its rows
+    (:meth:`Reprojection.row_y_range`) and writes only its rows. Each output
+    pixel so sees the same writes and early-z tests as with one thread: the
+    result is bit-identical for any ``threads``. Compiled (numba) unless
+    ``MORPHKIT_WARP_NUMPY=1``: then :func:`reproject_numpy` per map, in one
+    thread, with every map's orphans and no early z (the exact union)."""
     if out.dtype != np.float32 or out.ndim != 2:
         raise ValidationError(expected_got("out", "a float32 (H, W) z-buffer", f"{out.dtype} {out.shape}"))
     box = np.array([out.shape[0], 0, out.shape[1], 0], np.int64)
@@ -648,54 +760,55 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, scratch: list[np.ndarray], 
                           min(box[2], changed[:, 1].min()), max(box[3], changed[:, 1].max() + 1))
         return _box(box)
     no_points = np.empty((0, 2), np.int64)
-    n = max(1, min(int(threads), len(scratch) + 1))
-    plan = []
-    for k, (src, rp) in enumerate(jobs):
-        if src.cum[-1] > 0:
-            plan.append((k, src, rp, src.band_edges(n)))
+    h = out.shape[0]
+    n = max(1, min(int(threads), h))
+    plan = [(k, src, rp) for k, (src, rp) in enumerate(jobs) if src.cum[-1] > 0]
+    rows = np.array([0, h], np.int64) if n == 1 else _output_bands(plan, h, n)
 
-    def band(b: int, zbuf: np.ndarray) -> np.ndarray:
-        bx = np.array([zbuf.shape[0], 0, zbuf.shape[1], 0], np.int64)
-        for k, src, rp, edges in plan:
+    def band(b: int) -> np.ndarray:
+        jmin, jmax = int(rows[b]), int(rows[b + 1])
+        bx = np.array([h, 0, out.shape[1], 0], np.int64)
+        if jmax <= jmin:
+            return bx
+        for k, src, rp in plan:
             ez = early_z / rp.params[0] if k > 0 else 0.0
             if isinstance(src, Layer):
-                _runs_kernel(src.depth, src.runs, int(edges[b]), int(edges[b + 1]), rp.perspective,
-                             rp.params, float(stretch), ez, zbuf, bx)
+                t0, t1 = 0, len(src.runs)
+                if n > 1:  # the runs whose quad rows can reach this band's rows
+                    qa, qb = _hull_kernel(src.zrange, rp.perspective, rp.params, int(src.runs[0, 0]),
+                                          int(src.runs[-1, 0]) + 1, jmin, jmax)
+                    t0 = int(np.searchsorted(src.runs[:, 0], qa, side="left"))
+                    t1 = int(np.searchsorted(src.runs[:, 0], qb, side="left"))
+                if t1 > t0:
+                    _runs_kernel(src.depth, src.runs, t0, t1, rp.perspective, rp.params, float(stretch), ez,
+                                 out, bx, jmin, jmax)
                 continue
             r0, r1, c0, c1 = src.box
-            if rp.identity:
-                if b == 0:  # a sample position: the map itself
-                    o, m = zbuf[r0:r1, c0:c1], src.depth[r0:r1, c0:c1]
+            if rp.identity:  # a sample position: the map itself
+                a, z = max(r0, jmin), min(r1, jmax)
+                if z > a:
+                    o, m = out[a:z, c0:c1], src.depth[a:z, c0:c1]
                     np.minimum(o, m, out=o)
-                    bx[:] = (min(bx[0], r0), max(bx[1], r1), min(bx[2], c0), max(bx[3], c1))
+                    bx[:] = (min(bx[0], a), max(bx[1], z), min(bx[2], c0), max(bx[3], c1))
                 continue
-            _reproject_kernel(src.depth, src.spans, int(edges[b]), int(edges[b + 1]), c0, c1,
-                              rp.perspective, rp.params,
-                              src.orphans if b == 0 and k == 0 else no_points, float(stretch),
-                              ez, zbuf, bx)
+            q0, q1 = r0, max(r1 - 1, r0)
+            if n > 1:  # the quad rows that can reach this band's rows (points: checked one by one)
+                q0, q1 = _hull_kernel(src.zrange, rp.perspective, rp.params, q0, q1, jmin, jmax)
+            _reproject_kernel(src.depth, src.spans, q0, q1, c0, c1, rp.perspective, rp.params,
+                              src.orphans if k == 0 else no_points, float(stretch), ez, out, bx, jmin, jmax)
         return bx
 
     if n == 1:
-        return _box(band(0, out))
+        return _box(band(0))
     from ..warp import band_pool
 
-    futures = [band_pool().submit(band, b, scratch[b - 1]) for b in range(1, n)]
-    box = band(0, out)
-    for b, f in enumerate(futures, start=1):
-        bx = f.result()
+    futures = [band_pool().submit(band, b) for b in range(1, n)]
+    boxes = [band(0)] + [f.result() for f in futures]
+    for bx in boxes:
         if bx[1] > bx[0] and bx[3] > bx[2]:
-            _min_merge(out, scratch[b - 1], bx)
             box[:] = (min(box[0], bx[0]), max(box[1], bx[1]), min(box[2], bx[2]), max(box[3], bx[3]))
     return _box(box)
 
 
 def _box(b: np.ndarray) -> tuple[int, int, int, int]:
     return (0, 0, 0, 0) if b[1] <= b[0] or b[3] <= b[2] else (int(b[0]), int(b[1]), int(b[2]), int(b[3]))
-
-
-def _min_merge(out: np.ndarray, part: np.ndarray, box: np.ndarray) -> None:
-    """``out = min(out, part)`` and ``part = +inf`` over ``box``."""
-    r0, r1, c0, c1 = (int(v) for v in box)
-    o, p = out[r0:r1, c0:c1], part[r0:r1, c0:c1]
-    np.minimum(o, p, out=o)
-    p.fill(np.inf)

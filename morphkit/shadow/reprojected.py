@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import settings
 from ..camera import CameraModel
-from ..settings import WARP_THREADS
 from .method import AtlasMethodBase, bilinear_weights
 from .reproject import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
 from .warped import check_flag
@@ -44,7 +44,9 @@ class ReprojectedMaps(AtlasMethodBase):
 
     Notes
     -----
-    Keeps scratch z-buffers: one object serves one thread at a time.
+    The z-buffer is split into bands of rows over :data:`morphkit.settings.WARP_THREADS`
+    threads (read per call); the result does not depend on the thread count
+    (:func:`~morphkit.shadow.reproject.reproject_maps`).
     """
 
     def __init__(self, atlas: ShadowAtlas, *, nearest: bool = False, layers: bool = True) -> None:
@@ -52,7 +54,6 @@ class ReprojectedMaps(AtlasMethodBase):
         self.nearest = check_flag(nearest, "nearest")
         self.layers = check_flag(layers, "layers")
         self.name = "reproject" + ("_nearest" if self.nearest else "") + ("" if self.layers else "_full")
-        self._scratch: list[np.ndarray] = []
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
@@ -79,8 +80,6 @@ class ReprojectedMaps(AtlasMethodBase):
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
         out = np.full(a.shape, np.inf, np.float32)
-        threads = WARP_THREADS if pixels >= PARALLEL_MIN_SOURCE_PIXELS else 1
-        while len(self._scratch) < threads - 1:
-            self._scratch.append(np.full(a.shape, np.inf, np.float32))
-        reproject_maps(jobs, out, self._scratch, threads=threads)
+        threads = settings.WARP_THREADS if pixels >= PARALLEL_MIN_SOURCE_PIXELS else 1
+        reproject_maps(jobs, out, threads=threads)
         return out

@@ -3,8 +3,10 @@
 One concept per module:
 
 * :mod:`~morphkit.viewmorph.correspondences` -- point pairs from geometry
-  (mesh points or dense depth-map samples), from image features, or from a
-  user file; per-pixel depth keys for layered morphs;
+  (mesh points or dense depth-map samples) or from a user file; per-pixel
+  depth keys for layered morphs;
+* :mod:`~morphkit.viewmorph.matching` -- point pairs from the images alone
+  (feature matching);
 * :mod:`~morphkit.viewmorph.fundamental` -- F (``x1^T F x0 = 0``), its quality,
   epipoles (SVD null vectors), geometric F from cameras, degeneracy tests;
 * :mod:`~morphkit.viewmorph.rectify` -- the pre-warp ``H_rect_0``/``H_rect_1``
@@ -42,7 +44,6 @@ from .correspondences import (
     HasVertices,
     from_depth,
     from_geometry,
-    from_images,
     load_points,
     pair_depth,
     save_points,
@@ -53,6 +54,14 @@ from .fundamental import (
     estimate_fundamental,
     fundamental_from_cameras,
     sampson_distance,
+)
+from .matching import (
+    DEFAULT_MATCHER,
+    CombinedMatcher,
+    FlowMatcher,
+    ImageMatcher,
+    SiftMatcher,
+    from_images,
 )
 from .morph import ViewMorpher
 from .postwarp import PostWarpPoints
@@ -65,6 +74,11 @@ __all__ = [
     "from_depth",
     "pair_depth",
     "from_images",
+    "ImageMatcher",
+    "SiftMatcher",
+    "FlowMatcher",
+    "CombinedMatcher",
+    "DEFAULT_MATCHER",
     "load_points",
     "save_points",
     "FundamentalFit",

@@ -20,6 +20,19 @@ Policy on degenerate input (refused, never repaired silently)
   baseline, identical images): F is not determined,
   :class:`~morphkit.errors.DegenerateViewError` (the view morpher catches this
   case first and uses its documented homography fallback).
+
+Affine fundamental matrix
+-------------------------
+Far from the object (its depth range small against its distance) two views are
+nearly *affine*: every epipolar line in an image is parallel, the epipoles lie
+at infinity, and F takes the form ``F_A = [[0, 0, a], [0, 0, b], [c, d, e]]``
+(Hartley & Zisserman, ch. 14). Fitted to noisy matches, a general F then has
+an epipole the data barely determine, often inside the image.
+:func:`estimate_affine_fundamental` fits ``F_A`` (robustly, then by the Gold
+Standard algorithm: total least squares on ``(x1, y1, x0, y0)``; its Sampson
+distance is the exact geometric error); the view morpher uses it when the
+general F is refused and ``F_A`` explains nearly as many pairs
+(:data:`tol.VM_AFFINE_INLIER_RATIO`).
 """
 
 from __future__ import annotations
@@ -39,6 +52,7 @@ from ..validate import as_finite_array, as_points, as_positive
 __all__ = [
     "FundamentalFit",
     "estimate_fundamental",
+    "estimate_affine_fundamental",
     "fundamental_from_cameras",
     "epipoles",
     "epipole_pixel",
@@ -50,6 +64,11 @@ __all__ = [
 ]
 
 METHODS = ("auto", "8point", "magsac", "ransac")
+
+#: Random minimal samples (4 pairs) drawn by :func:`estimate_affine_fundamental`:
+#: with half the pairs outliers, one all-inlier sample is missed with probability
+#: (1 - 0.5^4)^1000 < 1e-28.
+AFFINE_SAMPLES = 1000
 
 
 @dataclass(frozen=True)
@@ -64,7 +83,8 @@ class FundamentalFit:
         Pairs within ``threshold`` (Sampson distance, pixels) of F.
     method : str
         ``"8point"`` (normalised 8-point on all pairs) or ``"magsac"``/``"ransac"``
-        followed by a normalised 8-point refit on the inliers.
+        followed by a normalised 8-point refit on the inliers; ``"affine"``
+        (:func:`estimate_affine_fundamental`); ``"given"`` (a known F).
     threshold : float
         Inlier threshold in pixels.
     sampson_rms, sampson_max : float
@@ -362,11 +382,16 @@ def _transfer(H_1_0: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
 
 def _fit(pts0: np.ndarray, pts1: np.ndarray, flag: int, threshold: float, seed: int
          ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    if flag == cv2.FM_8POINT:
-        F, mask = cv2.findFundamentalMat(pts0, pts1, cv2.FM_8POINT)
-    else:
-        cv2.setRNGSeed(int(seed))  # FM_RANSAC draws from cv::theRNG; USAC is seeded internally
-        F, mask = cv2.findFundamentalMat(pts0, pts1, flag, threshold, 0.9999, 10000)
+    try:
+        if flag == cv2.FM_8POINT:
+            F, mask = cv2.findFundamentalMat(pts0, pts1, cv2.FM_8POINT)
+        else:
+            cv2.setRNGSeed(int(seed))  # FM_RANSAC draws from cv::theRNG; USAC is seeded internally
+            F, mask = cv2.findFundamentalMat(pts0, pts1, flag, threshold, 0.9999, 10000)
+    except cv2.error:
+        # OpenCV 5.0's USAC asserts (!model.empty() in setModelParameters) on some sets of
+        # few pairs where it finds no model: no fit, as a None return would say
+        return None, None
     if F is None or F.shape != (3, 3) or not np.all(np.isfinite(F)):
         return None, None
     return F, None if mask is None else mask.ravel().astype(bool)
@@ -459,4 +484,94 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
     inl.setflags(write=False)
     F.setflags(write=False)
     return FundamentalFit(F, inl, used, threshold, float(np.sqrt(np.mean(d**2))), float(d.max()),
+                          float(np.sqrt(np.mean(e**2))))
+
+
+def _affine_tls(p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    """Gold Standard affine F of the pairs: the hyperplane through the 4-vectors (x1, y1, x0, y0)
+    that minimises the sum of squared orthogonal distances (smallest right singular vector)."""
+    X = np.c_[p1, p0]
+    m = X.mean(axis=0)
+    n = np.linalg.svd(X - m, full_matrices=False)[2][-1]
+    F = np.zeros((3, 3))
+    F[0, 2], F[1, 2], F[2, 0], F[2, 1] = n
+    F[2, 2] = -float(n @ m)
+    return F
+
+
+def estimate_affine_fundamental(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THRESHOLD_PX,
+                                seed: int = 0) -> FundamentalFit:
+    """Estimate an affine F (both epipoles at infinity) robustly from pixel correspondences.
+
+    ``F_A = [[0, 0, a], [0, 0, b], [c, d, e]]``, i.e. ``a x1 + b y1 + c x0 + d y0 + e = 0``:
+    a hyperplane in the space of ``(x1, y1, x0, y0)``. RANSAC over minimal
+    samples of 4 pairs (:data:`AFFINE_SAMPLES` of them, drawn by
+    ``np.random.default_rng(seed)``) keeps the hyperplane with the most pairs
+    within ``threshold``; it is refitted by total least squares on its inliers
+    (Hartley & Zisserman's Gold Standard algorithm 14.1) until the inliers stop
+    changing. The Sampson distance of ``F_A`` is the exact orthogonal distance
+    of a pair's 4-vector to the hyperplane.
+
+    Parameters
+    ----------
+    pts0, pts1 : (N, 2) array_like
+        Pixel positions (pixel-centre origin), ``N >= 8``.
+    threshold : float
+        Inlier threshold (pixels, Sampson distance).
+    seed : int
+        Seed of the sampler (results are reproducible).
+
+    Returns
+    -------
+    FundamentalFit
+        ``method="affine"``; ``F`` normalised like :func:`normalize_f`.
+
+    Raises
+    ------
+    ValidationError
+        Fewer than 8 pairs, NaN/inf, mismatched counts.
+    GeometryError
+        Collinear points, or fewer than 8 pairs fit any affine F.
+    """
+    p0 = as_points(pts0, "pts0")
+    p1 = as_points(pts1, "pts1")
+    if p0.shape != p1.shape:
+        raise ValidationError(expected_got("pts1", f"{len(p0)} points (as many as pts0)", f"{len(p1)}"))
+    if len(p0) < 8:
+        raise ValidationError(expected_got("correspondences", "at least 8 pairs", f"{len(p0)}"))
+    threshold = as_positive(threshold, "threshold")
+    check_spread(p0, "pts0")
+    check_spread(p1, "pts1")
+    X = np.c_[p1, p0]
+    rng = np.random.default_rng(seed)
+    S = X[rng.integers(0, len(X), (AFFINE_SAMPLES, 4))]  # samples x pairs x (x1, y1, x0, y0)
+    m = S.mean(axis=1)
+    nrm = np.linalg.svd(S - m[:, None, :])[2][:, -1, :]  # each sample's hyperplane normal (unit)
+    off = np.einsum("kj,kj->k", nrm, m)
+    inl, best = np.zeros(len(X), bool), -1
+    for lo in range(0, AFFINE_SAMPLES, 100):  # chunks keep the (N, 100) residuals small
+        r = np.abs(X @ nrm[lo:lo + 100].T - off[lo:lo + 100])
+        count = (r <= threshold).sum(axis=0)
+        k = int(np.argmax(count))
+        if count[k] > best:
+            inl, best = r[:, k] <= threshold, int(count[k])
+    F = np.zeros((3, 3))
+    for _ in range(10):  # Gold Standard refit on the inliers until they stop changing
+        if inl.sum() < 8:
+            break
+        F = _affine_tls(p0[inl], p1[inl])
+        new = sampson_distance(F, p0, p1) <= threshold
+        if np.array_equal(new, inl):
+            break
+        inl = new
+    a, b, c, d = F[0, 2], F[1, 2], F[2, 0], F[2, 1]
+    if inl.sum() < 8 or min(np.hypot(a, b), np.hypot(c, d)) < 1e-9:
+        raise GeometryError(expected_got("affine fundamental matrix fit", "a rank-2 fit with >= 8 inliers",
+                                         f"{int(inl.sum())} inliers (threshold {threshold} px)"))
+    F = normalize_f(F)
+    d = sampson_distance(F, p0[inl], p1[inl])
+    e = epipolar_distance(F, p0[inl], p1[inl])
+    inl.setflags(write=False)
+    F.setflags(write=False)
+    return FundamentalFit(F, inl, "affine", threshold, float(np.sqrt(np.mean(d**2))), float(d.max()),
                           float(np.sqrt(np.mean(e**2))))

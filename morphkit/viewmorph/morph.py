@@ -61,8 +61,12 @@ one homography explains the pairs       mode ``"homography"``: ``H_rect_0 = I``,
 baseline, identical images)             (identical images give the input at every s)
 outliers                                robust F (USAC-MAGSAC); only inliers are used
 views already parallel                  mode ``"parallel"``: no pre-warp
-epipole in/near an image, or pre-warps  DegenerateViewError; ``fallback="morph"``: mode ``"morph"``
-too distorting                          (plain mesh morph, no pre-/post-warp), reason in ``report``
+epipole in/near an image, or pre-warps  an estimated F is replaced by the affine F (both epipoles at
+too distorting                          infinity) when that keeps >= tol.VM_AFFINE_INLIER_RATIO of its
+                                        inliers, fits them about as well (tol.VM_AFFINE_RMS_RATIO) and
+                                        passes the checks (``report["affine"]``); else
+                                        DegenerateViewError; ``fallback="morph"``: mode ``"morph"``
+                                        (plain mesh morph, no pre-/post-warp), reason in ``report``
 fold-overs                              vertices dropped (viewmorph.mesh); FoldOverError if that fails
 images of different sizes               supported: output size interpolates between them
 grey / RGB / RGBA, mixed                promoted to the richer layout (grey < RGB < RGBA)
@@ -97,6 +101,7 @@ from .fundamental import (
     FundamentalFit,
     check_spread,
     epipolar_distance,
+    estimate_affine_fundamental,
     estimate_fundamental,
     homography_degeneracy,
     normalize_f,
@@ -231,6 +236,7 @@ class ViewMorpher:
         check_spread(corr.pts0, "pts0")
         check_spread(corr.pts1, "pts1")
         K0, K1 = (None, None) if intrinsics is None else intrinsics
+        cleaned = corr
 
         self.fit: FundamentalFit | None = None
         mode = "viewmorph"
@@ -263,12 +269,20 @@ class ViewMorpher:
                 try:
                     rect = rectify(self.fit.F, corr.pts0, corr.pts1, self.shape0, self.shape1,
                                    method=prewarp, K0=K0, K1=K1)
-                    if rect.method == "parallel":
-                        mode = "parallel"
                 except DegenerateViewError as exc:
-                    if fallback == "raise":
-                        raise
-                    mode, report["fallback"] = "morph", str(exc)
+                    # an estimated F refused: replace it by the affine F when that explains the pairs
+                    alt = None if fundamental is not None else self._affine_instead(
+                        cleaned, self.fit, exc, threshold, seed, prewarp, (K0, K1), report)
+                    if alt is None:
+                        if fallback == "raise":
+                            raise DegenerateViewError(f"{exc}; {report['affine']['refused']}") from exc
+                        mode, report["fallback"] = "morph", f"{exc}; {report['affine']['refused']}"
+                    else:
+                        self.fit, rect = alt
+                        corr = cleaned.subset(self.fit.inliers)
+                        report["n_outliers"] = int(np.count_nonzero(~self.fit.inliers))
+                if rect is not None and rect.method == "parallel":
+                    mode = "parallel"
         if rect is None:
             rect = Rectification(np.eye(3), np.eye(3), "none", float("nan"), 1.0, 1.0, {})
         self.mode = mode
@@ -316,6 +330,53 @@ class ViewMorpher:
         e = epipolar_distance(F, corr.pts0[inl], corr.pts1[inl])
         return FundamentalFit(F, inl, "given", threshold, float(np.sqrt(np.mean(d[inl] ** 2))),
                               float(d[inl].max()), float(np.sqrt(np.mean(e**2))))
+
+    def _affine_instead(self, corr: Correspondences, fit: FundamentalFit, refused: DegenerateViewError,
+                        threshold: float, seed: int, prewarp: str, intrinsics: tuple[Any, Any],
+                        report: dict[str, Any]) -> tuple[FundamentalFit, Rectification] | None:
+        """The affine F and its pre-warps in place of a refused F, or None (why: ``report["affine"]``).
+
+        Used when the affine F keeps at least :data:`tol.VM_AFFINE_INLIER_RATIO`
+        of the general F's inliers, fits the pairs both explain nearly as well
+        (RMS within :data:`tol.VM_AFFINE_RMS_RATIO` times the general F's: the
+        pair is nearly affine and the general F's epipole is not determined by
+        the matches), and its pre-warps pass
+        :func:`~morphkit.viewmorph.rectify.rectify`'s checks.
+        """
+        info: dict[str, Any] = {"f_refused": str(refused), "f_inliers": fit.n_inliers}
+        report["affine"] = info
+        try:
+            fa = estimate_affine_fundamental(corr.pts0, corr.pts1, threshold=threshold, seed=seed)
+        except GeometryError as exc:
+            info["refused"] = f"no affine F either: {exc}"
+            return None
+        ratio = fa.n_inliers / max(fit.n_inliers, 1)
+        info.update(affine_inliers=fa.n_inliers, inlier_ratio=ratio)
+        if ratio < tol.VM_AFFINE_INLIER_RATIO:
+            info["refused"] = expected_got(
+                "affine F (nearly affine views)", f">= {tol.VM_AFFINE_INLIER_RATIO:.0%} of the general F's "
+                f"{fit.n_inliers} inliers", f"{fa.n_inliers} ({ratio:.0%})")
+            return None
+        both = fit.inliers & fa.inliers
+        rms = [float(np.sqrt(np.mean(sampson_distance(F, corr.pts0[both], corr.pts1[both]) ** 2)))
+               for F in (fit.F, fa.F)]
+        info.update(f_rms_px=rms[0], affine_rms_px=rms[1])
+        if not rms[1] <= tol.VM_AFFINE_RMS_RATIO * rms[0]:
+            info["refused"] = expected_got(
+                "affine F (nearly affine views)",
+                f"an RMS Sampson distance <= {tol.VM_AFFINE_RMS_RATIO} x the general F's ({rms[0]:.2e} px) "
+                "on the pairs both explain", f"{rms[1]:.2e} px: the general F is determined")
+            return None
+        inl = fa.inliers
+        K0, K1 = intrinsics
+        try:
+            rect = rectify(fa.F, corr.pts0[inl], corr.pts1[inl], self.shape0, self.shape1, method=prewarp,
+                           K0=K0, K1=K1)
+        except DegenerateViewError as exc:
+            info["refused"] = f"the affine F's pre-warps refused too: {exc}"
+            return None
+        info["used"] = True
+        return fa, rect
 
     # ---------------------------------------------------------------- geometry per s
     def vertices(self, s: float) -> np.ndarray:

@@ -30,7 +30,9 @@ Convention
   with ``"linear"``: an output pixel whose bilinear footprint touches a non-finite
   source value (or a non-finite ``fill`` at the image border) takes the
   ``"nearest"`` value instead, so ``inf * 0`` never produces NaN. ``"nearest"``
-  never mixes values and is the right choice for depth at silhouettes.
+  never mixes values and is the right choice for depth at silhouettes. NaN
+  pixels are refused (:class:`~morphkit.errors.ValidationError` naming their
+  count): they would spread through the output without a word.
 
 Fold-over policy
 ----------------
@@ -41,8 +43,10 @@ when its ``|area|`` is below :data:`morphkit.tol.TRIANGLE_AREA_PX2`, or when two
 destination triangles cover the same output pixel centre (a mesh that folds over
 while each triangle keeps its orientation). A source triangle of ~zero area is
 refused the same way when the :class:`MeshWarper` is built. Bad arguments
-(mismatched counts, NaN/inf points, triangle indices out of range, unknown
-interpolation) raise :class:`~morphkit.errors.ValidationError`.
+(mismatched counts, NaN/inf points, points farther than
+:data:`morphkit.tol.MAX_COORD_PX` from the origin in x or y, triangle indices out
+of range, unknown interpolation, NaN pixels) raise
+:class:`~morphkit.errors.ValidationError`.
 
 Reuse
 -----

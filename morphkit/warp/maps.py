@@ -185,7 +185,7 @@ class WarpMaps:
         ----------
         image : numpy.ndarray
             ``(h, w)`` or ``(h, w, C)`` of any numeric or bool dtype; float images
-            may hold NaN/inf (see the module docstring).
+            may hold +-inf (see the module docstring), not NaN.
         interpolation : {"linear", "nearest"}
             Sampling of the source image.
         fill : float or sequence of float
@@ -196,8 +196,18 @@ class WarpMaps:
         -------
         numpy.ndarray
             ``out_shape`` (+ ``(C,)``), same dtype as ``image``.
+
+        Raises
+        ------
+        ValidationError
+            A NaN pixel (the count is named): it would spread silently.
         """
         img = as_image(image, "image", allow_nonfinite=True)
+        if img.dtype.kind == "f":
+            n_nan = int(np.count_nonzero(np.isnan(img)))
+            if n_nan:
+                raise ValidationError(expected_got("image", "no NaN pixels (+-inf is allowed: a depth "
+                                                   "background)", f"{n_nan} NaN values"))
         flag = interp_flag(interpolation)
         c = 1 if img.ndim == 2 else img.shape[2]
         fills = _fill_values(fill, c, img.dtype)

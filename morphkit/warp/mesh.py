@@ -7,11 +7,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import tol
 from ..errors import ValidationError, expected_got
 from ..validate import as_points
 
 __all__ = ["grid_triangles", "delaunay_triangles", "grid_shape", "signed_area", "list_indices",
-           "as_triangles", "default_triangles", "boundary_edges", "disk_boundary"]
+           "as_mesh_points", "as_triangles", "default_triangles", "boundary_edges", "disk_boundary"]
 
 # --------------------------------------------------------------------------- topology
 
@@ -139,6 +140,38 @@ def list_indices(idx: np.ndarray, limit: int = 10) -> str:
     """
     head = ", ".join(str(int(i)) for i in idx[:limit])
     return f"[{head}{', ...' if idx.size > limit else ''}] ({idx.size} in all)"
+
+
+def as_mesh_points(points: Any, name: str, *, min_count: int = 0) -> np.ndarray:
+    """Control points of a mesh warp: finite, ``(N, 2)``, within :data:`tol.MAX_COORD_PX`.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 2)`` pixel positions ``(x, y)``.
+    name : str
+        What they are, for the message.
+    min_count : int
+        Fewest points accepted.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 2)`` float64.
+
+    Raises
+    ------
+    ValidationError
+        Not ``(N, 2)``, NaN/inf, fewer than ``min_count`` points, or a
+        coordinate whose magnitude exceeds :data:`tol.MAX_COORD_PX`.
+    """
+    pts = as_points(points, name, min_count=min_count)
+    far = np.abs(pts) > tol.MAX_COORD_PX
+    if far.any():
+        raise ValidationError(expected_got(
+            name, f"coordinates within +-{tol.MAX_COORD_PX:g} px (tol.MAX_COORD_PX)",
+            f"{int(far.any(axis=1).sum())} points beyond it (largest |coordinate| {np.abs(pts).max():.3g})"))
+    return pts
 
 
 def as_triangles(triangles: Any, n_points: int) -> np.ndarray:

@@ -12,12 +12,13 @@ import numpy as np
 from .. import tol
 from ..errors import FoldOverError, ValidationError, expected_got
 from ..settings import use_compiled
-from ..validate import as_points, as_shape
+from ..validate import as_shape
 from . import scanline
 from .accumulate import Accumulation
 from .build import build_maps, prepare
 from .maps import WarpMaps, interp_flag
 from .mesh import (
+    as_mesh_points,
     as_triangles,
     boundary_edges,
     default_triangles,
@@ -45,7 +46,8 @@ class MeshWarper:
     Raises
     ------
     ValidationError
-        Non-finite or malformed points, bad triangle indices.
+        Non-finite or malformed points, a coordinate beyond
+        :data:`tol.MAX_COORD_PX`, bad triangle indices.
     FoldOverError
         A source triangle has ``|area| < tol.TRIANGLE_AREA_PX2``.
 
@@ -58,7 +60,7 @@ class MeshWarper:
     """
 
     def __init__(self, src_pts: Any, triangles: Any = None) -> None:
-        self.src_pts = as_points(src_pts, "src_pts", min_count=3)
+        self.src_pts = as_mesh_points(src_pts, "src_pts", min_count=3)
         self.src_pts.setflags(write=False)
         if triangles is None:
             tris = default_triangles(self.src_pts)
@@ -85,7 +87,7 @@ class MeshWarper:
         return int(self.src_pts.shape[0])
 
     def _check_dst(self, dst_pts: Any) -> np.ndarray:
-        dst = as_points(dst_pts, "dst_pts")
+        dst = as_mesh_points(dst_pts, "dst_pts")
         if dst.shape[0] != self.n_points:
             raise ValidationError(
                 expected_got("dst_pts", f"{self.n_points} points (as many as src_pts)", f"{dst.shape[0]}")
@@ -109,7 +111,7 @@ class MeshWarper:
         Raises
         ------
         ValidationError
-            Wrong point count, NaN/inf points, bad ``out_shape``.
+            Wrong point count, NaN/inf points or beyond :data:`tol.MAX_COORD_PX`, bad ``out_shape``.
         FoldOverError
             Flipped or ~zero-area destination triangles, or overlapping ones.
         """
@@ -159,7 +161,7 @@ class MeshWarper:
             As :meth:`maps`, before any pixel is touched.
         """
         dst = np.asarray(dst_pts, dtype=np.float64)
-        if dst.shape != self.src_pts.shape or not np.isfinite(dst).all():
+        if dst.shape != self.src_pts.shape or not (np.abs(dst) <= tol.MAX_COORD_PX).all():
             dst = self._check_dst(dst_pts)  # raises the full message (a per-frame path: checked lean)
         if use_compiled(scanline.accumulate) and self._loop is not None:
             cov, coef, roi = prepare(dst, self.triangles, self._src_v, self._src_sign,
@@ -196,7 +198,7 @@ def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], 
     ----------
     image : numpy.ndarray
         ``(h, w)`` or ``(h, w, C)``, any numeric or bool dtype (uint8 RGB/RGBA,
-        float32 depth with ``+inf`` background, ...).
+        float32 depth with ``+inf`` background, ...); NaN pixels are refused.
     src_pts, dst_pts : array_like
         ``(N, 2)`` control points in the input and the output image.
     out_shape : (int, int)
@@ -219,7 +221,8 @@ def warp_mesh(image: Any, src_pts: Any, dst_pts: Any, out_shape: Sequence[int], 
     Raises
     ------
     ValidationError
-        Mismatched point counts, NaN/inf points, bad triangles, bad interpolation.
+        Mismatched point counts, NaN/inf points or beyond :data:`tol.MAX_COORD_PX`, bad
+        triangles, bad interpolation, NaN pixels in ``image``.
     FoldOverError
         Flipped, ~zero-area or overlapping destination triangles.
 
