@@ -76,7 +76,7 @@ MAX_BUFFER_BYTES = 2**32
 #: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
 MAX_LIGHT_SAMPLES = 4096
 
-#: Largest |x| or |y| (pixels) of a mesh warp's control points
+#: Largest ``|x|`` or ``|y|`` (pixels) of a mesh warp's control points
 #: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
 #: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image
 #: fits; there float64 still resolves an edge crossing to ~2e-9 px and float32

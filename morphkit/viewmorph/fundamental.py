@@ -53,6 +53,7 @@ __all__ = [
     "FundamentalFit",
     "estimate_fundamental",
     "estimate_affine_fundamental",
+    "AFFINE_SAMPLES",
     "fundamental_from_cameras",
     "epipoles",
     "epipole_pixel",
