@@ -82,28 +82,9 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]
     ['rows.json']
     >>> tmp.cleanup()
     """
-    p = Path(path)
-    if p.is_dir():
-        raise ValidationError(expected_got("output path", "a file path", f"the folder {p}"))
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".part",
-                                   dir=p.parent if str(p.parent) else ".")
-    except OSError as exc:  # name the target, not the temporary file
-        raise type(exc)(exc.errno, f"cannot write {p}: {exc.strerror}") from exc
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, p)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return p
+    with atomic_output(path) as tmp, open(tmp, "wb") as f:
+        write(f)
+    return Path(path)
 
 
 @contextmanager
@@ -133,8 +114,11 @@ def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
     p = Path(path)
     if p.is_dir():
         raise ValidationError(expected_got("output path", "a file path", f"the folder {p}"))
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=f".part{p.suffix}",
-                               dir=p.parent if str(p.parent) else ".")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=f".part{p.suffix}",
+                                   dir=p.parent if str(p.parent) else ".")
+    except OSError as exc:  # name the target, not the temporary file
+        raise type(exc)(exc.errno, f"cannot write {p}: {exc.strerror}") from exc
     os.close(fd)
     try:
         yield Path(tmp)
