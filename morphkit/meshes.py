@@ -768,10 +768,9 @@ def cow(faces: int = 6000) -> trimesh.Trimesh:
     and smooth. The result is deterministic and within about 6% of
     ``faces`` (measured 0.947-1.006 x for 4k-700k; the tests allow 30%).
 
-    Measured on a 2-core machine, cold cache: 6k -> 5740 triangles in
-    0.05 s, 50k -> 49520 in 0.16 s, 300k -> 299264 in 0.8 s, 1M -> 999424
-    in 2.8 s (peak memory ~0.4 GB). Built meshes are cached (4 most recent
-    parameter sets); each call returns a copy (~0.05 s at 1M).
+    Build times grow about linearly with ``faces`` (``morphkit bench render``
+    builds the sizes it renders). Built meshes are cached (4 most recent
+    parameter sets); each call returns a copy.
 
     Parameters
     ----------

@@ -86,7 +86,7 @@ if pyrender is not None:
         pyrender keys each compiled program by ``OpenGL.contextdata.getContext()``,
         which under OSMesa is a new pointer object on every call: the key never
         matched, so every colour render compiled its programs again and kept the
-        old ones (measured: 8 programs, ~25 MB and ~40 ms per render of 8 items).
+        old ones (a leak and a recompile on every render; figures in ``docs/RESULTS.md``).
         Each :class:`_Context` has its own renderer and cache, so the context is
         implicit in the cache.
         """
