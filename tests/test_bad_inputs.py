@@ -11,9 +11,9 @@ Run as a script to print the count handled / tried::
 
     PYTHONPATH=$PWD python tests/test_bad_inputs.py
 
-Not here yet (issue 18, done after the other branches merge): the default
-view-morph path on rendered pairs (SIFT), ``warp_mesh`` with NaN images or
-coordinates >= 1e20, and the thread-count determinism of ``warps="reproject"``.
+The image-only view-morph path on rendered pairs and the thread-count
+determinism of ``warps="reproject"`` are not bad inputs: they are tested in
+``tests/test_viewmorph_images.py`` and ``tests/test_reproject.py``.
 """
 
 from __future__ import annotations
@@ -294,6 +294,28 @@ def _previous_demo(tmp: Path) -> None:
     (tmp / "demo" / "index.json").write_text('{"files": []}')
 
 
+#: A square warp mesh (4 control points, pixels).
+_SQUARE = np.array([[0.0, 0.0], [30.0, 0.0], [0.0, 30.0], [30.0, 30.0]])
+
+
+def _nan_image() -> np.ndarray:
+    img = np.zeros((32, 32), np.float32)
+    img[3, 3] = np.nan
+    return img
+
+
+def _billboard() -> Any:
+    import morphkit.billboard as bb
+
+    return bb
+
+
+def _bake_pkg() -> Any:
+    import morphkit.bake as bk
+
+    return bk
+
+
 def _api(fn: Callable[[], Any]) -> Callable[[Path], Any]:
     return lambda _tmp: fn()
 
@@ -422,6 +444,35 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("cli bench: unknown suite", cli("bench", "nope"), CliExit, r"exit 2: .*unknown suite 'nope'"),
     ("cli bench: --json is a folder", cli("bench", "warp", "--json", "{tmp}"), CliExit,
      r"exit 1: .*--json: expected a file path, got the folder"),
+    # -- the mesh warp (issue 18's second list)
+    ("warp_mesh: NaN pixels", _api(lambda: warp_mesh(_nan_image(), _SQUARE, _SQUARE, (32, 32))), VE,
+     r"image: expected no NaN pixels .*, got 1 NaN values"),
+    ("warp_mesh: coordinates of 1e20", _api(lambda: warp_mesh(np.zeros((32, 32), np.float32), _SQUARE,
+                                                             _SQUARE * 1e20, (32, 32))), VE,
+     r"dst_pts: expected coordinates within \+-1e\+07 px \(tol.MAX_COORD_PX\)"),
+    # -- billboards (issue 16) and the bake (issue 17)
+    ("billboard: a ring of one view", _api(lambda: _billboard().ViewRing(1)), VE,
+     r"views: expected K >= 2 reference views .*got 1"),
+    ("billboard: asset file that is not one", _with(lambda tmp: (tmp / "bad.npz").write_bytes(b"garbage"),
+                                                   lambda tmp: _billboard().BillboardAsset.load(
+                                                       tmp / "bad.npz")), FileFormatError,
+     r"billboard asset file: .*expected a complete morphkit-billboard .npz file"),
+    ("billboard: missing asset file", lambda tmp: _billboard().BillboardAsset.load(tmp / "none.npz"),
+     FileFormatError, r"billboard asset file: .*expected an existing file"),
+    ("bake: a billboard kind of one view", _api(lambda: _bake_pkg().BillboardKind(views=1)), VE,
+     r"billboard views: expected an integer in \[2, 64\], got 1"),
+    ("cli billboards: a size that is not WxH", cli("billboards", "--size", "640by480", "-o", "{tmp}/o"),
+     CliExit, r"exit 1: .*--size: expected WIDTHxHEIGHT"),
+    ("cli billboards: unknown asset", cli("billboards", "--asset", "unicorn", "-o", "{tmp}/o"), CliExit,
+     r"exit 1: .*asset: expected a sample mesh name .*got 'unicorn'"),
+    ("cli billboards: negative count", cli("billboards", "--n", "-1", "-o", "{tmp}/o"), CliExit,
+     r"exit 1: .*--n: expected an int >= 0, got -1"),
+    ("cli bake: missing input", cli("bake", "{tmp}/missing.obj", "-o", "{tmp}/out"), CliExit,
+     r"exit 1: .*input: expected an existing mesh file or folder"),
+    ("cli bake: --views without --billboard", _with(lambda tmp: trimesh.creation.box().export(tmp / "b.ply"),
+                                                    cli("bake", "{tmp}/b.ply", "-o", "{tmp}/out", "--views",
+                                                        "3")), CliExit,
+     r"exit 1: .*--views: expected together with --billboard"),
 ]
 
 
