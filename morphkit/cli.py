@@ -177,7 +177,6 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .bake import check_writable
     from .bake.playback import (
         CirclePath,
         LinePath,
@@ -187,6 +186,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         render_shadow_sequence,
     )
     from .errors import ValidationError, expected_got
+    from .fileio import check_writable
     from .render import Renderer
     from .shadow import ShadowAtlas
 
@@ -234,22 +234,6 @@ def parse_size(text: str) -> tuple[int, int]:
     return h, w
 
 
-def _writable_folder(path: Path) -> Path:
-    """Create ``path`` (and parents) and check a file can be written there, before any work."""
-    import tempfile
-
-    from .errors import ValidationError, expected_got
-
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=path):
-            pass
-    except OSError as exc:
-        raise ValidationError(expected_got("output folder", "a folder that can be created and written",
-                                           f"{str(path)!r}: {exc.strerror or exc}")) from exc
-    return path
-
-
 def _cmd_billboards(args: argparse.Namespace) -> int:
     from .errors import ValidationError, expected_got
 
@@ -263,7 +247,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     specs = args.asset or ["tree", "person"]
     check_specs(specs)
-    out = _writable_folder(Path(args.out))
+    from .fileio import check_writable
+
+    out = check_writable(args.out)
 
     import numpy as np
 

@@ -32,8 +32,8 @@ import numpy as np
 
 from .errors import ValidationError, expected_got
 
-__all__ = ["atomic_write", "atomic_output", "append_lines", "write_bytes", "write_text", "write_json",
-           "encode_image", "write_image"]
+__all__ = ["check_writable", "atomic_write", "atomic_output", "append_lines", "write_bytes",
+           "write_text", "write_json", "encode_image", "write_image"]
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]) -> Path:
@@ -213,3 +213,24 @@ def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
 def write_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     """Encode ``image`` (BGR/BGRA, as ``cv2.imwrite``) and write it to ``path`` atomically."""
     return write_bytes(path, encode_image(path, image))
+
+
+def check_writable(folder: str | os.PathLike[str]) -> Path:
+    """Create ``folder`` if needed and prove it writable by creating and removing a probe file.
+
+    Raises
+    ------
+    ValidationError
+        The folder cannot be created or written (a file in the way, no permission, read-only).
+    """
+    p = Path(folder)
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".morphkit-probe-", dir=p)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise ValidationError(expected_got("output folder", "a folder morphkit can create and write",
+                                           f"{str(p)!r} ({type(exc).__name__}: {exc.strerror or exc})")
+                              ) from exc
+    return p.resolve()

@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from morphkit import fileio
 from morphkit.bake import (
     MANIFEST_NAME,
     BakeOptions,
@@ -123,7 +124,7 @@ def test_output_folder_not_writable_is_refused(tmp_path, monkeypatch):
     def denied(*_a, **_k):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(bake_pipeline.tempfile, "mkstemp", denied)
+    monkeypatch.setattr(fileio.tempfile, "mkstemp", denied)
     with pytest.raises(ValidationError, match="PermissionError: Permission denied"):
         check_writable(tmp_path / "ok")
 

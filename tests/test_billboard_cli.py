@@ -46,7 +46,7 @@ def test_unwritable_output(capsys, tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
     err = _one_line_error(capsys, ["billboards", "-o", str(blocker / "out")])
-    assert "output folder: expected a folder that can be created and written" in err
+    assert "output folder: expected a folder morphkit can create and write" in err
     err = _one_line_error(capsys, ["billboards", "-o", str(blocker)])
     assert "output folder" in err
 

@@ -18,22 +18,21 @@ and its task re-run) is recorded as failed with its error; the others go on.
 from __future__ import annotations
 
 import os
-import tempfile
 import time
 import uuid
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
-from pathlib import Path
 
 from ..errors import ValidationError, expected_got
+from ..fileio import check_writable
 from .cluster import open_client
 from .inputs import AssetInput, find_inputs
 from .kinds import AssetKind, ShadowAtlasKind
 from .manifest import AssetRecord, Manifest, file_digest, utc_now
 from .worker import BakeTask, bake_task
 
-__all__ = ["BakeOptions", "bake_library", "check_writable", "COMMIT_INTERVAL_S", "HASH_THREADS"]
+__all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS"]
 
 #: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest);
 #: longer for a manifest so large that rewriting it would take over 5% of the time.
@@ -72,27 +71,6 @@ class BakeOptions:
     def as_dict(self) -> dict[str, dict]:
         """``{kind name: options}``."""
         return {k.name: k.options() for k in self.kinds}
-
-
-def check_writable(folder: str | os.PathLike[str]) -> Path:
-    """Create ``folder`` if needed and prove it writable by creating and removing a probe file.
-
-    Raises
-    ------
-    ValidationError
-        The folder cannot be created or written (a file in the way, no permission, read-only).
-    """
-    p = Path(folder)
-    try:
-        p.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(prefix=".morphkit-probe-", dir=p)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise ValidationError(expected_got("output folder", "a folder morphkit can create and write",
-                                           f"{str(p)!r} ({type(exc).__name__}: {exc.strerror or exc})")
-                              ) from exc
-    return p.resolve()
 
 
 def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[str],
