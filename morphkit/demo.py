@@ -66,7 +66,8 @@ from .scenes import (
     demo_scene,
     ground_truth_frame,
 )
-from .shadow.frame import compare_frames, render_frame
+from .shadow.frame import SKY, compare_frames, render_frame
+from .shadow.lookup import shadow_visibility
 from .visualize import colorize_depth
 
 __all__ = ["run_demo", "previous_demo", "overview_row", "OVERVIEW_TILE"]
@@ -163,6 +164,7 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: l
                        "re-rendered map | ray cast"),
                    np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
         if name == "cow":
+            _shadow_path_strip(renderer, scene, atlas, add)
             rows.append(overview_row("warped hard shadow, point light (cow, 3x3 atlas)",
                                      frames["warped"]["shaded"], frames["raycast"]["shaded"], "ray cast",
                                      "shadow IoU {:.3f}".format(
@@ -173,6 +175,26 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: l
                    np.concatenate([frames[k]["shaded"] for k in ("reprojected", "direct", "raycast")],
                                   1))
     return report
+
+
+def _shadow_path_strip(renderer: SceneRenderer, scene: Scene, atlas: Any, add: Any, frames: int = 5
+                       ) -> None:
+    """The cow moving along the range's diagonal with its warped shadow: ``frames`` frames side by side."""
+    lo, hi = np.array(WARP_RANGE[0]), np.array(WARP_RANGE[1])
+    tiles = []
+    for t in np.linspace(0.3, 0.7, frames):  # the middle of the diagonal: the cow stays in view
+        xy = lo + t * (hi - lo)
+        pose = scene.obj.pose.copy()
+        pose[:2, 3] = xy
+        moved = scene.with_object_pose(pose)
+        depth, cam = atlas.shadow_map(xy)
+        frame = render_frame(renderer, moved, lambda p, n, d=depth, c=cam: shadow_visibility(
+            p, d, c, normals=n), background=SKY)
+        img = frame["shaded"]
+        tiles.append(cv2.resize(img, (OVERVIEW_TILE, OVERVIEW_TILE), interpolation=cv2.INTER_AREA))
+    _write_rgb(add("shadow_path_strip.png", "warped_shadow", "cow",
+                   f"the cow moving along the range's diagonal, warped 3x3-atlas shadow, {frames} frames"),
+               np.concatenate(tiles, axis=1))
 
 
 def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray], *,
@@ -283,6 +305,11 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
                         MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT, supersample=2))
     _write_rgb(add("billboards_compare.png", "billboards", "tree+person",
                    "billboard scene: classic | view-morphed | real meshes (paper 2, Fig. 5)"), cmp.strip)
+    pan = [scene.render(c, MorphMode()).rgb
+           for c in PanPath.over(float(np.abs(inst.xy).max())).cameras(5, (size * 3 // 8, size // 2))]
+    _write_rgb(add("billboards_pan_strip.png", "billboards", "tree+person",
+                   "view-morphed billboards along the paper's pan (its Fig. 6), 5 cameras"),
+               np.concatenate(pan, axis=1))
     e = cmp.errors["morph"]
     rows.append(overview_row(f"view-morphed billboards (trees, people; {n} instances, K = 8)",
                              cmp.frames["morph"].rgb, cmp.frames["mesh"].rgb, "real meshes",

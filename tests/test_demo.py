@@ -59,7 +59,8 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
     # each a captioned pair of OVERVIEW_TILE-high images; the ray-cast scenes have their own file
     from morphkit.demo import OVERVIEW_TILE
 
-    assert {"overview.png", "groundtruth_overview.png"} <= names
+    assert {"overview.png", "groundtruth_overview.png", "shadow_path_strip.png",
+            "billboards_pan_strip.png"} <= names
     overview = cv2.imread(str(tmp_path / "overview.png"))
     assert overview.shape[0] == 4 * (OVERVIEW_TILE + 44 + 4)
     # view-morphed billboards outline the meshes better than classic ones (quick demo, 128 px wide:
