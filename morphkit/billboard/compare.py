@@ -82,15 +82,6 @@ class Comparison:
     Parameters
     ----------
     frames : dict of str to Frame
-        See Attributes.
-    strip : (H, k W, 3) uint8
-        See Attributes.
-    errors : dict of str to dict
-        See Attributes.
-
-    Attributes
-    ----------
-    frames : dict of str to Frame
         Each mode's frame, and ``"mesh"``'s.
     strip : (H, k W, 3) uint8
         The frames side by side, RGB, in the order the modes were given, mesh last.

@@ -49,17 +49,6 @@ class ViewDirections:
     Parameters
     ----------
     azimuth_deg : (N,) float64
-        See Attributes.
-    elevation_deg : (N,) float64
-        See Attributes.
-    toward_eye : (N, 2) float64
-        See Attributes.
-    above : (N,) bool
-        See Attributes.
-
-    Attributes
-    ----------
-    azimuth_deg : (N,) float64
         Viewing azimuth in each instance's object frame, degrees in ``[-180, 180)``.
     elevation_deg : (N,) float64
         Elevation of the eye above each pivot's horizontal plane, degrees.
