@@ -34,6 +34,20 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray | None = None) -
     down) is as close as possible to ``-up``. ``up`` defaults to world ``+z``,
     or ``+y`` when the view is (anti)parallel to ``+z``.
 
+    Parameters
+    ----------
+    eye : (3,) float
+        Camera centre, world frame.
+    target : (3,) float
+        Point looked at, world frame; must differ from ``eye``.
+    up : (3,) float, optional
+        World-frame up hint; see above for the default.
+
+    Returns
+    -------
+    (4, 4) float64
+        ``cam_cv2world`` pose (OpenCV camera frame, see :mod:`morphkit.conventions`).
+
     Raises
     ------
     ValidationError
@@ -132,7 +146,28 @@ class CameraModel:
         cameras derived from a validated one, such as
         :meth:`morphkit.shadow.rig.LightRig.camera_at`, which varies a validated
         camera's principal point and position every frame; anything else should
-        use the constructor (or :func:`perspective`/:func:`orthographic`)."""
+        use the constructor (or :func:`perspective`/:func:`orthographic`).
+
+        Parameters
+        ----------
+        projection : {"perspective", "orthographic"}
+            As in the class.
+        shape : (H, W)
+            Image shape in pixels.
+        fx, fy : float
+            Focal lengths (perspective) or pixels per scene unit (orthographic).
+        cx, cy : float
+            Principal point in pixels, pixel-centre convention.
+        znear, zfar : float
+            Depth range, ``0 < znear < zfar``.
+        cam2world : (4, 4) float64
+            ``cam_cv2world`` pose, world frame.
+
+        Returns
+        -------
+        CameraModel
+            The camera, built without validation.
+        """
         cam = object.__new__(cls)
         pose = np.array(cam2world, dtype=np.float64)
         pose.setflags(write=False)
@@ -165,7 +200,18 @@ class CameraModel:
         return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
 
     def with_pose(self, cam2world: np.ndarray) -> CameraModel:
-        """The same intrinsics at another pose."""
+        """The same intrinsics at another pose.
+
+        Parameters
+        ----------
+        cam2world : (4, 4) float64
+            New ``cam_cv2world`` pose, world frame.
+
+        Returns
+        -------
+        CameraModel
+            A copy with the same projection and intrinsics at ``cam2world``.
+        """
         return CameraModel(self.projection, self.shape, self.fx, self.fy, self.cx, self.cy,
                            self.znear, self.zfar, cam2world)
 
@@ -178,6 +224,11 @@ class CameraModel:
         (not divided; for orthographic ``q[3] = 1``). This is the
         Segal et al. texture matrix with the NDC-to-texture step replaced by
         morphkit's pixel-centre pixel coordinates and linear depth.
+
+        Returns
+        -------
+        (4, 4) float64
+            ``T_pix_world``: world homogeneous points to (pixel x, pixel y, linear depth, w).
         """
         w2c = self.world2cam
         T = np.zeros((4, 4))
@@ -195,6 +246,18 @@ class CameraModel:
         """Project world points ``(N, 3)`` to pixels ``(N, 2)`` and depths ``(N,)``.
 
 
+        Parameters
+        ----------
+        points : (N, 3) float
+            Points, world frame.
+
+        Returns
+        -------
+        pixels : (N, 2) float64
+            Pixel coordinates ``(x, y)``, pixel-centre convention.
+        depth : (N,) float64
+            Linear depth ``Z`` in the camera frame.
+
         Raises
         ------
         DegenerateViewError
@@ -209,7 +272,13 @@ class CameraModel:
         return (q[:2] / q[3]).T, q[2].copy()
 
     def pixel_grid(self) -> tuple[np.ndarray, np.ndarray]:
-        """Pixel-centre coordinates ``(x, y)``, each ``(H, W)`` float64."""
+        """Pixel-centre coordinates ``(x, y)``, each ``(H, W)`` float64.
+
+        Returns
+        -------
+        x, y : (H, W) float64
+            Column and row coordinates of each pixel centre.
+        """
         h, w = self.shape
         return np.meshgrid(np.arange(w, dtype=np.float64), np.arange(h, dtype=np.float64))
 
@@ -244,7 +313,16 @@ class CameraModel:
         return world, valid
 
     def rays(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per-pixel ray origins and unit directions in world, each ``(H, W, 3)``."""
+        """Per-pixel ray origins and unit directions in world, each ``(H, W, 3)``.
+
+        Returns
+        -------
+        origins : (H, W, 3) float64
+            Ray origins, world frame (the camera centre for perspective; points on
+            the image plane for orthographic).
+        directions : (H, W, 3) float64
+            Unit ray directions, world frame.
+        """
         x, y = self.pixel_grid()
         X = (x - self.cx) / self.fx
         Y = (y - self.cy) / self.fy
@@ -268,6 +346,11 @@ class CameraModel:
         half-extents ``W / (2 fx)`` and ``H / (2 fy)`` and a centred principal
         point (pyrender's OrthographicCamera cannot express ``fx != fy``, so
         :mod:`morphkit.render` passes this matrix to pyrender directly).
+
+        Returns
+        -------
+        (4, 4) float64
+            OpenGL projection matrix (GL camera frame to clip space).
         """
         h, w = self.shape
         n, f = self.znear, self.zfar
@@ -302,6 +385,16 @@ class CameraModel:
         Perspective: ``Z = 2 n f / (f + n - (2w - 1)(f - n))``.
         Orthographic: ``Z = n + w (f - n)``. Pixels with ``w >= 1`` (the far
         plane, i.e. nothing drawn) become :data:`BACKGROUND_DEPTH`.
+
+        Parameters
+        ----------
+        window : (H, W) float
+            OpenGL window depth in ``[0, 1]``.
+
+        Returns
+        -------
+        (H, W) float64
+            Linear depth ``Z`` along the viewing axis, ``BACKGROUND_DEPTH`` where nothing was drawn.
         """
         wd = np.asarray(window, dtype=np.float64)
         n, f = self.znear, self.zfar
@@ -312,11 +405,30 @@ class CameraModel:
         return np.where(wd >= 1.0, BACKGROUND_DEPTH, z).astype(np.float32)
 
     def gl_pose(self) -> np.ndarray:
-        """``cam_gl2world``: the pose of this camera as a pyrender node."""
+        """``cam_gl2world``: the pose of this camera as a pyrender node.
+
+        Returns
+        -------
+        (4, 4) float64
+            ``cam_gl2world`` pose (OpenGL camera frame: ``+y`` up, looking down ``-z``), world frame.
+        """
         return self.cam2world @ CV_FROM_GL
 
     def assert_outside(self, lo: np.ndarray, hi: np.ndarray, what: str = "object") -> None:
-        """Raise :class:`DegenerateViewError` if the camera centre is inside an AABB."""
+        """Raise :class:`DegenerateViewError` if the camera centre is inside an AABB.
+
+        Parameters
+        ----------
+        lo, hi : (3,) float
+            AABB corners, world frame.
+        what : str, optional
+            Name of the box used in the error message.
+
+        Raises
+        ------
+        DegenerateViewError
+            If the camera centre lies inside ``[lo, hi]``.
+        """
         p = self.position
         margin = tol.CAMERA_CLEARANCE * float(np.max(hi - lo))
         if np.all(p > lo - margin) and np.all(p < hi + margin):
@@ -328,7 +440,24 @@ class CameraModel:
 def perspective(yfov: float, shape: tuple[int, int], cam2world: np.ndarray, *,
                 znear: float = 0.05, zfar: float = 100.0) -> CameraModel:
     """A square-pixel pinhole camera with vertical field of view ``yfov`` (radians)
-    and the principal point at the image centre."""
+    and the principal point at the image centre.
+
+    Parameters
+    ----------
+    yfov : float
+        Vertical field of view in radians, in ``(0, pi)``.
+    shape : (H, W)
+        Image shape in pixels.
+    cam2world : (4, 4) float64
+        ``cam_cv2world`` pose, world frame.
+    znear, zfar : float, optional
+        Depth range, ``0 < znear < zfar``.
+
+    Returns
+    -------
+    CameraModel
+        A perspective camera.
+    """
     h, w = as_shape(shape, "shape")
     yfov = as_positive(yfov, "yfov")
     if yfov >= np.pi:
@@ -340,7 +469,24 @@ def perspective(yfov: float, shape: tuple[int, int], cam2world: np.ndarray, *,
 def orthographic(half_width: float, half_height: float, shape: tuple[int, int],
                  cam2world: np.ndarray, *, znear: float, zfar: float) -> CameraModel:
     """An orthographic camera seeing ``[-half_width, half_width] x
-    [-half_height, half_height]`` (scene units) of its image plane."""
+    [-half_height, half_height]`` (scene units) of its image plane.
+
+    Parameters
+    ----------
+    half_width, half_height : float
+        Half extents of the visible image-plane window, scene units.
+    shape : (H, W)
+        Image shape in pixels.
+    cam2world : (4, 4) float64
+        ``cam_cv2world`` pose, world frame.
+    znear, zfar : float
+        Depth range along the viewing axis, ``0 < znear < zfar``.
+
+    Returns
+    -------
+    CameraModel
+        An orthographic camera.
+    """
     h, w = as_shape(shape, "shape")
     hw = as_positive(half_width, "half_width")
     hh = as_positive(half_height, "half_height")

@@ -54,7 +54,22 @@ def _occluded(obj: SceneObject, origins: np.ndarray, dirs: np.ndarray,
 def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
                     obj: SceneObject) -> np.ndarray:
     """Visibility (1 lit, 0 shadowed) of ``points (N, 3)`` from a point or
-    directional light, occluded by ``obj``. Returns float32 ``(N,)``."""
+    directional light, occluded by ``obj``. Returns float32 ``(N,)``.
+
+    Parameters
+    ----------
+    points : (N, 3) float
+        Receiver points, world frame.
+    light : DirectionalLight or PointLight
+        The light.
+    obj : SceneObject
+        The occluder.
+
+    Returns
+    -------
+    (N,) float32
+        ``1`` lit, ``0`` shadowed.
+    """
     pts = as_finite_array(points, "points", shape=(None, 3))
     if not isinstance(obj, SceneObject):
         raise ValidationError(expected_got("obj", "a morphkit SceneObject", type(obj).__name__))
@@ -69,14 +84,50 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
 def area_visibility(points: np.ndarray, light: AreaLight, obj: SceneObject, n_u: int,
                     n_v: int | None = None, rng: np.random.Generator | None = None) -> np.ndarray:
     """Fraction ``(N,)`` float32 of an area light's ``n_u x n_v`` samples (cell
-    centres, jittered when ``rng`` is given) that each point sees."""
+    centres, jittered when ``rng`` is given) that each point sees.
+
+    Parameters
+    ----------
+    points : (N, 3) float
+        Receiver points, world frame.
+    light : AreaLight
+        The light.
+    obj : SceneObject
+        The occluder.
+    n_u : int
+        Samples along ``u``.
+    n_v : int, optional
+        Samples along ``v``; defaults to ``n_u``.
+    rng : numpy.random.Generator, optional
+        Jitter source; ``None`` for cell centres.
+
+    Returns
+    -------
+    (N,) float32
+        Visible fraction in ``[0, 1]``.
+    """
     return sampled_visibility(points, light.point_lights(n_u, n_v, rng), obj)
 
 
 def sampled_visibility(points: np.ndarray, lights: Sequence[PointLight], obj: SceneObject
                        ) -> np.ndarray:
     """Fraction ``(N,)`` float32 of the point ``lights`` (an area light's samples)
-    that each point sees."""
+    that each point sees.
+
+    Parameters
+    ----------
+    points : (N, 3) float
+        Receiver points, world frame.
+    lights : sequence of PointLight
+        The light samples.
+    obj : SceneObject
+        The occluder.
+
+    Returns
+    -------
+    (N,) float32
+        Visible fraction in ``[0, 1]``.
+    """
     if len(lights) == 0:
         raise ValidationError(expected_got("lights", "at least one point light", "none"))
     pts = as_finite_array(points, "points", shape=(None, 3))
@@ -92,6 +143,18 @@ def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:
 
     Pixel ``(x, y)`` maps to world ``(-h + (x + 0.5) s_x, h - (y + 0.5) s_y, 0)``
     with ``s = 2 h / (W, H)``: world ``+x`` is image right, world ``+y`` image up.
+
+    Parameters
+    ----------
+    half_size : float
+        Half side of the ground square, scene units.
+    shape : (H, W)
+        Image shape in pixels.
+
+    Returns
+    -------
+    (H, W, 3) float64
+        World points.
     """
     h = as_positive(half_size, "half_size")
     H, W = as_shape(shape, "shape")
@@ -102,7 +165,22 @@ def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:
 
 
 def ground_pixels(points: np.ndarray, half_size: float, shape: tuple[int, int]) -> np.ndarray:
-    """Inverse of :func:`receiver_grid`: pixel ``(x, y)`` of ground points ``(N, 2|3)``."""
+    """Inverse of :func:`receiver_grid`: pixel ``(x, y)`` of ground points ``(N, 2|3)``.
+
+    Parameters
+    ----------
+    points : (N, 2) or (N, 3) float
+        Ground points, world frame (``z`` ignored).
+    half_size : float
+        Half side of the ground square, scene units.
+    shape : (H, W)
+        Image shape in pixels.
+
+    Returns
+    -------
+    (N, 2) float64
+        Pixel coordinates ``(x, y)``.
+    """
     h = as_positive(half_size, "half_size")
     H, W = as_shape(shape, "shape")
     p = np.asarray(points, dtype=np.float64)

@@ -372,6 +372,18 @@ def teapot_face_count(resolution: int, flange: bool = True) -> int:
     Each of the 32 patches gives ``2 * resolution**2`` triangles; the 8 patches
     that meet at the lid and bottom poles lose the ``resolution`` triangles that
     collapse to the pole: ``64 r^2 - 8 r``; the lid flange adds ``32 r``.
+
+    Parameters
+    ----------
+    resolution : int
+        Grid cells per patch side, as for :func:`teapot`.
+    flange : bool, optional
+        Whether the lid flange is counted.
+
+    Returns
+    -------
+    int
+        The triangle count.
     """
     r = _as_int(resolution, "resolution", 2, 64)
     return 64 * r * r - 8 * r + (32 * r if flange else 0)

@@ -32,22 +32,80 @@ class SceneRenderer(Protocol):
 
     Frames and units follow :mod:`morphkit.conventions`: images ``(H, W[, C])``
     of ``camera.shape``, linear depth ``Z`` in scene units, background ``+inf``.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
     """
 
     def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
-        """Linear depth, float32 ``(H, W)``; ``+inf`` where nothing was hit."""
+        """Linear depth, float32 ``(H, W)``; ``+inf`` where nothing was hit.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        (H, W) float32
+            Linear depth, ``+inf`` background.
+        """
         ...
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                     ambient: float = 0.35,
                     background: tuple[float, float, float] = (0.0, 0.0, 0.0),
                     ) -> tuple[np.ndarray, np.ndarray]:
-        """Shaded colour, uint8 ``(H, W, 3)`` RGB, and linear depth, float32 ``(H, W)``."""
+        """Shaded colour, uint8 ``(H, W, 3)`` RGB, and linear depth, float32 ``(H, W)``.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        background : tuple of 3 float, optional
+            RGB in ``[0, 1]`` where nothing is drawn.
+
+        Returns
+        -------
+        color : (H, W, 3) uint8
+            Shaded RGB.
+        depth : (H, W) float32
+            Linear depth, ``+inf`` background.
+        """
         ...
 
     def source_view(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                     ambient: float = 0.35, supersample: int = 3) -> np.ndarray:
-        """Straight-alpha RGBA, uint8 ``(H, W, 4)``, of ``items`` on a transparent background."""
+        """Straight-alpha RGBA, uint8 ``(H, W, 4)``, of ``items`` on a transparent background.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        supersample : int, optional
+            Supersampling factor per axis for the coverage alpha.
+
+        Returns
+        -------
+        (H, W, 4) uint8
+            Straight-alpha RGBA.
+        """
         ...
 
 
@@ -57,6 +115,11 @@ class ViewPairing(Protocol):
 
     Azimuths are in degrees in the object frame: ``0`` looks at the object from
     its ``+x`` side (its front), counter-clockwise about ``+z``.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
     """
 
     @property
@@ -72,7 +135,22 @@ class ViewPairing(Protocol):
         """``(i, j, s, outside_deg)``: the references bracketing ``azimuth_deg`` and the
         fraction ``s`` in ``[0, 1]`` from view ``i`` (``s = 0``) to view ``j`` (``s = 1``);
         ``outside_deg > 0`` where the azimuth lies outside a partial ring's arc by that
-        much (``s`` is then clamped to the nearer view)."""
+        much (``s`` is then clamped to the nearer view).
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Viewing azimuth, degrees, object frame.
+
+        Returns
+        -------
+        i, j : int
+            Indices of the bracketing reference views.
+        s : float
+            Fraction in ``[0, 1]`` from ``i`` to ``j``.
+        outside_deg : float
+            Degrees outside a partial ring's arc, ``0`` inside.
+        """
         ...
 
 
@@ -85,6 +163,11 @@ class BillboardSource(Protocol):
     outer edges (``[-0.5, w - 0.5] x [-0.5, h - 0.5]``) map to the billboard quad, a
     rectangle of half size ``half_extent`` (scene units, width then height) centred on
     ``pivot`` (``(3,)``, object frame), facing the viewer, its top edge up.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
     """
 
     name: str
@@ -96,17 +179,71 @@ class BillboardSource(Protocol):
     memory_bytes: int
 
     def reference(self, k: int, level: int = 0) -> np.ndarray:
-        """Reference view ``k``, ``(h, w, 4)`` float32 premultiplied."""
+        """Reference view ``k``, ``(h, w, 4)`` float32 premultiplied.
+
+        Parameters
+        ----------
+        k : int
+            Reference view index.
+        level : int, optional
+            Mip level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA.
+        """
         ...
 
     def classic(self, level: int = 0) -> np.ndarray:
-        """The classic billboard's one image (the front view, azimuth 0), ``(h, w, 4)``."""
+        """The classic billboard's one image (the front view, azimuth 0), ``(h, w, 4)``.
+
+        Parameters
+        ----------
+        level : int, optional
+            Mip level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA.
+        """
         ...
 
     def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
-        """The view at fraction ``s`` from reference ``i`` to ``j`` (view-morphed), ``(h, w, 4)``."""
+        """The view at fraction ``s`` from reference ``i`` to ``j`` (view-morphed), ``(h, w, 4)``.
+
+        Parameters
+        ----------
+        i, j : int
+            Reference view indices.
+        s : float
+            Fraction in ``[0, 1]`` from ``i`` to ``j``.
+        level : int, optional
+            Mip level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA.
+        """
         ...
 
     def crossfade(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
-        """The premultiplied blend ``(1 - s) ref_i + s ref_j`` (a baseline), ``(h, w, 4)``."""
+        """The premultiplied blend ``(1 - s) ref_i + s ref_j`` (a baseline), ``(h, w, 4)``.
+
+        Parameters
+        ----------
+        i, j : int
+            Reference view indices.
+        s : float
+            Blend weight of ``j``, in ``[0, 1]``.
+        level : int, optional
+            Mip level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA.
+        """
         ...

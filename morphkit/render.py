@@ -259,14 +259,40 @@ class Renderer:
 
     def pyrender_depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """pyrender's own depth output, uncorrected (background 0; orthographic
-        values wrong, see the module docstring). For comparisons only: use :meth:`depth`."""
+        values wrong, see the module docstring). For comparisons only: use :meth:`depth`.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        (H, W) float32
+            pyrender's depth, ``0`` background.
+        """
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         ctx.set_camera(camera)
         return ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
 
     def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
-        """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``."""
+        """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        (H, W) float32
+            Linear depth, ``+inf`` background.
+        """
         return self._linear_depth(self.pyrender_depth(camera, items), camera)
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light],
@@ -278,6 +304,26 @@ class Renderer:
         No shadows are drawn (shadows are morphkit's job); ``ambient`` is the
         ambient light level (same for R, G, B); ``background`` is the RGB colour
         in [0, 1] where nothing is drawn.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        background : tuple of 3 float, optional
+            RGB in ``[0, 1]`` where nothing is drawn.
+
+        Returns
+        -------
+        color : (H, W, 3) uint8
+            Shaded RGB.
+        depth : (H, W) float32
+            Linear depth, ``+inf`` background.
         """
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
@@ -294,6 +340,24 @@ class Renderer:
         Alpha is pixel coverage, measured by rendering at ``supersample`` times
         the resolution and area-averaging (OSMesa has no multisampling); colour
         is straight (un-premultiplied) alpha.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        supersample : int, optional
+            Supersampling factor per axis.
+
+        Returns
+        -------
+        (H, W, 4) uint8
+            Straight-alpha RGBA.
         """
         s = int(supersample)
         if s < 1:

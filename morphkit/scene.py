@@ -35,7 +35,18 @@ __all__ = [
 
 
 def translation(x: float, y: float, z: float = 0.0) -> np.ndarray:
-    """A 4x4 pure translation."""
+    """A 4x4 pure translation.
+
+    Parameters
+    ----------
+    x, y, z : float
+        Translation, scene units.
+
+    Returns
+    -------
+    (4, 4) float64
+        The homogeneous transform.
+    """
     T = np.eye(4)
     T[:3, 3] = (x, y, z)
     return T
@@ -55,7 +66,19 @@ class Receiver:
     ``half_size`` centred on the origin, and optionally a wall, the plane
     ``x = wall_x`` facing ``-x``, of height ``wall_height``.
 
-    Receivers receive shadows; they are not occluders."""
+    Receivers receive shadows; they are not occluders.
+
+    Parameters
+    ----------
+    half_size : float, optional
+        Half side of the ground square, scene units.
+    wall_x : float or None, optional
+        ``x`` of the wall plane, world frame; ``None`` for no wall.
+    wall_height : float, optional
+        Wall height above the ground, scene units.
+    color : tuple of 3 float, optional
+        Receiver RGB in ``[0, 1]``.
+    """
 
     half_size: float = 2.0
     wall_x: float | None = None
@@ -86,7 +109,15 @@ class Receiver:
 @dataclass(frozen=True)
 class DirectionalLight:
     """A light at infinity. ``direction`` is the direction light travels
-    (from the light towards the scene), normalised on construction."""
+    (from the light towards the scene), normalised on construction.
+
+    Parameters
+    ----------
+    direction : (3,) float
+        Direction the light travels, world frame (normalised on construction).
+    intensity : float, optional
+        Light intensity (pyrender units).
+    """
 
     direction: np.ndarray
     intensity: float = 3.0
@@ -97,7 +128,20 @@ class DirectionalLight:
 
     def to_light(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Unit directions from ``points (N, 3)`` towards the light, and the
-        distance to it (``inf``)."""
+        distance to it (``inf``).
+
+        Parameters
+        ----------
+        points : (N, 3) float
+            Points, world frame.
+
+        Returns
+        -------
+        directions : (N, 3) float64
+            Unit directions towards the light, world frame.
+        distances : (N,) float64
+            ``inf`` for every point.
+        """
         d = np.broadcast_to(-self.direction, points.shape).copy()
         return d, np.full(len(points), np.inf)
 
@@ -105,7 +149,15 @@ class DirectionalLight:
 @dataclass(frozen=True)
 class PointLight:
     """A point light at ``position`` (a spot light when used for a perspective
-    light view)."""
+    light view).
+
+    Parameters
+    ----------
+    position : (3,) float
+        Light position, world frame.
+    intensity : float, optional
+        Light intensity (pyrender units).
+    """
 
     position: np.ndarray
     intensity: float = 30.0
@@ -115,7 +167,20 @@ class PointLight:
         as_positive(self.intensity, "intensity")
 
     def to_light(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Unit directions from ``points (N, 3)`` towards the light and distances."""
+        """Unit directions from ``points (N, 3)`` towards the light and distances.
+
+        Parameters
+        ----------
+        points : (N, 3) float
+            Points, world frame.
+
+        Returns
+        -------
+        directions : (N, 3) float64
+            Unit directions towards the light, world frame.
+        distances : (N,) float64
+            Distances to the light, scene units.
+        """
         v = self.position - points
         dist = np.linalg.norm(v, axis=1)
         if np.any(dist < tol.MIN_EXTENT):
@@ -130,6 +195,15 @@ class AreaLight:
 
     ``u`` and ``v`` are half-extent vectors (scene units); both must be non-zero
     and not parallel (a zero-size light is refused: use :class:`PointLight`).
+
+    Parameters
+    ----------
+    center : (3,) float
+        Centre of the rectangle, world frame.
+    u, v : (3,) float
+        Half-extent vectors, world frame, scene units.
+    intensity : float, optional
+        Total light intensity (pyrender units), shared by its samples.
     """
 
     center: np.ndarray
@@ -156,7 +230,22 @@ class AreaLight:
         grid of cells, jittered uniformly inside each cell when ``rng`` is given.
 
         ``n_u``, ``n_v`` are integers >= 1 with ``n_u * n_v`` at most
-        :data:`morphkit.tol.MAX_LIGHT_SAMPLES` (checked before allocating)."""
+        :data:`morphkit.tol.MAX_LIGHT_SAMPLES` (checked before allocating).
+
+        Parameters
+        ----------
+        n_u : int
+            Cells along ``u``.
+        n_v : int, optional
+            Cells along ``v``; defaults to ``n_u``.
+        rng : numpy.random.Generator, optional
+            Jitter source; ``None`` for cell centres.
+
+        Returns
+        -------
+        (n_u * n_v, 3) float64
+            Sample positions, world frame.
+        """
         n_v = n_u if n_v is None else n_v
         n_u, n_v = as_int(n_u, "n_u"), as_int(n_v, "n_v")
         if n_u < 1 or n_v < 1:
@@ -176,7 +265,23 @@ class AreaLight:
 
     def point_lights(self, n_u: int, n_v: int | None = None,
                      rng: np.random.Generator | None = None) -> list[PointLight]:
-        """The area light as point lights sharing its intensity equally."""
+        """The area light as point lights sharing its intensity equally.
+
+        Parameters
+        ----------
+        n_u : int
+            Cells along ``u``.
+        n_v : int, optional
+            Cells along ``v``; defaults to ``n_u``.
+        rng : numpy.random.Generator, optional
+            Jitter source; ``None`` for cell centres.
+
+        Returns
+        -------
+        list of PointLight
+            One light at each of :meth:`samples`' positions, each with
+            ``intensity / (n_u * n_v)``.
+        """
         pos = self.samples(n_u, n_v, rng)
         return [PointLight(p, self.intensity / len(pos)) for p in pos]
 
@@ -187,7 +292,17 @@ Light = DirectionalLight | PointLight | AreaLight
 
 @dataclass(frozen=True)
 class SceneObject:
-    """One occluding object: a mesh and its ``object2world`` pose."""
+    """One occluding object: a mesh and its ``object2world`` pose.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Geometry, object frame.
+    pose : (4, 4) float64, optional
+        ``object2world``; identity by default.
+    color : tuple of 3 float, optional
+        Base RGB in ``[0, 1]``.
+    """
 
     mesh: trimesh.Trimesh
     pose: np.ndarray = field(default_factory=lambda: np.eye(4))
@@ -201,19 +316,42 @@ class SceneObject:
         object.__setattr__(self, "pose", as_pose(self.pose, "object pose"))
 
     def world_bounds(self) -> np.ndarray:
-        """(2, 3) axis-aligned bounds of the posed mesh in world coordinates."""
+        """(2, 3) axis-aligned bounds of the posed mesh in world coordinates.
+
+        Returns
+        -------
+        (2, 3) float64
+            ``[lo, hi]`` corners, world frame.
+        """
         corners = trimesh.bounds.corners(self.mesh.bounds)
         w = corners @ self.pose[:3, :3].T + self.pose[:3, 3]
         return np.array([w.min(0), w.max(0)])
 
     def world_mesh(self) -> trimesh.Trimesh:
-        """A copy of the mesh in world coordinates (for ray casting)."""
+        """A copy of the mesh in world coordinates (for ray casting).
+
+        Returns
+        -------
+        trimesh.Trimesh
+            The posed mesh, world frame.
+        """
         m = self.mesh.copy()
         m.apply_transform(self.pose)
         return m
 
     def moved(self, pose: np.ndarray) -> SceneObject:
-        """The same object at another pose (the mesh is shared, not copied)."""
+        """The same object at another pose (the mesh is shared, not copied).
+
+        Parameters
+        ----------
+        pose : (4, 4) float64
+            New ``object2world``.
+
+        Returns
+        -------
+        SceneObject
+            The object at ``pose``.
+        """
         return replace(self, pose=pose)
 
 
@@ -223,6 +361,19 @@ class Scene:
 
     Raises :class:`~morphkit.errors.DegenerateViewError` when the camera is
     inside the object's bounds.
+
+    Parameters
+    ----------
+    obj : SceneObject
+        The occluder.
+    light : DirectionalLight, PointLight or AreaLight
+        The light.
+    camera : CameraModel
+        The view camera.
+    receiver : Receiver, optional
+        Ground (and wall); a default :class:`Receiver` if omitted.
+    ambient : float, optional
+        Ambient light level in ``[0, 1]``.
     """
 
     obj: SceneObject
@@ -238,7 +389,18 @@ class Scene:
             raise ValidationError(expected_got("ambient", "a number in [0, 1]", self.ambient))
 
     def with_object_pose(self, pose: np.ndarray) -> Scene:
-        """The same scene with the object moved."""
+        """The same scene with the object moved.
+
+        Parameters
+        ----------
+        pose : (4, 4) float64
+            New ``object2world`` of the object.
+
+        Returns
+        -------
+        Scene
+            A copy with the object at ``pose``.
+        """
         return replace(self, obj=self.obj.moved(pose))
 
 
@@ -255,6 +417,22 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
     * Point light: a perspective camera at the light, looking at the points'
       bounding-box centre, principal point and focal lengths fitted so the
       points' projections fill the image (square pixels are not required).
+
+    Parameters
+    ----------
+    light : DirectionalLight or PointLight
+        The light whose view is fitted.
+    points : (N, 3) float
+        Points to cover, world frame.
+    shape : (H, W)
+        Shadow-map shape in pixels.
+    margin : float, optional
+        Extra window on each side, as a fraction of its size.
+
+    Returns
+    -------
+    CameraModel
+        Orthographic (directional light) or perspective (point light) camera.
 
     Raises
     ------
@@ -307,7 +485,17 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
 
 @dataclass(frozen=True)
 class Item:
-    """One mesh to draw: geometry, ``object2world`` pose and base colour (RGB in [0, 1])."""
+    """One mesh to draw: geometry, ``object2world`` pose and base colour (RGB in [0, 1]).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Geometry, object frame.
+    pose : (4, 4) float64, optional
+        ``object2world``; identity by default.
+    color : tuple of 3 float, optional
+        Base RGB in ``[0, 1]``.
+    """
 
     mesh: trimesh.Trimesh
     pose: np.ndarray = field(default_factory=lambda: np.eye(4))
@@ -315,7 +503,22 @@ class Item:
 
 
 def scene_items(scene: Scene, *, receivers: bool = True, obj: bool = True) -> list[Item]:
-    """The drawable items of a :class:`~morphkit.scene.Scene`."""
+    """The drawable items of a :class:`~morphkit.scene.Scene`.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    receivers : bool, optional
+        Include the ground (and wall).
+    obj : bool, optional
+        Include the object.
+
+    Returns
+    -------
+    list of Item
+        The items, world poses.
+    """
     items: list[Item] = []
     if receivers:
         items += [Item(m, np.eye(4), scene.receiver.color) for m in scene.receiver.meshes]

@@ -43,7 +43,20 @@ DEMO_LIGHT_DIRECTION = (-0.55, 0.35, -1.0)
 
 def demo_scene(mesh: trimesh.Trimesh, size: int = 512) -> Scene:
     """A normalised mesh at the origin on the ground, a directional light and a
-    3/4 view camera (45 deg vertical field of view)."""
+    3/4 view camera (45 deg vertical field of view).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The object's mesh (normalised by this function).
+    size : int, optional
+        Side of the square image, pixels.
+
+    Returns
+    -------
+    Scene
+        The demo scene.
+    """
     cam = perspective(np.deg2rad(40), (size, size), look_at([1.45, -1.35, 1.05], [-0.2, 0.2, 0.2]),
                       znear=0.1, zfar=20.0)
     return Scene(SceneObject(mesh), DirectionalLight(DEMO_LIGHT_DIRECTION, intensity=2.2), cam,
@@ -54,6 +67,19 @@ def ground_truth_frame(renderer: SceneRenderer, scene: Scene) -> dict[str, np.nd
     """Render ``scene`` and shadow it exactly by ray casting every visible pixel.
 
     Returns the images ``lit``, ``unlit``, ``depth``, ``visibility`` and ``shaded``.
+
+    Parameters
+    ----------
+    renderer : SceneRenderer
+        Renderer for the colour and depth images.
+    scene : Scene
+        Scene to render.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        Images keyed ``lit``, ``unlit``, ``depth``, ``visibility``, ``shaded``,
+        each of ``scene.camera.shape`` (``depth`` float32 linear, ``+inf`` background).
     """
     return render_frame(renderer, scene, lambda pts, _n: hard_visibility(pts, scene.light, scene.obj),
                         background=SKY)
@@ -87,7 +113,20 @@ CHECKER = 0.05
 
 
 def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
-    """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``)."""
+    """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``).
+
+    Parameters
+    ----------
+    azimuth_deg : float
+        Azimuth about world ``+z``, degrees, ``0`` on ``+x``.
+    size : int
+        Image side in pixels.
+
+    Returns
+    -------
+    CameraModel
+        A perspective camera looking at the circle's centre.
+    """
     a = np.radians(azimuth_deg)
     eye = np.array([RADIUS * np.cos(a), RADIUS * np.sin(a), HEIGHT])
     return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
@@ -115,13 +154,42 @@ def checker_items(mesh: trimesh.Trimesh) -> list[Item]:
 
 
 def textured_items(name: str) -> tuple[Any, list[Any]]:
-    """The sample mesh and its colour groups (:func:`checker_items`) as render items."""
+    """The sample mesh and its colour groups (:func:`checker_items`) as render items.
+
+    Parameters
+    ----------
+    name : str
+        Name of a sample mesh.
+
+    Returns
+    -------
+    mesh : trimesh.Trimesh
+        The sample mesh.
+    items : list of Item
+        Its colour groups, identity pose.
+    """
     mesh = sample_mesh(name)
     return mesh, checker_items(mesh)
 
 
 def render_pair(renderer: SceneRenderer, items: list[Any], cams: list[CameraModel]
                 ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``(rgba, depth)`` for each camera."""
+    """``(rgba, depth)`` for each camera.
+
+    Parameters
+    ----------
+    renderer : SceneRenderer
+        The renderer.
+    items : list of Item
+        Items to draw, world poses.
+    cams : list of CameraModel
+        One camera per view.
+
+    Returns
+    -------
+    list of (rgba, depth)
+        Per camera: ``(H, W, 4)`` uint8 straight-alpha RGBA and ``(H, W)``
+        float32 linear depth, ``+inf`` background.
+    """
     light = [DirectionalLight(np.array([-1.0, -0.5, -1.0]))]
     return [(renderer.source_view(c, items, light), renderer.depth(c, items)) for c in cams]

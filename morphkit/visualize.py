@@ -9,7 +9,18 @@ __all__ = ["colorize_depth"]
 
 
 def colorize_depth(depth: np.ndarray) -> np.ndarray:
-    """A BGR colour-mapped depth image (near bright), background black."""
+    """A BGR colour-mapped depth image (near bright), background black.
+
+    Parameters
+    ----------
+    depth : (H, W) float
+        Linear depth, ``+inf`` (non-finite) background.
+
+    Returns
+    -------
+    (H, W, 3) uint8
+        BGR image.
+    """
     fg = np.isfinite(depth)
     out = np.zeros((*depth.shape, 3), np.uint8)
     if fg.any():

@@ -108,14 +108,31 @@ DEFAULT_LAYERS: int | str = 3
 
 def bake_lights() -> list[Light]:
     """The lights of the bake renders: one directional light straight down (``-z``),
-    intensity 3 (yaw- and view-independent; with :data:`BAKE_AMBIENT`)."""
+    intensity 3 (yaw- and view-independent; with :data:`BAKE_AMBIENT`).
+
+    Returns
+    -------
+    list of Light
+        The one directional light, world (= object) frame.
+    """
     return [DirectionalLight(np.array([0.0, 0.0, -1.0]), intensity=3.0)]
 
 
 def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
     """The render items of a bake: ``mesh`` (object frame, identity pose) coloured by the
     3-D checker of :func:`morphkit.scenes.checker_items`. Pass the normalised mesh
-    (:func:`morphkit.meshes.normalize`) to match an asset's references."""
+    (:func:`morphkit.meshes.normalize`) to match an asset's references.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The (normalised) mesh, object frame.
+
+    Returns
+    -------
+    list of Item
+        Its colour groups, identity pose.
+    """
     if not isinstance(mesh, trimesh.Trimesh):
         raise MeshError(expected_got("mesh", "a trimesh.Trimesh", type(mesh).__name__))
     return checker_items(mesh)
@@ -190,6 +207,11 @@ class BillboardAsset:
 
     Build one with :func:`bake_asset` or :meth:`load`; the constructor takes the
     stored data (an :class:`~morphkit.billboard.assetfile.AssetRecord`).
+
+    Parameters
+    ----------
+    record : AssetRecord
+        The stored data, as read by :func:`~morphkit.billboard.assetfile.read_record`.
 
     Attributes
     ----------
@@ -303,6 +325,18 @@ class BillboardAsset:
         morph (:meth:`QuadCameras.chord_camera`), the frame of :meth:`morph` ``(i, j, s)``
         (render the mesh with it for a ground truth). For ``K = 2`` outside the arc, the
         clamped reference's camera (the true view from there is ``cameras.camera(azimuth_deg)``).
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Viewing azimuth, degrees, object frame.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        CameraModel
+            The camera of the view shown, object frame, images of ``cameras.level_shape(level)``.
         """
         level = _check_level(level, self.levels)
         i, j, s, _ = self.ring.pair(azimuth_deg)
@@ -310,24 +344,78 @@ class BillboardAsset:
         return self.cameras.chord_camera(az[i], az[j], s, level)
 
     def reference(self, k: int, level: int = 0) -> np.ndarray:
-        """Reference view ``k``: premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only."""
+        """Reference view ``k``: premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only.
+
+        Parameters
+        ----------
+        k : int
+            Reference view index.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA, read-only.
+        """
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= int(k) < self.ring.views:
             raise ValidationError(expected_got("view index k", f"an int in [0, {self.ring.views})", repr(k)))
         return self._prem[_check_level(level, self.levels)][int(k)]
 
     def classic(self, level: int = 0) -> np.ndarray:
         """The front view (azimuth 0): the classic billboard's one image for every direction.
-        Premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only."""
+        Premultiplied RGBA float32 ``(h, w, 4)`` in [0, 1], read-only.
+
+        Parameters
+        ----------
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA, read-only.
+        """
         return self._front[_check_level(level, self.levels)]
 
     def crossfade(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
-        """Baseline: ``(1 - s) reference(i) + s reference(j)`` (premultiplied), new float32 array."""
+        """Baseline: ``(1 - s) reference(i) + s reference(j)`` (premultiplied), new float32 array.
+
+        Parameters
+        ----------
+        i, j : int
+            Reference view indices.
+        s : float
+            Blend weight of ``j``, in ``[0, 1]``.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA.
+        """
         i, j = self.ring.check_pair(i, j)
         s = _check_s(s)
         return cv2.addWeighted(self.reference(i, level), 1.0 - s, self.reference(j, level), s, 0.0)
 
     def nearest(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
-        """Baseline: the nearer reference (``i`` for ``s <= 1/2``), read-only."""
+        """Baseline: the nearer reference (``i`` for ``s <= 1/2``), read-only.
+
+        Parameters
+        ----------
+        i, j : int
+            Reference view indices.
+        s : float
+            Fraction in ``[0, 1]`` from ``i`` to ``j``.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w, 4) float32
+            Premultiplied RGBA, read-only.
+        """
         i, j = self.ring.check_pair(i, j)
         return self.reference(i if _check_s(s) <= 0.5 else j, level)
 
@@ -389,7 +477,20 @@ class BillboardAsset:
     # ------------------------------------------------------------------ morphers
     def correspondences(self, pair: int, level: int = 0) -> Correspondences:
         """The correspondences of ``ring.pairs()[pair]`` at ``level``: the stored points
-        projected into the pair's level cameras (thinned to ``4^-level`` of them)."""
+        projected into the pair's level cameras (thinned to ``4^-level`` of them).
+
+        Parameters
+        ----------
+        pair : int
+            Index into ``ring.pairs()``.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        Correspondences
+            Matched pixels of the pair's two level views.
+        """
         pairs = self.ring.pairs()
         if isinstance(pair, bool) or not isinstance(pair, (int, np.integer)) \
                 or not 0 <= int(pair) < len(pairs):
@@ -403,7 +504,20 @@ class BillboardAsset:
 
     def morpher(self, pair: int, level: int = 0) -> ViewMorpher:
         """The (cached) :class:`ViewMorpher` of ``ring.pairs()[pair]`` at ``level``: straight
-        RGBA float32 references of that level in, the pair's correspondences, depth keys."""
+        RGBA float32 references of that level in, the pair's correspondences, depth keys.
+
+        Parameters
+        ----------
+        pair : int
+            Index into ``ring.pairs()``.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        ViewMorpher
+            The pair's morpher (shared, cached).
+        """
         level = _check_level(level, self.levels)
         key = (int(pair), level)
         vm = self._morphers.get(key)
@@ -439,6 +553,16 @@ class BillboardAsset:
         first use. The bake builds level 0 (so every pair is checked there); call this
         before timing frames so no frame pays for a build. Returns ``self``.
 
+        Parameters
+        ----------
+        levels : sequence of int, optional
+            Pyramid levels to build; all levels by default.
+
+        Returns
+        -------
+        BillboardAsset
+            ``self``.
+
         Raises
         ------
         DegenerateViewError
@@ -451,11 +575,28 @@ class BillboardAsset:
 
     # ------------------------------------------------------------------ files
     def record(self) -> AssetRecord:
-        """The stored data (what :meth:`save` writes)."""
+        """The stored data (what :meth:`save` writes).
+
+        Returns
+        -------
+        AssetRecord
+            The asset's stored data.
+        """
         return self._record
 
     def save(self, path: str | os.PathLike[str]) -> Path:
-        """Write the asset to one versioned ``.npz`` file (:mod:`.assetfile`), atomically."""
+        """Write the asset to one versioned ``.npz`` file (:mod:`.assetfile`), atomically.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Output file; its folder must exist.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
         return write_record(path, self._record)
 
     @classmethod

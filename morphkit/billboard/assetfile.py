@@ -65,7 +65,39 @@ _ARRAYS = ("images", "depth", "points3d", "offsets", "front")
 @dataclass(frozen=True)
 class AssetRecord:
     """What an asset file holds (plain data; :class:`morphkit.billboard.BillboardAsset`
-    is built from it). Field meanings: the module docstring."""
+    is built from it). Field meanings: the module docstring.
+
+    Parameters
+    ----------
+    name : str
+        Asset name.
+    mesh_hash : str
+        sha256 hex of the source mesh.
+    ring : dict
+        ``views``, ``arc_deg``, ``elevation_deg``.
+    quad : dict
+        ``pivot``, ``distance``, ``elevation_deg``, ``half_extent``, ``shape``.
+    levels : int
+        Pyramid levels.
+    layers : int or "auto"
+        The morphs' ``ViewMorpher(layers=...)``.
+    pairs : list of (int, int)
+        Reference index pairs that are morphed.
+    front_view : int
+        Index of the reference at azimuth 0, or ``-1``.
+    cameras : list of dict
+        Per view: ``azimuth_deg``, ``K`` (3x3), ``cam2world`` (4x4, object frame).
+    images : (K, H, W, 4) uint8
+        Reference views, straight RGBA.
+    depth : (K, H, W) float16
+        Their linear depth, ``+inf`` background.
+    points3d : (N, 3) float32
+        All pairs' correspondences, object frame.
+    offsets : (P + 1,) int64
+        Pair ``p`` holds ``points3d[offsets[p]:offsets[p + 1]]``.
+    front : (H, W, 4) uint8
+        Front view (straight RGBA), or ``(0, 0, 4)`` when a reference is at azimuth 0.
+    """
 
     name: str
     mesh_hash: str
@@ -88,7 +120,20 @@ def _sha(a: np.ndarray) -> str:
 
 
 def write_record(path: str | os.PathLike[str], rec: AssetRecord) -> Path:
-    """Write ``rec`` to ``path`` (atomically; the folder must exist). Returns ``path``."""
+    """Write ``rec`` to ``path`` (atomically; the folder must exist). Returns ``path``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output ``.npz`` file.
+    rec : AssetRecord
+        What to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     arrays = {k: np.ascontiguousarray(getattr(rec, k)) for k in _ARRAYS}
     meta = {"format": FORMAT, "version": VERSION, "name": rec.name, "mesh_hash": rec.mesh_hash,
             "ring": rec.ring, "quad": rec.quad, "levels": rec.levels, "layers": rec.layers,
@@ -105,6 +150,16 @@ def _bad(what: str, expected: Any, got: Any) -> FileFormatError:
 
 def read_record(path: str | os.PathLike[str]) -> AssetRecord:
     """Read and check an asset file written by :func:`write_record`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An asset file.
+
+    Returns
+    -------
+    AssetRecord
+        Its checked contents.
 
     Raises
     ------

@@ -53,13 +53,32 @@ class Fog:
         object.__setattr__(self, "density", d)
 
     def factor(self, distance: np.ndarray) -> np.ndarray:
-        """Fraction of fog colour, ``1 - exp(-density * distance)``, same shape as ``distance``."""
+        """Fraction of fog colour, ``1 - exp(-density * distance)``, same shape as ``distance``.
+
+        Parameters
+        ----------
+        distance : ndarray of float
+            Distance from the camera, scene units.
+
+        Returns
+        -------
+        ndarray of float
+            Fog fraction in ``[0, 1)``, shape of ``distance``.
+        """
         return -np.expm1(-self.density * np.asarray(distance, dtype=np.float64))
 
 
 @dataclass(frozen=True)
 class Ground:
-    """The ground plane ``z = 0``: a checker of ``cell``-sized squares, or flat (``cell=None``)."""
+    """The ground plane ``z = 0``: a checker of ``cell``-sized squares, or flat (``cell=None``).
+
+    Parameters
+    ----------
+    color_a, color_b : tuple of 3 float, optional
+        Checker RGB colours in ``[0, 1]`` (``color_a`` alone when flat).
+    cell : float or None, optional
+        Checker cell side, scene units; ``None`` for a flat ground.
+    """
 
     color_a: tuple[float, float, float] = (0.42, 0.55, 0.32)
     color_b: tuple[float, float, float] = (0.36, 0.48, 0.27)
@@ -74,7 +93,15 @@ class Ground:
 
 @dataclass(frozen=True)
 class Sky:
-    """A vertical gradient: ``horizon`` at elevation 0 to ``zenith`` straight up."""
+    """A vertical gradient: ``horizon`` at elevation 0 to ``zenith`` straight up.
+
+    Parameters
+    ----------
+    horizon : tuple of 3 float, optional
+        RGB in ``[0, 1]`` at elevation 0.
+    zenith : tuple of 3 float, optional
+        RGB in ``[0, 1]`` straight up.
+    """
 
     horizon: tuple[float, float, float] = (0.78, 0.84, 0.90)
     zenith: tuple[float, float, float] = (0.35, 0.55, 0.85)
@@ -102,7 +129,18 @@ class Backdrop:
 
     def draw(self, camera: CameraModel) -> np.ndarray:
         """The backdrop seen by ``camera``: float32 ``(H, W, 3)`` RGB in ``[0, 1]`` (read-only;
-        the same array while the camera is unchanged)."""
+        the same array while the camera is unchanged).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+
+        Returns
+        -------
+        (H, W, 3) float32
+            RGB in ``[0, 1]``, read-only.
+        """
         key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
                camera.cam2world.tobytes())
         if self._last is not None and self._last[0] == key:

@@ -35,6 +35,11 @@ __all__ = ["CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s"]
 class CacheCounts:
     """Counts of a :class:`MorphCache` since it was made (or between two snapshots).
 
+    Parameters
+    ----------
+    hits, misses, evictions : int, optional
+        The counts.
+
     Attributes
     ----------
     hits, misses, evictions : int
@@ -95,7 +100,13 @@ class MorphCache:
         return CacheCounts(self._hits, self._misses, self._evictions)
 
     def keys(self) -> list[Hashable]:
-        """The keys held, least recently used first."""
+        """The keys held, least recently used first.
+
+        Returns
+        -------
+        list of Hashable
+            The keys, least recently used first.
+        """
         return list(self._store)
 
     def clear(self) -> None:
@@ -108,6 +119,18 @@ class MorphCache:
 
         The returned array is shared with the cache: read it, do not write it
         (it is marked read-only).
+
+        Parameters
+        ----------
+        key : Hashable
+            Cache key (see :func:`morph_key`).
+        make : callable
+            ``make() -> ndarray``, called on a miss.
+
+        Returns
+        -------
+        numpy.ndarray
+            The cached image, read-only.
         """
         img = self._store.get(key)
         if img is not None:
@@ -178,5 +201,22 @@ def bracket_s(s: float, span_deg: float, quantum_deg: float) -> tuple[float, flo
 
 
 def morph_key(asset: str, i: int, j: int, s_q: float, level: int) -> tuple[str, int, int, float, int]:
-    """The cache key of an image: ``(asset name, i, j, quantised s, level)``."""
+    """The cache key of an image: ``(asset name, i, j, quantised s, level)``.
+
+    Parameters
+    ----------
+    asset : str
+        Asset name.
+    i, j : int
+        Reference view indices.
+    s_q : float
+        Quantised morph fraction.
+    level : int
+        Pyramid level.
+
+    Returns
+    -------
+    tuple
+        ``(asset, i, j, s_q, level)``.
+    """
     return (asset, int(i), int(j), float(s_q), int(level))

@@ -109,13 +109,35 @@ class QuadCameras:
         return self.distance * math.cos(math.radians(self.elevation_deg))
 
     def level_shape(self, level: int) -> tuple[int, int]:
-        """Image shape of pyramid level ``level`` (``round(2^-level)`` of level 0, at least 1)."""
+        """Image shape of pyramid level ``level`` (``round(2^-level)`` of level 0, at least 1).
+
+        Parameters
+        ----------
+        level : int
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        (h, w) tuple of int
+            Image shape in pixels.
+        """
         lv = _level(level)
         h, w = self.shape
         return max(1, round(h / 2**lv)), max(1, round(w / 2**lv))
 
     def eye(self, azimuth_deg: float) -> np.ndarray:
-        """``(3,)`` camera centre of the rule at ``azimuth_deg`` (object frame)."""
+        """``(3,)`` camera centre of the rule at ``azimuth_deg`` (object frame).
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Azimuth, degrees, object frame.
+
+        Returns
+        -------
+        (3,) float64
+            Camera centre, object frame.
+        """
         a = float(azimuth_deg)
         if not math.isfinite(a):
             raise ValidationError(expected_got("azimuth_deg", "a finite angle", a))
@@ -125,14 +147,42 @@ class QuadCameras:
 
     def camera(self, azimuth_deg: float, level: int = 0) -> CameraModel:
         """The camera of the rule at ``azimuth_deg`` (on the ring, distance ``D``) for
-        images of ``level_shape(level)``: a reference view's camera."""
+        images of ``level_shape(level)``: a reference view's camera.
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Azimuth, degrees, object frame.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, ``cam2world`` in the object frame.
+        """
         return self.camera_at(self.eye(azimuth_deg), level)
 
     def chord_camera(self, azimuth0_deg: float, azimuth1_deg: float, s: float, level: int = 0
                      ) -> CameraModel:
         """The camera whose view a morph of the views at ``azimuth0_deg`` and ``azimuth1_deg``
         shows at ``s``: centre ``(1 - s) eye(azimuth0) + s eye(azimuth1)`` (Seitz & Dyer's
-        in-between camera, on the chord between the two), image plane and quad by the rule."""
+        in-between camera, on the chord between the two), image plane and quad by the rule.
+
+        Parameters
+        ----------
+        azimuth0_deg, azimuth1_deg : float
+            Azimuths of the two views, degrees, object frame.
+        s : float
+            Fraction in ``[0, 1]`` from the first view to the second.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, ``cam2world`` in the object frame.
+        """
         s = float(s)
         if not 0.0 <= s <= 1.0:
             raise ValidationError(expected_got("s", "a number in [0, 1]", s))
@@ -145,6 +195,18 @@ class QuadCameras:
 
         Depth range ``[D/10, 2 D]``: the bounding sphere (radius ``D / DISTANCE_FACTOR``)
         lies inside it for the ring's cameras and any point between two of them.
+
+        Parameters
+        ----------
+        eye : (3,) float
+            Camera centre, object frame.
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, ``cam2world`` in the object frame.
         """
         e = as_finite_array(eye, "eye", shape=(3,))
         h, w = self.level_shape(level)
@@ -161,7 +223,18 @@ class QuadCameras:
 
     def quad_corners(self, azimuth_deg: float) -> np.ndarray:
         """``(4, 3)`` corners of the quad at ``azimuth_deg`` in the object frame: top-left,
-        top-right, bottom-right, bottom-left (the image corners, in that order)."""
+        top-right, bottom-right, bottom-left (the image corners, in that order).
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Viewing azimuth, degrees, object frame.
+
+        Returns
+        -------
+        (4, 3) float64
+            Quad corners, object frame.
+        """
         ar = math.radians(float(azimuth_deg))
         right = np.array([-math.sin(ar), math.cos(ar), 0.0])
         up = np.array([0.0, 0.0, 1.0])
@@ -176,7 +249,24 @@ class QuadCameras:
         bounding box's vertical axis ``(0, 0, z_max / 2)`` shifted to the box's ``x, y``
         centre, ``D = DISTANCE_FACTOR r`` and the smallest quad (grown by
         :data:`FRAME_MARGIN`, square pixels) that holds the object's projection from
-        every azimuth in 5-degree steps and in ``azimuths_deg``."""
+        every azimuth in 5-degree steps and in ``azimuths_deg``.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The object, its own frame.
+        shape : (H, W)
+            Level-0 image shape in pixels.
+        elevation_deg : float
+            Camera elevation above the horizontal, degrees.
+        azimuths_deg : array of float, optional
+            Extra azimuths (degrees) the quad must cover.
+
+        Returns
+        -------
+        QuadCameras
+            The fitted rule.
+        """
         shape = as_shape(shape, "shape")
         lo, hi = np.asarray(mesh.bounds, dtype=np.float64)
         pivot = np.array([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])])

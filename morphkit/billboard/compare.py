@@ -57,7 +57,18 @@ def box_errors(frame: Frame, truth: Frame) -> list[dict[str, Any]]:
 
 def mean_errors(errors: list[dict[str, Any]]) -> dict[str, float]:
     """Mean ``iou`` and ``psnr`` of :func:`box_errors` records and their count ``n``
-    (``nan`` means when there are none)."""
+    (``nan`` means when there are none).
+
+    Parameters
+    ----------
+    errors : list of dict
+        Records of :func:`box_errors`.
+
+    Returns
+    -------
+    dict of str to float
+        ``iou``, ``psnr`` (means) and ``n`` (the count).
+    """
     if not errors:
         return {"iou": float("nan"), "psnr": float("nan"), "n": 0.0}
     return {"iou": float(np.mean([e["iou"] for e in errors])),
@@ -68,7 +79,7 @@ def mean_errors(errors: list[dict[str, Any]]) -> dict[str, float]:
 class Comparison:
     """One camera of a scene in several modes.
 
-    Attributes
+    Parameters
     ----------
     frames : dict of str to Frame
         Each mode's frame, and ``"mesh"``'s.
@@ -85,7 +96,24 @@ class Comparison:
 
 def compare_modes(scene: BillboardScene, camera: CameraModel, modes: Mapping[str, FrameMode],
                   truth: FrameMode) -> Comparison:
-    """Render ``camera`` in each of ``modes`` and in ``truth`` (the mesh mode); see :class:`Comparison`."""
+    """Render ``camera`` in each of ``modes`` and in ``truth`` (the mesh mode); see :class:`Comparison`.
+
+    Parameters
+    ----------
+    scene : BillboardScene
+        The scene.
+    camera : CameraModel
+        Perspective view, world frame.
+    modes : mapping of str to FrameMode
+        Billboard modes by label.
+    truth : FrameMode
+        The mesh mode (reference).
+
+    Returns
+    -------
+    Comparison
+        Frames, strip and errors.
+    """
     frames = {name: scene.render(camera, m) for name, m in modes.items()}
     frames["mesh"] = scene.render(camera, truth)
     errors = {name: mean_errors(box_errors(frames[name], frames["mesh"])) for name in modes}

@@ -29,13 +29,37 @@ __all__ = ["new_layer", "polygon_mask", "draw", "finish"]
 
 
 def new_layer(shape: tuple[int, int]) -> np.ndarray:
-    """A transparent premultiplied RGBA layer, float32 ``(H, W, 4)`` of zeros."""
+    """A transparent premultiplied RGBA layer, float32 ``(H, W, 4)`` of zeros.
+
+    Parameters
+    ----------
+    shape : (H, W)
+        Layer shape in pixels.
+
+    Returns
+    -------
+    (H, W, 4) float32
+        Zeros.
+    """
     return np.zeros((int(shape[0]), int(shape[1]), 4), np.float32)
 
 
 def polygon_mask(poly_px: np.ndarray, roi: tuple[int, int, int, int]) -> np.ndarray:
     """Float32 ``(r1 - r0, c1 - c0)`` mask: 1 at the pixel centres inside the convex polygon
-    ``poly_px (K, 2)`` (screen pixels), 0 elsewhere (1/16-pixel vertex precision)."""
+    ``poly_px (K, 2)`` (screen pixels), 0 elsewhere (1/16-pixel vertex precision).
+
+    Parameters
+    ----------
+    poly_px : (K, 2) float
+        Convex polygon vertices ``(x, y)``, screen pixels.
+    roi : (r0, r1, c0, c1)
+        Screen box the mask covers (rows ``r0:r1``, columns ``c0:c1``).
+
+    Returns
+    -------
+    (r1 - r0, c1 - c0) float32
+        The mask, 0 or 1.
+    """
     r0, r1, c0, c1 = roi
     mask = np.zeros((r1 - r0, c1 - c0), np.float32)
     pts = np.rint((np.asarray(poly_px, dtype=np.float64) - (c0, r0)) * 16).astype(np.int32)

@@ -46,7 +46,7 @@ __all__ = ["ViewDirections", "view_directions", "Facing", "AxialFacing", "Screen
 class ViewDirections:
     """How ``N`` instances are seen from one eye.
 
-    Attributes
+    Parameters
     ----------
     azimuth_deg : (N,) float64
         Viewing azimuth in each instance's object frame, degrees in ``[-180, 180)``.
@@ -99,11 +99,30 @@ def view_directions(eye: np.ndarray, pivots: np.ndarray, yaw_deg: np.ndarray) ->
 
 @runtime_checkable
 class Facing(Protocol):
-    """A facing rule: the world axes of ``N`` billboard quads for one camera."""
+    """A facing rule: the world axes of ``N`` billboard quads for one camera.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
 
     def axes(self, camera: CameraModel, views: ViewDirections) -> tuple[np.ndarray, np.ndarray]:
         """``(right, up)``, each ``(N, 3)`` unit vectors (world): the quad's image ``+x``
-        direction and its up direction (image ``-y``)."""
+        direction and its up direction (image ``-y``).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+        views : ViewDirections
+            How each of the ``N`` instances is seen.
+
+        Returns
+        -------
+        right, up : (N, 3) float64
+            Unit vectors, world frame.
+        """
         ...
 
 
@@ -113,7 +132,20 @@ class AxialFacing:
 
     def axes(self, camera: CameraModel, views: ViewDirections) -> tuple[np.ndarray, np.ndarray]:
         """Right ``= z x n`` (``n`` the horizontal direction to the eye), up ``= +z``; see
-        :class:`Facing`."""
+        :class:`Facing`.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+        views : ViewDirections
+            How each of the ``N`` instances is seen.
+
+        Returns
+        -------
+        right, up : (N, 3) float64
+            Unit vectors, world frame.
+        """
         n = views.toward_eye
         right = np.zeros((len(n), 3))
         right[:, 0], right[:, 1] = -n[:, 1], n[:, 0]
@@ -127,7 +159,20 @@ class ScreenFacing:
     """Quads parallel to the image plane: right and up are the camera's."""
 
     def axes(self, camera: CameraModel, views: ViewDirections) -> tuple[np.ndarray, np.ndarray]:
-        """Right ``=`` camera ``+x``, up ``=`` camera ``-y`` (world); see :class:`Facing`."""
+        """Right ``=`` camera ``+x``, up ``=`` camera ``-y`` (world); see :class:`Facing`.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+        views : ViewDirections
+            How each of the ``N`` instances is seen.
+
+        Returns
+        -------
+        right, up : (N, 3) float64
+            Unit vectors, world frame.
+        """
         n = len(views.azimuth_deg)
         R = camera.cam2world[:3, :3]
         return np.repeat(R[None, :, 0], n, axis=0), np.repeat(-R[None, :, 1], n, axis=0)

@@ -28,7 +28,23 @@ __all__ = ["require_perspective", "sphere_in_frustum", "clip_near", "quad_homogr
 
 
 def require_perspective(camera: CameraModel) -> CameraModel:
-    """Return ``camera`` if it is a perspective :class:`CameraModel`, else raise ValidationError."""
+    """Return ``camera`` if it is a perspective :class:`CameraModel`, else raise ValidationError.
+
+    Parameters
+    ----------
+    camera : CameraModel
+        Camera to check.
+
+    Returns
+    -------
+    CameraModel
+        ``camera``.
+
+    Raises
+    ------
+    ValidationError
+        If ``camera`` is not a perspective ``CameraModel``.
+    """
     if not isinstance(camera, CameraModel) or camera.projection != "perspective":
         got = camera.projection if isinstance(camera, CameraModel) else type(camera).__name__
         raise ValidationError(expected_got("billboard camera", "a perspective CameraModel", got))
@@ -143,7 +159,18 @@ def quad_homographies(camera: CameraModel, world2cam: np.ndarray, corner_tl: np.
 
 def unit_from_image(shape: tuple[int, int]) -> np.ndarray:
     """``H_unit_img`` (3, 3): an image of ``shape (h, w)`` onto the unit square, its outer
-    edges ``[-0.5, w - 0.5] x [-0.5, h - 0.5]`` (pixel-centre convention) to ``[0, 1]^2``."""
+    edges ``[-0.5, w - 0.5] x [-0.5, h - 0.5]`` (pixel-centre convention) to ``[0, 1]^2``.
+
+    Parameters
+    ----------
+    shape : (h, w)
+        Image shape in pixels.
+
+    Returns
+    -------
+    (3, 3) float64
+        ``H_unit_img``.
+    """
     h, w = shape
     return np.array([[1.0 / w, 0.0, 0.5 / w], [0.0, 1.0 / h, 0.5 / h], [0.0, 0.0, 1.0]])
 
@@ -151,7 +178,20 @@ def unit_from_image(shape: tuple[int, int]) -> np.ndarray:
 def screen_box(points_px: np.ndarray, shape: tuple[int, int]) -> tuple[int, int, int, int] | None:
     """Rows ``r0:r1`` and columns ``c0:c1`` of the pixels whose centres may lie in a
     polygon with vertices ``points_px (K, 2)`` (its bounding box, grown to whole pixels and
-    cut to the image ``shape``); None when it misses the image."""
+    cut to the image ``shape``); None when it misses the image.
+
+    Parameters
+    ----------
+    points_px : (K, 2) float
+        Polygon vertices ``(x, y)``, screen pixels.
+    shape : (H, W)
+        Screen shape in pixels.
+
+    Returns
+    -------
+    (r0, r1, c0, c1) or None
+        The box, or None when it misses the image.
+    """
     h, w = shape
     lo = np.floor(points_px.min(axis=0))
     hi = np.ceil(points_px.max(axis=0)) + 1

@@ -106,6 +106,16 @@ class Instances:
     def from_records(cls, records: Iterable[Instance | Sequence[object]]) -> Instances:
         """Instances from a list of :class:`Instance` or ``(asset, x, y[, yaw_deg[, scale]])`` tuples.
 
+        Parameters
+        ----------
+        records : iterable of Instance or tuple
+            One record per instance.
+
+        Returns
+        -------
+        Instances
+            The instances, asset names in order of first use.
+
         Raises
         ------
         ValidationError
@@ -133,7 +143,18 @@ class Instances:
         return cls(names, np.array([index[r.asset] for r in recs], dtype=np.int64), xy, yaw, scale)
 
     def record(self, k: int) -> Instance:
-        """Instance ``k`` as a record."""
+        """Instance ``k`` as a record.
+
+        Parameters
+        ----------
+        k : int
+            Instance index.
+
+        Returns
+        -------
+        Instance
+            Its record.
+        """
         return Instance(self.names[int(self.asset[k])], float(self.xy[k, 0]), float(self.xy[k, 1]),
                         float(self.yaw_deg[k]), float(self.scale[k]))
 
@@ -141,6 +162,16 @@ class Instances:
         """``object2world`` (4, 4) of instance ``k``: ``translation(x, y, 0) @ Rz(yaw) @ scale``.
 
         Not rigid when ``scale != 1`` (a uniform scale: render it, do not invert it as a pose).
+
+        Parameters
+        ----------
+        k : int
+            Instance index.
+
+        Returns
+        -------
+        (4, 4) float64
+            ``object2world``.
         """
         a = np.radians(self.yaw_deg[k])
         c, s, m = np.cos(a), np.sin(a), self.scale[k]
@@ -151,7 +182,18 @@ class Instances:
 
     def pivots(self, pivot_by_asset: Sequence[np.ndarray]) -> np.ndarray:
         """World positions ``(N, 3)`` of each instance's asset pivot (object frame ``(3,)``,
-        one per name in ``names``), yawed and scaled with the instance."""
+        one per name in ``names``), yawed and scaled with the instance.
+
+        Parameters
+        ----------
+        pivot_by_asset : sequence of (3,) float
+            Pivot of each asset in ``names``, object frame.
+
+        Returns
+        -------
+        (N, 3) float64
+            Pivots, world frame.
+        """
         piv = np.asarray([np.asarray(p, dtype=np.float64) for p in pivot_by_asset]).reshape(-1, 3)
         if len(piv) != len(self.names):
             raise ValidationError(expected_got("pivots", f"one per asset name ({len(self.names)})",

@@ -18,7 +18,24 @@ __all__ = ["screen_height_px", "select_levels"]
 def screen_height_px(fy: float, half_height: np.ndarray, depth: np.ndarray, znear: float) -> np.ndarray:
     """On-screen height in pixels of quads of half height ``half_height (N,)`` (scene units)
     whose centres lie at camera depth ``depth (N,)``: ``2 fy half_height / depth``; ``inf`` at
-    or in front of the near plane (such a quad fills the view)."""
+    or in front of the near plane (such a quad fills the view).
+
+    Parameters
+    ----------
+    fy : float
+        Vertical focal length, pixels.
+    half_height : (N,) float
+        Quad half heights, scene units.
+    depth : (N,) float
+        Camera depth ``Z`` of the quad centres, scene units.
+    znear : float
+        Near-plane depth.
+
+    Returns
+    -------
+    (N,) float64
+        On-screen heights, pixels.
+    """
     z = np.asarray(depth, dtype=np.float64)
     with np.errstate(divide="ignore"):
         return np.where(z > znear, 2.0 * fy * np.asarray(half_height) / np.maximum(z, znear), np.inf)

@@ -59,18 +59,50 @@ __all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMod
 
 @runtime_checkable
 class FrameMode(Protocol):
-    """Draws a :class:`~.scene.BillboardScene` for a camera."""
+    """Draws a :class:`~.scene.BillboardScene` for a camera.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
 
     name: str
 
     def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
-        """One frame: its image, its billboard layer, its placements and stats."""
+        """One frame: its image, its billboard layer, its placements and stats.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
         ...
 
 
 def pair_span_deg(asset: BillboardSource, i: int, j: int) -> float:
     """Azimuth from reference ``i`` to reference ``j`` of ``asset``, degrees in ``(0, 360]``
-    (counter-clockwise; a two-view ring's arc)."""
+    (counter-clockwise; a two-view ring's arc).
+
+    Parameters
+    ----------
+    asset : BillboardSource
+        The asset.
+    i, j : int
+        Reference view indices.
+
+    Returns
+    -------
+    float
+        The span, degrees.
+    """
     az = np.asarray(asset.ring.azimuths_deg(), dtype=np.float64)
     d = float((az[j] - az[i]) % 360.0)
     return d if d > 0 else 360.0
@@ -98,10 +130,38 @@ class BillboardMode(ABC):
     @abstractmethod
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
         """``(image, outside_deg)``: the premultiplied ``(h, w, 4)`` image of ``asset`` for
-        ``placement`` (at ``placement.level``) and how far outside a partial ring's arc it lies."""
+        ``placement`` (at ``placement.level``) and how far outside a partial ring's arc it lies.
+
+        Parameters
+        ----------
+        asset : BillboardSource
+            The instance's asset.
+        placement : Placement
+            Where and how it is drawn.
+
+        Returns
+        -------
+        image : (h, w, 4) float32
+            Premultiplied RGBA.
+        outside_deg : float
+            Degrees outside the arc, 0 inside.
+        """
 
     def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
-        """Plan, draw every placement's image back to front, finish over the backdrop."""
+        """Plan, draw every placement's image back to front, finish over the backdrop.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
         t0 = time.perf_counter()
         cache = self.cache
         before = cache.counts if cache is not None else CacheCounts()
@@ -169,7 +229,22 @@ class MorphMode(BillboardMode):
 
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
         """The image at the placement's azimuth (on the grid, or blended between two grid
-        steps), from the cache; see :class:`BillboardMode`."""
+        steps), from the cache; see :class:`BillboardMode`.
+
+        Parameters
+        ----------
+        asset : BillboardSource
+            The instance's asset.
+        placement : Placement
+            Where and how it is drawn.
+
+        Returns
+        -------
+        image : (h, w, 4) float32
+            Premultiplied RGBA (read-only when from the cache).
+        outside_deg : float
+            Degrees outside the arc, 0 inside.
+        """
         i, j, s, outside = asset.ring.pair(placement.azimuth_deg)
         lv = placement.level
         span = self._spans.get((asset.name, i, j))
@@ -187,7 +262,17 @@ class MorphMode(BillboardMode):
 
 class CrossfadeMode(MorphMode):
     """The two nearest references blended by ``s`` (an impostor's frame blend), cached like
-    :class:`MorphMode` (its own cache)."""
+    :class:`MorphMode` (its own cache).
+
+    Parameters
+    ----------
+    cache : MorphCache, optional
+        Default: ``MorphCache()``.
+    quantum_deg : float
+        Grid step of ``s`` in degrees of viewing azimuth, as for :class:`MorphMode`.
+    blend : bool
+        Blend the two cached images around ``s``, as for :class:`MorphMode`.
+    """
 
     name = "crossfade"
 
@@ -201,7 +286,22 @@ class NearestMode(BillboardMode):
     name = "nearest"
 
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
-        """Reference ``i`` for ``s < 0.5``, else ``j``; see :class:`BillboardMode`."""
+        """Reference ``i`` for ``s < 0.5``, else ``j``; see :class:`BillboardMode`.
+
+        Parameters
+        ----------
+        asset : BillboardSource
+            The instance's asset.
+        placement : Placement
+            Where and how it is drawn.
+
+        Returns
+        -------
+        image : (h, w, 4) float32
+            Premultiplied RGBA, read-only.
+        outside_deg : float
+            Degrees outside the arc, 0 inside.
+        """
         i, j, s, outside = asset.ring.pair(placement.azimuth_deg)
         return asset.reference(i if s < 0.5 else j, placement.level), outside
 
@@ -213,7 +313,22 @@ class ClassicMode(BillboardMode):
     name = "classic"
 
     def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
-        """The front image; ``outside_deg`` 0 (a classic billboard has no arc)."""
+        """The front image; ``outside_deg`` 0 (a classic billboard has no arc).
+
+        Parameters
+        ----------
+        asset : BillboardSource
+            The instance's asset.
+        placement : Placement
+            Where and how it is drawn.
+
+        Returns
+        -------
+        image : (h, w, 4) float32
+            Premultiplied RGBA, read-only.
+        outside_deg : float
+            ``0``.
+        """
         return asset.classic(placement.level), 0.0
 
 
@@ -238,7 +353,11 @@ class MeshMode:
     cull : bool
         Draw only the instances whose bounding sphere meets the frustum (as the
         billboards); False draws all.
+    name : str, optional
+        The mode's name in frames, strips and reports.
 
+    Notes
+    -----
     Fog, when the scene has it, is applied per pixel from the depth buffer's
     distance with ``supersample=1``; the supersampled view (``> 1``) has no depth
     and draws no fog (accuracy references are measured without fog).
@@ -264,7 +383,20 @@ class MeshMode:
                                                        type(it).__name__))
 
     def items(self, scene: BillboardScene, indices: np.ndarray) -> list[Item]:
-        """The posed items of instances ``indices`` (world frame)."""
+        """The posed items of instances ``indices`` (world frame).
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        indices : (M,) int
+            Instance indices.
+
+        Returns
+        -------
+        list of Item
+            The posed items, world frame.
+        """
         missing = [nm for nm in scene.instances.names if nm not in self.meshes]
         if missing:
             raise ValidationError(expected_got("mesh mode meshes", f"items for every asset {missing}",
@@ -278,7 +410,20 @@ class MeshMode:
         return out
 
     def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
-        """Render the meshes; their coverage and colour as a layer over the backdrop."""
+        """Render the meshes; their coverage and colour as a layer over the backdrop.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
         t0 = time.perf_counter()
         plan = scene.plan(camera)
         idx = plan.visible if self.cull else np.arange(len(scene))

@@ -39,14 +39,46 @@ DEFAULT_SHAPE = (480, 640)
 
 @runtime_checkable
 class CameraPath(Protocol):
-    """A camera moving with a parameter ``t`` in ``[0, 1]``."""
+    """A camera moving with a parameter ``t`` in ``[0, 1]``.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
 
     def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
-        """The camera at ``t`` with images of ``shape (H, W)``."""
+        """The camera at ``t`` with images of ``shape (H, W)``.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
         ...
 
     def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """``frames`` cameras at ``t = k / (frames - 1)``."""
+        """``frames`` cameras at ``t = k / (frames - 1)``.
+
+        Parameters
+        ----------
+        frames : int
+            Number of cameras, >= 1.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        list of CameraModel
+            Perspective cameras, world frame.
+        """
         ...
 
 
@@ -103,19 +135,56 @@ class PanPath:
     zfar: float = 500.0
 
     def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
         eye = as_finite_array(self.eye, "eye", shape=(3,))
         h = self.heading_deg + self.pan_deg * (0.5 - float(t))
         return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, eye + _heading(h, self.pitch_deg),
                                                                   shape)
 
     def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        frames : int
+            Number of cameras, >= 1.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        list of CameraModel
+            Perspective cameras, world frame.
+        """
         return [self.camera_at(t, shape) for t in _ts(frames)]
 
     @classmethod
     def over(cls, half_size: float) -> PanPath:
-        """A pan from just outside the field's ``-y`` edge, at eye height, over the field."""
+        """A pan from just outside the field's ``-y`` edge, at eye height, over the field.
+
+        Parameters
+        ----------
+        half_size : float
+            Half side of the square field, scene units.
+
+        Returns
+        -------
+        PanPath
+            The path.
+        """
         hs = as_positive(half_size, "half_size")
         return cls(eye=(0.0, -hs - 2.0, 1.6))
 
@@ -146,7 +215,20 @@ class OrbitPath:
     zfar: float = 500.0
 
     def camera_at_deg(self, azimuth_deg: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
-        """The camera with its eye at ``azimuth_deg`` on the circle."""
+        """The camera with its eye at ``azimuth_deg`` on the circle.
+
+        Parameters
+        ----------
+        azimuth_deg : float
+            Eye azimuth on the circle, degrees, world frame.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
         c = as_finite_array(self.centre, "centre", shape=(3,))
         r = as_positive(self.radius, "radius")
         a = np.radians(azimuth_deg)
@@ -154,16 +236,53 @@ class OrbitPath:
         return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, c, shape)
 
     def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
         return self.camera_at_deg(self.start_deg + float(t) * (self.end_deg - self.start_deg), shape)
 
     def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        frames : int
+            Number of cameras, >= 1.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        list of CameraModel
+            Perspective cameras, world frame.
+        """
         return [self.camera_at(t, shape) for t in _ts(frames)]
 
     @classmethod
     def around(cls, half_size: float) -> OrbitPath:
-        """Half a circle about the field's centre, just outside it."""
+        """Half a circle about the field's centre, just outside it.
+
+        Parameters
+        ----------
+        half_size : float
+            Half side of the square field, scene units.
+
+        Returns
+        -------
+        OrbitPath
+            The path.
+        """
         hs = as_positive(half_size, "half_size")
         return cls(radius=hs * 1.25 + 3.0, height=1.5 + 0.15 * hs)
 
@@ -209,7 +328,20 @@ class FlyPath:
         return pos, vel
 
     def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
         pos, vel = self._position(float(t))
         eye = np.array([pos[0], pos[1], float(self.height)])
         heading = np.degrees(np.arctan2(vel[1], vel[0]))
@@ -217,12 +349,36 @@ class FlyPath:
             eye, eye + _heading(heading, self.pitch_deg), shape)
 
     def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`."""
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        frames : int
+            Number of cameras, >= 1.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        list of CameraModel
+            Perspective cameras, world frame.
+        """
         return [self.camera_at(t, shape) for t in _ts(frames)]
 
     @classmethod
     def across(cls, half_size: float) -> FlyPath:
-        """Across the field along ``+y``, from outside one edge to outside the other."""
+        """Across the field along ``+y``, from outside one edge to outside the other.
+
+        Parameters
+        ----------
+        half_size : float
+            Half side of the square field, scene units.
+
+        Returns
+        -------
+        FlyPath
+            The path.
+        """
         hs = as_positive(half_size, "half_size")
         return cls(start=(0.3, -hs - 2.0), end=(0.3, hs + 2.0))
 
@@ -237,6 +393,18 @@ PATHS: dict[str, Callable[[float], CameraPath]] = {
 
 def make_path(name: str, half_size: float) -> CameraPath:
     """The path ``name`` (a key of :data:`PATHS`) fitted to a field of half size ``half_size``.
+
+    Parameters
+    ----------
+    name : str
+        A key of ``PATHS``.
+    half_size : float
+        Half side of the square field, scene units.
+
+    Returns
+    -------
+    CameraPath
+        The path.
 
     Raises
     ------

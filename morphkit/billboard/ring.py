@@ -54,7 +54,18 @@ DEFAULT_ELEVATION_DEG = 10.0
 
 
 def wrap_deg(angle_deg: float) -> float:
-    """``angle_deg`` wrapped into ``[-180, 180)`` degrees."""
+    """``angle_deg`` wrapped into ``[-180, 180)`` degrees.
+
+    Parameters
+    ----------
+    angle_deg : float
+        Angle, degrees.
+
+    Returns
+    -------
+    float
+        The wrapped angle, degrees.
+    """
     a = float(angle_deg)
     if not math.isfinite(a):
         raise ValidationError(expected_got("azimuth", "a finite angle in degrees", a))
@@ -121,6 +132,11 @@ class ViewRing:
         """``(K,)`` float64 view azimuths in degrees, in ``[-180, 180)``.
 
         ``K = 2``: ``(-arc/2, +arc/2)``; ``K >= 3``: ``k * 360 / K`` (wrapped).
+
+        Returns
+        -------
+        (K,) float64
+            The azimuths, degrees, object frame.
         """
         if self.views == 2:
             return np.array([-0.5 * self.arc_deg, 0.5 * self.arc_deg])
@@ -128,7 +144,13 @@ class ViewRing:
 
     def pairs(self) -> list[tuple[int, int]]:
         """The neighbouring pairs ``(i, j)`` that are morphed, ``j`` counter-clockwise of ``i``:
-        ``[(0, 1)]`` for ``K = 2``; ``(k, (k + 1) % K)`` for a full ring."""
+        ``[(0, 1)]`` for ``K = 2``; ``(k, (k + 1) % K)`` for a full ring.
+
+        Returns
+        -------
+        list of (int, int)
+            The pairs.
+        """
         if self.views == 2:
             return [(0, 1)]
         return [(k, (k + 1) % self.views) for k in range(self.views)]
@@ -139,6 +161,18 @@ class ViewRing:
         ``(i, j)`` is one of :meth:`pairs` or its reverse; the azimuth moves along the
         short way between the two (through the arc for ``K = 2``); see the module
         docstring for the chord fraction.
+
+        Parameters
+        ----------
+        i, j : int
+            Neighbouring reference indices.
+        s : float
+            Chord fraction in ``[0, 1]`` from ``i`` to ``j``.
+
+        Returns
+        -------
+        float
+            Azimuth in ``[-180, 180)`` degrees, object frame.
         """
         i, j = self.check_pair(i, j)
         s = float(s)
@@ -150,6 +184,16 @@ class ViewRing:
 
     def check_pair(self, i: int, j: int) -> tuple[int, int]:
         """``(i, j)`` as ints if they are neighbouring references (one of :meth:`pairs`, or reversed).
+
+        Parameters
+        ----------
+        i, j : int
+            Reference indices.
+
+        Returns
+        -------
+        (int, int)
+            ``(i, j)`` as Python ints.
 
         Raises
         ------

@@ -56,7 +56,7 @@ __all__ = ["Placement", "FramePlan", "FrameStats", "Frame", "BillboardScene"]
 class Placement:
     """One billboard drawn in one frame.
 
-    Attributes
+    Parameters
     ----------
     index : int
         Instance index.
@@ -102,7 +102,7 @@ class Placement:
 class FramePlan:
     """What one camera sees of a scene.
 
-    Attributes
+    Parameters
     ----------
     placements : list of Placement
         Billboards to draw, back to front.
@@ -130,7 +130,7 @@ class FramePlan:
 class FrameStats:
     """Counts and timings of one rendered frame.
 
-    Attributes
+    Parameters
     ----------
     mode : str
         The mode's name.
@@ -175,7 +175,7 @@ class FrameStats:
 class Frame:
     """One rendered frame.
 
-    Attributes
+    Parameters
     ----------
     rgb : (H, W, 3) uint8
         The final image (billboards over the backdrop), RGB.
@@ -344,12 +344,42 @@ class BillboardScene:
                          counts["small"], counts["clipped"], drawn_above)
 
     def render(self, camera: CameraModel, mode: FrameMode) -> Frame:
-        """One frame of this scene seen by ``camera`` in ``mode`` (see :mod:`~.modes`)."""
+        """One frame of this scene seen by ``camera`` in ``mode`` (see :mod:`~.modes`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            Perspective view, world frame.
+        mode : FrameMode
+            How to draw the instances.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
         return mode.render(self, camera)
 
     def render_path(self, cameras: Iterable[CameraModel], mode: FrameMode, *,
                     progress: bool = False, total: int | None = None) -> Iterator[Frame]:
-        """The frames of a camera path, one at a time (a tqdm bar with ``progress``)."""
+        """The frames of a camera path, one at a time (a tqdm bar with ``progress``).
+
+        Parameters
+        ----------
+        cameras : iterable of CameraModel
+            Perspective views, world frame.
+        mode : FrameMode
+            How to draw the instances.
+        progress : bool, optional
+            Show a tqdm progress bar.
+        total : int, optional
+            Number of cameras, for the bar when ``cameras`` has no length.
+
+        Yields
+        ------
+        Frame
+            One frame per camera, in order.
+        """
         it: Iterable[CameraModel] = cameras
         if progress:
             from tqdm import tqdm

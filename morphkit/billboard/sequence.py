@@ -33,7 +33,20 @@ __all__ = ["write_sequence", "compare_indices"]
 
 
 def compare_indices(frames: int, count: int = 3) -> list[int]:
-    """``count`` frame indices spread over ``frames`` (first, ..., last), without repeats."""
+    """``count`` frame indices spread over ``frames`` (first, ..., last), without repeats.
+
+    Parameters
+    ----------
+    frames : int
+        Number of frames.
+    count : int, optional
+        Number of indices wanted.
+
+    Returns
+    -------
+    list of int
+        Sorted distinct frame indices.
+    """
     if frames <= 0 or count <= 0:
         return []
     if count == 1 or frames == 1:

@@ -32,7 +32,15 @@ __all__ = ["ResolvedAssets", "check_specs", "resolve_assets"]
 
 @dataclass(frozen=True)
 class ResolvedAssets:
-    """Assets by name, and the bake items of those whose mesh is known (object frame)."""
+    """Assets by name, and the bake items of those whose mesh is known (object frame).
+
+    Parameters
+    ----------
+    assets : dict of str to BillboardAsset
+        Assets by name.
+    items : dict of str to list of Item
+        Bake items (object frame) by asset name, for the assets whose mesh is known.
+    """
 
     assets: dict[str, BillboardAsset]
     items: dict[str, list[Item]]
@@ -40,7 +48,18 @@ class ResolvedAssets:
 
 def check_specs(specs: Sequence[str]) -> None:
     """Refuse, before any work, a spec that is neither a sample mesh name nor an existing
-    ``.npz`` file (ValidationError), or an empty list."""
+    ``.npz`` file (ValidationError), or an empty list.
+
+    Parameters
+    ----------
+    specs : sequence of str
+        Sample mesh names or ``.npz`` asset file paths.
+
+    Raises
+    ------
+    ValidationError
+        An empty list or a spec that is neither.
+    """
     if not specs:
         raise ValidationError(expected_got("assets", "at least one --asset", "none"))
     for spec in specs:

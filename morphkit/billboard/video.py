@@ -68,7 +68,13 @@ class VideoFile:
         self.frames = 0
 
     def write(self, rgb: np.ndarray) -> None:
-        """Append one uint8 RGB frame ``(H, W, 3)``."""
+        """Append one uint8 RGB frame ``(H, W, 3)``.
+
+        Parameters
+        ----------
+        rgb : (H, W, 3) uint8
+            The frame, RGB.
+        """
         if rgb.shape != self.shape + (3,) or rgb.dtype != np.uint8:
             raise ValidationError(expected_got("video frame", f"uint8 {self.shape + (3,)}",
                                                f"{rgb.dtype} {rgb.shape}"))
@@ -76,7 +82,13 @@ class VideoFile:
         self.frames += 1
 
     def close(self) -> Path:
-        """Finish the file and rename it over the target; returns the target."""
+        """Finish the file and rename it over the target; returns the target.
+
+        Returns
+        -------
+        pathlib.Path
+            The target file.
+        """
         self._writer.release()
         os.chmod(self._tmp, 0o644)
         os.replace(self._tmp, self.path)
