@@ -37,7 +37,7 @@ __all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "out
 
 
 @runtime_checkable
-class SavableAsset(Protocol):
+class SavableAsset(Protocol):  # numpydoc ignore=PR01
     """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`)."""
 
     def save(self, path: str | Path) -> Path:
@@ -57,7 +57,7 @@ class SavableAsset(Protocol):
 
 
 @runtime_checkable
-class AssetKind(Protocol):
+class AssetKind(Protocol):  # numpydoc ignore=PR01
     """One kind of baked asset (see the module docstring)."""
 
     #: Key of this kind in the manifest, e.g. ``"shadow-atlas"``.

@@ -45,7 +45,7 @@ VIDEO_NAME = "shadows.mp4"
 
 
 @runtime_checkable
-class ObjectPath(Protocol):
+class ObjectPath(Protocol):  # numpydoc ignore=PR01
     """Object positions ``(x, y)`` on the ground over a range of motion."""
 
     def positions(self, motion: MotionRange) -> np.ndarray:
