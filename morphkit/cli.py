@@ -224,7 +224,7 @@ def parse_size(text: str) -> tuple[int, int]:
     Returns
     -------
     tuple of (int, int)
-        ``(H, W)``, both positive.
+        ``(H, W)``, each in 1..16384.
 
     Raises
     ------
