@@ -216,6 +216,16 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 def parse_size(text: str) -> tuple[int, int]:
     """``"WxH"`` (e.g. ``640x480``) as an image shape ``(H, W)``.
 
+    Parameters
+    ----------
+    text : str
+        Width and height in pixels joined by ``x`` (case-insensitive), e.g. ``"640x480"``.
+
+    Returns
+    -------
+    tuple of (int, int)
+        ``(H, W)``, each in 1..16384.
+
     Raises
     ------
     ValidationError

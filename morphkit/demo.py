@@ -327,7 +327,18 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
 
 
 def previous_demo(out: str | Path) -> Path | None:
-    """The ``index.json`` of a demo already in folder ``out``, or None."""
+    """The ``index.json`` of a demo already in folder ``out``, or None.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        A demo output folder (need not exist).
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``<out>/index.json`` when it is a file, else None.
+    """
     index = Path(out) / "index.json"
     return index if index.is_file() else None
 
@@ -346,6 +357,13 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
         Smaller images, for a smoke test.
     overwrite : bool
         Replace a previous demo in ``out`` (module docstring).
+
+    Returns
+    -------
+    dict
+        The index written to ``<out>/index.json``: ``size``, ``light_direction``, ``files`` (path,
+        kind, mesh, description of each image), ``timings_ms`` and one summary per section
+        (``warped_shadows``, ``soft_shadows``, ``view_morphing``, ``billboards``).
 
     Raises
     ------

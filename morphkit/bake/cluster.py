@@ -53,7 +53,14 @@ LOCAL_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOL
 
 
 def default_workers() -> int:
-    """The CPUs this process may use (the default number of local worker processes)."""
+    """The CPUs this process may use (the default number of local worker processes).
+
+    Returns
+    -------
+    int
+        The CPUs in this process's affinity mask where the platform has one, else
+        ``os.cpu_count()`` (at least 1).
+    """
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 

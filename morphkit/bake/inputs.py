@@ -33,7 +33,7 @@ MESH_SUFFIXES: frozenset[str] = frozenset(
 class AssetInput:
     """One mesh file to bake.
 
-    Attributes
+    Parameters
     ----------
     name : str
         Asset name: a POSIX relative path without the mesh suffix; outputs are

@@ -37,16 +37,27 @@ __all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "out
 
 
 @runtime_checkable
-class SavableAsset(Protocol):
+class SavableAsset(Protocol):  # numpydoc ignore=PR01
     """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`)."""
 
     def save(self, path: str | Path) -> Path:
-        """Write the asset to ``path`` (its folder exists); return ``path``."""
+        """Write the asset to ``path`` (its folder exists); return ``path``.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The output file; its folder exists. Written atomically.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
         ...
 
 
 @runtime_checkable
-class AssetKind(Protocol):
+class AssetKind(Protocol):  # numpydoc ignore=PR01
     """One kind of baked asset (see the module docstring)."""
 
     #: Key of this kind in the manifest, e.g. ``"shadow-atlas"``.
@@ -57,11 +68,30 @@ class AssetKind(Protocol):
     version: int
 
     def options(self) -> dict[str, Any]:
-        """The options that determine the output, as plain JSON values."""
+        """The options that determine the output, as plain JSON values.
+
+        Returns
+        -------
+        dict of str to JSON value
+            Recorded in the manifest; a change re-bakes the asset.
+        """
         ...
 
     def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
-        """Bake one normalised mesh (:func:`morphkit.meshes.load_mesh`) with ``renderer``."""
+        """Bake one normalised mesh (:func:`morphkit.meshes.load_mesh`) with ``renderer``.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The normalised mesh, object frame.
+        renderer : SceneRenderer
+            The renderer of this worker thread (``morphkit.bake.worker.worker_renderer``).
+
+        Returns
+        -------
+        SavableAsset
+            The baked asset, saved by the caller to ``<out>/<asset><suffix>``.
+        """
         ...
 
 
@@ -107,22 +137,54 @@ class ShadowAtlasKind:
         self.scene_light()  # and the light
 
     def motion(self) -> MotionRange:
-        """The object's range of motion."""
+        """The object's range of motion.
+
+        Returns
+        -------
+        MotionRange
+            ``lo = (x0, y0)``, ``hi = (x1, y1)`` of ``range``, world frame.
+        """
         x0, y0, x1, y1 = self.range
         return MotionRange(np.array([x0, y0]), np.array([x1, y1]))
 
     def scene_light(self) -> DirectionalLight | PointLight:
-        """The light the atlas is baked for."""
+        """The light the atlas is baked for.
+
+        Returns
+        -------
+        DirectionalLight or PointLight
+            A directional light travelling along ``light`` when ``directional``, else a point
+            light at ``light``, world frame.
+        """
         v = np.array(self.light)
         return DirectionalLight(v) if self.directional else PointLight(v)
 
     def options(self) -> dict[str, Any]:
-        """The options that decide the output (recorded in the manifest; a change re-bakes)."""
+        """The options that decide the output (recorded in the manifest; a change re-bakes).
+
+        Returns
+        -------
+        dict
+            ``atlas_size``, ``grid``, ``range``, ``light``, ``directional`` as JSON values.
+        """
         return {"atlas_size": self.atlas_size, "grid": self.grid, "range": list(self.range),
                 "light": list(self.light), "directional": self.directional}
 
     def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
-        """The shadow atlas of ``mesh`` (:func:`~morphkit.shadow.bake_atlas`) with these options."""
+        """The shadow atlas of ``mesh`` (:func:`~morphkit.shadow.bake_atlas`) with these options.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The normalised mesh, object frame (posed with the identity at the range's positions).
+        renderer : SceneRenderer
+            Renders the light-view depth maps.
+
+        Returns
+        -------
+        ShadowAtlas
+            The ``grid x grid`` atlas of ``atlas_size x atlas_size`` maps.
+        """
         return bake_atlas(mesh, np.eye(4), self.motion(), self.scene_light(),
                           (self.atlas_size, self.atlas_size), renderer=renderer, grid=self.grid,
                           progress=False)
@@ -152,11 +214,31 @@ class BillboardKind:
         object.__setattr__(self, "size", _int_in(self.size, "billboard size", 16, 2048))
 
     def options(self) -> dict[str, Any]:
-        """The options that decide the output (recorded in the manifest; a change re-bakes)."""
+        """The options that decide the output (recorded in the manifest; a change re-bakes).
+
+        Returns
+        -------
+        dict
+            ``views`` and ``size`` as JSON values.
+        """
         return {"views": self.views, "size": self.size}
 
     def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
-        """The billboard asset of ``mesh`` (reference views and every pair's morph prepared)."""
+        """The billboard asset of ``mesh`` (reference views and every pair's morph prepared).
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The normalised mesh, object frame.
+        renderer : SceneRenderer
+            Renders the reference views.
+
+        Returns
+        -------
+        SavableAsset
+            The billboard asset (:func:`~morphkit.billboard.bake_asset`), ``views`` reference views of
+            ``size x size`` pixels.
+        """
         return bake_asset(mesh, renderer, views=self.views, size=self.size)
 
 
@@ -167,5 +249,18 @@ def _int_in(v: Any, what: str, lo: int, hi: int) -> int:
 
 
 def output_name(asset: str, kind: AssetKind) -> str:
-    """The output file of ``asset`` for ``kind``, relative to the output folder (POSIX)."""
+    """The output file of ``asset`` for ``kind``, relative to the output folder (POSIX).
+
+    Parameters
+    ----------
+    asset : str
+        Asset name (``AssetInput.name``).
+    kind : AssetKind
+        The kind; its ``suffix`` is appended.
+
+    Returns
+    -------
+    str
+        ``<asset><kind.suffix>``, a POSIX path relative to the output folder.
+    """
     return f"{asset}{kind.suffix}"

@@ -59,7 +59,20 @@ MANIFEST_VERSION = 1
 
 
 def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
-    """``(sha256 hex digest, size in bytes)`` of a file's content."""
+    """``(sha256 hex digest, size in bytes)`` of a file's content.
+
+    Parameters
+    ----------
+    path : path-like
+        The file, read in 1 MiB chunks.
+
+    Returns
+    -------
+    digest : str
+        The sha256 hex digest of the content.
+    size : int
+        The content's size in bytes.
+    """
     h = hashlib.sha256()
     n = 0
     with open(path, "rb") as f:
@@ -70,7 +83,13 @@ def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
 
 
 def utc_now() -> str:
-    """The current time, ISO 8601 UTC, to the second."""
+    """The current time, ISO 8601 UTC, to the second.
+
+    Returns
+    -------
+    str
+        E.g. ``"2026-01-31T12:00:00+00:00"``.
+    """
     return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
 
 
@@ -81,7 +100,23 @@ def _canonical(obj: Any) -> Any:
 
 @dataclass
 class OutputRecord:
-    """One output file of one asset for one kind."""
+    """One output file of one asset for one kind.
+
+    Parameters
+    ----------
+    file : str
+        The file, a POSIX path relative to the output folder.
+    sha256 : str
+        Hex digest of the file's content.
+    bytes : int
+        The file's size.
+    version : int
+        The kind's file format version it was written with.
+    options : dict
+        The kind's options it was baked with (JSON values).
+    seconds : float
+        Wall time of baking and saving it.
+    """
 
     file: str  # POSIX path relative to the output folder
     sha256: str
@@ -93,7 +128,31 @@ class OutputRecord:
 
 @dataclass
 class AssetRecord:
-    """What the manifest knows of one asset (see the module docstring)."""
+    """What the manifest knows of one asset (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+        Asset name (POSIX relative path without the mesh suffix).
+    input : str
+        The mesh file, absolute path.
+    input_sha256 : str
+        Hex digest of the mesh file's content.
+    input_bytes : int
+        The mesh file's size.
+    status : str
+        What the last run did: ``"baked"``, ``"skipped"`` or ``"failed"``.
+    error : str, optional
+        ``"<ErrorType>: <message>"`` when it failed.
+    outputs : dict of str to OutputRecord
+        The current output per kind name.
+    timings_s : dict of str to float
+        Seconds: ``load``, one per kind, ``total``, ``cpu``.
+    worker : str, optional
+        ``host:pid`` of the process that baked it.
+    updated : str
+        When the record was made (:func:`utc_now`); set by :meth:`Manifest.record` when empty.
+    """
 
     name: str
     input: str
@@ -107,12 +166,29 @@ class AssetRecord:
     updated: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        """The record as JSON types (the manifest's ``assets`` entry)."""
+        """The record as JSON types (the manifest's ``assets`` entry).
+
+        Returns
+        -------
+        dict
+            The fields by name, ``outputs`` as dicts too.
+        """
         return asdict(self)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> AssetRecord:
-        """The record from its :meth:`to_dict` form."""
+        """The record from its :meth:`to_dict` form.
+
+        Parameters
+        ----------
+        d : dict
+            A record as :meth:`to_dict` gives it (e.g. read back from JSON).
+
+        Returns
+        -------
+        AssetRecord
+            The record, ``outputs`` as :class:`OutputRecord`.
+        """
         d = dict(d)
         d["outputs"] = {k: OutputRecord(**v) for k, v in d.get("outputs", {}).items()}
         return cls(**d)
@@ -121,16 +197,16 @@ class AssetRecord:
 class Manifest:
     """The manifest of one output folder (open with :meth:`open`).
 
-    Attributes
+    Parameters
     ----------
     folder : pathlib.Path
         The output folder.
-    assets : dict of str to AssetRecord
-        Every asset ever baked into the folder, by name.
-    options : dict
-        The last run's options per kind.
-    run : dict
-        The last run: started, wall_s, workers, scheduler, baked, skipped, failed.
+    assets : dict of str to AssetRecord, optional
+        Every asset ever baked into the folder, by name (default none).
+    options : dict, optional
+        The last run's options per kind (default none).
+    run : dict, optional
+        The last run: started, wall_s, workers, scheduler, baked, skipped, failed (default none).
     """
 
     def __init__(self, folder: Path, assets: dict[str, AssetRecord] | None = None,
@@ -153,6 +229,17 @@ class Manifest:
     @classmethod
     def open(cls, folder: str | os.PathLike[str]) -> Manifest:
         """Read ``<folder>/manifest.json`` (empty if absent) and replay a journal left by a crash.
+
+        Parameters
+        ----------
+        folder : path-like
+            The output folder.
+
+        Returns
+        -------
+        Manifest
+            The manifest of ``folder``, with the journal's records applied (the journal is kept
+            until :meth:`commit`).
 
         Raises
         ------
@@ -187,7 +274,22 @@ class Manifest:
     # ----------------------------------------------------------- incremental
     def up_to_date(self, name: str, input_sha256: str, kind: AssetKind) -> bool:
         """True when ``name``'s output for ``kind`` was baked from this input with these options
-        and format version, and the file is still there with the recorded hash."""
+        and format version, and the file is still there with the recorded hash.
+
+        Parameters
+        ----------
+        name : str
+            Asset name.
+        input_sha256 : str
+            Hex digest of the mesh file as it is now.
+        kind : AssetKind
+            The kind, with the options of this run.
+
+        Returns
+        -------
+        bool
+            Whether the recorded output can be kept (the file is re-hashed to check).
+        """
         rec = self.assets.get(name)
         out = None if rec is None else rec.outputs.get(kind.name)
         if rec is None or out is None or rec.input_sha256 != input_sha256:
@@ -201,7 +303,13 @@ class Manifest:
 
     # --------------------------------------------------------------- updates
     def record(self, *recs: AssetRecord) -> None:
-        """Set each record and append them to the journal (durable at once, one disk sync)."""
+        """Set each record and append them to the journal (durable at once, one disk sync).
+
+        Parameters
+        ----------
+        *recs : AssetRecord
+            The records; an empty ``updated`` is set to now.
+        """
         for rec in recs:
             rec.updated = rec.updated or utc_now()
             self.assets[rec.name] = rec
@@ -209,13 +317,27 @@ class Manifest:
 
     def mark_skipped(self, name: str, input_path: str) -> None:
         """This run kept ``name``'s outputs, baked from ``input_path`` (in memory; written by
-        :meth:`commit`)."""
+        :meth:`commit`).
+
+        Parameters
+        ----------
+        name : str
+            Asset name, already in the manifest.
+        input_path : str
+            The mesh file this run found for it, absolute path.
+        """
         self.assets[name].input = input_path
         self.assets[name].status = "skipped"
         self.assets[name].error = None
 
     def commit(self) -> Path:
-        """Write the manifest atomically, then drop the journal it now contains."""
+        """Write the manifest atomically, then drop the journal it now contains.
+
+        Returns
+        -------
+        pathlib.Path
+            The manifest file.
+        """
         write_json(self.path, self.to_dict())
         try:
             self.journal.unlink()
@@ -225,13 +347,31 @@ class Manifest:
 
     # ----------------------------------------------------------------- views
     def to_dict(self) -> dict[str, Any]:
-        """The whole manifest as JSON types (what ``manifest.json`` holds)."""
+        """The whole manifest as JSON types (what ``manifest.json`` holds).
+
+        Returns
+        -------
+        dict
+            ``format``, ``version``, ``morphkit_version``, ``options``, ``run`` and ``assets``
+            (sorted by name).
+        """
         return {"format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "morphkit_version": __version__,
                 "options": self.options, "run": self.run,
                 "assets": {k: self.assets[k].to_dict() for k in sorted(self.assets)}}
 
     def counts(self, names: list[str] | None = None) -> dict[str, int]:
-        """How many of ``names`` (default: all assets) are baked, skipped and failed."""
+        """How many of ``names`` (default: all assets) are baked, skipped and failed.
+
+        Parameters
+        ----------
+        names : list of str, optional
+            Asset names, each in the manifest (default: all assets).
+
+        Returns
+        -------
+        dict of str to int
+            ``{"baked": n, "skipped": n, "failed": n}``.
+        """
         keys = self.assets if names is None else names
         out = {"baked": 0, "skipped": 0, "failed": 0}
         for k in keys:
@@ -239,11 +379,23 @@ class Manifest:
         return out
 
     def failed(self) -> dict[str, str]:
-        """``{name: error}`` of the assets that failed."""
+        """``{name: error}`` of the assets that failed.
+
+        Returns
+        -------
+        dict of str to str
+            Error message by asset name (empty when none was recorded).
+        """
         return {k: r.error or "" for k, r in self.assets.items() if r.status == "failed"}
 
     def summary(self) -> str:
-        """One line on the last run: baked, skipped, failed, wall time."""
+        """One line on the last run: baked, skipped, failed, wall time.
+
+        Returns
+        -------
+        str
+            E.g. ``"<n> baked, <n> skipped, <n> failed in <wall> s"``.
+        """
         r = self.run
         return (f"{r.get('baked', 0)} baked, {r.get('skipped', 0)} skipped, {r.get('failed', 0)} failed "
                 f"in {r.get('wall_s', 0.0):.1f} s")

@@ -69,7 +69,13 @@ class BakeOptions:
         object.__setattr__(self, "kinds", kinds)
 
     def as_dict(self) -> dict[str, dict]:
-        """``{kind name: options}``."""
+        """``{kind name: options}``.
+
+        Returns
+        -------
+        dict of str to dict
+            Each kind's ``options()`` by its ``name``.
+        """
         return {k.name: k.options() for k in self.kinds}
 
 

@@ -45,11 +45,22 @@ VIDEO_NAME = "shadows.mp4"
 
 
 @runtime_checkable
-class ObjectPath(Protocol):
+class ObjectPath(Protocol):  # numpydoc ignore=PR01
     """Object positions ``(x, y)`` on the ground over a range of motion."""
 
     def positions(self, motion: MotionRange) -> np.ndarray:
-        """``(N, 2)`` float64 world positions, inside ``motion``."""
+        """``(N, 2)`` float64 world positions, inside ``motion``.
+
+        Parameters
+        ----------
+        motion : MotionRange
+            The usable range of motion, world frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2)`` float64 object positions ``(x, y)`` on the ground, world frame.
+        """
         ...
 
 
@@ -61,24 +72,58 @@ def _frames(n: Any) -> int:
 
 @dataclass(frozen=True)
 class LinePath:
-    """``frames`` positions on the range's diagonal, from ``lo`` to ``hi``."""
+    """``frames`` positions on the range's diagonal, from ``lo`` to ``hi``.
+
+    Parameters
+    ----------
+    frames : int
+        Number of positions, in [1, 100000] (checked by :meth:`positions`).
+    """
 
     frames: int = 48
 
     def positions(self, motion: MotionRange) -> np.ndarray:
-        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``.
+
+        Parameters
+        ----------
+        motion : MotionRange
+            The usable range of motion, world frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2)`` float64 object positions ``(x, y)`` on the ground, world frame.
+        """
         t = np.linspace(0.0, 1.0, _frames(self.frames))[:, None]
         return motion.lo + t * (motion.hi - motion.lo)
 
 
 @dataclass(frozen=True)
 class CirclePath:
-    """``frames`` positions once around an ellipse at the range's centre (radii 0.45 of its size)."""
+    """``frames`` positions once around an ellipse at the range's centre (radii 0.45 of its size).
+
+    Parameters
+    ----------
+    frames : int
+        Number of positions, in [1, 100000] (checked by :meth:`positions`).
+    """
 
     frames: int = 48
 
     def positions(self, motion: MotionRange) -> np.ndarray:
-        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``.
+
+        Parameters
+        ----------
+        motion : MotionRange
+            The usable range of motion, world frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2)`` float64 object positions ``(x, y)`` on the ground, world frame.
+        """
         a = np.linspace(0.0, 2 * np.pi, _frames(self.frames), endpoint=False)
         r = 0.45 * (motion.hi - motion.lo)
         return motion.center + np.c_[r[0] * np.cos(a), r[1] * np.sin(a)]
@@ -86,13 +131,29 @@ class CirclePath:
 
 @dataclass(frozen=True)
 class PointsPath:
-    """Given positions ``(N, 2)``; each must lie in the range."""
+    """Given positions ``(N, 2)``; each must lie in the range.
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        ``(N, 2)`` float64 object positions ``(x, y)`` on the ground, world frame.
+    """
 
     points: np.ndarray
 
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> PointsPath:
         """Rows ``x,y`` (a header line and ``#`` comments are skipped).
+
+        Parameters
+        ----------
+        path : path-like
+            A UTF-8 CSV file with one ``x,y`` row per position (world units).
+
+        Returns
+        -------
+        PointsPath
+            The rows in order, ``(N, 2)`` float64.
 
         Raises
         ------
@@ -125,13 +186,36 @@ class PointsPath:
         return cls(np.array(rows, np.float64))
 
     def positions(self, motion: MotionRange) -> np.ndarray:
-        """``(N, 2)`` float64 world positions of the path, inside ``motion``."""
+        """``(N, 2)`` float64 world positions of the path, inside ``motion``.
+
+        Parameters
+        ----------
+        motion : MotionRange
+            The usable range of motion, world frame.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2)`` float64 object positions ``(x, y)`` on the ground, world frame.
+        """
         return np.array([motion.check(xy) for xy in np.asarray(self.points, np.float64)])
 
 
 def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] | None = None
                ) -> trimesh.Trimesh:
     """The mesh an atlas was baked from (see the module docstring), normalised as the bake did.
+
+    Parameters
+    ----------
+    atlas_path : path-like
+        The atlas file (``.atlas.npz``).
+    mesh : path-like, optional
+        The mesh file; default: the input the manifest records for the atlas.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        The mesh, normalised by :func:`morphkit.meshes.load_mesh`, object frame.
 
     Raises
     ------
@@ -170,6 +254,21 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
 def area_light_for(atlas: ShadowAtlas, width: float, height: float) -> AreaLight:
     """A ``width x height`` area light parallel to the ground, centred on the atlas's point light.
 
+    Parameters
+    ----------
+    atlas : ShadowAtlas
+        An atlas baked for a point light.
+    width : float
+        Extent along world x, world units (> 0).
+    height : float
+        Extent along world y, world units (> 0).
+
+    Returns
+    -------
+    AreaLight
+        Centre at the point light, half-extent vectors ``(width / 2, 0, 0)`` and ``(0, height / 2, 0)``,
+        world frame.
+
     Raises
     ------
     ValidationError
@@ -202,7 +301,25 @@ def playback_scene(mesh: trimesh.Trimesh, atlas: ShadowAtlas, size: int,
                    light: AreaLight | None = None) -> Scene:
     """The scene the frames show: the mesh on a ground square covering the range, the atlas's
     light (or ``light``), and a 3/4 view camera of ``size x size`` pixels that sees the whole
-    range with the object anywhere on it."""
+    range with the object anywhere on it.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The normalised mesh, object frame; placed at the range's centre.
+    atlas : ShadowAtlas
+        The atlas: its rig gives the range, the object pose and the light.
+    size : int
+        Side of the square camera image, in pixels.
+    light : AreaLight, optional
+        The light of the scene instead of the atlas's.
+
+    Returns
+    -------
+    Scene
+        Object, light, camera (world frame) and a ground receiver; move the object with
+        ``Scene.with_object_pose``.
+    """
     motion = atlas.rig.motion
     # a sphere around the range and the object on it (normalised: size 1), seen whole at 40 deg
     fov = np.deg2rad(40)
@@ -227,18 +344,26 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     Parameters
     ----------
     atlas : ShadowAtlas
+        The baked atlas; its warped maps give each frame's shadow.
     mesh : trimesh.Trimesh
         The mesh the atlas was baked from (:func:`baked_mesh`).
     path : ObjectPath
+        The object's positions, one per frame, over the usable range (the atlas's range, shrunk by the
+        area light's extent when there is one).
     out : path-like
         Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (mp4v).
     renderer : SceneRenderer
+        Renders the frames.
     size : int
-        Frame side in pixels.
+        Frame side in pixels, in [16, 8192].
     area_light : AreaLight, optional
         Soft shadows of this light (:func:`area_light_for`), ``samples x samples`` light samples.
+    samples : int
+        Light samples per axis of ``area_light``, in [1, 64]; unused without it.
     fps : float
         Frame rate of the video.
+    progress : bool
+        Show a progress bar (tqdm).
 
     Returns
     -------
@@ -247,6 +372,8 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
 
     Raises
     ------
+    ValidationError
+        A bad ``size``, ``samples`` or ``path``, or an area light not smaller than the range.
     OutOfRangeError
         A position of the path lies outside the usable range.
     RenderError

@@ -41,7 +41,13 @@ _lock = threading.Lock()
 
 
 def worker_renderer() -> SceneRenderer:
-    """This thread's renderer, created on first use and kept until the process exits."""
+    """This thread's renderer, created on first use and kept until the process exits.
+
+    Returns
+    -------
+    SceneRenderer
+        A :class:`~morphkit.render.Renderer` owned by this thread (closed at process exit).
+    """
     r = getattr(_local, "renderer", None)
     if r is None:
         from ..render import Renderer  # GL only where a task runs
@@ -63,7 +69,23 @@ def _close_all() -> None:
 
 @dataclass(frozen=True)
 class BakeTask:
-    """One asset to bake: ``<out_dir>/<name><kind.suffix>`` for each of ``kinds``."""
+    """One asset to bake: ``<out_dir>/<name><kind.suffix>`` for each of ``kinds``.
+
+    Parameters
+    ----------
+    name : str
+        Asset name (POSIX relative path without the mesh suffix).
+    input_path : str
+        The mesh file, absolute path.
+    input_sha256 : str
+        Hex digest of the mesh file as the driver read it.
+    input_bytes : int
+        The mesh file's size as the driver read it.
+    out_dir : str
+        The output folder.
+    kinds : tuple of AssetKind
+        The kinds to bake.
+    """
 
     name: str
     input_path: str
@@ -77,7 +99,21 @@ class BakeTask:
 class TaskResult:
     """What :func:`bake_task` made: one output record per kind, timings (s: ``load``, one per
     kind, ``total``, and ``cpu``, the worker process's CPU time during the task), who ran it;
-    or, when the mesh could not be baked, ``error`` (and no outputs)."""
+    or, when the mesh could not be baked, ``error`` (and no outputs).
+
+    Parameters
+    ----------
+    name : str
+        Asset name.
+    outputs : dict of str to OutputRecord
+        One record per kind name (empty on error).
+    timings_s : dict of str to float
+        Seconds: ``load``, one per kind, ``total``, ``cpu``.
+    worker : str
+        ``host:pid`` of the process that ran the task.
+    error : str, optional
+        ``"<ErrorType>: <message>"`` when the mesh could not be baked.
+    """
 
     name: str
     outputs: dict[str, OutputRecord]
@@ -88,6 +124,11 @@ class TaskResult:
 
 def bake_task(task: BakeTask) -> TaskResult:
     """Bake one asset (see the module docstring).
+
+    Parameters
+    ----------
+    task : BakeTask
+        The asset, its input hash, the output folder and the kinds.
 
     Returns
     -------

@@ -33,7 +33,21 @@ Suite = Callable[..., list[dict[str, Any]]]
 
 
 def lazy_suite(module: str, attr: str = "run") -> Suite:
-    """A suite callable that imports ``module`` only when run."""
+    """A suite callable that imports ``module`` only when run.
+
+    Parameters
+    ----------
+    module : str
+        Dotted name of the suite's module, e.g. ``"morphkit.bench.shadow_suite"``.
+    attr : str
+        The suite function in ``module``.
+
+    Returns
+    -------
+    callable
+        ``suite(*, quick=False) -> list of dict``; its ``__module__`` is ``module`` (so
+        :func:`run_suite` finds ``PLOT_OPTIONS`` and ``FLOOR_METHOD`` there).
+    """
 
     def suite(*, quick: bool = False) -> list[dict[str, Any]]:
         return getattr(importlib.import_module(module), attr)(quick=quick)
@@ -56,7 +70,21 @@ SUITES: dict[str, Suite] = {
 
 
 def register_suite(name: str, fn: Suite) -> Suite:
-    """Register (or replace) suite ``name``; returns ``fn`` (usable as a decorator factory's body)."""
+    """Register (or replace) suite ``name``; returns ``fn`` (usable as a decorator factory's body).
+
+    Parameters
+    ----------
+    name : str
+        The suite's name (``morphkit bench <name>``).
+    fn : callable
+        ``fn(*, quick: bool) -> list of dict``, rows from
+        :func:`morphkit.bench.harness.make_row`.
+
+    Returns
+    -------
+    callable
+        ``fn``.
+    """
     SUITES[name] = fn
     return fn
 
@@ -65,7 +93,24 @@ def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = 
               plot_path: str | Path | None = None) -> list[dict[str, Any]]:
     """Run suite ``name``, print its table, write JSON/plots when paths are given; return the rows.
 
-    Raises :class:`~morphkit.errors.ValidationError` for an unknown ``name``."""
+    Raises :class:`~morphkit.errors.ValidationError` for an unknown ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`SUITES`.
+    quick : bool
+        Fewer and smaller cases (a smoke run).
+    json_path : str or pathlib.Path, optional
+        Write the rows there as a JSON list.
+    plot_path : str or pathlib.Path, optional
+        Write the plots next to it (:func:`morphkit.bench.harness.write_plots`).
+
+    Returns
+    -------
+    list of dict
+        The suite's rows (:func:`morphkit.bench.harness.make_row`).
+    """
     if name not in SUITES:
         from ..errors import ValidationError, expected_got
 

@@ -82,7 +82,20 @@ _BUILD = {"cow": lambda n: cow(faces=n), "teapot": lambda n: teapot(resolution=n
 
 
 def write_library(folder: Path, quick: bool) -> list[Path]:
-    """Write the benchmark's meshes into ``folder``; return their paths."""
+    """Write the benchmark's meshes into ``folder``; return their paths.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        Output folder (created).
+    quick : bool
+        Every other mesh of the library only.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The mesh files written.
+    """
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     for name, arg, suffix in LIBRARY[::2] if quick else LIBRARY:
@@ -93,7 +106,13 @@ def write_library(folder: Path, quick: bool) -> list[Path]:
 
 
 def warm_worker() -> int:
-    """Run on every worker before timing: imports, the GL context, one tiny bake (numba caches)."""
+    """Run on every worker before timing: imports, the GL context, one tiny bake (numba caches).
+
+    Returns
+    -------
+    int
+        The worker's process id.
+    """
     import os
 
     import numpy as np
@@ -107,7 +126,18 @@ def warm_worker() -> int:
 
 
 def noop(i: int) -> int:
-    """A trivial task: the scheduler's overhead alone."""
+    """A trivial task: the scheduler's overhead alone.
+
+    Parameters
+    ----------
+    i : int
+        Any value.
+
+    Returns
+    -------
+    int
+        ``i``.
+    """
     return i
 
 
@@ -115,7 +145,22 @@ def idle_makespan(task_cpu: list[float], driver_cpu: float, workers: int) -> flo
     """Seconds a run would take on an otherwise idle machine with one core per worker: the tasks'
     CPU times (in submission order) list-scheduled on ``workers`` (each to the first free worker,
     as Dask does with one thread per worker), but no less than all the CPU, driver's included,
-    spread over the cores."""
+    spread over the cores.
+
+    Parameters
+    ----------
+    task_cpu : list of float
+        CPU seconds of each task, in submission order.
+    driver_cpu : float
+        CPU seconds of the driver process.
+    workers : int
+        Worker processes, one core each.
+
+    Returns
+    -------
+    float
+        The idle-machine makespan, seconds.
+    """
     free = [0.0] * workers
     for c in task_cpu:
         free[free.index(min(free))] += c
@@ -146,7 +191,18 @@ def _cluster(workers: int, dask_defaults: bool) -> Iterator[Any]:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """The suite's rows (``morphkit bench bake``); ``quick``: fewer and smaller meshes."""
+    """The suite's rows (``morphkit bench bake``); ``quick``: fewer and smaller meshes.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer and smaller meshes, smaller atlases, one repeat.
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     kind = ShadowAtlasKind(atlas_size=256 if quick else 512)
     options = BakeOptions((kind,))
     repeats = 1 if quick else 3

@@ -148,6 +148,7 @@ class AssetCache:
     Parameters
     ----------
     renderer : SceneRenderer
+        Bakes the assets and renders the ground truth.
     max_assets : int
         Baked assets kept (least recently used dropped; an asset with its morphers
         holds ~100 MB at 256^2): a section asking again re-bakes.
@@ -161,14 +162,42 @@ class AssetCache:
         self._assets: OrderedDict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = OrderedDict()
 
     def mesh(self, name: str) -> trimesh.Trimesh:
-        """The normalised sample mesh ``name``."""
+        """The normalised sample mesh ``name``.
+
+        Parameters
+        ----------
+        name : str
+            A sample mesh name (:func:`morphkit.meshes.sample_mesh`), e.g. ``"cow"``.
+
+        Returns
+        -------
+        trimesh.Trimesh
+            The normalised mesh, object frame (loaded once).
+        """
         if name not in self._meshes:
             self._meshes[name] = normalize(sample_mesh(name))
             self._items[name] = bake_items(self._meshes[name])
         return self._meshes[name]
 
     def asset(self, name: str, views: int, size: int, levels: int = 1) -> BillboardAsset:
-        """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once."""
+        """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once.
+
+        Parameters
+        ----------
+        name : str
+            A sample mesh name.
+        views : int
+            Reference views on the ring.
+        size : int
+            Side of the square level-0 reference views, in pixels.
+        levels : int
+            Pyramid levels of the reference views.
+
+        Returns
+        -------
+        BillboardAsset
+            The asset (kept while among the ``max_assets`` most recently used).
+        """
         key = (name, views, size, levels)
         if key not in self._assets:
             while len(self._assets) >= self.max_assets:
@@ -180,12 +209,42 @@ class AssetCache:
         return self._assets[key][0]
 
     def bake_seconds(self, name: str, views: int, size: int, levels: int = 1) -> float:
-        """Wall time of the (first) bake of that asset."""
+        """Wall time of the (first) bake of that asset.
+
+        Parameters
+        ----------
+        name : str
+            A sample mesh name.
+        views : int
+            Reference views on the ring.
+        size : int
+            Side of the square level-0 reference views, in pixels.
+        levels : int
+            Pyramid levels of the reference views.
+
+        Returns
+        -------
+        float
+            Seconds (the asset is baked now if it is not cached).
+        """
         self.asset(name, views, size, levels)
         return self._assets[(name, views, size, levels)][1]
 
     def truth(self, name: str, camera: CameraModel) -> np.ndarray:
-        """Premultiplied float32 RGBA render of mesh ``name`` by ``camera`` (bake items and lights)."""
+        """Premultiplied float32 RGBA render of mesh ``name`` by ``camera`` (bake items and lights).
+
+        Parameters
+        ----------
+        name : str
+            A sample mesh name.
+        camera : CameraModel
+            The camera, world frame (the mesh at its normalised pose).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(H, W, 4)`` float32 premultiplied RGBA in [0, 1], the camera's image size.
+        """
         self.mesh(name)
         img = self.renderer.source_view(camera, self._items[name], bake_lights(), ambient=BAKE_AMBIENT)
         a = img.astype(np.float32) / 255.0
@@ -193,7 +252,22 @@ class AssetCache:
 
 
 def quality(pred: np.ndarray, truth: np.ndarray) -> tuple[float, float]:
-    """``(iou, psnr)`` of a premultiplied RGBA image against the truth (module docstring)."""
+    """``(iou, psnr)`` of a premultiplied RGBA image against the truth (module docstring).
+
+    Parameters
+    ----------
+    pred : numpy.ndarray
+        ``(H, W, 4)`` float32 premultiplied RGBA in [0, 1].
+    truth : numpy.ndarray
+        ``(H, W, 4)`` float32 premultiplied RGBA in [0, 1], the reference.
+
+    Returns
+    -------
+    iou : float
+        Silhouette IoU (alpha > 0.5).
+    psnr : float
+        PSNR of the premultiplied RGB, data range 1, dB, capped at ``PSNR_CAP``.
+    """
     iou = shadow_iou(pred[..., 3] > 0.5, truth[..., 3] > 0.5)
     p = psnr(pred[..., :3], truth[..., :3], data_range=1.0)
     return iou, min(p, PSNR_CAP)
@@ -428,11 +502,13 @@ def scene_accuracy_rows(assets: Sequence[BillboardSource], meshes: Mapping[str, 
     meshes : mapping of str to sequence of Item
         The items each asset was baked from (object frame).
     renderer : SceneRenderer
+        Renders the real meshes (the reference).
     lights, ambient
         The bake's lights and ambient level.
     frames : int
         Orbit frames (a full circle).
     shape : (H, W)
+        Frame size in pixels.
     seed : int
         Seeds the instances' yaws.
 
@@ -481,7 +557,18 @@ def scene_accuracy_rows(assets: Sequence[BillboardSource], meshes: Mapping[str, 
 
 def step_changes(layers: Sequence[np.ndarray]) -> np.ndarray:
     """Mean absolute change of consecutive premultiplied layers ``(H, W, 4)`` over the pixels
-    either covers (alpha > 0), ``(len - 1,)``."""
+    either covers (alpha > 0), ``(len - 1,)``.
+
+    Parameters
+    ----------
+    layers : sequence of numpy.ndarray
+        ``(H, W, 4)`` float premultiplied RGBA layers, consecutive frames.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(len(layers) - 1,)`` float64 mean absolute change per step (0 where neither covers a pixel).
+    """
     out = []
     for a, b in zip(layers[:-1], layers[1:], strict=True):
         m = (a[..., 3] > 0) | (b[..., 3] > 0)
@@ -496,6 +583,27 @@ def temporal_rows(asset: BillboardSource, meshes: Mapping[str, Sequence[Item]] |
     """Image change per ``step_deg`` orbit step about one instance, per mode (see the module notes).
 
     With ``meshes`` and ``renderer``, the real meshes' row is added as the reference.
+
+    Parameters
+    ----------
+    asset : BillboardSource
+        The billboard asset, one instance at the origin.
+    meshes : mapping of str to sequence of Item, optional
+        The items the asset was baked from (object frame), by asset name.
+    renderer : SceneRenderer, optional
+        Renders the real meshes.
+    lights : sequence of Light
+        The bake's lights (for the real meshes).
+    ambient : float
+        The bake's ambient level.
+    start_deg : float
+        Orbit azimuth of the first frame, degrees.
+    end_deg : float
+        Orbit azimuth of the last frame, degrees.
+    step_deg : float
+        Orbit step between frames, degrees.
+    shape : (int, int)
+        Frame ``(H, W)`` in pixels.
 
     Returns
     -------
@@ -538,6 +646,31 @@ def speed_rows(asset: BillboardSource, items: Sequence[Item], renderer: SceneRen
                shape: tuple[int, int] = (480, 640), faces: int = 0, repeats: int = 5,
                mesh_repeats: int = 3, seed: int = 0) -> list[dict[str, Any]]:
     """Frame times per billboard count and mode, cold and warm cache (see the module notes).
+
+    Parameters
+    ----------
+    asset : BillboardSource
+        The billboard asset, instanced at random over a field.
+    items : sequence of Item
+        The items the asset was baked from (object frame), for the mesh rows.
+    renderer : SceneRenderer
+        Renders the mesh rows.
+    lights : sequence of Light
+        The bake's lights.
+    ambient : float
+        The bake's ambient level.
+    counts : sequence of int
+        Billboard counts, one case each.
+    shape : (int, int)
+        Frame ``(H, W)`` in pixels.
+    faces : int
+        The mesh's face count, recorded in the rows' params.
+    repeats : int
+        Timed frames of the billboard modes.
+    mesh_repeats : int
+        Timed frames of the mesh modes.
+    seed : int
+        Seeds the instances' placement.
 
     Returns
     -------
@@ -603,6 +736,25 @@ def hit_rate_rows(asset: BillboardSource, *, n: int = 1000, frames: int = 60, st
     """The morph cache along an orbit of an ``n``-billboard field, ``step_deg`` per frame
     (see the module notes); the timing is the frame time along the path (warm from frame to frame).
 
+    Parameters
+    ----------
+    asset : BillboardSource
+        The billboard asset, instanced at random over a field.
+    n : int
+        Billboards in the field.
+    frames : int
+        Frames along the orbit.
+    step_deg : float
+        Orbit step between frames, degrees.
+    shape : (int, int)
+        Frame ``(H, W)`` in pixels.
+    quantum_deg : float
+        Azimuth quantum of the morph cache's keys, degrees.
+    capacity : int
+        Morph cache capacity (entries).
+    seed : int
+        Seeds the instances' placement.
+
     Returns
     -------
     list of dict
@@ -632,7 +784,20 @@ def hit_rate_rows(asset: BillboardSource, *, n: int = 1000, frames: int = 60, st
 
 
 def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
-    """The scene section: accuracy, temporal stability, speed and cache rows (module docstring)."""
+    """The scene section: accuracy, temporal stability, speed and cache rows (module docstring).
+
+    Parameters
+    ----------
+    cache : AssetCache
+        Meshes and baked assets shared by the sections.
+    quick : bool
+        Smaller assets and frames, fewer cases (a smoke run).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     size = 128 if quick else 256
     shape = (240, 320) if quick else (480, 640)
     lights, ambient = bake_lights(), BAKE_AMBIENT
@@ -665,7 +830,18 @@ SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """Run every section of :data:`SECTIONS`; see the module docstring."""
+    """Run every section of :data:`SECTIONS`; see the module docstring.
+
+    Parameters
+    ----------
+    quick : bool
+        Smaller assets and fewer cases in every section (a smoke run).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     from ..render import Renderer
 
     rows: list[dict[str, Any]] = []

@@ -42,7 +42,19 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Timing:
-    """Wall-clock statistics of repeated calls, in milliseconds."""
+    """Wall-clock statistics of repeated calls, in milliseconds.
+
+    Parameters
+    ----------
+    ms_median : float
+        Median duration, ms.
+    ms_min : float
+        Shortest duration, ms.
+    ms_max : float
+        Longest duration, ms.
+    repeats : int
+        Number of timed calls.
+    """
 
     ms_median: float
     ms_min: float
@@ -70,7 +82,22 @@ class Timing:
 
 
 def time_call(fn: Callable[[], Any], *, repeats: int = 7, warmup: int = 1) -> Timing:
-    """Time ``fn()``: ``warmup`` untimed calls, then ``repeats`` timed ones (perf_counter)."""
+    """Time ``fn()``: ``warmup`` untimed calls, then ``repeats`` timed ones (perf_counter).
+
+    Parameters
+    ----------
+    fn : callable
+        Called with no argument.
+    repeats : int
+        Timed calls (at least 1).
+    warmup : int
+        Untimed calls first (at least 0).
+
+    Returns
+    -------
+    Timing
+        Statistics of the timed calls.
+    """
     for _ in range(max(0, warmup)):
         fn()
     samples = []
@@ -87,6 +114,20 @@ def time_calls(fns: Mapping[str, Callable[[], Any]], *, repeats: int = 7,
 
     Interleaving spreads machine noise evenly over the methods, so their ratios
     are steadier than when each is timed in its own block.
+
+    Parameters
+    ----------
+    fns : mapping of str to callable
+        The functions by method name, each called with no argument.
+    repeats : int
+        Timed rounds (at least 1); each round calls every function once.
+    warmup : int
+        Untimed calls of each function first (at least 0).
+
+    Returns
+    -------
+    dict of str to Timing
+        Statistics per method name.
     """
     for fn in fns.values():
         for _ in range(max(0, warmup)):
@@ -118,7 +159,24 @@ def time_cycling(fns: Mapping[str, Callable[[Any], Any]], inputs: Sequence[Any],
 
 
 def auto_repeats(fn: Callable[[], Any], *, budget_s: float, lo: int = 3, hi: int = 50) -> int:
-    """Number of repeats of ``fn`` that fit in ``budget_s`` (one probe call), clamped to [lo, hi]."""
+    """Number of repeats of ``fn`` that fit in ``budget_s`` (one probe call), clamped to [lo, hi].
+
+    Parameters
+    ----------
+    fn : callable
+        Called once with no argument, to probe its duration.
+    budget_s : float
+        Time to spend on the repeats, in seconds.
+    lo : int
+        Fewest repeats.
+    hi : int
+        Most repeats.
+
+    Returns
+    -------
+    int
+        ``budget_s // duration``, clamped to ``[lo, hi]``.
+    """
     t0 = time.perf_counter()
     fn()
     dt = max(time.perf_counter() - t0, 1e-6)
@@ -127,7 +185,29 @@ def auto_repeats(fn: Callable[[], Any], *, budget_s: float, lo: int = 3, hi: int
 
 def make_row(suite: str, method: str, params: Mapping[str, Any], timing: Timing, *,
              metrics: Mapping[str, float] | None = None, note: str = "") -> dict[str, Any]:
-    """Build one result row (plain JSON types)."""
+    """Build one result row (plain JSON types).
+
+    Parameters
+    ----------
+    suite : str
+        The suite's name.
+    method : str
+        The method timed.
+    params : mapping
+        The case's parameters (JSON values); rows of one case share them.
+    timing : Timing
+        The method's timing.
+    metrics : mapping of str to float, optional
+        Error figures of the method's output (default none).
+    note : str
+        Free text shown in the table's last column.
+
+    Returns
+    -------
+    dict
+        ``suite``, ``method``, ``params``, ``ms_median``, ``ms_min``, ``ms_max``, ``repeats``,
+        ``metrics`` and ``note`` (see the module docstring).
+    """
     return {
         "suite": suite,
         "method": method,
@@ -142,7 +222,18 @@ def make_row(suite: str, method: str, params: Mapping[str, Any], timing: Timing,
 
 
 def case_key(row: Mapping[str, Any]) -> str:
-    """Identify a row's case: its suite and params (method excluded)."""
+    """Identify a row's case: its suite and params (method excluded).
+
+    Parameters
+    ----------
+    row : mapping
+        A row from :func:`make_row`.
+
+    Returns
+    -------
+    str
+        ``"<suite>|<params as sorted JSON>"``.
+    """
     return row["suite"] + "|" + json.dumps(row["params"], sort_keys=True)
 
 
@@ -161,7 +252,20 @@ def _fmt(v: Any) -> str:
 
 
 def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "remap") -> str:
-    """Readable fixed-width table: params, method, median/min/max ms, ratio to the floor, metrics."""
+    """Readable fixed-width table: params, method, median/min/max ms, ratio to the floor, metrics.
+
+    Parameters
+    ----------
+    rows : list of mapping
+        Rows from :func:`make_row`.
+    floor_method : str, optional
+        The method each case's ratio column divides by; ``None``: no ratio column.
+
+    Returns
+    -------
+    str
+        The table, a header line and a rule first; ``"(no rows)"`` when there are none.
+    """
     if not rows:
         return "(no rows)"
     floors = {case_key(r): r["ms_median"] for r in rows if r["method"] == floor_method}
@@ -196,7 +300,20 @@ def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "r
 
 
 def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
-    """Write the rows as a JSON list (parents created), atomically (:mod:`morphkit.fileio`)."""
+    """Write the rows as a JSON list (parents created), atomically (:mod:`morphkit.fileio`).
+
+    Parameters
+    ----------
+    rows : list of mapping
+        Rows from :func:`make_row`.
+    path : str or pathlib.Path
+        The JSON file.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     return fileio.write_json(p, list(rows), indent=1)
@@ -216,6 +333,24 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
     Both go next to ``plot_path`` (its suffix is replaced). The time-vs-size
     figure has one panel per combination of ``panel_keys`` values and one line
     per method (log-log). Returns the paths written.
+
+    Parameters
+    ----------
+    rows : list of mapping
+        Rows from :func:`make_row`.
+    plot_path : str or pathlib.Path
+        Where the plots go: its folder (created) and its stem.
+    size_key : str
+        The ``params`` key of the x axis of the time-vs-size figure (rows without it are left out).
+    error_key : str, optional
+        The ``metrics`` key of the x axis of the time-vs-error figure; ``None``: no such figure.
+    panel_keys : tuple of str
+        ``params`` keys whose value combinations get a panel each.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG files written.
     """
     import matplotlib
 

@@ -241,7 +241,18 @@ def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """All shadow rows: accuracy + map time, control-grid sweep, complexity sweep, frames."""
+    """All shadow rows: accuracy + map time, control-grid sweep, complexity sweep, frames.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer and smaller cases (a smoke run).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     from ..render import Renderer
 
     t0 = time.perf_counter()

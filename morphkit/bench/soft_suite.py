@@ -158,7 +158,18 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """All soft-shadow rows: accuracy + time per mesh and map size, complexity sweep."""
+    """All soft-shadow rows: accuracy + time per mesh and map size, complexity sweep.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer and smaller cases (a smoke run).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     from ..render import Renderer
 
     t0 = time.perf_counter()

@@ -274,7 +274,18 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """Run the suite; see the module docstring."""
+    """Run the suite; see the module docstring.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer and smaller cases (a smoke run).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     from ..render import Renderer
 
     rows: list[dict[str, Any]] = []

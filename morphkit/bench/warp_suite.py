@@ -60,6 +60,26 @@ def per_triangle_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, tris:
     output), rasterise the destination triangle with ``cv2.fillConvexPoly``
     (4 fractional bits) and copy through that mask. Edge pixels are covered by
     both neighbours (the later one wins), so it is not exact along edges.
+
+    Parameters
+    ----------
+    image : numpy.ndarray
+        ``(H, W)`` or ``(H, W, C)`` source image, any dtype ``cv2.warpAffine`` takes.
+    src : numpy.ndarray
+        ``(N, 2)`` mesh points ``(x, y)`` in ``image``, pixel coordinates (:mod:`morphkit.conventions`).
+    dst : numpy.ndarray
+        ``(N, 2)`` the same points in the output, pixel coordinates.
+    tris : numpy.ndarray
+        ``(T, 3)`` vertex indices of the triangles.
+    out_shape : (int, int)
+        Output ``(H, W)``.
+    fill : float
+        Value of the pixels no triangle covers.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``out_shape + image.shape[2:]`` warped image, ``image``'s dtype.
     """
     H, W = out_shape
     out = np.full((H, W) + image.shape[2:], fill, dtype=image.dtype)
@@ -110,6 +130,27 @@ def make_case(size: int, rows: int, cols: int, rng: np.random.Generator
     Triangles are Delaunay of ``dst``; the jitter (a fraction of the smaller cell
     side) is halved until every triangle is non-degenerate and keeps its
     orientation in the source.
+
+    Parameters
+    ----------
+    size : int
+        Side of the square image, in pixels.
+    rows : int
+        Lattice points per column (at least 2).
+    cols : int
+        Lattice points per row (at least 2).
+    rng : numpy.random.Generator
+        Draws the jitter.
+
+    Returns
+    -------
+    src : numpy.ndarray
+        ``(rows * cols, 2)`` float64 lattice points ``(x, y)``, pixel coordinates
+        (:mod:`morphkit.conventions`).
+    dst : numpy.ndarray
+        ``(rows * cols, 2)`` float64 jittered points (border points unmoved).
+    triangles : numpy.ndarray
+        ``(T, 3)`` vertex indices, Delaunay of ``dst``.
     """
     xs = np.linspace(0.0, size - 1.0, cols)
     ys = np.linspace(0.0, size - 1.0, rows)
@@ -150,7 +191,28 @@ def _errors(out: np.ndarray, ref: np.ndarray, mask: np.ndarray, value_range: flo
 def run(*, quick: bool = False, sizes: tuple[int, ...] | None = None,
         grids: tuple[tuple[int, int], ...] | None = None, dtypes: tuple[str, ...] | None = None,
         skimage_max_size: int | None = None, budget_s: float | None = None) -> list[dict[str, Any]]:
-    """Run the suite; the keyword overrides exist for tests and ad-hoc sweeps."""
+    """Run the suite; the keyword overrides exist for tests and ad-hoc sweeps.
+
+    Parameters
+    ----------
+    quick : bool
+        The quick sizes and grids, smaller skimage limit and timing budget.
+    sizes : tuple of int, optional
+        Image sides in pixels (default by ``quick``).
+    grids : tuple of (int, int), optional
+        Lattices ``(rows, cols)`` of mesh points (default by ``quick``).
+    dtypes : tuple of str, optional
+        Image types, ``"float32"`` (one channel) and/or ``"uint8"`` (RGBA) (default both).
+    skimage_max_size : int, optional
+        Largest size timed with scikit-image (default by ``quick``).
+    budget_s : float, optional
+        Seconds of timing per method and case that set the repeats (default by ``quick``).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
     try:
         from skimage.transform import PiecewiseAffineTransform
         from skimage.transform import warp as sk_warp
