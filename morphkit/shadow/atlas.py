@@ -374,8 +374,8 @@ class ShadowAtlas:
         ----------
         xy : (2,) float
             The object's ground translation (world units).
-        light_offset : (3,) float, optional
-            Point-light displacement, world frame (None: none).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane (None: none).
         clamp : bool
             Clamp ``xy`` into the motion range instead of refusing it.
         warps : {"composed", "three", "reproject"}

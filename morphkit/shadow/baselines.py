@@ -60,8 +60,8 @@ class DirectShadow:
         ----------
         xy : (2,) float
             The object's ground translation (world units).
-        light_offset : (3,) float, optional
-            Point-light displacement, world frame.
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
         clamp : bool
             Clamp ``xy`` into the motion range instead of refusing it.
 
@@ -149,8 +149,8 @@ class ImageBasedShadow:
         ----------
         xy : (2,) float
             The object's ground translation (world units).
-        light_offset : (3,) float, optional
-            Point-light displacement, world frame.
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
         clamp : bool
             Clamp ``xy`` into the motion range instead of refusing it.
 
