@@ -135,6 +135,8 @@ class ShadowAtlas:
         Control points per map, ``N = rows * cols``.
     anchor_kind : {"sample", "shared", "plane"}
         How the anchors were lifted (:func:`bake_atlas`).
+    _warpers, _tex, _split, _touching, _support, _layers : dict
+        Run-time caches; leave them out (they start empty).
 
     Attributes
     ----------

@@ -204,8 +204,44 @@ def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sig
 
 
 #: Whether a destination mesh folds (compiled, or the numpy reference).
+#:
+#: Parameters
+#: ----------
+#: pts : (N, 2) float
+#:     Vertex positions (pixels).
+#: tri : (M, 3) int
+#:     Vertex indices per triangle.
+#: sign : (M,) float
+#:     Orientation each triangle must keep.
+#: min_area : float
+#:     Smallest absolute doubled area that counts as a triangle.
+#:
+#: Returns
+#: -------
+#: bool
+#:     True when some triangle folds.
 any_folded = any_folded_numpy
 #: The fold relaxation (compiled, or the numpy reference :func:`relax_folds_numpy`).
+#:
+#: Parameters
+#: ----------
+#: surf, plane : (N, 2) float64
+#:     Surface- and plane-anchor destination positions (pixels).
+#: tri : (M, 3) int
+#:     Vertex indices per triangle.
+#: sign : (M,) float
+#:     Orientation each triangle must keep.
+#: min_area : float
+#:     Smallest absolute doubled area that counts as a triangle.
+#: rounds : int
+#:     Most halvings tried.
+#: out : (N, 2) float64
+#:     Filled with the relaxed positions.
+#:
+#: Returns
+#: -------
+#: int
+#:     Rounds taken, or ``-rounds`` when they did not suffice.
 relax_folds = relax_folds_numpy
 if COMPILED:
     _tri_folded = compile_kernel(_tri_folded)
