@@ -89,7 +89,8 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
     -------
     (H, W, C' + 1) float32
         Premultiplied colour in the input's units, then alpha in ``[0, 1]``
-        (``C'`` is 3 when ``channels >= 3``, else the input's colour count).
+        (``C'`` is the input's colour count, 1 or 3; grey becomes 3 when
+        ``channels >= 3``).
     """
     img = as_image(image, "image", channels=(1, 3, 4))
     amax = _alpha_max(img.dtype)

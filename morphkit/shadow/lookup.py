@@ -46,11 +46,11 @@ class ShadowBias:
     Parameters
     ----------
     constant : float
-        Constant bias, in texel sizes.
+        Constant term, in texel world sizes (``bias`` formula in the module docstring).
     slope : float
-        Slope-scaled bias, in texel sizes times the tangent of the light angle.
+        Factor of ``min(tan(theta), max_tan)``, in texel world sizes.
     max_tan : float
-        Cap on that tangent (grazing light).
+        Cap on ``tan(theta)`` (grazing light).
     """
 
     constant: float = 1.0
