@@ -304,8 +304,8 @@ class ShadowAtlas:
 
         Returns
         -------
-        (M,) int array
-            Indices into ``triangles``.
+        (M,) bool
+            True for the triangles of ``triangles`` to warp.
         """
         a = self._touching.get((j, i))
         if a is None:
@@ -548,7 +548,10 @@ class ShadowAtlas:
         Returns
         -------
         tuple
-            ``(plan, source (2, H, W) float32, triangles (M,) int, weight)``.
+            ``(plan, source, active, weight)``: the
+            ``morphkit.warp.Accumulation`` or ``morphkit.warp.WarpMaps`` plan, the
+            source planes ``(2, H, W)`` float32, the ``(M,)`` bool triangles to warp
+            and ``weight``.
         """
         src = self.source_planes(j, i)
         warper = self.warper(j, i)
