@@ -34,7 +34,22 @@ __all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warp
 
 
 def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndarray:
-    """Blend ``unlit`` and ``lit`` uint8 ``(H, W, 3)`` frames by ``visibility (H, W)`` in [0, 1]."""
+    """Blend ``unlit`` and ``lit`` uint8 ``(H, W, 3)`` frames by ``visibility (H, W)`` in [0, 1].
+
+    Parameters
+    ----------
+    lit : (H, W, 3) uint8
+        The frame rendered with the light on.
+    unlit : (H, W, 3) uint8
+        The same frame with the light off (in shadow).
+    visibility : (H, W) float
+        Light visibility per pixel in ``[0, 1]`` (1 lit, 0 in shadow).
+
+    Returns
+    -------
+    (H, W, 3) uint8
+        ``unlit + visibility * (lit - unlit)``, rounded.
+    """
     lit = as_image(lit, "lit", channels=(3,))
     unlit = as_image(unlit, "unlit", channels=(3,))
     vis = as_image(np.asarray(visibility, dtype=np.float32), "visibility", channels=(1,))
@@ -62,6 +77,20 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
 
     ``channels`` is the layout to promote to (1 grey, 3 RGB, 4 RGBA); grey/RGB
     get alpha 1. Colour values stay in the input's units (0..255 for uint8).
+
+    Parameters
+    ----------
+    image : (H, W) or (H, W, C) uint8, integer or float
+        Straight (not premultiplied) image, ``C`` in 1, 3 or 4 (alpha last).
+    channels : int
+        Colour layout to promote to: 1 grey, 3 RGB, 4 RGBA.
+
+    Returns
+    -------
+    (H, W, C' + 1) float32
+        Premultiplied colour in the input's units, then alpha in ``[0, 1]``
+        (``C'`` is the input's colour count, 1 or 3; grey becomes 3 when
+        ``channels >= 3``).
     """
     img = as_image(image, "image", channels=(1, 3, 4))
     amax = _alpha_max(img.dtype)
@@ -79,7 +108,24 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
 
 
 def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.ndarray:
-    """Inverse of :func:`to_premultiplied`: straight colour (+ alpha for RGBA) in ``dtype``."""
+    """Inverse of :func:`to_premultiplied`: straight colour (+ alpha for RGBA) in ``dtype``.
+
+    Parameters
+    ----------
+    acc : (H, W, C + 1) float32
+        Premultiplied image, alpha in ``[0, 1]`` last (as from :func:`to_premultiplied`).
+    channels : int
+        Layout to return: 1 grey ``(H, W)``, 3 colour ``(H, W, 3)``, 4 colour
+        and alpha ``(H, W, 4)``.
+    dtype : numpy.dtype
+        Output dtype; alpha is scaled to its range (255 for uint8, 1 for floats).
+
+    Returns
+    -------
+    (H, W) or (H, W, channels) array of ``dtype``
+        Straight colour (and alpha for ``channels == 4``), rounded and saturated
+        for integer dtypes.
+    """
     acc = np.asarray(acc, dtype=np.float32)
     alpha = acc[:, :, -1:]
     amax = _alpha_max(dtype)
@@ -104,6 +150,24 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
           shape: tuple[int, int]) -> np.ndarray:
     """Premultiplied ``part`` (rows ``r0:r1``, columns ``c0:c1`` of ``roi`` in an image of
     ``shape``) composited "over" ``out`` (None: nothing drawn yet; it is updated in place).
+
+    Parameters
+    ----------
+    out : (H, W, C) float32 or None
+        Premultiplied image, alpha last, updated in place; None when nothing is
+        drawn yet.
+    part : (r1 - r0, c1 - c0, C) float32
+        Premultiplied image, alpha last, to draw over ``out``.
+    roi : (r0, r1, c0, c1)
+        Rows ``r0:r1`` and columns ``c0:c1`` of ``out`` that ``part`` covers.
+    shape : (H, W)
+        Size of the whole image (used when ``out`` is None).
+
+    Returns
+    -------
+    (H, W, C) float32
+        ``out`` (or a new image, or ``part`` itself when it covers all of
+        ``shape`` and ``out`` is None).
 
     Examples
     --------
@@ -156,6 +220,8 @@ def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,
     fade : float
         Blend the warped colour towards ``fade_color`` (straight RGB in the colour
         units of ``out``) by this fraction, keeping its alpha (distance fog).
+    fade_color : (3,) float
+        Straight colour the warped image fades towards (used when ``fade > 0``).
     interpolation : int
         OpenCV interpolation flag (bilinear by default).
 

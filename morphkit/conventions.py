@@ -68,10 +68,32 @@ SIFT_KEYPOINT_OFFSET_PX: float = 0.25
 
 
 def gl_pose_from_cv(cam_cv2world: np.ndarray) -> np.ndarray:
-    """Return ``cam_gl2world`` (a pyrender node pose) from ``cam_cv2world``."""
+    """Return ``cam_gl2world`` (a pyrender node pose) from ``cam_cv2world``.
+
+    Parameters
+    ----------
+    cam_cv2world : (4, 4) float
+        Camera-to-world pose in the OpenCV camera frame (x right, y down, z forward).
+
+    Returns
+    -------
+    (4, 4) float64
+        ``cam_gl2world``, the same camera in the OpenGL frame (y up, looking down -z).
+    """
     return np.asarray(cam_cv2world, dtype=np.float64) @ CV_FROM_GL
 
 
 def cv_pose_from_gl(cam_gl2world: np.ndarray) -> np.ndarray:
-    """Return ``cam_cv2world`` from a pyrender node pose ``cam_gl2world``."""
+    """Return ``cam_cv2world`` from a pyrender node pose ``cam_gl2world``.
+
+    Parameters
+    ----------
+    cam_gl2world : (4, 4) float
+        Camera-to-world pose in the OpenGL camera frame (a pyrender node pose).
+
+    Returns
+    -------
+    (4, 4) float64
+        ``cam_cv2world``, the same camera in the OpenCV frame.
+    """
     return np.asarray(cam_gl2world, dtype=np.float64) @ CV_FROM_GL

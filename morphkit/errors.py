@@ -77,5 +77,20 @@ class ClusterError(MorphkitError):
 
 
 def expected_got(what: str, expected: Any, got: Any) -> str:
-    """Format the standard message: ``"<what>: expected <expected>, got <got>"``."""
+    """Format the standard message: ``"<what>: expected <expected>, got <got>"``.
+
+    Parameters
+    ----------
+    what : str
+        What was checked (an argument or file name).
+    expected : Any
+        What was expected; formatted with ``str``.
+    got : Any
+        What was given instead; formatted with ``str``.
+
+    Returns
+    -------
+    str
+        The message.
+    """
     return f"{what}: expected {expected}, got {got}"

@@ -171,22 +171,77 @@ def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
 
 
 def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (:func:`atomic_write`)."""
+    """Write ``data`` to ``path`` atomically (:func:`atomic_write`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write; its folder must exist.
+    data : bytes
+        The whole content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return atomic_write(path, lambda f: f.write(data))
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
-    """Write UTF-8 ``text`` to ``path`` atomically (:func:`atomic_write`)."""
+    """Write UTF-8 ``text`` to ``path`` atomically (:func:`atomic_write`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write; its folder must exist.
+    text : str
+        The whole content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return write_bytes(path, text.encode("utf-8"))
 
 
 def write_json(path: str | os.PathLike[str], obj: Any, *, indent: int | None = 2) -> Path:
-    """Write ``obj`` as JSON (no NaN/inf: they are not JSON) to ``path`` atomically."""
+    """Write ``obj`` as JSON (no NaN/inf: they are not JSON) to ``path`` atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write; its folder must exist.
+    obj : Any
+        A JSON-serialisable object (finite numbers only).
+    indent : int or None
+        Indentation passed to ``json.dumps`` (None: one line).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return write_text(path, json.dumps(obj, indent=indent, allow_nan=False) + "\n")
 
 
 def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
     """Encode ``image`` (OpenCV channel order: BGR/BGRA) in the format named by ``path``'s extension.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File name whose extension (``.png``, ``.jpg``, ...) names the format;
+        nothing is written.
+    image : (H, W), (H, W, 3) or (H, W, 4) array
+        Image in OpenCV channel order, a dtype the format supports (uint8, or
+        uint16 for PNG).
+
+    Returns
+    -------
+    bytes
+        The encoded file content.
 
     Raises
     ------
@@ -211,12 +266,35 @@ def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
 
 
 def write_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
-    """Encode ``image`` (BGR/BGRA, as ``cv2.imwrite``) and write it to ``path`` atomically."""
+    """Encode ``image`` (BGR/BGRA, as ``cv2.imwrite``) and write it to ``path`` atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write; its extension names the format (see :func:`encode_image`).
+    image : (H, W), (H, W, 3) or (H, W, 4) array
+        Image in OpenCV channel order (BGR/BGRA).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return write_bytes(path, encode_image(path, image))
 
 
 def check_writable(folder: str | os.PathLike[str]) -> Path:
     """Create ``folder`` if needed and prove it writable by creating and removing a probe file.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The output folder.
+
+    Returns
+    -------
+    pathlib.Path
+        ``folder``, resolved to an absolute path.
 
     Raises
     ------

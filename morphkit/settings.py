@@ -73,6 +73,18 @@ def compile_kernel(fn: F, **options: Any) -> F | None:
 
     Compiled even under ``MORPHKIT_WARP_NUMPY=1`` (tests compare the two
     paths); callers decide with :func:`use_compiled`.
+
+    Parameters
+    ----------
+    fn : callable
+        The pure-Python kernel.
+    **options : Any
+        Further ``numba.njit`` options (e.g. ``parallel=True``).
+
+    Returns
+    -------
+    callable or None
+        The compiled kernel, or None when numba is not installed.
     """
     if numba is None:
         return None
@@ -80,7 +92,18 @@ def compile_kernel(fn: F, **options: Any) -> F | None:
 
 
 def use_compiled(kernel: Callable[..., Any] | None) -> bool:
-    """True when ``kernel`` (from :func:`compile_kernel`) exists and compiled kernels are enabled."""
+    """True when ``kernel`` (from :func:`compile_kernel`) exists and compiled kernels are enabled.
+
+    Parameters
+    ----------
+    kernel : callable or None
+        A kernel from :func:`compile_kernel`.
+
+    Returns
+    -------
+    bool
+        Whether to call the compiled kernel rather than the numpy path.
+    """
     return kernel is not None and not NUMPY_ONLY
 
 
@@ -88,5 +111,10 @@ def select_gl_platform() -> str:
     """Select OSMesa (headless) for PyOpenGL unless ``PYOPENGL_PLATFORM`` is set; return the platform.
 
     Must run before the first OpenGL import (:mod:`morphkit.render` calls it).
+
+    Returns
+    -------
+    str
+        The value of ``PYOPENGL_PLATFORM`` now in force.
     """
     return os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")

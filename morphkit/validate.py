@@ -32,7 +32,29 @@ def _describe(a: Any) -> str:
 def as_finite_array(
     a: Any, name: str, *, shape: Sequence[int | None] | None = None, dtype: Any = np.float64
 ) -> np.ndarray:
-    """Return ``a`` as a finite array of ``dtype``; ``None`` in ``shape`` matches any size."""
+    """Return ``a`` as a finite array of ``dtype``; ``None`` in ``shape`` matches any size.
+
+    Parameters
+    ----------
+    a : array_like
+        The value to check.
+    name : str
+        Its name in the error message.
+    shape : sequence of int or None, optional
+        Required shape; None entries match any size (None: any shape).
+    dtype : dtype
+        Dtype to convert to.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``a`` as an array of ``dtype`` (no copy when it already is one).
+
+    Raises
+    ------
+    ValidationError
+        Not numeric, wrong shape, or NaN/inf entries.
+    """
     try:
         arr = np.asarray(a, dtype=dtype)
     except (TypeError, ValueError) as exc:
@@ -51,7 +73,24 @@ def as_finite_array(
 
 
 def as_points(a: Any, name: str, *, dim: int = 2, min_count: int = 0) -> np.ndarray:
-    """Return ``a`` as a finite float64 ``(N, dim)`` array with ``N >= min_count``."""
+    """Return ``a`` as a finite float64 ``(N, dim)`` array with ``N >= min_count``.
+
+    Parameters
+    ----------
+    a : array_like
+        The points.
+    name : str
+        Their name in the error message.
+    dim : int
+        Coordinates per point.
+    min_count : int
+        Fewest points accepted.
+
+    Returns
+    -------
+    (N, dim) float64
+        The points.
+    """
     arr = as_finite_array(a, name, shape=(None, dim))
     if arr.shape[0] < min_count:
         raise ValidationError(
@@ -67,6 +106,22 @@ def as_image(
 
     ``channels`` restricts ``C`` (use 1 for 2-D images). Float images must be
     finite unless ``allow_nonfinite`` (depth maps hold ``+inf`` background).
+
+    Parameters
+    ----------
+    img : numpy.ndarray
+        The image.
+    name : str
+        Its name in the error message.
+    channels : sequence of int, optional
+        Accepted channel counts (None: any).
+    allow_nonfinite : bool
+        Accept NaN/inf in float images.
+
+    Returns
+    -------
+    (H, W) or (H, W, C) numpy.ndarray
+        ``img`` itself (not copied or converted).
     """
     if not isinstance(img, np.ndarray):
         raise ValidationError(expected_got(name, "a numpy array", _describe(img)))
@@ -91,6 +146,18 @@ def as_shape(shape: Any, name: str) -> tuple[int, int]:
     float such as ``32.0``); ``32.5`` is refused, not truncated. ``H * W`` may
     be at most :data:`morphkit.tol.MAX_IMAGE_PIXELS`, checked here before any
     buffer of that shape is allocated.
+
+    Parameters
+    ----------
+    shape : Any
+        The value to check, a pair ``(H, W)``.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    tuple of int
+        ``(H, W)``.
 
     Raises
     ------
@@ -127,6 +194,20 @@ def as_int(v: Any, name: str, *, lo: int | None = None, hi: int | None = None) -
     ``v`` must be an integer (``int``, a numpy integer, or an integral float
     such as ``3.0``); ``2.5`` is refused, not truncated, and so are ``bool``
     and strings.
+
+    Parameters
+    ----------
+    v : Any
+        The value to check.
+    name : str
+        Its name in the error message.
+    lo, hi : int or None
+        Inclusive bounds (None: unbounded on that side).
+
+    Returns
+    -------
+    int
+        ``v`` as an int.
     """
     if lo is not None and hi is not None:
         want = f"an integer in [{lo}, {hi}]"
@@ -144,7 +225,21 @@ def as_int(v: Any, name: str, *, lo: int | None = None, hi: int | None = None) -
 
 
 def as_pose(T: Any, name: str) -> np.ndarray:
-    """Return ``T`` as a finite rigid 4x4 float64 transform (rotation + translation)."""
+    """Return ``T`` as a finite rigid 4x4 float64 transform (rotation + translation).
+
+    Parameters
+    ----------
+    T : array_like
+        The transform, ``(4, 4)``.
+    name : str
+        Its name in the error message (a transform name with its frames, e.g.
+        ``cam2world``).
+
+    Returns
+    -------
+    (4, 4) float64
+        ``T``, checked rigid with a proper rotation (tolerance ``morphkit.tol.POSE_ORTHO``).
+    """
     arr = as_finite_array(T, name, shape=(4, 4))
     R = arr[:3, :3]
     if not np.allclose(arr[3], [0, 0, 0, 1], atol=tol.POSE_ORTHO) or not np.allclose(
@@ -160,7 +255,20 @@ def as_pose(T: Any, name: str) -> np.ndarray:
 
 
 def as_positive(v: Any, name: str) -> float:
-    """Return ``v`` as a finite float > 0."""
+    """Return ``v`` as a finite float > 0.
+
+    Parameters
+    ----------
+    v : Any
+        The value to check.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    float
+        ``v`` as a float.
+    """
     try:
         f = float(v)
     except (TypeError, ValueError) as exc:
@@ -171,7 +279,20 @@ def as_positive(v: Any, name: str) -> float:
 
 
 def as_unit_interval(v: Any, name: str) -> float:
-    """Return ``v`` as a float in ``[0, 1]``."""
+    """Return ``v`` as a float in ``[0, 1]``.
+
+    Parameters
+    ----------
+    v : Any
+        The value to check.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    float
+        ``v`` as a float.
+    """
     try:
         f = float(v)
     except (TypeError, ValueError) as exc:

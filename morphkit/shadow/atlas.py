@@ -116,6 +116,28 @@ class ShadowAtlas:
 
     Build with :func:`bake_atlas`; save with :meth:`save`, load with :meth:`load`.
 
+    Parameters
+    ----------
+    rig : morphkit.shadow.rig.LightRig
+        The light, object and motion range the maps were rendered for.
+    xs, ys : (kx,) and (ky,) float64
+        Sample positions of the object's ground translation along x and y
+        (world units, ascending).
+    maps : (ky, kx, H, W) float32
+        Light-view linear depth maps, ``+inf`` background.
+    anchors : (ky, kx, N, 3) float64
+        Each map's control points lifted to 3-D, world frame, with the object
+        at translation ``(0, 0)``.
+    plane_anchors : (ky, kx, N, 3) float64
+        The same control points lifted onto the plane through the object's
+        anchor depth (the fold fallback).
+    control_grid : (rows, cols)
+        Control points per map, ``N = rows * cols``.
+    anchor_kind : {"sample", "shared", "plane"}
+        How the anchors were lifted (:func:`bake_atlas`).
+    _warpers, _tex, _split, _touching, _support, _layers : dict
+        Run-time caches; leave them out (they start empty).
+
     Attributes
     ----------
     fallbacks : int
@@ -184,7 +206,20 @@ class ShadowAtlas:
         return T
 
     def project(self, xy: Any, anchors: np.ndarray) -> np.ndarray:
-        """Pixel positions ``(N, 2)`` of ``anchors (N, 3)`` with the object at ``xy``."""
+        """Pixel positions ``(N, 2)`` of ``anchors (N, 3)`` with the object at ``xy``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        anchors : (N, 3) float64
+            Points in world frame at translation ``(0, 0)``.
+
+        Returns
+        -------
+        (N, 2) float64
+            Their pixel positions in the light camera at ``xy``.
+        """
         xy = np.asarray(xy, dtype=np.float64)
         T = self._texture(xy)
         q = (anchors + np.r_[xy, 0.0]) @ T[:, :3].T + T[:, 3]
@@ -197,7 +232,20 @@ class ShadowAtlas:
         change), the offending vertices are pulled towards their plane-anchor
         positions (``plane + a (surface - plane)``, ``a`` halved per round) until
         no triangle folds: exact motion everywhere else, a projective motion at
-        the fold."""
+        the fold.
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices (row in ``ys``, column in ``xs``).
+        eq : (2,) float
+            The object's ground translation (world units).
+
+        Returns
+        -------
+        (N, 2) float64
+            Destination control points, pixels of the light camera at ``eq``.
+        """
         surf = self.project(eq, self.anchors[j, i])
         if self.anchor_kind == "plane":
             return surf
@@ -213,26 +261,70 @@ class ShadowAtlas:
         return dst if rounds > 0 else plane
 
     def warper(self, j: int, i: int) -> MeshWarper:
-        """The :class:`~morphkit.warp.MeshWarper` of map ``(j, i)``'s control points (cached)."""
+        """The :class:`~morphkit.warp.MeshWarper` of map ``(j, i)``'s control points (cached).
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices.
+
+        Returns
+        -------
+        morphkit.warp.MeshWarper
+            The warper over the map's control points and ``triangles``.
+        """
         w = self._warpers.get((j, i))
         if w is None:
             w = self._warpers[(j, i)] = MeshWarper(self.control[j, i], self.triangles)
         return w
 
     def anchor_depth(self, xy: Any) -> float:
-        """Light depth of the object's anchor (bounding-box centre) at ``xy``."""
+        """Light depth of the object's anchor (bounding-box centre) at ``xy``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+
+        Returns
+        -------
+        float
+            Depth of the anchor in the light camera at ``xy``.
+        """
         T = self._texture(xy)
         return float(T[2, :3] @ (self.rig.anchor0 + np.r_[np.asarray(xy, float), 0.0]) + T[2, 3])
 
     def active_triangles(self, j: int, i: int) -> np.ndarray:
-        """Triangles of map ``(j, i)``'s mesh whose source holds the object (cached)."""
+        """Triangles of map ``(j, i)``'s mesh whose source holds the object (cached).
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices.
+
+        Returns
+        -------
+        (M,) bool
+            True for the triangles of ``triangles`` to warp.
+        """
         a = self._touching.get((j, i))
         if a is None:
             a = self._touching[(j, i)] = self.warper(j, i).triangles_touching(self.source_planes(j, i)[0])
         return a
 
     def source_planes(self, j: int, i: int) -> np.ndarray:
-        """Map ``(j, i)`` as coverage-depth planes ``(2, H, W)`` relative to its anchor depth (cached)."""
+        """Map ``(j, i)`` as coverage-depth planes ``(2, H, W)`` relative to its anchor depth (cached).
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices.
+
+        Returns
+        -------
+        (2, H, W) float32
+            Coverage and depth planes (:func:`morphkit.shadow.planes.depth_planes`).
+        """
         s = self._split.get((j, i))
         if s is None:
             ref = self.anchor_depth((self.xs[i], self.ys[j]))
@@ -240,7 +332,18 @@ class ShadowAtlas:
         return s
 
     def cell(self, xy: np.ndarray) -> tuple[int, int, float, float]:
-        """``(j, i, v, u)``: the cell's lower sample indices and the fractions in it."""
+        """``(j, i, v, u)``: the cell's lower sample indices and the fractions in it.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+
+        Returns
+        -------
+        tuple
+            ``(j, i, v, u)``: ints, then fractions in ``[0, 1]`` (clamped).
+        """
         i = int(np.clip(np.searchsorted(self.xs, xy[0], side="right") - 1, 0, len(self.xs) - 2))
         j = int(np.clip(np.searchsorted(self.ys, xy[1], side="right") - 1, 0, len(self.ys) - 2))
         u = float((xy[0] - self.xs[i]) / (self.xs[i + 1] - self.xs[i]))
@@ -268,6 +371,30 @@ class ShadowAtlas:
         each: ``morphkit bench shadows`` and ``docs/RESULTS.md``.
 
         Returns ``(depth (H, W) float32 with +inf background, camera)``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane (None: none).
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+        warps : {"composed", "three", "reproject"}
+            The algorithm (above).
+        dst : {"project", "interpolate"}
+            How destination control points are made.
+        blend : {"bilinear", "nearest"}
+            Blend of the cell's samples.
+        layers : bool
+            Reproject hidden layers (``warps="reproject"`` only).
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
         """
         return self.method(warps=warps, dst=dst, blend=blend, layers=layers).shadow_map(
             xy, light_offset=light_offset, clamp=clamp)
@@ -282,6 +409,16 @@ class ShadowAtlas:
 
         The object is built once per set of options and kept (it holds the
         run-time buffers); one object serves one thread at a time.
+
+        Parameters
+        ----------
+        warps, dst, blend, layers
+            As in :meth:`shadow_map`.
+
+        Returns
+        -------
+        morphkit.shadow.method.ShadowMethod
+            The method object (cached per option set).
 
         Raises
         ------
@@ -299,7 +436,20 @@ class ShadowAtlas:
         return m
 
     def reprojection_source(self, j: int, i: int) -> tuple[Source, CameraModel]:
-        """Map ``(j, i)`` as a reprojection source, and its camera (cached)."""
+        """Map ``(j, i)`` as a reprojection source, and its camera (cached).
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices.
+
+        Returns
+        -------
+        source : morphkit.shadow.reproject.Source
+            The prepared map.
+        camera : morphkit.camera.CameraModel
+            The light camera at that sample.
+        """
         prep = self._support.get((j, i))
         if prep is None:
             prep = self._support[(j, i)] = (
@@ -310,7 +460,20 @@ class ShadowAtlas:
                       ) -> Reprojection:
         """How a map of ``src_cam`` moves into ``dst_cam`` with the object moved by
         ``dxy`` on the ground: ``e = R^T d`` in the light frame; a directional
-        light's camera moves with the object (rig model), so there ``e = 0``."""
+        light's camera moves with the object (rig model), so there ``e = 0``.
+
+        Parameters
+        ----------
+        src_cam, dst_cam : morphkit.camera.CameraModel
+            Light cameras of the source map and of the destination.
+        dxy : (2,) float
+            Object translation from the source to the destination (world units).
+
+        Returns
+        -------
+        morphkit.shadow.reproject.Reprojection
+            The per-pixel motion.
+        """
         persp = dst_cam.projection == "perspective"
         e = self.rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
         return Reprojection(persp, self.rig.fx, self.rig.fy, (src_cam.cx, src_cam.cy),
@@ -318,7 +481,18 @@ class ShadowAtlas:
 
     def hidden_layer(self, primary: tuple[int, int], other: tuple[int, int]) -> Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
-        :func:`morphkit.shadow.reproject.hidden_layer`)."""
+        :func:`morphkit.shadow.reproject.hidden_layer`).
+
+        Parameters
+        ----------
+        primary, other : (j, i)
+            Sample indices of the two maps.
+
+        Returns
+        -------
+        morphkit.shadow.reproject.Layer
+            ``other``'s hidden layer, in ``primary``'s pixels.
+        """
         lay = self._layers.get((primary, other))
         if lay is None:
             (jk, ik), (jn, i_n) = primary, other
@@ -332,7 +506,13 @@ class ShadowAtlas:
         """Build now what ``warps="reproject"`` otherwise builds on first use:
         every map as a reprojection source and the hidden layer of every pair
         of samples that share a cell. Returns the seconds it took (``morphkit
-        bench shadows`` reports it as ``prep_ms``)."""
+        bench shadows`` reports it as ``prep_ms``).
+
+        Returns
+        -------
+        float
+            Seconds spent.
+        """
         t0 = time.perf_counter()
         ky, kx = self.grid
         for j in range(ky):
@@ -352,7 +532,27 @@ class ShadowAtlas:
              ) -> tuple[Any, np.ndarray, np.ndarray, float]:
         """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
         ``c_dst`` (:func:`morphkit.warp.accumulate_warps`): premultiplied, and only
-        the triangles whose source holds the object are warped (the rest add 0)."""
+        the triangles whose source holds the object are warped (the rest add 0).
+
+        Parameters
+        ----------
+        j, i : int
+            The source map's sample indices.
+        c_dst : (N, 2) float64
+            Destination control points, pixels.
+        eq : (2,) float
+            The object's ground translation (for the plane fallback).
+        weight : float
+            Blend weight of this source.
+
+        Returns
+        -------
+        tuple
+            ``(plan, source, active, weight)``: the
+            ``morphkit.warp.Accumulation`` or ``morphkit.warp.WarpMaps`` plan, the
+            source planes ``(2, H, W)`` float32, the ``(M,)`` bool triangles to warp
+            and ``weight``.
+        """
         src = self.source_planes(j, i)
         warper = self.warper(j, i)
         try:
@@ -369,7 +569,18 @@ class ShadowAtlas:
 
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
-        """Write the atlas to one ``.npz`` file, atomically (:func:`morphkit.shadow.atlasfile.save_atlas`)."""
+        """Write the atlas to one ``.npz`` file, atomically (:func:`morphkit.shadow.atlasfile.save_atlas`).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The ``.npz`` file to write.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
         from .atlasfile import save_atlas
 
         return save_atlas(self, path)
@@ -377,7 +588,20 @@ class ShadowAtlas:
     @classmethod
     def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
              ) -> ShadowAtlas:
-        """Read an atlas written by :meth:`save` (:func:`morphkit.shadow.atlasfile.load_atlas`)."""
+        """Read an atlas written by :meth:`save` (:func:`morphkit.shadow.atlasfile.load_atlas`).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The ``.npz`` file.
+        light : DirectionalLight or PointLight, optional
+            A light replacing the saved one (must be the same kind).
+
+        Returns
+        -------
+        ShadowAtlas
+            The atlas.
+        """
         from .atlasfile import load_atlas
 
         return load_atlas(path, light=light)
@@ -392,6 +616,18 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
 
     Parameters
     ----------
+    mesh : trimesh.Trimesh
+        The occluder, object frame.
+    base_pose : (4, 4) float
+        ``object2world`` at translation ``(0, 0)``.
+    motion : morphkit.shadow.rig.MotionRange
+        The ground translations the atlas covers (world units).
+    light : DirectionalLight or PointLight
+        The light.
+    shape : (H, W)
+        Size of each depth map.
+    margin : float
+        Extra border of the light view around the object, a fraction of its size.
     renderer : morphkit.render.Renderer
         The rendering boundary (passed in, so this module needs no GL itself).
     grid : int or (ky, kx)
@@ -408,6 +644,11 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         Evenly spaced samples even for odd ``grid`` (the image-based baseline).
     progress : bool
         Show a progress bar on a terminal (tqdm; silent when not a TTY).
+
+    Returns
+    -------
+    ShadowAtlas
+        The atlas.
 
     Raises
     ------

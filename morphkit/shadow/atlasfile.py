@@ -52,14 +52,38 @@ _ANCHOR_KINDS = ("sample", "shared", "plane")
 
 
 def array_digest(a: np.ndarray) -> str:
-    """SHA-256 (hex) of an array's bytes in C order (the checksum stored per array)."""
+    """SHA-256 (hex) of an array's bytes in C order (the checksum stored per array).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Any array.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
     return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
 
 
 def save_atlas(atlas: ShadowAtlas, path: str | Path) -> Path:
     """Write ``atlas`` to one ``.npz`` file (maps, anchors, grid, light, range, rig, version,
     and each array's dtype, shape and SHA-256), atomically (:mod:`morphkit.fileio`: an
-    interrupted save leaves the file that was there)."""
+    interrupted save leaves the file that was there).
+
+    Parameters
+    ----------
+    atlas : morphkit.shadow.atlas.ShadowAtlas
+        The atlas.
+    path : str or pathlib.Path
+        The ``.npz`` file to write; its folder must exist.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     arrays = {"xs": atlas.xs, "ys": atlas.ys, "maps": atlas.maps, "anchors": atlas.anchors,
               "plane_anchors": atlas.plane_anchors, "control": atlas.control,
@@ -151,14 +175,37 @@ def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None 
 
 
 def light_to_dict(light: DirectionalLight | PointLight) -> dict[str, Any]:
-    """The light as the atlas file stores it (JSON types; rounded to 12 digits)."""
+    """The light as the atlas file stores it (JSON types; rounded to 12 digits).
+
+    Parameters
+    ----------
+    light : DirectionalLight or PointLight
+        The light (direction or position in world frame).
+
+    Returns
+    -------
+    dict
+        ``{"type": "directional", "direction": [x, y, z]}`` or
+        ``{"type": "point", "position": [x, y, z]}``.
+    """
     if isinstance(light, DirectionalLight):
         return {"type": "directional", "direction": [round(float(v), 12) for v in light.direction]}
     return {"type": "point", "position": [round(float(v), 12) for v in light.position]}
 
 
 def light_from_dict(d: Any) -> DirectionalLight | PointLight:
-    """The light of :func:`light_to_dict`'s dict, checked (:class:`FileFormatError` if not one)."""
+    """The light of :func:`light_to_dict`'s dict, checked (:class:`FileFormatError` if not one).
+
+    Parameters
+    ----------
+    d : Any
+        The value read from the file.
+
+    Returns
+    -------
+    DirectionalLight or PointLight
+        The light.
+    """
     if not isinstance(d, dict):
         raise FileFormatError(expected_got("atlas light", "an object", repr(d)[:80]))
     kind = d.get("type")

@@ -34,7 +34,17 @@ __all__ = ["DirectShadow", "ImageBasedShadow"]
 
 
 class DirectShadow:
-    """Re-render the light depth map at the exact position (``direct``)."""
+    """Re-render the light depth map at the exact position (``direct``).
+
+    Parameters
+    ----------
+    rig : morphkit.shadow.rig.LightRig
+        Light, object and motion range.
+    mesh : trimesh.Trimesh
+        The occluder, object frame.
+    renderer : morphkit.render.Renderer
+        Renders the depth maps.
+    """
 
     name = "direct"
     memory_bytes = 0
@@ -44,13 +54,38 @@ class DirectShadow:
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
+        """
         _eq, pos, cam = self.rig.resolve(xy, light_offset, clamp=clamp)
         return self.renderer.depth(cam, [Item(self.mesh, self.rig.object_pose(pos))]), cam
 
 
 class ImageBasedShadow:
-    """A dense grid of pre-rendered maps: nearest map, or a 4-neighbour blend."""
+    """A dense grid of pre-rendered maps: nearest map, or a 4-neighbour blend.
+
+    Parameters
+    ----------
+    atlas : morphkit.shadow.atlas.ShadowAtlas
+        A dense atlas of plane-anchored maps (:meth:`bake`).
+    mode : {"nearest", "blend"}
+        Nearest sample's map, or the bilinear blend of the cell's four.
+    """
 
     def __init__(self, atlas: ShadowAtlas, mode: Literal["nearest", "blend"] = "nearest") -> None:
         if mode not in ("nearest", "blend"):
@@ -63,7 +98,34 @@ class ImageBasedShadow:
              shape: tuple[int, int], *, renderer: SceneRenderer, grid: int = 32,
              mode: Literal["nearest", "blend"] = "nearest", progress: bool = True
              ) -> ImageBasedShadow:
-        """Render a uniform ``grid x grid`` set of maps (even spacing, ends included)."""
+        """Render a uniform ``grid x grid`` set of maps (even spacing, ends included).
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The occluder, object frame.
+        base_pose : (4, 4) float
+            ``object2world`` at translation ``(0, 0)``.
+        motion : morphkit.shadow.rig.MotionRange
+            The ground translations covered (world units).
+        light : DirectionalLight or PointLight
+            The light.
+        shape : (H, W)
+            Size of each map.
+        renderer : morphkit.render.Renderer
+            Renders the maps.
+        grid : int
+            Samples per axis.
+        mode : {"nearest", "blend"}
+            As in the constructor.
+        progress : bool
+            Show a progress bar on a terminal.
+
+        Returns
+        -------
+        ImageBasedShadow
+            The baseline.
+        """
         atlas = bake_atlas(mesh, base_pose, motion, light, shape, renderer=renderer,
                            grid=(grid, grid), anchors="plane", control_grid=(2, 2),
                            uniform=True, progress=progress)
@@ -81,7 +143,24 @@ class ImageBasedShadow:
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
+        """
         a = self.atlas
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)

@@ -14,7 +14,20 @@ def silhouette_box(depth: np.ndarray, margin: float = 0.06) -> tuple[float, floa
     """``(x0, y0, x1, y1)``: the bounding box of a map's covered pixels, grown by
     ``margin`` of the map size (at least 2 px) and clipped to the map; the whole
     map when nothing is covered. Control grids span it: the warp's work and its
-    resolution go where the shadow is."""
+    resolution go where the shadow is.
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Light-view linear depth, ``+inf`` background.
+    margin : float
+        Growth, a fraction of the map's width (x) and height (y).
+
+    Returns
+    -------
+    tuple of float
+        ``(x0, y0, x1, y1)`` in pixels.
+    """
     h, w = depth.shape
     rows = np.flatnonzero(np.isfinite(depth).any(1))
     cols = np.flatnonzero(np.isfinite(depth).any(0))
@@ -31,7 +44,26 @@ def anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fal
     beyond the silhouette by the nearest object depth (so the depth field, and
     with it the parallax of the control points, is continuous across the
     silhouette), blurred with a Gaussian of ``smooth`` grid spacings (so depth
-    jumps inside the object, e.g. seat/legs, do not fold the mesh)."""
+    jumps inside the object, e.g. seat/legs, do not fold the mesh).
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Light-view linear depth, ``+inf`` background.
+    pts : (N, 2) float
+        Grid points ``(x, y)``, pixels inside the map.
+    grid : (rows, cols)
+        The grid's layout (``N = rows * cols``).
+    fallback : float
+        Depth of every anchor when nothing is covered.
+    smooth : float
+        Blur, in grid spacings (0: none).
+
+    Returns
+    -------
+    (N,) float64
+        Light-view depths.
+    """
     cov = np.isfinite(depth)
     if not cov.any():
         return np.full(len(pts), fallback)
@@ -45,7 +77,22 @@ def anchor_depths(depth: np.ndarray, pts: np.ndarray, grid: tuple[int, int], fal
 
 
 def lift(cam: CameraModel, pts: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """World points at pixel ``pts`` and depth ``z`` of ``cam``."""
+    """World points at pixel ``pts`` and depth ``z`` of ``cam``.
+
+    Parameters
+    ----------
+    cam : morphkit.camera.CameraModel
+        The camera (perspective or orthographic).
+    pts : (N, 2) float
+        Pixel positions ``(x, y)``.
+    z : (N,) float
+        Depths along the camera axis.
+
+    Returns
+    -------
+    (N, 3) float64
+        Points, world frame.
+    """
     X = (pts[:, 0] - cam.cx) / cam.fx
     Y = (pts[:, 1] - cam.cy) / cam.fy
     if cam.projection == "perspective":

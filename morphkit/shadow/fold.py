@@ -59,7 +59,24 @@ def folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: f
 
 def any_folded_numpy(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                       ) -> bool:
-    """Whether any triangle folds (:func:`folded_numpy`; same parameters); the numpy reference."""
+    """Whether any triangle folds (:func:`folded_numpy`; same parameters); the numpy reference.
+
+    Parameters
+    ----------
+    pts : (N, 2) float
+        Vertex positions (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+
+    Returns
+    -------
+    bool
+        True when some triangle folds.
+    """
     return bool(folded_numpy(pts, tri, sign, min_area).any())
 
 
@@ -69,7 +86,30 @@ def relax_folds_numpy(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign
     ``out = plane + a (surf - plane)`` with ``a`` halved per round for every vertex
     of a folded triangle, until nothing folds. Returns the number of rounds taken,
     negated when ``rounds`` did not suffice (``out`` is then meaningless).
-    This is the reference for the compiled :func:`relax_folds_python`."""
+    This is the reference for the compiled :func:`relax_folds_python`.
+
+    Parameters
+    ----------
+    surf : (N, 2) float64
+        Destination positions from the surface anchors (pixels).
+    plane : (N, 2) float64
+        Destination positions from the plane anchors (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+    rounds : int
+        Most halvings tried.
+    out : (N, 2) float64
+        Filled with the relaxed positions.
+
+    Returns
+    -------
+    int
+        Rounds taken, or ``-rounds`` when they did not suffice.
+    """
     alpha = np.ones(len(surf))
     bad = folded_numpy(surf, tri, sign, min_area)
     for k in range(rounds):
@@ -92,7 +132,24 @@ def _tri_folded(p: np.ndarray, tri: np.ndarray, sign: np.ndarray, t: int, min_ar
 
 def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float
                      ) -> bool:
-    """Whether any triangle folds (:func:`folded_numpy`; same parameters), stopping at the first."""
+    """Whether any triangle folds (:func:`folded_numpy`; same parameters), stopping at the first.
+
+    Parameters
+    ----------
+    pts : (N, 2) float
+        Vertex positions (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+
+    Returns
+    -------
+    bool
+        True when some triangle folds.
+    """
     for t in range(tri.shape[0]):
         if _tri_folded(pts, tri, sign, t, min_area):
             return True
@@ -101,7 +158,28 @@ def _any_folded_loop(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_are
 
 def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
                 min_area: float, rounds: int, out: np.ndarray) -> int:
-    """:func:`relax_folds_numpy` as loops, for numba (same parameters and result)."""
+    """:func:`relax_folds_numpy` as loops, for numba (same parameters and result).
+
+    Parameters
+    ----------
+    surf, plane : (N, 2) float64
+        Surface- and plane-anchor destination positions (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+    rounds : int
+        Most halvings tried.
+    out : (N, 2) float64
+        Filled with the relaxed positions.
+
+    Returns
+    -------
+    int
+        Rounds taken, or ``-rounds`` when they did not suffice.
+    """
     n, m = surf.shape[0], tri.shape[0]
     alpha = np.ones(n)
     mark = np.zeros(n, np.bool_)
@@ -126,8 +204,44 @@ def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sig
 
 
 #: Whether a destination mesh folds (compiled, or the numpy reference).
+#:
+#: Parameters
+#: ----------
+#: pts : (N, 2) float
+#:     Vertex positions (pixels).
+#: tri : (M, 3) int
+#:     Vertex indices per triangle.
+#: sign : (M,) float
+#:     Orientation each triangle must keep.
+#: min_area : float
+#:     Smallest absolute doubled area that counts as a triangle.
+#:
+#: Returns
+#: -------
+#: bool
+#:     True when some triangle folds.
 any_folded = any_folded_numpy
 #: The fold relaxation (compiled, or the numpy reference :func:`relax_folds_numpy`).
+#:
+#: Parameters
+#: ----------
+#: surf, plane : (N, 2) float64
+#:     Surface- and plane-anchor destination positions (pixels).
+#: tri : (M, 3) int
+#:     Vertex indices per triangle.
+#: sign : (M,) float
+#:     Orientation each triangle must keep.
+#: min_area : float
+#:     Smallest absolute doubled area that counts as a triangle.
+#: rounds : int
+#:     Most halvings tried.
+#: out : (N, 2) float64
+#:     Filled with the relaxed positions.
+#:
+#: Returns
+#: -------
+#: int
+#:     Rounds taken, or ``-rounds`` when they did not suffice.
 relax_folds = relax_folds_numpy
 if COMPILED:
     _tri_folded = compile_kernel(_tri_folded)

@@ -42,6 +42,26 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     ``facing`` (bool: visible points whose normal faces the light, the pixels
     where a shadow changes the image; on the others diffuse light is zero anyway).
 
+    Parameters
+    ----------
+    renderer : morphkit.protocols.SceneRenderer
+        Renders the colour and depth images.
+    scene : morphkit.scene.Scene
+        Camera, light, receiver and object.
+    visibility : callable
+        ``visibility(points (N, 3) world frame, normals (N, 3)) -> (N,)`` values
+        in ``[0, 1]``.
+    receiver_only : bool
+        Test only the receiver's pixels (the object's own pixels stay lit).
+    background : (3,) float
+        Background RGB in ``[0, 1]``.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        The images named above, each ``(H, W)`` or ``(H, W, 3)`` of the scene
+        camera.
+
     Raises
     ------
     ValidationError
@@ -103,7 +123,24 @@ def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, Sha
                    ) -> dict[str, dict[str, np.ndarray]]:
     """Frames of ``scene`` with its object at ``xy``, shadowed by each method's
     shadow map (``method.shadow_map(xy) -> (depth, light_cam)``) and by the ray-cast
-    ground truth (key ``"raycast"``)."""
+    ground truth (key ``"raycast"``).
+
+    Parameters
+    ----------
+    renderer : morphkit.protocols.SceneRenderer
+        Renders the frames.
+    scene : morphkit.scene.Scene
+        The scene; its object is moved to ``xy``.
+    methods : dict of str to morphkit.shadow.method.ShadowMethod
+        The shadow methods, by name.
+    xy : (2,) float
+        The object's ground translation (world units).
+
+    Returns
+    -------
+    dict of str to dict
+        Per method name (and ``"raycast"``), the images of :func:`render_frame`.
+    """
     from ..groundtruth import hard_visibility
 
     pose = scene.obj.pose.copy()

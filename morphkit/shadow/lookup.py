@@ -41,7 +41,17 @@ __all__ = ["ShadowBias", "shadow_visibility", "normals_from_points", "check_dept
 
 @dataclass(frozen=True)
 class ShadowBias:
-    """Depth-comparison bias in units of one texel's world size (see module doc)."""
+    """Depth-comparison bias in units of one texel's world size (see module doc).
+
+    Parameters
+    ----------
+    constant : float
+        Constant term, in texel world sizes (``bias`` formula in the module docstring).
+    slope : float
+        Factor of ``min(tan(theta), max_tan)``, in texel world sizes.
+    max_tan : float
+        Cap on ``tan(theta)`` (grazing light).
+    """
 
     constant: float = 1.0
     slope: float = 1.0
@@ -54,7 +64,20 @@ def normals_from_points(points: np.ndarray, valid: np.ndarray) -> np.ndarray:
 
     Oriented towards the camera that produced the grid: with image ``x`` right
     and ``y`` down (:mod:`morphkit.conventions`), ``d/dy x d/dx`` points at the
-    viewer, as the normal of a visible surface does."""
+    viewer, as the normal of a visible surface does.
+
+    Parameters
+    ----------
+    points : (H, W, 3) float
+        World points per pixel.
+    valid : (H, W) bool
+        Pixels that hold a point.
+
+    Returns
+    -------
+    (H, W, 3) float32
+        Unit normals, world frame.
+    """
     p = np.asarray(points, dtype=np.float32)
     dx = np.zeros_like(p)
     dy = np.zeros_like(p)
@@ -75,16 +98,25 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
                       ) -> np.ndarray:
     """Visibility ``(N,)`` float32 (1 lit, 0 shadowed) of world ``points (N, 3)``.
 
+    Only points that project into the map's window are tested (the rest are lit).
+
     Parameters
     ----------
+    points : (N, 3) float
+        Points to test, world frame.
     depth_map : (H, W) float32
         Light-view linear depth of the occluder, ``+inf`` where empty.
     light_cam : CameraModel
         The camera ``depth_map`` was made with.
     normals : (N, 3), optional
         Unit surface normals for the slope term of the bias (zero rows: no slope info).
+    bias : ShadowBias, optional
+        Depth-comparison bias (None: the defaults).
 
-    Only points that project into the map's window are tested (the rest are lit).
+    Returns
+    -------
+    (N,) float32
+        1 where lit, 0 where shadowed.
 
     Raises
     ------
@@ -107,7 +139,22 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
 
 def check_depth_map(depth_map: np.ndarray, shape: tuple[int, int], name: str = "depth_map") -> np.ndarray:
     """Return ``depth_map`` if it is a float32/float64 ``shape`` array of depths that are
-    finite or ``+inf`` (empty texels); otherwise raise :class:`~morphkit.errors.ValidationError`."""
+    finite or ``+inf`` (empty texels); otherwise raise :class:`~morphkit.errors.ValidationError`.
+
+    Parameters
+    ----------
+    depth_map : (H, W) float32 or float64
+        Linear depth, ``+inf`` background.
+    shape : (H, W)
+        The shape it must have.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    (H, W) numpy.ndarray
+        ``depth_map`` itself.
+    """
     if not isinstance(depth_map, np.ndarray):
         raise ValidationError(expected_got(name, "a numpy array", type(depth_map).__name__))
     if depth_map.dtype not in (np.float32, np.float64):

@@ -33,6 +33,11 @@ __all__ = ["ShadowMethod", "AtlasMethodBase", "bilinear_weights"]
 class ShadowMethod(Protocol):
     """A source of light depth maps for an object moving over a plane.
 
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol describes objects, it is not instantiated.
+
     Attributes
     ----------
     name : str
@@ -82,7 +87,13 @@ class ShadowMethod(Protocol):
 
 
 class AtlasMethodBase:
-    """What the shadow methods of an atlas share: the atlas, its rig and its persisted bytes."""
+    """What the shadow methods of an atlas share: the atlas, its rig and its persisted bytes.
+
+    Parameters
+    ----------
+    atlas : morphkit.shadow.atlas.ShadowAtlas
+        The baked atlas.
+    """
 
     name = "warp"
 

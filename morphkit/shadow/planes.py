@@ -26,6 +26,18 @@ def depth_planes(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
     never mixed with the background. ``ref`` (the object's anchor depth) makes
     depth relative, so that the same source serves every position (the depth
     model shifts all of an object's depths by the same amount).
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+    ref : float
+        Reference depth subtracted from the object's depths.
+
+    Returns
+    -------
+    (2, H, W) float32
+        Coverage, then coverage times relative depth.
     """
     cov = np.isfinite(depth)
     out = np.zeros((2, *depth.shape), np.float32)
@@ -36,7 +48,17 @@ def depth_planes(depth: np.ndarray, ref: float = 0.0) -> np.ndarray:
 
 def add_planes(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndarray], weight: float
            ) -> None:
-    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``)."""
+    """``acc[:, roi] += weight * pixels`` for a ``(roi, pixels)`` pair (planes ``(2, h, w)``).
+
+    Parameters
+    ----------
+    acc : (2, H, W) float32
+        Accumulator, updated in place.
+    warped : tuple
+        ``((r0, r1, c0, c1), pixels (2, r1 - r0, c1 - c0) float32)``.
+    weight : float
+        Weight of ``pixels``.
+    """
     (r0, r1, c0, c1), px = warped
     if px.size == 0:
         return
@@ -48,7 +70,26 @@ def add_planes(acc: np.ndarray, warped: tuple[tuple[int, int, int, int], np.ndar
 def warp_planes(src: np.ndarray, src_pts: np.ndarray, dst_pts: np.ndarray,
                  triangles: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """``(2, H, W)``: the premultiplied planes of ``src`` warped from ``src_pts`` to
-    ``dst_pts`` (0 outside)."""
+    ``dst_pts`` (0 outside).
+
+    Parameters
+    ----------
+    src : (2, h, w) float32
+        Premultiplied planes (:func:`depth_planes`).
+    src_pts : (N, 2) float
+        Control points in ``src``, pixels.
+    dst_pts : (N, 2) float
+        Their destinations, pixels.
+    triangles : (M, 3) int
+        The control mesh's triangles.
+    shape : (H, W)
+        Output size.
+
+    Returns
+    -------
+    (2, H, W) float32
+        The warped planes.
+    """
     warper = MeshWarper(src_pts, triangles)
     out = np.zeros((2, *shape), np.float32)
     accumulate_warps([(warper.accumulation(dst_pts, shape), src,
@@ -87,7 +128,24 @@ def planes_to_depth(acc: np.ndarray, ref: float, roi: tuple[int, int, int, int] 
     """Depth from premultiplied blended channels: ``cov * depth / cov + ref``, and
     ``+inf`` where the blended coverage is below 0.5 (one compiled pass); only
     over ``roi = (r0, r1, c0, c1)`` when given (``acc`` must be 0 elsewhere).
-    ``clear``: set the ``acc`` it read back to 0 in the same pass."""
+    ``clear``: set the ``acc`` it read back to 0 in the same pass.
+
+    Parameters
+    ----------
+    acc : (2, H, W) float32
+        Blended premultiplied planes.
+    ref : float
+        Reference depth added back.
+    roi : (r0, r1, c0, c1), optional
+        Region to convert (None: all).
+    clear : bool
+        Zero ``acc`` where read.
+
+    Returns
+    -------
+    (H, W) float32
+        Linear depth, ``+inf`` background.
+    """
     h, w = acc.shape[1:]
     r0, r1, c0, c1 = (0, h, 0, w) if roi is None else roi
     out = np.full((h, w), np.inf, np.float32)

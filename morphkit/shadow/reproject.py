@@ -183,7 +183,20 @@ class Reprojection:
 
     def move(self, x: np.ndarray, y: np.ndarray, z: np.ndarray
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Destination ``(x', y', z')`` of source pixels ``(x, y)`` at depths ``z`` (numpy)."""
+        """Destination ``(x', y', z')`` of source pixels ``(x, y)`` at depths ``z`` (numpy).
+
+        Parameters
+        ----------
+        x, y : array of float64
+            Source pixel positions (pixel-centre convention of :mod:`morphkit.conventions`).
+        z : array of float64, same shape
+            Their depths in the source camera (``+inf`` background).
+
+        Returns
+        -------
+        x, y, z : arrays of float64, same shape
+            Destination pixel positions and depths.
+        """
         fx, fy, cxs, cys, cxd, cyd, ex, ey, ez = self.params
         s = z if self.perspective else np.ones_like(z)
         zd = z + ez
@@ -195,7 +208,18 @@ class Reprojection:
 
 
 def support_box(depth: np.ndarray) -> tuple[int, int, int, int]:
-    """``(r0, r1, c0, c1)``: the bounding box of a map's object (finite) pixels."""
+    """``(r0, r1, c0, c1)``: the bounding box of a map's object (finite) pixels.
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+
+    Returns
+    -------
+    tuple of int
+        ``(r0, r1, c0, c1)``, ``(0, 0, 0, 0)`` when the map is empty.
+    """
     fin = np.isfinite(depth)
     rows = np.flatnonzero(fin.any(1))
     if rows.size == 0:
@@ -206,7 +230,20 @@ def support_box(depth: np.ndarray) -> tuple[int, int, int, int]:
 
 def row_spans(depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``spans (H, 2)`` int64: each row's first and last + 1 object column (``(0, 0)``:
-    none); ``cum (H + 1,)``: object pixels in the rows above each row (band splits)."""
+    none); ``cum (H + 1,)``: object pixels in the rows above each row (band splits).
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+
+    Returns
+    -------
+    spans : (H, 2) int64
+        Each row's object columns ``[first, last + 1)``.
+    cum : (H + 1,) int64
+        Object pixels above each row.
+    """
     fin = np.isfinite(depth)
     h, w = fin.shape
     any_ = fin.any(1)
@@ -219,7 +256,18 @@ def row_spans(depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def row_depth_range(depth: np.ndarray) -> np.ndarray:
     """``(H, 2)`` float64: each row's smallest and largest object (finite) depth,
-    ``(+inf, -inf)`` for a row without one."""
+    ``(+inf, -inf)`` for a row without one.
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+
+    Returns
+    -------
+    (H, 2) float64
+        Per row, the smallest and largest object depth.
+    """
     fin = np.isfinite(depth)
     d = depth.astype(np.float64)
     return np.stack([np.where(fin, d, np.inf).min(1), np.where(fin, d, -np.inf).max(1)], 1)
@@ -227,7 +275,18 @@ def row_depth_range(depth: np.ndarray) -> np.ndarray:
 
 def orphans(depth: np.ndarray) -> np.ndarray:
     """``(K, 2)`` int64 ``(row, col)`` of object pixels in no quad that has 3 or more
-    object pixels (they belong to no triangle and are drawn as points)."""
+    object pixels (they belong to no triangle and are drawn as points).
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+
+    Returns
+    -------
+    (K, 2) int64
+        ``(row, col)`` of the orphan pixels.
+    """
     fin = np.isfinite(depth)
     h, w = fin.shape
     q = np.zeros((h + 1, w + 1), np.int8)  # object pixels per quad, padded by one quad
@@ -551,7 +610,22 @@ def reproject_numpy(src: np.ndarray, rp: Reprojection, zbuf: np.ndarray, *,
     z-buffer minimum is taken with ``np.minimum.at``. An independent reference
     (tests compare the two) and the fallback without numba. ``quads``
     (``(H - 1, W - 1)`` bool): draw only those quads, and no orphan points (a
-    :class:`Layer`)."""
+    :class:`Layer`).
+
+    Parameters
+    ----------
+    src : (h, w) float32
+        Source map, linear depth, ``+inf`` background.
+    rp : Reprojection
+        How its pixels move.
+    zbuf : (H, W) float32
+        Destination z-buffer, lowered in place (min).
+    stretch : float
+        Longest triangle edge drawn, in destination pixels (longer ones span a
+        depth discontinuity and are dropped).
+    quads : (h - 1, w - 1) bool, optional
+        The quads to draw (None: all, and the orphan points).
+    """
     h, w = src.shape
     ys, xs = np.mgrid[0:h, 0:w].astype(np.float64)
     X, Y, Z = rp.move(xs, ys, src.astype(np.float64))
@@ -614,7 +688,13 @@ def _check_depth(depth: np.ndarray) -> np.ndarray:
 class Source:
     """A map prepared for reprojection (what does not change per frame): its
     :func:`support_box`, :func:`row_spans`, :func:`orphans` and
-    :func:`row_depth_range`."""
+    :func:`row_depth_range`.
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        Linear depth, ``+inf`` background.
+    """
 
     __slots__ = ("depth", "box", "spans", "cum", "orphans", "zrange", "row_work")
 
@@ -632,7 +712,15 @@ class Layer:
     :func:`hidden_layer`): ``runs (K, 3)`` int64 rows ``(r, a, b)``, the quads with
     top row ``r`` and left columns ``a`` to ``b - 1``, in row-major order; ``cum
     (K + 1,)`` the quads before each run (band splits). The map is shared, not
-    copied: a layer costs only its runs (:attr:`nbytes`)."""
+    copied: a layer costs only its runs (:attr:`nbytes`).
+
+    Parameters
+    ----------
+    depth : (H, W) float32
+        The map, linear depth, ``+inf`` background (shared, not copied).
+    quads : (H - 1, W - 1) bool
+        The quads of the layer.
+    """
 
     __slots__ = ("depth", "runs", "cum", "zrange", "row_work")
 
@@ -658,7 +746,13 @@ class Layer:
         return int(self.runs.nbytes + self.cum.nbytes)
 
     def quads(self) -> np.ndarray:
-        """The ``(H - 1, W - 1)`` bool mask of the quads drawn."""
+        """The ``(H - 1, W - 1)`` bool mask of the quads drawn.
+
+        Returns
+        -------
+        (H - 1, W - 1) bool
+            True for each quad of the layer.
+        """
         h, w = self.depth.shape
         q = np.zeros((max(h - 1, 0), max(w - 1, 0)), bool)
         for r, a, b in self.runs:
@@ -683,6 +777,20 @@ def hidden_layer(primary: np.ndarray, secondary: np.ndarray, rp: Reprojection, *
     the union of maps draws a finer outline than any one) are *new*. The layer
     is every quad of ``secondary`` with a new pixel among its corners (and 3 or
     more object pixels), drawn as in the whole map.
+
+    Parameters
+    ----------
+    primary, secondary : (H, W) float32
+        The two maps, linear depth, ``+inf`` background.
+    rp : Reprojection
+        Moves ``secondary``'s pixels to ``primary``'s sample position.
+    texels : float
+        Depth tolerance, in texel world sizes.
+
+    Returns
+    -------
+    Layer
+        ``secondary``'s new quads.
     """
     primary = _check_depth(primary)
     if primary.shape != _check_depth(secondary).shape:
@@ -745,7 +853,26 @@ def reproject_maps(jobs: list[Job], out: np.ndarray, *, threads: int = 1, stretc
     pixel so sees the same writes and early-z tests as with one thread: the
     result is bit-identical for any ``threads``. Compiled (numba) unless
     ``MORPHKIT_WARP_NUMPY=1``: then :func:`reproject_numpy` per map, in one
-    thread, with every map's orphans and no early z (the exact union)."""
+    thread, with every map's orphans and no early z (the exact union).
+
+    Parameters
+    ----------
+    jobs : list of (Source or Layer, Reprojection)
+        The maps (or layers) and their motions, first job first.
+    out : (H, W) float32
+        Z-buffer, lowered in place (min); ``+inf`` where empty.
+    threads : int
+        Bands drawn in parallel.
+    stretch : float
+        Longest triangle edge drawn, in destination pixels.
+    early_z : float
+        Early-z margin for the jobs after the first, in texels.
+
+    Returns
+    -------
+    tuple of int
+        ``(r0, r1, c0, c1)``.
+    """
     if out.dtype != np.float32 or out.ndim != 2:
         raise ValidationError(expected_got("out", "a float32 (H, W) z-buffer", f"{out.dtype} {out.shape}"))
     box = np.array([out.shape[0], 0, out.shape[1], 0], np.int64)

@@ -57,7 +57,24 @@ class ReprojectedMaps(AtlasMethodBase):
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
+        """
         a = self.atlas
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         nb = bilinear_weights(*a.cell(eq))

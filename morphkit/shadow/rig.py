@@ -53,7 +53,13 @@ class RangeClampWarning(UserWarning):
 @dataclass(frozen=True)
 class MotionRange:
     """Object translations ``(x, y)`` in ``[lo, hi]`` (world units) on the plane
-    ``z = const``; the object pose at ``(x, y)`` is ``translation(x, y, 0) @ base_pose``."""
+    ``z = const``; the object pose at ``(x, y)`` is ``translation(x, y, 0) @ base_pose``.
+
+    Parameters
+    ----------
+    lo, hi : (2,) float
+        Lower and upper corners ``(x, y)`` (world units); ``hi > lo`` on both axes.
+    """
 
     lo: np.ndarray
     hi: np.ndarray
@@ -74,7 +80,20 @@ class MotionRange:
 
     def check(self, xy: np.ndarray, *, clamp: bool = False) -> np.ndarray:
         """Return ``xy`` if it lies in the range (within a relative 1e-9), else
-        clamp it (``clamp=True``) or raise :class:`OutOfRangeError`."""
+        clamp it (``clamp=True``) or raise :class:`OutOfRangeError`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        clamp : bool
+            Clamp instead of raising.
+
+        Returns
+        -------
+        (2,) float64
+            ``xy``, inside the range.
+        """
         xy = as_finite_array(xy, "position", shape=(2,))
         eps = 1e-9 * (self.hi - self.lo)
         if np.all(xy >= self.lo - eps) and np.all(xy <= self.hi + eps):
@@ -86,7 +105,13 @@ class MotionRange:
             f"y in [{self.lo[1]:g}, {self.hi[1]:g}]", np.round(xy, 6).tolist()))
 
     def corners(self) -> np.ndarray:
-        """The range's corners, float64 ``(4, 2)``: lower-left, lower-right, upper-left, upper-right."""
+        """The range's corners, float64 ``(4, 2)``: lower-left, lower-right, upper-left, upper-right.
+
+        Returns
+        -------
+        (4, 2) float64
+            The corners, world units.
+        """
         return np.array([[self.lo[0], self.lo[1]], [self.hi[0], self.lo[1]],
                          [self.lo[0], self.hi[1]], [self.hi[0], self.hi[1]]])
 
@@ -98,6 +123,20 @@ def sample_axis(lo: float, hi: float, k: int, mid: float | None = None) -> np.nd
     position in line with the light"), clamped to the middle 80% of the range so
     no cell is degenerate; the others are spaced evenly on each side. Otherwise
     (even ``k``, or ``mid`` None) the samples are evenly spaced.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The axis's ends (world units).
+    k : int
+        Number of samples (>= 2).
+    mid : float, optional
+        Where the middle sample should sit (odd ``k`` only).
+
+    Returns
+    -------
+    (k,) float64
+        Ascending sample coordinates.
     """
     if int(k) < 2:
         raise ValidationError(expected_got("grid", "k >= 2 samples per axis", k))
@@ -202,7 +241,13 @@ class LightRig:
     _PARAMS = ("R", "fx", "fy", "znear", "zfar", "anchor0", "base_pose", "back")
 
     def params(self) -> dict[str, object]:
-        """JSON-able parameters that rebuild this rig with :meth:`from_params`."""
+        """JSON-able parameters that rebuild this rig with :meth:`from_params`.
+
+        Returns
+        -------
+        dict
+            ``shape``, ``lo``, ``hi`` and the fitted camera values (lists and floats).
+        """
         out: dict[str, object] = {"shape": list(self.shape), "lo": self.motion.lo.tolist(),
                                   "hi": self.motion.hi.tolist()}
         for k in self._PARAMS:
@@ -212,7 +257,20 @@ class LightRig:
 
     @classmethod
     def from_params(cls, light: DirectionalLight | PointLight, p: dict[str, object]) -> LightRig:
-        """Rebuild a rig saved with :meth:`params` (no mesh needed)."""
+        """Rebuild a rig saved with :meth:`params` (no mesh needed).
+
+        Parameters
+        ----------
+        light : DirectionalLight or PointLight
+            The rig's light.
+        p : dict
+            What :meth:`params` returned.
+
+        Returns
+        -------
+        LightRig
+            The rig.
+        """
         rig = cls.__new__(cls)
         rig.light = light
         rig.motion = MotionRange(np.array(p["lo"]), np.array(p["hi"]))
@@ -225,12 +283,37 @@ class LightRig:
 
     # --------------------------------------------------------------- cameras
     def object_pose(self, xy: np.ndarray) -> np.ndarray:
-        """``object2world`` at translation ``xy``."""
+        """``object2world`` at translation ``xy``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+
+        Returns
+        -------
+        (4, 4) float64
+            ``object2world``.
+        """
         return translation(float(xy[0]), float(xy[1])) @ self.base_pose
 
     def camera_at(self, xy: np.ndarray, light_offset: np.ndarray | None = None) -> CameraModel:
         """The light camera for the object at ``xy`` (and, for a point light, the
-        light moved by ``light_offset``, a 2-vector parallel to the motion plane)."""
+        light moved by ``light_offset``, a 2-vector parallel to the motion plane).
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane (world units).
+
+        Returns
+        -------
+        morphkit.camera.CameraModel
+            Orthographic (directional light) or perspective (point light) camera of
+            the rig's ``shape``.
+        """
         xy = np.asarray(xy, dtype=np.float64)
         h, w = self.shape
         anchor = self.anchor0 + np.r_[xy, 0.0]
@@ -269,6 +352,20 @@ class LightRig:
         ``clamp=True`` the nearest position inside and a :class:`RangeClampWarning`.
         A light offset is only meaningful for a point light (a 2-vector parallel to
         the motion plane).
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane (world units).
+        clamp : bool
+            Clamp into the range instead of raising.
+
+        Returns
+        -------
+        (2,) float64
+            The equivalent position, inside the range.
         """
         xy = as_finite_array(xy, "position", shape=(2,))
         if light_offset is not None:
@@ -289,7 +386,26 @@ class LightRig:
                 clamp: bool = False) -> tuple[np.ndarray, np.ndarray, CameraModel]:
         """What every shadow method needs for one frame: the equivalent position
         (:meth:`equivalent_position`), the object's own position (``eq`` plus the
-        light offset; differs from ``xy`` only when clamped) and the light camera."""
+        light offset; differs from ``xy`` only when clamped) and the light camera.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane (world units).
+        clamp : bool
+            Clamp into the range instead of raising.
+
+        Returns
+        -------
+        eq : (2,) float64
+            The equivalent position.
+        pos : (2,) float64
+            The object's position.
+        camera : morphkit.camera.CameraModel
+            The light camera for ``pos`` and the moved light.
+        """
         off = None if light_offset is None else np.asarray(light_offset, dtype=np.float64)
         eq = self.equivalent_position(xy, off, clamp=clamp)  # validates the offset
         pos = eq if off is None else eq + off

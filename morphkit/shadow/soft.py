@@ -76,7 +76,22 @@ def light_offsets(light: AreaLight, samples: Any = (3, 3),
                   rng: np.random.Generator | None = None) -> np.ndarray:
     """Offsets ``(N, 2)`` of the light samples from the light's centre, in the
     motion plane (see the module docstring for ``samples``; at most
-    :data:`morphkit.tol.MAX_LIGHT_SAMPLES` of them)."""
+    :data:`morphkit.tol.MAX_LIGHT_SAMPLES` of them).
+
+    Parameters
+    ----------
+    light : morphkit.scene.AreaLight
+        The area light (``u``, ``v`` parallel to the motion plane).
+    samples : int, (n_u, n_v) or (N, 2) array
+        Grid size, or light coordinates in ``[-1, 1]^2``.
+    rng : numpy.random.Generator, optional
+        Jitter of grid samples.
+
+    Returns
+    -------
+    (N, 2) float64
+        Offsets, world units.
+    """
     light = _check_parallel(light)
     try:
         arr = np.asarray(samples, dtype=np.float64)
@@ -107,7 +122,20 @@ def light_offsets(light: AreaLight, samples: Any = (3, 3),
 
 def soft_motion_range(motion: MotionRange, light: AreaLight) -> MotionRange:
     """The range of *equivalent* object positions an area light needs: ``motion``
-    grown by the light's extent in the plane (``xy - D`` for every offset ``D``)."""
+    grown by the light's extent in the plane (``xy - D`` for every offset ``D``).
+
+    Parameters
+    ----------
+    motion : MotionRange
+        The object's range.
+    light : morphkit.scene.AreaLight
+        The area light.
+
+    Returns
+    -------
+    MotionRange
+        The grown range.
+    """
     light = _check_parallel(light)
     ext = np.abs(light.u[:2]) + np.abs(light.v[:2])
     return MotionRange(motion.lo - ext, motion.hi + ext)
@@ -118,7 +146,30 @@ def bake_soft_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: Motion
                     **kwargs: Any) -> ShadowAtlas:
     """Bake the atlas an area light needs: a point light at its centre, over
     :func:`soft_motion_range` (keyword arguments go to
-    :func:`~morphkit.shadow.atlas.bake_atlas`)."""
+    :func:`~morphkit.shadow.atlas.bake_atlas`).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The occluder, object frame.
+    base_pose : (4, 4) float
+        ``object2world`` at translation ``(0, 0)``.
+    motion : MotionRange
+        The object's range (world units).
+    light : morphkit.scene.AreaLight
+        The area light.
+    shape : (H, W)
+        Size of each map.
+    renderer : morphkit.render.Renderer
+        Renders the maps.
+    **kwargs : Any
+        Options of ``bake_atlas``.
+
+    Returns
+    -------
+    morphkit.shadow.atlas.ShadowAtlas
+        The atlas.
+    """
     centre = PointLight(_check_parallel(light).center)
     return bake_atlas(mesh, base_pose, soft_motion_range(motion, light), centre, shape,
                       renderer=renderer, **kwargs)
@@ -169,19 +220,57 @@ class SoftShadow:
 
     def point_lights(self) -> list[PointLight]:
         """The light samples as point lights (for the ray-cast truth with the same
-        samples: :func:`~morphkit.groundtruth.sampled_visibility`)."""
+        samples: :func:`~morphkit.groundtruth.sampled_visibility`).
+
+        Returns
+        -------
+        list of morphkit.scene.PointLight
+            One per sample, world frame.
+        """
         return [PointLight(self.light.center + np.r_[d, 0.0]) for d in self.offsets]
 
     def maps(self, xy: Any, *, clamp: bool = False) -> Iterator[tuple[np.ndarray, Any]]:
         """The ``N`` hard shadow maps ``(depth, light camera)``, one per light sample,
-        made one at a time."""
+        made one at a time.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        clamp : bool
+            Clamp into the range instead of raising.
+
+        Yields
+        ------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            Its light camera.
+        """
         for d in self.offsets:
             yield self.method.shadow_map(xy, light_offset=d, clamp=clamp)
 
     def visibility(self, xy: Any, points: Any, normals: np.ndarray | None = None, *,
                    clamp: bool = False) -> np.ndarray:
         """Fraction ``(P,)`` float32 of the light samples each world point sees,
-        with the object at ``xy``: a multiple of ``1/N`` in ``[0, 1]``."""
+        with the object at ``xy``: a multiple of ``1/N`` in ``[0, 1]``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        points : (P, 3) float
+            Points, world frame.
+        normals : (P, 3) float, optional
+            Unit normals for the slope bias.
+        clamp : bool
+            Clamp into the range instead of raising.
+
+        Returns
+        -------
+        (P,) float32
+            Fraction of samples seen.
+        """
         pts = as_finite_array(points, "points", shape=(None, 3))
         if normals is not None:
             normals = as_finite_array(normals, "normals", shape=(len(pts), 3), dtype=np.float32)
@@ -197,5 +286,18 @@ class SoftShadow:
 
     def visibility_fn(self, xy: Any, *, clamp: bool = False) -> Any:
         """A :data:`~morphkit.shadow.frame.VisibilityFn` for
-        :func:`~morphkit.shadow.frame.render_frame`, the object at ``xy``."""
+        :func:`~morphkit.shadow.frame.render_frame`, the object at ``xy``.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            Object translation (world units).
+        clamp : bool
+            Clamp into the range instead of raising.
+
+        Returns
+        -------
+        callable
+            ``(points (N, 3), normals (N, 3)) -> (N,) float32``.
+        """
         return lambda p, n: self.visibility(xy, p, n, clamp=clamp)

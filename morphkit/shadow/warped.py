@@ -41,7 +41,20 @@ __all__ = ["ComposedWarp", "ThreeWarps", "check_flag"]
 
 
 def check_flag(value: Any, name: str) -> bool:
-    """``value`` as a bool; :class:`~morphkit.errors.ValidationError` unless it is one."""
+    """``value`` as a bool; :class:`~morphkit.errors.ValidationError` unless it is one.
+
+    Parameters
+    ----------
+    value : Any
+        The value.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    bool
+        ``value``.
+    """
     if not isinstance(value, bool | np.bool_):
         raise ValidationError(expected_got(name, "a bool", repr(value)))
     return bool(value)
@@ -84,7 +97,24 @@ class ComposedWarp(AtlasMethodBase):
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
+        """
         a = self.atlas
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         nb = bilinear_weights(*a.cell(eq))
@@ -142,7 +172,24 @@ class ThreeWarps(AtlasMethodBase):
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
-        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`."""
+        """See :meth:`ShadowMethod.shadow_map <morphkit.shadow.method.ShadowMethod.shadow_map>`.
+
+        Parameters
+        ----------
+        xy : (2,) float
+            The object's ground translation (world units).
+        light_offset : (2,) float, optional
+            Point-light displacement in the motion plane.
+        clamp : bool
+            Clamp ``xy`` into the motion range instead of refusing it.
+
+        Returns
+        -------
+        depth : (H, W) float32
+            Light-view linear depth, ``+inf`` background.
+        camera : morphkit.camera.CameraModel
+            The light camera of ``depth``.
+        """
         a = self.atlas
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)

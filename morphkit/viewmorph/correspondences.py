@@ -57,7 +57,13 @@ SOURCES = ("geometry", "features", "user")
 
 @runtime_checkable
 class HasVertices(Protocol):
-    """A mesh-like object whose ``vertices`` are ``(N, 3)`` world points (e.g. ``trimesh.Trimesh``)."""
+    """A mesh-like object whose ``vertices`` are ``(N, 3)`` world points (e.g. ``trimesh.Trimesh``).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol describes objects, it is not instantiated.
+    """
 
     vertices: Any
 

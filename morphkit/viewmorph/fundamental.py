@@ -76,7 +76,7 @@ AFFINE_SAMPLES = 1000
 class FundamentalFit:
     """A fitted fundamental matrix and its quality.
 
-    Attributes
+    Parameters
     ----------
     F : (3, 3) float64
         ``x1^T F x0 = 0`` (see the module convention), unit Frobenius norm.

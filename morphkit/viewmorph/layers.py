@@ -58,7 +58,7 @@ FAR_POSITION = -1.0e5
 class MorphLayer:
     """One depth layer: its premultiplied images, its morph mesh and the look-ups built from it.
 
-    Attributes
+    Parameters
     ----------
     prem : (prem0, prem1)
         float32 ``(H_i, W_i, C + 1)`` premultiplied images of the layer
@@ -92,6 +92,8 @@ class MorphLayer:
         2 px off ``c1``: a look-up there reads "far outside" without a mask.
     rectified : (rect0, rect1) or None
         The pre-warped images on ``canvas`` (cached for ``path="rectified"``).
+    known : bool
+        ``prem`` carries a last "known" channel (``fill_occluded``).
     """
 
     prem: tuple[np.ndarray, np.ndarray]

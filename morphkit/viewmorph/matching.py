@@ -43,10 +43,27 @@ DIS_PRESETS = {"ultrafast": cv2.DISOPTICAL_FLOW_PRESET_ULTRAFAST, "fast": cv2.DI
 
 @runtime_checkable
 class ImageMatcher(Protocol):
-    """Finds corresponding pixels of two images of the same object."""
+    """Finds corresponding pixels of two images of the same object.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol describes objects, it is not instantiated.
+    """
 
     def match(self, image0: np.ndarray, image1: np.ndarray) -> Correspondences:
-        """Pairs ``pts0[i]`` (image 0) ~ ``pts1[i]`` (image 1), pixel-centre origin, ``source="features"``."""
+        """Pairs ``pts0[i]`` (image 0) ~ ``pts1[i]`` (image 1), pixel-centre origin, ``source="features"``.
+
+        Parameters
+        ----------
+        image0, image1 : (H, W) or (H, W, C) numpy.ndarray
+            The two images (grey, RGB or RGBA; uint8, integer or float in ``[0, 1]``).
+
+        Returns
+        -------
+        morphkit.viewmorph.correspondences.Correspondences
+            The pairs.
+        """
         ...
 
 

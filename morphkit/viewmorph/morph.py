@@ -417,6 +417,8 @@ class ViewMorpher:
 
         Parameters
         ----------
+        s : float
+            Morph parameter in ``[0, 1]`` (0: view 0, 1: view 1).
         post : "interpolate", "rectified", (3, 3) array, CameraModel or PostWarpPoints
             ``"interpolate"``: corners interpolated between the two views (module
             convention). ``"rectified"``: no post-warp (a translation to the

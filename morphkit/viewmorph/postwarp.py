@@ -35,7 +35,7 @@ class PostWarpPoints:
     :attr:`ViewMorpher.correspondences`) must land on ``points`` (``(k, 2)``
     output pixels, ``k >= 4``); the homography is their least-squares fit.
 
-    Attributes
+    Parameters
     ----------
     index : (k,) int
         Indices into :attr:`~morphkit.viewmorph.morph.ViewMorpher.correspondences`.

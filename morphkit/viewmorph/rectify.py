@@ -84,7 +84,7 @@ RECTIFIERS = ("auto", "opencv", "seitz-dyer")
 class Rectification:
     """A pair of pre-warps and their quality.
 
-    Attributes
+    Parameters
     ----------
     H_rect_0, H_rect_1 : (3, 3) float64
         The pre-warps (see the module convention).

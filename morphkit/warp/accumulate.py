@@ -24,7 +24,7 @@ class Accumulation(NamedTuple):
     :meth:`~morphkit.warp.MeshWarper.accumulation` for a mesh that provably does
     not overlap itself.
 
-    Attributes
+    Parameters
     ----------
     cov : numpy.ndarray
         ``(N, 2)`` float64 coverage geometry: the destination points ``(x, y)``

@@ -117,6 +117,18 @@ class WarpMaps:
     box of the destination mesh clipped to the output (``roi``); the rest of the
     output is ``fill``. See :mod:`morphkit.warp` for the convention.
 
+    Parameters
+    ----------
+    out_shape, roi, map1, map2
+        As the attributes below.
+    run_lens : (2 k + 1,) int64 or None
+        Run lengths over the ROI in row-major order, alternating outside and
+        inside the mesh (outside first); with ``covered`` None, the coverage mask
+        comes from them.
+    covered : (r1 - r0, c1 - c0) bool, callable or None
+        The ROI's coverage (or a callable returning it), when the maps come from
+        the compiled scanline.
+
     Attributes
     ----------
     out_shape : tuple[int, int]

@@ -61,6 +61,16 @@ def delaunay_triangles(points: Any) -> np.ndarray:
 
     Returns ``(M, 3)`` int32 vertex indices, every triangle with positive signed
     area in the pixel frame (``x`` right, ``y`` down).
+
+    Parameters
+    ----------
+    points : (N, 2) float
+        Pixel positions ``(x, y)``.
+
+    Returns
+    -------
+    (M, 3) int32
+        Vertex indices per triangle.
     """
     from scipy.spatial import Delaunay, QhullError
 
@@ -82,6 +92,16 @@ def grid_shape(points: Any) -> tuple[int, int] | None:
     A lattice here has ``rows, cols >= 2``, every row sharing one ``y`` and the
     same strictly monotonic ``x`` sequence, and rows strictly monotonic in ``y``
     (the spacing need not be uniform).
+
+    Parameters
+    ----------
+    points : (N, 2) float
+        Pixel positions ``(x, y)``.
+
+    Returns
+    -------
+    tuple of int or None
+        ``(rows, cols)`` with ``rows * cols == N``, or None.
     """
     pts = np.asarray(points, dtype=np.float64)
     n = pts.shape[0]

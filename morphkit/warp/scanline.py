@@ -203,7 +203,34 @@ def fill_maps(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, r0: int, r1: 
     write disjoint rows) when there are several, else in the calling thread.
     ``counting``: count coverage in ``count``; otherwise the mesh is known
     injective and ``count`` is unused (``_fill_band``). Returns the largest
-    count (0: nothing covered, > 1: a fold-over)."""
+    count (0: nothing covered, > 1: a fold-over).
+
+    Parameters
+    ----------
+    cov : (N, 2) float64
+        Coverage geometry, output pixels (``Accumulation.cov``).
+    tris : (M, 3) int64
+        Vertex indices per triangle.
+    coef : (M, 6) float64
+        Per-triangle affines ``A_src_dst`` as ``[jxx, jyx, jxy, jyy, cx, cy]``.
+    r0, r1, c0, c1 : int
+        The ROI, output rows and columns.
+    out_outside : float
+        Map value written where no triangle covers a pixel.
+    mx, my : (r1 - r0, c1 - c0) float32
+        The maps (source ``x`` and ``y``), filled in place.
+    count : (r1 - r0, c1 - c0) uint8
+        Coverage counts, filled when ``counting``.
+    n_bands : int
+        Bands of rows (1: the calling thread).
+    counting : bool
+        Count coverage per pixel (the mesh is not known injective).
+
+    Returns
+    -------
+    int
+        The largest coverage count.
+    """
     if n_bands > 1:
         return _fill_parallel_jit(cov, tris, coef, r0, r1, c0, c1, out_outside, mx, my, count,
                                   n_bands, counting)
@@ -242,7 +269,34 @@ def _accumulate(cov: np.ndarray, tris: np.ndarray, coef: np.ndarray, active: np.
     (float64), where ``cv2.remap`` quantises them to 1/32 px. ``src`` and ``acc``
     are ``(2, H, W)`` float32 (``acc`` C-contiguous); ``src`` must be finite.
     ``box`` (int64 ``[y0, y1, x0, x1]``) is grown to hold every pixel written.
-    Returns the number of pixels written."""
+    Returns the number of pixels written.
+
+    Parameters
+    ----------
+    cov : (N, 2) float64
+        Coverage geometry, output pixels.
+    tris : (M, 3) int64
+        Vertex indices per triangle.
+    coef : (M, 6) float64
+        Per-triangle affines ``A_src_dst`` as ``[jxx, jyx, jxy, jyy, cx, cy]``.
+    active : (M,) bool
+        The triangles to draw.
+    src : (2, h, w) float32
+        Source planes, input pixels.
+    weight : float
+        Weight of this source.
+    acc : (2, H, W) float32
+        Accumulator, updated in place.
+    r0, r1, c0, c1 : int
+        The band, output rows and columns.
+    box : (4,) int64
+        ``[y0, y1, x0, x1]`` of the pixels written, grown in place.
+
+    Returns
+    -------
+    int
+        Pixels written.
+    """
     h = src.shape[1]
     w = src.shape[2]
     s0 = src[0]
@@ -338,7 +392,24 @@ def _mesh_injective(cov: np.ndarray, tris: np.ndarray, sign: np.ndarray, loop: n
     boundary polygon is simple. Then the map has degree 1 inside the boundary's
     image and is one-to-one (each point's preimages all count +1 and sum to the
     winding number 1). Conservative: touching or collinear boundary edges count
-    as crossing (the caller then counts coverage per pixel instead)."""
+    as crossing (the caller then counts coverage per pixel instead).
+
+    Parameters
+    ----------
+    cov : (N, 2) float64
+        Destination vertex positions, output pixels.
+    tris : (M, 3) int64
+        Vertex indices per triangle.
+    sign : (M,) float64
+        Orientation each triangle must keep.
+    loop : (B,) int64
+        Boundary vertices in cycle order.
+
+    Returns
+    -------
+    bool
+        True when the mesh is provably injective.
+    """
     for t in range(tris.shape[0]):
         a = tris[t, 0]
         b = tris[t, 1]
@@ -383,7 +454,36 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
     pass (the numpy version is the reference and writes the error messages):
     fold test, boundary pushed out by ``push`` into ``cov``, ROI, per-triangle
     affines into ``coef``. Returns ``(n_folded, r0, r1, c0, c1)``; on
-    ``n_folded > 0`` nothing else is computed."""
+    ``n_folded > 0`` nothing else is computed.
+
+    Parameters
+    ----------
+    dst : (N, 2) float64
+        Destination points ``(x, y)``, output pixels.
+    tris : (M, 3) int64
+        Vertex indices per triangle.
+    src_v : (M, 3, 2) float64
+        Source triangle vertices, input pixels.
+    src_sign : (M,) float64
+        Orientation of each source triangle.
+    boundary : (B, 3) int64
+        Boundary edges (:func:`morphkit.warp.mesh.boundary_edges`).
+    H, W : int
+        Output size.
+    min_det : float
+        Smallest absolute doubled triangle area that is not a fold.
+    push : float
+        How far the boundary is pushed out (pixels).
+    cov : (N, 2) float64
+        Filled with the coverage geometry.
+    coef : (M, 6) float64
+        Filled with the per-triangle affines.
+
+    Returns
+    -------
+    tuple of int
+        ``(n_folded, r0, r1, c0, c1)``.
+    """
     M = tris.shape[0]
     bad = 0
     edges = np.empty((M, 5))  # d1 = v1 - v0, d2 = v2 - v0, det = d1 x d2 (2 * signed area)
@@ -495,7 +595,18 @@ PARALLEL_MIN_PIXELS = 1 << 19
 def n_bands(rows: int, cols: int) -> int:
     """How many bands to fill a ``rows x cols`` ROI in: 1 below
     :data:`PARALLEL_MIN_PIXELS`, else one per numba thread, at least
-    :data:`MIN_BAND_ROWS` rows each."""
+    :data:`MIN_BAND_ROWS` rows each.
+
+    Parameters
+    ----------
+    rows, cols : int
+        Size of the ROI.
+
+    Returns
+    -------
+    int
+        Number of bands (>= 1).
+    """
     if numba is None or rows * cols < PARALLEL_MIN_PIXELS:
         return 1
     return max(1, min(numba.get_num_threads(), rows // MIN_BAND_ROWS))

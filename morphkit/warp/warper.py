@@ -124,7 +124,18 @@ class MeshWarper:
         """``(M,)`` bool: the triangles whose source footprint can read a nonzero
         pixel of ``support`` (``(h, w)``, the input image's nonzero pixels) with
         ``"linear"`` sampling: its bounding box, grown by 2 px, holds one. A warp
-        of the other triangles only reads zeros (see :func:`~morphkit.warp.accumulate_warps`)."""
+        of the other triangles only reads zeros (see :func:`~morphkit.warp.accumulate_warps`).
+
+        Parameters
+        ----------
+        support : (h, w) array
+            The input image's support (nonzero where it holds something), input pixels.
+
+        Returns
+        -------
+        (M,) bool
+            True for the triangles whose warp can read a nonzero pixel.
+        """
         sup = np.asarray(support)
         if sup.ndim != 2 or sup.size == 0:
             raise ValidationError(expected_got("support", "a non-empty (h, w) array", sup.shape))
