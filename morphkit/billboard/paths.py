@@ -109,8 +109,32 @@ def _heading(deg: float, pitch_deg: float) -> np.ndarray:
     return np.array([np.cos(a) * np.cos(p), np.sin(a) * np.cos(p), -np.sin(p)])
 
 
+class _SampledPath:
+    """What the paths share: :meth:`cameras` samples :meth:`camera_at` evenly."""
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:  # pragma: no cover
+        raise NotImplementedError
+
+    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        frames : int
+            Number of cameras, >= 1.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        list of CameraModel
+            Perspective cameras, world frame.
+        """
+        return [self.camera_at(t, shape) for t in _ts(frames)]
+
+
 @dataclass(frozen=True)
-class PanPath:
+class PanPath(_SampledPath):
     """The eye at ``eye``; the heading pans from left to right across ``pan_deg``.
 
     Parameters
@@ -154,23 +178,6 @@ class PanPath:
         return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, eye + _heading(h, self.pitch_deg),
                                                                   shape)
 
-    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`.
-
-        Parameters
-        ----------
-        frames : int
-            Number of cameras, >= 1.
-        shape : (H, W), optional
-            Image shape in pixels.
-
-        Returns
-        -------
-        list of CameraModel
-            Perspective cameras, world frame.
-        """
-        return [self.camera_at(t, shape) for t in _ts(frames)]
-
     @classmethod
     def over(cls, half_size: float) -> PanPath:
         """A pan from just outside the field's ``-y`` edge, at eye height, over the field.
@@ -190,7 +197,7 @@ class PanPath:
 
 
 @dataclass(frozen=True)
-class OrbitPath:
+class OrbitPath(_SampledPath):
     """The eye on a circle of ``radius`` about ``centre``, at ``height``, looking at ``centre``.
 
     Parameters
@@ -252,23 +259,6 @@ class OrbitPath:
         """
         return self.camera_at_deg(self.start_deg + float(t) * (self.end_deg - self.start_deg), shape)
 
-    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`.
-
-        Parameters
-        ----------
-        frames : int
-            Number of cameras, >= 1.
-        shape : (H, W), optional
-            Image shape in pixels.
-
-        Returns
-        -------
-        list of CameraModel
-            Perspective cameras, world frame.
-        """
-        return [self.camera_at(t, shape) for t in _ts(frames)]
-
     @classmethod
     def around(cls, half_size: float) -> OrbitPath:
         """Half a circle about the field's centre, just outside it.
@@ -288,7 +278,7 @@ class OrbitPath:
 
 
 @dataclass(frozen=True)
-class FlyPath:
+class FlyPath(_SampledPath):
     """The eye flies from ``start`` to ``end`` (ground positions) at ``height``, swaying sideways.
 
     Parameters
@@ -347,23 +337,6 @@ class FlyPath:
         heading = np.degrees(np.arctan2(vel[1], vel[0]))
         return _Lens(self.yfov_deg, self.znear, self.zfar).camera(
             eye, eye + _heading(heading, self.pitch_deg), shape)
-
-    def cameras(self, frames: int, shape: tuple[int, int] = DEFAULT_SHAPE) -> list[CameraModel]:
-        """See :class:`CameraPath`.
-
-        Parameters
-        ----------
-        frames : int
-            Number of cameras, >= 1.
-        shape : (H, W), optional
-            Image shape in pixels.
-
-        Returns
-        -------
-        list of CameraModel
-            Perspective cameras, world frame.
-        """
-        return [self.camera_at(t, shape) for t in _ts(frames)]
 
     @classmethod
     def across(cls, half_size: float) -> FlyPath:
