@@ -37,8 +37,14 @@ __all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "out
 
 
 @runtime_checkable
-class SavableAsset(Protocol):  # numpydoc ignore=PR01
-    """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`)."""
+class SavableAsset(Protocol):
+    """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
 
     def save(self, path: str | Path) -> Path:
         """Write the asset to ``path`` (its folder exists); return ``path``.
@@ -57,8 +63,14 @@ class SavableAsset(Protocol):  # numpydoc ignore=PR01
 
 
 @runtime_checkable
-class AssetKind(Protocol):  # numpydoc ignore=PR01
-    """One kind of baked asset (see the module docstring)."""
+class AssetKind(Protocol):
+    """One kind of baked asset (see the module docstring).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
 
     #: Key of this kind in the manifest, e.g. ``"shadow-atlas"``.
     name: str

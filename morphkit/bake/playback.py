@@ -45,8 +45,14 @@ VIDEO_NAME = "shadows.mp4"
 
 
 @runtime_checkable
-class ObjectPath(Protocol):  # numpydoc ignore=PR01
-    """Object positions ``(x, y)`` on the ground over a range of motion."""
+class ObjectPath(Protocol):
+    """Object positions ``(x, y)`` on the ground over a range of motion.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
 
     def positions(self, motion: MotionRange) -> np.ndarray:
         """``(N, 2)`` float64 world positions, inside ``motion``.
