@@ -210,7 +210,7 @@ class BillboardSource(Protocol):
         """
         ...
 
-    def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+    def morph(self, i: int, j: int, s: float, level: int = 0, *, coverage: bool = True) -> np.ndarray:
         """The view at fraction ``s`` from reference ``i`` to ``j`` (view-morphed), ``(h, w, 4)``.
 
         Parameters
@@ -221,6 +221,9 @@ class BillboardSource(Protocol):
             Fraction in ``[0, 1]`` from ``i`` to ``j``.
         level : int, optional
             Mip level, ``0`` full size.
+        coverage : bool
+            Where the source knows its object's shape (depth), take the alpha from it
+            and the colour from the morph; False: the view morph's own alpha.
 
         Returns
         -------

@@ -94,7 +94,7 @@ class FakeAsset:
         span = (az[j] - az[i]) % 360.0 or 360.0
         return float(az[i] + s * span)
 
-    def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+    def morph(self, i: int, j: int, s: float, level: int = 0, *, coverage: bool = True) -> np.ndarray:
         self.calls["morph"] += 1
         return self.view(self._az(i, j, s), level)
 

@@ -10,7 +10,9 @@ Asset side:
 * :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
   maps onto;
 * :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset` / :func:`bake_asset`: references,
-  the front view (classic billboard), the pair morphs and their pyramid; one versioned file.
+  the front view (classic billboard), the pair morphs and their pyramid; one versioned file;
+* :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
+  the references' depth (the morph's alpha).
 
 Scene side:
 
@@ -53,6 +55,7 @@ from .assetfile import FORMAT, VERSION
 from .backdrop import Backdrop, Fog, Ground, Sky
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
+from .coverage import object_points, splat_coverage
 from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
 from .instances import Instance, Instances, place_random
 from .modes import (
@@ -71,7 +74,7 @@ from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
 __all__ = [
     # asset side
     "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "bake_items",
-    "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg",
+    "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg", "splat_coverage", "object_points",
     # scene side
     "Backdrop", "Fog", "Ground", "Sky",
     "CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s",

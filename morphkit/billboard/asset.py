@@ -28,6 +28,19 @@ in theory, since the morph is the view from that centre). ``s`` is the chord
 fraction of :mod:`.ring`. At ``s = 0`` and ``s = 1`` exactly, the reference
 itself is returned (no resampling).
 
+Alpha from depth
+----------------
+A part only one reference sees (a flank turning away, a leg passing behind the
+body) has no partner in the other view, and the view morph cross-dissolves it
+with the other view's background: half-transparent lobes where the object is
+not, a thinned object where it is. By default (``morph(..., coverage=True)``)
+the colour comes from the view morph and the alpha from the references' depth:
+both references' object pixels projected into the in-between camera
+(:meth:`BillboardAsset.coverage`, :mod:`.coverage`). Pixels wholly inside that
+coverage are opaque, pixels wholly outside it clear, and outline pixels keep
+the morph's anti-aliased alpha (so just off a reference the morph is still that
+reference). ``coverage=False`` is the paper's view morph alone (a bench row).
+
 Level of detail
 ---------------
 Level ``l`` (``0 <= l < levels``) images have shape ``cameras.level_shape(l)``,
@@ -82,7 +95,8 @@ from ..scene import DirectionalLight, Item, Light
 from ..scenes import checker_items
 from ..viewmorph import Correspondences, ViewMorpher, from_depth, from_geometry, pair_depth
 from .assetfile import AssetRecord, read_record, write_record
-from .cameras import QuadCameras
+from .cameras import DISTANCE_FACTOR, QuadCameras
+from .coverage import object_points, splat_coverage
 from .ring import ViewRing
 
 __all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
@@ -272,6 +286,7 @@ class BillboardAsset:
                         for p in range(len(self.ring.pairs()))]
         self._morphers: dict[tuple[int, int], ViewMorpher] = {}
         self._cams: dict[tuple[int, int], CameraModel] = {}
+        self._obj_points: dict[int, np.ndarray] = {}  # level-0 surface points of each reference
         #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
         #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
         self.level_fallbacks: set[tuple[int, int]] = set()
@@ -419,7 +434,7 @@ class BillboardAsset:
         i, j = self.ring.check_pair(i, j)
         return self.reference(i if _check_s(s) <= 0.5 else j, level)
 
-    def morph(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+    def morph(self, i: int, j: int, s: float, level: int = 0, *, coverage: bool = True) -> np.ndarray:
         """The view at fraction ``s`` from reference ``i`` to ``j`` (neighbours; either order).
 
         Parameters
@@ -431,6 +446,9 @@ class BillboardAsset:
             ``ring.pair_azimuth_deg(i, j, s)`` and its camera ``cameras.chord_camera``.
         level : int
             Pyramid level.
+        coverage : bool
+            Take the alpha from the references' depth (:meth:`coverage`) and the colour from
+            the view morph (default); False: the paper's view morph alone, alpha included.
 
         Returns
         -------
@@ -454,6 +472,8 @@ class BillboardAsset:
         i, j = self.ring.check_pair(i, j)
         s = _check_s(s)
         level = _check_level(level, self.levels)
+        if not isinstance(coverage, bool | np.bool_):
+            raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
         if (i, j) not in self.ring.pairs():
             i, j, s = j, i, 1.0 - s
         if s == 0.0:
@@ -468,11 +488,56 @@ class BillboardAsset:
                 self.level_fallbacks.add((p, level))
         if (p, level) in self.level_fallbacks:
             h, w = self.cameras.level_shape(level)
-            return cv2.resize(self.morph(i, j, s, 0), (w, h), interpolation=cv2.INTER_AREA)
+            return cv2.resize(self.morph(i, j, s, 0, coverage=coverage), (w, h), interpolation=cv2.INTER_AREA)
         vm = self.morpher(p, level)
         az = self.ring.azimuths_deg()
         cam = self.cameras.chord_camera(az[i], az[j], s, level)
-        return to_premultiplied(vm.morph(s, post=cam, frame="fixed"), 4)
+        out = to_premultiplied(vm.morph(s, post=cam, frame="fixed"), 4)
+        if not coverage:
+            return out
+        cov = self.coverage(i, j, s, level)
+        alpha = out[..., 3:]
+        has_colour = alpha > np.float32(tol.BB_COVERAGE_MIN_ALPHA)
+        # wholly inside the object: opaque; wholly outside: clear; on the outline (coverage
+        # between): the morph's own anti-aliased alpha (exact at the references)
+        c = cov[..., None]
+        inside = np.where(c >= 1.0, np.float32(1.0), np.where(c <= 0.0, np.float32(0.0), alpha))
+        new_alpha = np.where(has_colour, inside, np.float32(0.0))
+        out[..., :3] *= new_alpha / np.where(has_colour, alpha, np.float32(1.0))
+        out[..., 3:] = new_alpha
+        return out
+
+    def coverage(self, i: int, j: int, s: float, level: int = 0) -> np.ndarray:
+        """Where the object is in the view :meth:`morph` ``(i, j, s, level)`` shows: both
+        references' object pixels (their depth maps) projected into its camera
+        (:func:`~morphkit.billboard.coverage.splat_coverage`).
+
+        Parameters
+        ----------
+        i, j : int
+            Neighbouring references.
+        s : float
+            In [0, 1], the chord fraction.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        (h, w) float32
+            Coverage in [0, 1] of ``cameras.level_shape(level)``.
+        """
+        i, j = self.ring.check_pair(i, j)
+        s = _check_s(s)
+        level = _check_level(level, self.levels)
+        az = self.ring.azimuths_deg()
+        cam = self.cameras.chord_camera(az[i], az[j], s, level)
+        return splat_coverage(np.concatenate([self._object_points(i), self._object_points(j)]), cam)
+
+    def _object_points(self, k: int) -> np.ndarray:
+        pts = self._obj_points.get(k)
+        if pts is None:
+            pts = self._obj_points[k] = object_points(self._ref_camera(k, 0), self._depth[k])
+        return pts
 
     # ------------------------------------------------------------------ morphers
     def correspondences(self, pair: int, level: int = 0) -> Correspondences:
@@ -652,7 +717,8 @@ def _camera_dict(azimuth_deg: float, cam: CameraModel) -> dict[str, Any]:
 
 def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "asset", views: int = 2,
                size: int | tuple[int, int] = 256, arc_deg: float | None = None, elevation_deg: float = 10.0,
-               levels: int = 3, layers: int | str = DEFAULT_LAYERS, progress: bool = False) -> BillboardAsset:
+               levels: int = 3, layers: int | str = DEFAULT_LAYERS, distance_factor: float = DISTANCE_FACTOR,
+               progress: bool = False) -> BillboardAsset:
     """Render ``mesh``'s reference views and prepare every pair's morph (see the module docstring).
 
     Parameters
@@ -677,6 +743,10 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         Pyramid levels (each half the resolution of the one before; the smallest >= 8 px).
     layers : int or "auto"
         Depth layers of the morphs (``ViewMorpher(layers=...)``).
+    distance_factor : float
+        Reference cameras' distance from the pivot in radii of the mesh's bounding
+        sphere (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`): about the distance
+        the scene sees the asset from, so the views have its perspective.
     progress : bool
         Show a progress bar (tqdm; silent when not a terminal).
 
@@ -704,7 +774,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     norm = normalize(mesh)
     digest = mesh_hash(norm)
     az = ring.azimuths_deg()
-    cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az)
+    cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az, distance_factor=distance_factor)
     _check_levels(levels, cams)
     items, lights = bake_items(norm), bake_lights()
     front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)

@@ -10,7 +10,8 @@ over its horizontal distance ``rho``) so that the pivot projects to the image
 centre ``((W - 1)/2, (H - 1)/2)`` (:meth:`QuadCameras.camera_at`). A reference
 view at azimuth ``a`` (degrees, :mod:`.ring`) and elevation ``e`` has
 ``eye = pivot + D (cos e cos a, cos e sin a, sin e)``
-(:meth:`QuadCameras.camera`), ``D = DISTANCE_FACTOR * r``, ``r`` the radius of
+(:meth:`QuadCameras.camera`), ``D = f r``, ``f`` the distance factor (default
+:data:`DISTANCE_FACTOR`), ``r`` the radius of
 the mesh's bounding sphere about the pivot; the view a morph shows between two
 references is the one from the point on the chord between their centres
 (:meth:`QuadCameras.chord_camera`).
@@ -48,13 +49,22 @@ from ..camera import CameraModel, look_at
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_positive, as_shape
 
-__all__ = ["QuadCameras", "DISTANCE_FACTOR", "FRAME_MARGIN"]
+__all__ = ["QuadCameras", "DISTANCE_FACTOR", "DISTANCE_FACTOR_RANGE", "FRAME_MARGIN"]
 
-#: Camera distance from the pivot, in radii of the mesh's bounding sphere about
-#: it: far enough that the views are not dominated by perspective (the near
-#: side of the object is 3/5 of the far side's distance), near enough that a
-#: 256^2 view resolves the sample meshes' parts.
-DISTANCE_FACTOR = 4.0
+#: Default camera distance from the pivot, in radii of the mesh's bounding sphere
+#: about it (``bake_asset(distance_factor=...)``). A billboard stands in for an
+#: object seen from afar, so its views are baked with the perspective a scene
+#: camera has there: at 4 radii the near side of the object is 3/5 of the far
+#: side's distance, and even a perfect view mapped on the quad misses the mesh
+#: seen from 12 radii far more than at 12 (the "true-view" rows of
+#: ``morphkit bench billboards``, docs/RESULTS.md). Bake nearer for scenes that
+#: see the assets closer.
+DISTANCE_FACTOR = 12.0
+
+#: Allowed range of the distance factor: nearer than 3 radii the depth range of
+#: :meth:`QuadCameras.camera_at` no longer holds the object between two ring cameras
+#: 60 degrees apart, farther than 100 the views are orthographic for every purpose.
+DISTANCE_FACTOR_RANGE = (3.0, 100.0)
 
 #: Fraction by which the fitted quad is larger than the object's widest
 #: projection (a margin of transparent pixels around every view).
@@ -193,7 +203,7 @@ class QuadCameras:
         vertical line): optical axis horizontal towards that line, image plane parallel
         to the quad facing ``eye``, pivot at the image centre, quad edges on image edges.
 
-        Depth range ``[D/10, 2 D]``: the bounding sphere (radius ``D / DISTANCE_FACTOR``)
+        Depth range ``[D/10, 2 D]``: the bounding sphere (radius ``D / f``, ``f`` the distance factor)
         lies inside it for the ring's cameras and any point between two of them.
 
         Parameters
@@ -244,10 +254,11 @@ class QuadCameras:
 
     @classmethod
     def fit(cls, mesh: trimesh.Trimesh, shape: tuple[int, int], elevation_deg: float,
-            azimuths_deg: np.ndarray | None = None) -> QuadCameras:
+            azimuths_deg: np.ndarray | None = None, *, distance_factor: float = DISTANCE_FACTOR
+            ) -> QuadCameras:
         """The rule for ``mesh`` (in its object frame): pivot at the centre of its
         bounding box's vertical axis ``(0, 0, z_max / 2)`` shifted to the box's ``x, y``
-        centre, ``D = DISTANCE_FACTOR r`` and the smallest quad (grown by
+        centre, ``D = distance_factor r`` and the smallest quad (grown by
         :data:`FRAME_MARGIN`, square pixels) that holds the object's projection from
         every azimuth in 5-degree steps and in ``azimuths_deg``.
 
@@ -261,6 +272,9 @@ class QuadCameras:
             Camera elevation above the horizontal, degrees.
         azimuths_deg : array of float, optional
             Extra azimuths (degrees) the quad must cover.
+        distance_factor : float
+            Camera distance in radii ``r`` of the bounding sphere, in
+            :data:`DISTANCE_FACTOR_RANGE` (default :data:`DISTANCE_FACTOR`).
 
         Returns
         -------
@@ -268,6 +282,12 @@ class QuadCameras:
             The fitted rule.
         """
         shape = as_shape(shape, "shape")
+        lo_f, hi_f = DISTANCE_FACTOR_RANGE
+        numeric = isinstance(distance_factor, (int, float, np.integer, np.floating))
+        factor = float(distance_factor) if numeric and not isinstance(distance_factor, bool) else float("nan")
+        if not lo_f <= factor <= hi_f:
+            raise ValidationError(expected_got("distance_factor", f"a number in [{lo_f:g}, {hi_f:g}] (radii)",
+                                               repr(distance_factor)))
         lo, hi = np.asarray(mesh.bounds, dtype=np.float64)
         pivot = np.array([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])])
         try:
@@ -277,7 +297,7 @@ class QuadCameras:
         radius = float(np.max(np.linalg.norm(pts - pivot, axis=1)))
         if not radius > 0:
             raise ValidationError(expected_got("mesh", "an object of positive size", f"radius {radius}"))
-        rule = cls(pivot, DISTANCE_FACTOR * radius, elevation_deg, (1.0, 1.0), shape)
+        rule = cls(pivot, factor * radius, elevation_deg, (1.0, 1.0), shape)
         az = np.arange(0.0, 360.0, _FIT_STEP_DEG)
         if azimuths_deg is not None:
             az = np.r_[az, np.asarray(azimuths_deg, dtype=np.float64)]

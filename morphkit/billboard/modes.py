@@ -198,17 +198,24 @@ class MorphMode(BillboardMode):
         entry per distinct azimuth).
     blend : bool
         Blend the two cached images around ``s`` (default) or round ``s`` to the grid.
+    coverage : bool
+        ``BillboardSource.morph(..., coverage=)``: the alpha from the asset's depth
+        (default), or the paper's view morph alone (False). Keep one cache per setting
+        (the cache keys do not hold it).
     """
 
     name = "morph"
 
     def __init__(self, cache: MorphCache | None = None, *, quantum_deg: float = 1.0,
-                 blend: bool = True) -> None:
+                 blend: bool = True, coverage: bool = True) -> None:
         self._cache = MorphCache() if cache is None else cache
         if not isinstance(self._cache, MorphCache):
             raise ValidationError(expected_got("cache", "a MorphCache", type(cache).__name__))
         self.quantum_deg = _check_quantum(quantum_deg)
         self.blend = bool(blend)
+        if not isinstance(coverage, bool | np.bool_):
+            raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
+        self.coverage = bool(coverage)
         self._spans: dict[tuple[str, int, int], float] = {}  # pair_span_deg per (asset, i, j)
 
     @property
@@ -217,7 +224,7 @@ class MorphMode(BillboardMode):
         return self._cache
 
     def _make(self, asset: BillboardSource, i: int, j: int, s: float, level: int) -> np.ndarray:
-        return asset.morph(i, j, s, level)
+        return asset.morph(i, j, s, level, coverage=self.coverage)
 
     def _at(self, asset: BillboardSource, i: int, j: int, s: float, level: int) -> np.ndarray:
         if s <= 0.0:
@@ -275,6 +282,10 @@ class CrossfadeMode(MorphMode):
     """
 
     name = "crossfade"
+
+    def __init__(self, cache: MorphCache | None = None, *, quantum_deg: float = 1.0,
+                 blend: bool = True) -> None:
+        super().__init__(cache, quantum_deg=quantum_deg, blend=blend, coverage=False)
 
     def _make(self, asset: BillboardSource, i: int, j: int, s: float, level: int) -> np.ndarray:
         return asset.crossfade(i, j, s, level)
