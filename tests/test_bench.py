@@ -143,9 +143,11 @@ def test_billboards_pair_section_tiny_run(renderer, monkeypatch):
     monkeypatch.setattr(bs, "_size", lambda quick: 64)
     rows = bs.pair_rows(bs.AssetCache(renderer), True)
     by = {(r["params"]["section"], r["params"]["mesh"], r["method"]): r for r in rows}
-    assert len(rows) == 16  # 2 sections x (person + all) x 4 methods
-    inside = {m: by[("pair-inside", "person", m)]["metrics"] for m in ("morph", "classic", "crossfade")}
+    assert len(rows) == 20  # 2 sections x (person + all) x 5 methods
+    inside = {m: by[("pair-inside", "person", m)]["metrics"]
+              for m in ("morph", "morph-paper", "classic", "crossfade")}
     assert inside["morph"]["iou"] > inside["crossfade"]["iou"]
+    assert inside["morph"]["iou"] >= inside["morph-paper"]["iou"]  # the alpha from depth fixes outlines
     outside = {m: by[("pair-outside", "person", m)]["metrics"] for m in ("morph", "nearest")}
     assert outside["morph"] == outside["nearest"]  # clamped: the morph is the nearer reference
     assert by[("pair-inside", "all", "morph")]["metrics"] == inside["morph"]

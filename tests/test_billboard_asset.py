@@ -453,7 +453,8 @@ def test_bake_builds_level_0_and_a_lower_level_that_fails_falls_back(chair_pair)
 @pytest.mark.gl
 def test_bake_distance_factor_sets_the_reference_cameras_distance(renderer):
     mesh = sample_mesh("teapot")
-    near, far = (bake_asset(mesh, renderer, views=2, size=SIZE, levels=1, distance_factor=f) for f in (6.0, 12.0))
+    near, far = (bake_asset(mesh, renderer, views=2, size=SIZE, levels=1, distance_factor=f)
+                 for f in (6.0, 12.0))
     assert far.cameras.distance == pytest.approx(2.0 * near.cameras.distance, rel=1e-12)
     assert far.record().quad["distance"] == far.cameras.distance
     # both quads hold the object (fitted per distance); the farther view is closer to orthographic,

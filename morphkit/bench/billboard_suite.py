@@ -111,6 +111,7 @@ from ..billboard import (
     NearestMode,
     OrbitPath,
     PanPath,
+    Placement,
     QuadCameras,
     ViewRing,
     bake_asset,
@@ -118,8 +119,10 @@ from ..billboard import (
     bake_lights,
     place_random,
 )
+from ..billboard.cameras import DISTANCE_FACTOR
 from ..billboard.compare import box_errors
 from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
 from ..protocols import BillboardSource, SceneRenderer
@@ -159,7 +162,8 @@ class AssetCache:
         self.max_assets = int(max_assets)
         self._meshes: dict[str, trimesh.Trimesh] = {}
         self._items: dict[str, list[Any]] = {}
-        self._assets: OrderedDict[tuple[str, int, int, int], tuple[BillboardAsset, float]] = OrderedDict()
+        # (name, views, size, levels, distance factor) -> (asset, bake seconds)
+        self._assets: OrderedDict[tuple[Any, ...], tuple[BillboardAsset, float]] = OrderedDict()
 
     def mesh(self, name: str) -> trimesh.Trimesh:
         """The normalised sample mesh ``name``.
@@ -179,8 +183,10 @@ class AssetCache:
             self._items[name] = bake_items(self._meshes[name])
         return self._meshes[name]
 
-    def asset(self, name: str, views: int, size: int, levels: int = 1) -> BillboardAsset:
-        """``bake_asset(mesh(name), views=views, size=size, levels=levels)``, baked once.
+    def asset(self, name: str, views: int, size: int, levels: int = 1,
+              distance_factor: float = DISTANCE_FACTOR) -> BillboardAsset:
+        """``bake_asset(mesh(name), views=views, size=size, levels=levels, distance_factor=...)``,
+        baked once.
 
         Parameters
         ----------
@@ -192,18 +198,21 @@ class AssetCache:
             Side of the square level-0 reference views, in pixels.
         levels : int
             Pyramid levels of the reference views.
+        distance_factor : float
+            Bake camera distance in bounding radii.
 
         Returns
         -------
         BillboardAsset
             The asset (kept while among the ``max_assets`` most recently used).
         """
-        key = (name, views, size, levels)
+        key = (name, views, size, levels, float(distance_factor))
         if key not in self._assets:
             while len(self._assets) >= self.max_assets:
                 self._assets.popitem(last=False)
             t0 = time.perf_counter()
-            a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels)
+            a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels,
+                           distance_factor=distance_factor)
             self._assets[key] = (a, time.perf_counter() - t0)
         self._assets.move_to_end(key)
         return self._assets[key][0]
@@ -228,7 +237,7 @@ class AssetCache:
             Seconds (the asset is baked now if it is not cached).
         """
         self.asset(name, views, size, levels)
-        return self._assets[(name, views, size, levels)][1]
+        return self._assets[(name, views, size, levels, float(DISTANCE_FACTOR))][1]
 
     def truth(self, name: str, camera: CameraModel) -> np.ndarray:
         """Premultiplied float32 RGBA render of mesh ``name`` by ``camera`` (bake items and lights).
@@ -303,8 +312,12 @@ def _ring_methods(asset: BillboardAsset) -> dict[str, Callable[[float], np.ndarr
             return fn(i, j, s)
         return call
 
-    return {"morph": via_pair(asset.morph), "classic": lambda az: asset.classic(),
-            "nearest": via_pair(asset.nearest), "crossfade": via_pair(asset.crossfade)}
+    def paper(i: int, j: int, s: float) -> np.ndarray:
+        return asset.morph(i, j, s, coverage=False)
+
+    return {"morph": via_pair(asset.morph), "morph-paper": via_pair(paper),
+            "classic": lambda az: asset.classic(), "nearest": via_pair(asset.nearest),
+            "crossfade": via_pair(asset.crossfade)}
 
 
 def _meshes(quick: bool) -> tuple[str, ...]:
@@ -460,9 +473,11 @@ def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
 
 
 def _call_rows(asset: BillboardAsset, name: str, repeats: int) -> list[dict[str, Any]]:
-    """One call of ``morph``, ``crossfade`` and ``nearest`` at azimuth 100, level 0."""
+    """One call of ``morph``, ``morph-paper``, ``crossfade`` and ``nearest`` at azimuth 100, level 0."""
     i, j, s, _ = asset.ring.pair(100.0)
-    calls = time_calls({"morph": lambda: asset.morph(i, j, s), "crossfade": lambda: asset.crossfade(i, j, s),
+    calls = time_calls({"morph": lambda: asset.morph(i, j, s),
+                        "morph-paper": lambda: asset.morph(i, j, s, coverage=False),
+                        "crossfade": lambda: asset.crossfade(i, j, s),
                         "nearest": lambda: asset.nearest(i, j, s)}, repeats=repeats)
     params = {"section": "call", "mesh": name, "views": asset.ring.views, "size": asset.size[0]}
     return [make_row(SUITE, method, params, tm, note=f"azimuth 100 (pair {(i, j)}, s = {s:.3f}), level 0")
@@ -477,8 +492,55 @@ ELEVATION_DEG = 10.0
 
 
 def _modes(cache_capacity: int = 4096) -> dict[str, BillboardMode]:
-    return {"morph": MorphMode(MorphCache(cache_capacity)), "classic": ClassicMode(),
+    return {"morph": MorphMode(MorphCache(cache_capacity)),
+            "morph-paper": MorphMode(MorphCache(cache_capacity), coverage=False), "classic": ClassicMode(),
             "nearest": NearestMode(), "crossfade": CrossfadeMode(MorphCache(cache_capacity))}
+
+
+class TrueViewMode(BillboardMode):
+    """The best image a billboard of an asset's camera rule can show: the mesh rendered by the
+    asset's camera at the placement's viewing azimuth and level (no morph, no clamping), put on
+    the same quad. What a billboard still misses then is the quad's own error (a flat image for
+    a solid object, the bake's perspective for the scene's).
+
+    Parameters
+    ----------
+    renderer : SceneRenderer
+        Renders the views.
+    items : mapping of str to sequence of Item
+        Each asset's bake items (object frame).
+    """
+
+    name = "true-view"
+
+    def __init__(self, renderer: SceneRenderer, items: Mapping[str, Sequence[Item]]) -> None:
+        self.renderer = renderer
+        self.items = dict(items)
+
+    def image(self, asset: BillboardSource, placement: Placement) -> tuple[np.ndarray, float]:
+        """The rendered view, premultiplied, and ``outside_deg`` 0.
+
+        Parameters
+        ----------
+        asset : BillboardSource
+            A :class:`BillboardAsset` (its ``cameras``).
+        placement : Placement
+            Where and how it is drawn.
+
+        Returns
+        -------
+        image : (h, w, 4) float32
+            Premultiplied RGBA.
+        outside_deg : float
+            ``0``.
+        """
+        if not isinstance(asset, BillboardAsset):
+            raise ValidationError(expected_got("asset", "a BillboardAsset (true-view renders its cameras)",
+                                               type(asset).__name__))
+        cam = asset.cameras.camera(placement.azimuth_deg, placement.level)
+        img = self.renderer.source_view(cam, self.items[asset.name], bake_lights(), ambient=BAKE_AMBIENT)
+        a = img.astype(np.float32) / 255.0
+        return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2), 0.0
 
 
 def _accuracy_scene(asset: BillboardSource, rng: np.random.Generator) -> BillboardScene:
@@ -525,9 +587,11 @@ def scene_accuracy_rows(assets: Sequence[BillboardSource], meshes: Mapping[str, 
         path = OrbitPath(centre=(0.0, 0.0, float(asset.pivot[2])), radius=radius, height=height,
                          start_deg=0.0, end_deg=360.0 * (frames - 1) / frames)
         truth_mode = MeshMode(renderer, {asset.name: meshes[asset.name]}, lights, ambient, supersample=3)
-        samples: dict[str, list[dict[str, Any]]] = {m: [] for m in _modes()}
-        ms: dict[str, list[float]] = {m: [] for m in _modes()}
-        modes = _modes()
+        modes: dict[str, BillboardMode] = _modes()
+        if isinstance(asset, BillboardAsset):
+            modes["true-view"] = TrueViewMode(renderer, {asset.name: meshes[asset.name]})
+        samples: dict[str, list[dict[str, Any]]] = {m: [] for m in modes}
+        ms: dict[str, list[float]] = {m: [] for m in modes}
         for cam in path.cameras(frames, shape):
             truth = scene.render(cam, truth_mode)
             for name, mode in modes.items():
@@ -806,6 +870,15 @@ def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     items = {"cow": bake_items(cow)}
     assets = [cache.asset("cow", k, size, 3) for k in (2, 8)]
     rows = scene_accuracy_rows(assets, items, r, lights, ambient, frames=8 if quick else 24, shape=shape)
+    for row in rows:
+        row["params"]["distance_factor"] = DISTANCE_FACTOR
+    for factor in () if quick else (4.0, 8.0):
+        # the same K = 2 scene with the bake cameras nearer (the default's evidence)
+        near = cache.asset("cow", 2, size, 3, distance_factor=factor)
+        other = scene_accuracy_rows([near], items, r, lights, ambient, frames=24, shape=shape)
+        for row in other:
+            row["params"].update(section="scene-distance", distance_factor=factor)
+        rows += other
     for a in assets:
         span = (-30.0, 0.0 if quick else 30.0) if a.ring.views == 2 else (0.0, 45.0 if quick else 90.0)
         rows += temporal_rows(a, items, r, lights, ambient, start_deg=span[0], end_deg=span[1], shape=shape)
