@@ -269,6 +269,13 @@ def test_points_file_roundtrip(tmp_path, rng):
         p = save_points(tmp_path / name, corr)
         back = load_points(p)
         assert np.array_equal(back.pts0, corr.pts0) and np.array_equal(back.pts1, corr.pts1)
+    # written through morphkit.fileio: a rewrite replaces the file whole, no temporary left behind
+    save_points(tmp_path / "pts.csv", corr.subset(np.arange(5)))
+    assert len(load_points(tmp_path / "pts.csv")) == 5
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["pts.csv", "pts.json"]
+    with pytest.raises(ValidationError, match=r"path: expected a \.json or \.csv file name"):
+        save_points(tmp_path / "new" / "pts.txt", corr)
+    assert not (tmp_path / "new").exists()  # refused before creating anything
     rows = [[1, 2, 3, 4], [5, 6, 7, 8]]
     (tmp_path / "rows.json").write_text(json.dumps(rows))
     assert load_points(tmp_path / "rows.json").pts1.tolist() == [[3, 4], [7, 8]]

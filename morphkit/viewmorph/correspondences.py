@@ -27,6 +27,7 @@ are dropped, keeping the first; NaN/inf coordinates are refused
 from __future__ import annotations
 
 import csv
+import io
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +39,7 @@ import numpy as np
 from .. import tol
 from ..camera import CameraModel
 from ..errors import FileFormatError, ValidationError, expected_got
+from ..fileio import write_text
 from ..validate import as_finite_array, as_image, as_points
 
 __all__ = [
@@ -549,7 +551,8 @@ def save_points(path: str | Path, corr: Correspondences) -> Path:
     Parameters
     ----------
     path : str or Path
-        A ``.json`` or ``.csv`` file name (parent folders are created).
+        A ``.json`` or ``.csv`` file name (parent folders are created); written
+        atomically (:func:`morphkit.fileio.write_text`).
     corr : Correspondences
         The pairs (only ``pts0``/``pts1`` are written).
 
@@ -564,15 +567,16 @@ def save_points(path: str | Path, corr: Correspondences) -> Path:
         Another suffix.
     """
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
     if p.suffix.lower() == ".json":
-        p.write_text(json.dumps({"pts0": corr.pts0.tolist(), "pts1": corr.pts1.tolist()}) + "\n")
+        text = json.dumps({"pts0": corr.pts0.tolist(), "pts1": corr.pts1.tolist()}) + "\n"
     elif p.suffix.lower() == ".csv":
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["x0", "y0", "x1", "y1"])
-            for a, b in zip(corr.pts0, corr.pts1, strict=True):
-                w.writerow([repr(float(a[0])), repr(float(a[1])), repr(float(b[0])), repr(float(b[1]))])
+        buf = io.StringIO(newline="")
+        w = csv.writer(buf)
+        w.writerow(["x0", "y0", "x1", "y1"])
+        for a, b in zip(corr.pts0, corr.pts1, strict=True):
+            w.writerow([repr(float(a[0])), repr(float(a[1])), repr(float(b[0])), repr(float(b[1]))])
+        text = buf.getvalue()
     else:
         raise ValidationError(expected_got("path", "a .json or .csv file name", str(p)))
-    return p
+    p.parent.mkdir(parents=True, exist_ok=True)
+    return write_text(p, text)
