@@ -198,6 +198,15 @@ VM_AUTO_LAYERS = 2
 #: 45-60 degrees, and ~150-300 at 64^2).
 BB_MIN_CORRESPONDENCES = 32
 
+#: Depth tolerance of the bake's visibility test (a sample of one reference is seen by
+#: the other when its depth there is within this of the other's depth map), in
+#: bounding radii of the mesh: ``from_depth(rtol=BB_VISIBILITY_RADII / distance_factor)``.
+#: A tolerance relative to the depth alone (:data:`VM_VISIBILITY_RTOL`) grows with the
+#: bake distance: at 12 radii it took points 0.12 radii behind a surface for visible
+#: (a chair's far legs), their pairs folded over, and a pair could not be morphed.
+#: 0.04 is what 1% of the depth was at the former 4 radii.
+BB_VISIBILITY_RADII = 0.04
+
 #: Splat grid of a morph's coverage from depth (:func:`morphkit.billboard.splat_coverage`),
 #: per image pixel and axis: 2 gives anti-aliased edges (4 levels of coverage per
 #: pixel) at a quarter of the cost of 4.

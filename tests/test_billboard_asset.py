@@ -302,12 +302,13 @@ def test_morph_is_registered_to_the_quad_at_both_ends(person_ring):
     for i, j in asset.ring.pairs()[:4]:
         for s, k in ((1e-6, i), (1.0 - 1e-6, j)):
             out, ref = asset.morph(i, j, s, coverage=False), asset.reference(k)
-            # measured (bake distance 12 radii) IoU 0.986-1.0, mean |difference| 0.0001-0.0031:
+            # measured (bake distance 12 radii) IoU 0.974-1.0, mean |difference| 0.0002-0.0033:
             # bilinear resampling near the pixel centres; the image-1 end also goes through
             # ViewMorpher's image-0 -> image-1 look-up (piecewise affine), a pixel or two of a 64-px
-            # outline. A misregistration by one pixel gives a mean difference of 0.030-0.039: the
-            # bound is a sixth of that.
-            assert shadow_iou(out[..., 3] > 0.5, ref[..., 3] > 0.5) > 0.98
+            # outline (0.988-1.0 when the bake stood at 4 radii). A misregistration
+            # by one pixel gives IoU 0.67-0.71 and a mean difference of 0.030-0.039: the bounds
+            # are far from both.
+            assert shadow_iou(out[..., 3] > 0.5, ref[..., 3] > 0.5) > 0.97
             assert np.abs(out - ref).mean() < 0.005, (i, j, s, np.abs(out - ref).mean())
 
 

@@ -797,7 +797,8 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         points = []
         for i, j in pairs:
             ci, cj = cams.camera(az[i]), cams.camera(az[j])
-            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step)
+            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step,
+                              rtol=tol.BB_VISIBILITY_RADII / distance_factor)
             if len(corr) < tol.BB_MIN_CORRESPONDENCES:
                 raise DegenerateViewError(expected_got(
                     f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",
