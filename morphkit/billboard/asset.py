@@ -290,6 +290,9 @@ class BillboardAsset:
         #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
         #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
         self.level_fallbacks: set[tuple[int, int]] = set()
+        #: (pair, level) -> the depth layers its morpher was built with, where the asset's
+        #: ``layers`` could not be (a slice whose pairs all fold over; see :meth:`morpher`).
+        self.layer_fallbacks: dict[tuple[int, int], int | str] = {}
 
     # ------------------------------------------------------------------ data
     def _pyramid_level(self, base: np.ndarray, level: int) -> np.ndarray:
@@ -582,6 +585,17 @@ class BillboardAsset:
         -------
         ViewMorpher
             The pair's morpher (shared, cached).
+
+        Raises
+        ------
+        DegenerateViewError
+            No number of depth layers gives a morph (the message names the pair and level).
+
+        Notes
+        -----
+        A depth slice whose pairs all cross (every one dropped to fold-overs) has no mesh;
+        the morpher is then built with one layer fewer, down to one, and the count used is
+        listed in :attr:`layer_fallbacks`. The same stored data gives the same choice on load.
         """
         level = _check_level(level, self.levels)
         key = (int(pair), level)
@@ -596,16 +610,25 @@ class BillboardAsset:
         di, dj = (self._depth[k] if level == 0 else
                   cv2.resize(self._depth[k], (w, h), interpolation=cv2.INTER_NEAREST) for k in (i, j))
         imgs = [from_premultiplied(self._prem[level][k], 4, np.dtype(np.float32)) for k in (i, j)]
-        try:
-            vm = ViewMorpher(imgs[0], imgs[1], corr, layers=self.layers,
-                             layer_depth=pair_depth(ci, cj, di, dj),
-                             fill_occluded=True)
-        except (ValidationError, GeometryError) as exc:
-            raise DegenerateViewError(expected_got(
-                f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) at level {level}",
-                "two views a view morph can join", f"{type(exc).__name__}: {exc}")) from exc
-        self._morphers[key] = vm
-        return vm
+        keys = pair_depth(ci, cj, di, dj)
+        # fewer depth layers when a layer's mesh cannot be built (a slice whose pairs all cross)
+        tries: list[int | str] = (["auto", 1] if self.layers == "auto"
+                                  else list(range(int(self.layers), 0, -1)))
+        failure: Exception | None = None
+        for layers in tries:
+            try:
+                vm = ViewMorpher(imgs[0], imgs[1], corr, layers=layers, layer_depth=keys, fill_occluded=True)
+            except (ValidationError, GeometryError) as exc:
+                failure = exc
+                continue
+            if layers != self.layers:
+                self.layer_fallbacks[key] = layers
+            self._morphers[key] = vm
+            return vm
+        raise DegenerateViewError(expected_got(
+            f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) at level {level}",
+            f"two views a view morph can join (tried layers {tries})",
+            f"{type(failure).__name__}: {failure}")) from failure
 
     def _ref_camera(self, k: int, level: int) -> CameraModel:
         cam = self._cams.get((k, level))
