@@ -23,13 +23,15 @@ premultiplied RGB (the billboard over black) over the whole box, data range 1
 Sections (a list, :data:`SECTIONS`, of functions ``(cache, quick) -> rows``;
 other sections -- frame time, temporal stability -- append theirs):
 
-* ``pair`` -- ``K = 2`` (+-30 degrees): ``morph``, ``classic`` (one image: the
-  front view at azimuth 0), ``nearest`` and ``crossfade`` of the same two
-  references, at azimuths +-5, +-15, +-25 inside the arc (``pair-inside``: the
+* ``pair`` -- ``K = 2`` (+-30 degrees): ``morph`` (the asset's morph: alpha from
+  depth), ``morph-paper`` (the view morph's own alpha, ``coverage=False``),
+  ``classic`` (one image: the front view at azimuth 0), ``nearest`` and
+  ``crossfade`` of the same two references, at azimuths +-5, +-15, +-25 inside the arc (``pair-inside``: the
   midpoints of six equal parts of the arc, so no method meets its own reference)
   and +-35, +-45, +-60 (``pair-outside``, 5-30 degrees beyond it);
 * ``ring`` -- ``K = 6, 8, 12`` over 360 degrees, at 24 azimuths ``7.5 + 15 n``
-  (never a reference): ``morph``, ``nearest``, ``crossfade`` of the ring, ``classic``;
+  (never a reference): ``morph``, ``morph-paper``, ``nearest``, ``crossfade`` of the ring,
+  ``classic``;
 * ``equal-memory`` -- the ``K = 8`` and ``K = 12`` morph rings at ``S^2`` against
   ``nearest`` / ``crossfade`` over a denser ring of ``(S/2)^2`` views holding the same
   bytes: the same colour bytes (``dense-images``: 4 K views) and the same bytes in all
@@ -55,11 +57,16 @@ other sections -- frame time, temporal stability -- append theirs):
     lights (:class:`~morphkit.billboard.MeshMode`, supersampled coverage like the
     assets' references), composited over the same backdrop (no fog), along an
     orbit (24 frames, 8 units, 10 degrees up) of 9 instances of the cow on a
-    3 x 3 grid with random yaws; for morph, classic, nearest and crossfade.
+    3 x 3 grid with random yaws; for morph, morph-paper, classic, nearest,
+    crossfade and :class:`TrueViewMode` (``true-view``: the mesh rendered by the
+    asset's camera at each billboard's azimuth, on the same quad: the best a
+    billboard of that bake can show).
     ``K = 2`` rows are split by where each billboard's viewing azimuth lies:
     ``inside`` the arc, ``outside<=30``; ring rows cover 360 degrees. Unlike the
     asset rows above, the scene camera is not the bake's camera (its distance,
     so its perspective, differs) and billboards are small (level 1-2).
+    ``scene-distance`` rows: the ``K = 2`` scene again with the asset baked at
+    4 and 8 bounding radii (``distance_factor``; the default is 12).
   - :func:`temporal_rows` (``scene-temporal``) -- the billboard layer's mean
     absolute change per 0.5-degree orbit step about one instance (the quad stays
     centred, so only its image changes), its maximum over its median: popping
@@ -130,7 +137,8 @@ from ..scene import Item, Light
 from .harness import Timing, make_row, time_call, time_calls
 
 __all__ = ["run", "AssetCache", "SECTIONS", "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows",
-           "scene_accuracy_rows", "temporal_rows", "speed_rows", "hit_rate_rows", "step_changes"]
+           "TrueViewMode", "scene_accuracy_rows", "temporal_rows", "speed_rows", "hit_rate_rows",
+           "step_changes"]
 
 #: The suite's name in bench rows.
 SUITE = "billboards"
