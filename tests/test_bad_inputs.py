@@ -453,6 +453,12 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     # -- billboards (issue 16) and the bake (issue 17)
     ("billboard: a ring of one view", _api(lambda: _billboard().ViewRing(1)), VE,
      r"views: expected K >= 2 reference views .*got 1"),
+    ("billboard: bake cameras 2 radii away", _api(lambda: _billboard().QuadCameras.fit(
+        trimesh.creation.box(), (64, 64), 10.0, distance_factor=2.0)), VE,
+     r"distance_factor: expected a number in \[3, 100\] \(radii\), got 2.0"),
+    ("billboard: coverage splat on a 0x grid", _api(lambda: _billboard().splat_coverage(
+        np.zeros((1, 3)), _billboard().QuadCameras.fit(trimesh.creation.box(), (64, 64), 10.0).camera(0.0),
+        supersample=0)), VE, r"supersample: expected an int >= 1, got 0"),
     ("billboard: asset file that is not one", _with(lambda tmp: (tmp / "bad.npz").write_bytes(b"garbage"),
                                                    lambda tmp: _billboard().BillboardAsset.load(
                                                        tmp / "bad.npz")), FileFormatError,
