@@ -129,6 +129,7 @@ from ..billboard import (
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..billboard.compare import box_errors
 from ..camera import CameraModel
+from ..composite import to_premultiplied
 from ..errors import ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
@@ -547,8 +548,7 @@ class TrueViewMode(BillboardMode):
                                                type(asset).__name__))
         cam = asset.cameras.camera(placement.azimuth_deg, placement.level)
         img = self.renderer.source_view(cam, self.items[asset.name], bake_lights(), ambient=BAKE_AMBIENT)
-        a = img.astype(np.float32) / 255.0
-        return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2), 0.0
+        return to_premultiplied(img.astype(np.float32) / np.float32(255.0), 4), 0.0
 
 
 def _accuracy_scene(asset: BillboardSource, rng: np.random.Generator) -> BillboardScene:

@@ -39,7 +39,9 @@ both references' object pixels projected into the in-between camera
 (:meth:`BillboardAsset.coverage`, :mod:`.coverage`). Pixels wholly inside that
 coverage are opaque, pixels wholly outside it clear, and outline pixels keep
 the morph's anti-aliased alpha (so just off a reference the morph is still that
-reference). ``coverage=False`` is the paper's view morph alone (a bench row).
+reference); a pixel where the morph has no colour to show (alpha at most
+:data:`tol.BB_COVERAGE_MIN_ALPHA`) stays clear. ``coverage=False`` is the paper's
+view morph alone (a bench row).
 
 Level of detail
 ---------------
