@@ -278,6 +278,7 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
     from morphkit.bake import BillboardKind
     from morphkit.billboard import BillboardAsset
     from morphkit.billboard.asset import mesh_hash
+    from morphkit.billboard.cameras import DISTANCE_FACTOR
     from morphkit.meshes import load_mesh
 
     lib = make_library(tmp_path / "lib")
@@ -286,12 +287,15 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
                      scheduler=scheduler, progress=False)
     assert m.run["baked"] == 1 and not m.failed()
     rec = m.assets["box"].outputs["billboard"]
-    assert rec.file == "box.billboard.npz" and rec.options == {"views": 2, "size": 64}
+    assert rec.file == "box.billboard.npz"
+    assert rec.options == {"views": 2, "size": 64, "distance_factor": DISTANCE_FACTOR}
     asset = BillboardAsset.load(tmp_path / "out" / rec.file, mesh=load_mesh(lib / "box.ply"))
     assert asset.ring.views == 2 and asset.mesh_hash == mesh_hash(load_mesh(lib / "box.ply"))
     assert (tmp_path / "out" / "box.atlas.npz").is_file()
     with pytest.raises(ValidationError, match=r"billboard size: expected an integer in \[16, 2048\]"):
         BillboardKind(size=8)
+    with pytest.raises(ValidationError, match=r"billboard distance_factor: expected a number in \[3, 100\]"):
+        BillboardKind(distance_factor=1.0)
 
 
 @pytest.mark.gl

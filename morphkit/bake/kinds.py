@@ -26,6 +26,7 @@ import trimesh
 
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
+from ..billboard.cameras import DISTANCE_FACTOR, DISTANCE_FACTOR_RANGE
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
@@ -212,10 +213,14 @@ class BillboardKind:
         Reference views on the ring: 2 is the paper's left/right pair, more a full ring.
     size : int
         Side of the square level-0 reference views, in pixels (16..2048).
+    distance_factor : float
+        Reference cameras' distance in bounding radii
+        (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`; checked by the bake).
     """
 
     views: int = 2
     size: int = 256
+    distance_factor: float = DISTANCE_FACTOR
 
     name: ClassVar[str] = "billboard"
     suffix: ClassVar[str] = ".billboard.npz"
@@ -224,6 +229,13 @@ class BillboardKind:
     def __post_init__(self) -> None:
         object.__setattr__(self, "views", _int_in(self.views, "billboard views", 2, 64))
         object.__setattr__(self, "size", _int_in(self.size, "billboard size", 16, 2048))
+        lo, hi = DISTANCE_FACTOR_RANGE
+        f = self.distance_factor
+        numeric = isinstance(f, int | float | np.integer | np.floating) and not isinstance(f, bool)
+        if not numeric or not lo <= f <= hi:
+            raise ValidationError(expected_got("billboard distance_factor", f"a number in [{lo:g}, {hi:g}]",
+                                               repr(f)))
+        object.__setattr__(self, "distance_factor", float(f))
 
     def options(self) -> dict[str, Any]:
         """The options that decide the output (recorded in the manifest; a change re-bakes).
@@ -231,9 +243,10 @@ class BillboardKind:
         Returns
         -------
         dict
-            ``views`` and ``size`` as JSON values.
+            ``views``, ``size`` and ``distance_factor`` as JSON values (an asset baked with
+            another distance, e.g. before the default changed, is re-baked).
         """
-        return {"views": self.views, "size": self.size}
+        return {"views": self.views, "size": self.size, "distance_factor": float(self.distance_factor)}
 
     def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
         """The billboard asset of ``mesh`` (reference views and every pair's morph prepared).
@@ -251,7 +264,8 @@ class BillboardKind:
             The billboard asset (:func:`~morphkit.billboard.bake_asset`), ``views`` reference views of
             ``size x size`` pixels.
         """
-        return bake_asset(mesh, renderer, views=self.views, size=self.size)
+        return bake_asset(mesh, renderer, views=self.views, size=self.size,
+                          distance_factor=self.distance_factor)
 
 
 def _int_in(v: Any, what: str, lo: int, hi: int) -> int:
