@@ -231,6 +231,19 @@ class ViewRing:
             ``K = 2`` outside the arc: the angle (degrees, > 0) from the azimuth
             to the nearer end of the arc, where the view is clamped (``s = 0``
             at view 0, ``s = 1`` at view 1); 0 otherwise.
+
+        Examples
+        --------
+        The paper's pair (views at -30 and +30 degrees): the front is half way, 40 degrees
+        is 10 degrees beyond view 1; a ring of 8 views (every 45 degrees) at 90 is view 2.
+
+        >>> ring = ViewRing(2)
+        >>> ring.pair(0.0)
+        (0, 1, 0.5, 0.0)
+        >>> ring.pair(40.0)
+        (0, 1, 1.0, 10.0)
+        >>> ViewRing(8).pair(90.0)
+        (2, 3, 0.0, 0.0)
         """
         a = wrap_deg(azimuth_deg)
         if self.views == 2:
