@@ -26,7 +26,7 @@ import trimesh
 
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
-from ..billboard.cameras import DISTANCE_FACTOR, DISTANCE_FACTOR_RANGE
+from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
@@ -215,7 +215,7 @@ class BillboardKind:
         Side of the square level-0 reference views, in pixels (16..2048).
     distance_factor : float
         Reference cameras' distance in bounding radii
-        (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`; checked by the bake).
+        (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`; in its range).
     """
 
     views: int = 2
@@ -229,13 +229,8 @@ class BillboardKind:
     def __post_init__(self) -> None:
         object.__setattr__(self, "views", _int_in(self.views, "billboard views", 2, 64))
         object.__setattr__(self, "size", _int_in(self.size, "billboard size", 16, 2048))
-        lo, hi = DISTANCE_FACTOR_RANGE
-        f = self.distance_factor
-        numeric = isinstance(f, int | float | np.integer | np.floating) and not isinstance(f, bool)
-        if not numeric or not lo <= f <= hi:
-            raise ValidationError(expected_got("billboard distance_factor", f"a number in [{lo:g}, {hi:g}]",
-                                               repr(f)))
-        object.__setattr__(self, "distance_factor", float(f))
+        object.__setattr__(self, "distance_factor",
+                           check_distance_factor(self.distance_factor, "billboard distance_factor"))
 
     def options(self) -> dict[str, Any]:
         """The options that decide the output (recorded in the manifest; a change re-bakes).

@@ -500,7 +500,7 @@ class BillboardAsset:
         out = to_premultiplied(vm.morph(s, post=cam, frame="fixed"), 4)
         if not coverage:
             return out
-        cov = self.coverage(i, j, s, level)
+        cov = self._coverage(i, j, cam)
         alpha = out[..., 3:]
         has_colour = alpha > np.float32(tol.BB_COVERAGE_MIN_ALPHA)
         # wholly inside the object: opaque; wholly outside: clear; on the outline (coverage
@@ -535,8 +535,10 @@ class BillboardAsset:
         s = _check_s(s)
         level = _check_level(level, self.levels)
         az = self.ring.azimuths_deg()
-        cam = self.cameras.chord_camera(az[i], az[j], s, level)
-        return splat_coverage(np.concatenate([self._object_points(i), self._object_points(j)]), cam)
+        return self._coverage(i, j, self.cameras.chord_camera(az[i], az[j], s, level))
+
+    def _coverage(self, i: int, j: int, camera: CameraModel) -> np.ndarray:
+        return splat_coverage(np.concatenate([self._object_points(i), self._object_points(j)]), camera)
 
     def _object_points(self, k: int) -> np.ndarray:
         pts = self._obj_points.get(k)

@@ -49,7 +49,7 @@ from ..camera import CameraModel, look_at
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_positive, as_shape
 
-__all__ = ["QuadCameras", "DISTANCE_FACTOR", "DISTANCE_FACTOR_RANGE", "FRAME_MARGIN"]
+__all__ = ["QuadCameras", "DISTANCE_FACTOR", "DISTANCE_FACTOR_RANGE", "FRAME_MARGIN", "check_distance_factor"]
 
 #: Default camera distance from the pivot, in radii of the mesh's bounding sphere
 #: about it (``bake_asset(distance_factor=...)``). A billboard stands in for an
@@ -65,6 +65,34 @@ DISTANCE_FACTOR = 12.0
 #: :meth:`QuadCameras.camera_at` no longer holds the object between two ring cameras
 #: 60 degrees apart, farther than 100 the views are orthographic for every purpose.
 DISTANCE_FACTOR_RANGE = (3.0, 100.0)
+
+
+def check_distance_factor(value: float, name: str = "distance_factor") -> float:
+    """``value`` as a float, checked to lie in :data:`DISTANCE_FACTOR_RANGE`.
+
+    Parameters
+    ----------
+    value : float
+        A camera distance in bounding radii.
+    name : str
+        What the error message calls it.
+
+    Returns
+    -------
+    float
+        The distance factor.
+
+    Raises
+    ------
+    ValidationError
+        Not a number (bools refused), NaN, or outside the range.
+    """
+    lo, hi = DISTANCE_FACTOR_RANGE
+    numeric = isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+    factor = float(value) if numeric else float("nan")
+    if not lo <= factor <= hi:
+        raise ValidationError(expected_got(name, f"a number in [{lo:g}, {hi:g}] (radii)", repr(value)))
+    return factor
 
 #: Fraction by which the fitted quad is larger than the object's widest
 #: projection (a margin of transparent pixels around every view).
@@ -282,12 +310,7 @@ class QuadCameras:
             The fitted rule.
         """
         shape = as_shape(shape, "shape")
-        lo_f, hi_f = DISTANCE_FACTOR_RANGE
-        numeric = isinstance(distance_factor, (int, float, np.integer, np.floating))
-        factor = float(distance_factor) if numeric and not isinstance(distance_factor, bool) else float("nan")
-        if not lo_f <= factor <= hi_f:
-            raise ValidationError(expected_got("distance_factor", f"a number in [{lo_f:g}, {hi_f:g}] (radii)",
-                                               repr(distance_factor)))
+        factor = check_distance_factor(distance_factor)
         lo, hi = np.asarray(mesh.bounds, dtype=np.float64)
         pivot = np.array([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])])
         try:
