@@ -53,6 +53,37 @@ MESH_ZERO_LENGTH_REL = 1e-9
 #: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
 MESH_ZERO_AREA_REL = 1e-12
 
+# --- generic zeros and equalities (one name each, instead of bare epsilons) ---
+
+#: A float64 magnitude at or below this is zero: the floor of a norm, determinant or
+#: weight that a value is divided by. Normal float64 values go down to ~2.2e-308, so
+#: 1e-300 only catches exact (or underflowed) zeros and never changes a real quotient.
+ZERO = 1e-300
+
+#: Two float64 quantities of the same scale are equal when they differ by less than
+#: this times that scale (coordinates, depths, parameters on a grid). float64 rounds
+#: at ~1e-16 relative, and a few dozen operations stay below ~1e-14; 1e-9 is far above
+#: that and far below any difference a user could mean (a nanometre in a metre).
+REL_EQUAL = 1e-9
+
+#: Two pixel coordinates (or control points, in pixels) are the same point when they
+#: differ by at most this many pixels: a shift of 1e-6 px moves no sample visibly,
+#: while float32 image coordinates up to 8192 px round at ~5e-4 px only in float32
+#: storage, which morphkit does not compare (control points are float64).
+PX_EQUAL = 1e-6
+
+#: Floor of a float32 alpha or accumulated weight that colour is divided by (to leave
+#: premultiplied form, or to normalise a weighted sum): float32 resolves ~6e-8 near 1,
+#: and an alpha of 1e-6 is 1/3900 of one 8-bit step, i.e. invisible: below it a pixel
+#: is transparent and its colour is 0.
+ALPHA_FLOOR = 1e-6
+
+#: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees):
+#: a look-at up vector, a light along an axis. Near that the cross product's direction
+#: is ill-conditioned (its length is ~sqrt(2e-6) = 1.4e-3).
+PARALLEL_DOT = 1e-6
+
+
 # --- size limits (checked before anything is allocated) ---------------------
 
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A

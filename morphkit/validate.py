@@ -17,6 +17,7 @@ __all__ = [
     "as_finite_array",
     "as_shape",
     "as_int",
+    "as_flag",
     "as_pose",
     "as_positive",
     "as_unit_interval",
@@ -222,6 +223,38 @@ def as_int(v: Any, name: str, *, lo: int | None = None, hi: int | None = None) -
     if (lo is not None and n < lo) or (hi is not None and n > hi):
         raise ValidationError(expected_got(name, want, n))
     return n
+
+
+def as_flag(v: Any, name: str) -> bool:
+    """Return ``v`` as a bool; only ``bool`` and ``numpy.bool_`` are flags.
+
+    ``0``/``1``, strings such as ``"yes"`` and ``None`` are refused rather than
+    read by truthiness, so a misplaced positional argument is caught.
+
+    Parameters
+    ----------
+    v : Any
+        The value to check.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    bool
+        ``v`` as a Python bool.
+
+    Examples
+    --------
+    >>> as_flag(True, "interpolate")
+    True
+    >>> as_flag(1, "interpolate")
+    Traceback (most recent call last):
+    ...
+    morphkit.errors.ValidationError: interpolate: expected a bool (True or False), got 1
+    """
+    if not isinstance(v, bool | np.bool_):
+        raise ValidationError(expected_got(name, "a bool (True or False)", repr(v)[:120]))
+    return bool(v)
 
 
 def as_pose(T: Any, name: str) -> np.ndarray:
