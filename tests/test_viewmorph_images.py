@@ -80,7 +80,7 @@ def test_flow_matches_follow_a_known_translation_and_the_alpha_mask(rng):
 def test_matchers_refuse_bad_settings():
     with pytest.raises(ValidationError, match=r"ratio: expected a number in \(0, 1\]"):
         SiftMatcher(ratio=0.0)
-    with pytest.raises(ValidationError, match="upscale: expected an int >= 1"):
+    with pytest.raises(ValidationError, match="upscale: expected an integer >= 1"):
         SiftMatcher(upscale=1.5)
     with pytest.raises(ValidationError, match="preset: expected one of"):
         FlowMatcher(preset="slow")

@@ -101,7 +101,7 @@ def test_from_depth_samples_the_outline(posts):
 
 def test_from_depth_refuses_bad_input(posts):
     c0, c1, _, _, d0, d1 = posts
-    with pytest.raises(ValidationError, match="step: expected an int >= 0"):
+    with pytest.raises(ValidationError, match="step: expected an integer >= 0"):
         from_depth(c0, c1, d0, d1, step=-1)
     with pytest.raises(ValidationError, match=r"interior or outline samples \(not both 0\)"):
         from_depth(c0, c1, d0, d1, step=0, contour_step=0)
