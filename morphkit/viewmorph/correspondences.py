@@ -436,7 +436,7 @@ def pair_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
     The key of a pixel of view ``i`` is the mean of its surface point's depth
     in the two cameras (``+inf`` for background), the value a correspondence
     through that point carries -- so pixels and pairs can be split into the
-    same depth layers (``ViewMorpher(..., layers=k, layer_depth=pair_depth(...))``).
+    same depth layers (``plan_view_morph(..., layers=k, layer_depth=pair_depth(...))``).
 
     Parameters
     ----------

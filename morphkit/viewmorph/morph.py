@@ -90,7 +90,7 @@ __all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES", "PATHS"]
 
 #: The values of ``ViewMorpher.morph(path=...)``.
 PATHS = ("direct", "rectified")
-#: Key of the whole images' pre-warped pair in :attr:`ViewMorpher` 's cache (layers are keyed 0, 1, ...).
+#: Key of the whole images' pre-warped pair in a ViewMorpher's cache (layers are keyed 0, 1, ...).
 _IMAGES = -1
 
 
