@@ -128,14 +128,13 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                                   f"{type(exc).__name__}: {exc}") from exc
     else:
         corr = from_images(left, right)
-    vm = ViewMorpher(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
-    rep = vm.report
-    fit = rep.get("fundamental", {})
+    vm = ViewMorpher.from_estimate(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
+    rep, fit = vm.report, vm.fit
     print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
-          f"{rep['n_used']}/{rep['n_input']} pairs used ({rep['n_duplicates']} duplicates, "
-          f"{rep.get('n_outliers', 0)} outliers, {rep['n_dropped_foldover']} dropped for fold-overs)"
-          + (f", F by {fit['method']}: Sampson RMS {fit['sampson_rms_px']:.3f} px" if fit else "")
-          + (f"; fallback: {rep['fallback']}" if "fallback" in rep else ""))
+          f"{rep.n_used}/{rep.n_input} pairs used ({rep.n_duplicates} duplicates, "
+          f"{rep.n_outliers or 0} outliers, {rep.n_dropped_foldover} dropped for fold-overs)"
+          + (f", F by {fit.method}: Sampson RMS {fit.sampson_rms:.3f} px" if fit is not None else "")
+          + (f"; fallback: {rep.fallback}" if rep.fallback is not None else ""))
     kw = {"post": args.post, "frame": args.frame}
     if args.frames:
         for i, img in enumerate(vm.frames(args.frames, **kw)):

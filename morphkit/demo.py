@@ -266,13 +266,14 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
         (i0, d0), (i1, d1), (gt, _) = render_pair(renderer, items, cams)
         corr = from_depth(cams[0], cams[1], d0, d1)
         t0 = time.perf_counter()
-        vm = ViewMorpher(i0, i1, corr, layers="auto", layer_depth=pair_depth(cams[0], cams[1], d0, d1))
+        vm = ViewMorpher.from_estimate(i0, i1, corr, layers="auto",
+                                       layer_depth=pair_depth(cams[0], cams[1], d0, d1))
         t1 = time.perf_counter()
         mid = vm.morph(0.5, post=cams[2], frame="fixed")
         t2 = time.perf_counter()
         report[name] = {"silhouette_iou": shadow_iou(mid[..., 3] > 127, gt[..., 3] > 127),
                         "build_ms": 1e3 * (t1 - t0), "morph_ms": 1e3 * (t2 - t1), "mode": vm.mode,
-                        "layers": vm.report["layers"]}
+                        "layers": vm.report.layers}
         if name == "chair":
             rows.append(overview_row(f"view morph s=0.5, {VIEWMORPH_BASELINE_DEG:g} deg apart (chair)",
                                      mid, gt, "rendered middle view",

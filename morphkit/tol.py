@@ -149,6 +149,25 @@ VM_EPIPOLE_INFINITY = 1e-9
 #: half a pixel a rectification would move points by less than its resampling blur.
 VM_PARALLEL_Y_PX = 0.5
 
+#: A component of a unit-norm vector or matrix of the view-morph geometry (an
+#: epipole's in-plane direction, an epipolar line's direction, a normalised
+#: pre-warp's Jacobian row) below this is zero: SVD null vectors of float64
+#: matrices are accurate to ~1e-15, so 1e-12 only catches true degeneracies
+#: (an epipole exactly on the optical axis, the line at infinity).
+VM_UNIT_ZERO = 1e-12
+
+#: Seitz & Dyer's rotated (unit-norm) F must reach the form [[0,0,0],[0,0,a],[0,b,c]];
+#: its other entries may be at most this. The rotations are built from the
+#: epipoles in float64 (~1e-15); 1e-6 leaves room for F's conditioning (its
+#: second singular value over the first down to ~1e-9) and still refuses any F
+#: that the construction did not rectify.
+VM_ROTATED_F_RESIDUAL = 1e-6
+
+#: Probability that the homography-degeneracy test's RANSAC misses a homography
+#: that explains the pairs (:func:`morphkit.viewmorph.fundamental.homography_degeneracy`
+#: sizes its sample count from it): one wrong "not degenerate" in a billion pairs.
+VM_HOMOGRAPHY_MISS_PROB = 1e-9
+
 #: Rectification is refused when an epipole lies inside the image grown by this
 #: fraction of its diagonal on every side: the cameras (nearly) see each other
 #: and no homography sends the epipole to infinity without tearing the image.
@@ -193,8 +212,14 @@ VM_MIN_TRIANGLE_AREA_PX2 = 1e-3
 #: 23.5/22.4/23.8 dB. 0.02 keeps most of both.
 VM_LAYER_OVERLAP = 0.02
 
+#: The 1-D k-means of the depth layers stops when no centre moved by more than
+#: this times the largest depth magnitude (at least 1): float64 means of depths
+#: round at ~1e-16 relative, so 1e-12 is converged, and the layer cuts it gives
+#: are far finer than any pixel's depth difference.
+VM_KMEANS_CONVERGED_REL = 1e-12
+
 #: Fewest pairs a depth layer may hold; with fewer, the layer count drops (the
-#: fallback is reported in ``ViewMorpher.report["layers"]``). 8 is the pair count F needs,
+#: fallback is reported in ``ViewMorpher.report.layers``). 8 is the pair count F needs,
 #: and a layer's mesh needs its own pairs to move differently from its neighbours.
 VM_MIN_LAYER_PAIRS = 8
 

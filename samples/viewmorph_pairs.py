@@ -57,10 +57,10 @@ def main() -> None:
                 cm = circle_camera(CENTRE, args.size)
                 (i0, d0), (i1, d1), (gt, _) = render_pair(r, items, [c0, c1, cm])
                 corr = from_geometry(mesh, c0, c1, depth0=d0, depth1=d1, max_points=600)
-                vm = ViewMorpher(i0, i1, corr)
+                vm = ViewMorpher.from_estimate(i0, i1, corr)
                 mid = vm.morph(0.5, post=cm, frame="fixed")
-                vl = ViewMorpher(i0, i1, from_depth(c0, c1, d0, d1), layers="auto",
-                                 layer_depth=pair_depth(c0, c1, d0, d1))
+                vl = ViewMorpher.from_estimate(i0, i1, from_depth(c0, c1, d0, d1), layers="auto",
+                                               layer_depth=pair_depth(c0, c1, d0, d1))
                 lay = vl.morph(0.5, post=cm, frame="fixed")
                 folder = out / f"{name}_{base:g}deg"
                 folder.mkdir(parents=True, exist_ok=True)
@@ -73,7 +73,7 @@ def main() -> None:
                 iou = [((im[..., 3] > 127) & g).sum() / max(((im[..., 3] > 127) | g).sum(), 1)
                        for im in (mid, lay)]
                 print(f"{folder}: {vm.mode}/{vm.rectification.method}, silhouette IoU one mesh {iou[0]:.3f}, "
-                      f"{vl.report['layers']} layer(s) {iou[1]:.3f}")
+                      f"{vl.report.layers} layer(s) {iou[1]:.3f}")
 
 
 if __name__ == "__main__":

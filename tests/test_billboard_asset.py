@@ -467,22 +467,23 @@ def test_bake_distance_factor_sets_the_reference_cameras_distance(renderer):
 def test_a_pair_whose_layers_cannot_be_meshed_is_built_with_fewer(renderer, monkeypatch):
     """A depth slice whose pairs all fold over has no mesh: the morpher is built with one layer
     fewer (recorded), and refused only when even one layer fails."""
-    import morphkit.billboard.asset as asset_module
     from morphkit.errors import FoldOverError
     from morphkit.viewmorph import ViewMorpher
+
+    estimate = ViewMorpher.from_estimate
 
     def failing_above(n: int):
         def make(*args, layers, **kwargs):
             if layers > n:
                 raise FoldOverError("morph mesh: expected no triangle folding over, got some (test)")
-            return ViewMorpher(*args, layers=layers, **kwargs)
+            return estimate(*args, layers=layers, **kwargs)
         return make
 
     mesh = sample_mesh("teapot")
-    monkeypatch.setattr(asset_module, "ViewMorpher", failing_above(2))
+    monkeypatch.setattr(ViewMorpher, "from_estimate", failing_above(2))
     asset = bake_asset(mesh, renderer, name="pot", views=2, size=SIZE, levels=1)
-    assert asset.layer_fallbacks == {(0, 0): 2} and asset.morpher(0).report["layers"] <= 2
+    assert asset.layer_fallbacks == {(0, 0): 2} and asset.morpher(0).report.layers <= 2
     assert np.isfinite(asset.morph(0, 1, 0.5)).all()
-    monkeypatch.setattr(asset_module, "ViewMorpher", failing_above(0))
+    monkeypatch.setattr(ViewMorpher, "from_estimate", failing_above(0))
     with pytest.raises(DegenerateViewError, match=r"pair \(0, 1\) .*tried layers \[3, 2, 1\].*FoldOverError"):
         bake_asset(mesh, renderer, name="pot", views=2, size=SIZE, levels=1)

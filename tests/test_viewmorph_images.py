@@ -80,7 +80,7 @@ def test_flow_matches_follow_a_known_translation_and_the_alpha_mask(rng):
 def test_matchers_refuse_bad_settings():
     with pytest.raises(ValidationError, match=r"ratio: expected a number in \(0, 1\]"):
         SiftMatcher(ratio=0.0)
-    with pytest.raises(ValidationError, match="upscale: expected an int >= 1"):
+    with pytest.raises(ValidationError, match="upscale: expected an integer >= 1"):
         SiftMatcher(upscale=1.5)
     with pytest.raises(ValidationError, match="preset: expected one of"):
         FlowMatcher(preset="slow")
@@ -136,8 +136,8 @@ def test_few_pairs_where_usac_finds_no_model_are_a_geometry_error():
     with pytest.raises(GeometryError, match="fundamental matrix fit: expected a fit with >= 8 inliers"):
         estimate_fundamental(rows[:, :2], rows[:, 2:])
     img = np.zeros((192, 192, 3), np.uint8)
-    vm = ViewMorpher(img, img, (rows[:, :2], rows[:, 2:]), fallback="morph")
-    assert vm.mode == "morph" and "fundamental matrix fit" in vm.report["fallback"]
+    vm = ViewMorpher.from_estimate(img, img, (rows[:, :2], rows[:, 2:]), fallback="morph")
+    assert vm.mode == "morph" and "fundamental matrix fit" in vm.report.fallback
 
 
 def _issue_pair(renderer):
@@ -159,7 +159,7 @@ def test_the_issue_pair_morphs_from_the_images_alone(renderer):
     from morphkit.viewmorph import crossfade
 
     _, ((i0, _), (i1, _), (gt, _)) = _issue_pair(renderer)
-    vm = ViewMorpher(i0, i1, from_images(i0, i1))  # fallback="raise": a refusal fails the test
+    vm = ViewMorpher.from_estimate(i0, i1, from_images(i0, i1))  # fallback="raise": a refusal fails the test
     assert vm.mode == "viewmorph"
     iou = _iou(vm.morph(0.5), gt)
     # Bound: above both image-only baselines (crossfade 0.911, nearest 0.908 on this pair), so the
@@ -186,11 +186,11 @@ def test_refused_F_of_sparse_sift_matches_is_replaced_by_the_better_affine_F(ren
     replaced = 0
     for _ in range(16):
         shuffled = corr.subset(rng.permutation(len(corr)))
-        vm = ViewMorpher(i0, i1, shuffled)  # fallback="raise": a refusal fails the test
+        vm = ViewMorpher.from_estimate(i0, i1, shuffled)  # fallback="raise": a refusal fails the test
         if vm.fit.method != "affine":
             continue
         replaced += 1
-        assert vm.report["affine"]["used"] and "epipole" in vm.report["affine"]["f_refused"]
+        assert vm.report.affine.used and "epipole" in vm.report.affine.f_refused
         cleaned = shuffled.cleaned()[0]
         general = estimate_fundamental(cleaned.pts0, cleaned.pts1, check_degenerate=False)
         # the affine F is the better geometry (measured 0.46 px RMS against 0.97-1.14 px)

@@ -101,7 +101,7 @@ def test_from_depth_samples_the_outline(posts):
 
 def test_from_depth_refuses_bad_input(posts):
     c0, c1, _, _, d0, d1 = posts
-    with pytest.raises(ValidationError, match="step: expected an int >= 0"):
+    with pytest.raises(ValidationError, match="step: expected an integer >= 0"):
         from_depth(c0, c1, d0, d1, step=-1)
     with pytest.raises(ValidationError, match=r"interior or outline samples \(not both 0\)"):
         from_depth(c0, c1, d0, d1, step=0, contour_step=0)
@@ -169,15 +169,15 @@ def test_layers_show_a_part_passing_behind_another(posts):
     c0, c1, i0, i1, d0, d1 = posts
     corr = from_depth(c0, c1, d0, d1, step=3, contour_step=1)
     keys = pair_depth(c0, c1, d0, d1)
-    single = ViewMorpher(i0, i1, corr)
-    layered = ViewMorpher(i0, i1, corr, layers=2, layer_depth=keys)
-    assert layered.report["layers"] == 2
+    single = ViewMorpher.from_estimate(i0, i1, corr)
+    layered = ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=keys)
+    assert layered.report.layers == 2
     # the k-means cut falls in the gap between the posts: each layer holds one post
     mean_row = 0.5 * (c0.world2cam[2] + c1.world2cam[2])  # a point's pair depth: mean over the views
     near_z, far_z = np.r_[NEAR[0], 1.0] @ mean_row, np.r_[FAR[0], 1.0] @ mean_row
-    assert near_z + HALF[0] * 1.5 < layered.report["layer_edges"][0] < far_z - HALF[0] * 1.5
+    assert near_z + HALF[0] * 1.5 < layered.report.layer_edges[0] < far_z - HALF[0] * 1.5
     # the single mesh folds where the far post crosses behind the near one and drops points
-    assert single.report["n_dropped_foldover"] > 50 and layered.report["n_dropped_foldover"] == 0
+    assert single.report.n_dropped_foldover > 50 and layered.report.n_dropped_foldover == 0
     for s in (0.25, 0.5, 0.75):
         sil1, far1 = morph_ious(single, s)
         sil2, far2 = morph_ious(layered, s)
@@ -191,7 +191,8 @@ def test_layers_reproduce_the_inputs_at_the_ends(posts):
     c0, c1, i0, i1, d0, d1 = posts
     corr = from_depth(c0, c1, d0, d1)
     # disjoint layers (no overlap): every pixel is drawn by exactly one layer
-    vm = ViewMorpher(i0, i1, corr, layers=3, layer_depth=pair_depth(c0, c1, d0, d1), layer_overlap=0.0)
+    vm = ViewMorpher.from_estimate(i0, i1, corr, layers=3, layer_depth=pair_depth(c0, c1, d0, d1),
+                                   layer_overlap=0.0)
     for s, img in ((0.0, i0), (1.0, i1)):
         out = vm.morph(s)
         # the default post-warp is the inverse pre-warp at the ends: sampling at pixel centres,
@@ -202,7 +203,7 @@ def test_layers_reproduce_the_inputs_at_the_ends(posts):
 def test_layers_render_the_same_on_both_paths(posts):
     c0, c1, i0, i1, d0, d1 = posts
     corr = from_depth(c0, c1, d0, d1)
-    vm = ViewMorpher(i0, i1, corr, layers=2, layer_depth=pair_depth(c0, c1, d0, d1))
+    vm = ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=pair_depth(c0, c1, d0, d1))
     a, b = vm.morph(0.5).astype(float), vm.morph(0.5, path="rectified").astype(float)
     ma, mb = a[..., 3] > 127, b[..., 3] > 127
     # three resamplings on the rectified path blur the outline by about a pixel
@@ -219,9 +220,9 @@ def test_layers_render_the_same_on_both_paths(posts):
 def test_layer_count_falls_back_when_pairs_are_few(posts):
     c0, c1, i0, i1, d0, d1 = posts
     corr = from_depth(c0, c1, d0, d1, max_points=40, rng=np.random.default_rng(3))
-    vm = ViewMorpher(i0, i1, corr, layers=10, layer_depth=pair_depth(c0, c1, d0, d1))
+    vm = ViewMorpher.from_estimate(i0, i1, corr, layers=10, layer_depth=pair_depth(c0, c1, d0, d1))
     # 40 pairs hold at most 5 layers of >= 8 (tol.VM_MIN_LAYER_PAIRS) pairs
-    assert 1 <= vm.report["layers"] <= 5
+    assert 1 <= vm.report.layers <= 5
     assert np.isfinite(vm.morph(0.5).astype(float)).all()
 
 
@@ -230,21 +231,21 @@ def test_layer_arguments_are_checked(posts):
     corr = from_depth(c0, c1, d0, d1)
     keys = pair_depth(c0, c1, d0, d1)
     for bad in (0, 1.5, True):
-        with pytest.raises(ValidationError, match="layers.*an int >= 1 or .auto."):
-            ViewMorpher(i0, i1, corr, layers=bad, layer_depth=keys)
+        with pytest.raises(ValidationError, match="layers: expected an integer >= 1"):
+            ViewMorpher.from_estimate(i0, i1, corr, layers=bad, layer_depth=keys)
     no_depth = Correspondences(corr.pts0, corr.pts1)
     with pytest.raises(ValidationError, match="pairs with depths"):
-        ViewMorpher(i0, i1, no_depth, layers=2, layer_depth=keys)
+        ViewMorpher.from_estimate(i0, i1, no_depth, layers=2, layer_depth=keys)
     with pytest.raises(ValidationError, match="layer_depth"):
-        ViewMorpher(i0, i1, corr, layers=2)
+        ViewMorpher.from_estimate(i0, i1, corr, layers=2)
     with pytest.raises(ValidationError, match=r"layer_depth\[1\].*shape \(96, 96\)"):
-        ViewMorpher(i0, i1, corr, layers=2, layer_depth=(keys[0], keys[1][:40]))
+        ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=(keys[0], keys[1][:40]))
     nan_key = keys[0].copy()
     nan_key[0, 0] = np.nan
     with pytest.raises(ValidationError, match="NaN"):
-        ViewMorpher(i0, i1, corr, layers=2, layer_depth=(nan_key, keys[1]))
+        ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=(nan_key, keys[1]))
     with pytest.raises(ValidationError, match="layer_overlap"):
-        ViewMorpher(i0, i1, corr, layers=2, layer_depth=keys, layer_overlap=0.7)
+        ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=keys, layer_overlap=0.7)
 
 
 @pytest.mark.gl
@@ -255,7 +256,7 @@ def test_layered_morph_of_the_rendered_chair_meets_the_target(renderer):
     c0, c1 = circle_camera(50.0, 256), circle_camera(70.0, 256)
     (i0, d0), (i1, d1) = render_pair(renderer, items, [c0, c1])
     corr = from_depth(c0, c1, d0, d1)
-    vm = ViewMorpher(i0, i1, corr, layers=2, layer_depth=pair_depth(c0, c1, d0, d1))
+    vm = ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=pair_depth(c0, c1, d0, d1))
     for s in (0.25, 0.5, 0.75):
         ct = circle_camera(50.0 + 20.0 * s, 256)
         ((gt, _),) = render_pair(renderer, items, [ct])
@@ -267,20 +268,20 @@ def test_layered_morph_of_the_rendered_chair_meets_the_target(renderer):
 def test_auto_layers_only_where_parts_cross(posts):
     c0, c1, i0, i1, d0, d1 = posts
     corr = from_depth(c0, c1, d0, d1, step=3, contour_step=1)
-    crossing = ViewMorpher(i0, i1, corr, layers="auto", layer_depth=pair_depth(c0, c1, d0, d1))
-    assert crossing.report["auto_dropped_fraction"] > tol.VM_AUTO_LAYER_DROP
-    assert crossing.report["layers"] == tol.VM_AUTO_LAYERS
+    crossing = ViewMorpher.from_estimate(i0, i1, corr, layers="auto", layer_depth=pair_depth(c0, c1, d0, d1))
+    assert crossing.report.auto_dropped_fraction > tol.VM_AUTO_LAYER_DROP
+    assert crossing.report.layers == tol.VM_AUTO_LAYERS
     # seen from 20 and 28 degrees the posts keep their left-right order: one mesh suffices
     a0, a1 = cam(20.0), cam(28.0)
     (j0, e0), (j1, e1) = ray_cast(a0), ray_cast(a1)
     corr2 = from_depth(a0, a1, e0, e1, step=3, contour_step=1)
-    plain = ViewMorpher(j0, j1, corr2, layers="auto", layer_depth=pair_depth(a0, a1, e0, e1))
-    assert plain.report["auto_dropped_fraction"] <= tol.VM_AUTO_LAYER_DROP
-    assert plain.report["layers"] == 1
+    plain = ViewMorpher.from_estimate(j0, j1, corr2, layers="auto", layer_depth=pair_depth(a0, a1, e0, e1))
+    assert plain.report.auto_dropped_fraction <= tol.VM_AUTO_LAYER_DROP
+    assert plain.report.layers == 1
     with pytest.raises(ValidationError, match="layer_depth"):
-        ViewMorpher(j0, j1, corr2, layers="auto")
-    with pytest.raises(ValidationError, match="an int >= 1 or 'auto'"):
-        ViewMorpher(j0, j1, corr2, layers="many", layer_depth=pair_depth(a0, a1, e0, e1))
+        ViewMorpher.from_estimate(j0, j1, corr2, layers="auto")
+    with pytest.raises(ValidationError, match="layers: expected an integer >= 1 or 'auto'"):
+        ViewMorpher.from_estimate(j0, j1, corr2, layers="many", layer_depth=pair_depth(a0, a1, e0, e1))
 
 
 # --------------------------------------------------------------------------- fill_occluded
@@ -325,9 +326,9 @@ def test_fill_occluded_fills_what_a_nearer_layer_hid():
     (i0, d0), (i1, d1) = wall_cast(c0), wall_cast(c1)
     corr = from_depth(c0, c1, d0, d1, step=3, contour_step=1)
     keys = pair_depth(c0, c1, d0, d1)
-    plain = ViewMorpher(i0, i1, corr, layers=2, layer_depth=keys)
-    filled = ViewMorpher(i0, i1, corr, layers=2, layer_depth=keys, fill_occluded=True)
-    assert filled.report["fill_occluded"] and not plain.report["fill_occluded"]
+    plain = ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=keys)
+    filled = ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=keys, fill_occluded=True)
+    assert filled.report.fill_occluded and not plain.report.fill_occluded
     for s in (0.25, 0.5, 0.75):
         ct = wall_cam(-15.0 + 30.0 * s)
         gt, _ = wall_cast(ct)
@@ -348,8 +349,8 @@ def test_fill_occluded_fills_what_a_nearer_layer_hid():
     a, b = filled.morph(0.5), filled.morph(0.5, path="rectified")
     assert iou(a[..., 3] > 127, b[..., 3] > 127) > 0.9
     with pytest.raises(ValidationError, match="fill_occluded"):
-        ViewMorpher(i0, i1, corr, layers=2, layer_depth=keys, fill_occluded="yes")
+        ViewMorpher.from_estimate(i0, i1, corr, layers=2, layer_depth=keys, fill_occluded="yes")
     # one layer: nothing is hidden by a nearer layer, the option changes nothing
-    one = ViewMorpher(i0, i1, corr, fill_occluded=True)
-    assert not one.report.get("fill_occluded", False)
-    np.testing.assert_array_equal(one.morph(0.5), ViewMorpher(i0, i1, corr).morph(0.5))
+    one = ViewMorpher.from_estimate(i0, i1, corr, fill_occluded=True)
+    assert not one.report.fill_occluded
+    np.testing.assert_array_equal(one.morph(0.5), ViewMorpher.from_estimate(i0, i1, corr).morph(0.5))

@@ -360,7 +360,7 @@ def pair_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     for name in _meshes(quick):
         asset = cache.asset(name, 2, size)
         vm = asset.morpher(0)
-        note = f"{vm.mode}, {vm.report['layers']} layers, {vm.report['n_used']} mesh pairs"
+        note = f"{vm.mode}, {vm.report.layers} layers, {vm.report.n_used} mesh pairs"
         inside = {az: cache.truth(name, asset.camera(az)) for az in PAIR_INSIDE}
         outside = {az: cache.truth(name, asset.cameras.camera(az)) for az in PAIR_OUTSIDE}
         params = {"mesh": name, "views": 2, "size": size}
@@ -383,7 +383,7 @@ def ring_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
         for name in _meshes(quick):
             asset = cache.asset(name, k, size)
             truths = {float(az): cache.truth(name, asset.camera(float(az))) for az in azimuths}
-            layers = sorted({asset.morpher(p).report["layers"] for p in range(k)})
+            layers = sorted({asset.morpher(p).report.layers for p in range(k)})
             rs += _evaluate(_ring_methods(asset), truths, "ring", {"mesh": name, "views": k, "size": size},
                             {"morph": f"layers {layers}"})
         out += rs + _means(rs, "ring", {"views": k, "size": size})

@@ -44,7 +44,8 @@ correspondence can carry); ``mae_occl``/``mae_vis`` -- mean absolute error
 Timing: ``ms_*`` is one :meth:`ViewMorpher.morph` call (correspondences given,
 the morpher built once per pair) or one baseline call, median of repeats at
 256^2; rows with ``size`` 512 time the teapot at 20 degrees, ``s = 0.5``.
-``viewmorph-build`` rows time the construction (cleaning, F, pre-warps, mesh);
+``viewmorph-build`` rows time the construction (``ViewMorpher.from_estimate``: the plan --
+cleaning, F, pre-warps, mesh -- and the morpher applying it);
 ``viewmorph-layered-build`` rows that of the layered morpher (from the pairs and keys).
 ``--quick``: teapot only, baselines 20 and 40, ``s = 0.5``, sizes 256 and 512.
 
@@ -56,7 +57,7 @@ render from the middle camera, default (interpolated) post-warp. Each row
 aggregates the 8 pairs of one mesh and baseline:
 
 * ``images`` -- the image-only path as a user runs it:
-  ``ViewMorpher(i0, i1, from_images(i0, i1))`` (SIFT and dense flow, robust F,
+  ``ViewMorpher.from_estimate(i0, i1, from_images(i0, i1))`` (SIFT and dense flow, robust F,
   the affine F in place of a refused one), ``fallback="raise"``;
 * ``images-sift`` -- the same with SIFT matches only, the matcher of before dense
   matching (``SiftMatcher(ratio=0.75, contrast_threshold=0.02, upscale=1)``),
@@ -162,30 +163,30 @@ def _case(renderer: SceneRenderer, name: str, mesh: Any, items: list[Any], base:
                          rng=np.random.default_rng(0))
     morphers: dict[str, Any] = {}
     notes: dict[str, str] = {}
-    build = time_call(lambda: ViewMorpher(i0, i1, corr), repeats=max(1, repeats // 2), warmup=0)
-    vm = ViewMorpher(i0, i1, corr)
+    build = time_call(lambda: ViewMorpher.from_estimate(i0, i1, corr), repeats=max(1, repeats // 2), warmup=0)
+    vm = ViewMorpher.from_estimate(i0, i1, corr)
     morphers["viewmorph"] = morphers["viewmorph-interp"] = vm
     notes["viewmorph"] = notes["viewmorph-interp"] = (
-        f"{vm.mode}/{vm.rectification.method}, {vm.report['n_used']}/{len(corr)} pairs")
+        f"{vm.mode}/{vm.rectification.method}, {vm.report.n_used}/{len(corr)} pairs")
     dense = from_depth(c0, c1, d0, d1)
     keys = pair_depth(c0, c1, d0, d1)
-    build_l = time_call(lambda: ViewMorpher(i0, i1, dense, layers=2, layer_depth=keys),
+    build_l = time_call(lambda: ViewMorpher.from_estimate(i0, i1, dense, layers=2, layer_depth=keys),
                         repeats=max(1, repeats // 2), warmup=0)
-    vl = ViewMorpher(i0, i1, dense, layers=2, layer_depth=keys)
+    vl = ViewMorpher.from_estimate(i0, i1, dense, layers=2, layer_depth=keys)
     morphers["viewmorph-layered"] = vl
-    notes["viewmorph-layered"] = (f"{vl.mode}/{vl.rectification.method}, {vl.report['layers']} layers, "
-                                  f"{vl.report['n_used']} mesh pairs from {len(dense)}")
-    va = ViewMorpher(i0, i1, dense, layers="auto", layer_depth=keys)
-    notes["viewmorph-auto"] = (f"{va.report['layers']} layer(s): one mesh dropped "
-                               f"{100 * va.report['auto_dropped_fraction']:.2f}% of the pairs")
-    morphers["morph"] = ViewMorpher(i0, i1, corr, prewarp="none")
+    notes["viewmorph-layered"] = (f"{vl.mode}/{vl.rectification.method}, {vl.report.layers} layers, "
+                                  f"{vl.report.n_used} mesh pairs from {len(dense)}")
+    va = ViewMorpher.from_estimate(i0, i1, dense, layers="auto", layer_depth=keys)
+    notes["viewmorph-auto"] = (f"{va.report.layers} layer(s): one mesh dropped "
+                               f"{100 * va.report.auto_dropped_fraction:.2f}% of the pairs")
+    morphers["morph"] = ViewMorpher.from_estimate(i0, i1, corr, prewarp="none")
     try:
         matched = from_images(i0, i1)
-        vs = ViewMorpher(i0, i1, matched, fallback="morph")
+        vs = ViewMorpher.from_estimate(i0, i1, matched, fallback="morph")
         morphers["viewmorph-images"] = vs
         notes["viewmorph-images"] = (f"{vs.mode}/{vs.rectification.method}"
                                      f"{'' if vs.fit is None else ' F ' + vs.fit.method}, "
-                                     f"{vs.report['n_used']}/{len(matched)} matches used")
+                                     f"{vs.report.n_used}/{len(matched)} matches used")
     except MorphkitError as exc:  # too few matches etc.: reported, not hidden
         notes["viewmorph-images"] = f"failed: {type(exc).__name__}: {str(exc)[:80]}"
     params0 = {"mesh": name, "baseline": base, "size": size}
@@ -243,7 +244,7 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
             t0 = time.perf_counter()
             corr = make()
             try:
-                vm = ViewMorpher(i0, i1, corr)
+                vm = ViewMorpher.from_estimate(i0, i1, corr)
                 out = vm.morph(0.5)
             except MorphkitError as exc:
                 got[method].append({"ok": False, "s": time.perf_counter() - t0, "n": len(corr), "az": az,
@@ -252,7 +253,7 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
             dt = time.perf_counter() - t0
             iou = shadow_iou(out[..., 3] > 127, gt[..., 3] > 127)
             got[method].append({"ok": True, "s": dt, "n": len(corr), "az": az, "iou": iou,
-                                "affine": bool(vm.report.get("affine", {}).get("used"))})
+                                "affine": vm.report.affine is not None and vm.report.affine.used})
     params = {"mesh": name, "baseline": base, "size": size, "s": 0.5, "pairs": len(azimuths)}
     for method, res in got.items():
         ok = [r for r in res if r["ok"]]

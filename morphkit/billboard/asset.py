@@ -621,7 +621,8 @@ class BillboardAsset:
         failure: Exception | None = None
         for layers in tries:
             try:
-                vm = ViewMorpher(imgs[0], imgs[1], corr, layers=layers, layer_depth=keys, fill_occluded=True)
+                vm = ViewMorpher.from_estimate(imgs[0], imgs[1], corr, layers=layers, layer_depth=keys,
+                                               fill_occluded=True)
             except (ValidationError, GeometryError) as exc:
                 failure = exc
                 continue

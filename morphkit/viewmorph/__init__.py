@@ -22,18 +22,21 @@ One concept per module:
 * :mod:`~morphkit.viewmorph.postwarp` -- the post-warp ``H_out_rect`` (image
   planes interpolated between the views, fitted to points or a camera) and the
   output crop/size policy;
-* :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher`: builds all of the
-  above once per pair, then renders the view at each ``s`` (direct or
-  rectified path, layers composited with the premultiplied "over" of
-  :mod:`morphkit.composite`);
+* :mod:`~morphkit.viewmorph.plan` -- :func:`plan_view_morph`: estimates all of
+  the above once per pair (F, pre-warps, fallbacks, layers, meshes) into a
+  frozen :class:`MorphPlan` with a typed :class:`MorphReport`;
+* :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher`: applies a plan,
+  rendering the view at each ``s`` (direct or rectified path, layers
+  composited with the premultiplied "over" of :mod:`morphkit.composite`);
 * :mod:`~morphkit.viewmorph.baselines` -- the image-only baselines
   :func:`crossfade` and :func:`nearest`.
 
 Typical use::
 
     from morphkit.viewmorph import ViewMorpher, from_images
-    vm = ViewMorpher(left, right, from_images(left, right))
-    middle = vm.morph(0.5)
+    plan = plan_view_morph(left, right, from_images(left, right))
+    middle = ViewMorpher(plan).morph(0.5)
+    # or in one line: ViewMorpher.from_estimate(left, right, from_images(left, right))
 """
 
 from __future__ import annotations
@@ -64,6 +67,7 @@ from .matching import (
     from_images,
 )
 from .morph import ViewMorpher
+from .plan import AffineReport, MorphPlan, MorphReport, plan_view_morph
 from .postwarp import PostWarpPoints
 from .rectify import F0, Rectification, rectify
 
@@ -89,6 +93,10 @@ __all__ = [
     "F0",
     "Rectification",
     "rectify",
+    "plan_view_morph",
+    "MorphPlan",
+    "MorphReport",
+    "AffineReport",
     "ViewMorpher",
     "PostWarpPoints",
     "crossfade",

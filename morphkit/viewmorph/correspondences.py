@@ -40,7 +40,7 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..fileio import write_text
-from ..validate import as_finite_array, as_image, as_points
+from ..validate import as_finite_array, as_image, as_int, as_points
 
 __all__ = [
     "Correspondences",
@@ -171,7 +171,7 @@ class Correspondences:
         """
         dup = np.zeros(len(self), dtype=bool)
         for pts in (self.pts0, self.pts1):
-            q = np.floor(pts / max(tol_px, 1e-12)).astype(np.int64)
+            q = np.floor(pts / max(tol_px, tol.PX_EQUAL)).astype(np.int64)
             # Neighbouring cells too, so that pairs straddling a cell border are found.
             seen: dict[tuple[int, int], int] = {}
             for i, (cx, cy) in enumerate(q):
@@ -297,7 +297,7 @@ def spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> 
     order = rng.permutation(n)
     lo, hi = px.min(axis=0), px.max(axis=0)
     area = max(float(np.prod(np.maximum(hi - lo, 1.0))), 1.0)
-    cell = max(np.sqrt(area / max_points), 1e-6)
+    cell = max(np.sqrt(area / max_points), tol.PX_EQUAL)
     key = np.floor((px[order] - lo) / cell).astype(np.int64)
     _, first = np.unique(key[:, 0] * 1_000_003 + key[:, 1], return_index=True)
     chosen = order[np.sort(first)]
@@ -337,13 +337,12 @@ def from_geometry(points: Any, camera0: CameraModel, camera1: CameraModel, *,
     """
     verts = points.vertices if isinstance(points, HasVertices) else points
     pts = as_finite_array(verts, "points", shape=(None, 3))
-    if int(max_points) < 1:
-        raise ValidationError(expected_got("max_points", "an int >= 1", max_points))
+    max_points = as_int(max_points, "max_points", lo=1)
     px0, v0 = visible_in(camera0, pts, depth0, rtol=rtol)
     px1, v1 = visible_in(camera1, pts, depth1, rtol=rtol)
     both = np.flatnonzero(v0 & v1)
     rng = np.random.default_rng(0) if rng is None else rng
-    keep = both[spread_subset(px0[both], int(max_points), rng)]
+    keep = both[spread_subset(px0[both], max_points, rng)]
     z = 0.5 * (_depth(camera0, pts[keep]) + _depth(camera1, pts[keep]))
     return Correspondences(px0[keep], px1[keep], "geometry", pts[keep], z)
 
@@ -415,20 +414,18 @@ def from_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
         ``source="geometry"``, ``points3d`` and ``depth`` (mean depth in the two
         views, the key of :func:`pair_depth`) set.
     """
-    if int(step) < 0:
-        raise ValidationError(expected_got("step", "an int >= 0", step))
-    if int(contour_step) < 0:
-        raise ValidationError(expected_got("contour_step", "an int >= 0", contour_step))
-    if int(step) == 0 and int(contour_step) == 0:
+    step = as_int(step, "step", lo=0)
+    contour_step = as_int(contour_step, "contour_step", lo=0)
+    if step == 0 and contour_step == 0:
         raise ValidationError(expected_got("step, contour_step", "interior or outline samples (not both 0)",
                                            (step, contour_step)))
     d0 = _depth_map(camera0, depth0, "depth0")
     d1 = _depth_map(camera1, depth1, "depth1")
-    pts = np.r_[_object_samples(camera0, d0, int(step), int(contour_step)),
-                _object_samples(camera1, d1, int(step), int(contour_step))]
+    pts = np.r_[_object_samples(camera0, d0, step, contour_step),
+                _object_samples(camera1, d1, step, contour_step)]
     if len(pts) == 0:
         raise ValidationError(expected_got("depth maps", "some finite (object) pixels", "none"))
-    n = len(pts) if max_points is None else int(max_points)
+    n = len(pts) if max_points is None else as_int(max_points, "max_points", lo=1)
     return from_geometry(pts, camera0, camera1, depth0=d0, depth1=d1, max_points=n, rtol=rtol, rng=rng)
 
 
@@ -439,7 +436,7 @@ def pair_depth(camera0: CameraModel, camera1: CameraModel, depth0: np.ndarray, d
     The key of a pixel of view ``i`` is the mean of its surface point's depth
     in the two cameras (``+inf`` for background), the value a correspondence
     through that point carries -- so pixels and pairs can be split into the
-    same depth layers (``ViewMorpher(..., layers=k, layer_depth=pair_depth(...))``).
+    same depth layers (``plan_view_morph(..., layers=k, layer_depth=pair_depth(...))``).
 
     Parameters
     ----------

@@ -141,7 +141,7 @@ def normalize_f(F: Any) -> np.ndarray:
     """
     F = as_finite_array(F, "F", shape=(3, 3))
     n = np.linalg.norm(F)
-    if n < 1e-300:
+    if n < tol.ZERO:
         raise GeometryError(expected_got("F", "a non-zero matrix", "all zeros"))
     F = F / n
     k = int(np.argmax(np.abs(F)))
@@ -175,7 +175,7 @@ def sampson_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
     l0 = x1 @ F  # F^T x1: lines in image 0
     num = np.einsum("ij,ij->i", x1, l1)
     den = l1[:, 0] ** 2 + l1[:, 1] ** 2 + l0[:, 0] ** 2 + l0[:, 1] ** 2
-    return np.abs(num) / np.sqrt(np.maximum(den, 1e-300))
+    return np.abs(num) / np.sqrt(np.maximum(den, tol.ZERO))
 
 
 def epipolar_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
@@ -198,8 +198,8 @@ def epipolar_distance(F: Any, pts0: Any, pts1: Any) -> np.ndarray:
     l1 = x0 @ F.T
     l0 = x1 @ F
     num = np.abs(np.einsum("ij,ij->i", x1, l1))
-    d1 = num / np.sqrt(np.maximum(l1[:, 0] ** 2 + l1[:, 1] ** 2, 1e-300))
-    d0 = num / np.sqrt(np.maximum(l0[:, 0] ** 2 + l0[:, 1] ** 2, 1e-300))
+    d1 = num / np.sqrt(np.maximum(l1[:, 0] ** 2 + l1[:, 1] ** 2, tol.ZERO))
+    d0 = num / np.sqrt(np.maximum(l0[:, 0] ** 2 + l0[:, 1] ** 2, tol.ZERO))
     return np.sqrt(0.5 * (d0**2 + d1**2))
 
 
@@ -308,8 +308,8 @@ def check_spread(pts: Any, name: str) -> None:
     p = as_points(pts, name)
     c = p - p.mean(axis=0)
     s = np.linalg.svd(c, compute_uv=False) if len(p) >= 2 else np.zeros(2)
-    if s[0] <= 1e-9 or s[1] < tol.VM_COLLINEAR_RATIO * s[0]:
-        ratio = 0.0 if s[0] <= 1e-9 else s[1] / s[0]
+    if s[0] <= tol.PX_EQUAL or s[1] < tol.VM_COLLINEAR_RATIO * s[0]:
+        ratio = 0.0 if s[0] <= tol.PX_EQUAL else s[1] / s[0]
         raise GeometryError(expected_got(
             name, "points spanning a 2-D area (F and homographies are undetermined otherwise)",
             f"collinear points (spread ratio {ratio:.2e} < {tol.VM_COLLINEAR_RATIO})"))
@@ -328,10 +328,10 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
 
     RANSAC only has to find such a homography if one exists: with ``r`` the
     smallest inlier ratio that makes the pairs degenerate, a random 4-pair sample
-    is all inliers with probability ``r^4``, so ``log(1e-9) / log(1 - r^4)``
+    is all inliers with probability ``r^4``, so ``log(p) / log(1 - r^4)``
     samples (13 for ``r = 0.95``; at least 20, at most 2000) miss it with
-    probability below ``1e-9``. (The best homography of non-degenerate pairs is
-    not searched for further.)
+    probability below ``p =`` :data:`tol.VM_HOMOGRAPHY_MISS_PROB`. (The best
+    homography of non-degenerate pairs is not searched for further.)
 
     Parameters
     ----------
@@ -361,8 +361,8 @@ def homography_degeneracy(pts0: Any, pts1: Any, *, threshold: float = tol.VM_THR
             return H_1_0 / H_1_0[2, 2], len(p0) / n_ref if len(p0) >= n_ref else 1.0
     r = min(1.0, tol.VM_HOMOGRAPHY_INLIER_RATIO * n_ref / len(p0))
     r4 = r**4
-    iters = 20 if r4 >= 1.0 else 2000 if r4 < 1e-6 else \
-        int(min(2000, max(20, math.ceil(math.log(1e-9) / math.log1p(-r4)))))
+    iters = 20 if r4 >= 1.0 else 2000 if r4 <= tol.ZERO else \
+        int(min(2000, max(20, math.ceil(math.log(tol.VM_HOMOGRAPHY_MISS_PROB) / math.log1p(-r4)))))
     H_1_0, mask = cv2.findHomography(p0, p1, cv2.RANSAC, threshold, maxIters=iters, confidence=0.999)
     if H_1_0 is None or not np.all(np.isfinite(H_1_0)):
         return None, 0.0
@@ -566,7 +566,7 @@ def estimate_affine_fundamental(pts0: Any, pts1: Any, *, threshold: float = tol.
             break
         inl = new
     a, b, c, d = F[0, 2], F[1, 2], F[2, 0], F[2, 1]
-    if inl.sum() < 8 or min(np.hypot(a, b), np.hypot(c, d)) < 1e-9:
+    if inl.sum() < 8 or min(np.hypot(a, b), np.hypot(c, d)) < tol.REL_EQUAL:
         raise GeometryError(expected_got("affine fundamental matrix fit", "a rank-2 fit with >= 8 inliers",
                                          f"{int(inl.sum())} inliers (threshold {threshold} px)"))
     F = normalize_f(F)

@@ -17,10 +17,10 @@ frame (one F, one pre-warp, one post-warp for all), its own premultiplied
 images, and a canvas fitted to its pixels (the farthest layer: the whole
 images); the layers are morphed separately and composited far to near with the
 premultiplied "over". Layers with fewer than :data:`tol.VM_MIN_LAYER_PAIRS`
-pairs are merged (the count used is ``report["layers"]``). ``layers="auto"``
+pairs are merged (the count used is :attr:`LayerReport.layers`). ``layers="auto"``
 builds one mesh first and uses :data:`tol.VM_AUTO_LAYERS` layers only when
 more than :data:`tol.VM_AUTO_LAYER_DROP` of the pairs were dropped to
-fold-overs (``report["auto_dropped_fraction"]``): a mesh that had to give up
+fold-overs (:attr:`LayerReport.auto_dropped_fraction`): a mesh that had to give up
 that many points cannot follow the motion, a sign of parts crossing. Inside a slice,
 points can only swap order over distances below the slice's disparity range,
 so its fold-overs are small. Costs one morph per layer (the near layers over
@@ -45,9 +45,8 @@ from .correspondences import Correspondences
 from .mesh import build_morph_mesh, mesh_canvas
 from .rectify import apply_h
 
-__all__ = ["MorphLayer", "known_mix", "FAR_POSITION", "build_layer", "build_layers", "check_depth_keys",
-           "depth_slices",
-           "concat_correspondences", "mask_bbox", "depth_edges"]
+__all__ = ["MorphLayer", "LayerReport", "known_mix", "FAR_POSITION", "build_layer", "build_layers",
+           "check_depth_keys", "depth_slices", "concat_correspondences", "mask_bbox", "depth_edges"]
 
 #: Sampling position (pixels, both coordinates) of the C1 look-up's cells the mesh
 #: does not cover, and the border value read off the look-up: far outside any image.
@@ -90,8 +89,6 @@ class MorphLayer:
     c1_far : bool
         The warp's position for output pixels outside the mesh falls at least
         2 px off ``c1``: a look-up there reads "far outside" without a mask.
-    rectified : (rect0, rect1) or None
-        The pre-warped images on ``canvas`` (cached for ``path="rectified"``).
     known : bool
         ``prem`` carries a last "known" channel (``fill_occluded``).
     """
@@ -109,9 +106,31 @@ class MorphLayer:
     c1_origin: np.ndarray
     c1: np.ndarray
     c1_far: bool
-    rectified: tuple[np.ndarray, np.ndarray] | None = None
     #: ``prem`` carries a last "known" channel (``fill_occluded``; :func:`known_mix`).
     known: bool = False
+
+
+@dataclass(frozen=True)
+class LayerReport:
+    """What :func:`build_layers` chose.
+
+    Parameters
+    ----------
+    layers : int
+        The number of layers used (fewer than asked when a slice had too few pairs).
+    layer_edges : tuple of float
+        The inner depth cuts (empty with one layer).
+    auto_dropped_fraction : float or None
+        For ``layers="auto"``: the fraction of the pairs one mesh dropped to
+        fold-overs (None otherwise).
+    fill_occluded : bool
+        The layers carry a "known" channel (:func:`known_mix`): asked for and more than one layer.
+    """
+
+    layers: int
+    layer_edges: tuple[float, ...] = ()
+    auto_dropped_fraction: float | None = None
+    fill_occluded: bool = False
 
 
 def known_mix(a0: np.ndarray, a1: np.ndarray, s: float) -> np.ndarray:
@@ -137,7 +156,8 @@ def known_mix(a0: np.ndarray, a1: np.ndarray, s: float) -> np.ndarray:
     w1 = a1[..., -1:] * np.float32(s)
     wsum = w0 + w1
     num = a0[..., :-1] * w0 + a1[..., :-1] * w1
-    return np.where(wsum > 1e-6, num / np.maximum(wsum, np.float32(1e-6)), np.float32(0.0)).astype(np.float32)
+    return np.where(wsum > tol.ALPHA_FLOOR, num / np.maximum(wsum, np.float32(tol.ALPHA_FLOOR)),
+                    np.float32(0.0)).astype(np.float32)
 
 
 def concat_correspondences(parts: list[Correspondences]) -> Correspondences:
@@ -198,11 +218,12 @@ def depth_edges(z: np.ndarray, n: int) -> np.ndarray:
     """
     zs = np.sort(np.asarray(z, dtype=np.float64))
     centres = np.quantile(zs, (np.arange(n) + 0.5) / n)
+    scale = max(1.0, float(np.abs(zs).max()))
     for _ in range(100):
         mids = 0.5 * (centres[1:] + centres[:-1])
         lab = np.searchsorted(mids, zs)
         new = np.array([zs[lab == i].mean() if np.any(lab == i) else centres[i] for i in range(n)])
-        if np.allclose(new, centres, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(zs).max()))):
+        if np.allclose(new, centres, rtol=0.0, atol=tol.VM_KMEANS_CONVERGED_REL * scale):
             break
         centres = new
     return np.r_[zs[0], 0.5 * (centres[1:] + centres[:-1]), zs[-1]]
@@ -340,7 +361,7 @@ def build_layer(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences,
 def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, layers: int | str,
                  layer_depth: Any, overlap: float, frame_grid: int, *, H_rect_0: np.ndarray,
                  H_rect_1: np.ndarray, shape0: tuple[int, int], shape1: tuple[int, int],
-                 fill_occluded: bool = False) -> tuple[list[MorphLayer], dict[str, Any]]:
+                 fill_occluded: bool = False) -> tuple[list[MorphLayer], LayerReport]:
     """Split pairs and pixels into depth layers (module docstring) and build each layer.
 
     Parameters
@@ -369,21 +390,18 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
     -------
     layers : list of MorphLayer
         Near to far; the last covers the whole images.
-    report : dict
-        ``"layers"`` (the count used), and for ``"auto"`` the
-        ``"auto_dropped_fraction"`` of one mesh, for several layers the
-        ``"layer_edges"`` (inner depth cuts).
+    report : LayerReport
+        The count used, and for ``"auto"`` the fraction one mesh dropped, for
+        several layers the inner depth cuts.
 
     Raises
     ------
     ValidationError
         ``layers != 1`` without pair depths or valid depth keys.
     """
-    report: dict[str, Any] = {}
     full = mesh_canvas(H_rect_0, H_rect_1, corr.pts0, corr.pts1, shape0, shape1)
     if layers == 1:
-        report["layers"] = 1
-        return [build_layer(prem, corr, full, frame_grid, H_rect_0, H_rect_1)], report
+        return [build_layer(prem, corr, full, frame_grid, H_rect_0, H_rect_1)], LayerReport(1)
     if corr.depth is None:
         raise ValidationError(expected_got(
             "correspondences", "pairs with depths for layers > 1 or 'auto' (from_geometry or from_depth)",
@@ -391,23 +409,21 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
     keys = check_depth_keys(layer_depth, shape0, shape1)
     if layers == "auto":
         one = build_layer(prem, corr, full, frame_grid, H_rect_0, H_rect_1)
-        frac = one.n_dropped / max(len(corr), 1)
-        report["auto_dropped_fraction"] = float(frac)
+        frac: float | None = float(one.n_dropped / max(len(corr), 1))
         if frac <= tol.VM_AUTO_LAYER_DROP:
-            report["layers"] = 1
-            return [one], report
+            return [one], LayerReport(1, auto_dropped_fraction=frac)
         layers = tol.VM_AUTO_LAYERS
+    else:
+        frac = None
     assert isinstance(layers, int)
     edges, lims, sels = depth_slices(corr.depth, layers, overlap)
     n = len(lims)
-    report["layers"] = n
-    report["layer_edges"] = [float(e) for e in edges[1:-1]]
-    report["fill_occluded"] = bool(fill_occluded) and n > 1
+    report = LayerReport(n, tuple(float(e) for e in edges[1:-1]), frac, bool(fill_occluded) and n > 1)
     out = []
     for i, ((a, b), sel) in enumerate(zip(lims, sels, strict=True)):
         masks = [(k >= a) & (k <= b) for k in keys]
         prem_i = (prem[0] * masks[0][..., None], prem[1] * masks[1][..., None])
-        if report["fill_occluded"]:
+        if report.fill_occluded:
             # last channel: "known" = not hidden by a nearer layer (key in front of this layer's range)
             prem_i = (np.concatenate([prem_i[0], (keys[0] >= a)[..., None].astype(np.float32)], axis=2),
                       np.concatenate([prem_i[1], (keys[1] >= a)[..., None].astype(np.float32)], axis=2))
@@ -418,6 +434,6 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
             boxes = [np.zeros((0, 2)) if b_ is None else b_ for b_ in (mask_bbox(mk) for mk in masks)]
             bbox = mesh_canvas(H_rect_0, H_rect_1, sub.pts0, sub.pts1, shape0, shape1, *boxes)
         layer = build_layer(prem_i, sub, bbox, frame_grid, H_rect_0, H_rect_1)
-        layer.known = bool(report["fill_occluded"])
+        layer.known = report.fill_occluded
         out.append(layer)
     return out, report

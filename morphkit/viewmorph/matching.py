@@ -32,7 +32,7 @@ import numpy as np
 from .. import tol
 from ..conventions import SIFT_KEYPOINT_OFFSET_PX
 from ..errors import ValidationError, expected_got
-from ..validate import as_image
+from ..validate import as_image, as_int
 from .correspondences import Correspondences
 
 __all__ = ["ImageMatcher", "SiftMatcher", "FlowMatcher", "CombinedMatcher", "DEFAULT_MATCHER", "from_images"]
@@ -127,13 +127,11 @@ class SiftMatcher:
     def __post_init__(self) -> None:
         if not 0.0 < float(self.ratio) <= 1.0:
             raise ValidationError(expected_got("ratio", "a number in (0, 1]", self.ratio))
-        if int(self.max_features) < 1:
-            raise ValidationError(expected_got("max_features", "an int >= 1", self.max_features))
+        as_int(self.max_features, "max_features", lo=1)
         if not float(self.contrast_threshold) >= 0.0:
             raise ValidationError(expected_got("contrast_threshold", "a number >= 0",
                                                self.contrast_threshold))
-        if isinstance(self.upscale, bool) or int(self.upscale) != self.upscale or self.upscale < 1:
-            raise ValidationError(expected_got("upscale", "an int >= 1", self.upscale))
+        as_int(self.upscale, "upscale", lo=1)
 
     def match(self, image0: np.ndarray, image1: np.ndarray) -> Correspondences:
         """SIFT matches of the two images.
@@ -211,9 +209,7 @@ class FlowMatcher:
 
     def __post_init__(self) -> None:
         for name in ("step", "max_points"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or int(v) != v or v < 1:
-                raise ValidationError(expected_got(name, "an int >= 1", v))
+            as_int(getattr(self, name), name, lo=1)
         if not float(self.max_fb_error) > 0.0:
             raise ValidationError(expected_got("max_fb_error", "a number > 0 (pixels)", self.max_fb_error))
         if self.preset not in DIS_PRESETS:

@@ -14,7 +14,7 @@ vertices at ``s = 1/2``. **Fold-overs**: a triangle whose signed area reaches
 exactly: the area is quadratic in ``s``) loses a vertex -- an inner frame point
 if it has one, else the correspondence whose disparity deviates most from its
 neighbours' median -- and the mesh is re-triangulated, until none folds (the
-number dropped is reported in :attr:`ViewMorpher.report`).
+number dropped is reported in ``MorphReport.n_dropped_foldover``).
 """
 
 from __future__ import annotations

@@ -1,9 +1,12 @@
-"""View morphing (Seitz & Dyer 1996): pre-warp, morph, post-warp, for one reference pair.
+"""View morphing (Seitz & Dyer 1996): pre-warp, morph, post-warp, applied to one reference pair's plan.
 
-:class:`ViewMorpher` does everything that depends on the reference pair once
-(correspondence cleaning, F, the pre-warps, the morph mesh, premultiplied
-images, warpers); each :meth:`ViewMorpher.morph` call for a new ``s`` then costs
-the interpolation of the mesh, one mesh-map computation and two ``cv2.remap``.
+:class:`ViewMorpher` applies a :class:`~morphkit.viewmorph.plan.MorphPlan`, the
+estimate of everything that depends on the reference pair (correspondence
+cleaning, F, the pre-warps, the morph mesh, premultiplied images, warpers;
+:func:`~morphkit.viewmorph.plan.plan_view_morph`, or both in one line with
+:meth:`ViewMorpher.from_estimate`); each :meth:`ViewMorpher.morph` call for a
+new ``s`` then costs the interpolation of the mesh, one mesh-map computation
+and two ``cv2.remap``.
 
 Convention
 ----------
@@ -47,34 +50,13 @@ multiplied by it, the two warped images are mixed with weights ``(1 - s, s)``,
 and colour is divided by the mixed alpha. Grey/RGB outputs drop alpha (pixels
 seen by neither image are 0); RGBA outputs keep straight alpha.
 
-Fallbacks and refusals (``fallback="raise"`` refuses, ``"morph"`` degrades)
----------------------------------------------------------------------------
-======================================  ============================================================
-case                                    policy
-======================================  ============================================================
-fewer than 8 pairs (after cleaning)     ValidationError
-NaN/inf coordinates                     ValidationError
-duplicated pairs                        dropped (kept the first), counted in ``report``
-collinear points                        GeometryError
-one homography explains the pairs       mode ``"homography"``: ``H_rect_0 = I``, ``H_rect_1 = H_0_1``;
-(planar scene, pure rotation, zero      morph of aligned images, post-warp interpolating ``I .. H_1_0``
-baseline, identical images)             (identical images give the input at every s)
-outliers                                robust F (USAC-MAGSAC); only inliers are used
-views already parallel                  mode ``"parallel"``: no pre-warp
-epipole in/near an image, or pre-warps  an estimated F is replaced by the affine F (both epipoles at
-too distorting                          infinity) when that keeps >= tol.VM_AFFINE_INLIER_RATIO of its
-                                        inliers, fits them about as well (tol.VM_AFFINE_RMS_RATIO) and
-                                        passes the checks (``report["affine"]``); else
-                                        DegenerateViewError; ``fallback="morph"``: mode ``"morph"``
-                                        (plain mesh morph, no pre-/post-warp), reason in ``report``
-fold-overs                              vertices dropped (viewmorph.mesh); FoldOverError if that fails
-images of different sizes               supported: output size interpolates between them
-grey / RGB / RGBA, mixed                promoted to the richer layout (grey < RGB < RGBA)
-different dtypes                        ValidationError
-s outside [0, 1]                        ValidationError
-layers > 1/auto without depths or keys  ValidationError (pairs need ``depth``, ``layer_depth`` keys)
-a layer below VM_MIN_LAYER_PAIRS pairs  fewer layers (``report["layers"]``)
-======================================  ============================================================
+Fallbacks and refusals
+----------------------
+What a pair that cannot be rectified becomes (or which error refuses it) is
+decided by :func:`~morphkit.viewmorph.plan.plan_view_morph` (the table in
+:mod:`morphkit.viewmorph.plan`). Here: ``s`` outside [0, 1] and bad
+``post``/``frame``/``path``/``out_shape`` raise ValidationError; a post-warp
+that sends the mesh through infinity raises DegenerateViewError.
 """
 
 from __future__ import annotations
@@ -86,29 +68,14 @@ import numpy as np
 
 from .. import tol
 from ..camera import CameraModel
-from ..composite import from_premultiplied, over, to_premultiplied
-from ..errors import (
-    DegenerateViewError,
-    FoldOverError,
-    GeometryError,
-    ValidationError,
-    expected_got,
-)
-from ..validate import as_finite_array, as_points, as_shape, as_unit_interval
+from ..composite import from_premultiplied, over
+from ..errors import DegenerateViewError, FoldOverError, ValidationError, expected_got
+from ..memo import Memo
+from ..validate import as_finite_array, as_int, as_points, as_shape, as_unit_interval
 from ..warp import MeshWarper
-from .correspondences import Correspondences, spread_subset
-from .fundamental import (
-    FundamentalFit,
-    check_spread,
-    epipolar_distance,
-    estimate_affine_fundamental,
-    estimate_fundamental,
-    homography_degeneracy,
-    normalize_f,
-    sampson_distance,
-)
-from .images import prepare_pair
-from .layers import FAR_POSITION, MorphLayer, build_layers, concat_correspondences, known_mix
+from .fundamental import FundamentalFit
+from .layers import FAR_POSITION, MorphLayer, known_mix
+from .plan import FALLBACKS, PREWARPS, MorphPlan, MorphReport, plan_view_morph
 from .postwarp import (
     FRAMES,
     PostWarpPoints,
@@ -117,63 +84,32 @@ from .postwarp import (
     interpolated_post_homography,
     overshoot,
 )
-from .rectify import Rectification, apply_h, rectify
+from .rectify import Rectification
 
-__all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES"]
+__all__ = ["ViewMorpher", "PREWARPS", "FALLBACKS", "FRAMES", "PATHS"]
 
-#: The values of ``ViewMorpher(prewarp=...)`` (and ``morphkit viewmorph --prewarp``).
-PREWARPS = ("auto", "opencv", "seitz-dyer", "none")
-#: The values of ``ViewMorpher(fallback=...)``: refuse a degenerate pair, or plain mesh morph.
-FALLBACKS = ("raise", "morph")
+#: The values of ``ViewMorpher.morph(path=...)``.
 PATHS = ("direct", "rectified")
+#: Key of the whole images' pre-warped pair in a ViewMorpher's cache (layers are keyed 0, 1, ...).
+_IMAGES = -1
 
 
 # --------------------------------------------------------------------------- morpher
 
 
 class ViewMorpher:
-    """View morphing between two reference images; build once, call :meth:`ViewMorpher.morph` per ``s``.
+    """View morphing between two reference images: applies a plan, one :meth:`ViewMorpher.morph` per ``s``.
 
     Parameters
     ----------
-    image0, image1 : numpy.ndarray
-        ``(H, W)``, ``(H, W, 3)`` or ``(H, W, 4)`` (straight alpha), same dtype
-        (uint8, uint16 or float in [0, 1]); sizes may differ.
-    correspondences : Correspondences or (pts0, pts1)
-        Pixel pairs (pixel-centre origin), at least 8 after cleaning.
-    prewarp : {"auto", "opencv", "seitz-dyer", "none"}
-        Rectification (see :func:`morphkit.viewmorph.rectify.rectify`); ``"none"``
-        is a plain mesh morph (no F, no pre- or post-warp: the ``morph`` baseline).
-    intrinsics : (K0, K1), optional
-        For the Seitz & Dyer construction (true rotations when known).
-    fundamental : (3, 3), optional
-        A known F (``x1^T F x0 = 0``), e.g. from the cameras; else estimated.
-    threshold : float
-        Inlier threshold (pixels) for F and the homography test.
-    fallback : {"raise", "morph"}
-        What to do when rectification is impossible (see the module table).
-    frame_grid : int
-        Side of the frame-point lattice.
-    seed : int
-        Seed of the robust estimators (and of the spread subset a camera post-warp is fitted on).
-    layers : int or "auto"
-        Depth layers (see the module docstring); 1 is Seitz & Dyer's single
-        mesh. ``"auto"``: one mesh, unless it had to drop more than
-        :data:`tol.VM_AUTO_LAYER_DROP` of the pairs to fold-overs (parts cross
-        between the views); then :data:`tol.VM_AUTO_LAYERS` layers.
-    layer_depth : (key0, key1), optional
-        Per-pixel depth keys of the two images (``+inf`` for background), in the
-        measure of :attr:`Correspondences.depth` (:func:`~morphkit.viewmorph.pair_depth`);
-        required for ``layers > 1``.
-    layer_overlap : float
-        Overlap of neighbouring layers, a fraction of the pairs' depth range.
-    fill_occluded : bool
-        Layered morphs: where a nearer layer hides a layer in one image, fill it
-        from the other image instead of blending with transparency
-        (:func:`~morphkit.viewmorph.layers.known_mix`). No effect with one layer.
+    plan : MorphPlan
+        The estimate of the pair (:func:`~morphkit.viewmorph.plan.plan_view_morph`).
+        To plan and apply in one line: :meth:`ViewMorpher.from_estimate`.
 
     Attributes
     ----------
+    plan : MorphPlan
+        The plan applied.
     mode : str
         ``"viewmorph"``, ``"parallel"``, ``"homography"`` or ``"morph"``.
     fit : FundamentalFit or None
@@ -195,188 +131,78 @@ class ViewMorpher:
     is_correspondence : (V,) bool
         For each vertex of :meth:`vertices`: True for the pairs (in the order of
         :attr:`correspondences`), False for frame points.
-    report : dict
-        What happened: counts of input/duplicate/outlier/dropped pairs, F quality,
-        rectification quality, fallback reasons.
+    report : MorphReport
+        What happened: counts of input/duplicate/outlier/dropped pairs, the
+        fallbacks and layers chosen (typed fields).
+
+    References
+    ----------
+    .. [1] S. M. Seitz and C. R. Dyer, "View Morphing", Proc. SIGGRAPH 96, pp. 21-30, 1996.
+
+    Examples
+    --------
+    A camera moved sideways over points at depths 2 to 4 (disparity ``20 / depth``):
+    plan once, then render any in-between view.
+
+    >>> import numpy as np
+    >>> from morphkit.viewmorph.plan import plan_view_morph
+    >>> rng = np.random.default_rng(0)
+    >>> p0 = rng.uniform(8.0, 56.0, (40, 2))
+    >>> p1 = p0 - np.c_[20.0 / rng.uniform(2.0, 4.0, 40), np.zeros(40)]
+    >>> left = np.tile(np.arange(64, dtype=np.uint8) * 4, (64, 1))
+    >>> vm = ViewMorpher(plan_view_morph(left, left, (p0, p1)))
+    >>> vm.mode, vm.morph(0.5).shape
+    ('parallel', (64, 64))
+
+    The same in one line, with :func:`plan_view_morph`'s arguments:
+
+    >>> ViewMorpher.from_estimate(left, left, (p0, p1)).report.layers
+    1
     """
 
-    def __init__(self, image0: Any, image1: Any, correspondences: Any, *, prewarp: str = "auto",
-                 intrinsics: tuple[Any, Any] | None = None, fundamental: Any = None,
-                 threshold: float = tol.VM_THRESHOLD_PX, fallback: str = "raise",
-                 frame_grid: int = 9, seed: int = 0, layers: int | str = 1, layer_depth: Any = None,
-                 layer_overlap: float = tol.VM_LAYER_OVERLAP, fill_occluded: bool = False) -> None:
-        if prewarp not in PREWARPS:
-            raise ValidationError(expected_got("prewarp", f"one of {PREWARPS}", repr(prewarp)))
-        if fallback not in FALLBACKS:
-            raise ValidationError(expected_got("fallback", f"one of {FALLBACKS}", repr(fallback)))
-        if not (isinstance(layers, str) and layers == "auto") and (
-                isinstance(layers, (bool, str)) or not isinstance(layers, (int, np.integer)) or layers < 1):
-            raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(layers)))
-        n_layers: int | str = layers if isinstance(layers, str) else int(layers)
-        overlap = float(layer_overlap)
-        if not 0.0 <= overlap < 0.5:
-            raise ValidationError(expected_got("layer_overlap", "a fraction in [0, 0.5)",
-                                               repr(layer_overlap)))
-        if not isinstance(fill_occluded, bool | np.bool_):
-            raise ValidationError(expected_got("fill_occluded", "a bool", repr(fill_occluded)))
-        a, b, ch, dt = prepare_pair(image0, image1)
-        self.shape0: tuple[int, int] = a.shape[:2]
-        self.shape1: tuple[int, int] = b.shape[:2]
-        self.channels, self.dtype = ch, dt
-        self._prem = (to_premultiplied(a, ch), to_premultiplied(b, ch))
-        corr = correspondences if isinstance(correspondences, Correspondences) else \
-            Correspondences(*correspondences)
-        report: dict[str, Any] = {"n_input": len(corr)}
-        corr, ndup = corr.cleaned()
-        report["n_duplicates"] = ndup
-        if len(corr) < 8:
+    def __init__(self, plan: MorphPlan) -> None:
+        if not isinstance(plan, MorphPlan):
             raise ValidationError(expected_got(
-                "correspondences", "at least 8 distinct pairs (F has 7 degrees of freedom)",
-                f"{len(corr)} after dropping {ndup} duplicates"))
-        check_spread(corr.pts0, "pts0")
-        check_spread(corr.pts1, "pts1")
-        K0, K1 = (None, None) if intrinsics is None else intrinsics
-        cleaned = corr
+                "plan", "a MorphPlan (plan_view_morph(...); or ViewMorpher.from_estimate(image0, image1, "
+                "correspondences, ...))", type(plan).__name__))
+        self.plan = plan
+        self.mode: str = plan.mode
+        self.fit: FundamentalFit | None = plan.fit
+        self.rectification: Rectification = plan.rectification
+        self.H_rect_0, self.H_rect_1 = plan.H_rect_0, plan.H_rect_1
+        self.shape0, self.shape1 = plan.shape0, plan.shape1
+        self.channels, self.dtype = plan.channels, plan.dtype
+        self.correspondences = plan.correspondences
+        self.triangles = plan.triangles
+        self.is_correspondence = plan.is_correspondence
+        self.report: MorphReport = plan.report
+        self._prem = plan.prem
+        self._layers: tuple[MorphLayer, ...] = plan.layers
+        self._canvas = plan.canvas
+        self._r0, self._r1 = plan.r0, plan.r1
+        # pre-warped images of path="rectified", made on first use: the whole images', then each layer's
+        self._rectified: Memo[int, tuple[np.ndarray, np.ndarray]] = Memo()
 
-        self.fit: FundamentalFit | None = None
-        mode = "viewmorph"
-        rect: Rectification | None = None
-        if prewarp == "none":
-            mode = "morph"
-        else:
-            H_1_0, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
-            if H_1_0 is None:
-                try:
-                    self.fit = self._fit_f(corr, fundamental, threshold, seed)
-                except GeometryError as exc:
-                    if fallback == "raise":
-                        raise
-                    mode, report["fallback"] = "morph", str(exc)
-            if self.fit is not None:
-                inl = self.fit.inliers
-                report["n_outliers"] = int(np.count_nonzero(~inl))
-                corr = corr.subset(inl)
-                H_1_0, frac = homography_degeneracy(corr.pts0, corr.pts1, threshold=threshold)
-            report["homography_inlier_fraction"] = float(frac)
-            if H_1_0 is not None:
-                mode = "homography"
-                self.fit = None
-                H_0_1 = np.linalg.inv(H_1_0)
-                rect = Rectification(np.eye(3), H_0_1 / H_0_1[2, 2], "homography",
-                                     float(np.sqrt(np.mean((apply_h(H_0_1, corr.pts1) - corr.pts0) ** 2))),
-                                     1.0, 1.0, {})
-            elif mode == "viewmorph":
-                try:
-                    rect = rectify(self.fit.F, corr.pts0, corr.pts1, self.shape0, self.shape1,
-                                   method=prewarp, K0=K0, K1=K1)
-                except DegenerateViewError as exc:
-                    # an estimated F refused: replace it by the affine F when that explains the pairs
-                    alt = None if fundamental is not None else self._affine_instead(
-                        cleaned, self.fit, exc, threshold, seed, prewarp, (K0, K1), report)
-                    if alt is None:
-                        if fallback == "raise":
-                            raise DegenerateViewError(f"{exc}; {report['affine']['refused']}") from exc
-                        mode, report["fallback"] = "morph", f"{exc}; {report['affine']['refused']}"
-                    else:
-                        self.fit, rect = alt
-                        corr = cleaned.subset(self.fit.inliers)
-                        report["n_outliers"] = int(np.count_nonzero(~self.fit.inliers))
-                if rect is not None and rect.method == "parallel":
-                    mode = "parallel"
-        if rect is None:
-            rect = Rectification(np.eye(3), np.eye(3), "none", float("nan"), 1.0, 1.0, {})
-        self.mode = mode
-        self.rectification = rect
-        self.H_rect_0, self.H_rect_1 = rect.H_rect_0, rect.H_rect_1
-        if self.fit is not None:
-            report["fundamental"] = self.fit.report()
-        report["rectification"] = rect.report()
-        report["mode"] = mode
+    @classmethod
+    def from_estimate(cls, image0: Any, image1: Any, correspondences: Any, **options: Any) -> ViewMorpher:
+        """Plan the pair (:func:`~morphkit.viewmorph.plan.plan_view_morph`) and apply the plan.
 
-        # ---- depth layers, each with its own mesh in the shared rectified frame
-        self._layers, layer_report = build_layers(
-            self._prem, corr, n_layers, layer_depth, overlap, frame_grid,
-            H_rect_0=self.H_rect_0, H_rect_1=self.H_rect_1, shape0=self.shape0, shape1=self.shape1,
-            fill_occluded=bool(fill_occluded))
-        report.update(layer_report)
-        self._canvas = self._layers[-1].canvas  # the farthest (or only) layer covers the whole images
-        offs = np.cumsum([0] + [len(L.r0) for L in self._layers])
-        self._r0 = np.concatenate([L.r0 for L in self._layers])
-        self._r1 = np.concatenate([L.r1 for L in self._layers])
-        self.triangles = np.concatenate([L.tris + o for L, o in zip(self._layers, offs, strict=False)])
-        self.is_correspondence = np.concatenate([L.is_corr for L in self._layers])
-        self.correspondences = concat_correspondences([L.corr for L in self._layers])
-        report["n_dropped_foldover"] = sum(L.n_dropped for L in self._layers)
-        report["n_frame_points"] = int(np.count_nonzero(~self.is_correspondence))
-        report["n_used"] = len(self.correspondences)
-        # the pairs a post-warp to a camera is fitted on: at most VM_POST_FIT_PAIRS, spread over image 0
-        self._post_fit_index = spread_subset(self.correspondences.pts0, tol.VM_POST_FIT_PAIRS,
-                                              np.random.default_rng(seed))
-        self._rectified: tuple[np.ndarray, np.ndarray] | None = None
-        self.report = report
+        Parameters
+        ----------
+        image0, image1 : numpy.ndarray
+            The reference images (see :func:`~morphkit.viewmorph.plan.plan_view_morph`).
+        correspondences : Correspondences or (pts0, pts1)
+            Pixel pairs.
+        **options
+            Keyword arguments of :func:`~morphkit.viewmorph.plan.plan_view_morph`
+            (``prewarp``, ``fallback``, ``layers``, ...).
 
-    # ---------------------------------------------------------------- construction helpers
-    @staticmethod
-    def _fit_f(corr: Correspondences, fundamental: Any, threshold: float, seed: int) -> FundamentalFit:
-        if fundamental is None:
-            return estimate_fundamental(corr.pts0, corr.pts1, threshold=threshold, seed=seed,
-                                        check_degenerate=False)
-        F = normalize_f(fundamental)
-        d = sampson_distance(F, corr.pts0, corr.pts1)
-        inl = d <= threshold
-        if inl.sum() < 8:
-            raise GeometryError(expected_got("given F", "at least 8 pairs within the threshold",
-                                             f"{int(inl.sum())}"))
-        e = epipolar_distance(F, corr.pts0[inl], corr.pts1[inl])
-        return FundamentalFit(F, inl, "given", threshold, float(np.sqrt(np.mean(d[inl] ** 2))),
-                              float(d[inl].max()), float(np.sqrt(np.mean(e**2))))
-
-    def _affine_instead(self, corr: Correspondences, fit: FundamentalFit, refused: DegenerateViewError,
-                        threshold: float, seed: int, prewarp: str, intrinsics: tuple[Any, Any],
-                        report: dict[str, Any]) -> tuple[FundamentalFit, Rectification] | None:
-        """The affine F and its pre-warps in place of a refused F, or None (why: ``report["affine"]``).
-
-        Used when the affine F keeps at least :data:`tol.VM_AFFINE_INLIER_RATIO`
-        of the general F's inliers, fits the pairs both explain nearly as well
-        (RMS within :data:`tol.VM_AFFINE_RMS_RATIO` times the general F's: the
-        pair is nearly affine and the general F's epipole is not determined by
-        the matches), and its pre-warps pass
-        :func:`~morphkit.viewmorph.rectify.rectify`'s checks.
+        Returns
+        -------
+        ViewMorpher
+            The morpher of the plan.
         """
-        info: dict[str, Any] = {"f_refused": str(refused), "f_inliers": fit.n_inliers}
-        report["affine"] = info
-        try:
-            fa = estimate_affine_fundamental(corr.pts0, corr.pts1, threshold=threshold, seed=seed)
-        except GeometryError as exc:
-            info["refused"] = f"no affine F either: {exc}"
-            return None
-        ratio = fa.n_inliers / max(fit.n_inliers, 1)
-        info.update(affine_inliers=fa.n_inliers, inlier_ratio=ratio)
-        if ratio < tol.VM_AFFINE_INLIER_RATIO:
-            info["refused"] = expected_got(
-                "affine F (nearly affine views)", f">= {tol.VM_AFFINE_INLIER_RATIO:.0%} of the general F's "
-                f"{fit.n_inliers} inliers", f"{fa.n_inliers} ({ratio:.0%})")
-            return None
-        both = fit.inliers & fa.inliers
-        rms = [float(np.sqrt(np.mean(sampson_distance(F, corr.pts0[both], corr.pts1[both]) ** 2)))
-               for F in (fit.F, fa.F)]
-        info.update(f_rms_px=rms[0], affine_rms_px=rms[1])
-        if not rms[1] <= tol.VM_AFFINE_RMS_RATIO * rms[0]:
-            info["refused"] = expected_got(
-                "affine F (nearly affine views)",
-                f"an RMS Sampson distance <= {tol.VM_AFFINE_RMS_RATIO} x the general F's ({rms[0]:.2e} px) "
-                "on the pairs both explain", f"{rms[1]:.2e} px: the general F is determined")
-            return None
-        inl = fa.inliers
-        K0, K1 = intrinsics
-        try:
-            rect = rectify(fa.F, corr.pts0[inl], corr.pts1[inl], self.shape0, self.shape1, method=prewarp,
-                           K0=K0, K1=K1)
-        except DegenerateViewError as exc:
-            info["refused"] = f"the affine F's pre-warps refused too: {exc}"
-            return None
-        info["used"] = True
-        return fa, rect
+        return cls(plan_view_morph(image0, image1, correspondences, **options))
 
     # ---------------------------------------------------------------- geometry per s
     def vertices(self, s: float) -> np.ndarray:
@@ -457,7 +283,7 @@ class ViewMorpher:
             if self.correspondences.points3d is None:
                 raise ValidationError(expected_got("post", "a camera only with correspondences from geometry "
                                                    "(points3d)", "correspondences without 3-D points"))
-            idx = self._post_fit_index
+            idx = self.plan.post_fit_index
             tgt, _ = post.project(self.correspondences.points3d[idx])
             H_out_rect = fit_post_homography(q[self.is_correspondence][idx], tgt)
             return H_out_rect, post.shape
@@ -473,7 +299,7 @@ class ViewMorpher:
             raise ValidationError(expected_got("post", "'interpolate', 'rectified', a 3x3 array, a "
                                                "CameraModel or PostWarpPoints", repr(post)))
         H_out_rect = as_finite_array(post, "post", shape=(3, 3))
-        if abs(np.linalg.det(H_out_rect)) < 1e-300:
+        if abs(np.linalg.det(H_out_rect)) < tol.ZERO:
             raise ValidationError(expected_got("post", "a regular homography", "a singular matrix"))
         return H_out_rect, self.out_shape(s)
 
@@ -575,9 +401,7 @@ class ViewMorpher:
         list of numpy.ndarray
             The views, as :meth:`ViewMorpher.morph` returns them.
         """
-        n = int(n)
-        if n < 2:
-            raise ValidationError(expected_got("n", "an int >= 2", n))
+        n = as_int(n, "n", lo=2)
         return [self.morph(float(s), **kw) for s in np.linspace(0.0, 1.0, n)]
 
     @staticmethod
@@ -585,7 +409,7 @@ class ViewMorpher:
         q = np.c_[layer.r0 + s * (layer.r1 - layer.r0), np.ones(len(layer.r0))] @ H_out_rect.T
         w = q[:, 2]
         wc = np.median(w)
-        if np.any(w * np.sign(wc) <= 1e-9 * abs(wc)):
+        if np.any(w * np.sign(wc) <= tol.REL_EQUAL * abs(wc)):
             raise DegenerateViewError(expected_got(
                 "post-warp", "a homography keeping the morph mesh in front (w > 0)",
                 "one sending part of it through infinity"))
@@ -669,18 +493,19 @@ class ViewMorpher:
 
         Convention: canvas pixel ``(x, y)`` is rectified-frame point ``(x, y) + origin``.
         """
-        if self._rectified is None:
-            self._rectified = self._prewarp_images(self._prem, (self.H_rect_0, self.H_rect_1), self._canvas)
-        return self._rectified[0], self._rectified[1], self._canvas[0].copy()
+        rect0, rect1 = self._rectified.get(_IMAGES, lambda: self._prewarp_images(
+            self._prem, (self.H_rect_0, self.H_rect_1), self._canvas))
+        return rect0, rect1, self._canvas[0].copy()
 
     def _render_rectified(self, s: float, H_out_rect: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
         out: np.ndarray | None = None
-        for layer in reversed(self._layers):  # far to near, premultiplied "over"
-            if layer.rectified is None:
-                layer.rectified = (self.rectified_images()[:2] if len(self._layers) == 1 else
-                                   self._prewarp_images(layer.prem, (self.H_rect_0, self.H_rect_1),
-                                                        layer.canvas))
-            rect0, rect1 = layer.rectified
+        for i in reversed(range(len(self._layers))):  # far to near, premultiplied "over"
+            layer = self._layers[i]
+            if len(self._layers) == 1:
+                rect0, rect1 = self.rectified_images()[:2]
+            else:
+                rect0, rect1 = self._rectified.get(i, lambda layer=layer: self._prewarp_images(
+                    layer.prem, (self.H_rect_0, self.H_rect_1), layer.canvas))
             lo = layer.canvas[0]
             cshape = rect0.shape[:2]
             q = layer.r0 + s * (layer.r1 - layer.r0) - lo

@@ -17,6 +17,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from .. import tol
 from ..errors import GeometryError, ValidationError, expected_got
 from .fundamental import check_spread
 from .images import image_corners
@@ -196,14 +197,14 @@ def frame_post_homography(H_out_rect: np.ndarray, object_rect: np.ndarray, shape
     h, w = shape
     flo, fhi = np.array([-0.5, -0.5]), np.array([w - 0.5, h - 0.5])
     if frame == "contain":
-        if np.all(blo >= flo - slack - 1e-9) and np.all(bhi <= fhi + slack + 1e-9):
+        if np.all(blo >= flo - slack - tol.PX_EQUAL) and np.all(bhi <= fhi + slack + tol.PX_EQUAL):
             return H_out_rect
         margin = 0.02
     else:
         margin = 0.05
     size = fhi - flo
     inner_lo, inner_hi = flo + margin * size, fhi - margin * size
-    k = float(np.min((inner_hi - inner_lo) / np.maximum(bhi - blo, 1e-9)))
+    k = float(np.min((inner_hi - inner_lo) / np.maximum(bhi - blo, tol.PX_EQUAL)))
     if frame == "contain":
         k = min(k, 1.0)
     cb, cf = 0.5 * (blo + bhi), 0.5 * (flo + fhi)

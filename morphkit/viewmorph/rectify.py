@@ -259,8 +259,8 @@ def rectify_opencv(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int]) -> tup
     p1 = as_points(pts1, "pts1", min_count=8)
     h, w = as_shape(shape0, "shape0")
     ok, H_rect_0, H_rect_1 = cv2.stereoRectifyUncalibrated(p0, p1, F, (w, h), threshold=0)
-    if not ok or H_rect_0 is None or H_rect_1 is None or abs(np.linalg.det(H_rect_0)) < 1e-300 \
-            or abs(np.linalg.det(H_rect_1)) < 1e-300:
+    if not ok or H_rect_0 is None or H_rect_1 is None or abs(np.linalg.det(H_rect_0)) < tol.ZERO \
+            or abs(np.linalg.det(H_rect_1)) < tol.ZERO:
         raise GeometryError(expected_got("cv2.stereoRectifyUncalibrated", "two regular homographies",
                                          "failure"))
     return np.asarray(H_rect_0, dtype=np.float64), np.asarray(H_rect_1, dtype=np.float64)
@@ -293,13 +293,13 @@ def seitz_dyer_angles(F_hat: Any) -> dict[str, Any]:
     Fh = as_finite_array(F_hat, "F_hat", shape=(3, 3))
     e0, e1 = epipoles(Fh)
     d0 = np.array([-e0[1], e0[0], 0.0])
-    if np.linalg.norm(d0) < 1e-12:
+    if np.linalg.norm(d0) < tol.VM_UNIT_ZERO:
         raise DegenerateViewError(expected_got("epipole of image 0", "off the optical axis",
                                                "on it (pure forward motion)"))
     d0 /= np.linalg.norm(d0)
     line = Fh @ d0  # epipolar line in image 1 of the direction d0
     d1 = np.array([-line[1], line[0], 0.0])
-    if np.linalg.norm(d1) < 1e-12:
+    if np.linalg.norm(d1) < tol.VM_UNIT_ZERO:
         raise DegenerateViewError(expected_got("epipolar line F d0", "a line with a direction",
                                                "the line at infinity"))
     d1 /= np.linalg.norm(d1)
@@ -357,7 +357,7 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
     Ft /= np.linalg.norm(Ft)
     a, b, c = Ft[1, 2], Ft[2, 1], Ft[2, 2]
     resid = np.abs([Ft[0, 0], Ft[0, 1], Ft[0, 2], Ft[1, 0], Ft[2, 0], Ft[1, 1]]).max()
-    if resid > 1e-6 or min(abs(a), abs(b)) < 1e-9:
+    if resid > tol.VM_ROTATED_F_RESIDUAL or min(abs(a), abs(b)) < tol.REL_EQUAL:
         raise DegenerateViewError(expected_got(
             "rotated F", "the form [[0,0,0],[0,0,a],[0,b,c]] with a, b != 0",
             f"residual {resid:.1e}, a={a:.1e}, b={b:.1e}"))
@@ -409,7 +409,7 @@ def normalize_prewarps(H_rect_0: Any, H_rect_1: Any, pts0: Any, pts1: Any) -> tu
         out.append(Hn)
         Js.append(J[0])
     ny = [np.linalg.norm(J[1]) for J in Js]
-    if min(ny) < 1e-12:
+    if min(ny) < tol.VM_UNIT_ZERO:
         raise DegenerateViewError(expected_got("pre-warp", "a regular local Jacobian", "a singular one"))
     s = 1.0 / np.sqrt(ny[0] * ny[1])
     res = []
@@ -459,7 +459,7 @@ def _quality(H_rect_0: np.ndarray, H_rect_1: np.ndarray, p0: np.ndarray, p1: np.
         "w_min": min(d0["w_min"], d1["w_min"]),
         "anisotropy": max(d0["anisotropy"], d1["anisotropy"]),
         "scale_ratio": max(d0["scale_max"], d1["scale_max"]) / max(min(d0["scale_min"], d1["scale_min"]),
-                                                                   1e-300),
+                                                                   tol.ZERO),
     }
 
 
