@@ -227,6 +227,9 @@ def test_workers_and_scheduler_together_are_refused(tmp_path):
         bake_library([tmp_path], tmp_path / "out", workers=2, scheduler="tcp://127.0.0.1:9")
     with pytest.raises(ValidationError, match="workers: expected an integer >= 1, got 0"):
         bake_library([tmp_path], tmp_path / "out", workers=0)
+    for bad in (2.5, True, "2"):  # validate.as_int's rule: an integral value, not a bool or a string
+        with pytest.raises(ValidationError, match=r"workers: expected an integer >= 1, got"):
+            bake_library([tmp_path], tmp_path / "out", workers=bad)
 
 
 # -------------------------------------------------------------------- GL
