@@ -22,7 +22,8 @@ private array validators
 bare epsilons
     A number literal ``1e-N`` in code (not in a comment or a string/docstring):
     the tokens ``grep -rnE "[^a-zA-Z_.]1e-[0-9]+" morphkit --include=*.py | grep -v tol.py``
-    finds, less those in comments and docstrings. tol.py is excepted.
+    finds, less those in comments and docstrings and those that are the whole value of
+    a module-level constant (``NAME = 1e-3``, named with its reason). tol.py is excepted.
 hand-made memo dicts
     A persistent mapping (an attribute ``self.x`` / ``obj.x``, or a module-level
     name) that one function both looks up (``d.get(k)``, ``k in d``, ``k not in d``;
@@ -157,12 +158,23 @@ def private_validators(path: Path, tree: ast.AST) -> list[Hit]:
             if isinstance(n, ast.FunctionDef) and n.name in PRIVATE_VALIDATORS]
 
 
-def epsilons(path: Path, source: str) -> list[Hit]:
+def _named_lines(tree: ast.Module) -> set[int]:
+    """Lines of module-level ``NAME = <number>`` (or ``NAME: float = <number>``): named, not bare."""
+    out: set[int] = set()
+    for st in tree.body:
+        value = st.value if isinstance(st, ast.Assign | ast.AnnAssign) else None
+        if isinstance(value, ast.Constant | ast.UnaryOp):
+            out.add(st.lineno)
+    return out
+
+
+def epsilons(path: Path, source: str, tree: ast.Module) -> list[Hit]:
     if path.name == "tol.py" and path.parent == PKG:
         return []
+    named = _named_lines(tree)
     hits: list[Hit] = []
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
-        if tok.type == tokenize.NUMBER and EPS.match(tok.string):
+        if tok.type == tokenize.NUMBER and EPS.match(tok.string) and tok.start[0] not in named:
             hits.append((_rel(path), tok.start[0], tok.line.strip()[:90]))
     return hits
 
@@ -253,7 +265,7 @@ def count() -> dict[str, list[Hit]]:
         out["inline integer checks"] += int_checks(p, tree)
         out["flag checks"] += flag_checks(p, tree)
         out["private validators"] += private_validators(p, tree)
-        out["bare epsilons"] += epsilons(p, src)
+        out["bare epsilons"] += epsilons(p, src, tree)
         out["hand-made memo dicts"] += memo_dicts(p, tree)
         out["functools caches"] += functools_caches(p, tree)
     return out
