@@ -106,7 +106,7 @@ def grid_shape(points: Any) -> tuple[int, int] | None:
     if pts.ndim != 2 or pts.shape[1] != 2 or n < 4:
         return None
     scale = max(1.0, float(np.max(np.abs(pts))))
-    eps = 1e-9 * scale
+    eps = tol.REL_EQUAL * scale
     same_y = np.abs(pts[:, 1] - pts[0, 1]) <= eps
     cols = int(np.argmin(same_y)) if not same_y.all() else n
     if cols < 2 or n % cols:
