@@ -62,11 +62,11 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray | None = None) -
     fwd = fwd / n
     if up is None:
         up = np.array([0.0, 0.0, 1.0])
-        if abs(fwd @ up) > 1 - 1e-6:
+        if abs(fwd @ up) > 1 - tol.PARALLEL_DOT:
             up = np.array([0.0, 1.0, 0.0])
     up = as_finite_array(up, "up", shape=(3,))
     right = np.cross(fwd, up)
-    if np.linalg.norm(right) < 1e-9:
+    if np.linalg.norm(right) < tol.REL_EQUAL:  # fwd is unit: |right| = |up| sin(angle)
         raise ValidationError(expected_got("up", "a vector not parallel to the view direction",
                                            up.tolist()))
     right /= np.linalg.norm(right)
@@ -128,7 +128,7 @@ class CameraModel:
             object.__setattr__(self, name, v)
         zn = as_positive(self.znear, "znear")
         zf = as_positive(self.zfar, "zfar")
-        if not zf > zn * (1 + 1e-9):
+        if not zf > zn * (1 + tol.REL_EQUAL):
             raise ValidationError(expected_got("zfar", f"> znear ({zn})", zf))
         object.__setattr__(self, "znear", zn)
         object.__setattr__(self, "zfar", zf)
@@ -374,7 +374,8 @@ class CameraModel:
 
     def _require_centred(self) -> None:
         h, w = self.shape
-        if abs(self.cx - (w - 1) / 2) > 1e-9 or abs(self.cy - (h - 1) / 2) > 1e-9:
+        # the centre is computed, not measured: equal up to float64 rounding (REL_EQUAL of 1 px)
+        if abs(self.cx - (w - 1) / 2) > tol.REL_EQUAL or abs(self.cy - (h - 1) / 2) > tol.REL_EQUAL:
             raise ValidationError(expected_got(
                 "orthographic principal point", f"the image centre ({(w - 1) / 2}, {(h - 1) / 2})",
                 f"({self.cx}, {self.cy}); shift the camera instead"))

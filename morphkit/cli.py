@@ -62,35 +62,13 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _cmd_viewmorph(args: argparse.Namespace) -> int:
-    import cv2
     import numpy as np
 
     from .errors import FileFormatError, ValidationError, expected_got
-    from .fileio import encode_image, write_bytes
+    from .fileio import encode_image, read_image, write_bytes
     from .viewmorph import ViewMorpher, from_images, load_points
 
-    def read(path: str) -> np.ndarray:
-        # decoded from bytes: cv2.imread prints its own warning for a missing file
-        p = Path(path)
-        if not p.is_file():
-            raise FileFormatError(expected_got(f"image {path!r}", "an existing file",
-                                               "a folder" if p.is_dir() else "nothing there"))
-        try:
-            data = np.fromfile(p, dtype=np.uint8)
-        except OSError as exc:
-            raise FileFormatError(expected_got(f"image {path!r}", "a readable file",
-                                               exc.strerror or exc)) from exc
-        img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
-        if img is None:
-            raise FileFormatError(expected_got(f"image {path!r}", "an image file OpenCV can decode",
-                                               f"{data.size} bytes it cannot"))
-        if img.ndim == 3:
-            img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA if img.shape[2] == 4 else cv2.COLOR_BGR2RGB)
-        return img
-
     def encode(path: Path, img: np.ndarray) -> bytes:
-        if img.ndim == 3:
-            img = cv2.cvtColor(img, cv2.COLOR_RGBA2BGRA if img.shape[2] == 4 else cv2.COLOR_RGB2BGR)
         if img.dtype.kind == "f":
             img = np.clip(np.rint(img * 255), 0, 255).astype(np.uint8)
         return encode_image(path, img)  # ValidationError for an unknown extension, before any write
@@ -116,7 +94,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
             raise ValidationError(expected_got("output", "an image file path (or --frames N for a folder)",
                                                f"the folder {str(out)!r}"))
         encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
-    left, right = read(args.left), read(args.right)
+    left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
             corr = load_points(args.points)

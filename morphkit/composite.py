@@ -27,6 +27,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from . import tol
 from .errors import ValidationError, expected_got
 from .validate import as_image
 
@@ -130,7 +131,7 @@ def from_premultiplied(acc: np.ndarray, channels: int, dtype: np.dtype) -> np.nd
     alpha = acc[:, :, -1:]
     amax = _alpha_max(dtype)
     # where alpha ~ 0 the premultiplied colour is ~0 too: dividing by a floor keeps it ~0
-    out = acc / np.maximum(alpha, np.float32(1e-6))
+    out = acc / np.maximum(alpha, np.float32(tol.ALPHA_FLOOR))
     if channels == 4:
         np.multiply(alpha[:, :, 0], np.float32(amax), out=out[:, :, -1])
     elif channels == 1:

@@ -9,6 +9,12 @@ Pixels and images
   ``[-0.5, W - 0.5] x [-0.5, H - 0.5]``. This is the convention of
   ``cv2.remap``, ``cv2.warpAffine`` and ``cv2.warpPerspective``.
 * Point arrays are ``(N, 2)`` in ``(x, y)`` order (``(N, 3)`` for 3-D points).
+* **Colour images are RGB**, ``(H, W, 3)``, or RGBA, ``(H, W, 4)`` (straight alpha
+  unless a function says premultiplied), channel last; everything morphkit takes, returns,
+  writes (:func:`morphkit.fileio.write_image`) and reads
+  (:func:`morphkit.fileio.read_image`) is in this order. OpenCV's BGR / BGRA
+  order appears only at the calls that hand pixels to or take them from OpenCV's
+  file and video I/O and colour maps, which swap at that call.
 * OpenCV's SIFT keypoints are not quite in this convention: SIFT detects on
   the image doubled (its first octave) and maps keypoints back by halving,
   where ``(x + 0.5) / 2 - 0.5`` would be right, so ``KeyPoint.pt`` lies

@@ -72,10 +72,6 @@ from .visualize import colorize_depth
 
 __all__ = ["run_demo", "previous_demo", "overview_row", "OVERVIEW_TILE"]
 
-def _write_rgb(path: Path, rgb: np.ndarray) -> None:
-    write_image(path, cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
-
-
 #: Height (pixels) of each image in ``overview.png``.
 OVERVIEW_TILE = 256
 
@@ -159,21 +155,21 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: l
             f"iou_{k}_vs_raycast_lightfacing_pixels": shadow_iou(
                 frames[k]["visibility"] < 0.5, gt, mask=facing)
             for k in ("warped", "reprojected", "direct")}}
-        _write_rgb(add(f"{name}_warped_direct_raycast.png", "warped_shadow", name,
-                       "point-light shadow at a position between the 3x3 samples: warped map | "
-                       "re-rendered map | ray cast"),
-                   np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
+        write_image(add(f"{name}_warped_direct_raycast.png", "warped_shadow", name,
+                        "point-light shadow at a position between the 3x3 samples: warped map | "
+                        "re-rendered map | ray cast"),
+                    np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
         if name == "cow":
             _shadow_path_strip(renderer, scene, atlas, add)
             rows.append(overview_row("warped hard shadow, point light (cow, 3x3 atlas)",
                                      frames["warped"]["shaded"], frames["raycast"]["shaded"], "ray cast",
                                      "shadow IoU {:.3f}".format(
                                          report[name]["iou_warped_vs_raycast_lightfacing_pixels"])))
-        _write_rgb(add(f"{name}_reprojected_direct_raycast.png", "warped_shadow", name,
-                       "the same with warps='reproject' (per-pixel 3-D reprojection): "
-                       "reprojected map | re-rendered map | ray cast"),
-                   np.concatenate([frames[k]["shaded"] for k in ("reprojected", "direct", "raycast")],
-                                  1))
+        write_image(add(f"{name}_reprojected_direct_raycast.png", "warped_shadow", name,
+                        "the same with warps='reproject' (per-pixel 3-D reprojection): "
+                        "reprojected map | re-rendered map | ray cast"),
+                    np.concatenate([frames[k]["shaded"] for k in ("reprojected", "direct", "raycast")],
+                                   1))
     return report
 
 
@@ -192,9 +188,9 @@ def _shadow_path_strip(renderer: SceneRenderer, scene: Scene, atlas: Any, add: A
             p, d, c, normals=n), background=SKY)
         img = frame["shaded"]
         tiles.append(cv2.resize(img, (OVERVIEW_TILE, OVERVIEW_TILE), interpolation=cv2.INTER_AREA))
-    _write_rgb(add("shadow_path_strip.png", "warped_shadow", "cow",
-                   f"the cow moving along the range's diagonal, warped 3x3-atlas shadow, {frames} frames"),
-               np.concatenate(tiles, axis=1))
+    write_image(add("shadow_path_strip.png", "warped_shadow", "cow",
+                    f"the cow moving along the range's diagonal, warped 3x3-atlas shadow, {frames} frames"),
+                np.concatenate(tiles, axis=1))
 
 
 def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: list[np.ndarray], *,
@@ -241,10 +237,10 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: lis
                                      frames["warped"]["shaded"], frames["raycast"]["shaded"],
                                      f"ray cast {dense}x{dense}", "mean |visibility error| "
                                      f"{report[name]['mae_warped_vs_raycast_lightfacing_pixels']:.4f}"))
-        _write_rgb(add(f"{name}_soft_warped_direct_raycast.png", "soft_shadow", name,
-                       "area-light soft shadow: warped (9 samples) | re-rendered (9 samples) | "
-                       f"ray cast ({dense}x{dense} samples)"),
-                   np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
+        write_image(add(f"{name}_soft_warped_direct_raycast.png", "soft_shadow", name,
+                        "area-light soft shadow: warped (9 samples) | re-rendered (9 samples) | "
+                        f"ray cast ({dense}x{dense} samples)"),
+                    np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
     return report
 
 
@@ -281,7 +277,7 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
         strip = np.concatenate([i0, mid, gt, i1], axis=1)
         write_image(add(f"{name}_viewmorph.png", "viewmorph", name,
                         "left reference | view morph s=0.5 | rendered middle view | right reference"),
-                    cv2.cvtColor(strip, cv2.COLOR_RGBA2BGRA))
+                    strip)
     return report
 
 
@@ -304,13 +300,13 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
     cam = PanPath.over(float(np.abs(inst.xy).max())).camera_at(0.5, (size * 3 // 4, size))
     cmp = compare_modes(scene, cam, {"classic": ClassicMode(), "morph": MorphMode()},
                         MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT, supersample=2))
-    _write_rgb(add("billboards_compare.png", "billboards", "tree+person",
-                   "billboard scene: classic | view-morphed | real meshes (paper 2, Fig. 5)"), cmp.strip)
+    write_image(add("billboards_compare.png", "billboards", "tree+person",
+                    "billboard scene: classic | view-morphed | real meshes (paper 2, Fig. 5)"), cmp.strip)
     pan = [scene.render(c, MorphMode()).rgb
            for c in PanPath.over(float(np.abs(inst.xy).max())).cameras(5, (size * 3 // 8, size // 2))]
-    _write_rgb(add("billboards_pan_strip.png", "billboards", "tree+person",
-                   "view-morphed billboards along the paper's pan (its Fig. 6), 5 cameras"),
-               np.concatenate(pan, axis=1))
+    write_image(add("billboards_pan_strip.png", "billboards", "tree+person",
+                    "view-morphed billboards along the paper's pan (its Fig. 6), 5 cameras"),
+                np.concatenate(pan, axis=1))
     e = cmp.errors["morph"]
     rows.append(overview_row(f"view-morphed billboards (trees, people; {n} instances, K = 8)",
                              cmp.frames["morph"].rgb, cmp.frames["mesh"].rgb, "real meshes",
@@ -318,8 +314,8 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
     truth = cmp.frames["mesh"].rgb.astype(np.int16)
     diffs = [np.abs(cmp.frames[m].rgb.astype(np.int16) - truth).max(axis=2).astype(np.uint8)
              for m in ("classic", "morph")]
-    err = cv2.applyColorMap(cv2.convertScaleAbs(np.concatenate(diffs, axis=1), alpha=2.0),
-                            cv2.COLORMAP_INFERNO)
+    err = cv2.cvtColor(cv2.applyColorMap(cv2.convertScaleAbs(np.concatenate(diffs, axis=1), alpha=2.0),
+                                         cv2.COLORMAP_INFERNO), cv2.COLOR_BGR2RGB)  # OpenCV's map is BGR
     write_image(add("billboards_error.png", "billboards", "tree+person",
                     "largest channel difference from the meshes (x2, inferno): classic | view-morphed"), err)
     return {"instances": n, "views": 8, "bake_ms": bake_ms,
@@ -410,10 +406,10 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
             t3 = time.perf_counter()
             timings[name] = {"faces": int(len(mesh.faces)), "frame_and_raycast_ms": 1e3 * (t1 - t0),
                              "light_depth_ms": 1e3 * (t2 - t1), "ground_raycast_ms": 1e3 * (t3 - t2)}
-            _write_rgb(add(f"{name}_scene.png", "scene", name,
-                           "camera view with ray-cast hard shadows (ground truth)"), frame["shaded"])
-            _write_rgb(add(f"{name}_noshadow.png", "scene", name, "camera view without shadows"),
-                       frame["lit"])
+            write_image(add(f"{name}_scene.png", "scene", name,
+                            "camera view with ray-cast hard shadows (ground truth)"), frame["shaded"])
+            write_image(add(f"{name}_noshadow.png", "scene", name, "camera view without shadows"),
+                        frame["lit"])
             write_image(add(f"{name}_visibility.png", "visibility", name,
                             "ray-cast light visibility per camera pixel (white = lit)"),
                         np.rint(frame["visibility"] * 255).astype(np.uint8))
@@ -429,12 +425,12 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
         soft = _soft_shadow_section(renderer, size, add, rows, quick=quick)
         morphs = _viewmorph_section(renderer, min(size, 384), add, rows)
         billboards = _billboard_section(renderer, min(size, 512), add, rows, quick=quick)
-    _write_rgb(add("overview.png", "overview", "all", "morphkit's results beside their ground truth, "
-                   "each with its error: warped hard shadow, soft shadow, view morph, billboards"),
-               _stack_rows(rows))
-    _write_rgb(add("groundtruth_overview.png", "overview", "all",
-                   "the three demo scenes with ray-cast (exact) hard shadows side by side"),
-               np.concatenate(overview, axis=1))
+    write_image(add("overview.png", "overview", "all", "morphkit's results beside their ground truth, "
+                    "each with its error: warped hard shadow, soft shadow, view morph, billboards"),
+                _stack_rows(rows))
+    write_image(add("groundtruth_overview.png", "overview", "all",
+                    "the three demo scenes with ray-cast (exact) hard shadows side by side"),
+                np.concatenate(overview, axis=1))
     index = {
         "morphkit_demo": 1,
         "size": size,

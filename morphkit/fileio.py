@@ -1,4 +1,4 @@
-"""Writing files atomically: one place for every file morphkit writes.
+"""Writing files atomically: one place for every file morphkit writes (and reads images).
 
 A file is written to a temporary file in the same folder, flushed and
 ``fsync``-ed, then renamed over the target (``os.replace``, atomic on POSIX and
@@ -15,6 +15,11 @@ truncated last line, which readers skip.
 Images are encoded in memory first (``cv2.imencode``), so an unknown extension
 or an image OpenCV cannot encode is a :class:`~morphkit.errors.ValidationError`
 before anything touches the disk.
+
+Images here are in morphkit's channel order, RGB / RGBA (see
+:mod:`morphkit.conventions`): :func:`encode_image` and :func:`write_image` take it
+and :func:`read_image` returns it; the swap to and from OpenCV's BGR / BGRA
+happens here and nowhere else.
 """
 
 from __future__ import annotations
@@ -30,10 +35,21 @@ from typing import IO, Any
 import cv2
 import numpy as np
 
-from .errors import ValidationError, expected_got
+from .errors import FileFormatError, ValidationError, expected_got
 
 __all__ = ["check_writable", "atomic_write", "atomic_output", "append_lines", "write_bytes",
-           "write_text", "write_json", "encode_image", "write_image"]
+           "write_text", "write_json", "encode_image", "write_image", "read_image"]
+
+#: OpenCV's channel order of a 3- or 4-channel image from morphkit's (and back:
+#: the permutation is its own inverse).
+_SWAP_RB = {3: [2, 1, 0], 4: [2, 1, 0, 3]}
+
+
+def _swap_red_blue(image: np.ndarray) -> np.ndarray:
+    """RGB(A) <-> BGR(A) of a 3- or 4-channel image; other images as they are."""
+    if image.ndim == 3 and image.shape[2] in _SWAP_RB:
+        return image[..., _SWAP_RB[image.shape[2]]]
+    return image
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]) -> Path:
@@ -227,7 +243,7 @@ def write_json(path: str | os.PathLike[str], obj: Any, *, indent: int | None = 2
 
 
 def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
-    """Encode ``image`` (OpenCV channel order: BGR/BGRA) in the format named by ``path``'s extension.
+    """Encode ``image`` (RGB/RGBA, morphkit's order) in the format named by ``path``'s extension.
 
     Parameters
     ----------
@@ -235,8 +251,8 @@ def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
         File name whose extension (``.png``, ``.jpg``, ...) names the format;
         nothing is written.
     image : (H, W), (H, W, 3) or (H, W, 4) array
-        Image in OpenCV channel order, a dtype the format supports (uint8, or
-        uint16 for PNG).
+        Grey, RGB or RGBA (straight alpha) image, in a dtype the format supports
+        (uint8, or uint16 for PNG). It is swapped to OpenCV's BGR/BGRA here.
 
     Returns
     -------
@@ -253,34 +269,85 @@ def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
     if not ext:
         raise ValidationError(expected_got("image file name", "an extension such as .png or .jpg",
                                            f"{Path(path).name!r}"))
+    img = np.asarray(image)
     try:
-        ok, buf = cv2.imencode(ext, np.asarray(image))
+        ok, buf = cv2.imencode(ext, _swap_red_blue(img))
     except cv2.error as exc:
         raise ValidationError(expected_got(f"image for {ext}", "an image OpenCV can encode in that format",
-                                           f"{np.asarray(image).dtype} {np.asarray(image).shape}: "
+                                           f"{img.dtype} {img.shape}: "
                                            f"{str(exc).strip().splitlines()[-1]}")) from exc
     if not ok:
         raise ValidationError(expected_got(f"image for {ext}", "an image OpenCV can encode in that format",
-                                           f"{np.asarray(image).dtype} {np.asarray(image).shape}"))
+                                           f"{img.dtype} {img.shape}"))
     return buf.tobytes()
 
 
 def write_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
-    """Encode ``image`` (BGR/BGRA, as ``cv2.imwrite``) and write it to ``path`` atomically.
+    """Encode ``image`` (grey, RGB or RGBA) and write it to ``path`` atomically.
 
     Parameters
     ----------
     path : str or os.PathLike
         File to write; its extension names the format (see :func:`encode_image`).
     image : (H, W), (H, W, 3) or (H, W, 4) array
-        Image in OpenCV channel order (BGR/BGRA).
+        Grey, RGB or RGBA (straight alpha) image, morphkit's channel order
+        (:mod:`morphkit.conventions`); uint8, or uint16 for PNG.
 
     Returns
     -------
     pathlib.Path
         ``path``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> red = np.zeros((2, 3, 3), np.uint8); red[..., 0] = 255
+    >>> path = write_image(Path(tempfile.mkdtemp()) / "red.png", red)
+    >>> read_image(path)[0, 0].tolist()        # RGB in, RGB out
+    [255, 0, 0]
+    >>> cv2.imread(str(path))[0, 0].tolist()   # BGR in the file's OpenCV reading
+    [0, 0, 255]
     """
     return write_bytes(path, encode_image(path, image))
+
+
+def read_image(path: str | os.PathLike[str]) -> np.ndarray:
+    """Read an image file into morphkit's channel order.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An image file OpenCV can decode (PNG, JPEG, TIFF, BMP, ...).
+
+    Returns
+    -------
+    numpy.ndarray
+        The image as stored, unconverted except for the channel order: ``(H, W)``
+        grey, ``(H, W, 3)`` RGB or ``(H, W, 4)`` RGBA (straight alpha); dtype
+        uint8, or uint16 for 16-bit PNG/TIFF.
+
+    Raises
+    ------
+    FileFormatError
+        Nothing at ``path``, a folder, an unreadable file, or content OpenCV
+        cannot decode.
+    """
+    p = Path(path)
+    # decoded from bytes: cv2.imread prints its own warning for a missing file
+    if not p.is_file():
+        raise FileFormatError(expected_got(f"image {str(path)!r}", "an existing file",
+                                           "a folder" if p.is_dir() else "nothing there"))
+    try:
+        data = np.fromfile(p, dtype=np.uint8)
+    except OSError as exc:
+        raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
+                                           exc.strerror or exc)) from exc
+    img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    if img is None:
+        raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
+                                           f"{data.size} bytes it cannot"))
+    return np.ascontiguousarray(_swap_red_blue(img))
 
 
 def check_writable(folder: str | os.PathLike[str]) -> Path:

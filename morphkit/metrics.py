@@ -22,7 +22,7 @@ import cv2
 import numpy as np
 
 from .errors import ValidationError, expected_got
-from .validate import as_positive
+from .validate import as_array, as_bool_array, as_positive
 
 __all__ = [
     "shadow_iou",
@@ -43,29 +43,10 @@ _SSIM_K1 = 0.01
 _SSIM_K2 = 0.03
 
 
-def _describe(a: Any) -> str:
-    if isinstance(a, np.ndarray):
-        return f"array of shape {a.shape} and dtype {a.dtype}"
-    return f"{type(a).__name__}"
-
-
-def _as_array(a: Any, name: str) -> np.ndarray:
-    if not isinstance(a, np.ndarray):
-        raise ValidationError(expected_got(name, "a numpy array", _describe(a)))
-    if a.size == 0 or a.ndim == 0:
-        raise ValidationError(expected_got(name, "a non-empty array", f"shape {a.shape}"))
-    if a.dtype.kind not in "buif":
-        raise ValidationError(expected_got(name, "a numeric or boolean dtype", f"dtype {a.dtype}"))
-    if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
-        bad = int(np.count_nonzero(~np.isfinite(a)))
-        raise ValidationError(expected_got(name, "finite values", f"{bad} NaN/inf entries"))
-    return a
-
-
 def _pair(a: Any, b: Any, names: tuple[str, str] = ("a", "b")) -> tuple[np.ndarray, np.ndarray]:
     """Validate two arrays of equal shape and return them as float64."""
-    a = _as_array(a, names[0])
-    b = _as_array(b, names[1])
+    a = as_array(a, names[0])
+    b = as_array(b, names[1])
     if a.shape != b.shape:
         raise ValidationError(
             expected_got(f"{names[1]} shape", f"the shape of {names[0]} {a.shape}", f"{b.shape}")
@@ -77,8 +58,7 @@ def _mask(mask: Any, shape: tuple[int, ...]) -> np.ndarray | None:
     """Validate ``mask`` for inputs of ``shape``; return it broadcast to ``shape``."""
     if mask is None:
         return None
-    if not isinstance(mask, np.ndarray) or mask.dtype != np.bool_:
-        raise ValidationError(expected_got("mask", "a boolean numpy array", _describe(mask)))
+    as_bool_array(mask, "mask")
     if mask.shape == shape:
         out = mask
     elif len(shape) == 3 and mask.shape == shape[:2]:
@@ -121,9 +101,8 @@ def shadow_iou(pred: Any, truth: Any, mask: Any = None) -> float:
         If the inputs are not boolean arrays of equal, non-empty shape, or the
         mask has the wrong shape or no True pixel.
     """
-    for name, arr in (("pred", pred), ("truth", truth)):
-        if not isinstance(arr, np.ndarray) or arr.dtype != np.bool_:
-            raise ValidationError(expected_got(name, "a boolean numpy array", _describe(arr)))
+    as_bool_array(pred, "pred")
+    as_bool_array(truth, "truth")
     _pair(pred, truth, ("pred", "truth"))
     m = _mask(mask, pred.shape)
     inter = pred & truth

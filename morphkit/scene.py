@@ -456,7 +456,7 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
         pose[:3, 3] += pose[:3, :2] @ mid  # shift the window onto the points
         zlo, zhi = cam[:, 2].min(), cam[:, 2].max()
         pad = margin * max(zhi - zlo, radius)
-        return orthographic(half[0], half[1], (h, w), pose, znear=max(zlo - pad, 1e-3),
+        return orthographic(half[0], half[1], (h, w), pose, znear=max(zlo - pad, tol.LIGHT_FIT_MIN_ZNEAR),
                             zfar=zhi + pad)
     if isinstance(light, PointLight):
         if np.linalg.norm(centre - light.position) < tol.MIN_EXTENT:
@@ -470,13 +470,13 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
                 f"{int(np.count_nonzero(cam[:, 2] <= tol.MIN_EXTENT))} points beside or behind it"))
         u, v = cam[:, 0] / cam[:, 2], cam[:, 1] / cam[:, 2]
         ulo, uhi, vlo, vhi = u.min(), u.max(), v.min(), v.max()
-        du = max(uhi - ulo, 1e-9) * (1 + 2 * margin)
-        dv = max(vhi - vlo, 1e-9) * (1 + 2 * margin)
+        du = max(uhi - ulo, tol.MIN_EXTENT) * (1 + 2 * margin)  # frustum extents (tangents)
+        dv = max(vhi - vlo, tol.MIN_EXTENT) * (1 + 2 * margin)
         fx, fy = w / du, h / dv
         cx = (w - 1) / 2 - fx * (ulo + uhi) / 2
         cy = (h - 1) / 2 - fy * (vlo + vhi) / 2
         zlo, zhi = cam[:, 2].min(), cam[:, 2].max()
-        pad = margin * (zhi - zlo) + 1e-6
+        pad = margin * (zhi - zlo) + tol.LIGHT_FIT_DEPTH_PAD
         return CameraModel("perspective", (h, w), fx, fy, cx, cy, max(zlo - pad, zlo * 0.5),
                            zhi + pad, pose)
     raise ValidationError(expected_got("light", "a DirectionalLight or PointLight (sample an "

@@ -83,6 +83,20 @@ ALPHA_FLOOR = 1e-6
 #: is ill-conditioned (its length is ~sqrt(2e-6) = 1.4e-3).
 PARALLEL_DOT = 1e-6
 
+# --- light cameras fitted to points (morphkit.scene.light_view) --------------
+
+#: Nearest a fitted orthographic light camera's near plane may be (scene units): the
+#: plane sits a margin in front of the nearest point, and this keeps it positive
+#: (CameraModel refuses znear <= 0) when the points reach the camera. A thousandth
+#: of a sample mesh's size (they are normalised to size 1), far below any feature.
+LIGHT_FIT_MIN_ZNEAR = 1e-3
+
+#: Depth (scene units) added on both sides of the points' depth range when fitting a
+#: perspective light camera, so that points all at one depth (a flat, light-facing
+#: set) still get ``zfar > znear * (1 + REL_EQUAL)``; a millionth of a sample mesh
+#: changes no depth a 24-bit buffer can store.
+LIGHT_FIT_DEPTH_PAD = 1e-6
+
 
 # --- size limits (checked before anything is allocated) ---------------------
 

@@ -15,6 +15,8 @@ __all__ = [
     "as_points",
     "as_image",
     "as_finite_array",
+    "as_array",
+    "as_bool_array",
     "as_shape",
     "as_int",
     "as_flag",
@@ -71,6 +73,61 @@ def as_finite_array(
         bad = int(np.count_nonzero(~np.isfinite(arr)))
         raise ValidationError(expected_got(name, "finite values", f"{bad} NaN/inf entries"))
     return arr
+
+
+def as_array(a: Any, name: str) -> np.ndarray:
+    """Return ``a`` itself if it is a non-empty numpy array of a boolean or numeric dtype, finite.
+
+    Any number of dimensions (>= 1); nothing is converted or copied, so a list
+    is refused rather than read (compare :func:`as_finite_array`, which converts).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        The array.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``a``.
+
+    Raises
+    ------
+    ValidationError
+        Not a numpy array, empty (or 0-d), not boolean/integer/float, or NaN/inf entries.
+    """
+    if not isinstance(a, np.ndarray):
+        raise ValidationError(expected_got(name, "a numpy array", _describe(a)))
+    if a.size == 0 or a.ndim == 0:
+        raise ValidationError(expected_got(name, "a non-empty array", f"shape {a.shape}"))
+    if a.dtype.kind not in "buif":
+        raise ValidationError(expected_got(name, "a numeric or boolean dtype", f"dtype {a.dtype}"))
+    if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+        bad = int(np.count_nonzero(~np.isfinite(a)))
+        raise ValidationError(expected_got(name, "finite values", f"{bad} NaN/inf entries"))
+    return a
+
+
+def as_bool_array(a: Any, name: str) -> np.ndarray:
+    """Return ``a`` itself if it is a numpy array of dtype bool (a mask), of any shape.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        The mask.
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``a``.
+    """
+    if not isinstance(a, np.ndarray) or a.dtype != np.bool_:
+        raise ValidationError(expected_got(name, "a boolean numpy array", _describe(a)))
+    return a
 
 
 def as_points(a: Any, name: str, *, dim: int = 2, min_count: int = 0) -> np.ndarray:

@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from morphkit.billboard import (
@@ -59,7 +58,7 @@ def main() -> None:
         half = float(np.abs(inst.xy).max())
         for k, cam in enumerate(PanPath.over(half).cameras(args.frames, shape)):
             cmp = compare_modes(scene, cam, modes, truth)
-            path = write_image(out / f"strip_{k}.png", cv2.cvtColor(cmp.strip, cv2.COLOR_RGB2BGR))
+            path = write_image(out / f"strip_{k}.png", cmp.strip)
             figs = "; ".join(f"{m}: IoU {e['iou']:.3f}, PSNR {e['psnr']:.1f} dB"
                              for m, e in cmp.errors.items())
             print(f"{path}: {len(cmp.frames['morph'].placements)} billboards; vs meshes {figs}")

@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from morphkit.fileio import write_image
@@ -35,7 +34,7 @@ def main() -> None:
             f = ground_truth_frame(r, demo_scene(sample_mesh(name), args.size))
             pair = np.concatenate([f["lit"], f["shaded"]], axis=1)
             path = args.out / f"{name}_pair_noshadow_vs_raycast.png"
-            write_image(path, cv2.cvtColor(pair, cv2.COLOR_RGB2BGR))
+            write_image(path, pair)
             print(path)
 
 

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from morphkit.fileio import write_image
@@ -37,7 +36,7 @@ CENTRE = 60.0
 
 
 def write(path: Path, rgba: np.ndarray) -> None:
-    write_image(path, cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA))
+    write_image(path, rgba)
 
 
 def main() -> None:

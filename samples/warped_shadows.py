@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from morphkit.fileio import write_image
@@ -53,7 +52,7 @@ def main() -> None:
                 f = compare_frames(r, scene, methods, xy)
                 strip = np.concatenate([f[m]["shaded"] for m in (*methods, "raycast")], 1)
                 path = args.out / f"{name}_{k}_warped_reprojected_direct_raycast.png"
-                write_image(path, cv2.cvtColor(strip, cv2.COLOR_RGB2BGR))
+                write_image(path, strip)
                 maps = [colorize_depth(m.shadow_map(xy)[0]) for m in methods.values()]
                 write_image(args.out / f"{name}_{k}_lightmap_warped_reprojected_direct.png",
                             np.concatenate(maps, 1))

@@ -85,7 +85,7 @@ with Renderer() as r:
                                        s0.receiver, ambient=s0.ambient)
     for tag, sc in scenes.items():
         f = ground_truth_frame(r, sc)
-        write_image(out / f"demo_teapot_scene_128{tag}.png", cv2.cvtColor(f["shaded"], cv2.COLOR_RGB2BGR))
+        write_image(out / f"demo_teapot_scene_128{tag}.png", f["shaded"])
         write_image(out / f"demo_teapot_visibility_128{tag}.png",
                     np.rint(f["visibility"] * 255).astype(np.uint8))
     cow = sample_mesh("cow")
@@ -103,8 +103,7 @@ with Renderer() as r:
             depth, lcam = m.shadow_map(xy + off)
             write_image(out / f"{name}_cow_depth_128{tag}.png", colorize_depth(depth))
             frame = compare_frames(r, scene, {"m": _Fixed(m, depth, lcam)}, xy)["m"]
-            write_image(out / f"{name}_cow_composite_128{tag}.png",
-                        cv2.cvtColor(frame["shaded"], cv2.COLOR_RGB2BGR))
+            write_image(out / f"{name}_cow_composite_128{tag}.png", frame["shaded"])
 '''
 
 

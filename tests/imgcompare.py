@@ -20,26 +20,26 @@ import os
 import tempfile
 from pathlib import Path
 
-import cv2
 import numpy as np
 import pytest
 
-from morphkit.fileio import write_image
+from morphkit.errors import FileFormatError
+from morphkit.fileio import read_image, write_image
 
 REFERENCE_DIR = Path(__file__).parent / "reference"
 
 
 def _read(path: Path) -> np.ndarray:
-    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if img is None:
-        raise FileNotFoundError(f"reference image {path} is missing; regenerate with "
-                                "MORPHKIT_REGEN_REFERENCES=1")
-    return img
+    try:
+        return read_image(path)
+    except FileFormatError as exc:
+        raise FileNotFoundError(f"reference image {path} is missing or unreadable ({exc}); regenerate "
+                                "with MORPHKIT_REGEN_REFERENCES=1") from exc
 
 
 def check_image(name: str, image: np.ndarray, *, max_mean_abs: float, max_bad_fraction: float,
                 bad_level: int) -> dict[str, float]:
-    """Compare a uint8 image with ``reference/<name>.png``.
+    """Compare a uint8 grey, RGB or RGBA image with ``reference/<name>.png``.
 
     Metric: mean absolute difference over all pixels and channels (grey levels),
     and the fraction of pixels whose largest channel difference exceeds

@@ -227,6 +227,9 @@ def test_workers_and_scheduler_together_are_refused(tmp_path):
         bake_library([tmp_path], tmp_path / "out", workers=2, scheduler="tcp://127.0.0.1:9")
     with pytest.raises(ValidationError, match="workers: expected an integer >= 1, got 0"):
         bake_library([tmp_path], tmp_path / "out", workers=0)
+    for bad in (2.5, True, "2"):  # validate.as_int's rule: an integral value, not a bool or a string
+        with pytest.raises(ValidationError, match=r"workers: expected an integer >= 1, got"):
+            bake_library([tmp_path], tmp_path / "out", workers=bad)
 
 
 # -------------------------------------------------------------------- GL
@@ -533,15 +536,14 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
     video = cv2.VideoCapture(str(tmp_path / "f" / "shadows.mp4"))
     assert video.get(cv2.CAP_PROP_FRAME_COUNT) == 3 and video.get(cv2.CAP_PROP_FRAME_WIDTH) == 48
     video.release()
-    frames = [cv2.imread(str(tmp_path / "f" / f"frame_000{i}.png")) for i in range(3)]
+    frames = [fileio.read_image(tmp_path / "f" / f"frame_000{i}.png") for i in range(3)]
     assert not np.array_equal(frames[0], frames[2])  # the object moved
     # the same frame without a shadow is nowhere darker and somewhere brighter: a shadow was drawn
     atlas = ShadowAtlas.load(out / "box.atlas.npz")
     xy = LinePath(3).positions(atlas.rig.motion)[1]
     scene = playback_scene(baked_mesh(out / "box.atlas.npz"), atlas, 48)
     scene = scene.with_object_pose(atlas.rig.object_pose(xy))
-    unshadowed = cv2.cvtColor(render_frame(renderer, scene, lambda p, _n: np.ones(len(p)))["shaded"],
-                              cv2.COLOR_RGB2BGR).astype(int)
+    unshadowed = render_frame(renderer, scene, lambda p, _n: np.ones(len(p)))["shaded"].astype(int)
     assert np.all(frames[1] <= unshadowed) and np.count_nonzero(frames[1] < unshadowed) > 20
 
 

@@ -14,6 +14,7 @@ from morphkit.billboard.compare import box_errors, compare_modes, mean_errors
 from morphkit.billboard.sequence import compare_indices, write_sequence
 from morphkit.billboard.video import VideoFile
 from morphkit.errors import ValidationError
+from morphkit.fileio import read_image
 
 
 def _scene():
@@ -28,9 +29,9 @@ def test_write_sequence_writes_frames_video_and_summary(tmp_path):
     summary = write_sequence(scene, cams, tmp_path / "out", fps=10)
     out = tmp_path / "out"
     assert sorted(p.name for p in (out / "frames").iterdir()) == [f"frame_{k:04d}.png" for k in range(4)]
-    first = cv2.imread(str(out / "frames" / "frame_0000.png"))
+    first = read_image(out / "frames" / "frame_0000.png")
     expect = scene.render(cams[0], MorphMode()).rgb
-    np.testing.assert_array_equal(first, cv2.cvtColor(expect, cv2.COLOR_RGB2BGR))
+    np.testing.assert_array_equal(first, expect)
     cap = cv2.VideoCapture(str(out / "billboards.mp4"))
     n = 0
     while cap.read()[0]:

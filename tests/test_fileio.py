@@ -8,8 +8,8 @@ import cv2
 import numpy as np
 import pytest
 
-from morphkit.errors import ValidationError
-from morphkit.fileio import atomic_write, write_image, write_json, write_text
+from morphkit.errors import FileFormatError, ValidationError
+from morphkit.fileio import atomic_write, read_image, write_image, write_json, write_text
 
 
 def test_write_replaces_and_leaves_no_temporary(tmp_path: Path) -> None:
@@ -48,12 +48,40 @@ def test_json_refuses_nan(tmp_path: Path) -> None:
 def test_image_round_trip_and_bad_extension(tmp_path: Path) -> None:
     img = np.random.default_rng(0).integers(0, 256, (8, 9, 3), dtype=np.uint8)
     write_image(tmp_path / "a.png", img)
-    np.testing.assert_array_equal(cv2.imread(str(tmp_path / "a.png")), img)
+    np.testing.assert_array_equal(read_image(tmp_path / "a.png"), img)
+    # RGB in morphkit, BGR in OpenCV's reading of the same file: the swap is at the boundary
+    np.testing.assert_array_equal(cv2.imread(str(tmp_path / "a.png")), img[..., ::-1])
     with pytest.raises(ValidationError, match=r"image for \.xyz"):
         write_image(tmp_path / "a.xyz", img)
     with pytest.raises(ValidationError, match="an extension such as"):
         write_image(tmp_path / "noext", img)
     assert sorted(x.name for x in tmp_path.iterdir()) == ["a.png"]
+
+
+@pytest.mark.parametrize(("shape", "dtype"), [((5, 7), np.uint8), ((5, 7, 4), np.uint8),
+                                              ((5, 7, 3), np.uint16), ((5, 7), np.uint16)])
+def test_read_image_keeps_channels_and_dtype(tmp_path: Path, shape: tuple[int, ...], dtype: type) -> None:
+    img = np.random.default_rng(1).integers(0, np.iinfo(dtype).max + 1, shape).astype(dtype)
+    back = read_image(write_image(tmp_path / "a.png", img))
+    assert back.dtype == dtype and back.shape == shape
+    np.testing.assert_array_equal(back, img)
+    if len(shape) == 3:  # RGBA: alpha stays last, red and blue swap in the file only
+        np.testing.assert_array_equal(cv2.imread(str(tmp_path / "a.png"), cv2.IMREAD_UNCHANGED)[..., 2],
+                                      img[..., 0])
+
+
+def test_read_image_errors(tmp_path: Path) -> None:
+    with pytest.raises(FileFormatError, match=r"image '.*nothing\.png': expected an existing file, "
+                                              "got nothing there"):
+        read_image(tmp_path / "nothing.png")
+    with pytest.raises(FileFormatError, match="expected an existing file, got a folder"):
+        read_image(tmp_path)
+    (tmp_path / "bad.png").write_bytes(b"not a png")
+    with pytest.raises(FileFormatError, match="expected an image file OpenCV can decode, got 9 bytes"):
+        read_image(tmp_path / "bad.png")
+    (tmp_path / "empty.png").write_bytes(b"")
+    with pytest.raises(FileFormatError, match="got 0 bytes it cannot"):
+        read_image(tmp_path / "empty.png")
 
 
 def test_atomic_output_renames_on_success_and_cleans_up_on_failure(tmp_path: Path) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 
-import cv2
 import numpy as np
 import pytest
 from imgcompare import check_image
@@ -54,8 +53,7 @@ def teapot_frame(renderer):
 
 
 def test_demo_teapot_scene_matches_reference(teapot_frame):
-    check_image("demo_teapot_scene_128", cv2.cvtColor(teapot_frame["shaded"], cv2.COLOR_RGB2BGR),
-                **TOL_SCENE)
+    check_image("demo_teapot_scene_128", teapot_frame["shaded"], **TOL_SCENE)
 
 
 def test_demo_teapot_visibility_matches_reference(teapot_frame):
@@ -77,7 +75,7 @@ def test_the_tolerances_catch_a_light_turned_by_one_degree(renderer, teapot_fram
     f = ground_truth_frame(renderer, Scene(s0.obj, DirectionalLight(d, intensity=s0.light.intensity),
                                            s0.camera, s0.receiver, ambient=s0.ambient))
     with pytest.raises(AssertionError, match="demo_teapot_scene_128: .* exceeds"):
-        check_image("demo_teapot_scene_128", cv2.cvtColor(f["shaded"], cv2.COLOR_RGB2BGR), **TOL_SCENE)
+        check_image("demo_teapot_scene_128", f["shaded"], **TOL_SCENE)
     with pytest.raises(AssertionError, match="demo_teapot_visibility_128: .* exceeds"):
         check_image("demo_teapot_visibility_128", np.rint(f["visibility"] * 255).astype(np.uint8),
                     **TOL_VISIBILITY)
@@ -141,9 +139,7 @@ def test_warped_shadow_map_matches_reference(warped_cow):
 def test_warped_shadow_composite_matches_reference(warped_cow):
     """The camera frame shadowed by the warped map (projective lookup + composite)."""
     name, _depth, frame, (_, off_frame) = warped_cow
-    check_image(f"{name}_cow_composite_128", cv2.cvtColor(frame["shaded"], cv2.COLOR_RGB2BGR),
-                **TOL_COMPOSITE)
+    check_image(f"{name}_cow_composite_128", frame["shaded"], **TOL_COMPOSITE)
     if not os.environ.get("MORPHKIT_REGEN_REFERENCES"):
         with pytest.raises(AssertionError, match="exceeds"):  # the tolerance fails a small error
-            check_image(f"{name}_cow_composite_128", cv2.cvtColor(off_frame["shaded"], cv2.COLOR_RGB2BGR),
-                        **TOL_COMPOSITE)
+            check_image(f"{name}_cow_composite_128", off_frame["shaded"], **TOL_COMPOSITE)

@@ -137,6 +137,30 @@ def test_compiled_fold_relaxation_matches_the_numpy_reference(rng):
     assert folded_cases > 20
 
 
+def test_fold_kernels_go_through_the_one_gate(monkeypatch):
+    """``MORPHKIT_WARP_NUMPY`` (settings.NUMPY_ONLY) switches the fold kernels to their
+    numpy references at call time, as every compiled kernel (settings.use_compiled)."""
+    from morphkit import settings, tol
+    from morphkit.shadow import fold as F
+    from morphkit.warp import grid_triangles
+
+    calls = []
+    monkeypatch.setattr(F, "any_folded_numpy", lambda *a: calls.append("any") or False)
+    monkeypatch.setattr(F, "relax_folds_numpy", lambda *a: calls.append("relax") or 0)
+    tri = grid_triangles(3, 3)
+    pts = np.c_[np.tile(np.arange(3.0), 3), np.repeat(np.arange(3.0), 3)]
+    sign, out, a_min = np.ones(len(tri)), np.empty_like(pts), tol.TRIANGLE_AREA_PX2
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
+    F.any_folded(pts, tri, sign, a_min)
+    F.relax_folds(pts, pts, tri, sign, a_min, 4, out)
+    assert calls == ["any", "relax"]
+    if settings.NUMBA_AVAILABLE:
+        monkeypatch.setattr(settings, "NUMPY_ONLY", False)
+        assert F.any_folded(pts, tri, sign, a_min) is False
+        assert F.relax_folds(pts, pts, tri, sign, a_min, 4, out) == 1  # nothing folds: one round
+        assert calls == ["any", "relax"]
+
+
 @pytest.mark.parametrize("cam", _cameras(), ids=["perspective", "orthographic"])
 def test_normals_of_an_unprojected_ground_face_up(cam):
     """The ground ``z = 0`` seen from above: the normals from the unprojected grid

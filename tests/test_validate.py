@@ -1,4 +1,4 @@
-"""Validators of morphkit.validate: shapes (integral, positive, within the size limit)."""
+"""Validators of morphkit.validate: shapes (integral, positive, within the size limit), counts, arrays."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 
 from morphkit import tol
 from morphkit.errors import ValidationError
-from morphkit.validate import as_int, as_shape
+from morphkit.validate import as_array, as_bool_array, as_int, as_shape
 
 
 def test_shapes_are_positive_integral_pairs():
@@ -54,3 +54,23 @@ def test_counts_are_integers_in_range():
             as_int(v, "k", lo=2)
     with pytest.raises(ValidationError, match=r"k: expected an integer in \[2, 3\], got 4"):
         as_int(4, "k", lo=2, hi=3)
+
+
+def test_arrays_are_nonempty_numeric_numpy_arrays_returned_as_they_are():
+    a = np.arange(6, dtype=np.uint8).reshape(2, 3)
+    assert as_array(a, "a") is a and as_array(np.ones(4, bool), "m").dtype == np.bool_
+    for v, match in [([1.0, 2.0], r"a: expected a numpy array, got list"),
+                     (np.zeros((0, 3)), r"a: expected a non-empty array, got shape \(0, 3\)"),
+                     (np.array(1.0), r"a: expected a non-empty array, got shape \(\)"),
+                     (np.array(["x"]), r"a: expected a numeric or boolean dtype, got dtype <U1"),
+                     (np.array([1.0, np.inf, np.nan]), r"a: expected finite values, got 2 NaN/inf entries")]:
+        with pytest.raises(ValidationError, match=match):
+            as_array(v, "a")
+
+
+def test_bool_arrays_are_numpy_bool_only():
+    m = np.zeros((2, 2), bool)
+    assert as_bool_array(m, "mask") is m
+    for v in (m.astype(np.uint8), [[True]]):
+        with pytest.raises(ValidationError, match="mask: expected a boolean numpy array, got"):
+            as_bool_array(v, "mask")

@@ -80,6 +80,14 @@ def test_grid_triangles_topology_and_orientation():
     assert np.isclose(area.sum(), 9.0 * 9.0)  # the cells tile the lattice's rectangle
 
 
+def test_grid_triangles_sizes_follow_as_int():
+    np.testing.assert_array_equal(grid_triangles(3.0, np.int64(4)), grid_triangles(3, 4))
+    with pytest.raises(ValidationError, match=r"grid_triangles rows: expected an integer >= 2, got 2\.5"):
+        grid_triangles(2.5, 4)  # formerly truncated to 2 without a word
+    with pytest.raises(ValidationError, match="grid_triangles cols: expected an integer >= 2, got 1"):
+        grid_triangles(3, 1)
+
+
 def test_grid_shape_detection():
     pts = lattice(5, 15, 64, 64)
     assert grid_shape(pts) == (5, 15)

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 from ..errors import ValidationError, expected_got
 from ..fileio import check_writable
+from ..validate import as_int
 from .cluster import open_client
 from .inputs import AssetInput, find_inputs
 from .kinds import AssetKind, ShadowAtlasKind
@@ -128,8 +129,8 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
         raise ValidationError(expected_got("options", "a BakeOptions", type(options).__name__))
     if workers is not None and scheduler is not None:
         raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
+    if workers is not None:
+        workers = as_int(workers, "workers", lo=1)
     t_start = time.perf_counter()
     started = utc_now()
     assets = find_inputs(inputs)

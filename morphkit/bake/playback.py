@@ -415,9 +415,9 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
                 else:
                     depth, lcam = atlas.shadow_map(xy)
                     vis = _hard(depth, lcam)
-                bgr = cv2.cvtColor(render_frame(renderer, sc, vis)["shaded"], cv2.COLOR_RGB2BGR)
-                frames.append(write_image(folder / f"frame_{i:04d}.png", bgr))
-                writer.write(bgr)
+                rgb = render_frame(renderer, sc, vis)["shaded"]
+                frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
+                writer.write(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))  # cv2.VideoWriter takes BGR
         finally:
             writer.release()
     return {"frames": frames, "video": video, "positions": positions.tolist()}

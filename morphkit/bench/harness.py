@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import fileio
+from .. import fileio, tol
 
 __all__ = [
     "Timing",
@@ -38,6 +38,14 @@ __all__ = [
     "write_json",
     "write_plots",
 ]
+
+#: Smallest magnitude the tables print with three decimals; below it ``0.000`` would
+#: hide the value, so it is printed in exponent form (``5.0e-04``).
+FIXED_DECIMALS_MIN = 1e-3
+
+#: Errors are plotted on a log axis; an error below this (an exact 0 included) is
+#: drawn at it, named so in the axis label.
+PLOT_ERROR_FLOOR = 1e-9
 
 
 @dataclass(frozen=True)
@@ -179,7 +187,7 @@ def auto_repeats(fn: Callable[[], Any], *, budget_s: float, lo: int = 3, hi: int
     """
     t0 = time.perf_counter()
     fn()
-    dt = max(time.perf_counter() - t0, 1e-6)
+    dt = max(time.perf_counter() - t0, tol.ZERO)
     return int(min(hi, max(lo, budget_s // dt)))
 
 
@@ -245,7 +253,7 @@ def _fmt(v: Any) -> str:
             return f"{v:.0f}"
         if abs(v) >= 1:
             return f"{v:.2f}"
-        if abs(v) >= 1e-3:
+        if abs(v) >= FIXED_DECIMALS_MIN:
             return f"{v:.3f}"
         return f"{v:.1e}"
     return str(v)
@@ -410,10 +418,10 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
                 pts = [(r["metrics"][error_key], r["ms_median"]) for r in err_rows if r["method"] == m]
                 if pts:
                     ex, ey = zip(*pts, strict=True)
-                    ax.scatter([max(e, 1e-9) for e in ex], ey, s=14, color=colors[m], label=m)
+                    ax.scatter([max(e, PLOT_ERROR_FLOOR) for e in ex], ey, s=14, color=colors[m], label=m)
             ax.set_xscale("log")
             ax.set_yscale("log")
-            ax.set_xlabel(f"{error_key} (errors below 1e-9 drawn at 1e-9)")
+            ax.set_xlabel(f"{error_key} (errors below {PLOT_ERROR_FLOOR:g} drawn at {PLOT_ERROR_FLOOR:g})")
             ax.set_ylabel("ms (median)")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=8)

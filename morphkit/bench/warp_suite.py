@@ -50,6 +50,11 @@ SIZES_QUICK = (64, 256, 512)
 GRIDS_QUICK = ((5, 15), (33, 33))
 DTYPES = ("float32", "uint8")
 
+#: A jittered benchmark mesh is kept only if every source triangle's area is above
+#: this fraction of the largest destination triangle's (no sliver triangles, which
+#: would time a degenerate case rather than the warp).
+MIN_TRIANGLE_AREA_RATIO = 1e-3
+
 
 def per_triangle_warp(image: np.ndarray, src: np.ndarray, dst: np.ndarray, tris: np.ndarray,
                       out_shape: tuple[int, int], fill: float = 0.0) -> np.ndarray:
@@ -166,7 +171,8 @@ def make_case(size: int, rows: int, cols: int, rng: np.random.Generator
         sv, dv = src[tris], dst[tris]
         a_s = _cross2(sv[:, 1] - sv[:, 0], sv[:, 2] - sv[:, 0])
         a_d = _cross2(dv[:, 1] - dv[:, 0], dv[:, 2] - dv[:, 0])
-        if np.all(np.abs(a_s) > 1e-3 * np.abs(a_d).max()) and np.all(np.sign(a_s) == np.sign(a_d)):
+        if np.all(np.abs(a_s) > MIN_TRIANGLE_AREA_RATIO * np.abs(a_d).max()) \
+                and np.all(np.sign(a_s) == np.sign(a_d)):
             return src, dst, tris
         amp *= 0.5
     raise RuntimeError("could not build a valid jittered mesh")  # pragma: no cover

@@ -20,8 +20,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import cv2
-
 from ..camera import CameraModel
 from ..fileio import write_image, write_json
 from .compare import compare_modes
@@ -97,7 +95,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     try:
         for k, frame in enumerate(scene.render_path(cameras, mode, progress=progress, total=len(cameras))):
             name = f"frames/frame_{k:04d}.png"
-            write_image(out / name, cv2.cvtColor(frame.rgb, cv2.COLOR_RGB2BGR))
+            write_image(out / name, frame.rgb)
             files.append(name)
             if sink is not None:
                 sink.write(frame.rgb)
@@ -109,7 +107,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
             if k in picks and truth is not None:
                 cmp = compare_modes(scene, cameras[k], {"classic": classic, mode.name: mode}, truth)
                 cname = f"compare_{k:04d}.png"
-                write_image(out / cname, cv2.cvtColor(cmp.strip, cv2.COLOR_RGB2BGR))
+                write_image(out / cname, cmp.strip)
                 files.append(cname)
                 compared.append({"frame": k, "file": cname, "errors": cmp.errors})
     except BaseException:

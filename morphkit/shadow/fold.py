@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..settings import COMPILED, compile_kernel
+from ..settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
 
 __all__ = ["signed_areas", "RELAX_ROUNDS", "folded_numpy", "any_folded", "any_folded_numpy", "relax_folds",
            "relax_folds_numpy", "relax_folds_python"]
@@ -203,47 +203,62 @@ def relax_folds_python(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sig
     return -rounds
 
 
-#: Whether a destination mesh folds (compiled, or the numpy reference).
-#:
-#: Parameters
-#: ----------
-#: pts : (N, 2) float
-#:     Vertex positions (pixels).
-#: tri : (M, 3) int
-#:     Vertex indices per triangle.
-#: sign : (M,) float
-#:     Orientation each triangle must keep.
-#: min_area : float
-#:     Smallest absolute doubled area that counts as a triangle.
-#:
-#: Returns
-#: -------
-#: bool
-#:     True when some triangle folds.
-any_folded = any_folded_numpy
-#: The fold relaxation (compiled, or the numpy reference :func:`relax_folds_numpy`).
-#:
-#: Parameters
-#: ----------
-#: surf, plane : (N, 2) float64
-#:     Surface- and plane-anchor destination positions (pixels).
-#: tri : (M, 3) int
-#:     Vertex indices per triangle.
-#: sign : (M,) float
-#:     Orientation each triangle must keep.
-#: min_area : float
-#:     Smallest absolute doubled area that counts as a triangle.
-#: rounds : int
-#:     Most halvings tried.
-#: out : (N, 2) float64
-#:     Filled with the relaxed positions.
-#:
-#: Returns
-#: -------
-#: int
-#:     Rounds taken, or ``-rounds`` when they did not suffice.
-relax_folds = relax_folds_numpy
-if COMPILED:
+if NUMBA_AVAILABLE:  # the inlined helper first: the kernels resolve it when they compile
     _tri_folded = compile_kernel(_tri_folded)
-    any_folded = compile_kernel(_any_folded_loop)
-    relax_folds = compile_kernel(relax_folds_python)
+_any_folded_kernel = compile_kernel(_any_folded_loop)
+_relax_folds_kernel = compile_kernel(relax_folds_python)
+
+
+def any_folded(pts: np.ndarray, tri: np.ndarray, sign: np.ndarray, min_area: float) -> bool:
+    """Whether a destination mesh folds: the compiled kernel, or the numpy reference
+    :func:`any_folded_numpy` (:func:`morphkit.settings.use_compiled` decides at each call).
+
+    Parameters
+    ----------
+    pts : (N, 2) float
+        Vertex positions (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+
+    Returns
+    -------
+    bool
+        True when some triangle folds.
+    """
+    if use_compiled(_any_folded_kernel):
+        return bool(_any_folded_kernel(pts, tri, sign, min_area))
+    return any_folded_numpy(pts, tri, sign, min_area)
+
+
+def relax_folds(surf: np.ndarray, plane: np.ndarray, tri: np.ndarray, sign: np.ndarray,
+                min_area: float, rounds: int, out: np.ndarray) -> int:
+    """The fold relaxation: the compiled kernel, or the numpy reference
+    :func:`relax_folds_numpy` (:func:`morphkit.settings.use_compiled` decides at each call).
+
+    Parameters
+    ----------
+    surf, plane : (N, 2) float64
+        Surface- and plane-anchor destination positions (pixels).
+    tri : (M, 3) int
+        Vertex indices per triangle.
+    sign : (M,) float
+        Orientation each triangle must keep.
+    min_area : float
+        Smallest absolute doubled area that counts as a triangle.
+    rounds : int
+        Most halvings tried.
+    out : (N, 2) float64
+        Filled with the relaxed positions.
+
+    Returns
+    -------
+    int
+        Rounds taken, or ``-rounds`` when they did not suffice.
+    """
+    if use_compiled(_relax_folds_kernel):
+        return int(_relax_folds_kernel(surf, plane, tri, sign, min_area, rounds, out))
+    return relax_folds_numpy(surf, plane, tri, sign, min_area, rounds, out)

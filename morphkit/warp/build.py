@@ -26,7 +26,7 @@ def _expand_boundary(dst: np.ndarray, boundary: np.ndarray) -> np.ndarray:
     pa, pb, pc = dst[boundary[:, 0]], dst[boundary[:, 1]], dst[boundary[:, 2]]
     e = pb - pa
     n = np.stack([e[:, 1], -e[:, 0]], axis=1)
-    n /= np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-300)[:, None]
+    n /= np.maximum(np.hypot(n[:, 0], n[:, 1]), tol.ZERO)[:, None]
     inward = np.einsum("ij,ij->i", n, pc - pa) > 0
     n[inward] *= -1.0
     off = np.zeros_like(dst)
@@ -335,4 +335,5 @@ def _covering(cov: np.ndarray, tris: np.ndarray, x: int, y: int) -> np.ndarray:
         return (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
 
     d = np.stack([cross(v[:, 0], v[:, 1]), cross(v[:, 1], v[:, 2]), cross(v[:, 2], v[:, 0])], 1)
-    return np.flatnonzero(np.all(d >= -1e-9, axis=1) | np.all(d <= 1e-9, axis=1))
+    eps = tol.REL_EQUAL  # px^2: on an edge up to rounding of pixel-scale coordinates
+    return np.flatnonzero(np.all(d >= -eps, axis=1) | np.all(d <= eps, axis=1))

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import ValidationError, expected_got
-from ..validate import as_points
+from ..validate import as_int, as_points
 
 __all__ = ["grid_triangles", "delaunay_triangles", "grid_shape", "signed_area", "list_indices",
            "as_mesh_points", "as_triangles", "default_triangles", "boundary_edges", "disk_boundary"]
@@ -27,7 +27,7 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
     Parameters
     ----------
     rows, cols : int
-        Number of point rows and columns, each ``>= 2``.
+        Number of point rows and columns, integers ``>= 2`` (see :func:`morphkit.validate.as_int`).
 
     Returns
     -------
@@ -43,9 +43,7 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
            [1, 2, 5],
            [1, 5, 4]], dtype=int32)
     """
-    rows, cols = int(rows), int(cols)
-    if rows < 2 or cols < 2:
-        raise ValidationError(expected_got("grid_triangles rows, cols", ">= 2 each", (rows, cols)))
+    rows, cols = as_int(rows, "grid_triangles rows", lo=2), as_int(cols, "grid_triangles cols", lo=2)
     r, c = np.meshgrid(np.arange(rows - 1), np.arange(cols - 1), indexing="ij")
     a = (r * cols + c).ravel()
     b, d = a + 1, a + cols
@@ -108,7 +106,7 @@ def grid_shape(points: Any) -> tuple[int, int] | None:
     if pts.ndim != 2 or pts.shape[1] != 2 or n < 4:
         return None
     scale = max(1.0, float(np.max(np.abs(pts))))
-    eps = 1e-9 * scale
+    eps = tol.REL_EQUAL * scale
     same_y = np.abs(pts[:, 1] - pts[0, 1]) <= eps
     cols = int(np.argmin(same_y)) if not same_y.all() else n
     if cols < 2 or n % cols:

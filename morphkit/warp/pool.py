@@ -9,6 +9,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..memo import Memo
+
 __all__ = ["pixel_x_pairs", "coordinate_planes", "map_buffer", "recycle"]
 
 
@@ -40,8 +42,9 @@ _local = threading.local()
 def coordinate_planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pixel coordinate planes and a work buffer of one output shape, kept per thread.
 
-    Kept for the last few output shapes: reusing the buffers avoids fresh page
-    faults on every call (they cost as much as the arithmetic).
+    Kept for the last four output shapes used (a per-thread :class:`~morphkit.memo.Memo`):
+    reusing the buffers avoids fresh page faults on every call (they cost as much
+    as the arithmetic).
 
     Parameters
     ----------
@@ -54,22 +57,22 @@ def coordinate_planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, n
         ``(X, Y, scratch)``, each ``(H, W)`` float32: pixel ``x`` and ``y``
         (read-only) and this thread's scratch buffer.
     """
-    cache = getattr(_local, "planes", None)
-    if cache is None:
-        cache = _local.planes = {}
-    hit = cache.get(shape)
-    if hit is None:
-        if len(cache) >= 4:
-            cache.pop(next(iter(cache)))
-        h, w = shape
-        X = np.empty(shape, dtype=np.float32)
-        X[...] = np.arange(w, dtype=np.float32)
-        Y = np.empty(shape, dtype=np.float32)
-        Y[...] = np.arange(h, dtype=np.float32)[:, None]
-        X.setflags(write=False)
-        Y.setflags(write=False)
-        hit = cache[shape] = (X, Y, np.empty(shape, dtype=np.float32))
-    return hit
+    planes: Memo[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = getattr(
+        _local, "planes", None)
+    if planes is None:
+        planes = _local.planes = Memo(maxsize=4)
+    return planes.get(shape, lambda: _make_planes(shape))
+
+
+def _make_planes(shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    h, w = shape
+    X = np.empty(shape, dtype=np.float32)
+    X[...] = np.arange(w, dtype=np.float32)
+    Y = np.empty(shape, dtype=np.float32)
+    Y[...] = np.arange(h, dtype=np.float32)[:, None]
+    X.setflags(write=False)
+    Y.setflags(write=False)
+    return X, Y, np.empty(shape, dtype=np.float32)
 
 
 def map_buffer(shape: tuple[int, int]) -> np.ndarray:

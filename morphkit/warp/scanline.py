@@ -34,6 +34,7 @@ import math
 
 import numpy as np
 
+from .. import tol
 from ..settings import compile_kernel, numba
 
 __all__ = ["accumulate", "fill_maps", "mesh_injective", "n_bands", "prepare_warp", "MIN_BAND_ROWS",
@@ -520,7 +521,7 @@ def _prepare_warp(dst: np.ndarray, tris: np.ndarray, src_v: np.ndarray, src_sign
         ey = dst[b, 1] - dst[a, 1]
         nx = ey
         ny = -ex
-        ln = max(math.hypot(nx, ny), 1e-300)
+        ln = max(math.hypot(nx, ny), tol.ZERO)
         nx /= ln
         ny /= ln
         if nx * (dst[c, 0] - dst[a, 0]) + ny * (dst[c, 1] - dst[a, 1]) > 0.0:
