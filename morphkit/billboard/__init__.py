@@ -23,7 +23,7 @@ Scene side:
 * :mod:`.lod` -- pyramid level from the on-screen size;
 * :mod:`.cache` -- the bounded LRU morph cache with hit/miss counts;
 * :mod:`.backdrop` -- ground, sky and distance fog;
-* :mod:`.scene` -- the scene and its per-frame plan;
+* :mod:`.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
@@ -57,6 +57,7 @@ from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .field import BillboardScene, Frame, FramePlan, FrameStats, Placement
 from .instances import Instance, Instances, place_random
 from .modes import (
     BillboardMode,
@@ -69,7 +70,6 @@ from .modes import (
 )
 from .paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
 from .ring import ViewRing, wrap_deg
-from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
 
 __all__ = [
     # asset side

@@ -51,7 +51,7 @@ from ..protocols import BillboardSource, SceneRenderer
 from ..scene import Item, Light
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
-from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
+from .field import BillboardScene, Frame, FramePlan, FrameStats, Placement
 
 __all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]
@@ -59,7 +59,7 @@ __all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMod
 
 @runtime_checkable
 class FrameMode(Protocol):
-    """Draws a :class:`~.scene.BillboardScene` for a camera.
+    """Draws a :class:`~.field.BillboardScene` for a camera.
 
     Parameters
     ----------
