@@ -24,6 +24,7 @@ Scene side:
 * :mod:`.cache` -- the bounded LRU morph cache with hit/miss counts;
 * :mod:`.backdrop` -- ground, sky and distance fog;
 * :mod:`.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
+* :mod:`.frame` -- the value types of a frame: placements, plan, stats, frame;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
@@ -57,7 +58,8 @@ from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
-from .field import BillboardScene, Frame, FramePlan, FrameStats, Placement
+from .field import BillboardScene
+from .frame import Frame, FramePlan, FrameStats, Placement
 from .instances import Instance, Instances, place_random
 from .modes import (
     BillboardMode,

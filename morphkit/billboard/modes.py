@@ -51,7 +51,8 @@ from ..protocols import BillboardSource, SceneRenderer
 from ..scene import Item, Light
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
-from .field import BillboardScene, Frame, FramePlan, FrameStats, Placement
+from .field import BillboardScene
+from .frame import Frame, FramePlan, FrameStats, Placement
 
 __all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]
