@@ -24,10 +24,10 @@ from morphkit.billboard import (
     quantise_s,
 )
 from morphkit.billboard.compositor import finish, new_layer
+from morphkit.billboard.protocols import BillboardSource, ViewPairing
 from morphkit.camera import look_at, perspective
 from morphkit.composite import over_warped
 from morphkit.errors import ValidationError
-from morphkit.protocols import BillboardSource, ViewPairing
 
 FLAT = Backdrop(Ground(cell=None), Sky((0.5, 0.5, 0.5), (0.5, 0.5, 0.5)))
 

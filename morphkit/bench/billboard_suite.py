@@ -128,12 +128,13 @@ from ..billboard import (
 )
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..billboard.compare import box_errors
+from ..billboard.protocols import BillboardSource
 from ..camera import CameraModel
 from ..composite import to_premultiplied
 from ..errors import ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
-from ..protocols import BillboardSource, SceneRenderer
+from ..protocols import SceneRenderer
 from ..scene import Item, Light
 from .harness import Timing, make_row, time_call, time_calls
 

@@ -5,6 +5,7 @@ One concept per module.
 
 Asset side:
 
+* :mod:`.protocols` -- :class:`ViewPairing`, :class:`BillboardSource`: what a scene asks of an asset;
 * :mod:`.ring` -- :class:`ViewRing`: where the reference views are (K = 2: the paper's
   +-30 degree pair; K >= 3: a full ring) and which pair and fraction serve a viewing azimuth;
 * :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
@@ -30,7 +31,7 @@ Scene side:
 * :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
   meshes and Fig. 5 strips, video files, a path written to files, assets from names or files.
 
-An asset is anything implementing :class:`morphkit.protocols.BillboardSource`.
+An asset is anything implementing :class:`morphkit.billboard.protocols.BillboardSource`.
 Nothing here imports pyrender; bakes and the mesh mode render through a
 :class:`morphkit.protocols.SceneRenderer`.
 
@@ -71,9 +72,12 @@ from .modes import (
     NearestMode,
 )
 from .paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
+from .protocols import BillboardSource, ViewPairing
 from .ring import ViewRing, wrap_deg
 
 __all__ = [
+    # interfaces
+    "ViewPairing", "BillboardSource",
     # asset side
     "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "bake_items",
     "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg", "splat_coverage", "object_points",

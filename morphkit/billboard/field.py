@@ -1,7 +1,7 @@
 """A billboard scene: assets, instances and a backdrop; per frame, what to draw where.
 
 :class:`BillboardScene` holds the assets (anything implementing
-:class:`morphkit.protocols.BillboardSource`), the :class:`~.instances.Instances`,
+:class:`morphkit.billboard.protocols.BillboardSource`), the :class:`~.instances.Instances`,
 the :class:`~.backdrop.Backdrop`, the :class:`~.facing.Facing` rule and the
 smallest on-screen size worth drawing. :meth:`BillboardScene.plan` decides, for
 one camera, which billboards are drawn and how -- "model only what a scene
@@ -38,7 +38,6 @@ import numpy as np
 from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..protocols import BillboardSource
 from ..validate import as_positive
 from .backdrop import Backdrop
 from .facing import AxialFacing, Facing, view_directions
@@ -46,6 +45,7 @@ from .frame import Frame, FramePlan, Placement
 from .frustum import clip_near, quad_homographies, require_perspective, screen_box, sphere_in_frustum
 from .instances import Instances
 from .lod import screen_height_px, select_levels
+from .protocols import BillboardSource
 
 if TYPE_CHECKING:  # pragma: no cover
     from .modes import FrameMode
@@ -74,7 +74,7 @@ class BillboardScene:
     ------
     ValidationError
         An instance names an asset that is missing, an asset does not implement
-        :class:`~morphkit.protocols.BillboardSource`, a facing is not a
+        :class:`~morphkit.billboard.protocols.BillboardSource`, a facing is not a
         :class:`~.facing.Facing`.
     """
 
@@ -95,7 +95,8 @@ class BillboardScene:
                                                f"only {sorted(self.assets)}"))
         for nm, a in self.assets.items():
             if not isinstance(a, BillboardSource):
-                raise ValidationError(expected_got(f"asset {nm!r}", "a BillboardSource (morphkit.protocols)",
+                raise ValidationError(expected_got(f"asset {nm!r}",
+                                                   "a BillboardSource (morphkit.billboard.protocols)",
                                                    type(a).__name__))
         if not isinstance(self.facing, Facing):
             raise ValidationError(expected_got("facing", "a Facing (AxialFacing or ScreenFacing)",

@@ -47,12 +47,13 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..protocols import BillboardSource, SceneRenderer
+from ..protocols import SceneRenderer
 from ..scene import Item, Light
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
 from .field import BillboardScene
 from .frame import Frame, FramePlan, FrameStats, Placement
+from .protocols import BillboardSource
 
 __all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]
