@@ -10,8 +10,9 @@ Asset side:
   +-30 degree pair; K >= 3: a full ring) and which pair and fraction serve a viewing azimuth;
 * :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
   maps onto;
-* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset` / :func:`bake_asset`: references,
-  the front view (classic billboard), the pair morphs and their pyramid; one versioned file;
+* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset`: references, the front view
+  (classic billboard), the pair morphs and their pyramid; one versioned file;
+* :mod:`.bake` -- :func:`bake_asset`: a mesh's reference views rendered and every pair prepared;
 * :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
   the references' depth (the morph's alpha).
 
@@ -52,9 +53,10 @@ Typical use::
 
 from __future__ import annotations
 
-from .asset import BAKE_AMBIENT, BillboardAsset, bake_asset, bake_items, bake_lights, mesh_hash
+from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, mesh_hash
 from .assetfile import FORMAT, VERSION
 from .backdrop import Backdrop, Fog, Ground, Sky
+from .bake import bake_asset
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
