@@ -61,14 +61,13 @@ from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
-from .field import BillboardScene
+from .field import BillboardScene, FrameMode
 from .frame import Frame, FramePlan, FrameStats, Placement
 from .instances import Instance, Instances, place_random
 from .modes import (
     BillboardMode,
     ClassicMode,
     CrossfadeMode,
-    FrameMode,
     MeshMode,
     MorphMode,
     NearestMode,

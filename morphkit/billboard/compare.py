@@ -19,9 +19,8 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..metrics import psnr, shadow_iou
-from .field import BillboardScene
+from .field import BillboardScene, FrameMode
 from .frame import Frame
-from .modes import FrameMode
 
 __all__ = ["box_errors", "mean_errors", "Comparison", "compare_modes", "PSNR_CAP_DB"]
 

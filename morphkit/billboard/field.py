@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -47,10 +47,37 @@ from .instances import Instances
 from .lod import screen_height_px, select_levels
 from .protocols import BillboardSource
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .modes import FrameMode
+__all__ = ["FrameMode", "BillboardScene"]
 
-__all__ = ["BillboardScene"]
+
+@runtime_checkable
+class FrameMode(Protocol):
+    """Draws a :class:`BillboardScene` for a camera (the modes of :mod:`~.modes`).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
+
+    name: str
+
+    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
+        """One frame: its image, its billboard layer, its placements and stats.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
+        ...
 
 
 @dataclass(eq=False)

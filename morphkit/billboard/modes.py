@@ -1,7 +1,7 @@
 """Modes of one billboard scene: the view-morphed billboards and their baselines.
 
 Each mode is an object with a ``name`` and ``render(scene, camera) -> Frame``
-(:class:`FrameMode`), so a scene is drawn the same way in every mode and the
+(:class:`~.field.FrameMode`), so a scene is drawn the same way in every mode and the
 frames compare like with like:
 
 * :class:`MorphMode` -- the paper's technique, extended to rings of K views:
@@ -40,7 +40,6 @@ import time
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -55,38 +54,8 @@ from .field import BillboardScene
 from .frame import Frame, FramePlan, FrameStats, Placement
 from .protocols import BillboardSource
 
-__all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
+__all__ = ["BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]
-
-
-@runtime_checkable
-class FrameMode(Protocol):
-    """Draws a :class:`~.field.BillboardScene` for a camera.
-
-    Parameters
-    ----------
-    *args, **kwargs
-        Not used: a protocol is not instantiated, classes implement its members.
-    """
-
-    name: str
-
-    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
-        """One frame: its image, its billboard layer, its placements and stats.
-
-        Parameters
-        ----------
-        scene : BillboardScene
-            The scene.
-        camera : CameraModel
-            Perspective view, world frame.
-
-        Returns
-        -------
-        Frame
-            The frame.
-        """
-        ...
 
 
 def pair_span_deg(asset: BillboardSource, i: int, j: int) -> float:

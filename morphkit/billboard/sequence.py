@@ -25,8 +25,8 @@ import cv2
 from ..camera import CameraModel
 from ..fileio import write_image, write_json
 from .compare import compare_modes
-from .field import BillboardScene
-from .modes import ClassicMode, FrameMode, MorphMode
+from .field import BillboardScene, FrameMode
+from .modes import ClassicMode, MorphMode
 from .video import VideoFile
 
 __all__ = ["write_sequence", "compare_indices"]
