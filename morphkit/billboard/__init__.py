@@ -27,6 +27,7 @@ Scene side:
 * :mod:`.backdrop` -- ground, sky and distance fog;
 * :mod:`.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
 * :mod:`.frame` -- the value types of a frame: placements, plan, stats, frame;
+* :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
