@@ -94,6 +94,7 @@ from ..errors import (
 from ..meshes import normalize
 from ..scene import DirectionalLight, Item, Light
 from ..scenes import checker_items
+from ..validate import as_int
 from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
 from .assetfile import AssetRecord, read_record, write_record
 from .cameras import QuadCameras
@@ -196,18 +197,15 @@ def check_levels(levels: Any, cameras: QuadCameras) -> int:
     ValidationError
         Not an int >= 1, or its smallest level under 8 px.
     """
-    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
-        raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
-    if min(cameras.level_shape(int(levels) - 1)) < 8:
+    levels = as_int(levels, "levels", lo=1)
+    if min(cameras.level_shape(levels - 1)) < 8:
         raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
-                                           f"{int(levels)} levels of {cameras.shape}"))
-    return int(levels)
+                                           f"{levels} levels of {cameras.shape}"))
+    return levels
 
 
 def _check_level(level: Any, levels: int) -> int:
-    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or not 0 <= int(level) < levels:
-        raise ValidationError(expected_got("level", f"an int in [0, {levels})", repr(level)))
-    return int(level)
+    return as_int(level, "level", lo=0, hi=levels - 1)
 
 
 def _check_s(s: Any) -> float:
@@ -380,9 +378,8 @@ class BillboardAsset:
         (h, w, 4) float32
             Premultiplied RGBA, read-only.
         """
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= int(k) < self.ring.views:
-            raise ValidationError(expected_got("view index k", f"an int in [0, {self.ring.views})", repr(k)))
-        return self._prem[_check_level(level, self.levels)][int(k)]
+        k = as_int(k, "view index k", lo=0, hi=self.ring.views - 1)
+        return self._prem[_check_level(level, self.levels)][k]
 
     def classic(self, level: int = 0) -> np.ndarray:
         """The front view (azimuth 0): the classic billboard's one image for every direction.
@@ -566,9 +563,7 @@ class BillboardAsset:
             Matched pixels of the pair's two level views.
         """
         pairs = self.ring.pairs()
-        if isinstance(pair, bool) or not isinstance(pair, (int, np.integer)) \
-                or not 0 <= int(pair) < len(pairs):
-            raise ValidationError(expected_got("pair", f"an int in [0, {len(pairs)})", repr(pair)))
+        pair = as_int(pair, "pair", lo=0, hi=len(pairs) - 1)
         level = _check_level(level, self.levels)
         i, j = pairs[int(pair)]
         ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
@@ -730,9 +725,10 @@ class BillboardAsset:
             cam = self.cameras.camera(a)
             try:
                 ok = (float(c["azimuth_deg"]) == float(a)
-                      and np.allclose(np.asarray(c["K"], dtype=np.float64), cam.K, rtol=0, atol=1e-9)
+                      and np.allclose(np.asarray(c["K"], dtype=np.float64), cam.K, rtol=0,
+                                      atol=tol.BB_FILE_CAMERA_ATOL)
                       and np.allclose(np.asarray(c["cam2world"], dtype=np.float64), cam.cam2world,
-                                      rtol=0, atol=1e-9))
+                                      rtol=0, atol=tol.BB_FILE_CAMERA_ATOL))
             except (KeyError, TypeError, ValueError):
                 ok = False
             if not ok:

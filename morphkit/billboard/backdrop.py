@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
@@ -147,7 +148,7 @@ class Backdrop:
             return self._last[1]
         o, d = camera.rays()
         dz = d[..., 2]
-        down = dz < -1e-12
+        down = dz < -tol.BB_GROUND_RAY_DZ
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(down, -o[..., 2] / dz, np.inf)
         hit = down & (t > 0)

@@ -48,6 +48,7 @@ from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import Item, Light
+from ..validate import as_int
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
 from .field import BillboardScene
@@ -356,8 +357,7 @@ class MeshMode:
     def __post_init__(self) -> None:
         if not isinstance(self.renderer, SceneRenderer):
             raise ValidationError(expected_got("renderer", "a SceneRenderer", type(self.renderer).__name__))
-        if int(self.supersample) < 1:
-            raise ValidationError(expected_got("supersample", "an int >= 1", self.supersample))
+        self.supersample = as_int(self.supersample, "supersample", lo=1)
         for nm, items in self.meshes.items():
             for it in items:
                 if not isinstance(it, Item):
