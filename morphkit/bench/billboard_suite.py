@@ -60,7 +60,6 @@ billboards, the ~6k-face cow only.
 from __future__ import annotations
 
 import time
-from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any
 
@@ -79,9 +78,12 @@ from ..billboard import (
 )
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..camera import CameraModel
+from ..memo import Memo
 from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
+from ..scene import Item
+from ..validate import as_int
 from .billboard_scenes import SUITE, hit_rate_rows, scene_accuracy_rows, speed_rows, temporal_rows
 from .harness import Timing, make_row, time_call, time_calls
 
@@ -112,11 +114,11 @@ class AssetCache:
 
     def __init__(self, renderer: SceneRenderer, max_assets: int = 4) -> None:
         self.renderer = renderer
-        self.max_assets = int(max_assets)
-        self._meshes: dict[str, trimesh.Trimesh] = {}
-        self._items: dict[str, list[Any]] = {}
+        self.max_assets = as_int(max_assets, "max_assets", lo=1)
+        self._meshes: Memo[str, trimesh.Trimesh] = Memo()
+        self._items: Memo[str, list[Item]] = Memo()
         # (name, views, size, levels, distance factor) -> (asset, bake seconds)
-        self._assets: OrderedDict[tuple[Any, ...], tuple[BillboardAsset, float]] = OrderedDict()
+        self._assets: Memo[tuple[Any, ...], tuple[BillboardAsset, float]] = Memo(self.max_assets)
 
     def mesh(self, name: str) -> trimesh.Trimesh:
         """The normalised sample mesh ``name``.
@@ -131,10 +133,7 @@ class AssetCache:
         trimesh.Trimesh
             The normalised mesh, object frame (loaded once).
         """
-        if name not in self._meshes:
-            self._meshes[name] = normalize(sample_mesh(name))
-            self._items[name] = bake_items(self._meshes[name])
-        return self._meshes[name]
+        return self._meshes.get(name, lambda: normalize(sample_mesh(name)))
 
     def asset(self, name: str, views: int, size: int, levels: int = 1,
               distance_factor: float = DISTANCE_FACTOR) -> BillboardAsset:
@@ -159,16 +158,19 @@ class AssetCache:
         BillboardAsset
             The asset (kept while among the ``max_assets`` most recently used).
         """
-        key = (name, views, size, levels, float(distance_factor))
-        if key not in self._assets:
-            while len(self._assets) >= self.max_assets:
-                self._assets.popitem(last=False)
+        return self._baked(name, views, size, levels, distance_factor)[0]
+
+    def _baked(self, name: str, views: int, size: int, levels: int,
+               distance_factor: float) -> tuple[BillboardAsset, float]:
+        """``(asset, bake seconds)``, baked on the first call (see :meth:`asset`)."""
+
+        def bake() -> tuple[BillboardAsset, float]:
             t0 = time.perf_counter()
             a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels,
                            distance_factor=distance_factor)
-            self._assets[key] = (a, time.perf_counter() - t0)
-        self._assets.move_to_end(key)
-        return self._assets[key][0]
+            return a, time.perf_counter() - t0
+
+        return self._assets.get((name, views, size, levels, float(distance_factor)), bake)
 
     def bake_seconds(self, name: str, views: int, size: int, levels: int = 1) -> float:
         """Wall time of the (first) bake of that asset.
@@ -189,8 +191,7 @@ class AssetCache:
         float
             Seconds (the asset is baked now if it is not cached).
         """
-        self.asset(name, views, size, levels)
-        return self._assets[(name, views, size, levels, float(DISTANCE_FACTOR))][1]
+        return self._baked(name, views, size, levels, DISTANCE_FACTOR)[1]
 
     def truth(self, name: str, camera: CameraModel) -> np.ndarray:
         """Premultiplied float32 RGBA render of mesh ``name`` by ``camera`` (bake items and lights).
@@ -207,8 +208,8 @@ class AssetCache:
         numpy.ndarray
             ``(H, W, 4)`` float32 premultiplied RGBA in [0, 1], the camera's image size.
         """
-        self.mesh(name)
-        img = self.renderer.source_view(camera, self._items[name], bake_lights(), ambient=BAKE_AMBIENT)
+        items = self._items.get(name, lambda: bake_items(self.mesh(name)))
+        img = self.renderer.source_view(camera, items, bake_lights(), ambient=BAKE_AMBIENT)
         a = img.astype(np.float32) / 255.0
         return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2)
 

@@ -91,6 +91,7 @@ from ..errors import (
     ValidationError,
     expected_got,
 )
+from ..memo import Memo
 from ..meshes import normalize
 from ..scene import DirectionalLight, Item, Light
 from ..scenes import checker_items
@@ -287,8 +288,8 @@ class BillboardAsset:
         self._points = [np.asarray(record.points3d[offs[p]:offs[p + 1]], dtype=np.float64)
                         for p in range(len(self.ring.pairs()))]
         self._morphers: dict[tuple[int, int], ViewMorpher] = {}
-        self._cams: dict[tuple[int, int], CameraModel] = {}
-        self._obj_points: dict[int, np.ndarray] = {}  # level-0 surface points of each reference
+        self._cams: Memo[tuple[int, int], CameraModel] = Memo()  # (reference, level) -> camera
+        self._obj_points: Memo[int, np.ndarray] = Memo()  # level-0 surface points of each reference
         #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
         #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
         self.level_fallbacks: set[tuple[int, int]] = set()
@@ -540,10 +541,7 @@ class BillboardAsset:
         return splat_coverage(np.concatenate([self._object_points(i), self._object_points(j)]), camera)
 
     def _object_points(self, k: int) -> np.ndarray:
-        pts = self._obj_points.get(k)
-        if pts is None:
-            pts = self._obj_points[k] = object_points(self._ref_camera(k, 0), self._depth[k])
-        return pts
+        return self._obj_points.get(k, lambda: object_points(self._ref_camera(k, 0), self._depth[k]))
 
     # ------------------------------------------------------------------ morphers
     def correspondences(self, pair: int, level: int = 0) -> Correspondences:
@@ -632,10 +630,7 @@ class BillboardAsset:
             f"{type(failure).__name__}: {failure}")) from failure
 
     def _ref_camera(self, k: int, level: int) -> CameraModel:
-        cam = self._cams.get((k, level))
-        if cam is None:
-            cam = self._cams[(k, level)] = self.cameras.camera(self.ring.azimuths_deg()[k], level)
-        return cam
+        return self._cams.get((k, level), lambda: self.cameras.camera(self.ring.azimuths_deg()[k], level))
 
     def prepare(self, levels: Sequence[int] | None = None) -> BillboardAsset:
         """Build the morphers of every pair at ``levels`` (default: all) now, instead of on

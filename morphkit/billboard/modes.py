@@ -46,6 +46,7 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..memo import Memo
 from ..protocols import SceneRenderer
 from ..scene import Item, Light
 from ..validate import as_int
@@ -188,7 +189,7 @@ class MorphMode(BillboardMode):
         if not isinstance(coverage, bool | np.bool_):
             raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
         self.coverage = bool(coverage)
-        self._spans: dict[tuple[str, int, int], float] = {}  # pair_span_deg per (asset, i, j)
+        self._spans: Memo[tuple[str, int, int], float] = Memo()  # pair_span_deg per (asset, i, j)
 
     @property
     def cache(self) -> MorphCache:
@@ -226,9 +227,7 @@ class MorphMode(BillboardMode):
         """
         i, j, s, outside = asset.ring.pair(placement.azimuth_deg)
         lv = placement.level
-        span = self._spans.get((asset.name, i, j))
-        if span is None:
-            span = self._spans[(asset.name, i, j)] = pair_span_deg(asset, i, j)
+        span = self._spans.get((asset.name, i, j), lambda: pair_span_deg(asset, i, j))
         if self.quantum_deg == 0.0 or not self.blend:
             return self._at(asset, i, j, quantise_s(s, span, self.quantum_deg), lv), outside
         s_lo, s_hi, w = bracket_s(s, span, self.quantum_deg)
