@@ -14,6 +14,8 @@ A :class:`~.frame.Placement` per drawn billboard comes out; a mode
 (:mod:`~.modes`) picks each one's image and the compositor
 (:mod:`~.compositor`) draws it. :meth:`BillboardScene.render` runs one frame
 in a mode and returns a :class:`~.frame.Frame` with its :class:`~.frame.FrameStats`.
+What a mode is, :class:`FrameMode`, is declared here next to the scene it draws:
+the modes import the scene, the scene never imports the modes.
 """
 
 from __future__ import annotations
