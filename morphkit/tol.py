@@ -293,6 +293,12 @@ BB_COVERAGE_CLOSE_PX = 5
 #: un-premultiplied colour is noise): the coverage from depth is not applied there.
 BB_COVERAGE_MIN_ALPHA = 0.02
 
+#: An asset file's stored reference cameras (``K`` in pixels, ``cam2world`` in scene
+#: units) must match the camera rule's, recomputed from the file's quad and ring, to
+#: within this (absolute): they were written from the same float64 numbers as JSON
+#: (exact round trip), so any larger difference means an edited or foreign file.
+BB_FILE_CAMERA_ATOL = 1e-9
+
 # --- billboard scenes (morphkit.billboard) ---------------------------------
 
 #: A camera is "directly above" a billboard (its facing about the up axis and its
@@ -308,6 +314,11 @@ BB_ABOVE_RATIO = 1e-6
 #: edge-on, e.g. from directly above, projects to a sliver whose homography is
 #: (nearly) singular; half a pixel of area holds at most one pixel centre.
 BB_MIN_AREA_PX2 = 0.5
+
+#: A backdrop ray hits the ground plane ``z = 0`` only when its unit direction points
+#: down by more than this (``dz < -BB_GROUND_RAY_DZ``); rays closer to horizontal
+#: (the horizon row at most) show the sky, so the hit distance ``-z / dz`` stays finite.
+BB_GROUND_RAY_DZ = 1e-12
 
 #: Largest forward-backward disagreement (pixels) of a pair from dense optical
 #: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the

@@ -1,6 +1,6 @@
 """Test doubles of a billboard asset (no GL): a ring of views and ellipse images.
 
-:class:`FakeRing` follows the :class:`morphkit.protocols.ViewPairing` contract
+:class:`FakeRing` follows the :class:`morphkit.billboard.protocols.ViewPairing` contract
 (two views on an arc, clamped outside it; or K views over 360 degrees).
 :class:`FakeAsset` draws its "view" of azimuth ``a`` as an anti-aliased ellipse
 whose colour and width depend on ``a``: references are the views at the ring's
@@ -57,7 +57,7 @@ def ellipse_view(azimuth_deg: float, shape: tuple[int, int]) -> np.ndarray:
 
 
 class FakeAsset:
-    """A :class:`morphkit.protocols.BillboardSource` double; see the module notes."""
+    """A :class:`morphkit.billboard.protocols.BillboardSource` double; see the module notes."""
 
     def __init__(self, name: str = "fake", views: int = 2, arc_deg: float = 60.0,
                  size: tuple[int, int] = (64, 48), levels: int = 3,

@@ -8,7 +8,7 @@ import trimesh
 from billboard_fakes import FakeAsset
 
 from morphkit.bench import SUITES
-from morphkit.bench.billboard_suite import (
+from morphkit.bench.billboard_scenes import (
     hit_rate_rows,
     scene_accuracy_rows,
     speed_rows,

@@ -65,7 +65,7 @@ def test_place_random_is_reproducible_and_validated():
     assert len(place_random(["tree"], 0, np.random.default_rng(0))) == 0
     with pytest.raises(ValidationError, match="rng: expected a numpy Generator"):
         place_random(["tree"], 3, 7)
-    with pytest.raises(ValidationError, match="instance count: expected an int >= 0"):
+    with pytest.raises(ValidationError, match="instance count: expected an integer >= 0"):
         place_random(["tree"], -1, np.random.default_rng(0))
 
 
@@ -221,7 +221,7 @@ def test_fly_path_and_path_errors():
     assert isinstance(make_path("orbit", 5.0), OrbitPath)
     with pytest.raises(ValidationError, match="camera path: expected one of"):
         make_path("spiral", 5.0)
-    with pytest.raises(ValidationError, match="frames: expected an int >= 1"):
+    with pytest.raises(ValidationError, match="frames: expected an integer >= 1"):
         PanPath().cameras(0)
     with pytest.raises(ValidationError, match="fly path: expected start != end"):
         FlyPath(start=(1, 1), end=(1, 1)).cameras(2)

@@ -44,7 +44,7 @@ def test_ring_layouts_and_their_checks():
         ViewRing(2, elevation_deg=75.0)
     with pytest.raises(ValidationError, match="view pair: expected neighbouring references"):
         ring.check_pair(0, 2)
-    with pytest.raises(ValidationError, match=r"view index j: expected an int in \[0, 8\)"):
+    with pytest.raises(ValidationError, match=r"view index j: expected an integer in \[0, 7\]"):
         ring.check_pair(0, 8)
     assert ring.check_pair(0, 7) == (0, 7)  # neighbours in either order
     with pytest.raises(ValidationError, match="azimuth: expected a finite angle"):
@@ -133,7 +133,7 @@ def test_reference_cameras_sit_on_the_ring_and_chord_cameras_between():
     np.testing.assert_array_equal(QUAD.chord_camera(10.0, 70.0, 0.0).position, QUAD.camera(10.0).position)
     with pytest.raises(ValidationError, match="eye: expected a point off the pivot's vertical line"):
         QUAD.camera_at(QUAD.pivot + np.array([0.0, 0.0, 1.0]))
-    with pytest.raises(ValidationError, match=r"level: expected an int >= 0"):
+    with pytest.raises(ValidationError, match=r"level: expected an integer >= 0"):
         QUAD.camera(0.0, -1)
 
 

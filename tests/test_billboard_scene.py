@@ -24,10 +24,10 @@ from morphkit.billboard import (
     quantise_s,
 )
 from morphkit.billboard.compositor import finish, new_layer
+from morphkit.billboard.protocols import BillboardSource, ViewPairing
 from morphkit.camera import look_at, perspective
 from morphkit.composite import over_warped
 from morphkit.errors import ValidationError
-from morphkit.protocols import BillboardSource, ViewPairing
 
 FLAT = Backdrop(Ground(cell=None), Sky((0.5, 0.5, 0.5), (0.5, 0.5, 0.5)))
 
@@ -79,7 +79,7 @@ def test_cache_byte_bound():
     assert len(c) == 2 and c.nbytes == 128 and c.keys() == [3, 4]
     big = c.get("big", lambda: np.zeros((8, 8, 4), np.float32))  # larger than the bound: not kept
     assert big.shape == (8, 8, 4) and "big" not in c and len(c) == 2
-    with pytest.raises(ValidationError, match="cache capacity: expected an int >= 1"):
+    with pytest.raises(ValidationError, match="cache capacity: expected an integer >= 1"):
         MorphCache(capacity=0)
 
 

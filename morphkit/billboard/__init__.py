@@ -5,12 +5,14 @@ One concept per module.
 
 Asset side:
 
+* :mod:`.protocols` -- :class:`ViewPairing`, :class:`BillboardSource`: what a scene asks of an asset;
 * :mod:`.ring` -- :class:`ViewRing`: where the reference views are (K = 2: the paper's
   +-30 degree pair; K >= 3: a full ring) and which pair and fraction serve a viewing azimuth;
 * :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
   maps onto;
-* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset` / :func:`bake_asset`: references,
-  the front view (classic billboard), the pair morphs and their pyramid; one versioned file;
+* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset`: references, the front view
+  (classic billboard), the pair morphs and their pyramid; one versioned file;
+* :mod:`.bake` -- :func:`bake_asset`: a mesh's reference views rendered and every pair prepared;
 * :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
   the references' depth (the morph's alpha).
 
@@ -23,13 +25,15 @@ Scene side:
 * :mod:`.lod` -- pyramid level from the on-screen size;
 * :mod:`.cache` -- the bounded LRU morph cache with hit/miss counts;
 * :mod:`.backdrop` -- ground, sky and distance fog;
-* :mod:`.scene` -- the scene and its per-frame plan;
+* :mod:`.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
+* :mod:`.frame` -- the value types of a frame: placements, plan, stats, frame;
+* :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
   meshes and Fig. 5 strips, video files, a path written to files, assets from names or files.
 
-An asset is anything implementing :class:`morphkit.protocols.BillboardSource`.
+An asset is anything implementing :class:`morphkit.billboard.protocols.BillboardSource`.
 Nothing here imports pyrender; bakes and the mesh mode render through a
 :class:`morphkit.protocols.SceneRenderer`.
 
@@ -50,28 +54,32 @@ Typical use::
 
 from __future__ import annotations
 
-from .asset import BAKE_AMBIENT, BillboardAsset, bake_asset, bake_items, bake_lights, mesh_hash
+from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, mesh_hash
 from .assetfile import FORMAT, VERSION
 from .backdrop import Backdrop, Fog, Ground, Sky
+from .bake import bake_asset
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .field import BillboardScene, FrameMode
+from .frame import Frame, FramePlan, FrameStats, Placement
 from .instances import Instance, Instances, place_random
 from .modes import (
     BillboardMode,
     ClassicMode,
     CrossfadeMode,
-    FrameMode,
     MeshMode,
     MorphMode,
     NearestMode,
 )
 from .paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
+from .protocols import BillboardSource, ViewPairing
 from .ring import ViewRing, wrap_deg
-from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
 
 __all__ = [
+    # interfaces
+    "ViewPairing", "BillboardSource",
     # asset side
     "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "bake_items",
     "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg", "splat_coverage", "object_points",

@@ -15,7 +15,7 @@ The morph
 For a pair ``(i, j)`` and ``s`` in ``(0, 1)``: a
 :class:`~morphkit.viewmorph.ViewMorpher` of the two references with dense
 correspondences from their depth maps (:func:`~morphkit.viewmorph.from_depth`),
-plus each view's outline points the other does not see (:data:`RIM_STEP`),
+plus each view's outline points the other does not see (:data:`~.bake.RIM_STEP`),
 F estimated from them, the pre-warps, and depth layers where parts cross
 (:data:`DEFAULT_LAYERS`, keys from :func:`~morphkit.viewmorph.pair_depth`; a layer's
 pixels hidden by a nearer layer in one view are filled from the other view,
@@ -60,7 +60,7 @@ area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 
 Lighting
 --------
-The bake renders :func:`bake_items` (the mesh coloured by a 3-D checker,
+The bake (:mod:`.bake`) renders :func:`bake_items` (the mesh coloured by a 3-D checker,
 :func:`morphkit.scenes.checker_items`) under :func:`bake_lights` (one
 directional light straight down) with ambient :data:`BAKE_AMBIENT`: the
 lighting does not depend on the view or on an instance's yaw, so a ground
@@ -91,29 +91,22 @@ from ..errors import (
     ValidationError,
     expected_got,
 )
+from ..memo import Memo
 from ..meshes import normalize
-from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, Light
 from ..scenes import checker_items
-from ..viewmorph import Correspondences, ViewMorpher, from_depth, from_geometry, pair_depth
+from ..validate import as_int
+from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
 from .assetfile import AssetRecord, read_record, write_record
-from .cameras import DISTANCE_FACTOR, QuadCameras
+from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .ring import ViewRing
 
-__all__ = ["BillboardAsset", "bake_asset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
-           "DEFAULT_LAYERS", "RIM_STEP"]
+__all__ = ["BillboardAsset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT", "DEFAULT_LAYERS",
+           "check_levels"]
 
 #: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
 BAKE_AMBIENT = 0.35
-
-#: Outline ("rim") points of each reference are kept in its pairs' correspondences even
-#: where the other view does not see them (:func:`~morphkit.viewmorph.from_depth` with
-#: ``rtol=inf``), every ``RIM_STEP`` times the outline spacing of the shared points: they
-#: carry each view's silhouette along its geometric motion, where the shared points alone
-#: leave it to the mesh's interpolation (a half-transparent halo at the outline). Denser
-#: rims fold over more and cost bake time for no gain (``morphkit bench billboards``).
-RIM_STEP = 4
 
 #: ``ViewMorpher(layers=...)`` of the assets' morphs: three depth layers. Neighbouring
 #: references 30-60 degrees apart see parts pass behind each other for every sample
@@ -178,13 +171,6 @@ def mesh_hash(mesh: trimesh.Trimesh) -> str:
     return h.hexdigest()
 
 
-def _sampling(shape: tuple[int, int]) -> tuple[int, int]:
-    """``(step, contour_step)`` of :func:`from_depth` for views of ``shape``: the
-    bench's 6 and 2 at 256^2, scaled with the image (so the pairs cover the object alike)."""
-    side = min(shape)
-    return max(2, round(6 * side / 256)), max(1, round(2 * side / 256))
-
-
 def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
     """uint8 straight RGBA -> premultiplied float32 RGBA, colour and alpha in [0, 1]."""
     p = to_premultiplied(rgba, 4)  # colour in 0..255 times alpha, alpha in [0, 1]
@@ -192,20 +178,35 @@ def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
     return p
 
 
-def _check_levels(levels: Any, cameras: QuadCameras) -> int:
-    """``levels`` as an int >= 1 whose smallest level is at least 8 px on a side."""
-    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
-        raise ValidationError(expected_got("levels", "an int >= 1", repr(levels)))
-    if min(cameras.level_shape(int(levels) - 1)) < 8:
+def check_levels(levels: Any, cameras: QuadCameras) -> int:
+    """``levels`` as an int >= 1 whose smallest level is at least 8 px on a side.
+
+    Parameters
+    ----------
+    levels : int
+        Pyramid levels asked for.
+    cameras : QuadCameras
+        The camera rule (its level shapes).
+
+    Returns
+    -------
+    int
+        ``levels``.
+
+    Raises
+    ------
+    ValidationError
+        Not an int >= 1, or its smallest level under 8 px.
+    """
+    levels = as_int(levels, "levels", lo=1)
+    if min(cameras.level_shape(levels - 1)) < 8:
         raise ValidationError(expected_got("levels", "levels whose smallest image is >= 8 px",
-                                           f"{int(levels)} levels of {cameras.shape}"))
-    return int(levels)
+                                           f"{levels} levels of {cameras.shape}"))
+    return levels
 
 
 def _check_level(level: Any, levels: int) -> int:
-    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or not 0 <= int(level) < levels:
-        raise ValidationError(expected_got("level", f"an int in [0, {levels})", repr(level)))
-    return int(level)
+    return as_int(level, "level", lo=0, hi=levels - 1)
 
 
 def _check_s(s: Any) -> float:
@@ -221,7 +222,7 @@ def _check_s(s: Any) -> float:
 class BillboardAsset:
     """One mesh's reference views, front view and pair morphs (see the module docstring).
 
-    Build one with :func:`bake_asset` or :meth:`load`; the constructor takes the
+    Build one with :func:`~.bake.bake_asset` or :meth:`load`; the constructor takes the
     stored data (an :class:`~morphkit.billboard.assetfile.AssetRecord`).
 
     Parameters
@@ -257,7 +258,7 @@ class BillboardAsset:
                                                self.cameras.elevation_deg))
         if [tuple(p) for p in record.pairs] != self.ring.pairs():
             raise ValidationError(expected_got("pairs", self.ring.pairs(), record.pairs))
-        self.levels = _check_levels(record.levels, self.cameras)
+        self.levels = check_levels(record.levels, self.cameras)
         if not (record.layers == "auto" or (isinstance(record.layers, int) and record.layers >= 1)):
             raise ValidationError(expected_got("layers", "an int >= 1 or 'auto'", repr(record.layers)))
         self.layers = record.layers
@@ -287,8 +288,8 @@ class BillboardAsset:
         self._points = [np.asarray(record.points3d[offs[p]:offs[p + 1]], dtype=np.float64)
                         for p in range(len(self.ring.pairs()))]
         self._morphers: dict[tuple[int, int], ViewMorpher] = {}
-        self._cams: dict[tuple[int, int], CameraModel] = {}
-        self._obj_points: dict[int, np.ndarray] = {}  # level-0 surface points of each reference
+        self._cams: Memo[tuple[int, int], CameraModel] = Memo()  # (reference, level) -> camera
+        self._obj_points: Memo[int, np.ndarray] = Memo()  # level-0 surface points of each reference
         #: (pair, level) whose morpher could not be built: those morphs are the level-0 morph
         #: area-averaged (never seen on the bench meshes; see :meth:`morph`).
         self.level_fallbacks: set[tuple[int, int]] = set()
@@ -378,9 +379,8 @@ class BillboardAsset:
         (h, w, 4) float32
             Premultiplied RGBA, read-only.
         """
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= int(k) < self.ring.views:
-            raise ValidationError(expected_got("view index k", f"an int in [0, {self.ring.views})", repr(k)))
-        return self._prem[_check_level(level, self.levels)][int(k)]
+        k = as_int(k, "view index k", lo=0, hi=self.ring.views - 1)
+        return self._prem[_check_level(level, self.levels)][k]
 
     def classic(self, level: int = 0) -> np.ndarray:
         """The front view (azimuth 0): the classic billboard's one image for every direction.
@@ -541,10 +541,7 @@ class BillboardAsset:
         return splat_coverage(np.concatenate([self._object_points(i), self._object_points(j)]), camera)
 
     def _object_points(self, k: int) -> np.ndarray:
-        pts = self._obj_points.get(k)
-        if pts is None:
-            pts = self._obj_points[k] = object_points(self._ref_camera(k, 0), self._depth[k])
-        return pts
+        return self._obj_points.get(k, lambda: object_points(self._ref_camera(k, 0), self._depth[k]))
 
     # ------------------------------------------------------------------ morphers
     def correspondences(self, pair: int, level: int = 0) -> Correspondences:
@@ -564,9 +561,7 @@ class BillboardAsset:
             Matched pixels of the pair's two level views.
         """
         pairs = self.ring.pairs()
-        if isinstance(pair, bool) or not isinstance(pair, (int, np.integer)) \
-                or not 0 <= int(pair) < len(pairs):
-            raise ValidationError(expected_got("pair", f"an int in [0, {len(pairs)})", repr(pair)))
+        pair = as_int(pair, "pair", lo=0, hi=len(pairs) - 1)
         level = _check_level(level, self.levels)
         i, j = pairs[int(pair)]
         ci, cj = self._ref_camera(i, level), self._ref_camera(j, level)
@@ -636,10 +631,7 @@ class BillboardAsset:
             f"{type(failure).__name__}: {failure}")) from failure
 
     def _ref_camera(self, k: int, level: int) -> CameraModel:
-        cam = self._cams.get((k, level))
-        if cam is None:
-            cam = self._cams[(k, level)] = self.cameras.camera(self.ring.azimuths_deg()[k], level)
-        return cam
+        return self._cams.get((k, level), lambda: self.cameras.camera(self.ring.azimuths_deg()[k], level))
 
     def prepare(self, levels: Sequence[int] | None = None) -> BillboardAsset:
         """Build the morphers of every pair at ``levels`` (default: all) now, instead of on
@@ -729,129 +721,12 @@ class BillboardAsset:
             cam = self.cameras.camera(a)
             try:
                 ok = (float(c["azimuth_deg"]) == float(a)
-                      and np.allclose(np.asarray(c["K"], dtype=np.float64), cam.K, rtol=0, atol=1e-9)
+                      and np.allclose(np.asarray(c["K"], dtype=np.float64), cam.K, rtol=0,
+                                      atol=tol.BB_FILE_CAMERA_ATOL)
                       and np.allclose(np.asarray(c["cam2world"], dtype=np.float64), cam.cam2world,
-                                      rtol=0, atol=1e-9))
+                                      rtol=0, atol=tol.BB_FILE_CAMERA_ATOL))
             except (KeyError, TypeError, ValueError):
                 ok = False
             if not ok:
                 raise FileFormatError(expected_got(f"billboard asset camera {k}",
                                                    "the camera rule's (quad and ring in the file)", c))
-
-
-def _camera_dict(azimuth_deg: float, cam: CameraModel) -> dict[str, Any]:
-    return {"azimuth_deg": float(azimuth_deg), "K": cam.K.tolist(), "cam2world": cam.cam2world.tolist()}
-
-
-def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "asset", views: int = 2,
-               size: int | tuple[int, int] = 256, arc_deg: float | None = None, elevation_deg: float = 10.0,
-               levels: int = 3, layers: int | str = DEFAULT_LAYERS, distance_factor: float = DISTANCE_FACTOR,
-               progress: bool = False) -> BillboardAsset:
-    """Render ``mesh``'s reference views and prepare every pair's morph (see the module docstring).
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        Any mesh; it is normalised (:func:`morphkit.meshes.normalize`) first: the
-        asset's object frame is the normalised mesh's.
-    renderer : SceneRenderer
-        E.g. :class:`morphkit.render.Renderer`.
-    name : str
-        The asset's name (cache keys, file names).
-    views : int
-        ``K >= 2`` (:class:`ViewRing`); ``K = 1`` is refused (the classic billboard
-        needs no bake: :meth:`BillboardAsset.classic` of any asset).
-    size : int or (H, W)
-        Level-0 image shape (an int: square).
-    arc_deg : float, optional
-        ``K = 2``: angle between the two views (default 60: +-30 degrees). Leave out for ``K >= 3``.
-    elevation_deg : float
-        Camera elevation, degrees.
-    levels : int
-        Pyramid levels (each half the resolution of the one before; the smallest >= 8 px).
-    layers : int or "auto"
-        Depth layers of the morphs (``ViewMorpher(layers=...)``).
-    distance_factor : float
-        Reference cameras' distance from the pivot in radii of the mesh's bounding
-        sphere (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`): about the distance
-        the scene sees the asset from, so the views have its perspective.
-    progress : bool
-        Show a progress bar (tqdm; silent when not a terminal).
-
-    Returns
-    -------
-    BillboardAsset
-        With every pair's level-0 morpher built (the rest on first use or by ``prepare()``).
-
-    Raises
-    ------
-    ValidationError
-        Bad arguments (``K = 1`` included).
-    MeshError
-        ``mesh`` is not a usable mesh.
-    DegenerateViewError
-        A pair of neighbouring views shares fewer than :data:`tol.BB_MIN_CORRESPONDENCES`
-        correspondences, or cannot be morphed (F, pre-warp); the message names the pair.
-    """
-    from tqdm import tqdm
-
-    ring = ViewRing(views, arc_deg, elevation_deg)
-    shape = (size, size) if isinstance(size, (int, np.integer)) and not isinstance(size, bool) else size
-    if not isinstance(name, str) or not name:
-        raise ValidationError(expected_got("name", "a non-empty string", repr(name)))
-    norm = normalize(mesh)
-    digest = mesh_hash(norm)
-    az = ring.azimuths_deg()
-    cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az, distance_factor=distance_factor)
-    _check_levels(levels, cams)
-    items, lights = bake_items(norm), bake_lights()
-    front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)
-    pairs = ring.pairs()
-    bar = tqdm(total=ring.views + (front_view < 0) + len(pairs) + 1, desc=f"baking billboard {name}",
-               unit="step", disable=None if progress else True, leave=False)
-    try:
-        images, depths = [], []
-        for a in az:
-            cam = cams.camera(a)
-            images.append(renderer.source_view(cam, items, lights, ambient=BAKE_AMBIENT))
-            depths.append(renderer.depth(cam, items))
-            bar.update()
-        if front_view < 0:
-            front = renderer.source_view(cams.camera(0.0), items, lights, ambient=BAKE_AMBIENT)
-            bar.update()
-        else:
-            front = np.zeros((0, 0, 4), np.uint8)
-        step, contour_step = _sampling(cams.shape)
-        points = []
-        for i, j in pairs:
-            ci, cj = cams.camera(az[i]), cams.camera(az[j])
-            corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step,
-                              rtol=tol.BB_VISIBILITY_RADII / distance_factor)
-            if len(corr) < tol.BB_MIN_CORRESPONDENCES:
-                raise DegenerateViewError(expected_got(
-                    f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",
-                    f"at least {tol.BB_MIN_CORRESPONDENCES} correspondences (tol.BB_MIN_CORRESPONDENCES) "
-                    "between the two views", len(corr)))
-            rim = from_depth(ci, cj, depths[i], depths[j], step=0, contour_step=RIM_STEP * contour_step,
-                             rtol=np.inf)
-            assert corr.points3d is not None and rim.points3d is not None
-            points.append(np.concatenate([corr.points3d, rim.points3d]).astype(np.float32))
-            bar.update()
-        record = AssetRecord(
-            name=name, mesh_hash=digest,
-            ring={"views": ring.views, "arc_deg": ring.arc_deg, "elevation_deg": ring.elevation_deg},
-            quad={"pivot": cams.pivot.tolist(), "distance": cams.distance,
-                  "elevation_deg": cams.elevation_deg, "half_extent": list(cams.half_extent),
-                  "shape": list(cams.shape)},
-            levels=levels, layers=layers, pairs=pairs, front_view=front_view,
-            cameras=[_camera_dict(a, cams.camera(a)) for a in az],
-            images=np.stack(images), depth=np.stack(depths).astype(np.float16),
-            points3d=np.concatenate(points),
-            offsets=np.cumsum([0] + [len(p) for p in points]).astype(np.int64),
-            front=front)
-        asset = BillboardAsset(record).prepare(levels=[0])
-        bar.update()
-    finally:
-        bar.close()
-    return asset
-

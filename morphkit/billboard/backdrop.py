@@ -17,8 +17,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..memo import Memo
 from ..validate import as_finite_array
 
 __all__ = ["Fog", "Ground", "Sky", "Backdrop"]
@@ -125,7 +127,9 @@ class Backdrop:
     ground: Ground = field(default_factory=Ground)
     sky: Sky = field(default_factory=Sky)
     fog: Fog | None = None
-    _last: tuple[tuple[object, ...], np.ndarray] | None = field(default=None, init=False, repr=False)
+    # the last image drawn, by camera: the modes of one frame (compare_modes) draw it once
+    _drawn: Memo[tuple[object, ...], np.ndarray] = field(default_factory=lambda: Memo(1), init=False,
+                                                          repr=False, compare=False)
 
     def draw(self, camera: CameraModel) -> np.ndarray:
         """The backdrop seen by ``camera``: float32 ``(H, W, 3)`` RGB in ``[0, 1]`` (read-only;
@@ -143,11 +147,12 @@ class Backdrop:
         """
         key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
                camera.cam2world.tobytes())
-        if self._last is not None and self._last[0] == key:
-            return self._last[1]
+        return self._drawn.get(key, lambda: self._draw(camera))
+
+    def _draw(self, camera: CameraModel) -> np.ndarray:
         o, d = camera.rays()
         dz = d[..., 2]
-        down = dz < -1e-12
+        down = dz < -tol.BB_GROUND_RAY_DZ
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(down, -o[..., 2] / dz, np.inf)
         hit = down & (t > 0)
@@ -168,5 +173,4 @@ class Backdrop:
                 col = col * (1 - f) + f * np.asarray(self.fog.color)
             img[hit] = col
         img.setflags(write=False)
-        self._last = (key, img)
         return img

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ValidationError, expected_got
-from ..validate import as_positive
+from .. import tol
+from ..validate import as_int, as_positive
 
 __all__ = ["CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s"]
 
@@ -73,8 +73,7 @@ class MorphCache:
     """
 
     def __init__(self, capacity: int = 2048, max_bytes: int | None = 256 * 2**20) -> None:
-        if isinstance(capacity, bool) or not isinstance(capacity, (int, np.integer)) or capacity < 1:
-            raise ValidationError(expected_got("cache capacity", "an int >= 1", repr(capacity)))
+        capacity = as_int(capacity, "cache capacity", lo=1)
         if max_bytes is not None:
             max_bytes = int(as_positive(max_bytes, "cache max_bytes"))
         self.capacity = int(capacity)
@@ -187,15 +186,15 @@ def bracket_s(s: float, span_deg: float, quantum_deg: float) -> tuple[float, flo
     -------
     s_lo, s_hi : float
         Neighbouring steps ``k / n`` and ``(k + 1) / n`` (``s_hi = s_lo`` when ``s``
-        lies on a step, up to 1e-9 of a step).
+        lies on a step, up to :data:`morphkit.tol.REL_EQUAL` of a step).
     w : float
         ``(s - s_lo) / (s_hi - s_lo)`` in ``[0, 1)`` (0 on a step).
     """
     n = max(1, int(round(abs(span_deg) / quantum_deg)))
     x = min(max(float(s), 0.0), 1.0) * n
-    k = math.floor(x + 1e-9)
+    k = math.floor(x + tol.REL_EQUAL)
     w = x - k
-    if w <= 1e-9 or k >= n:
+    if w <= tol.REL_EQUAL or k >= n:
         return min(k, n) / n, min(k, n) / n, 0.0
     return k / n, (k + 1) / n, w
 

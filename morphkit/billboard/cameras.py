@@ -45,9 +45,10 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
+from .. import tol
 from ..camera import CameraModel, look_at
 from ..errors import ValidationError, expected_got
-from ..validate import as_finite_array, as_positive, as_shape
+from ..validate import as_finite_array, as_int, as_positive, as_shape
 
 __all__ = ["QuadCameras", "DISTANCE_FACTOR", "DISTANCE_FACTOR_RANGE", "FRAME_MARGIN", "check_distance_factor"]
 
@@ -250,7 +251,7 @@ class QuadCameras:
         h, w = self.level_shape(level)
         horiz = e[:2] - self.pivot[:2]
         rho = float(np.hypot(*horiz))
-        if not rho > 1e-6 * self.distance:
+        if not rho > tol.BB_ABOVE_RATIO * self.distance:
             raise ValidationError(expected_got("eye", "a point off the pivot's vertical line", e.tolist()))
         fwd = np.array([-horiz[0] / rho, -horiz[1] / rho, 0.0])
         tan_e = (e[2] - self.pivot[2]) / rho
@@ -339,6 +340,4 @@ class QuadCameras:
 
 
 def _level(level: int) -> int:
-    if isinstance(level, bool) or not isinstance(level, (int, np.integer)) or int(level) < 0:
-        raise ValidationError(expected_got("level", "an int >= 0", repr(level)))
-    return int(level)
+    return as_int(level, "level", lo=0)

@@ -3,7 +3,7 @@
 Each billboard's image (premultiplied RGBA float32 in ``[0, 1]``) is warped by
 its quad's homography with ``cv2.warpPerspective`` into its screen box only
 (:func:`morphkit.composite.over_warped`) and composited over what is already
-there, in the back-to-front order of the :class:`~.scene.FramePlan`; a quad cut
+there, in the back-to-front order of the :class:`~.frame.FramePlan`; a quad cut
 by the near plane is masked by its clipped polygon; distance fog blends its
 colour towards the fog colour. The billboards accumulate in a transparent
 *layer* (so its alpha is their coverage, used by the silhouette measures), and
@@ -22,8 +22,8 @@ import cv2
 import numpy as np
 
 from ..composite import over_warped
+from .frame import Placement
 from .frustum import unit_from_image
-from .scene import Placement
 
 __all__ = ["new_layer", "polygon_mask", "draw", "finish"]
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ValidationError, expected_got
-from ..validate import as_finite_array, as_positive
+from ..validate import as_finite_array, as_int, as_positive
 
 __all__ = ["Instance", "Instances", "place_random"]
 
@@ -240,8 +240,7 @@ def place_random(names: Sequence[str], n: int, rng: np.random.Generator, *,
     names = tuple(names)
     if not names:
         raise ValidationError(expected_got("asset names", "at least one", "none"))
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
-        raise ValidationError(expected_got("instance count", "an int >= 0", repr(n)))
+    n = as_int(n, "instance count", lo=0)
     spacing = as_positive(spacing, "spacing")
     half = max(1.0, spacing * np.sqrt(n) / 2) if half_size is None else as_positive(half_size, "half_size")
     lo_s, hi_s = (as_positive(v, "scale") for v in scale)

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import tol
+
 __all__ = ["screen_height_px", "select_levels"]
 
 
@@ -59,7 +61,7 @@ def select_levels(height_px: np.ndarray, base_height: int | np.ndarray,
     (N,) int64
         ``clip(floor(log2(base_height / height_px)), 0, levels - 1)``.
     """
-    p = np.maximum(np.asarray(height_px, dtype=np.float64), 1e-9)
+    p = np.maximum(np.asarray(height_px, dtype=np.float64), tol.ZERO)
     with np.errstate(divide="ignore"):  # inf heights: log2(0) = -inf, clipped to level 0
         lv = np.floor(np.log2(np.asarray(base_height, dtype=np.float64) / p))
     return np.clip(lv, 0, np.maximum(np.asarray(levels) - 1, 0)).astype(np.int64)

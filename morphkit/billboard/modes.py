@@ -1,7 +1,7 @@
 """Modes of one billboard scene: the view-morphed billboards and their baselines.
 
 Each mode is an object with a ``name`` and ``render(scene, camera) -> Frame``
-(:class:`FrameMode`), so a scene is drawn the same way in every mode and the
+(:class:`~.field.FrameMode`), so a scene is drawn the same way in every mode and the
 frames compare like with like:
 
 * :class:`MorphMode` -- the paper's technique, extended to rings of K views:
@@ -40,51 +40,24 @@ import time
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Protocol, runtime_checkable
 
 import cv2
 import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..protocols import BillboardSource, SceneRenderer
+from ..memo import Memo
+from ..protocols import SceneRenderer
 from ..scene import Item, Light
+from ..validate import as_int
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
-from .scene import BillboardScene, Frame, FramePlan, FrameStats, Placement
+from .field import BillboardScene
+from .frame import Frame, FramePlan, FrameStats, Placement
+from .protocols import BillboardSource
 
-__all__ = ["FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
+__all__ = ["BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]
-
-
-@runtime_checkable
-class FrameMode(Protocol):
-    """Draws a :class:`~.scene.BillboardScene` for a camera.
-
-    Parameters
-    ----------
-    *args, **kwargs
-        Not used: a protocol is not instantiated, classes implement its members.
-    """
-
-    name: str
-
-    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
-        """One frame: its image, its billboard layer, its placements and stats.
-
-        Parameters
-        ----------
-        scene : BillboardScene
-            The scene.
-        camera : CameraModel
-            Perspective view, world frame.
-
-        Returns
-        -------
-        Frame
-            The frame.
-        """
-        ...
 
 
 def pair_span_deg(asset: BillboardSource, i: int, j: int) -> float:
@@ -216,7 +189,7 @@ class MorphMode(BillboardMode):
         if not isinstance(coverage, bool | np.bool_):
             raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
         self.coverage = bool(coverage)
-        self._spans: dict[tuple[str, int, int], float] = {}  # pair_span_deg per (asset, i, j)
+        self._spans: Memo[tuple[str, int, int], float] = Memo()  # pair_span_deg per (asset, i, j)
 
     @property
     def cache(self) -> MorphCache:
@@ -254,9 +227,7 @@ class MorphMode(BillboardMode):
         """
         i, j, s, outside = asset.ring.pair(placement.azimuth_deg)
         lv = placement.level
-        span = self._spans.get((asset.name, i, j))
-        if span is None:
-            span = self._spans[(asset.name, i, j)] = pair_span_deg(asset, i, j)
+        span = self._spans.get((asset.name, i, j), lambda: pair_span_deg(asset, i, j))
         if self.quantum_deg == 0.0 or not self.blend:
             return self._at(asset, i, j, quantise_s(s, span, self.quantum_deg), lv), outside
         s_lo, s_hi, w = bracket_s(s, span, self.quantum_deg)
@@ -385,8 +356,7 @@ class MeshMode:
     def __post_init__(self) -> None:
         if not isinstance(self.renderer, SceneRenderer):
             raise ValidationError(expected_got("renderer", "a SceneRenderer", type(self.renderer).__name__))
-        if int(self.supersample) < 1:
-            raise ValidationError(expected_got("supersample", "an int >= 1", self.supersample))
+        self.supersample = as_int(self.supersample, "supersample", lo=1)
         for nm, items in self.meshes.items():
             for it in items:
                 if not isinstance(it, Item):

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..camera import CameraModel, look_at, perspective
 from ..errors import ValidationError, expected_got
-from ..validate import as_finite_array, as_positive, as_shape
+from ..validate import as_finite_array, as_int, as_positive, as_shape
 
 __all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path"]
 
@@ -83,9 +83,7 @@ class CameraPath(Protocol):
 
 
 def _check_frames(frames: int) -> int:
-    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < 1:
-        raise ValidationError(expected_got("frames", "an int >= 1", repr(frames)))
-    return int(frames)
+    return as_int(frames, "frames", lo=1)
 
 
 def _ts(frames: int) -> np.ndarray:

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ValidationError, expected_got
+from ..validate import as_int
 
 __all__ = ["ViewRing", "wrap_deg"]
 
@@ -101,7 +102,7 @@ class ViewRing:
 
     def __post_init__(self) -> None:
         k = self.views
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):  # 2.0 refused too (a count of views)
             raise ValidationError(expected_got("views", "an int >= 2", repr(k)))
         if int(k) < 2:
             raise ValidationError(expected_got(
@@ -200,11 +201,8 @@ class ViewRing:
         ValidationError
             An index out of range or two references that are not neighbours.
         """
-        for v, name in ((i, "i"), (j, "j")):
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 <= int(v) < self.views:
-                raise ValidationError(expected_got(f"view index {name}", f"an int in [0, {self.views})",
-                                                   repr(v)))
-        i, j = int(i), int(j)
+        i = as_int(i, "view index i", lo=0, hi=self.views - 1)
+        j = as_int(j, "view index j", lo=0, hi=self.views - 1)
         pairs = self.pairs()
         if (i, j) not in pairs and (j, i) not in pairs:
             raise ValidationError(expected_got("view pair", f"neighbouring references (one of {pairs} or "

@@ -23,8 +23,8 @@ from typing import Any
 from ..camera import CameraModel
 from ..fileio import write_image, write_json
 from .compare import compare_modes
-from .modes import ClassicMode, FrameMode, MorphMode
-from .scene import BillboardScene
+from .field import BillboardScene, FrameMode
+from .modes import ClassicMode, MorphMode
 from .video import VideoFile
 
 __all__ = ["write_sequence", "compare_indices"]

@@ -6,7 +6,7 @@ baked from:
 
 * a name of :data:`morphkit.meshes.BILLBOARD_MESHES` (``tree``, ``person``,
   ``teapot``, ...): the sample mesh is normalised and baked
-  (:func:`~morphkit.billboard.asset.bake_asset`);
+  (:func:`~morphkit.billboard.bake.bake_asset`);
 * a path to an existing ``.npz`` file: the asset is loaded
   (:meth:`~morphkit.billboard.asset.BillboardAsset.load`); its mesh is known
   (for the mesh mode) when the asset's name is a sample mesh whose hash matches.
@@ -25,7 +25,8 @@ from ..errors import ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
 from ..protocols import SceneRenderer
 from ..scene import Item
-from .asset import BillboardAsset, bake_asset, bake_items, mesh_hash
+from .asset import BillboardAsset, bake_items, mesh_hash
+from .bake import bake_asset
 
 __all__ = ["ResolvedAssets", "check_specs", "resolve_assets"]
 
@@ -80,7 +81,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
     renderer : SceneRenderer
         For baking.
     views, size, levels : int
-        Bake options (:func:`~morphkit.billboard.asset.bake_asset`): K, level-0 image side, pyramid levels.
+        Bake options (:func:`~morphkit.billboard.bake.bake_asset`): K, level-0 image side, pyramid levels.
     progress : bool
         Progress bars while baking.
 
