@@ -22,6 +22,7 @@ from morphkit.meshes import (
     normalize,
     person,
     sample_mesh,
+    samples,
     teapot,
     teapot_face_count,
     tree,
@@ -68,9 +69,9 @@ def slice_components(m: trimesh.Trimesh, z: float, step: float = 0.004) -> tuple
 
 
 def test_teapot_control_data_is_newells_and_symmetric():
-    cp = meshes._teapot_control_points()
+    cp = samples._teapot_control_points()
     assert cp.shape == (32, 4, 4, 3)
-    assert np.array(meshes._TEAPOT_VERTICES.split(), float).size == 306 * 3
+    assert np.array(samples._TEAPOT_VERTICES.split(), float).size == 306 * 3
     rot = np.array([[0, 1, 0], [-1, 0, 0], [0, 0, 1.0]])  # -90 deg about z
     # Rim, body and lid: 4 quadrant patches, each the previous rotated by -90 deg.
     for first in (0, 4, 8, 20, 24):
