@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -71,7 +72,13 @@ def slice_components(m: trimesh.Trimesh, z: float, step: float = 0.004) -> tuple
 def test_teapot_control_data_is_newells_and_symmetric():
     cp = samples._teapot_control_points()
     assert cp.shape == (32, 4, 4, 3)
-    assert np.array(samples._TEAPOT_VERTICES.split(), float).size == 306 * 3
+    data = resources.files("morphkit") / "data"  # the package data, as installed
+    with (data / "teapot_vertices.txt").open() as f:
+        assert np.loadtxt(f).shape == (306, 3)
+    with (data / "teapot_patches.txt").open() as f:
+        patches = np.loadtxt(f, dtype=np.int64)
+    assert patches.shape == (32, 16) and patches.min() == 1 and patches.max() == 306
+    assert not cp.flags.writeable  # cached: callers cannot change the teapot
     rot = np.array([[0, 1, 0], [-1, 0, 0], [0, 0, 1.0]])  # -90 deg about z
     # Rim, body and lid: 4 quadrant patches, each the previous rotated by -90 deg.
     for first in (0, 4, 8, 20, 24):
