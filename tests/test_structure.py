@@ -5,7 +5,7 @@
   core runs without a GL context);
 * environment variables are read by :mod:`morphkit.settings` alone;
 * nothing outside :mod:`morphkit.bench` (and the CLI's ``bench`` command)
-  imports the benchmarks: scenes shared with them live in :mod:`morphkit.scenes`.
+  imports the benchmarks: scenes shared with them live in :mod:`morphkit.fixtures`.
 
 Attribute access to other objects' private members is ruff's ``SLF001``
 (enabled in ``pyproject.toml``).

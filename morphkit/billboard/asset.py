@@ -81,6 +81,7 @@ import numpy as np
 import trimesh
 
 from .. import tol
+from ..appearance import checker_items
 from ..camera import CameraModel
 from ..composite import from_premultiplied, to_premultiplied
 from ..errors import (
@@ -94,7 +95,6 @@ from ..errors import (
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, Light
-from ..scenes import checker_items
 from ..viewmorph import Correspondences, ViewMorpher, from_depth, from_geometry, pair_depth
 from .assetfile import AssetRecord, read_record, write_record
 from .cameras import DISTANCE_FACTOR, QuadCameras
