@@ -10,9 +10,14 @@ image and a test are about the same scene:
   (:data:`SOFT_LIGHT`);
 * the view-morphing scenes: cameras on a circle about the object
   (:func:`circle_camera`), the sample meshes with a 3-D colour checker
-  (:func:`textured_items`) and their reference views (:func:`render_pair`).
+  (:func:`textured_items`, the look of :func:`morphkit.appearance.checker_items`)
+  and their reference views (:func:`render_pair`).
 
-Nothing here imports :mod:`morphkit.bench`; the benchmark imports from here.
+The warped-shadow scenes' light and range are the shadow atlas defaults of
+:mod:`morphkit.bake.kinds`, re-exported here. Nothing here imports
+:mod:`morphkit.bench`; the benchmark imports from here. The library does not
+import this module (``tests/test_structure.py`` checks it): only the
+benchmarks, the demo, the CLI, the samples and the tests do.
 """
 
 from __future__ import annotations
@@ -34,9 +39,6 @@ from .shadow.frame import SKY, render_frame
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
            "circle_camera", "textured_items", "render_pair"]
-
-# WARP_LIGHT, WARP_RANGE: the shadow atlas defaults (morphkit.bake.kinds), the warped-shadow scenes'
-# light and range of motion, re-exported with the scenes
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
