@@ -44,6 +44,17 @@ import trimesh
 
 from .errors import ValidationError, expected_got
 from .fileio import write_image, write_json
+from .fixtures import (
+    DEMO_LIGHT_DIRECTION,
+    DEMO_MESHES,
+    SOFT_LIGHT,
+    VIEWMORPH_BASELINE_DEG,
+    WARP_LIGHT,
+    WARP_POSITION,
+    WARP_RANGE,
+    demo_scene,
+    ground_truth_frame,
+)
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
 from .protocols import SceneRenderer
@@ -54,17 +65,6 @@ from .scene import (
     Scene,
     SceneObject,
     light_view,
-)
-from .scenes import (
-    DEMO_LIGHT_DIRECTION,
-    DEMO_MESHES,
-    SOFT_LIGHT,
-    VIEWMORPH_BASELINE_DEG,
-    WARP_LIGHT,
-    WARP_POSITION,
-    WARP_RANGE,
-    demo_scene,
-    ground_truth_frame,
 )
 from .shadow.frame import SKY, compare_frames, render_frame
 from .shadow.lookup import shadow_visibility
@@ -251,8 +251,8 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
 
     The morph uses dense pairs from the two depth maps and ``layers="auto"``
     (two depth layers where one mesh cannot follow crossing parts: the chair)."""
+    from .fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
     from .metrics import shadow_iou
-    from .scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
     from .viewmorph import ViewMorpher, from_depth, pair_depth
 
     report: dict[str, Any] = {"baseline_deg": VIEWMORPH_BASELINE_DEG, "s": 0.5}

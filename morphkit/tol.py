@@ -53,6 +53,19 @@ MESH_ZERO_LENGTH_REL = 1e-9
 #: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
 MESH_ZERO_AREA_REL = 1e-12
 
+#: Central-difference step (metres, before normalisation) of the implicit sample
+#: shapes' field gradient, for the Newton projection of a polygonised mesh onto
+#: the surface (:func:`morphkit.meshes.implicit.project`): 1e-4 of shapes ~2 m
+#: tall, far below their smallest feature (~3 cm) and far above the float64
+#: rounding of the field (~1e-16), so the difference quotient is the gradient.
+SDF_GRADIENT_STEP = 1e-4
+
+#: Floor of the squared field gradient in that projection: a point where the
+#: field is flat (its gradient vanishes, only at a shape's medial axis, far from
+#: the surface) is not thrown away by a division by ~0. The smooth signed fields
+#: have gradients of norm ~1 near their surface, 1e-12 never changes a real step.
+SDF_GRADIENT_FLOOR = 1e-12
+
 # --- generic zeros and equalities (one name each, instead of bare epsilons) ---
 
 #: A float64 magnitude at or below this is zero: the floor of a norm, determinant or

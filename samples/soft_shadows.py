@@ -19,11 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from morphkit.fileio import write_image
+from morphkit.fixtures import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.groundtruth import area_visibility, receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.scene import SceneObject
-from morphkit.scenes import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
 from morphkit.shadow.soft import FIVE_SAMPLES
 

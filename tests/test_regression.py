@@ -46,8 +46,8 @@ TOL_COMPOSITE = {"max_mean_abs": 0.1, "max_bad_fraction": 0.0006, "bad_level": 1
 
 @pytest.fixture(scope="module")
 def teapot_frame(renderer):
+    from morphkit.fixtures import demo_scene, ground_truth_frame
     from morphkit.meshes import sample_mesh
-    from morphkit.scenes import demo_scene, ground_truth_frame
 
     return ground_truth_frame(renderer, demo_scene(sample_mesh("teapot"), size=128))
 
@@ -63,9 +63,9 @@ def test_demo_teapot_visibility_matches_reference(teapot_frame):
 
 def test_the_tolerances_catch_a_light_turned_by_one_degree(renderer, teapot_frame):
     """The scene and visibility tolerances are tight enough to fail a small error."""
+    from morphkit.fixtures import demo_scene, ground_truth_frame
     from morphkit.meshes import sample_mesh
     from morphkit.scene import DirectionalLight, Scene
-    from morphkit.scenes import demo_scene, ground_truth_frame
 
     if os.environ.get("MORPHKIT_REGEN_REFERENCES"):
         pytest.skip("references are being regenerated")
@@ -95,9 +95,9 @@ WARPS = {"warped": {}, "reprojected": {"warps": "reproject"}}
 
 @pytest.fixture(scope="module", params=sorted(WARPS))
 def warped_cow(renderer, request):
+    from morphkit.fixtures import demo_scene
     from morphkit.meshes import sample_mesh
     from morphkit.scene import PointLight, Scene
-    from morphkit.scenes import demo_scene
     from morphkit.shadow import MotionRange, bake_atlas, shadow_visibility
     from morphkit.shadow.frame import compare_frames, render_frame
 

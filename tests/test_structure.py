@@ -5,7 +5,9 @@
   core runs without a GL context);
 * environment variables are read by :mod:`morphkit.settings` alone;
 * nothing outside :mod:`morphkit.bench` (and the CLI's ``bench`` command)
-  imports the benchmarks: scenes shared with them live in :mod:`morphkit.scenes`.
+  imports the benchmarks: scenes shared with them live in :mod:`morphkit.fixtures`;
+* nothing in the library imports those scenes (:mod:`morphkit.fixtures`): only the
+  benchmarks, the demo and the CLI (and the tests) may.
 
 Attribute access to other objects' private members is ruff's ``SLF001``
 (enabled in ``pyproject.toml``).
@@ -89,3 +91,29 @@ def test_only_the_bench_and_the_cli_import_the_bench(path):
         return
     bad = [f"line {ln}: {m}" for ln, m, _ in _imports(path) if m.startswith("morphkit.bench")]
     assert not bad, f"{path.name} imports the benchmark: {bad}"
+
+
+#: The modules that may use the demo/bench/test scenes of :mod:`morphkit.fixtures`; the rest is
+#: the library, which must not depend on its own test scenes.
+FIXTURE_USERS = ("morphkit.fixtures", "morphkit.bench", "morphkit.demo", "morphkit.cli")
+
+
+def _imports_fixtures(path: Path) -> list[str]:
+    return [f"line {ln}: {m}" for ln, m, names in _imports(path)
+            if m == "morphkit.fixtures" or m.startswith("morphkit.fixtures.")
+            or (m == "morphkit" and "fixtures" in names)]
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_the_library_does_not_import_the_fixtures(path):
+    mod = _module(path)
+    if any(mod == u or mod.startswith(u + ".") for u in FIXTURE_USERS):
+        return
+    bad = _imports_fixtures(path)
+    assert not bad, f"{path.name} imports the test scenes (morphkit.fixtures): {bad}"
+
+
+def test_the_fixture_scan_sees_the_demo_import_them():
+    """The check above can fail: the demo's imports of the fixtures are found."""
+    assert _imports_fixtures(PACKAGE / "demo.py")
+    assert not (PACKAGE / "scenes.py").exists()  # one module of scenes: morphkit.fixtures

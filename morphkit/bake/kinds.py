@@ -30,11 +30,17 @@ from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
-from ..scenes import WARP_LIGHT, WARP_RANGE
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
 from ..validate import as_finite_array
 
-__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "output_name"]
+__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "output_name", "WARP_LIGHT",
+           "WARP_RANGE"]
+
+#: The default range of motion of a shadow atlas (:class:`ShadowAtlasKind`; the
+#: warped-shadow demo's): the object moves over this range under this point light.
+WARP_RANGE = ((-0.6, -0.6), (0.6, 0.6))
+#: The default point light position of a shadow atlas (world frame; the warped-shadow demo's).
+WARP_LIGHT = (0.25, -0.2, 2.4)
 
 
 @runtime_checkable

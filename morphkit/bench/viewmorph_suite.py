@@ -83,9 +83,9 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import MorphkitError
+from ..fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
 from ..protocols import SceneRenderer
-from ..scenes import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 from .harness import Timing, make_row, time_call
 
 __all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]

@@ -61,7 +61,7 @@ area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 Lighting
 --------
 The bake (:mod:`.bake`) renders :func:`bake_items` (the mesh coloured by a 3-D checker,
-:func:`morphkit.scenes.checker_items`) under :func:`bake_lights` (one
+:func:`morphkit.appearance.checker_items`) under :func:`bake_lights` (one
 directional light straight down) with ambient :data:`BAKE_AMBIENT`: the
 lighting does not depend on the view or on an instance's yaw, so a ground
 truth rendered from any direction with the same items and lights matches.
@@ -81,6 +81,7 @@ import numpy as np
 import trimesh
 
 from .. import tol
+from ..appearance import checker_items
 from ..camera import CameraModel
 from ..composite import from_premultiplied, to_premultiplied
 from ..errors import (
@@ -94,7 +95,6 @@ from ..errors import (
 from ..memo import Memo
 from ..meshes import normalize
 from ..scene import DirectionalLight, Item, Light
-from ..scenes import checker_items
 from ..validate import as_int
 from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
 from .assetfile import AssetRecord, read_record, write_record
@@ -129,7 +129,7 @@ def bake_lights() -> list[Light]:
 
 def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
     """The render items of a bake: ``mesh`` (object frame, identity pose) coloured by the
-    3-D checker of :func:`morphkit.scenes.checker_items`. Pass the normalised mesh
+    3-D checker of :func:`morphkit.appearance.checker_items`. Pass the normalised mesh
     (:func:`morphkit.meshes.normalize`) to match an asset's references.
 
     Parameters

@@ -10,9 +10,14 @@ image and a test are about the same scene:
   (:data:`SOFT_LIGHT`);
 * the view-morphing scenes: cameras on a circle about the object
   (:func:`circle_camera`), the sample meshes with a 3-D colour checker
-  (:func:`textured_items`) and their reference views (:func:`render_pair`).
+  (:func:`textured_items`, the look of :func:`morphkit.appearance.checker_items`)
+  and their reference views (:func:`render_pair`).
 
-Nothing here imports :mod:`morphkit.bench`; the benchmark imports from here.
+The warped-shadow scenes' light and range are the shadow atlas defaults of
+:mod:`morphkit.bake.kinds`, re-exported here. Nothing here imports
+:mod:`morphkit.bench`; the benchmark imports from here. The library does not
+import this module (``tests/test_structure.py`` checks it): only the
+benchmarks, the demo, the CLI, the samples and the tests do.
 """
 
 from __future__ import annotations
@@ -22,16 +27,18 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from .appearance import checker_items
+from .bake.kinds import WARP_LIGHT, WARP_RANGE
 from .camera import CameraModel, look_at, perspective
 from .groundtruth import hard_visibility
 from .meshes import sample_mesh
 from .protocols import SceneRenderer
-from .scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
+from .scene import AreaLight, DirectionalLight, Receiver, Scene, SceneObject
 from .shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
-           "circle_camera", "checker_items", "textured_items", "render_pair", "PALETTE", "CHECKER"]
+           "circle_camera", "textured_items", "render_pair"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -85,10 +92,6 @@ def ground_truth_frame(renderer: SceneRenderer, scene: Scene) -> dict[str, np.nd
                         background=SKY)
 
 
-#: Warped-shadow demo: the object moves over this range under this point light.
-WARP_RANGE = ((-0.6, -0.6), (0.6, 0.6))
-#: The warped-shadow demo's point light position (world frame).
-WARP_LIGHT = (0.25, -0.2, 2.4)
 #: The object position ``(x, y)`` the warped-shadow demo shows.
 WARP_POSITION = (0.23, -0.31)  # between the 3 x 3 samples
 
@@ -105,13 +108,6 @@ VIEWMORPH_BASELINE_DEG = 20.0
 CENTRE_AZIMUTH = 60.0
 RADIUS, HEIGHT = 2.2, 1.0
 LOOK_AT = np.array([0.0, 0.0, 0.25])
-#: Colours of the 3-D checker of :func:`checker_items` (RGB in [0, 1]).
-PALETTE = ((0.85, 0.3, 0.25), (0.3, 0.6, 0.85), (0.9, 0.8, 0.3), (0.35, 0.75, 0.4), (0.8, 0.8, 0.8),
-           (0.55, 0.35, 0.7), (0.95, 0.55, 0.2), (0.2, 0.3, 0.35))
-#: Cell size of the 3-D checker of :func:`checker_items`, scene units (meshes are normalised to size 1).
-CHECKER = 0.05
-
-
 def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
     """The bench camera at ``azimuth_deg`` on the circle (square image of side ``size``).
 
@@ -130,27 +126,6 @@ def circle_camera(azimuth_deg: float, size: int) -> CameraModel:
     a = np.radians(azimuth_deg)
     eye = np.array([RADIUS * np.cos(a), RADIUS * np.sin(a), HEIGHT])
     return perspective(np.radians(30.0), (size, size), look_at(eye, LOOK_AT))
-
-
-def checker_items(mesh: trimesh.Trimesh) -> list[Item]:
-    """``mesh`` split into colour groups by a 3-D checker of its face centres, as render items.
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        Any mesh, in its own frame (cells of :data:`CHECKER` scene units from the origin).
-
-    Returns
-    -------
-    list of Item
-        One item per colour of :data:`PALETTE` that occurs (identity pose), each a
-        submesh of the faces whose centre falls in a cell of that colour: texture for
-        SIFT and for PSNR (the renderer has no texture maps).
-    """
-    cell = np.floor(mesh.triangles_center / CHECKER).astype(np.int64)
-    key = (cell[:, 0] * 7 + cell[:, 1] * 3 + cell[:, 2] * 5) % len(PALETTE)
-    return [Item(mesh.submesh([np.flatnonzero(key == k)], append=True), color=PALETTE[k])
-            for k in range(len(PALETTE)) if np.any(key == k)]
 
 
 def textured_items(name: str) -> tuple[Any, list[Any]]:
