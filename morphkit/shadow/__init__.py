@@ -13,7 +13,9 @@
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
-* :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
+* :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
+* :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and
+  a video (imported by the CLI, not re-exported here).
 """
 
 from __future__ import annotations

@@ -27,15 +27,18 @@ import cv2
 import numpy as np
 import trimesh
 
+from ..bake.manifest import MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
 from ..fileio import atomic_output, write_image
 from ..meshes import load_mesh
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
-from ..shadow import MotionRange, ShadowAtlas, SoftShadow, shadow_visibility
-from ..shadow.frame import render_frame
-from .manifest import MANIFEST_NAME, Manifest, file_digest
+from .atlas import ShadowAtlas
+from .frame import render_frame
+from .lookup import shadow_visibility
+from .rig import MotionRange
+from .soft import SoftShadow
 
 __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",
            "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
