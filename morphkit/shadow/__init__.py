@@ -9,7 +9,7 @@
 * :mod:`.fold` -- fold-over relaxation of destination control points;
 * :mod:`.warped` -- the mesh-warp methods: :class:`ComposedWarp` (default), :class:`ThreeWarps` (the paper's);
 * :mod:`.reprojected` -- :class:`ReprojectedMaps`: per-pixel 3-D reprojection of the maps;
-* :mod:`.reproject` -- the reprojection kernels and hidden layers;
+* :mod:`.reprojection` -- the per-pixel reprojection kernels and hidden layers (a package);
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;

@@ -63,7 +63,7 @@ the same result as ``cv2.remap`` up to its 1/32 px quantisation
 uses the same pass for each of its warps, over whole images.
 
 ``warps="reproject"`` replaces the mesh by a per-pixel 3-D motion of the maps'
-pixels into one z-buffer (:mod:`morphkit.shadow.reproject`; no control points
+pixels into one z-buffer (:mod:`morphkit.shadow.reprojection`; no control points
 used): the largest-weight map whole, its neighbours' hidden layers (built once,
 :meth:`ShadowAtlas.prepare`).
 
@@ -101,8 +101,8 @@ from .controls import anchor_depths, lift, silhouette_box
 from .fold import RELAX_ROUNDS, any_folded, relax_folds, signed_areas
 from .method import ShadowMethod
 from .planes import depth_planes
-from .reproject import Layer, Reprojection, Source, hidden_layer
 from .reprojected import ReprojectedMaps
+from .reprojection import Layer, Reprojection, Source, hidden_layer
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
 from .warped import ComposedWarp, ThreeWarps, check_flag
 
@@ -445,7 +445,7 @@ class ShadowAtlas:
 
         Returns
         -------
-        source : morphkit.shadow.reproject.Source
+        source : morphkit.shadow.reprojection.Source
             The prepared map.
         camera : morphkit.camera.CameraModel
             The light camera at that sample.
@@ -471,7 +471,7 @@ class ShadowAtlas:
 
         Returns
         -------
-        morphkit.shadow.reproject.Reprojection
+        morphkit.shadow.reprojection.Reprojection
             The per-pixel motion.
         """
         persp = dst_cam.projection == "perspective"
@@ -481,7 +481,7 @@ class ShadowAtlas:
 
     def hidden_layer(self, primary: tuple[int, int], other: tuple[int, int]) -> Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
-        :func:`morphkit.shadow.reproject.hidden_layer`).
+        :func:`morphkit.shadow.reprojection.hidden_layer`).
 
         Parameters
         ----------
@@ -490,7 +490,7 @@ class ShadowAtlas:
 
         Returns
         -------
-        morphkit.shadow.reproject.Layer
+        morphkit.shadow.reprojection.Layer
             ``other``'s hidden layer, in ``primary``'s pixels.
         """
         lay = self._layers.get((primary, other))

@@ -3,7 +3,7 @@
 :class:`ReprojectedMaps` moves every pixel of the cell's maps in 3-D instead of
 warping a mesh (exact for every surface point a map saw; no control points)
 and keeps the nearest depth (the kernels and their conventions:
-:mod:`morphkit.shadow.reproject`). The largest-weight map is reprojected
+:mod:`morphkit.shadow.reprojection`). The largest-weight map is reprojected
 whole and, with ``layers=True``, of the others only their *hidden layers*
 (what the first does not hold: built once per pair of neighbouring samples by
 :meth:`ShadowAtlas.hidden_layer <morphkit.shadow.atlas.ShadowAtlas.hidden_layer>`,
@@ -21,7 +21,7 @@ import numpy as np
 from .. import settings
 from ..camera import CameraModel
 from .method import AtlasMethodBase, bilinear_weights
-from .reproject import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
+from .reprojection import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
 from .warped import check_flag
 
 if TYPE_CHECKING:
@@ -46,7 +46,7 @@ class ReprojectedMaps(AtlasMethodBase):
     -----
     The z-buffer is split into bands of rows over :data:`morphkit.settings.WARP_THREADS`
     threads (read per call); the result does not depend on the thread count
-    (:func:`~morphkit.shadow.reproject.reproject_maps`).
+    (:func:`~morphkit.shadow.reprojection.reproject_maps`).
     """
 
     def __init__(self, atlas: ShadowAtlas, *, nearest: bool = False, layers: bool = True) -> None:
