@@ -565,7 +565,7 @@ def test_reproject_directional_light_and_light_offset(renderer, cow, point_atlas
     np.testing.assert_allclose(cam.position, POINT.position + np.r_[D, 0.0])
     with pytest.raises(ValidationError, match="'project' with warps='reproject'"):
         point_atlas.shadow_map(xy, warps="reproject", dst="interpolate")
-    with pytest.raises(ValidationError, match="layers: expected a bool, got 1"):
+    with pytest.raises(ValidationError, match=r"layers: expected a bool \(True or False\), got 1"):
         point_atlas.shadow_map(xy, warps="reproject", layers=1)
 
 
@@ -585,11 +585,11 @@ def test_atlas_method_fixes_options_and_checks_them_at_once(point_atlas):
     assert point_atlas.method(blend="nearest").name == "warp_nearest"
     assert point_atlas.method(warps="reproject", layers=False).name == "reproject_full"
     assert isinstance(point_atlas, ShadowMethod)  # the atlas itself, with its default method
-    with pytest.raises(ValidationError, match="nearest: expected a bool, got 'yes'"):
-        ComposedWarp(point_atlas, nearest="yes")
+    with pytest.raises(ValidationError, match=r"nearest: expected a bool \(True or False\), got 'yes'"):
+        ComposedWarp(point_atlas.runtime, nearest="yes")
     with pytest.raises(ValidationError, match="'shared' or 'plane' anchors for dst='interpolate' or "
                                               "warps='three'"):
-        ThreeWarps(point_atlas)
+        ThreeWarps(point_atlas.runtime)
     with pytest.raises(ValidationError, match="'composed'\\|'three'\\|'reproject'"):
         point_atlas.method(warps="remap")
     with pytest.raises(ValidationError, match="'shared' or 'plane' anchors"):

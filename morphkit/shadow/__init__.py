@@ -2,8 +2,11 @@
 
 * :mod:`.method` -- :class:`ShadowMethod`, the interface every hard-shadow method implements;
 * :mod:`.rig` -- the object's range of motion and the light camera that follows it;
-* :mod:`.atlas` -- the k x k shadow atlas: bake and per-map building blocks;
-* :mod:`.atlasfile` -- the atlas file (save/load, checked);
+* :mod:`.atlas` -- the k x k shadow atlas: :func:`bake_atlas` and :class:`ShadowAtlas` (data + run time);
+* :mod:`.baked` -- :class:`BakedAtlas`, the baked data (frozen);
+* :mod:`.runtime` -- :class:`AtlasRuntime`, the per-map building blocks (cached) and run-time counts;
+* :mod:`.methods` -- :func:`build_method`: an atlas's shadow method by option (cached per option set);
+* :mod:`.atlasfile` -- the atlas file (save/load of the baked data, checked);
 * :mod:`.controls` -- automatic control points (silhouette box, anchor depths, lifting);
 * :mod:`.planes` -- depth maps as coverage-depth planes (warped and blended without mixing background);
 * :mod:`.fold` -- fold-over relaxation of destination control points;
@@ -21,12 +24,15 @@
 from __future__ import annotations
 
 from .atlas import ShadowAtlas, bake_atlas
-from .atlasfile import ATLAS_VERSION
+from .atlasfile import ATLAS_VERSION, load_atlas, save_atlas
+from .baked import BakedAtlas
 from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .method import ShadowMethod, bilinear_weights
+from .methods import build_method
 from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
+from .runtime import AtlasRuntime
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
 from .warped import ComposedWarp, ThreeWarps
 
@@ -36,9 +42,14 @@ __all__ = [
     "ComposedWarp",
     "ThreeWarps",
     "ReprojectedMaps",
+    "build_method",
     "ATLAS_VERSION",
     "ShadowAtlas",
+    "BakedAtlas",
+    "AtlasRuntime",
     "bake_atlas",
+    "save_atlas",
+    "load_atlas",
     "DirectShadow",
     "ImageBasedShadow",
     "ShadowBias",

@@ -19,8 +19,9 @@ import numpy as np
 
 from ..composite import shade
 from ..errors import ValidationError, expected_got
+from ..groundtruth import hard_visibility
 from ..protocols import SceneRenderer
-from ..scene import AreaLight, DirectionalLight, Scene
+from ..scene import AreaLight, DirectionalLight, Item, Scene, scene_items
 from .lookup import normals_from_points, shadow_visibility
 from .method import ShadowMethod
 
@@ -69,8 +70,6 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
         not a :class:`~morphkit.scene.Scene`, ``visibility`` not callable, or what it
         returns is not ``(N,)`` values in ``[0, 1]`` for the ``N`` points it was given.
     """
-    from ..scene import Item, scene_items
-
     if not isinstance(renderer, SceneRenderer):
         raise ValidationError(expected_got("renderer", "a SceneRenderer (depth, color_depth, source_view)",
                                            type(renderer).__name__))
@@ -141,8 +140,6 @@ def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, Sha
     dict of str to dict
         Per method name (and ``"raycast"``), the images of :func:`render_frame`.
     """
-    from ..groundtruth import hard_visibility
-
     pose = scene.obj.pose.copy()
     pose[:2, 3] = xy
     sc = scene.with_object_pose(pose)

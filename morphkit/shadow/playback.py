@@ -26,6 +26,7 @@ from typing import Any, Protocol, runtime_checkable
 import cv2
 import numpy as np
 import trimesh
+from tqdm import tqdm
 
 from ..bake.manifest import MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
@@ -388,8 +389,6 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     RenderError
         OpenCV has no mp4v video writer here.
     """
-    from tqdm import tqdm
-
     if isinstance(size, bool) or not isinstance(size, int) or not 16 <= size <= 8192:
         raise ValidationError(expected_got("frame size", "an integer in [16, 8192]", repr(size)))
     if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= 64:
