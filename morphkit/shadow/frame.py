@@ -17,6 +17,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .. import tol
 from ..composite import shade
 from ..errors import ValidationError, expected_got
 from ..groundtruth import hard_visibility
@@ -88,7 +89,8 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     if receiver_only:
         obj_depth = renderer.depth(cam, [Item(scene.obj.mesh, scene.obj.pose)])
         with np.errstate(invalid="ignore"):  # inf - inf on the background
-            on_object = np.isfinite(obj_depth) & (np.abs(obj_depth - depth) <= 1e-4 * np.abs(depth))
+            same = np.abs(obj_depth - depth) <= tol.DEPTH_SAME_SURFACE_REL * np.abs(depth)
+            on_object = np.isfinite(obj_depth) & same
         test = valid & ~on_object
     normals = normals_from_points(world, valid)
     vis = np.ones(cam.shape, np.float32)
