@@ -70,7 +70,7 @@ Modules:
 from __future__ import annotations
 
 from .kernels import reproject_numpy
-from .maps import Job, Layer, Source, hidden_layer, reproject_maps
+from .maps import Layer, Source, hidden_layer, reproject_maps
 from .motion import (
     EARLY_Z_TEXELS,
     LAYER_TEXELS,
@@ -84,5 +84,5 @@ from .motion import (
 )
 
 __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRETCH_PX",
-           "Job", "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
+           "Layer", "Reprojection", "Source", "hidden_layer", "orphans", "reproject_maps",
            "reproject_numpy", "row_depth_range", "row_spans", "support_box"]

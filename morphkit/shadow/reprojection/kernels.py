@@ -13,7 +13,11 @@ from ... import tol
 from ...settings import NUMBA_AVAILABLE, compile_kernel
 from .motion import STRETCH_PX, Reprojection, orphans
 
-__all__ = ["hull_kernel", "reproject_kernel", "reproject_numpy", "runs_kernel", "work_kernel"]
+# The reference is this module's public API; the compiled entry points
+# ``reproject_kernel``, ``runs_kernel``, ``hull_kernel`` and ``work_kernel`` are
+# the package's own (called by :func:`~morphkit.shadow.reprojection.reproject_maps`
+# only; their arguments are the loops' below).
+__all__ = ["reproject_numpy"]
 
 #: Barycentric tolerance (~ pixels, triangles being ~1 px): centres on a shared
 #: edge count for both triangles (the z-buffer keeps the nearer), so none falls

@@ -23,7 +23,7 @@ from .motion import (
     support_box,
 )
 
-__all__ = ["Job", "Layer", "Source", "hidden_layer", "reproject_maps"]
+__all__ = ["Layer", "Source", "hidden_layer", "reproject_maps"]
 
 
 def _check_depth(depth: np.ndarray) -> np.ndarray:
