@@ -154,7 +154,11 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .bake.playback import (
+    from .errors import ValidationError, expected_got
+    from .fileio import check_writable
+    from .render import Renderer
+    from .shadow import ShadowAtlas
+    from .shadow.playback import (
         CirclePath,
         LinePath,
         PointsPath,
@@ -162,10 +166,6 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         baked_mesh,
         render_shadow_sequence,
     )
-    from .errors import ValidationError, expected_got
-    from .fileio import check_writable
-    from .render import Renderer
-    from .shadow import ShadowAtlas
 
     if args.samples is not None and args.area_light is None:
         raise ValidationError(expected_got("--samples", "together with --area-light", "--samples alone"))

@@ -361,3 +361,38 @@ VM_AFFINE_INLIER_RATIO = 0.6
 #: matches of the 72 bench pairs at 192^2 gave ratios 0.5-2.0 (1.1 median): a
 #: factor of 2 means F must halve the residual to count as determined.
 VM_AFFINE_RMS_RATIO = 2.0
+
+# --- shadow wing (#23: named instead of bare literals; values unchanged) ------
+#: A point projects through a light camera's texture matrix only when its
+#: homogeneous ``w`` exceeds this (:func:`morphkit.shadow.lookup.shadow_visibility`):
+#: ``w`` is the point's depth in front of a point light (scene units; 1 for a
+#: directional light), so 1e-12 only refuses points on or behind the light's
+#: plane, where ``x / w`` would blow up.
+SHADOW_LOOKUP_W_MIN = 1e-12
+
+#: Floor of the cosine between a receiver's normal and the light direction in the
+#: slope bias's ``tan = sin / cos`` (:class:`~morphkit.shadow.lookup.ShadowBias`):
+#: it only keeps a grazing surface (cos = 0) from dividing by zero; the tangent is
+#: clamped at ``ShadowBias.max_tan`` (far below 1e6) anyway.
+SHADOW_GRAZING_COS = 1e-6
+
+#: Two rendered depths of one pixel belong to the same surface when they differ by
+#: at most this fraction of the depth (:func:`morphkit.shadow.frame.render_frame`,
+#: ``receiver_only``: pixels where the object alone gives the scene's depth are the
+#: object's): linearised float32 depth buffers agree to ~1e-6 relative on one
+#: surface, while the object and the ground under it are centimetres apart.
+DEPTH_SAME_SURFACE_REL = 1e-4
+
+#: Depth (scene units) added on each side of the object's depth range for a light
+#: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of
+#: its relative ``margin``): keeps ``znear < zfar`` for an object of no depth
+#: extent (a flat plate facing the light); a millimetre on the unit-size sample
+#: meshes, far below a depth texel's worth of anything they show.
+LIGHT_DEPTH_PAD = 1e-3
+
+#: An object position (world units) is unchanged by clamping it into the motion
+#: range when it moved by at most this (:meth:`morphkit.shadow.rig.LightRig.resolve`
+#: warns otherwise). Clipping an inside position returns it exactly, so this is
+#: only float64 noise; a position outside by more gets the
+#: :class:`~morphkit.shadow.rig.RangeClampWarning`.
+POSITION_EQUAL = 1e-12

@@ -146,7 +146,7 @@ def _atlas_file(tmp: Path, change: Callable[[dict, dict], None] | None = None) -
     """Save the synthetic atlas and rewrite it with ``change(meta, arrays)`` applied."""
     from morphkit.shadow.atlasfile import save_atlas
 
-    path = save_atlas(_atlas(), tmp / "a.npz")
+    path = save_atlas(_atlas().baked, tmp / "a.npz")
     if change is None:
         return path
     with np.load(path) as z:

@@ -1,4 +1,4 @@
-"""Per-pixel 3-D reprojection of depth maps (morphkit.shadow.reproject), no GL.
+"""Per-pixel 3-D reprojection of depth maps (morphkit.shadow.reprojection), no GL.
 
 Expected values are derived analytically: a planar patch seen by a pinhole
 camera, moved by ``e`` in the camera frame, has the depth map of the plane
@@ -13,7 +13,7 @@ from scipy import ndimage
 
 from morphkit import settings
 from morphkit.errors import ValidationError
-from morphkit.shadow import reproject as rp
+from morphkit.shadow import reprojection as rp
 
 FX = FY = 180.0
 H, W = 64, 80

@@ -565,7 +565,7 @@ def test_reproject_directional_light_and_light_offset(renderer, cow, point_atlas
     np.testing.assert_allclose(cam.position, POINT.position + np.r_[D, 0.0])
     with pytest.raises(ValidationError, match="'project' with warps='reproject'"):
         point_atlas.shadow_map(xy, warps="reproject", dst="interpolate")
-    with pytest.raises(ValidationError, match="layers: expected a bool, got 1"):
+    with pytest.raises(ValidationError, match=r"layers: expected a bool \(True or False\), got 1"):
         point_atlas.shadow_map(xy, warps="reproject", layers=1)
 
 
@@ -585,12 +585,60 @@ def test_atlas_method_fixes_options_and_checks_them_at_once(point_atlas):
     assert point_atlas.method(blend="nearest").name == "warp_nearest"
     assert point_atlas.method(warps="reproject", layers=False).name == "reproject_full"
     assert isinstance(point_atlas, ShadowMethod)  # the atlas itself, with its default method
-    with pytest.raises(ValidationError, match="nearest: expected a bool, got 'yes'"):
-        ComposedWarp(point_atlas, nearest="yes")
+    with pytest.raises(ValidationError, match=r"nearest: expected a bool \(True or False\), got 'yes'"):
+        ComposedWarp(point_atlas.runtime, nearest="yes")
     with pytest.raises(ValidationError, match="'shared' or 'plane' anchors for dst='interpolate' or "
                                               "warps='three'"):
-        ThreeWarps(point_atlas)
+        ThreeWarps(point_atlas.runtime)
     with pytest.raises(ValidationError, match="'composed'\\|'three'\\|'reproject'"):
         point_atlas.method(warps="remap")
     with pytest.raises(ValidationError, match="'shared' or 'plane' anchors"):
         point_atlas.method(warps="three")
+
+
+def test_baked_data_is_frozen_and_the_methods_leave_it_unchanged(point_atlas):
+    import dataclasses
+
+    from morphkit.shadow import AtlasRuntime, BakedAtlas, build_method
+
+    baked = point_atlas.baked
+    assert isinstance(baked, BakedAtlas) and isinstance(point_atlas.runtime, AtlasRuntime)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        baked.maps = baked.maps.copy()
+    before = {k: getattr(baked, k).copy() for k in ("maps", "anchors", "plane_anchors", "control")}
+    rt = AtlasRuntime(baked)  # a second run time over the same data: the same maps
+    xy = np.array([0.13, -0.07])
+    for opts in ({}, {"warps": "reproject"}, {"blend": "nearest"}, {"warps": "reproject", "layers": False}):
+        np.testing.assert_array_equal(build_method(rt, **opts).shadow_map(xy)[0],
+                                      point_atlas.shadow_map(xy, **opts)[0])
+    for k, v in before.items():
+        np.testing.assert_array_equal(getattr(baked, k), v)
+    assert rt.layer_bytes > 0  # built by the reprojection above, in the runtime
+    assert build_method(rt) is not build_method(rt)  # uncached; ShadowAtlas.method caches
+    assert point_atlas.method(blend="nearest") is point_atlas.method(blend="nearest")
+
+
+def test_a_folding_warp_falls_back_to_the_plane_anchors_counted_on_its_runtime(point_atlas, monkeypatch):
+    from morphkit.errors import FoldOverError
+    from morphkit.shadow import AtlasRuntime, build_method
+    from morphkit.warp import MeshWarper
+
+    rt = AtlasRuntime(point_atlas.baked)
+    ky, kx = point_atlas.grid
+    folding = {id(rt.warper(j, i)) for j in range(ky) for i in range(kx)}  # the cached warpers
+    real = MeshWarper.accumulation
+
+    def accumulation(self, *args, **kwargs):
+        if id(self) in folding:
+            raise FoldOverError("made to fold")
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(MeshWarper, "accumulation", accumulation)
+    xy = np.array([0.13, -0.07])
+    depth, _ = build_method(rt).shadow_map(xy)
+    assert rt.fallbacks == 4  # the cell's 4 maps, each warped with its plane anchors
+    assert point_atlas.fallbacks == 0  # another runtime's count
+    monkeypatch.undo()
+    exact, _ = point_atlas.shadow_map(xy)
+    both = np.isfinite(depth) & np.isfinite(exact)
+    assert both.sum() > 0.8 * np.isfinite(exact).sum()  # the plane motion: about the same shadow

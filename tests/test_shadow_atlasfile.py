@@ -20,7 +20,7 @@ import trimesh
 
 from morphkit.errors import FileFormatError
 from morphkit.scene import PointLight
-from morphkit.shadow import ATLAS_VERSION, LightRig, MotionRange, ShadowAtlas
+from morphkit.shadow import ATLAS_VERSION, BakedAtlas, LightRig, MotionRange
 from morphkit.shadow.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
 
@@ -28,7 +28,7 @@ LIGHT = PointLight([0.2, -0.1, 2.6])
 
 
 @pytest.fixture(scope="module")
-def atlas() -> ShadowAtlas:
+def atlas() -> BakedAtlas:
     """A 3 x 3 atlas of 24 x 32 maps with made-up depths (finite on a blob, +inf
     elsewhere) and distinct surface and plane anchors: enough for the file format."""
     box = trimesh.creation.box((0.4, 0.3, 0.5))
@@ -43,7 +43,7 @@ def atlas() -> ShadowAtlas:
     plane[..., :2] = rng.uniform(-0.2, 0.2, (3, 3, 9, 2))
     plane[..., 2] = 0.25
     surf = plane + rng.uniform(-0.05, 0.05, plane.shape)
-    return ShadowAtlas(rig, xs, ys, maps, surf, plane, (3, 3), "sample")
+    return BakedAtlas(rig, xs, ys, maps, surf, plane, (3, 3), "sample")
 
 
 def _arrays(path: Path) -> tuple[dict, dict[str, np.ndarray]]:

@@ -22,6 +22,9 @@ def test_sample_axis_puts_the_middle_in_line_with_the_light():
     np.testing.assert_allclose(sample_axis(-1, 1, 4, 0.3), np.linspace(-1, 1, 4))  # even: uniform
     with pytest.raises(ValidationError, match="grid: expected k >= 2 samples per axis, got 1"):
         sample_axis(0, 1, 1)
+    with pytest.raises(ValidationError, match="grid: expected k >= 2 samples per axis, got 2.5"):
+        sample_axis(0, 1, 2.5)  # refused, not truncated to 2
+    np.testing.assert_allclose(sample_axis(0, 1, 3.0), [0, 0.5, 1])  # an integral float is an integer
 
 
 def test_motion_range_checks():

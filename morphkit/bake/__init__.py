@@ -7,8 +7,7 @@
   and its crash-safe journal;
 * :mod:`.worker` -- one task = one asset, in a worker process with its own GL context;
 * :mod:`.cluster` -- a local cluster of worker processes, or an existing scheduler;
-* :mod:`.pipeline` -- :func:`bake_library`, the driver;
-* :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path.
+* :mod:`.pipeline` -- :func:`bake_library`, the driver.
 
 ::
 

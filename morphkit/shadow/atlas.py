@@ -31,15 +31,26 @@ A warp that would fold (an occlusion change too large for the mesh) falls back
 to the plane anchors for that map (documented fallback, counted in
 :attr:`ShadowAtlas.fallbacks`).
 
+Data and run time
+-----------------
+What is baked is frozen data, :class:`~morphkit.shadow.baked.BakedAtlas`
+(saved and loaded by :mod:`morphkit.shadow.atlasfile`); what a frame builds
+from it and keeps -- per-map building blocks, counts -- is an
+:class:`~morphkit.shadow.runtime.AtlasRuntime`. A :class:`ShadowAtlas` holds
+one of each (:attr:`ShadowAtlas.baked`, :attr:`ShadowAtlas.runtime`) and its
+shadow methods (:mod:`morphkit.shadow.methods`).
+
 Run time
 --------
 The run-time algorithms are shadow methods of their own
-(:class:`~morphkit.shadow.method.ShadowMethod`), built by :meth:`ShadowAtlas.method`:
+(:class:`~morphkit.shadow.method.ShadowMethod`), built by :meth:`ShadowAtlas.method`
+(:mod:`morphkit.shadow.methods`):
 :class:`~morphkit.shadow.warped.ComposedWarp` (default),
 :class:`~morphkit.shadow.warped.ThreeWarps` and
-:class:`~morphkit.shadow.reprojected.ReprojectedMaps`; the atlas holds the data
-and the per-map building blocks they share (sources, warpers, destination
-control points, hidden layers), each built once and cached.
+:class:`~morphkit.shadow.reprojected.ReprojectedMaps`; the atlas's run time
+(:class:`~morphkit.shadow.runtime.AtlasRuntime`) holds the per-map building
+blocks they share (sources, warpers, destination control points, hidden
+layers), each built once and cached.
 
 For an object position, the 4 surrounding maps are each warped (piecewise
 affine, :class:`~morphkit.warp.MeshWarper`, built once per map) from their
@@ -63,7 +74,7 @@ the same result as ``cv2.remap`` up to its 1/32 px quantisation
 uses the same pass for each of its warps, over whole images.
 
 ``warps="reproject"`` replaces the mesh by a per-pixel 3-D motion of the maps'
-pixels into one z-buffer (:mod:`morphkit.shadow.reproject`; no control points
+pixels into one z-buffer (:mod:`morphkit.shadow.reprojection`; no control points
 used): the largest-weight map whole, its neighbours' hidden layers (built once,
 :meth:`ShadowAtlas.prepare`).
 
@@ -78,43 +89,40 @@ Outside the baked range: :class:`~morphkit.errors.OutOfRangeError`, or with
 
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 import trimesh
+from tqdm import tqdm
 
 from .. import tol
 from ..camera import CameraModel
-from ..errors import FoldOverError, ValidationError, expected_got
+from ..errors import ValidationError, expected_got
 from ..meshes import check_mesh
 from ..protocols import SceneRenderer
-from ..scene import DirectionalLight, PointLight
+from ..scene import DirectionalLight, Item, PointLight
 from ..validate import as_int, as_shape
-from ..warp import (
-    MeshWarper,
-    grid_triangles,
-)
+from .atlasfile import load_atlas, save_atlas
+from .baked import BakedAtlas
 from .controls import anchor_depths, lift, silhouette_box
-from .fold import RELAX_ROUNDS, any_folded, relax_folds, signed_areas
 from .method import ShadowMethod
-from .planes import depth_planes
-from .reproject import Layer, Reprojection, Source, hidden_layer
-from .reprojected import ReprojectedMaps
+from .methods import AtlasMethods
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
-from .warped import ComposedWarp, ThreeWarps, check_flag
+from .runtime import AtlasRuntime
 
 __all__ = ["ShadowAtlas", "bake_atlas", "RangeClampWarning"]
 
 
-
-@dataclass
 class ShadowAtlas:
-    """A baked k x k set of light-view depth maps with control points.
+    """A baked k x k set of light-view depth maps with control points, ready to use.
 
-    Build with :func:`bake_atlas`; save with :meth:`save`, load with :meth:`load`.
+    The baked data (frozen, :class:`~morphkit.shadow.baked.BakedAtlas`) and the
+    run time (caches and counts, :class:`~morphkit.shadow.runtime.AtlasRuntime`)
+    together; as a :class:`~morphkit.shadow.method.ShadowMethod` it is the
+    default method (``"warp"``). Build with :func:`bake_atlas`; save with
+    :meth:`save`, load with :meth:`load`
+    (:func:`morphkit.shadow.atlasfile.save_atlas`, :func:`~morphkit.shadow.atlasfile.load_atlas`).
 
     Parameters
     ----------
@@ -135,222 +143,136 @@ class ShadowAtlas:
         Control points per map, ``N = rows * cols``.
     anchor_kind : {"sample", "shared", "plane"}
         How the anchors were lifted (:func:`bake_atlas`).
-    _warpers, _tex, _split, _touching, _support, _layers : dict
-        Run-time caches; leave them out (they start empty).
 
     Attributes
     ----------
-    fallbacks : int
-        Map warps that would have folded and used the plane anchors instead, counted since
-        the atlas was made or loaded (a run-time count, not saved).
+    baked : morphkit.shadow.baked.BakedAtlas
+        The baked data (also read through the properties below).
+    runtime : morphkit.shadow.runtime.AtlasRuntime
+        Its run-time caches and counts.
     """
 
-    rig: LightRig
-    xs: np.ndarray
-    ys: np.ndarray
-    maps: np.ndarray  # (ky, kx, H, W) float32, +inf background
-    anchors: np.ndarray  # (ky, kx, N, 3) world points at translation (0, 0)
-    plane_anchors: np.ndarray  # (ky, kx, N, 3)
-    control_grid: tuple[int, int]
-    anchor_kind: str = "sample"
-    _warpers: dict[tuple[int, int], MeshWarper] = field(default_factory=dict, repr=False)
-    _tex: dict[bytes, np.ndarray] = field(default_factory=dict, repr=False)
-    _split: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
-    _touching: dict[tuple[int, int], np.ndarray] = field(default_factory=dict, repr=False)
-    _support: dict[tuple[int, int], Any] = field(default_factory=dict, repr=False)
-    _layers: dict[tuple[tuple[int, int], tuple[int, int]], Any] = field(default_factory=dict,
-                                                                        repr=False)
-    name: str = field(default="warp", init=False)
+    name = "warp"
 
-    def __post_init__(self) -> None:
-        self.triangles = grid_triangles(*self.control_grid)
-        ky, kx = self.maps.shape[:2]
-        self.control = np.stack([np.stack([self.project((self.xs[i], self.ys[j]), self.anchors[j, i])
-                                           for i in range(kx)]) for j in range(ky)])
-        # orientation of each map's source triangles, for the fold test per frame
-        self._src_sign = np.sign(np.stack([np.stack([signed_areas(self.control[j, i], self.triangles)
-                                                     for i in range(kx)]) for j in range(ky)]))
-        self.fallbacks = 0
-        self.relaxed = 0
-        self._methods: dict[tuple[Any, ...], ShadowMethod] = {}
+    def __init__(self, rig: LightRig, xs: np.ndarray, ys: np.ndarray, maps: np.ndarray,
+                 anchors: np.ndarray, plane_anchors: np.ndarray, control_grid: tuple[int, int],
+                 anchor_kind: str = "sample") -> None:
+        self.baked = BakedAtlas(rig, xs, ys, maps, anchors, plane_anchors, control_grid, anchor_kind)
+        self.runtime = AtlasRuntime(self.baked)
+        self._methods = AtlasMethods(self.runtime)
 
-    # ------------------------------------------------------------ geometry
+    @classmethod
+    def from_baked(cls, baked: BakedAtlas) -> ShadowAtlas:
+        """The atlas of baked data (a fresh run time).
+
+        Parameters
+        ----------
+        baked : morphkit.shadow.baked.BakedAtlas
+            The data.
+
+        Returns
+        -------
+        ShadowAtlas
+            The atlas.
+        """
+        return cls(baked.rig, baked.xs, baked.ys, baked.maps, baked.anchors, baked.plane_anchors,
+                   baked.control_grid, baked.anchor_kind)
+
+    # ------------------------------------------------------------ the baked data
+    @property
+    def rig(self) -> LightRig:
+        """The light, object and motion range the maps were rendered for."""
+        return self.baked.rig
+
+    @property
+    def xs(self) -> np.ndarray:
+        """Sample positions along x, ``(kx,)`` (world units, ascending)."""
+        return self.baked.xs
+
+    @property
+    def ys(self) -> np.ndarray:
+        """Sample positions along y, ``(ky,)`` (world units, ascending)."""
+        return self.baked.ys
+
+    @property
+    def maps(self) -> np.ndarray:
+        """The light depth maps ``(ky, kx, H, W)`` float32, ``+inf`` background."""
+        return self.baked.maps
+
+    @property
+    def anchors(self) -> np.ndarray:
+        """Each map's control points in 3-D ``(ky, kx, N, 3)``, object at ``(0, 0)``."""
+        return self.baked.anchors
+
+    @property
+    def plane_anchors(self) -> np.ndarray:
+        """The control points lifted onto the anchor plane ``(ky, kx, N, 3)`` (fold fallback)."""
+        return self.baked.plane_anchors
+
+    @property
+    def control_grid(self) -> tuple[int, int]:
+        """Control points per map, ``(rows, cols)``."""
+        return self.baked.control_grid
+
+    @property
+    def anchor_kind(self) -> str:
+        """How the anchors were lifted: ``"sample"``, ``"shared"`` or ``"plane"``."""
+        return self.baked.anchor_kind
+
+    @property
+    def control(self) -> np.ndarray:
+        """Each map's control points ``(ky, kx, N, 2)``, pixels at its own sample."""
+        return self.baked.control
+
+    @property
+    def triangles(self) -> np.ndarray:
+        """The control mesh's triangles ``(M, 3)``."""
+        return self.baked.triangles
+
     @property
     def shape(self) -> tuple[int, int]:
         """``(H, W)`` of every map (the light rig's image shape)."""
-        return self.rig.shape
+        return self.baked.shape
 
     @property
     def grid(self) -> tuple[int, int]:
         """``(ky, kx)`` sample grid."""
-        return self.maps.shape[0], self.maps.shape[1]
+        return self.baked.grid
 
     @property
     def memory_bytes(self) -> int:
-        """Bytes of the precomputed, persisted data (maps + anchors + control points).
+        """Bytes of the precomputed, persisted data (:attr:`BakedAtlas.memory_bytes
+        <morphkit.shadow.baked.BakedAtlas.memory_bytes>`)."""
+        return self.baked.memory_bytes
 
-        At run time each map in use is also held premultiplied (2 channels), i.e.
-        up to twice the maps' bytes more; the image-based baselines pay the same."""
-        return int(self.maps.nbytes + self.anchors.nbytes + self.control.nbytes)
+    # ------------------------------------------------------------ run time
+    @property
+    def fallbacks(self) -> int:
+        """Map warps that would have folded and used the plane anchors instead, counted since
+        the atlas was made or loaded (a run-time count, not saved)."""
+        return self.runtime.fallbacks
 
-    def _texture(self, xy: Any) -> np.ndarray:
-        """The light camera's texture matrix at ``xy`` (cached: each call of
-        :meth:`shadow_map` needs it for the 4 samples and the position)."""
-        xy = np.asarray(xy, dtype=np.float64)
-        key = xy.tobytes()
-        T = self._tex.get(key)
-        if T is None:
-            if len(self._tex) > 256:
-                self._tex.clear()
-            T = self._tex[key] = self.rig.camera_at(xy).texture_matrix()
-        return T
+    @property
+    def relaxed(self) -> int:
+        """Rounds of fold relaxation of destination control points so far (run-time count)."""
+        return self.runtime.relaxed
 
-    def project(self, xy: Any, anchors: np.ndarray) -> np.ndarray:
-        """Pixel positions ``(N, 2)`` of ``anchors (N, 3)`` with the object at ``xy``.
+    @property
+    def layer_bytes(self) -> int:
+        """Bytes of the hidden layers built so far (run-time cache, not persisted)."""
+        return self.runtime.layer_bytes
 
-        Parameters
-        ----------
-        xy : (2,) float
-            The object's ground translation (world units).
-        anchors : (N, 3) float64
-            Points in world frame at translation ``(0, 0)``.
-
-        Returns
-        -------
-        (N, 2) float64
-            Their pixel positions in the light camera at ``xy``.
-        """
-        xy = np.asarray(xy, dtype=np.float64)
-        T = self._texture(xy)
-        q = (anchors + np.r_[xy, 0.0]) @ T[:, :3].T + T[:, 3]
-        return q[:, :2] / q[:, 3:]
-
-    def dst_points(self, j: int, i: int, eq: np.ndarray) -> np.ndarray:
-        """Destination control points of map ``(j, i)`` for the object at ``eq``.
-
-        Where the surface anchors' parallax would fold a triangle (an occlusion
-        change), the offending vertices are pulled towards their plane-anchor
-        positions (``plane + a (surface - plane)``, ``a`` halved per round) until
-        no triangle folds: exact motion everywhere else, a projective motion at
-        the fold.
-
-        Parameters
-        ----------
-        j, i : int
-            The map's sample indices (row in ``ys``, column in ``xs``).
-        eq : (2,) float
-            The object's ground translation (world units).
-
-        Returns
-        -------
-        (N, 2) float64
-            Destination control points, pixels of the light camera at ``eq``.
-        """
-        surf = self.project(eq, self.anchors[j, i])
-        if self.anchor_kind == "plane":
-            return surf
-        tri = self.triangles
-        sign = self._src_sign[j, i]
-        min_area = 4 * tol.TRIANGLE_AREA_PX2
-        if not any_folded(surf, tri, sign, min_area):
-            return surf
-        plane = self.project(eq, self.plane_anchors[j, i])
-        dst = np.empty_like(surf)
-        rounds = relax_folds(surf, plane, tri, sign, min_area, RELAX_ROUNDS, dst)
-        self.relaxed += abs(rounds)
-        return dst if rounds > 0 else plane
-
-    def warper(self, j: int, i: int) -> MeshWarper:
-        """The :class:`~morphkit.warp.MeshWarper` of map ``(j, i)``'s control points (cached).
-
-        Parameters
-        ----------
-        j, i : int
-            The map's sample indices.
-
-        Returns
-        -------
-        morphkit.warp.MeshWarper
-            The warper over the map's control points and ``triangles``.
-        """
-        w = self._warpers.get((j, i))
-        if w is None:
-            w = self._warpers[(j, i)] = MeshWarper(self.control[j, i], self.triangles)
-        return w
-
-    def anchor_depth(self, xy: Any) -> float:
-        """Light depth of the object's anchor (bounding-box centre) at ``xy``.
-
-        Parameters
-        ----------
-        xy : (2,) float
-            The object's ground translation (world units).
+    def prepare(self) -> float:
+        """Build now what ``warps="reproject"`` otherwise builds on first use
+        (:meth:`AtlasRuntime.prepare <morphkit.shadow.runtime.AtlasRuntime.prepare>`).
 
         Returns
         -------
         float
-            Depth of the anchor in the light camera at ``xy``.
+            Seconds spent (``morphkit bench shadows`` reports it as ``prep_ms``).
         """
-        T = self._texture(xy)
-        return float(T[2, :3] @ (self.rig.anchor0 + np.r_[np.asarray(xy, float), 0.0]) + T[2, 3])
+        return self.runtime.prepare()
 
-    def active_triangles(self, j: int, i: int) -> np.ndarray:
-        """Triangles of map ``(j, i)``'s mesh whose source holds the object (cached).
-
-        Parameters
-        ----------
-        j, i : int
-            The map's sample indices.
-
-        Returns
-        -------
-        (M,) bool
-            True for the triangles of ``triangles`` to warp.
-        """
-        a = self._touching.get((j, i))
-        if a is None:
-            a = self._touching[(j, i)] = self.warper(j, i).triangles_touching(self.source_planes(j, i)[0])
-        return a
-
-    def source_planes(self, j: int, i: int) -> np.ndarray:
-        """Map ``(j, i)`` as coverage-depth planes ``(2, H, W)`` relative to its anchor depth (cached).
-
-        Parameters
-        ----------
-        j, i : int
-            The map's sample indices.
-
-        Returns
-        -------
-        (2, H, W) float32
-            Coverage and depth planes (:func:`morphkit.shadow.planes.depth_planes`).
-        """
-        s = self._split.get((j, i))
-        if s is None:
-            ref = self.anchor_depth((self.xs[i], self.ys[j]))
-            s = self._split[(j, i)] = depth_planes(self.maps[j, i], ref)
-        return s
-
-    def cell(self, xy: np.ndarray) -> tuple[int, int, float, float]:
-        """``(j, i, v, u)``: the cell's lower sample indices and the fractions in it.
-
-        Parameters
-        ----------
-        xy : (2,) float
-            The object's ground translation (world units).
-
-        Returns
-        -------
-        tuple
-            ``(j, i, v, u)``: ints, then fractions in ``[0, 1]`` (clamped).
-        """
-        i = int(np.clip(np.searchsorted(self.xs, xy[0], side="right") - 1, 0, len(self.xs) - 2))
-        j = int(np.clip(np.searchsorted(self.ys, xy[1], side="right") - 1, 0, len(self.ys) - 2))
-        u = float((xy[0] - self.xs[i]) / (self.xs[i + 1] - self.xs[i]))
-        v = float((xy[1] - self.ys[j]) / (self.ys[j + 1] - self.ys[j]))
-        return j, i, float(np.clip(v, 0, 1)), float(np.clip(u, 0, 1))
-
-    # ------------------------------------------------------------ run time
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False,
                    warps: Literal["composed", "three", "reproject"] = "composed",
                    dst: Literal["project", "interpolate"] = "project",
@@ -428,148 +350,13 @@ class ShadowAtlas:
             ``warps="reproject"``), or ``dst="interpolate"``/``warps="three"`` on
             an atlas of ``"sample"`` anchors.
         """
-        key = (warps, dst, blend, layers)
-        m = self._methods.get(key) if isinstance(layers, bool) else None
-        if m is None:
-            m = _make_method(self, warps, dst, blend, layers)
-            self._methods[key] = m
-        return m
+        return self._methods.get(warps=warps, dst=dst, blend=blend, layers=layers)
 
-    def reprojection_source(self, j: int, i: int) -> tuple[Source, CameraModel]:
-        """Map ``(j, i)`` as a reprojection source, and its camera (cached).
-
-        Parameters
-        ----------
-        j, i : int
-            The map's sample indices.
-
-        Returns
-        -------
-        source : morphkit.shadow.reproject.Source
-            The prepared map.
-        camera : morphkit.camera.CameraModel
-            The light camera at that sample.
-        """
-        prep = self._support.get((j, i))
-        if prep is None:
-            prep = self._support[(j, i)] = (
-                Source(self.maps[j, i]), self.rig.camera_at(np.array([self.xs[i], self.ys[j]])))
-        return prep
-
-    def reprojection(self, src_cam: CameraModel, dst_cam: CameraModel, dxy: np.ndarray
-                      ) -> Reprojection:
-        """How a map of ``src_cam`` moves into ``dst_cam`` with the object moved by
-        ``dxy`` on the ground: ``e = R^T d`` in the light frame; a directional
-        light's camera moves with the object (rig model), so there ``e = 0``.
-
-        Parameters
-        ----------
-        src_cam, dst_cam : morphkit.camera.CameraModel
-            Light cameras of the source map and of the destination.
-        dxy : (2,) float
-            Object translation from the source to the destination (world units).
-
-        Returns
-        -------
-        morphkit.shadow.reproject.Reprojection
-            The per-pixel motion.
-        """
-        persp = dst_cam.projection == "perspective"
-        e = self.rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
-        return Reprojection(persp, self.rig.fx, self.rig.fy, (src_cam.cx, src_cam.cy),
-                                (dst_cam.cx, dst_cam.cy), e)
-
-    def hidden_layer(self, primary: tuple[int, int], other: tuple[int, int]) -> Layer:
-        """What map ``other`` holds that map ``primary`` does not (cached per pair;
-        :func:`morphkit.shadow.reproject.hidden_layer`).
-
-        Parameters
-        ----------
-        primary, other : (j, i)
-            Sample indices of the two maps.
-
-        Returns
-        -------
-        morphkit.shadow.reproject.Layer
-            ``other``'s hidden layer, in ``primary``'s pixels.
-        """
-        lay = self._layers.get((primary, other))
-        if lay is None:
-            (jk, ik), (jn, i_n) = primary, other
-            rp = self.reprojection(self.reprojection_source(jn, i_n)[1], self.reprojection_source(jk, ik)[1],
-                                    np.array([self.xs[ik] - self.xs[i_n], self.ys[jk] - self.ys[jn]]))
-            lay = self._layers[(primary, other)] = hidden_layer(
-                self.maps[jk, ik], self.maps[jn, i_n], rp)
-        return lay
-
-    def prepare(self) -> float:
-        """Build now what ``warps="reproject"`` otherwise builds on first use:
-        every map as a reprojection source and the hidden layer of every pair
-        of samples that share a cell. Returns the seconds it took (``morphkit
-        bench shadows`` reports it as ``prep_ms``).
-
-        Returns
-        -------
-        float
-            Seconds spent.
-        """
-        t0 = time.perf_counter()
-        ky, kx = self.grid
-        for j in range(ky):
-            for i in range(kx):
-                for jn in range(max(j - 1, 0), min(j + 2, ky)):
-                    for i_n in range(max(i - 1, 0), min(i + 2, kx)):
-                        if (jn, i_n) != (j, i):
-                            self.hidden_layer((j, i), (jn, i_n))
-        return time.perf_counter() - t0
-
-    @property
-    def layer_bytes(self) -> int:
-        """Bytes of the hidden layers built so far (run-time cache, not persisted)."""
-        return int(sum(lay.nbytes for lay in self._layers.values()))
-
-    def warp_job(self, j: int, i: int, c_dst: np.ndarray, eq: np.ndarray, weight: float
-             ) -> tuple[Any, np.ndarray, np.ndarray, float]:
-        """``(plan, source, active triangles, weight)`` of source ``(j, i)`` warped to
-        ``c_dst`` (:func:`morphkit.warp.accumulate_warps`): premultiplied, and only
-        the triangles whose source holds the object are warped (the rest add 0).
-
-        Parameters
-        ----------
-        j, i : int
-            The source map's sample indices.
-        c_dst : (N, 2) float64
-            Destination control points, pixels.
-        eq : (2,) float
-            The object's ground translation (for the plane fallback).
-        weight : float
-            Blend weight of this source.
-
-        Returns
-        -------
-        tuple
-            ``(plan, source, active, weight)``: the
-            ``morphkit.warp.Accumulation`` or ``morphkit.warp.WarpMaps`` plan, the
-            source planes ``(2, H, W)`` float32, the ``(M,)`` bool triangles to warp
-            and ``weight``.
-        """
-        src = self.source_planes(j, i)
-        warper = self.warper(j, i)
-        try:
-            return warper.accumulation(c_dst, self.shape), src, self.active_triangles(j, i), weight
-        except FoldOverError:
-            # An occlusion change too large for the mesh: warp with plane anchors,
-            # whose motion is projective and cannot fold (documented fallback).
-            self.fallbacks += 1
-            src_pts = self.project((self.xs[i], self.ys[j]), self.plane_anchors[j, i])
-            dst_pts = self.project(eq, self.plane_anchors[j, i])
-            warper = MeshWarper(src_pts, self.triangles)
-            return (warper.accumulation(dst_pts, self.shape), src,
-                    warper.triangles_touching(src[0]), weight)
 
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
-        """Write the atlas to one ``.npz`` file, atomically (:func:`morphkit.shadow.atlasfile.save_atlas`).
+        """Write the baked data to one ``.npz`` file, atomically
+        (:func:`morphkit.shadow.atlasfile.save_atlas`).
 
         Parameters
         ----------
@@ -581,9 +368,7 @@ class ShadowAtlas:
         pathlib.Path
             ``path``.
         """
-        from .atlasfile import save_atlas
-
-        return save_atlas(self, path)
+        return save_atlas(self.baked, path)
 
     @classmethod
     def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
@@ -600,11 +385,9 @@ class ShadowAtlas:
         Returns
         -------
         ShadowAtlas
-            The atlas.
+            The atlas (a fresh run time).
         """
-        from .atlasfile import load_atlas
-
-        return load_atlas(path, light=light)
+        return cls.from_baked(load_atlas(path, light=light))
 
 
 def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange,
@@ -660,10 +443,6 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         :data:`morphkit.tol.MAX_BUFFER_BYTES` in all (checked before anything
         is rendered or allocated).
     """
-    from tqdm import tqdm
-
-    from ..scene import Item
-
     mesh = check_mesh(mesh, "mesh")
     ky, kx = _pair(grid, "grid", 2, "k >= 2 samples per axis (an integer, or a pair (ky, kx))")
     rows, cols = _pair(control_grid, "control_grid", 2, "(rows, cols) >= (2, 2) of integers")
@@ -714,11 +493,6 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
     return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
 
 
-
-
-_WARPS = ("composed", "three", "reproject")
-
-
 def _pair(v: Any, name: str, lo: int, want: str) -> tuple[int, int]:
     """``v`` (an int, or a pair of ints) as a pair of ints >= ``lo``; ``2.5`` is refused."""
     vals = (v, v) if np.isscalar(v) else tuple(v) if isinstance(v, tuple | list | np.ndarray) else None
@@ -733,22 +507,3 @@ def _pair(v: Any, name: str, lo: int, want: str) -> tuple[int, int]:
     return a, b
 
 
-def _make_method(atlas: ShadowAtlas, warps: str, dst: str, blend: str, layers: Any) -> ShadowMethod:
-    """The shadow method object for :meth:`ShadowAtlas.method`'s options."""
-    if warps not in _WARPS or dst not in ("project", "interpolate") or blend not in ("bilinear", "nearest"):
-        raise ValidationError(expected_got(
-            "warps/dst/blend", "'composed'|'three'|'reproject', 'project'|'interpolate' and "
-            "'bilinear'|'nearest'", f"{warps!r}/{dst!r}/{blend!r}"))
-    layers = check_flag(layers, "layers")
-    interpolate, nearest = dst == "interpolate", blend == "nearest"
-    if warps == "reproject":
-        if interpolate:
-            raise ValidationError(expected_got("dst", "'project' with warps='reproject' (it moves "
-                                               "pixels, not control points)", repr(dst)))
-        return ReprojectedMaps(atlas, nearest=nearest, layers=layers)
-    if warps == "three":
-        if nearest:
-            raise ValidationError(expected_got("warps", "'composed' with blend='nearest' (one map "
-                                               "is warped once)", "'three'"))
-        return ThreeWarps(atlas, interpolate=interpolate)
-    return ComposedWarp(atlas, interpolate=interpolate, nearest=nearest)

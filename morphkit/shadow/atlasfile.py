@@ -30,11 +30,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import tol
 from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
 from ..fileio import write_bytes
 from ..scene import DirectionalLight, PointLight
 from ..validate import as_pose
-from .atlas import ShadowAtlas
+from .baked import BakedAtlas
 from .rig import LightRig, MotionRange
 
 __all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas", "array_digest",
@@ -67,15 +68,16 @@ def array_digest(a: np.ndarray) -> str:
     return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
 
 
-def save_atlas(atlas: ShadowAtlas, path: str | Path) -> Path:
+def save_atlas(atlas: BakedAtlas, path: str | Path) -> Path:
     """Write ``atlas`` to one ``.npz`` file (maps, anchors, grid, light, range, rig, version,
     and each array's dtype, shape and SHA-256), atomically (:mod:`morphkit.fileio`: an
     interrupted save leaves the file that was there).
 
     Parameters
     ----------
-    atlas : morphkit.shadow.atlas.ShadowAtlas
-        The atlas.
+    atlas : morphkit.shadow.baked.BakedAtlas
+        The baked atlas (a :class:`~morphkit.shadow.atlas.ShadowAtlas` saves its
+        ``baked`` data: :meth:`ShadowAtlas.save <morphkit.shadow.atlas.ShadowAtlas.save>`).
     path : str or pathlib.Path
         The ``.npz`` file to write; its folder must exist.
 
@@ -105,7 +107,7 @@ def save_atlas(atlas: ShadowAtlas, path: str | Path) -> Path:
 
 
 def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None = None
-               ) -> ShadowAtlas:
+               ) -> BakedAtlas:
     """Read an atlas written by :func:`save_atlas` (or :meth:`ShadowAtlas.save`), checked
     (module docstring).
 
@@ -118,7 +120,9 @@ def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None 
 
     Returns
     -------
-    ShadowAtlas
+    morphkit.shadow.baked.BakedAtlas
+        The baked data (:meth:`ShadowAtlas.load <morphkit.shadow.atlas.ShadowAtlas.load>`
+        makes a ready-to-use atlas of it).
 
     Raises
     ------
@@ -159,15 +163,15 @@ def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None 
     _check_checksums(data, _key(meta, "arrays", "atlas metadata"))
     _check_values(data, rig, (grid[0], grid[1]))
     try:
-        atlas = ShadowAtlas(rig, data["xs"], data["ys"], data["maps"], data["anchors"],
-                            data["plane_anchors"], (grid[0], grid[1]), kind)
+        atlas = BakedAtlas(rig, data["xs"], data["ys"], data["maps"], data["anchors"],
+                           data["plane_anchors"], (grid[0], grid[1]), kind)
     except (MorphkitError, ArithmeticError, IndexError, TypeError, ValueError) as exc:
         raise FileFormatError(expected_got("atlas", "data that builds an atlas",
                                            f"{type(exc).__name__}: {exc}"[:200])) from exc
     # control points and triangles are stored for other readers; they must
     # agree with what the anchors and the light rig give
     if (data["control"].shape != atlas.control.shape
-            or not np.allclose(data["control"], atlas.control, rtol=0, atol=1e-6)
+            or not np.allclose(data["control"], atlas.control, rtol=0, atol=tol.PX_EQUAL)
             or not np.array_equal(data["triangles"], atlas.triangles)):
         raise FileFormatError(expected_got("atlas control points", "consistent with its anchors "
                                            "and light rig", "different values (corrupt file?)"))
@@ -399,6 +403,6 @@ def _check_values(data: dict[str, np.ndarray], rig: LightRig, control_grid: tupl
     span = rig.motion.hi - rig.motion.lo
     for k, s, axis in (("xs", xs, 0), ("ys", ys, 1)):
         lo, hi = rig.motion.lo[axis], rig.motion.hi[axis]
-        if abs(s[0] - lo) > 1e-9 * span[axis] or abs(s[-1] - hi) > 1e-9 * span[axis]:
+        if abs(s[0] - lo) > tol.REL_EQUAL * span[axis] or abs(s[-1] - hi) > tol.REL_EQUAL * span[axis]:
             raise FileFormatError(expected_got(f"atlas {k}", f"samples from {lo:g} to {hi:g} (the rig's "
                                                "range)", f"{s[0]:g} to {s[-1]:g}"))

@@ -161,15 +161,15 @@ class ImageBasedShadow:
         camera : morphkit.camera.CameraModel
             The light camera of ``depth``.
         """
-        a = self.atlas
+        a, rt = self.atlas.baked, self.atlas.runtime
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)
         if self.mode == "nearest":
             jj, ii = j + int(v > 0.5), i + int(u > 0.5)
-            acc = a.source_planes(jj, ii).copy()
+            acc = rt.source_planes(jj, ii).copy()
         else:
             acc = np.zeros((2, *a.shape), np.float32)
             for (jj, ii), w in bilinear_weights(j, i, v, u):
                 if w > 0:
-                    add_planes(acc, ((0, a.shape[0], 0, a.shape[1]), a.source_planes(jj, ii)), w)
-        return planes_to_depth(acc, a.anchor_depth(eq)), cam
+                    add_planes(acc, ((0, a.shape[0], 0, a.shape[1]), rt.source_planes(jj, ii)), w)
+        return planes_to_depth(acc, rt.anchor_depth(eq)), cam

@@ -17,10 +17,12 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .. import tol
 from ..composite import shade
 from ..errors import ValidationError, expected_got
+from ..groundtruth import hard_visibility
 from ..protocols import SceneRenderer
-from ..scene import AreaLight, DirectionalLight, Scene
+from ..scene import AreaLight, DirectionalLight, Item, Scene, scene_items
 from .lookup import normals_from_points, shadow_visibility
 from .method import ShadowMethod
 
@@ -69,8 +71,6 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
         not a :class:`~morphkit.scene.Scene`, ``visibility`` not callable, or what it
         returns is not ``(N,)`` values in ``[0, 1]`` for the ``N`` points it was given.
     """
-    from ..scene import Item, scene_items
-
     if not isinstance(renderer, SceneRenderer):
         raise ValidationError(expected_got("renderer", "a SceneRenderer (depth, color_depth, source_view)",
                                            type(renderer).__name__))
@@ -89,7 +89,8 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     if receiver_only:
         obj_depth = renderer.depth(cam, [Item(scene.obj.mesh, scene.obj.pose)])
         with np.errstate(invalid="ignore"):  # inf - inf on the background
-            on_object = np.isfinite(obj_depth) & (np.abs(obj_depth - depth) <= 1e-4 * np.abs(depth))
+            same = np.abs(obj_depth - depth) <= tol.DEPTH_SAME_SURFACE_REL * np.abs(depth)
+            on_object = np.isfinite(obj_depth) & same
         test = valid & ~on_object
     normals = normals_from_points(world, valid)
     vis = np.ones(cam.shape, np.float32)
@@ -141,8 +142,6 @@ def compare_frames(renderer: SceneRenderer, scene: Scene, methods: dict[str, Sha
     dict of str to dict
         Per method name (and ``"raycast"``), the images of :func:`render_frame`.
     """
-    from ..groundtruth import hard_visibility
-
     pose = scene.obj.pose.copy()
     pose[:2, 3] = xy
     sc = scene.with_object_pose(pose)

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..settings import compile_kernel, use_compiled
@@ -199,7 +200,7 @@ def _lookup_numpy(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: C
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.rint(q[:, 0] / w)
         r = np.rint(q[:, 1] / w)
-    inside = (w > 1e-12) & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
+    inside = (w > tol.SHADOW_LOOKUP_W_MIN) & (c >= 0) & (c < wd) & (r >= 0) & (r < h)
     idx = np.flatnonzero(inside)
     if len(idx) == 0:
         return
@@ -219,9 +220,14 @@ def _lookup_numpy(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: C
         else:
             cos = np.abs(n @ -light_cam.axis)
         has = np.einsum("ij,ij->i", n, n) > 0
-        tan = np.where(has, np.sqrt(np.maximum(1 - cos**2, 0)) / np.maximum(cos, 1e-6), 1.0)
+        tan = np.where(has, np.sqrt(np.maximum(1 - cos**2, 0)) / np.maximum(cos, tol.SHADOW_GRAZING_COS), 1.0)
     bias_world = texel * (b.constant + b.slope * np.minimum(tan, b.max_tan))
     vis[idx[z > occ + bias_world]] = 0.0
+
+
+#: The kernel's copies of the tolerances (numba freezes module globals when it compiles).
+_W_MIN = tol.SHADOW_LOOKUP_W_MIN
+_GRAZING_COS = tol.SHADOW_GRAZING_COS
 
 
 def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarray,
@@ -233,7 +239,7 @@ def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
     for k in range(pts.shape[0]):
         x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
         qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
-        if not qw > 1e-12:
+        if not qw > _W_MIN:
             continue
         c = np.rint((T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) / qw)
         r = np.rint((T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) / qw)
@@ -254,7 +260,7 @@ def _lookup_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                     cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
                 else:
                     cos = abs(-(n0 * axis[0] + n1 * axis[1] + n2 * axis[2]))
-                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, 1e-6)
+                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, _GRAZING_COS)
         if z > occ + texel * (b_const + b_slope * min(tan, b_max)):
             vis[k] = 0.0
 

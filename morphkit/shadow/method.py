@@ -4,8 +4,9 @@ A shadow method turns an object position on the motion plane (and, for a point
 light, a light offset) into a light-view depth map and the light camera it
 belongs to. The warped atlas methods (:class:`~morphkit.shadow.warped.ComposedWarp`,
 :class:`~morphkit.shadow.warped.ThreeWarps`,
-:class:`~morphkit.shadow.reprojected.ReprojectedMaps`, and the atlas itself with
-its default), re-rendering (:class:`~morphkit.shadow.baselines.DirectShadow`)
+:class:`~morphkit.shadow.reprojected.ReprojectedMaps`, built by
+:mod:`morphkit.shadow.methods`, and the atlas itself with its default), re-rendering
+(:class:`~morphkit.shadow.baselines.DirectShadow`)
 and the image-based baseline (:class:`~morphkit.shadow.baselines.ImageBasedShadow`)
 all implement it, so :class:`~morphkit.shadow.soft.SoftShadow`,
 :func:`~morphkit.shadow.frame.compare_frames` and the benchmarks take any of them.
@@ -16,15 +17,14 @@ motion is stated in :mod:`morphkit.shadow.rig`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..camera import CameraModel
+from .baked import BakedAtlas
 from .rig import LightRig
-
-if TYPE_CHECKING:
-    from .atlas import ShadowAtlas
+from .runtime import AtlasRuntime
 
 __all__ = ["ShadowMethod", "AtlasMethodBase", "bilinear_weights"]
 
@@ -87,28 +87,33 @@ class ShadowMethod(Protocol):
 
 
 class AtlasMethodBase:
-    """What the shadow methods of an atlas share: the atlas, its rig and its persisted bytes.
+    """What the shadow methods of an atlas share: its run time, baked data, rig and persisted bytes.
 
     Parameters
     ----------
-    atlas : morphkit.shadow.atlas.ShadowAtlas
-        The baked atlas.
+    runtime : morphkit.shadow.runtime.AtlasRuntime
+        The atlas's run-time caches and counts (its baked data: ``runtime.baked``).
     """
 
     name = "warp"
 
-    def __init__(self, atlas: ShadowAtlas) -> None:
-        self.atlas = atlas
+    def __init__(self, runtime: AtlasRuntime) -> None:
+        self.runtime = runtime
+
+    @property
+    def baked(self) -> BakedAtlas:
+        """The atlas's baked data (read, never changed)."""
+        return self.runtime.baked
 
     @property
     def rig(self) -> LightRig:
         """The atlas's light rig."""
-        return self.atlas.rig
+        return self.runtime.baked.rig
 
     @property
     def memory_bytes(self) -> int:
-        """The atlas's persisted bytes (:attr:`ShadowAtlas.memory_bytes`)."""
-        return self.atlas.memory_bytes
+        """The atlas's persisted bytes (:attr:`~morphkit.shadow.baked.BakedAtlas.memory_bytes`)."""
+        return self.runtime.baked.memory_bytes
 
 
 def bilinear_weights(j: int, i: int, v: float, u: float) -> list[tuple[tuple[int, int], float]]:

@@ -3,29 +3,27 @@
 :class:`ReprojectedMaps` moves every pixel of the cell's maps in 3-D instead of
 warping a mesh (exact for every surface point a map saw; no control points)
 and keeps the nearest depth (the kernels and their conventions:
-:mod:`morphkit.shadow.reproject`). The largest-weight map is reprojected
+:mod:`morphkit.shadow.reprojection`). The largest-weight map is reprojected
 whole and, with ``layers=True``, of the others only their *hidden layers*
 (what the first does not hold: built once per pair of neighbouring samples by
-:meth:`ShadowAtlas.hidden_layer <morphkit.shadow.atlas.ShadowAtlas.hidden_layer>`,
-on first use or by :meth:`~morphkit.shadow.atlas.ShadowAtlas.prepare`);
+:meth:`AtlasRuntime.hidden_layer <morphkit.shadow.runtime.AtlasRuntime.hidden_layer>`,
+on first use or by :meth:`~morphkit.shadow.runtime.AtlasRuntime.prepare`);
 ``layers=False`` reprojects every map whole. ``morphkit bench shadows``
 compares the two (rows ``reproject`` and ``reproject_full``).
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .. import settings
 from ..camera import CameraModel
+from ..validate import as_flag
 from .method import AtlasMethodBase, bilinear_weights
-from .reproject import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
-from .warped import check_flag
-
-if TYPE_CHECKING:
-    from .atlas import ShadowAtlas
+from .reprojection import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
+from .runtime import AtlasRuntime
 
 __all__ = ["ReprojectedMaps"]
 
@@ -35,7 +33,8 @@ class ReprojectedMaps(AtlasMethodBase):
 
     Parameters
     ----------
-    atlas : ShadowAtlas
+    runtime : morphkit.shadow.runtime.AtlasRuntime
+        The atlas's run time (and, in it, its baked data).
     nearest : bool
         Reproject only the sample map with the largest weight (holes where it saw nothing).
     layers : bool
@@ -46,13 +45,13 @@ class ReprojectedMaps(AtlasMethodBase):
     -----
     The z-buffer is split into bands of rows over :data:`morphkit.settings.WARP_THREADS`
     threads (read per call); the result does not depend on the thread count
-    (:func:`~morphkit.shadow.reproject.reproject_maps`).
+    (:func:`~morphkit.shadow.reprojection.reproject_maps`).
     """
 
-    def __init__(self, atlas: ShadowAtlas, *, nearest: bool = False, layers: bool = True) -> None:
-        super().__init__(atlas)
-        self.nearest = check_flag(nearest, "nearest")
-        self.layers = check_flag(layers, "layers")
+    def __init__(self, runtime: AtlasRuntime, *, nearest: bool = False, layers: bool = True) -> None:
+        super().__init__(runtime)
+        self.nearest = as_flag(nearest, "nearest")
+        self.layers = as_flag(layers, "layers")
         self.name = "reproject" + ("_nearest" if self.nearest else "") + ("" if self.layers else "_full")
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
@@ -75,7 +74,7 @@ class ReprojectedMaps(AtlasMethodBase):
         camera : morphkit.camera.CameraModel
             The light camera of ``depth``.
         """
-        a = self.atlas
+        a = self.runtime.baked
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         nb = bilinear_weights(*a.cell(eq))
         if self.nearest:
@@ -85,15 +84,15 @@ class ReprojectedMaps(AtlasMethodBase):
         return self._reprojected(eq, [n for n, _w in order]), cam
 
     def _reprojected(self, eq: np.ndarray, sources: list[tuple[int, int]]) -> np.ndarray:
-        a = self.atlas
+        rt, a = self.runtime, self.runtime.baked
         cam = a.rig.camera_at(eq)
         jobs = []
         pixels = 0
         for k, (jj, ii) in enumerate(sources):
-            src, src_cam = a.reprojection_source(jj, ii)
+            src, src_cam = rt.reprojection_source(jj, ii)
             if k > 0 and self.layers:
-                src = a.hidden_layer(sources[0], (jj, ii))
-            rp = a.reprojection(src_cam, cam, eq - np.array([a.xs[ii], a.ys[jj]]))
+                src = rt.hidden_layer(sources[0], (jj, ii))
+            rp = rt.reprojection(src_cam, cam, eq - np.array([a.xs[ii], a.ys[jj]]))
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
         out = np.full(a.shape, np.inf, np.float32)

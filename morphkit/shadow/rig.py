@@ -41,7 +41,7 @@ from ..camera import CameraModel, look_at
 from ..errors import DegenerateViewError, OutOfRangeError, ValidationError, expected_got
 from ..meshes import check_mesh
 from ..scene import DirectionalLight, PointLight, translation
-from ..validate import as_finite_array, as_pose, as_shape
+from ..validate import as_finite_array, as_int, as_pose, as_shape
 
 __all__ = ["MotionRange", "LightRig", "sample_axis", "RangeClampWarning"]
 
@@ -79,7 +79,7 @@ class MotionRange:
         return (self.lo + self.hi) / 2
 
     def check(self, xy: np.ndarray, *, clamp: bool = False) -> np.ndarray:
-        """Return ``xy`` if it lies in the range (within a relative 1e-9), else
+        """Return ``xy`` if it lies in the range (within a relative :data:`morphkit.tol.REL_EQUAL`), else
         clamp it (``clamp=True``) or raise :class:`OutOfRangeError`.
 
         Parameters
@@ -95,7 +95,7 @@ class MotionRange:
             ``xy``, inside the range.
         """
         xy = as_finite_array(xy, "position", shape=(2,))
-        eps = 1e-9 * (self.hi - self.lo)
+        eps = tol.REL_EQUAL * (self.hi - self.lo)
         if np.all(xy >= self.lo - eps) and np.all(xy <= self.hi + eps):
             return np.clip(xy, self.lo, self.hi)
         if clamp:
@@ -138,9 +138,10 @@ def sample_axis(lo: float, hi: float, k: int, mid: float | None = None) -> np.nd
     (k,) float64
         Ascending sample coordinates.
     """
-    if int(k) < 2:
-        raise ValidationError(expected_got("grid", "k >= 2 samples per axis", k))
-    k = int(k)
+    try:
+        k = as_int(k, "grid", lo=2)
+    except ValidationError as exc:
+        raise ValidationError(expected_got("grid", "k >= 2 samples per axis", repr(k)[:120])) from exc
     if mid is None or k % 2 == 0:
         return np.linspace(lo, hi, k)
     m = float(np.clip(mid, lo + 0.1 * (hi - lo), hi - 0.1 * (hi - lo)))
@@ -200,7 +201,7 @@ class LightRig:
         radius = float(np.linalg.norm(rel, axis=1).max())
         self.back = 2 * radius + 1.0  # camera distance behind the anchor
         zs = rel[:, 2] + self.back
-        pad = margin * (zs.max() - zs.min()) + 1e-3
+        pad = margin * (zs.max() - zs.min()) + tol.LIGHT_DEPTH_PAD
         self.znear, self.zfar = float(zs.min() - pad), float(zs.max() + pad)
 
     def _fit_point(self, margin: float) -> None:
@@ -234,7 +235,7 @@ class LightRig:
         self.fx, self.fy = w / (2 * half[0]), h / (2 * half[1])
         self.back = None
         z = np.concatenate(zs)
-        pad = margin * (z.max() - z.min()) + 1e-3
+        pad = margin * (z.max() - z.min()) + tol.LIGHT_DEPTH_PAD
         self.znear, self.zfar = float(max(z.min() - pad, 0.5 * z.min())), float(z.max() + pad)
 
     # ---------------------------------------------------------- persistence
@@ -375,7 +376,7 @@ class LightRig:
                                                    "(translating it changes nothing)", off.tolist()))
             xy = xy - off
         inside = self.motion.check(xy, clamp=True)
-        if not np.allclose(inside, xy, rtol=0, atol=1e-12):
+        if not np.allclose(inside, xy, rtol=0, atol=tol.POSITION_EQUAL):
             if not clamp:
                 self.motion.check(xy)  # raises OutOfRangeError with the message
             warnings.warn(f"position {xy.tolist()} is outside the baked range; clamped to "

@@ -17,51 +17,32 @@ maps (atlas anchors ``"shared"`` or ``"plane"``).
 Maps are warped as coverage-depth planes (:mod:`morphkit.shadow.planes`), so
 bilinear sampling never mixes object depth with the background. A warp that
 would fold falls back to the plane anchors (counted in
-:attr:`ShadowAtlas.fallbacks <morphkit.shadow.atlas.ShadowAtlas>`). The
+:attr:`AtlasRuntime.fallbacks <morphkit.shadow.runtime.AtlasRuntime>`). The
 conventions of the warp (backward, pixel centres) are those of
 :mod:`morphkit.warp`.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from .. import tol
 from ..camera import CameraModel
 from ..errors import FoldOverError, ValidationError, expected_got
+from ..validate import as_flag
 from ..warp import accumulate_warps, roi_union
+from .baked import BakedAtlas
 from .method import AtlasMethodBase, bilinear_weights
 from .planes import add_planes, planes_to_depth, warp_planes
+from .runtime import AtlasRuntime
 
-if TYPE_CHECKING:
-    from .atlas import ShadowAtlas
-
-__all__ = ["ComposedWarp", "ThreeWarps", "check_flag"]
+__all__ = ["ComposedWarp", "ThreeWarps"]
 
 
-def check_flag(value: Any, name: str) -> bool:
-    """``value`` as a bool; :class:`~morphkit.errors.ValidationError` unless it is one.
-
-    Parameters
-    ----------
-    value : Any
-        The value.
-    name : str
-        Its name in the error message.
-
-    Returns
-    -------
-    bool
-        ``value``.
-    """
-    if not isinstance(value, bool | np.bool_):
-        raise ValidationError(expected_got(name, "a bool", repr(value)))
-    return bool(value)
-
-
-def _check_correspondence(atlas: ShadowAtlas, what: str) -> None:
-    if atlas.anchor_kind == "sample":
+def _check_correspondence(baked: BakedAtlas, what: str) -> None:
+    if baked.anchor_kind == "sample":
         raise ValidationError(expected_got(
             "atlas anchors", f"'shared' or 'plane' anchors for {what} (they need control points in "
             "correspondence across maps)", "'sample' anchors"))
@@ -72,7 +53,8 @@ class ComposedWarp(AtlasMethodBase):
 
     Parameters
     ----------
-    atlas : ShadowAtlas
+    runtime : morphkit.shadow.runtime.AtlasRuntime
+        The atlas's run time (and, in it, its baked data).
     interpolate : bool
         Destination control points interpolated bilinearly from the 4 maps (the
         paper) instead of projected exactly; needs ``"shared"`` or ``"plane"`` anchors.
@@ -86,12 +68,12 @@ class ComposedWarp(AtlasMethodBase):
     Keeps one accumulation buffer: one object serves one thread at a time.
     """
 
-    def __init__(self, atlas: ShadowAtlas, *, interpolate: bool = False, nearest: bool = False) -> None:
-        super().__init__(atlas)
-        self.interpolate = check_flag(interpolate, "interpolate")
-        self.nearest = check_flag(nearest, "nearest")
+    def __init__(self, runtime: AtlasRuntime, *, interpolate: bool = False, nearest: bool = False) -> None:
+        super().__init__(runtime)
+        self.interpolate = as_flag(interpolate, "interpolate")
+        self.nearest = as_flag(nearest, "nearest")
         if self.interpolate:
-            _check_correspondence(atlas, "dst='interpolate'")
+            _check_correspondence(runtime.baked, "dst='interpolate'")
         self.name = "warp_nearest" if self.nearest else "warp"
         self._acc: np.ndarray | None = None
 
@@ -115,7 +97,7 @@ class ComposedWarp(AtlasMethodBase):
         camera : morphkit.camera.CameraModel
             The light camera of ``depth``.
         """
-        a = self.atlas
+        rt, a = self.runtime, self.runtime.baked
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         nb = bilinear_weights(*a.cell(eq))
         # the destination control points interpolated from all 4 maps (the paper)
@@ -130,17 +112,17 @@ class ComposedWarp(AtlasMethodBase):
         for (jj, ii), w in nb:
             if w <= 0.0:
                 continue
-            c_dst = interp if interp is not None else a.dst_points(jj, ii, eq)
-            if float(np.abs(c_dst - a.control[jj, ii]).max()) <= 1e-6:
+            c_dst = interp if interp is not None else rt.dst_points(jj, ii, eq)
+            if float(np.abs(c_dst - a.control[jj, ii]).max()) <= tol.PX_EQUAL:
                 # identity: exact sample position, or a directional light
                 box = (0, a.shape[0], 0, a.shape[1])
-                add_planes(acc, (box, a.source_planes(jj, ii)), w)
+                add_planes(acc, (box, rt.source_planes(jj, ii)), w)
             else:
-                jobs.append(a.warp_job(jj, ii, c_dst, eq, w))
+                jobs.append(rt.warp_job(jj, ii, c_dst, eq, w))
         try:
             box = roi_union(box, accumulate_warps(jobs, acc))
             # clear=True: the buffer is all zeros again for the next call
-            return planes_to_depth(acc, a.anchor_depth(eq), box, clear=True), cam
+            return planes_to_depth(acc, rt.anchor_depth(eq), box, clear=True), cam
         except BaseException:
             acc.fill(0.0)
             raise
@@ -151,8 +133,8 @@ class ThreeWarps(AtlasMethodBase):
 
     Parameters
     ----------
-    atlas : ShadowAtlas
-        Baked with ``"shared"`` or ``"plane"`` anchors.
+    runtime : morphkit.shadow.runtime.AtlasRuntime
+        The run time of an atlas baked with ``"shared"`` or ``"plane"`` anchors.
     interpolate : bool
         Destination control points interpolated from the 4 maps (the paper)
         instead of projected exactly.
@@ -160,15 +142,15 @@ class ThreeWarps(AtlasMethodBase):
     Notes
     -----
     If a warp folds, the whole computation is redone with plane anchors
-    (documented fallback, counted in ``atlas.fallbacks``).
+    (documented fallback, counted in ``runtime.fallbacks``).
     """
 
     name = "warp_three"
 
-    def __init__(self, atlas: ShadowAtlas, *, interpolate: bool = False) -> None:
-        super().__init__(atlas)
-        self.interpolate = check_flag(interpolate, "interpolate")
-        _check_correspondence(atlas, "dst='interpolate' or warps='three'")
+    def __init__(self, runtime: AtlasRuntime, *, interpolate: bool = False) -> None:
+        super().__init__(runtime)
+        self.interpolate = as_flag(interpolate, "interpolate")
+        _check_correspondence(runtime.baked, "dst='interpolate' or warps='three'")
 
     def shadow_map(self, xy: Any, *, light_offset: Any = None, clamp: bool = False
                    ) -> tuple[np.ndarray, CameraModel]:
@@ -190,22 +172,19 @@ class ThreeWarps(AtlasMethodBase):
         camera : morphkit.camera.CameraModel
             The light camera of ``depth``.
         """
-        a = self.atlas
+        a = self.runtime.baked
         eq, _pos, cam = a.rig.resolve(xy, light_offset, clamp=clamp)
         j, i, v, u = a.cell(eq)
         try:
             return self._warps(a.control, a.anchors, eq, j, i, u, v), cam
         except FoldOverError:
-            a.fallbacks += 1
-            ky, kx = a.grid
-            plane = np.stack([np.stack([a.project((a.xs[b], a.ys[r]), a.plane_anchors[r, b])
-                                        for b in range(kx)]) for r in range(ky)])
-            return self._warps(plane, a.plane_anchors, eq, j, i, u, v), cam
+            self.runtime.count_fallback()
+            return self._warps(a.plane_control, a.plane_anchors, eq, j, i, u, v), cam
 
     def _warps(self, C: np.ndarray, anchors: np.ndarray, eq: np.ndarray, j: int, i: int,
                u: float, v: float) -> np.ndarray:
-        a = self.atlas
-        c_dst = (a.project(eq, anchors[j, i]) if not self.interpolate else
+        rt, a = self.runtime, self.runtime.baked
+        c_dst = (rt.project(eq, anchors[j, i]) if not self.interpolate else
                  (1 - v) * ((1 - u) * C[j, i] + u * C[j, i + 1])
                  + v * ((1 - u) * C[j + 1, i] + u * C[j + 1, i + 1]))
         full = (0, a.shape[0], 0, a.shape[1])
@@ -215,15 +194,15 @@ class ThreeWarps(AtlasMethodBase):
             row = np.zeros((2, *a.shape), np.float32)
             for ii, w in ((i, 1 - u), (i + 1, u)):
                 if w > 0:
-                    src = a.source_planes(jj, ii)
-                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=1e-6) else warp_planes(
+                    src = rt.source_planes(jj, ii)
+                    warped = src if np.allclose(c_row, C[jj, ii], rtol=0, atol=tol.PX_EQUAL) else warp_planes(
                         src, C[jj, ii], c_row, a.triangles, a.shape)
                     add_planes(row, (full, warped), w)
             rows.append((c_row, row))  # premultiplied: a row morph is again a source
         acc = np.zeros((2, *a.shape), np.float32)
         for (c_row, row), w in zip(rows, (1 - v, v), strict=True):
             if w > 0:
-                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=1e-6) else warp_planes(
+                warped = row if np.allclose(c_row, c_dst, rtol=0, atol=tol.PX_EQUAL) else warp_planes(
                     row, c_row, c_dst, a.triangles, a.shape)
                 add_planes(acc, (full, warped), w)
-        return planes_to_depth(acc, a.anchor_depth(eq))
+        return planes_to_depth(acc, rt.anchor_depth(eq))

@@ -143,7 +143,7 @@ def accumulate_warps(jobs: Sequence[tuple[Accumulation | WarpMaps, np.ndarray, n
 def band_pool() -> ThreadPoolExecutor:
     """The shared pool of threads that run bands ``1`` to ``WARP_THREADS - 1`` of a
     banded pass (band 0 runs in the calling thread): :func:`accumulate_warps` and
-    the shadow reprojection (:mod:`morphkit.shadow.reproject`).
+    the shadow reprojection (:mod:`morphkit.shadow.reprojection`).
 
     Returns
     -------

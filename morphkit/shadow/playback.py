@@ -26,16 +26,21 @@ from typing import Any, Protocol, runtime_checkable
 import cv2
 import numpy as np
 import trimesh
+from tqdm import tqdm
 
+from ..bake.manifest import MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
 from ..fileio import atomic_output, write_image
 from ..meshes import load_mesh
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
-from ..shadow import MotionRange, ShadowAtlas, SoftShadow, shadow_visibility
-from ..shadow.frame import render_frame
-from .manifest import MANIFEST_NAME, Manifest, file_digest
+from ..validate import as_int
+from .atlas import ShadowAtlas
+from .frame import render_frame
+from .lookup import shadow_visibility
+from .rig import MotionRange
+from .soft import SoftShadow
 
 __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",
            "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
@@ -71,9 +76,7 @@ class ObjectPath(Protocol):
 
 
 def _frames(n: Any) -> int:
-    if isinstance(n, bool) or not isinstance(n, int | np.integer) or not 1 <= int(n) <= 100000:
-        raise ValidationError(expected_got("frames", "an integer in [1, 100000]", repr(n)))
-    return int(n)
+    return as_int(n, "frames", lo=1, hi=100000)
 
 
 @dataclass(frozen=True)
@@ -385,13 +388,8 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     RenderError
         OpenCV has no mp4v video writer here.
     """
-    from tqdm import tqdm
-
-    if isinstance(size, bool) or not isinstance(size, int) or not 16 <= size <= 8192:
-        raise ValidationError(expected_got("frame size", "an integer in [16, 8192]", repr(size)))
-    if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= 64:
-        raise ValidationError(expected_got("light samples per axis", "an integer in [1, 64]",
-                                           repr(samples)))
+    size = as_int(size, "frame size", lo=16, hi=8192)
+    samples = as_int(samples, "light samples per axis", lo=1, hi=64)
     if not isinstance(path, ObjectPath):
         raise ValidationError(expected_got("path", "an ObjectPath", type(path).__name__))
     motion = _usable_range(atlas, area_light)
