@@ -7,7 +7,10 @@
 * nothing outside :mod:`morphkit.bench` (and the CLI's ``bench`` command)
   imports the benchmarks: scenes shared with them live in :mod:`morphkit.fixtures`;
 * nothing in the library imports those scenes (:mod:`morphkit.fixtures`): only the
-  benchmarks, the demo and the CLI (and the tests) may.
+  benchmarks, the demo and the CLI (and the tests) may;
+* no import cycle between modules (function-local imports count: a cycle cannot
+  hide inside a function), found with Tarjan's algorithm on the import graph;
+* no module over 800 lines (one concept per module; data lives in ``morphkit/data``).
 
 Attribute access to other objects' private members is ruff's ``SLF001``
 (enabled in ``pyproject.toml``).
@@ -117,3 +120,78 @@ def test_the_fixture_scan_sees_the_demo_import_them():
     """The check above can fail: the demo's imports of the fixtures are found."""
     assert _imports_fixtures(PACKAGE / "demo.py")
     assert not (PACKAGE / "scenes.py").exists()  # one module of scenes: morphkit.fixtures
+
+
+def _graph() -> dict[str, set[str]]:
+    """Module -> the morphkit modules it imports (at any depth of the file: a
+    function-local import counts, so a cycle cannot be hidden inside a function)."""
+    modules = {_module(p): p for p in SOURCES}
+    graph: dict[str, set[str]] = {}
+    for mod, path in modules.items():
+        deps = set()
+        for _, target, names in _imports(path):
+            if not target.startswith("morphkit"):
+                continue
+            # ``from .pkg import mod`` imports the submodule ``pkg.mod`` when it is one
+            subs = {f"{target}.{n}" for n in names if f"{target}.{n}" in modules}
+            deps |= subs or ({target} if target in modules else set())
+        graph[mod] = deps - {mod}
+    return graph
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def _parents(mod: str) -> set[str]:
+    parts = mod.split(".")
+    return {".".join(parts[:k]) for k in range(1, len(parts))}
+
+
+def test_the_cycle_finder_finds_a_cycle():
+    assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert _cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_no_import_cycle_between_modules():
+    # a package's __init__ re-exports its modules, which import siblings through the
+    # package: edges into a module's own parent packages are not cycles of design
+    graph = {m: {d for d in deps if d not in _parents(m)} for m, deps in _graph().items()}
+    assert _cycles(graph) == [], "import cycles (each a set of modules that import each other)"
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_module_over_800_lines(path):
+    n = len(path.read_text().splitlines())
+    assert n <= 800, f"{path.name} has {n} lines: split it by concept (one concept per module)"
