@@ -260,27 +260,35 @@ if pyrender is not None:
             self._renderer = _SingleSampleRenderer(w, h)
 
 
-def gl_info() -> dict[str, str | None]:
-    """The GL platform and the renderer string in use (the benches write both into their JSON).
+def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
+    """The GL platform and the renderer string in use (the benches write both into their JSON rows).
 
     Reads ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` from the first context this process
-    created; when none was created yet, creates a small one to read them (and closes it).
+    created; when none was created yet, creates a small one to read them (and closes it), unless
+    ``open_context`` is False.
+
+    Parameters
+    ----------
+    open_context : bool, optional
+        Create a context to read the strings when this process has none yet (default True).
 
     Returns
     -------
     dict of str to str or None
         ``platform`` (``"osmesa"`` or ``"egl"``), ``renderer`` (e.g. ``"llvmpipe (LLVM 15.0.6,
-        256 bits)"`` or the GPU's name), ``version``, ``vendor``; the three GL strings are
-        None and ``error`` says why when no context can be created.
+        256 bits)"`` or the GPU's name), ``version``, ``vendor``; the three GL strings are None
+        when no context was read (with ``error`` saying why when one could not be created).
     """
     info: dict[str, str | None] = {"platform": GL_PLATFORM}
-    if not _GL_STRINGS:
+    if not _GL_STRINGS and open_context:
         try:
             if pyrender is None:
                 raise RenderError(_explain(_IMPORT_ERROR or RuntimeError("pyrender not imported")))
             _Offscreen(8, 8).delete()
         except Exception as exc:  # noqa: BLE001 - reported, not raised: a bench row still gets written
             return {**info, "renderer": None, "version": None, "vendor": None, "error": repr(exc)}
+    if not _GL_STRINGS:
+        return {**info, "renderer": None, "version": None, "vendor": None}
     return {**info, **_GL_STRINGS}
 
 
