@@ -54,7 +54,8 @@ except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
 __all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
-           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE"]
+           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE",
+           "child_environment"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -151,3 +152,19 @@ def select_gl_platform() -> str:
                                            f"one of {', '.join(GL_PLATFORMS)}", repr(GL_PLATFORM)))
     os.environ["PYOPENGL_PLATFORM"] = GL_PLATFORM
     return GL_PLATFORM
+
+
+def child_environment(**overrides: str) -> dict[str, str]:
+    """This process's environment with ``overrides``, for a child process (e.g. a fresh numba cache).
+
+    Parameters
+    ----------
+    **overrides : str
+        Variables to set in the child, e.g. ``NUMBA_CACHE_DIR="/tmp/x"``.
+
+    Returns
+    -------
+    dict of str to str
+        A copy of ``os.environ`` updated with ``overrides``.
+    """
+    return {**os.environ, **overrides}

@@ -7,7 +7,10 @@
 #      machine without a GPU; pyglet's headless mode loads libEGL too), libgl1 and
 #      libopengl0 (the GL entry points pyglet and PyOpenGL load);
 #   2. a virtual environment in .venv (python3 >= 3.10);
-#   3. the morphkit package into it (editable), with extras given as $1 (e.g. "test").
+#   3. the morphkit package into it (editable), with extras given as $1 (e.g. "test");
+#   4. numba's kernels compiled once into numba's on-disk cache (``cache=True``), so that no
+#      later process (a test run, the demo, a bake worker) compiles them: about a minute the
+#      first time on 2 busy cores, about 5 s (imports, a small bake and playback) once cached.
 set -euo pipefail
 MORPHKIT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$MORPHKIT_ROOT"
@@ -45,3 +48,5 @@ echo "morphkit setup: installing morphkit${extras:+[$extras]} into .venv"
 .venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q --disable-pip-version-check -e "$spec"
 export PATH="$MORPHKIT_ROOT/.venv/bin:$PATH"
+echo "morphkit setup: numba kernels into the on-disk cache (once)"
+.venv/bin/python -c 'from morphkit.bench.bake_suite import kernel_workload as w; r = w(); print("morphkit setup: %.1f s compiling %d kernels (0: all cached)" % (r["compile_s"], r["kernels"]))'
