@@ -369,6 +369,7 @@ def run(*, quick: bool = False, workers: Sequence[int] = DEFAULT_WORKERS) -> lis
     rows: list[dict[str, Any]] = []
     tmp = Path(tempfile.mkdtemp(prefix="morphkit-bench-bake-"))
     try:
+        warm_worker()  # this process too: the serial loop's renderer and caches (and every row's ``gl``)
         # fresh cache (a fresh machine), then a second process with the kernels on disk
         probes = () if quick else ("cold", "cached")
         for name in probes:
@@ -381,7 +382,6 @@ def run(*, quick: bool = False, workers: Sequence[int] = DEFAULT_WORKERS) -> lis
                                       + ("empty NUMBA_CACHE_DIR)" if name == "cold" else "cache on disk)")))
         paths = write_library(tmp / "lib", quick)
         n = len(find_inputs([tmp / "lib"]))
-        warm_worker()  # this process too: the serial loop's renderer and caches
         phases = [(f"dask_{w}", w, False) for w in counts]
         if not quick:
             phases.append(("dask_1_dask_defaults", 1, True))
