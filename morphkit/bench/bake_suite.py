@@ -397,7 +397,9 @@ def run(*, quick: bool = False, workers: Sequence[int] = DEFAULT_WORKERS) -> lis
                 client.wait_for_workers(w)
                 startup = time.perf_counter() - t0
                 t0 = time.perf_counter()
-                warm = list(client.run(warm_worker).values())
+                # on each worker's task thread (its renderer is per thread), not client.run's
+                warm = client.gather([client.submit(warm_worker, workers=[a], allow_other_workers=False,
+                                                    pure=False) for a in client.scheduler_info()["workers"]])
                 warm_s = time.perf_counter() - t0
                 address = client.scheduler.address
                 wall: dict[str, list[float]] = {"serial": [], method: []}
