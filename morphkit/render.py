@@ -46,7 +46,7 @@ EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``):
 
 * its framebuffer path renders into a 4x multisampled buffer and blits one
   sample back, so depth (and the silhouette) is sampled off the pixel centre
-  (shifted by about (+0.125, -0.375) px, measured on Mesa's EGL and on a GPU);
+  (about (+0.125, -0.375) px, reported on a GPU in issue #29; Mesa's EGL does the same);
   morphkit renders into single-sampled buffers: depth at pixel centres,
   identical to OSMesa's (``tests/test_render_egl.py``);
 * its ``delete_context`` terminates the EGL display, which every context of the
