@@ -45,3 +45,19 @@ def test_projection_refuses_empty_inputs():
 def test_workers_is_an_option_of_bench_bake_only(capsys):
     assert main(["bench", "warp", "--quick", "--workers", "1", "2"]) == 2
     assert "--workers is an option of `bench bake` only" in capsys.readouterr().err
+
+
+def test_run_suite_passes_suite_options(monkeypatch, capsys):
+    from morphkit import bench
+    from morphkit.bench.harness import Timing, make_row
+
+    seen = {}
+
+    def toy(*, quick: bool = False, workers=(1,)):
+        seen["workers"] = list(workers)
+        return [make_row("toy", "m", {"size": 1}, Timing(1.0, 1.0, 1.0, 1))]
+
+    monkeypatch.setitem(bench.SUITES, "toy", toy)
+    rows = bench.run_suite("toy", quick=True, options={"workers": [1, 4]})
+    assert seen["workers"] == [1, 4] and rows[0]["gl"]["platform"] in ("osmesa", "egl")
+    capsys.readouterr()
