@@ -57,7 +57,13 @@ def _cmd_bench(args: argparse.Namespace) -> int:
         print(f"morphkit: error: unknown suite {args.suite!r}; available: {', '.join(sorted(SUITES))}",
               file=sys.stderr)
         return 2
-    run_suite(args.suite, quick=args.quick, json_path=args.json, plot_path=args.plot)
+    options = {}
+    if args.workers is not None:
+        if args.suite != "bake":
+            print("morphkit: error: --workers is an option of `bench bake` only", file=sys.stderr)
+            return 2
+        options["workers"] = args.workers
+    run_suite(args.suite, quick=args.quick, json_path=args.json, plot_path=args.plot, options=options)
     return 0
 
 
@@ -314,6 +320,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--json", type=Path, default=None, help="write the rows as JSON to this path")
     b.add_argument("--plot", type=Path, default=None,
                    help="write plots to this path (PNG; a suffix is added per plot)")
+    b.add_argument("--workers", type=int, nargs="+", default=None, metavar="N",
+                   help="bake only: the local worker counts to time (default 1 2; 1 is always included); "
+                   "reports the speed-up curve, per-worker start-up and a 16-worker projection")
     b.set_defaults(func=_cmd_bench)
 
     v = sub.add_parser(

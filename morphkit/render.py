@@ -1,9 +1,22 @@
 """The rendering boundary: the only module of morphkit that imports pyrender.
 
-Headless rendering uses OSMesa: ``PYOPENGL_PLATFORM`` is set to ``"osmesa"``
-before pyrender (and PyOpenGL) are imported, unless the user already set it
-(e.g. to ``"egl"``). Everything returned from here is plain numpy in the
-conventions of :mod:`morphkit.conventions`:
+Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per
+process: ``osmesa`` (default; software, any Linux machine with ``libosmesa6``)
+or ``egl`` (``MORPHKIT_GL=egl``: a GPU through its driver's EGL, or Mesa's
+software EGL where there is none). ``PYOPENGL_PLATFORM`` is set from it before
+pyrender (and PyOpenGL) are imported. :func:`gl_info` names the platform and
+the GL renderer string in use (the benches record both).
+
+Headless import. pyrender imports its pyglet viewer at import time, and pyglet
+would load its X11 backend (``libX11``, ``libXrender``) and fail on a machine
+without X11 client libraries. morphkit never opens a window: pyglet's
+``headless`` option is set before pyrender is imported (pyglet then loads
+``libEGL`` and ``libGL`` only). When the import fails, the error names the GL
+library that could not be loaded and the package that provides it
+(:func:`missing_gl_libraries`).
+
+Everything returned from here is plain numpy in the conventions of
+:mod:`morphkit.conventions`:
 
 * depth images are float32 linear depth along the camera's viewing axis
   (OpenCV ``Z``) in scene units, background ``+inf``
@@ -29,16 +42,32 @@ one GL program per drawn item and frame).
 Each context here gets a program cache keyed by the shaders and defines only
 (``_ProgramCache``: one cache per context, so the context needs no key).
 
+EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``):
+
+* its framebuffer path renders into a 4x multisampled buffer and blits one
+  sample back, so depth (and the silhouette) is sampled off the pixel centre
+  (about (+0.125, -0.375) px, reported on a GPU in issue #29; Mesa's EGL does the same);
+  morphkit renders into single-sampled buffers: depth at pixel centres,
+  identical to OSMesa's (``tests/test_render_egl.py``);
+* its ``delete_context`` terminates the EGL display, which every context of the
+  process shares: closing one context broke the others (a :class:`Renderer`
+  with contexts of two image sizes died in :meth:`Renderer.close` with
+  ``EGL_NOT_INITIALIZED``). Contexts are destroyed here without terminating the
+  display (the driver frees it at process exit).
+
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and
 one ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and
-reused for every frame of that shape. Meshes are converted and uploaded once
-per context; moving an object only changes its node pose.
+reused for every frame of that shape (on EGL too). Meshes are converted and
+uploaded once per context; moving an object only changes its node pose.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import os
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import cv2
 import numpy as np
@@ -48,18 +77,84 @@ from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
-from .settings import select_gl_platform
+from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
 
-select_gl_platform()  # OSMesa unless PYOPENGL_PLATFORM is set; must precede the first OpenGL import
+__all__ = ["Renderer", "gl_info", "missing_gl_libraries", "GL_LIBRARIES"]
+
+#: Shared libraries each platform loads (library name as ``ctypes.util.find_library`` takes it,
+#: what provides it on Debian/Ubuntu). pyglet's headless mode (imported with pyrender) loads
+#: EGL and GL on either platform.
+GL_LIBRARIES: dict[str, tuple[tuple[str, str], ...]] = {
+    "osmesa": (("OSMesa", "libosmesa6"), ("EGL", "libegl1 libegl-mesa0"), ("GL", "libgl1")),
+    "egl": (("EGL", "libegl1 libegl-mesa0 (or the GPU driver's EGL)"), ("OpenGL", "libopengl0"),
+            ("GL", "libgl1")),
+}
+
+
+def missing_gl_libraries(platform: str = GL_PLATFORM) -> list[tuple[str, str]]:
+    """The GL libraries of ``platform`` this process cannot load, with their packages.
+
+    Parameters
+    ----------
+    platform : str, optional
+        ``"osmesa"`` or ``"egl"`` (default: this process's platform).
+
+    Returns
+    -------
+    list of (str, str)
+        ``(library, package)`` for each library of :data:`GL_LIBRARIES` that fails to load,
+        e.g. ``("EGL", "libegl1 libegl-mesa0")``; empty when all load.
+    """
+    missing = []
+    for lib, package in GL_LIBRARIES.get(platform, ()):
+        try:
+            ctypes.CDLL(ctypes.util.find_library(lib) or f"lib{lib}.so")
+        except OSError:
+            missing.append((lib, package))
+    return missing
+
+
+def _explain(exc: BaseException) -> str:
+    """Why pyrender could not be imported (or a context not created), with the fix."""
+    missing = missing_gl_libraries()
+    if missing:
+        libs = ", ".join(f"lib{lib}" for lib, _ in missing)
+        pkgs = " ".join(p.split(" (")[0] for _, p in missing)
+        return (f"the GL platform {GL_PLATFORM!r} needs {libs}, which cannot be loaded "
+                f"(install it: apt-get install {pkgs}; or run scripts/setup.sh as root). "
+                f"Original error: {exc!r}")
+    return (f"{exc!r} (GL platform {GL_PLATFORM!r}: MORPHKIT_GL selects osmesa or egl; "
+            "morphkit needs PyOpenGL >= 3.1.9)")
+
+
+def _headless_pyglet() -> None:
+    """pyglet without its X11 backend (see the module docstring); before pyrender is imported."""
+    try:
+        import pyglet
+    except ImportError:  # pragma: no cover - pyglet comes with pyrender
+        return
+    pyglet.options["headless"] = True
+    pyglet.options["shadow_window"] = False
+
+
 try:
+    select_gl_platform()  # PYOPENGL_PLATFORM for PyOpenGL; must precede the first OpenGL import
+    _headless_pyglet()
     import pyrender
-except Exception as exc:  # pragma: no cover - depends on the machine
+    from OpenGL import GL as _GL
+
+    if GL_PLATFORM == "egl":
+        from pyrender.platforms import egl as _platform_egl
+    else:
+        from pyrender.platforms import osmesa as _platform_osmesa
+except Exception as exc:  # pragma: no cover - depends on the machine (tested in subprocesses)
     _IMPORT_ERROR: Exception | None = exc
     pyrender = None
 else:
     _IMPORT_ERROR = None
 
-__all__ = ["Renderer"]
+#: GL strings read from the first context this process created (see :func:`gl_info`).
+_GL_STRINGS: dict[str, str] = {}
 
 
 if pyrender is not None:
@@ -105,6 +200,97 @@ if pyrender is not None:
                     vertex_shader=vs, fragment_shader=fs, geometry_shader=gs, defines=defines)
             return program
 
+    class _SingleSampleRenderer(pyrender.Renderer):
+        """pyrender's renderer with single-sampled offscreen buffers (EGL's framebuffer path).
+
+        pyrender allocates its "multisample" colour and depth buffers with 4 samples and
+        blits them into single-sampled ones: the depth read back is one sub-sample, off
+        the pixel centre. Here they are re-allocated with 0 samples right after pyrender
+        creates them, so the blit is an exact copy of depth rasterised at pixel centres.
+        Its shader programs are cached per context (``_ProgramCache``).
+        """
+
+        def __init__(self, width: int, height: int) -> None:
+            super().__init__(width, height)
+            self._program_cache = _ProgramCache()
+            self._single_sampled: tuple[Any, Any] | None = None
+
+        def _configure_main_framebuffer(self) -> None:
+            super()._configure_main_framebuffer()
+            buffers = (self._main_cb_ms, self._main_db_ms)
+            if self._single_sampled != buffers:
+                w, h = self._main_fb_dims
+                for rb, fmt in zip(buffers, (_GL.GL_RGBA, _GL.GL_DEPTH_COMPONENT24), strict=True):
+                    _GL.glBindRenderbuffer(_GL.GL_RENDERBUFFER, rb)
+                    _GL.glRenderbufferStorageMultisample(_GL.GL_RENDERBUFFER, 0, fmt, w, h)
+                self._single_sampled = buffers
+
+    if GL_PLATFORM == "egl":
+        class _EGLPlatform(_platform_egl.EGLPlatform):
+            """pyrender's EGL platform, whose contexts are closed without terminating the display."""
+
+            def delete_context(self) -> None:
+                from OpenGL import EGL
+
+                if self._egl_display is not None and self._egl_context is not None:
+                    EGL.eglMakeCurrent(self._egl_display, EGL.EGL_NO_SURFACE, EGL.EGL_NO_SURFACE,
+                                       EGL.EGL_NO_CONTEXT)
+                    EGL.eglDestroyContext(self._egl_display, self._egl_context)
+                self._egl_context = None
+                self._egl_display = None  # shared by every context: not terminated
+
+    class _Offscreen(pyrender.OffscreenRenderer):
+        """pyrender's offscreen renderer on :data:`~morphkit.settings.GL_PLATFORM`, with the
+        corrected EGL platform and renderer (see the module docstring) and per-context shader
+        cache (``_ProgramCache``)."""
+
+        def _create(self) -> None:
+            w, h = self.viewport_width, self.viewport_height
+            if GL_PLATFORM == "egl":
+                self._platform = _EGLPlatform(w, h, device=_platform_egl.get_device_by_index(EGL_DEVICE))
+            else:
+                self._platform = _platform_osmesa.OSMesaPlatform(w, h)
+            self._platform.init_context()
+            self._platform.make_current()
+            if not _GL_STRINGS:
+                for key, name in (("renderer", _GL.GL_RENDERER), ("version", _GL.GL_VERSION),
+                                  ("vendor", _GL.GL_VENDOR)):
+                    value = _GL.glGetString(name)
+                    _GL_STRINGS[key] = value.decode("utf-8", "replace") if value else ""
+            self._renderer = _SingleSampleRenderer(w, h)
+
+
+def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
+    """The GL platform and the renderer string in use (the benches write both into their JSON rows).
+
+    Reads ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` from the first context this process
+    created; when none was created yet, creates a small one to read them (and closes it), unless
+    ``open_context`` is False.
+
+    Parameters
+    ----------
+    open_context : bool, optional
+        Create a context to read the strings when this process has none yet (default True).
+
+    Returns
+    -------
+    dict of str to str or None
+        ``platform`` (``"osmesa"`` or ``"egl"``), ``renderer`` (e.g. ``"llvmpipe (LLVM 15.0.6,
+        256 bits)"`` or the GPU's name), ``version``, ``vendor``; the three GL strings are None
+        when no context was read (with ``error`` saying why when one could not be created).
+    """
+    info: dict[str, str | None] = {"platform": GL_PLATFORM}
+    if not _GL_STRINGS and open_context:
+        try:
+            if pyrender is None:
+                raise RenderError(_explain(_IMPORT_ERROR or RuntimeError("pyrender not imported")))
+            _Offscreen(8, 8).delete()
+        except Exception as exc:  # noqa: BLE001 - reported, not raised: a bench row still gets written
+            return {**info, "renderer": None, "version": None, "vendor": None, "error": repr(exc)}
+    if not _GL_STRINGS:
+        return {**info, "renderer": None, "version": None, "vendor": None}
+    return {**info, **_GL_STRINGS}
+
 
 class _Context:
     """One GL context of a fixed shape with its scene and node cache.
@@ -117,13 +303,10 @@ class _Context:
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
         try:
-            self.renderer = pyrender.OffscreenRenderer(viewport_width=w, viewport_height=h)
-            # pyrender has no public hook for its shader cache (see _ProgramCache): the one
-            # reach into a third-party private attribute, kept behind this GL boundary
-            self.renderer._renderer._program_cache = _ProgramCache()  # noqa: SLF001
+            self.renderer = _Offscreen(viewport_width=w, viewport_height=h)
         except Exception as exc:
-            raise RenderError(f"cannot create an offscreen GL context of shape {shape}: {exc!r}. "
-                              "Is libosmesa6 installed (apt-get install libosmesa6)?") from exc
+            raise RenderError(f"cannot create an offscreen GL context of shape {shape}: "
+                              f"{_explain(exc)}") from exc
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
         # id(trimesh) -> (trimesh kept alive, {color: [node, ...]}): node 0 stays in the scene
         # (hidden through its mesh's visibility), further instance nodes are added when needed
@@ -214,8 +397,7 @@ class Renderer:
 
     def __init__(self) -> None:
         if pyrender is None:
-            raise RenderError(f"pyrender is not importable: {_IMPORT_ERROR!r}. Is libosmesa6 installed "
-                              "and PyOpenGL >= 3.1.9?")
+            raise RenderError(f"pyrender is not importable: {_explain(_IMPORT_ERROR)}")
         self._contexts: dict[tuple[int, int], _Context] = {}
 
     def __enter__(self) -> Renderer:

@@ -13,8 +13,17 @@ variable                   effect
 ``MORPHKIT_WARP_THREADS``  threads of the banded warp and reprojection passes
                            (:data:`WARP_THREADS`; default: CPUs, at most 4).
 ``OMP_WAIT_POLICY``        defaults to ``PASSIVE`` (see below); a value you set wins.
-``PYOPENGL_PLATFORM``      defaults to ``osmesa`` (headless) in
-                           :func:`select_gl_platform`; a value you set wins.
+``MORPHKIT_GL``            the GL platform (:data:`GL_PLATFORM`): ``osmesa``
+                           (default: software, any Linux machine) or ``egl``
+                           (a GPU through its driver's EGL, or Mesa's software
+                           EGL); read once, fixed for the process.
+``PYOPENGL_PLATFORM``      used as ``MORPHKIT_GL`` when that is unset;
+                           :func:`select_gl_platform` sets it to
+                           :data:`GL_PLATFORM` for PyOpenGL.
+``MORPHKIT_EGL_DEVICE``    EGL device index (:data:`EGL_DEVICE`, default
+                           ``EGL_DEVICE_ID`` or 0: the first GPU).
+``NUMBA_CACHE_DIR``        where numba caches compiled kernels on disk (numba
+                           reads it; default ``__pycache__`` beside the module).
 =========================  ==================================================
 
 Compiled kernels
@@ -30,6 +39,8 @@ import os
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from .errors import ValidationError, expected_got
+
 # numba's parallel bands run on OpenMP (libgomp) where available, whose idle
 # threads spin-wait by default: measured here, they halved the speed of the
 # cv2.remap that follows every fill (0.48 vs 0.25 ms at 512^2 on 2 cores).
@@ -43,7 +54,8 @@ except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
 __all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
-           "use_compiled", "select_gl_platform"]
+           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE",
+           "child_environment"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -107,14 +119,52 @@ def use_compiled(kernel: Callable[..., Any] | None) -> bool:
     return kernel is not None and not NUMPY_ONLY
 
 
+#: The GL platforms :mod:`morphkit.render` can use.
+GL_PLATFORMS: tuple[str, ...] = ("osmesa", "egl")
+
+#: The GL platform of this process: ``MORPHKIT_GL``, else ``PYOPENGL_PLATFORM``, else
+#: ``"osmesa"`` (lower-cased; anything outside :data:`GL_PLATFORMS` is refused when
+#: :mod:`morphkit.render` is imported, by :func:`select_gl_platform`).
+GL_PLATFORM: str = (os.environ.get("MORPHKIT_GL") or os.environ.get("PYOPENGL_PLATFORM")
+                    or "osmesa").strip().lower()
+
+#: EGL device index (``MORPHKIT_EGL_DEVICE``, else pyrender's ``EGL_DEVICE_ID``, else 0).
+EGL_DEVICE: int = int(os.environ.get("MORPHKIT_EGL_DEVICE") or os.environ.get("EGL_DEVICE_ID") or 0)
+
+
 def select_gl_platform() -> str:
-    """Select OSMesa (headless) for PyOpenGL unless ``PYOPENGL_PLATFORM`` is set; return the platform.
+    """Tell PyOpenGL the platform (``PYOPENGL_PLATFORM`` = :data:`GL_PLATFORM`); return it.
 
     Must run before the first OpenGL import (:mod:`morphkit.render` calls it).
 
     Returns
     -------
     str
-        The value of ``PYOPENGL_PLATFORM`` now in force.
+        :data:`GL_PLATFORM`, now in ``PYOPENGL_PLATFORM``.
+
+    Raises
+    ------
+    ValidationError
+        :data:`GL_PLATFORM` is not one of :data:`GL_PLATFORMS`.
     """
-    return os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+    if GL_PLATFORM not in GL_PLATFORMS:
+        raise ValidationError(expected_got("MORPHKIT_GL (or PYOPENGL_PLATFORM)",
+                                           f"one of {', '.join(GL_PLATFORMS)}", repr(GL_PLATFORM)))
+    os.environ["PYOPENGL_PLATFORM"] = GL_PLATFORM
+    return GL_PLATFORM
+
+
+def child_environment(**overrides: str) -> dict[str, str]:
+    """This process's environment with ``overrides``, for a child process (e.g. a fresh numba cache).
+
+    Parameters
+    ----------
+    **overrides : str
+        Variables to set in the child, e.g. ``NUMBA_CACHE_DIR="/tmp/x"``.
+
+    Returns
+    -------
+    dict of str to str
+        A copy of ``os.environ`` updated with ``overrides``.
+    """
+    return {**os.environ, **overrides}

@@ -9,5 +9,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.sh" test
 ruff check morphkit tests samples docs
 python -m pytest -q "$@"
 if [ "$#" -eq 0 ]; then
+  # the rendering tests again on Mesa's EGL (software; the platform a GPU uses): MORPHKIT_GL=egl
+  MORPHKIT_GL=egl python -m pytest -q -p no:cacheprovider tests/test_render.py
   bash "$MORPHKIT_ROOT/scripts/docs.sh"
 fi

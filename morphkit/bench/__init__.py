@@ -49,8 +49,8 @@ def lazy_suite(module: str, attr: str = "run") -> Suite:
         :func:`run_suite` finds ``PLOT_OPTIONS`` and ``FLOOR_METHOD`` there).
     """
 
-    def suite(*, quick: bool = False) -> list[dict[str, Any]]:
-        return getattr(importlib.import_module(module), attr)(quick=quick)
+    def suite(*, quick: bool = False, **options: Any) -> list[dict[str, Any]]:
+        return getattr(importlib.import_module(module), attr)(quick=quick, **options)
 
     suite.__module__ = module  # so run_suite finds PLOT_OPTIONS / FLOOR_METHOD
     suite.__qualname__ = f"lazy_suite({module!r}, {attr!r})"
@@ -90,7 +90,8 @@ def register_suite(name: str, fn: Suite) -> Suite:
 
 
 def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = None,
-              plot_path: str | Path | None = None) -> list[dict[str, Any]]:
+              plot_path: str | Path | None = None, options: dict[str, Any] | None = None
+              ) -> list[dict[str, Any]]:
     """Run suite ``name``, print its table, write JSON/plots when paths are given; return the rows.
 
     Raises :class:`~morphkit.errors.ValidationError` for an unknown ``name``.
@@ -105,6 +106,8 @@ def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = 
         Write the rows there as a JSON list.
     plot_path : str or pathlib.Path, optional
         Write the plots next to it (:func:`morphkit.bench.harness.write_plots`).
+    options : dict, optional
+        Further keyword arguments of the suite (e.g. ``{"workers": [1, 2, 4]}`` for ``bake``).
 
     Returns
     -------
@@ -117,7 +120,7 @@ def run_suite(name: str, *, quick: bool = False, json_path: str | Path | None = 
         raise ValidationError(expected_got("bench suite", f"one of {', '.join(sorted(SUITES))}",
                                            f"unknown suite {name!r}"))
     fn = SUITES[name]
-    rows = fn(quick=quick)
+    rows = fn(quick=quick, **(options or {}))
     try:
         mod = importlib.import_module(getattr(fn, "__module__", "") or "")
     except ImportError:

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import fileio, tol
+from ..render import gl_info
 
 __all__ = [
     "Timing",
@@ -219,6 +220,7 @@ def make_row(suite: str, method: str, params: Mapping[str, Any], timing: Timing,
     return {
         "suite": suite,
         "method": method,
+        "gl": gl_info(open_context=False),  # GL platform and renderer of this process (#29)
         "params": dict(params),
         "ms_median": float(timing.ms_median),
         "ms_min": float(timing.ms_min),

@@ -5,8 +5,13 @@ Rows:
 * ``what=depth``: one light-view depth map (perspective, fitted to the object)
   of the cow-like mesh at ~6k / 50k / 300k / 1M faces, per map size
   (64..1024), with a renderer created once and reused (the floor ``direct``
-  of the shadows suite). ``create_context`` times creating + deleting an
-  OSMesa context of that size, the cost a renderer created per frame would pay.
+  of the shadows suite). ``create_context`` times a fresh
+  :class:`~morphkit.render.Renderer`'s first (empty) depth map of that size and
+  its close: the GL context's creation and deletion, the cost a renderer created
+  per frame would pay.
+
+Every row carries ``gl`` (:func:`morphkit.render.gl_info`: the platform,
+``osmesa`` or ``egl`` as ``MORPHKIT_GL`` chose, and the ``GL_RENDERER`` string).
 * ``what=accuracy``: depth of an analytic plane facing the camera at distance
   ``dist`` (``znear = 0.05``, ``zfar = 100``), orthographic and perspective:
   metrics ``rel_err_max`` over all pixels (morphkit's linearisation) and, for
@@ -37,7 +42,6 @@ PLOT_OPTIONS = {"size_key": "size", "panel_keys": ("what",)}
 
 
 def _depth_rows(renderer: Renderer, quick: bool) -> list[dict[str, Any]]:
-    from ..render import pyrender
     from ..scene import Item
 
     rows = []
@@ -54,9 +58,9 @@ def _depth_rows(renderer: Renderer, quick: bool) -> list[dict[str, Any]]:
             fns[f"depth_{f // 1000}k"] = lambda cam=cam, item=item: renderer.depth(cam, item)
         timings = time_calls(fns, repeats=5 if quick else 11, warmup=1)
 
-        def create(size: int = size) -> None:
-            r = pyrender.OffscreenRenderer(size, size)
-            r.delete()
+        def create(cam: Any = cam) -> None:
+            with Renderer() as fresh:
+                fresh.depth(cam, [])
 
         timings["create_context"] = time_call(create, repeats=3 if quick else 5, warmup=0)
         for name, t in timings.items():
