@@ -13,6 +13,8 @@ What each kind of trimesh visual becomes:
   built from vertices and faces): one colour,
   :data:`~morphkit.conventions.DEFAULT_COLOR`, drawn exactly as an item with
   that colour.
+  trimesh's placeholder material (a 2 x 2 grey-100 image with the default
+  diffuse, what trimesh gives an OBJ with UVs but no material) counts as none.
 * ``ColorVisuals`` with vertex colours: interpolated across each face; with
   face colours: one colour per face. Their alpha is ignored (opaque).
 * ``TextureVisuals`` with a ``PBRMaterial`` (glTF): ``baseColorFactor`` x
@@ -157,8 +159,26 @@ def _cutoff(value: Any) -> float:
     return c
 
 
+#: trimesh's placeholder material (see :func:`_placeholder`): its texel and diffuse colour.
+_PLACEHOLDER_TEXEL = np.array([100, 100, 100, 255], np.uint8)
+_PLACEHOLDER_DIFFUSE = np.array([102, 102, 102, 255], np.uint8)
+
+
+def _placeholder(mat: Any) -> bool:
+    """trimesh's stand-in for "no material" (``empty_material()``: an OBJ with UVs and no
+    material, ``TextureVisuals()``): a 2 x 2 image of grey 100 and the default diffuse."""
+    if not isinstance(mat, trimesh.visual.material.SimpleMaterial) or mat.image is None:
+        return False
+    if not np.array_equal(np.asarray(mat.diffuse), _PLACEHOLDER_DIFFUSE):
+        return False
+    img = np.asarray(mat.image)
+    return img.shape == (2, 2, 4) and bool(np.all(img == _PLACEHOLDER_TEXEL))
+
+
 def _texture_look(mesh: trimesh.Trimesh, visual: Any) -> SurfaceLook:
     mat = visual.material
+    if _placeholder(mat) and "color" not in getattr(visual, "vertex_attributes", {}):
+        return SurfaceLook((*DEFAULT_COLOR, 1.0))
     metallic, roughness = DIELECTRIC
     if isinstance(mat, trimesh.visual.material.MultiMaterial):
         raise MeshError(expected_got("mesh material", "one material per mesh (split the mesh per material)",

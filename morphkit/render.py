@@ -356,10 +356,13 @@ def _as_uint8(img: np.ndarray) -> np.ndarray:
 
 def _decode_normals(encoded: np.ndarray, covered: np.ndarray) -> np.ndarray:
     """Unit normals from the normals draw's ``127 n + 128`` uint8 encoding; 0 where not ``covered``."""
-    n = (encoded.astype(np.float32) - np.float32(128.0)) / np.float32(127.0)
-    norm = np.linalg.norm(n, axis=-1, keepdims=True)
-    n = np.where(covered[..., None] & (norm > 0), n / np.maximum(norm, np.float32(tol.ALPHA_FLOOR)), 0.0)
-    return n.astype(np.float32)
+    n = encoded.astype(np.float32)
+    n -= np.float32(128.0)  # 127 n: the scale goes with the normalisation
+    norm2 = np.einsum("ijk,ijk->ij", n, n)
+    with np.errstate(divide="ignore"):
+        inv = np.where(covered & (norm2 > 0), 1.0 / np.sqrt(norm2), 0.0).astype(np.float32)
+    n *= inv[..., None]
+    return n
 
 
 class Renderer:
@@ -457,11 +460,12 @@ class Renderer:
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         if ctx.masked_shown:
-            return self._flat(ctx, camera, normals=False)[1]
+            return self._linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
         return self._linear_depth(self.pyrender_depth(camera, items), camera)
 
     def _flat(self, ctx: _Context, camera: CameraModel, *, normals: bool) -> tuple[np.ndarray, np.ndarray]:
-        """A flat draw (albedo, or encoded normals) of the items shown: RGB uint8 and linear depth."""
+        """A flat draw (albedo, or encoded normals) of the items shown: RGB uint8 and pyrender's
+        depth (0 where nothing is drawn)."""
         ctx.set_camera(camera)
         ctx.scene.bg_color = np.zeros(4)
         ctx.programs.normals = normals
@@ -469,7 +473,7 @@ class Renderer:
             color, raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.FLAT)
         finally:
             ctx.programs.normals = False
-        return np.ascontiguousarray(color[..., :3]), self._linear_depth(raw, camera)
+        return np.ascontiguousarray(color[..., :3]), raw
 
     def albedo(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour as
@@ -510,8 +514,8 @@ class Renderer:
         """
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
-        enc, depth = self._flat(ctx, camera, normals=True)
-        return _decode_normals(enc, np.isfinite(depth))
+        enc, raw = self._flat(ctx, camera, normals=True)
+        return _decode_normals(enc, raw > tol.PYRENDER_BACKGROUND)
 
     def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),

@@ -77,6 +77,18 @@ def test_a_mesh_without_visuals_has_the_default_colour():
     assert (look.metallic, look.roughness) == DIELECTRIC
 
 
+def test_trimesh_placeholder_material_is_no_visuals(tmp_path):
+    """An OBJ with UVs and no material loads with trimesh's grey-100 placeholder texture:
+    drawn in the default colour as before, not darker."""
+    p = tmp_path / "uv.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n")
+    m = trimesh.load(p, process=False)
+    assert isinstance(m.visual, trimesh.visual.TextureVisuals)
+    assert mesh_look(m).plain and mesh_look(m).base_color == (*DEFAULT_COLOR, 1.0)
+    m.visual.material.image = Image.new("RGBA", (2, 2), (100, 100, 101, 255))  # a real texture
+    assert mesh_look(m).texture is not None
+
+
 def test_vertex_and_face_colours_are_opaque_looks():
     look = mesh_look(gradient_quad())
     assert not look.plain and look.vertex_colors.shape == (4, 4) and look.vertex_colors[1].tolist() == [
