@@ -20,8 +20,9 @@ What each kind of trimesh visual becomes:
 * ``TextureVisuals`` with a ``PBRMaterial`` (glTF): ``baseColorFactor`` x
   ``baseColorTexture``; ``alphaMode`` ``OPAQUE`` (or unset) ignores alpha,
   ``MASK`` cuts out texels whose alpha is below ``alphaCutoff`` (default
-  :data:`~morphkit.conventions.ALPHA_CUTOFF`), ``BLEND`` is drawn as ``MASK`` at
-  :data:`~morphkit.conventions.ALPHA_CUTOFF` (order-independent: no blending).
+  :data:`~morphkit.conventions.ALPHA_CUTOFF`; a cutoff of 0 is opaque),
+  ``BLEND`` is drawn as ``MASK`` at :data:`~morphkit.conventions.ALPHA_CUTOFF`
+  (order-independent: no blending).
   ``metallicFactor``/``roughnessFactor`` are kept where set; unset ones are
   morphkit's dielectric ``(0.0, 0.9)`` (an item with a colour), not glTF's
   ``(1.0, 1.0)``, which without an environment light draws nearly black.
@@ -190,6 +191,7 @@ def _texture_look(mesh: trimesh.Trimesh, visual: Any) -> SurfaceLook:
         if mode not in ("OPAQUE", "MASK", "BLEND"):
             raise MeshError(expected_got("material alphaMode", "OPAQUE, MASK or BLEND", mat.alphaMode))
         cutoff = None if mode == "OPAQUE" else _cutoff(mat.alphaCutoff if mode == "MASK" else None)
+        cutoff = None if cutoff == 0.0 else cutoff  # no alpha is below 0: opaque
         if mat.metallicFactor is not None:
             metallic = float(mat.metallicFactor)
         if mat.roughnessFactor is not None:

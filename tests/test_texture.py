@@ -109,6 +109,7 @@ def test_alpha_modes():
     assert mask.alpha_cutoff == pytest.approx(0.3) and np.all(mask.texture[..., 3] == 100)
     assert mesh_look(textured_quad(tex, alpha_mode="MASK")).alpha_cutoff == ALPHA_CUTOFF
     assert mesh_look(textured_quad(tex, alpha_mode="BLEND", alpha_cutoff=0.1)).alpha_cutoff == ALPHA_CUTOFF
+    assert mesh_look(textured_quad(tex, alpha_mode="MASK", alpha_cutoff=0.0)).alpha_cutoff is None
     with pytest.raises(MeshError, match="alphaCutoff: expected a number in"):
         mesh_look(textured_quad(tex, alpha_mode="MASK", alpha_cutoff=1.5))
 
