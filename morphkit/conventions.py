@@ -53,13 +53,40 @@ Depth images
 * Depth images are float32 ``(H, W)`` of linear depth (``Z`` above).
   Pixels where no surface was hit hold :data:`BACKGROUND_DEPTH` (``+inf``): a
   comparison ``receiver_depth > map_depth`` is then false, i.e. unshadowed.
+
+Colour
+------
+* **Inputs.** Texture images and vertex/face colours are **sRGB-encoded** (as
+  stored in image, PLY and glTF files). An item's ``color`` and a material's
+  base-colour factor are **linear** multipliers (glTF's rule), RGB in ``[0, 1]``.
+  An item without a colour whose mesh has no visuals is drawn in
+  :data:`DEFAULT_COLOR` (:mod:`morphkit.look` has the rules for the rest).
+* **Lit colour** (``Renderer.color_depth``, ``source_view``, the ``color`` pass):
+  uint8 RGB, pyrender's lighting computed in linear light and encoded with
+  gamma ``1/2.2``; textures and vertex colours are decoded from sRGB (the exact
+  curve) before lighting, so a texel and a vertex colour of the same value look
+  the same.
+* **Albedo** (the ``albedo`` pass): uint8 RGB of base colour factor x texture x
+  vertex colour **as stored, unlit and not re-encoded** (pyrender's flat
+  shading): a texture comes out as its own texels, an item with ``color`` ``c``
+  as ``round(255 c)``, a vertex colour as itself.
+* **Normals** (the ``normal`` pass): float32 ``(H, W, 3)`` unit vectors in the
+  **world frame**, of the side of the surface facing the camera (a two-sided
+  card seen from behind gives its reversed normal), ``0`` where nothing is
+  drawn. They pass through an 8-bit encoding ``127 n + 128`` (0 and +-1
+  exact) and are renormalised: angular error at most :data:`NORMAL_ENCODING_DEG`.
+* **Alpha** is coverage: the fraction of a pixel covered by surface (1 or 0 at
+  one sample a pixel; area-averaged when supersampled). Cut-out texels
+  (:data:`ALPHA_CUTOFF`) are holes in colour, depth and alpha alike. Colour
+  with alpha is straight (not premultiplied).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "SIFT_KEYPOINT_OFFSET_PX", "gl_pose_from_cv", "cv_pose_from_gl"]
+__all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "SIFT_KEYPOINT_OFFSET_PX", "DEFAULT_COLOR", "ALPHA_CUTOFF",
+           "NORMAL_ENCODING_DEG", "gl_pose_from_cv", "cv_pose_from_gl"]
 
 #: 4x4 change of camera frame OpenGL -> OpenCV (equal to its inverse).
 CV_FROM_GL: np.ndarray = np.diag([1.0, -1.0, -1.0, 1.0])
@@ -71,6 +98,20 @@ BACKGROUND_DEPTH: float = float("inf")
 #: How far (pixels, in x and in y) ``cv2.SIFT`` puts a keypoint right of and
 #: below its feature, in the pixels of the image it was given (see above).
 SIFT_KEYPOINT_OFFSET_PX: float = 0.25
+
+#: Linear RGB of a surface with no colour of its own: an item without ``color``
+#: whose mesh has no visuals (morphkit's one default colour since the start).
+DEFAULT_COLOR: tuple[float, float, float] = (0.7, 0.7, 0.7)
+
+#: Base-colour alpha below which a cut-out texel is a hole (glTF's default
+#: ``alphaCutoff``); also the cutoff of glTF ``BLEND`` materials and of OBJ
+#: textures with alpha, which morphkit draws as cut-outs (no blending).
+ALPHA_CUTOFF: float = 0.5
+
+#: Largest angle (degrees) between a normal of the ``normal`` pass and the true
+#: one, from its 8-bit encoding ``127 n + 128``: each component is off by at most
+#: 0.5/127, an error vector of length at most sqrt(3) 0.5/127, i.e. 0.39 deg.
+NORMAL_ENCODING_DEG: float = 0.4
 
 
 def gl_pose_from_cv(cam_cv2world: np.ndarray) -> np.ndarray:

@@ -57,8 +57,30 @@ EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``):
 
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and
 one ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and
-reused for every frame of that shape (on EGL too). Meshes are converted and
-uploaded once per context; moving an object only changes its node pose.
+reused for every frame of that shape (on EGL too). Meshes are converted and uploaded once
+per context; moving an object only changes its node pose.
+
+Materials. An item with a colour is drawn as it always was: one
+``MetallicRoughnessMaterial`` of that colour (``pyrender.Mesh.from_trimesh``
+with that material, which drops the mesh's visuals). An item without one is
+drawn in its mesh's own look (:func:`morphkit.look.mesh_look`), built here into
+a ``pyrender.Primitive`` directly rather than by ``from_trimesh(material=None)``,
+whose pitfalls it avoids: every material it makes is ``alphaMode='BLEND'``
+(order-dependent blending) and single-sided, a trimesh ``SimpleMaterial``'s
+default grey diffuse (0.4) darkens its texture, 16-bit textures wrap around in
+``astype(uint8)``, greyscale ones crash, and RGB textures of a width that is
+not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here textures are
+RGBA uint8 (:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or
+``MASK`` and two-sided, and cut-outs are drawn by morphkit's copies of three
+pyrender fragment shaders (``morphkit/data/shaders``; pyrender's shaders ignore
+``alphaMode`` and ``alphaCutoff``) that discard fragments with base-colour
+alpha below 0.5: a look with cutoff ``c`` uploads its factor alpha times
+``0.5 / c``, an opaque look all alphas at 1, so one shader serves every cutoff.
+The same copies decode vertex colours from sRGB before lighting and draw the
+normals pass. Items without texture or vertex colours keep pyrender's own
+shaders (their pixels are those of earlier versions). ``DEPTH_ONLY`` draws
+ignore materials, so a depth image with a cut-out item visible is taken from a
+flat colour draw instead (same vertex transform, so the same depth).
 """
 
 from __future__ import annotations
@@ -67,19 +89,24 @@ import ctypes
 import ctypes.util
 import os
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import cv2
 import numpy as np
 import trimesh
 
+from . import tol
 from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
+from .look import DIELECTRIC, SurfaceLook, mesh_look
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
+from .validate import as_int
 
-__all__ = ["Renderer", "gl_info", "missing_gl_libraries", "GL_LIBRARIES"]
+__all__ = ["Renderer", "RenderPasses", "SHADER_DIR", "gl_info", "missing_gl_libraries", "GL_LIBRARIES"]
 
 #: Shared libraries each platform loads (library name as ``ctypes.util.find_library`` takes it,
 #: what provides it on Debian/Ubuntu). pyglet's headless mode (imported with pyrender) loads
@@ -156,6 +183,12 @@ else:
 #: GL strings read from the first context this process created (see :func:`gl_info`).
 _GL_STRINGS: dict[str, str] = {}
 
+#: morphkit's copies of pyrender's fragment shaders (package data; module notes, "Materials").
+SHADER_DIR = Path(__file__).resolve().parent / "data" / "shaders"
+#: Faces above which a mesh is drawn with smooth (vertex) normals: flat shading repeats
+#: every vertex per face, tripling a 1M-face mesh (face colours are always flat).
+_SMOOTH_FACES = 20000
+
 
 if pyrender is not None:
     class _MatrixCamera(pyrender.Camera):
@@ -186,16 +219,28 @@ if pyrender is not None:
         implicit in the cache.
         """
 
+        #: When set, flat draws use morphkit's normals shader (the normals pass).
+        normals: bool = False
+
+        def _path(self, name: str | None, defines: dict) -> str | None:
+            """The file of shader ``name``: morphkit's copy for textured or vertex-coloured
+            primitives (and for the normals pass), pyrender's otherwise."""
+            if name is None:
+                return None
+            if name == "flat.frag" and self.normals:
+                return str(SHADER_DIR / "normals.frag")
+            if name in ("mesh.frag", "flat.frag") and ("HAS_BASE_COLOR_TEX" in defines
+                                                       or "COLOR_0_LOC" in defines):
+                return str(SHADER_DIR / name)
+            return os.path.join(self.shader_dir, name)
+
         def get_program(self, vertex_shader: str, fragment_shader: str, geometry_shader: str | None = None,
                         defines: dict | None = None) -> pyrender.shader_program.ShaderProgram:
             defines = {} if defines is None else defines
-            names = [os.path.basename(f) for f in (vertex_shader, fragment_shader, geometry_shader)
-                     if f is not None]
-            key = tuple(sorted([(n, 1) for n in names] + list(defines.items())))
+            vs, fs, gs = (self._path(f, defines) for f in (vertex_shader, fragment_shader, geometry_shader))
+            key = (vs, fs, gs, tuple(sorted(defines.items())))
             program = self._program_cache.get(key)
             if program is None:
-                vs, fs, gs = (None if f is None else os.path.join(self.shader_dir, f)
-                              for f in (vertex_shader, fragment_shader, geometry_shader))
                 program = self._program_cache[key] = pyrender.shader_program.ShaderProgram(
                     vertex_shader=vs, fragment_shader=fs, geometry_shader=gs, defines=defines)
             return program
@@ -259,6 +304,51 @@ if pyrender is not None:
                     _GL_STRINGS[key] = value.decode("utf-8", "replace") if value else ""
             self._renderer = _SingleSampleRenderer(w, h)
 
+    def _flat_color_mesh(mesh: trimesh.Trimesh, color: tuple[float, ...]) -> pyrender.Mesh:
+        """One colour: pyrender's ``from_trimesh`` with one material (drops the mesh's visuals)."""
+        mat = pyrender.MetallicRoughnessMaterial(
+            baseColorFactor=[*color, 1.0], metallicFactor=DIELECTRIC[0], roughnessFactor=DIELECTRIC[1],
+            doubleSided=True)
+        # Flat shading for small meshes (boxes look right); smooth for large ones
+        # (flat shading would triple the vertex count of a 1M-face mesh).
+        return pyrender.Mesh.from_trimesh(mesh, material=mat, smooth=len(mesh.faces) > _SMOOTH_FACES)
+
+    def _look_mesh(mesh: trimesh.Trimesh, look: SurfaceLook) -> pyrender.Mesh:
+        """A mesh's own look as one primitive (module notes, "Materials")."""
+        smooth = len(mesh.faces) > _SMOOTH_FACES and look.face_colors is None
+        faces = np.asarray(mesh.faces)
+        if smooth:
+            positions, normals, indices = mesh.vertices, mesh.vertex_normals, faces
+            per_vertex = (lambda a: a)  # noqa: E731
+        else:
+            positions = mesh.vertices[faces].reshape(-1, 3)
+            normals = np.repeat(mesh.face_normals, 3, axis=0)
+            indices = None
+            per_vertex = (lambda a: a[faces].reshape(-1, a.shape[1]))  # noqa: E731
+        colors = None
+        if look.vertex_colors is not None:
+            colors = per_vertex(look.vertex_colors)
+        elif look.face_colors is not None:
+            colors = np.repeat(look.face_colors, 3, axis=0)
+        texture, uv = look.texture, look.uv
+        if texture is None and look.masked:  # a cut-out without a texture: the shader's alpha test
+            texture, uv = np.full((1, 1, 4), 255, np.uint8), np.zeros((len(mesh.vertices), 2))
+        factor = list(look.base_color)
+        if look.masked:  # one shader test (alpha < 0.5) for every cutoff
+            factor[3] *= 0.5 / max(float(look.alpha_cutoff), tol.ALPHA_FLOOR)
+        tex = None if texture is None else pyrender.Texture(
+            source=texture, source_channels="RGBA", sampler=pyrender.Sampler())
+        mat = pyrender.MetallicRoughnessMaterial(
+            baseColorFactor=factor, baseColorTexture=tex, metallicFactor=look.metallic,
+            roughnessFactor=look.roughness, doubleSided=True,
+            alphaMode="MASK" if look.masked else "OPAQUE", alphaCutoff=look.alpha_cutoff)
+        prim = pyrender.Primitive(
+            positions=np.asarray(positions, np.float32), normals=np.asarray(normals, np.float32),
+            texcoord_0=None if uv is None else np.asarray(per_vertex(uv), np.float32),
+            color_0=None if colors is None else colors.astype(np.float32) / 255.0,
+            indices=indices, material=mat, mode=pyrender.constants.GLTF.TRIANGLES)
+        return pyrender.Mesh(primitives=[prim])
+
 
 def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
     """The GL platform and the renderer string in use (the benches write both into their JSON rows).
@@ -295,7 +385,8 @@ def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
 class _Context:
     """One GL context of a fixed shape with its scene and node cache.
 
-    Each (mesh, colour) is converted and uploaded once (one ``pyrender.Mesh``);
+    Each (mesh, look) is converted and uploaded once (one ``pyrender.Mesh``; the
+    look is the item's colour, or the mesh's own look for ``color=None``);
     several :class:`~morphkit.scene.Item` s sharing it (instances of one mesh at
     several poses) get one node each, all referring to that uploaded mesh.
     """
@@ -308,9 +399,12 @@ class _Context:
             raise RenderError(f"cannot create an offscreen GL context of shape {shape}: "
                               f"{_explain(exc)}") from exc
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
-        # id(trimesh) -> (trimesh kept alive, {color: [node, ...]}): node 0 stays in the scene
-        # (hidden through its mesh's visibility), further instance nodes are added when needed
-        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...], list[pyrender.Node]]]] = {}
+        # id(trimesh) -> (trimesh kept alive, {look key: [node, ...]}): node 0 stays in the scene
+        # (hidden through its mesh's visibility), further instance nodes are added when needed;
+        # the look key is the item's colour, or "own" for the mesh's own look
+        self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...] | str, list[pyrender.Node]]]] = {}
+        self.masked_pools: set[int] = set()  # id(pool) of uploads with cut-outs
+        self.masked_shown = False  # a cut-out upload is visible (depth needs a colour draw)
         self.cam_node: pyrender.Node | None = None
         self.light_nodes: list[pyrender.Node] = []
 
@@ -320,17 +414,18 @@ class _Context:
         if entry is None or entry[0] is not item.mesh:
             entry = (item.mesh, {})
             self.nodes[key] = entry
-        color = tuple(float(c) for c in item.color)
-        pool = entry[1].get(color)
+        key = "own" if item.color is None else tuple(float(c) for c in item.color)
+        pool = entry[1].get(key)
         if pool is None:
-            mat = pyrender.MetallicRoughnessMaterial(
-                baseColorFactor=[*color, 1.0], metallicFactor=0.0, roughnessFactor=0.9,
-                doubleSided=True)
-            # Flat shading for small meshes (boxes look right); smooth for large ones
-            # (flat shading would triple the vertex count of a 1M-face mesh).
-            smooth = len(item.mesh.faces) > 20000
-            pm = pyrender.Mesh.from_trimesh(item.mesh, material=mat, smooth=smooth)
-            pool = entry[1][color] = [self.scene.add(pm, pose=np.eye(4))]
+            if item.color is not None:
+                pm = _flat_color_mesh(item.mesh, key)
+            else:
+                look = mesh_look(item.mesh)
+                pm = _flat_color_mesh(item.mesh, look.base_color[:3]) if look.plain else \
+                    _look_mesh(item.mesh, look)
+            pool = entry[1][key] = [self.scene.add(pm, pose=np.eye(4))]
+            if item.color is None and look.masked:
+                self.masked_pools.add(id(pool))
         return pool
 
     def show(self, items: Sequence[Item]) -> None:
@@ -338,6 +433,7 @@ class _Context:
         for it in items:
             pool = self._pool(it)
             groups.setdefault(id(pool), (pool, []))[1].append(it)
+        self.masked_shown = any(k in self.masked_pools for k in groups)
         for _mesh, by_color in self.nodes.values():
             for pool in by_color.values():
                 used = groups.get(id(pool), (pool, []))[1]
@@ -357,6 +453,11 @@ class _Context:
         if self.cam_node is not None:
             self.scene.remove_node(self.cam_node)
         self.cam_node = self.scene.add(cam, pose=camera.gl_pose())
+
+    @property
+    def programs(self) -> _ProgramCache:
+        """This context's shader-program cache (installed in ``__init__``)."""
+        return self.renderer._renderer._program_cache  # noqa: SLF001
 
     def set_lights(self, lights: Iterable[Light], ambient: float) -> None:
         for n in self.light_nodes:
@@ -385,6 +486,66 @@ def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]
         return out
     raise ValidationError(expected_got("light", "a DirectionalLight, PointLight or AreaLight",
                                        type(light).__name__))
+
+
+@dataclass(frozen=True)
+class RenderPasses:
+    """The passes of one view, drawn by :meth:`Renderer.passes` or :meth:`Renderer.source_passes`.
+
+    Colour spaces and frames: :mod:`morphkit.conventions` ("Colour").
+
+    Parameters
+    ----------
+    color : (H, W, 3) uint8
+        Lit colour.
+    albedo : (H, W, 3) uint8
+        Unlit base colour (factor x texture x vertex colour as stored), 0 where nothing is drawn.
+    normal : (H, W, 3) float32
+        World-frame unit normals of the side facing the camera, 0 where nothing is drawn.
+    depth : (H, W) float32
+        Linear depth, ``+inf`` where nothing is drawn.
+    alpha : (H, W) float32
+        Coverage in ``[0, 1]`` (0 or 1 from :meth:`Renderer.passes`).
+    """
+
+    color: np.ndarray
+    albedo: np.ndarray
+    normal: np.ndarray
+    depth: np.ndarray
+    alpha: np.ndarray
+
+
+def _supersampled(camera: CameraModel, s: int) -> CameraModel:
+    """``camera`` with ``s`` times the pixels per axis over the same image area."""
+    h, w = camera.shape
+    return CameraModel(camera.projection, (h * s, w * s), camera.fx * s, camera.fy * s,
+                       (camera.cx + 0.5) * s - 0.5, (camera.cy + 0.5) * s - 0.5,
+                       camera.znear, camera.zfar, camera.cam2world)
+
+
+def _area_straight(img: np.ndarray, cov: np.ndarray, alpha: np.ndarray, shape: tuple[int, int]
+                   ) -> np.ndarray:
+    """Area-average ``img`` premultiplied by coverage ``cov`` down to ``shape`` and
+    un-premultiply by the averaged coverage ``alpha`` (0 where ``alpha`` is 0); float32."""
+    h, w = shape
+    premul = img.astype(np.float32) * cov[..., None]
+    out = cv2.resize(premul, (w, h), interpolation=cv2.INTER_AREA)
+    return np.where(alpha[..., None] > 0, out / np.maximum(alpha[..., None], 1e-6), 0.0)
+
+
+def _as_uint8(img: np.ndarray) -> np.ndarray:
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+def _decode_normals(encoded: np.ndarray, covered: np.ndarray) -> np.ndarray:
+    """Unit normals from the normals draw's ``127 n + 128`` uint8 encoding; 0 where not ``covered``."""
+    n = encoded.astype(np.float32)
+    n -= np.float32(128.0)  # 127 n: the scale goes with the normalisation
+    norm2 = np.einsum("ijk,ijk->ij", n, n)
+    with np.errstate(divide="ignore"):
+        inv = np.where(covered & (norm2 > 0), 1.0 / np.sqrt(norm2), 0.0).astype(np.float32)
+    n *= inv[..., None]
+    return n
 
 
 class Renderer:
@@ -463,6 +624,9 @@ class Renderer:
     def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``.
 
+        Cut-out texels are holes (with a cut-out item in view the depth comes from a flat
+        colour draw: module notes, "Materials").
+
         Parameters
         ----------
         camera : CameraModel
@@ -475,7 +639,133 @@ class Renderer:
         (H, W) float32
             Linear depth, ``+inf`` background.
         """
+        ctx = self._ctx(camera)
+        ctx.show(self._check_items(items))
+        if ctx.masked_shown:
+            return self._linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
         return self._linear_depth(self.pyrender_depth(camera, items), camera)
+
+    def _flat(self, ctx: _Context, camera: CameraModel, *, normals: bool) -> tuple[np.ndarray, np.ndarray]:
+        """A flat draw (albedo, or encoded normals) of the items shown: RGB uint8 and pyrender's
+        depth (0 where nothing is drawn)."""
+        ctx.set_camera(camera)
+        ctx.scene.bg_color = np.zeros(4)
+        ctx.programs.normals = normals
+        try:
+            color, raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.FLAT)
+        finally:
+            ctx.programs.normals = False
+        return np.ascontiguousarray(color[..., :3]), raw
+
+    def albedo(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
+        """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour as
+        stored (:mod:`morphkit.conventions`, "Colour"), 0 where nothing is drawn.
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        (H, W, 3) uint8
+            Albedo.
+        """
+        ctx = self._ctx(camera)
+        ctx.show(self._check_items(items))
+        return self._flat(ctx, camera, normals=False)[0]
+
+    def normals(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
+        """World-frame unit normals ``(H, W, 3)`` float32 of the surfaces facing ``camera``,
+        0 where nothing is drawn (8-bit encoded on the way: at most
+        :data:`~morphkit.conventions.NORMAL_ENCODING_DEG` off).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        (H, W, 3) float32
+            Unit normals, world frame.
+        """
+        ctx = self._ctx(camera)
+        ctx.show(self._check_items(items))
+        enc, raw = self._flat(ctx, camera, normals=True)
+        return _decode_normals(enc, raw > tol.PYRENDER_BACKGROUND)
+
+    def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+               ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+               ) -> RenderPasses:
+        """Lit colour, albedo, normals, depth and coverage of one view (three draws).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        background : tuple of 3 float, optional
+            RGB in ``[0, 1]`` of the lit colour where nothing is drawn.
+
+        Returns
+        -------
+        RenderPasses
+            The passes; ``alpha`` is 1 where a surface is drawn, else 0.
+        """
+        color, depth = self.color_depth(camera, items, lights, ambient=ambient, background=background)
+        ctx = self._ctx(camera)
+        albedo = self._flat(ctx, camera, normals=False)[0]
+        enc = self._flat(ctx, camera, normals=True)[0]
+        covered = np.isfinite(depth)
+        return RenderPasses(color, albedo, _decode_normals(enc, covered), depth, covered.astype(np.float32))
+
+    def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                      ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
+        """:meth:`passes` drawn at ``supersample`` times the resolution and area-averaged, as
+        :meth:`source_view` (for bakes): ``alpha`` is pixel coverage, colour and albedo are
+        straight alpha, normals the renormalised mean over the covered samples, depth the
+        nearest covered sample's (``+inf`` where none is covered).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame.
+        ambient : float, optional
+            Ambient light level.
+        supersample : int, optional
+            Supersampling factor per axis.
+
+        Returns
+        -------
+        RenderPasses
+            The passes at ``camera.shape``.
+        """
+        s = as_int(supersample, "supersample", lo=1)
+        h, w = camera.shape
+        big = self.passes(_supersampled(camera, s), items, lights, ambient=ambient)
+        cov = big.alpha
+        alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
+        color = _as_uint8(_area_straight(big.color, cov, alpha, (h, w)))
+        albedo = _as_uint8(_area_straight(big.albedo, cov, alpha, (h, w)))
+        n = cv2.resize(big.normal, (w, h), interpolation=cv2.INTER_AREA)
+        norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        n = np.where((alpha[..., None] > 0) & (norm > 0), n / np.maximum(norm, tol.ALPHA_FLOOR), 0.0)
+        depth = big.depth.reshape(h, s, w, s).min(axis=(1, 3))
+        return RenderPasses(color, albedo, n.astype(np.float32), depth, alpha.astype(np.float32))
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light],
                     *, ambient: float = 0.35,
@@ -545,16 +835,10 @@ class Renderer:
         if s < 1:
             raise ValidationError(expected_got("supersample", "an int >= 1", supersample))
         h, w = camera.shape
-        big = CameraModel(camera.projection, (h * s, w * s), camera.fx * s, camera.fy * s,
-                          (camera.cx + 0.5) * s - 0.5, (camera.cy + 0.5) * s - 0.5,
-                          camera.znear, camera.zfar, camera.cam2world)
-        color, depth = self.color_depth(big, items, lights, ambient=ambient)
+        color, depth = self.color_depth(_supersampled(camera, s), items, lights, ambient=ambient)
         cov = np.isfinite(depth).astype(np.float32)
-        premul = color.astype(np.float32) * cov[..., None]
         alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
-        rgb = cv2.resize(premul, (w, h), interpolation=cv2.INTER_AREA)
-        rgb = np.where(alpha[..., None] > 0, rgb / np.maximum(alpha[..., None], 1e-6), 0.0)
         out = np.empty((h, w, 4), np.uint8)
-        out[..., :3] = np.clip(np.rint(rgb), 0, 255)
-        out[..., 3] = np.clip(np.rint(alpha * 255), 0, 255)
+        out[..., :3] = _as_uint8(_area_straight(color, cov, alpha, (h, w)))
+        out[..., 3] = _as_uint8(alpha * 255)
         return out

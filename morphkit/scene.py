@@ -485,7 +485,7 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
 
 @dataclass(frozen=True)
 class Item:
-    """One mesh to draw: geometry, ``object2world`` pose and base colour (RGB in [0, 1]).
+    """One mesh to draw: geometry, ``object2world`` pose and look.
 
     Parameters
     ----------
@@ -493,13 +493,24 @@ class Item:
         Geometry, object frame.
     pose : (4, 4) float64, optional
         ``object2world``; identity by default.
-    color : tuple of 3 float, optional
-        Base RGB in ``[0, 1]``.
+    color : tuple of 3 float or None, optional
+        ``None`` (default): the mesh's own look, its texture or vertex/face
+        colours (:mod:`morphkit.look`), or
+        :data:`~morphkit.conventions.DEFAULT_COLOR` when it has none. A colour
+        (linear RGB in ``[0, 1]``) draws the whole mesh in that one colour,
+        whatever its visuals.
     """
 
     mesh: trimesh.Trimesh
     pose: np.ndarray = field(default_factory=lambda: np.eye(4))
-    color: tuple[float, float, float] = (0.7, 0.7, 0.7)
+    color: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if self.color is not None:
+            c = as_finite_array(self.color, "item color", shape=(3,))
+            if np.any(c < 0.0) or np.any(c > 1.0):
+                raise ValidationError(expected_got("item color", "RGB in [0, 1]", c.tolist()))
+            object.__setattr__(self, "color", tuple(float(v) for v in c))
 
 
 def scene_items(scene: Scene, *, receivers: bool = True, obj: bool = True) -> list[Item]:

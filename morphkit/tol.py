@@ -127,6 +127,20 @@ MAX_IMAGE_PIXELS = 2**26
 #: a 3 x 3 atlas of 8192^2 maps (2.25 GiB) fits, a 9 x 9 one (20 GiB) does not.
 MAX_BUFFER_BYTES = 2**32
 
+#: Most texels one texture may have (4096 x 4096). The renderer keeps every texture
+#: as RGBA uint8 with its mipmaps in the GL context (4/3 x 64 MiB = 85 MiB at this
+#: size, in main memory under OSMesa) besides the numpy copy it converts from; a
+#: billboard bake keeps one context per image shape. Real-time assets rarely exceed
+#: 4096^2 per material; a larger one is refused (downscale it) rather than failing
+#: deep inside GL or exhausting memory.
+MAX_TEXTURE_PIXELS = 4096 * 4096
+
+#: Most texels on one side of a texture. OpenGL 3.3 only promises 1024
+#: (``GL_MAX_TEXTURE_SIZE``); llvmpipe (OSMesa) and desktop GPUs of the last decade
+#: allow 16384; 8192 stays below every one of those, and a 8192 x 2048 strip still fits
+#: :data:`MAX_TEXTURE_PIXELS`.
+MAX_TEXTURE_SIDE = 8192
+
 #: Most light samples of an area light (``n_u * n_v``, or rows of an explicit
 #: sample array). A soft shadow's visibility is a multiple of ``1 / N``: at
 #: 4096 (64 x 64) that step is already 16x finer than one 8-bit grey level, and

@@ -17,17 +17,37 @@ Every row carries ``gl`` (:func:`morphkit.render.gl_info`: the platform,
   metrics ``rel_err_max`` over all pixels (morphkit's linearisation) and, for
   orthographic, ``pyrender_raw_rel_err`` (pyrender's own perspective-formula
   value, the bug morphkit corrects).
+* ``what=fidelity`` (no timing): the renderer against derivable truths
+  (:mod:`morphkit.fidelity`, interior pixels only). ``quad``: a photo-textured
+  quad seen head-on, albedo pass against the texture sampled at each pixel
+  centre's UV, ``psnr_db`` and ``max_err`` (8-bit levels), at ``px_per_texel``
+  1.8 (magnified) and 0.9 (minified: mipmapped, so below the bilinear truth);
+  ``gradient``: a vertex-colour gradient, ``max_err`` against the analytic colour;
+  ``normals_plane`` / ``normals_sphere``: ``max_err_deg`` of the normals pass
+  against a tilted plane's normal and a flat-shaded icosphere's face normals
+  (the triangle hit by each pixel centre's ray; pixels on triangle edges skipped).
+* ``what=passes``: the cost of each pass at 512 x 512 for the ~6k-face cow in
+  each ``look``: ``color`` (an item colour: today's flat material), ``own`` (no
+  colour, no visuals: the default colour), ``vertex`` (vertex colours),
+  ``texture`` (a 512^2 photo texture on spherical UVs), ``cutout`` (the same
+  texture with an alpha mask, glTF ``MASK``: depth then comes from a flat draw).
+  Methods: ``depth_6k`` (:meth:`Renderer.depth`, the ratio column's floor),
+  ``lit_6k`` (:meth:`Renderer.color_depth`), ``albedo_6k``, ``normal_6k``, and
+  ``passes_6k`` (:meth:`Renderer.passes`: the three draws). Timed round-robin.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import cv2
 import numpy as np
 import trimesh
 
+from .. import fidelity
 from ..camera import look_at, orthographic, perspective
 from ..meshes import sample_mesh
+from ..metrics import psnr
 from ..render import Renderer
 from ..scene import PointLight, light_view
 from .harness import Timing, make_row, time_call, time_calls
@@ -95,6 +115,102 @@ def _accuracy_rows(renderer: Renderer) -> list[dict[str, Any]]:
     return rows
 
 
+def _photo(shape: tuple[int, int]) -> tuple[np.ndarray, str]:
+    """A photograph (scikit-image's astronaut, a test extra) resized to ``shape``, or a
+    seeded synthetic texture when scikit-image is not installed; and which one it is."""
+    try:
+        import skimage.data
+    except ImportError:  # pragma: no cover - scikit-image is a test extra
+        rng = np.random.default_rng(0)
+        img = cv2.GaussianBlur(rng.random((*shape, 3)).astype(np.float32), (0, 0), 2.0)
+        img = (img - img.min()) / (img.max() - img.min())
+        return np.rint(img * 255).astype(np.uint8), "synthetic (no scikit-image)"
+    return cv2.resize(skimage.data.astronaut(), shape[::-1], interpolation=cv2.INTER_AREA), "photo"
+
+
+def _angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.degrees(np.arccos(np.clip(np.sum(a * b, -1), -1.0, 1.0)))
+
+
+def _fidelity_rows(renderer: Renderer) -> list[dict[str, Any]]:
+    from ..scene import Item
+
+    rows = []
+    none = Timing(0.0, 0.0, 0.0, 1)
+    shape = (256, 256)
+    cam = fidelity.head_on_camera(shape)  # the quad spans 0.9 x 256 = 230 px
+    uv, inside = fidelity.quad_uv(cam)
+    for texels, ppt in ((128, 1.8), (256, 0.9)):
+        tex, kind = _photo((texels, texels))
+        got = renderer.albedo(cam, [Item(fidelity.textured_quad(tex))]).astype(np.float64)
+        truth = fidelity.sample_texture(tex, uv)
+        rows.append(make_row(SUITE, "quad", {"what": "fidelity", "px_per_texel": ppt}, none, metrics={
+            "psnr_db": psnr(got, truth, data_range=255, mask=inside),
+            "max_err": float(np.abs(got - truth)[inside].max())}, note=f"{kind} {texels}^2, albedo pass"))
+    got = renderer.albedo(cam, [Item(fidelity.gradient_quad())]).astype(np.float64)
+    rows.append(make_row(SUITE, "gradient", {"what": "fidelity"}, none, metrics={
+        "max_err": float(np.abs(got - fidelity.gradient_truth(uv))[inside].max())},
+        note="vertex colours, albedo pass, 8-bit levels"))
+    n = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    plane = fidelity.quad(0.8)
+    plane.apply_transform(trimesh.geometry.align_vectors([0, 0, 1], n))
+    pcam = perspective(np.radians(40), (128, 128), look_at(3 * n + [0.2, 0.1, 0], [0, 0, 0]),
+                       znear=0.5, zfar=10)
+    p = renderer.passes(pcam, [Item(plane)], [])
+    rows.append(make_row(SUITE, "normals_plane", {"what": "fidelity"}, none, metrics={
+        "max_err_deg": float(_angle_deg(p.normal[p.alpha == 1], n).max())}))
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.5)
+    scam = perspective(np.radians(35), (128, 128), look_at([0.5, -2.0, 1.2], [0, 0, 0]), znear=0.5, zfar=10)
+    got = renderer.normals(scam, [Item(sphere)])
+    o, d = scam.rays()
+    tri = sphere.ray.intersects_first(o.reshape(-1, 3), d.reshape(-1, 3)).reshape(scam.shape)
+    same = tri >= 0
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            same &= np.roll(tri, (dy, dx), (0, 1)) == tri
+    rows.append(make_row(SUITE, "normals_sphere", {"what": "fidelity"}, none, metrics={
+        "max_err_deg": float(_angle_deg(got[same], sphere.face_normals[tri[same]]).max())},
+        note=f"{int(same.sum())} interior pixels"))
+    return rows
+
+
+def _pass_rows(renderer: Renderer, quick: bool) -> list[dict[str, Any]]:
+    from ..scene import DirectionalLight, Item
+
+    mesh = sample_mesh("cow", faces=6000)
+    c = mesh.bounds.mean(0)
+    p = mesh.vertices - c
+    uv = np.column_stack([np.arctan2(p[:, 1], p[:, 0]) / (2 * np.pi) + 0.5,
+                          (p[:, 2] - p[:, 2].min()) / np.ptp(p[:, 2])])
+    tex, _ = _photo((512, 512))
+    yy, xx = np.mgrid[:512, :512]
+    alpha = np.where(((xx // 32 + yy // 32) % 4) == 0, 0, 255).astype(np.uint8)  # 1/4 cut out
+    looks = {"color": Item(mesh, color=(0.7, 0.7, 0.7)), "own": Item(mesh)}
+    vc = mesh.copy()
+    vc.visual.vertex_colors = np.column_stack([np.rint(255 * uv[:, 0]), np.rint(255 * uv[:, 1]),
+                                               np.full(len(uv), 128), np.full(len(uv), 255)]).astype(np.uint8)
+    looks["vertex"] = Item(vc)
+    for name, image, mode in (("texture", tex, None), ("cutout", np.dstack([tex, alpha]), "MASK")):
+        m = mesh.copy()
+        m.visual = trimesh.visual.TextureVisuals(uv=uv, material=trimesh.visual.material.PBRMaterial(
+            baseColorTexture=image, alphaMode=mode))
+        looks[name] = Item(m)
+    cam = perspective(np.radians(40), (512, 512), look_at(c + [1.6, -1.2, 0.9], c), znear=0.1, zfar=10)
+    lights = [DirectionalLight([-0.4, 0.6, -1.0])]
+    rows = []
+    for look, item in looks.items():
+        items = [item]
+        renderer.passes(cam, items, lights)  # upload once
+        fns = {"depth_6k": lambda items=items: renderer.depth(cam, items),
+               "lit_6k": lambda items=items: renderer.color_depth(cam, items, lights),
+               "albedo_6k": lambda items=items: renderer.albedo(cam, items),
+               "normal_6k": lambda items=items: renderer.normals(cam, items),
+               "passes_6k": lambda items=items: renderer.passes(cam, items, lights)}
+        for name, t in time_calls(fns, repeats=5 if quick else 11, warmup=1).items():
+            rows.append(make_row(SUITE, name, {"what": "passes", "size": 512, "look": look}, t))
+    return rows
+
+
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """Run the suite (the rows are described in the module docstring).
 
@@ -111,4 +227,5 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     from ..render import Renderer
 
     with Renderer() as renderer:
-        return _depth_rows(renderer, quick) + _accuracy_rows(renderer)
+        return (_depth_rows(renderer, quick) + _accuracy_rows(renderer) + _fidelity_rows(renderer)
+                + _pass_rows(renderer, quick))
