@@ -85,11 +85,8 @@ flat colour draw instead (same vertex transform, so the same depth).
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -101,58 +98,14 @@ from . import tol
 from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
+from .glplatform import GL_LIBRARIES, explain_gl_failure, missing_gl_libraries
 from .look import DIELECTRIC, SurfaceLook, mesh_look
+from .passes import RenderPasses, area_straight, as_uint8, decode_normals, supersampled_camera
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
 from .validate import as_int
 
 __all__ = ["Renderer", "RenderPasses", "SHADER_DIR", "gl_info", "missing_gl_libraries", "GL_LIBRARIES"]
-
-#: Shared libraries each platform loads (library name as ``ctypes.util.find_library`` takes it,
-#: what provides it on Debian/Ubuntu). pyglet's headless mode (imported with pyrender) loads
-#: EGL and GL on either platform.
-GL_LIBRARIES: dict[str, tuple[tuple[str, str], ...]] = {
-    "osmesa": (("OSMesa", "libosmesa6"), ("EGL", "libegl1 libegl-mesa0"), ("GL", "libgl1")),
-    "egl": (("EGL", "libegl1 libegl-mesa0 (or the GPU driver's EGL)"), ("OpenGL", "libopengl0"),
-            ("GL", "libgl1")),
-}
-
-
-def missing_gl_libraries(platform: str = GL_PLATFORM) -> list[tuple[str, str]]:
-    """The GL libraries of ``platform`` this process cannot load, with their packages.
-
-    Parameters
-    ----------
-    platform : str, optional
-        ``"osmesa"`` or ``"egl"`` (default: this process's platform).
-
-    Returns
-    -------
-    list of (str, str)
-        ``(library, package)`` for each library of :data:`GL_LIBRARIES` that fails to load,
-        e.g. ``("EGL", "libegl1 libegl-mesa0")``; empty when all load.
-    """
-    missing = []
-    for lib, package in GL_LIBRARIES.get(platform, ()):
-        try:
-            ctypes.CDLL(ctypes.util.find_library(lib) or f"lib{lib}.so")
-        except OSError:
-            missing.append((lib, package))
-    return missing
-
-
-def _explain(exc: BaseException) -> str:
-    """Why pyrender could not be imported (or a context not created), with the fix."""
-    missing = missing_gl_libraries()
-    if missing:
-        libs = ", ".join(f"lib{lib}" for lib, _ in missing)
-        pkgs = " ".join(p.split(" (")[0] for _, p in missing)
-        return (f"the GL platform {GL_PLATFORM!r} needs {libs}, which cannot be loaded "
-                f"(install it: apt-get install {pkgs}; or run scripts/setup.sh as root). "
-                f"Original error: {exc!r}")
-    return (f"{exc!r} (GL platform {GL_PLATFORM!r}: MORPHKIT_GL selects osmesa or egl; "
-            "morphkit needs PyOpenGL >= 3.1.9)")
-
 
 def _headless_pyglet() -> None:
     """pyglet without its X11 backend (see the module docstring); before pyrender is imported."""
@@ -373,7 +326,7 @@ def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
     if not _GL_STRINGS and open_context:
         try:
             if pyrender is None:
-                raise RenderError(_explain(_IMPORT_ERROR or RuntimeError("pyrender not imported")))
+                raise RenderError(explain_gl_failure(_IMPORT_ERROR or RuntimeError("pyrender not imported")))
             _Offscreen(8, 8).delete()
         except Exception as exc:  # noqa: BLE001 - reported, not raised: a bench row still gets written
             return {**info, "renderer": None, "version": None, "vendor": None, "error": repr(exc)}
@@ -397,7 +350,7 @@ class _Context:
             self.renderer = _Offscreen(viewport_width=w, viewport_height=h)
         except Exception as exc:
             raise RenderError(f"cannot create an offscreen GL context of shape {shape}: "
-                              f"{_explain(exc)}") from exc
+                              f"{explain_gl_failure(exc)}") from exc
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
         # id(trimesh) -> (trimesh kept alive, {look key: [node, ...]}): node 0 stays in the scene
         # (hidden through its mesh's visibility), further instance nodes are added when needed;
@@ -488,66 +441,6 @@ def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]
                                        type(light).__name__))
 
 
-@dataclass(frozen=True)
-class RenderPasses:
-    """The passes of one view, drawn by :meth:`Renderer.passes` or :meth:`Renderer.source_passes`.
-
-    Colour spaces and frames: :mod:`morphkit.conventions` ("Colour").
-
-    Parameters
-    ----------
-    color : (H, W, 3) uint8
-        Lit colour.
-    albedo : (H, W, 3) uint8
-        Unlit base colour (factor x texture x vertex colour as stored), 0 where nothing is drawn.
-    normal : (H, W, 3) float32
-        World-frame unit normals of the side facing the camera, 0 where nothing is drawn.
-    depth : (H, W) float32
-        Linear depth, ``+inf`` where nothing is drawn.
-    alpha : (H, W) float32
-        Coverage in ``[0, 1]`` (0 or 1 from :meth:`Renderer.passes`).
-    """
-
-    color: np.ndarray
-    albedo: np.ndarray
-    normal: np.ndarray
-    depth: np.ndarray
-    alpha: np.ndarray
-
-
-def _supersampled(camera: CameraModel, s: int) -> CameraModel:
-    """``camera`` with ``s`` times the pixels per axis over the same image area."""
-    h, w = camera.shape
-    return CameraModel(camera.projection, (h * s, w * s), camera.fx * s, camera.fy * s,
-                       (camera.cx + 0.5) * s - 0.5, (camera.cy + 0.5) * s - 0.5,
-                       camera.znear, camera.zfar, camera.cam2world)
-
-
-def _area_straight(img: np.ndarray, cov: np.ndarray, alpha: np.ndarray, shape: tuple[int, int]
-                   ) -> np.ndarray:
-    """Area-average ``img`` premultiplied by coverage ``cov`` down to ``shape`` and
-    un-premultiply by the averaged coverage ``alpha`` (0 where ``alpha`` is 0); float32."""
-    h, w = shape
-    premul = img.astype(np.float32) * cov[..., None]
-    out = cv2.resize(premul, (w, h), interpolation=cv2.INTER_AREA)
-    return np.where(alpha[..., None] > 0, out / np.maximum(alpha[..., None], 1e-6), 0.0)
-
-
-def _as_uint8(img: np.ndarray) -> np.ndarray:
-    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
-
-
-def _decode_normals(encoded: np.ndarray, covered: np.ndarray) -> np.ndarray:
-    """Unit normals from the normals draw's ``127 n + 128`` uint8 encoding; 0 where not ``covered``."""
-    n = encoded.astype(np.float32)
-    n -= np.float32(128.0)  # 127 n: the scale goes with the normalisation
-    norm2 = np.einsum("ijk,ijk->ij", n, n)
-    with np.errstate(divide="ignore"):
-        inv = np.where(covered & (norm2 > 0), 1.0 / np.sqrt(norm2), 0.0).astype(np.float32)
-    n *= inv[..., None]
-    return n
-
-
 class Renderer:
     """A reusable headless renderer (create once, render many frames).
 
@@ -558,7 +451,7 @@ class Renderer:
 
     def __init__(self) -> None:
         if pyrender is None:
-            raise RenderError(f"pyrender is not importable: {_explain(_IMPORT_ERROR)}")
+            raise RenderError(f"pyrender is not importable: {explain_gl_failure(_IMPORT_ERROR)}")
         self._contexts: dict[tuple[int, int], _Context] = {}
 
     def __enter__(self) -> Renderer:
@@ -697,7 +590,7 @@ class Renderer:
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         enc, raw = self._flat(ctx, camera, normals=True)
-        return _decode_normals(enc, raw > tol.PYRENDER_BACKGROUND)
+        return decode_normals(enc, raw > tol.PYRENDER_BACKGROUND)
 
     def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
@@ -727,7 +620,7 @@ class Renderer:
         albedo = self._flat(ctx, camera, normals=False)[0]
         enc = self._flat(ctx, camera, normals=True)[0]
         covered = np.isfinite(depth)
-        return RenderPasses(color, albedo, _decode_normals(enc, covered), depth, covered.astype(np.float32))
+        return RenderPasses(color, albedo, decode_normals(enc, covered), depth, covered.astype(np.float32))
 
     def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                       ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
@@ -756,11 +649,11 @@ class Renderer:
         """
         s = as_int(supersample, "supersample", lo=1)
         h, w = camera.shape
-        big = self.passes(_supersampled(camera, s), items, lights, ambient=ambient)
+        big = self.passes(supersampled_camera(camera, s), items, lights, ambient=ambient)
         cov = big.alpha
         alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
-        color = _as_uint8(_area_straight(big.color, cov, alpha, (h, w)))
-        albedo = _as_uint8(_area_straight(big.albedo, cov, alpha, (h, w)))
+        color = as_uint8(area_straight(big.color, cov, alpha, (h, w)))
+        albedo = as_uint8(area_straight(big.albedo, cov, alpha, (h, w)))
         n = cv2.resize(big.normal, (w, h), interpolation=cv2.INTER_AREA)
         norm = np.linalg.norm(n, axis=-1, keepdims=True)
         n = np.where((alpha[..., None] > 0) & (norm > 0), n / np.maximum(norm, tol.ALPHA_FLOOR), 0.0)
@@ -835,10 +728,10 @@ class Renderer:
         if s < 1:
             raise ValidationError(expected_got("supersample", "an int >= 1", supersample))
         h, w = camera.shape
-        color, depth = self.color_depth(_supersampled(camera, s), items, lights, ambient=ambient)
+        color, depth = self.color_depth(supersampled_camera(camera, s), items, lights, ambient=ambient)
         cov = np.isfinite(depth).astype(np.float32)
         alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
         out = np.empty((h, w, 4), np.uint8)
-        out[..., :3] = _as_uint8(_area_straight(color, cov, alpha, (h, w)))
-        out[..., 3] = _as_uint8(alpha * 255)
+        out[..., :3] = as_uint8(area_straight(color, cov, alpha, (h, w)))
+        out[..., 3] = as_uint8(alpha * 255)
         return out
