@@ -59,6 +59,19 @@ class MotionRange:
     ----------
     lo, hi : (2,) float
         Lower and upper corners ``(x, y)`` (world units); ``hi > lo`` on both axes.
+
+    Examples
+    --------
+    >>> from morphkit.shadow import MotionRange
+    >>> rng = MotionRange([-1.0, -1.0], [1.0, 2.0])
+    >>> rng.center
+    array([0. , 0.5])
+    >>> rng.check([0.5, 3.0], clamp=True)
+    array([0.5, 2. ])
+    >>> rng.check([0.5, 3.0])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    morphkit.errors.OutOfRangeError: object position: expected inside the baked range ..., got [0.5, 3.0]
     """
 
     lo: np.ndarray
@@ -137,6 +150,18 @@ def sample_axis(lo: float, hi: float, k: int, mid: float | None = None) -> np.nd
     -------
     (k,) float64
         Ascending sample coordinates.
+
+    Examples
+    --------
+    Three samples on ``[0, 4]`` with the middle one in line with the light at
+    1: the middle sample moves there; with ``mid`` at 0 it is clamped to the
+    middle 80% of the range (0.4).
+
+    >>> from morphkit.shadow.rig import sample_axis
+    >>> sample_axis(0.0, 4.0, 3, mid=1.0)
+    array([0., 1., 4.])
+    >>> sample_axis(0.0, 4.0, 3, mid=0.0)
+    array([0. , 0.4, 4. ])
     """
     try:
         k = as_int(k, "grid", lo=2)
