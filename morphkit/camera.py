@@ -240,6 +240,12 @@ class CameraModel:
         -------
         (4, 4) float64
             ``T_pix_world``: world homogeneous points to (pixel x, pixel y, linear depth, w).
+
+        References
+        ----------
+        .. [1] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and
+           Lighting Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp.
+           249-252, 1992.
         """
         w2c = self.world2cam
         T = np.zeros((4, 4))

@@ -287,6 +287,12 @@ def ssim(a: Any, b: Any, *, data_range: float, mask: Any = None) -> float:
         On mismatched, empty, too small or non-finite images, a non-positive
         ``data_range``, or a mask of the wrong shape or without a True pixel
         in the interior.
+
+    References
+    ----------
+    .. [1] Z. Wang, A. C. Bovik, H. R. Sheikh and E. P. Simoncelli, "Image Quality Assessment: From
+       Error Visibility to Structural Similarity", IEEE Trans. Image Processing, 13(4), pp. 600-612,
+       2004.
     """
     rng = as_positive(data_range, "data_range")
     x, y = _pair(a, b)

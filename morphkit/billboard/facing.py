@@ -209,6 +209,11 @@ def paper_angle(l_os: np.ndarray, b_n: np.ndarray) -> float:
         The angle between the rest normal and the direction towards the eye:
         how far the quad turns (its sign follows from ``L_os x B_n``).
 
+    References
+    ----------
+    .. [1] S. Kim, J. Song and O. Gwon, "A Billboarding Technique dependent on View Direction using View
+       Morphing", KIISE conference paper (digest: ``docs/papers.md``).
+
     Examples
     --------
     A quad whose rest normal already points at the eye does not turn; seen

@@ -103,6 +103,11 @@ def clip_near(poly_cam: np.ndarray, znear: float) -> np.ndarray:
     (K, 3) float64
         The clipped polygon's vertices in the same order; ``K = 0`` when the
         whole polygon lies behind the near plane, ``K <= M + 1``.
+
+    References
+    ----------
+    .. [1] I. E. Sutherland and G. W. Hodgman, "Reentrant Polygon Clipping", Communications of the ACM,
+       17(1), pp. 32-42, 1974.
     """
     pts = np.asarray(poly_cam, dtype=np.float64)
     out: list[np.ndarray] = []

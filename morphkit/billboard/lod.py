@@ -6,6 +6,13 @@ image that is still at least ``p`` pixels high, i.e. ``l = floor(log2(h0 / p))``
 clamped to the asset's levels: the warp then shrinks the image by less than
 2x (bilinear sampling stays nearly alias free) and never enlarges it unless
 even level 0 is smaller than the billboard.
+
+The levels are a mip-map pyramid [1]_, chosen per billboard rather than per pixel.
+
+References
+----------
+.. [1] L. Williams, "Pyramidal Parametrics", Computer Graphics (Proc. SIGGRAPH 83), 17(3), pp. 1-11,
+   1983.
 """
 
 from __future__ import annotations

@@ -40,6 +40,13 @@ reference and measured figure uses) they are read from the package data
 
 Built meshes are cached per parameter set (one :class:`~morphkit.memo.Memo`);
 every call returns a fresh copy that the caller may modify.
+
+The teapot's history and data: Crow [1]_.
+
+References
+----------
+.. [1] F. C. Crow, "The Origins of the Teapot", IEEE Computer Graphics and Applications, 7(1), pp. 8-19,
+   1987 (Newell's 1975 Bezier-patch teapot).
 """
 
 from __future__ import annotations

@@ -85,6 +85,13 @@ the anchor depth at the run-time position.
 
 Outside the baked range: :class:`~morphkit.errors.OutOfRangeError`, or with
 ``clamp=True`` the nearest position in range and a :class:`RangeClampWarning`.
+
+The method: Kang & Ihm [1]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
 """
 
 from __future__ import annotations

@@ -127,6 +127,13 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         ``-inf`` (NaN compares false with every depth, so it would light
         everything behind it; an integer map holds truncated depths).
 
+    References
+    ----------
+    .. [1] L. Williams, "Casting Curved Shadows on Curved Surfaces", Computer Graphics (Proc. SIGGRAPH
+       78), 12(3), pp. 270-274, 1978.
+    .. [2] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and Lighting
+       Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp. 249-252, 1992.
+
     Examples
     --------
     A derivable case: a 4 x 4 orthographic light view of ``[-1, 1]^2`` from

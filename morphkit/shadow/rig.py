@@ -26,6 +26,13 @@ Moving light (Kang & Ihm 2.3.1). A point light moved by ``D`` (parallel to the
 motion plane) casts the shadow of the object moved by ``-D``: the light map is
 the map for object position ``t - D`` seen from a camera translated by ``D``
 (:meth:`LightRig.camera_at` with ``light_offset``).
+
+The sample grid and the moving light: Kang & Ihm [1]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
 """
 
 from __future__ import annotations
@@ -150,6 +157,11 @@ def sample_axis(lo: float, hi: float, k: int, mid: float | None = None) -> np.nd
     -------
     (k,) float64
         Ascending sample coordinates.
+
+    References
+    ----------
+    .. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+       (digest: ``docs/papers.md``).
 
     Examples
     --------

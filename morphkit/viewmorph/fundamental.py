@@ -33,6 +33,22 @@ Standard algorithm: total least squares on ``(x1, y1, x0, y0)``; its Sampson
 distance is the exact geometric error); the view morpher uses it when the
 general F is refused and ``F_A`` explains nearly as many pairs
 (:data:`tol.VM_AFFINE_INLIER_RATIO`).
+
+The normalised eight-point algorithm [1]_, RANSAC [2]_ and MAGSAC++ [3]_ are OpenCV's
+(``cv2.findFundamentalMat``); the affine F, its Gold Standard fit and the Sampson distance
+follow Hartley & Zisserman [4]_.
+
+References
+----------
+.. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
+   Machine Intelligence, 19(6), pp. 580-593, 1997.
+.. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus", Communications of the ACM, 24(6), pp.
+   381-395, 1981.
+.. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
+   Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
+.. [4] R. Hartley and A. Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+   University Press, 2004 (ch. 11: F, Sampson distance; ch. 14: the affine F and its Gold Standard
+   algorithm 14.1).
 """
 
 from __future__ import annotations
@@ -432,6 +448,15 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
         Collinear points, or no fit found.
     DegenerateViewError
         The pairs fit one homography: F is not determined.
+
+    References
+    ----------
+    .. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
+       Machine Intelligence, 19(6), pp. 580-593, 1997.
+    .. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus", Communications of the ACM, 24(6),
+       pp. 381-395, 1981.
+    .. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
+       Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
     """
     if method not in METHODS:
         raise ValidationError(expected_got("method", f"one of {METHODS}", repr(method)))
@@ -533,6 +558,12 @@ def estimate_affine_fundamental(pts0: Any, pts1: Any, *, threshold: float = tol.
         Fewer than 8 pairs, NaN/inf, mismatched counts.
     GeometryError
         Collinear points, or fewer than 8 pairs fit any affine F.
+
+    References
+    ----------
+    .. [1] R. Hartley and A. Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+       University Press, 2004 (ch. 11: F, Sampson distance; ch. 14: the affine F and its Gold Standard
+       algorithm 14.1).
     """
     p0 = as_points(pts0, "pts0")
     p1 = as_points(pts1, "pts1")
