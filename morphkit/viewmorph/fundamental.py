@@ -42,8 +42,9 @@ References
 ----------
 .. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
    Machine Intelligence, 19(6), pp. 580-593, 1997.
-.. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus", Communications of the ACM, 24(6), pp.
-   381-395, 1981.
+.. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus: A Paradigm for Model Fitting with
+   Applications to Image Analysis and Automated Cartography", Communications of the ACM, 24(6),
+   pp. 381-395, 1981.
 .. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
    Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
 .. [4] R. Hartley and A. Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
@@ -453,7 +454,8 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
     ----------
     .. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
        Machine Intelligence, 19(6), pp. 580-593, 1997.
-    .. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus", Communications of the ACM, 24(6),
+    .. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus: A Paradigm for Model Fitting with
+       Applications to Image Analysis and Automated Cartography", Communications of the ACM, 24(6),
        pp. 381-395, 1981.
     .. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
        Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
