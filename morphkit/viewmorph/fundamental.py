@@ -285,6 +285,30 @@ def fundamental_from_cameras(camera0: CameraModel, camera1: CameraModel) -> np.n
     numpy.ndarray
         ``(3, 3)`` float64 F with ``x1^T F x0 = 0`` (pixels of the two cameras).
 
+    Examples
+    --------
+    Two cameras side by side (the second 1 unit along the first's ``+x``) see
+    parallel views: F is the canonical form ``-F0`` (unit Frobenius norm), both
+    epipoles lie at infinity along ``x`` (no pixel), and a pair on the same row
+    satisfies the epipolar constraint.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import perspective
+    >>> from morphkit.scene import translation
+    >>> from morphkit.viewmorph.fundamental import epipole_pixel, epipoles, fundamental_from_cameras
+    >>> left = perspective(np.pi / 2, (64, 64), np.eye(4))
+    >>> right = perspective(np.pi / 2, (64, 64), translation(1.0, 0.0, 0.0))
+    >>> F = fundamental_from_cameras(left, right)
+    >>> np.round(F * np.sqrt(2.0), 12) + 0.0
+    array([[ 0.,  0.,  0.],
+           [ 0.,  0.,  1.],
+           [ 0., -1.,  0.]])
+    >>> e0, e1 = epipoles(F)
+    >>> e0, e1, epipole_pixel(e0)
+    (array([1., 0., 0.]), array([1., 0., 0.]), None)
+    >>> float(np.array([3.0, 20.0, 1.0]) @ F @ np.array([10.0, 20.0, 1.0]))
+    0.0
+
     Raises
     ------
     ValidationError
