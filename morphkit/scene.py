@@ -135,8 +135,9 @@ class DirectionalLight:
     >>> light = DirectionalLight(np.array([0.0, 0.0, -2.0]))
     >>> light.direction
     array([ 0.,  0., -1.])
-    >>> light.to_light(np.zeros((1, 3)))
-    (array([[-0., -0.,  1.]]), array([inf]))
+    >>> towards, distance = light.to_light(np.zeros((1, 3)))
+    >>> towards + 0.0, distance  # + 0.0 prints -0.0 as 0.0
+    (array([[0., 0., 1.]]), array([inf]))
     """
 
     direction: np.ndarray
