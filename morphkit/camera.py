@@ -52,6 +52,17 @@ def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray | None = None) -
     ------
     ValidationError
         If ``eye`` equals ``target`` or a vector is not finite.
+
+    Examples
+    --------
+    A camera at height 5 looking straight down: its optical axis (third
+    column) is world ``-z`` and its centre (fourth column) is the eye.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import look_at
+    >>> pose = look_at(np.array([0.0, 0.0, 5.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+    >>> pose[:3, 2], pose[:3, 3]
+    (array([ 0.,  0., -1.]), array([0., 0., 5.]))
     """
     eye = as_finite_array(eye, "eye", shape=(3,))
     target = as_finite_array(target, "target", shape=(3,))
@@ -229,6 +240,12 @@ class CameraModel:
         -------
         (4, 4) float64
             ``T_pix_world``: world homogeneous points to (pixel x, pixel y, linear depth, w).
+
+        References
+        ----------
+        .. [1] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and
+           Lighting Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp.
+           249-252, 1992.
         """
         w2c = self.world2cam
         T = np.zeros((4, 4))
@@ -262,6 +279,21 @@ class CameraModel:
         ------
         DegenerateViewError
             If a perspective projection is asked for a point with ``Z <= 0``.
+
+        Examples
+        --------
+        A 90-degree camera with a 5 x 5 image (``fx = 5 / (2 tan 45) = 2.5``,
+        centre pixel ``(2, 2)``) at height 5 looking down: the origin lands on
+        the centre pixel, and the point 1 unit along ``+x`` half a pixel to its
+        right (``fx X / Z = 2.5 * 1 / 5``), both at depth 5.
+
+        >>> import numpy as np
+        >>> from morphkit.camera import look_at, perspective
+        >>> pose = look_at(np.array([0.0, 0.0, 5.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+        >>> cam = perspective(np.pi / 2, (5, 5), pose)
+        >>> cam.project(np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))
+        (array([[2. , 2. ],
+               [2.5, 2. ]]), array([5., 5.]))
         """
         pts = as_finite_array(points, "points", shape=(None, 3))
         q = self.texture_matrix() @ np.c_[pts, np.ones(len(pts))].T
@@ -296,6 +328,25 @@ class CameraModel:
             World positions; background pixels hold 0 (never NaN).
         valid : (H, W) bool
             True where ``depth`` is finite and positive.
+
+        Examples
+        --------
+        The inverse of :meth:`project`: the same camera seeing the ground
+        plane at depth 5 everywhere puts its centre pixel at the origin and
+        the pixel 2 columns right of it at ``x = 2 * 5 / 2.5 = 4``; a pixel of
+        infinite depth (background) is not valid.
+
+        >>> import numpy as np
+        >>> from morphkit.camera import look_at, perspective
+        >>> pose = look_at(np.array([0.0, 0.0, 5.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+        >>> cam = perspective(np.pi / 2, (5, 5), pose)
+        >>> depth = np.full((5, 5), 5.0)
+        >>> depth[0, 0] = np.inf
+        >>> points, valid = cam.unproject(depth)
+        >>> points[2, 2], points[2, 4]
+        (array([0., 0., 0.]), array([4., 0., 0.]))
+        >>> int(valid.sum())
+        24
         """
         depth = np.asarray(depth, dtype=np.float64)
         if depth.shape != self.shape:
@@ -458,6 +509,17 @@ def perspective(yfov: float, shape: tuple[int, int], cam2world: np.ndarray, *,
     -------
     CameraModel
         A perspective camera.
+
+    Examples
+    --------
+    The focal length is ``H / (2 tan(yfov / 2))``: 90 degrees over 480 rows
+    gives 240 pixels; the principal point is the image centre.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import perspective
+    >>> cam = perspective(np.pi / 2, (480, 640), np.eye(4))
+    >>> round(cam.fx, 9), cam.cx, cam.cy
+    (240.0, 319.5, 239.5)
     """
     h, w = as_shape(shape, "shape")
     yfov = as_positive(yfov, "yfov")
@@ -487,6 +549,22 @@ def orthographic(half_width: float, half_height: float, shape: tuple[int, int],
     -------
     CameraModel
         An orthographic camera.
+
+    Examples
+    --------
+    A 4 x 4 light view of the square ``[-1, 1]^2`` from height 3: 2 pixels per
+    unit (``fx = W / (2 half_width)``); a point is at ``fx X + cx`` whatever
+    its depth.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import look_at, orthographic
+    >>> pose = look_at(np.array([0.0, 0.0, 3.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+    >>> cam = orthographic(1.0, 1.0, (4, 4), pose, znear=1.0, zfar=5.0)
+    >>> cam.fx
+    2.0
+    >>> cam.project(np.array([[0.5, 0.0, 0.0], [0.5, 0.0, 2.0]]))
+    (array([[2.5, 1.5],
+           [2.5, 1.5]]), array([3., 1.]))
     """
     h, w = as_shape(shape, "shape")
     hw = as_positive(half_width, "half_width")

@@ -170,6 +170,11 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
         ``out`` (or a new image, or ``part`` itself when it covers all of
         ``shape`` and ``out`` is None).
 
+    References
+    ----------
+    .. [1] T. Porter and T. Duff, "Compositing Digital Images", Computer Graphics (Proc. SIGGRAPH 84),
+       18(3), pp. 253-259, 1984.
+
     Examples
     --------
     One red pixel with alpha 0.4 (102 / 255) over an opaque grey 2 x 2 image, at row 0,

@@ -92,5 +92,13 @@ def expected_got(what: str, expected: Any, got: Any) -> str:
     -------
     str
         The message.
+
+    Examples
+    --------
+    >>> from morphkit.errors import ValidationError, expected_got
+    >>> expected_got("grid", "k >= 2 samples per axis", 1)
+    'grid: expected k >= 2 samples per axis, got 1'
+    >>> issubclass(ValidationError, ValueError)
+    True
     """
     return f"{what}: expected {expected}, got {got}"

@@ -69,6 +69,24 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
     -------
     (N,) float32
         ``1`` lit, ``0`` shadowed.
+
+    Examples
+    --------
+    A unit cube at height 1.5, lit from straight above, shadows the middle
+    of a 4 x 4 grid on the ground square ``[-1, 1]^2`` (pixel centres at
+    ``+-0.25`` fall under it, those at ``+-0.75`` do not).
+
+    >>> import numpy as np
+    >>> import trimesh
+    >>> from morphkit.groundtruth import hard_visibility, receiver_grid
+    >>> from morphkit.scene import DirectionalLight, SceneObject, translation
+    >>> cube = SceneObject(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), translation(0.0, 0.0, 1.5))
+    >>> ground = receiver_grid(1.0, (4, 4)).reshape(-1, 3)
+    >>> hard_visibility(ground, DirectionalLight(np.array([0.0, 0.0, -1.0])), cube).reshape(4, 4)
+    array([[1., 1., 1., 1.],
+           [1., 0., 0., 1.],
+           [1., 0., 0., 1.],
+           [1., 1., 1., 1.]], dtype=float32)
     """
     pts = as_finite_array(points, "points", shape=(None, 3))
     if not isinstance(obj, SceneObject):
@@ -155,6 +173,19 @@ def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:
     -------
     (H, W, 3) float64
         World points.
+
+    Examples
+    --------
+    Pixel ``(0, 0)`` of a 4 x 4 image of ``[-1, 1]^2`` is the top-left cell,
+    centred at ``(-0.75, 0.75)``; :func:`ground_pixels` maps it back.
+
+    >>> from morphkit.groundtruth import ground_pixels, receiver_grid
+    >>> grid = receiver_grid(1.0, (4, 4))
+    >>> grid.shape, grid[0, 0]
+    ((4, 4, 3), array([-0.75,  0.75,  0.  ]))
+    >>> ground_pixels(grid[0, :2], 1.0, (4, 4))
+    array([[0., 0.],
+           [1., 0.]])
     """
     h = as_positive(half_size, "half_size")
     H, W = as_shape(shape, "shape")

@@ -46,6 +46,13 @@ def translation(x: float, y: float, z: float = 0.0) -> np.ndarray:
     -------
     (4, 4) float64
         The homogeneous transform.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from morphkit.scene import translation
+    >>> translation(1.0, 2.0) @ np.array([0.0, 0.0, 0.5, 1.0])
+    array([1. , 2. , 0.5, 1. ])
     """
     T = np.eye(4)
     T[:3, 3] = (x, y, z)
@@ -117,6 +124,20 @@ class DirectionalLight:
         Direction the light travels, world frame (normalised on construction).
     intensity : float, optional
         Light intensity (pyrender units).
+
+    Examples
+    --------
+    Straight down, given with any length; the way towards the light is the
+    opposite direction, at infinite distance.
+
+    >>> import numpy as np
+    >>> from morphkit.scene import DirectionalLight
+    >>> light = DirectionalLight(np.array([0.0, 0.0, -2.0]))
+    >>> light.direction
+    array([ 0.,  0., -1.])
+    >>> towards, distance = light.to_light(np.zeros((1, 3)))
+    >>> towards + 0.0, distance  # + 0.0 prints -0.0 as 0.0
+    (array([[0., 0., 1.]]), array([inf]))
     """
 
     direction: np.ndarray
@@ -302,6 +323,20 @@ class SceneObject:
         ``object2world``; identity by default.
     color : tuple of 3 float, optional
         Base RGB in ``[0, 1]``.
+
+    Examples
+    --------
+    A unit cube (centred on its origin) lifted to height 1.5 spans ``z`` in
+    ``[1, 2]``; :meth:`moved` shares the mesh at another pose.
+
+    >>> import trimesh
+    >>> from morphkit.scene import SceneObject, translation
+    >>> cube = SceneObject(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), translation(0.0, 0.0, 1.5))
+    >>> cube.world_bounds()
+    array([[-0.5, -0.5,  1. ],
+           [ 0.5,  0.5,  2. ]])
+    >>> cube.moved(translation(2.0, 0.0, 0.5)).world_bounds()[:, 0]
+    array([1.5, 2.5])
     """
 
     mesh: trimesh.Trimesh
@@ -438,6 +473,24 @@ def light_view(light: DirectionalLight | PointLight, points: np.ndarray, shape: 
     ------
     DegenerateViewError
         A point light inside (or on the plane of) the points' bounds.
+
+    Examples
+    --------
+    The light view of the cube above, lit from straight above, with no
+    margin: an orthographic window of half size 0.5 (64 pixels over 1 unit:
+    ``fx = 64``), and a depth range holding exactly the cube's height
+    (``zfar - znear = 1``).
+
+    >>> import numpy as np
+    >>> import trimesh
+    >>> from morphkit.scene import DirectionalLight, SceneObject, light_view, translation
+    >>> cube = SceneObject(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), translation(0.0, 0.0, 1.5))
+    >>> view = light_view(DirectionalLight(np.array([0.0, 0.0, -1.0])), cube.world_bounds(), (64, 64),
+    ...                   margin=0.0)
+    >>> view.projection, view.fx, round(view.zfar - view.znear, 9)
+    ('orthographic', 64.0, 1.0)
+    >>> view.axis
+    array([ 0.,  0., -1.])
     """
     pts = as_finite_array(points, "points", shape=(None, 3))
     if len(pts) == 0:

@@ -50,6 +50,15 @@ Typical use::
     mode = MorphMode()
     for cam in PanPath.over(17.0).cameras(48):
         frame = scene.render(cam, mode)      # frame.rgb, frame.stats.hits / misses
+
+Papers: the billboard technique of Kim, Song & Gwon [1]_, built on Seitz & Dyer's view
+morphing [2]_.
+
+References
+----------
+.. [1] S. Kim, J. Song and O. Gwon, "A Billboarding Technique dependent on View Direction using View
+   Morphing", KIISE conference paper (digest: ``docs/papers.md``).
+.. [2] S. M. Seitz and C. R. Dyer, "View Morphing", Proc. SIGGRAPH 96, pp. 21-30, 1996.
 """
 
 from __future__ import annotations

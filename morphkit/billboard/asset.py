@@ -60,7 +60,7 @@ area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 
 Lighting
 --------
-The bake (:mod:`.bake`) renders :func:`bake_items` (the mesh coloured by a 3-D checker,
+The bake (:mod:`morphkit.billboard.bake`) renders :func:`bake_items` (the mesh coloured by a 3-D checker,
 :func:`morphkit.appearance.checker_items`) under :func:`bake_lights` (one
 directional light straight down) with ambient :data:`BAKE_AMBIENT`: the
 lighting does not depend on the view or on an instance's yaw, so a ground

@@ -42,6 +42,19 @@ class Fog:
     color : RGB in [0, 1]
     density : float
         Per scene unit (>= 0; 0 is no fog).
+        The fog's colour.
+    density : float
+        Per scene unit (>= 0; 0 is no fog).
+
+    Examples
+    --------
+    With ``density = ln 2`` each unit of distance halves what is left of a
+    point's colour:
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.backdrop import Fog
+    >>> Fog(density=np.log(2.0)).factor(np.array([0.0, 1.0, 2.0]))
+    array([0.  , 0.5 , 0.75])
     """
 
     color: tuple[float, float, float] = (0.78, 0.84, 0.90)

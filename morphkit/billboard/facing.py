@@ -80,6 +80,21 @@ def view_directions(eye: np.ndarray, pivots: np.ndarray, yaw_deg: np.ndarray) ->
     Returns
     -------
     ViewDirections
+        The instances' viewing azimuths, elevations and directions towards the eye.
+
+    Examples
+    --------
+    An eye 10 units along ``-y`` at pivot height: the unturned instance at the
+    origin is seen from azimuth -90 (its right side, object ``-y``); the one at
+    ``(5, -5)`` turned 90 degrees is seen from 135 degrees in its own frame
+    (world heading -135, less its yaw 90, wrapped into ``[-180, 180)``).
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.facing import view_directions
+    >>> views = view_directions(np.array([0.0, -10.0, 0.5]),
+    ...                         np.array([[0.0, 0.0, 0.5], [5.0, -5.0, 0.5]]), np.array([0.0, 90.0]))
+    >>> views.azimuth_deg, views.elevation_deg
+    (array([-90., 135.]), array([0., 0.]))
     """
     eye = as_finite_array(eye, "eye", shape=(3,))
     d = eye[None, :] - np.asarray(pivots, dtype=np.float64).reshape(-1, 3)
@@ -193,6 +208,23 @@ def paper_angle(l_os: np.ndarray, b_n: np.ndarray) -> float:
     float
         The angle between the rest normal and the direction towards the eye:
         how far the quad turns (its sign follows from ``L_os x B_n``).
+
+    References
+    ----------
+    .. [1] S. Kim, J. Song and O. Gwon, "A Billboarding Technique dependent on View Direction using View
+       Morphing", KIISE conference paper (digest: ``docs/papers.md``).
+
+    Examples
+    --------
+    A quad whose rest normal already points at the eye does not turn; seen
+    from the side it turns a quarter turn.
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.facing import paper_angle
+    >>> paper_angle(np.array([0.0, 1.0, 0.0]), np.array([0.0, -1.0, 0.0]))
+    0.0
+    >>> round(paper_angle(np.array([1.0, 0.0, 0.0]), np.array([0.0, -1.0, 0.0])) / np.pi, 12)
+    0.5
     """
     lv = as_finite_array(l_os, "L_os", shape=(3,))
     bv = as_finite_array(b_n, "B_n", shape=(3,))

@@ -103,6 +103,25 @@ def clip_near(poly_cam: np.ndarray, znear: float) -> np.ndarray:
     (K, 3) float64
         The clipped polygon's vertices in the same order; ``K = 0`` when the
         whole polygon lies behind the near plane, ``K <= M + 1``.
+
+    References
+    ----------
+    .. [1] I. E. Sutherland and G. W. Hodgman, "Reentrant Polygon Clipping", Communications of the ACM,
+       17(1), pp. 32-42, 1974.
+
+    Examples
+    --------
+    A square tilted through the near plane ``Z = 1`` (its lower edge at
+    ``Z = -1``, its upper at ``Z = 3``) is cut halfway up, at ``Y = 0``:
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.frustum import clip_near
+    >>> square = np.array([[-1.0, -1.0, -1.0], [1.0, -1.0, -1.0], [1.0, 1.0, 3.0], [-1.0, 1.0, 3.0]])
+    >>> clip_near(square, 1.0)
+    array([[ 1.,  0.,  1.],
+           [ 1.,  1.,  3.],
+           [-1.,  1.,  3.],
+           [-1.,  0.,  1.]])
     """
     pts = np.asarray(poly_cam, dtype=np.float64)
     out: list[np.ndarray] = []

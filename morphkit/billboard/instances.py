@@ -66,6 +66,29 @@ class Instances:
     ValidationError
         Mismatched lengths, an asset index out of range, non-finite values, a
         scale <= 0, an empty or non-string asset name.
+
+    Examples
+    --------
+    Three instances of two assets, from records ``(asset, x, y[, yaw_deg[, scale]])``;
+    the person at ``(2, 0)`` turned 90 degrees: its object ``+x`` (front) is world ``+y``.
+
+    >>> from morphkit.billboard import Instances
+    >>> inst = Instances.from_records([("tree", 0, 0), ("person", 2, 0, 90), ("tree", 0, 3, 0, 2.0)])
+    >>> len(inst), inst.names, inst.asset
+    (3, ('tree', 'person'), array([0, 1, 0]))
+    >>> inst.object2world(1).round(12) + 0.0
+    array([[ 0., -1.,  0.,  2.],
+           [ 1.,  0.,  0.,  0.],
+           [ 0.,  0.,  1.,  0.],
+           [ 0.,  0.,  0.,  1.]])
+
+    Pivots (one per asset, object frame) turn and scale with each instance:
+    the doubled tree's pivot is twice as high.
+
+    >>> inst.pivots([[0.0, 0.0, 0.5], [0.1, 0.0, 0.5]]).round(12) + 0.0
+    array([[0. , 0. , 0.5],
+           [2. , 0.1, 0.5],
+           [0. , 3. , 1. ]])
     """
 
     names: tuple[str, ...]

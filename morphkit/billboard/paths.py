@@ -138,6 +138,7 @@ class PanPath(_SampledPath):
     Parameters
     ----------
     eye : (3,) float
+        Eye position, world frame.
     heading_deg : float
         Heading of the middle of the pan.
     pan_deg : float
@@ -146,6 +147,22 @@ class PanPath(_SampledPath):
         Downward tilt of the view.
     yfov_deg, znear, zfar : float
         The lens.
+
+    Examples
+    --------
+    Three frames of the default pan: the eye stays, the middle frame looks
+    along the heading (90 degrees: world ``+y``) tilted 8 degrees down, the
+    first 30 degrees to its left.
+
+    >>> import numpy as np
+    >>> from morphkit.billboard import PanPath
+    >>> cams = PanPath().cameras(3, shape=(48, 64))
+    >>> len(cams), cams[0].shape, cams[2].position
+    (3, (48, 64), array([  0. , -12. ,   1.6]))
+    >>> np.round(cams[1].axis, 3) + 0.0
+    array([ 0.   ,  0.99 , -0.139])
+    >>> round(float(np.degrees(np.arctan2(cams[0].axis[1], cams[0].axis[0]))), 6)
+    120.0
     """
 
     eye: tuple[float, float, float] = (0.0, -12.0, 1.6)

@@ -13,6 +13,19 @@ but read from the package data (:mod:`morphkit.meshes.samples`): they are the
 meshes every stored reference image and measured figure was made with, by the
 marching-tetrahedra polygoniser of earlier versions (``scripts/make_sample_meshes.py``
 rebuilds them).
+
+Polygonised by marching cubes [1]_ (scikit-image's implementation, after Lewiner et al. [2]_),
+then relaxed by Taubin smoothing [3]_.
+
+References
+----------
+.. [1] W. E. Lorensen and H. E. Cline, "Marching Cubes: A High Resolution 3D Surface Construction
+   Algorithm", Computer Graphics (Proc. SIGGRAPH 87), 21(4), pp. 163-169, 1987.
+.. [2] T. Lewiner, H. Lopes, A. W. Vieira and G. Tavares, "Efficient Implementation of Marching Cubes'
+   Cases with Topological Guarantees", Journal of Graphics Tools, 8(2), pp. 1-15, 2003 (scikit-image's
+   ``marching_cubes``).
+.. [3] G. Taubin, "A Signal Processing Approach to Fair Surface Design", Proc. SIGGRAPH 95, pp. 351-358,
+   1995 (trimesh's ``filter_taubin``).
 """
 
 from __future__ import annotations

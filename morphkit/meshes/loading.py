@@ -49,6 +49,17 @@ def normalize(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     MeshError
         If ``mesh`` is not a ``trimesh.Trimesh``, has no faces, has non-finite
         vertices or a bounding box smaller than ``tol.MIN_EXTENT``.
+
+    Examples
+    --------
+    A 2 x 4 x 1 box centred on the origin becomes 0.5 x 1 x 0.25 (its longest
+    side, ``y``, is 1), centred in ``x`` and ``y``, on the ground.
+
+    >>> import trimesh
+    >>> from morphkit.meshes import normalize
+    >>> normalize(trimesh.creation.box(extents=(2.0, 4.0, 1.0))).bounds
+    array([[-0.25, -0.5 ,  0.  ],
+           [ 0.25,  0.5 ,  0.25]])
     """
     check_mesh(mesh, "mesh")
     out = mesh.copy()
@@ -98,6 +109,18 @@ def check_mesh(mesh: Any, name: str) -> trimesh.Trimesh:
         ``tol.MESH_ZERO_LENGTH_REL``, in all but one axis); or every face has
         zero area (below ``tol.MESH_ZERO_AREA_REL`` times the largest extent
         squared).
+
+    Examples
+    --------
+    A triangle whose three corners lie on one line is refused, naming the mesh:
+
+    >>> import trimesh
+    >>> from morphkit.meshes import check_mesh
+    >>> line = trimesh.Trimesh(vertices=[[0, 0, 0], [1, 0, 0], [2, 0, 0]], faces=[[0, 1, 2]])
+    >>> check_mesh(line, "mesh 'line'")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    morphkit.errors.MeshError: mesh 'line': expected a surface (...), got all vertices on one line
     """
     if not isinstance(mesh, trimesh.Trimesh):
         raise MeshError(expected_got(name, "a trimesh.Trimesh", type(mesh).__name__))

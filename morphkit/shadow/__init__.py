@@ -19,6 +19,21 @@
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
 * :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and
   a video (imported by the CLI, not re-exported here).
+
+Papers: the warped shadow maps of Kang & Ihm [1]_, built on shadow mapping [2]_ and projective
+texture mapping [3]_; the image-based baseline of Lee & Ihm [4]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
+.. [2] L. Williams, "Casting Curved Shadows on Curved Surfaces", Computer Graphics (Proc. SIGGRAPH 78),
+   12(3), pp. 270-274, 1978.
+.. [3] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and Lighting
+   Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp. 249-252, 1992.
+.. [4] J. Lee and I. Ihm, "Real-Time Shadow Generation using Image-Based Wavelet Techniques"
+   (in Korean; title translated), Journal of the Korea Computer Graphics Society, 7(1),
+   pp. 27-35, 2001; reference 4 of Kang & Ihm.
 """
 
 from __future__ import annotations

@@ -11,6 +11,16 @@ All methods share the :class:`~morphkit.shadow.rig.LightRig`, so they differ
 only in what they store and how they produce a map. For fairness the image-based
 maps get the same exact depth model as the warp (depths shifted with the
 object's anchor), so their error is purely that of their shapes.
+
+The image-based method: Lee & Ihm [1]_; shadow mapping: Williams [2]_.
+
+References
+----------
+.. [1] J. Lee and I. Ihm, "Real-Time Shadow Generation using Image-Based Wavelet Techniques"
+   (in Korean; title translated), Journal of the Korea Computer Graphics Society, 7(1),
+   pp. 27-35, 2001; reference 4 of Kang & Ihm.
+.. [2] L. Williams, "Casting Curved Shadows on Curved Surfaces", Computer Graphics (Proc. SIGGRAPH 78),
+   12(3), pp. 270-274, 1978.
 """
 
 from __future__ import annotations

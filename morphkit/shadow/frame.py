@@ -9,6 +9,15 @@ ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
 ``receiver_only=True`` is Kang & Ihm's mode (their hardware could only project
 the shadow texture onto receivers): the object itself is never shadowed, so
 self-shadowing is off. Default: every visible point is tested, object included.
+
+Warped shadow maps: Kang & Ihm [1]_; the projective depth test: Segal et al. [2]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
+.. [2] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and Lighting
+   Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp. 249-252, 1992.
 """
 
 from __future__ import annotations

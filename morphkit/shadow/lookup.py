@@ -126,6 +126,32 @@ def shadow_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Came
         ``depth_map`` not a float array of the camera's shape, or holding NaN or
         ``-inf`` (NaN compares false with every depth, so it would light
         everything behind it; an integer map holds truncated depths).
+
+    References
+    ----------
+    .. [1] L. Williams, "Casting Curved Shadows on Curved Surfaces", Computer Graphics (Proc. SIGGRAPH
+       78), 12(3), pp. 270-274, 1978.
+    .. [2] M. Segal, C. Korobkin, R. van Widenfelt, J. Foran and P. Haeberli, "Fast Shadows and Lighting
+       Effects Using Texture Mapping", Computer Graphics (Proc. SIGGRAPH 92), 26(2), pp. 249-252, 1992.
+
+    Examples
+    --------
+    A derivable case: a 4 x 4 orthographic light view of ``[-1, 1]^2`` from
+    height 3 (2 texels per unit, so the default bias is ``1 / fx * (1 + 1) = 1``
+    unit of depth), with an occluder at depth 1 (height 2) over the middle 2 x 2
+    texels. A ground point under it (depth 3 > 1 + 1) is shadowed; a ground
+    point beside it, and a point above the ground at depth 1.5, are lit.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import look_at, orthographic
+    >>> from morphkit.shadow import shadow_visibility
+    >>> pose = look_at(np.array([0.0, 0.0, 3.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+    >>> light_cam = orthographic(1.0, 1.0, (4, 4), pose, znear=0.5, zfar=5.0)
+    >>> depth_map = np.full((4, 4), np.inf, np.float32)
+    >>> depth_map[1:3, 1:3] = 1.0
+    >>> points = np.array([[0.25, 0.25, 0.0], [0.75, 0.75, 0.0], [0.25, 0.25, 1.5]])
+    >>> shadow_visibility(points, depth_map, light_cam)
+    array([0., 1., 1.], dtype=float32)
     """
     pts = as_finite_array(points, "points", shape=(None, 3))
     if not isinstance(light_cam, CameraModel):

@@ -130,6 +130,14 @@ def bilinear_weights(j: int, i: int, v: float, u: float) -> list[tuple[tuple[int
     -------
     list of ((j, i), weight)
         Lower-left, lower-right, upper-left, upper-right; weights sum to 1.
+
+    Examples
+    --------
+    A quarter of the way up and halfway across cell ``(0, 1)``:
+
+    >>> from morphkit.shadow import bilinear_weights
+    >>> bilinear_weights(0, 1, 0.25, 0.5)
+    [((0, 1), 0.375), ((0, 2), 0.375), ((1, 1), 0.125), ((1, 2), 0.125)]
     """
     return [((j, i), (1 - u) * (1 - v)), ((j, i + 1), u * (1 - v)),
             ((j + 1, i), (1 - u) * v), ((j + 1, i + 1), u * v)]

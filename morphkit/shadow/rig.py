@@ -26,6 +26,13 @@ Moving light (Kang & Ihm 2.3.1). A point light moved by ``D`` (parallel to the
 motion plane) casts the shadow of the object moved by ``-D``: the light map is
 the map for object position ``t - D`` seen from a camera translated by ``D``
 (:meth:`LightRig.camera_at` with ``light_offset``).
+
+The sample grid and the moving light: Kang & Ihm [1]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
 """
 
 from __future__ import annotations
@@ -59,6 +66,19 @@ class MotionRange:
     ----------
     lo, hi : (2,) float
         Lower and upper corners ``(x, y)`` (world units); ``hi > lo`` on both axes.
+
+    Examples
+    --------
+    >>> from morphkit.shadow import MotionRange
+    >>> rng = MotionRange([-1.0, -1.0], [1.0, 2.0])
+    >>> rng.center
+    array([0. , 0.5])
+    >>> rng.check([0.5, 3.0], clamp=True)
+    array([0.5, 2. ])
+    >>> rng.check([0.5, 3.0])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    morphkit.errors.OutOfRangeError: object position: expected inside the baked range ..., got [0.5, 3.0]
     """
 
     lo: np.ndarray
@@ -137,6 +157,23 @@ def sample_axis(lo: float, hi: float, k: int, mid: float | None = None) -> np.nd
     -------
     (k,) float64
         Ascending sample coordinates.
+
+    References
+    ----------
+    .. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+       (digest: ``docs/papers.md``).
+
+    Examples
+    --------
+    Three samples on ``[0, 4]`` with the middle one in line with the light at
+    1: the middle sample moves there; with ``mid`` at 0 it is clamped to the
+    middle 80% of the range (0.4).
+
+    >>> from morphkit.shadow.rig import sample_axis
+    >>> sample_axis(0.0, 4.0, 3, mid=1.0)
+    array([0., 1., 4.])
+    >>> sample_axis(0.0, 4.0, 3, mid=0.0)
+    array([0. , 0.4, 4. ])
     """
     try:
         k = as_int(k, "grid", lo=2)

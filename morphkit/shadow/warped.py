@@ -20,6 +20,15 @@ would fold falls back to the plane anchors (counted in
 :attr:`AtlasRuntime.fallbacks <morphkit.shadow.runtime.AtlasRuntime>`). The
 conventions of the warp (backward, pixel centres) are those of
 :mod:`morphkit.warp`.
+
+The three warps: Kang & Ihm [1]_; piecewise-affine (piecewise linear) mapping: Goshtasby [2]_.
+
+References
+----------
+.. [1] B. Kang and I. Ihm, "Real-Time Shadow Generation using Image Warping", Journal of KIISE, 2002
+   (digest: ``docs/papers.md``).
+.. [2] A. Goshtasby, "Piecewise linear mapping functions for image registration", Pattern Recognition,
+   19(6), pp. 459-466, 1986.
 """
 
 from __future__ import annotations

@@ -37,6 +37,12 @@ Typical use::
     plan = plan_view_morph(left, right, from_images(left, right))
     middle = ViewMorpher(plan).morph(0.5)
     # or in one line: ViewMorpher.from_estimate(left, right, from_images(left, right))
+
+The method: Seitz & Dyer [1]_.
+
+References
+----------
+.. [1] S. M. Seitz and C. R. Dyer, "View Morphing", Proc. SIGGRAPH 96, pp. 21-30, 1996.
 """
 
 from __future__ import annotations

@@ -33,6 +33,23 @@ Standard algorithm: total least squares on ``(x1, y1, x0, y0)``; its Sampson
 distance is the exact geometric error); the view morpher uses it when the
 general F is refused and ``F_A`` explains nearly as many pairs
 (:data:`tol.VM_AFFINE_INLIER_RATIO`).
+
+The normalised eight-point algorithm [1]_, RANSAC [2]_ and MAGSAC++ [3]_ are OpenCV's
+(``cv2.findFundamentalMat``); the affine F, its Gold Standard fit and the Sampson distance
+follow Hartley & Zisserman [4]_.
+
+References
+----------
+.. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
+   Machine Intelligence, 19(6), pp. 580-593, 1997.
+.. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus: A Paradigm for Model Fitting with
+   Applications to Image Analysis and Automated Cartography", Communications of the ACM, 24(6),
+   pp. 381-395, 1981.
+.. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
+   Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
+.. [4] R. Hartley and A. Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+   University Press, 2004 (ch. 11: F, Sampson distance; ch. 14: the affine F and its Gold Standard
+   algorithm 14.1).
 """
 
 from __future__ import annotations
@@ -268,6 +285,30 @@ def fundamental_from_cameras(camera0: CameraModel, camera1: CameraModel) -> np.n
     numpy.ndarray
         ``(3, 3)`` float64 F with ``x1^T F x0 = 0`` (pixels of the two cameras).
 
+    Examples
+    --------
+    Two cameras side by side (the second 1 unit along the first's ``+x``) see
+    parallel views: F is the canonical form ``-F0`` (unit Frobenius norm), both
+    epipoles lie at infinity along ``x`` (no pixel), and a pair on the same row
+    satisfies the epipolar constraint.
+
+    >>> import numpy as np
+    >>> from morphkit.camera import perspective
+    >>> from morphkit.scene import translation
+    >>> from morphkit.viewmorph.fundamental import epipole_pixel, epipoles, fundamental_from_cameras
+    >>> left = perspective(np.pi / 2, (64, 64), np.eye(4))
+    >>> right = perspective(np.pi / 2, (64, 64), translation(1.0, 0.0, 0.0))
+    >>> F = fundamental_from_cameras(left, right)
+    >>> np.round(F * np.sqrt(2.0), 12) + 0.0
+    array([[ 0.,  0.,  0.],
+           [ 0.,  0.,  1.],
+           [ 0., -1.,  0.]])
+    >>> e0, e1 = epipoles(F)
+    >>> e0, e1, epipole_pixel(e0)
+    (array([1., 0., 0.]), array([1., 0., 0.]), None)
+    >>> float(np.array([3.0, 20.0, 1.0]) @ F @ np.array([10.0, 20.0, 1.0]))
+    0.0
+
     Raises
     ------
     ValidationError
@@ -432,6 +473,16 @@ def estimate_fundamental(pts0: Any, pts1: Any, *, method: str = "auto",
         Collinear points, or no fit found.
     DegenerateViewError
         The pairs fit one homography: F is not determined.
+
+    References
+    ----------
+    .. [1] R. I. Hartley, "In Defense of the Eight-Point Algorithm", IEEE Trans. Pattern Analysis and
+       Machine Intelligence, 19(6), pp. 580-593, 1997.
+    .. [2] M. A. Fischler and R. C. Bolles, "Random Sample Consensus: A Paradigm for Model Fitting with
+       Applications to Image Analysis and Automated Cartography", Communications of the ACM, 24(6),
+       pp. 381-395, 1981.
+    .. [3] D. Barath, J. Noskova, M. Ivashechkin and J. Matas, "MAGSAC++, a Fast, Reliable and Accurate
+       Robust Estimator", Proc. CVPR, pp. 1304-1312, 2020.
     """
     if method not in METHODS:
         raise ValidationError(expected_got("method", f"one of {METHODS}", repr(method)))
@@ -533,6 +584,12 @@ def estimate_affine_fundamental(pts0: Any, pts1: Any, *, threshold: float = tol.
         Fewer than 8 pairs, NaN/inf, mismatched counts.
     GeometryError
         Collinear points, or fewer than 8 pairs fit any affine F.
+
+    References
+    ----------
+    .. [1] R. Hartley and A. Zisserman, *Multiple View Geometry in Computer Vision*, 2nd ed., Cambridge
+       University Press, 2004 (ch. 11: F, Sampson distance; ch. 14: the affine F and its Gold Standard
+       algorithm 14.1).
     """
     p0 = as_points(pts0, "pts0")
     p1 = as_points(pts1, "pts1")

@@ -19,6 +19,15 @@ its inliers. Measured success rates of the image-only path are in
 Inputs: grey, RGB or RGBA of uint8/uint16/float in [0, 1]; RGBA images are
 matched on their premultiplied colour and only where alpha > 0. Pixels follow
 :mod:`morphkit.conventions` (origin at the centre of the top-left pixel).
+
+SIFT [1]_ and DIS optical flow [2]_ are OpenCV's.
+
+References
+----------
+.. [1] D. G. Lowe, "Distinctive Image Features from Scale-Invariant Keypoints", International Journal of
+   Computer Vision, 60(2), pp. 91-110, 2004.
+.. [2] T. Kroeger, R. Timofte, D. Dai and L. Van Gool, "Fast Optical Flow using Dense Inverse Search",
+   Proc. ECCV, pp. 471-488, 2016.
 """
 
 from __future__ import annotations

@@ -45,6 +45,14 @@ Refusals (:class:`~morphkit.errors.DegenerateViewError`): an epipole inside
 part of its image through infinity, or whose local anisotropy exceeds
 :data:`tol.VM_MAX_ANISOTROPY`, or whose local scales differ by more than
 :data:`tol.VM_MAX_SCALE_RATIO`.
+
+Hartley's rectification [1]_ (OpenCV's); Seitz & Dyer's construction [2]_.
+
+References
+----------
+.. [1] R. I. Hartley, "Theory and Practice of Projective Rectification", International Journal of
+   Computer Vision, 35(2), pp. 115-127, 1999.
+.. [2] S. M. Seitz and C. R. Dyer, "View Morphing", Proc. SIGGRAPH 96, pp. 21-30, 1996.
 """
 
 from __future__ import annotations
@@ -253,6 +261,11 @@ def rectify_opencv(F: Any, pts0: Any, pts1: Any, shape0: tuple[int, int]) -> tup
     ------
     GeometryError
         OpenCV reports failure or returns a singular homography.
+
+    References
+    ----------
+    .. [1] R. I. Hartley, "Theory and Practice of Projective Rectification", International Journal of
+       Computer Vision, 35(2), pp. 115-127, 1999.
     """
     F = as_finite_array(F, "F", shape=(3, 3))
     p0 = as_points(pts0, "pts0", min_count=8)
@@ -346,6 +359,10 @@ def seitz_dyer_prewarps(F: Any, shape0: tuple[int, int], shape1: tuple[int, int]
     DegenerateViewError
         Forward motion (see :func:`seitz_dyer_angles`) or a rotated F that does
         not reach the form ``[[0,0,0],[0,0,a],[0,b,c]]`` (numerically singular).
+
+    References
+    ----------
+    .. [1] S. M. Seitz and C. R. Dyer, "View Morphing", Proc. SIGGRAPH 96, pp. 21-30, 1996.
     """
     F = normalize_f(F)
     K0 = default_intrinsics(shape0) if K0 is None else as_finite_array(K0, "K0", shape=(3, 3))

@@ -109,6 +109,15 @@ This package re-exports its public API; the modules hold one concept each:
 
 :data:`WARP_THREADS` is :data:`morphkit.settings.WARP_THREADS` (environment
 switches are read there only).
+
+The piecewise-affine (piecewise linear) mapping is Goshtasby's [1]_; Wolberg [2]_ surveys
+mesh warping.
+
+References
+----------
+.. [1] A. Goshtasby, "Piecewise linear mapping functions for image registration", Pattern Recognition,
+   19(6), pp. 459-466, 1986.
+.. [2] G. Wolberg, *Digital Image Warping*, IEEE Computer Society Press, 1990.
 """
 
 from __future__ import annotations
