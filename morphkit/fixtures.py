@@ -53,8 +53,8 @@ from .shadow.frame import SKY, render_frame
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
            "circle_camera", "textured_items", "render_pair", "TALL_BOX_EXTENTS", "photo_texture",
-           "uv_box", "write_photo_obj", "write_color_ply", "write_two_part_gltf", "leaf_texture",
-           "write_leaf_plant"]
+           "uv_box", "write_photo_obj", "write_photo_glb", "write_color_ply", "write_two_part_gltf",
+           "leaf_texture", "write_leaf_plant"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -280,6 +280,35 @@ def write_photo_obj(folder: str | Path, image: np.ndarray | None = None, name: s
     lines += [f"f {a + 1}/{a + 1} {b + 1}/{b + 1} {c + 1}/{c + 1}" for a, b, c in f]
     path = folder / f"{name}.obj"
     path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def write_photo_glb(folder: str | Path, image: np.ndarray | None = None, name: str = "photo_crate") -> Path:
+    """Write a binary glTF of the tall photo box (``+y`` up, a ``PBRMaterial`` with the photo).
+
+    ``morphkit/data/photo_crate.glb`` is this file for ``photo_texture(128)``.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Existing folder to write into.
+    image : (H, W, 3) uint8, optional
+        The texture; :func:`photo_texture` by default.
+    name : str, optional
+        File stem.
+
+    Returns
+    -------
+    pathlib.Path
+        The ``.glb`` file.
+    """
+    image = photo_texture() if image is None else image
+    v, f, uv = uv_box()
+    mat = trimesh.visual.material.PBRMaterial(name="photo", baseColorTexture=Image.fromarray(image),
+                                              metallicFactor=0.0, roughnessFactor=0.9)
+    mesh = trimesh.Trimesh(v, f, process=False, visual=trimesh.visual.TextureVisuals(uv=uv, material=mat))
+    path = Path(folder) / f"{name}.glb"
+    mesh.export(path)
     return path
 
 

@@ -14,7 +14,7 @@ The names are re-exported here: ``from morphkit.meshes import sample_mesh, load_
 from __future__ import annotations
 
 from .loading import UP_AXES, UP_AXIS_BY_FORMAT, Y_UP_TO_Z_UP, check_mesh, load_mesh, normalize, resolve_up
-from .parts import face_base_colors, merge_parts
+from .parts import copy_with_look, face_base_colors, merge_parts, scene_parts
 from .samples import (
     BILLBOARD_MESHES,
     SAMPLE_MESHES,
@@ -38,6 +38,8 @@ __all__ = [
     "UP_AXIS_BY_FORMAT",
     "Y_UP_TO_Z_UP",
     "merge_parts",
+    "scene_parts",
+    "copy_with_look",
     "face_base_colors",
     "sample_mesh",
     "teapot",

@@ -34,9 +34,10 @@ A file's visuals are loaded as trimesh reads them (``TextureVisuals`` with UVs
 and a ``PBRMaterial`` for glTF, a ``SimpleMaterial`` for OBJ/MTL, ``ColorVisuals``
 for PLY vertex or face colours) and kept. A file of several parts (a glTF scene,
 an OBJ with several materials) becomes one mesh: node transforms applied, parts
-merged by :func:`morphkit.meshes.parts.merge_parts`, which keeps each part's look
-in one atlas material. A mesh with both vertex colours and a texture (glTF
-``COLOR_0`` with a textured material) keeps both (trimesh puts the colours in
+merged (in the order of their node names) by
+:func:`morphkit.meshes.parts.merge_parts`, which keeps each part's look in one
+atlas material. A mesh with both vertex colours and a texture (glTF ``COLOR_0``
+with a textured material) keeps both (trimesh puts the colours in
 ``visual.vertex_attributes["color"]``); the renderer multiplies them. An OBJ whose
 ``mtllib`` or ``map_Kd`` file is missing loads with an
 :class:`~morphkit.errors.AssetWarning`: the material keeps its ``Kd`` colour (trimesh
@@ -55,7 +56,7 @@ import trimesh
 
 from .. import tol
 from ..errors import AssetWarning, MeshError, expected_got
-from .parts import merge_parts
+from .parts import copy_with_look, merge_parts, scene_parts
 
 __all__ = ["normalize", "check_mesh", "load_mesh", "resolve_up", "UP_AXES", "UP_AXIS_BY_FORMAT",
            "Y_UP_TO_Z_UP"]
@@ -105,7 +106,7 @@ def normalize(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
         vertices or a bounding box smaller than ``tol.MIN_EXTENT``.
     """
     check_mesh(mesh, "mesh")
-    out = mesh.copy()
+    out = copy_with_look(mesh)
     lo, hi = out.bounds
     extent = float(np.max(hi - lo))
     if not extent > tol.MIN_EXTENT:
@@ -300,7 +301,7 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
             expected_got(name, "a file trimesh can read", f"{type(exc).__name__}: {exc}"[:200])
         ) from exc
     if isinstance(loaded, trimesh.Scene):
-        parts = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh) and len(g.faces)]
+        parts = scene_parts(loaded)
         if not parts:
             got = f"0 faces (a scene of {len(loaded.geometry)} geometries, none a mesh)"
             raise MeshError(expected_got(name, "a mesh with at least one face", got))

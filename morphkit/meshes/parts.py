@@ -60,8 +60,8 @@ from PIL import Image
 from .. import tol
 from ..errors import AssetWarning, MeshError, expected_got
 
-__all__ = ["ATLAS_PADDING", "PLAIN_PART_COLOR", "merge_parts", "face_base_colors",
-           "srgb_to_linear", "linear_to_srgb"]
+__all__ = ["ATLAS_PADDING", "PLAIN_PART_COLOR", "merge_parts", "scene_parts", "copy_with_look",
+           "face_base_colors", "srgb_to_linear", "linear_to_srgb"]
 
 #: Texels of border repeated around each cell of a merged atlas.
 ATLAS_PADDING = 2
@@ -107,6 +107,57 @@ def linear_to_srgb(v: Any) -> np.ndarray:
     """
     v = np.clip(np.asarray(v, dtype=np.float64), 0.0, 1.0)
     return np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1.0 / 2.4) - 0.055)
+
+
+def copy_with_look(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+    """A copy of ``mesh`` with all its visuals.
+
+    trimesh 5.2's ``copy`` of ``TextureVisuals`` keeps the UVs but drops the other
+    vertex attributes (glTF ``COLOR_0`` vertex colours); they are copied here too.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The mesh.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        The copy.
+    """
+    out = mesh.copy()
+    if isinstance(mesh.visual, trimesh.visual.TextureVisuals):
+        for key, value in mesh.visual.vertex_attributes.items():
+            if key not in out.visual.vertex_attributes:
+                out.visual.vertex_attributes[key] = np.array(value, copy=True)
+    return out
+
+
+def scene_parts(scene: trimesh.Scene) -> list[trimesh.Trimesh]:
+    """Every triangle mesh of a scene, moved by its node's transform, in the order of the node names.
+
+    Copies with their visuals (:func:`copy_with_look`); points, paths and meshes without
+    faces are left out.
+
+    Parameters
+    ----------
+    scene : trimesh.Scene
+        The scene (e.g. a loaded glTF).
+
+    Returns
+    -------
+    list of trimesh.Trimesh
+        One mesh per node that instances a mesh (a mesh instanced twice comes twice).
+    """
+    out = []
+    for node in sorted(scene.graph.nodes_geometry):
+        transform, geom = scene.graph[node]
+        g = scene.geometry.get(geom)
+        if isinstance(g, trimesh.Trimesh) and len(g.faces):
+            part = copy_with_look(g)
+            part.apply_transform(transform)
+            out.append(part)
+    return out
 
 
 def _rgba(image: Any) -> np.ndarray:
