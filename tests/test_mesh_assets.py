@@ -323,6 +323,15 @@ def test_two_material_obj_with_one_missing_texture(tmp_path: Path):
         assert np.min(np.abs(row - kds).max(1)) <= LEVEL
 
 
+def test_gltf_with_missing_external_image_warns(tmp_path: Path):
+    path = F.write_two_part_gltf(tmp_path, "external")
+    (tmp_path / "two_part_image0.png").unlink()
+    with pytest.warns(AssetWarning, match=r"image 0 'two_part_image0.png' not found; .*baseColorFactor"):
+        m = load_mesh(path)
+    # the photo box falls back to its factor (white, glTF's default), the painted box is unchanged
+    np.testing.assert_allclose(face_base_colors(m)[12:, :3], 1.0)
+
+
 def test_scene_with_zero_geometries_is_refused(tmp_path: Path):
     path = tmp_path / "empty.gltf"
     path.write_text(json.dumps({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": []}]}))

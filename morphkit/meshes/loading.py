@@ -41,15 +41,18 @@ with a textured material) keeps both (trimesh puts the colours in
 ``visual.vertex_attributes["color"]``); the renderer multiplies them. An OBJ whose
 ``mtllib`` or ``map_Kd`` file is missing loads with an
 :class:`~morphkit.errors.AssetWarning`: the material keeps its ``Kd`` colour (trimesh
-drops the missing image silently). Vertices are merged where position and UV agree
+drops the missing image silently); so does a ``.gltf`` whose external image is missing
+(its materials keep their ``baseColorFactor``). Vertices are merged where position and UV agree
 (OBJ/STL split them), except on meshes with vertex colours (left as stored).
 """
 
 from __future__ import annotations
 
+import json
 import warnings
 from pathlib import Path
 from typing import Any
+from urllib.parse import unquote
 
 import numpy as np
 import trimesh
@@ -224,7 +227,11 @@ def _mtl_warnings(obj: Path) -> None:
         lines = obj.read_text(errors="replace").splitlines()
     except OSError:
         return
-    libs = [ln.split(None, 1)[1].strip() for ln in lines if ln.startswith("mtllib") and len(ln.split()) > 1]
+    libs = []
+    for ln in lines:
+        if ln.startswith("mtllib") and len(ln.split()) > 1:
+            rest = ln.split(None, 1)[1].strip()  # one name with spaces, or several names
+            libs += [rest] if (obj.parent / rest).is_file() else rest.split()
     for lib in libs:
         mtl = obj.parent / lib
         if not mtl.is_file():
@@ -243,6 +250,21 @@ def _mtl_warnings(obj: Path) -> None:
             elif words[0] == "map_Kd" and len(words) > 1 and not (mtl.parent / words[-1]).is_file():
                 warnings.warn(f"mesh file {str(obj)!r}: texture {words[-1]!r} of material {material!r} "
                               f"({lib}) not found; drawn in its Kd colour {kd}", AssetWarning, stacklevel=3)
+
+
+def _gltf_warnings(path: Path) -> None:
+    """Warn about a ``.gltf``'s external images that are not there (trimesh drops them silently)."""
+    try:
+        doc = json.loads(path.read_text(errors="replace"))
+    except (OSError, ValueError):
+        return  # not readable as JSON: trimesh's error follows
+    images = doc.get("images", []) if isinstance(doc, dict) else []
+    for i, im in enumerate(images if isinstance(images, list) else []):
+        uri = im.get("uri") if isinstance(im, dict) else None
+        external = isinstance(uri, str) and not uri.startswith("data:")
+        if external and not (path.parent / unquote(uri)).is_file():
+            warnings.warn(f"mesh file {str(path)!r}: image {i} {uri!r} not found; its materials are drawn in "
+                          "their baseColorFactor", AssetWarning, stacklevel=3)
 
 
 def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
@@ -282,8 +304,8 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     Warns
     -----
     AssetWarning
-        An OBJ's ``mtllib`` or ``map_Kd`` file is missing; a texture without UVs in a
-        multi-part file.
+        An OBJ's ``mtllib`` or ``map_Kd`` file or a ``.gltf``'s external image is missing;
+        a texture without UVs in a multi-part file.
     """
     p = Path(path)
     axis = resolve_up(p, up)
@@ -293,6 +315,8 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     name = f"mesh file {str(p)!r}"
     if p.suffix.lower() == ".obj":
         _mtl_warnings(p)
+    elif p.suffix.lower() == ".gltf":
+        _gltf_warnings(p)
     try:
         # process=False: trimesh's processing would silently drop non-finite vertices.
         loaded = trimesh.load(str(p), process=False)
