@@ -368,6 +368,39 @@ def test_repeated_textures_are_tiled(tmp_path: Path):
         merge_parts([huge, trimesh.creation.icosphere(1)])
 
 
+def test_atlas_keeps_each_textures_mip_levels(tmp_path: Path):
+    """The atlas's 2x2 box-filtered levels over a cell are the photo's own levels (GL mip-maps)."""
+    img = F.photo_texture(64)
+    parts = scene_parts(trimesh.load(F.write_two_part_gltf(tmp_path, image=img), process=False))
+    m = merge_parts(parts)
+    atlas = np.asarray(m.visual.material.baseColorTexture).astype(np.float64)
+    ah, aw = atlas.shape[:2]
+    assert ah & (ah - 1) == 0 and aw & (aw - 1) == 0  # power-of-two sides
+    photo_uv = m.visual.uv[np.unique(m.faces[12:])]
+    x0 = int(round(photo_uv[:, 0].min() * aw))  # the photo box's UVs span the whole photo
+    y0 = int(round((1.0 - photo_uv[:, 1].max()) * ah))
+    np.testing.assert_array_equal(atlas[y0:y0 + 64, x0:x0 + 64, :3], img)
+    a, b = atlas[..., :3], img.astype(np.float64)
+    for level in range(1, 6):
+        a = (a[0::2, 0::2] + a[1::2, 0::2] + a[0::2, 1::2] + a[1::2, 1::2]) / 4
+        b = (b[0::2, 0::2] + b[1::2, 0::2] + b[0::2, 1::2] + b[1::2, 1::2]) / 4
+        k = 2 ** level
+        assert y0 % k == 0 and x0 % k == 0
+        np.testing.assert_allclose(a[y0 // k: y0 // k + 64 // k, x0 // k: x0 // k + 64 // k], b, atol=1e-9)
+
+
+def test_compact_atlas_when_an_aligned_one_is_too_large(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    from morphkit.meshes import parts as parts_module
+    monkeypatch.setattr(parts_module, "ALIGNED_ATLAS_MAX_SIDE", 64)
+    img = F.photo_texture(64)
+    parts = scene_parts(trimesh.load(F.write_two_part_gltf(tmp_path, image=img), process=False))
+    m = merge_parts(parts)
+    atlas = np.asarray(m.visual.material.baseColorTexture)
+    assert max(atlas.shape[:2]) > 64 and (atlas.shape[0] & (atlas.shape[0] - 1)) != 0  # compact: not aligned
+    before = np.vstack([face_base_colors(p) for p in parts])
+    assert np.abs(_srgb(face_base_colors(m)) - _srgb(before)).max() <= LEVEL
+
+
 def test_merge_parts_refuses_nothing():
     with pytest.raises(MeshError, match="expected at least one mesh, got none"):
         merge_parts([])

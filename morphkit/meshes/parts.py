@@ -21,9 +21,14 @@ What each part becomes in the merged mesh (the renderer's rules,
   ``baseColorFactor`` is baked into the texels in linear light:
   ``srgb(factor x linear(texel))`` for RGB, ``factor x texel`` for alpha, so
   the lit colour is kept within rounding (1/2 of an 8-bit level). Parts with the
-  same (baked) image share one cell. Every cell is
-  padded by :data:`ATLAS_PADDING` texels repeating its border (wrapped), so
-  bilinear sampling at a cell's edge does not pull in its neighbour.
+  same (baked) image share one cell.
+* **the atlas layout** keeps mip-maps: each cell sits in a square power-of-two
+  slot twice its size, the image a quarter slot in from the corner and repeated
+  around it (so bilinear filtering at its border wraps as ``REPEAT`` does), every
+  slot at a multiple of its side in a power-of-two atlas; a power-of-two image's
+  mip levels are then the atlas's, all but the last. An atlas that would exceed
+  :data:`ALIGNED_ATLAS_MAX_SIDE` is laid out compactly instead (cells padded by
+  :data:`ATLAS_PADDING` repeated texels; mip-maps then mix neighbours).
 * **a colour without texture** (glTF factor only; OBJ ``Kd`` only; a part
   without any visuals: :data:`PLAIN_PART_COLOR`): a one-texel cell of that
   colour (sRGB-encoded), every UV at its centre.
@@ -45,14 +50,14 @@ What each part becomes in the merged mesh (the renderer's rules,
 
 A file with one part is never merged: its visuals are returned untouched.
 
-Limits, measured against drawing the parts as separate items (wt-render24's
-renderer, 256^2 and 1024^2 views of :func:`morphkit.fixtures.write_two_part_gltf`
-and :func:`morphkit.fixtures.write_leaf_plant`): vertex-coloured parts are drawn
-identically (0 levels); the lit colour of factor-only parts agrees within rounding;
-a texture seen magnified agrees to a mean 0.12 levels (p99 3, at cell borders), but
-seen minified its mip-maps are the atlas's, which mix a cell's padding and
-neighbours and do not line up with the part's own (a 64^2 photo on ~80 px: mean 4.6
-levels, p99 32). The atlas is subject to the renderer's texture size limits.
+Measured against drawing the parts as separate items (wt-render24's renderer,
+256^2 and 1024^2 views of :func:`morphkit.fixtures.write_two_part_gltf` and
+:func:`morphkit.fixtures.write_leaf_plant`): coverage identical, lit colour and
+albedo within 1 level everywhere, except the albedo of factor-only parts, which
+the renderer's albedo pass takes "as stored" (a factor unencoded, a texel
+sRGB-encoded), so a factor baked into a texel shows there as its sRGB encoding.
+A compact atlas differs where textures are minified (a 64^2 photo on ~80 px:
+mean 4.6 levels, p99 32). The atlas is subject to the renderer's texture size limits.
 """
 
 from __future__ import annotations
@@ -69,11 +74,15 @@ from PIL import Image
 from .. import tol
 from ..errors import AssetWarning, MeshError, expected_got
 
-__all__ = ["ATLAS_PADDING", "PLAIN_PART_COLOR", "merge_parts", "scene_parts", "copy_with_look",
-           "face_base_colors", "srgb_to_linear", "linear_to_srgb"]
+__all__ = ["ATLAS_PADDING", "ALIGNED_ATLAS_MAX_SIDE", "PLAIN_PART_COLOR", "merge_parts", "scene_parts",
+           "copy_with_look", "face_base_colors", "srgb_to_linear", "linear_to_srgb"]
 
-#: Texels of border repeated around each cell of a merged atlas.
+#: Texels of border repeated around each cell of a compact atlas (one too large to align).
 ATLAS_PADDING = 2
+
+#: Largest side of a mip-aligned atlas: 4096, the side of the renderer's texture budget
+#: (4096^2 texels); an atlas that would be larger is laid out compactly instead.
+ALIGNED_ATLAS_MAX_SIDE = 4096
 
 #: Linear RGB of a part without visuals when merged with parts that have some:
 #: the renderer's default colour (``DEFAULT_COLOR`` of :mod:`morphkit.conventions`).
@@ -328,20 +337,59 @@ def _tiles(part: _Part, name: str) -> tuple[np.ndarray, np.ndarray]:
     return np.tile(part.cell, (ny, nx, 1)), np.array([lo[0], lo[1] + ny])
 
 
-def _shelf_pack(shapes: list[tuple[int, int]]) -> tuple[list[tuple[int, int]], tuple[int, int]]:
-    """Top-left corners of padded cells on shelves, tallest first; the atlas shape ``(H, W)``."""
-    area = sum(h * w for h, w in shapes)
-    width = max(max(w for _, w in shapes), int(np.ceil(np.sqrt(area))))
-    order = sorted(range(len(shapes)), key=lambda i: -shapes[i][0])
-    corners: list[tuple[int, int]] = [(0, 0)] * len(shapes)
+def _pot(n: int) -> int:
+    """The smallest power of two >= ``n`` (>= 1)."""
+    return 1 << max(0, int(n) - 1).bit_length()
+
+
+def _shelves(sides: list[tuple[int, int]], width: int) -> tuple[list[tuple[int, int]], int]:
+    """Top-left corners of ``(h, w)`` boxes on shelves of ``width``, in the order given; total height."""
+    corners: list[tuple[int, int]] = []
     x = y = shelf = 0
-    for i in order:
-        h, w = shapes[i]
+    for h, w in sides:
         if x + w > width:
             x, y, shelf = 0, y + shelf, 0
-        corners[i] = (y, x)
+        corners.append((y, x))
         x, shelf = x + w, max(shelf, h)
-    return corners, (y + shelf, width)
+    return corners, y + shelf
+
+
+def _aligned_layout(images: list[np.ndarray]) -> tuple[np.ndarray, list[tuple[int, int]]] | None:
+    """Mip-aligned atlas: each image in a square power-of-two slot twice its (power-of-two)
+    size, at a quarter of the slot from its corner, the rest of the slot the image repeated;
+    slots largest first on shelves of a power-of-two atlas, so each lands at a multiple of its
+    side. ``None`` if the atlas would be wider or taller than :data:`ALIGNED_ATLAS_MAX_SIDE`."""
+    slots = [2 * max(_pot(im.shape[0]), _pot(im.shape[1])) for im in images]
+    order = sorted(range(len(images)), key=lambda i: -slots[i])
+    width = max(max(slots), _pot(int(np.ceil(np.sqrt(sum(s * s for s in slots))))))
+    placed, height = _shelves([(slots[i], slots[i]) for i in order], width)
+    height = _pot(height)
+    if max(width, height) > ALIGNED_ATLAS_MAX_SIDE:
+        return None
+    atlas = np.zeros((height, width, 4), np.uint8)
+    origins: list[tuple[int, int]] = [(0, 0)] * len(images)
+    for i, (y0, x0) in zip(order, placed, strict=True):
+        im, s = images[i], slots[i]
+        h, w = im.shape[:2]
+        oy, ox = _pot(h) // 2, _pot(w) // 2
+        atlas[y0: y0 + s, x0: x0 + s] = np.pad(im, ((oy, s - h - oy), (ox, s - w - ox), (0, 0)), mode="wrap")
+        origins[i] = (y0 + oy, x0 + ox)
+    return atlas, origins
+
+
+def _compact_layout(images: list[np.ndarray]) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """Each image padded by :data:`ATLAS_PADDING` repeated texels, tallest first on shelves."""
+    p = ATLAS_PADDING
+    padded = [np.pad(im, ((p, p), (p, p), (0, 0)), mode="wrap") for im in images]
+    order = sorted(range(len(images)), key=lambda i: -padded[i].shape[0])
+    width = max(max(im.shape[1] for im in padded), int(np.ceil(np.sqrt(sum(im.size // 4 for im in padded)))))
+    placed, height = _shelves([padded[i].shape[:2] for i in order], width)
+    atlas = np.zeros((height, width, 4), np.uint8)
+    origins: list[tuple[int, int]] = [(0, 0)] * len(images)
+    for i, (y0, x0) in zip(order, placed, strict=True):
+        atlas[y0: y0 + padded[i].shape[0], x0: x0 + padded[i].shape[1]] = padded[i]
+        origins[i] = (y0 + p, x0 + p)
+    return atlas, origins
 
 
 def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh.Trimesh:
@@ -384,27 +432,24 @@ def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh
                     lk.vcolor[:, 3] = 255
     cutoff = None if not cutoffs else (cutoffs[0] if len(cutoffs) == 1 else _DEFAULT_CUTOFF)
     tiled = [_tiles(lk, f"{name} part {i}") for i, lk in enumerate(looks)]
-    p = ATLAS_PADDING
     cell_of: dict[tuple[bytes, tuple[int, ...]], int] = {}  # parts with the same image share a cell
     which = [cell_of.setdefault((img.tobytes(), img.shape), len(cell_of)) for img, _ in tiled]
-    padded: list[np.ndarray] = [np.empty(0)] * len(cell_of)
+    images: list[np.ndarray] = [np.empty(0)] * len(cell_of)
     for (img, _), c in zip(tiled, which, strict=True):
-        padded[c] = np.pad(img, ((p, p), (p, p), (0, 0)), mode="wrap")
-    cell_corners, (ah, aw) = _shelf_pack([im.shape[:2] for im in padded])
-    atlas = np.zeros((ah, aw, 4), np.uint8)
-    for pad, (y0, x0) in zip(padded, cell_corners, strict=True):
-        atlas[y0: y0 + pad.shape[0], x0: x0 + pad.shape[1]] = pad
-    corners = [cell_corners[c] for c in which]
+        images[c] = img
+    atlas, cell_origins = _aligned_layout(images) or _compact_layout(images)
+    ah, aw = atlas.shape[:2]
     uvs, vcols, verts, faces, offset = [], [], [], [], 0
     any_vc = any(lk.vcolor is not None for lk in looks)
-    for lk, (_, origin), (y0, x0) in zip(looks, tiled, corners, strict=True):
+    for lk, (_, origin), c in zip(looks, tiled, which, strict=True):
+        oy, ox = cell_origins[c]
         nv = len(lk.mesh.vertices)
         if lk.uv is None:
-            uv = np.tile([(x0 + p + 0.5) / aw, 1.0 - (y0 + p + 0.5) / ah], (nv, 1))
+            uv = np.tile([(ox + 0.5) / aw, 1.0 - (oy + 0.5) / ah], (nv, 1))
         else:
             th, tw = lk.cell.shape[:2]
-            uv = np.c_[(x0 + p + (lk.uv[:, 0] - origin[0]) * tw) / aw,
-                       1.0 - (y0 + p + (origin[1] - lk.uv[:, 1]) * th) / ah]
+            uv = np.c_[(ox + (lk.uv[:, 0] - origin[0]) * tw) / aw,
+                       1.0 - (oy + (origin[1] - lk.uv[:, 1]) * th) / ah]
         uvs.append(uv)
         if any_vc:
             vcols.append(lk.vcolor if lk.vcolor is not None else np.full((nv, 4), 255, np.uint8))
