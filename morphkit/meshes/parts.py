@@ -241,7 +241,7 @@ class _Part:
     mr: tuple[float | None, float | None]
 
 
-def _texture_part(mesh: trimesh.Trimesh, name: str) -> _Part:
+def _texture_part(mesh: trimesh.Trimesh, name: str, cache: dict[Any, Any]) -> _Part:
     visual = mesh.visual
     mat = visual.material
     nv = len(mesh.vertices)
@@ -270,13 +270,19 @@ def _texture_part(mesh: trimesh.Trimesh, name: str) -> _Part:
         cell = _flat(factor)
         uv = None
     else:
+        simple = isinstance(mat, trimesh.visual.material.SimpleMaterial)
         tex = _rgba(image)
-        if isinstance(mat, trimesh.visual.material.SimpleMaterial) and bool(np.any(tex[..., 3] < 255)):
-            cutoff = _DEFAULT_CUTOFF
-        lin = srgb_to_linear(tex[..., :3] / 255.0) * factor[:3]
-        cell = np.empty_like(tex)
-        cell[..., :3] = np.rint(linear_to_srgb(lin) * 255.0)
-        cell[..., 3] = np.rint(np.clip(tex[..., 3] * factor[3], 0, 255))
+        key = (tex.shape, tex.tobytes(), tuple(factor), simple, cutoff)  # one conversion per image
+        if key not in cache:
+            cut = _DEFAULT_CUTOFF if simple and bool(np.any(tex[..., 3] < 255)) else cutoff
+            cut = None if cut is not None and float(cut) <= 0.0 else cut
+            baked = tex.copy()
+            if np.any(factor[:3] != 1.0):  # (a factor of 1 keeps every texel: the round trip is exact)
+                lin = srgb_to_linear(tex[..., :3] / 255.0) * factor[:3]
+                baked[..., :3] = np.rint(linear_to_srgb(lin) * 255.0)
+            baked[..., 3] = 255 if cut is None else np.rint(np.clip(tex[..., 3] * factor[3], 0, 255))
+            cache[key] = (baked, cut)
+        cell, cutoff = cache[key]
         if uv is None or len(uv) == 0:
             mean = cell.reshape(-1, 4).mean(0)
             warnings.warn(f"{name}: a texture but no UV coordinates; merged in the texture's mean colour "
@@ -296,17 +302,18 @@ def _texture_part(mesh: trimesh.Trimesh, name: str) -> _Part:
         v4[:, : vcol.shape[1]] = vcol[:, :4]
         vcol = v4
     if cutoff is None:
-        cell = cell.copy()
-        cell[..., 3] = 255
+        if np.any(cell[..., 3] != 255):
+            cell = cell.copy()
+            cell[..., 3] = 255
         if vcol is not None:
             vcol[:, 3] = 255
     return _Part(mesh, cell, uv, vcol, None if cutoff is None else float(cutoff), mr)
 
 
-def _part(mesh: trimesh.Trimesh, name: str) -> _Part:
+def _part(mesh: trimesh.Trimesh, name: str, cache: dict[Any, Any] | None = None) -> _Part:
     visual = mesh.visual
     if isinstance(visual, trimesh.visual.TextureVisuals):
-        return _texture_part(mesh, name)
+        return _texture_part(mesh, name, {} if cache is None else cache)
     white = np.full((1, 1, 4), 255, np.uint8)
     if visual.kind == "vertex":
         vc = np.asarray(visual.vertex_colors, np.uint8).copy()
@@ -334,7 +341,8 @@ def _tiles(part: _Part, name: str) -> tuple[np.ndarray, np.ndarray]:
         raise MeshError(expected_got(f"{name} UV coordinates",
                                      f"a repeated texture of at most {tol.MAX_IMAGE_PIXELS} texels in all",
                                      f"{nx} x {ny} repeats of a {w} x {h} texture"))
-    return np.tile(part.cell, (ny, nx, 1)), np.array([lo[0], lo[1] + ny])
+    cell = part.cell if nx == ny == 1 else np.tile(part.cell, (ny, nx, 1))
+    return cell, np.array([lo[0], lo[1] + ny])
 
 
 def _pot(n: int) -> int:
@@ -421,19 +429,30 @@ def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh
         raise MeshError(expected_got(name, "at least one mesh", "none"))
     if len(parts) == 1:
         return parts[0]
-    looks = [_part(p, f"{name} part {i}") for i, p in enumerate(parts)]
+    cache: dict[Any, Any] = {}
+    looks = [_part(p, f"{name} part {i}", cache) for i, p in enumerate(parts)]
     cutoffs = sorted({lk.cutoff for lk in looks if lk.cutoff is not None})
     if len(cutoffs) > 1:  # one threshold for all: each cut-out part's alpha made 0/255 at its own
+        binary: dict[tuple[int, float], np.ndarray] = {}
         for lk in looks:
             if lk.cutoff is not None:
-                lk.cell = lk.cell.copy()
-                lk.cell[..., 3] = np.where(lk.cell[..., 3] >= lk.cutoff * 255.0, 255, 0)
+                key = (id(lk.cell), lk.cutoff)
+                if key not in binary:
+                    b = lk.cell.copy()
+                    b[..., 3] = np.where(b[..., 3] >= lk.cutoff * 255.0, 255, 0)
+                    binary[key] = b
+                lk.cell = binary[key]
                 if lk.vcolor is not None:
                     lk.vcolor[:, 3] = 255
     cutoff = None if not cutoffs else (cutoffs[0] if len(cutoffs) == 1 else _DEFAULT_CUTOFF)
     tiled = [_tiles(lk, f"{name} part {i}") for i, lk in enumerate(looks)]
-    cell_of: dict[tuple[bytes, tuple[int, ...]], int] = {}  # parts with the same image share a cell
-    which = [cell_of.setdefault((img.tobytes(), img.shape), len(cell_of)) for img, _ in tiled]
+    cell_of: dict[tuple[tuple[int, ...], bytes], int] = {}  # parts with the same image share a cell
+    seen: dict[int, int] = {}  # id of an image (alive in ``tiled``) -> its cell
+    which = []
+    for img, _ in tiled:
+        if id(img) not in seen:
+            seen[id(img)] = cell_of.setdefault((img.shape, img.tobytes()), len(cell_of))
+        which.append(seen[id(img)])
     images: list[np.ndarray] = [np.empty(0)] * len(cell_of)
     for (img, _), c in zip(tiled, which, strict=True):
         images[c] = img
