@@ -401,6 +401,27 @@ def test_compact_atlas_when_an_aligned_one_is_too_large(tmp_path: Path, monkeypa
     assert np.abs(_srgb(face_base_colors(m)) - _srgb(before)).max() <= LEVEL
 
 
+def test_parts_without_textures_stay_colour_visuals():
+    plain = [trimesh.creation.box(), trimesh.creation.icosphere(1)]
+    m = merge_parts(plain)
+    assert m.visual.kind is None and len(m.faces) == 12 + 80
+    faces = [p.copy() for p in plain]
+    for k, p in enumerate(faces):
+        p.visual.face_colors = [50 * k, 100, 200, 255]
+    m = merge_parts(faces)
+    assert m.visual.kind == "face"
+    np.testing.assert_array_equal(m.visual.face_colors[:12, :3], np.tile([0, 100, 200], (12, 1)))
+    np.testing.assert_array_equal(m.visual.face_colors[12:, :3], np.tile([50, 100, 200], (80, 1)))
+    vc = plain[1].copy()
+    vc.visual.vertex_colors = np.tile([9, 8, 7, 255], (len(vc.vertices), 1))
+    m = merge_parts([faces[0], vc, plain[0]])  # face colours, vertex colours, none
+    assert m.visual.kind == "vertex"
+    got = _srgb(face_base_colors(m))
+    want = np.vstack([np.tile([0, 100, 200], (12, 1)) / 255, np.tile([9, 8, 7], (80, 1)) / 255,
+                      np.tile(_srgb(np.array(PLAIN_PART_COLOR)), (12, 1))])
+    assert np.abs(got - want).max() <= LEVEL
+
+
 def test_merge_parts_refuses_nothing():
     with pytest.raises(MeshError, match="expected at least one mesh, got none"):
         merge_parts([])

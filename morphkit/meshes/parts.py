@@ -48,7 +48,11 @@ What each part becomes in the merged mesh (the renderer's rules,
   (else unset: the renderer's default). Normal, occlusion, emissive and
   metallic-roughness textures are dropped (the renderer does not draw them).
 
-A file with one part is never merged: its visuals are returned untouched.
+A file with one part is never merged: its visuals are returned untouched. Parts
+without any material or texture stay ``ColorVisuals`` (no atlas): no visuals if no
+part has colours, face colours if every part has face colours, else vertex colours
+(a face-coloured part's faces unshared, a part without colours in
+:data:`PLAIN_PART_COLOR`).
 
 Measured against drawing the parts as separate items (wt-render24's renderer,
 256^2 and 1024^2 views of :func:`morphkit.fixtures.write_two_part_gltf` and
@@ -400,6 +404,27 @@ def _compact_layout(images: list[np.ndarray]) -> tuple[np.ndarray, list[tuple[in
     return atlas, origins
 
 
+def _merge_colors(parts: list[trimesh.Trimesh]) -> trimesh.Trimesh:
+    """Parts with ``ColorVisuals`` only: no visuals, face colours, or vertex colours."""
+    kinds = {p.visual.kind for p in parts}
+    if kinds == {None}:
+        return trimesh.util.concatenate([trimesh.Trimesh(p.vertices, p.faces, process=False) for p in parts])
+    if kinds == {"face"}:
+        geom = trimesh.util.concatenate([trimesh.Trimesh(p.vertices, p.faces, process=False) for p in parts])
+        geom.visual = trimesh.visual.ColorVisuals(geom, face_colors=np.vstack([p.visual.face_colors
+                                                                                for p in parts]))
+        return geom
+    looks = [_part(p, "mesh") for p in parts]
+    verts = [np.asarray(lk.mesh.vertices, dtype=np.float64) for lk in looks]
+    offsets = np.cumsum([0] + [len(v) for v in verts])
+    faces = np.vstack([np.asarray(lk.mesh.faces) + o for lk, o in zip(looks, offsets, strict=False)])
+    colors = np.vstack([lk.vcolor if lk.vcolor is not None
+                        else np.tile(lk.cell[0, 0], (len(lk.mesh.vertices), 1)) for lk in looks])
+    out = trimesh.Trimesh(np.vstack(verts), faces, process=False)
+    out.visual = trimesh.visual.ColorVisuals(out, vertex_colors=colors)
+    return out
+
+
 def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh.Trimesh:
     """Merge meshes (in one frame) into one whose single material keeps every part's look.
 
@@ -416,7 +441,9 @@ def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh
     -------
     trimesh.Trimesh
         The merged mesh: ``TextureVisuals`` with a ``PBRMaterial`` (atlas texture,
-        ``OPAQUE`` or ``MASK``) and UVs, plus vertex colours where a part had some.
+        ``OPAQUE`` or ``MASK``) and UVs, plus vertex colours where a part had some;
+        when no part has a texture or material, ``ColorVisuals`` instead: none (no
+        part has colours), face colours (every part has), else vertex colours.
 
     Raises
     ------
@@ -429,6 +456,8 @@ def merge_parts(parts: Sequence[trimesh.Trimesh], name: str = "mesh") -> trimesh
         raise MeshError(expected_got(name, "at least one mesh", "none"))
     if len(parts) == 1:
         return parts[0]
+    if not any(isinstance(p.visual, trimesh.visual.TextureVisuals) for p in parts):
+        return _merge_colors(parts)
     cache: dict[Any, Any] = {}
     looks = [_part(p, f"{name} part {i}", cache) for i, p in enumerate(parts)]
     cutoffs = sorted({lk.cutoff for lk in looks if lk.cutoff is not None})
