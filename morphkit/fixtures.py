@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import base64
 import json
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -54,7 +55,7 @@ __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_fr
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
            "circle_camera", "textured_items", "render_pair", "TALL_BOX_EXTENTS", "photo_texture",
            "uv_box", "write_photo_obj", "write_photo_glb", "write_color_ply", "write_two_part_gltf",
-           "leaf_texture", "write_leaf_plant"]
+           "leaf_texture", "write_leaf_plant", "textured_demo_asset"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -310,6 +311,21 @@ def write_photo_glb(folder: str | Path, image: np.ndarray | None = None, name: s
     path = Path(folder) / f"{name}.glb"
     mesh.export(path)
     return path
+
+
+def textured_demo_asset() -> Path:
+    """The packaged textured demo mesh, ``morphkit/data/photo_crate.glb``.
+
+    :func:`write_photo_glb` with ``photo_texture(128)`` (NASA's astronaut photo, public
+    domain; ``morphkit/data/LICENSES.md``), ``+y`` up as glTF is: load it with
+    :func:`morphkit.meshes.load_mesh` (``up="auto"``) to have it stand along ``+z``.
+
+    Returns
+    -------
+    pathlib.Path
+        Its path.
+    """
+    return Path(str(resources.files("morphkit") / "data" / "photo_crate.glb"))
 
 
 def write_color_ply(folder: str | Path, name: str = "colored") -> Path:

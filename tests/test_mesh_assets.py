@@ -432,12 +432,14 @@ def test_merge_parts_refuses_nothing():
 # --------------------------------------------------------------------------- the demo asset
 
 
-def test_demo_asset_is_small_licensed_and_textured():
-    from importlib import resources
-    data = resources.files("morphkit") / "data"
-    path = Path(str(data / "photo_crate.glb"))
+def test_demo_asset_is_small_licensed_and_textured(tmp_path: Path):
+    path = F.textured_demo_asset()
     assert path.stat().st_size < 200_000
-    assert "photo_crate.glb" in (data / "LICENSES.md").read_text()
+    assert "photo_crate.glb" in (path.parent / "LICENSES.md").read_text()
+    # it is what the fixture writes (rebuildable, as LICENSES.md says)
+    again = load_mesh(F.write_photo_glb(tmp_path, F.photo_texture(128)))
+    np.testing.assert_array_equal(np.asarray(again.visual.material.baseColorTexture),
+                                  np.asarray(load_mesh(path).visual.material.baseColorTexture))
     m = load_mesh(path)
     assert isinstance(m.visual.material, trimesh.visual.material.PBRMaterial)
     assert np.asarray(m.visual.material.baseColorTexture).shape[:2] == (128, 128)
