@@ -199,6 +199,23 @@ def test_two_part_gltf_keeps_each_parts_look(tmp_path: Path, images: str):
     assert painted[:, 0].min() > photo[:, 0].max()
 
 
+def test_nested_node_transforms_are_composed(tmp_path: Path):
+    """A child node under a moved and scaled parent: the part lands at parent @ child."""
+    scene = trimesh.Scene()
+    scene.add_geometry(trimesh.creation.box(), geom_name="root_box", node_name="root_box")
+    parent = trimesh.transformations.translation_matrix([4.0, 0.0, 0.0]) @ np.diag([2.0, 2.0, 2.0, 1.0])
+    scene.graph.update(frame_to="parent", frame_from=scene.graph.base_frame, matrix=parent)
+    child = trimesh.transformations.translation_matrix([0.0, 1.0, 0.0])
+    scene.add_geometry(trimesh.creation.box(), geom_name="child_box", node_name="child",
+                       parent_node_name="parent", transform=child)
+    path = tmp_path / "nested.glb"
+    scene.export(path)
+    parts = scene_parts(trimesh.load(path, process=False))
+    centres = sorted(tuple(np.round(p.bounds.mean(0), 6)) for p in parts)
+    assert centres == [(0.0, 0.0, 0.0), (4.0, 2.0, 0.0)]
+    assert sorted(float(np.round(p.extents[0], 6)) for p in parts) == [1.0, 2.0]
+
+
 def test_merge_keeps_colours_within_one_level(tmp_path: Path):
     """Before/after packing: each part's colour per face, as the renderer reads it, within 1/255."""
     img = F.photo_texture(32, "coffee")
