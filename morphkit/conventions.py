@@ -32,6 +32,9 @@ Matrices and frames (pytransform3d style)
   Warping *with* ``H_dst_src`` fills ``dst`` by sampling ``src`` at
   ``H_dst_src^-1 (x, y, 1)``.
 * World frame: right-handed, ``+z`` up; the ground plane is ``z = 0``.
+  Mesh files whose up is ``+y`` (glTF by specification, most OBJ exporters) are
+  turned ``+z`` up on load by ``+90`` degrees about ``x``; the one table of each
+  format's default up axis is in :mod:`morphkit.meshes.loading`.
 
 Camera frames
 -------------

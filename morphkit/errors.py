@@ -15,6 +15,9 @@ Hierarchy::
     ├── RenderError                           the GL boundary failed
     ├── FileFormatError                       a saved file is corrupt, truncated or foreign
     └── ClusterError                          the Dask scheduler is unreachable or has no workers
+
+    AssetWarning (a UserWarning)              a mesh file's look could not be loaded as given:
+                                              a documented fallback was used (e.g. a missing texture)
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ __all__ = [
     "RenderError",
     "FileFormatError",
     "ClusterError",
+    "AssetWarning",
     "expected_got",
 ]
 
@@ -74,6 +78,10 @@ class FileFormatError(MorphkitError):
 
 class ClusterError(MorphkitError):
     """The distributed engine (a Dask scheduler and its workers) cannot be reached or used."""
+
+
+class AssetWarning(UserWarning):
+    """A mesh file's look could not be loaded as given; a documented fallback was used."""
 
 
 def expected_got(what: str, expected: Any, got: Any) -> str:

@@ -53,6 +53,13 @@ MESH_ZERO_LENGTH_REL = 1e-9
 #: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
 MESH_ZERO_AREA_REL = 1e-12
 
+#: Slack (in UV units, i.e. texture widths) when counting how often a part's texture
+#: repeats to cover its UVs (:func:`morphkit.meshes.parts.merge_parts`): UVs within
+#: 1e-6 of an integer count as on it, so a UV of ``1.0000000001`` or ``-1e-9`` (float
+#: noise of exporters) does not add a whole repeat; 1e-6 of a texture is a 1/250
+#: texel at 4096 texels, which changes no sampled texel.
+UV_TILE_SLACK = 1e-6
+
 #: Central-difference step (metres, before normalisation) of the implicit sample
 #: shapes' field gradient, for the Newton projection of a polygonised mesh onto
 #: the surface (:func:`morphkit.meshes.implicit.project`): 1e-4 of shapes ~2 m

@@ -1,7 +1,10 @@
 """Meshes: the user's (loaded, checked, normalised) and the built-in samples.
 
 * :mod:`morphkit.meshes.loading` -- :func:`load_mesh`, :func:`check_mesh`,
-  :func:`normalize` (unit size, centred, on the ground);
+  :func:`normalize` (unit size, centred, on the ground), :func:`resolve_up`
+  (the up axis of a file, with the per-format table);
+* :mod:`morphkit.meshes.parts` -- :func:`merge_parts` (a multi-part file as one
+  mesh keeping every part's look), :func:`face_base_colors`;
 * :mod:`morphkit.meshes.samples` -- the sample meshes (:func:`sample_mesh`:
   teapot, chair, cow, tree, person).
 
@@ -10,7 +13,8 @@ The names are re-exported here: ``from morphkit.meshes import sample_mesh, load_
 
 from __future__ import annotations
 
-from .loading import check_mesh, load_mesh, normalize
+from .loading import UP_AXES, UP_AXIS_BY_FORMAT, Y_UP_TO_Z_UP, check_mesh, load_mesh, normalize, resolve_up
+from .parts import copy_with_look, face_base_colors, merge_parts, scene_parts
 from .samples import (
     BILLBOARD_MESHES,
     SAMPLE_MESHES,
@@ -29,6 +33,14 @@ __all__ = [
     "normalize",
     "check_mesh",
     "load_mesh",
+    "resolve_up",
+    "UP_AXES",
+    "UP_AXIS_BY_FORMAT",
+    "Y_UP_TO_Z_UP",
+    "merge_parts",
+    "scene_parts",
+    "copy_with_look",
+    "face_base_colors",
     "sample_mesh",
     "teapot",
     "teapot_face_count",

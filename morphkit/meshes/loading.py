@@ -4,20 +4,78 @@ Every mesh morphkit draws passes :func:`check_mesh`; :func:`load_mesh` reads a
 file and :func:`normalize` scales it to the package's unit size: uniformly
 scaled so that the largest bounding-box extent is 1.0 scene unit, centred on the
 origin in ``x`` and ``y`` and resting on the ground plane (``min z = 0``).
+Normalising moves vertices only: a mesh's visuals (textures, UVs, vertex and
+face colours, materials) are kept.
+
+Up axis of mesh files
+---------------------
+morphkit's world is ``+z`` up (:mod:`morphkit.conventions`). A file whose up is
+``+y`` is turned on load by ``+90`` degrees about ``x`` (:data:`Y_UP_TO_Z_UP`:
+``(x, y, z) -> (x, -z, y)``, a rotation, so handedness is kept and glTF's front
+``+z`` becomes ``-y``, as Blender imports it). ``load_mesh(path, up=...)`` takes
+``"z"``, ``"y"`` or ``"auto"``, the format's documented default (the one table;
+:func:`resolve_up` gives it for a path, for recording in asset files):
+
+=====================  ======  ==========================================
+format (extension)     auto    why
+=====================  ======  ==========================================
+glTF (``.gltf/.glb``)  ``y``   ``+y`` up by the glTF 2.0 specification
+OBJ (``.obj``)         ``y``   most exporters (Blender, Maya, 3ds Max
+                               export default) write ``+y`` up
+every other format     ``z``   PLY, STL, OFF, ... carry no convention;
+                               scans and CAD files are mostly ``+z`` up
+=====================  ======  ==========================================
+
+trimesh does not turn glTF files itself (it applies their node transforms only).
+
+Looks and multi-part files
+--------------------------
+A file's visuals are loaded as trimesh reads them (``TextureVisuals`` with UVs
+and a ``PBRMaterial`` for glTF, a ``SimpleMaterial`` for OBJ/MTL, ``ColorVisuals``
+for PLY vertex or face colours) and kept. A file of several parts (a glTF scene,
+an OBJ with several materials) becomes one mesh: node transforms applied, parts
+merged (in the order of their node names) by
+:func:`morphkit.meshes.parts.merge_parts`, which keeps each part's look in one
+atlas material. A mesh with both vertex colours and a texture (glTF ``COLOR_0``
+with a textured material) keeps both (trimesh puts the colours in
+``visual.vertex_attributes["color"]``); the renderer multiplies them. An OBJ whose
+``mtllib`` or ``map_Kd`` file is missing loads with an
+:class:`~morphkit.errors.AssetWarning`: the material keeps its ``Kd`` colour (trimesh
+drops the missing image silently); so does a ``.gltf`` whose external image is missing
+(its materials keep their ``baseColorFactor``). Vertices are merged where position and UV agree
+(OBJ/STL split them), except on meshes with vertex colours (left as stored).
 """
 
 from __future__ import annotations
 
+import json
+import warnings
 from pathlib import Path
 from typing import Any
+from urllib.parse import unquote
 
 import numpy as np
 import trimesh
 
 from .. import tol
-from ..errors import MeshError, expected_got
+from ..errors import AssetWarning, MeshError, expected_got
+from .parts import copy_with_look, merge_parts, scene_parts
 
-__all__ = ["normalize", "check_mesh", "load_mesh"]
+__all__ = ["normalize", "check_mesh", "load_mesh", "resolve_up", "UP_AXES", "UP_AXIS_BY_FORMAT",
+           "Y_UP_TO_Z_UP"]
+
+#: The up axes :func:`load_mesh` accepts besides ``"auto"``.
+UP_AXES = ("z", "y")
+
+#: ``up="auto"`` per file extension (lower case, no dot); every other extension is ``"z"``.
+UP_AXIS_BY_FORMAT: dict[str, str] = {"gltf": "y", "glb": "y", "obj": "y"}
+
+#: 4x4 rotation turning a ``+y``-up file into morphkit's ``+z``-up world (+90 deg about x).
+Y_UP_TO_Z_UP: np.ndarray = np.array([[1.0, 0.0, 0.0, 0.0],
+                                     [0.0, 0.0, -1.0, 0.0],
+                                     [0.0, 1.0, 0.0, 0.0],
+                                     [0.0, 0.0, 0.0, 1.0]])
+Y_UP_TO_Z_UP.setflags(write=False)
 
 
 # --------------------------------------------------------------------------
@@ -62,7 +120,7 @@ def normalize(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
            [ 0.25,  0.5 ,  0.25]])
     """
     check_mesh(mesh, "mesh")
-    out = mesh.copy()
+    out = copy_with_look(mesh)
     lo, hi = out.bounds
     extent = float(np.max(hi - lo))
     if not extent > tol.MIN_EXTENT:
@@ -158,49 +216,150 @@ def check_mesh(mesh: Any, name: str) -> trimesh.Trimesh:
 # --------------------------------------------------------------------------
 
 
-def load_mesh(path: str | Path) -> trimesh.Trimesh:
-    """Load a mesh file and return it normalised (see :func:`normalize`).
+def resolve_up(path: str | Path, up: str = "auto") -> str:
+    """The up axis :func:`load_mesh` uses for ``path``: ``up`` itself, or the format's default.
 
-    Any format trimesh reads (OBJ, PLY, STL, GLB/GLTF, OFF, ...) is accepted;
-    a file holding a scene is flattened into one mesh with every node's
-    transform applied. The file's axes are kept: morphkit's world is ``+z``
-    up, so a ``+y``-up file (e.g. glTF) has to be rotated by the caller.
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        Mesh file path; only its extension is read (for ``up="auto"``).
+    up : {"auto", "z", "y"}, optional
+        The requested up axis; ``"auto"`` is the table of the module notes.
+
+    Returns
+    -------
+    str
+        ``"z"`` or ``"y"``.
+
+    Raises
+    ------
+    MeshError
+        ``up`` is not one of ``"auto"``, ``"z"``, ``"y"``.
+    """
+    if not isinstance(up, str) or up.lower() not in ("auto", *UP_AXES):
+        raise MeshError(expected_got("up axis", "'auto', 'z' or 'y' (morphkit's world is +z up)", repr(up)))
+    up = up.lower()
+    if up != "auto":
+        return up
+    return UP_AXIS_BY_FORMAT.get(Path(path).suffix.lower().lstrip("."), "z")
+
+
+def _mtl_warnings(obj: Path) -> None:
+    """Warn about an OBJ's material libraries and ``map_Kd`` images that are not there."""
+    try:
+        lines = obj.read_text(errors="replace").splitlines()
+    except OSError:
+        return
+    libs = []
+    for ln in lines:
+        if ln.startswith("mtllib") and len(ln.split()) > 1:
+            rest = ln.split(None, 1)[1].strip()  # one name with spaces, or several names
+            libs += [rest] if (obj.parent / rest).is_file() else rest.split()
+    for lib in libs:
+        mtl = obj.parent / lib
+        if not mtl.is_file():
+            warnings.warn(f"mesh file {str(obj)!r}: material library {lib!r} not found; its parts are drawn "
+                          "without their materials", AssetWarning, stacklevel=3)
+            continue
+        material, kd = "?", "the default"
+        for ln in mtl.read_text(errors="replace").splitlines():
+            words = ln.split()
+            if not words:
+                continue
+            if words[0] == "newmtl":
+                material, kd = " ".join(words[1:]), "the default"
+            elif words[0] == "Kd" and len(words) >= 4:
+                kd = str(words[1:4])
+            elif words[0] == "map_Kd" and len(words) > 1 and not (mtl.parent / words[-1]).is_file():
+                warnings.warn(f"mesh file {str(obj)!r}: texture {words[-1]!r} of material {material!r} "
+                              f"({lib}) not found; drawn in its Kd colour {kd}", AssetWarning, stacklevel=3)
+
+
+def _gltf_warnings(path: Path) -> None:
+    """Warn about a ``.gltf``'s external images that are not there (trimesh drops them silently)."""
+    try:
+        doc = json.loads(path.read_text(errors="replace"))
+    except (OSError, ValueError):
+        return  # not readable as JSON: trimesh's error follows
+    images = doc.get("images", []) if isinstance(doc, dict) else []
+    for i, im in enumerate(images if isinstance(images, list) else []):
+        uri = im.get("uri") if isinstance(im, dict) else None
+        external = isinstance(uri, str) and not uri.startswith("data:")
+        if external and not (path.parent / unquote(uri)).is_file():
+            warnings.warn(f"mesh file {str(path)!r}: image {i} {uri!r} not found; its materials are drawn in "
+                          "their baseColorFactor", AssetWarning, stacklevel=3)
+
+
+def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
+    v = mesh.visual
+    if isinstance(v, trimesh.visual.TextureVisuals):
+        return "color" in v.vertex_attributes
+    return v.kind == "vertex"
+
+
+def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
+    """Load a mesh file with its look, turn it ``+z`` up and return it normalised.
+
+    Any format trimesh reads (OBJ, PLY, STL, GLB/GLTF, OFF, ...) is accepted. The
+    up axis, visuals and multi-part files follow the module notes: a ``+y``-up
+    file is turned ``+z`` up, every part keeps its look, several parts are merged
+    into one mesh with their node transforms applied. Then :func:`normalize`.
 
     Parameters
     ----------
     path : str or pathlib.Path
         Path of the file; the format is taken from its extension.
+    up : {"auto", "z", "y"}, optional
+        The file's up axis; ``"auto"`` is the format's default (:func:`resolve_up`).
 
     Returns
     -------
     trimesh.Trimesh
-        The normalised mesh.
+        The normalised mesh, with the file's visuals.
 
     Raises
     ------
     MeshError
-        If the file does not exist, cannot be read or has an unsupported
-        format, holds no triangles (e.g. a point cloud), or has non-finite
-        vertex coordinates.
+        If ``up`` is not ``"auto"``, ``"z"`` or ``"y"``; the file does not exist,
+        cannot be read or has an unsupported format; it holds no triangles (e.g. a
+        point cloud, a scene without geometry); or the mesh fails :func:`check_mesh`.
+
+    Warns
+    -----
+    AssetWarning
+        An OBJ's ``mtllib`` or ``map_Kd`` file or a ``.gltf``'s external image is missing;
+        a texture without UVs in a multi-part file.
     """
     p = Path(path)
+    axis = resolve_up(p, up)
     if not p.is_file():
         why = "a directory" if p.is_dir() else "file not found"
         raise MeshError(expected_got("mesh path", "an existing mesh file", f"{str(p)!r} ({why})"))
+    name = f"mesh file {str(p)!r}"
+    if p.suffix.lower() == ".obj":
+        _mtl_warnings(p)
+    elif p.suffix.lower() == ".gltf":
+        _gltf_warnings(p)
     try:
         # process=False: trimesh's processing would silently drop non-finite vertices.
-        loaded = trimesh.load(str(p), force="mesh", process=False)
+        loaded = trimesh.load(str(p), process=False)
     except Exception as exc:  # trimesh raises many types for bad files
         raise MeshError(
-            expected_got(f"mesh file {str(p)!r}", "a file trimesh can read",
-                         f"{type(exc).__name__}: {exc}"[:200])
+            expected_got(name, "a file trimesh can read", f"{type(exc).__name__}: {exc}"[:200])
         ) from exc
-    if isinstance(loaded, trimesh.Scene):  # force="mesh" leaves empty scenes as scenes
-        loaded = loaded.to_geometry() if len(loaded.geometry) else None
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise MeshError(
-            expected_got(f"mesh file {str(p)!r}", "a mesh with at least one face", "0 faces")
-        )
-    check_mesh(loaded, f"mesh file {str(p)!r}")
-    loaded.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
-    return normalize(loaded)
+    if isinstance(loaded, trimesh.Scene):
+        parts = scene_parts(loaded)
+        if not parts:
+            got = f"0 faces (a scene of {len(loaded.geometry)} geometries, none a mesh)"
+            raise MeshError(expected_got(name, "a mesh with at least one face", got))
+    elif isinstance(loaded, trimesh.Trimesh) and len(loaded.faces):
+        parts = [loaded]
+    else:
+        raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
+    for part in parts:
+        if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
+            part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
+    mesh = check_mesh(merge_parts(parts, name), name)
+    if axis == "y":
+        mesh.apply_transform(Y_UP_TO_Z_UP)
+    return normalize(mesh)
