@@ -98,13 +98,16 @@ def test_only_the_bench_and_the_cli_import_the_bench(path):
 
 #: The modules that may use the demo/bench/test scenes of :mod:`morphkit.fixtures`; the rest is
 #: the library, which must not depend on its own test scenes.
-FIXTURE_USERS = ("morphkit.fixtures", "morphkit.bench", "morphkit.demo", "morphkit.cli")
+FIXTURE_USERS = ("morphkit.fixtures", "morphkit.fidelity", "morphkit.bench", "morphkit.demo", "morphkit.cli")
+
+#: The fixture modules: the demo/bench/test scenes and the renderer's fidelity scenes.
+FIXTURES = ("fixtures", "fidelity")
 
 
 def _imports_fixtures(path: Path) -> list[str]:
     return [f"line {ln}: {m}" for ln, m, names in _imports(path)
-            if m == "morphkit.fixtures" or m.startswith("morphkit.fixtures.")
-            or (m == "morphkit" and "fixtures" in names)]
+            if any(m == f"morphkit.{f}" or m.startswith(f"morphkit.{f}.") for f in FIXTURES)
+            or (m == "morphkit" and any(f in names for f in FIXTURES))]
 
 
 @pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
