@@ -63,9 +63,10 @@ def _reference(points, dm, cam, cell, mode):
     ii, jj = np.meshgrid(np.arange(dm.shape[1]), np.arange(dm.shape[0]))
     out = np.ones(len(points))
 
-    def blocked(k, hx, hy, zt):
-        ox = np.clip(np.minimum(px[k] + hx, ii + 0.5) - np.maximum(px[k] - hx, ii - 0.5), 0, None)
-        oy = np.clip(np.minimum(py[k] + hy, jj + 0.5) - np.maximum(py[k] - hy, jj - 0.5), 0, None)
+    def blocked(k, hx, hy, zt, centre=None):
+        cx, cy = (px[k], py[k]) if centre is None else centre
+        ox = np.clip(np.minimum(cx + hx, ii + 0.5) - np.maximum(cx - hx, ii - 0.5), 0, None)
+        oy = np.clip(np.minimum(cy + hy, jj + 0.5) - np.maximum(cy - hy, jj - 0.5), 0, None)
         wgt = ox * oy * (occ & (dm < zt))
         return wgt.sum(), (wgt * np.where(occ, dm, 0)).sum()
 
@@ -76,10 +77,18 @@ def _reference(points, dm, cam, cell, mode):
         hx, hy = kx * s, ky * s
         if mode == "search" and max(hx, hy) >= 0.5:
             sx, sy = max(hx, 0.5), max(hy, 0.5)
-            a, ds = blocked(k, sx, sy, zt - texel * bias.slope * max(sx, sy))
+            i0, i1 = max(np.floor(px[k] - sx + 0.5), 0), min(np.floor(px[k] + sx + 0.5), dm.shape[1] - 1)
+            j0, j1 = max(np.floor(py[k] - sy + 0.5), 0), min(np.floor(py[k] + sy + 0.5), dm.shape[0] - 1)
+            # the search box rounded out to whole texels
+            a, ds = blocked(k, (i1 - i0 + 1) / 2, (j1 - j0 + 1) / 2,
+                            zt - texel * bias.slope * max(sx, sy), ((i0 + i1) / 2, (j0 + j1) / 2))
             if a <= tol.PX_EQUAL:
                 continue
             s = 1 / (ds / a) - 1 / z[k]
+            c, r = int(np.rint(px[k])), int(np.rint(py[k]))  # contact: blockers next to the point
+            near = dm[max(r - 1, 0):r + 2, max(c - 1, 0):c + 2]
+            if np.any(near < zt):
+                s = min(s, 1 / near[near < zt].max() - 1 / z[k])
             hx, hy = kx * s, ky * s
         if max(hx, hy) < 0.5:
             c, r = int(np.rint(px[k])), int(np.rint(py[k]))
@@ -138,6 +147,36 @@ def test_a_straight_edge_gives_a_linear_ramp(synthetic):
     np.testing.assert_allclose(vis, ramp, atol=1e-5)
     assert texel > 0 and hx > 0.5  # a ramp wider than a texel
     assert np.max(np.abs(np.diff(vis))) < 2.5 * np.max(np.abs(np.diff(ramp)))
+
+
+@pytest.mark.parametrize("mode", ["mean", "search"])
+def test_a_sloped_receiver_does_not_shadow_itself(synthetic, mode):
+    """A plane steep to the light (depth rises 1.5 per unit across the image) in the
+    map, points on it with their normals, a wide cell: the kernel spans many texels
+    of the plane in front of the point, and the receiver's plane keeps them from
+    counting; a block hovering 0.3 in front of the plane still casts its (soft)
+    shadow (a bias growing with the kernel, texel x slope x width, lost it whole)."""
+    cam, _dm, _g = synthetic
+    g_slope, z0 = 1.5, 2.0
+    ii = np.arange(64)
+    depth_row = z0 / (1 - g_slope * (ii - cam.cx) / cam.fx)  # Z = z0 + g X in the camera frame
+    dm = np.tile(depth_row, (64, 1)).astype(np.float32)
+    uu, vv = np.meshgrid(np.linspace(8, 56, 25), np.linspace(8, 56, 25))
+    zz = z0 / (1 - g_slope * (uu - cam.cx) / cam.fx)
+    pc = np.stack([(uu - cam.cx) * zz / cam.fx, (vv - cam.cy) * zz / cam.fy, zz], -1).reshape(-1, 3)
+    c2w = np.linalg.inv(cam.world2cam)
+    pts = pc @ c2w[:3, :3].T + c2w[:3, 3]
+    n = np.array([g_slope, 0.0, -1.0]) / np.hypot(g_slope, 1.0)  # faces the light
+    nrm = np.tile(n @ c2w[:3, :3].T, (len(pts), 1))
+    cell = np.array([[0.6, 0, 0], [0, 0.6, 0]])
+    vis = filtered_visibility(pts, dm, cam, cell, blocker=mode, normals=nrm)
+    assert vis.min() > 0.99
+    dm2 = dm.copy()
+    dm2[28:36, 28:36] -= 0.3
+    vis2 = filtered_visibility(pts, dm2, cam, cell, blocker=mode, normals=nrm)
+    assert vis2.min() < 0.5 and np.count_nonzero(vis2 < 0.99) < 0.25 * len(pts)
+    if mode == "search":
+        assert np.count_nonzero((vis2 > 0.01) & (vis2 < 0.99)) > 20  # a penumbra
 
 
 def test_empty_map_and_bad_inputs(synthetic):

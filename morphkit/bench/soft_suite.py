@@ -10,16 +10,17 @@ light's extent, ``[-0.9, 0.9]^2`` (:func:`morphkit.shadow.soft.bake_soft_atlas`;
 
 Methods (timed in the same run, interleaved), each with ``N`` light samples
 (the number in the name: 4 = 2 x 2, 5 = the paper's centre + corners, 9 = 3 x 3,
-16 = 4 x 4, 64 = 8 x 8 cell centres): ``warp_N`` (one warp of the atlas per
-sample, averaged: :class:`~morphkit.shadow.soft.SoftShadow`), ``direct_N`` (one
-depth render per sample, averaged: Heckbert & Herf), ``pcf_N`` and ``pcss_N``
-(the same ``N`` warps, each looked up with a filter as wide as the sample's cell
-of the light: :class:`~morphkit.shadow.penumbra.PcfSoftShadow`,
-:class:`~morphkit.shadow.penumbra.PcssSoftShadow`), ``pcss-direct_9`` and
-``pcss-reproject_9`` (PCSS on re-rendered and reprojected maps: like with like),
-and ``hard`` (one warped map for the light's centre). ``ms_median`` is the time
-to produce the soft visibility of the ``256 x 256`` ground grid (all maps and
-lookups).
+16 = 4 x 4, 64 = 8 x 8 cell centres). Averaging ``N`` hard shadows
+(:class:`~morphkit.shadow.soft.SoftShadow`): ``warp_N`` (one mesh warp of the
+atlas per sample), ``reproject_N`` (one reprojection of the atlas per sample),
+``direct_N`` (one depth render per sample: Heckbert & Herf). Filtering each
+sample's lookup over its cell of the light (:mod:`morphkit.shadow.penumbra`):
+``pcf_N`` and ``pcss_N`` on the mesh warps, ``pcss-reproject_N`` (the default,
+:func:`~morphkit.shadow.penumbra.default_soft_shadow`) on the reprojections;
+at 256^2 also ``pcss-direct_9`` and ``pcf-reproject_9`` (like with like) and
+``direct_64`` (the banding reference). ``hard``: one warped map for the light's
+centre. ``ms_median`` is the time to produce the soft visibility of the
+``256 x 256`` ground grid (all maps and lookups).
 
 Ground truth: the ray-cast fraction of the light seen by each ground point, over
 the ground square ``[-1.7, 1.7]^2`` sampled at ``256 x 256`` pixel centres, with
@@ -160,6 +161,13 @@ class _Truth:
                                 else sampled_visibility(self.grid, same_as.point_lights(), obj))
         return self._cache[key]
 
+    def contact(self, mesh_name: str, mesh: Any, xy: np.ndarray, radius: float) -> np.ndarray:
+        """:func:`contact_region` of the grid, computed once per case."""
+        key = ("contact", mesh_name, xy.tobytes(), radius)
+        if key not in self._cache:
+            self._cache[key] = contact_region(mesh, xy, self.grid, radius)
+        return self._cache[key]
+
 
 def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth: _Truth,
             contact_radius: float) -> dict[str, float]:
@@ -176,7 +184,7 @@ def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth:
         out["mae_shadow"].append(float(err[region].mean()) if region.any() else 0.0)
         out["banding"].append(banding(est.reshape(GROUND_N, GROUND_N),
                                       gt.reshape(GROUND_N, GROUND_N)))
-        contact = contact_region(mesh, xy, truth.grid, contact_radius)
+        contact = truth.contact(mesh_name, mesh, xy, contact_radius)
         out["mae_contact"].append(float(err[contact].mean()) if contact.any() else 0.0)
         if averaged:
             out["mae_same"].append(float(np.abs(est - truth(mesh_name, mesh, xy, soft)).mean()))
@@ -192,17 +200,19 @@ def _time(methods: dict[str, SoftShadow], xys: np.ndarray, grid: np.ndarray, rep
 
 def _methods(atlas: Any, direct: DirectShadow, ns: list[int], *, extras: bool
              ) -> dict[str, SoftShadow]:
+    reproject = atlas.method(warps="reproject")
     methods = {"hard": SoftShadow(atlas, AREA, np.zeros((1, 2)))}
     for n in ns:
         methods[f"warp_{n}"] = SoftShadow(atlas, AREA, SAMPLES[n])
+        methods[f"reproject_{n}"] = SoftShadow(reproject, AREA, SAMPLES[n])
         methods[f"direct_{n}"] = SoftShadow(direct, AREA, SAMPLES[n])
         for label, cls in FILTERED.items():
             methods[f"{label}_{n}"] = cls(atlas, AREA, SAMPLES[n])
-    if extras:  # the banding reference, and PCSS on the other map sources
+        methods[f"pcss-reproject_{n}"] = PcssSoftShadow(reproject, AREA, SAMPLES[n])
+    if extras:  # the banding reference, and the filters on the other map sources
         methods["direct_64"] = SoftShadow(direct, AREA, SAMPLES[64])
         methods["pcss-direct_9"] = PcssSoftShadow(direct, AREA, SAMPLES[9])
-        methods["pcss-reproject_9"] = PcssSoftShadow(atlas.method(warps="reproject"), AREA,
-                                                     SAMPLES[9])
+        methods["pcf-reproject_9"] = PcfSoftShadow(reproject, AREA, SAMPLES[9])
     return methods
 
 
@@ -290,6 +300,7 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
         direct = DirectShadow(atlas.rig, mesh, renderer)
         methods = {"warp_9": SoftShadow(atlas, AREA, (3, 3)),
                    "pcss_9": PcssSoftShadow(atlas, AREA, (3, 3)),
+                   "pcss-reproject_9": PcssSoftShadow(atlas.method(warps="reproject"), AREA, (3, 3)),
                    "direct_9": SoftShadow(direct, AREA, (3, 3)),
                    "direct_16": SoftShadow(direct, AREA, (4, 4))}
         timings = _time(methods, xys, grid, repeats=3 if quick else 5)

@@ -13,6 +13,8 @@
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
+* :mod:`.filtered` -- the filtered lookup: the fraction of a light cell one map says a point sees;
+* :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
 """
 
@@ -23,6 +25,7 @@ from .atlasfile import ATLAS_VERSION
 from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .method import ShadowMethod, bilinear_weights
+from .penumbra import PcfSoftShadow, PcssSoftShadow, default_soft_shadow
 from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
@@ -49,4 +52,7 @@ __all__ = [
     "bake_soft_atlas",
     "light_offsets",
     "soft_motion_range",
+    "PcfSoftShadow",
+    "PcssSoftShadow",
+    "default_soft_shadow",
 ]

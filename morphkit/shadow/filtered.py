@@ -29,7 +29,15 @@ where ``z_b`` comes from:
   the mean depth of its occluder texels;
 * ``blocker="search"`` (PCSS, Fernando 2005): per point, the mean depth of the
   occluder texels closer than the point inside the *search* box -- the box the
-  nearest occluder depth ``z_min`` of the map would give. No blocker there: lit.
+  nearest occluder depth ``z_min`` of the map would give, rounded out to whole
+  texels. No blocker there: lit. Contact hardening: a blocker within
+  :data:`CONTACT_TEXELS` of the point's own texel that is nearer the point than
+  that mean sets the depth instead (the one nearest the point), so where the
+  object touches the receiver the mean of a leg and the body above it does not
+  blur the leg's sharp contact shadow.
+
+A blocker area below :data:`morphkit.tol.PX_EQUAL` texels² is the tables' rounding: no
+blocker.
 
 Texels are unit squares centred on integer pixel coordinates (texel ``i`` covers
 ``[i - 1/2, i + 1/2]``); the box has real-valued edges and each texel counts with
@@ -37,19 +45,24 @@ the area it shares with the box, so the visibility changes continuously as the
 point moves (no texel-sized steps). Texels outside the map are empty, as the
 hard lookup treats points outside the window as lit.
 
-Depth comparison and bias: those of :mod:`morphkit.shadow.lookup` (the same
-``texel_world * (constant + slope * min(tan, max_tan))``), plus the depth change
-of the receiver across the box, ``texel_world * slope * min(tan, max_tan) * h``
-with ``h`` the larger half-width in texels (without it a sloped surface would
-shadow itself over a wide kernel). When both half-widths are below
-:data:`morphkit.tol.PENUMBRA_MIN_HALF_TEXEL` the lookup *is* the hard lookup
-(nearest texel), so a light of zero extent gives the hard shadow exactly; wider
-boxes are at least one texel wide.
+Depth comparison and bias. The hard lookup (nearest texel) keeps the bias of
+:mod:`morphkit.shadow.lookup`, ``texel_world * (constant + slope * min(tan, max_tan))``.
+A box spans many texels, and a receiver sloped to the light has its own texels
+in front of it across the box. With a normal, an occluder texel counts when it is
+closer than the receiver's *plane* at that texel (the plane through the point
+with that normal, seen from the light: its depth is a ratio of affine functions
+of the pixel) minus ``texel_world * constant`` (receiver-plane depth bias, as in
+Isidoro 2006). Without a normal the receiver may slope by ``tan = 1``: the bias
+then grows by ``texel_world * slope * h`` with ``h`` the larger half-width in
+texels. When both half-widths are below
+:data:`morphkit.tol.PENUMBRA_MIN_HALF_TEXEL` the lookup *is* the hard lookup, so
+a light of zero extent gives the hard shadow exactly; wider boxes are at least
+one texel wide.
 
 Speed. Per map, summed-area tables of occluder coverage and depth (one pass)
 make a box's coverage and depth sum four bilinear reads each, whatever its size;
 a max-depth pyramid tells in four reads whether every occluder texel under the
-box is closer than the point (always so for a receiver below the object). Only
+box is in front of the receiver (always so for a receiver below the object). Only
 boxes that hold occluder texels both in front of and behind the point (a surface
 shadowing itself) are summed texel by texel.
 """
@@ -72,6 +85,9 @@ __all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDep
 
 BlockerDepth = Literal["mean", "search"]
 _MODES = {"mean": 0, "search": 1}
+#: Contact hardening reach (texels) of the blocker search (module docstring): the point's
+#: texel and its 8 neighbours, enough to catch a blocker the nearest-texel rounding misses.
+CONTACT_TEXELS = 1
 
 
 @dataclass(frozen=True)
@@ -121,13 +137,13 @@ class DepthTables:
         DepthTables
             Its summed-area tables, pyramid and depth statistics.
         """
-        occ = np.isfinite(depth_map)
-        rows, cols = np.flatnonzero(occ.any(1)), np.flatnonzero(occ.any(0))
-        if len(rows) == 0:
+        box = np.zeros(4, np.int64)
+        (_bbox_kernel if use_compiled(_bbox_kernel) else _bbox_loop)(depth_map, box)
+        r0, r1, c0, c1 = (int(v) for v in box)
+        if r1 < r0:
             return cls(np.zeros((2, 2, 2)), np.full(1, -np.inf), np.zeros(1, np.int64),
                        np.ones(1, np.int64), (0, 0), np.inf, np.inf)
-        r0, c0 = int(rows[0]), int(cols[0])
-        sub = np.ascontiguousarray(depth_map[r0:rows[-1] + 1, c0:cols[-1] + 1], np.float64)
+        sub = np.ascontiguousarray(depth_map[r0:r1 + 1, c0:c1 + 1], np.float64)
         h, w = sub.shape
         shapes = [(h, w)]
         while shapes[-1] != (1, 1):
@@ -142,6 +158,19 @@ class DepthTables:
         tables(sub, sat, pyramid, offsets, widths, stats)
         return cls(sat, pyramid, offsets, widths, (r0, c0), float(stats[0]),
                    float(stats[1] / sat[-1, -1, 0]))
+
+
+def _bbox_loop(dm: np.ndarray, box: np.ndarray) -> None:
+    """``box = (first row, last row, first column, last column)`` of the finite texels
+    (last < first when there are none)."""
+    h, w = dm.shape
+    r0, r1, c0, c1 = h, -1, w, -1
+    for j in range(h):
+        for i in range(w):
+            if dm[j, i] < np.inf:
+                r0, r1 = min(r0, j), max(r1, j)
+                c0, c1 = min(c0, i), max(c1, i)
+    box[0], box[1], box[2], box[3] = r0, r1, c0, c1
 
 
 def _tables_loop(sub: np.ndarray, sat: np.ndarray, pyr: np.ndarray, off: np.ndarray,
@@ -285,7 +314,9 @@ def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
             int(t.origin[0]), int(t.origin[1]), float(light_cam.fx),
             np.asarray(light_cam.position, np.float64), float(k[0]), float(k[1]), int(mode),
             float(t.z_mean), float(t.z_min), float(b.constant), float(b.slope), float(b.max_tan),
-            float(tol.PENUMBRA_MIN_HALF_TEXEL), float(tol.PX_EQUAL))
+            float(tol.PENUMBRA_MIN_HALF_TEXEL), float(tol.PX_EQUAL), int(CONTACT_TEXELS),
+            np.ascontiguousarray(light_cam.world2cam[:3, :3], np.float64), float(light_cam.cx),
+            float(light_cam.cy), float(light_cam.fy))
     if use_compiled(_filter_kernel):
         _filter_kernel(*args)
     else:  # no numba: the same loop, interpreted (slow; correct)
@@ -339,10 +370,26 @@ def _box_max(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, i0: int, i1: int
     return m
 
 
+def _plane_min(dpl: float, ax: float, ay: float, a0: float, x0: float, x1: float, y0: float,
+               y1: float) -> float:
+    """The least depth of the receiver's plane over the box (at a corner: the depth is
+    a ratio of affine functions of the pixel); ``-inf`` where the plane turns away."""
+    m = np.inf
+    for xx in (x0, x1):
+        for yy in (y0, y1):
+            den = ax * xx + ay * yy + a0
+            if not den * dpl > 0:
+                return -np.inf
+            m = min(m, dpl / den)
+    return m
+
+
 def _box_scan(sub_h: int, sub_w: int, pyr: np.ndarray, x0: float, x1: float, y0: float,
-              y1: float, zt: float) -> tuple[float, float]:
-    """Texel by texel: (area, area x depth) of occluder texels under the box closer
-    than ``zt`` (level 0 of the pyramid is the window's depths)."""
+              y1: float, zt: float, plane: bool, dpl: float, ax: float, ay: float, a0: float,
+              bias0: float) -> tuple[float, float]:
+    """Texel by texel: (area, area x depth) of occluder texels under the box in front of
+    the receiver (level 0 of the pyramid is the window's depths): closer than the
+    receiver's plane minus ``bias0`` at the texel with ``plane``, else than ``zt``."""
     i0, i1 = max(int(np.floor(x0 + 0.5)), 0), min(int(np.floor(x1 + 0.5)), sub_w - 1)
     j0, j1 = max(int(np.floor(y0 + 0.5)), 0), min(int(np.floor(y1 + 0.5)), sub_h - 1)
     area, dsum = 0.0, 0.0
@@ -352,7 +399,14 @@ def _box_scan(sub_h: int, sub_w: int, pyr: np.ndarray, x0: float, x1: float, y0:
             continue
         for i in range(i0, i1 + 1):
             d = pyr[j * sub_w + i]
-            if not (d > -np.inf and d < zt):  # empty, or not in front
+            if not d > -np.inf:  # empty
+                continue
+            thr = zt
+            if plane:
+                den = ax * i + ay * j + a0
+                if den * dpl > 0:
+                    thr = dpl / den - bias0
+            if not d < thr:  # not in front
                 continue
             ox = min(x1, i + 0.5) - max(x0, i - 0.5)
             if ox > 0:
@@ -365,7 +419,8 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                  dm: np.ndarray, sat: np.ndarray, pyr: np.ndarray, off: np.ndarray,
                  wid: np.ndarray, r0: int, c0: int, fx: float, L: np.ndarray, kx: float,
                  ky: float, mode: int, z_mean: float, z_min: float, b_const: float,
-                 b_slope: float, b_max: float, min_half: float, area_floor: float) -> None:
+                 b_slope: float, b_max: float, min_half: float, area_floor: float, near: int,
+                 R: np.ndarray, cx: float, cy: float, fy: float) -> None:
     """The per-point loop (module docstring); ``vis`` is written for every point."""
     h, w = dm.shape
     sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
@@ -387,6 +442,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
             continue  # the widest box misses every occluder texel
         texel = abs(z) / fx
         tan = 1.0
+        n0, n1, n2 = 0.0, 0.0, 0.0
         if has_nrm:
             n0, n1, n2 = np.float64(nrm[k, 0]), np.float64(nrm[k, 1]), np.float64(nrm[k, 2])
             if n0 * n0 + n1 * n1 + n2 * n2 > 0:
@@ -395,11 +451,26 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                 cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
                 tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, 1e-6)
         slope = b_slope * min(tan, b_max)
-        zt = z - texel * (b_const + slope)  # occluders closer than this block
+        bias0 = texel * (b_const + slope)
+        zt = z - bias0  # occluders closer than this block
+        # the receiver's plane (with a normal): depth dpl / (ax i + ay j + a0) at window texel (i, j)
+        plane = has_nrm and (n0 * n0 + n1 * n1 + n2 * n2 > 0)
+        dpl, ax, ay, a0, bias_p = 0.0, 0.0, 0.0, 0.0, bias0
+        if plane:
+            m0 = R[0, 0] * n0 + R[0, 1] * n1 + R[0, 2] * n2
+            m1 = R[1, 0] * n0 + R[1, 1] * n1 + R[1, 2] * n2
+            m2 = R[2, 0] * n0 + R[2, 1] * n1 + R[2, 2] * n2
+            dpl = m0 * (pxa - cx) * z / fx + m1 * (pya - cy) * z / fy + m2 * z
+            ax, ay = m0 / fx, m1 / fy
+            a0 = m2 + m0 * (c0 - cx) / fx + m1 * (r0 - cy) / fy
+            bias_p = texel * b_const
         hx, hy = kx * s, ky * s
         fast = False
         if max(hx, hy) >= min_half:
-            zs = zt - texel * slope * max(sx, sy)
+            if plane:
+                zs = _plane_min(dpl, ax, ay, a0, px - sx, px + sx, py - sy, py + sy) - bias_p
+            else:  # no normal: the receiver may slope by tan = 1 across the box
+                zs = zt - texel * slope * max(sx, sy)
             i0, i1 = max(int(np.floor(px - sx + 0.5)), 0), min(int(np.floor(px + sx + 0.5)), sub_w - 1)
             j0, j1 = max(int(np.floor(py - sy + 0.5)), 0), min(int(np.floor(py + sy + 0.5)), sub_h - 1)
             m = _box_max(pyr, off, wid, i0, i1, j0, j1)
@@ -407,13 +478,25 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                 continue  # no occluder texel under the widest box
             fast = m < zs  # every occluder texel under the box is in front: the tables answer
             if mode == 1:  # blocker search over the widest box
-                if fast:
-                    a, ds = _box_sums(sat, px - sx, px + sx, py - sy, py + sy, True)
+                if fast:  # whole texels (i0..i1, j0..j1): the mean depth needs no more
+                    a = (sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0]
+                         + sat[j0, i0, 0])
+                    ds = (sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1]
+                          + sat[j0, i0, 1])
                 else:
-                    a, ds = _box_scan(sub_h, sub_w, pyr, px - sx, px + sx, py - sy, py + sy, zs)
+                    a, ds = _box_scan(sub_h, sub_w, pyr, i0 - 0.5, i1 + 0.5, j0 - 0.5, j1 + 0.5,
+                                      zs, plane, dpl, ax, ay, a0, bias_p)
                 if a <= area_floor:
                     continue  # no blocker in reach: the whole cell is seen
                 s = 1.0 / (ds / a) - 1.0 / z
+                # contact: a blocker next to the point (its texel and the 8 around)
+                # nearer the point than the mean narrows the kernel to its depth
+                c, r = int(np.rint(pxa)), int(np.rint(pya))
+                for rr in range(max(r - near, 0), min(r + near + 1, h)):
+                    for cc in range(max(c - near, 0), min(c + near + 1, w)):
+                        occ = np.float64(dm[rr, cc])
+                        if occ < zt:
+                            s = min(s, 1.0 / occ - 1.0 / z)
                 hx, hy = kx * s, ky * s
         if not max(hx, hy) >= min_half:  # the hard lookup (nearest texel)
             c, r = np.rint(pxa), np.rint(pya)
@@ -427,7 +510,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
             a, _ds = _box_sums(sat, px - hx, px + hx, py - hy, py + hy, False)
         else:
             a, _ds = _box_scan(sub_h, sub_w, pyr, px - hx, px + hx, py - hy, py + hy,
-                               zt - texel * slope * max(hx, hy))
+                               zt - texel * slope * max(hx, hy), plane, dpl, ax, ay, a0, bias_p)
         vis[k] = np.float32(min(max(1.0 - a / (4.0 * hx * hy), 0.0), 1.0))
 
 
@@ -436,6 +519,8 @@ _corner = compile_kernel(_corner) or _corner
 _bilerp = compile_kernel(_bilerp) or _bilerp
 _box_sums = compile_kernel(_box_sums) or _box_sums
 _box_max = compile_kernel(_box_max) or _box_max
+_plane_min = compile_kernel(_plane_min) or _plane_min
 _box_scan = compile_kernel(_box_scan) or _box_scan
 _filter_kernel = compile_kernel(_filter_loop)
 _tables_kernel = compile_kernel(_tables_loop)
+_bbox_kernel = compile_kernel(_bbox_loop)

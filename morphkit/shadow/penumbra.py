@@ -20,8 +20,14 @@ The family differs in the occluder depth that sizes the kernel:
   contact shadows, whose occluder is nearer the receiver than the mean.
 * :class:`PcssSoftShadow` -- percentage-closer *soft* shadows (Fernando 2005):
   each point first averages the depths of the occluder texels in front of it
-  within reach of the cell, then filters with the kernel that depth gives, so the
+  within reach of the cell (or, next to the point, the depth of a blocker nearer
+  it: contact hardening), then filters with the kernel that depth gives, so the
   penumbra narrows to nothing where the object touches the receiver.
+
+Measured (``morphkit bench soft``, ``docs/RESULTS.md``): PCSS has the lower
+error, and on the atlas's *reprojected* maps (``atlas.method(warps="reproject")``,
+as accurate as re-rendering and faster than the mesh warp) it is the default soft
+shadow of ``morphkit shadows --area-light`` and the demo: :func:`default_soft_shadow`.
 
 Cells. With a grid of samples (``k`` or ``(n_u, n_v)``, jittered or not) the cell
 of a sample is its grid cell, half-extents ``u / n_u`` and ``v / n_v``; with an
@@ -38,13 +44,14 @@ import numpy as np
 from ..errors import ValidationError, expected_got
 from ..scene import AreaLight
 from ..validate import as_finite_array
+from .atlas import ShadowAtlas
 from .filtered import BlockerDepth, DepthTables, cell_half_widths, filter_into
-from .lookup import ShadowBias, check_depth_map
+from .lookup import ShadowBias
 from .method import ShadowMethod
 from .soft import SoftShadow, light_offsets
 
 __all__ = ["PenumbraSoftShadow", "PcfSoftShadow", "PcssSoftShadow", "light_cell",
-           "SOFT_SHADOW_METHODS"]
+           "SOFT_SHADOW_METHODS", "soft_shadow_class", "default_soft_shadow"]
 
 
 def light_cell(light: AreaLight, samples: Any = (3, 3)) -> np.ndarray:
@@ -132,10 +139,9 @@ class PenumbraSoftShadow(SoftShadow):
         mode = {"mean": 0, "search": 1}[self.blocker]
         acc = np.zeros(len(pts), np.float32)
         lit = np.empty(len(pts), np.float32)
-        for depth, cam in self.maps(xy, clamp=clamp):
-            dm = check_depth_map(depth, cam.shape)
-            filter_into(lit, pts, dm, cam, cell_half_widths(self.cell, cam), mode, normals, bias,
-                        DepthTables.of(dm))
+        for depth, cam in self.maps(xy, clamp=clamp):  # a ShadowMethod's maps: checked there
+            filter_into(lit, pts, depth, cam, cell_half_widths(self.cell, cam), mode, normals, bias,
+                        DepthTables.of(depth))
             acc += lit
         acc /= np.float32(self.n_samples)
         return np.clip(acc, 0.0, 1.0)
@@ -208,3 +214,30 @@ def soft_shadow_class(name: str) -> type[SoftShadow]:
         raise ValidationError(expected_got("soft-shadow method", f"one of {sorted(SOFT_SHADOW_METHODS)}",
                                            repr(name)))
     return SOFT_SHADOW_METHODS[name]
+
+
+def default_soft_shadow(atlas: ShadowAtlas, light: AreaLight, samples: Any = (3, 3), *,
+                        rng: np.random.Generator | None = None,
+                        bias: ShadowBias | None = None) -> PcssSoftShadow:
+    """The soft shadow morphkit uses by default: PCSS on the atlas's reprojected maps.
+
+    Parameters
+    ----------
+    atlas : morphkit.shadow.atlas.ShadowAtlas
+        An atlas for a point light at the area light's centre, over the grown range
+        (:func:`~morphkit.shadow.soft.bake_soft_atlas`).
+    light : AreaLight
+        The area light.
+    samples
+        ``k``, ``(n_u, n_v)`` or an ``(N, 2)`` array of light coordinates.
+    rng : numpy.random.Generator, optional
+        Jitter the grid samples.
+    bias : ShadowBias, optional
+        Depth-comparison bias.
+
+    Returns
+    -------
+    PcssSoftShadow
+        The soft shadow.
+    """
+    return PcssSoftShadow(atlas.method(warps="reproject"), light, samples, rng=rng, bias=bias)
