@@ -386,10 +386,11 @@ def _plane_min(dpl: float, ax: float, ay: float, a0: float, x0: float, x1: float
 
 def _box_scan(sub_h: int, sub_w: int, pyr: np.ndarray, x0: float, x1: float, y0: float,
               y1: float, zt: float, plane: bool, dpl: float, ax: float, ay: float, a0: float,
-              bias0: float) -> tuple[float, float]:
+              bias0: float, si0: int, si1: int, sj0: int, sj1: int) -> tuple[float, float]:
     """Texel by texel: (area, area x depth) of occluder texels under the box in front of
     the receiver (level 0 of the pyramid is the window's depths): closer than the
-    receiver's plane minus ``bias0`` at the texel with ``plane``, else than ``zt``."""
+    receiver's plane minus ``bias0`` at the texel with ``plane``, else than ``zt``.
+    Texels in ``[si0, si1] x [sj0, sj1]`` are skipped (counted by the caller)."""
     i0, i1 = max(int(np.floor(x0 + 0.5)), 0), min(int(np.floor(x1 + 0.5)), sub_w - 1)
     j0, j1 = max(int(np.floor(y0 + 0.5)), 0), min(int(np.floor(y1 + 0.5)), sub_h - 1)
     area, dsum = 0.0, 0.0
@@ -397,21 +398,79 @@ def _box_scan(sub_h: int, sub_w: int, pyr: np.ndarray, x0: float, x1: float, y0:
         oy = min(y1, j + 0.5) - max(y0, j - 0.5)
         if oy <= 0:
             continue
-        for i in range(i0, i1 + 1):
-            d = pyr[j * sub_w + i]
-            if not d > -np.inf:  # empty
-                continue
+        skip = sj0 <= j <= sj1
+        for part in range(2 if skip else 1):
+            ia, ib = i0, i1
+            if skip:
+                ia, ib = (i0, min(i1, si0 - 1)) if part == 0 else (max(i0, si1 + 1), i1)
+            for i in range(ia, ib + 1):
+                d = pyr[j * sub_w + i]
+                if not d > -np.inf:  # empty
+                    continue
+                thr = zt
+                if plane:
+                    den = ax * i + ay * j + a0
+                    if den * dpl > 0:
+                        thr = dpl / den - bias0
+                if not d < thr:  # not in front
+                    continue
+                ox = min(x1, i + 0.5) - max(x0, i - 0.5)
+                if ox > 0:
+                    area += ox * oy
+                    dsum += ox * oy * d
+    return area, dsum
+
+
+def _search_tree(sat: np.ndarray, pyr: np.ndarray, off: np.ndarray, wid: np.ndarray,
+                 stack: np.ndarray, i0: int, i1: int, j0: int, j1: int, zt: float, plane: bool,
+                 dpl: float, ax: float, ay: float, a0: float, bias0: float
+                 ) -> tuple[float, float]:
+    """:func:`_box_scan` over the whole texels ``[i0, i1] x [j0, j1]``, block by block
+    down the max-depth pyramid: a block whose every occluder texel is in front is
+    summed from the tables, an empty one skipped, a mixed one split (cost grows with
+    the mixed region's outline, not the box's area)."""
+    sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
+    span = max(i1 - i0, j1 - j0) + 1
+    lev = 0
+    while (1 << lev) < span and lev < len(off) - 1:
+        lev += 1
+    n = 0
+    for bj in range(j0 >> lev, (j1 >> lev) + 1):
+        for bi in range(i0 >> lev, (i1 >> lev) + 1):
+            stack[n, 0], stack[n, 1], stack[n, 2] = lev, bi, bj
+            n += 1
+    area, dsum = 0.0, 0.0
+    while n > 0:
+        n -= 1
+        lv, bi, bj = stack[n, 0], stack[n, 1], stack[n, 2]
+        x0, x1 = max(bi << lv, i0), min(((bi + 1) << lv) - 1, i1, sub_w - 1)
+        y0, y1 = max(bj << lv, j0), min(((bj + 1) << lv) - 1, j1, sub_h - 1)
+        if x0 > x1 or y0 > y1:
+            continue
+        m = pyr[off[lv] + bj * wid[lv] + bi]
+        if m == -np.inf:
+            continue
+        if lv == 0:
             thr = zt
             if plane:
-                den = ax * i + ay * j + a0
+                den = ax * x0 + ay * y0 + a0
                 if den * dpl > 0:
                     thr = dpl / den - bias0
-            if not d < thr:  # not in front
-                continue
-            ox = min(x1, i + 0.5) - max(x0, i - 0.5)
-            if ox > 0:
-                area += ox * oy
-                dsum += ox * oy * d
+            if m < thr:
+                area += 1.0
+                dsum += m
+            continue
+        thr = zt
+        if plane:
+            thr = _plane_min(dpl, ax, ay, a0, x0 - 0.5, x1 + 0.5, y0 - 0.5, y1 + 0.5) - bias0
+        if m < thr:  # all in front: the tables
+            area += sat[y1 + 1, x1 + 1, 0] - sat[y0, x1 + 1, 0] - sat[y1 + 1, x0, 0] + sat[y0, x0, 0]
+            dsum += sat[y1 + 1, x1 + 1, 1] - sat[y0, x1 + 1, 1] - sat[y1 + 1, x0, 1] + sat[y0, x0, 1]
+            continue
+        for cj in range(2):
+            for ci in range(2):
+                stack[n, 0], stack[n, 1], stack[n, 2] = lv - 1, 2 * bi + ci, 2 * bj + cj
+                n += 1
     return area, dsum
 
 
@@ -425,6 +484,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
     h, w = dm.shape
     sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
     has_nrm = nrm.shape[0] > 0
+    stack = np.empty((4 + 3 * len(off), 3), np.int64)  # _search_tree's depth-first stack
     for k in range(pts.shape[0]):
         vis[k] = 1.0
         x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
@@ -484,8 +544,8 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                     ds = (sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1]
                           + sat[j0, i0, 1])
                 else:
-                    a, ds = _box_scan(sub_h, sub_w, pyr, i0 - 0.5, i1 + 0.5, j0 - 0.5, j1 + 0.5,
-                                      zs, plane, dpl, ax, ay, a0, bias_p)
+                    a, ds = _search_tree(sat, pyr, off, wid, stack, i0, i1, j0, j1, zs, plane,
+                                         dpl, ax, ay, a0, bias_p)
                 if a <= area_floor:
                     continue  # no blocker in reach: the whole cell is seen
                 s = 1.0 / (ds / a) - 1.0 / z
@@ -509,8 +569,19 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
         if fast:  # the kernel box lies inside the widest box, with a smaller bias
             a, _ds = _box_sums(sat, px - hx, px + hx, py - hy, py + hy, False)
         else:
-            a, _ds = _box_scan(sub_h, sub_w, pyr, px - hx, px + hx, py - hy, py + hy,
-                               zt - texel * slope * max(hx, hy), plane, dpl, ax, ay, a0, bias_p)
+            zk = zt - texel * slope * max(hx, hy)
+            # whole texels inside the box from the pyramid and tables, the border texel by texel
+            si0, si1 = max(int(np.ceil(px - hx + 0.5)), 0), min(int(np.floor(px + hx - 0.5)), sub_w - 1)
+            sj0, sj1 = max(int(np.ceil(py - hy + 0.5)), 0), min(int(np.floor(py + hy - 0.5)), sub_h - 1)
+            a = 0.0
+            if si0 <= si1 and sj0 <= sj1:
+                a, _ds = _search_tree(sat, pyr, off, wid, stack, si0, si1, sj0, sj1, zk, plane,
+                                      dpl, ax, ay, a0, bias_p)
+            else:
+                si0, si1 = 0, -1
+            b, _ds = _box_scan(sub_h, sub_w, pyr, px - hx, px + hx, py - hy, py + hy, zk, plane,
+                               dpl, ax, ay, a0, bias_p, si0, si1, sj0, sj1)
+            a += b
         vis[k] = np.float32(min(max(1.0 - a / (4.0 * hx * hy), 0.0), 1.0))
 
 
@@ -521,6 +592,7 @@ _box_sums = compile_kernel(_box_sums) or _box_sums
 _box_max = compile_kernel(_box_max) or _box_max
 _plane_min = compile_kernel(_plane_min) or _plane_min
 _box_scan = compile_kernel(_box_scan) or _box_scan
+_search_tree = compile_kernel(_search_tree) or _search_tree
 _filter_kernel = compile_kernel(_filter_loop)
 _tables_kernel = compile_kernel(_tables_loop)
 _bbox_kernel = compile_kernel(_bbox_loop)
