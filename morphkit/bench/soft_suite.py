@@ -53,7 +53,8 @@ from ..shadow.penumbra import PcfSoftShadow, PcssSoftShadow, PenumbraSoftShadow
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import Timing, make_row, time_cycling
 
-__all__ = ["run", "banding", "contact_region", "FLOOR_METHOD", "PLOT_OPTIONS"]
+__all__ = ["run", "run_subset", "accuracy_rows", "banding", "contact_region", "FLOOR_METHOD",
+           "PLOT_OPTIONS"]
 
 SUITE = "soft"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
@@ -308,6 +309,52 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
             rows.append(make_row(SUITE, name, {"what": "complexity", "mesh": "cow", "size": size,
                                                "samples": m.n_samples, "faces": len(mesh.faces)},
                                  timings[name]))
+    return rows
+
+
+def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: int, repeats: int,
+               *, complexity: bool = True, reference: bool = True,
+               json_path: str | None = None) -> list[dict[str, Any]]:
+    """A chosen part of the full run (the full run is long on a shared machine): accuracy rows
+    for ``meshes`` x ``sizes`` x ``ns``, then the complexity sweep and the reference check.
+
+    Parameters
+    ----------
+    meshes : list of str
+        Sample mesh names.
+    sizes : list of int
+        Map sizes.
+    ns : list of int
+        Sample counts (4, 5, 9, 16).
+    n_positions : int
+        Seeded random positions per case.
+    repeats : int
+        Timing repeats.
+    complexity : bool
+        Add the full complexity sweep (6k to 1M faces).
+    reference : bool
+        Add the 256- against 1024-sample ray-cast row.
+    json_path : str, optional
+        Write the rows there as JSON.
+
+    Returns
+    -------
+    list of dict
+        The rows.
+    """
+    from ..render import Renderer
+    from .harness import format_table, write_json
+
+    truth = _Truth(dense=TRUTH_SAMPLES)
+    with Renderer() as renderer:
+        rows = accuracy_rows(renderer, truth, meshes, sizes, ns, n_positions, repeats)
+        if complexity:
+            rows += _complexity_rows(renderer, False)
+    if reference:
+        rows += _reference_rows(truth)
+    print(format_table(rows, floor_method=FLOOR_METHOD), flush=True)
+    if json_path is not None:
+        write_json(rows, json_path)
     return rows
 
 
