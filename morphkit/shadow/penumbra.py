@@ -103,8 +103,6 @@ class PenumbraSoftShadow(SoftShadow):
 
     #: Where the kernel's occluder depth comes from (:data:`~morphkit.shadow.filtered.BlockerDepth`).
     blocker: ClassVar[BlockerDepth] = "search"
-    #: Short label (bench rows).
-    label: ClassVar[str] = "pcss"
 
     def __init__(self, method: ShadowMethod, light: AreaLight, samples: Any = (3, 3), *,
                  rng: np.random.Generator | None = None, bias: ShadowBias | None = None) -> None:
@@ -166,7 +164,6 @@ class PcfSoftShadow(PenumbraSoftShadow):
     """
 
     blocker: ClassVar[BlockerDepth] = "mean"
-    label: ClassVar[str] = "pcf"
 
 
 class PcssSoftShadow(PenumbraSoftShadow):
@@ -188,7 +185,6 @@ class PcssSoftShadow(PenumbraSoftShadow):
     """
 
     blocker: ClassVar[BlockerDepth] = "search"
-    label: ClassVar[str] = "pcss"
 
 
 #: The soft-shadow methods by name: ``"average"`` (plain averaging of hard
