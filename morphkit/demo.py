@@ -16,8 +16,8 @@ directional light, this writes to the output folder:
 and, under a point light, ``<mesh>_warped_direct_raycast.png`` (hard shadow: warped
 3 x 3 atlas | re-rendered map | ray cast) and ``<mesh>_reprojected_direct_raycast.png``
 (the same atlas with ``warps="reproject"``), under an area light,
-``<mesh>_soft_warped_direct_raycast.png`` (soft shadow, 9 light samples: warped |
-re-rendered | ray cast), and ``<mesh>_viewmorph.png`` (view morphing);
+``<mesh>_soft_warped_direct_raycast.png`` (soft shadow, 9 light samples: PCSS on
+reprojected maps | re-rendered, averaged | ray cast), and ``<mesh>_viewmorph.png`` (view morphing);
 ``billboards_compare.png`` (a scene of trees and people as classic | view-morphed
 billboards | real meshes, the second paper's Fig. 5) and ``billboards_error.png``
 (the absolute difference of classic and of view-morphed billboards from the meshes);
@@ -198,7 +198,7 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: lis
     """Per mesh: soft shadows of an area light at a position between samples, by
     warping one atlas per light sample (9), by re-rendering per sample (9), and
     by ray casting (8 x 8 samples; 4 x 4 with ``quick``), side by side."""
-    from .shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
+    from .shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas, default_soft_shadow
 
     light = SOFT_LIGHT
     motion = MotionRange(*WARP_RANGE)
@@ -218,7 +218,7 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: lis
         pose[:2, 3] = xy
         scene = Scene(SceneObject(mesh, pose), light, base.camera, base.receiver,
                       ambient=base.ambient)
-        methods = {"warped": SoftShadow(atlas, light, (3, 3)),
+        methods = {"warped": default_soft_shadow(atlas, light, (3, 3)),  # PCSS, reprojected maps
                    "direct": SoftShadow(DirectShadow(atlas.rig, mesh, renderer), light, (3, 3))}
         frames, ms = {}, {}
         for k, m in methods.items():
@@ -233,12 +233,13 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: lis
             f"mae_{k}_vs_raycast_lightfacing_pixels": float(np.abs(
                 frames[k]["visibility"][facing] - truth).mean()) for k in methods}
         if name == "teapot":
-            rows.append(overview_row("soft shadow, area light (teapot, 9 warped samples)",
+            rows.append(overview_row("soft shadow, area light (teapot, 9 samples, PCSS)",
                                      frames["warped"]["shaded"], frames["raycast"]["shaded"],
                                      f"ray cast {dense}x{dense}", "mean |visibility error| "
                                      f"{report[name]['mae_warped_vs_raycast_lightfacing_pixels']:.4f}"))
         write_image(add(f"{name}_soft_warped_direct_raycast.png", "soft_shadow", name,
-                        "area-light soft shadow: warped (9 samples) | re-rendered (9 samples) | "
+                        "area-light soft shadow: PCSS on 9 reprojected samples | "
+                        "re-rendered (9 samples, averaged) | "
                         f"ray cast ({dense}x{dense} samples)"),
                     np.concatenate([frames[k]["shaded"] for k in ("warped", "direct", "raycast")], 1))
     return report

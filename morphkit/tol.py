@@ -155,6 +155,14 @@ MAX_TEXTURE_SIDE = 8192
 #: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
 MAX_LIGHT_SAMPLES = 4096
 
+#: Filtered (penumbra) shadow lookups (:mod:`morphkit.shadow.filtered`): a kernel whose
+#: half-widths are both below this many texels is the hard lookup (nearest texel), and a
+#: wider one is at least this wide on each axis. Half a texel is where a box stops
+#: being narrower than the texel it stands on: below it, filtering only blurs the
+#: map's own texel edges; the hard lookup then gives a light of zero extent its hard
+#: shadow exactly.
+PENUMBRA_MIN_HALF_TEXEL = 0.5
+
 #: Largest ``|x|`` or ``|y|`` (pixels) of a mesh warp's control points
 #: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
 #: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image

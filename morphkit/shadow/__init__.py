@@ -16,6 +16,8 @@
 * :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
+* :mod:`.filtered` -- the filtered lookup: the fraction of a light cell one map says a point sees;
+* :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
 * :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and
   a video (imported by the CLI, not re-exported here).
@@ -45,6 +47,7 @@ from .baselines import DirectShadow, ImageBasedShadow
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .method import ShadowMethod, bilinear_weights
 from .methods import build_method
+from .penumbra import PcfSoftShadow, PcssSoftShadow, default_soft_shadow
 from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .runtime import AtlasRuntime
@@ -77,4 +80,7 @@ __all__ = [
     "bake_soft_atlas",
     "light_offsets",
     "soft_motion_range",
+    "PcfSoftShadow",
+    "PcssSoftShadow",
+    "default_soft_shadow",
 ]

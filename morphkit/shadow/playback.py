@@ -4,8 +4,8 @@ The object moves along a path (:class:`LinePath`, :class:`CirclePath`, or the
 positions of a CSV file, :class:`PointsPath`) over the atlas's range; each
 frame is rendered from a 3/4 view camera with the shadow of the warped atlas
 (:func:`morphkit.shadow.frame.render_frame`): hard under the atlas's light, or
-soft under an area light centred on it (:class:`morphkit.shadow.SoftShadow`,
-one warp per light sample; the path then keeps to the range shrunk by the
+soft under an area light centred on it (:func:`morphkit.shadow.default_soft_shadow`:
+PCSS on one reprojected map per light sample; the path then keeps to the range shrunk by the
 light's extent, where every sample's map can be warped).
 
 The mesh. An atlas stores light-view maps, not the mesh the frames show. The
@@ -39,8 +39,8 @@ from ..validate import as_int
 from .atlas import ShadowAtlas
 from .frame import render_frame
 from .lookup import shadow_visibility
+from .penumbra import default_soft_shadow
 from .rig import MotionRange
-from .soft import SoftShadow
 
 __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",
            "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
@@ -394,7 +394,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         raise ValidationError(expected_got("path", "an ObjectPath", type(path).__name__))
     motion = _usable_range(atlas, area_light)
     positions = path.positions(motion)
-    soft = None if area_light is None else SoftShadow(atlas, area_light, (samples, samples))
+    soft = None if area_light is None else default_soft_shadow(atlas, area_light, (samples, samples))
     scene = playback_scene(mesh, atlas, size, area_light)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
