@@ -25,6 +25,7 @@ import cv2
 import numpy as np
 import trimesh
 
+from . import tol
 from .camera import CameraModel, look_at, perspective
 from .errors import ValidationError, expected_got
 from .validate import as_positive
@@ -157,7 +158,7 @@ def quad_uv(camera: CameraModel, half_size: float = 1.0, *, margin_px: int = 1
     """
     h = as_positive(half_size, "half_size")
     o, d = camera.rays()
-    if np.any(np.abs(d[..., 2]) < 1e-12):
+    if np.any(np.abs(d[..., 2]) < tol.PARALLEL_DOT):
         raise ValidationError(expected_got("camera", "rays crossing the plane z = 0", "rays parallel to it"))
     t = -o[..., 2] / d[..., 2]
     p = o + t[..., None] * d

@@ -13,7 +13,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Hashable, Iterator
 from typing import Generic, TypeVar
 
-from .errors import ValidationError, expected_got
+from .validate import as_int
 
 __all__ = ["Memo"]
 
@@ -45,9 +45,7 @@ class Memo(Generic[K, V]):
     """
 
     def __init__(self, maxsize: int | None = None, *, on_evict: Callable[[V], object] | None = None):
-        if maxsize is not None and (isinstance(maxsize, bool) or not isinstance(maxsize, int) or maxsize < 1):
-            raise ValidationError(expected_got("maxsize", "None or an integer >= 1", repr(maxsize)))
-        self.maxsize = maxsize
+        self.maxsize = None if maxsize is None else as_int(maxsize, "maxsize", lo=1)
         self.on_evict = on_evict
         self.hits = 0
         self.misses = 0

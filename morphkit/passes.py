@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from . import tol
 from .camera import CameraModel
 
 __all__ = ["RenderPasses", "supersampled_camera", "area_straight", "as_uint8", "decode_normals"]
@@ -89,7 +90,7 @@ def area_straight(img: np.ndarray, cov: np.ndarray, alpha: np.ndarray, shape: tu
     h, w = shape
     premul = img.astype(np.float32) * cov[..., None]
     out = cv2.resize(premul, (w, h), interpolation=cv2.INTER_AREA)
-    return np.where(alpha[..., None] > 0, out / np.maximum(alpha[..., None], 1e-6), 0.0)
+    return np.where(alpha[..., None] > 0, out / np.maximum(alpha[..., None], tol.ALPHA_FLOOR), 0.0)
 
 
 def as_uint8(img: np.ndarray) -> np.ndarray:

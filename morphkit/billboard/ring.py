@@ -101,13 +101,11 @@ class ViewRing:
     elevation_deg: float = DEFAULT_ELEVATION_DEG
 
     def __post_init__(self) -> None:
-        k = self.views
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):  # 2.0 refused too (a count of views)
-            raise ValidationError(expected_got("views", "an int >= 2", repr(k)))
-        if int(k) < 2:
+        k = as_int(self.views, "views")
+        if k < 2:
             raise ValidationError(expected_got(
                 "views", "K >= 2 reference views (K = 1 is the classic billboard: one image for every "
-                "direction; use BillboardAsset.classic)", int(k)))
+                "direction; use BillboardAsset.classic)", k))
         k = int(k)
         arc = self.arc_deg
         if arc is None:

@@ -489,7 +489,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
         vis[k] = 1.0
         x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
         qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
-        if not qw > 1e-12:
+        if not qw > tol.SHADOW_LOOKUP_W_MIN:
             continue
         z = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
         s = 1.0 / (z_mean if mode == 0 else z_min) - 1.0 / z  # the widest box, per unit k
@@ -509,7 +509,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                 t0, t1, t2 = L[0] - x, L[1] - y, L[2] - z0
                 tl = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
                 cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
-                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, 1e-6)
+                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, tol.SHADOW_GRAZING_COS)
         slope = b_slope * min(tan, b_max)
         bias0 = texel * (b_const + slope)
         zt = z - bias0  # occluders closer than this block

@@ -104,7 +104,7 @@ def light_offsets(light: AreaLight, samples: Any = (3, 3),
             raise ValidationError(expected_got(
                 "light samples (a, b)", f"at most {tol.MAX_LIGHT_SAMPLES} "
                 "(morphkit.tol.MAX_LIGHT_SAMPLES)", len(ab)))
-        if len(ab) == 0 or np.any(np.abs(ab) > 1 + 1e-12):
+        if len(ab) == 0 or np.any(np.abs(ab) > 1 + tol.REL_EQUAL):
             raise ValidationError(expected_got("light samples (a, b)",
                                                "at least one, each in [-1, 1]^2",
                                                f"{len(ab)} samples, max |a|, |b| = "
@@ -207,7 +207,7 @@ class SoftShadow:
             raise ValidationError(expected_got(
                 "method", "a shadow method made for a PointLight at the area light's centre",
                 f"{type(method).__name__} for {type(rig.light).__name__}"))
-        if not np.allclose(rig.light.position, light.center, rtol=0, atol=1e-9):
+        if not np.allclose(rig.light.position, light.center, rtol=0, atol=tol.REL_EQUAL):
             raise ValidationError(expected_got(
                 "method's light", f"a point light at the area light's centre {light.center.tolist()}",
                 f"at {rig.light.position.tolist()}"))

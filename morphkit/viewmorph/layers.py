@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import ValidationError, expected_got
-from ..validate import as_image
+from ..validate import as_image, as_int
 from ..warp import OUTSIDE, MeshWarper
 from .correspondences import Correspondences
 from .mesh import build_morph_mesh, mesh_canvas
@@ -415,7 +415,7 @@ def build_layers(prem: tuple[np.ndarray, np.ndarray], corr: Correspondences, lay
         layers = tol.VM_AUTO_LAYERS
     else:
         frac = None
-    assert isinstance(layers, int)
+    layers = as_int(layers, "layers", lo=1)
     edges, lims, sels = depth_slices(corr.depth, layers, overlap)
     n = len(lims)
     report = LayerReport(n, tuple(float(e) for e in edges[1:-1]), frac, bool(fill_occluded) and n > 1)
