@@ -24,9 +24,10 @@ mipmaps (``GL_LINEAR_MIPMAP_LINEAR``: alpha averaged over a larger footprint), a
 samples level 0. Cut-out edges of a depth map coarser than the texture can
 therefore sit up to about one depth-map pixel away from the ray-cast edge.
 
-Looks are read once per mesh (:func:`cached_look`, an LRU of
+Textured looks are read once per mesh (:func:`cached_look`, an LRU of
 :data:`LOOK_CACHE_SIZE` meshes keyed by the mesh and its visual objects, like the
-renderer's uploads): a texture edited in place afterwards is not seen.
+renderer's uploads; the cache holds them): a texture edited in place afterwards is
+not seen. Other meshes' looks (no texture to decode) are read each time.
 """
 
 from __future__ import annotations
@@ -209,7 +210,7 @@ def _entry(mesh: trimesh.Trimesh) -> tuple[trimesh.Trimesh, object, object, Surf
 
 
 def cached_look(mesh: trimesh.Trimesh) -> SurfaceLook:
-    """:func:`morphkit.look.mesh_look` of ``mesh``, read once (module notes).
+    """:func:`morphkit.look.mesh_look` of ``mesh``, read once for a textured mesh (module notes).
 
     Parameters
     ----------
@@ -221,6 +222,8 @@ def cached_look(mesh: trimesh.Trimesh) -> SurfaceLook:
     SurfaceLook
         Its look.
     """
+    if not isinstance(mesh, trimesh.Trimesh) or not isinstance(mesh.visual, trimesh.visual.TextureVisuals):
+        return mesh_look(mesh)  # nothing to decode (or mesh_look's refusal)
     return _entry(mesh)[3]
 
 
@@ -240,6 +243,13 @@ def mesh_cutout(mesh: trimesh.Trimesh) -> Cutout | None:
     -------
     Cutout or None
         Its alpha test, or ``None``.
+
+    Raises
+    ------
+    ValidationError
+        ``mesh`` is not a ``trimesh.Trimesh``; a texture over the size limits.
+    MeshError
+        Visuals :func:`morphkit.look.mesh_look` refuses (the renderer refuses them too).
 
     Examples
     --------

@@ -112,6 +112,8 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
     """Visibility (1 lit, 0 shadowed) of ``points (N, 3)`` from a point or
     directional light, occluded by ``obj``. Returns float32 ``(N,)``.
 
+    A cut-out occluder shadows with its opaque texels only (module notes, "Cut-outs").
+
     Parameters
     ----------
     points : (N, 3) float
@@ -125,6 +127,18 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
     -------
     (N,) float32
         ``1`` lit, ``0`` shadowed.
+
+    Raises
+    ------
+    ValidationError
+        Bad ``points``, ``obj`` or ``light``.
+    MeshError
+        The occluder's visuals cannot be read (:func:`morphkit.look.mesh_look`).
+
+    Warns
+    -----
+    CutoutLayersWarning
+        Rays crossed :data:`~morphkit.tol.CUTOUT_MAX_LAYERS` cut-out holes (counted as shadowed).
 
     Examples
     --------

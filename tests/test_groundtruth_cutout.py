@@ -204,3 +204,12 @@ def test_sampled_visibility_honours_cut_outs():
 def test_mesh_cutout_refuses_what_is_not_a_mesh():
     with pytest.raises(ValidationError, match="mesh: expected a trimesh.Trimesh"):
         mesh_cutout("leaf")
+
+
+def test_a_replaced_visual_is_read_again():
+    """Looks are cached per mesh and visual: giving the mesh new visuals is seen."""
+    card = alpha_card(checker_alpha(CELLS, TEXELS))
+    assert mesh_cutout(card) is not None
+    opaque = trimesh.visual.material.PBRMaterial(baseColorTexture=card.visual.material.baseColorTexture)
+    card.visual = trimesh.visual.TextureVisuals(uv=card.visual.uv, material=opaque)
+    assert mesh_cutout(card) is None
