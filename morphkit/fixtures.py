@@ -17,7 +17,9 @@ image and a test are about the same scene:
   UV-mapped OBJ + MTL box (:func:`write_photo_obj`), a PLY with vertex colours
   (:func:`write_color_ply`), a two-part glTF (:func:`write_two_part_gltf`: a
   photo-textured box and a vertex-coloured one, node transforms, embedded or
-  external image) and a plant of alpha-masked leaf cards (:func:`write_leaf_plant`).
+  external image) and a plant of alpha-masked leaf cards (:func:`write_leaf_plant`);
+  in memory, one alpha-masked card (:func:`alpha_card`, e.g. of a
+  :func:`checker_alpha` mask) for the cut-out shadow tests.
   All but the PLY are written ``+y`` up, as their formats' exporters do: standing
   along ``+y`` in the file, along ``+z`` after :func:`morphkit.meshes.load_mesh`.
 
@@ -55,7 +57,7 @@ __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_fr
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
            "circle_camera", "textured_items", "render_pair", "TALL_BOX_EXTENTS", "photo_texture",
            "uv_box", "write_photo_obj", "write_photo_glb", "write_color_ply", "write_two_part_gltf",
-           "leaf_texture", "write_leaf_plant", "textured_demo_asset"]
+           "leaf_texture", "write_leaf_plant", "textured_demo_asset", "checker_alpha", "alpha_card"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
@@ -491,3 +493,54 @@ def write_leaf_plant(folder: str | Path, name: str = "leaf_plant", cutoff: float
         pose[:3, 3] = [0.0, height, 0.0]
         scene.add_geometry(card, geom_name=f"leaf{k}", node_name=f"leaf{k}", transform=pose)
     return _export_gltf(scene, Path(folder) / name, images)
+
+
+def checker_alpha(cells: int, texels: int) -> np.ndarray:
+    """A checkerboard alpha mask: ``cells x cells`` squares of ``texels x texels`` texels,
+    the top-left square opaque.
+
+    Parameters
+    ----------
+    cells : int
+        Squares per side.
+    texels : int
+        Texels per square side.
+
+    Returns
+    -------
+    (cells * texels, cells * texels) uint8
+        255 on opaque squares, 0 on holes.
+    """
+    r, c = np.indices((cells, cells))
+    return np.kron(((r + c) % 2 == 0).astype(np.uint8) * 255, np.ones((texels, texels), np.uint8))
+
+
+def alpha_card(alpha: np.ndarray, side: float = 1.0, cutoff: float = 0.5) -> trimesh.Trimesh:
+    """A square card in the ``z = 0`` plane, centred on the origin, textured green with
+    ``alpha`` as a glTF ``MASK`` material (the look of a leaf card, :mod:`morphkit.look`).
+
+    Parameters
+    ----------
+    alpha : (H, W) uint8
+        Texture alpha; row 0 lies along ``y = +side / 2``, column 0 along ``x = -side / 2``.
+    side : float, optional
+        Side of the card, scene units.
+    cutoff : float, optional
+        The material's ``alphaCutoff``.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        Two triangles with ``TextureVisuals`` (UV ``(0, 0)`` at the ``(-x, -y)`` corner).
+    """
+    a = np.asarray(alpha, dtype=np.uint8)
+    rgba = np.zeros((*a.shape, 4), np.uint8)
+    rgba[..., 1], rgba[..., 3] = 160, a
+    h = side / 2.0
+    verts = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]])
+    uv = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    mat = trimesh.visual.material.PBRMaterial(
+        name="card", baseColorTexture=Image.fromarray(rgba, "RGBA"), alphaMode="MASK", alphaCutoff=cutoff,
+        metallicFactor=0.0, roughnessFactor=0.9, doubleSided=True)
+    return trimesh.Trimesh(verts, [[0, 1, 2], [0, 2, 3]], process=False,
+                           visual=trimesh.visual.TextureVisuals(uv=uv, material=mat))

@@ -11,23 +11,44 @@ once per mesh and reused for every pose.
 Receivers are not occluders. Ray origins are pushed :data:`morphkit.tol.RAY_OFFSET`
 towards the light so points on the object itself (self-shadowing) do not hit
 their own triangle.
+
+Cut-outs. An occluder whose own look is cut out (glTF ``alphaMode`` ``MASK``: a
+leaf card, :func:`morphkit.cutout.mesh_cutout`) casts the shadow of its opaque
+texels only, as the renderer draws it into a light's depth map: at each hit, the
+triangle and barycentrics give the UV, the UV the texture's alpha (times the base
+colour factor's and the vertex colour's alpha; sampled bilinearly as OpenGL does,
+:mod:`morphkit.cutout`), and a hit below the cutoff is a hole: the ray is cast
+again from :data:`~morphkit.tol.RAY_OFFSET` past it, at most
+:data:`~morphkit.tol.CUTOUT_MAX_LAYERS` times (a ray still in holes then counts
+as shadowed, with a :class:`CutoutLayersWarning`). The look is that of the mesh's
+own visuals whatever colour a scene gives the object (a colour only paints).
+Meshes without cut-outs (no ``TextureVisuals``, or an opaque material) take the
+path without any of this: the same rays, the same results, the same cost.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
+import trimesh
 
 from . import tol
+from .cutout import Cutout, mesh_cutout
 from .errors import ValidationError, expected_got
 from .scene import AreaLight, DirectionalLight, PointLight, SceneObject
 from .validate import as_finite_array, as_positive, as_shape
 
 __all__ = ["hard_visibility", "area_visibility", "sampled_visibility", "receiver_grid",
-           "ground_pixels"]
+           "ground_pixels", "CutoutLayersWarning"]
 
 _CHUNK = 1 << 20  # rays per intersector call: bounds memory on 1M-ray queries
+
+
+class CutoutLayersWarning(UserWarning):
+    """Shadow rays crossed :data:`~morphkit.tol.CUTOUT_MAX_LAYERS` cut-out holes and were
+    counted as shadowed."""
 
 
 def _occluded(obj: SceneObject, origins: np.ndarray, dirs: np.ndarray,
@@ -38,6 +59,12 @@ def _occluded(obj: SceneObject, origins: np.ndarray, dirs: np.ndarray,
     d_local = dirs @ R
     out = np.zeros(len(origins), bool)
     ray = obj.mesh.ray
+    cut = mesh_cutout(obj.mesh)
+    if cut is not None:
+        for s in range(0, len(origins), _CHUNK):
+            sl = slice(s, s + _CHUNK)
+            out[sl] = _occluded_cutout(obj.mesh, cut, o_local[sl], d_local[sl], dist[sl])
+        return out
     for s in range(0, len(origins), _CHUNK):
         sl = slice(s, s + _CHUNK)
         if np.all(np.isinf(dist[sl])):
@@ -51,10 +78,41 @@ def _occluded(obj: SceneObject, origins: np.ndarray, dirs: np.ndarray,
     return out
 
 
+def _occluded_cutout(mesh: trimesh.Trimesh, cut: Cutout, origins: np.ndarray, dirs: np.ndarray,
+                     dist: np.ndarray) -> np.ndarray:
+    """:func:`_occluded` for a cut-out mesh (object frame): a hit on a hole casts again
+    from just past it (module notes)."""
+    out = np.zeros(len(origins), bool)
+    o = np.array(origins, dtype=np.float64)
+    remaining = np.array(dist, dtype=np.float64)
+    live = np.arange(len(o))
+    for _layer in range(tol.CUTOUT_MAX_LAYERS):
+        if not len(live):
+            return out
+        loc, idx, tri = mesh.ray.intersects_location(o[live], dirs[live], multiple_hits=False)
+        rays = live[idx]
+        hit_t = np.einsum("ij,ij->i", loc - o[rays], dirs[rays])
+        near = hit_t < remaining[rays]
+        rays, loc, tri, hit_t = rays[near], loc[near], tri[near], hit_t[near]
+        bary = trimesh.triangles.points_to_barycentric(mesh.triangles[tri], loc)
+        solid = cut.opaque(tri, bary)
+        out[rays[solid]] = True
+        live = rays[~solid]  # through a hole: on from just past it
+        o[live] = loc[~solid] + dirs[live] * tol.RAY_OFFSET
+        remaining[live] -= hit_t[~solid] + tol.RAY_OFFSET
+    if len(live):
+        warnings.warn(f"{len(live)} shadow rays crossed {tol.CUTOUT_MAX_LAYERS} cut-out holes "
+                      "(tol.CUTOUT_MAX_LAYERS) and count as shadowed", CutoutLayersWarning, stacklevel=4)
+        out[live] = True
+    return out
+
+
 def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
                     obj: SceneObject) -> np.ndarray:
     """Visibility (1 lit, 0 shadowed) of ``points (N, 3)`` from a point or
     directional light, occluded by ``obj``. Returns float32 ``(N,)``.
+
+    A cut-out occluder shadows with its opaque texels only (module notes, "Cut-outs").
 
     Parameters
     ----------
@@ -69,6 +127,18 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
     -------
     (N,) float32
         ``1`` lit, ``0`` shadowed.
+
+    Raises
+    ------
+    ValidationError
+        Bad ``points``, ``obj`` or ``light``.
+    MeshError
+        The occluder's visuals cannot be read (:func:`morphkit.look.mesh_look`).
+
+    Warns
+    -----
+    CutoutLayersWarning
+        Rays crossed :data:`~morphkit.tol.CUTOUT_MAX_LAYERS` cut-out holes (counted as shadowed).
 
     Examples
     --------

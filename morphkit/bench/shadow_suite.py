@@ -26,18 +26,29 @@ control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), 
 with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
 ``what=frame`` time a whole frame (camera render lit + unlit at 512^2, shadow
 map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
+
+Cut-outs (rows with ``what=cutout``, issue #24): the leaf plant of
+:func:`morphkit.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf
+cards, loaded by :func:`morphkit.meshes.load_mesh`) under the point light at
+``256^2``: ``warp``, ``reproject`` and ``direct`` against the cut-out-aware ray
+cast (the maps have holes where the leaves' texels are masked); ``iou_solid`` is the
+same map against a ray cast of the bare card squares, the shadow a cut-out-blind
+truth would give.
 """
 
 from __future__ import annotations
 
 import gc
+import tempfile
 import time
 from typing import Any
 
 import numpy as np
+import trimesh
 
+from ..fixtures import write_leaf_plant
 from ..groundtruth import hard_visibility, receiver_grid
-from ..meshes import sample_mesh
+from ..meshes import load_mesh, sample_mesh
 from ..metrics import shadow_iou
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject
@@ -156,6 +167,28 @@ def _accuracy_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[
     return rows
 
 
+def _cutout_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
+    """The leaf plant (alpha-masked cards) against the cut-out-aware ray cast (module notes)."""
+    with tempfile.TemporaryDirectory() as folder:
+        plant = load_mesh(write_leaf_plant(folder))
+    solid = trimesh.Trimesh(plant.vertices, plant.faces, process=False)  # the cards without their masks
+    xys = _positions(8 if quick else 20, seed=13)
+    size = 256
+    atlas = bake_atlas(plant, np.eye(4), MOTION, POINT, (size, size), renderer=renderer, progress=False)
+    methods = {"warp": atlas.method(), "reproject": atlas.method(warps="reproject"),
+               "direct": DirectShadow(atlas.rig, plant, renderer)}
+    _prepare(atlas)
+    timings = _time_maps(methods, xys, repeats=3 if quick else 7)
+    rows = []
+    for name, m in methods.items():
+        err = _errors(m, plant, POINT, xys, truth)
+        err["iou_solid"] = _errors(m, solid, POINT, xys, truth)["iou"]
+        rows.append(make_row(SUITE, name, {"what": "cutout", "mesh": "leaf_plant", "light": "point",
+                                           "size": size, "faces": len(plant.faces)},
+                             timings[name], metrics=err))
+    return rows
+
+
 def _control_grid_rows(renderer: SceneRenderer, quick: bool, truth: _Truth) -> list[dict[str, Any]]:
     rows = []
     meshes = ["cow"] if quick else ["teapot", "chair", "cow"]
@@ -241,7 +274,7 @@ def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """All shadow rows: accuracy + map time, control-grid sweep, complexity sweep, frames.
+    """All shadow rows: accuracy + map time, cut-outs, control-grid sweep, complexity sweep, frames.
 
     Parameters
     ----------
@@ -259,6 +292,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     truth = _Truth()
     with Renderer() as renderer:
         rows = _accuracy_rows(renderer, quick, truth)
+        rows += _cutout_rows(renderer, quick, truth)
         rows += _control_grid_rows(renderer, quick, truth)
         rows += _complexity_rows(renderer, quick)
         rows += _frame_rows(renderer, quick)

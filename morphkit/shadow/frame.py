@@ -6,6 +6,13 @@ and each visible point gets a light visibility from a callable: a shadow-map
 lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`) or the ray-cast
 ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
 
+The object is drawn in its mesh's own look (:mod:`morphkit.look`: texture,
+vertex or face colours, cut-outs, an ``Item`` without a colour) where the mesh
+has one, and in the scene object's colour (``SceneObject.color``) where it has
+none (every sample mesh: their frames are those of earlier versions). Receivers
+keep their colours. A cut-out object's holes are holes in the frame's colour and
+depth, so the ground seen through them is shaded like any ground pixel.
+
 ``receiver_only=True`` is Kang & Ihm's mode (their hardware could only project
 the shadow texture onto receivers): the object itself is never shadowed, so
 self-shadowing is off. Default: every visible point is tested, object included.
@@ -28,6 +35,7 @@ import numpy as np
 
 from .. import tol
 from ..composite import shade
+from ..cutout import cached_look
 from ..errors import ValidationError, expected_got
 from ..groundtruth import hard_visibility
 from ..protocols import SceneRenderer
@@ -35,12 +43,31 @@ from ..scene import AreaLight, DirectionalLight, Item, Scene, scene_items
 from .lookup import normals_from_points, shadow_visibility
 from .method import ShadowMethod
 
-__all__ = ["render_frame", "compare_frames", "VisibilityFn"]
+__all__ = ["render_frame", "compare_frames", "frame_items", "VisibilityFn"]
 
 #: A visibility function: world points (N, 3) and unit normals (N, 3) -> (N,) in [0, 1].
 VisibilityFn = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 SKY = (0.62, 0.71, 0.82)
+
+
+def frame_items(scene: Scene) -> list[Item]:
+    """The items a frame draws: the receivers in their colours, the object in its mesh's
+    own look where it has one (an ``Item`` colour of ``None``), else in ``scene.obj.color``.
+
+    Parameters
+    ----------
+    scene : morphkit.scene.Scene
+        The scene.
+
+    Returns
+    -------
+    list of Item
+        Receivers first, then the object.
+    """
+    obj = scene.obj
+    own = not cached_look(obj.mesh).plain
+    return [*scene_items(scene, obj=False), Item(obj.mesh, obj.pose, None if own else obj.color)]
 
 
 def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn, *,
@@ -88,7 +115,7 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     if not callable(visibility):
         raise ValidationError(expected_got("visibility", "a callable (points, normals) -> (N,) values",
                                            type(visibility).__name__))
-    items = scene_items(scene)
+    items = frame_items(scene)
     cam = scene.camera
     lit, depth = renderer.color_depth(cam, items, [scene.light], ambient=scene.ambient,
                                       background=background)
