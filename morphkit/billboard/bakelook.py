@@ -25,7 +25,7 @@ from ..scene import DirectionalLight, Item, Light
 from .assetfile import APPEARANCES
 
 __all__ = ["BAKE_AMBIENT", "bake_lights", "bake_items", "mesh_hash", "look_hash", "check_appearance",
-           "check_source_up"]
+           "check_source_up", "sideways_colour"]
 
 #: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
 BAKE_AMBIENT = 0.35
@@ -211,3 +211,33 @@ def mesh_hash(mesh: trimesh.Trimesh, appearance: str = "own") -> str:
     h.update(np.ascontiguousarray(norm.faces, dtype=np.int64).tobytes())
     h.update(lh.encode())
     return h.hexdigest()
+
+
+def _srgb_to_linear(c: np.ndarray) -> np.ndarray:
+    """The exact sRGB decoding curve (the renderer's, :mod:`morphkit.conventions`), values in [0, 1]."""
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def sideways_colour(srgb: Any) -> np.ndarray:
+    """The lit colour, in the bake's light, of an opaque surface of one stored colour whose
+    normal is horizontal (at right angles to :func:`bake_lights`' light, so the light adds
+    nothing): ``255 (BAKE_AMBIENT lin(c)) ^ (1 / 2.2)``, ``lin`` the sRGB decoding of the
+    stored colour (a texel or a vertex colour; :mod:`morphkit.conventions`).
+
+    Parameters
+    ----------
+    srgb : array_like of 3 numbers
+        The stored colour, sRGB, 0..255.
+
+    Returns
+    -------
+    (3,) float64
+        The expected lit colour, 0..255 (not rounded).
+
+    Examples
+    --------
+    >>> sideways_colour([255, 0, 0]).round(1).tolist()
+    [158.2, 0.0, 0.0]
+    """
+    c = np.asarray(srgb, dtype=np.float64).reshape(3) / 255.0
+    return 255.0 * np.clip(BAKE_AMBIENT * _srgb_to_linear(c), 0.0, 1.0) ** (1.0 / 2.2)
