@@ -4,8 +4,7 @@ Assets. Each mesh of :data:`morphkit.meshes.BILLBOARD_MESHES` (teapot, chair, co
 tree, person; normalised, coloured by the 3-D checker, ``appearance="checker"`` of
 :func:`morphkit.billboard.bake_items`: they have no look of their own, lit by
 :func:`morphkit.billboard.bake_lights`) is baked with :func:`morphkit.billboard.bake_asset`
-(elevation 10 degrees). The ``textured`` section bakes textured meshes in their own look
-(:mod:`morphkit.bench.billboard_textured`).
+(elevation 10 degrees). The ``textured-*`` sections bake textured meshes in their own look.
 
 Ground truth. For a viewing azimuth the asset shows the view of a virtual camera
 (:meth:`BillboardAsset.camera`: the in-between camera of the morph, on the chord
@@ -49,13 +48,29 @@ other sections -- frame time, temporal stability -- append theirs):
   includes waiting), and one ``morph`` / ``crossfade`` / ``nearest`` call of
   that asset.
 
+* ``textured-ring`` (``K = 8``, azimuths ``7.5 + 15 n``) and ``textured-pair`` (``K = 2``,
+  inside the arc) -- textured meshes baked in their own look (``appearance="own"``):
+  the packaged photo crate (:func:`morphkit.fixtures.textured_demo_asset`) and the
+  alpha-masked leaf plant (:func:`morphkit.fixtures.write_leaf_plant`), loaded ``+z`` up
+  by :func:`morphkit.meshes.load_mesh`, against their real meshes drawn in the same look
+  (:meth:`BillboardAsset.items`), same cameras: ``morph``, ``classic``, ``nearest``,
+  ``crossfade``; besides IoU and PSNR, the detail each keeps: ``psnr_hp`` (PSNR of the
+  high-pass band, the colour minus its Gaussian blur of :data:`HIGH_PASS_SIGMA` px) and
+  ``sharpness`` (mean Sobel gradient magnitude over the truth's; 1 is as sharp, below 1
+  blurred); ``textured-bake`` -- the photo crate's bake (``K = 8``, 3 levels) in its own
+  look against the checker, interleaved; ``one-colour`` -- a box of one vertex colour
+  (:data:`ONE_COLOUR`) baked at elevation 0 (only its vertical faces, at right angles to
+  the bake light): the largest channel error (``err_255``, 0..255) of the mean covered colour
+  of the morph at ``s = 1/2`` (``err_255_ref``: of a reference) against the analytic
+  :func:`morphkit.billboard.bakelook.sideways_colour` (target within 2);
 * ``scene-*`` -- scenes of many billboards against the real meshes, run by
   :func:`scene_rows`: accuracy, temporal stability, frame time and the morph cache's
   hit rate (:mod:`morphkit.bench.billboard_scenes`, where each kind of row is described).
 
 Rows with ``mesh = "all"`` average the per-mesh rows.
 ``--quick``: chair and tree, 128^2 (``equal-memory``: 128^2 vs 64^2), ``K = 8``
-rings only, 12 ring azimuths, one bake; scenes at 320 x 240, 10 and 100
+rings only, 12 ring azimuths, one bake; textured assets at 96^2 (else 192^2), 8 ring
+azimuths, one bake of each look; scenes at 320 x 240, 10 and 100
 billboards, the ~6k-face cow only.
 """
 
