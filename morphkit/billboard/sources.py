@@ -163,9 +163,9 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
                                progress=progress, appearance="own", source_up=resolve_up(path, up))
         else:
             asset = BillboardAsset.load(path)
-            known, why = _beside(path, asset)
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
                 asset.name = path.name[: -len(".npz")].removesuffix(".billboard")
+            known, why = _beside(path, asset)
         if asset.name in assets:
             raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
         assets[asset.name] = asset
