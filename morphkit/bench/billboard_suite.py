@@ -601,7 +601,20 @@ def _one_colour_rows(renderer: SceneRenderer, size: int) -> list[dict[str, Any]]
 
 
 def textured_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
-    """Textured assets in their own look against their real meshes (module docstring)."""
+    """Textured assets in their own look against their real meshes (module docstring).
+
+    Parameters
+    ----------
+    cache : AssetCache
+        Its renderer bakes and renders (the textured assets are not cached).
+    quick : bool
+        96^2 and 8 ring azimuths, one bake per look (else 192^2, 24 azimuths, two).
+
+    Returns
+    -------
+    list of dict
+        The ``textured-ring``, ``textured-pair``, ``textured-bake`` and ``one-colour`` rows.
+    """
     import tempfile
 
     r = cache.renderer
