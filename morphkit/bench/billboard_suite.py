@@ -486,8 +486,8 @@ def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     lights, ambient = bake_lights(), BAKE_AMBIENT
     r = cache.renderer
     cow = cache.mesh("cow")
-    items = {"cow": bake_items(cow, "checker")}
     assets = [cache.asset("cow", k, size, 3) for k in (2, 8)]
+    items = {"cow": assets[0].items(cow)}  # the assets' look (the checker)
     rows = scene_accuracy_rows(assets, items, r, lights, ambient, frames=8 if quick else 24, shape=shape)
     for row in rows:
         row["params"]["distance_factor"] = DISTANCE_FACTOR
