@@ -253,7 +253,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .render import Renderer
 
     with Renderer() as r:
-        res = resolve_assets(specs, r, views=args.views, size=args.asset_size, progress=True)
+        res = resolve_assets(specs, r, views=args.views, size=args.asset_size, up=args.up_axis, progress=True)
         names = list(res.assets)
         inst = place_random(names, args.n, np.random.default_rng(args.seed))
         half = float(np.abs(inst.xy).max()) if len(inst) else 1.0
@@ -264,8 +264,8 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         if all(nm in res.items for nm in names):
             truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
         else:
-            print("morphkit billboards: no mesh for " + ", ".join(nm for nm in names if nm not in res.items)
-                  + ": comparisons with the real meshes are skipped", file=sys.stderr)
+            why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
+            print(f"morphkit billboards: comparisons with the real meshes skipped: {why}", file=sys.stderr)
         summary = write_sequence(scene, cams, out, mode=MorphMode(MorphCache()), truth=truth,
                                  progress=args.frames >= 10)
     print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
@@ -419,7 +419,8 @@ def build_parser() -> argparse.ArgumentParser:
         "OUT/compare_*.png (classic | view-morphed | real meshes) and OUT/billboards.json.",
     )
     bb.add_argument("--asset", action="append", default=None, metavar="NAME_OR_FILE",
-                    help="a sample mesh name (baked) or a .npz asset file (loaded); repeat for several "
+                    help="a sample mesh name, a mesh file (.obj, .glb/.gltf, .ply: baked in its own look) "
+                    "or a .npz asset file (loaded); repeat for several "
                     "(default: tree and person)")
     bb.add_argument("--n", type=int, default=200, help="number of billboards (default: %(default)s)")
     bb.add_argument("--path", default="pan", choices=["pan", "orbit", "fly"],
@@ -432,6 +433,8 @@ def build_parser() -> argparse.ArgumentParser:
     bb.add_argument("--asset-size", type=int, default=128,
                     help="reference view side of baked assets, pixels (default: %(default)s)")
     bb.add_argument("--seed", type=int, default=0, help="placement seed (default: %(default)s)")
+    bb.add_argument("--up-axis", default="auto", choices=["auto", "y", "z"],
+                    help="up axis of --asset mesh files; auto: glTF/OBJ +y, others +z (default: %(default)s)")
     bb.add_argument("--no-fog", action="store_true", help="no distance fog")
     bb.add_argument("-o", "--out", required=True, help="output folder")
     bb.set_defaults(func=_cmd_billboards)

@@ -74,3 +74,36 @@ def test_tiny_run_writes_frames_video_and_comparisons(capsys, tmp_path):
     assert [c["frame"] for c in summary["compared"]] == [0, 1, 2]
     printed = capsys.readouterr().out
     assert "cache hit rate" in printed and str(out.resolve()) in printed
+
+
+@pytest.mark.gl
+def test_mesh_file_asset_is_baked_in_its_own_look_and_compared(capsys, tmp_path):
+    from morphkit.fixtures import photo_texture, write_photo_glb
+
+    glb = write_photo_glb(tmp_path, photo_texture(32), name="crate")
+    out = tmp_path / "bb"
+    assert main(["billboards", "--asset", str(glb), "--up-axis", "auto", "--n", "4", "--frames", "2",
+                 "--size", "96x72", "--views", "2", "--asset-size", "48", "--path", "orbit",
+                 "-o", str(out)]) == 0
+    summary = json.loads((out / "billboards.json").read_text())
+    assert [c["frame"] for c in summary["compared"]] == [0, 1]  # compared with the real mesh
+    captured = capsys.readouterr()
+    assert "billboards of crate," in captured.out and "skipped" not in captured.err
+    # a baked asset with no mesh beside it: its own name, and why the comparison is skipped
+    from morphkit.billboard import bake_asset
+    from morphkit.meshes import load_mesh
+    from morphkit.render import Renderer
+
+    with Renderer() as r:
+        bake_asset(load_mesh(glb), r, views=2, size=48, levels=1).save(tmp_path / "lonely.npz")
+    assert main(["billboards", "--asset", str(tmp_path / "lonely.npz"), "--n", "2", "--frames", "1",
+                 "--size", "64x48", "-o", str(tmp_path / "bb2")]) == 0
+    captured = capsys.readouterr()
+    assert "billboards of lonely," in captured.out
+    assert "skipped: lonely: no mesh file lonely{.obj," in captured.err
+
+
+def test_bad_up_axis(capsys, tmp_path):
+    with pytest.raises(SystemExit):
+        main(["billboards", "--up-axis", "x", "-o", str(tmp_path / "o")])
+    assert "--up-axis" in capsys.readouterr().err

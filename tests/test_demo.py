@@ -54,7 +54,11 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         soft = index["soft_shadows"][mesh]
         warped = soft["mae_warped_vs_raycast_lightfacing_pixels"]
         assert warped <= soft["mae_direct_vs_raycast_lightfacing_pixels"] + 0.03 and warped < 0.1
-    assert {"billboards_compare.png", "billboards_error.png"} <= names
+    assert {"billboards_compare.png", "billboards_error.png", "billboards_textured.png"} <= names
+    # the textured asset's billboard beside its real mesh, in its own look, turned +z up
+    tex = index["billboards"]["textured"]
+    assert (tex["asset"], tex["appearance"], tex["source_up"]) == ("photo_crate.glb", "own", "y")
+    assert all(v["iou"] > 0.9 for v in tex["morph_vs_mesh"].values())
     # the first picture is morphkit's output: four rows (warped, soft, view morph, billboards),
     # each a captioned pair of OVERVIEW_TILE-high images; the ray-cast scenes have their own file
     from morphkit.demo import OVERVIEW_TILE

@@ -1,9 +1,10 @@
 """Suite ``billboards``: view-morphed billboard assets against the classic billboard and impostors.
 
 Assets. Each mesh of :data:`morphkit.meshes.BILLBOARD_MESHES` (teapot, chair, cow,
-tree, person; normalised, coloured by the 3-D checker of
-:func:`morphkit.billboard.bake_items`, lit by :func:`morphkit.billboard.bake_lights`)
-is baked with :func:`morphkit.billboard.bake_asset` (elevation 10 degrees).
+tree, person; normalised, coloured by the 3-D checker, ``appearance="checker"`` of
+:func:`morphkit.billboard.bake_items`: they have no look of their own, lit by
+:func:`morphkit.billboard.bake_lights`) is baked with :func:`morphkit.billboard.bake_asset`
+(elevation 10 degrees). The ``textured-*`` sections bake textured meshes in their own look.
 
 Ground truth. For a viewing azimuth the asset shows the view of a virtual camera
 (:meth:`BillboardAsset.camera`: the in-between camera of the morph, on the chord
@@ -47,13 +48,29 @@ other sections -- frame time, temporal stability -- append theirs):
   includes waiting), and one ``morph`` / ``crossfade`` / ``nearest`` call of
   that asset.
 
+* ``textured-ring`` (``K = 8``, azimuths ``7.5 + 15 n``) and ``textured-pair`` (``K = 2``,
+  inside the arc) -- textured meshes baked in their own look (``appearance="own"``):
+  the packaged photo crate (:func:`morphkit.fixtures.textured_demo_asset`) and the
+  alpha-masked leaf plant (:func:`morphkit.fixtures.write_leaf_plant`), loaded ``+z`` up
+  by :func:`morphkit.meshes.load_mesh`, against their real meshes drawn in the same look
+  (:meth:`BillboardAsset.items`), same cameras: ``morph``, ``classic``, ``nearest``,
+  ``crossfade``; besides IoU and PSNR, the detail each keeps: ``psnr_hp`` (PSNR of the
+  high-pass band, the colour minus its Gaussian blur of :data:`HIGH_PASS_SIGMA` px) and
+  ``sharpness`` (mean Sobel gradient magnitude over the truth's; 1 is as sharp, below 1
+  blurred); ``textured-bake`` -- the photo crate's bake (``K = 8``, 3 levels) in its own
+  look against the checker, interleaved; ``one-colour`` -- a box of one vertex colour
+  (:data:`ONE_COLOUR`) baked at elevation 0 (only its vertical faces, at right angles to
+  the bake light): the largest channel error (``err_255``, 0..255) of the mean covered colour
+  of the morph at ``s = 1/2`` (``err_255_ref``: of a reference) against the analytic
+  :func:`morphkit.billboard.bakelook.sideways_colour` (target within 2);
 * ``scene-*`` -- scenes of many billboards against the real meshes, run by
   :func:`scene_rows`: accuracy, temporal stability, frame time and the morph cache's
   hit rate (:mod:`morphkit.bench.billboard_scenes`, where each kind of row is described).
 
 Rows with ``mesh = "all"`` average the per-mesh rows.
 ``--quick``: chair and tree, 128^2 (``equal-memory``: 128^2 vs 64^2), ``K = 8``
-rings only, 12 ring azimuths, one bake; scenes at 320 x 240, 10 and 100
+rings only, 12 ring azimuths, one bake; textured assets at 96^2 (else 192^2), 8 ring
+azimuths, one bake of each look; scenes at 320 x 240, 10 and 100
 billboards, the ~6k-face cow only.
 """
 
@@ -76,10 +93,12 @@ from ..billboard import (
     bake_items,
     bake_lights,
 )
+from ..billboard.bakelook import sideways_colour
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..camera import CameraModel
+from ..fixtures import textured_demo_asset, write_leaf_plant
 from ..memo import Memo
-from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
+from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
 from ..scene import Item
@@ -98,6 +117,8 @@ PAIR_INSIDE = (-25.0, -15.0, -5.0, 5.0, 15.0, 25.0)
 PAIR_OUTSIDE = (-60.0, -45.0, -35.0, 35.0, 45.0, 60.0)
 RINGS = (6, 8, 12)
 PSNR_CAP = 99.0
+#: Gaussian sigma (px) of the blur the ``textured`` section's high-pass band subtracts.
+HIGH_PASS_SIGMA = 2.0
 
 
 class AssetCache:
@@ -167,7 +188,7 @@ class AssetCache:
         def bake() -> tuple[BillboardAsset, float]:
             t0 = time.perf_counter()
             a = bake_asset(self.mesh(name), self.renderer, name=name, views=views, size=size, levels=levels,
-                           distance_factor=distance_factor)
+                           distance_factor=distance_factor, appearance="checker")
             return a, time.perf_counter() - t0
 
         return self._assets.get((name, views, size, levels, float(distance_factor)), bake)
@@ -208,7 +229,7 @@ class AssetCache:
         numpy.ndarray
             ``(H, W, 4)`` float32 premultiplied RGBA in [0, 1], the camera's image size.
         """
-        items = self._items.get(name, lambda: bake_items(self.mesh(name)))
+        items = self._items.get(name, lambda: bake_items(self.mesh(name), "checker"))
         img = self.renderer.source_view(camera, items, bake_lights(), ambient=BAKE_AMBIENT)
         a = img.astype(np.float32) / 255.0
         return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2)
@@ -403,7 +424,8 @@ def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     """Bake time of a K = 8, 256^2, 3-level asset, and one call of each method on it."""
     rows: list[dict[str, Any]] = []
     renderer = cache.renderer
-    bake_asset(cache.mesh("teapot"), renderer, views=2, size=64, levels=1)  # warm-up (compiled kernels)
+    # warm-up (compiled kernels)
+    bake_asset(cache.mesh("teapot"), renderer, views=2, size=64, levels=1, appearance="checker")
     for name in (("cow",) if quick else BILLBOARD_MESHES):
         mesh = cache.mesh(name)
         holder: list[BillboardAsset] = []
@@ -412,7 +434,8 @@ def bake_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
         def bake(mesh: trimesh.Trimesh = mesh, name: str = name, holder: list[BillboardAsset] = holder,
                  cpu: list[float] = cpu) -> None:
             c0 = time.process_time()
-            holder[:] = [bake_asset(mesh, renderer, name=name, views=8, size=256, levels=3)]
+            holder[:] = [bake_asset(mesh, renderer, name=name, views=8, size=256, levels=3,
+                                    appearance="checker")]
             cpu.append(time.process_time() - c0)
 
         t = time_call(bake, repeats=1 if quick else 2, warmup=0)
@@ -463,8 +486,8 @@ def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     lights, ambient = bake_lights(), BAKE_AMBIENT
     r = cache.renderer
     cow = cache.mesh("cow")
-    items = {"cow": bake_items(cow)}
     assets = [cache.asset("cow", k, size, 3) for k in (2, 8)]
+    items = {"cow": assets[0].items(cow)}  # the assets' look (the checker)
     rows = scene_accuracy_rows(assets, items, r, lights, ambient, frames=8 if quick else 24, shape=shape)
     for row in rows:
         row["params"]["distance_factor"] = DISTANCE_FACTOR
@@ -481,8 +504,8 @@ def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     meshes = {len(cow.faces): (assets[1], items["cow"])}
     if not quick:
         big = normalize(sample_mesh("cow", faces=60000))
-        big_asset = bake_asset(big, r, name="cow", views=8, size=size, levels=3)
-        meshes[len(big.faces)] = (big_asset, bake_items(big))
+        big_asset = bake_asset(big, r, name="cow", views=8, size=size, levels=3, appearance="checker")
+        meshes[len(big.faces)] = (big_asset, big_asset.items(big))
     counts = (10, 100) if quick else (10, 100, 1000)
     for faces, (a8, its) in meshes.items():
         rows += speed_rows(a8, its, r, lights, ambient, counts=counts, shape=shape, faces=faces,
@@ -493,9 +516,139 @@ def scene_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
+# --------------------------------------------------------------------------- textured
+
+
+def _premultiplied(img: np.ndarray) -> np.ndarray:
+    a = img.astype(np.float32) / 255.0
+    return np.concatenate([a[..., :3] * a[..., 3:], a[..., 3:]], axis=2)
+
+
+def _high_pass(img: np.ndarray) -> np.ndarray:
+    """The detail band of a premultiplied image's colour: itself minus a Gaussian blur (sigma 2 px)."""
+    rgb = np.ascontiguousarray(img[..., :3])
+    return rgb - cv2.GaussianBlur(rgb, (0, 0), HIGH_PASS_SIGMA)
+
+
+def _sharpness(img: np.ndarray) -> float:
+    """Mean gradient magnitude (Sobel) of the premultiplied colour's luminance-like mean."""
+    g = np.ascontiguousarray(img[..., :3].mean(axis=2))
+    gx, gy = cv2.Sobel(g, cv2.CV_32F, 1, 0), cv2.Sobel(g, cv2.CV_32F, 0, 1)
+    return float(np.hypot(gx, gy).mean())
+
+
+def _textured_meshes(folder: str) -> dict[str, trimesh.Trimesh]:
+    """The textured assets of the section: the packaged photo crate and the alpha-masked leaf plant."""
+    return {"photo-crate": load_mesh(textured_demo_asset()),
+            "leaf-plant": load_mesh(write_leaf_plant(folder))}
+
+
+def _textured_case(renderer: SceneRenderer, name: str, mesh: trimesh.Trimesh, views: int, size: int,
+                   azimuths: np.ndarray) -> list[dict[str, Any]]:
+    asset = bake_asset(mesh, renderer, name=name, views=views, size=size, levels=1)
+    items, lights = asset.items(mesh), bake_lights()
+    truths = {float(az): _premultiplied(renderer.source_view(asset.camera(float(az)), items, lights,
+                                                               ambient=BAKE_AMBIENT)) for az in azimuths}
+    methods = {k: v for k, v in _ring_methods(asset).items() if k != "morph-paper"}
+    section = "textured-ring" if views > 2 else "textured-pair"
+    rows = _evaluate(methods, truths, section, {"mesh": name, "views": views, "size": size})
+    for row in rows:  # the detail the method keeps: its high-pass band and its sharpness against the truth
+        fn = methods[row["method"]]
+        hp, sharp = [], []
+        for az, gt in truths.items():
+            img = fn(az)
+            hp.append(min(psnr(_high_pass(img), _high_pass(gt), data_range=1.0), PSNR_CAP))
+            sharp.append(_sharpness(img) / max(_sharpness(gt), 1e-12))
+        row["metrics"].update(psnr_hp=float(np.mean(hp)), sharpness=float(np.mean(sharp)))
+    return rows
+
+
+#: The stored (sRGB) vertex colour of the ``one-colour`` row's box.
+ONE_COLOUR = (220, 60, 40)
+
+
+def one_colour_box() -> trimesh.Trimesh:
+    """A 0.6 x 0.4 x 1 box standing on ``z = 0``, every vertex :data:`ONE_COLOUR`.
+
+    Returns
+    -------
+    trimesh.Trimesh
+        With ``ColorVisuals`` vertex colours.
+    """
+    box = trimesh.creation.box(extents=(0.6, 0.4, 1.0))
+    box.apply_translation([0.0, 0.0, 0.5])
+    box.visual.vertex_colors = np.tile([*ONE_COLOUR, 255], (len(box.vertices), 1)).astype(np.uint8)
+    return box
+
+
+def _one_colour_rows(renderer: SceneRenderer, size: int) -> list[dict[str, Any]]:
+    """A box of one vertex colour seen at elevation 0 (only its vertical faces, at right angles to
+    the light): the mean of the covered pixels against the analytic shading (:func:`sideways_colour`)."""
+    asset = bake_asset(one_colour_box(), renderer, name="red-box", views=2, size=size, levels=1,
+                       elevation_deg=0.0)
+    want = sideways_colour(ONE_COLOUR)
+    t0 = time.perf_counter()
+    img = asset.morph(0, 1, 0.5)
+    secs = time.perf_counter() - t0
+    errs = []
+    for im in (asset.reference(0), img):
+        cov = im[..., 3] > 0.99
+        mean = 255.0 * (im[..., :3][cov] / im[..., 3:][cov]).mean(axis=0)
+        errs.append(float(np.abs(mean - want).max()))
+    return [make_row(SUITE, "morph", {"section": "one-colour", "mesh": "red-box", "views": 2, "size": size},
+                     Timing.from_seconds([secs]), metrics={"err_255": errs[1], "err_255_ref": errs[0]},
+                     note=f"expected {np.round(want, 1).tolist()} (target: within 2/255)")]
+
+
+def textured_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
+    """Textured assets in their own look against their real meshes (module docstring).
+
+    Parameters
+    ----------
+    cache : AssetCache
+        Its renderer bakes and renders (the textured assets are not cached).
+    quick : bool
+        96^2 and 8 ring azimuths, one bake per look (else 192^2, 24 azimuths, two).
+
+    Returns
+    -------
+    list of dict
+        The ``textured-ring``, ``textured-pair``, ``textured-bake`` and ``one-colour`` rows.
+    """
+    import tempfile
+
+    r = cache.renderer
+    size = 96 if quick else 192
+    rows: list[dict[str, Any]] = []
+    with tempfile.TemporaryDirectory() as folder:
+        meshes = _textured_meshes(folder)
+        for views in (8, 2):
+            rs: list[dict[str, Any]] = []
+            azimuths = (np.asarray(PAIR_INSIDE) if views == 2
+                        else np.arange(8 if quick else 24) * (45.0 if quick else 15.0) + 7.5)
+            for name, mesh in meshes.items():
+                rs += _textured_case(r, name, mesh, views, size, azimuths)
+            rows += rs + _means(rs, rs[0]["params"]["section"], {"views": views, "size": size})
+        mesh = meshes["photo-crate"]
+        secs: dict[str, list[float]] = {"checker": [], "own": []}
+        cpu: dict[str, list[float]] = {"checker": [], "own": []}
+        for appearance in ("checker", "own") * (1 if quick else 2):  # interleaved: the machine's drift
+            t0, c0 = time.perf_counter(), time.process_time()
+            bake_asset(mesh, r, name="photo-crate", views=8, size=size, levels=3, appearance=appearance)
+            secs[appearance].append(time.perf_counter() - t0)
+            cpu[appearance].append(time.process_time() - c0)
+        for appearance, ss in secs.items():
+            params = {"section": "textured-bake", "mesh": "photo-crate", "views": 8, "size": size}
+            rows.append(make_row(SUITE, f"bake-{appearance}", params, Timing.from_seconds(ss),
+                                 metrics={"cpu_ms": 1e3 * float(np.median(cpu[appearance]))},
+                                 note="bake_asset K = 8, 3 levels, in that appearance (interleaved)"))
+    rows += _one_colour_rows(r, size)
+    return rows
+
+
 #: The suite's sections, in order; each ``(cache, quick) -> rows``.
 SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
-    pair_rows, ring_rows, equal_memory_rows, bake_rows, scene_rows]
+    pair_rows, ring_rows, equal_memory_rows, bake_rows, textured_rows, scene_rows]
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:

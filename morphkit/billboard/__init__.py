@@ -63,8 +63,8 @@ References
 
 from __future__ import annotations
 
-from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, mesh_hash
-from .assetfile import FORMAT, VERSION
+from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, look_hash, mesh_hash
+from .assetfile import APPEARANCES, FORMAT, VERSION
 from .backdrop import Backdrop, Fog, Ground, Sky
 from .bake import bake_asset
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
@@ -90,8 +90,9 @@ __all__ = [
     # interfaces
     "ViewPairing", "BillboardSource",
     # asset side
-    "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "bake_items",
-    "bake_lights", "BAKE_AMBIENT", "FORMAT", "VERSION", "wrap_deg", "splat_coverage", "object_points",
+    "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "look_hash", "bake_items",
+    "bake_lights", "BAKE_AMBIENT", "APPEARANCES", "FORMAT", "VERSION", "wrap_deg", "splat_coverage",
+    "object_points",
     # scene side
     "Backdrop", "Fog", "Ground", "Sky",
     "CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s",

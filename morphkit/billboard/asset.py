@@ -58,18 +58,33 @@ every morpher of a loaded asset (from the same stored data), are built
 lower level whose morpher cannot be built falls back to the level-0 morph,
 area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 
-Lighting
---------
-The bake (:mod:`morphkit.billboard.bake`) renders :func:`bake_items` (the mesh coloured by a 3-D checker,
-:func:`morphkit.appearance.checker_items`) under :func:`bake_lights` (one
-directional light straight down) with ambient :data:`BAKE_AMBIENT`: the
-lighting does not depend on the view or on an instance's yaw, so a ground
-truth rendered from any direction with the same items and lights matches.
+Appearance and lighting
+-----------------------
+The bake (:mod:`morphkit.billboard.bake`) renders :func:`bake_items` in one of
+:data:`APPEARANCES`: ``"own"`` (the default) is the mesh's own look --
+textures, vertex and face colours, material factors, cut-outs
+(:func:`morphkit.look.mesh_look`; a mesh without visuals is
+:data:`~morphkit.conventions.DEFAULT_COLOR`); ``"checker"`` is morphkit's 3-D
+checker (:func:`morphkit.appearance.checker_items`), texture for matching and
+PSNR on meshes without a look of their own (the benches' choice). The
+references, the morphs' colours and the alpha from depth all come from the same
+renders, so a cut-out texel is a hole in colour, depth and coverage alike. The
+asset records its appearance (:attr:`BillboardAsset.appearance`) and its
+:func:`mesh_hash` covers the look, so a ground truth drawn with
+:meth:`BillboardAsset.items` shows the look the asset was baked in.
+
+Everything is lit by :func:`bake_lights` (one directional light straight down)
+with ambient :data:`BAKE_AMBIENT`: the lighting does not depend on the view or
+on an instance's yaw, so a ground truth rendered from any direction with the
+same items and lights matches. Shading model of a one-colour (linear ``c``)
+Lambertian surface with unit normal ``n``: pyrender's lit colour
+``c (BAKE_AMBIENT + I max(0, n_z) / pi)`` (``I = 3``, the light's
+intensity; pyrender's metallic-roughness BRDF adds a small specular term), in
+linear light, encoded with gamma ``1/2.2`` (:mod:`morphkit.conventions`).
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
 import os
 from collections.abc import Sequence
@@ -81,7 +96,6 @@ import numpy as np
 import trimesh
 
 from .. import tol
-from ..appearance import checker_items
 from ..camera import CameraModel
 from ..composite import from_premultiplied, to_premultiplied
 from ..errors import (
@@ -94,81 +108,31 @@ from ..errors import (
 )
 from ..memo import Memo
 from ..meshes import normalize
-from ..scene import DirectionalLight, Item, Light
+from ..scene import Item
 from ..validate import as_int
 from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
-from .assetfile import AssetRecord, read_record, write_record
+from .assetfile import APPEARANCES, AssetRecord, read_record, write_record
+from .bakelook import (
+    BAKE_AMBIENT,
+    bake_items,
+    bake_lights,
+    check_appearance,
+    check_source_up,
+    look_hash,
+    mesh_hash,
+)
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .ring import ViewRing
 
-__all__ = ["BillboardAsset", "mesh_hash", "bake_items", "bake_lights", "BAKE_AMBIENT", "DEFAULT_LAYERS",
-           "check_levels"]
-
-#: Ambient light level of the bake renders (:meth:`SceneRenderer.source_view`).
-BAKE_AMBIENT = 0.35
+__all__ = ["BillboardAsset", "mesh_hash", "look_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
+           "DEFAULT_LAYERS", "APPEARANCES", "check_appearance", "check_source_up", "check_levels"]
 
 #: ``ViewMorpher(layers=...)`` of the assets' morphs: three depth layers. Neighbouring
 #: references 30-60 degrees apart see parts pass behind each other for every sample
 #: mesh, so ``"auto"`` always layered (with two); three followed the crossings better
 #: (``morphkit bench billboards``; docs/RESULTS.md).
 DEFAULT_LAYERS: int | str = 3
-
-
-def bake_lights() -> list[Light]:
-    """The lights of the bake renders: one directional light straight down (``-z``),
-    intensity 3 (yaw- and view-independent; with :data:`BAKE_AMBIENT`).
-
-    Returns
-    -------
-    list of Light
-        The one directional light, world (= object) frame.
-    """
-    return [DirectionalLight(np.array([0.0, 0.0, -1.0]), intensity=3.0)]
-
-
-def bake_items(mesh: trimesh.Trimesh) -> list[Item]:
-    """The render items of a bake: ``mesh`` (object frame, identity pose) coloured by the
-    3-D checker of :func:`morphkit.appearance.checker_items`. Pass the normalised mesh
-    (:func:`morphkit.meshes.normalize`) to match an asset's references.
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        The (normalised) mesh, object frame.
-
-    Returns
-    -------
-    list of Item
-        Its colour groups, identity pose.
-    """
-    if not isinstance(mesh, trimesh.Trimesh):
-        raise MeshError(expected_got("mesh", "a trimesh.Trimesh", type(mesh).__name__))
-    return checker_items(mesh)
-
-
-def mesh_hash(mesh: trimesh.Trimesh) -> str:
-    """sha256 (hex) of the normalised mesh's vertices (float64, rounded to 1e-9) and faces (int64).
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        Any mesh; it is normalised first (:func:`morphkit.meshes.normalize`), so
-        the hash names the shape an asset was baked from. The rounding (1e-9 of
-        the normalised size) makes a moved or rescaled copy hash alike: its
-        normalisation differs from the original's in the last bits only.
-
-    Returns
-    -------
-    str
-        64 hex digits.
-    """
-    norm = normalize(mesh)
-    h = hashlib.sha256()
-    v = np.round(np.asarray(norm.vertices, dtype=np.float64), 9) + 0.0  # + 0.0: no negative zeros
-    h.update(np.ascontiguousarray(v).tobytes())
-    h.update(np.ascontiguousarray(norm.faces, dtype=np.int64).tobytes())
-    return h.hexdigest()
 
 
 def _unit_premultiplied(rgba: np.ndarray) -> np.ndarray:
@@ -234,7 +198,11 @@ class BillboardAsset:
     ----------
     name : str
     mesh_hash : str
-        :func:`mesh_hash` of the mesh the asset was baked from.
+        :func:`mesh_hash` of the mesh the asset was baked from (shape and look).
+    appearance : str
+        The look it was baked in (:data:`APPEARANCES`); :meth:`items` draws a mesh in it.
+    source_up : str or None
+        The up axis its mesh file was loaded with (``"z"`` or ``"y"``), None when not known.
     ring : ViewRing
     cameras : QuadCameras
         The camera rule and quad.
@@ -249,6 +217,8 @@ class BillboardAsset:
         if not self.name:
             raise ValidationError(expected_got("name", "a non-empty string", repr(self.name)))
         self.mesh_hash = record.mesh_hash
+        self.appearance = check_appearance(record.appearance)
+        self.source_up = check_source_up(record.source_up)
         self.ring = ViewRing(record.ring["views"], record.ring["arc_deg"], record.ring["elevation_deg"])
         q = record.quad
         self.cameras = QuadCameras(np.asarray(q["pivot"], dtype=np.float64), q["distance"],
@@ -658,6 +628,38 @@ class BillboardAsset:
                 self.morpher(p, lv)
         return self
 
+    def items(self, mesh: trimesh.Trimesh) -> list[Item]:
+        """The render items of ``mesh`` in this asset's look (:func:`bake_items` of the
+        normalised mesh with :attr:`appearance`): the ground truth of its billboards.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The mesh the asset was baked from (any pose and scale: it is normalised).
+
+        Returns
+        -------
+        list of Item
+            Object frame, identity pose.
+
+        Raises
+        ------
+        MeshError
+            Not a Trimesh.
+        ValidationError
+            ``mesh`` (shape or look) is not the one the asset was baked from; the message
+            names both hashes.
+        """
+        if not isinstance(mesh, trimesh.Trimesh):
+            raise MeshError(expected_got("mesh", "a trimesh.Trimesh", type(mesh).__name__))
+        want = mesh_hash(mesh, self.appearance)
+        if want != self.mesh_hash:
+            raise ValidationError(expected_got(
+                f"mesh of billboard asset {self.name!r}",
+                f"the mesh it was baked from (hash {self.mesh_hash})",
+                f"a mesh of hash {want} (another shape or look)"))
+        return bake_items(normalize(mesh), self.appearance)
+
     # ------------------------------------------------------------------ files
     def record(self) -> AssetRecord:
         """The stored data (what :meth:`save` writes).
@@ -694,20 +696,27 @@ class BillboardAsset:
         mesh : trimesh.Trimesh, optional
             The mesh the asset is meant for; its :func:`mesh_hash` must be the file's.
 
+        Returns
+        -------
+        BillboardAsset
+            The asset.
+
         Raises
         ------
         FileFormatError
-            Missing, truncated or corrupt file, another format or version, missing keys,
-            inconsistent contents (cameras that do not follow the rule); with ``mesh``,
-            an asset baked from another mesh (the message names both hashes).
+            Missing, truncated or corrupt file, another format or version (an older one:
+            re-bake), missing keys, inconsistent contents (cameras that do not follow the
+            rule); with ``mesh``, an asset baked from another mesh or the same shape in
+            another look (the message names both hashes).
         """
         rec = read_record(path)
         if mesh is not None:
-            want = mesh_hash(mesh)
+            want = mesh_hash(mesh, rec.appearance if rec.appearance in APPEARANCES else "own")
             if want != rec.mesh_hash:
                 raise FileFormatError(expected_got(
-                    f"billboard asset {Path(path).name} mesh hash", f"{want} (the given mesh's)",
-                    f"{rec.mesh_hash} (baked from another mesh)"))
+                    f"billboard asset {Path(path).name} mesh hash", f"{want} (the given mesh's, "
+                    f"shape and {rec.appearance!r} look)", f"{rec.mesh_hash} (baked from another mesh "
+                    "or another look: re-bake it for this mesh)"))
         try:
             asset = cls(rec)
         except (ValidationError, GeometryError) as exc:

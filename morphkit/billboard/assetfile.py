@@ -19,7 +19,10 @@ array           dtype, shape             content
                                          ``(0, 0, 4)`` when a reference is at azimuth 0
 ==============  =======================  ==================================================
 
-``meta``: ``format``, ``version``, ``name``, ``mesh_hash`` (sha256 hex),
+``meta``: ``format``, ``version``, ``name``, ``mesh_hash`` (sha256 hex of
+the shape and the look, :func:`morphkit.billboard.mesh_hash`), ``appearance``
+(``"own"`` or ``"checker"``), ``source_up`` (``"z"``, ``"y"`` or null: the up
+axis the mesh file was loaded with),
 ``ring`` (``views``, ``arc_deg``, ``elevation_deg``), ``quad`` (``pivot``,
 ``distance``, ``elevation_deg``, ``half_extent``, ``shape``), ``levels``,
 ``layers`` (the morphs' ``ViewMorpher(layers=...)``), ``pairs``,
@@ -52,12 +55,17 @@ import numpy as np
 from ..errors import FileFormatError, expected_got
 from ..fileio import write_bytes
 
-__all__ = ["FORMAT", "VERSION", "AssetRecord", "write_record", "read_record"]
+__all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
 
 #: The format name stored in every billboard asset file.
 FORMAT = "morphkit-billboard"
 #: The asset file format version this code reads and writes (another is a FileFormatError).
-VERSION = 1
+#: 2: ``appearance`` and ``source_up`` recorded, ``mesh_hash`` covers the look (version 1
+#: files were baked in the 3-D checker whatever the mesh's look: re-bake them).
+VERSION = 2
+
+#: The looks an asset can be baked in (``meta['appearance']``): the mesh's own, or the 3-D checker.
+APPEARANCES = ("own", "checker")
 
 _ARRAYS = ("images", "depth", "points3d", "offsets", "front")
 
@@ -97,6 +105,10 @@ class AssetRecord:
         Pair ``p`` holds ``points3d[offsets[p]:offsets[p + 1]]``.
     front : (H, W, 4) uint8
         Front view (straight RGBA), or ``(0, 0, 4)`` when a reference is at azimuth 0.
+    appearance : str
+        The look the references were rendered in: ``"own"`` or ``"checker"``.
+    source_up : str or None
+        The up axis the mesh file was loaded with (``"z"``, ``"y"``), None when not known.
     """
 
     name: str
@@ -113,6 +125,8 @@ class AssetRecord:
     points3d: np.ndarray
     offsets: np.ndarray
     front: np.ndarray
+    appearance: str = "own"
+    source_up: str | None = None
 
 
 def _sha(a: np.ndarray) -> str:
@@ -138,6 +152,7 @@ def write_record(path: str | os.PathLike[str], rec: AssetRecord) -> Path:
     meta = {"format": FORMAT, "version": VERSION, "name": rec.name, "mesh_hash": rec.mesh_hash,
             "ring": rec.ring, "quad": rec.quad, "levels": rec.levels, "layers": rec.layers,
             "pairs": [list(p) for p in rec.pairs], "front_view": rec.front_view, "cameras": rec.cameras,
+            "appearance": rec.appearance, "source_up": rec.source_up,
             "sha256": {k: _sha(a) for k, a in arrays.items()}}
     buf = io.BytesIO()
     np.savez(buf, meta=np.frombuffer(json.dumps(meta, allow_nan=False).encode(), np.uint8), **arrays)
@@ -182,8 +197,12 @@ def read_record(path: str | os.PathLike[str]) -> AssetRecord:
                 raise _bad("meta", "a JSON object", type(meta).__name__)
             if meta.get("format") != FORMAT:
                 raise _bad("format", FORMAT, repr(meta.get("format")))
-            if meta.get("version") != VERSION:
-                raise _bad("version", VERSION, repr(meta.get("version")))
+            version = meta.get("version")
+            if version != VERSION:
+                older = isinstance(version, int) and not isinstance(version, bool) and version < VERSION
+                raise _bad("version", VERSION, repr(version) + (
+                    " (an older asset file: re-bake it with this morphkit, e.g. bake_asset or "
+                    "morphkit bake --billboard)" if older else ""))
             missing = [k for k in _ARRAYS if k not in names]
             if missing:
                 raise _bad("arrays", f"all of {list(_ARRAYS)}", f"{missing} missing")
@@ -268,6 +287,12 @@ def _record(meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> AssetRecord:
         raise _bad("array 'front'", f"uint8 of shape {want_front}", f"{front.dtype} of shape {front.shape}")
     if np.isnan(depth).any():
         raise _bad("array 'depth'", "depths (+inf for background)", "NaN values")
+    appearance = _get(meta, "appearance", str)
+    if appearance not in APPEARANCES:
+        raise _bad("meta['appearance']", f"one of {list(APPEARANCES)}", repr(appearance))
+    source_up = _get(meta, "source_up", (str, type(None)))
+    if source_up not in (None, "z", "y"):
+        raise _bad("meta['source_up']", "'z', 'y' or null", repr(source_up))
     return AssetRecord(_get(meta, "name", str), _get(meta, "mesh_hash", str), ring, quad,
                        _get(meta, "levels", int), layers, pairs, front_view, cameras,
-                       images, depth, pts, offsets, front)
+                       images, depth, pts, offsets, front, appearance, source_up)

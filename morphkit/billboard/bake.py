@@ -1,8 +1,9 @@
 """The bake: render a mesh's reference views on a ring and prepare every pair's morph.
 
-:func:`bake_asset` normalises the mesh, fits the camera rule
+:func:`bake_asset` normalises the mesh (keeping its look), fits the camera rule
 (:meth:`~morphkit.billboard.cameras.QuadCameras.fit`), renders each reference
-view (premultiplied RGBA and linear depth) with :func:`~.asset.bake_items` under
+view (premultiplied RGBA and linear depth) with :func:`~.asset.bake_items` (in the
+asset's appearance: the mesh's own look by default, or the 3-D checker) under
 :func:`~.asset.bake_lights`, renders the front view when no reference is at
 azimuth 0, and, for each pair of neighbouring references, the dense
 correspondences from their depth (:func:`~morphkit.viewmorph.from_depth`) plus
@@ -31,7 +32,9 @@ from .asset import (
     BillboardAsset,
     bake_items,
     bake_lights,
+    check_appearance,
     check_levels,
+    check_source_up,
     mesh_hash,
 )
 from .assetfile import AssetRecord
@@ -63,7 +66,8 @@ def _camera_dict(azimuth_deg: float, cam: CameraModel) -> dict[str, Any]:
 def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "asset", views: int = 2,
                size: int | tuple[int, int] = 256, arc_deg: float | None = None, elevation_deg: float = 10.0,
                levels: int = 3, layers: int | str = DEFAULT_LAYERS, distance_factor: float = DISTANCE_FACTOR,
-               progress: bool = False) -> BillboardAsset:
+               progress: bool = False, appearance: str = "own", source_up: str | None = None
+               ) -> BillboardAsset:
     """Render ``mesh``'s reference views and prepare every pair's morph (see the module docstring).
 
     Parameters
@@ -94,6 +98,15 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         the scene sees the asset from, so the views have its perspective.
     progress : bool
         Show a progress bar (tqdm; silent when not a terminal).
+    appearance : {"own", "checker"}
+        The look of the references and morphs (:func:`~.asset.bake_items`): ``"own"``
+        (default) the mesh's own look (textures, vertex/face colours, cut-outs;
+        :data:`~morphkit.conventions.DEFAULT_COLOR` when it has none), ``"checker"``
+        morphkit's 3-D checker (texture for matching and PSNR). Recorded in the asset
+        and covered by its :func:`~.asset.mesh_hash`.
+    source_up : {"z", "y"} or None
+        The up axis the mesh file was loaded with (:func:`morphkit.meshes.resolve_up`),
+        recorded in the asset file; None (default) when not known.
 
     Returns
     -------
@@ -116,12 +129,14 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     shape = (size, size) if isinstance(size, (int, np.integer)) and not isinstance(size, bool) else size
     if not isinstance(name, str) or not name:
         raise ValidationError(expected_got("name", "a non-empty string", repr(name)))
+    appearance = check_appearance(appearance)
+    source_up = check_source_up(source_up)
     norm = normalize(mesh)
-    digest = mesh_hash(norm)
+    digest = mesh_hash(norm, appearance)
     az = ring.azimuths_deg()
     cams = QuadCameras.fit(norm, shape, ring.elevation_deg, az, distance_factor=distance_factor)
     check_levels(levels, cams)
-    items, lights = bake_items(norm), bake_lights()
+    items, lights = bake_items(norm, appearance), bake_lights()
     front_view = next((k for k in range(ring.views) if az[k] == 0.0), -1)
     pairs = ring.pairs()
     bar = tqdm(total=ring.views + (front_view < 0) + len(pairs) + 1, desc=f"baking billboard {name}",
@@ -165,7 +180,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
             images=np.stack(images), depth=np.stack(depths).astype(np.float16),
             points3d=np.concatenate(points),
             offsets=np.cumsum([0] + [len(p) for p in points]).astype(np.int64),
-            front=front)
+            front=front, appearance=appearance, source_up=source_up)
         asset = BillboardAsset(record).prepare(levels=[0])
         bar.update()
     finally:

@@ -323,7 +323,9 @@ class MeshMode:
     renderer : SceneRenderer
     meshes : mapping of str to sequence of Item
         Per asset name, the items (meshes with colours, object frame, ``pose``
-        relative to the object frame) the asset was baked from.
+        relative to the object frame) the asset was baked from, in the asset's look:
+        ``asset.items(mesh)`` (:meth:`~morphkit.billboard.BillboardAsset.items`, which
+        reads the asset's ``appearance`` and checks the mesh's hash).
     lights : sequence of Light
         World-frame lights (use the bake's for a like-with-like comparison).
     ambient : float

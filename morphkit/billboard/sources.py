@@ -1,15 +1,23 @@
-"""Where a scene's assets come from: a sample mesh name (baked now) or an asset file (loaded).
+"""Where a scene's assets come from: a sample mesh name or a mesh file (baked now), or an asset file.
 
 :func:`resolve_assets` turns the ``--asset`` arguments of ``morphkit billboards``
 into assets and, for the mesh mode (the ground truth), the items each asset was
-baked from:
+baked from (:meth:`~morphkit.billboard.asset.BillboardAsset.items`: the same look):
 
 * a name of :data:`morphkit.meshes.BILLBOARD_MESHES` (``tree``, ``person``,
   ``teapot``, ...): the sample mesh is normalised and baked
-  (:func:`~morphkit.billboard.bake.bake_asset`);
+  (:func:`~morphkit.billboard.bake.bake_asset`) in the 3-D checker
+  (``appearance="checker"``: the sample meshes have no look of their own);
+* a path to an existing mesh file (:data:`MESH_SUFFIXES`: OBJ, GLB/glTF, PLY, ...):
+  loaded with :func:`morphkit.meshes.load_mesh` (its look kept, turned ``+z`` up by
+  ``up``), baked in its own look (``appearance="own"``), named after the file's stem;
 * a path to an existing ``.npz`` file: the asset is loaded
-  (:meth:`~morphkit.billboard.asset.BillboardAsset.load`); its mesh is known
-  (for the mesh mode) when the asset's name is a sample mesh whose hash matches.
+  (:meth:`~morphkit.billboard.asset.BillboardAsset.load`) and keeps its own name
+  (the file's stem when it has bake_asset's default name ``"asset"``); its mesh is
+  known (for the mesh mode) when the asset's name is a sample mesh, or a mesh file
+  named like the asset or the file (``NAME.obj``, ``.glb``, ...) lies beside it,
+  and that mesh's hash (shape and look) is the asset's. When none is found,
+  :attr:`ResolvedAssets.skipped` says why.
 
 Anything else is a :class:`~morphkit.errors.ValidationError` naming what was
 expected.
@@ -18,17 +26,22 @@ expected.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ValidationError, expected_got
-from ..meshes import BILLBOARD_MESHES, normalize, sample_mesh
+import trimesh
+
+from ..errors import MeshError, ValidationError, expected_got
+from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
 from ..protocols import SceneRenderer
 from ..scene import Item
-from .asset import BillboardAsset, bake_items, mesh_hash
+from .asset import BillboardAsset, mesh_hash
 from .bake import bake_asset
 
-__all__ = ["ResolvedAssets", "check_specs", "resolve_assets"]
+__all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets"]
+
+#: Mesh file extensions ``--asset`` bakes on the fly (what :func:`morphkit.meshes.load_mesh` reads).
+MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".ply", ".stl", ".off")
 
 
 @dataclass(frozen=True)
@@ -41,20 +54,23 @@ class ResolvedAssets:
         Assets by name.
     items : dict of str to list of Item
         Bake items (object frame) by asset name, for the assets whose mesh is known.
+    skipped : dict of str to str
+        Asset name -> why its mesh is not known (no comparison with the real mesh).
     """
 
     assets: dict[str, BillboardAsset]
     items: dict[str, list[Item]]
+    skipped: dict[str, str] = field(default_factory=dict)
 
 
 def check_specs(specs: Sequence[str]) -> None:
     """Refuse, before any work, a spec that is neither a sample mesh name nor an existing
-    ``.npz`` file (ValidationError), or an empty list.
+    ``.npz`` or mesh file (ValidationError), or an empty list.
 
     Parameters
     ----------
     specs : sequence of str
-        Sample mesh names or ``.npz`` asset file paths.
+        Sample mesh names, mesh files or ``.npz`` asset file paths.
 
     Raises
     ------
@@ -65,29 +81,60 @@ def check_specs(specs: Sequence[str]) -> None:
         raise ValidationError(expected_got("assets", "at least one --asset", "none"))
     for spec in specs:
         path = Path(spec)
-        if spec not in BILLBOARD_MESHES and not (path.suffix.lower() == ".npz" and path.is_file()):
-            want = f"a sample mesh name (one of {list(BILLBOARD_MESHES)}) or an existing .npz asset file"
+        suffix = path.suffix.lower()
+        if spec not in BILLBOARD_MESHES and not (suffix in (".npz", *MESH_SUFFIXES) and path.is_file()):
+            want = (f"a sample mesh name (one of {list(BILLBOARD_MESHES)}), an existing mesh file "
+                    f"({', '.join(MESH_SUFFIXES)}) or an existing .npz asset file")
             raise ValidationError(expected_got("asset", want, repr(spec)))
 
 
+def _beside(path: Path, asset: BillboardAsset) -> tuple[trimesh.Trimesh | None, str]:
+    """The mesh of a loaded asset: a sample mesh of its name, or a mesh file beside the asset
+    file named like the asset or the file; ``(None, why)`` when there is none that matches."""
+    if asset.name in BILLBOARD_MESHES:
+        mesh = normalize(sample_mesh(asset.name))
+        if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
+            return mesh, ""
+        return None, f"sample mesh {asset.name!r} does not match the asset's hash (baked from another mesh)"
+    stems = list(dict.fromkeys([asset.name, path.name[: -len(".npz")].removesuffix(".billboard")]))
+    found = [path.with_name(st + suf) for st in stems for suf in MESH_SUFFIXES
+             if path.with_name(st + suf).is_file()]
+    up = asset.source_up or "auto"
+    for f in found:
+        try:
+            mesh = load_mesh(f, up=up)
+        except MeshError:
+            continue
+        if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
+            return mesh, ""
+    if found:
+        return None, (f"{', '.join(f.name for f in found)} beside {path.name} does not match the asset's "
+                      f"hash (another shape or look)")
+    return None, (f"no mesh file {' or '.join(stems)}{{{','.join(MESH_SUFFIXES)}}} beside {path.name} "
+                  "(pass the mesh file itself as --asset to bake and compare it)")
+
+
 def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int = 8, size: int = 128,
-                   levels: int = 3, progress: bool = False) -> ResolvedAssets:
+                   levels: int = 3, up: str = "auto", progress: bool = False) -> ResolvedAssets:
     """Bake or load each of ``specs`` (see the module notes).
 
     Parameters
     ----------
     specs : sequence of str
-        Sample mesh names or ``.npz`` asset files.
+        Sample mesh names, mesh files or ``.npz`` asset files.
     renderer : SceneRenderer
         For baking.
     views, size, levels : int
         Bake options (:func:`~morphkit.billboard.bake.bake_asset`): K, level-0 image side, pyramid levels.
+    up : {"auto", "z", "y"}
+        Up axis of the mesh files (:func:`morphkit.meshes.load_mesh`); recorded in their assets.
     progress : bool
         Progress bars while baking.
 
     Returns
     -------
     ResolvedAssets
+        The assets, the items of those whose mesh is known, and why the others' is not.
 
     Raises
     ------
@@ -95,26 +142,35 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         A spec that is neither, or two assets with one name.
     FileFormatError
         An asset file that cannot be read.
+    MeshError
+        A mesh file that cannot be loaded, or a bad ``up``.
     """
     check_specs(specs)
     assets: dict[str, BillboardAsset] = {}
     items: dict[str, list[Item]] = {}
+    skipped: dict[str, str] = {}
     for spec in specs:
         path = Path(spec)
+        known: trimesh.Trimesh | None = None
+        why = ""
         if spec in BILLBOARD_MESHES:
-            mesh = normalize(sample_mesh(spec))
-            asset = bake_asset(mesh, renderer, name=spec, views=views, size=size, levels=levels,
-                               progress=progress)
-            known = mesh
+            known = normalize(sample_mesh(spec))
+            asset = bake_asset(known, renderer, name=spec, views=views, size=size, levels=levels,
+                               progress=progress, appearance="checker")
+        elif path.suffix.lower() in MESH_SUFFIXES:
+            known = load_mesh(path, up=up)
+            asset = bake_asset(known, renderer, name=path.stem, views=views, size=size, levels=levels,
+                               progress=progress, appearance="own", source_up=resolve_up(path, up))
         else:
             asset = BillboardAsset.load(path)
-            known = None
-            if asset.name in BILLBOARD_MESHES:
-                mesh = normalize(sample_mesh(asset.name))
-                known = mesh if mesh_hash(mesh) == asset.mesh_hash else None
+            if asset.name == "asset":  # bake_asset's default name: the file's is more telling
+                asset.name = path.name[: -len(".npz")].removesuffix(".billboard")
+            known, why = _beside(path, asset)
         if asset.name in assets:
             raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
         assets[asset.name] = asset
         if known is not None:
-            items[asset.name] = bake_items(known)
-    return ResolvedAssets(assets, items)
+            items[asset.name] = asset.items(known)
+        else:
+            skipped[asset.name] = why
+    return ResolvedAssets(assets, items, skipped)
