@@ -84,6 +84,7 @@ import cv2
 import numpy as np
 import trimesh
 
+from .. import tol
 from ..billboard import (
     BAKE_AMBIENT,
     BillboardAsset,
@@ -558,7 +559,7 @@ def _textured_case(renderer: SceneRenderer, name: str, mesh: trimesh.Trimesh, vi
         for az, gt in truths.items():
             img = fn(az)
             hp.append(min(psnr(_high_pass(img), _high_pass(gt), data_range=1.0), PSNR_CAP))
-            sharp.append(_sharpness(img) / max(_sharpness(gt), 1e-12))
+            sharp.append(_sharpness(img) / max(_sharpness(gt), tol.ZERO))
         row["metrics"].update(psnr_hp=float(np.mean(hp)), sharpness=float(np.mean(sharp)))
     return rows
 

@@ -109,7 +109,7 @@ from ..errors import (
 from ..memo import Memo
 from ..meshes import normalize
 from ..scene import Item
-from ..validate import as_int
+from ..validate import as_flag, as_int
 from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
 from .assetfile import APPEARANCES, AssetRecord, read_record, write_record
 from .bakelook import (
@@ -447,8 +447,7 @@ class BillboardAsset:
         i, j = self.ring.check_pair(i, j)
         s = _check_s(s)
         level = _check_level(level, self.levels)
-        if not isinstance(coverage, bool | np.bool_):
-            raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
+        coverage = as_flag(coverage, "coverage")
         if (i, j) not in self.ring.pairs():
             i, j, s = j, i, 1.0 - s
         if s == 0.0:

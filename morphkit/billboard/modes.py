@@ -49,7 +49,7 @@ from ..errors import ValidationError, expected_got
 from ..memo import Memo
 from ..protocols import SceneRenderer
 from ..scene import Item, Light
-from ..validate import as_int
+from ..validate import as_flag, as_int
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .compositor import draw, finish, new_layer
 from .field import BillboardScene
@@ -186,9 +186,7 @@ class MorphMode(BillboardMode):
             raise ValidationError(expected_got("cache", "a MorphCache", type(cache).__name__))
         self.quantum_deg = _check_quantum(quantum_deg)
         self.blend = bool(blend)
-        if not isinstance(coverage, bool | np.bool_):
-            raise ValidationError(expected_got("coverage", "a bool", repr(coverage)))
-        self.coverage = bool(coverage)
+        self.coverage = as_flag(coverage, "coverage")
         self._spans: Memo[tuple[str, int, int], float] = Memo()  # pair_span_deg per (asset, i, j)
 
     @property
