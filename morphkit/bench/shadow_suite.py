@@ -48,6 +48,7 @@ import trimesh
 
 from ..fixtures import write_leaf_plant
 from ..groundtruth import hard_visibility, receiver_grid
+from ..memo import Memo
 from ..meshes import load_mesh, sample_mesh
 from ..metrics import shadow_iou
 from ..protocols import SceneRenderer
@@ -78,16 +79,15 @@ class _Truth:
 
     def __init__(self) -> None:
         self.grid = receiver_grid(GROUND_HALF, (GROUND_N, GROUND_N)).reshape(-1, 3)
-        self._cache: dict[tuple[int, int, bytes], np.ndarray] = {}
+        self._cache: Memo[tuple[int, int, bytes], np.ndarray] = Memo()
 
     def __call__(self, mesh: Any, light: Any, xy: np.ndarray) -> np.ndarray:
-        key = (id(mesh), id(light), xy.tobytes())
-        v = self._cache.get(key)
-        if v is None:
+        def cast() -> np.ndarray:
             pose = np.eye(4)
             pose[:2, 3] = xy
-            v = self._cache[key] = hard_visibility(self.grid, light, SceneObject(mesh, pose))
-        return v
+            return hard_visibility(self.grid, light, SceneObject(mesh, pose))
+
+        return self._cache.get((id(mesh), id(light), xy.tobytes()), cast)
 
 
 def _errors(method: Any, mesh: Any, light: Any, xys: np.ndarray, truth: _Truth) -> dict[str, float]:

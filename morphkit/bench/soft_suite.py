@@ -45,6 +45,7 @@ import trimesh
 from scipy.spatial import cKDTree
 
 from ..groundtruth import area_visibility, receiver_grid, sampled_visibility
+from ..memo import Memo
 from ..meshes import sample_mesh
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, SceneObject
@@ -146,7 +147,7 @@ class _Truth:
     def __init__(self, dense: int) -> None:
         self.grid = receiver_grid(GROUND_HALF, (GROUND_N, GROUND_N)).reshape(-1, 3)
         self.dense = dense
-        self._cache: dict[tuple[Any, ...], np.ndarray] = {}
+        self._cache: Memo[tuple[Any, ...], np.ndarray] = Memo()
 
     def __call__(self, mesh_name: str, mesh: Any, xy: np.ndarray,
                  same_as: SoftShadow | None = None, dense: int | None = None) -> np.ndarray:
@@ -154,20 +155,19 @@ class _Truth:
         dense = self.dense if dense is None else dense
         key = (mesh_name, xy.tobytes(), dense,
                None if same_as is None else same_as.offsets.tobytes())
-        if key not in self._cache:
+        def cast() -> np.ndarray:
             pose = np.eye(4)
             pose[:2, 3] = xy
             obj = SceneObject(mesh, pose)
-            self._cache[key] = (area_visibility(self.grid, AREA, obj, dense) if same_as is None
-                                else sampled_visibility(self.grid, same_as.point_lights(), obj))
-        return self._cache[key]
+            return (area_visibility(self.grid, AREA, obj, dense) if same_as is None
+                    else sampled_visibility(self.grid, same_as.point_lights(), obj))
+
+        return self._cache.get(key, cast)
 
     def contact(self, mesh_name: str, mesh: Any, xy: np.ndarray, radius: float) -> np.ndarray:
         """:func:`contact_region` of the grid, computed once per case."""
         key = ("contact", mesh_name, xy.tobytes(), radius)
-        if key not in self._cache:
-            self._cache[key] = contact_region(mesh, xy, self.grid, radius)
-        return self._cache[key]
+        return self._cache.get(key, lambda: contact_region(mesh, xy, self.grid, radius))
 
 
 def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth: _Truth,
