@@ -78,7 +78,10 @@ alpha below 0.5: a look with cutoff ``c`` uploads its factor alpha times
 ``0.5 / c``, an opaque look all alphas at 1, so one shader serves every cutoff.
 The same copies decode vertex colours from sRGB before lighting and draw the
 normals pass. Items without texture or vertex colours keep pyrender's own
-shaders (their pixels are those of earlier versions). ``DEPTH_ONLY`` draws
+lit shader (their lit pixels are those of earlier versions); every flat draw
+(the albedo pass) uses morphkit's ``flat.frag``, which takes the base colour in
+linear light (factor x decoded texel x decoded vertex colour) and writes it
+sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY`` draws
 ignore materials, so a depth image with a cut-out item visible is taken from a
 flat colour draw instead (same vertex transform, so the same depth).
 """
@@ -176,14 +179,13 @@ if pyrender is not None:
         normals: bool = False
 
         def _path(self, name: str | None, defines: dict) -> str | None:
-            """The file of shader ``name``: morphkit's copy for textured or vertex-coloured
-            primitives (and for the normals pass), pyrender's otherwise."""
+            """The file of shader ``name``: morphkit's copy for every flat draw (albedo; the
+            normals pass) and for lit textured or vertex-coloured primitives, pyrender's otherwise."""
             if name is None:
                 return None
-            if name == "flat.frag" and self.normals:
-                return str(SHADER_DIR / "normals.frag")
-            if name in ("mesh.frag", "flat.frag") and ("HAS_BASE_COLOR_TEX" in defines
-                                                       or "COLOR_0_LOC" in defines):
+            if name == "flat.frag":
+                return str(SHADER_DIR / ("normals.frag" if self.normals else "flat.frag"))
+            if name == "mesh.frag" and ("HAS_BASE_COLOR_TEX" in defines or "COLOR_0_LOC" in defines):
                 return str(SHADER_DIR / name)
             return os.path.join(self.shader_dir, name)
 
@@ -551,8 +553,8 @@ class Renderer:
         return np.ascontiguousarray(color[..., :3]), raw
 
     def albedo(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
-        """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour as
-        stored (:mod:`morphkit.conventions`, "Colour"), 0 where nothing is drawn.
+        """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour in
+        linear light, sRGB-encoded (:mod:`morphkit.conventions`, "Colour"), 0 where nothing is drawn.
 
         Parameters
         ----------
