@@ -150,7 +150,7 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
 def _cmd_bake(args: argparse.Namespace) -> int:
     from .bake import BakeOptions, bake_library
 
-    options = BakeOptions(_bake_kinds(args))
+    options = BakeOptions(_bake_kinds(args), up=args.up_axis)
     manifest = bake_library(args.inputs, args.out, options=options, workers=args.workers,
                             scheduler=args.scheduler, progress=not args.quiet)
     for name, error in sorted(manifest.failed().items()):
@@ -382,6 +382,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also bake a view-morphing billboard asset per mesh (<name>.billboard.npz)")
     k.add_argument("--views", type=int, default=None, metavar="K",
                    help="billboard reference views (with --billboard)")
+    # the table is morphkit.meshes.UP_AXIS_BY_FORMAT's (a test checks it)
+    k.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto",
+                   help="the mesh files' up axis, turned to morphkit's +z: auto is each format's default "
+                   "(glTF/GLB and OBJ y, every other format z); recorded per asset in the manifest, and an "
+                   "asset baked with another axis is baked again (default: %(default)s)")
     k.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     k.set_defaults(func=_cmd_bake)
 

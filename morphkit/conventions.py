@@ -69,10 +69,13 @@ Colour
   gamma ``1/2.2``; textures and vertex colours are decoded from sRGB (the exact
   curve) before lighting, so a texel and a vertex colour of the same value look
   the same.
-* **Albedo** (the ``albedo`` pass): uint8 RGB of base colour factor x texture x
-  vertex colour **as stored, unlit and not re-encoded** (pyrender's flat
-  shading): a texture comes out as its own texels, an item with ``color`` ``c``
-  as ``round(255 c)``, a vertex colour as itself.
+* **Albedo** (the ``albedo`` pass): uint8 RGB, unlit, of the base colour
+  factor x texture x vertex colour taken in **linear** light as the lit pass
+  takes it (texels and vertex colours decoded from sRGB), then **sRGB-encoded**
+  (the exact curve), like any colour image: a texture comes out as its own
+  texels, a vertex colour as itself, an item with ``color`` ``c`` (or a
+  factor ``c``) as ``round(255 srgb(c))`` -- the same as ``c`` baked into a
+  texel (e.g. a factor-only part of a merged atlas, :mod:`morphkit.meshes.parts`).
 * **Normals** (the ``normal`` pass): float32 ``(H, W, 3)`` unit vectors in the
   **world frame**, of the side of the surface facing the camera (a two-sided
   card seen from behind gives its reversed normal), ``0`` where nothing is

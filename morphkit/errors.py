@@ -16,8 +16,15 @@ Hierarchy::
     ├── FileFormatError                       a saved file is corrupt, truncated or foreign
     └── ClusterError                          the Dask scheduler is unreachable or has no workers
 
-    AssetWarning (a UserWarning)              a mesh file's look could not be loaded as given:
-                                              a documented fallback was used (e.g. a missing texture)
+    AssetWarning (a UserWarning)              a mesh's look could not be loaded or drawn as given:
+    │                                         a documented fallback was used (e.g. a missing texture)
+    └── MeshLookWarning                       ... found when the look is drawn (morphkit.look: e.g.
+                                              a texture without UVs drawn in its mean colour)
+
+Warnings: filter on :class:`AssetWarning`, the one name for every look
+fallback, whether the loader (:func:`morphkit.meshes.load_mesh`) or the
+renderer (:mod:`morphkit.look`) found it, e.g.
+``warnings.simplefilter("error", AssetWarning)`` to refuse every fallback.
 """
 
 from __future__ import annotations
@@ -36,6 +43,7 @@ __all__ = [
     "FileFormatError",
     "ClusterError",
     "AssetWarning",
+    "MeshLookWarning",
     "expected_got",
 ]
 
@@ -81,7 +89,14 @@ class ClusterError(MorphkitError):
 
 
 class AssetWarning(UserWarning):
-    """A mesh file's look could not be loaded as given; a documented fallback was used."""
+    """A mesh's look could not be loaded or drawn as given; a documented fallback was used.
+
+    The one warning class to filter on for every look fallback (see the module notes).
+    """
+
+
+class MeshLookWarning(AssetWarning):
+    """An :class:`AssetWarning` found when a mesh's look is drawn (:mod:`morphkit.look`)."""
 
 
 def expected_got(what: str, expected: Any, got: Any) -> str:

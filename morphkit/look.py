@@ -37,8 +37,10 @@ What each kind of trimesh visual becomes:
   textured material; trimesh keeps it as ``visual.vertex_attributes["color"]``):
   both apply, multiplied (glTF's rule above), vertex alpha included.
 * A texture without UV coordinates: drawn opaque in the texture's mean
-  colour (times the factor), with a :class:`MeshLookWarning`; UVs of another length
-  than the vertices are a :class:`~morphkit.errors.MeshError`.
+  colour (the mean of its sRGB-encoded texels, decoded; times the factor), with a
+  :class:`~morphkit.errors.MeshLookWarning` (an :class:`~morphkit.errors.AssetWarning`:
+  filter on that); UVs of another length than the vertices are a
+  :class:`~morphkit.errors.MeshError`.
 * ``TextureVisuals`` with several materials (``MultiMaterial``): refused
   (split the mesh per material).
 
@@ -56,7 +58,8 @@ import numpy as np
 import trimesh
 
 from .conventions import ALPHA_CUTOFF, DEFAULT_COLOR
-from .errors import MeshError, ValidationError, expected_got
+from .errors import MeshError, MeshLookWarning, ValidationError, expected_got
+from .meshes.parts import srgb_to_linear
 from .texture import texture_rgba
 
 __all__ = ["SurfaceLook", "MeshLookWarning", "mesh_look", "DIELECTRIC"]
@@ -64,10 +67,6 @@ __all__ = ["SurfaceLook", "MeshLookWarning", "mesh_look", "DIELECTRIC"]
 #: ``(metallic, roughness)`` of every item drawn with a colour, and of a mesh's own
 #: look where its material does not set them.
 DIELECTRIC = (0.0, 0.9)
-
-
-class MeshLookWarning(UserWarning):
-    """A mesh's visuals could not be drawn as given; a documented fallback was drawn."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -214,6 +213,8 @@ def _texture_look(mesh: trimesh.Trimesh, visual: Any) -> SurfaceLook:
         warnings.warn("mesh has a texture but no UV coordinates: drawn in the texture's mean colour "
                       f"{np.round(mean[:3], 3).tolist()} (give the mesh UVs, or an Item colour)",
                       MeshLookWarning, stacklevel=3)
+        # the mean texel is sRGB-encoded, the factor linear (as meshes.parts merges such a part)
+        mean[:3] = srgb_to_linear(mean[:3])
         factor = tuple(float(f * m) for f, m in zip(factor, mean, strict=True))  # type: ignore[assignment]
         tex, uv, cutoff = None, None, None
     if tex is not None:

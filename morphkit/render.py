@@ -78,9 +78,18 @@ alpha below 0.5: a look with cutoff ``c`` uploads its factor alpha times
 ``0.5 / c``, an opaque look all alphas at 1, so one shader serves every cutoff.
 The same copies decode vertex colours from sRGB before lighting and draw the
 normals pass. Items without texture or vertex colours keep pyrender's own
-shaders (their pixels are those of earlier versions). ``DEPTH_ONLY`` draws
-ignore materials, so a depth image with a cut-out item visible is taken from a
-flat colour draw instead (same vertex transform, so the same depth).
+lit shader (their lit pixels are those of earlier versions); every flat draw
+(the albedo pass) uses morphkit's ``flat.frag``, which takes the base colour in
+linear light (factor x decoded texel x decoded vertex colour) and writes it
+sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY`` draws
+ignore materials (no cut-outs) and always cull back faces (pyrender), dropping
+an open surface seen from behind that the two-sided colour draw shows. So a
+depth image with a cut-out item, or a mesh that is not a :func:`closed_volume`
+(decided once per mesh, by the first depth image showing it), in view is taken
+from a flat colour draw (no culling; same vertex transform, so the same depth).
+Closed volumes keep ``DEPTH_ONLY``: seen from outside, their front faces hide
+every back face (depth bit-identical). Known limit: a camera inside a closed
+volume, or a near plane cutting one, sees back faces that this draw drops.
 """
 
 from __future__ import annotations
@@ -105,7 +114,8 @@ from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
 from .validate import as_int
 
-__all__ = ["Renderer", "RenderPasses", "SHADER_DIR", "gl_info", "missing_gl_libraries", "GL_LIBRARIES"]
+__all__ = ["Renderer", "RenderPasses", "SHADER_DIR", "closed_volume", "gl_info", "missing_gl_libraries",
+           "GL_LIBRARIES"]
 
 def _headless_pyglet() -> None:
     """pyglet without its X11 backend (see the module docstring); before pyrender is imported."""
@@ -176,14 +186,13 @@ if pyrender is not None:
         normals: bool = False
 
         def _path(self, name: str | None, defines: dict) -> str | None:
-            """The file of shader ``name``: morphkit's copy for textured or vertex-coloured
-            primitives (and for the normals pass), pyrender's otherwise."""
+            """The file of shader ``name``: morphkit's copy for every flat draw (albedo; the
+            normals pass) and for lit textured or vertex-coloured primitives, pyrender's otherwise."""
             if name is None:
                 return None
-            if name == "flat.frag" and self.normals:
-                return str(SHADER_DIR / "normals.frag")
-            if name in ("mesh.frag", "flat.frag") and ("HAS_BASE_COLOR_TEX" in defines
-                                                       or "COLOR_0_LOC" in defines):
+            if name == "flat.frag":
+                return str(SHADER_DIR / ("normals.frag" if self.normals else "flat.frag"))
+            if name == "mesh.frag" and ("HAS_BASE_COLOR_TEX" in defines or "COLOR_0_LOC" in defines):
                 return str(SHADER_DIR / name)
             return os.path.join(self.shader_dir, name)
 
@@ -356,8 +365,11 @@ class _Context:
         # (hidden through its mesh's visibility), further instance nodes are added when needed;
         # the look key is the item's colour, or "own" for the mesh's own look
         self.nodes: dict[int, tuple[trimesh.Trimesh, dict[tuple[float, ...] | str, list[pyrender.Node]]]] = {}
-        self.masked_pools: set[int] = set()  # id(pool) of uploads with cut-outs
-        self.masked_shown = False  # a cut-out upload is visible (depth needs a colour draw)
+        # id(pool) -> whether its depth needs a flat colour draw (module notes, "Materials"): a
+        # cut-out at once, else decided by the first depth() that shows it (closed_volume)
+        self.flat_depth: dict[int, bool] = {}
+        self.pool_mesh: dict[int, trimesh.Trimesh] = {}
+        self.shown: list[int] = []  # id(pool) of the uploads shown
         self.cam_node: pyrender.Node | None = None
         self.light_nodes: list[pyrender.Node] = []
 
@@ -377,8 +389,9 @@ class _Context:
                 pm = _flat_color_mesh(item.mesh, look.base_color[:3]) if look.plain else \
                     _look_mesh(item.mesh, look)
             pool = entry[1][key] = [self.scene.add(pm, pose=np.eye(4))]
+            self.pool_mesh[id(pool)] = item.mesh
             if item.color is None and look.masked:
-                self.masked_pools.add(id(pool))
+                self.flat_depth[id(pool)] = True
         return pool
 
     def show(self, items: Sequence[Item]) -> None:
@@ -386,7 +399,7 @@ class _Context:
         for it in items:
             pool = self._pool(it)
             groups.setdefault(id(pool), (pool, []))[1].append(it)
-        self.masked_shown = any(k in self.masked_pools for k in groups)
+        self.shown = list(groups)
         for _mesh, by_color in self.nodes.values():
             for pool in by_color.values():
                 used = groups.get(id(pool), (pool, []))[1]
@@ -400,6 +413,13 @@ class _Context:
                         self.scene.set_pose(node, np.asarray(used[k].pose, dtype=np.float64))
                     elif k > 0 and self.scene.has_node(node):
                         self.scene.remove_node(node)
+
+    def depth_needs_flat_draw(self) -> bool:
+        """Whether an upload shown has cut-outs or is not a :func:`closed_volume` (decided once each)."""
+        for k in self.shown:
+            if k not in self.flat_depth:
+                self.flat_depth[k] = not closed_volume(self.pool_mesh[k])
+        return any(self.flat_depth[k] for k in self.shown)
 
     def set_camera(self, camera: CameraModel) -> None:
         cam = _MatrixCamera(camera.gl_projection(), camera.znear, camera.zfar)
@@ -420,6 +440,42 @@ class _Context:
         for light in lights:
             for pl in _as_pyrender_lights(light):
                 self.light_nodes.append(self.scene.add(pl[0], pose=pl[1]))
+
+
+def closed_volume(mesh: trimesh.Trimesh) -> bool:
+    """Whether ``mesh`` bounds a volume with outward faces: seen from outside, its front faces
+    hide every back face (so its ``DEPTH_ONLY`` depth, back faces culled, is complete).
+
+    Every directed edge ``a -> b`` must occur once, with its reverse ``b -> a`` (closed and
+    consistently wound; vertices at one position count as one where the indices alone fail,
+    as at UV seams), and the signed volume must be positive (outward).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The mesh.
+
+    Returns
+    -------
+    bool
+        True for a closed, consistently and outward wound surface.
+    """
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    verts = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    if len(faces) == 0:
+        return False
+
+    def paired(ids: np.ndarray) -> bool:
+        a, b, n = ids.reshape(-1), ids[:, [1, 2, 0]].reshape(-1), int(ids.max()) + 1
+        fwd = np.sort(a * n + b)
+        return not np.any(fwd[1:] == fwd[:-1]) and np.array_equal(fwd, np.sort(b * n + a))
+
+    if not paired(faces):
+        rows = verts.view(np.dtype((np.void, verts.dtype.itemsize * 3))).reshape(-1)
+        if not paired(np.unique(rows, return_inverse=True)[1].reshape(-1)[faces]):
+            return False
+    v = verts[faces]
+    return float(np.einsum("ij,ij->", v[:, 0], np.cross(v[:, 1], v[:, 2]))) > 0.0
 
 
 def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]:
@@ -517,8 +573,10 @@ class Renderer:
     def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``.
 
-        Cut-out texels are holes (with a cut-out item in view the depth comes from a flat
-        colour draw: module notes, "Materials").
+        Cut-out texels are holes, and every surface is two-sided: an open surface (a card, a
+        quad) seen from behind has depth, as in the colour draw (with a cut-out item, or a mesh
+        that is not a closed outward-facing volume, in view the depth comes from a flat colour
+        draw: module notes, "Materials").
 
         Parameters
         ----------
@@ -534,7 +592,7 @@ class Renderer:
         """
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
-        if ctx.masked_shown:
+        if ctx.depth_needs_flat_draw():
             return self._linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
         return self._linear_depth(self.pyrender_depth(camera, items), camera)
 
@@ -551,8 +609,8 @@ class Renderer:
         return np.ascontiguousarray(color[..., :3]), raw
 
     def albedo(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
-        """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour as
-        stored (:mod:`morphkit.conventions`, "Colour"), 0 where nothing is drawn.
+        """Unlit base colour ``(H, W, 3)`` uint8 of ``items``: factor x texture x vertex colour in
+        linear light, sRGB-encoded (:mod:`morphkit.conventions`, "Colour"), 0 where nothing is drawn.
 
         Parameters
         ----------

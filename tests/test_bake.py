@@ -358,11 +358,11 @@ class DieOnceKind:
     def options(self):
         return self.inner.options()
 
-    def bake(self, mesh, renderer):
+    def bake(self, mesh, renderer, source_up):
         if len(mesh.faces) == self.victim_faces and not os.path.exists(self.marker):
             Path(self.marker).write_text(str(os.getpid()))
             os._exit(1)
-        return self.inner.bake(mesh, renderer)
+        return self.inner.bake(mesh, renderer, source_up)
 
 
 @pytest.mark.gl

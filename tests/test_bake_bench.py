@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from morphkit.bench.bake_suite import idle_makespan, project_bake
@@ -61,3 +62,19 @@ def test_run_suite_passes_suite_options(monkeypatch, capsys):
     rows = bench.run_suite("toy", quick=True, options={"workers": [1, 4]})
     assert seen["workers"] == [1, 4] and rows[0]["gl"]["platform"] in ("osmesa", "egl")
     capsys.readouterr()
+
+
+def test_library_meshes_load_upright(tmp_path):
+    """OBJ reads +y up: the suite writes its Z-up teapots +y up, so they load as built, upright."""
+    from morphkit.bench.bake_suite import write_library
+    from morphkit.meshes import load_mesh, normalize, teapot
+
+    paths = write_library(tmp_path, quick=True)
+    objs = [p for p in paths if p.suffix == ".obj"]
+    assert objs
+    for p in objs:
+        built = normalize(teapot(resolution=int(p.stem.split("_")[1])))
+        loaded = load_mesh(p)
+        np.testing.assert_allclose(loaded.bounds, built.bounds, atol=1e-6)
+        np.testing.assert_allclose(loaded.extents, built.extents, atol=1e-6)
+        assert loaded.extents[2] < loaded.extents[:2].max()  # the teapot is wider than high

@@ -196,3 +196,50 @@ def test_colour_renders_reuse_their_shader_programs(renderer):
         again = renderer.color_depth(cam, items, light)
         np.testing.assert_array_equal(again[0], first[0])
     assert len(cache) == n
+
+
+@pytest.mark.parametrize("projection", ["orthographic", "perspective"])
+def test_open_surface_seen_from_behind_has_depth(renderer, projection):
+    """PLANE faces +z; from below only its back is seen. pyrender's DEPTH_ONLY draw culls it, the
+    two-sided colour draw shows it: depth() has it, as the colour draw does."""
+    pose = look_at([0, 0, -3.0], [0, 0, 0], up=[0, 1, 0])
+    if projection == "orthographic":
+        cam = orthographic(2, 1.5, (48, 64), pose, znear=0.05, zfar=100)
+    else:
+        cam = perspective(np.deg2rad(50), (48, 64), pose, znear=0.05, zfar=100)
+    assert np.all(renderer.pyrender_depth(cam, [_item(PLANE)]) == 0)  # culled there
+    d = renderer.depth(cam, [_item(PLANE)])
+    np.testing.assert_allclose(d, 3.0, rtol=DEPTH_RTOL)
+    assert np.array_equal(d, renderer.color_depth(cam, [_item(PLANE)], [])[1])
+
+
+def test_closed_volumes_keep_the_depth_only_draw(renderer):
+    """A closed outward volume seen from outside: depth() is the DEPTH_ONLY draw, bit for bit, and
+    that draw equals the two-sided colour draw's depth (culling hid nothing)."""
+    from morphkit.meshes import sample_mesh
+
+    cam = perspective(np.deg2rad(45), (96, 128), look_at([1.4, -1.8, 1.5], [0, 0, 0.3], up=[0, 0, 1]),
+                      znear=0.3, zfar=10)
+    for mesh in (trimesh.creation.box((0.6, 0.5, 0.8)), sample_mesh("cow", faces=6000)):
+        items = [_item(mesh)]
+        raw = renderer.pyrender_depth(cam, items)  # perspective: already linear
+        d = renderer.depth(cam, items)
+        assert np.isfinite(d).sum() > 500
+        assert np.array_equal(d, np.where(raw > 0, raw, np.inf).astype(np.float32))
+        assert np.array_equal(d, renderer.color_depth(cam, items, [])[1])
+
+
+def test_closed_volume_tells_closed_outward_surfaces():
+    from morphkit.fidelity import quad
+    from morphkit.meshes import chair, teapot
+    from morphkit.render import closed_volume
+
+    box = trimesh.creation.box()
+    inside_out = box.copy()
+    inside_out.invert()
+    split = trimesh.Trimesh(box.vertices[box.faces].reshape(-1, 3), np.arange(36).reshape(-1, 3),
+                            process=False)  # every vertex split, as at UV seams: still closed
+    open_box = trimesh.Trimesh(box.vertices, box.faces[:-1], process=False)
+    assert closed_volume(box) and closed_volume(split) and closed_volume(chair())
+    assert not closed_volume(inside_out) and not closed_volume(open_box)
+    assert not closed_volume(quad()) and not closed_volume(teapot())  # the teapot is not watertight

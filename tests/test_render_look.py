@@ -12,7 +12,7 @@ from PIL import Image
 
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.conventions import ALPHA_CUTOFF, DEFAULT_COLOR, NORMAL_ENCODING_DEG
-from morphkit.errors import ValidationError
+from morphkit.errors import AssetWarning, MeshLookWarning, ValidationError
 from morphkit.fidelity import (
     gradient_quad,
     gradient_truth,
@@ -22,7 +22,7 @@ from morphkit.fidelity import (
     sample_texture,
     textured_quad,
 )
-from morphkit.look import MeshLookWarning
+from morphkit.meshes.parts import linear_to_srgb, merge_parts
 from morphkit.metrics import psnr
 from morphkit.scene import DirectionalLight, Item
 
@@ -97,14 +97,20 @@ def test_face_colours_fill_their_faces(renderer):
     assert np.all(got[first] == [250, 20, 30]) and np.all(got[second] == [10, 200, 60])
 
 
+def _srgb255(color) -> np.ndarray:
+    """A linear colour as the albedo pass writes it: sRGB-encoded, 8-bit levels."""
+    return 255 * linear_to_srgb(np.asarray(color, dtype=np.float64))
+
+
 def test_albedo_of_one_colour_is_that_colour(renderer):
+    """A colour is linear (conventions, "Colour"); the albedo pass writes it sRGB-encoded."""
     cam = head_on_camera(SHAPE)
     _, inside = quad_uv(cam)
     for color in [(0.2, 0.5, 0.9), (1.0, 0.0, 0.3)]:
         got = renderer.albedo(cam, [Item(quad(), color=color)])
-        assert np.abs(got[inside] - 255 * np.array(color)).max() <= 1.0
+        assert np.abs(got[inside] - _srgb255(color)).max() <= 1.0
     got = renderer.albedo(cam, [Item(quad())])  # no visuals: the default colour
-    assert np.abs(got[inside] - 255 * np.array(DEFAULT_COLOR)).max() <= 1.0
+    assert np.abs(got[inside] - _srgb255(DEFAULT_COLOR)).max() <= 1.0
     assert np.all(got[~quad_uv(cam, margin_px=0)[1] & (cv2.dilate(inside.astype(np.uint8),
                                                                    np.ones((9, 9))) == 0)] == 0)
 
@@ -113,7 +119,40 @@ def test_an_item_colour_overrides_the_texture(renderer):
     cam = head_on_camera(SHAPE)
     _, inside = quad_uv(cam)
     got = renderer.albedo(cam, [Item(textured_quad(_photo()), color=(0.2, 0.4, 0.6))])
-    assert np.abs(got[inside] - [51, 102, 153]).max() <= 1.0
+    assert np.abs(got[inside] - _srgb255((0.2, 0.4, 0.6))).max() <= 1.0
+
+
+def test_albedo_of_a_factor_is_the_albedo_of_that_factor_baked_into_a_texel(renderer):
+    """A factor-only mesh and the same colour baked into a texture (a factor-only part in a merged
+    atlas: an sRGB-encoded texel) have one albedo, as they have one lit colour."""
+    color = (0.2, 0.5, 0.9, 1.0)
+    factor_only = quad()
+    factor_only.visual = trimesh.visual.TextureVisuals(
+        uv=np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        material=trimesh.visual.material.PBRMaterial(baseColorFactor=np.array(color)))
+    far = textured_quad(_photo())
+    far.apply_translation([100.0, 0.0, 0.0])  # out of view: there to make the merge build an atlas
+    merged = merge_parts([factor_only, far])
+    assert merged.visual.material.baseColorTexture is not None  # the factor is now a texel
+    cam = head_on_camera(SHAPE)
+    _, inside = quad_uv(cam)
+    own = renderer.albedo(cam, [Item(factor_only)]).astype(np.float64)
+    baked = renderer.albedo(cam, [Item(merged)]).astype(np.float64)
+    assert np.abs(own[inside] - baked[inside]).max() <= 1.0
+    # trimesh stores the factor in 8 bits: that value, encoded
+    stored = np.asarray(factor_only.visual.material.baseColorFactor[:3], dtype=np.float64) / 255.0
+    assert np.abs(own[inside] - _srgb255(stored)).max() <= 1.0
+    lit_own = renderer.color_depth(cam, [Item(factor_only)], LIGHT)[0].astype(np.float64)
+    lit_baked = renderer.color_depth(cam, [Item(merged)], LIGHT)[0].astype(np.float64)
+    assert np.abs(lit_own[inside] - lit_baked[inside]).max() <= 1.0
+
+
+def test_look_warnings_are_asset_warnings():
+    """One family to filter on: the renderer's MeshLookWarning is an AssetWarning (the loader's)."""
+    assert issubclass(MeshLookWarning, AssetWarning) and issubclass(AssetWarning, UserWarning)
+    from morphkit import look
+
+    assert look.MeshLookWarning is MeshLookWarning  # still importable where it was
 
 
 def test_untextured_items_look_as_before(renderer):
@@ -196,11 +235,13 @@ def test_cut_out_texels_are_holes_in_colour_depth_and_coverage(renderer, mode, c
 
 def test_cut_out_depth_matches_the_depth_only_draw(renderer):
     """Depth of a cut-out item comes from a flat colour draw: where the card is solid it equals
-    the depth-only draw of the same quad exactly (same vertex transform)."""
+    the depth-only draw of the same quad exactly (same vertex transform; seen from its front,
+    where that draw has it; perspective, where pyrender's depth is already linear)."""
     card, _ = _card("MASK", None)
     cam = perspective(np.radians(40), (48, 64), look_at([1.0, -2.0, 3.0], [0, 0, 0]), znear=0.5, zfar=10)
     d_card = renderer.depth(cam, [Item(card)])
-    d_quad = renderer.depth(cam, [Item(quad())])
+    raw = renderer.pyrender_depth(cam, [Item(quad())])
+    d_quad = np.where(raw > 0, raw, np.inf).astype(np.float32)
     solid = np.isfinite(d_card)
     assert 0 < solid.sum() < np.isfinite(d_quad).sum()
     assert np.array_equal(d_card[solid], d_quad[solid])

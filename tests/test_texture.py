@@ -12,6 +12,7 @@ from morphkit.conventions import ALPHA_CUTOFF, DEFAULT_COLOR
 from morphkit.errors import MeshError, ValidationError
 from morphkit.fidelity import gradient_quad, quad, textured_quad
 from morphkit.look import DIELECTRIC, MeshLookWarning, mesh_look
+from morphkit.meshes.parts import srgb_to_linear
 from morphkit.scene import Item
 from morphkit.texture import texture_rgba, texture_shape
 
@@ -136,7 +137,8 @@ def test_texture_without_uv_falls_back_to_its_mean_colour():
     with pytest.warns(MeshLookWarning, match="no UV coordinates: drawn in the texture's mean colour"):
         look = mesh_look(m)
     assert look.texture is None and look.plain
-    assert look.base_color == pytest.approx((100 / 255, 100 / 255, 100 / 255, 1.0))
+    lin = float(srgb_to_linear(100 / 255))  # the mean texel, sRGB-encoded: decoded into the factor
+    assert look.base_color == pytest.approx((lin, lin, lin, 1.0))
 
 
 def test_malformed_visuals_are_refused():

@@ -3,16 +3,21 @@
 A kind is an object implementing :class:`AssetKind`: a ``name`` (the key in
 the manifest), a file ``suffix`` (outputs are ``<out>/<asset><suffix>``), the
 ``version`` of the file format it writes, its ``options()`` (JSON: an asset
-is re-baked when they change) and ``bake(mesh, renderer)``, which returns
+is re-baked when they change) and ``bake(mesh, renderer, source_up)``, which returns
 something that saves itself to one file atomically (:class:`SavableAsset`:
 :meth:`ShadowAtlas.save <morphkit.shadow.atlas.ShadowAtlas.save>`, a
 billboard asset's ``save``). Kinds are pickled to the worker processes, so a
 kind is plain data (a frozen dataclass) plus those methods.
 
+Up axis. The worker loads each mesh once, turned ``+z`` up from the file's up
+axis (:func:`morphkit.meshes.load_mesh`; the run's ``BakeOptions.up``, resolved
+per file by :func:`morphkit.meshes.resolve_up`), and passes every kind the same
+mesh and that resolved axis as ``source_up`` (``"z"`` or ``"y"``), for a kind
+whose file records it. The manifest records it per asset either way.
+
 Implemented here: :class:`ShadowAtlasKind` (Kang & Ihm's k x k shadow atlas,
-:func:`morphkit.shadow.bake_atlas`). A billboard kind plugs in the same way
-(``bake`` returning ``morphkit.billboard.bake_asset(mesh, renderer, views=K,
-size=S)``, suffix ``.billboard.npz``).
+:func:`morphkit.shadow.bake_atlas`) and :class:`BillboardKind` (the view-morphing
+billboard asset, :func:`morphkit.billboard.bake_asset`, suffix ``.billboard.npz``).
 """
 
 from __future__ import annotations
@@ -96,15 +101,18 @@ class AssetKind(Protocol):
         """
         ...
 
-    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer, source_up: str) -> SavableAsset:
         """Bake one normalised mesh (:func:`morphkit.meshes.load_mesh`) with ``renderer``.
 
         Parameters
         ----------
         mesh : trimesh.Trimesh
-            The normalised mesh, object frame.
+            The normalised mesh, object frame (already turned ``+z`` up).
         renderer : SceneRenderer
             The renderer of this worker thread (``morphkit.bake.worker.worker_renderer``).
+        source_up : {"z", "y"}
+            The up axis the mesh file was loaded with (:func:`morphkit.meshes.resolve_up`), for a kind
+            whose file records it.
 
         Returns
         -------
@@ -189,15 +197,19 @@ class ShadowAtlasKind:
         return {"atlas_size": self.atlas_size, "grid": self.grid, "range": list(self.range),
                 "light": list(self.light), "directional": self.directional}
 
-    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer, source_up: str = "z") -> SavableAsset:
         """The shadow atlas of ``mesh`` (:func:`~morphkit.shadow.bake_atlas`) with these options.
 
         Parameters
         ----------
         mesh : trimesh.Trimesh
-            The normalised mesh, object frame (posed with the identity at the range's positions).
+            The normalised mesh, object frame, ``+z`` up (posed with the identity at the range's
+            positions).
         renderer : SceneRenderer
             Renders the light-view depth maps.
+        source_up : {"z", "y"}, optional
+            The up axis the file was loaded with; not stored in the atlas file (the bake manifest
+            records it per asset).
 
         Returns
         -------
@@ -249,15 +261,18 @@ class BillboardKind:
         """
         return {"views": self.views, "size": self.size, "distance_factor": float(self.distance_factor)}
 
-    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer) -> SavableAsset:
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer, source_up: str = "z") -> SavableAsset:
         """The billboard asset of ``mesh`` (reference views and every pair's morph prepared).
 
         Parameters
         ----------
         mesh : trimesh.Trimesh
-            The normalised mesh, object frame.
+            The normalised mesh, object frame, ``+z`` up.
         renderer : SceneRenderer
             Renders the reference views.
+        source_up : {"z", "y"}, optional
+            The up axis the file was loaded with (recorded in the bake manifest; see the note in the
+            body on the asset file).
 
         Returns
         -------
@@ -265,6 +280,9 @@ class BillboardKind:
             The billboard asset (:func:`~morphkit.billboard.bake_asset`), ``views`` reference views of
             ``size x size`` pixels.
         """
+        # UP AXIS -> ASSET FILE: the one place the resolved up axis would reach the billboard asset
+        # file, as ``bake_asset(..., source_up=source_up)``, once bake_asset accepts it (it does not
+        # yet; until then only the manifest records it).
         return bake_asset(mesh, renderer, views=self.views, size=self.size,
                           distance_factor=self.distance_factor)
 

@@ -6,13 +6,17 @@ One JSON file, ``<out>/manifest.json`` (:data:`MANIFEST_NAME`)::
      "options": {kind: {...}},               # the last run's options, per kind
      "run": {"started", "wall_s", "workers", "scheduler", "baked", "skipped", "failed"},
      "assets": {name: {"input": abs path, "input_sha256", "input_bytes",
+                       "up_axis": "z" | "y",
                        "status": "baked" | "skipped" | "failed", "error": str | null,
                        "outputs": {kind: {"file" (relative to <out>), "sha256", "bytes",
                                           "version", "options", "seconds"}},
                        "timings_s": {"load", kind..., "total", "cpu"}, "worker", "updated"}}}
 
 ``status`` is what the last run did with the asset; ``outputs`` always lists the
-files that are current for the recorded input.
+files that are current for the recorded input. ``up_axis`` is the up axis the
+input was loaded with for those outputs (the run's ``--up-axis`` resolved for
+the file by :func:`morphkit.meshes.resolve_up`); ``run`` records the requested
+``up`` (``"auto"``, ``"z"`` or ``"y"``).
 
 Nothing lost. The manifest file is only ever replaced atomically
 (:func:`morphkit.fileio.write_json`), and every finished asset's record is first
@@ -26,8 +30,12 @@ at the cost of one appended line per asset instead of rewriting the whole
 manifest per asset.
 
 Incremental: :meth:`Manifest.up_to_date` says whether an asset's output for a
-kind can be kept: same input hash, same options and format version, and the
-file still there with the recorded hash.
+kind can be kept: same input hash, same up axis, same options and format
+version, and the file still there with the recorded hash. A record without
+``up_axis`` (a manifest written before the bake had an up axis, when every file
+was loaded as it is stored) counts as ``"z"`` (:data:`LEGACY_UP_AXIS`): an OBJ
+or glTF library baked then, now ``"y"`` by default, is re-baked turned upright;
+a PLY or STL one is kept.
 """
 
 from __future__ import annotations
@@ -45,8 +53,8 @@ from ..errors import FileFormatError, expected_got
 from ..fileio import append_lines, write_json
 from .kinds import AssetKind, output_name
 
-__all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "OutputRecord",
-           "AssetRecord", "Manifest", "file_digest", "utc_now"]
+__all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
+           "OutputRecord", "AssetRecord", "Manifest", "file_digest", "utc_now"]
 
 #: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
@@ -54,8 +62,11 @@ MANIFEST_NAME = "manifest.json"
 JOURNAL_NAME = "manifest.journal"
 #: The format name stored in the manifest.
 MANIFEST_FORMAT = "morphkit-bake-manifest"
-#: The manifest format version this code reads and writes.
+#: The manifest format version this code reads and writes (``up_axis`` is optional in it).
 MANIFEST_VERSION = 1
+#: The up axis of a record without one: before the bake had an up axis every file was loaded
+#: as stored, i.e. taken as ``+z`` up.
+LEGACY_UP_AXIS = "z"
 
 
 def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
@@ -152,6 +163,9 @@ class AssetRecord:
         ``host:pid`` of the process that baked it.
     updated : str
         When the record was made (:func:`utc_now`); set by :meth:`Manifest.record` when empty.
+    up_axis : {"z", "y"}, optional
+        The up axis the input was loaded with for ``outputs`` (:func:`morphkit.meshes.resolve_up`);
+        ``None`` in records written before the bake had one (read as :data:`LEGACY_UP_AXIS`).
     """
 
     name: str
@@ -164,6 +178,7 @@ class AssetRecord:
     timings_s: dict[str, float] = field(default_factory=dict)
     worker: str | None = None
     updated: str = ""
+    up_axis: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The record as JSON types (the manifest's ``assets`` entry).
@@ -272,9 +287,10 @@ class Manifest:
         return m
 
     # ----------------------------------------------------------- incremental
-    def up_to_date(self, name: str, input_sha256: str, kind: AssetKind) -> bool:
-        """True when ``name``'s output for ``kind`` was baked from this input with these options
-        and format version, and the file is still there with the recorded hash.
+    def up_to_date(self, name: str, input_sha256: str, kind: AssetKind, *, up_axis: str) -> bool:
+        """True when ``name``'s output for ``kind`` was baked from this input, turned from this up
+        axis, with these options and format version, and the file is still there with the recorded
+        hash.
 
         Parameters
         ----------
@@ -284,6 +300,9 @@ class Manifest:
             Hex digest of the mesh file as it is now.
         kind : AssetKind
             The kind, with the options of this run.
+        up_axis : {"z", "y"}
+            The up axis this run loads the file with (resolved: :func:`morphkit.meshes.resolve_up`);
+            a record without one counts as :data:`LEGACY_UP_AXIS`.
 
         Returns
         -------
@@ -293,6 +312,8 @@ class Manifest:
         rec = self.assets.get(name)
         out = None if rec is None else rec.outputs.get(kind.name)
         if rec is None or out is None or rec.input_sha256 != input_sha256:
+            return False
+        if (rec.up_axis or LEGACY_UP_AXIS) != up_axis:
             return False
         if out.version != kind.version or _canonical(out.options) != _canonical(kind.options()):
             return False
@@ -315,7 +336,7 @@ class Manifest:
             self.assets[rec.name] = rec
         append_lines(self.journal, [json.dumps(r.to_dict(), allow_nan=False) for r in recs])
 
-    def mark_skipped(self, name: str, input_path: str) -> None:
+    def mark_skipped(self, name: str, input_path: str, *, up_axis: str) -> None:
         """This run kept ``name``'s outputs, baked from ``input_path`` (in memory; written by
         :meth:`commit`).
 
@@ -325,10 +346,14 @@ class Manifest:
             Asset name, already in the manifest.
         input_path : str
             The mesh file this run found for it, absolute path.
+        up_axis : {"z", "y"}
+            The up axis its outputs were baked with (:meth:`up_to_date` checked it), recorded where
+            an older record had none.
         """
         self.assets[name].input = input_path
         self.assets[name].status = "skipped"
         self.assets[name].error = None
+        self.assets[name].up_axis = up_axis
 
     def commit(self) -> Path:
         """Write the manifest atomically, then drop the journal it now contains.

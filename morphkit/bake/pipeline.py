@@ -26,11 +26,12 @@ from dataclasses import dataclass, field
 
 from ..errors import ValidationError, expected_got
 from ..fileio import check_writable
+from ..meshes import UP_AXES, resolve_up
 from ..validate import as_int
 from .cluster import open_client
 from .inputs import AssetInput, find_inputs
 from .kinds import AssetKind, ShadowAtlasKind
-from .manifest import AssetRecord, Manifest, file_digest, utc_now
+from .manifest import LEGACY_UP_AXIS, AssetRecord, Manifest, file_digest, utc_now
 from .worker import BakeTask, bake_task
 
 __all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS"]
@@ -51,9 +52,15 @@ class BakeOptions:
     ----------
     kinds : tuple of AssetKind
         Distinct names and suffixes; default: one :class:`~morphkit.bake.kinds.ShadowAtlasKind`.
+    up : {"auto", "z", "y"}
+        The mesh files' up axis (``morphkit bake --up-axis``): ``"auto"`` is each format's default
+        (:func:`morphkit.meshes.resolve_up`: glTF/GLB and OBJ ``+y``, every other format ``+z``).
+        Every kind bakes the mesh turned ``+z`` up from it; the axis used is recorded per asset
+        in the manifest and is part of what decides whether an asset is up to date.
     """
 
     kinds: tuple[AssetKind, ...] = field(default_factory=lambda: (ShadowAtlasKind(),))
+    up: str = "auto"
 
     def __post_init__(self) -> None:
         kinds = tuple(self.kinds)
@@ -68,6 +75,10 @@ class BakeOptions:
             if len(set(values)) != len(values):
                 raise ValidationError(expected_got(f"bake kind {attr}s", "distinct", values))
         object.__setattr__(self, "kinds", kinds)
+        if not isinstance(self.up, str) or self.up.lower() not in ("auto", *UP_AXES):
+            raise ValidationError(expected_got("bake up axis", "'auto', " + " or ".join(map(repr, UP_AXES))
+                                               + " (morphkit's world is +z up)", repr(self.up)))
+        object.__setattr__(self, "up", self.up.lower())
 
     def as_dict(self) -> dict[str, dict]:
         """``{kind name: options}``.
@@ -138,18 +149,20 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     manifest = Manifest.open(folder)
     manifest.options = options.as_dict()
 
-    def plan(a: AssetInput) -> tuple[AssetInput, str, int, tuple[AssetKind, ...]]:
+    def plan(a: AssetInput) -> tuple[AssetInput, str, int, str, tuple[AssetKind, ...]]:
         sha, size = file_digest(a.path)
-        return a, sha, size, tuple(k for k in options.kinds if not manifest.up_to_date(a.name, sha, k))
+        up = resolve_up(a.path, options.up)
+        return a, sha, size, up, tuple(k for k in options.kinds
+                                       if not manifest.up_to_date(a.name, sha, k, up_axis=up))
 
     tasks: list[BakeTask] = []
     # hashing reads every input and every existing output: threads (hashlib releases the GIL)
     with ThreadPoolExecutor(max_workers=HASH_THREADS) as pool:
-        for a, sha, size, stale in pool.map(plan, assets):
+        for a, sha, size, up, stale in pool.map(plan, assets):
             if stale:
-                tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
+                tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale, up))
             else:
-                manifest.mark_skipped(a.name, str(a.path))
+                manifest.mark_skipped(a.name, str(a.path), up_axis=up)
     # largest inputs first: a long task started last would leave the other workers idle at the end
     tasks.sort(key=lambda t: -t.input_bytes)
     names = [a.name for a in assets]
@@ -186,7 +199,7 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     counts = manifest.counts(names)
     manifest.run = {"started": started, "wall_s": round(time.perf_counter() - t_start, 3),
                     "workers": n_workers if tasks else 0,
-                    "scheduler": scheduler or ("local" if tasks else None),
+                    "scheduler": scheduler or ("local" if tasks else None), "up": options.up,
                     "assets": len(assets), **counts}
     manifest.commit()
     return manifest
@@ -195,9 +208,12 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
 def _record(manifest: Manifest, task: BakeTask, fut: object) -> AssetRecord:
     """The manifest record of a finished future: its outputs, or its error."""
     old = manifest.assets.get(task.name)
-    keep = {} if old is None or old.input_sha256 != task.input_sha256 else dict(old.outputs)
+    # outputs of other kinds are kept only when baked from the same file turned the same way
+    same = (old is not None and old.input_sha256 == task.input_sha256
+            and (old.up_axis or LEGACY_UP_AXIS) == task.up_axis)
+    keep = dict(old.outputs) if same else {}
     base = {"name": task.name, "input": task.input_path, "input_sha256": task.input_sha256,
-            "input_bytes": task.input_bytes}
+            "input_bytes": task.input_bytes, "up_axis": task.up_axis}
     res = None
     if fut.cancelled():  # type: ignore[attr-defined]
         error = "the task was cancelled (the scheduler or its workers went away); a rerun bakes it"

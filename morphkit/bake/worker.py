@@ -1,10 +1,12 @@
 """The worker side of a bake: one task bakes one asset, in whatever process runs it.
 
 A task (:class:`BakeTask`, plain picklable data) names the mesh file, the hash
-the driver read, the output folder and the kinds to bake. :func:`bake_task`
+the driver read, the output folder, the kinds to bake and the file's up axis
+(resolved by the driver, :func:`morphkit.meshes.resolve_up`). :func:`bake_task`
 re-hashes the file (a file changed since the driver read it is refused, so
-the manifest's hash is the one baked), loads it with
-:func:`morphkit.meshes.load_mesh`, bakes each kind and saves each output
+the manifest's hash is the one baked), loads it once with
+:func:`morphkit.meshes.load_mesh` turned ``+z`` up from that axis, bakes each
+kind from it (passing the axis as ``source_up``) and saves each output
 atomically (the kinds' ``save`` writes through :mod:`morphkit.fileio`), then
 hashes what it wrote. A mesh that cannot be baked (a
 :class:`~morphkit.errors.MorphkitError`: unreadable, empty, degenerate) gives a
@@ -85,6 +87,9 @@ class BakeTask:
         The output folder.
     kinds : tuple of AssetKind
         The kinds to bake.
+    up_axis : {"z", "y"}
+        The mesh file's up axis, resolved (:func:`morphkit.meshes.resolve_up`): the mesh is
+        loaded turned ``+z`` up from it.
     """
 
     name: str
@@ -93,6 +98,7 @@ class BakeTask:
     input_bytes: int
     out_dir: str
     kinds: tuple[AssetKind, ...]
+    up_axis: str
 
 
 @dataclass(frozen=True)
@@ -152,7 +158,7 @@ def _bake(task: BakeTask, worker: str) -> TaskResult:
         raise MeshError(expected_got(f"mesh file {task.input_path!r}",
                                      f"the content hashed before the bake (sha256 {task.input_sha256[:12]})",
                                      f"sha256 {digest[:12]} (changed while baking)"))
-    mesh = load_mesh(task.input_path)
+    mesh = load_mesh(task.input_path, up=task.up_axis)
     timings = {"load": time.perf_counter() - t0}
     renderer = worker_renderer()
     outputs = {}
@@ -161,7 +167,7 @@ def _bake(task: BakeTask, worker: str) -> TaskResult:
         rel = output_name(task.name, kind)
         target = Path(task.out_dir) / rel
         target.parent.mkdir(parents=True, exist_ok=True)
-        kind.bake(mesh, renderer).save(target)
+        kind.bake(mesh, renderer, task.up_axis).save(target)
         sha, nbytes = file_digest(target)
         dt = time.perf_counter() - t
         outputs[kind.name] = OutputRecord(rel, sha, nbytes, kind.version, kind.options(), dt)

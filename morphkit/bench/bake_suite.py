@@ -2,8 +2,9 @@
 
 Library (generated, stated once): 16 meshes of mixed size written to a temporary
 folder -- the cow-like mesh at 4k..100k faces (``.ply``), the teapot at
-resolutions 4..24 (1k..37k faces, ``.obj``), the chair with 2..5 slats
-(``.ply``); each baked into one 512 x 512, 3 x 3 shadow atlas (the
+resolutions 4..24 (1k..37k faces, ``.obj``, written ``+y`` up as exporters write
+OBJ, so that :func:`~morphkit.meshes.load_mesh` turns them back upright), the chair
+with 2..5 slats (``.ply``); each baked into one 512 x 512, 3 x 3 shadow atlas (the
 :class:`~morphkit.bake.ShadowAtlasKind` defaults). ``--quick``: 8 of them at 256 x 256.
 
 Rows (``what``):
@@ -83,7 +84,7 @@ import morphkit
 from ..bake import BakeOptions, ShadowAtlasKind, bake_library, find_inputs, open_client, worker_renderer
 from ..errors import ValidationError, expected_got
 from ..fileio import append_lines
-from ..meshes import chair, cow, load_mesh, teapot
+from ..meshes import Y_UP_TO_Z_UP, chair, cow, load_mesh, resolve_up, teapot
 from ..settings import child_environment, numba
 from .harness import Timing, make_row
 
@@ -125,13 +126,17 @@ def write_library(folder: Path, quick: bool) -> list[Path]:
     Returns
     -------
     list of pathlib.Path
-        The mesh files written.
+        The mesh files written; each loads (:func:`~morphkit.meshes.load_mesh`, ``up="auto"``)
+        upright: a format read ``+y`` up (OBJ) is written ``+y`` up.
     """
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     for name, arg, suffix in LIBRARY[::2] if quick else LIBRARY:
         p = folder / f"{name}_{arg}{suffix}"
-        _BUILD[name](arg).export(p)
+        mesh = _BUILD[name](arg)
+        if resolve_up(p) == "y":
+            mesh.apply_transform(Y_UP_TO_Z_UP.T)  # the inverse rotation: +z up -> +y up
+        mesh.export(p)
         paths.append(p)
     return paths
 
@@ -324,7 +329,8 @@ def _serial(paths: list[Path], kind: ShadowAtlasKind, out: Path) -> None:
     out.mkdir(parents=True)
     renderer = worker_renderer()
     for p in paths:
-        kind.bake(load_mesh(p), renderer).save(out / f"{p.stem}{kind.suffix}")
+        up = resolve_up(p)  # as bake_library resolves it (BakeOptions' default "auto")
+        kind.bake(load_mesh(p, up=up), renderer, up).save(out / f"{p.stem}{kind.suffix}")
 
 
 @contextmanager

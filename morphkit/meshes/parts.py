@@ -30,7 +30,7 @@ What each part becomes in the merged mesh (the renderer's rules,
   :data:`ALIGNED_ATLAS_MAX_SIDE` is laid out compactly instead (cells padded by
   :data:`ATLAS_PADDING` repeated texels; mip-maps then mix neighbours).
 * **a colour without texture** (glTF factor only; OBJ ``Kd`` only; a part
-  without any visuals: :data:`PLAIN_PART_COLOR`): a one-texel cell of that
+  without any visuals: :data:`~morphkit.conventions.DEFAULT_COLOR`): a one-texel cell of that
   colour (sRGB-encoded), every UV at its centre.
 * **vertex colours** (PLY, glTF ``COLOR_0``): kept as vertex colours
   (``visual.vertex_attributes["color"]``; they multiply the texture), the part's
@@ -52,14 +52,13 @@ A file with one part is never merged: its visuals are returned untouched. Parts
 without any material or texture stay ``ColorVisuals`` (no atlas): no visuals if no
 part has colours, face colours if every part has face colours, else vertex colours
 (a face-coloured part's faces unshared, a part without colours in
-:data:`PLAIN_PART_COLOR`).
+:data:`~morphkit.conventions.DEFAULT_COLOR`).
 
 Measured against drawing the parts as separate items (wt-render24's renderer,
 256^2 and 1024^2 views of :func:`morphkit.fixtures.write_two_part_gltf` and
 :func:`morphkit.fixtures.write_leaf_plant`): coverage identical, lit colour and
-albedo within 1 level everywhere, except the albedo of factor-only parts, which
-the renderer's albedo pass takes "as stored" (a factor unencoded, a texel
-sRGB-encoded), so a factor baked into a texel shows there as its sRGB encoding.
+albedo within 1 level everywhere (the albedo pass encodes a factor as it encodes
+the texel it is baked into: :mod:`morphkit.conventions`, "Colour").
 A compact atlas differs where textures are minified (a 64^2 photo on ~80 px:
 mean 4.6 levels, p99 32). The atlas is subject to the renderer's texture size limits.
 """
@@ -76,6 +75,7 @@ import trimesh
 from PIL import Image
 
 from .. import tol
+from ..conventions import DEFAULT_COLOR
 from ..errors import AssetWarning, MeshError, expected_got
 
 __all__ = ["ATLAS_PADDING", "ALIGNED_ATLAS_MAX_SIDE", "PLAIN_PART_COLOR", "merge_parts", "scene_parts",
@@ -88,9 +88,10 @@ ATLAS_PADDING = 2
 #: (4096^2 texels); an atlas that would be larger is laid out compactly instead.
 ALIGNED_ATLAS_MAX_SIDE = 4096
 
-#: Linear RGB of a part without visuals when merged with parts that have some:
-#: the renderer's default colour (``DEFAULT_COLOR`` of :mod:`morphkit.conventions`).
-PLAIN_PART_COLOR = (0.7, 0.7, 0.7)
+#: Linear RGB of a part without visuals when merged with parts that have some: the
+#: renderer's default colour, :data:`morphkit.conventions.DEFAULT_COLOR` itself (this name
+#: is kept for existing imports).
+PLAIN_PART_COLOR: tuple[float, float, float] = DEFAULT_COLOR
 
 #: The cut-out threshold of glTF ``BLEND`` materials and of OBJ textures with alpha
 #: (glTF's default ``alphaCutoff``).
@@ -254,7 +255,7 @@ def _texture_part(mesh: trimesh.Trimesh, name: str, cache: dict[Any, Any]) -> _P
         raise MeshError(expected_got(name, "one material per part",
                                      f"a MultiMaterial of {len(mat.materials)}"))
     if _placeholder(mat):
-        image, factor, cutoff = None, np.array([*PLAIN_PART_COLOR, 1.0]), None
+        image, factor, cutoff = None, np.array([*DEFAULT_COLOR, 1.0]), None
     elif isinstance(mat, trimesh.visual.material.PBRMaterial):
         factor = np.ones(4) if mat.baseColorFactor is None else _factor(mat.baseColorFactor)
         image = mat.baseColorTexture
@@ -330,7 +331,7 @@ def _part(mesh: trimesh.Trimesh, name: str, cache: dict[Any, Any] | None = None)
         vc = np.repeat(np.asarray(visual.face_colors, np.uint8), 3, axis=0)
         vc[:, 3] = 255
         return _Part(split, white, None, vc, None, (None, None))
-    return _Part(mesh, _flat(np.array([*PLAIN_PART_COLOR, 1.0])), None, None, None, (None, None))
+    return _Part(mesh, _flat(np.array([*DEFAULT_COLOR, 1.0])), None, None, None, (None, None))
 
 
 def _tiles(part: _Part, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -524,8 +525,8 @@ def face_base_colors(mesh: trimesh.Trimesh) -> np.ndarray:
     ``factor x texture x vertex colour`` as the module notes read a mesh's visuals:
     the texture's nearest texel to the face's UV centroid (UVs repeat), sRGB-decoded;
     the mean of the face's three vertex colours, decoded; face colours decoded; a mesh
-    without visuals :data:`PLAIN_PART_COLOR`. Alpha is linear (``texel / 255``), 1 for
-    opaque looks. Used to check that merging keeps every part's colour.
+    without visuals :data:`~morphkit.conventions.DEFAULT_COLOR`. Alpha is linear
+    (``texel / 255``), 1 for opaque looks. Used to check that merging keeps every part's colour.
 
     Parameters
     ----------

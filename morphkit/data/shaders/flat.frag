@@ -109,6 +109,15 @@ vec4 srgb_to_linear(vec4 srgb)
 #endif
 }
 
+// morphkit: the exact sRGB encoding (the albedo pass writes sRGB-encoded base colour)
+vec4 linear_to_srgb(vec4 lin)
+{
+    vec3 c = clamp(lin.xyz, 0.0, 1.0);
+    vec3 b_less = step(vec3(0.0031308), c);
+    vec3 srgb_out = mix(c * vec3(12.92), vec3(1.055) * pow(c, vec3(1.0 / 2.4)) - vec3(0.055), b_less);
+    return vec4(srgb_out, lin.w);
+}
+
 ///////////////////////////////////////////////////////////////////////////////
 // MAIN
 ///////////////////////////////////////////////////////////////////////////////
@@ -116,13 +125,15 @@ void main()
 {
 
     // Compute albedo
+    // morphkit: in linear light, as mesh.frag lights it: the factor is linear, texels and
+    // vertex colours are sRGB-encoded and decoded here; the result is encoded below.
     vec4 base_color = material.base_color_factor;
 #ifdef HAS_BASE_COLOR_TEX
-    base_color = base_color * texture(material.base_color_texture, uv_0);
+    base_color = base_color * srgb_to_linear(texture(material.base_color_texture, uv_0));
 #endif
 
 #ifdef COLOR_0_LOC
-    base_color *= color_multiplier;
+    base_color *= srgb_to_linear(color_multiplier);
 #endif
 
     // morphkit: cut-out texels are holes. A look without a cutoff has every alpha at 1;
@@ -131,5 +142,6 @@ void main()
     if (base_color.a < 0.5) {
         discard;
     }
-    frag_color = clamp(base_color, 0.0, 1.0);
+    // morphkit: sRGB-encoded, like every colour image (a texel comes out as itself)
+    frag_color = clamp(linear_to_srgb(base_color), 0.0, 1.0);
 }
