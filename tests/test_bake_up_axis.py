@@ -199,3 +199,17 @@ def test_billboard_kind_bakes_the_mesh_turned_upright(tmp_path, scheduler):
     for k in range(asset.ring.views):  # a standing object in every reference view: taller than wide
         rows, cols = np.nonzero(asset.reference(k)[..., 3] > 0.5)
         assert np.ptp(rows) > 2 * np.ptp(cols), k
+    assert asset.source_up == "y"  # the resolved axis kept in the asset file too
+
+
+@pytest.mark.gl
+def test_shadow_playback_reloads_the_mesh_with_the_baked_axis(tmp_path, scheduler):
+    from morphkit.shadow.playback import baked_mesh
+
+    lib = tall_library(tmp_path / "lib")
+    src = lib / "tall_obj.obj"
+    for up, height in (("z", THIN), ("auto", TALL)):  # taken as stored, and turned +y -> +z
+        out = tmp_path / f"out_{up}"
+        bake_library([src], out, options=BakeOptions((TINY,), up=up), scheduler=scheduler, progress=False)
+        mesh = baked_mesh(out / "tall_obj.atlas.npz")
+        assert np.ptp(mesh.vertices[:, 2]) == pytest.approx(height, abs=1e-6), up

@@ -32,11 +32,10 @@ import trimesh
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
-from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
-from ..validate import as_finite_array
+from ..validate import as_finite_array, as_int
 
 __all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "output_name", "WARP_LIGHT",
            "WARP_RANGE"]
@@ -151,8 +150,8 @@ class ShadowAtlasKind:
     version: ClassVar[int] = ATLAS_VERSION
 
     def __post_init__(self) -> None:
-        size = _int_in(self.atlas_size, "atlas size", 8, 8192)
-        grid = _int_in(self.grid, "grid", 2, 64)
+        size = as_int(self.atlas_size, "atlas size", lo=8, hi=8192)
+        grid = as_int(self.grid, "grid", lo=2, hi=64)
         rng = as_finite_array(self.range, "range (x0, y0, x1, y1)", shape=(4,))
         light = as_finite_array(self.light, "light", shape=(3,))
         object.__setattr__(self, "atlas_size", size)
@@ -245,8 +244,8 @@ class BillboardKind:
     version: ClassVar[int] = BILLBOARD_VERSION
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "views", _int_in(self.views, "billboard views", 2, 64))
-        object.__setattr__(self, "size", _int_in(self.size, "billboard size", 16, 2048))
+        object.__setattr__(self, "views", as_int(self.views, "billboard views", lo=2, hi=64))
+        object.__setattr__(self, "size", as_int(self.size, "billboard size", lo=16, hi=2048))
         object.__setattr__(self, "distance_factor",
                            check_distance_factor(self.distance_factor, "billboard distance_factor"))
 
@@ -280,17 +279,9 @@ class BillboardKind:
             The billboard asset (:func:`~morphkit.billboard.bake_asset`), ``views`` reference views of
             ``size x size`` pixels.
         """
-        # UP AXIS -> ASSET FILE: the one place the resolved up axis would reach the billboard asset
-        # file, as ``bake_asset(..., source_up=source_up)``, once bake_asset accepts it (it does not
-        # yet; until then only the manifest records it).
+        # the resolved up axis is kept in the asset file too (and in the manifest)
         return bake_asset(mesh, renderer, views=self.views, size=self.size,
-                          distance_factor=self.distance_factor)
-
-
-def _int_in(v: Any, what: str, lo: int, hi: int) -> int:
-    if isinstance(v, bool) or not isinstance(v, int | np.integer) or not lo <= int(v) <= hi:
-        raise ValidationError(expected_got(what, f"an integer in [{lo}, {hi}]", repr(v)))
-    return int(v)
+                          distance_factor=self.distance_factor, source_up=source_up)
 
 
 def output_name(asset: str, kind: AssetKind) -> str:

@@ -28,7 +28,7 @@ import numpy as np
 import trimesh
 from tqdm import tqdm
 
-from ..bake.manifest import MANIFEST_NAME, Manifest, file_digest
+from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
 from ..fileio import atomic_output, write_image
@@ -236,12 +236,12 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
         The mesh file is missing or unreadable.
     """
     atlas = Path(atlas_path).resolve()
-    recorded: tuple[str, str] | None = None
+    recorded: tuple[str, str, str] | None = None
     for folder in [atlas.parent, *atlas.parent.parents]:
         if (folder / MANIFEST_NAME).is_file():
             for rec in Manifest.open(folder).assets.values():
                 if any((folder / o.file).resolve() == atlas for o in rec.outputs.values()):
-                    recorded = (rec.input, rec.input_sha256)
+                    recorded = (rec.input, rec.input_sha256, rec.up_axis or LEGACY_UP_AXIS)
                     break
         if recorded is not None:
             break
@@ -257,7 +257,8 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
         if got != recorded[1]:
             raise FileFormatError(expected_got(f"mesh {str(path)!r}", "the file the atlas was baked from "
                                                f"(sha256 {recorded[1][:12]})", f"sha256 {got[:12]}"))
-    return load_mesh(path)
+    # the axis the atlas was baked with (the manifest's); a mesh given alone: its format's default
+    return load_mesh(path, up=recorded[2] if recorded is not None else "auto")
 
 
 def area_light_for(atlas: ShadowAtlas, width: float, height: float) -> AreaLight:
