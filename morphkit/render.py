@@ -84,7 +84,7 @@ linear light (factor x decoded texel x decoded vertex colour) and writes it
 sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY`` draws
 ignore materials (no cut-outs) and always cull back faces (pyrender), dropping
 an open surface seen from behind that the two-sided colour draw shows. So a
-depth image with a cut-out item, or a mesh that is not a :func:`closed_volume`
+depth image with a cut-out item, or a mesh that is not a :func:`~morphkit.meshes.closed_volume`
 (decided once per mesh, by the first depth image showing it), in view is taken
 from a flat colour draw (no culling; same vertex transform, so the same depth).
 Closed volumes keep ``DEPTH_ONLY``: seen from outside, their front faces hide
@@ -109,6 +109,7 @@ from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
 from .glplatform import GL_LIBRARIES, explain_gl_failure, missing_gl_libraries
 from .look import DIELECTRIC, SurfaceLook, mesh_look
+from .meshes import closed_volume
 from .passes import RenderPasses, area_straight, as_uint8, decode_normals, supersampled_camera
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
@@ -415,7 +416,7 @@ class _Context:
                         self.scene.remove_node(node)
 
     def depth_needs_flat_draw(self) -> bool:
-        """Whether an upload shown has cut-outs or is not a :func:`closed_volume` (decided once each)."""
+        """Whether an upload shown has cut-outs or is not a closed volume (decided once each)."""
         for k in self.shown:
             if k not in self.flat_depth:
                 self.flat_depth[k] = not closed_volume(self.pool_mesh[k])
@@ -440,42 +441,6 @@ class _Context:
         for light in lights:
             for pl in _as_pyrender_lights(light):
                 self.light_nodes.append(self.scene.add(pl[0], pose=pl[1]))
-
-
-def closed_volume(mesh: trimesh.Trimesh) -> bool:
-    """Whether ``mesh`` bounds a volume with outward faces: seen from outside, its front faces
-    hide every back face (so its ``DEPTH_ONLY`` depth, back faces culled, is complete).
-
-    Every directed edge ``a -> b`` must occur once, with its reverse ``b -> a`` (closed and
-    consistently wound; vertices at one position count as one where the indices alone fail,
-    as at UV seams), and the signed volume must be positive (outward).
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh
-        The mesh.
-
-    Returns
-    -------
-    bool
-        True for a closed, consistently and outward wound surface.
-    """
-    faces = np.asarray(mesh.faces, dtype=np.int64)
-    verts = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
-    if len(faces) == 0:
-        return False
-
-    def paired(ids: np.ndarray) -> bool:
-        a, b, n = ids.reshape(-1), ids[:, [1, 2, 0]].reshape(-1), int(ids.max()) + 1
-        fwd = np.sort(a * n + b)
-        return not np.any(fwd[1:] == fwd[:-1]) and np.array_equal(fwd, np.sort(b * n + a))
-
-    if not paired(faces):
-        rows = verts.view(np.dtype((np.void, verts.dtype.itemsize * 3))).reshape(-1)
-        if not paired(np.unique(rows, return_inverse=True)[1].reshape(-1)[faces]):
-            return False
-    v = verts[faces]
-    return float(np.einsum("ij,ij->", v[:, 0], np.cross(v[:, 1], v[:, 2]))) > 0.0
 
 
 def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]:

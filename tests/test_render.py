@@ -231,8 +231,7 @@ def test_closed_volumes_keep_the_depth_only_draw(renderer):
 
 def test_closed_volume_tells_closed_outward_surfaces():
     from morphkit.fidelity import quad
-    from morphkit.meshes import chair, teapot
-    from morphkit.render import closed_volume
+    from morphkit.meshes import chair, closed_volume, teapot
 
     box = trimesh.creation.box()
     inside_out = box.copy()

@@ -13,7 +13,16 @@ The names are re-exported here: ``from morphkit.meshes import sample_mesh, load_
 
 from __future__ import annotations
 
-from .loading import UP_AXES, UP_AXIS_BY_FORMAT, Y_UP_TO_Z_UP, check_mesh, load_mesh, normalize, resolve_up
+from .loading import (
+    UP_AXES,
+    UP_AXIS_BY_FORMAT,
+    Y_UP_TO_Z_UP,
+    check_mesh,
+    closed_volume,
+    load_mesh,
+    normalize,
+    resolve_up,
+)
 from .parts import copy_with_look, face_base_colors, merge_parts, scene_parts
 from .samples import (
     BILLBOARD_MESHES,
@@ -32,6 +41,7 @@ __all__ = [
     "BILLBOARD_MESHES",
     "normalize",
     "check_mesh",
+    "closed_volume",
     "load_mesh",
     "resolve_up",
     "UP_AXES",

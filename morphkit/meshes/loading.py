@@ -61,8 +61,8 @@ from .. import tol
 from ..errors import AssetWarning, MeshError, expected_got
 from .parts import copy_with_look, merge_parts, scene_parts
 
-__all__ = ["normalize", "check_mesh", "load_mesh", "resolve_up", "UP_AXES", "UP_AXIS_BY_FORMAT",
-           "Y_UP_TO_Z_UP"]
+__all__ = ["normalize", "check_mesh", "closed_volume", "load_mesh", "resolve_up", "UP_AXES",
+           "UP_AXIS_BY_FORMAT", "Y_UP_TO_Z_UP"]
 
 #: The up axes :func:`load_mesh` accepts besides ``"auto"``.
 UP_AXES = ("z", "y")
@@ -363,3 +363,39 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     if axis == "y":
         mesh.apply_transform(Y_UP_TO_Z_UP)
     return normalize(mesh)
+
+
+def closed_volume(mesh: trimesh.Trimesh) -> bool:
+    """Whether ``mesh`` bounds a volume with outward faces: seen from outside, its front faces
+    hide every back face (so its ``DEPTH_ONLY`` depth, back faces culled, is complete).
+
+    Every directed edge ``a -> b`` must occur once, with its reverse ``b -> a`` (closed and
+    consistently wound; vertices at one position count as one where the indices alone fail,
+    as at UV seams), and the signed volume must be positive (outward).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The mesh.
+
+    Returns
+    -------
+    bool
+        True for a closed, consistently and outward wound surface.
+    """
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    verts = np.ascontiguousarray(mesh.vertices, dtype=np.float64)
+    if len(faces) == 0:
+        return False
+
+    def paired(ids: np.ndarray) -> bool:
+        a, b, n = ids.reshape(-1), ids[:, [1, 2, 0]].reshape(-1), int(ids.max()) + 1
+        fwd = np.sort(a * n + b)
+        return not np.any(fwd[1:] == fwd[:-1]) and np.array_equal(fwd, np.sort(b * n + a))
+
+    if not paired(faces):
+        rows = verts.view(np.dtype((np.void, verts.dtype.itemsize * 3))).reshape(-1)
+        if not paired(np.unique(rows, return_inverse=True)[1].reshape(-1)[faces]):
+            return False
+    v = verts[faces]
+    return float(np.einsum("ij,ij->", v[:, 0], np.cross(v[:, 1], v[:, 2]))) > 0.0
