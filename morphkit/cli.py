@@ -75,6 +75,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
     from .errors import FileFormatError, ValidationError, expected_got
     from .fileio import encode_image, read_image, write_bytes
+    from .outfolder import VIEWMORPH_OUTPUT, claim_output
     from .viewmorph import ViewMorpher, from_images, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -103,6 +104,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
             raise ValidationError(expected_got("output", "an image file path (or --frames N for a folder)",
                                                f"the folder {str(out)!r}"))
         encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
+    claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
     left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
@@ -123,10 +125,11 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
           + (f", F by {fit.method}: Sampson RMS {fit.sampson_rms:.3f} px" if fit is not None else "")
           + (f"; fallback: {rep.fallback}" if rep.fallback is not None else ""))
     kw = {"post": args.post, "frame": args.frame}
-    if args.frames:
-        for i, img in enumerate(vm.frames(args.frames, **kw)):
-            name = out / f"frame_{i:03d}.png"
-            write(name, encode(name, img))
+    if claim is not None:
+        with claim.writing():
+            for i, img in enumerate(vm.frames(args.frames, **kw)):
+                name = out / f"frame_{i:03d}.png"
+                write(name, encode(name, img))
         print(f"wrote {args.frames} frames to {out.resolve()}")
     else:
         write(out, encode(out, vm.morph(args.s, **kw)))
@@ -351,6 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--frame", default="contain", choices=["contain", "fit", "fixed"],
                    help="crop/size policy (default: %(default)s)")
     v.add_argument("-o", "--out", required=True, help="output image (or folder with --frames)")
+    v.add_argument("--overwrite", action="store_true", help="with --frames: replace a previous run in OUT")
     v.set_defaults(func=_cmd_viewmorph)
 
     k = sub.add_parser(
