@@ -460,7 +460,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError` or an
         ``OSError`` (a file system failure: disk full, folder removed), printed to stderr as one
-        line ``morphkit: error: ...``.
+        line ``morphkit: error: ...`` (2 for an :class:`~morphkit.errors.OutputExistsError`, an
+        output folder refused), 130 after Ctrl-C (``morphkit: interrupted``).
     """
     args = build_parser().parse_args(argv)
     try:

@@ -157,7 +157,7 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
 
     def plan(a: AssetInput) -> tuple[AssetInput, str, int, tuple[AssetKind, ...] | OSError]:
         try:
-            sha, size = regular_file_digest(a.path)
+            sha, size = _regular_file_digest(a.path)
         except OSError as exc:  # a broken link, a FIFO, an unreadable file: this asset fails, not the run
             return a, "", 0, exc
         return a, sha, size, tuple(k for k in options.kinds if not manifest.up_to_date(a.name, sha, k))
@@ -167,7 +167,7 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
     with ThreadPoolExecutor(max_workers=HASH_THREADS) as pool:
         for a, sha, size, stale in pool.map(plan, assets):
             if isinstance(stale, OSError):
-                manifest.record(unreadable_record(manifest, a, stale))
+                manifest.record(_unreadable_record(manifest, a, stale))
             elif stale:
                 tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale))
             else:
@@ -221,7 +221,7 @@ def _key_safe(name: str) -> str:
     return name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
 
 
-def regular_file_digest(path: Path) -> tuple[str, int]:
+def _regular_file_digest(path: Path) -> tuple[str, int]:
     """:func:`~.manifest.file_digest` of a regular file; anything else is refused unopened.
 
     Parameters
@@ -246,7 +246,7 @@ def regular_file_digest(path: Path) -> tuple[str, int]:
     return file_digest(path)
 
 
-def unreadable_record(manifest: Manifest, a: AssetInput, exc: OSError) -> AssetRecord:
+def _unreadable_record(manifest: Manifest, a: AssetInput, exc: OSError) -> AssetRecord:
     """The failed record of an asset whose input cannot be read (its old outputs are kept).
 
     Parameters
