@@ -21,7 +21,8 @@ folder) before any work and before anything is created: a refusal leaves no
 folder behind. :func:`claim_output` makes the check (no side effect);
 :meth:`OutputClaim.writing` creates the folder, takes its lock (:data:`LOCK_NAME`,
 ``fcntl.flock``: a second run into the same folder at the same time is refused,
-:class:`~morphkit.errors.OutputBusyError`) and writes the marker. A run that
+:class:`~morphkit.errors.OutputBusyError`), removes the temporary files of a killed
+run (:data:`TEMPORARY`; a run that is killed cannot remove its own) and writes the marker. A run that
 fails or is interrupted before writing anything removes what it created.
 """
 
@@ -31,6 +32,7 @@ import fcntl
 import fnmatch
 import json
 import os
+import re
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -53,6 +55,10 @@ LOCK_NAME = ".morphkit-output.lock"
 #: Names of files morphkit itself leaves in a folder: its marker and lock, and the temporary
 #: files of an atomic write (:mod:`morphkit.fileio`) a killed process could not remove.
 HOUSEKEEPING = (MARKER_NAME, LOCK_NAME, ".*.part*", ".morphkit-probe-*")
+
+#: A temporary file of :func:`morphkit.fileio.atomic_output` (``.<stem>.<8 random>.part<suffix>``)
+#: or :func:`morphkit.fileio.check_writable`'s probe: left only by a process that was killed.
+TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8})$")
 
 
 @dataclass(frozen=True)
@@ -204,6 +210,10 @@ class OutputClaim:
                 ) from None
             os.ftruncate(lock, 0)
             os.pwrite(lock, str(os.getpid()).encode(), 0)
+            for rel in _files(p):  # locked: a temporary file here is a killed run's, half written
+                if TEMPORARY.match(rel.rsplit("/", 1)[-1]):
+                    with suppress(OSError):
+                        (p / rel).unlink()
             before = _files(p) if self.previous and not self.rule.resume else {}
             marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
                       "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}

@@ -131,3 +131,21 @@ def test_a_second_writer_is_refused_while_the_first_holds_the_lock(tmp_path):
         assert (out / MARKER_NAME).is_file()  # the first run's marker is untouched
     with claim_output(out, BAKE_OUTPUT).writing():  # released: the next run goes on
         pass
+
+
+def test_a_killed_runs_temporary_files_are_removed_by_the_next_run(tmp_path):
+    import tempfile
+
+    out = tmp_path / "o"
+    with claim_output(out, BAKE_OUTPUT).writing():
+        (out / "sub").mkdir()
+        (out / "sub" / "oak.atlas.npz").write_bytes(b"done")
+        # what SIGKILL leaves of fileio.atomic_output("sub/elm.atlas.npz"): its temporary file
+        fd, left = tempfile.mkstemp(prefix=".elm.atlas.", suffix=".part.npz", dir=out / "sub")
+        os.write(fd, b"half")
+        os.close(fd)
+        (out / ".notes.part").write_text("the user's")  # not a temporary file's name
+    with claim_output(out, BAKE_OUTPUT).writing():
+        pass
+    assert not os.path.exists(left) and (out / "sub" / "oak.atlas.npz").read_bytes() == b"done"
+    assert (out / ".notes.part").read_text() == "the user's"
