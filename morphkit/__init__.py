@@ -16,6 +16,8 @@ from .errors import (
     MeshError,
     MorphkitError,
     OutOfRangeError,
+    OutputBusyError,
+    OutputExistsError,
     RenderError,
     ValidationError,
 )
@@ -35,4 +37,6 @@ __all__ = [
     "RenderError",
     "FileFormatError",
     "ClusterError",
+    "OutputExistsError",
+    "OutputBusyError",
 ]

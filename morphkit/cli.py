@@ -5,7 +5,9 @@ and needs no GL context.
 
 Errors: every command's morphkit errors and OS errors are caught in :func:`main`
 and printed as one line ``morphkit: error: ...`` on stderr (exit code 1); usage
-errors exit with 2 (argparse's, and a refused overwrite). No traceback.
+errors exit with 2 (argparse's, and an output folder refused by
+:mod:`morphkit.outfolder`'s rule); Ctrl-C prints ``morphkit: interrupted`` (exit
+code 130). No traceback.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from .errors import MorphkitError
+from .cliargs import check_args
+from .errors import MorphkitError, OutputExistsError
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -72,6 +75,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
     from .errors import FileFormatError, ValidationError, expected_got
     from .fileio import encode_image, read_image, write_bytes
+    from .outfolder import VIEWMORPH_OUTPUT, claim_output
     from .viewmorph import ViewMorpher, from_images, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -100,6 +104,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
             raise ValidationError(expected_got("output", "an image file path (or --frames N for a folder)",
                                                f"the folder {str(out)!r}"))
         encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
+    claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
     left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
@@ -120,10 +125,11 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
           + (f", F by {fit.method}: Sampson RMS {fit.sampson_rms:.3f} px" if fit is not None else "")
           + (f"; fallback: {rep.fallback}" if rep.fallback is not None else ""))
     kw = {"post": args.post, "frame": args.frame}
-    if args.frames:
-        for i, img in enumerate(vm.frames(args.frames, **kw)):
-            name = out / f"frame_{i:03d}.png"
-            write(name, encode(name, img))
+    if claim is not None:
+        with claim.writing():
+            for i, img in enumerate(vm.frames(args.frames, **kw)):
+                name = out / f"frame_{i:03d}.png"
+                write(name, encode(name, img))
         print(f"wrote {args.frames} frames to {out.resolve()}")
     else:
         write(out, encode(out, vm.morph(args.s, **kw)))
@@ -161,7 +167,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
     from .errors import ValidationError, expected_got
-    from .fileio import check_writable
+    from .outfolder import SHADOWS_OUTPUT, claim_output
     from .render import Renderer
     from .shadow import ShadowAtlas
     from .shadow.playback import (
@@ -175,6 +181,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 
     if args.samples is not None and args.area_light is None:
         raise ValidationError(expected_got("--samples", "together with --area-light", "--samples alone"))
+    claim = claim_output(args.out, SHADOWS_OUTPUT, overwrite=args.overwrite)
     path_cls = {"line": LinePath, "circle": CirclePath}.get(args.path)
     if path_cls is None:
         if args.frames is not None:
@@ -186,8 +193,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
     atlas = ShadowAtlas.load(args.atlas)
     mesh = baked_mesh(args.atlas, args.mesh)
     area = None if args.area_light is None else area_light_for(atlas, *args.area_light)
-    out = check_writable(args.out)
-    with Renderer() as renderer:
+    with claim.writing() as out, Renderer() as renderer:
         res = render_shadow_sequence(atlas, mesh, path, out, renderer=renderer, size=args.size,
                                      area_light=area, samples=3 if args.samples is None else args.samples,
                                      progress=not args.quiet)
@@ -240,9 +246,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     specs = args.asset or ["tree", "person"]
     check_specs(specs)
-    from .fileio import check_writable
+    from .outfolder import BILLBOARDS_OUTPUT, claim_output
 
-    out = check_writable(args.out)
+    claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
 
     import numpy as np
 
@@ -252,7 +258,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .billboard.sequence import write_sequence
     from .render import Renderer
 
-    with Renderer() as r:
+    with claim.writing() as out, Renderer() as r:
         res = resolve_assets(specs, r, views=args.views, size=args.asset_size, up=args.up_axis, progress=True)
         names = list(res.assets)
         inst = place_random(names, args.n, np.random.default_rng(args.seed))
@@ -348,6 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--frame", default="contain", choices=["contain", "fit", "fixed"],
                    help="crop/size policy (default: %(default)s)")
     v.add_argument("-o", "--out", required=True, help="output image (or folder with --frames)")
+    v.add_argument("--overwrite", action="store_true", help="with --frames: replace a previous run in OUT")
     v.set_defaults(func=_cmd_viewmorph)
 
     k = sub.add_parser(
@@ -413,6 +420,7 @@ def build_parser() -> argparse.ArgumentParser:
     h.add_argument("--mesh", default=None, help="the mesh file the atlas was baked from, if not where "
                    "the manifest says")
     h.add_argument("-o", "--out", required=True, help="output folder (created)")
+    h.add_argument("--overwrite", action="store_true", help="replace a previous `shadows` run in OUT")
     h.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     h.set_defaults(func=_cmd_shadows)
 
@@ -442,6 +450,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="up axis of --asset mesh files; auto: glTF/OBJ +y, others +z (default: %(default)s)")
     bb.add_argument("--no-fog", action="store_true", help="no distance fog")
     bb.add_argument("-o", "--out", required=True, help="output folder")
+    bb.add_argument("--overwrite", action="store_true", help="replace a previous `billboards` run in OUT")
     bb.set_defaults(func=_cmd_billboards)
     return p
 
@@ -459,15 +468,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError` or an
         ``OSError`` (a file system failure: disk full, folder removed), printed to stderr as one
-        line ``morphkit: error: ...``.
+        line ``morphkit: error: ...`` (2 for an :class:`~morphkit.errors.OutputExistsError`, an
+        output folder refused), 130 after Ctrl-C (``morphkit: interrupted``).
     """
     args = build_parser().parse_args(argv)
     try:
+        check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
     except (MorphkitError, OSError) as exc:
         msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
         print(f"morphkit: error: {msg}", file=sys.stderr)
-        return 1
+        return 2 if isinstance(exc, OutputExistsError) else 1
+    except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
+        print("morphkit: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

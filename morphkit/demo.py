@@ -26,16 +26,16 @@ in its own look, as a view-morphed billboard beside its real mesh);
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
 scene parameters and timings). Later features add their outputs here.
 
-Every file is written atomically (:mod:`morphkit.fileio`), ``index.json`` last. A
-folder that already holds a demo (an ``index.json``) is replaced only when asked
-(``overwrite=True``, ``morphkit demo --overwrite``); the previous demo's files
-that the new one does not write again are then removed (only files its index
-names).
+Every file is written atomically (:mod:`morphkit.fileio`), ``index.json`` last. The
+output folder follows :mod:`morphkit.outfolder`'s rule: new or empty, or a folder that
+already holds a demo (an ``index.json``, or the output marker of an unfinished one),
+which is replaced only when asked (``overwrite=True``, ``morphkit demo --overwrite``);
+the previous demo's files (PNGs) that the new one does not write again are then
+removed, other files stay. A folder holding anything else is refused.
 """
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 from typing import Any
@@ -44,7 +44,6 @@ import cv2
 import numpy as np
 import trimesh
 
-from .errors import ValidationError, expected_got
 from .fileio import write_image, write_json
 from .fixtures import (
     DEMO_LIGHT_DIRECTION,
@@ -59,6 +58,7 @@ from .fixtures import (
 )
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
+from .outfolder import DEMO_OUTPUT, claim_output, previous_run
 from .protocols import SceneRenderer
 from .render import Renderer
 from .scene import (
@@ -375,10 +375,10 @@ def previous_demo(out: str | Path) -> Path | None:
     Returns
     -------
     pathlib.Path or None
-        ``<out>/index.json`` when it is a file, else None.
+        ``<out>/index.json`` when it is a file, else the output marker of an unfinished demo
+        (:func:`morphkit.outfolder.previous_run`), else None.
     """
-    index = Path(out) / "index.json"
-    return index if index.is_file() else None
+    return previous_run(out, DEMO_OUTPUT)
 
 
 def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
@@ -411,16 +411,13 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
     OSError
         ``out`` cannot be created or written (read-only, a file on its path, ...).
     """
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise ValidationError(expected_got("demo output", "a folder", f"the file {out}"))
-    old = previous_demo(out)
-    if old is not None and not overwrite:
-        raise ValidationError(expected_got(
-            "demo output folder", "one without a previous demo (--overwrite / overwrite=True replaces it)",
-            f"{out} holding {old.name}"))
-    old_files = _indexed_files(old) if old is not None else set()
-    out.mkdir(parents=True, exist_ok=True)
+    claim = claim_output(out, DEMO_OUTPUT, overwrite=overwrite)
+    with claim.writing() as folder:
+        return _render_demo(folder, size, quick)
+
+
+def _render_demo(out: Path, size: int, quick: bool) -> dict[str, Any]:
+    """The body of :func:`run_demo` once its output folder is claimed."""
     if quick:
         size = min(size, 128)
     files: list[dict[str, Any]] = []
@@ -485,17 +482,4 @@ def run_demo(out: str | Path, *, size: int = 512, quick: bool = False,
         "billboards": billboards,
     }
     write_json(out / "index.json", index)
-    for stale in old_files - {f["path"] for f in files}:  # the previous demo's, not rewritten
-        (out / stale).unlink(missing_ok=True)
     return index
-
-
-def _indexed_files(index: Path) -> set[str]:
-    """Names of the files a previous demo's index lists (plain names inside its folder only)."""
-    try:
-        data = json.loads(index.read_text())
-        names = {f["path"] for f in data["files"]}
-    except (OSError, ValueError, KeyError, TypeError):
-        return set()  # unreadable: nothing is removed
-    return {n for n in names
-            if isinstance(n, str) and n == Path(n).name and n not in ("", ".", "..", "index.json")}

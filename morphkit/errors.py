@@ -8,13 +8,15 @@ Hierarchy::
     MorphkitError
     ├── ValidationError (also ValueError)    bad argument: shape, dtype, value, NaN
     │   ├── MeshError                         unreadable, unknown or empty mesh
-    │   └── OutOfRangeError                   a position outside a baked range
+    │   ├── OutOfRangeError                   a position outside a baked range
+    │   └── OutputExistsError                 an output folder holds what a run would replace
     ├── GeometryError                         degenerate geometry (refused, not repaired)
     │   ├── FoldOverError                     a warp triangle flips or collapses
     │   └── DegenerateViewError               camera inside object, epipole in image, ...
     ├── RenderError                           the GL boundary failed
     ├── FileFormatError                       a saved file is corrupt, truncated or foreign
-    └── ClusterError                          the Dask scheduler is unreachable or has no workers
+    ├── ClusterError                          the Dask scheduler is unreachable or has no workers
+    └── OutputBusyError                       another run is writing into the same output folder
 
     AssetWarning (a UserWarning)              a mesh's look could not be loaded or drawn as given:
     │                                         a documented fallback was used (e.g. a missing texture)
@@ -42,6 +44,8 @@ __all__ = [
     "RenderError",
     "FileFormatError",
     "ClusterError",
+    "OutputExistsError",
+    "OutputBusyError",
     "AssetWarning",
     "MeshLookWarning",
     "expected_got",
@@ -86,6 +90,14 @@ class FileFormatError(MorphkitError):
 
 class ClusterError(MorphkitError):
     """The distributed engine (a Dask scheduler and its workers) cannot be reached or used."""
+
+
+class OutputExistsError(ValidationError):
+    """An output folder holds files a run would replace or mix with its own (refused before any work)."""
+
+
+class OutputBusyError(MorphkitError):
+    """Another run is writing into the same output folder (it holds the folder's lock)."""
 
 
 class AssetWarning(UserWarning):

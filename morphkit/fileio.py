@@ -135,8 +135,8 @@ def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
                                    dir=p.parent if str(p.parent) else ".")
     except OSError as exc:  # name the target, not the temporary file
         raise type(exc)(exc.errno, f"cannot write {p}: {exc.strerror}") from exc
-    os.close(fd)
     try:
+        os.close(fd)
         yield Path(tmp)
         if not os.path.isfile(tmp):
             raise ValidationError(expected_got(f"temporary output for {p.name}", "a written file",

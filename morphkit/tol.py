@@ -157,6 +157,38 @@ MAX_TEXTURE_PIXELS = 4096 * 4096
 #: :data:`MAX_TEXTURE_PIXELS`.
 MAX_TEXTURE_SIDE = 8192
 
+#: Most frames one command renders along a path (``shadows``, ``billboards``,
+#: ``viewmorph --frames``): 100000 frames is an hour of video at 25 fps; each frame is
+#: a file, and the frame list (cameras, positions) is built before the first frame,
+#: so a count without a cap allocated without bound (10^9 frames) before any error.
+MAX_FRAMES = 100_000
+
+#: Most billboard instances one scene places (``morphkit billboards --n``). Instances
+#: are drawn one by one each frame and placed up front (positions, sizes, rotations);
+#: the paper's forest scenes have a few thousand, so 100000 leaves room while 10^11
+#: would allocate terabytes before any error.
+MAX_INSTANCES = 100_000
+
+#: Most reference views of one billboard asset (as :class:`morphkit.bake.BillboardKind`
+#: allows): each view is a rendered image kept in the asset (and a morph pair with its
+#: neighbour); beyond 64 the neighbouring views are under 6 degrees apart and a morph
+#: between them no longer differs visibly from either.
+MAX_BILLBOARD_VIEWS = 64
+
+#: Largest reference view side of a billboard asset, pixels (as
+#: :class:`morphkit.bake.BillboardKind` allows): 64 views of 2048^2 RGBA with their
+#: mip levels are already ~1.4 GB.
+MAX_BILLBOARD_SIDE = 2048
+
+#: Most local worker processes of a bake (``morphkit bake --workers``): each is a
+#: Python process with its own GL context (~200 MB); 256 is beyond any single
+#: machine's useful count, while an uncapped count started processes until memory ran out.
+MAX_LOCAL_WORKERS = 256
+
+#: Largest seed a command takes (``billboards --seed``): numpy's generators take any
+#: non-negative integer; one that fits 64 bits is what a user can write down and repeat.
+MAX_SEED = 2**64 - 1
+
 #: Most light samples of an area light (``n_u * n_v``, or rows of an explicit
 #: sample array). A soft shadow's visibility is a multiple of ``1 / N``: at
 #: 4096 (64 x 64) that step is already 16x finer than one 8-bit grey level, and

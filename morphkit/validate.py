@@ -274,7 +274,8 @@ def as_int(v: Any, name: str, *, lo: int | None = None, hi: int | None = None) -
     else:
         want = "an integer" if hi is None else f"an integer <= {hi}"
     ok = not isinstance(v, bool | np.bool_) and isinstance(v, int | float | np.integer | np.floating)
-    if not ok or not (np.isfinite(v) and float(v) == int(v)):
+    integral = isinstance(v, int | np.integer)  # any size (np.isfinite overflows on a huge int)
+    if not ok or not (integral or (np.isfinite(v) and float(v) == int(v))):
         raise ValidationError(expected_got(name, want, repr(v)[:120]))
     n = int(v)
     if (lo is not None and n < lo) or (hi is not None and n > hi):

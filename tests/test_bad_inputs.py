@@ -420,7 +420,8 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("bench: unknown suite (API)", _api(lambda: run_suite("nope")), VE, r"bench suite: expected one of"),
     ("write_image: unknown extension", lambda tmp: write_image(tmp / "x.xyz", np.zeros((4, 4), np.uint8)), VE,
      r"image for .xyz"),
-    ("run_demo: into a file", _run_demo_into_a_file, VE, r"demo output: expected a folder, got the file"),
+    ("run_demo: into a file", _run_demo_into_a_file, VE,
+     r"demo output folder: expected a folder, got the file"),
     # -- the CLI: one line, exit 1 (errors) or 2 (usage)
     ("cli viewmorph: output whose parent is a file", vm("{tmp}/afile/o.png"), CliExit,
      r"exit 1: .*expected a path whose parents are folders, got .*afile.* is a file"),
@@ -438,7 +439,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
      r"exit 1: .*image .*no.png.*: expected an existing file, got nothing there"),
     ("cli demo: -o pointing at a file", _with(lambda tmp: (tmp / "f").write_text("x"),
                                             cli("demo", "--quick", "-o", "{tmp}/f")), CliExit,
-     r"exit 1: .*demo output: expected a folder"),
+     r"exit 1: .*demo output folder: expected a folder"),
     ("cli demo: folder with a previous demo, no --overwrite", _with(_previous_demo, cli(
         "demo", "--quick", "-o", "{tmp}/demo")), CliExit, r"exit 2: .*already holds a demo.*--overwrite"),
     ("cli bench: unknown suite", cli("bench", "nope"), CliExit, r"exit 2: .*unknown suite 'nope'"),
@@ -472,7 +473,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("cli billboards: unknown asset", cli("billboards", "--asset", "unicorn", "-o", "{tmp}/o"), CliExit,
      r"exit 1: .*asset: expected a sample mesh name .*got 'unicorn'"),
     ("cli billboards: negative count", cli("billboards", "--n", "-1", "-o", "{tmp}/o"), CliExit,
-     r"exit 1: .*--n: expected an int >= 0, got -1"),
+     r"exit 1: .*--n: expected an integer in \[0, 100000\], got -1"),
     ("cli bake: missing input", cli("bake", "{tmp}/missing.obj", "-o", "{tmp}/out"), CliExit,
      r"exit 1: .*input: expected an existing mesh file or folder"),
     ("cli bake: --views without --billboard", _with(lambda tmp: trimesh.creation.box().export(tmp / "b.ply"),

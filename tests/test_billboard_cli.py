@@ -53,8 +53,8 @@ def test_unwritable_output(capsys, tmp_path):
 
 def test_bad_counts(capsys, tmp_path):
     err = _one_line_error(capsys, ["billboards", "--n", "-3", "-o", str(tmp_path)])
-    assert "--n: expected an int >= 0" in err
-    assert "--views: expected an int >= 2" in _one_line_error(
+    assert "--n: expected an integer in [0, 100000]" in err
+    assert "--views: expected an integer in [2, 64]" in _one_line_error(
         capsys, ["billboards", "--views", "1", "-o", str(tmp_path)])
 
 

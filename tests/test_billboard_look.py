@@ -109,7 +109,10 @@ def test_cut_outs_are_holes_in_colour_depth_and_coverage(renderer, tmp_path):
     # the masked leaves cover far less than the same cards drawn opaque
     assert hole.sum() > (rec_b.images[..., 3] == 0).sum() + 0.1 * hole.size * 0.2
     # the morph's alpha (from depth) follows the real cut-out plant, not the cards (measured at
-    # 48^2: IoU 0.88 against the real plant; the opaque cards' morph 0.43, the nearest view 0.38)
+    # 48^2: IoU 0.88 against the real plant; the opaque cards' morph 0.62 since their depth seen
+    # from behind is complete (render.py: open surfaces take depth from the two-sided flat draw;
+    # 0.43 before, when the depth-only draw culled the cards' back faces), the nearest view 0.38):
+    # the cut-out morph must beat both by more than 0.15
     gt = renderer.source_view(a.camera(0.0), a.items(plant), bake_lights(), ambient=BAKE_AMBIENT)
     t = gt[..., 3] > 127
 
@@ -117,7 +120,8 @@ def test_cut_outs_are_holes_in_colour_depth_and_coverage(renderer, tmp_path):
         m = img[..., 3] > 0.5
         return float((m & t).sum() / (m | t).sum())
 
-    assert iou(a.morph(0, 1, 0.5)) > 0.8 > 0.6 > max(iou(b.morph(0, 1, 0.5)), iou(a.nearest(0, 1, 0.5)))
+    cut = iou(a.morph(0, 1, 0.5))
+    assert cut > 0.8 and cut - max(iou(b.morph(0, 1, 0.5)), iou(a.nearest(0, 1, 0.5))) > 0.15
     with pytest.raises(ValidationError, match="another shape or look"):
         a.items(opaque)
 

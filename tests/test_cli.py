@@ -101,7 +101,7 @@ def test_demo_into_a_file_is_one_line(tmp_path, capsys):
     f = tmp_path / "not-a-folder"
     f.write_text("keep")
     assert main(["demo", "--quick", "-o", str(f)]) == 1
-    assert "demo output: expected a folder, got the file" in _one_error_line(capsys)
+    assert "demo output folder: expected a folder, got the file" in _one_error_line(capsys)
     assert f.read_text() == "keep"
     assert main(["demo", "--quick", "-o", str(f / "sub")]) == 1  # a file on the path
     _one_error_line(capsys)

@@ -41,7 +41,7 @@ from contextlib import contextmanager
 
 from ..errors import ClusterError, ValidationError, expected_got
 
-__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client"]
+__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client", "check_scheduler"]
 
 #: Seconds to wait for a scheduler to answer, and then for its first worker.
 CONNECT_TIMEOUT_S = 5.0
@@ -92,6 +92,7 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
         raise ValidationError(expected_got("workers and scheduler", "one of them", "both"))
     timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
     if scheduler is not None:
+        scheduler = check_scheduler(scheduler, timeout)
         try:
             client = Client(scheduler, timeout=timeout, set_as_default=False)
         except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
@@ -124,6 +125,77 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
                 client.close()
         finally:
             cluster.close()
+
+
+def check_scheduler(address: str, timeout: float | None = None) -> str:
+    """Refuse, within ``timeout`` seconds, an address that is not a Dask scheduler's.
+
+    A malformed or unsupported address (only ``tcp://host:port`` or ``host:port``, and
+    ``inproc://`` of a scheduler in this process, taken as it is) is
+    refused at once; otherwise the address is asked who it is (Dask's ``identity``
+    message) and must answer as a scheduler within ``timeout``: a port that never
+    answers, nothing listening, or another server (HTTP, ...) is refused, not waited on
+    (Dask's own client may wait for such a server far longer than its timeout).
+
+    Parameters
+    ----------
+    address : str
+        The scheduler's address.
+    timeout : float, optional
+        Seconds to wait for the answer, in all (default :data:`CONNECT_TIMEOUT_S`, read at
+        call time).
+
+    Returns
+    -------
+    str
+        The address as given (stripped).
+
+    Raises
+    ------
+    ClusterError
+        Not a scheduler's address, or no scheduler answered there in time.
+    """
+    import asyncio
+
+    from distributed.comm import connect, parse_address, parse_host_port
+
+    timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
+    text = str(address).strip()
+    expected = "tcp://HOST:PORT (PORT 1..65535) of a running Dask scheduler"
+    try:
+        scheme, loc = parse_address(text)
+        if scheme == "inproc":  # a scheduler in this process (tests, notebooks): nothing to ask
+            return text
+        host, port = parse_host_port(loc)
+        ok = scheme == "tcp" and host != "" and 1 <= int(port) <= 65535
+    except (ValueError, TypeError):
+        ok = False
+    if not ok:
+        raise ClusterError(expected_got("Dask scheduler address", expected, repr(address)))
+
+    async def identity() -> object:
+        comm = await connect(text, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        reply = asyncio.run(asyncio.wait_for(identity(), timeout))
+    except (OSError, ValueError, TypeError, asyncio.TimeoutError) as exc:  # a comm error is an OSError
+        got = "no answer" if isinstance(exc, asyncio.TimeoutError) or not str(exc) else " ".join(
+            f"{type(exc).__name__}: {exc}".split())
+        raise ClusterError(expected_got("Dask scheduler", f"one answering at {text!r} within {timeout:g} s",
+                                        got)) from exc
+    except Exception as exc:  # a server that speaks something else: Dask fails to decode it
+        raise ClusterError(expected_got("Dask scheduler", f"one answering at {text!r} within {timeout:g} s",
+                                        f"{type(exc).__name__} (not a Dask scheduler)")) from exc
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
+        raise ClusterError(expected_got("Dask scheduler", f"one answering at {text!r} within {timeout:g} s",
+                                        f"an answer from a {kind}, not a Dask scheduler"))
+    return text
 
 
 @contextmanager

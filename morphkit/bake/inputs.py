@@ -6,7 +6,9 @@ files with a mesh suffix (:data:`MESH_SUFFIXES`; hidden files and folders are
 skipped) and each one is named by its path relative to the folder, suffix
 removed (``trees/oak.ply`` under ``lib/`` -> ``trees/oak``), so the output
 folder mirrors the input folder. Two inputs with the same name are refused
-before any work (their outputs would overwrite each other).
+before any work (their outputs would overwrite each other). Entries with a mesh
+suffix that are not regular files (a broken link, a link loop, a FIFO) are assets
+too: the bake records each as failed, unopened, and goes on with the others.
 """
 
 from __future__ import annotations
@@ -71,7 +73,10 @@ def find_inputs(inputs: Sequence[str | os.PathLike[str]]) -> list[AssetInput]:
     found: dict[str, AssetInput] = {}
 
     def add(name: str, path: Path) -> None:
-        path = path.resolve()
+        try:
+            path = path.resolve()
+        except (OSError, RuntimeError):  # a link loop (RuntimeError before Python 3.13): fails when baked
+            path = Path(os.path.abspath(path))
         old = found.get(name)
         if old is not None and old.path != path:
             raise ValidationError(expected_got(
@@ -81,13 +86,14 @@ def find_inputs(inputs: Sequence[str | os.PathLike[str]]) -> list[AssetInput]:
 
     for raw in inputs:
         p = Path(raw)
-        if p.is_file():
+        if p.is_file() or (p.exists() and not p.is_dir()):  # a FIFO: an asset that fails
             add(p.stem, p)
         elif p.is_dir():
             n = 0
             for f in sorted(p.rglob("*")):
                 rel = f.relative_to(p)
-                if (f.is_file() and f.suffix.lower() in MESH_SUFFIXES
+                # not f.is_file(): a broken link or a FIFO with a mesh suffix is an asset that fails
+                if (not f.is_dir() and f.suffix.lower() in MESH_SUFFIXES
                         and not any(part.startswith(".") for part in rel.parts)):
                     add(rel.with_suffix("").as_posix(), f)
                     n += 1

@@ -17,18 +17,21 @@ and its task re-run) is recorded as failed with its error; the others go on.
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 import time
 import uuid
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from ..errors import ValidationError, expected_got
-from ..fileio import check_writable
 from ..meshes import UP_AXES, resolve_up
+from ..outfolder import BAKE_OUTPUT, claim_output
 from ..validate import as_int
-from .cluster import open_client
+from .cluster import check_scheduler, open_client
 from .inputs import AssetInput, find_inputs
 from .kinds import AssetKind, ShadowAtlasKind
 from .manifest import LEGACY_UP_AXIS, AssetRecord, Manifest, file_digest, utc_now
@@ -127,14 +130,16 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     ValidationError
         The output folder is not writable, two inputs share an asset name, or
         both ``workers`` and ``scheduler`` are given (all before any work).
+    OutputExistsError
+        ``out`` holds files and is not a bake's output folder (:mod:`morphkit.outfolder`).
+    OutputBusyError
+        Another bake is writing into ``out`` (it holds the folder's lock).
     ClusterError
-        The scheduler is unreachable or has no worker.
+        ``scheduler`` is malformed, does not answer as a Dask scheduler within
+        :data:`~morphkit.bake.cluster.CONNECT_TIMEOUT_S`, or has no worker.
     FileFormatError
         ``out`` holds a manifest that is not one.
     """
-    from distributed import as_completed
-    from tqdm import tqdm
-
     options = BakeOptions() if options is None else options
     if not isinstance(options, BakeOptions):
         raise ValidationError(expected_got("options", "a BakeOptions", type(options).__name__))
@@ -145,12 +150,27 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     t_start = time.perf_counter()
     started = utc_now()
     assets = find_inputs(inputs)
-    folder = check_writable(out)
+    claim = claim_output(out, BAKE_OUTPUT)  # new, empty or a bake (resumed); foreign files refused
+    if scheduler is not None:  # a malformed address or no scheduler there: refused before any work
+        scheduler = check_scheduler(scheduler)
+    with claim.writing() as folder:  # locked: a second bake into the same folder is refused
+        return _bake_into(folder, assets, options, workers, scheduler, progress, t_start, started)
+
+
+def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, workers: int | None,
+               scheduler: str | None, progress: bool, t_start: float, started: str) -> Manifest:
+    """The body of :func:`bake_library` once its output folder is claimed and locked."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
     manifest = Manifest.open(folder)
     manifest.options = options.as_dict()
 
-    def plan(a: AssetInput) -> tuple[AssetInput, str, int, str, tuple[AssetKind, ...]]:
-        sha, size = file_digest(a.path)
+    def plan(a: AssetInput) -> tuple[AssetInput, str, int, str, tuple[AssetKind, ...] | OSError]:
+        try:
+            sha, size = _regular_file_digest(a.path)
+        except OSError as exc:  # a broken link, a FIFO, an unreadable file: this asset fails, not the run
+            return a, "", 0, "", exc
         up = resolve_up(a.path, options.up)
         return a, sha, size, up, tuple(k for k in options.kinds
                                        if not manifest.up_to_date(a.name, sha, k, up_axis=up))
@@ -159,7 +179,9 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     # hashing reads every input and every existing output: threads (hashlib releases the GIL)
     with ThreadPoolExecutor(max_workers=HASH_THREADS) as pool:
         for a, sha, size, up, stale in pool.map(plan, assets):
-            if stale:
+            if isinstance(stale, OSError):
+                manifest.record(_unreadable_record(manifest, a, stale))
+            elif stale:
                 tasks.append(BakeTask(a.name, str(a.path), sha, size, str(folder), stale, up))
             else:
                 manifest.mark_skipped(a.name, str(a.path), up_axis=up)
@@ -175,7 +197,9 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
             with open_client(workers=workers, scheduler=scheduler) as client:
                 n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
                 token = uuid.uuid4().hex[:8]
-                futures = {client.submit(bake_task, t, key=f"morphkit-bake-{token}-{i}-{t.name}",
+                # keys travel as UTF-8 (msgpack): a file name that is not UTF-8 (surrogate escapes)
+                # would cancel the whole run; the name in the key is only for Dask's dashboard
+                futures = {client.submit(bake_task, t, key=f"morphkit-bake-{token}-{i}-{_key_safe(t.name)}",
                                          pure=False): t for i, t in enumerate(tasks)}
                 last_commit, commit_s = time.perf_counter(), 0.0
                 n_failed = 0
@@ -203,6 +227,60 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
                     "assets": len(assets), **counts}
     manifest.commit()
     return manifest
+
+
+def _key_safe(name: str) -> str:
+    """``name`` with each byte that is not UTF-8 (a surrogate escape) as U+FFFD."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+def _regular_file_digest(path: Path) -> tuple[str, int]:
+    """:func:`~.manifest.file_digest` of a regular file; anything else is refused unopened.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        An input mesh file.
+
+    Returns
+    -------
+    tuple of (str, int)
+        The sha256 hex digest and the size in bytes.
+
+    Raises
+    ------
+    OSError
+        ``path`` is a broken link, a link loop, a FIFO (opening it would wait for a writer
+        forever), a device or socket, or cannot be read.
+    """
+    st = os.stat(path)  # follows links: a broken one or a loop raises here
+    if not stat.S_ISREG(st.st_mode):
+        raise OSError(errno.EINVAL, "not a regular file (a FIFO, device or socket)", str(path))
+    return file_digest(path)
+
+
+def _unreadable_record(manifest: Manifest, a: AssetInput, exc: OSError) -> AssetRecord:
+    """The failed record of an asset whose input cannot be read (its old outputs are kept).
+
+    Parameters
+    ----------
+    manifest : Manifest
+        The output folder's manifest.
+    a : AssetInput
+        The asset.
+    exc : OSError
+        Why its input cannot be read.
+
+    Returns
+    -------
+    AssetRecord
+        Status ``failed``, the reason in ``error`` (one line).
+    """
+    old = manifest.assets.get(a.name)
+    why = exc.strerror or str(exc)
+    return AssetRecord(name=a.name, input=str(a.path), input_sha256="", input_bytes=0, status="failed",
+                       error=f"{type(exc).__name__}: cannot read the input: {why}",
+                       outputs={} if old is None else dict(old.outputs))
 
 
 def _record(manifest: Manifest, task: BakeTask, fut: object) -> AssetRecord:

@@ -1,0 +1,108 @@
+"""Every command line option checked before any work: counts, sizes, seeds, numbers.
+
+:func:`check_args` runs on the parsed arguments of any ``morphkit`` command before
+its handler: a bad value is a one-line :class:`~morphkit.errors.ValidationError`
+before anything is loaded, baked, rendered or written, and every count that
+allocates in proportion to its value has a cap (named in :mod:`morphkit.tol`,
+with its reason there). The library functions the commands call check the same
+values again (the API's own contract); this module only makes the command line
+refuse them first. Output folders are checked by :mod:`morphkit.outfolder`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+from . import tol
+from .errors import ValidationError, expected_got
+from .validate import as_int
+
+__all__ = ["check_args", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE"]
+
+#: Smallest frame side a command renders (pixels): below it a frame shows nothing.
+MIN_FRAME_SIDE = 16
+#: Largest frame side a command renders (pixels); a square frame of it is
+#: :data:`morphkit.tol.MAX_IMAGE_PIXELS`.
+MAX_FRAME_SIDE = 8192
+
+
+def _count(args: argparse.Namespace, attr: str, option: str, lo: int, hi: int) -> None:
+    """``args.<attr>`` (when given) as an integer in ``[lo, hi]``."""
+    v = getattr(args, attr, None)
+    if v is not None:
+        as_int(v, option, lo=lo, hi=hi)
+
+
+def _finite(args: argparse.Namespace, attr: str, option: str) -> None:
+    """Every number of ``args.<attr>`` (when given) finite."""
+    v = getattr(args, attr, None)
+    values = [] if v is None else list(v) if isinstance(v, list | tuple) else [v]
+    if any(not math.isfinite(x) for x in values):
+        raise ValidationError(expected_got(option, "finite numbers", " ".join(map(str, values))))
+
+
+def _demo(args: argparse.Namespace) -> None:
+    _count(args, "size", "--size", MIN_FRAME_SIDE, MAX_FRAME_SIDE)
+
+
+def _billboards(args: argparse.Namespace) -> None:
+    _count(args, "n", "--n", 0, tol.MAX_INSTANCES)
+    _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
+    _count(args, "views", "--views", 2, tol.MAX_BILLBOARD_VIEWS)
+    _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
+    _count(args, "seed", "--seed", 0, tol.MAX_SEED)
+    parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area
+    if len(parts) == 2 and all(p.strip().isdigit() for p in parts) \
+            and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
+        raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
+                                           "(tol.MAX_IMAGE_PIXELS)", args.size))
+
+
+def _shadows(args: argparse.Namespace) -> None:
+    _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
+    _count(args, "size", "--size", MIN_FRAME_SIDE, MAX_FRAME_SIDE)
+    # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all
+    _count(args, "samples", "--samples", 1, math.isqrt(tol.MAX_LIGHT_SAMPLES))
+    _finite(args, "area_light", "--area-light")
+    if args.area_light is not None and min(args.area_light) <= 0:
+        raise ValidationError(expected_got("--area-light", "a width and height > 0",
+                                           " ".join(map(str, args.area_light))))
+
+
+def _viewmorph(args: argparse.Namespace) -> None:
+    if args.frames != 0:  # 0: one image at --s
+        _count(args, "frames", "--frames", 2, tol.MAX_FRAMES)
+    _finite(args, "s", "--s")
+    if not 0.0 <= args.s <= 1.0:
+        raise ValidationError(expected_got("--s", "a position in [0, 1]", args.s))
+
+
+def _bake(args: argparse.Namespace) -> None:
+    # the kinds' options (--atlas-size, --grid, --range, --light, --views) are checked by the
+    # kinds themselves (morphkit.bake.kinds) before the bake starts
+    _count(args, "workers", "--workers", 1, tol.MAX_LOCAL_WORKERS)
+
+
+_CHECKS: dict[str, Callable[[argparse.Namespace], None]] = {
+    "demo": _demo, "billboards": _billboards, "shadows": _shadows, "viewmorph": _viewmorph, "bake": _bake}
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """Refuse a bad option value of any command before the command runs.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments of :func:`morphkit.cli.build_parser` (``args.command`` names the command).
+
+    Raises
+    ------
+    ValidationError
+        A count, size or seed outside its range (caps in :mod:`morphkit.tol`), or a number
+        that is not finite.
+    """
+    check = _CHECKS.get(getattr(args, "command", None) or "")
+    if check is not None:
+        check(args)

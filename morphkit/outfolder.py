@@ -1,0 +1,306 @@
+"""Output folders: one rule for every command that writes into a folder.
+
+A command (``demo``, ``shadows``, ``billboards``, ``bake``, ``viewmorph --frames``)
+writes into a folder that is
+
+* new (created, with its missing parents, only when the work starts), or empty, or
+* a previous run of the same command: it holds that command's marker
+  (:data:`MARKER_NAME`, written when a run starts, or an older run's own index:
+  ``index.json`` of a demo, ``manifest.json`` of a bake). Such a folder is
+  replaced only when asked (``--overwrite``): the files the new run writes
+  replace the old ones, and the previous run's files that the new run did not
+  write again (old frames beyond the new count) are removed at the end, so old and
+  new output never mix; files that are not the command's (by name,
+  :attr:`OutputRule.owns`) stay. A bake *resumes* its previous run instead
+  (:attr:`OutputRule.resume`; its manifest says what is done).
+
+Anything else (a folder holding other files, or another command's output, a
+file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
+(or :class:`~morphkit.errors.ValidationError` for a path that cannot be a
+folder) before any work and before anything is created: a refusal leaves no
+folder behind. :func:`claim_output` makes the check (no side effect);
+:meth:`OutputClaim.writing` creates the folder, takes its lock (:data:`LOCK_NAME`,
+``fcntl.flock``: a second run into the same folder at the same time is refused,
+:class:`~morphkit.errors.OutputBusyError`), removes the temporary files of a killed
+run (:data:`TEMPORARY`; a run that is killed cannot remove its own) and writes the marker. A run that
+fails or is interrupted before writing anything removes what it created.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import fnmatch
+import json
+import os
+import re
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager, suppress
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
+from .fileio import write_json
+
+__all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run",
+           "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
+
+#: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
+#: "running" | "complete", "started": ...}``.
+MARKER_NAME = ".morphkit-output.json"
+
+#: The lock file of an output folder (held with ``fcntl.flock`` while a run writes there).
+LOCK_NAME = ".morphkit-output.lock"
+
+#: Names of files morphkit itself leaves in a folder: its marker and lock, and the temporary
+#: files of an atomic write (:mod:`morphkit.fileio`) a killed process could not remove.
+HOUSEKEEPING = (MARKER_NAME, LOCK_NAME, ".*.part*", ".morphkit-probe-*")
+
+#: A temporary file of :func:`morphkit.fileio.atomic_output` (``.<stem>.<8 random>.part<suffix>``)
+#: or :func:`morphkit.fileio.check_writable`'s probe: left only by a process that was killed.
+TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8})$")
+
+
+@dataclass(frozen=True)
+class OutputRule:
+    """What one command writes into its output folder.
+
+    Parameters
+    ----------
+    command : str
+        The command's name (in messages and in the marker).
+    owns : tuple of str
+        ``fnmatch`` patterns of the paths (relative, POSIX) of the files a run writes;
+        with ``--overwrite``, such files of the previous run that the new run did not
+        write again are removed.
+    markers : tuple of str
+        Files that also mark a previous run (an older run's index).
+    resume : bool
+        A previous run is continued, not replaced (no ``--overwrite`` needed).
+    """
+
+    command: str
+    owns: tuple[str, ...]
+    markers: tuple[str, ...] = ()
+    resume: bool = False
+
+
+#: ``morphkit demo``: PNGs and ``index.json`` (:mod:`morphkit.demo`).
+DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
+#: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.mp4`` (:mod:`morphkit.shadow.playback`).
+SHADOWS_OUTPUT = OutputRule("shadows", ("frame_*.png", "shadows.mp4"))
+#: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.mp4``, ``compare_NNNN.png``,
+#: ``billboards.json`` (:mod:`morphkit.billboard.sequence`).
+BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_*.png", "billboards.mp4", "compare_*.png",
+                                              "billboards.json"), markers=("billboards.json",))
+#: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
+BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
+                         markers=("manifest.json",), resume=True)
+#: ``morphkit viewmorph --frames N``: ``frame_NNN.png``.
+VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_*.png",))
+
+
+def _marker_command(folder: Path) -> str | None:
+    """The command named by ``folder``'s marker, ``"?"`` for an unreadable one, None without."""
+    marker = folder / MARKER_NAME
+    if not marker.is_file():
+        return None
+    try:
+        data = json.loads(marker.read_text(encoding="utf-8"))
+        return str(data["command"]) if isinstance(data, dict) and "command" in data else "?"
+    except (OSError, ValueError):
+        return "?"
+
+
+def previous_run(folder: str | os.PathLike[str], rule: OutputRule) -> Path | None:
+    """The file that marks a previous run of ``rule``'s command in ``folder``, or None.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        An output folder (need not exist).
+    rule : OutputRule
+        The command.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The command's own index (:attr:`OutputRule.markers`) when there is one, else the
+        marker (:data:`MARKER_NAME`) when it names this command, else None.
+    """
+    p = Path(folder)
+    for name in rule.markers:
+        if (p / name).is_file():
+            return p / name
+    return p / MARKER_NAME if _marker_command(p) == rule.command else None
+
+
+def _files(folder: Path) -> dict[str, tuple[int, int]]:
+    """Every file under ``folder``: relative POSIX path -> (inode, mtime in ns)."""
+    out = {}
+    for root, _dirs, names in os.walk(folder):
+        for name in names:
+            full = Path(root) / name
+            with suppress(OSError):
+                st = full.lstat()
+                out[full.relative_to(folder).as_posix()] = (st.st_ino, st.st_mtime_ns)
+    return out
+
+
+@dataclass(frozen=True)
+class OutputClaim:
+    """An output folder checked for a command (:func:`claim_output`); write with :meth:`writing`.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The folder, absolute.
+    rule : OutputRule
+        The command.
+    previous : bool
+        The folder holds a previous run of the command.
+    """
+
+    path: Path
+    rule: OutputRule
+    previous: bool
+
+    @contextmanager
+    def writing(self) -> Iterator[Path]:
+        """Create the folder, lock it and mark it; finish (or undo) on exit.
+
+        On a clean exit a replaced previous run's files that were not written again are
+        removed and the marker says ``complete``. On an exception (an interrupt too)
+        before anything but the marker was written, what this call created is removed.
+
+        Yields
+        ------
+        pathlib.Path
+            The folder.
+
+        Raises
+        ------
+        ValidationError
+            The folder cannot be created or written.
+        OutputBusyError
+            Another run holds the folder's lock.
+        """
+        p = self.path
+        created = []
+        for d in (p, *p.parents):
+            if d.exists():
+                break
+            created.append(d)
+        try:
+            p.mkdir(parents=True, exist_ok=True)
+            lock = os.open(p / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            _remove_dirs(created)
+            raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit can "
+                                               "create and write", f"{str(p)!r} ({type(exc).__name__}: "
+                                               f"{exc.strerror or exc})")) from exc
+        try:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.pread(lock, 64, 0).decode("ascii", "replace").strip() or "?"
+                raise OutputBusyError(expected_got(
+                    f"{self.rule.command} output folder {str(p)!r}", "one no other run is writing to (wait "
+                    "for it to finish, or choose another folder)", f"one locked by process {holder}")
+                ) from None
+            os.ftruncate(lock, 0)
+            os.pwrite(lock, str(os.getpid()).encode(), 0)
+            for rel in _files(p):  # locked: a temporary file here is a killed run's, half written
+                if TEMPORARY.match(rel.rsplit("/", 1)[-1]):
+                    with suppress(OSError):
+                        (p / rel).unlink()
+            before = _files(p) if self.previous and not self.rule.resume else {}
+            marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
+                      "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}
+            try:
+                write_json(p / MARKER_NAME, marker)
+            except OSError as exc:
+                raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit "
+                                                   "can write", f"{str(p)!r} ({type(exc).__name__}: "
+                                                   f"{exc.strerror or exc})")) from exc
+            try:
+                yield p
+            except BaseException:
+                if not self.previous and set(_files(p)) <= {MARKER_NAME, LOCK_NAME}:
+                    for name in (MARKER_NAME, LOCK_NAME):  # nothing written: leave nothing
+                        with suppress(OSError):
+                            (p / name).unlink()
+                    _remove_dirs(created)
+                raise
+            after = _files(p)
+            for rel, stamp in before.items():  # the previous run's files not written again
+                if after.get(rel) == stamp and any(fnmatch.fnmatchcase(rel, pat) for pat in self.rule.owns):
+                    with suppress(OSError):
+                        (p / rel).unlink()
+            write_json(p / MARKER_NAME, {**marker, "status": "complete"})
+        finally:
+            os.close(lock)  # releases the lock
+
+
+def _remove_dirs(dirs: list[Path]) -> None:
+    """Remove the folders (innermost first) that are empty."""
+    for d in dirs:
+        with suppress(OSError):
+            d.rmdir()
+
+
+def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: bool = False) -> OutputClaim:
+    """Check that ``path`` may take ``rule``'s command's output (module docstring); nothing is created.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output folder.
+    rule : OutputRule
+        The command.
+    overwrite : bool
+        Replace a previous run of the command (``--overwrite``).
+
+    Returns
+    -------
+    OutputClaim
+        The folder, to write with :meth:`OutputClaim.writing`.
+
+    Raises
+    ------
+    ValidationError
+        ``path`` is a file, lies under a file, or cannot be listed.
+    OutputExistsError
+        The folder holds files that are not a previous run of the command, or a previous
+        run and ``overwrite`` is False (and the command does not resume).
+    """
+    p = Path(os.path.abspath(os.fspath(path)))
+    what = f"{rule.command} output"
+    in_the_way = next((a for a in (p, *p.parents) if a.exists() and not a.is_dir()), None)
+    if in_the_way == p:
+        raise ValidationError(expected_got(f"{what} folder", "a folder", f"the file {p}"))
+    if in_the_way is not None:
+        raise ValidationError(expected_got(f"{what} folder", "a folder morphkit can create and write",
+                                           f"{str(p)!r} (NotADirectoryError: {in_the_way} is a file)"))
+    if not p.exists():
+        return OutputClaim(p, rule, False)
+    try:
+        entries = sorted(e.name for e in os.scandir(p))
+    except OSError as exc:
+        raise ValidationError(expected_got(what, "a folder morphkit can list",
+                                           f"{p} ({type(exc).__name__}: {exc.strerror or exc})")) from exc
+    housekeeping = all(any(fnmatch.fnmatchcase(e, pat) for pat in HOUSEKEEPING) for e in entries)
+    if not entries or (housekeeping and _marker_command(p) is None):
+        return OutputClaim(p, rule, False)
+    mark = previous_run(p, rule)
+    if mark is None:
+        other = _marker_command(p)
+        got = (f"{p} holding the output of morphkit {other}" if other not in (None, "?") else
+               f"{p} holding {len(entries)} entries that are not one, e.g. {entries[0]!r}")
+        raise OutputExistsError(expected_got(f"{what} folder", f"a new or empty folder, or a previous "
+                                             f"{rule.command} run", got))
+    if not rule.resume and not overwrite:
+        raise OutputExistsError(expected_got(
+            f"{what} folder", f"one without a previous {rule.command} (--overwrite / overwrite=True "
+            "replaces it)", f"{p} holding {mark.name}"))
+    return OutputClaim(p, rule, True)

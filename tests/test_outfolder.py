@@ -1,0 +1,151 @@
+"""morphkit.outfolder: one rule for every command's output folder (no GL)."""
+
+from __future__ import annotations
+
+import json
+import os
+
+import pytest
+
+from morphkit.errors import OutputBusyError, OutputExistsError, ValidationError
+from morphkit.outfolder import (
+    BAKE_OUTPUT,
+    DEMO_OUTPUT,
+    LOCK_NAME,
+    MARKER_NAME,
+    SHADOWS_OUTPUT,
+    claim_output,
+    previous_run,
+)
+
+
+def _write_frames(folder, n):
+    for i in range(n):
+        (folder / f"frame_{i:04d}.png").write_bytes(b"new %d" % i)
+    (folder / "shadows.mp4").write_bytes(b"video")
+
+
+def test_a_new_folder_is_created_only_when_writing(tmp_path):
+    out = tmp_path / "a" / "b"
+    claim = claim_output(out, SHADOWS_OUTPUT)
+    assert not (tmp_path / "a").exists()  # the check creates nothing
+    with claim.writing() as folder:
+        assert folder == out and (out / LOCK_NAME).is_file()
+        assert json.loads((out / MARKER_NAME).read_text())["status"] == "running"
+        _write_frames(folder, 2)
+    marker = json.loads((out / MARKER_NAME).read_text())
+    assert marker["command"] == "shadows" and marker["status"] == "complete"
+    assert previous_run(out, SHADOWS_OUTPUT) == out / MARKER_NAME
+    assert previous_run(out, DEMO_OUTPUT) is None
+
+
+def test_a_run_that_fails_before_writing_leaves_nothing(tmp_path):
+    out = tmp_path / "a" / "b"
+    for exc in (RuntimeError("boom"), KeyboardInterrupt()):
+        with pytest.raises(type(exc)), claim_output(out, SHADOWS_OUTPUT).writing():
+            raise exc
+        assert list(tmp_path.iterdir()) == []  # neither the folders nor the marker and lock
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(KeyboardInterrupt), claim_output(empty, SHADOWS_OUTPUT).writing():
+        raise KeyboardInterrupt
+    assert empty.is_dir() and list(empty.iterdir()) == []  # it was there: kept, as it was
+
+
+def test_a_folder_with_other_files_is_refused_and_left_as_it_is(tmp_path):
+    (tmp_path / "holiday.png").write_bytes(b"mine")
+    for rule in (SHADOWS_OUTPUT, DEMO_OUTPUT, BAKE_OUTPUT):
+        for overwrite in (False, True):
+            with pytest.raises(OutputExistsError, match=rf"{rule.command} output folder: expected a new or "
+                               rf"empty folder, or a previous {rule.command} run, got .* holding 1 entries "
+                               r"that are not one, e.g. 'holiday.png'"):
+                claim_output(tmp_path, rule, overwrite=overwrite)
+    assert [p.name for p in tmp_path.iterdir()] == ["holiday.png"]
+    assert (tmp_path / "holiday.png").read_bytes() == b"mine"
+
+
+def test_a_file_or_a_path_under_a_file_is_refused(tmp_path):
+    f = tmp_path / "f"
+    f.write_text("x")
+    with pytest.raises(ValidationError, match=r"shadows output folder: expected a folder, got the file .*f$"):
+        claim_output(f, SHADOWS_OUTPUT)
+    with pytest.raises(ValidationError, match=r"shadows output folder: expected a folder morphkit can create "
+                       r"and write, got '.*f/sub' \(NotADirectoryError: .*f is a file\)"):
+        claim_output(f / "sub", SHADOWS_OUTPUT)
+
+
+def test_another_commands_output_is_refused(tmp_path):
+    with claim_output(tmp_path / "o", SHADOWS_OUTPUT).writing() as out:
+        _write_frames(out, 1)
+    with pytest.raises(OutputExistsError, match="holding the output of morphkit shadows"):
+        claim_output(tmp_path / "o", DEMO_OUTPUT, overwrite=True)
+
+
+def test_a_previous_run_is_replaced_only_with_overwrite_and_never_mixed(tmp_path):
+    out = tmp_path / "o"
+    with claim_output(out, SHADOWS_OUTPUT).writing():
+        _write_frames(out, 5)
+    (out / "notes.txt").write_text("mine")  # the user's, beside the run
+    with pytest.raises(OutputExistsError, match=r"shadows output folder: expected one without a previous "
+                       r"shadows \(--overwrite / overwrite=True replaces it\), got .* holding "
+                       + MARKER_NAME.replace(".", r"\.")):
+        claim_output(out, SHADOWS_OUTPUT)
+    with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
+        _write_frames(out, 2)  # fewer frames than before
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted([MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.mp4",
+                            "notes.txt"])  # old frames 2..4 gone, the user's file kept
+
+
+def test_a_bake_folder_is_resumed_without_overwrite(tmp_path):
+    (tmp_path / "manifest.json").write_text("{}")  # an older bake (no marker)
+    (tmp_path / "box.atlas.npz").write_bytes(b"atlas")
+    claim = claim_output(tmp_path, BAKE_OUTPUT)
+    assert claim.previous
+    with claim.writing():
+        pass
+    assert (tmp_path / "box.atlas.npz").read_bytes() == b"atlas"  # resumed: nothing removed
+
+
+def test_an_interrupted_run_counts_as_a_previous_run(tmp_path):
+    out = tmp_path / "o"
+    with pytest.raises(KeyboardInterrupt), claim_output(out, SHADOWS_OUTPUT).writing():
+        _write_frames(out, 3)
+        raise KeyboardInterrupt
+    assert json.loads((out / MARKER_NAME).read_text())["status"] == "running"
+    with pytest.raises(OutputExistsError, match="pass|--overwrite"):
+        claim_output(out, SHADOWS_OUTPUT)
+    with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
+        _write_frames(out, 1)
+    assert sorted(p.name for p in out.glob("frame_*")) == ["frame_0000.png"]
+
+
+def test_a_second_writer_is_refused_while_the_first_holds_the_lock(tmp_path):
+    out = tmp_path / "o"
+    with claim_output(out, BAKE_OUTPUT).writing():
+        with pytest.raises(OutputBusyError, match=rf"bake output folder .*: expected one no other run is "
+                           rf"writing to \(wait for it to finish, or choose another folder\), got one "
+                           rf"locked by process {os.getpid()}"):
+            with claim_output(out, BAKE_OUTPUT).writing():
+                pass  # pragma: no cover
+        assert (out / MARKER_NAME).is_file()  # the first run's marker is untouched
+    with claim_output(out, BAKE_OUTPUT).writing():  # released: the next run goes on
+        pass
+
+
+def test_a_killed_runs_temporary_files_are_removed_by_the_next_run(tmp_path):
+    import tempfile
+
+    out = tmp_path / "o"
+    with claim_output(out, BAKE_OUTPUT).writing():
+        (out / "sub").mkdir()
+        (out / "sub" / "oak.atlas.npz").write_bytes(b"done")
+        # what SIGKILL leaves of fileio.atomic_output("sub/elm.atlas.npz"): its temporary file
+        fd, left = tempfile.mkstemp(prefix=".elm.atlas.", suffix=".part.npz", dir=out / "sub")
+        os.write(fd, b"half")
+        os.close(fd)
+        (out / ".notes.part").write_text("the user's")  # not a temporary file's name
+    with claim_output(out, BAKE_OUTPUT).writing():
+        pass
+    assert not os.path.exists(left) and (out / "sub" / "oak.atlas.npz").read_bytes() == b"done"
+    assert (out / ".notes.part").read_text() == "the user's"
