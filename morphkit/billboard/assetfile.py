@@ -41,8 +41,6 @@ import hashlib
 import io
 import json
 import os
-import zipfile
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -50,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, expected_got
-from ..fileio import write_bytes
+from ..fileio import ARCHIVE_ERRORS, write_bytes
 
 __all__ = ["FORMAT", "VERSION", "AssetRecord", "write_record", "read_record"]
 
@@ -190,8 +188,7 @@ def read_record(path: str | os.PathLike[str]) -> AssetRecord:
             arrays = {k: z[k] for k in _ARRAYS}
     except FileFormatError:
         raise
-    except (OSError, EOFError, ValueError, KeyError, zipfile.BadZipFile, zlib.error, UnicodeDecodeError,
-            json.JSONDecodeError) as exc:
+    except ARCHIVE_ERRORS as exc:  # json.JSONDecodeError is a ValueError
         raise _bad(p.name, f"a complete {FORMAT} .npz file", f"an unreadable file "
                    f"({type(exc).__name__}: {str(exc)[:120]})") from exc
     return _record(meta, arrays)
