@@ -357,6 +357,11 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     else:
         raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
     for part in parts:
+        # a damaged file's faces may index past its vertices: refused before trimesh indexes them
+        faces = np.asarray(part.faces)
+        if faces.min() < 0 or faces.max() >= len(part.vertices):
+            raise MeshError(expected_got(name, f"face indices in [0, {len(part.vertices)})",
+                                         f"indices from {int(faces.min())} to {int(faces.max())}"))
         if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
             part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
     mesh = check_mesh(merge_parts(parts, name), name)
