@@ -94,8 +94,14 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
         ``channels >= 3``).
     """
     img = as_image(image, "image", channels=(1, 3, 4))
+    if channels not in (1, 3, 4):
+        raise ValidationError(expected_got("channels", "1, 3 or 4", repr(channels)))
     amax = _alpha_max(img.dtype)
-    x = img.astype(np.float32)
+    with np.errstate(over="ignore"):
+        x = img.astype(np.float32)
+    if img.dtype.kind == "f" and not np.all(np.isfinite(x)):
+        raise ValidationError(expected_got("image", "pixel values within float32's range",
+                                           f"values up to {float(np.abs(img).max()):g}"))
     if x.ndim == 2:
         x = x[:, :, None]
     c = x.shape[2]
