@@ -355,7 +355,12 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     except OSError as exc:
         raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
                                            exc.strerror or exc)) from exc
-    img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    try:
+        img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    except cv2.error as exc:  # e.g. a damaged header's size past OpenCV's limit
+        raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
+                                           f"{data.size} bytes it refuses: "
+                                           f"{str(exc).strip().splitlines()[-1]}"[:300])) from exc
     if img is None:
         raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
                                            f"{data.size} bytes it cannot"))
