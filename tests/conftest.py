@@ -17,8 +17,8 @@ _HYPOTHESIS_BASE = dict(derandomize=True, deadline=None, database=None, print_bl
                         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                                HealthCheck.function_scoped_fixture,
                                                HealthCheck.filter_too_much])
-settings.register_profile("ci", max_examples=30, **_HYPOTHESIS_BASE)
-settings.register_profile("long", max_examples=300, **_HYPOTHESIS_BASE)
+settings.register_profile("ci", max_examples=100, **_HYPOTHESIS_BASE)
+settings.register_profile("long", max_examples=1000, **_HYPOTHESIS_BASE)
 settings.load_profile(os.environ.get("MORPHKIT_HYPOTHESIS", "ci"))
 
 

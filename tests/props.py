@@ -3,8 +3,8 @@
 The property every generated case checks: the entry point returns valid output
 (checked by the test) or raises a :class:`~morphkit.errors.MorphkitError`
 subclass -- never another exception, a hang (a case over :data:`HANG_S` seconds
-fails) or NaN output. :func:`outcome` runs one case and tags it with a
-Hypothesis ``event`` (``valid`` or ``refused: <ErrorType>``), so
+fails) or NaN output. :func:`outcome` runs one call and tags it with a
+Hypothesis ``event`` (``<function>: valid`` or ``<function>: refused: <ErrorType>``), so
 ``pytest --hypothesis-show-statistics`` prints the outcomes per entry point.
 """
 
@@ -45,13 +45,17 @@ def outcome(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> tuple[bool, An
     try:
         result = fn(*args, **kwargs)
     except MorphkitError as exc:
-        event(f"refused: {type(exc).__name__}")
+        event(f"{_name(fn)}: refused: {type(exc).__name__}")
         return False, exc
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, old)
-    event("valid")
+    event(f"{_name(fn)}: valid")
     return True, result
+
+
+def _name(fn: Callable[..., Any]) -> str:
+    return getattr(fn, "__qualname__", None) or type(fn).__name__
 
 
 # ------------------------------------------------------------------ byte mutations
