@@ -34,7 +34,8 @@ reals = st.floats(-10, 10) | st.floats(0.01, 5) | st.sampled_from(SPECIAL) | st.
 
 
 @st.composite
-def images(draw: st.DrawFn, *, dtypes: list[str] = DTYPES, channels: tuple[int | None, ...] = (None, 1, 2, 3, 4, 5),
+def images(draw: st.DrawFn, *, dtypes: list[str] = DTYPES,
+           channels: tuple[int | None, ...] = (None, 1, 2, 3, 4, 5),
            shape: tuple[int, int] | None = None, special: bool = True) -> np.ndarray:
     """An image of any size (1 x 1 up), dtype and channel count, with special values sometimes."""
     h, w = shape or (draw(sizes), draw(sizes))
@@ -81,7 +82,8 @@ def point_sets(draw: st.DrawFn, n_max: int = 12, extent: float = 12.0) -> np.nda
 
 
 @given(image=images(), src=point_sets(), jitter=st.floats(-3, 3), dst=st.none() | point_sets(),
-       out_shape=st.tuples(st.integers(-1, 16), st.integers(-1, 16)) | st.sampled_from([(0, 0), (1, 1), (3,)]),
+       out_shape=st.tuples(st.integers(-1, 16), st.integers(-1, 16))
+       | st.sampled_from([(0, 0), (1, 1), (3,)]),
        interpolation=st.sampled_from(["linear", "nearest", "cubic"]), return_mask=st.booleans())
 def test_warp_mesh(image, src, jitter, dst, out_shape, interpolation, return_mask):
     dst = src + jitter if dst is None else dst
@@ -128,7 +130,8 @@ _metric_images = images(dtypes=["float32", "float64", "uint8", "int32", "bool"],
                         shape=(5, 6))
 
 
-@given(a=_metric_images, b=_metric_images, mask=st.none() | hnp.arrays(bool, st.sampled_from([(5, 6), (5,), (5, 6, 3)])),
+@given(a=_metric_images, b=_metric_images,
+       mask=st.none() | hnp.arrays(bool, st.sampled_from([(5, 6), (5,), (5, 6, 3)])),
        data_range=reals, metric=st.sampled_from(["mae", "rmse", "psnr", "ssim", "iou"]))
 def test_metrics(a, b, mask, data_range, metric):
     fn = {"mae": lambda: mean_abs_error(a, b, mask), "rmse": lambda: rmse(a, b, mask),
@@ -231,8 +234,8 @@ def correspondences(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
     return p0, p1
 
 
-@given(image0=images(dtypes=["uint8", "uint16", "float32", "float64", "int32", "bool"], channels=(None, 3, 4, 2),
-                     special=False),
+@given(image0=images(dtypes=["uint8", "uint16", "float32", "float64", "int32", "bool"],
+                     channels=(None, 3, 4, 2), special=False),
        same_shape=st.booleans(), corr=correspondences(),
        prewarp=st.sampled_from(["auto", "opencv", "seitz-dyer", "none", "other"]),
        fallback=st.sampled_from(["raise", "morph"]), layers=st.sampled_from([1, 2, "auto", 0]))
