@@ -263,8 +263,9 @@ def _record(meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> AssetRecord:
         raise _bad("meta['front_view']", f"-1 or a view index in [0, {views})", front_view)
     if front.dtype != np.uint8 or front.shape != want_front:
         raise _bad("array 'front'", f"uint8 of shape {want_front}", f"{front.dtype} of shape {front.shape}")
-    if np.isnan(depth).any():
-        raise _bad("array 'depth'", "depths (+inf for background)", "NaN values")
+    bad = int(np.count_nonzero(np.isnan(depth) | (depth == -np.inf)))
+    if bad:  # as the shadow atlas loader: finite or +inf depths
+        raise _bad("array 'depth'", "finite or +inf depths (+inf for background)", f"{bad} NaN/-inf values")
     return AssetRecord(_get(meta, "name", str), _get(meta, "mesh_hash", str), ring, quad,
                        _get(meta, "levels", int), layers, pairs, front_view, cameras,
                        images, depth, pts, offsets, front)
