@@ -195,6 +195,13 @@ class AssetRecord:
         return cls(**d)
 
 
+def _no_constant(name: str) -> Any:
+    """``json.loads``' hook for ``NaN``/``Infinity``: the manifest is strict JSON (written with
+    ``allow_nan=False``), so a file holding them is refused (a ValueError), never carried on
+    to fail at the next commit."""
+    raise ValueError(f"{name} is not a JSON number")
+
+
 _STATUSES = ("baked", "skipped", "failed")
 _RECORD_TYPES: dict[str, Any] = {"name": str, "input": str, "input_sha256": str, "input_bytes": int,
                                  "status": str, "error": (str, type(None)), "outputs": dict,
@@ -285,7 +292,7 @@ class Manifest:
         m = cls(folder)
         if m.path.exists():
             try:
-                d = json.loads(m.path.read_text(encoding="utf-8"))
+                d = json.loads(m.path.read_text(encoding="utf-8"), parse_constant=_no_constant)
                 if d.get("format") != MANIFEST_FORMAT:
                     raise FileFormatError(expected_got(f"manifest {m.path}", MANIFEST_FORMAT,
                                                        d.get("format")))
@@ -305,7 +312,7 @@ class Manifest:
         if m.journal.exists():
             for line in m.journal.read_text(encoding="utf-8", errors="replace").splitlines():
                 try:
-                    rec = AssetRecord.from_dict(json.loads(line))
+                    rec = AssetRecord.from_dict(json.loads(line, parse_constant=_no_constant))
                 except (ValueError, KeyError, TypeError, FileFormatError):
                     continue  # the line a crash cut short (or damaged: the asset is baked again)
                 m.assets[rec.name] = rec
