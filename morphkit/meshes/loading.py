@@ -362,6 +362,11 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
         if faces.min() < 0 or faces.max() >= len(part.vertices):
             raise MeshError(expected_got(name, f"face indices in [0, {len(part.vertices)})",
                                          f"indices from {int(faces.min())} to {int(faces.max())}"))
+        v = np.asarray(part.vertices)
+        big = np.isfinite(v) & (np.abs(v) > tol.MESH_MAX_COORD)  # NaN/inf: check_mesh's message
+        if big.any():
+            raise MeshError(expected_got(name, f"vertex coordinates within +-{tol.MESH_MAX_COORD:g}",
+                                         f"{int(np.count_nonzero(big.any(axis=1)))} vertices beyond"))
         if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
             part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
     mesh = check_mesh(merge_parts(parts, name), name)
