@@ -63,7 +63,8 @@ def _finite_if_input_finite(out: np.ndarray, *inputs: np.ndarray) -> None:
 @st.composite
 def point_sets(draw: st.DrawFn, n_max: int = 12, extent: float = 12.0) -> np.ndarray:
     """Point sets: random, too few, duplicated, collinear, outside the image, with NaN/inf."""
-    how = draw(st.sampled_from(["random", "few", "duplicate", "collinear", "outside", "special", "grid"]))
+    how = draw(st.sampled_from(["grid", "random", "few", "grid", "duplicate", "collinear", "outside",
+                                "special", "grid"]))
     n = draw(st.integers(0 if how == "few" else 3, 2 if how == "few" else n_max))
     coords = st.floats(-2.0, extent + 2.0)
     pts = np.array(draw(st.lists(st.tuples(coords, coords), min_size=n, max_size=n)), float).reshape(-1, 2)
