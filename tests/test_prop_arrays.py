@@ -171,8 +171,9 @@ poses = st.one_of(
 def test_camera_model(projection, shape, f, c, z, pose):
     ok, cam = outcome(CameraModel, projection, shape, f[0], f[1], c[0], c[1], z[0], z[1], pose)
     if ok:
-        ok, (px, depth) = outcome(cam.project, np.array([[0.0, 0.0, 1.0], [0.3, -0.2, 2.0]]))
+        ok, res = outcome(cam.project, np.array([[0.0, 0.0, 1.0], [0.3, -0.2, 2.0]]))
         if ok:
+            px, depth = res
             assert px.shape == (2, 2) and depth.shape == (2,)
 
 
@@ -259,6 +260,7 @@ def test_plan_view_morph(image0, same_shape, corr, prewarp, fallback, layers):
 def test_correspondences(p0, p1):
     ok, c = outcome(Correspondences, p0, p1, "user")
     if ok:
-        ok, (cleaned, _) = outcome(c.cleaned)
+        ok, res = outcome(c.cleaned)
         if ok:
+            cleaned, _ = res
             assert np.isfinite(cleaned.pts0).all() and np.isfinite(cleaned.pts1).all()
