@@ -23,7 +23,7 @@ def prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int,
     ----------
     image0, image1 : numpy.ndarray
         ``(H, W)`` grey, ``(H, W, 3)`` RGB or ``(H, W, 4)`` RGBA (straight
-        alpha), one numeric (not bool) dtype, float pixels in [0, 1]; shapes may differ.
+        alpha), one numeric (not bool) dtype; shapes may differ.
 
     Returns
     -------
@@ -38,8 +38,7 @@ def prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int,
     Raises
     ------
     ValidationError
-        Not an image, an unsupported channel count, different dtypes, bool, or float
-        pixels outside [0, 1].
+        Not an image, an unsupported channel count, different dtypes, or bool.
     """
     a = as_image(image0, "image0", channels=(1, 3, 4))
     b = as_image(image1, "image1", channels=(1, 3, 4))
@@ -47,11 +46,6 @@ def prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int,
         raise ValidationError(expected_got("image1 dtype", f"{a.dtype} (as image0)", f"{b.dtype}"))
     if a.dtype == np.bool_:
         raise ValidationError(expected_got("image dtype", "a numeric dtype", "bool"))
-    for name, img in (("image0", a), ("image1", b)):
-        # float pixels are in [0, 1]: a huge one (3e38) overflows to inf and NaN in the blend
-        if img.dtype.kind == "f" and (img.min() < 0.0 or img.max() > 1.0):
-            raise ValidationError(expected_got(f"{name} values", "float pixels in [0, 1]",
-                                               f"values from {img.min():g} to {img.max():g}"))
     ch = max(_layout(a), _layout(b))
     return a, b, ch, a.dtype
 
