@@ -94,8 +94,14 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
         ``channels >= 3``).
     """
     img = as_image(image, "image", channels=(1, 3, 4))
+    if channels not in (1, 3, 4):
+        raise ValidationError(expected_got("channels", "1, 3 or 4", repr(channels)))
     amax = _alpha_max(img.dtype)
-    x = img.astype(np.float32)
+    with np.errstate(over="ignore"):
+        x = img.astype(np.float32)
+    if img.dtype.kind == "f" and not np.all(np.isfinite(x)):
+        raise ValidationError(expected_got("image", "pixel values within float32's range",
+                                           f"values up to {float(np.abs(img).max()):g}"))
     if x.ndim == 2:
         x = x[:, :, None]
     c = x.shape[2]
@@ -189,6 +195,7 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
     array([[100, 100, 100],
            [162,  60,  60]], dtype=uint8)
     """
+    _check_over(out, part, roi, shape)
     r_0, r_1, c_0, c_1 = roi
     if out is None:
         if roi == (0, shape[0], 0, shape[1]):
@@ -200,6 +207,26 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
     view *= 1.0 - part[:, :, -1:]
     view += part
     return out
+
+
+def _check_over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int],
+                shape: tuple[int, int]) -> None:
+    """:func:`over`'s arguments agree: ``part`` fills ``roi``, inside ``shape``, with ``out``'s channels."""
+    if not (isinstance(part, np.ndarray) and part.ndim == 3 and part.dtype.kind == "f"
+            and part.shape[2] >= 2):
+        raise ValidationError(expected_got("part", "a float (h, w, C) premultiplied image, C >= 2",
+                                           f"{getattr(part, 'dtype', type(part).__name__)} "
+                                           f"{getattr(part, 'shape', '')}"))
+    h, w = shape
+    r_0, r_1, c_0, c_1 = roi
+    if not (0 <= r_0 <= r_1 <= h and 0 <= c_0 <= c_1 <= w and part.shape[:2] == (r_1 - r_0, c_1 - c_0)):
+        raise ValidationError(expected_got("roi", f"rows and columns inside {tuple(shape)} that part "
+                                           f"{part.shape[:2]} fills", roi))
+    if out is not None and not (isinstance(out, np.ndarray) and out.dtype.kind == "f"
+                                and out.shape == (h, w, part.shape[2])):
+        raise ValidationError(expected_got("out", f"None or a float {(h, w, part.shape[2])} image",
+                                           f"{getattr(out, 'dtype', type(out).__name__)} "
+                                           f"{getattr(out, 'shape', '')}"))
 
 
 def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,

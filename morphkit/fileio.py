@@ -26,7 +26,10 @@ from __future__ import annotations
 
 import json
 import os
+import struct
 import tempfile
+import zipfile
+import zlib
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -37,8 +40,17 @@ import numpy as np
 
 from .errors import FileFormatError, ValidationError, expected_got
 
-__all__ = ["check_writable", "atomic_write", "atomic_output", "append_lines", "write_bytes",
+__all__ = ["ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output", "append_lines", "write_bytes",
            "write_text", "write_json", "encode_image", "write_image", "read_image"]
+
+#: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
+#: raise: every file loader catches these and raises a FileFormatError naming the file and what
+#: it expected (a truncated deflate stream is a ``zlib.error``, a damaged header a
+#: ``struct.error``, a foreign compression method ``NotImplementedError``, an encrypted member
+#: ``RuntimeError``, a bad ``.npy`` header ``ValueError``/``SyntaxError``).
+ARCHIVE_ERRORS: tuple[type[Exception], ...] = (
+    OSError, EOFError, ValueError, KeyError, TypeError, SyntaxError, zipfile.BadZipFile, zlib.error,
+    struct.error, NotImplementedError, RuntimeError, UnicodeDecodeError, OverflowError)
 
 #: OpenCV's channel order of a 3- or 4-channel image from morphkit's (and back:
 #: the permutation is its own inverse).
@@ -343,7 +355,12 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     except OSError as exc:
         raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
                                            exc.strerror or exc)) from exc
-    img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    try:
+        img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    except cv2.error as exc:  # e.g. a damaged header's size past OpenCV's limit
+        raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
+                                           f"{data.size} bytes it refuses: "
+                                           f"{str(exc).strip().splitlines()[-1]}"[:300])) from exc
     if img is None:
         raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
                                            f"{data.size} bytes it cannot"))

@@ -72,7 +72,17 @@ def _mask(mask: Any, shape: tuple[int, ...]) -> np.ndarray | None:
 
 
 def _masked_mean(values: np.ndarray, mask: np.ndarray | None) -> float:
-    return float(values.mean() if mask is None else values[mask].mean())
+    m = float(values.mean() if mask is None else values[mask].mean())
+    return _finite(m)
+
+
+def _finite(v: float) -> float:
+    """``v``, or a ValidationError when finite inputs overflowed float64 on the way (values near
+    1e154 squared, 1e308 subtracted): a metric is never inf or NaN from finite inputs."""
+    if not np.isfinite(v):
+        raise ValidationError(expected_got("a, b", "values whose differences and squares fit in float64",
+                                           f"an overflow to {v}"))
+    return v
 
 
 def shadow_iou(pred: Any, truth: Any, mask: Any = None) -> float:
@@ -147,7 +157,8 @@ def mean_abs_error(a: Any, b: Any, mask: Any = None) -> float:
     Raises
     ------
     ValidationError
-        On mismatched, empty or non-finite inputs or a bad/empty mask.
+        On mismatched, empty or non-finite inputs (or so large that their
+        differences overflow) or a bad/empty mask.
     """
     x, y = _pair(a, b)
     return _masked_mean(np.abs(x - y), _mask(mask, x.shape))
@@ -172,7 +183,8 @@ def rmse(a: Any, b: Any, mask: Any = None) -> float:
     Raises
     ------
     ValidationError
-        On mismatched, empty or non-finite inputs or a bad/empty mask.
+        On mismatched, empty or non-finite inputs (or so large that their
+        differences overflow) or a bad/empty mask.
     """
     x, y = _pair(a, b)
     return float(np.sqrt(_masked_mean((x - y) ** 2, _mask(mask, x.shape))))
@@ -324,4 +336,4 @@ def ssim(a: Any, b: Any, *, data_range: float, mask: Any = None) -> float:
                     "none",
                 )
             )
-    return float(smap[interior].mean())
+    return _finite(float(smap[interior].mean()))

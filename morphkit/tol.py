@@ -48,6 +48,11 @@ CUTOUT_MAX_LAYERS = 64
 #: far below it; samples at such centres move by < 1e-6 px (invisible).
 MESH_BOUNDARY_PX = 1e-6
 
+#: Largest vertex coordinate (scene units, absolute) of a mesh morphkit reads. trimesh's vertex
+#: merging hashes coordinates scaled by 1e8 into int64 (about 9.2e18), so it overflows past
+#: ~9e10; 1e9 is 90x below that and a million kilometres on a metre scale: no real model.
+MESH_MAX_COORD = 1e9
+
 #: Relative length below which a mesh counts as flat in a direction
 #: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
 #: (or second bounding-box extent) over its first. Vertex coordinates round at

@@ -3,8 +3,23 @@ with ``pytest -m "not gl"`` (no GL context, pyrender never imported)."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, settings
+
+# Hypothesis profiles of the property-based tests (tests/test_prop_*.py). "ci" (the default) is
+# derandomised (a fixed seed per test: the same cases on every run) with few examples, so the
+# generated suite stays well under 2 minutes on 2 cores; "long" tries 10x as many, on demand:
+# MORPHKIT_HYPOTHESIS=long pytest tests/test_prop_*.py
+_HYPOTHESIS_BASE = dict(derandomize=True, deadline=None, database=None, print_blob=True,
+                        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                               HealthCheck.function_scoped_fixture,
+                                               HealthCheck.filter_too_much])
+settings.register_profile("ci", max_examples=100, **_HYPOTHESIS_BASE)
+settings.register_profile("long", max_examples=1000, **_HYPOTHESIS_BASE)
+settings.load_profile(os.environ.get("MORPHKIT_HYPOTHESIS", "ci"))
 
 
 @pytest.fixture

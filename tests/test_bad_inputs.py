@@ -433,7 +433,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("cli viewmorph: malformed --points JSON", vm("{tmp}/o.png", "syntax.json"), CliExit,
      r"exit 1: .*points file: expected valid JSON"),
     ("cli viewmorph: --points of the wrong layout", vm("{tmp}/o.png", "layout.json"), CliExit,
-     r"exit 1: .*points file .*expected x0, y0, x1, y1 rows"),
+     r"exit 1: .*points file pts0: expected a list of \[x, y\] numbers, got shape \(1, 3\)"),
     ("cli viewmorph: missing input image",
      cli("viewmorph", "{tmp}/no.png", "{tmp}/no.png", "-o", "{tmp}/o.png"), CliExit,
      r"exit 1: .*image .*no.png.*: expected an existing file, got nothing there"),

@@ -55,7 +55,7 @@ def test_viewmorph_writes_its_output(pair, capsys):
     ("output-is-a-folder", r"output: expected an image file path .*, got the folder"),
     ("system-path", r"cannot write /proc/morphkit-test.png"),
     ("points-not-json", r"points file: expected valid JSON"),
-    ("points-bad-layout", r"points file .*layout.json.*: expected x0, y0, x1, y1 rows .*got ValueError"),
+    ("points-bad-layout", r"points file pts0: expected a list of \[x, y\] numbers, got shape .*layout.json"),
     ("missing-input", r"image .*missing.png.*: expected an existing file, got nothing there"),
 ])
 def test_viewmorph_errors_are_one_line(pair, capsys, case, match):

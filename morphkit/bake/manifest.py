@@ -43,6 +43,7 @@ from __future__ import annotations
 import datetime
 import hashlib
 import json
+import math
 import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -204,9 +205,50 @@ class AssetRecord:
         AssetRecord
             The record, ``outputs`` as :class:`OutputRecord`.
         """
-        d = dict(d)
+        d = dict(_checked_record(d))
         d["outputs"] = {k: OutputRecord(**v) for k, v in d.get("outputs", {}).items()}
         return cls(**d)
+
+
+def _no_constant(name: str) -> Any:
+    """``json.loads``' hook for ``NaN``/``Infinity``: the manifest is strict JSON (written with
+    ``allow_nan=False``), so a file holding them is refused (a ValueError), never carried on
+    to fail at the next commit."""
+    raise ValueError(f"{name} is not a JSON number")
+
+
+_STATUSES = ("baked", "skipped", "failed")
+_RECORD_TYPES: dict[str, Any] = {"name": str, "input": str, "input_sha256": str, "input_bytes": int,
+                                 "status": str, "error": (str, type(None)), "outputs": dict,
+                                 "timings_s": dict, "worker": (str, type(None)), "updated": str}
+_OUTPUT_TYPES: dict[str, Any] = {"file": str, "sha256": str, "bytes": int, "version": int,
+                                 "options": dict, "seconds": (int, float)}
+
+
+def _fields_ok(d: Any, types: dict[str, Any], required: tuple[str, ...]) -> bool:
+    """``d`` is a dict with ``required`` keys, each known key of its type (finite numbers)."""
+    if not isinstance(d, dict) or not set(required) <= set(d):
+        return False
+    for k, v in d.items():
+        if k in types and (isinstance(v, bool) or not isinstance(v, types[k])):
+            return False
+        if isinstance(v, float) and not math.isfinite(v):
+            return False
+    return True
+
+
+def _checked_record(d: Any) -> dict[str, Any]:
+    """``d`` if it is a record's :meth:`AssetRecord.to_dict` form (JSON types checked), else a
+    FileFormatError: a hand-edited or damaged manifest never reaches the bake as wrong types."""
+    ok = (_fields_ok(d, _RECORD_TYPES, ("name", "input", "input_sha256", "input_bytes", "status"))
+          and d["status"] in _STATUSES
+          and all(isinstance(k, str) and _fields_ok(v, _OUTPUT_TYPES, tuple(_OUTPUT_TYPES))
+                  for k, v in d.get("outputs", {}).items())
+          and all(type(v) in (int, float) and math.isfinite(v) for v in d.get("timings_s", {}).values()))
+    if not ok:
+        raise FileFormatError(expected_got("manifest asset record", "the fields of a bake record, "
+                                           "each of its JSON type", repr(d)[:200]))
+    return d
 
 
 class Manifest:
@@ -265,7 +307,7 @@ class Manifest:
         m = cls(folder)
         if m.path.exists():
             try:
-                d = json.loads(m.path.read_text(encoding="utf-8"))
+                d = json.loads(m.path.read_text(encoding="utf-8"), parse_constant=_no_constant)
                 if d.get("format") != MANIFEST_FORMAT:
                     raise FileFormatError(expected_got(f"manifest {m.path}", MANIFEST_FORMAT,
                                                        d.get("format")))
@@ -274,15 +316,20 @@ class Manifest:
                                                        d.get("version")))
                 m.assets = {k: AssetRecord.from_dict(v) for k, v in d["assets"].items()}
                 m.options, m.run = d.get("options", {}), d.get("run", {})
+                if not (isinstance(m.options, dict) and isinstance(m.run, dict)
+                        and all(type(m.run.get(k, 0)) in (int, float) and math.isfinite(m.run.get(k, 0))
+                                for k in ("baked", "skipped", "failed", "wall_s"))):
+                    raise FileFormatError(expected_got(f"manifest {m.path} options and run", "objects",
+                                                       f"{d.get('options')!r}, {d.get('run')!r}"[:200]))
             except (ValueError, KeyError, TypeError, AttributeError, UnicodeDecodeError) as exc:
                 raise FileFormatError(expected_got(f"manifest {m.path}", f"a {MANIFEST_FORMAT} JSON file",
                                                    f"{type(exc).__name__}: {exc}")) from exc
         if m.journal.exists():
             for line in m.journal.read_text(encoding="utf-8", errors="replace").splitlines():
                 try:
-                    rec = AssetRecord.from_dict(json.loads(line))
-                except (ValueError, KeyError, TypeError):
-                    continue  # the line a crash cut short
+                    rec = AssetRecord.from_dict(json.loads(line, parse_constant=_no_constant))
+                except (ValueError, KeyError, TypeError, FileFormatError):
+                    continue  # the line a crash cut short (or damaged: the asset is baked again)
                 m.assets[rec.name] = rec
         return m
 

@@ -44,8 +44,6 @@ import hashlib
 import io
 import json
 import os
-import zipfile
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -53,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, expected_got
-from ..fileio import write_bytes
+from ..fileio import ARCHIVE_ERRORS, write_bytes
 
 __all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
 
@@ -209,8 +207,7 @@ def read_record(path: str | os.PathLike[str]) -> AssetRecord:
             arrays = {k: z[k] for k in _ARRAYS}
     except FileFormatError:
         raise
-    except (OSError, EOFError, ValueError, KeyError, zipfile.BadZipFile, zlib.error, UnicodeDecodeError,
-            json.JSONDecodeError) as exc:
+    except ARCHIVE_ERRORS as exc:  # json.JSONDecodeError is a ValueError
         raise _bad(p.name, f"a complete {FORMAT} .npz file", f"an unreadable file "
                    f"({type(exc).__name__}: {str(exc)[:120]})") from exc
     return _record(meta, arrays)
@@ -285,8 +282,9 @@ def _record(meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> AssetRecord:
         raise _bad("meta['front_view']", f"-1 or a view index in [0, {views})", front_view)
     if front.dtype != np.uint8 or front.shape != want_front:
         raise _bad("array 'front'", f"uint8 of shape {want_front}", f"{front.dtype} of shape {front.shape}")
-    if np.isnan(depth).any():
-        raise _bad("array 'depth'", "depths (+inf for background)", "NaN values")
+    bad = int(np.count_nonzero(np.isnan(depth) | (depth == -np.inf)))
+    if bad:  # as the shadow atlas loader: finite or +inf depths
+        raise _bad("array 'depth'", "finite or +inf depths (+inf for background)", f"{bad} NaN/-inf values")
     appearance = _get(meta, "appearance", str)
     if appearance not in APPEARANCES:
         raise _bad("meta['appearance']", f"one of {list(APPEARANCES)}", repr(appearance))

@@ -186,6 +186,9 @@ def check_mesh(mesh: Any, name: str) -> trimesh.Trimesh:
     if len(faces) == 0:
         raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
     v = np.asarray(mesh.vertices)
+    if v.ndim != 2 or v.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
+        raise MeshError(expected_got(name, "(N, 3) vertices and (M, 3) triangles",
+                                     f"vertices {v.shape}, faces {faces.shape}"))
     if faces.min() < 0 or faces.max() >= len(v):
         raise MeshError(expected_got(name, f"face indices in [0, {len(v)})",
                                      f"indices up to {int(faces.max())}"))
@@ -357,8 +360,23 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     else:
         raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
     for part in parts:
+        # a damaged file's faces may index past its vertices: refused before trimesh indexes them
+        faces = np.asarray(part.faces)
+        if faces.min() < 0 or faces.max() >= len(part.vertices):
+            raise MeshError(expected_got(name, f"face indices in [0, {len(part.vertices)})",
+                                         f"indices from {int(faces.min())} to {int(faces.max())}"))
+        v = np.asarray(part.vertices)
+        big = np.isfinite(v) & (np.abs(v) > tol.MESH_MAX_COORD)  # NaN/inf: check_mesh's message
+        if big.any():
+            raise MeshError(expected_got(name, f"vertex coordinates within +-{tol.MESH_MAX_COORD:g}",
+                                         f"{int(np.count_nonzero(big.any(axis=1)))} vertices beyond"))
         if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
-            part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
+            try:
+                part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
+            except (ArithmeticError, IndexError, ValueError, TypeError) as exc:
+                # damaged UVs or normals (huge values) overflow trimesh's hashing of them
+                raise MeshError(expected_got(name, "vertex attributes trimesh can merge",
+                                             f"{type(exc).__name__}: {exc}"[:200])) from exc
     mesh = check_mesh(merge_parts(parts, name), name)
     if axis == "y":
         mesh.apply_transform(Y_UP_TO_Z_UP)

@@ -24,7 +24,6 @@ import io
 import json
 import math
 import re
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +31,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
-from ..fileio import write_bytes
+from ..fileio import ARCHIVE_ERRORS, write_bytes
 from ..scene import DirectionalLight, PointLight
 from ..validate import as_pose
 from .baked import BakedAtlas
@@ -237,7 +236,7 @@ def _read_arrays(path: Path) -> dict[str, np.ndarray]:
             return {k: _read_one(z, k) for k in names}
     except FileNotFoundError as exc:
         raise FileFormatError(expected_got("atlas file", "an existing file", str(path))) from exc
-    except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError, TypeError) as exc:
+    except ARCHIVE_ERRORS as exc:
         raise FileFormatError(expected_got(
             "atlas file", f"a complete {ATLAS_FORMAT} .npz file",
             f"an unreadable file {path.name} ({type(exc).__name__}: {exc})"[:300])) from exc

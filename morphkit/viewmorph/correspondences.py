@@ -491,17 +491,19 @@ def load_points(path: str | Path) -> Correspondences:
     """
     p = Path(path)
     try:
-        text = p.read_text()
+        text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise FileFormatError(expected_got("points file", "a readable file", f"{p}: {exc}")) from exc
+    except UnicodeDecodeError as exc:
+        raise FileFormatError(expected_got("points file", "UTF-8 text (JSON or CSV)", f"{p}: {exc}")) from exc
     if p.suffix.lower() == ".json":
         try:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
             raise FileFormatError(expected_got("points file", "valid JSON", f"{p}: {exc}")) from exc
         if isinstance(data, dict) and "pts0" in data and "pts1" in data:
-            return Correspondences(np.asarray(data["pts0"], dtype=np.float64).reshape(-1, 2),
-                                   np.asarray(data["pts1"], dtype=np.float64).reshape(-1, 2), "user")
+            pts = [_point_array(data[k], f"points file {k}", p) for k in ("pts0", "pts1")]
+            return Correspondences(pts[0], pts[1], "user")
         if isinstance(data, list) and data and isinstance(data[0], dict):
             try:
                 rows = [[r["x0"], r["y0"], r["x1"], r["y1"]] for r in data]
@@ -525,13 +527,26 @@ def load_points(path: str | Path) -> Correspondences:
         raise FileFormatError(expected_got("points file", "a .json or .csv file", str(p)))
     try:
         arr = np.asarray(rows, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise FileFormatError(expected_got("points file", "numeric rows x0, y0, x1, y1",
                                            f"{p}: {exc}")) from exc
     if arr.ndim != 2 or arr.shape[1] != 4:
         raise FileFormatError(expected_got("points file", "rows of 4 numbers (x0, y0, x1, y1)",
                                            f"shape {arr.shape} in {p}"))
     return Correspondences(arr[:, :2], arr[:, 2:], "user")
+
+
+def _point_array(v: Any, what: str, p: Path) -> np.ndarray:
+    """``v`` (a JSON value) as ``(N, 2)`` float64, or a FileFormatError naming ``what`` in ``p``."""
+    try:
+        a = np.asarray(v, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise FileFormatError(expected_got(what, "a list of [x, y] numbers", f"{p}: {exc}")) from exc
+    if a.size == 0:
+        return a.reshape(0, 2)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise FileFormatError(expected_got(what, "a list of [x, y] numbers", f"shape {a.shape} in {p}"))
+    return a
 
 
 def _is_number(s: str) -> bool:
