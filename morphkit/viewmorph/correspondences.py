@@ -41,6 +41,7 @@ from ..camera import CameraModel
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..fileio import write_text
 from ..validate import as_finite_array, as_image, as_int, as_points
+from ..warp.mesh import as_mesh_points
 
 __all__ = [
     "Correspondences",
@@ -96,8 +97,9 @@ class Correspondences:
     depth: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        p0 = as_points(self.pts0, "pts0")
-        p1 = as_points(self.pts1, "pts1")
+        # pixel positions: finite and within tol.MAX_COORD_PX, as every mesh warp's control point
+        p0 = as_mesh_points(self.pts0, "pts0")
+        p1 = as_mesh_points(self.pts1, "pts1")
         if p0.shape != p1.shape:
             raise ValidationError(expected_got("pts1", f"{p0.shape[0]} points (as many as pts0)",
                                                f"{p1.shape[0]}"))
