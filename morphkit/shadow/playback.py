@@ -28,6 +28,7 @@ import numpy as np
 import trimesh
 from tqdm import tqdm
 
+from .. import tol
 from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
@@ -76,7 +77,7 @@ class ObjectPath(Protocol):
 
 
 def _frames(n: Any) -> int:
-    return as_int(n, "frames", lo=1, hi=100000)
+    return as_int(n, "frames", lo=1, hi=tol.MAX_FRAMES)
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,7 @@ class LinePath:
     Parameters
     ----------
     frames : int
-        Number of positions, in [1, 100000] (checked by :meth:`positions`).
+        Number of positions, in [1, :data:`morphkit.tol.MAX_FRAMES`] (checked by :meth:`positions`).
     """
 
     frames: int = 48
@@ -115,7 +116,7 @@ class CirclePath:
     Parameters
     ----------
     frames : int
-        Number of positions, in [1, 100000] (checked by :meth:`positions`).
+        Number of positions, in [1, :data:`morphkit.tol.MAX_FRAMES`] (checked by :meth:`positions`).
     """
 
     frames: int = 48
