@@ -269,8 +269,11 @@ def test_sigint_to_a_running_demo(tmp_path):
     # the full demo (over a minute of work after it claims its folder), interrupted a second after
     # the claim: it is always mid-work then (--quick could finish first on a quiet machine, and an
     # interrupt that arrives after the work would not be tested); it is not run to its end
+    # SIGINT back to its default in the child: a test run started in the background by a
+    # non-interactive shell inherits SIGINT ignored, and Python then installs no handler for it
     p = subprocess.Popen([sys.executable, "-m", "morphkit", "demo", "-o", str(out)],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while not (out / MARKER_NAME).exists() and p.poll() is None and time.monotonic() < deadline:
         time.sleep(0.1)  # the demo has claimed its folder: it is rendering
