@@ -22,7 +22,7 @@ folder behind. :func:`claim_output` makes the check (no side effect);
 :meth:`OutputClaim.writing` creates the folder, takes its lock (:data:`LOCK_NAME`,
 ``fcntl.flock``: a second run into the same folder at the same time is refused,
 :class:`~morphkit.errors.OutputBusyError`), removes the temporary files of a killed
-run (:data:`TEMPORARY`; a run that is killed cannot remove its own) and writes the marker. A run that
+run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. A run that
 fails or is interrupted before writing anything removes what it created.
 """
 

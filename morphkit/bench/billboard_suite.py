@@ -55,11 +55,11 @@ other sections -- frame time, temporal stability -- append theirs):
   by :func:`morphkit.meshes.load_mesh`, against their real meshes drawn in the same look
   (:meth:`BillboardAsset.items`), same cameras: ``morph``, ``classic``, ``nearest``,
   ``crossfade``; besides IoU and PSNR, the detail each keeps: ``psnr_hp`` (PSNR of the
-  high-pass band, the colour minus its Gaussian blur of :data:`HIGH_PASS_SIGMA` px) and
+  high-pass band, the colour minus its Gaussian blur of ``HIGH_PASS_SIGMA`` px) and
   ``sharpness`` (mean Sobel gradient magnitude over the truth's; 1 is as sharp, below 1
   blurred); ``textured-bake`` -- the photo crate's bake (``K = 8``, 3 levels) in its own
   look against the checker, interleaved; ``one-colour`` -- a box of one vertex colour
-  (:data:`ONE_COLOUR`) baked at elevation 0 (only its vertical faces, at right angles to
+  (``ONE_COLOUR``) baked at elevation 0 (only its vertical faces, at right angles to
   the bake light): the largest channel error (``err_255``, 0..255) of the mean covered colour
   of the morph at ``s = 1/2`` (``err_255_ref``: of a reference) against the analytic
   :func:`morphkit.billboard.bakelook.sideways_colour` (target within 2);

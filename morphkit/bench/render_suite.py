@@ -9,9 +9,6 @@ Rows:
   :class:`~morphkit.render.Renderer`'s first (empty) depth map of that size and
   its close: the GL context's creation and deletion, the cost a renderer created
   per frame would pay.
-
-Every row carries ``gl`` (:func:`morphkit.render.gl_info`: the platform,
-``osmesa`` or ``egl`` as ``MORPHKIT_GL`` chose, and the ``GL_RENDERER`` string).
 * ``what=accuracy``: depth of an analytic plane facing the camera at distance
   ``dist`` (``znear = 0.05``, ``zfar = 100``), orthographic and perspective:
   metrics ``rel_err_max`` over all pixels (morphkit's linearisation) and, for
@@ -34,6 +31,9 @@ Every row carries ``gl`` (:func:`morphkit.render.gl_info`: the platform,
   Methods: ``depth_6k`` (:meth:`Renderer.depth`, the ratio column's floor),
   ``lit_6k`` (:meth:`Renderer.color_depth`), ``albedo_6k``, ``normal_6k``, and
   ``passes_6k`` (:meth:`Renderer.passes`: the three draws). Timed round-robin.
+
+Every row carries ``gl`` (:func:`morphkit.render.gl_info`: the platform,
+``osmesa`` or ``egl`` as ``MORPHKIT_GL`` chose, and the ``GL_RENDERER`` string).
 """
 
 from __future__ import annotations

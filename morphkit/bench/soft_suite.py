@@ -54,7 +54,7 @@ from ..shadow.penumbra import PcfSoftShadow, PcssSoftShadow, PenumbraSoftShadow
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import Timing, make_row, time_cycling
 
-__all__ = ["run", "run_subset", "accuracy_rows", "banding", "contact_region", "FLOOR_METHOD",
+__all__ = ["run", "run_subset", "accuracy_rows", "banding", "contact_region", "SoftTruth", "FLOOR_METHOD",
            "PLOT_OPTIONS"]
 
 SUITE = "soft"
@@ -114,7 +114,7 @@ def contact_region(mesh: trimesh.Trimesh, xy: np.ndarray, grid: np.ndarray, radi
                    ) -> np.ndarray:
     """Grid points within ``radius`` of where the object touches the ground.
 
-    The contact lines are the object's surface below :data:`CONTACT_HEIGHT`
+    The contact lines are the object's surface below ``CONTACT_HEIGHT``
     (surface samples, seeded), moved to ``xy``.
 
     Parameters
@@ -141,8 +141,14 @@ def contact_region(mesh: trimesh.Trimesh, xy: np.ndarray, grid: np.ndarray, radi
     return np.isfinite(dist)
 
 
-class _Truth:
-    """Ray-cast area-light visibility per (mesh, position, samples), computed once."""
+class SoftTruth:
+    """Ray-cast area-light visibility per (mesh, position, samples), computed once.
+
+    Parameters
+    ----------
+    dense : int
+        Light samples per axis of the reference ray cast.
+    """
 
     def __init__(self, dense: int) -> None:
         self.grid = receiver_grid(GROUND_HALF, (GROUND_N, GROUND_N)).reshape(-1, 3)
@@ -165,12 +171,29 @@ class _Truth:
         return self._cache.get(key, cast)
 
     def contact(self, mesh_name: str, mesh: Any, xy: np.ndarray, radius: float) -> np.ndarray:
-        """:func:`contact_region` of the grid, computed once per case."""
+        """:func:`contact_region` of the grid, computed once per case.
+
+        Parameters
+        ----------
+        mesh_name : str
+            The sample mesh's name (the cache key).
+        mesh : trimesh.Trimesh
+            The mesh, object frame.
+        xy : (2,) float
+            The object's translation on the ground.
+        radius : float
+            Distance from the contact lines, world units.
+
+        Returns
+        -------
+        (P,) bool
+            Grid points within ``radius`` of where the object touches the ground.
+        """
         key = ("contact", mesh_name, xy.tobytes(), radius)
         return self._cache.get(key, lambda: contact_region(mesh, xy, self.grid, radius))
 
 
-def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth: _Truth,
+def _errors(soft: SoftShadow, mesh_name: str, mesh: Any, xys: np.ndarray, truth: SoftTruth,
             contact_radius: float) -> dict[str, float]:
     out: dict[str, list[float]] = {"mae": [], "mae_shadow": [], "banding": [], "mae_contact": []}
     averaged = not isinstance(soft, PenumbraSoftShadow)
@@ -217,7 +240,7 @@ def _methods(atlas: Any, direct: DirectShadow, ns: list[int], *, extras: bool
     return methods
 
 
-def accuracy_rows(renderer: SceneRenderer, truth: _Truth, meshes: list[str], sizes: list[int],
+def accuracy_rows(renderer: SceneRenderer, truth: SoftTruth, meshes: list[str], sizes: list[int],
                   ns: list[int], n_positions: int, repeats: int) -> list[dict[str, Any]]:
     """Error and time rows per mesh and map size (the extras at 256^2 only).
 
@@ -225,7 +248,7 @@ def accuracy_rows(renderer: SceneRenderer, truth: _Truth, meshes: list[str], siz
     ----------
     renderer : morphkit.render.Renderer
         Bakes and re-renders.
-    truth : _Truth
+    truth : SoftTruth
         The ray-cast reference (cached).
     meshes : list of str
         Sample mesh names.
@@ -267,7 +290,7 @@ def accuracy_rows(renderer: SceneRenderer, truth: _Truth, meshes: list[str], siz
     return rows
 
 
-def _reference_rows(truth: _Truth) -> list[dict[str, Any]]:
+def _reference_rows(truth: SoftTruth) -> list[dict[str, Any]]:
     """The 256-sample ray cast against a 1024-sample one (cow, one position): converged?"""
     mesh = sample_mesh("cow")
     xy = _positions(1)[0]
@@ -345,7 +368,7 @@ def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: 
     from ..render import Renderer
     from .harness import format_table, write_json
 
-    truth = _Truth(dense=TRUTH_SAMPLES)
+    truth = SoftTruth(dense=TRUTH_SAMPLES)
     with Renderer() as renderer:
         rows = accuracy_rows(renderer, truth, meshes, sizes, ns, n_positions, repeats)
         if complexity:
@@ -374,7 +397,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     from ..render import Renderer
 
     t0 = time.perf_counter()
-    truth = _Truth(dense=TRUTH_SAMPLES)
+    truth = SoftTruth(dense=TRUTH_SAMPLES)
     with Renderer() as renderer:
         if quick:
             rows = accuracy_rows(renderer, truth, ["cow"], [256], [4, 9], 2, 3)

@@ -2,9 +2,9 @@
 
 :func:`bake_asset` normalises the mesh (keeping its look), fits the camera rule
 (:meth:`~morphkit.billboard.cameras.QuadCameras.fit`), renders each reference
-view (premultiplied RGBA and linear depth) with :func:`~.asset.bake_items` (in the
+view (premultiplied RGBA and linear depth) with :func:`~morphkit.billboard.bakelook.bake_items` (in the
 asset's appearance: the mesh's own look by default, or the 3-D checker) under
-:func:`~.asset.bake_lights`, renders the front view when no reference is at
+:func:`~morphkit.billboard.bakelook.bake_lights`, renders the front view when no reference is at
 azimuth 0, and, for each pair of neighbouring references, the dense
 correspondences from their depth (:func:`~morphkit.viewmorph.from_depth`) plus
 each view's outline points (:data:`RIM_STEP`). The result is one
@@ -99,11 +99,11 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     progress : bool
         Show a progress bar (tqdm; silent when not a terminal).
     appearance : {"own", "checker"}
-        The look of the references and morphs (:func:`~.asset.bake_items`): ``"own"``
+        The look of the references and morphs (:func:`~morphkit.billboard.bakelook.bake_items`): ``"own"``
         (default) the mesh's own look (textures, vertex/face colours, cut-outs;
         :data:`~morphkit.conventions.DEFAULT_COLOR` when it has none), ``"checker"``
         morphkit's 3-D checker (texture for matching and PSNR). Recorded in the asset
-        and covered by its :func:`~.asset.mesh_hash`.
+        and covered by its :func:`~morphkit.billboard.bakelook.mesh_hash`.
     source_up : {"z", "y"} or None
         The up axis the mesh file was loaded with (:func:`morphkit.meshes.resolve_up`),
         recorded in the asset file; None (default) when not known.

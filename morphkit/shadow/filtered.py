@@ -31,7 +31,7 @@ where ``z_b`` comes from:
   occluder texels closer than the point inside the *search* box -- the box the
   nearest occluder depth ``z_min`` of the map would give, rounded out to whole
   texels. No blocker there: lit. Contact hardening: a blocker within
-  :data:`CONTACT_TEXELS` of the point's own texel that is nearer the point than
+  ``CONTACT_TEXELS`` of the point's own texel that is nearer the point than
   that mean sets the depth instead (the one nearest the point), so where the
   object touches the receiver the mean of a leg and the body above it does not
   blur the leg's sharp contact shadow.
@@ -83,6 +83,8 @@ from .lookup import ShadowBias, check_depth_map
 
 __all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDepth"]
 
+#: How a filtered lookup finds the occluders' depth per map: ``"mean"`` (one mean blocker depth
+#: per map, PCF) or ``"search"`` (a blocker search per point, PCSS).
 BlockerDepth = Literal["mean", "search"]
 _MODES = {"mean": 0, "search": 1}
 #: Contact hardening reach (texels) of the blocker search (module docstring): the point's
