@@ -14,7 +14,9 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["ViewPairing", "BillboardSource"]
+from .gbuffer import ViewSurface
+
+__all__ = ["ViewPairing", "BillboardSource", "SurfaceSource"]
 
 
 @runtime_checkable
@@ -156,5 +158,63 @@ class BillboardSource(Protocol):
         -------
         (h, w, 4) float32
             Premultiplied RGBA.
+        """
+        ...
+
+
+@runtime_checkable
+class SurfaceSource(Protocol):
+    """A relightable billboard asset: the unshaded surface of its object from any direction.
+
+    Every surface of level ``l`` is a :class:`~morphkit.billboard.gbuffer.ViewSurface` of
+    shape ``level_shape(l)`` (square), in the image frame of the quad of direction
+    ``(azimuth_deg, elevation_deg)`` of :mod:`morphkit.billboard.domecameras`: the image's
+    outer edges map to the square of half size ``half_extent`` about ``pivot``,
+    perpendicular to the direction, with the rule's ``up``. Implemented by
+    :class:`~morphkit.billboard.domeasset.DomeAsset` (views morphed) and
+    :class:`~morphkit.billboard.impostor.OctahedralImpostor` (the engines' impostor).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
+
+    name: str
+    size: tuple[int, int]
+    half_extent: tuple[float, float]
+    pivot: np.ndarray
+    levels: int
+    memory_bytes: int
+
+    def surface(self, azimuth_deg: float, elevation_deg: float, level: int = 0) -> ViewSurface:
+        """The surface seen from direction ``(azimuth_deg, elevation_deg)`` at ``level``.
+
+        Parameters
+        ----------
+        azimuth_deg, elevation_deg : float
+            Viewing direction, degrees, object frame (elevation clamped by the asset).
+        level : int, optional
+            Pyramid level, ``0`` full size.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded albedo, normals (object frame) and depth.
+        """
+        ...
+
+    def level_shape(self, level: int) -> tuple[int, int]:
+        """Image shape of pyramid level ``level``.
+
+        Parameters
+        ----------
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        (h, w) tuple of int
+            Image shape.
         """
         ...
