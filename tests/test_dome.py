@@ -1,0 +1,281 @@
+"""Dome assets (#25): the view set, the camera rule, the per-pixel depth morph, the file.
+
+The morph is checked on an analytic sphere (its albedo, normals and depth from any
+camera are known exactly), so no GL is needed; one render-marked test bakes a mesh.
+"""
+
+from __future__ import annotations
+
+import json
+import zipfile
+
+import numpy as np
+import pytest
+
+from morphkit.billboard.dome import ViewDome
+from morphkit.billboard.domeasset import DomeAsset
+from morphkit.billboard.domecameras import DomeCameras, direction, quad_axes
+from morphkit.billboard.domefile import DOME_VERSION, DomeRecord, read_dome
+from morphkit.billboard.gbuffer import encode_surface, linear_to_srgb, srgb_to_linear
+from morphkit.errors import FileFormatError, ValidationError
+
+PIVOT = np.array([0.0, 0.0, 1.0])
+R_BOUND = 1.0  # bounding radius of the rule
+R_SPHERE = 0.6  # the object: a sphere about the pivot, inside the bounding sphere
+D = 12.0
+
+
+def _sphere_view(cam, colour_of=None):
+    """Albedo (uint8 straight sRGB), alpha, normals and depth of the sphere seen by ``cam``."""
+    o, d = cam.rays()
+    oc = o - PIVOT
+    b = np.einsum("ijk,ijk->ij", d, oc)
+    c = np.einsum("ijk,ijk->ij", oc, oc) - R_SPHERE**2
+    disc = b * b - c
+    hit = disc > 0
+    t = np.where(hit, -b - np.sqrt(np.where(hit, disc, 0.0)), np.inf)
+    p = o + np.where(hit, t, 0.0)[..., None] * d
+    n = np.where(hit[..., None], (p - PIVOT) / R_SPHERE, 0.0)
+    depth = np.where(hit, (p - cam.cam2world[:3, 3]) @ cam.cam2world[:3, 2], np.inf)
+    # a colour that varies over the sphere (so misplaced pixels show): by latitude and longitude
+    lon = np.arctan2(n[..., 1], n[..., 0])
+    rgb = np.stack([0.5 + 0.4 * np.sin(3 * lon), 0.5 + 0.4 * n[..., 2], 0.5 + 0.2 * np.cos(2 * lon)], -1)
+    rgba = np.zeros(cam.shape + (4,), np.uint8)
+    rgba[..., :3] = np.where(hit[..., None], np.rint(255 * rgb), 0).astype(np.uint8)
+    rgba[..., 3] = np.where(hit, 255, 0)
+    return rgba, n.astype(np.float32), depth.astype(np.float32), hit
+
+
+def _sphere_asset(dome: ViewDome | None = None, size: int = 48) -> DomeAsset:
+    dome = ViewDome() if dome is None else dome
+    cams = DomeCameras(PIVOT, D, R_BOUND, (size, size))
+    az, el = dome.azimuths_deg(), dome.elevations_deg()
+    stored = []
+    for k in range(dome.views):
+        rgba, n, depth, _ = _sphere_view(cams.camera(az[k], el[k]))
+        stored.append(encode_surface(rgba, n, depth))
+    rec = DomeRecord(name="ball", mesh_hash="0" * 64, appearance="own", source_up=None,
+                     rings=[[e, k] for e, k in dome.rings], top=dome.top, pivot=PIVOT.tolist(), distance=D,
+                     radius=R_BOUND, size=size, levels=2, rgba=np.stack([s.rgba for s in stored]),
+                     normal=np.stack([s.normal for s in stored]),
+                     depth=np.stack([s.depth.astype(np.float32) - D for s in stored]).astype(np.float16))
+    return DomeAsset(rec)
+
+
+# ---------------------------------------------------------------- the view set
+
+def test_weights_are_one_view_at_a_view_and_sum_to_one_between():
+    dome = ViewDome()
+    az, el = dome.azimuths_deg(), dome.elevations_deg()
+    for k in range(dome.views):
+        views, w = dome.weights(az[k], el[k])
+        assert w[list(views).index(k)] == pytest.approx(1.0)
+    rng = np.random.default_rng(3)
+    for a, e in zip(rng.uniform(-180, 180, 50), rng.uniform(0, 90, 50), strict=True):
+        views, w = dome.weights(a, e)
+        assert np.all(w >= 0) and w.sum() == pytest.approx(1.0)
+        # the weighted directions point the way asked (barycentric on the triangle)
+        d = (w[:, None] * direction(az[views], el[views])).sum(axis=0)
+        assert np.allclose(d / np.linalg.norm(d), direction(a, e), atol=1e-9)
+
+
+def test_weights_change_continuously_across_a_triangle_edge():
+    dome = ViewDome()
+    az, el = dome.azimuths_deg(), dome.elevations_deg()
+    full = np.zeros(dome.views)
+    prev = None
+    for a in np.linspace(0.0, 40.0, 401):  # crosses several triangle edges at 15 degrees up
+        views, w = dome.weights(a, 15.0)
+        full[:] = 0.0
+        full[views] = w
+        if prev is not None:
+            assert np.abs(full - prev).max() < 0.05  # 0.1 degree steps: no jump
+        prev = full.copy()
+    assert az.shape == el.shape
+
+
+def test_below_the_horizon_is_clamped_to_the_lowest_ring_and_top_is_the_top_view():
+    dome = ViewDome()
+    assert dome.clamp(-20.0) == 0.0 and dome.clamp(95.0) == 90.0
+    assert [list(x) for x in dome.weights(10.0, -20.0)] == [list(x) for x in dome.weights(10.0, 0.0)]
+    views, w = dome.weights(123.0, 90.0)
+    top = dome.views - 1
+    assert dome.elevations_deg()[top] == 90.0 and w[list(views).index(top)] == pytest.approx(1.0)
+    assert ViewDome(((10.0, 8),), top=False).clamp(70.0) == 10.0
+
+
+@pytest.mark.parametrize(("rings", "match"), [
+    ((), "rings"), (((10.0, 8), (5.0, 8)), "increasing"), (((95.0, 8),), r"\[0, 90\)"),
+    (((0.0, 2), (30.0, 8)), "views"), (((0.0, "x"),), "views")])
+def test_bad_rings_are_refused(rings, match):
+    with pytest.raises(ValidationError, match=match):
+        ViewDome(rings)
+
+
+# ---------------------------------------------------------------- the camera rule
+
+@pytest.mark.parametrize(("a", "e"), [(0.0, 0.0), (37.0, 20.0), (-120.0, 65.0), (80.0, 90.0)])
+def test_rule_axes_are_orthonormal_and_the_image_covers_the_quad(a, e):
+    right, up = quad_axes(a, e)
+    d = direction(a, e)
+    m = np.stack([right, up, d])
+    assert np.allclose(m @ m.T, np.eye(3), atol=1e-12)
+    assert np.allclose(np.cross(up, d), right, atol=1e-12)
+    rule = DomeCameras(PIVOT, D, R_BOUND, (40, 40))
+    h = rule.half_extent[0]
+    cam = rule.camera(a, e)
+    px, _ = cam.project(np.array([PIVOT - h * right + h * up, PIVOT + h * right - h * up, PIVOT]))
+    assert np.allclose(px, [[-0.5, -0.5], [39.5, 39.5], [19.5, 19.5]], atol=1e-9)
+
+
+def test_rule_at_the_horizon_is_the_rings_vertical_quad():
+    right, up = quad_axes(30.0, 0.0)
+    assert np.allclose(up, [0, 0, 1]) and np.allclose(right, [-np.sin(np.pi / 6), np.cos(np.pi / 6), 0])
+
+
+def test_quad_holds_the_bounding_sphere_from_every_direction():
+    rule = DomeCameras(PIVOT, D, R_BOUND, (64, 64))
+    for a, e in [(0, 0), (45, 45), (170, 89)]:
+        cam = rule.camera(a, e)
+        right, up = quad_axes(a, e)
+        rim = PIVOT + R_BOUND * (np.cos(np.linspace(0, 6.3, 64))[:, None] * right
+                                 + np.sin(np.linspace(0, 6.3, 64))[:, None] * up)
+        px, _ = cam.project(rim)
+        assert px.min() > -0.5 and px.max() < 63.5
+
+
+# ---------------------------------------------------------------- the depth morph
+
+def test_at_a_views_direction_the_surface_is_that_view_exactly():
+    asset = _sphere_asset()
+    k = 12
+    a, e = asset.dome.azimuths_deg()[k], asset.dome.elevations_deg()[k]
+    s = asset.surface(a, e)
+    ref = asset.reference_surface(k)
+    assert np.array_equal(s.albedo, ref.albedo) and np.array_equal(s.depth, ref.depth)
+
+
+@pytest.mark.parametrize(("a", "e"), [(17.0, 11.0), (-101.0, 44.0), (66.0, 77.0), (140.0, 90.0), (5.0, -8.0)])
+def test_sphere_morphed_between_views_matches_the_sphere_seen_there(a, e):
+    """Ground truth: the sphere ray-cast from the direction's own camera. Alpha IoU and
+    normals within the 1-pixel outline the march's sampling and the int8 normals allow."""
+    asset = _sphere_asset()
+    s = asset.surface(a, e)
+    rgba, n_true, depth_true, hit = _sphere_view(asset.camera(a, e))
+    alpha = s.alpha
+    iou = np.minimum(alpha, hit).sum() / np.maximum(alpha, hit).sum()
+    assert iou > 0.95
+    inner = hit & (alpha > 0.99)
+    inner[[0, -1], :] = False
+    cos = np.einsum("ijk,ijk->ij", s.normal, n_true)[inner]
+    assert np.median(cos) > 0.999 and cos.min() > 0.95
+    assert np.median(np.abs(s.depth[inner] - depth_true[inner])) < 0.01
+    # colour: albedo within a few levels of the truth's over the inner disc (median)
+    truth = srgb_to_linear(rgba[..., :3])
+    shown = s.albedo[..., :3] / np.maximum(alpha[..., None], 1e-6)
+    assert np.median(np.abs(linear_to_srgb(shown) - linear_to_srgb(truth))[inner]) * 255 < 4
+
+
+def test_morph_beats_its_baselines_on_the_sphere_between_views():
+    asset = _sphere_asset()
+    a, e = 20.0, 47.0
+    rgba, _, _, hit = _sphere_view(asset.camera(a, e))
+    truth = srgb_to_linear(rgba[..., :3]) * hit[..., None]
+
+    def err(s):
+        return np.mean((s.albedo[..., :3] - truth) ** 2)
+
+    m, x = err(asset.surface(a, e)), err(asset.crossfade_surface(a, e))
+    assert m < x
+
+
+def test_levels_are_smaller_and_bad_levels_refused():
+    asset = _sphere_asset()
+    assert asset.surface(10.0, 20.0, 1).shape == asset.level_shape(1) == (24, 24)
+    with pytest.raises(ValidationError, match="level"):
+        asset.surface(10.0, 20.0, 2)
+
+
+# ---------------------------------------------------------------- the file
+
+def test_file_round_trip(tmp_path):
+    asset = _sphere_asset()
+    p = asset.save(tmp_path / "ball.npz")
+    back = DomeAsset.load(p)
+    assert back.memory_bytes == asset.memory_bytes == 27 * 48 * 48 * 9
+    assert np.array_equal(back.surface(33.0, 21.0).albedo, asset.surface(33.0, 21.0).albedo)
+
+
+def _rewrite(path, out, edit_meta=None, edit_arrays=None):
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    meta = json.loads(bytes(arrays.pop("meta")).decode())
+    if edit_meta:
+        edit_meta(meta)
+    if edit_arrays:
+        edit_arrays(arrays)
+    np.savez(out, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8), **arrays)
+    return out
+
+
+def test_a_ring_asset_from_before_is_refused_with_rebake(tmp_path):
+    p = _sphere_asset().save(tmp_path / "ball.npz")
+
+    def v2(meta):
+        meta["version"] = 2
+        meta.pop("kind")
+    with pytest.raises(FileFormatError, match="re-bake"):
+        read_dome(_rewrite(p, tmp_path / "old.npz", edit_meta=v2))
+    assert DOME_VERSION == 3
+
+
+def test_corrupt_and_bad_files_are_refused(tmp_path):
+    p = _sphere_asset().save(tmp_path / "ball.npz")
+
+    def flip(arrays):
+        arrays["rgba"] = arrays["rgba"].copy()
+        arrays["rgba"].flat[7] ^= 1
+    with pytest.raises(FileFormatError, match="checksum"):
+        read_dome(_rewrite(p, tmp_path / "c.npz", edit_arrays=flip))
+    raw = p.read_bytes()
+    (tmp_path / "t.npz").write_bytes(raw[: len(raw) // 2])
+    with pytest.raises(FileFormatError, match="unreadable|complete"):
+        read_dome(tmp_path / "t.npz")
+    with pytest.raises(FileFormatError, match="existing file"):
+        read_dome(tmp_path / "missing.npz")
+    assert zipfile.is_zipfile(p)
+
+
+# ---------------------------------------------------------------- the bake (GL)
+
+@pytest.mark.gl
+def test_bake_dome_of_a_mesh_matches_its_render_between_views():
+    from morphkit.billboard.bakelook import BAKE_AMBIENT, bake_lights
+    from morphkit.billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
+    from morphkit.meshes import sample_mesh
+    from morphkit.render import Renderer
+
+    mesh = sample_mesh("cow")
+    with Renderer() as r:
+        asset = bake_dome(mesh, r, name="cow", size=64, levels=2)
+        items = asset.items(mesh)
+        for a, e in [(25.0, 15.0), (-70.0, 52.0), (150.0, 80.0)]:
+            p = r.source_passes(asset.camera(a, e), items, bake_lights(), ambient=BAKE_AMBIENT,
+                                supersample=DOME_SUPERSAMPLE)
+            s = asset.surface(a, e)
+            iou = np.minimum(s.alpha, p.alpha).sum() / np.maximum(s.alpha, p.alpha).sum()
+            assert iou > 0.85, (a, e, iou)
+
+
+@pytest.mark.gl
+def test_a_view_that_sees_nothing_is_refused_naming_it():
+    import trimesh
+
+    from morphkit.billboard.domeasset import bake_dome
+    from morphkit.errors import DegenerateViewError
+    from morphkit.render import Renderer
+
+    card = trimesh.Trimesh(vertices=[[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]],
+                           faces=[[0, 1, 2], [0, 2, 3]], process=False)  # flat: edge-on from the horizon
+    with Renderer() as r, pytest.raises(DegenerateViewError, match=r"dome view 0 \(azimuth 0, elevation 0"):
+        bake_dome(card, r, name="card", size=32, levels=1)
