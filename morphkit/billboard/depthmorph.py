@@ -111,9 +111,25 @@ def _project(A: np.ndarray, B: np.ndarray, t: np.ndarray, cam: CameraModel
             (cam.fy * c[:, 1] / zs + cam.cy).astype(np.float32), z)
 
 
+#: Columns of the 2-D maps point lists are laid out in for ``cv2.remap`` (whose images and
+#: maps must stay under ``SHRT_MAX`` on a side).
+_MAP_COLS = 4096
+
+
+def _remap_points(img: np.ndarray, u: np.ndarray, v: np.ndarray, flag: int, border: float) -> np.ndarray:
+    p = len(u)
+    rows = max(1, -(-p // _MAP_COLS))
+    cols = min(p, _MAP_COLS) if p else 1
+    mu = np.full(rows * cols, -1.0e6, np.float32)
+    mv = np.full(rows * cols, -1.0e6, np.float32)
+    mu[:p], mv[:p] = u, v
+    out = cv2.remap(img, mu.reshape(rows, cols), mv.reshape(rows, cols), flag,
+                    borderMode=cv2.BORDER_CONSTANT, borderValue=border)
+    return out.reshape(rows * cols, -1)[:p]
+
+
 def _lookup(depth: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return cv2.remap(depth, u.reshape(1, -1), v.reshape(1, -1), cv2.INTER_NEAREST,
-                     borderMode=cv2.BORDER_CONSTANT, borderValue=float(_FAR)).reshape(-1)
+    return _remap_points(depth, u, v, cv2.INTER_NEAREST, float(_FAR)).reshape(-1)
 
 
 def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.ndarray,
@@ -188,9 +204,7 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
 
 
 def _sample(img: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    out = cv2.remap(img, u.reshape(1, -1), v.reshape(1, -1), cv2.INTER_LINEAR,
-                    borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-    return out.reshape(len(u), -1)
+    return _remap_points(img, u, v, cv2.INTER_LINEAR, 0.0)
 
 
 def combine(hits: Sequence[ViewHits], surfaces: Sequence[ViewSurface], weights: Sequence[float],
