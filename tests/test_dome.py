@@ -12,54 +12,25 @@ import zipfile
 import numpy as np
 import pytest
 
+from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
 from morphkit.billboard.dome import ViewDome
 from morphkit.billboard.domeasset import DomeAsset
 from morphkit.billboard.domecameras import DomeCameras, direction, quad_axes
-from morphkit.billboard.domefile import DOME_VERSION, DomeRecord, read_dome
-from morphkit.billboard.gbuffer import encode_surface, linear_to_srgb, srgb_to_linear
+from morphkit.billboard.domefile import DOME_VERSION, read_dome
+from morphkit.billboard.gbuffer import linear_to_srgb, srgb_to_linear
 from morphkit.errors import FileFormatError, ValidationError
 
-PIVOT = np.array([0.0, 0.0, 1.0])
-R_BOUND = 1.0  # bounding radius of the rule
-R_SPHERE = 0.6  # the object: a sphere about the pivot, inside the bounding sphere
+PIVOT = SPHERE_PIVOT
+R_BOUND = 1.0  # bounding radius of the analytic asset's rule
 D = 12.0
 
 
-def _sphere_view(cam, colour_of=None):
-    """Albedo (uint8 straight sRGB), alpha, normals and depth of the sphere seen by ``cam``."""
-    o, d = cam.rays()
-    oc = o - PIVOT
-    b = np.einsum("ijk,ijk->ij", d, oc)
-    c = np.einsum("ijk,ijk->ij", oc, oc) - R_SPHERE**2
-    disc = b * b - c
-    hit = disc > 0
-    t = np.where(hit, -b - np.sqrt(np.where(hit, disc, 0.0)), np.inf)
-    p = o + np.where(hit, t, 0.0)[..., None] * d
-    n = np.where(hit[..., None], (p - PIVOT) / R_SPHERE, 0.0)
-    depth = np.where(hit, (p - cam.cam2world[:3, 3]) @ cam.cam2world[:3, 2], np.inf)
-    # a colour that varies over the sphere (so misplaced pixels show): by latitude and longitude
-    lon = np.arctan2(n[..., 1], n[..., 0])
-    rgb = np.stack([0.5 + 0.4 * np.sin(3 * lon), 0.5 + 0.4 * n[..., 2], 0.5 + 0.2 * np.cos(2 * lon)], -1)
-    rgba = np.zeros(cam.shape + (4,), np.uint8)
-    rgba[..., :3] = np.where(hit[..., None], np.rint(255 * rgb), 0).astype(np.uint8)
-    rgba[..., 3] = np.where(hit, 255, 0)
-    return rgba, n.astype(np.float32), depth.astype(np.float32), hit
+def _sphere_view(cam):
+    return sphere_view(cam)
 
 
 def _sphere_asset(dome: ViewDome | None = None, size: int = 48) -> DomeAsset:
-    dome = ViewDome() if dome is None else dome
-    cams = DomeCameras(PIVOT, D, R_BOUND, (size, size))
-    az, el = dome.azimuths_deg(), dome.elevations_deg()
-    stored = []
-    for k in range(dome.views):
-        rgba, n, depth, _ = _sphere_view(cams.camera(az[k], el[k]))
-        stored.append(encode_surface(rgba, n, depth))
-    rec = DomeRecord(name="ball", mesh_hash="0" * 64, appearance="own", source_up=None,
-                     rings=[[e, k] for e, k in dome.rings], top=dome.top, pivot=PIVOT.tolist(), distance=D,
-                     radius=R_BOUND, size=size, levels=2, rgba=np.stack([s.rgba for s in stored]),
-                     normal=np.stack([s.normal for s in stored]),
-                     depth=np.stack([s.depth.astype(np.float32) - D for s in stored]).astype(np.float16))
-    return DomeAsset(rec)
+    return sphere_dome_asset(dome, size)
 
 
 # ---------------------------------------------------------------- the view set
