@@ -1,6 +1,6 @@
 """Facing: how each billboard quad turns towards the camera, and from which azimuth it is seen.
 
-Two rules, one object each (:class:`Facing`):
+Three rules, one object each (:class:`Facing`):
 
 * :class:`AxialFacing` -- the quad turns about the world up axis (``+z``) only,
   the paper's billboard for objects symmetric about the vertical (trees,
@@ -12,6 +12,14 @@ Two rules, one object each (:class:`Facing`):
 * :class:`ScreenFacing` -- the quad lies parallel to the image plane (the
   paper's OpenGL variant: undo the rotation part of the model-view matrix); its
   right and up axes are the camera's.
+* :class:`ViewpointFacing` -- the quad is perpendicular to the direction from the
+  pivot to the eye, in elevation too (billboards seen from any height): the quad of
+  the camera rule of :mod:`.domecameras` for the instance's viewing azimuth and
+  elevation, turned into the world. With ``t`` the unit horizontal direction
+  towards the eye (:attr:`ViewDirections.toward_eye`, world) and ``e`` the
+  elevation, ``up = -sin(e) t + cos(e) z`` and ``right = (-t_y, t_x, 0)``; the
+  direction to the eye ``d = cos(e) t + sin(e) z`` completes the orthonormal
+  triple (``right = up x d``). At ``e = 0`` it is :class:`AxialFacing`.
 
 The **viewing azimuth** of an instance (:func:`view_directions`) is the
 direction from its pivot to the eye in the asset's object frame (the instance's
@@ -25,7 +33,11 @@ pivot, the horizontal direction is undefined. Then the instance keeps its own
 yaw: the azimuth is ``0`` (the asset is seen from its front) and an axial quad
 faces the asset's front direction ``(cos yaw, sin yaw, 0)``, i.e. the quad a
 viewer in front of it would see. It is the limit of neither side, but it is
-stable (no spin) and consistent with the image chosen for azimuth 0.
+stable (no spin) and consistent with the image chosen for azimuth 0. A
+:class:`ViewpointFacing` quad straight above lies flat (``d = +z``) with
+``up = -t = -(cos yaw, sin yaw, 0)`` and ``right = (-sin yaw, cos yaw, 0)``: the
+quad of the dome rule's direction ``(azimuth 0, elevation 90)``, i.e. the top view
+with the asset's front at the image's bottom edge, whatever the camera's roll.
 """
 
 from __future__ import annotations
@@ -39,7 +51,8 @@ from .. import tol
 from ..camera import CameraModel
 from ..validate import as_finite_array
 
-__all__ = ["ViewDirections", "view_directions", "Facing", "AxialFacing", "ScreenFacing", "paper_angle"]
+__all__ = ["ViewDirections", "view_directions", "Facing", "AxialFacing", "ScreenFacing", "ViewpointFacing",
+           "paper_angle"]
 
 
 @dataclass(frozen=True)
@@ -191,6 +204,51 @@ class ScreenFacing:
         n = len(views.azimuth_deg)
         R = camera.cam2world[:3, :3]
         return np.repeat(R[None, :, 0], n, axis=0), np.repeat(-R[None, :, 1], n, axis=0)
+
+
+@dataclass(frozen=True)
+class ViewpointFacing:
+    """Quads perpendicular to the direction from the pivot to the eye (module docstring): the
+    quads of :mod:`.domecameras` for each instance's viewing azimuth and elevation."""
+
+    def axes(self, camera: CameraModel, views: ViewDirections) -> tuple[np.ndarray, np.ndarray]:
+        """Right ``= (-t_y, t_x, 0)``, up ``= -sin(e) t + cos(e) z`` (``t`` the horizontal
+        direction to the eye, ``e`` the elevation); see :class:`Facing`. Directly above,
+        ``t`` is the instance's front (the module's fallback).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame (not used: ``views`` holds the directions).
+        views : ViewDirections
+            How each of the ``N`` instances is seen.
+
+        Returns
+        -------
+        right, up : (N, 3) float64
+            Unit vectors, world frame.
+
+        Examples
+        --------
+        Seen from 90 degrees above (straight down) along world ``+x``: the quad lies flat,
+        its up pointing back along ``-x``.
+
+        >>> import numpy as np
+        >>> from morphkit.billboard.facing import ViewDirections, ViewpointFacing
+        >>> views = ViewDirections(np.zeros(1), np.array([90.0]), np.array([[1.0, 0.0]]),
+        ...                        np.array([True]))
+        >>> right, up = ViewpointFacing().axes(None, views)
+        >>> right.round(12) + 0.0, up.round(12) + 0.0
+        (array([[0., 1., 0.]]), array([[-1.,  0.,  0.]]))
+        """
+        t = np.asarray(views.toward_eye, dtype=np.float64).reshape(-1, 2)
+        e = np.radians(np.asarray(views.elevation_deg, dtype=np.float64).reshape(-1))
+        se, ce = np.sin(e), np.cos(e)
+        right = np.zeros((len(t), 3))
+        right[:, 0], right[:, 1] = -t[:, 1], t[:, 0]
+        up = np.empty((len(t), 3))
+        up[:, 0], up[:, 1], up[:, 2] = -se * t[:, 0], -se * t[:, 1], ce
+        return right, up
 
 
 def paper_angle(l_os: np.ndarray, b_n: np.ndarray) -> float:

@@ -15,6 +15,13 @@ headings are degrees counter-clockwise from ``+x``.
 * :class:`FlyPath` -- the eye flies low along a line across the field, swaying
   sideways, looking ahead and a little down: billboards pass close by and
   through the near plane.
+* :class:`FlyoverPath` -- the eye rises over the field: its elevation above the
+  centre's horizontal plane goes evenly from ``start_elevation_deg`` (5) to
+  ``end_elevation_deg`` (85) at a fixed distance from the centre, while it circles it
+  (azimuth ``start_deg`` to ``end_deg``), looking at the centre.
+* :class:`TopDownPan` -- the eye straight above the field at ``height``, looking straight
+  down (optical axis ``-z``, image up along ``heading_deg``), moving from ``start`` to
+  ``end``: the ground point under the eye is seen at 90 degrees of elevation.
 
 :data:`PATHS` builds each with defaults fitted to a field of instances of half
 size ``half_size`` (:func:`~.instances.place_random`).
@@ -32,7 +39,7 @@ from ..camera import CameraModel, look_at, perspective
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_int, as_positive, as_shape
 
-__all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path"]
+__all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "FlyoverPath", "TopDownPan", "PATHS", "make_path"]
 
 DEFAULT_SHAPE = (480, 640)
 
@@ -371,11 +378,195 @@ class FlyPath(_SampledPath):
         return cls(start=(0.3, -hs - 2.0), end=(0.3, hs + 2.0))
 
 
+@dataclass(frozen=True)
+class FlyoverPath(_SampledPath):
+    """The eye rises from low to high over the field while circling its centre, looking at it.
+
+    At ``t`` the eye is at ``centre + distance (cos e cos a, cos e sin a, sin e)`` with the
+    elevation ``e`` and azimuth ``a`` linear in ``t`` from their start to their end values.
+
+    Parameters
+    ----------
+    centre : (3,) float
+        What the camera looks at.
+    distance : float
+        Eye distance from ``centre``.
+    start_elevation_deg, end_elevation_deg : float
+        Elevations of the eye above the centre's horizontal plane at ``t = 0`` and ``1``,
+        degrees in ``[-89, 89]`` (straight above, the look-at is the top-down path's).
+    start_deg, end_deg : float
+        Azimuths of the eye at ``t = 0`` and ``1`` (counter-clockwise from ``+x``).
+    yfov_deg, znear, zfar : float
+        The lens.
+
+    Examples
+    --------
+    The eye starts 5 degrees above the centre and ends 85 degrees above it.
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.paths import FlyoverPath
+    >>> cams = FlyoverPath(centre=(0.0, 0.0, 0.0)).cameras(2, shape=(48, 64))
+    >>> [round(float(np.degrees(np.arcsin(c.position[2] / np.linalg.norm(c.position)))), 6)
+    ...  for c in cams]
+    [5.0, 85.0]
+    """
+
+    centre: tuple[float, float, float] = (0.0, 0.0, 0.5)
+    distance: float = 12.0
+    start_elevation_deg: float = 5.0
+    end_elevation_deg: float = 85.0
+    start_deg: float = -90.0
+    end_deg: float = 0.0
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def elevation_at(self, t: float) -> float:
+        """Elevation of the eye above the centre at ``t``, degrees.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+
+        Returns
+        -------
+        float
+            Degrees.
+        """
+        e0, e1 = float(self.start_elevation_deg), float(self.end_elevation_deg)
+        for name, e in (("start_elevation_deg", e0), ("end_elevation_deg", e1)):
+            if not -89.0 <= e <= 89.0:
+                raise ValidationError(expected_got(name, "degrees in [-89, 89]", e))
+        return e0 + float(t) * (e1 - e0)
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
+        c = as_finite_array(self.centre, "centre", shape=(3,))
+        r = as_positive(self.distance, "distance")
+        e = np.radians(self.elevation_at(t))
+        a = np.radians(self.start_deg + float(t) * (self.end_deg - self.start_deg))
+        eye = c + r * np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+        return _Lens(self.yfov_deg, self.znear, self.zfar).camera(eye, c, shape)
+
+    @classmethod
+    def around(cls, half_size: float) -> FlyoverPath:
+        """A quarter circle about the field's centre, rising from 5 to 85 degrees, at the
+        orbit's distance (:meth:`OrbitPath.around`).
+
+        Parameters
+        ----------
+        half_size : float
+            Half side of the square field, scene units.
+
+        Returns
+        -------
+        FlyoverPath
+            The path.
+        """
+        hs = as_positive(half_size, "half_size")
+        return cls(distance=hs * 1.25 + 3.0)
+
+
+@dataclass(frozen=True)
+class TopDownPan(_SampledPath):
+    """The eye straight above the ground at ``height``, looking straight down, moving from
+    ``start`` to ``end``.
+
+    Parameters
+    ----------
+    start, end : (2,) float
+        Ground positions under the eye at ``t = 0`` and ``t = 1``.
+    height : float
+        Eye height above the ground.
+    heading_deg : float
+        World heading of the image's up direction (image ``-y``), degrees
+        counter-clockwise from ``+x``.
+    yfov_deg, znear, zfar : float
+        The lens.
+
+    Examples
+    --------
+    Half way, the eye is above the middle and looks straight down.
+
+    >>> from morphkit.billboard.paths import TopDownPan
+    >>> cam = TopDownPan(start=(-4.0, 0.0), end=(4.0, 0.0), height=10.0).camera_at(0.5, (48, 64))
+    >>> cam.position + 0.0, cam.axis.round(12) + 0.0
+    (array([ 0.,  0., 10.]), array([ 0.,  0., -1.]))
+    """
+
+    start: tuple[float, float] = (0.0, -6.0)
+    end: tuple[float, float] = (0.0, 6.0)
+    height: float = 10.0
+    heading_deg: float = 90.0
+    yfov_deg: float = 50.0
+    znear: float = 0.1
+    zfar: float = 500.0
+
+    def camera_at(self, t: float, shape: tuple[int, int] = DEFAULT_SHAPE) -> CameraModel:
+        """See :class:`CameraPath`.
+
+        Parameters
+        ----------
+        t : float
+            Path parameter in ``[0, 1]``.
+        shape : (H, W), optional
+            Image shape in pixels.
+
+        Returns
+        -------
+        CameraModel
+            Perspective camera, world frame.
+        """
+        a = as_finite_array(self.start, "start", shape=(2,))
+        b = as_finite_array(self.end, "end", shape=(2,))
+        pos = a + float(t) * (b - a)
+        eye = np.array([pos[0], pos[1], as_positive(self.height, "height")])
+        h = np.radians(self.heading_deg)
+        up = np.array([np.cos(h), np.sin(h), 0.0])
+        return perspective(np.radians(self.yfov_deg), as_shape(shape, "shape"),
+                           look_at(eye, eye - np.array([0.0, 0.0, 1.0]), up=up),
+                           znear=self.znear, zfar=self.zfar)
+
+    @classmethod
+    def over(cls, half_size: float) -> TopDownPan:
+        """Across the field along ``+y`` (image up along ``+y``), from above one edge to above
+        the other, high enough that the view spans about the field's width.
+
+        Parameters
+        ----------
+        half_size : float
+            Half side of the square field, scene units.
+
+        Returns
+        -------
+        TopDownPan
+            The path.
+        """
+        hs = as_positive(half_size, "half_size")
+        return cls(start=(0.0, -hs), end=(0.0, hs), height=max(4.0, 1.5 * hs))
+
+
 #: Path builders by name, each taking the half size of the field of instances.
 PATHS: dict[str, Callable[[float], CameraPath]] = {
     "pan": PanPath.over,
     "orbit": OrbitPath.around,
     "fly": FlyPath.across,
+    "flyover": FlyoverPath.around,
+    "topdown": TopDownPan.over,
 }
 
 

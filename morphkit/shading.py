@@ -1,0 +1,289 @@
+"""The one shading model of relit images: Lambert under ambient light, suns and point lights.
+
+Relit billboards (:class:`~morphkit.billboard.gbuffer.ViewSurface`, :func:`shade`) and
+their ground truth, the real meshes' deferred passes (:func:`shade_passes`,
+:class:`~morphkit.billboard.litmesh.LitMeshMode`), are shaded by this one model, so a
+difference between them is a difference of geometry, albedo or normals, never of lighting.
+
+Model
+-----
+A surface point of straight **linear** albedo ``rho`` (RGB), unit normal ``n`` and
+position ``p`` under a :class:`Lighting` has the linear colour
+
+.. math::
+
+    L = \\rho \\Big( a + \\sum_k \\frac{I_k}{\\pi} \\max(0, n \\cdot \\hat l_k)
+        + \\sum_j \\frac{I_j}{\\pi d_j^2} \\max(0, n \\cdot \\hat v_j) \\Big)
+
+with ``a`` the ambient level, ``I_k`` and ``l_k = -direction_k`` the intensity and the
+unit direction towards each :class:`~morphkit.scene.DirectionalLight` (a sun), ``I_j``
+the intensity of each :class:`~morphkit.scene.PointLight` at ``P_j``, ``d_j = |P_j - p|``
+and ``v_j = (P_j - p) / d_j``. The ``1 / pi`` is the Lambertian BRDF's (pyrender's units
+for the same light intensities). No shadows, no specular term.
+
+* **Horizon.** A sun at or below the horizon adds nothing (ambient and point lights
+  only): ``l_k . up <= 0`` with ``up`` the world's ``+z`` (:attr:`Lighting.up`,
+  carried through :meth:`Lighting.in_frame`, so the test is the world frame's in every
+  frame; :meth:`Lighting.above_horizon`). It is a hard cut: the ground hides the sun.
+* **Frames.** Normals, points and lights are in one frame: the world for mesh passes,
+  an asset's object frame for billboard images (:meth:`Lighting.in_frame` with the
+  instance's ``world2object``; exact for rotation, translation and uniform scale, the
+  instance poses of :mod:`morphkit.billboard.instances`).
+* **Output.** Premultiplied RGBA float32 ``(encode(L) alpha, alpha)``, where ``rho``
+  is the premultiplied albedo over its alpha and ``encode`` is
+  :func:`~morphkit.billboard.gbuffer.linear_to_srgb` (linear light clipped to
+  ``[0, 1]``, sRGB-encoded): the colour space of every other premultiplied layer
+  (:mod:`morphkit.conventions`, "Colour"). Zero alpha gives zero.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import cv2
+import numpy as np
+
+from . import tol
+from .camera import CameraModel
+from .errors import ValidationError, expected_got
+from .passes import RenderPasses
+from .scene import DirectionalLight, PointLight
+from .validate import as_finite_array
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .billboard.gbuffer import ViewSurface
+
+__all__ = ["Lighting", "shade", "shade_passes"]
+
+SceneLight = DirectionalLight | PointLight
+
+
+def _as_lights(lights: Iterable[SceneLight]) -> tuple[SceneLight, ...]:
+    out = tuple(lights)
+    for i, lt in enumerate(out):
+        if not isinstance(lt, DirectionalLight | PointLight):
+            raise ValidationError(expected_got(f"lights[{i}]", "a DirectionalLight or a PointLight",
+                                               type(lt).__name__))
+    return out
+
+
+def _scale_of(linear: np.ndarray, name: str) -> float:
+    """The uniform scale ``s`` of ``linear = s R`` (``R`` a rotation), or an error."""
+    g = linear.T @ linear
+    s2 = float(np.trace(g)) / 3.0
+    if not s2 > 0 or not np.allclose(g / s2, np.eye(3), atol=tol.POSE_ORTHO) or np.linalg.det(linear) < 0:
+        raise ValidationError(expected_got(name, "rotation, uniform scale and translation",
+                                           "a shear, a non-uniform scale or a reflection"))
+    return math.sqrt(s2)
+
+
+@dataclass(frozen=True, eq=False)
+class Lighting:
+    """Ambient level and lights of one frame, in one coordinate frame (module docstring).
+
+    Parameters
+    ----------
+    ambient : float
+        Ambient level ``a >= 0`` (multiplies the albedo).
+    lights : sequence of DirectionalLight or PointLight
+        The lights (stored as a tuple).
+    up : (3,) float, optional
+        The world's up (``+z``) in this lighting's frame: the horizon of the suns.
+        World frame: the default; :meth:`in_frame` carries it.
+
+    Examples
+    --------
+    A sun 30 degrees above the horizon and one below it: the second lights nothing.
+
+    >>> import numpy as np
+    >>> from morphkit.scene import DirectionalLight
+    >>> from morphkit.shading import Lighting
+    >>> e = np.radians(30.0)
+    >>> day = Lighting(0.2, (DirectionalLight([-np.cos(e), 0.0, -np.sin(e)]),
+    ...                      DirectionalLight([1.0, 0.0, 0.1])))
+    >>> len(day.above_horizon().lights)
+    1
+    """
+
+    ambient: float
+    lights: tuple[SceneLight, ...] = ()
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+    def __post_init__(self) -> None:
+        try:
+            a = float(self.ambient)
+        except (TypeError, ValueError):
+            a = math.nan
+        if not math.isfinite(a) or a < 0:
+            raise ValidationError(expected_got("ambient", "a finite number >= 0", repr(self.ambient)))
+        up = as_finite_array(self.up, "up", shape=(3,))
+        n = float(np.linalg.norm(up))
+        if not n > tol.MIN_EXTENT:
+            raise ValidationError(expected_got("up", "a non-zero vector", up.tolist()))
+        object.__setattr__(self, "ambient", a)
+        object.__setattr__(self, "lights", _as_lights(self.lights))
+        object.__setattr__(self, "up", tuple(float(v) for v in up / n))
+
+    def above_horizon(self) -> Lighting:
+        """The same lighting without the suns at or below the horizon (``l . up <= 0``).
+
+        Returns
+        -------
+        Lighting
+            ``self`` when every sun is above the horizon, else a new one.
+        """
+        up = np.asarray(self.up)
+        keep = tuple(lt for lt in self.lights
+                     if not isinstance(lt, DirectionalLight) or float(-lt.direction @ up) > 0.0)
+        return self if len(keep) == len(self.lights) else Lighting(self.ambient, keep, self.up)
+
+    def in_frame(self, frame_from_world: np.ndarray) -> Lighting:
+        """The same lights seen in another frame (e.g. an instance's object frame).
+
+        Suns below the horizon are dropped first (in this frame, :meth:`above_horizon`);
+        directions turn with the linear part and are renormalised, positions are
+        transformed, and point intensities are scaled by ``s^2`` (``s`` the transform's
+        scale) so that ``I / d^2`` is the same in both frames.
+
+        Parameters
+        ----------
+        frame_from_world : (4, 4) float
+            Maps a point of this lighting's frame (the world) to the new frame
+            (``world2object``: the inverse of an instance's ``object2world``); rotation,
+            translation and a uniform scale.
+
+        Returns
+        -------
+        Lighting
+            New lighting, its :attr:`up` the world's up in the new frame.
+
+        Raises
+        ------
+        ValidationError
+            A transform that is not rotation, uniform scale and translation.
+        """
+        T = as_finite_array(frame_from_world, "frame_from_world", shape=(4, 4))
+        if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=tol.POSE_ORTHO):
+            raise ValidationError(expected_got("frame_from_world", "last row 0 0 0 1", T[3].tolist()))
+        L = T[:3, :3]
+        s = _scale_of(L, "frame_from_world")
+        lights: list[SceneLight] = []
+        for lt in self.above_horizon().lights:
+            if isinstance(lt, DirectionalLight):
+                lights.append(DirectionalLight(L @ lt.direction, lt.intensity))
+            else:
+                lights.append(PointLight(L @ lt.position + T[:3, 3], lt.intensity * s * s))
+        return Lighting(self.ambient, tuple(lights), tuple(L @ np.asarray(self.up)))
+
+
+def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | None) -> np.ndarray:
+    """``(h, w)`` float32: the bracket of the model (module docstring) at every pixel."""
+    h, w = normal.shape[:2]
+    e = np.full((h, w), lighting.ambient, np.float32)
+    for lt in lighting.lights:
+        if isinstance(lt, DirectionalLight):
+            m = (-lt.direction * (lt.intensity / math.pi)).astype(np.float32).reshape(1, 3)
+            ndl = cv2.transform(normal, m).reshape(h, w)
+            cv2.add(e, cv2.max(ndl, 0.0), dst=e)
+        else:
+            assert points is not None  # checked by the caller
+            v = np.subtract(lt.position.astype(np.float32), points, dtype=np.float32)
+            d2 = np.maximum(np.einsum("ijk,ijk->ij", v, v), np.float32(tol.MIN_EXTENT ** 2))
+            ndv = np.maximum(np.einsum("ijk,ijk->ij", normal, v), np.float32(0.0))
+            cv2.add(e, ndv * (np.float32(lt.intensity / math.pi) / (d2 * np.sqrt(d2))), dst=e)
+    return e
+
+
+def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = None) -> np.ndarray:
+    """A :class:`~morphkit.billboard.gbuffer.ViewSurface` lit by ``lighting`` (the model of
+    :mod:`morphkit.shading`).
+
+    Parameters
+    ----------
+    surface : ViewSurface
+        Premultiplied linear albedo and alpha, unit normals, depth.
+    lighting : Lighting
+        In the frame of the surface's normals (for an asset's image: the scene's
+        lighting :meth:`~Lighting.in_frame` of the instance's ``world2object``).
+    points : (h, w, 3) float, optional
+        Surface positions in the same frame; needed with point lights only.
+
+    Returns
+    -------
+    (h, w, 4) float32
+        Premultiplied RGBA, colour sRGB-encoded (module docstring); 0 where alpha is 0.
+
+    Raises
+    ------
+    ValidationError
+        Point lights without ``points``, or ``points`` of another shape.
+    """
+    from .billboard.gbuffer import linear_to_srgb  # here: the billboard package may import this module
+
+    lighting = lighting.above_horizon()
+    h, w = surface.shape
+    if any(isinstance(lt, PointLight) for lt in lighting.lights):
+        if points is None:
+            raise ValidationError(expected_got("points", "(h, w, 3) surface positions with point lights",
+                                               "None"))
+        points = np.asarray(points)
+        if points.shape != (h, w, 3):
+            raise ValidationError(expected_got("points", f"({h}, {w}, 3)", points.shape))
+    normal = np.asarray(surface.normal, dtype=np.float32)
+    albedo = np.asarray(surface.albedo, dtype=np.float32)
+    alpha = np.ascontiguousarray(albedo[..., 3])
+    e = _irradiance(normal, lighting, points)
+    # the straight lit colour rho E = (premultiplied albedo / alpha) E, on all four channels at once
+    # (contiguous; the fourth is overwritten by alpha at the end)
+    gain = cv2.divide(e, cv2.max(alpha, tol.ALPHA_FLOOR))
+    lit = cv2.multiply(albedo, cv2.merge((gain, gain, gain, gain)))
+    out = cv2.multiply(linear_to_srgb(lit), cv2.merge((alpha, alpha, alpha, alpha)))
+    out[..., 3] = alpha
+    return out
+
+
+def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel) -> np.ndarray:
+    """The deferred passes of a mesh render lit by ``lighting`` (world frame): the ground
+    truth of relit billboards, by the same model as :func:`shade`.
+
+    Parameters
+    ----------
+    passes : RenderPasses
+        From :meth:`~morphkit.render.Renderer.passes` or ``source_passes``: albedo
+        sRGB-encoded (decoded here by :func:`~morphkit.billboard.gbuffer.srgb_to_linear`),
+        world-frame normals, linear depth, coverage alpha.
+    lighting : Lighting
+        World frame.
+    camera : CameraModel
+        The view the passes were drawn through (points from the depth when there are
+        point lights).
+
+    Returns
+    -------
+    (H, W, 4) float32
+        Premultiplied RGBA, colour sRGB-encoded.
+
+    Raises
+    ------
+    ValidationError
+        Passes whose shape is not the camera's.
+    """
+    from .billboard.gbuffer import ViewSurface, srgb_to_linear  # see shade
+
+    h, w = camera.shape
+    if passes.albedo.shape != (h, w, 3) or passes.alpha.shape != (h, w):
+        raise ValidationError(expected_got("passes", f"images of the camera's shape {(h, w)}",
+                                           f"albedo {passes.albedo.shape}, alpha {passes.alpha.shape}"))
+    a = np.asarray(passes.alpha, dtype=np.float32)
+    albedo = np.empty((h, w, 4), np.float32)
+    np.multiply(srgb_to_linear(passes.albedo), a[..., None], out=albedo[..., :3])
+    albedo[..., 3] = a
+    surface = ViewSurface(albedo, np.asarray(passes.normal, dtype=np.float32),
+                          np.asarray(passes.depth, dtype=np.float32))
+    points = None
+    if any(isinstance(lt, PointLight) for lt in lighting.lights):
+        points = camera.unproject(passes.depth)[0].astype(np.float32)
+    return shade(surface, lighting, points)
