@@ -1,7 +1,8 @@
 """A billboard scene: assets, instances and a backdrop; per frame, what to draw where.
 
 :class:`BillboardScene` holds the assets (anything implementing
-:class:`morphkit.billboard.protocols.BillboardSource`), the :class:`~.instances.Instances`,
+:class:`morphkit.billboard.protocols.Placeable`: ring assets and relightable ones), the
+:class:`~.instances.Instances`,
 the :class:`~.backdrop.Backdrop`, the :class:`~.facing.Facing` rule and the
 smallest on-screen size worth drawing. :meth:`BillboardScene.plan` decides, for
 one camera, which billboards are drawn and how -- "model only what a scene
@@ -35,7 +36,7 @@ from .frame import Frame, FramePlan, Placement
 from .frustum import require_perspective
 from .instances import Instances
 from .planner import ScreenQuad, back_to_front, clip, cull, face, level_of_detail
-from .protocols import BillboardSource
+from .protocols import Placeable
 
 __all__ = ["FrameMode", "BillboardScene"]
 
@@ -76,7 +77,7 @@ class BillboardScene:
 
     Parameters
     ----------
-    assets : mapping of str to BillboardSource
+    assets : mapping of str to Placeable
         Every asset named by ``instances.names``.
     instances : Instances
     backdrop : Backdrop
@@ -91,11 +92,11 @@ class BillboardScene:
     ------
     ValidationError
         An instance names an asset that is missing, an asset does not implement
-        :class:`~morphkit.billboard.protocols.BillboardSource`, a facing is not a
+        :class:`~morphkit.billboard.protocols.Placeable`, a facing is not a
         :class:`~.facing.Facing`.
     """
 
-    assets: Mapping[str, BillboardSource]
+    assets: Mapping[str, Placeable]
     instances: Instances
     backdrop: Backdrop = field(default_factory=Backdrop)
     facing: Facing = field(default_factory=AxialFacing)
@@ -111,13 +112,14 @@ class BillboardScene:
             raise ValidationError(expected_got("assets", f"one for every instance's asset {missing}",
                                                f"only {sorted(self.assets)}"))
         for nm, a in self.assets.items():
-            if not isinstance(a, BillboardSource):
-                raise ValidationError(expected_got(f"asset {nm!r}",
-                                                   "a BillboardSource (morphkit.billboard.protocols)",
-                                                   type(a).__name__))
+            if not isinstance(a, Placeable):
+                raise ValidationError(expected_got(
+                    f"asset {nm!r}", "a billboard asset (morphkit.billboard.protocols.Placeable: "
+                    "BillboardSource or SurfaceSource)", type(a).__name__))
         if not isinstance(self.facing, Facing):
-            raise ValidationError(expected_got("facing", "a Facing (AxialFacing or ScreenFacing)",
-                                               type(self.facing).__name__))
+            raise ValidationError(expected_got(
+                "facing", "a Facing (AxialFacing, ScreenFacing or ViewpointFacing)",
+                type(self.facing).__name__))
         self.min_pixels = as_positive(self.min_pixels, "min_pixels")
         used = [self.assets[nm] for nm in self.instances.names]
         self._pivots = self.instances.pivots([a.pivot for a in used])

@@ -144,7 +144,12 @@ class BillboardMode(ABC):
         fog_color = fog.color if fog is not None else (0.0, 0.0, 0.0)
         outside = 0.0
         for pl in plan.placements:
-            img, out = self.image(scene.assets[pl.asset], pl)
+            asset = scene.assets[pl.asset]
+            if not isinstance(asset, BillboardSource):
+                raise ValidationError(expected_got(
+                    f"asset {pl.asset!r} for the {self.name} mode", "a ring asset (BillboardSource; "
+                    "relightable assets are drawn by litmodes.LitMode)", type(asset).__name__))
+            img, out = self.image(asset, pl)
             outside = max(outside, out)
             draw(layer, pl, img, fog_color)
         rgb = finish(layer, scene.backdrop.draw(camera))

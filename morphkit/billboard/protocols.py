@@ -14,9 +14,10 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from ..camera import CameraModel
 from .gbuffer import ViewSurface
 
-__all__ = ["ViewPairing", "BillboardSource", "SurfaceSource"]
+__all__ = ["ViewPairing", "Placeable", "BillboardSource", "SurfaceSource"]
 
 
 @runtime_checkable
@@ -62,6 +63,27 @@ class ViewPairing(Protocol):
             Degrees outside a partial ring's arc, ``0`` inside.
         """
         ...
+
+
+@runtime_checkable
+class Placeable(Protocol):
+    """What a billboard scene needs of any asset to place its quads: a name, the level-0
+    image size and pyramid levels (level of detail), the quad's half size and pivot
+    (object frame) and its bytes. :class:`BillboardSource` (ring assets) and
+    :class:`SurfaceSource` (relightable assets) both are; the modes ask for the one they draw.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
+
+    name: str
+    size: tuple[int, int]
+    half_extent: tuple[float, float]
+    pivot: np.ndarray
+    levels: int
+    memory_bytes: int
 
 
 @runtime_checkable
@@ -201,6 +223,23 @@ class SurfaceSource(Protocol):
         -------
         ViewSurface
             Unshaded albedo, normals (object frame) and depth.
+        """
+        ...
+
+    def camera(self, azimuth_deg: float, elevation_deg: float, level: int = 0) -> CameraModel:
+        """The camera of the surface of a direction (its depth is along this camera's axis).
+
+        Parameters
+        ----------
+        azimuth_deg, elevation_deg : float
+            Viewing direction, degrees, object frame.
+        level : int, optional
+            Pyramid level.
+
+        Returns
+        -------
+        CameraModel
+            Object frame.
         """
         ...
 

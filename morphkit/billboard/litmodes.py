@@ -1,0 +1,360 @@
+"""Relit billboards: each billboard's surface for its viewing direction, shaded by the scene's lights.
+
+A :class:`LitMode` draws a scene of relightable assets
+(:class:`~morphkit.billboard.protocols.SurfaceSource`: :class:`~.domeasset.DomeAsset`,
+:class:`~.impostor.OctahedralImpostor`) whose quads face the eye
+(:class:`~.facing.ViewpointFacing`): per placement, the asset's unshaded surface for
+the instance's viewing direction (azimuth and elevation in its object frame) comes
+from a bounded LRU :class:`~.cache.MorphCache` keyed by the direction rounded to
+``quantum_deg``, and is shaded with the mode's :class:`~morphkit.shading.Lighting`
+turned into the instance's object frame (:meth:`~morphkit.shading.Lighting.in_frame`):
+the lights can change every frame (a sun path) while the cached surfaces stay. Suns
+below the horizon give no light (:meth:`~morphkit.shading.Lighting.above_horizon`).
+
+Which surface is a family of objects (:class:`SurfaceChoice`):
+
+* :class:`MorphSurface` -- ``asset.surface`` (the dome's per-pixel view morph of three
+  views; the impostor's own three-frame blend with parallax);
+* :class:`NearestSurface`, :class:`CrossfadeSurface`, :class:`ClassicSurface` -- the
+  dome asset's baselines (one view on its card, three blended on their cards, the
+  front view everywhere).
+
+The ground truth under the same lights is :class:`~.litmesh.LitMeshMode` (the same
+shading of the meshes' own passes, :mod:`morphkit.shading`).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..scene import PointLight
+from ..shading import Lighting, shade
+from .bakelook import BAKE_AMBIENT, bake_lights
+from .cache import MorphCache
+from .compositor import draw, finish, new_layer
+from .domeasset import DomeAsset
+from .facing import ViewpointFacing
+from .field import BillboardScene
+from .frame import Frame, FrameStats, Placement
+from .gbuffer import ViewSurface
+from .protocols import SurfaceSource
+
+__all__ = ["SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
+           "LitMode", "pack_surface", "unpack_surface"]
+
+
+@runtime_checkable
+class SurfaceChoice(Protocol):
+    """Which unshaded surface of an asset a :class:`LitMode` draws for a direction.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
+
+    name: str
+
+    def surface(self, asset: SurfaceSource, azimuth_deg: float, elevation_deg: float,
+                level: int) -> ViewSurface:
+        """The surface of ``asset`` for a direction at ``level``.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            The instance's asset.
+        azimuth_deg, elevation_deg : float
+            Viewing direction, degrees, object frame.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded.
+        """
+        ...
+
+
+def _dome(asset: SurfaceSource, what: str) -> DomeAsset:
+    if not isinstance(asset, DomeAsset):
+        raise ValidationError(expected_got(f"asset {asset.name!r} for the {what} surface",
+                                           "a DomeAsset (its views)", type(asset).__name__))
+    return asset
+
+
+@dataclass(frozen=True)
+class MorphSurface:
+    """``asset.surface``: the asset's own image for the direction (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+        The mode name it gives (e.g. ``"impostor"`` for an impostor asset).
+    """
+
+    name: str = "morph"
+
+    def surface(self, asset: SurfaceSource, azimuth_deg: float, elevation_deg: float,
+                level: int) -> ViewSurface:
+        """See :class:`SurfaceChoice`.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            The asset.
+        azimuth_deg, elevation_deg : float
+            Direction, degrees.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded.
+        """
+        return asset.surface(azimuth_deg, elevation_deg, level)
+
+
+@dataclass(frozen=True)
+class NearestSurface:
+    """The dome's nearest view on its card (:meth:`DomeAsset.nearest_surface`)."""
+
+    name: str = "nearest"
+
+    def surface(self, asset: SurfaceSource, azimuth_deg: float, elevation_deg: float,
+                level: int) -> ViewSurface:
+        """See :class:`SurfaceChoice`.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            A :class:`DomeAsset`.
+        azimuth_deg, elevation_deg : float
+            Direction, degrees.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded.
+        """
+        return _dome(asset, self.name).nearest_surface(azimuth_deg, elevation_deg, level)
+
+
+@dataclass(frozen=True)
+class CrossfadeSurface:
+    """The dome's three views on their cards, blended (:meth:`DomeAsset.crossfade_surface`)."""
+
+    name: str = "crossfade"
+
+    def surface(self, asset: SurfaceSource, azimuth_deg: float, elevation_deg: float,
+                level: int) -> ViewSurface:
+        """See :class:`SurfaceChoice`.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            A :class:`DomeAsset`.
+        azimuth_deg, elevation_deg : float
+            Direction, degrees.
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded.
+        """
+        return _dome(asset, self.name).crossfade_surface(azimuth_deg, elevation_deg, level)
+
+
+@dataclass(frozen=True)
+class ClassicSurface:
+    """The dome's front view for every direction (:meth:`DomeAsset.classic_surface`)."""
+
+    name: str = "classic"
+
+    def surface(self, asset: SurfaceSource, azimuth_deg: float, elevation_deg: float,
+                level: int) -> ViewSurface:
+        """See :class:`SurfaceChoice`.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            A :class:`DomeAsset`.
+        azimuth_deg, elevation_deg : float
+            Direction, degrees (not used).
+        level : int
+            Pyramid level.
+
+        Returns
+        -------
+        ViewSurface
+            Unshaded.
+        """
+        return _dome(asset, self.name).classic_surface(level)
+
+
+def pack_surface(surface: ViewSurface) -> np.ndarray:
+    """One ``(h, w, 8)`` float32 array of a surface (albedo, normal, depth), for the cache.
+
+    Parameters
+    ----------
+    surface : ViewSurface
+        The surface.
+
+    Returns
+    -------
+    (h, w, 8) float32
+        Channels: albedo RGBA, normal xyz, depth.
+    """
+    return np.concatenate([surface.albedo, surface.normal, surface.depth[..., None]], axis=2)
+
+
+def unpack_surface(packed: np.ndarray) -> ViewSurface:
+    """The surface of :func:`pack_surface` (views of ``packed``).
+
+    Parameters
+    ----------
+    packed : (h, w, 8) float32
+        A packed surface.
+
+    Returns
+    -------
+    ViewSurface
+        Views into ``packed``.
+    """
+    return ViewSurface(packed[..., :4], packed[..., 4:7], packed[..., 7])
+
+
+class LitMode:
+    """Relit billboards of relightable assets (module docstring).
+
+    Parameters
+    ----------
+    choice : SurfaceChoice
+        Which surface (default :class:`MorphSurface`).
+    lighting : Lighting, optional
+        World-frame lights; replace :attr:`lighting` between frames to move them. Default:
+        the bake's light and ambient (:func:`~.bakelook.bake_lights`).
+    cache : MorphCache, optional
+        Default ``MorphCache()``.
+    quantum_deg : float
+        Directions are rounded to this grid (degrees of azimuth and of elevation) for the
+        cache; 0: exact directions, one entry each.
+    name : str, optional
+        The mode's name (default: the choice's).
+    """
+
+    def __init__(self, choice: SurfaceChoice | None = None, lighting: Lighting | None = None, *,
+                 cache: MorphCache | None = None, quantum_deg: float = 1.0, name: str | None = None) -> None:
+        self.choice = MorphSurface() if choice is None else choice
+        if not isinstance(self.choice, SurfaceChoice):
+            raise ValidationError(expected_got("choice", "a SurfaceChoice", type(choice).__name__))
+        self.lighting = Lighting(BAKE_AMBIENT, tuple(bake_lights())) if lighting is None else lighting
+        if not isinstance(self.lighting, Lighting):
+            raise ValidationError(expected_got("lighting", "a morphkit.shading.Lighting",
+                                               type(lighting).__name__))
+        self._cache = MorphCache() if cache is None else cache
+        if not isinstance(self._cache, MorphCache):
+            raise ValidationError(expected_got("cache", "a MorphCache", type(cache).__name__))
+        q = float(quantum_deg)
+        if not np.isfinite(q) or q < 0:
+            raise ValidationError(expected_got("quantum_deg", "a finite number >= 0", quantum_deg))
+        self.quantum_deg = q
+        self.name = self.choice.name if name is None else str(name)
+
+    @property
+    def cache(self) -> MorphCache:
+        """The surface cache."""
+        return self._cache
+
+    def _direction(self, pl: Placement) -> tuple[float, float]:
+        a, e = pl.azimuth_deg, pl.elevation_deg
+        q = self.quantum_deg
+        if q > 0:
+            a = (round(a / q) * q + 180.0) % 360.0 - 180.0
+            e = round(e / q) * q
+        return a, min(e, 90.0)
+
+    def surface(self, asset: SurfaceSource, pl: Placement) -> ViewSurface:
+        """The (cached) unshaded surface of one placement.
+
+        Parameters
+        ----------
+        asset : SurfaceSource
+            The instance's asset.
+        pl : Placement
+            Its placement.
+
+        Returns
+        -------
+        ViewSurface
+            Read-only views of the cached surface.
+        """
+        a, e = self._direction(pl)
+        key = (self.name, asset.name, a, e, pl.level)
+        packed = self._cache.get(key, lambda: pack_surface(self.choice.surface(asset, a, e, pl.level)))
+        return unpack_surface(packed)
+
+    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
+        """Plan, shade every placement's surface, draw back to front over the backdrop.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            A scene of relightable assets with :class:`~.facing.ViewpointFacing`.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+
+        Raises
+        ------
+        ValidationError
+            A scene whose facing is not :class:`ViewpointFacing`, an asset that is not a
+            :class:`SurfaceSource`.
+        """
+        t0 = time.perf_counter()
+        if not isinstance(scene.facing, ViewpointFacing):
+            raise ValidationError(expected_got("scene facing for relit billboards",
+                                               "ViewpointFacing (quads facing the eye in elevation too)",
+                                               type(scene.facing).__name__))
+        before = self._cache.counts
+        plan = scene.plan(camera)
+        layer = new_layer(camera.shape)
+        fog = scene.backdrop.fog
+        fog_color = fog.color if fog is not None else (0.0, 0.0, 0.0)
+        lit = self.lighting.above_horizon()
+        inst = scene.instances
+        for pl in plan.placements:
+            asset = scene.assets[pl.asset]
+            if not isinstance(asset, SurfaceSource):
+                raise ValidationError(expected_got(f"asset {pl.asset!r}", "a SurfaceSource (relightable)",
+                                                   type(asset).__name__))
+            surf = self.surface(asset, pl)
+            local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
+            points = None
+            if any(isinstance(lt, PointLight) for lt in local.lights):
+                a, e = self._direction(pl)
+                points = asset.camera(a, e, pl.level).unproject(surf.depth)[0]
+            draw(layer, pl, shade(surf, local, points), fog_color)
+        rgb = finish(layer, scene.backdrop.draw(camera))
+        counts = self._cache.counts - before
+        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
+                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
+                           counts.hits, counts.misses, counts.evictions, len(self._cache), self._cache.nbytes,
+                           0.0, 1e3 * (time.perf_counter() - t0))
+        return Frame(rgb, layer, plan.placements, stats)
+

@@ -1,0 +1,121 @@
+"""Relit billboards (#25): LitMode over dome assets, shaded by the scene's lights per frame.
+
+The assets are the analytic sphere (:mod:`morphkit.billboard.analytic`): no GL.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from morphkit.billboard import Backdrop, BillboardScene, Instances
+from morphkit.billboard.analytic import sphere_dome_asset
+from morphkit.billboard.facing import AxialFacing, ViewpointFacing
+from morphkit.billboard.litmodes import (
+    ClassicSurface,
+    CrossfadeSurface,
+    LitMode,
+    MorphSurface,
+    NearestSurface,
+    pack_surface,
+    unpack_surface,
+)
+from morphkit.billboard.sun import sun
+from morphkit.camera import look_at, perspective
+from morphkit.errors import ValidationError
+from morphkit.scene import PointLight
+from morphkit.shading import Lighting
+
+
+@pytest.fixture(scope="module")
+def ball():
+    return sphere_dome_asset(size=32, levels=2)
+
+
+def _scene(asset, yaw=0.0, facing=None):
+    inst = Instances(("ball",), np.zeros(1, np.int64), np.zeros((1, 2)), np.array([yaw]), np.ones(1))
+    return BillboardScene({"ball": asset}, inst, backdrop=Backdrop(), facing=facing or ViewpointFacing())
+
+
+def _camera(azimuth_deg, elevation_deg, dist=9.0):
+    a, e = np.radians(azimuth_deg), np.radians(elevation_deg)
+    target = np.array([0.0, 0.0, 1.0])
+    eye = target + dist * np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+    up = np.array([0.0, 0.0, 1.0]) if elevation_deg < 89 else np.array([1.0, 0.0, 0.0])
+    return perspective(np.radians(30.0), (64, 64), look_at(eye, target, up))
+
+
+def test_relit_layer_turns_with_the_instance_and_its_lights(ball):
+    """Turning the instance, the camera and the sun by the same yaw draws the same billboard."""
+    mode = LitMode(MorphSurface(), Lighting(0.2, (sun(30.0, 40.0),)), quantum_deg=0.0)
+    a = mode.render(_scene(ball, 0.0), _camera(10.0, 35.0)).layer
+    mode.lighting = Lighting(0.2, (sun(30.0 + 90.0, 40.0),))
+    b = mode.render(_scene(ball, 90.0), _camera(100.0, 35.0)).layer
+    assert a[..., 3].sum() > 100
+    assert np.abs(a - b).max() < 1e-4
+
+
+def test_the_sun_moves_without_new_surfaces(ball):
+    """The cache keys hold the direction only: a new sun re-shades the cached surface."""
+    mode = LitMode(MorphSurface(), Lighting(0.2, (sun(0.0, 60.0),)))
+    scene, cam = _scene(ball), _camera(20.0, 30.0)
+    f1 = mode.render(scene, cam)
+    mode.lighting = Lighting(0.2, (sun(180.0, 20.0),))
+    f2 = mode.render(scene, cam)
+    assert (f1.stats.misses, f2.stats.misses, f2.stats.hits) == (1, 0, 1)
+    assert np.abs(f1.layer - f2.layer).max() > 0.05  # lit from the other side
+
+
+def test_a_sun_below_the_horizon_lights_nothing(ball):
+    scene, cam = _scene(ball), _camera(20.0, 30.0)
+    dark = LitMode(MorphSurface(), Lighting(0.3, (sun(40.0, -5.0),))).render(scene, cam).layer
+    ambient = LitMode(MorphSurface(), Lighting(0.3, ())).render(scene, cam).layer
+    assert np.array_equal(dark, ambient)
+
+
+def test_a_sun_behind_the_camera_lights_the_visible_side_most(ball):
+    """Sun exactly behind the camera: the billboard's centre (normal towards the eye) gets
+    the full sun, ambient + 3/pi of the albedo in linear light; it is brighter than with the
+    sun behind the billboard."""
+    scene, cam = _scene(ball), _camera(20.0, 30.0)
+    front = LitMode(MorphSurface(), Lighting(0.2, (sun(20.0, 30.0),)), quantum_deg=0.0).render(scene, cam)
+    back = LitMode(MorphSurface(), Lighting(0.2, (sun(200.0, -30.0 + 60.0),)), quantum_deg=0.0
+                   ).render(scene, cam)
+    c = front.layer[30:34, 30:34, :3].mean()
+    assert c > back.layer[30:34, 30:34, :3].mean() + 0.1
+
+
+def test_point_lights_use_the_surface_points(ball):
+    scene, cam = _scene(ball), _camera(0.0, 10.0)
+    near = LitMode(MorphSurface(), Lighting(0.0, (PointLight(np.array([2.0, 0.0, 1.0]), 30.0),)),
+                   quantum_deg=0.0).render(scene, cam)
+    assert near.layer[..., :3].max() > 0.2 and np.isfinite(near.layer).all()
+
+
+def test_top_down_view_draws_the_top(ball):
+    frame = LitMode(MorphSurface(), Lighting(0.5, ())).render(_scene(ball), _camera(0.0, 90.0))
+    assert frame.stats.n_drawn == 1 and frame.layer[..., 3].sum() > 100
+
+
+@pytest.mark.parametrize("choice", [MorphSurface(), NearestSurface(), CrossfadeSurface(), ClassicSurface()])
+def test_every_choice_draws(ball, choice):
+    frame = LitMode(choice, Lighting(0.4, (sun(10.0, 50.0),))).render(_scene(ball), _camera(33.0, 47.0))
+    assert frame.stats.n_drawn == 1 and frame.layer[..., 3].sum() > 100
+    assert frame.stats.mode == choice.name
+
+
+def test_axial_scenes_and_bad_arguments_are_refused(ball):
+    with pytest.raises(ValidationError, match="ViewpointFacing"):
+        LitMode().render(_scene(ball, facing=AxialFacing()), _camera(0.0, 20.0))
+    with pytest.raises(ValidationError, match="SurfaceChoice"):
+        LitMode("morph")  # type: ignore[arg-type]
+    with pytest.raises(ValidationError, match="Lighting"):
+        LitMode(lighting=0.3)  # type: ignore[arg-type]
+    with pytest.raises(ValidationError, match="quantum_deg"):
+        LitMode(quantum_deg=-1.0)
+
+
+def test_pack_round_trip(ball):
+    s = ball.surface(12.0, 34.0)
+    back = unpack_surface(pack_surface(s))
+    assert np.array_equal(back.albedo, s.albedo) and np.array_equal(back.depth, s.depth)
