@@ -233,15 +233,25 @@ def parse_size(text: str) -> tuple[int, int]:
     return h, w
 
 
+def _billboard_views(args: argparse.Namespace) -> int | None:
+    """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
+    views over the hemisphere (``dome``, or ``--sun-path`` without ``--views``); default 8."""
+    v = args.views
+    if v is None:
+        return None if args.sun_path else 8
+    return None if v == "dome" else int(v)
+
+
 def _cmd_billboards(args: argparse.Namespace) -> int:
     from .errors import ValidationError, expected_got
 
     # every user error is refused before anything is baked or written
     shape = parse_size(args.size)
-    for name, v, lo in (("--n", args.n, 0), ("--frames", args.frames, 1), ("--views", args.views, 2),
+    for name, v, lo in (("--n", args.n, 0), ("--frames", args.frames, 1),
                         ("--asset-size", args.asset_size, 16)):
         if v < lo:
             raise ValidationError(expected_got(name, f"an int >= {lo}", v))
+    views = _billboard_views(args)
     from .billboard.sources import check_specs, resolve_assets
 
     specs = args.asset or ["tree", "person"]
@@ -254,28 +264,51 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     from .billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode, place_random
     from .billboard.asset import BAKE_AMBIENT, bake_lights
+    from .billboard.dome import ViewDome
+    from .billboard.facing import AxialFacing, ViewpointFacing
+    from .billboard.litmesh import LitMeshMode
+    from .billboard.litmodes import ClassicSurface, LitMode, MorphSurface
     from .billboard.paths import make_path
     from .billboard.sequence import write_sequence
+    from .billboard.sun import SunPath
     from .render import Renderer
+    from .shading import Lighting
 
     with claim.writing() as out, Renderer() as r:
-        res = resolve_assets(specs, r, views=args.views, size=args.asset_size, up=args.up_axis, progress=True)
+        dome = ViewDome() if views is None else None
+        res = resolve_assets(specs, r, views=views or 8, size=args.asset_size, up=args.up_axis, progress=True,
+                             dome=dome)
         names = list(res.assets)
         inst = place_random(names, args.n, np.random.default_rng(args.seed))
         half = float(np.abs(inst.xy).max()) if len(inst) else 1.0
         fog = None if args.no_fog else Fog()
-        scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog))
+        facing = ViewpointFacing() if dome is not None else AxialFacing()
+        scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog), facing=facing)
         cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
+        base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
+        lighting = None
+        if args.sun_path:
+            lighting = [Lighting(BAKE_AMBIENT, (s,)) for s in SunPath.day(args.frames).suns(args.frames)]
         truth = None
-        if all(nm in res.items for nm in names):
-            truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
-        else:
+        known = all(nm in res.items for nm in names)
+        if not known:
             why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
             print(f"morphkit billboards: comparisons with the real meshes skipped: {why}", file=sys.stderr)
-        summary = write_sequence(scene, cams, out, mode=MorphMode(MorphCache()), truth=truth,
+        if dome is not None:
+            mode = LitMode(MorphSurface(), base)
+            classic = LitMode(ClassicSurface(), base)
+            if known:
+                truth = LitMeshMode(r, res.items, base)
+        else:
+            mode, classic = MorphMode(MorphCache()), None
+            if known:
+                truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
+        summary = write_sequence(scene, cams, out, mode=mode, truth=truth, classic=classic, lighting=lighting,
                                  progress=args.frames >= 10)
-    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
-          f"({args.path}), cache hit rate {summary['hit_rate']:.1%}")
+    kind = "relit dome assets" if dome is not None else "ring assets"
+    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)} ({kind}), {args.frames} frames "
+          f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}), "
+          f"cache hit rate {summary['hit_rate']:.1%}")
     for c in summary["compared"]:
         errs = "; ".join(f"{m} IoU {e['iou']:.3f} PSNR {e['psnr']:.1f} dB" for m, e in c["errors"].items()
                          if e["n"])
@@ -436,11 +469,16 @@ def build_parser() -> argparse.ArgumentParser:
                     "or a .npz asset file (loaded); repeat for several "
                     "(default: tree and person)")
     bb.add_argument("--n", type=int, default=200, help="number of billboards (default: %(default)s)")
-    bb.add_argument("--path", default="pan", choices=["pan", "orbit", "fly"],
-                    help="camera path: the paper's pan, an orbit or a fly-through (default: %(default)s)")
-    bb.add_argument("--views", type=int, default=8,
-                    help="reference views per baked asset: 2 is the paper's pair, more a full ring "
-                    "(default: %(default)s)")
+    bb.add_argument("--path", default="pan", choices=["pan", "orbit", "fly", "flyover", "topdown"],
+                    help="camera path: the paper's pan, an orbit, a fly-through, a fly-over rising from 5 to "
+                    "85 degrees or a top-down pan (default: %(default)s)")
+    bb.add_argument("--views", default=None, metavar="K|dome",
+                    help="reference views per baked asset: 2 is the paper's pair, more a full ring at one "
+                    "elevation; 'dome': relightable views over the hemisphere, seen from any height "
+                    "(default: 8, or dome with --sun-path)")
+    bb.add_argument("--sun-path", default=None, choices=["day"],
+                    help="light the billboards by a sun moving across the sky over the frames "
+                    "(relightable dome assets; default: the bake light)")
     bb.add_argument("--frames", type=int, default=48, help="frames along the path (default: %(default)s)")
     bb.add_argument("--size", default="640x480", help="frame size WxH (default: %(default)s)")
     bb.add_argument("--asset-size", type=int, default=128,

@@ -50,7 +50,17 @@ def _demo(args: argparse.Namespace) -> None:
 def _billboards(args: argparse.Namespace) -> None:
     _count(args, "n", "--n", 0, tol.MAX_INSTANCES)
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
-    _count(args, "views", "--views", 2, tol.MAX_BILLBOARD_VIEWS)
+    if args.views is not None and str(args.views) != "dome":  # a ring of K views, or "dome"
+        try:
+            k = int(str(args.views).strip())
+        except ValueError:
+            raise ValidationError(expected_got("--views", f"an integer in [2, {tol.MAX_BILLBOARD_VIEWS}] "
+                                               "(a ring) or 'dome'", repr(args.views))) from None
+        as_int(k, "--views", lo=2, hi=tol.MAX_BILLBOARD_VIEWS)
+        if getattr(args, "sun_path", None):
+            raise ValidationError(expected_got(
+                "--views with --sun-path", "dome (relighting needs albedo, normals and depth: --views dome)",
+                f"a ring of {k} baked under its bake light"))
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
     parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area

@@ -45,8 +45,40 @@ from .frame import Frame, FrameStats, Placement
 from .gbuffer import ViewSurface
 from .protocols import SurfaceSource
 
-__all__ = ["SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
+__all__ = ["Relit", "SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
            "LitMode", "pack_surface", "unpack_surface"]
+
+
+@runtime_checkable
+class Relit(Protocol):
+    """A frame mode lit by a :class:`~morphkit.shading.Lighting` that can change between
+    frames (:class:`LitMode`, :class:`~.litmesh.LitMeshMode`).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
+
+    name: str
+    lighting: Lighting
+
+    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
+        """One frame under :attr:`lighting`.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame.
+        """
+        ...
 
 
 @runtime_checkable

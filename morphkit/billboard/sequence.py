@@ -16,14 +16,17 @@ Every file goes through :mod:`morphkit.fileio` (atomic).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
 from ..fileio import write_image, write_json
+from ..shading import Lighting
 from .compare import compare_modes
 from .field import BillboardScene, FrameMode
+from .litmodes import Relit
 from .modes import ClassicMode, MorphMode
 from .video import VideoFile
 
@@ -54,7 +57,9 @@ def compare_indices(frames: int, count: int = 3) -> list[int]:
 
 def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: str | Path, *,
                    mode: FrameMode | None = None, truth: FrameMode | None = None, compare: int = 3,
-                   fps: float = 24.0, video: bool = True, progress: bool = False) -> dict[str, Any]:
+                   fps: float = 24.0, video: bool = True, progress: bool = False,
+                   classic: FrameMode | None = None, lighting: Sequence[Lighting] | None = None
+                   ) -> dict[str, Any]:
     """Render ``cameras`` and write the frames, the video, the comparison strips and a summary.
 
     Parameters
@@ -76,6 +81,12 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
         Write ``billboards.mp4``.
     progress : bool
         A progress bar over the frames.
+    classic : FrameMode, optional
+        The classic billboard of the comparison strips (default :class:`~.modes.ClassicMode`;
+        relit scenes: ``LitMode(ClassicSurface())``).
+    lighting : sequence of Lighting, optional
+        One per camera (a sun path): set on every relit mode (:class:`~.litmodes.Relit`:
+        the mode, the classic and the truth) before its frame is drawn.
 
     Returns
     -------
@@ -87,13 +98,25 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     (out / "frames").mkdir(parents=True, exist_ok=True)
     mode = MorphMode() if mode is None else mode
     picks = set(compare_indices(len(cameras), compare)) if truth is not None else set()
-    classic = ClassicMode()
+    classic = ClassicMode() if classic is None else classic
+    if lighting is not None and len(lighting) != len(cameras):
+        raise ValidationError(expected_got("lighting", f"one Lighting per camera ({len(cameras)})",
+                                           len(lighting)))
+
+    def lit(cams: Sequence[CameraModel]) -> Iterator[CameraModel]:
+        for k, cam in enumerate(cams):
+            if lighting is not None:
+                for m in (mode, classic, truth):
+                    if isinstance(m, Relit):
+                        m.lighting = lighting[k]
+            yield cam
     files: list[str] = []
     per_frame: list[dict[str, Any]] = []
     compared: list[dict[str, Any]] = []
     sink = VideoFile(out / "billboards.mp4", fps, cameras[0].shape) if video and cameras else None
     try:
-        for k, frame in enumerate(scene.render_path(cameras, mode, progress=progress, total=len(cameras))):
+        for k, frame in enumerate(scene.render_path(lit(cameras), mode, progress=progress,
+                                                    total=len(cameras))):
             name = f"frames/frame_{k:04d}.png"
             write_image(out / name, frame.rgb)
             files.append(name)
@@ -105,7 +128,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
                               "misses": st.misses, "cache_entries": st.cache_entries,
                               "max_outside_deg": st.max_outside_deg, "ms": st.ms})
             if k in picks and truth is not None:
-                cmp = compare_modes(scene, cameras[k], {"classic": classic, mode.name: mode}, truth)
+                cmp = compare_modes(scene, cameras[k], {classic.name: classic, mode.name: mode}, truth)
                 cname = f"compare_{k:04d}.png"
                 write_image(out / cname, cmp.strip)
                 files.append(cname)

@@ -37,6 +37,8 @@ from ..protocols import SceneRenderer
 from ..scene import Item
 from .asset import BillboardAsset, mesh_hash
 from .bake import bake_asset
+from .dome import ViewDome
+from .domeasset import DomeAsset, bake_dome
 
 __all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets"]
 
@@ -50,15 +52,15 @@ class ResolvedAssets:
 
     Parameters
     ----------
-    assets : dict of str to BillboardAsset
-        Assets by name.
+    assets : dict of str to BillboardAsset or DomeAsset
+        Assets by name (ring assets, or relightable ones when resolved with a dome).
     items : dict of str to list of Item
         Bake items (object frame) by asset name, for the assets whose mesh is known.
     skipped : dict of str to str
         Asset name -> why its mesh is not known (no comparison with the real mesh).
     """
 
-    assets: dict[str, BillboardAsset]
+    assets: dict[str, BillboardAsset | DomeAsset]
     items: dict[str, list[Item]]
     skipped: dict[str, str] = field(default_factory=dict)
 
@@ -88,7 +90,7 @@ def check_specs(specs: Sequence[str]) -> None:
             raise ValidationError(expected_got("asset", want, repr(spec)))
 
 
-def _beside(path: Path, asset: BillboardAsset) -> tuple[trimesh.Trimesh | None, str]:
+def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trimesh | None, str]:
     """The mesh of a loaded asset: a sample mesh of its name, or a mesh file beside the asset
     file named like the asset or the file; ``(None, why)`` when there is none that matches."""
     if asset.name in BILLBOARD_MESHES:
@@ -115,7 +117,8 @@ def _beside(path: Path, asset: BillboardAsset) -> tuple[trimesh.Trimesh | None, 
 
 
 def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int = 8, size: int = 128,
-                   levels: int = 3, up: str = "auto", progress: bool = False) -> ResolvedAssets:
+                   levels: int = 3, up: str = "auto", progress: bool = False,
+                   dome: ViewDome | None = None) -> ResolvedAssets:
     """Bake or load each of ``specs`` (see the module notes).
 
     Parameters
@@ -130,6 +133,10 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         Up axis of the mesh files (:func:`morphkit.meshes.load_mesh`); recorded in their assets.
     progress : bool
         Progress bars while baking.
+    dome : ViewDome, optional
+        Relightable assets over these views instead (:func:`~.domeasset.bake_dome`, ``views``
+        not used; ``.npz`` files are read as :class:`~.domeasset.DomeAsset` -- a ring asset
+        file is refused with "re-bake").
 
     Returns
     -------
@@ -146,23 +153,32 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         A mesh file that cannot be loaded, or a bad ``up``.
     """
     check_specs(specs)
-    assets: dict[str, BillboardAsset] = {}
+    assets: dict[str, BillboardAsset | DomeAsset] = {}
     items: dict[str, list[Item]] = {}
     skipped: dict[str, str] = {}
     for spec in specs:
         path = Path(spec)
         known: trimesh.Trimesh | None = None
         why = ""
+        asset: BillboardAsset | DomeAsset
         if spec in BILLBOARD_MESHES:
             known = normalize(sample_mesh(spec))
-            asset = bake_asset(known, renderer, name=spec, views=views, size=size, levels=levels,
-                               progress=progress, appearance="checker")
+            if dome is not None:
+                asset = bake_dome(known, renderer, name=spec, dome=dome, size=size, levels=levels,
+                                  appearance="checker")
+            else:
+                asset = bake_asset(known, renderer, name=spec, views=views, size=size, levels=levels,
+                                   progress=progress, appearance="checker")
         elif path.suffix.lower() in MESH_SUFFIXES:
             known = load_mesh(path, up=up)
-            asset = bake_asset(known, renderer, name=path.stem, views=views, size=size, levels=levels,
-                               progress=progress, appearance="own", source_up=resolve_up(path, up))
+            if dome is not None:
+                asset = bake_dome(known, renderer, name=path.stem, dome=dome, size=size, levels=levels,
+                                  appearance="own", source_up=resolve_up(path, up))
+            else:
+                asset = bake_asset(known, renderer, name=path.stem, views=views, size=size, levels=levels,
+                                   progress=progress, appearance="own", source_up=resolve_up(path, up))
         else:
-            asset = BillboardAsset.load(path)
+            asset = BillboardAsset.load(path) if dome is None else DomeAsset.load(path)
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
                 asset.name = path.name[: -len(".npz")].removesuffix(".billboard")
             known, why = _beside(path, asset)
