@@ -232,8 +232,8 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
         points = np.asarray(points)
         if points.shape != (h, w, 3):
             raise ValidationError(expected_got("points", f"({h}, {w}, 3)", points.shape))
-    normal = np.asarray(surface.normal, dtype=np.float32)
-    albedo = np.asarray(surface.albedo, dtype=np.float32)
+    normal = np.ascontiguousarray(surface.normal, dtype=np.float32)
+    albedo = np.ascontiguousarray(surface.albedo, dtype=np.float32)
     alpha = np.ascontiguousarray(albedo[..., 3])
     e = _irradiance(normal, lighting, points)
     # the straight lit colour rho E = (premultiplied albedo / alpha) E, on all four channels at once

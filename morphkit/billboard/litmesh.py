@@ -1,0 +1,188 @@
+"""The relit ground truth of a billboard scene: the real meshes shaded by the scene's lights.
+
+:class:`LitMeshMode` is :class:`~.modes.MeshMode` with morphkit's shading instead of
+the renderer's lighting: the meshes at every instance's pose are drawn as deferred
+passes (albedo, world normals, depth, coverage: :meth:`Renderer.passes
+<morphkit.render.Renderer.passes>`, or ``source_passes`` when supersampled) and
+shaded by :func:`morphkit.shading.shade_passes` under a world-frame
+:class:`~morphkit.shading.Lighting` -- the one model (:mod:`morphkit.shading`) that
+also shades the relit billboards, so the two compare like with like under any sun.
+The layer is composited over the scene's backdrop as the billboards' is.
+:attr:`LitMeshMode.lighting` may be replaced between frames (a moving sun,
+:class:`~.sun.SunPath`).
+
+Fog, when the scene has it, is applied per pixel from the depth pass's distance,
+at every ``supersample`` (the passes always carry depth; at a supersampled edge
+pixel the depth is its nearest sample's).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..passes import RenderPasses
+from ..protocols import SceneRenderer
+from ..scene import Item, Light
+from ..shading import Lighting, shade_passes
+from ..validate import as_flag, as_int
+from .compositor import finish
+from .field import BillboardScene
+from .frame import Frame, FrameStats
+from .modes import MeshMode
+
+__all__ = ["PassRenderer", "LitMeshMode"]
+
+
+@runtime_checkable
+class PassRenderer(SceneRenderer, Protocol):
+    """A :class:`~morphkit.protocols.SceneRenderer` that also draws deferred passes
+    (:class:`morphkit.render.Renderer` does).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
+
+    def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+               ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+               ) -> RenderPasses:
+        """Colour, albedo, normals, depth and coverage of one view (:meth:`Renderer.passes
+        <morphkit.render.Renderer.passes>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights of the colour pass (not used here).
+        ambient : float, optional
+            Ambient level of the colour pass.
+        background : tuple of 3 float, optional
+            Colour pass background.
+
+        Returns
+        -------
+        RenderPasses
+            The passes.
+        """
+        ...
+
+    def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                      ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
+        """:meth:`passes` supersampled and area-averaged (:meth:`Renderer.source_passes
+        <morphkit.render.Renderer.source_passes>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights of the colour pass (not used here).
+        ambient : float, optional
+            Ambient level of the colour pass.
+        supersample : int, optional
+            Supersampling factor per axis.
+
+        Returns
+        -------
+        RenderPasses
+            The passes at ``camera.shape``.
+        """
+        ...
+
+
+@dataclass
+class LitMeshMode:
+    """The real meshes at every instance's pose, shaded by :func:`~morphkit.shading.shade_passes`
+    (module docstring).
+
+    Parameters
+    ----------
+    renderer : PassRenderer
+        Draws the passes (:class:`morphkit.render.Renderer`).
+    meshes : mapping of str to sequence of Item
+        Per asset name, its items in the asset's look, as for :class:`~.modes.MeshMode`.
+    lighting : Lighting
+        World frame; replace it between frames to move the sun.
+    supersample : int
+        1: one sample a pixel (coverage 0 or 1, :meth:`~PassRenderer.passes`); ``s > 1``:
+        supersampled passes (coverage alpha, :meth:`~PassRenderer.source_passes`).
+    cull : bool
+        Draw only the instances whose bounding sphere meets the frustum; False draws all.
+    name : str, optional
+        The mode's name in frames, strips and reports.
+    """
+
+    renderer: PassRenderer
+    meshes: Mapping[str, Sequence[Item]]
+    lighting: Lighting
+    supersample: int = 1
+    cull: bool = True
+    name: str = "litmesh"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.renderer, PassRenderer):
+            raise ValidationError(expected_got("renderer", "a renderer with passes and source_passes",
+                                               type(self.renderer).__name__))
+        self.supersample = as_int(self.supersample, "supersample", lo=1)
+        self.cull = as_flag(self.cull, "cull")
+        # the posing of MeshMode (and its checks of the items); its lights are never used
+        self._posed = MeshMode(self.renderer, self.meshes, cull=self.cull)
+
+    def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
+        """Draw the passes, shade them under :attr:`lighting`, composite over the backdrop.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+
+        Returns
+        -------
+        Frame
+            The frame; ``layer`` is the shaded meshes (premultiplied, sRGB-encoded colour).
+
+        Raises
+        ------
+        ValidationError
+            :attr:`lighting` is not a :class:`~morphkit.shading.Lighting`.
+        """
+        if not isinstance(self.lighting, Lighting):
+            raise ValidationError(expected_got("lighting", "a morphkit.shading.Lighting",
+                                               type(self.lighting).__name__))
+        t0 = time.perf_counter()
+        plan = scene.plan(camera)
+        idx = plan.visible if self.cull else np.arange(len(scene))
+        items = self._posed.items(scene, idx)
+        if self.supersample == 1:
+            passes = self.renderer.passes(camera, items, ())
+        else:
+            passes = self.renderer.source_passes(camera, items, (), supersample=self.supersample)
+        layer = shade_passes(passes, self.lighting, camera)
+        fog = scene.backdrop.fog
+        alpha = layer[:, :, 3:]
+        if fog is not None and alpha.any():
+            x, y = camera.pixel_grid()
+            ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
+            depth = np.where(np.isfinite(passes.depth), passes.depth, 0.0)
+            f = fog.factor(depth * ray).astype(np.float32)[:, :, None]
+            layer[:, :, :3] = layer[:, :, :3] * (1 - f) + f * alpha * np.asarray(fog.color, np.float32)
+        rgb = finish(layer, scene.backdrop.draw(camera))
+        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
+                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
+                           ms=1e3 * (time.perf_counter() - t0))
+        return Frame(rgb, layer, plan.placements, stats)
