@@ -288,7 +288,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
         lighting = None
         if args.sun_path:
-            lighting = [Lighting(BAKE_AMBIENT, (s,)) for s in SunPath.day(args.frames).suns(args.frames)]
+            lighting = [Lighting(BAKE_AMBIENT, (s,)) for s in SunPath.day(args.frames)]
         truth = None
         known = all(nm in res.items for nm in names)
         if not known:
@@ -306,8 +306,8 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         summary = write_sequence(scene, cams, out, mode=mode, truth=truth, classic=classic, lighting=lighting,
                                  progress=args.frames >= 10)
     kind = "relit dome assets" if dome is not None else "ring assets"
-    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)} ({kind}), {args.frames} frames "
-          f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}), "
+    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
+          f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}; {kind}), "
           f"cache hit rate {summary['hit_rate']:.1%}")
     for c in summary["compared"]:
         errs = "; ".join(f"{m} IoU {e['iou']:.3f} PSNR {e['psnr']:.1f} dB" for m, e in c["errors"].items()
