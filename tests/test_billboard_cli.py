@@ -107,3 +107,35 @@ def test_bad_up_axis(capsys, tmp_path):
     with pytest.raises(SystemExit):
         main(["billboards", "--up-axis", "x", "-o", str(tmp_path / "o")])
     assert "--up-axis" in capsys.readouterr().err
+
+
+def test_views_must_be_a_ring_or_dome_and_relighting_needs_a_dome(capsys, tmp_path):
+    err = _one_line_error(capsys, ["billboards", "--views", "many", "-o", str(tmp_path / "o")])
+    assert "--views: expected an integer in [2, 64] (a ring) or 'dome'" in err
+    err = _one_line_error(capsys, ["billboards", "--views", "8", "--sun-path", "day",
+                                   "-o", str(tmp_path / "o")])
+    assert "--views with --sun-path: expected dome" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.gl
+def test_fly_over_under_a_moving_sun_with_dome_assets(capsys, tmp_path):
+    out = tmp_path / "bb"
+    assert main(["billboards", "--asset", "tree", "--n", "6", "--frames", "3", "--size", "96x72",
+                 "--asset-size", "32", "--path", "flyover", "--sun-path", "day", "-o", str(out)]) == 0
+    summary = json.loads((out / "billboards.json").read_text())
+    assert summary["mode"] == "morph" and summary["frames"] == 3
+    printed = capsys.readouterr().out
+    assert "relit dome assets" in printed and "sun: day" in printed
+    frames = [cv2.imread(str(out / "frames" / f"frame_{k:04d}.png")) for k in range(3)]
+    assert all(f is not None and f.shape == (72, 96, 3) for f in frames)
+    # a ring asset file given where a dome is asked for: one line, re-bake
+    from morphkit.billboard import bake_asset
+    from morphkit.meshes import sample_mesh
+    from morphkit.render import Renderer
+
+    with Renderer() as r:
+        bake_asset(sample_mesh("tree"), r, views=2, size=32, levels=1).save(tmp_path / "ring.npz")
+    err = _one_line_error(capsys, ["billboards", "--asset", str(tmp_path / "ring.npz"), "--views", "dome",
+                                   "--frames", "1", "-o", str(tmp_path / "bb3")])
+    assert "re-bake" in err
