@@ -65,6 +65,11 @@ def sphere9() -> OctahedralImpostor:
     return _sphere_impostor(9)
 
 
+@pytest.fixture(scope="module")
+def sphere9o() -> OctahedralImpostor:
+    return _sphere_impostor(9, projection="orthographic")
+
+
 def test_hemi_octahedral_map_round_trips_and_its_landmarks(rng):
     uv = rng.uniform(-1, 1, size=(500, 2))
     d = hemi_oct_decode(uv)
@@ -99,8 +104,8 @@ def test_weights_at_a_frame_between_frames_and_at_the_top(sphere9):
     assert len(top) == 2 and sum(x for _, x in top) == pytest.approx(1.0)
 
 
-def test_at_a_frame_the_surface_is_that_frame(sphere9):
-    imp = sphere9
+def test_at_a_frame_the_orthographic_surface_is_that_frame(sphere9o):
+    imp = sphere9o
     assert isinstance(imp, SurfaceSource)
     for k in (10, 31, 57):  # not straight above (the frame's own roll is azimuth 0 there)
         a, e = imp.frame_angles[k]
@@ -114,6 +119,7 @@ def test_at_a_frame_the_surface_is_that_frame(sphere9):
 
 
 def _expected_disc(imp: OctahedralImpostor, a: float, e: float, side: int) -> tuple[np.ndarray, float]:
+    """Centre (x, y) and radius (px) of the sphere's orthographic image on the quad."""
     right, up = quad_axes(a, max(e, 0.0))
     c = CENTRE - imp.pivot
     px = imp.half_extent[0] * 2.0 / side
@@ -121,23 +127,49 @@ def _expected_disc(imp: OctahedralImpostor, a: float, e: float, side: int) -> tu
     return centre, RADIUS / px
 
 
-@pytest.mark.parametrize("a, e", [(17.0, 33.0), (200.0, 5.0), (-45.0, 71.0), (123.0, 0.0), (30.0, -10.0),
-                                  (10.0, 90.0), (250.0, 90.0), (61.0, 83.0)])
-def test_the_sphere_from_any_direction_is_a_disc_facing_the_viewer(sphere9, a, e):
-    s = sphere9.surface(a, e)
-    centre, r = _expected_disc(sphere9, a, e, M)
-    area = float(s.alpha.sum())
-    assert abs(np.sqrt(area / np.pi) - r) < 1.0
+def _ray_traced(imp: OctahedralImpostor, a: float, e: float, side: int, projection: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sphere ray-traced through the quad's pixel centres: hit mask, normals, depth from the eye plane."""
+    e = max(e, 0.0)
+    d, (right, up) = direction(a, e), quad_axes(a, e)
+    t = (np.arange(side) - (side - 1) / 2.0) * (2.0 * imp.half_extent[0] / side)
+    p = imp.pivot + t[None, :, None] * right - t[:, None, None] * up
+    if projection == "perspective":
+        o = np.broadcast_to(imp.pivot + imp.distance * d, p.shape)
+        v = (p - o) / np.linalg.norm(p - o, axis=-1, keepdims=True)
+    else:
+        o, v = p + imp.distance * d, np.broadcast_to(-d, p.shape)
+    oc = CENTRE - o
+    along = np.einsum("ijk,ijk->ij", oc, v)
+    miss2 = np.einsum("ijk,ijk->ij", oc, oc) - along**2
+    hit = miss2 < RADIUS**2
+    x = o + (along - np.sqrt(np.maximum(RADIUS**2 - miss2, 0.0)))[..., None] * v
+    return hit, (x - CENTRE) / RADIUS, np.where(hit, imp.distance - (x - imp.pivot) @ d, np.inf)
+
+
+DIRECTIONS = [(17.0, 33.0), (200.0, 5.0), (-45.0, 71.0), (123.0, 0.0), (30.0, -10.0), (10.0, 90.0),
+              (250.0, 90.0), (61.0, 83.0)]
+
+
+@pytest.mark.parametrize("projection", ["perspective", "orthographic"])
+@pytest.mark.parametrize("a, e", DIRECTIONS)
+def test_the_sphere_from_any_direction_matches_the_ray_traced_sphere(sphere9, sphere9o, a, e, projection):
+    imp = sphere9 if projection == "perspective" else sphere9o
+    s = imp.surface(a, e)
+    hit, n, depth = _ray_traced(imp, a, e, M, projection)
+    if projection == "orthographic":  # the ray tracer agrees with the disc of the frames' rule
+        centre, r = _expected_disc(imp, a, e, M)
+        assert abs(np.sqrt(hit.sum() / np.pi) - r) < 0.5
     y, x = np.mgrid[:M, :M]
+    area, true_area = float(s.alpha.sum()), float(hit.sum())
+    assert abs(np.sqrt(area / np.pi) - np.sqrt(true_area / np.pi)) < 1.0
     got = np.array([(s.alpha * x).sum(), (s.alpha * y).sum()]) / area
-    assert np.linalg.norm(got - centre) < 1.0
-    d = direction(a, max(e, 0.0))
-    ci, cj = np.rint(centre).astype(int)
-    assert s.normal[cj, ci] @ d > 0.98
-    assert np.isfinite(s.depth[cj, ci]) and np.isinf(s.depth[s.alpha == 0]).all()
-    # the surface point on the centre ray is the sphere's near side
-    c = CENTRE - sphere9.pivot
-    assert s.depth[cj, ci] == pytest.approx(sphere9.distance - (c @ d + RADIUS), abs=0.05)
+    want = np.array([x[hit].mean(), y[hit].mean()])
+    assert np.linalg.norm(got - want) < 1.0
+    ci, cj = np.rint(want).astype(int)
+    assert s.normal[cj, ci] @ n[cj, ci] > 0.98
+    assert s.depth[cj, ci] == pytest.approx(depth[cj, ci], abs=0.05)
+    assert np.isinf(s.depth[s.alpha == 0]).all() and (s.normal[s.alpha == 0] == 0).all()
 
 
 def test_straight_above_the_azimuth_sets_the_roll(sphere9):
@@ -151,7 +183,7 @@ def test_straight_above_the_azimuth_sets_the_roll(sphere9):
 def test_a_coarse_grid_needs_the_parallax_search():
     """5 x 5 frames (cells of 22 to 45 degrees): one parallax step (the engines') loses the
     silhouette where the frames disagree by several pixels; the ray march keeps it."""
-    imp = _sphere_impostor(5, levels=1)
+    imp = _sphere_impostor(5, levels=1, projection="orthographic")
     s1 = imp.surface(17.0, 33.0)
     imp.parallax_samples = 32
     s3 = imp.surface(17.0, 33.0)
@@ -160,7 +192,7 @@ def test_a_coarse_grid_needs_the_parallax_search():
 
 
 def test_levels_out_size_memory_and_the_ray_march():
-    imp = _sphere_impostor(9, m=32, levels=3, out_size=40, parallax_samples=16)
+    imp = _sphere_impostor(9, m=32, levels=3, out_size=40, parallax_samples=16, projection="orthographic")
     assert imp.levels == 3 and imp.level_shape(1) == (20, 20) and imp.level_shape(2) == (10, 10)
     assert imp.memory_bytes == 81 * BYTES_PER_PIXEL * (32**2 + 16**2 + 8**2)
     s = imp.surface(40.0, 20.0, level=1)
@@ -190,12 +222,15 @@ def test_bad_arguments(sphere9):
         _sphere_impostor(2, m=16, levels=1)
     with pytest.raises(ValidationError, match="levels"):
         _sphere_impostor(3, m=16, levels=4)
+    nine = [sphere9.frame_surface(0)] * 9
     with pytest.raises(ValidationError, match="surfaces"):
         OctahedralImpostor.from_surfaces("x", _cams(), 3, [sphere9.frame_surface(0)] * 8)
     with pytest.raises(ValidationError, match="parallax_samples"):
-        OctahedralImpostor.from_surfaces("x", _cams(), 3, [sphere9.frame_surface(0)] * 9, parallax_samples=0)
+        OctahedralImpostor.from_surfaces("x", _cams(), 3, nine, parallax_samples=0)
+    with pytest.raises(ValidationError, match="projection"):
+        OctahedralImpostor.from_surfaces("x", _cams(), 3, nine, projection="fisheye")
     with pytest.raises(ValidationError, match="name"):
-        OctahedralImpostor.from_surfaces("", _cams(), 3, [sphere9.frame_surface(0)] * 9)
+        OctahedralImpostor.from_surfaces("", _cams(), 3, nine)
 
 
 @pytest.mark.gl

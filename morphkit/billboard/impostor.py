@@ -31,36 +31,41 @@ the pivot: every frame covers the same bounding sphere. Frames are stored with
 levels of ``round(m 2^-l)`` pixels a side (:func:`~morphkit.billboard.gbuffer.downsample_surface`).
 
 Runtime (:meth:`OctahedralImpostor.surface`). The viewing direction (elevation below 0
-clamped to 0: the impostor has no views from below) maps to the grid coordinate
-``g = (uv + 1) (N - 1) / 2``; the cell ``c = floor(g)`` (clamped to ``[0, N - 2]``) and
-``f = g - c`` pick the triangle as Amplify does: frames ``c``, ``c + (1, 1)`` and
-``c + (1, 0)`` where ``f_x > f_y``, else ``c + (0, 1)``, with weights
-``min(1 - f_x, 1 - f_y)``, ``min(f_x, f_y)`` and ``|f_x - f_y|`` (barycentric: they sum
-to 1 and reproduce ``f``; a direction at a frame has that frame alone). Every output
-pixel is a point ``P`` of the output quad and its ray runs along ``-d`` through it
-(orthographic). For each frame of positive weight the ray is intersected with the
-frame's plane (through the pivot, perpendicular to the frame's direction ``d_k``),
-which gives the frame's UV; then the **parallax offset**: the frame's height
-``h = D - depth`` (``D`` = :attr:`DomeCameras.distance`; the height of the surface seen
-there above the frame's plane along ``d_k``) is read at that UV and the UV moved along
-the ray to where the ray is at that height: one step, as Amplify's shader does
-(``parallax_samples = 1``, the default; the move is the exact ray-height intersection,
-``h tan(angle)``, where Amplify's offset is ``h sin(angle)``: a few percent apart within a
-12-frame cell). ``parallax_samples = n >= 2`` instead marches the ray through the
-bounding sphere's height range ``[-r, r]`` in ``n`` even steps, stops at the first
-sample that is covered (alpha > 0) and at or below the frame's height, and refines
-between it and the sample before by one secant step (a parallax-occlusion search, more
-than the engines do; for comparison). Heights are read as coverage-weighted means
-(bilinear ``h alpha`` over bilinear ``alpha``; height 0, no offset, where the frame is
-empty), so a silhouette's height is not pulled towards the plane. At the final UV the frame's
-premultiplied albedo and alpha, normals and height are read (bilinear), and the three
-frames are blended by weight: albedo premultiplied, normals summed and renormalised,
-depth the coverage-weighted mean.
+clamped to 0: the impostor has no views from below) maps to the grid coordinate ``g =
+(uv + 1) (N - 1) / 2``; the cell ``c = floor(g)`` (clamped to ``[0, N - 2]``) and ``f =
+g - c`` pick the triangle as Amplify does: frames ``c``, ``c + (1, 1)`` and ``c + (1,
+0)`` where ``f_x > f_y``, else ``c + (0, 1)``, with weights ``min(1 - f_x, 1 - f_y)``,
+``min(f_x, f_y)`` and ``|f_x - f_y|`` (barycentric: they sum to 1 and reproduce ``f``; a
+direction at a frame has that frame alone). Every output pixel is a point ``P`` of the
+output quad, and its ray runs from the eye of the direction's camera
+(:meth:`DomeCameras.camera`, ``pivot + D d``) through ``P``
+(``projection="perspective"``, the default: the image the quad shows for that camera,
+and what Amplify's shader does, whose rays start at the real camera), or along ``-d``
+through ``P`` (``"orthographic"``: the frames' own projection). For each frame of
+positive weight the ray is intersected with the frame's plane (through the pivot,
+perpendicular to the frame's direction ``d_k``), which gives the frame's UV; then the
+**parallax offset**: the frame's height ``h = D - depth`` (``D`` =
+:attr:`DomeCameras.distance`; the height of the surface seen there above the frame's
+plane along ``d_k``) is read at that UV and the UV moved along the ray to where the ray
+is at that height: one step, as Amplify's shader does (``parallax_samples = 1``, the
+default; the move is the exact ray-height intersection, ``h tan(angle)``, where
+Amplify's offset is ``h sin(angle)``: a few percent apart within a 12-frame cell).
+``parallax_samples = n >= 2`` instead marches the ray through the bounding sphere's
+height range ``[-r, r]`` in ``n`` even steps, stops at the first sample that is covered
+(alpha > 0) and at or below the frame's height, and refines between it and the sample
+before by one secant step (a parallax-occlusion search, more than the engines do; for
+comparison). Heights are read as coverage-weighted means (bilinear ``h alpha`` over
+bilinear ``alpha``; height 0, no offset, where the frame is empty), so a silhouette's
+height is not pulled towards the plane. At the final UV the frame's premultiplied albedo
+and alpha, normals and height are read (bilinear), and the three frames are blended by
+weight: albedo premultiplied, normals summed and renormalised, depth the
+coverage-weighted mean.
 
 Output depth is along the output direction, measured from the eye plane of the
 direction's camera (:meth:`DomeCameras.camera`, at distance ``D`` from the pivot):
-``depth = D - (X - pivot) . d`` for the surface point ``X`` a frame puts on the ray.
-It is meant for ordering only (the frames' heights are float16 and blended).
+``depth = D - (X - pivot) . d`` for the surface point ``X`` a frame puts on the ray
+(the camera's depth, for either projection). It is meant for ordering only (the frames'
+heights are float16 and blended).
 Output images are ``out_size`` pixels a side at level 0 (default: the frame size),
 ``round(out_size 2^-l)`` at level ``l``; level ``l`` reads the frames' level ``l``.
 Straight above, the azimuth passed in sets the output's roll (the quad rule's ``up``).
@@ -98,7 +103,8 @@ from .gbuffer import (
 )
 
 __all__ = ["OctahedralImpostor", "bake_impostor", "impostor_frame_size", "hemi_oct_encode",
-           "hemi_oct_decode", "frame_grid_uv", "DEFAULT_FRAMES", "DEFAULT_LEVELS", "MIN_LEVEL_SIDE"]
+           "hemi_oct_decode", "frame_grid_uv", "DEFAULT_FRAMES", "DEFAULT_LEVELS", "MIN_LEVEL_SIDE",
+           "PROJECTIONS"]
 
 #: Frames a side of the grid (the engines' defaults are 12 to 16).
 DEFAULT_FRAMES = 12
@@ -108,6 +114,9 @@ DEFAULT_LEVELS = 3
 
 #: The smallest mip level of a frame must be at least this many pixels a side.
 MIN_LEVEL_SIDE = 4
+
+#: The output's rays (:class:`OctahedralImpostor` ``projection``).
+PROJECTIONS = ("perspective", "orthographic")
 
 
 def hemi_oct_decode(uv: np.ndarray) -> np.ndarray:
@@ -260,6 +269,9 @@ class OctahedralImpostor:
     parallax_samples : int, optional
         Parallax search per frame (module docstring): 1, one offset step (the engines'),
         or ``n >= 2`` ray-march samples and a secant step.
+    projection : {"perspective", "orthographic"}, optional
+        The output's rays (module docstring): from the eye of :meth:`DomeCameras.camera`
+        (default), or parallel to the viewing direction.
 
     Raises
     ------
@@ -269,7 +281,7 @@ class OctahedralImpostor:
 
     def __init__(self, name: str, cameras: DomeCameras, frames: int,
                  stored: Sequence[Sequence[StoredSurface]], *, out_size: int | None = None,
-                 parallax_samples: int = 1) -> None:
+                 parallax_samples: int = 1, projection: str = "perspective") -> None:
         if not isinstance(name, str) or not name:
             raise ValidationError(expected_got("name", "a non-empty string", repr(name)))
         if not isinstance(cameras, DomeCameras):
@@ -297,6 +309,9 @@ class OctahedralImpostor:
         out = m if out_size is None else as_int(out_size, "out_size", lo=1)
         self.size = (out, out)
         self.parallax_samples = as_int(parallax_samples, "parallax_samples", lo=1)
+        if projection not in PROJECTIONS:
+            raise ValidationError(expected_got("projection", f"one of {list(PROJECTIONS)}", repr(projection)))
+        self.projection = projection
         self.half_extent = cameras.half_extent
         self.pivot = cameras.pivot.copy()
         self.levels = len(stored)
@@ -311,7 +326,7 @@ class OctahedralImpostor:
     @classmethod
     def from_surfaces(cls, name: str, cameras: DomeCameras, frames: int, surfaces: Sequence[ViewSurface], *,
                       levels: int = DEFAULT_LEVELS, out_size: int | None = None,
-                      parallax_samples: int = 1) -> OctahedralImpostor:
+                      parallax_samples: int = 1, projection: str = "perspective") -> OctahedralImpostor:
         """An impostor of level-0 frames given as working surfaces (stored, then mip-mapped).
 
         Parameters
@@ -331,6 +346,8 @@ class OctahedralImpostor:
             Side of the level-0 output images (default the frames').
         parallax_samples : int, optional
             Parallax search (class docstring).
+        projection : {"perspective", "orthographic"}, optional
+            The output's rays (class docstring).
 
         Returns
         -------
@@ -348,12 +365,12 @@ class OctahedralImpostor:
             raise ValidationError(expected_got("surfaces", f"{n * n} frames", len(surfaces)))
         level0 = [_store(s) for s in surfaces]
         return cls.from_stored(name, cameras, n, level0, levels=lv, out_size=out_size,
-                               parallax_samples=parallax_samples)
+                               parallax_samples=parallax_samples, projection=projection)
 
     @classmethod
     def from_stored(cls, name: str, cameras: DomeCameras, frames: int, level0: Sequence[StoredSurface], *,
                     levels: int = DEFAULT_LEVELS, out_size: int | None = None,
-                    parallax_samples: int = 1) -> OctahedralImpostor:
+                    parallax_samples: int = 1, projection: str = "perspective") -> OctahedralImpostor:
         """An impostor of stored level-0 frames, mip-mapped here.
 
         Parameters
@@ -372,6 +389,8 @@ class OctahedralImpostor:
             Side of the level-0 output images (default the frames').
         parallax_samples : int, optional
             Parallax search (class docstring).
+        projection : {"perspective", "orthographic"}, optional
+            The output's rays (class docstring).
 
         Returns
         -------
@@ -389,7 +408,8 @@ class OctahedralImpostor:
             for level in range(1, lv):
                 side = _side(m, level)
                 stored.append([_store(downsample_surface(w, (side, side))) for w in work])
-        return cls(name, cameras, frames, stored, out_size=out_size, parallax_samples=parallax_samples)
+        return cls(name, cameras, frames, stored, out_size=out_size, parallax_samples=parallax_samples,
+                   projection=projection)
 
     @property
     def distance(self) -> float:
@@ -499,32 +519,31 @@ class OctahedralImpostor:
         h = np.where(a > floor, ah[..., 1] / np.maximum(a, floor), np.float32(0.0))
         return a, h
 
-    def _one_step(self, base: np.ndarray, cos: float, tex_h: np.ndarray, frame_maps: Any) -> np.ndarray:
+    @classmethod
+    def _one_step(cls, base: np.ndarray, qk: np.ndarray, tex_h: np.ndarray, frame_maps: Any) -> np.ndarray:
         """The engines' parallax: the height at the plane's UV, then the ray at that height."""
-        s0 = np.ascontiguousarray(base / np.float32(cos))
-        _, h = self._height(tex_h, frame_maps(s0))
-        return (base - h) / np.float32(cos)
+        _, h = cls._height(tex_h, frame_maps(-base / qk))
+        return (h - base) / qk
 
-    def _march(self, base: np.ndarray, cos: float, tex_h: np.ndarray, frame_maps: Any) -> np.ndarray:
+    def _march(self, base: np.ndarray, qk: np.ndarray, tex_h: np.ndarray, frame_maps: Any) -> np.ndarray:
         """Ray march over heights ``[r, -r]`` in ``parallax_samples`` steps, then one secant step."""
-        r = float(self.cameras.radius)
-        c = np.float32(cos)
+        r = np.float32(self.cameras.radius)
         n = self.parallax_samples
-        s = (base - np.float32(r)) / c  # the ray's front: height r
-        step = np.float32(2.0 * r / (n - 1)) / c
+        mu = (r - base) / qk  # the ray's front: height r
+        step = (np.float32(-2.0) * r / np.float32(n - 1)) / qk
         found = np.zeros(base.shape, bool)
-        out = (base / c).copy()  # no hit: the plane (empty there)
+        out = -base / qk  # no hit: the plane (empty there)
         prev_f = np.full(base.shape, np.nan, np.float32)
         for _ in range(n):
-            a, h = self._height(tex_h, frame_maps(s))
-            f = base - s * c - h  # ray height above the frame's surface
+            a, h = self._height(tex_h, frame_maps(mu))
+            f = base + mu * qk - h  # the ray's height above the frame's surface
             hit = ~found & (a > tol.ALPHA_FLOOR) & (f <= 0)
             ok = hit & np.isfinite(prev_f) & (prev_f > f)
             t = np.where(ok, prev_f / np.where(ok, prev_f - f, np.float32(1.0)), np.float32(1.0))
-            out = np.where(hit, s - (np.float32(1.0) - t) * step, out)
+            out = np.where(hit, mu - (np.float32(1.0) - t) * step, out)
             found |= hit
             prev_f = np.where(a > tol.ALPHA_FLOOR, f, np.float32(np.nan))
-            s = s + step
+            mu = mu + step
         return out
 
     def surface(self, azimuth_deg: float, elevation_deg: float, level: int = 0) -> ViewSurface:
@@ -564,37 +583,46 @@ class OctahedralImpostor:
         albedo = np.zeros((side, side, 4), np.float32)
         normal = np.zeros((side, side, 3), np.float32)
         dsum = np.zeros((side, side), np.float32)
+        dist = np.float32(self.distance)
+        persp = self.projection == "perspective"
         for k, w in self.weights(a, e):
             tex_a, tex_nb, tex_h = self._frame_textures(k, lv)
             dk, rk, uk = self.frame_dirs[k], self.frame_right[k], self.frame_up[k]
-            cos = max(float(d @ dk), tol.IMP_MIN_COS)
-            # ray point X(s) = pivot + xo right + yo up - s d; its height above frame k's plane
-            # is base - s cos; its frame coordinates are affine in (xo, yo, s)
+            # the ray X(mu) = pivot + p + mu q through the quad point p = xo right + yo up:
+            # q = p - D d from the eye (perspective), q = -d (orthographic). Its height above
+            # frame k's plane is base + mu qk, its frame coordinates (fx0, fy0) + mu (qx, qy)
             base = xo * np.float32(right @ dk) + yo * np.float32(up @ dk)
             fx0 = xo * np.float32(right @ rk) + yo * np.float32(up @ rk)
             fy0 = xo * np.float32(right @ uk) + yo * np.float32(up @ uk)
-            drk, duk = np.float32(d @ rk), np.float32(d @ uk)
+            cos, drk, duk = np.float32(d @ dk), np.float32(d @ rk), np.float32(d @ uk)
+            if persp:
+                qk = np.minimum(base - dist * cos, -np.float32(tol.IMP_MIN_COS) * dist)
+                qx, qy = fx0 - dist * drk, fy0 - dist * duk
+            else:
+                qk = np.full(base.shape, -max(float(cos), tol.IMP_MIN_COS), np.float32)
+                qx, qy = -drk, -duk
 
-            def frame_maps(s: np.ndarray, fx0: np.ndarray = fx0, fy0: np.ndarray = fy0,
-                           drk: np.float32 = drk, duk: np.float32 = duk) -> tuple[np.ndarray, np.ndarray]:
-                mx = (fx0 - s * drk) * np.float32(scale) + np.float32(centre)
-                my = -(fy0 - s * duk) * np.float32(scale) + np.float32(centre)
+            def frame_maps(mu: np.ndarray, fx0: np.ndarray = fx0, fy0: np.ndarray = fy0, qx: Any = qx,
+                           qy: Any = qy) -> tuple[np.ndarray, np.ndarray]:
+                mx = (fx0 + mu * qx) * np.float32(scale) + np.float32(centre)
+                my = -(fy0 + mu * qy) * np.float32(scale) + np.float32(centre)
                 return np.ascontiguousarray(mx, np.float32), np.ascontiguousarray(my, np.float32)
 
             if self.parallax_samples == 1:
-                s = self._one_step(base, cos, tex_h, frame_maps)
+                mu = self._one_step(base, qk, tex_h, frame_maps)
             else:
-                s = self._march(base, cos, tex_h, frame_maps)
-            mx, my = frame_maps(s)
+                mu = self._march(base, qk, tex_h, frame_maps)
+            mx, my = frame_maps(mu)
             fa = cv2.remap(tex_a, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
             fnb = cv2.remap(tex_nb, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
             fal = fa[..., 3]
             h = np.where(fal > tol.ALPHA_FLOOR, fnb[..., 3] / np.maximum(fal, np.float32(tol.ALPHA_FLOOR)),
                          np.float32(0.0))
+            mu = (h - base) / qk  # the ray's point at the frame's height there
             wk = np.float32(w)
             albedo += wk * fa
             normal += wk * fnb[..., :3]
-            dsum += (wk * fal) * ((base - h) / np.float32(cos))  # s of the surface point on the ray
+            dsum += (wk * fal) * (dist * mu if persp else mu)  # depth beyond the quad's plane
         alpha = albedo[..., 3]
         drawn = alpha > tol.ALPHA_FLOOR
         norm = np.sqrt(np.einsum("ijk,ijk->ij", normal, normal))
@@ -602,7 +630,7 @@ class OctahedralImpostor:
         normal = np.where(ok[..., None], normal / np.maximum(norm, np.float32(tol.ALPHA_FLOOR))[..., None],
                           np.float32(0.0))
         dmean = dsum / np.maximum(alpha, np.float32(tol.ALPHA_FLOOR))
-        depth = np.where(drawn, np.float32(self.distance) + dmean, np.float32(np.inf))
+        depth = np.where(drawn, dist + dmean, np.float32(np.inf))
         albedo = np.where(drawn[..., None], np.clip(albedo, 0.0, 1.0), np.float32(0.0))
         return ViewSurface(albedo.astype(np.float32), normal.astype(np.float32), depth.astype(np.float32))
 
@@ -623,8 +651,8 @@ def _check_angles(azimuth_deg: Any, elevation_deg: Any) -> tuple[float, float]:
 def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", frames: int = DEFAULT_FRAMES,
                   frame_size: int = 64, levels: int = DEFAULT_LEVELS, out_size: int | None = None,
                   appearance: str = "own", distance_factor: float = DISTANCE_FACTOR,
-                  parallax_samples: int = 1, supersample: int = 3, progress: bool = False
-                  ) -> OctahedralImpostor:
+                  parallax_samples: int = 1, projection: str = "perspective", supersample: int = 3,
+                  progress: bool = False) -> OctahedralImpostor:
     """Render ``mesh``'s octahedral impostor: ``frames x frames`` orthographic frames (module docstring).
 
     Parameters
@@ -650,6 +678,8 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
         ``D / r`` of :meth:`DomeCameras.fit` (pivot, ``half_extent``, the depth origin ``D``).
     parallax_samples : int, optional
         Parallax search at run time (1: the engines' one step; :class:`OctahedralImpostor`).
+    projection : {"perspective", "orthographic"}, optional
+        The output's rays (:class:`OctahedralImpostor`).
     supersample : int, optional
         Supersampling of the frame renders (:meth:`Renderer.source_passes`).
     progress : bool, optional
@@ -696,4 +726,4 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
         rgba = np.concatenate([p.albedo, alpha8[..., None]], axis=-1)
         level0.append(encode_surface(rgba, p.normal, p.depth))
     return OctahedralImpostor.from_stored(name, cams, n, level0, levels=lv, out_size=out_size,
-                                          parallax_samples=parallax_samples)
+                                          parallax_samples=parallax_samples, projection=projection)
