@@ -45,7 +45,7 @@ through ``P`` (``"orthographic"``: the frames' own projection). For each frame o
 positive weight the ray is intersected with the frame's plane (through the pivot,
 perpendicular to the frame's direction ``d_k``), which gives the frame's UV; then the
 **parallax offset**: the frame's height ``h = D - depth`` (``D`` =
-:attr:`DomeCameras.distance`; the height of the surface seen there above the frame's
+the camera rule's ``distance``; the height of the surface seen there above the frame's
 plane along ``d_k``) is read at that UV and the UV moved along the ray to where the ray
 is at that height: one step, as Amplify's shader does (``parallax_samples = 1``, the
 default; the move is the exact ray-height intersection, ``h tan(angle)``, where
@@ -251,7 +251,7 @@ def _store(surface: ViewSurface) -> StoredSurface:
 class OctahedralImpostor:
     """An octahedral impostor: ``N x N`` frames on the hemi-octahedral grid (module docstring).
 
-    Build one with :func:`bake_impostor` (from a mesh) or :meth:`from_surfaces`.
+    Build one with :func:`bake_impostor` (from a mesh) or :meth:`OctahedralImpostor.from_surfaces`.
 
     Parameters
     ----------
@@ -560,7 +560,7 @@ class OctahedralImpostor:
         Returns
         -------
         ViewSurface
-            Of :meth:`level_shape`, in the image frame of the direction's quad
+            Of :meth:`OctahedralImpostor.level_shape`, in the image frame of the direction's quad
             (:mod:`~morphkit.billboard.domecameras`); depth from the direction's eye plane.
 
         Raises
@@ -681,7 +681,7 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
     projection : {"perspective", "orthographic"}, optional
         The output's rays (:class:`OctahedralImpostor`).
     supersample : int, optional
-        Supersampling of the frame renders (:meth:`Renderer.source_passes`).
+        Supersampling of the frame renders (:meth:`~morphkit.render.Renderer.source_passes`).
     progress : bool, optional
         Show a progress bar (tqdm; silent when not a terminal).
 
