@@ -254,3 +254,23 @@ def test_bake_the_cow_matches_a_direct_render(renderer):
         assert inter / union > 0.9
     with pytest.raises(ValidationError, match="renderer"):
         bake_impostor(cow, object(), frames=3, frame_size=16, levels=1)
+
+
+@pytest.mark.gl
+def test_orthographic_frame_depth_lands_on_the_mesh(renderer):
+    """The frames' depth (pyrender's orthographic depth, corrected in morphkit.render) unprojects
+    onto the mesh: what the parallax offset reads is the surface's height."""
+    import trimesh
+
+    from morphkit.billboard.bakelook import bake_items
+    from morphkit.meshes import normalize, sample_mesh
+
+    norm = normalize(sample_mesh("cow"))
+    cams = DomeCameras.fit(norm, 48)
+    for a, e in [(30.0, 20.0), (0.0, 90.0)]:
+        cam = cams.ortho_camera(a, e, (48, 48))
+        p = renderer.source_passes(cam, bake_items(norm), [], supersample=1)
+        pts, valid = cam.unproject(p.depth)
+        assert valid.sum() > 300
+        _, dist, _ = trimesh.proximity.closest_point(norm, pts[valid])
+        assert dist.max() < 1e-4
