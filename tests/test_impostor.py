@@ -274,3 +274,11 @@ def test_orthographic_frame_depth_lands_on_the_mesh(renderer):
         assert valid.sum() > 300
         _, dist, _ = trimesh.proximity.closest_point(norm, pts[valid])
         assert dist.max() < 1e-4
+
+
+def test_stored_frames_are_checked():
+    frames = [[object()] * 9]
+    with pytest.raises(ValidationError, match="stored level 0"):
+        OctahedralImpostor("x", _cams(), 3, frames)
+    with pytest.raises(ValidationError, match="stored"):
+        OctahedralImpostor("x", _cams(), 3, [[None] * 8])

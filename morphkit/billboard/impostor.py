@@ -290,7 +290,8 @@ class OctahedralImpostor:
         if len(stored) < 1 or not all(len(lv) == n * n for lv in stored):
             raise ValidationError(expected_got("stored", f"levels of {n * n} frames each",
                                                [len(lv) for lv in stored]))
-        m = stored[0][0].rgba.shape[0]
+        first = stored[0][0]
+        m = first.rgba.shape[0] if isinstance(first, StoredSurface) else 0
         for lv, level in enumerate(stored):
             side = _side(m, lv)
             for s in level:
