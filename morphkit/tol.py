@@ -387,6 +387,21 @@ BB_COVERAGE_MIN_ALPHA = 0.02
 #: (exact round trip), so any larger difference means an edited or foreign file.
 BB_FILE_CAMERA_ATOL = 1e-9
 
+#: A viewing direction's octahedral grid coordinate within this of an integer is on
+#: that grid line (:meth:`~morphkit.billboard.impostor.OctahedralImpostor.weights`): the
+#: direction of a frame, rebuilt from its azimuth and elevation, lands ~1e-15 off its
+#: grid point, and must be served by that frame alone (weight exactly 1), not by it
+#: and two others at weights of 1e-15.
+IMP_GRID_SNAP = 1e-9
+
+#: Floor of the cosine between a viewing direction and a frame's direction when the
+#: viewing ray is intersected with the frame's plane (an octahedral impostor's
+#: runtime). The frames of positive weight around a direction are within about one
+#: grid cell of it (cosine >= 0.51 for 5 frames a side, >= 0.91 for 12); only on a
+#: 3 x 3 grid does the top frame reach 90 degrees from a view at the horizon, where its
+#: weight goes to 0: the floor keeps that frame from dividing by zero.
+IMP_MIN_COS = 1e-3
+
 # --- billboard scenes (morphkit.billboard) ---------------------------------
 
 #: A camera is "directly above" a billboard (its facing about the up axis and its
