@@ -54,7 +54,14 @@ from .depthmorph import morph_views, plane_warp
 from .dome import ViewDome
 from .domecameras import DomeCameras
 from .domefile import DomeRecord, read_dome, write_dome
-from .gbuffer import StoredSurface, ViewSurface, decode_surface, downsample_surface, encode_surface
+from .gbuffer import (
+    BYTES_PER_PIXEL,
+    StoredSurface,
+    ViewSurface,
+    decode_surface,
+    downsample_surface,
+    encode_surface,
+)
 
 __all__ = ["DomeAsset", "bake_dome", "DOME_SUPERSAMPLE"]
 
@@ -130,10 +137,11 @@ class DomeAsset:
 
     @property
     def memory_bytes(self) -> int:
-        """Bytes of the stored views (level 0, :data:`~.gbuffer.BYTES_PER_PIXEL` a pixel);
-        the lower levels are made from them on load (caches)."""
-        r = self._record
-        return int(r.rgba.nbytes + r.normal.nbytes + r.depth.nbytes)
+        """Bytes of the views at every pyramid level at :data:`~.gbuffer.BYTES_PER_PIXEL`
+        (what a texture memory holds; the file stores level 0 and the levels are made on
+        load), counted as :attr:`~.impostor.OctahedralImpostor.memory_bytes` counts its frames."""
+        px = sum(int(np.prod(self.cameras.level_shape(lv))) for lv in range(self.levels))
+        return self.dome.views * px * BYTES_PER_PIXEL
 
     def level_shape(self, level: int) -> tuple[int, int]:
         """Image shape of pyramid level ``level``.

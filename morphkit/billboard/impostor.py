@@ -86,6 +86,7 @@ import numpy as np
 import trimesh
 
 from .. import tol
+from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..meshes import normalize
 from ..validate import as_int
@@ -423,6 +424,32 @@ class OctahedralImpostor:
         normal int8 x 3, depth float16); the frame directions are computed from the grid,
         not stored, and the float32 working copies the runtime decodes are not counted."""
         return int(sum(s.nbytes for level in self._stored for s in level))
+
+    def camera(self, azimuth_deg: float, elevation_deg: float, level: int = 0) -> CameraModel:
+        """The camera of the surface of a direction at ``level`` (its depth is along this
+        camera's axis): :meth:`DomeCameras.camera` of the clamped direction with the output's
+        shape -- perspective, or the same pose orthographic (:attr:`projection`).
+
+        Parameters
+        ----------
+        azimuth_deg, elevation_deg : float
+            Viewing direction, degrees, object frame (elevation clamped to ``[0, 90]``).
+        level : int, optional
+            Mip level.
+
+        Returns
+        -------
+        CameraModel
+            Object frame.
+        """
+        shape = self.level_shape(level)
+        e = min(max(float(elevation_deg), 0.0), 90.0)
+        if self.projection == "orthographic":
+            return self.cameras.ortho_camera(azimuth_deg, e, shape)
+        cam = self.cameras.camera(azimuth_deg, e)
+        scale = shape[1] / cam.shape[1]
+        return CameraModel("perspective", shape, cam.fx * scale, cam.fy * scale, (shape[1] - 1) / 2.0,
+                           (shape[0] - 1) / 2.0, cam.znear, cam.zfar, cam.cam2world)
 
     def level_shape(self, level: int) -> tuple[int, int]:
         """Output image shape of level ``level``: ``round(out_size 2^-level)`` a side.
