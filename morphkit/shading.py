@@ -30,10 +30,10 @@ for the same light intensities). No shadows, no specular term.
   instance's ``world2object``; exact for rotation, translation and uniform scale, the
   instance poses of :mod:`morphkit.billboard.instances`).
 * **Output.** Premultiplied RGBA float32 ``(encode(L) alpha, alpha)``, where ``rho``
-  is the premultiplied albedo over its alpha and ``encode`` is
-  :func:`~morphkit.billboard.gbuffer.linear_to_srgb` (linear light clipped to
-  ``[0, 1]``, sRGB-encoded): the colour space of every other premultiplied layer
-  (:mod:`morphkit.conventions`, "Colour"). Zero alpha gives zero.
+  is the premultiplied albedo over its alpha and ``encode(L) = min(L, 1) ^ (1/2.2)``
+  (:data:`LIT_GAMMA`): the encoding of the renderer's lit colour
+  (:mod:`morphkit.conventions`, "Colour"), so a relit image and a lit render of the same
+  light compare directly; one ``cv2.pow`` per image. Zero alpha gives zero.
 """
 
 from __future__ import annotations
@@ -56,7 +56,11 @@ from .validate import as_finite_array
 if TYPE_CHECKING:  # pragma: no cover
     from .billboard.gbuffer import ViewSurface
 
-__all__ = ["Lighting", "shade", "shade_passes"]
+__all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "encode_premultiplied",
+           "decode_premultiplied", "LIT_GAMMA"]
+
+#: Exponent of the output encoding (gamma 1/2.2, as the renderer's lit colour pass).
+LIT_GAMMA = 1.0 / 2.2
 
 SceneLight = DirectionalLight | PointLight
 
@@ -221,8 +225,6 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
     ValidationError
         Point lights without ``points``, or ``points`` of another shape.
     """
-    from .billboard.gbuffer import linear_to_srgb  # here: the billboard package may import this module
-
     lighting = lighting.above_horizon()
     h, w = surface.shape
     if any(isinstance(lt, PointLight) for lt in lighting.lights):
@@ -233,16 +235,122 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
         if points.shape != (h, w, 3):
             raise ValidationError(expected_got("points", f"({h}, {w}, 3)", points.shape))
     normal = np.ascontiguousarray(surface.normal, dtype=np.float32)
+    return _lit(surface, _irradiance(normal, lighting, points))
+
+
+def _lit(surface: ViewSurface, e: np.ndarray) -> np.ndarray:
+    """Premultiplied encoded RGBA of ``surface`` under irradiance bracket ``e`` (h, w)."""
+    return encode_premultiplied(_lit_linear(surface, e))
+
+
+def _lit_linear(surface: ViewSurface, e: np.ndarray) -> np.ndarray:
+    """Premultiplied linear RGBA ``(rho E alpha, alpha)``, ``rho E`` clipped to 1."""
     albedo = np.ascontiguousarray(surface.albedo, dtype=np.float32)
     alpha = np.ascontiguousarray(albedo[..., 3])
-    e = _irradiance(normal, lighting, points)
-    # the straight lit colour rho E = (premultiplied albedo / alpha) E, on all four channels at once
-    # (contiguous; the fourth is overwritten by alpha at the end)
-    gain = cv2.divide(e, cv2.max(alpha, tol.ALPHA_FLOOR))
-    lit = cv2.multiply(albedo, cv2.merge((gain, gain, gain, gain)))
-    out = cv2.multiply(linear_to_srgb(lit), cv2.merge((alpha, alpha, alpha, alpha)))
-    out[..., 3] = alpha
+    # rho E alpha = premultiplied albedo times E, clipped where rho E > 1 (at alpha)
+    out = cv2.multiply(albedo, cv2.merge((e, e, e, np.ones_like(e))))
+    cv2.min(out, cv2.merge((alpha, alpha, alpha, alpha)), dst=out)
     return out
+
+
+def encode_premultiplied(image: np.ndarray) -> np.ndarray:
+    """Premultiplied linear RGBA encoded in place: each pixel's straight colour ``c``
+    becomes ``min(c, 1) ^ LIT_GAMMA`` (the model's output encoding, by a table of
+    :data:`_ENCODE_STEPS` entries), premultiplied again.
+
+    Parameters
+    ----------
+    image : (h, w, 4) float32
+        Premultiplied linear RGBA.
+
+    Returns
+    -------
+    (h, w, 4) float32
+        ``image``, encoded.
+    """
+    alpha = np.ascontiguousarray(image[..., 3])
+    inv = cv2.divide(1.0, cv2.max(alpha, tol.ALPHA_FLOOR))
+    rgb = np.ascontiguousarray(image[..., :3])
+    # (numpy for the scalars: cv2 takes a scalar as (v, 0, 0, 0), one channel)
+    straight = np.minimum(cv2.multiply(rgb, cv2.merge((inv, inv, inv))), np.float32(1.0))
+    enc = _ENCODE_LUT[(straight * np.float32(_ENCODE_STEPS - 1) + np.float32(0.5)).astype(np.int32)]
+    image[..., :3] = cv2.multiply(enc, cv2.merge((alpha, alpha, alpha)))
+    return image
+
+
+def decode_premultiplied(image: np.ndarray) -> np.ndarray:
+    """The premultiplied linear RGB of a premultiplied encoded RGBA image (the inverse of
+    :func:`encode_premultiplied` on colours in ``[0, 1]``).
+
+    Parameters
+    ----------
+    image : (h, w, 4) float32
+        Premultiplied encoded RGBA.
+
+    Returns
+    -------
+    (h, w, 3) float32
+        Premultiplied linear RGB (a new array).
+    """
+    a = np.maximum(image[..., 3:], np.float32(tol.ALPHA_FLOOR))
+    return (np.power(np.clip(image[..., :3] / a, 0.0, 1.0), np.float32(1.0 / LIT_GAMMA)) * image[..., 3:]
+            ).astype(np.float32)
+
+
+#: Entries of the output encoding table (steps of 1/65535 in linear light).
+_ENCODE_STEPS = 65536
+_ENCODE_LUT = np.power(np.linspace(0.0, 1.0, _ENCODE_STEPS), LIT_GAMMA).astype(np.float32)
+
+
+def sun_terms(lighting: Lighting) -> tuple[float, np.ndarray]:
+    """The directional part of ``lighting`` as numbers: ``(ambient, T)``, ``T`` ``(L, 3)``
+    float32 with one row ``I l / pi`` per sun above the horizon (``l`` towards the light),
+    so that the model's bracket is ``ambient + sum_k max(0, T_k . n)``.
+
+    Parameters
+    ----------
+    lighting : Lighting
+        Any lighting (its point lights are left out: see :func:`shade`).
+
+    Returns
+    -------
+    ambient : float
+        The ambient level.
+    terms : (L, 3) float32
+        The suns' rows, in ``lighting``'s frame (turn them with the frame's rotation:
+        rows times ``R`` for ``R = object2world``'s rotation, to the object frame).
+    """
+    rows = [-lt.direction * (lt.intensity / math.pi) for lt in lighting.above_horizon().lights
+            if isinstance(lt, DirectionalLight)]
+    return lighting.ambient, np.array(rows, np.float32).reshape(-1, 3)
+
+
+def shade_suns(surface: ViewSurface, ambient: float, terms: np.ndarray) -> np.ndarray:
+    """:func:`shade` for suns and ambient only, from :func:`sun_terms` already in the
+    surface's frame: the same model, without building a :class:`Lighting` per image (a
+    frame of many billboards turns the rows by each instance's yaw).
+
+    Parameters
+    ----------
+    surface : ViewSurface
+        Premultiplied linear albedo and alpha, unit normals, depth.
+    ambient : float
+        The ambient level.
+    terms : (L, 3) float32
+        The suns' rows (:func:`sun_terms`) in the surface's frame.
+
+    Returns
+    -------
+    (h, w, 4) float32
+        Premultiplied **linear** RGBA: :func:`encode_premultiplied` of it is :func:`shade` of
+        the same lights (a frame of many images encodes its layer once instead).
+    """
+    h, w = surface.shape
+    normal = np.ascontiguousarray(surface.normal, dtype=np.float32)
+    e = np.full((h, w), ambient, np.float32)
+    for row in np.asarray(terms, np.float32).reshape(-1, 3):
+        cv2.add(e, cv2.max(cv2.transform(normal, row.reshape(1, 3)).reshape(h, w), 0.0), dst=e)
+    return _lit_linear(surface, e)
 
 
 def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel) -> np.ndarray:

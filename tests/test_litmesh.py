@@ -23,7 +23,7 @@ COLOR = (0.2, 0.4, 0.8)
 
 
 def _srgb(x: float) -> float:
-    return 12.92 * x if x <= 0.0031308 else 1.055 * x ** (1 / 2.4) - 0.055
+    return min(x, 1.0) ** (1 / 2.2)  # the model's output encoding (morphkit.shading)
 
 
 def _panel():

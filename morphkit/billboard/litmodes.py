@@ -34,7 +34,15 @@ import numpy as np
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import PointLight
-from ..shading import Lighting, shade
+from ..shading import (
+    LIT_GAMMA,
+    Lighting,
+    decode_premultiplied,
+    encode_premultiplied,
+    shade,
+    shade_suns,
+    sun_terms,
+)
 from .bakelook import BAKE_AMBIENT, bake_lights
 from .cache import MorphCache
 from .compositor import draw, finish, new_layer
@@ -365,23 +373,36 @@ class LitMode:
                                                type(scene.facing).__name__))
         before = self._cache.counts
         plan = scene.plan(camera)
-        layer = new_layer(camera.shape)
+        layer = new_layer(camera.shape)  # linear light; encoded once before the backdrop
         fog = scene.backdrop.fog
-        fog_color = fog.color if fog is not None else (0.0, 0.0, 0.0)
+        fog_color = ((0.0, 0.0, 0.0) if fog is None
+                     else tuple(float(c) ** (1.0 / LIT_GAMMA) for c in fog.color))  # linear
         lit = self.lighting.above_horizon()
+        points_lit = any(isinstance(lt, PointLight) for lt in lit.lights)
+        ambient, terms = sun_terms(lit)
         inst = scene.instances
+        checked: set[str] = set()
         for pl in plan.placements:
             asset = scene.assets[pl.asset]
-            if not isinstance(asset, SurfaceSource):
-                raise ValidationError(expected_got(f"asset {pl.asset!r}", "a SurfaceSource (relightable)",
-                                                   type(asset).__name__))
+            if pl.asset not in checked:
+                if not isinstance(asset, SurfaceSource):
+                    raise ValidationError(expected_got(f"asset {pl.asset!r}", "a SurfaceSource (relightable)",
+                                                       type(asset).__name__))
+                checked.add(pl.asset)
             surf = self.surface(asset, pl)
-            local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
-            points = None
-            if any(isinstance(lt, PointLight) for lt in local.lights):
+            if points_lit:  # point lights: the general model, at the surface's points
+                local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
                 a, e = self._direction(pl)
                 points = asset.camera(a, e, pl.level).unproject(surf.depth)[0]
-            draw(layer, pl, shade(surf, local, points), fog_color)
+                image = shade(surf, local, points)
+                image[..., :3] = decode_premultiplied(image)
+            else:  # suns: their rows turned into the instance's frame by its yaw (rows times Rz)
+                yaw = np.radians(inst.yaw_deg[pl.index])
+                c, s_ = np.cos(yaw), np.sin(yaw)
+                rz = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]], np.float32)
+                image = shade_suns(surf, ambient, terms @ rz)
+            draw(layer, pl, image, fog_color)
+        encode_premultiplied(layer)
         rgb = finish(layer, scene.backdrop.draw(camera))
         counts = self._cache.counts - before
         stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
