@@ -163,3 +163,26 @@ def test_the_eight_test_suns():
     turned = sun_directions_8(view_azimuth_deg=90.0)
     assert turned["behind"].direction[1] > 0.8  # viewer along +y: light travels towards +y
     np.testing.assert_allclose(sun(0.0, 90.0).direction, [0, 0, -1], atol=1e-12)
+
+
+def test_from_85_degrees_viewpoint_quads_are_drawn_where_axial_ones_are_edge_on():
+    """The issue's failure: at 85 degrees of elevation an axial quad is nearly edge-on; the
+    viewpoint quad faces the camera and covers about its full area."""
+    from billboard_fakes import FakeAsset
+
+    from morphkit.billboard import BillboardScene, Instances, MorphMode
+
+    asset = FakeAsset("solid", solid=True, size=(64, 48), levels=1)
+    inst = Instances.from_records([("solid", 0.0, 0.0)])
+    cam = FlyoverPath(centre=(0.0, 0.0, 0.4), distance=6.0).camera_at(1.0, (60, 80))
+    cover = {}
+    for name, facing in (("axial", AxialFacing()), ("viewpoint", ViewpointFacing())):
+        scene = BillboardScene({"solid": asset}, inst, facing=facing)
+        cover[name] = float(scene.render(cam, MorphMode()).layer[..., 3].sum())
+    # the quad (0.6 x 0.8 at distance 6, focal 60 / (2 tan 25) = 64 px) covers ~ 0.6 * 0.8 * (64/6)^2 = 55 px
+    assert cover["viewpoint"] > 40.0
+    assert cover["axial"] < 0.2 * cover["viewpoint"]  # sin(5 deg) of it, about
+    top = TopDownPan(start=(0.0, 0.0), end=(0.0, 1.0), height=5.0).camera_at(0.0, (60, 80))
+    scene = BillboardScene({"solid": asset}, inst, facing=ViewpointFacing())
+    frame = scene.render(top, MorphMode())
+    assert frame.stats.n_drawn == 1 and frame.layer[..., 3].sum() > 40.0
