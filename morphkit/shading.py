@@ -63,6 +63,8 @@ __all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "enco
 LIT_GAMMA = 1.0 / 2.2
 
 SceneLight = DirectionalLight | PointLight
+_EYE3 = np.eye(3)
+_LAST_ROW = np.array([0.0, 0.0, 0.0, 1.0])
 
 
 def _as_lights(lights: Iterable[SceneLight]) -> tuple[SceneLight, ...]:
@@ -77,8 +79,9 @@ def _as_lights(lights: Iterable[SceneLight]) -> tuple[SceneLight, ...]:
 def _scale_of(linear: np.ndarray, name: str) -> float:
     """The uniform scale ``s`` of ``linear = s R`` (``R`` a rotation), or an error."""
     g = linear.T @ linear
-    s2 = float(np.trace(g)) / 3.0
-    if not s2 > 0 or not np.allclose(g / s2, np.eye(3), atol=tol.POSE_ORTHO) or np.linalg.det(linear) < 0:
+    s2 = float(g[0, 0] + g[1, 1] + g[2, 2]) / 3.0
+    # not np.allclose: this runs once per instance and frame, and allclose costs ~20 us
+    if not s2 > 0 or float(np.abs(g / s2 - _EYE3).max()) > tol.POSE_ORTHO or np.linalg.det(linear) < 0:
         raise ValidationError(expected_got(name, "rotation, uniform scale and translation",
                                            "a shear, a non-uniform scale or a reflection"))
     return math.sqrt(s2)
@@ -142,7 +145,7 @@ class Lighting:
         up = np.asarray(self.up)
         keep = tuple(lt for lt in self.lights
                      if not isinstance(lt, DirectionalLight) or float(-lt.direction @ up) > 0.0)
-        return self if len(keep) == len(self.lights) else Lighting(self.ambient, keep, self.up)
+        return self if len(keep) == len(self.lights) else self._checked(self.ambient, keep, self.up)
 
     def in_frame(self, frame_from_world: np.ndarray) -> Lighting:
         """The same lights seen in another frame (e.g. an instance's object frame).
@@ -170,7 +173,7 @@ class Lighting:
             A transform that is not rotation, uniform scale and translation.
         """
         T = as_finite_array(frame_from_world, "frame_from_world", shape=(4, 4))
-        if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=tol.POSE_ORTHO):
+        if float(np.abs(T[3] - _LAST_ROW).max()) > tol.POSE_ORTHO:
             raise ValidationError(expected_got("frame_from_world", "last row 0 0 0 1", T[3].tolist()))
         L = T[:3, :3]
         s = _scale_of(L, "frame_from_world")
@@ -180,7 +183,18 @@ class Lighting:
                 lights.append(DirectionalLight(L @ lt.direction, lt.intensity))
             else:
                 lights.append(PointLight(L @ lt.position + T[:3, 3], lt.intensity * s * s))
-        return Lighting(self.ambient, tuple(lights), tuple(L @ np.asarray(self.up)))
+        up = L @ np.asarray(self.up)
+        return self._checked(self.ambient, tuple(lights), tuple((up / np.linalg.norm(up)).tolist()))
+
+    @classmethod
+    def _checked(cls, ambient: float, lights: tuple[SceneLight, ...], up: tuple[float, float, float]
+                 ) -> Lighting:
+        """A Lighting of parts already checked (skips the validation: once per instance and frame)."""
+        out = object.__new__(cls)
+        object.__setattr__(out, "ambient", ambient)
+        object.__setattr__(out, "lights", lights)
+        object.__setattr__(out, "up", up)
+        return out
 
 
 def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | None) -> np.ndarray:
