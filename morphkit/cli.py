@@ -138,7 +138,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
 
 def _bake_kinds(args: argparse.Namespace) -> tuple:
-    from .bake import BillboardKind, ShadowAtlasKind
+    from .bake import BillboardKind, DomeKind, ShadowAtlasKind
     from .errors import ValidationError, expected_got
 
     if args.views is not None and not args.billboard:
@@ -148,9 +148,12 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
              "light": None if args.light is None else tuple(args.light)}
     atlas = ShadowAtlasKind(**{k: v for k, v in given.items() if v is not None},
                             directional=args.directional)
+    kinds: tuple = (atlas,)
     if args.billboard:
-        return (atlas, BillboardKind(**({} if args.views is None else {"views": args.views})))
-    return (atlas,)
+        kinds += (BillboardKind(**({} if args.views is None else {"views": args.views})),)
+    if args.dome:
+        kinds += (DomeKind(),)
+    return kinds
 
 
 def _cmd_bake(args: argparse.Namespace) -> int:
@@ -422,6 +425,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="also bake a view-morphing billboard asset per mesh (<name>.billboard.npz)")
     k.add_argument("--views", type=int, default=None, metavar="K",
                    help="billboard reference views (with --billboard)")
+    k.add_argument("--dome", action="store_true",
+                   help="also bake a relightable billboard seen from any height per mesh (<name>.dome.npz)")
     # the table is morphkit.meshes.UP_AXIS_BY_FORMAT's (a test checks it)
     k.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto",
                    help="the mesh files' up axis, turned to morphkit's +z: auto is each format's default "

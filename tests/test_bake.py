@@ -302,6 +302,26 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
 
 
 @pytest.mark.gl
+def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, scheduler):
+    from morphkit.bake import DomeKind
+    from morphkit.billboard.asset import mesh_hash
+    from morphkit.billboard.domeasset import DomeAsset
+    from morphkit.billboard.domefile import DOME_VERSION
+    from morphkit.meshes import load_mesh
+
+    lib = make_library(tmp_path / "lib")
+    m = bake_library([lib / "box.ply"], tmp_path / "out", options=BakeOptions((TINY, DomeKind(size=32))),
+                     scheduler=scheduler, progress=False)
+    assert m.run["baked"] == 1 and not m.failed()
+    rec = m.assets["box"].outputs["dome"]
+    assert rec.file == "box.dome.npz" and rec.version == DOME_VERSION and rec.options["size"] == 32
+    asset = DomeAsset.load(tmp_path / "out" / rec.file)
+    assert asset.size == (32, 32) and asset.mesh_hash == mesh_hash(load_mesh(lib / "box.ply"))
+    with pytest.raises(ValidationError, match=r"dome size: expected an integer in \[16, 2048\]"):
+        DomeKind(size=8)
+
+
+@pytest.mark.gl
 def test_rerun_skips_what_is_up_to_date_and_rebakes_what_changed(tmp_path, scheduler):
     lib = make_library(tmp_path / "lib")
     out = tmp_path / "out"

@@ -23,7 +23,7 @@ from __future__ import annotations
 from ..fileio import check_writable
 from .cluster import CONNECT_TIMEOUT_S, default_workers, open_client
 from .inputs import MESH_SUFFIXES, AssetInput, find_inputs
-from .kinds import AssetKind, BillboardKind, SavableAsset, ShadowAtlasKind, output_name
+from .kinds import AssetKind, BillboardKind, DomeKind, SavableAsset, ShadowAtlasKind, output_name
 from .manifest import MANIFEST_NAME, AssetRecord, Manifest, OutputRecord, file_digest
 from .pipeline import BakeOptions, bake_library
 from .worker import BakeTask, TaskResult, bake_task, worker_renderer
@@ -36,6 +36,7 @@ __all__ = [
     "SavableAsset",
     "ShadowAtlasKind",
     "BillboardKind",
+    "DomeKind",
     "output_name",
     "AssetInput",
     "MESH_SUFFIXES",

@@ -17,7 +17,9 @@ whose file records it. The manifest records it per asset either way.
 
 Implemented here: :class:`ShadowAtlasKind` (Kang & Ihm's k x k shadow atlas,
 :func:`morphkit.shadow.bake_atlas`) and :class:`BillboardKind` (the view-morphing
-billboard asset, :func:`morphkit.billboard.bake_asset`, suffix ``.billboard.npz``).
+billboard asset, :func:`morphkit.billboard.bake_asset`, suffix ``.billboard.npz``) and
+:class:`DomeKind` (the relightable billboard seen from any height,
+:func:`morphkit.billboard.domeasset.bake_dome`, suffix ``.dome.npz``).
 """
 
 from __future__ import annotations
@@ -32,13 +34,16 @@ import trimesh
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
+from ..billboard.dome import DEFAULT_RINGS
+from ..billboard.domeasset import bake_dome
+from ..billboard.domefile import DOME_VERSION
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
 from ..validate import as_finite_array, as_int
 
-__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "output_name", "WARP_LIGHT",
-           "WARP_RANGE"]
+__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "DomeKind", "output_name",
+           "WARP_LIGHT", "WARP_RANGE"]
 
 #: The default range of motion of a shadow atlas (:class:`ShadowAtlasKind`; the
 #: warped-shadow demo's): the object moves over this range under this point light.
@@ -282,6 +287,64 @@ class BillboardKind:
         # the resolved up axis is kept in the asset file too (and in the manifest)
         return bake_asset(mesh, renderer, views=self.views, size=self.size,
                           distance_factor=self.distance_factor, source_up=source_up)
+
+
+@dataclass(frozen=True)
+class DomeKind:
+    """The relightable billboard asset of a mesh seen from any height
+    (:func:`~morphkit.billboard.domeasset.bake_dome`: a :class:`~morphkit.billboard.dome.ViewDome`
+    of albedo, normals and depth).
+
+    Parameters
+    ----------
+    size : int
+        Side of the square level-0 views, in pixels (16..2048).
+    distance_factor : float
+        Cameras' distance in bounding radii (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`).
+    """
+
+    size: int = 128
+    distance_factor: float = DISTANCE_FACTOR
+
+    name: ClassVar[str] = "dome"
+    suffix: ClassVar[str] = ".dome.npz"
+    version: ClassVar[int] = DOME_VERSION
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", as_int(self.size, "dome size", lo=16, hi=2048))
+        object.__setattr__(self, "distance_factor",
+                           check_distance_factor(self.distance_factor, "dome distance_factor"))
+
+    def options(self) -> dict[str, Any]:
+        """The options that decide the output (recorded in the manifest; a change re-bakes).
+
+        Returns
+        -------
+        dict
+            ``size``, ``distance_factor`` and the default dome's rings.
+        """
+        return {"size": self.size, "distance_factor": float(self.distance_factor),
+                "rings": [[float(e), int(k)] for e, k in DEFAULT_RINGS]}
+
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer, source_up: str = "z") -> SavableAsset:
+        """The dome asset of ``mesh``.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The normalised mesh, object frame, ``+z`` up.
+        renderer : SceneRenderer
+            Renders the views.
+        source_up : {"z", "y"}, optional
+            The up axis the file was loaded with (recorded in the asset file).
+
+        Returns
+        -------
+        SavableAsset
+            The :class:`~morphkit.billboard.domeasset.DomeAsset`.
+        """
+        return bake_dome(mesh, renderer, size=self.size, distance_factor=self.distance_factor,
+                         source_up=source_up)
 
 
 def output_name(asset: str, kind: AssetKind) -> str:

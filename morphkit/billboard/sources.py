@@ -98,7 +98,8 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trim
         if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
             return mesh, ""
         return None, f"sample mesh {asset.name!r} does not match the asset's hash (baked from another mesh)"
-    stems = list(dict.fromkeys([asset.name, path.name[: -len(".npz")].removesuffix(".billboard")]))
+    stem = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
+    stems = list(dict.fromkeys([asset.name, stem]))
     found = [path.with_name(st + suf) for st in stems for suf in MESH_SUFFIXES
              if path.with_name(st + suf).is_file()]
     up = asset.source_up or "auto"
@@ -180,7 +181,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         else:
             asset = BillboardAsset.load(path) if dome is None else DomeAsset.load(path)
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
-                asset.name = path.name[: -len(".npz")].removesuffix(".billboard")
+                asset.name = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
             known, why = _beside(path, asset)
         if asset.name in assets:
             raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
