@@ -250,3 +250,21 @@ def test_a_view_that_sees_nothing_is_refused_naming_it():
                            faces=[[0, 1, 2], [0, 2, 3]], process=False)  # flat: edge-on from the horizon
     with Renderer() as r, pytest.raises(DegenerateViewError, match=r"dome view 0 \(azimuth 0, elevation 0"):
         bake_dome(card, r, name="card", size=32, levels=1)
+
+
+def test_exactly_between_three_views_the_weights_are_a_third_and_the_sphere_holds():
+    """Hard case: the direction through a triangle's centroid (equal weights, no view dominant)."""
+    asset = _sphere_asset()
+    dome = asset.dome
+    tri = dome.triangles()[7]
+    d = direction(dome.azimuths_deg()[tri], dome.elevations_deg()[tri]).sum(axis=0)
+    d /= np.linalg.norm(d)
+    a, e = np.degrees(np.arctan2(d[1], d[0])), np.degrees(np.arcsin(d[2]))
+    views, w = dome.weights(a, e)
+    assert sorted(views.tolist()) == sorted(tri.tolist())
+    # equal barycentric coordinates of the centroid's direction (up to the sphere's curvature: none
+    # for the normalised sum of three unit vectors, which is equidistant from all three)
+    np.testing.assert_allclose(w, 1.0 / 3.0, atol=1e-9)
+    s = asset.surface(a, e)
+    _, _, _, hit = _sphere_view(asset.camera(a, e))
+    assert np.minimum(s.alpha, hit).sum() / np.maximum(s.alpha, hit).sum() > 0.95
