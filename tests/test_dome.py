@@ -268,3 +268,25 @@ def test_exactly_between_three_views_the_weights_are_a_third_and_the_sphere_hold
     s = asset.surface(a, e)
     _, _, _, hit = _sphere_view(asset.camera(a, e))
     assert np.minimum(s.alpha, hit).sum() / np.maximum(s.alpha, hit).sum() > 0.95
+
+
+def test_orthographic_views_morph_the_sphere_too():
+    """The march projects through either projection: orthographic references and target (light
+    views) morph the sphere as the perspective ones do."""
+    from morphkit.billboard.depthmorph import morph_views
+
+    rule = DomeCameras(PIVOT, D, R_BOUND, (48, 48))
+    dome = ViewDome()
+    views, w = dome.weights(23.0, 41.0)
+    refs = []
+    for k, wk in zip(views, w, strict=True):
+        cam = rule.ortho_camera(dome.azimuths_deg()[k], dome.elevations_deg()[k], (48, 48))
+        rgba, n, depth, _ = sphere_view(cam)
+        from morphkit.billboard.gbuffer import decode_surface, encode_surface
+        refs.append((cam, decode_surface(encode_surface(rgba, n, depth)), float(wk)))
+    target = rule.ortho_camera(23.0, 41.0, (48, 48))
+    s = morph_views(target, PIVOT, R_BOUND, refs)
+    _, _, depth_true, hit = sphere_view(target)
+    assert np.minimum(s.alpha, hit).sum() / np.maximum(s.alpha, hit).sum() > 0.95
+    inner = hit & (s.alpha > 0.99)
+    assert np.median(np.abs(s.depth[inner] - depth_true[inner])) < 0.01

@@ -106,6 +106,9 @@ def _project(A: np.ndarray, B: np.ndarray, t: np.ndarray, cam: CameraModel
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     c = A + t[:, None] * B
     z = c[:, 2]
+    if cam.projection == "orthographic":
+        return ((cam.fx * c[:, 0] + cam.cx).astype(np.float32),
+                (cam.fy * c[:, 1] + cam.cy).astype(np.float32), z)
     zs = np.where(z > 0, z, np.float32(1.0))
     return ((cam.fx * c[:, 0] / zs + cam.cx).astype(np.float32),
             (cam.fy * c[:, 1] / zs + cam.cy).astype(np.float32), z)
@@ -143,7 +146,7 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
     t0, t1 : (P,) float32
         The ray's span inside the bounding sphere (``t0 < t1``).
     camera : CameraModel
-        The reference's perspective camera.
+        The reference's camera (perspective or orthographic).
     depth : (h, w) float32
         Its linear depth, ``+inf`` where nothing is drawn.
     steps : int
