@@ -269,8 +269,8 @@ def _lit_linear(surface: ViewSurface, e: np.ndarray) -> np.ndarray:
 
 def encode_premultiplied(image: np.ndarray) -> np.ndarray:
     """Premultiplied linear RGBA encoded in place: each pixel's straight colour ``c``
-    becomes ``min(c, 1) ^ LIT_GAMMA`` (the model's output encoding, by a table of
-    :data:`_ENCODE_STEPS` entries), premultiplied again.
+    becomes ``min(c, 1) ^ LIT_GAMMA`` (the model's output encoding, by a table of 65536
+    entries: steps of 1/65535 in linear light), premultiplied again.
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """The view morph of three reference views with depth: any in-between view, per pixel.
 
-Seitz and Dyer's morph of two views interpolates matched image positions (after
+Seitz and Dyer's morph [1]_ of two views interpolates matched image positions (after
 the pre-warp) and colours linearly; for views whose correspondences come from
 geometry, the interpolated position of a surface point is its projection into the
 in-between camera. With the references' depth maps this holds for any camera
@@ -9,7 +9,8 @@ around the viewing direction at once (:class:`~.dome.ViewDome`): every pixel of 
 in-between view takes the surface point its ray meets, found in each reference's
 depth, and its colour is the references' colours there blended by the
 direction's barycentric weights -- the morph's linear colour interpolation, with
-the positions exact instead of interpolated.
+the positions exact instead of interpolated (warping images with depth, as McMillan's
+3-D image warping [2]_).
 
 Per reference ``k`` and target pixel (:func:`march_view`): the pixel's ray through
 the bounding sphere is sampled at ``steps`` points; each is projected into view

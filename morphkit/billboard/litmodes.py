@@ -164,7 +164,13 @@ class MorphSurface:
 
 @dataclass(frozen=True)
 class NearestSurface:
-    """The dome's nearest view on its card (:meth:`DomeAsset.nearest_surface`)."""
+    """The dome's nearest view on its card (:meth:`DomeAsset.nearest_surface`).
+
+    Parameters
+    ----------
+    name : str
+        The mode name it gives.
+    """
 
     name: str = "nearest"
 
@@ -191,7 +197,13 @@ class NearestSurface:
 
 @dataclass(frozen=True)
 class CrossfadeSurface:
-    """The dome's three views on their cards, blended (:meth:`DomeAsset.crossfade_surface`)."""
+    """The dome's three views on their cards, blended (:meth:`DomeAsset.crossfade_surface`).
+
+    Parameters
+    ----------
+    name : str
+        The mode name it gives.
+    """
 
     name: str = "crossfade"
 
@@ -218,7 +230,13 @@ class CrossfadeSurface:
 
 @dataclass(frozen=True)
 class ClassicSurface:
-    """The dome's front view for every direction (:meth:`DomeAsset.classic_surface`)."""
+    """The dome's front view for every direction (:meth:`DomeAsset.classic_surface`).
+
+    Parameters
+    ----------
+    name : str
+        The mode name it gives.
+    """
 
     name: str = "classic"
 
@@ -283,7 +301,7 @@ class LitMode:
     choice : SurfaceChoice
         Which surface (default :class:`MorphSurface`).
     lighting : Lighting, optional
-        World-frame lights; replace :attr:`lighting` between frames to move them. Default:
+        World-frame lights; replace the ``lighting`` attribute between frames to move them. Default:
         the bake's light and ambient (:func:`~.bakelook.bake_lights`).
     cache : MorphCache, optional
         Default ``MorphCache()``.
