@@ -319,7 +319,7 @@ _ENCODE_LUT = np.power(np.linspace(0.0, 1.0, _ENCODE_STEPS), LIT_GAMMA).astype(n
 def sun_terms(lighting: Lighting) -> tuple[float, np.ndarray]:
     """The directional part of ``lighting`` as numbers: ``(ambient, T)``, ``T`` ``(L, 3)``
     float32 with one row ``I l / pi`` per sun above the horizon (``l`` towards the light),
-    so that the model's bracket is ``ambient + sum_k max(0, T_k . n)``.
+    so that the model's bracket is ``ambient + sum_k max(0, dot(T_k, n))``.
 
     Parameters
     ----------
