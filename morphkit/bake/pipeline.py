@@ -11,8 +11,9 @@ journaled at once, so a crash loses no finished asset; the manifest is rewritten
 atomically every :data:`COMMIT_INTERVAL_S` (longer for a huge manifest) and at
 the end. A task that raises (an unreadable,
 empty or degenerate mesh) or whose worker died more often than Dask allows
-(``distributed.scheduler.allowed-failures``; a worker killed once is replaced
-and its task re-run) is recorded as failed with its error; the others go on.
+(``distributed.scheduler.allowed-failures``, counted against every task the
+worker held, running or queued; a worker killed once is replaced and its tasks
+re-run) is recorded as failed with its error; the others go on.
 """
 
 from __future__ import annotations
@@ -314,7 +315,13 @@ def _describe(exc: BaseException) -> str:
     from distributed import KilledWorker
 
     if isinstance(exc, KilledWorker):
-        text = f"the worker process died while baking this asset, every time it was tried ({exc})"
+        # Dask counts a death against every task the worker held: the one it ran and those queued
+        # on it; its own message (a long paragraph) says "died while running it" of both
+        n = exc.allowed_failures + 1
+        last = getattr(exc.last_worker, "address", exc.last_worker)
+        text = (f"KilledWorker: the worker process holding this task (baking it, or with it queued) died "
+                f"{n} time{'s' if n > 1 else ''}, more than Dask allows "
+                f"(distributed.scheduler.allowed-failures = {n - 1}; last worker {last}); a rerun bakes it")
     else:
         text = f"{type(exc).__name__}: {exc}"
     return " ".join(text.split())  # one line (Dask's messages span several)
