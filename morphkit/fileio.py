@@ -31,7 +31,7 @@ import tempfile
 import zipfile
 import zlib
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import IO, Any
 
@@ -169,6 +169,9 @@ def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
     """Append lines (a newline added to each) to ``path``, creating it; one write, flushed and
     ``fsync``-ed once (a group commit: many records cost one disk sync).
 
+    A write that fails (a full disk) is cut back off: the file is left as it was. A file
+    whose last line a crash cut short gets a newline first, so the new lines stay whole.
+
     Parameters
     ----------
     path : path-like
@@ -185,16 +188,31 @@ def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
     ------
     ValidationError
         A line contains a newline (nothing is written).
+    OSError
+        The file cannot be written (nothing of ``lines`` is left in it).
     """
     for line in lines:
         if "\n" in line or "\r" in line:
             raise ValidationError(expected_got("log line", "one line without newlines",
                                                f"{len(line.splitlines())} lines"))
     p = Path(path)
-    with open(p, "ab") as f:
-        f.write("".join(f"{line}\n" for line in lines).encode("utf-8"))
-        f.flush()
-        os.fsync(f.fileno())
+    data = "".join(f"{line}\n" for line in lines).encode("utf-8")
+    fd = os.open(p, os.O_RDWR | os.O_APPEND | os.O_CREAT, 0o644)
+    try:
+        start = os.fstat(fd).st_size
+        if start and os.pread(fd, 1, start - 1) != b"\n":  # a line cut short (a crash): ours start anew
+            data = b"\n" + data
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[os.write(fd, view):]
+            os.fsync(fd)
+        except BaseException:  # e.g. a full disk: no half line of ours is left behind
+            with suppress(OSError):
+                os.ftruncate(fd, start)
+            raise
+    finally:
+        os.close(fd)
     return p
 
 

@@ -197,7 +197,9 @@ class OutputClaim:
             created.append(d)
         try:
             p.mkdir(parents=True, exist_ok=True)
-            lock = os.open(p / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+            # held on a read-only descriptor: a run holds no file open for writing, so the folder's
+            # file system can still be remounted read-only under it (the run then stops cleanly)
+            lock = os.open(p / LOCK_NAME, os.O_RDONLY | os.O_CREAT, 0o644)
         except OSError as exc:
             _remove_dirs(created)
             raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit can "
@@ -212,13 +214,16 @@ class OutputClaim:
                     f"{self.rule.command} output folder {str(p)!r}", "one no other run is writing to (wait "
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
                 ) from None
-            os.ftruncate(lock, 0)
-            os.pwrite(lock, str(os.getpid()).encode(), 0)
             _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
             before = _files(p) if self.previous and not self.rule.resume else {}
             marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
                       "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}
             try:
+                fd = os.open(p / LOCK_NAME, os.O_WRONLY | os.O_TRUNC)  # the holder's pid, for a second run
+                try:
+                    os.write(fd, str(os.getpid()).encode())
+                finally:
+                    os.close(fd)
                 write_json(p / MARKER_NAME, marker)
             except OSError as exc:
                 raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit "

@@ -13,11 +13,13 @@ permitted).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import logging
 import os
 import re
 import signal
+import subprocess
 import threading
 import time
 from dataclasses import dataclass
@@ -30,6 +32,8 @@ import trimesh
 from morphkit import fileio
 from morphkit.bake import BakeOptions, Manifest, ShadowAtlasKind, bake_library
 from morphkit.bake.manifest import JOURNAL_NAME
+from morphkit.cli import main
+from morphkit.shadow import ShadowAtlas
 
 TINY = ShadowAtlasKind(atlas_size=32, grid=3)
 OPTS = BakeOptions((TINY,))
@@ -55,6 +59,12 @@ def make_library(folder: Path) -> Path:
 def outputs(out: Path) -> dict[str, str]:
     """``{output file: sha256}`` of every atlas in ``out``."""
     return {p.name: sha(p) for p in sorted(out.glob("*.atlas.npz"))}
+
+
+def one_line(err: str) -> str:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
 
 
 def leftovers(out: Path) -> list[str]:
@@ -215,3 +225,123 @@ def test_a_worker_killed_more_often_than_dask_allows_fails_its_asset_and_a_rerun
     assert journal.baked() == dict.fromkeys(failed, 1)  # only the failed ones: nothing baked again
     assert sorted([*first, *journal.baked()]) == sorted(MESHES)  # every asset baked once over both runs
     assert outputs(out) == clean and leftovers(out) == []
+
+
+# ------------------------------------------------------------------ the output's file system
+@contextlib.contextmanager
+def tmpfs(path: Path, size: str):
+    """A tmpfs of ``size`` mounted at ``path`` (unmounted at the end); skips where mounting is not
+    permitted (not root, no mount command, a container without CAP_SYS_ADMIN)."""
+    path.mkdir(parents=True)
+    try:
+        r = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(path)],
+                           capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.SubprocessError) as exc:
+        pytest.skip(f"cannot mount a tmpfs here ({exc})")
+    if r.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here (root with mount permission needed): {r.stderr.strip()}")
+    try:
+        yield path
+    finally:
+        if subprocess.run(["umount", str(path)], capture_output=True).returncode != 0:
+            subprocess.run(["umount", "-l", str(path)], capture_output=True)  # busy: detach it
+
+
+def remount(path: Path, options: str) -> None:
+    """``mount -o remount,OPTIONS path``, retried while a writer keeps it busy (a worker mid-save)."""
+    deadline = time.monotonic() + 30
+    while True:
+        r = subprocess.run(["mount", "-o", f"remount,{options}", str(path)], capture_output=True, text=True)
+        if r.returncode == 0:
+            return
+        assert "busy" in r.stderr and time.monotonic() < deadline, r.stderr
+        time.sleep(0.01)
+
+
+def cli_bake(capfd, lib: Path, out: Path, scheduler: str) -> tuple[int, str]:
+    rc = main(["bake", str(lib), "-o", str(out), "--atlas-size", "32", "--grid", "3", "--scheduler",
+               scheduler, "-q"])
+    return rc, capfd.readouterr().err
+
+
+def assert_intact(out: Path, clean: dict[str, str]) -> Manifest:
+    """Every atlas in ``out`` is whole (loads, the bytes of a clean bake), the manifest is valid and
+    names only files that are there with its hash, and no temporary file is left."""
+    for name, digest in outputs(out).items():
+        ShadowAtlas.load(out / name)
+        assert digest == clean[name], name
+    m = Manifest.open(out)
+    for rec in m.assets.values():
+        for o in rec.outputs.values():
+            assert sha(out / o.file) == o.sha256
+    assert not [p.name for p in out.rglob("*") if ".part" in p.name]
+    return m
+
+
+def stopped(out: Path, disk: Path, code: str, text: str) -> str:
+    """The pattern of the one line of a bake stopped by a write its file system refused."""
+    return (rf"morphkit: error: bake output folder '{re.escape(str(out))}': expected a file system that "
+            rf"takes every output, got {code} \({text}\) writing (the output of '\w+'|the manifest), on the "
+            rf"file system mounted at {re.escape(str(disk))} \(\d+ bytes free\); the bake stopped: "
+            r"\d+ assets? baked and kept, \d+ not baked \(free space or make the folder writable, then run "
+            r"the bake again\)")
+
+
+@pytest.mark.gl
+def test_a_full_disk_stops_the_bake_with_one_line_and_a_rerun_after_freeing_space_finishes(
+        tmp_path, cluster, clean, capfd, monkeypatch):
+    lib = make_library(tmp_path / "lib")
+    with tmpfs(tmp_path / "disk", "300k") as disk:  # room for two of the four atlases (~120 kB each)
+        out = disk / "out"
+        journal = Journaled(monkeypatch)
+        rc, err = cli_bake(capfd, lib, out, cluster.scheduler_address)
+        assert rc == 1
+        line = one_line(err)
+        print(line)
+        assert re.fullmatch(stopped(out, disk, "ENOSPC", "No space left on device"), line), line
+        m = assert_intact(out, clean)
+        kept = journal.baked()
+        assert 1 <= len(kept) < len(MESHES) and all(m.assets[k].status == "baked" for k in kept)
+        assert f"{len(kept)} asset" in line
+
+        remount(disk, "size=4m")  # space freed
+        rc, err = cli_bake(capfd, lib, out, cluster.scheduler_address)
+        assert rc == 0, err
+        m = assert_intact(out, clean)
+        assert outputs(out) == clean and leftovers(out) == []
+        assert {k for k, r in m.assets.items() if r.status == "skipped"} == set(kept)  # not baked again
+        assert journal.baked() == dict.fromkeys(MESHES, 1)  # every asset baked once over both runs
+
+
+@pytest.mark.gl
+def test_an_output_folder_made_read_only_half_way_stops_the_bake_and_a_rerun_finishes(
+        tmp_path, cluster, clean, capfd, monkeypatch):
+    lib = make_library(tmp_path / "lib")
+    with tmpfs(tmp_path / "disk", "4m") as disk:
+        out = disk / "out"
+
+        def read_only_after_the_first(j: Journaled) -> None:
+            if len(j.records) == 1 or (j.records and not getattr(j, "ro", False)):
+                remount(disk, "ro")  # as root chmod would not stop a write; a read-only mount does
+                j.ro = True
+
+        journal = Journaled(monkeypatch, after=read_only_after_the_first)
+        rc, err = cli_bake(capfd, lib, out, cluster.scheduler_address)
+        assert rc == 1
+        line = one_line(err)
+        print(line)
+        assert re.fullmatch(stopped(out, disk, "EROFS", "Read-only file system"), line), line
+        kept = journal.baked()
+        assert 1 <= len(kept) < len(MESHES)
+        remount(disk, "rw")  # writable again
+        m = assert_intact(out, clean)
+        assert all(m.assets[k].status == "baked" for k in kept)
+
+        monkeypatch.undo()
+        journal = Journaled(monkeypatch)
+        rc, err = cli_bake(capfd, lib, out, cluster.scheduler_address)
+        assert rc == 0, err
+        m = assert_intact(out, clean)
+        assert outputs(out) == clean and leftovers(out) == []
+        assert {k for k, r in m.assets.items() if r.status == "skipped"} == set(kept)  # not baked again
+        assert sorted([*kept, *journal.baked()]) == sorted(MESHES)  # every asset baked once in all
