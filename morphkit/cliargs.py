@@ -54,15 +54,18 @@ def _billboards(args: argparse.Namespace) -> None:
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
     parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area
-    if len(parts) == 2 and all(p.strip().isdigit() for p in parts) \
-            and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
-        raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
-                                           "(tol.MAX_IMAGE_PIXELS)", args.size))
+    if len(parts) == 2 and all(p.strip().isdigit() for p in parts):
+        if int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
+            raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
+                                               "(tol.MAX_IMAGE_PIXELS)", args.size))
+        if max(int(parts[0]), int(parts[1])) > tol.MAX_VIDEO_SIDE:
+            raise ValidationError(expected_got("--size", f"sides of at most {tol.MAX_VIDEO_SIDE} pixels (the "
+                                               "mp4v video's limit, tol.MAX_VIDEO_SIDE)", args.size))
 
 
 def _shadows(args: argparse.Namespace) -> None:
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
-    _count(args, "size", "--size", MIN_FRAME_SIDE, MAX_FRAME_SIDE)
+    _count(args, "size", "--size", MIN_FRAME_SIDE, tol.MAX_VIDEO_SIDE)  # its frames make a video too
     # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all
     _count(args, "samples", "--samples", 1, math.isqrt(tol.MAX_LIGHT_SAMPLES))
     _finite(args, "area_light", "--area-light")

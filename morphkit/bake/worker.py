@@ -147,7 +147,8 @@ def bake_task(task: BakeTask) -> TaskResult:
     TaskResult
         The outputs, or ``error``: ``"<ErrorType>: <message>"`` when the file is
         unreadable, empty or degenerate, changed since it was hashed, or a kind
-        refused the mesh (any :class:`~morphkit.errors.MorphkitError`); or when an
+        refused the mesh (any :class:`~morphkit.errors.MorphkitError`), or it needs more
+        memory than the worker has (a ``MemoryError``); or when an
         output could not be written (an ``OSError``: a full disk, a read-only folder),
         with its ``errno``.
     """
@@ -156,6 +157,8 @@ def bake_task(task: BakeTask) -> TaskResult:
         return _bake(task, worker)
     except MorphkitError as exc:
         return TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: {exc}")
+    except MemoryError as exc:  # sizes past the worker's memory: this asset fails, not the run
+        return TaskResult(task.name, {}, {}, worker, f"MemoryError: {exc or 'an allocation failed'}")
 
 
 def _bake(task: BakeTask, worker: str) -> TaskResult:
