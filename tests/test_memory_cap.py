@@ -7,7 +7,7 @@ The cap is set relative to what the child already holds once morphkit and a GL c
 (address space after the imports, plus :data:`HEADROOM`), so it means the same on a machine with
 more cores (llvmpipe starts a thread per core). Largest documented sizes: frame sides
 (``cliargs.MAX_FRAME_SIDE``, ``tol.MAX_VIDEO_SIDE``), images of ``tol.MAX_IMAGE_PIXELS``, an atlas
-near ``tol.MAX_BUFFER_BYTES`` (3 x 3 maps of 8192^2). All four run in one child (one start-up).
+near ``tol.MAX_BUFFER_BYTES`` (3 x 3 maps of 8192^2). All five run in one child (one start-up).
 """
 
 from __future__ import annotations
@@ -89,6 +89,8 @@ def test_the_largest_documented_sizes_under_a_memory_cap_fail_in_one_line(tmp_pa
          "--workers", "1", "-q"],
         ["shadows", str(tmp_path / "box.atlas.npz"), "--mesh", str(lib / "box.ply"), "--size",
          str(tol.MAX_VIDEO_SIDE), "--frames", "1", "-o", str(tmp_path / "shadows"), "-q"],
+        ["billboards", "--size", f"{tol.MAX_VIDEO_SIDE}x{tol.MAX_VIDEO_SIDE}", "--frames", "1", "--n", "1",
+         "--views", "2", "--asset-size", "32", "-o", str(tmp_path / "billboards")],
     ]
     (tmp_path / "child.py").write_text(CHILD)
     r = subprocess.run([sys.executable, str(tmp_path / "child.py"), str(HEADROOM), json.dumps(commands)],
