@@ -35,6 +35,7 @@ from morphkit.bake.manifest import JOURNAL_NAME
 from morphkit.cli import main
 from morphkit.shadow import ShadowAtlas
 
+ROOT = Path(__file__).resolve().parents[1]
 TINY = ShadowAtlasKind(atlas_size=32, grid=3)
 OPTS = BakeOptions((TINY,))
 MESHES = {  # name -> builder; 4 small meshes, ply (the bake's up axis is +z for all)
@@ -345,3 +346,24 @@ def test_an_output_folder_made_read_only_half_way_stops_the_bake_and_a_rerun_fin
         assert outputs(out) == clean and leftovers(out) == []
         assert {k for k, r in m.assets.items() if r.status == "skipped"} == set(kept)  # not baked again
         assert sorted([*kept, *journal.baked()]) == sorted(MESHES)  # every asset baked once in all
+
+
+# ------------------------------------------------------------------ the driver SIGKILLed, in a loop
+@pytest.mark.gl
+@pytest.mark.slow  # ~20-30 s on 2 busy cores: each run is a new `python -m morphkit bake` whose
+# interpreter and local Dask cluster take ~4-6 s to start (the full loop: scripts/bake_kill_loop.py)
+def test_a_reduced_kill_loop_loses_nothing_and_bakes_nothing_twice(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bake_kill_loop", ROOT / "scripts" / "bake_kill_loop.py")
+    loop = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(loop)
+    # 3 runs, each SIGKILLed (driver and worker) 0-0.3 s after it wrote its first atlas: mid-bake
+    r = loop.kill_loop(3, 28, inputs=4, changed=3, atlas_size=64, workers=1, kill_s=(0.0, 0.3),
+                       after_first=True, root=tmp_path)
+    print(r["outcomes"], r["last_stdout"])
+    assert r["killed"] >= 1, r["outcomes"]
+    assert r["last_rc"] == 0, r["last_stdout"]
+    assert r["assets"] == 4 and r["counts"]["failed"] == 0 and r["atlases"] == 4
+    assert r["baked_twice"] == 0  # no (asset, input version) recorded as baked twice
+    assert r["bad_hashes"] == [] and r["temporary"] == [] and not r["journal_left"]
