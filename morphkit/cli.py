@@ -213,13 +213,15 @@ def parse_size(text: str) -> tuple[int, int]:
     Returns
     -------
     tuple of (int, int)
-        ``(H, W)``, each in 1..16384.
+        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make an mp4v
+        video).
 
     Raises
     ------
     ValidationError
         Not two positive integers joined by ``x``.
     """
+    from . import tol
     from .errors import ValidationError, expected_got
 
     parts = str(text).lower().split("x")
@@ -227,9 +229,10 @@ def parse_size(text: str) -> tuple[int, int]:
         w, h = (int(v) for v in parts)
     except ValueError:
         w = h = 0
-    if len(parts) != 2 or w < 1 or h < 1 or w > 16384 or h > 16384:
-        raise ValidationError(expected_got("--size", "WIDTHxHEIGHT, two integers in 1..16384 (e.g. 640x480)",
-                                           repr(text)))
+    hi = tol.MAX_VIDEO_SIDE
+    if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
+        raise ValidationError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
+                                           f"{hi}: the mp4v video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
     return h, w
 
 

@@ -54,13 +54,10 @@ def _billboards(args: argparse.Namespace) -> None:
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
     parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area
-    if len(parts) == 2 and all(p.strip().isdigit() for p in parts):
-        if int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
-            raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
-                                               "(tol.MAX_IMAGE_PIXELS)", args.size))
-        if max(int(parts[0]), int(parts[1])) > tol.MAX_VIDEO_SIDE:
-            raise ValidationError(expected_got("--size", f"sides of at most {tol.MAX_VIDEO_SIDE} pixels (the "
-                                               "mp4v video's limit, tol.MAX_VIDEO_SIDE)", args.size))
+    if len(parts) == 2 and all(p.strip().isdigit() for p in parts) \
+            and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
+        raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
+                                           "(tol.MAX_IMAGE_PIXELS)", args.size))
 
 
 def _shadows(args: argparse.Namespace) -> None:
