@@ -120,7 +120,13 @@ class OutputWriteError(MorphkitError):
         self.errno = errno
 
     def __reduce__(self) -> tuple:
-        """Pickled with its errno (the default would call the class with the message alone)."""
+        """Pickled with its errno (the default would call the class with the message alone).
+
+        Returns
+        -------
+        tuple
+            The class and its arguments ``(message, errno)``.
+        """
         return type(self), (str(self), self.errno)
 
 
