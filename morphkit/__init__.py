@@ -18,6 +18,7 @@ from .errors import (
     OutOfRangeError,
     OutputBusyError,
     OutputExistsError,
+    OutputWriteError,
     RenderError,
     ValidationError,
 )
@@ -39,4 +40,5 @@ __all__ = [
     "ClusterError",
     "OutputExistsError",
     "OutputBusyError",
+    "OutputWriteError",
 ]

@@ -3,8 +3,8 @@
 Heavy modules are imported inside each subcommand so ``morphkit --help`` is fast
 and needs no GL context.
 
-Errors: every command's morphkit errors and OS errors are caught in :func:`main`
-and printed as one line ``morphkit: error: ...`` on stderr (exit code 1); usage
+Errors: every command's morphkit errors, OS errors and memory errors are caught in
+:func:`main` and printed as one line ``morphkit: error: ...`` on stderr (exit code 1); usage
 errors exit with 2 (argparse's, and an output folder refused by
 :mod:`morphkit.outfolder`'s rule); Ctrl-C prints ``morphkit: interrupted`` (exit
 code 130). No traceback.
@@ -216,13 +216,15 @@ def parse_size(text: str) -> tuple[int, int]:
     Returns
     -------
     tuple of (int, int)
-        ``(H, W)``, each in 1..16384.
+        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make an mp4v
+        video).
 
     Raises
     ------
     ValidationError
         Not two positive integers joined by ``x``.
     """
+    from . import tol
     from .errors import ValidationError, expected_got
 
     parts = str(text).lower().split("x")
@@ -230,9 +232,10 @@ def parse_size(text: str) -> tuple[int, int]:
         w, h = (int(v) for v in parts)
     except ValueError:
         w = h = 0
-    if len(parts) != 2 or w < 1 or h < 1 or w > 16384 or h > 16384:
-        raise ValidationError(expected_got("--size", "WIDTHxHEIGHT, two integers in 1..16384 (e.g. 640x480)",
-                                           repr(text)))
+    hi = tol.MAX_VIDEO_SIDE
+    if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
+        raise ValidationError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
+                                           f"{hi}: the mp4v video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
     return h, w
 
 
@@ -498,6 +501,13 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _out_of_memory(exc: BaseException) -> bool:
+    """``exc`` is a failed allocation: a ``MemoryError``, or OpenCV's (``cv2.error`` with code
+    ``StsNoMem``, -4, "Insufficient memory"), which is not a MemoryError."""
+    return isinstance(exc, MemoryError) or (type(exc).__module__ == "cv2" and type(exc).__name__ == "error"
+                                            and getattr(exc, "code", None) == -4)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``morphkit`` command line.
 
@@ -509,8 +519,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError` or an
-        ``OSError`` (a file system failure: disk full, folder removed), printed to stderr as one
+        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError`, an
+        ``OSError`` (a file system failure: disk full, folder removed) or a failed allocation (a
+        ``MemoryError`` or OpenCV's: sizes past the process's memory), printed to stderr as one
         line ``morphkit: error: ...`` (2 for an :class:`~morphkit.errors.OutputExistsError`, an
         output folder refused), 130 after Ctrl-C (``morphkit: interrupted``).
     """
@@ -522,6 +533,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
         print(f"morphkit: error: {msg}", file=sys.stderr)
         return 2 if isinstance(exc, OutputExistsError) else 1
+    except Exception as exc:  # sizes that need more memory than the process may have: one line too
+        if not _out_of_memory(exc):
+            raise
+        why = " ".join(str(exc).split("error: ", 1)[-1].split()) or "an allocation failed"  # cv2: its reason
+        print(f"morphkit: error: out of memory: {why} (the sizes asked for need more memory than this "
+              "process may use: choose smaller ones)", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
         print("morphkit: interrupted", file=sys.stderr)
         return 130

@@ -72,7 +72,7 @@ def _billboards(args: argparse.Namespace) -> None:
 
 def _shadows(args: argparse.Namespace) -> None:
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
-    _count(args, "size", "--size", MIN_FRAME_SIDE, MAX_FRAME_SIDE)
+    _count(args, "size", "--size", MIN_FRAME_SIDE, tol.MAX_VIDEO_SIDE)  # its frames make a video too
     # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all
     _count(args, "samples", "--samples", 1, math.isqrt(tol.MAX_LIGHT_SAMPLES))
     _finite(args, "area_light", "--area-light")

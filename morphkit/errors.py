@@ -16,7 +16,9 @@ Hierarchy::
     ├── RenderError                           the GL boundary failed
     ├── FileFormatError                       a saved file is corrupt, truncated or foreign
     ├── ClusterError                          the Dask scheduler is unreachable or has no workers
-    └── OutputBusyError                       another run is writing into the same output folder
+    ├── OutputBusyError                       another run is writing into the same output folder
+    └── OutputWriteError                      the output's file system stopped taking writes mid-run
+                                              (disk full, read-only): the run stopped, finished work kept
 
     AssetWarning (a UserWarning)              a mesh's look could not be loaded or drawn as given:
     │                                         a documented fallback was used (e.g. a missing texture)
@@ -46,6 +48,7 @@ __all__ = [
     "ClusterError",
     "OutputExistsError",
     "OutputBusyError",
+    "OutputWriteError",
     "AssetWarning",
     "MeshLookWarning",
     "expected_got",
@@ -98,6 +101,33 @@ class OutputExistsError(ValidationError):
 
 class OutputBusyError(MorphkitError):
     """Another run is writing into the same output folder (it holds the folder's lock)."""
+
+
+class OutputWriteError(MorphkitError):
+    """The output folder's file system refused a write mid-run (full, over quota, read-only, no
+    permission): the run stopped; what it finished is kept, a rerun goes on from there.
+
+    Parameters
+    ----------
+    message : str
+        The one-line message (:func:`expected_got`).
+    errno : int
+        The OS error number of the refused write (``errno.ENOSPC``, ``errno.EROFS``, ...).
+    """
+
+    def __init__(self, message: str, errno: int) -> None:
+        super().__init__(message)
+        self.errno = errno
+
+    def __reduce__(self) -> tuple:
+        """Pickled with its errno (the default would call the class with the message alone).
+
+        Returns
+        -------
+        tuple
+            The class and its arguments ``(message, errno)``.
+        """
+        return type(self), (str(self), self.errno)
 
 
 class AssetWarning(UserWarning):

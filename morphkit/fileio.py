@@ -31,16 +31,17 @@ import tempfile
 import zipfile
 import zlib
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import IO, Any
 
 import cv2
 import numpy as np
 
-from .errors import FileFormatError, ValidationError, expected_got
+from .errors import FileFormatError, RenderError, ValidationError, expected_got
 
-__all__ = ["ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output", "append_lines", "write_bytes",
+__all__ = ["ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output", "open_video_writer",
+           "append_lines", "write_bytes",
            "write_text", "write_json", "encode_image", "write_image", "read_image"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
@@ -165,9 +166,67 @@ def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise
 
 
+def open_video_writer(path: str | os.PathLike[str], fourcc: str, fps: float,
+                      shape: tuple[int, int]) -> cv2.VideoWriter:
+    """An open ``cv2.VideoWriter`` of ``shape`` frames at ``path``, or a one-line error saying why not.
+
+    OpenCV only answers "not opened" (and logs its reason on stderr); here its log is held back
+    and the cause told apart: a writer that opens for 16 x 16 frames but not for ``shape`` was
+    refused the size (the encoder's buffers need more memory than the process may use, or pass
+    the codec's own limits), one that never opens is missing from this OpenCV build.
+
+    Parameters
+    ----------
+    path : path-like
+        The video file (its suffix picks the container); its folder must exist.
+    fourcc : str
+        The codec's four characters, e.g. ``"mp4v"``.
+    fps : float
+        Frames per second.
+    shape : (int, int)
+        Frame shape ``(H, W)``.
+
+    Returns
+    -------
+    cv2.VideoWriter
+        Opened; the caller releases it.
+
+    Raises
+    ------
+    RenderError
+        OpenCV cannot open the writer (the message says whether for this size only).
+    """
+    h, w = int(shape[0]), int(shape[1])
+    level = cv2.utils.logging.getLogLevel()
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)  # its reason is ours to tell
+    try:
+        writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), float(fps), (w, h))
+        if writer.isOpened():
+            return writer
+        writer.release()
+        p = Path(path)
+        fd, probe = tempfile.mkstemp(prefix=".morphkit-probe-", suffix=p.suffix, dir=p.parent)
+        os.close(fd)
+        try:
+            small = cv2.VideoWriter(probe, cv2.VideoWriter_fourcc(*fourcc), float(fps), (16, 16))
+            opens_small = small.isOpened()
+            small.release()
+        finally:
+            os.unlink(probe)
+    finally:
+        cv2.utils.logging.setLogLevel(level)
+    got = (f"a refusal for {w} x {h} frames (it opens for 16 x 16: frames this size need more memory "
+           "than this process may use, or pass the codec's limits)" if opens_small
+           else "none in this OpenCV build")
+    raise RenderError(expected_got("video writer", f"OpenCV's {fourcc} writer for {p.suffix} files", got))
+
+
 def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
     """Append lines (a newline added to each) to ``path``, creating it; one write, flushed and
     ``fsync``-ed once (a group commit: many records cost one disk sync).
+
+    A write that fails (a full disk) is cut back off: the file is left as it was. A file
+    whose last line a crash cut short gets a newline first, so the new lines stay whole.
 
     Parameters
     ----------
@@ -185,16 +244,31 @@ def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
     ------
     ValidationError
         A line contains a newline (nothing is written).
+    OSError
+        The file cannot be written (nothing of ``lines`` is left in it).
     """
     for line in lines:
         if "\n" in line or "\r" in line:
             raise ValidationError(expected_got("log line", "one line without newlines",
                                                f"{len(line.splitlines())} lines"))
     p = Path(path)
-    with open(p, "ab") as f:
-        f.write("".join(f"{line}\n" for line in lines).encode("utf-8"))
-        f.flush()
-        os.fsync(f.fileno())
+    data = "".join(f"{line}\n" for line in lines).encode("utf-8")
+    fd = os.open(p, os.O_RDWR | os.O_APPEND | os.O_CREAT, 0o644)
+    try:
+        start = os.fstat(fd).st_size
+        if start and os.pread(fd, 1, start - 1) != b"\n":  # a line cut short (a crash): ours start anew
+            data = b"\n" + data
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[os.write(fd, view):]
+            os.fsync(fd)
+        except BaseException:  # e.g. a full disk: no half line of ours is left behind
+            with suppress(OSError):
+                os.ftruncate(fd, start)
+            raise
+    finally:
+        os.close(fd)
     return p
 
 

@@ -22,8 +22,10 @@ folder behind. :func:`claim_output` makes the check (no side effect);
 :meth:`OutputClaim.writing` creates the folder, takes its lock (:data:`LOCK_NAME`,
 ``fcntl.flock``: a second run into the same folder at the same time is refused,
 :class:`~morphkit.errors.OutputBusyError`), removes the temporary files of a killed
-run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. A run that
-fails or is interrupted before writing anything removes what it created.
+run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. On exit,
+clean or not, it removes the temporary files again (a process of the run killed mid-write, e.g. a
+bake's worker process, while the run went on). A run that fails or is interrupted before writing
+anything removes what it created.
 """
 
 from __future__ import annotations
@@ -171,7 +173,9 @@ class OutputClaim:
 
         On a clean exit a replaced previous run's files that were not written again are
         removed and the marker says ``complete``. On an exception (an interrupt too)
-        before anything but the marker was written, what this call created is removed.
+        before anything but the marker was written, what this call created is removed. Either
+        way no temporary file (``TEMPORARY``) is left: the block's writers are done, and one
+        killed mid-write cannot remove its own.
 
         Yields
         ------
@@ -193,7 +197,9 @@ class OutputClaim:
             created.append(d)
         try:
             p.mkdir(parents=True, exist_ok=True)
-            lock = os.open(p / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o644)
+            # held on a read-only descriptor: a run holds no file open for writing, so the folder's
+            # file system can still be remounted read-only under it (the run then stops cleanly)
+            lock = os.open(p / LOCK_NAME, os.O_RDONLY | os.O_CREAT, 0o644)
         except OSError as exc:
             _remove_dirs(created)
             raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit can "
@@ -208,16 +214,16 @@ class OutputClaim:
                     f"{self.rule.command} output folder {str(p)!r}", "one no other run is writing to (wait "
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
                 ) from None
-            os.ftruncate(lock, 0)
-            os.pwrite(lock, str(os.getpid()).encode(), 0)
-            for rel in _files(p):  # locked: a temporary file here is a killed run's, half written
-                if TEMPORARY.match(rel.rsplit("/", 1)[-1]):
-                    with suppress(OSError):
-                        (p / rel).unlink()
+            _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
             before = _files(p) if self.previous and not self.rule.resume else {}
             marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
                       "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}
             try:
+                fd = os.open(p / LOCK_NAME, os.O_WRONLY | os.O_TRUNC)  # the holder's pid, for a second run
+                try:
+                    os.write(fd, str(os.getpid()).encode())
+                finally:
+                    os.close(fd)
                 write_json(p / MARKER_NAME, marker)
             except OSError as exc:
                 raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit "
@@ -226,12 +232,14 @@ class OutputClaim:
             try:
                 yield p
             except BaseException:
+                _remove_temporaries(p)  # a process of this run killed mid-write (a bake's worker)
                 if not self.previous and set(_files(p)) <= {MARKER_NAME, LOCK_NAME}:
                     for name in (MARKER_NAME, LOCK_NAME):  # nothing written: leave nothing
                         with suppress(OSError):
                             (p / name).unlink()
                     _remove_dirs(created)
                 raise
+            _remove_temporaries(p)
             after = _files(p)
             for rel, stamp in before.items():  # the previous run's files not written again
                 if after.get(rel) == stamp and any(fnmatch.fnmatchcase(rel, pat) for pat in self.rule.owns):
@@ -240,6 +248,15 @@ class OutputClaim:
             write_json(p / MARKER_NAME, {**marker, "status": "complete"})
         finally:
             os.close(lock)  # releases the lock
+
+
+def _remove_temporaries(folder: Path) -> None:
+    """Remove the temporary files (``TEMPORARY``) under ``folder``: a writer killed mid-write
+    (a killed run, or a bake's worker process killed while the run went on) leaves them."""
+    for rel in _files(folder):
+        if TEMPORARY.match(rel.rsplit("/", 1)[-1]):
+            with suppress(OSError):
+                (folder / rel).unlink()
 
 
 def _remove_dirs(dirs: list[Path]) -> None:

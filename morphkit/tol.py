@@ -134,6 +134,13 @@ LIGHT_FIT_DEPTH_PAD = 1e-6
 
 # --- size limits (checked before anything is allocated) ---------------------
 
+#: Bytes of memory per pixel that an offscreen GL context and its first draw take (checked
+#: before the context is created: :mod:`morphkit.render`, where Mesa would die of a failed
+#: allocation instead of reporting it). Measured on llvmpipe (OSMesa): 12 B/px at context
+#: creation and a 35 B/px peak after the first colour-and-depth draw (address space, at
+#: 2048^2, 4096^2 and 8192^2); 48 leaves a third on top for other drivers and draws.
+GL_BYTES_PER_PIXEL = 48
+
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
 #: frame holds several per-pixel buffers at once (unprojected world points and
 #: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):
@@ -161,6 +168,13 @@ MAX_TEXTURE_PIXELS = 4096 * 4096
 #: allow 16384; 8192 stays below every one of those, and a 8192 x 2048 strip still fits
 #: :data:`MAX_TEXTURE_PIXELS`.
 MAX_TEXTURE_SIDE = 8192
+
+#: Largest side (pixels) of a video morphkit writes (``shadows.mp4``, ``billboards.mp4``: OpenCV's
+#: ``mp4v``, MPEG-4 Part 2, which stores width and height in 13 bits). FFmpeg refuses 8192
+#: ("dimensions too large for MPEG-4"): ``shadows --size 8192`` was accepted, rendered nothing and
+#: failed at the writer, so the commands that write a video cap their frame sides here. 8190, not
+#: 8191: OpenCV's writer rounds an odd side down to even (a 8191 video reads back 8190 wide).
+MAX_VIDEO_SIDE = 8190
 
 #: Most frames one command renders along a path (``shadows``, ``billboards``,
 #: ``viewmorph --frames``): 100000 frames is an hour of video at 25 fps; each frame is

@@ -112,3 +112,31 @@ def test_append_lines_appends_and_refuses_newlines(tmp_path: Path) -> None:
     with pytest.raises(ValidationError, match="expected one line without newlines, got 2 lines"):
         append_lines(log, ["fine", "x\ny"])
     assert log.read_text() == '{"a": 1}\n{"b": 2}\n{"c": 3}\n'  # nothing of the refused batch
+
+
+def test_append_lines_leaves_no_half_line(tmp_path: Path, monkeypatch) -> None:
+    """A write cut short (a full disk) is cut back off; a line a crash cut short is closed first, so
+    the next lines stay whole (a journal reader skips only the cut one)."""
+    import errno
+    import os
+
+    from morphkit import fileio
+
+    log = tmp_path / "log.jsonl"
+    fileio.append_lines(log, ['{"a": 1}'])
+    real_write = os.write
+
+    def half_then_full(fd, data):
+        if len(data) > 4:
+            return real_write(fd, bytes(data[:4]))
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(fileio.os, "write", half_then_full)
+    with pytest.raises(OSError, match="No space left on device"):
+        fileio.append_lines(log, ['{"b": 2}'])
+    monkeypatch.undo()
+    assert log.read_text() == '{"a": 1}\n'  # as it was
+    with open(log, "a") as f:
+        f.write('{"c": ')  # a crash in the middle of a line
+    fileio.append_lines(log, ['{"d": 4}'])
+    assert log.read_text().splitlines() == ['{"a": 1}', '{"c": ', '{"d": 4}']

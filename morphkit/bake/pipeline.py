@@ -11,23 +11,30 @@ journaled at once, so a crash loses no finished asset; the manifest is rewritten
 atomically every :data:`COMMIT_INTERVAL_S` (longer for a huge manifest) and at
 the end. A task that raises (an unreadable,
 empty or degenerate mesh) or whose worker died more often than Dask allows
-(``distributed.scheduler.allowed-failures``; a worker killed once is replaced
-and its task re-run) is recorded as failed with its error; the others go on.
+(``distributed.scheduler.allowed-failures``, counted against every task the
+worker held, running or queued; a worker killed once is replaced and its tasks
+re-run) is recorded as failed with its error; the others go on. A write the output
+folder's file system refuses (full, read-only: :data:`STOP_ERRNOS`), by a worker
+or by the driver's journal, stops the run at once with one
+:class:`~morphkit.errors.OutputWriteError` naming the file system: every later
+write would fail too. What was journaled is kept; a rerun bakes the rest.
 """
 
 from __future__ import annotations
 
 import errno
 import os
+import shutil
 import stat
 import time
 import uuid
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ValidationError, expected_got
+from ..errors import OutputWriteError, ValidationError, expected_got
 from ..meshes import UP_AXES, resolve_up
 from ..outfolder import BAKE_OUTPUT, claim_output
 from ..validate import as_int
@@ -37,7 +44,7 @@ from .kinds import AssetKind, ShadowAtlasKind
 from .manifest import LEGACY_UP_AXIS, AssetRecord, Manifest, file_digest, utc_now
 from .worker import BakeTask, bake_task
 
-__all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS"]
+__all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS", "STOP_ERRNOS"]
 
 #: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest);
 #: longer for a manifest so large that rewriting it would take over 5% of the time.
@@ -45,6 +52,12 @@ COMMIT_INTERVAL_S = 2.0
 
 #: Threads hashing inputs and existing outputs before a run.
 HASH_THREADS = 8
+
+#: OS errors of a write into the output folder that stop the run (``errno`` numbers): its file
+#: system is full (or over quota), read-only, refuses permission or fails, so every later
+#: write would be refused too. The run raises :class:`~morphkit.errors.OutputWriteError`;
+#: another OS error fails its asset only (e.g. a name too long for the file system).
+STOP_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO})
 
 
 @dataclass(frozen=True)
@@ -139,6 +152,9 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
         :data:`~morphkit.bake.cluster.CONNECT_TIMEOUT_S`, or has no worker.
     FileFormatError
         ``out`` holds a manifest that is not one.
+    OutputWriteError
+        ``out``'s file system refused a write mid-run (:data:`STOP_ERRNOS`: full, read-only, ...):
+        the run stopped; what it baked is kept (journaled), a rerun bakes the rest.
     """
     options = BakeOptions() if options is None else options
     if not isinstance(options, BakeOptions):
@@ -192,6 +208,8 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
     bar = tqdm(total=len(assets), initial=n_skipped, unit="asset", desc="morphkit bake",
                disable=None if progress else True, dynamic_ncols=True)
     n_workers = 0
+    stop: tuple[int, str] | None = None  # a write the output's file system refused: (errno, what)
+    n_kept = 0  # assets baked and journaled by this run
     try:
         if tasks:
             with open_client(workers=workers, scheduler=scheduler) as client:
@@ -204,29 +222,99 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
                 last_commit, commit_s = time.perf_counter(), 0.0
                 n_failed = 0
                 for batch in as_completed(list(futures), loop=client.loop).batches():
-                    recs = [_record(manifest, futures.pop(fut), fut) for fut in batch]
+                    done = [(futures.pop(fut), fut) for fut in batch]
+                    recs = [_record(manifest, task, fut) for task, fut in done]
+                    stop = next(filter(None, (_refused_write(task, fut) for task, fut in done)), None)
                     for fut in batch:
                         fut.release()
-                    manifest.record(*recs)  # the results that arrived together: one disk sync
+                    try:
+                        manifest.record(*recs)  # the results that arrived together: one disk sync
+                        n_kept += sum(r.status == "baked" for r in recs)
+                        # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
+                        due = time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s)
+                        if due and not stop:
+                            t0 = time.perf_counter()
+                            manifest.commit()
+                            last_commit = time.perf_counter()
+                            commit_s = last_commit - t0
+                    except OSError as exc:  # the journal or the manifest (atomic: the old one stays)
+                        stop = stop or (exc.errno or errno.EIO, "the manifest")
                     n_failed += sum(r.status == "failed" for r in recs)
                     bar.update(len(recs))
                     if n_failed:
                         bar.set_postfix(failed=n_failed, refresh=False)
-                    # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
-                    if time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s):
-                        t0 = time.perf_counter()
-                        manifest.commit()
-                        last_commit = time.perf_counter()
-                        commit_s = last_commit - t0
+                    if stop:  # every later write would be refused too: stop here, keep what is done
+                        client.cancel(list(futures))
+                        break
     finally:
         bar.close()
+    if stop:
+        with suppress(OSError):  # what did not reach the journal, if there is room now
+            manifest.commit()
+        raise _stopped(folder, *stop, n_kept, len(tasks) - n_kept)
     counts = manifest.counts(names)
     manifest.run = {"started": started, "wall_s": round(time.perf_counter() - t_start, 3),
                     "workers": n_workers if tasks else 0,
                     "scheduler": scheduler or ("local" if tasks else None), "up": options.up,
                     "assets": len(assets), **counts}
-    manifest.commit()
+    try:
+        manifest.commit()
+    except OSError as exc:  # atomic: the old manifest and the journal stay
+        raise _stopped(folder, exc.errno or errno.EIO, "the manifest", n_kept, len(tasks) - n_kept) from exc
     return manifest
+
+
+def _refused_write(task: BakeTask, fut: object) -> tuple[int, str] | None:
+    """``(errno, what)`` when ``fut``'s task could not write its output because the output's file
+    system refuses writes (:data:`STOP_ERRNOS`), else None."""
+    if fut.cancelled() or fut.exception() is not None:  # type: ignore[attr-defined]
+        return None
+    err = fut.result().errno  # type: ignore[attr-defined]
+    return (err, f"the output of {task.name!r}") if err in STOP_ERRNOS else None
+
+
+def _mount_point(path: Path) -> Path:
+    """The mount point of the file system holding ``path`` (the topmost parent on its device)."""
+    try:
+        dev = path.stat().st_dev
+        while path.parent != path and path.parent.stat().st_dev == dev:
+            path = path.parent
+    except OSError:
+        pass
+    return path
+
+
+def _stopped(folder: Path, err: int, what: str, n_kept: int, n_left: int) -> OutputWriteError:
+    """The one-line error of a run stopped by a write its output's file system refused.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The output folder.
+    err : int
+        The refused write's errno.
+    what : str
+        What was being written.
+    n_kept : int
+        Assets this run baked and journaled (kept).
+    n_left : int
+        Assets this run was to bake and did not.
+
+    Returns
+    -------
+    OutputWriteError
+        Naming the error, the file system (its mount point and free bytes) and what to do.
+    """
+    try:
+        free = f"{shutil.disk_usage(folder).free} bytes free"
+    except OSError:
+        free = "free space unknown"
+    code = errno.errorcode.get(err, f"errno {err}")
+    return OutputWriteError(expected_got(
+        f"bake output folder {str(folder)!r}", "a file system that takes every output",
+        f"{code} ({os.strerror(err)}) writing {what}, on the file system mounted at {_mount_point(folder)} "
+        f"({free}); the bake stopped: {n_kept} asset{'s' if n_kept != 1 else ''} baked and kept, {n_left} "
+        "not baked (free space or make the folder writable, then run the bake again)"), err)
 
 
 def _key_safe(name: str) -> str:
@@ -314,7 +402,13 @@ def _describe(exc: BaseException) -> str:
     from distributed import KilledWorker
 
     if isinstance(exc, KilledWorker):
-        text = f"the worker process died while baking this asset, every time it was tried ({exc})"
+        # Dask counts a death against every task the worker held: the one it ran and those queued
+        # on it; its own message (a long paragraph) says "died while running it" of both
+        n = exc.allowed_failures + 1
+        last = getattr(exc.last_worker, "address", exc.last_worker)
+        text = (f"KilledWorker: the worker process holding this task (baking it, or with it queued) died "
+                f"{n} time{'s' if n > 1 else ''}, more than Dask allows "
+                f"(distributed.scheduler.allowed-failures = {n - 1}; last worker {last}); a rerun bakes it")
     else:
         text = f"{type(exc).__name__}: {exc}"
     return " ".join(text.split())  # one line (Dask's messages span several)

@@ -10,8 +10,10 @@ kind from it (passing the axis as ``source_up``) and saves each output
 atomically (the kinds' ``save`` writes through :mod:`morphkit.fileio`), then
 hashes what it wrote. A mesh that cannot be baked (a
 :class:`~morphkit.errors.MorphkitError`: unreadable, empty, degenerate) gives a
-result carrying the error message, which the driver records; any other
-exception is a bug and propagates through Dask (the driver records it too).
+result carrying the error message, which the driver records; so does an output
+that cannot be written (an ``OSError``, with its ``errno``: the driver stops the
+run when the output's file system is full or read-only); any other exception is
+a bug and propagates through Dask (the driver records it too).
 
 One GL context per worker thread: :func:`worker_renderer` creates a
 :class:`~morphkit.render.Renderer` the first time a thread asks and reuses it
@@ -118,7 +120,10 @@ class TaskResult:
     worker : str
         ``host:pid`` of the process that ran the task.
     error : str, optional
-        ``"<ErrorType>: <message>"`` when the mesh could not be baked.
+        ``"<ErrorType>: <message>"`` when the mesh could not be baked, or an output not written.
+    errno : int, optional
+        The OS error number when an output could not be written (``errno.ENOSPC``: the disk is
+        full, ``errno.EROFS``, ...); ``error`` names the file.
     """
 
     name: str
@@ -126,6 +131,7 @@ class TaskResult:
     timings_s: dict[str, float]
     worker: str
     error: str | None = None
+    errno: int | None = None
 
 
 def bake_task(task: BakeTask) -> TaskResult:
@@ -141,13 +147,18 @@ def bake_task(task: BakeTask) -> TaskResult:
     TaskResult
         The outputs, or ``error``: ``"<ErrorType>: <message>"`` when the file is
         unreadable, empty or degenerate, changed since it was hashed, or a kind
-        refused the mesh (any :class:`~morphkit.errors.MorphkitError`).
+        refused the mesh (any :class:`~morphkit.errors.MorphkitError`), or it needs more
+        memory than the worker has (a ``MemoryError``); or when an
+        output could not be written (an ``OSError``: a full disk, a read-only folder),
+        with its ``errno``.
     """
     worker = f"{socket.gethostname()}:{os.getpid()}"
     try:
         return _bake(task, worker)
     except MorphkitError as exc:
         return TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: {exc}")
+    except MemoryError as exc:  # sizes past the worker's memory: this asset fails, not the run
+        return TaskResult(task.name, {}, {}, worker, f"MemoryError: {exc or 'an allocation failed'}")
 
 
 def _bake(task: BakeTask, worker: str) -> TaskResult:
@@ -166,9 +177,14 @@ def _bake(task: BakeTask, worker: str) -> TaskResult:
         t = time.perf_counter()
         rel = output_name(task.name, kind)
         target = Path(task.out_dir) / rel
-        target.parent.mkdir(parents=True, exist_ok=True)
-        kind.bake(mesh, renderer, task.up_axis).save(target)
-        sha, nbytes = file_digest(target)
+        baked = kind.bake(mesh, renderer, task.up_axis)
+        try:  # the saves write atomically: a failed one leaves no file
+            target.parent.mkdir(parents=True, exist_ok=True)
+            baked.save(target)
+            sha, nbytes = file_digest(target)
+        except OSError as exc:  # the output folder's file system: the driver decides (it may stop)
+            return TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: cannot write {rel}: "
+                              f"{exc.strerror or exc}", errno=exc.errno)
         dt = time.perf_counter() - t
         outputs[kind.name] = OutputRecord(rel, sha, nbytes, kind.version, kind.options(), dt)
         timings[kind.name] = dt

@@ -21,7 +21,9 @@ from types import TracebackType
 import cv2
 import numpy as np
 
-from ..errors import ValidationError, expected_got
+from .. import tol
+from ..errors import RenderError, ValidationError, expected_got
+from ..fileio import open_video_writer
 
 __all__ = ["VideoFile", "CODECS"]
 
@@ -44,7 +46,10 @@ class VideoFile:
     Raises
     ------
     ValidationError
-        An unknown extension, a bad fps, or OpenCV cannot open a writer for it.
+        An unknown extension, a bad fps, or an ``.mp4`` frame side past
+        :data:`morphkit.tol.MAX_VIDEO_SIDE`.
+    RenderError
+        OpenCV cannot open a writer for it (:func:`morphkit.fileio.open_video_writer`).
     """
 
     def __init__(self, path: str | os.PathLike[str], fps: float, shape: tuple[int, int]) -> None:
@@ -56,15 +61,17 @@ class VideoFile:
         if not (np.isfinite(fps) and fps > 0):
             raise ValidationError(expected_got("fps", "a finite number > 0", fps))
         self.shape = (int(shape[0]), int(shape[1]))
+        if ext == ".mp4" and max(self.shape) > tol.MAX_VIDEO_SIDE:
+            raise ValidationError(expected_got("video frame shape", f"sides of at most {tol.MAX_VIDEO_SIDE} "
+                                               "pixels for mp4v (tol.MAX_VIDEO_SIDE)", self.shape))
         fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=ext, dir=self.path.parent)
         os.close(fd)
         self._tmp = Path(tmp)
-        self._writer = cv2.VideoWriter(str(self._tmp), cv2.VideoWriter_fourcc(*CODECS[ext]), float(fps),
-                                       (self.shape[1], self.shape[0]))
-        if not self._writer.isOpened():
+        try:
+            self._writer = open_video_writer(self._tmp, CODECS[ext], fps, self.shape)
+        except RenderError:
             self._tmp.unlink(missing_ok=True)
-            raise ValidationError(expected_got("video writer", f"OpenCV able to write {ext} files",
-                                               "a writer that did not open"))
+            raise
         self.frames = 0
 
     def write(self, rgb: np.ndarray) -> None:

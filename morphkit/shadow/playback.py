@@ -31,8 +31,8 @@ from tqdm import tqdm
 from .. import tol
 from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
-from ..errors import FileFormatError, MeshError, RenderError, ValidationError, expected_got
-from ..fileio import atomic_output, write_image
+from ..errors import FileFormatError, MeshError, ValidationError, expected_got
+from ..fileio import atomic_output, open_video_writer, write_image
 from ..meshes import load_mesh
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
@@ -366,7 +366,8 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     renderer : SceneRenderer
         Renders the frames.
     size : int
-        Frame side in pixels, in [16, 8192].
+        Frame side in pixels, in [16, 8190] (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make
+        an mp4v video).
     area_light : AreaLight, optional
         Soft shadows of this light (:func:`area_light_for`), ``samples x samples`` light samples.
     samples : int
@@ -388,9 +389,9 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     OutOfRangeError
         A position of the path lies outside the usable range.
     RenderError
-        OpenCV has no mp4v video writer here.
+        OpenCV has no mp4v video writer here, or none for frames of ``size`` (memory).
     """
-    size = as_int(size, "frame size", lo=16, hi=8192)
+    size = as_int(size, "frame size", lo=16, hi=tol.MAX_VIDEO_SIDE)
     samples = as_int(samples, "light samples per axis", lo=1, hi=64)
     if not isinstance(path, ObjectPath):
         raise ValidationError(expected_got("path", "an ObjectPath", type(path).__name__))
@@ -403,9 +404,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     frames: list[Path] = []
     video = folder / VIDEO_NAME
     with atomic_output(video) as tmp:
-        writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), float(fps), (size, size))
-        if not writer.isOpened():
-            raise RenderError(expected_got("video writer", "OpenCV's mp4v writer", "none available"))
+        writer = open_video_writer(tmp, "mp4v", fps, (size, size))
         try:
             for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
                                         disable=None if progress else True, leave=False)):
