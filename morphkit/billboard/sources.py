@@ -40,7 +40,7 @@ from .bake import bake_asset
 from .dome import ViewDome
 from .domeasset import DomeAsset, bake_dome
 
-__all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets"]
+__all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]
 
 #: Mesh file extensions ``--asset`` bakes on the fly (what :func:`morphkit.meshes.load_mesh` reads).
 MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".ply", ".stl", ".off")
@@ -63,6 +63,34 @@ class ResolvedAssets:
     assets: dict[str, BillboardAsset | DomeAsset]
     items: dict[str, list[Item]]
     skipped: dict[str, str] = field(default_factory=dict)
+
+
+def default_levels(size: int, most: int = 3) -> int:
+    """Pyramid levels of a bake at ``size``: ``most``, fewer where the smallest level's side
+    would be under 8 px (a 16 px asset has 2).
+
+    Parameters
+    ----------
+    size : int
+        Level-0 image side, pixels (>= 8).
+    most : int
+        The most levels wanted.
+
+    Returns
+    -------
+    int
+        At least 1.
+
+    Examples
+    --------
+    >>> from morphkit.billboard.sources import default_levels
+    >>> default_levels(128), default_levels(16), default_levels(8)
+    (3, 2, 1)
+    """
+    n = 1
+    while n < most and round(size / 2**n) >= 8:
+        n += 1
+    return n
 
 
 def check_specs(specs: Sequence[str]) -> None:
@@ -118,7 +146,7 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trim
 
 
 def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int = 8, size: int = 128,
-                   levels: int = 3, up: str = "auto", progress: bool = False,
+                   levels: int | None = None, up: str = "auto", progress: bool = False,
                    dome: ViewDome | None = None) -> ResolvedAssets:
     """Bake or load each of ``specs`` (see the module notes).
 
@@ -128,8 +156,11 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         Sample mesh names, mesh files or ``.npz`` asset files.
     renderer : SceneRenderer
         For baking.
-    views, size, levels : int
-        Bake options (:func:`~morphkit.billboard.bake.bake_asset`): K, level-0 image side, pyramid levels.
+    views, size : int
+        Bake options (:func:`~morphkit.billboard.bake.bake_asset`): K, level-0 image side.
+    levels : int, optional
+        Pyramid levels; default: 3, fewer where the smallest level would be under 8 px
+        (:func:`default_levels`).
     up : {"auto", "z", "y"}
         Up axis of the mesh files (:func:`morphkit.meshes.load_mesh`); recorded in their assets.
     progress : bool
@@ -154,6 +185,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         A mesh file that cannot be loaded, or a bad ``up``.
     """
     check_specs(specs)
+    levels = default_levels(size) if levels is None else levels
     assets: dict[str, BillboardAsset | DomeAsset] = {}
     items: dict[str, list[Item]] = {}
     skipped: dict[str, str] = {}
