@@ -16,6 +16,18 @@ Asset side:
 * :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
   the references' depth (the morph's alpha).
 
+Relightable assets seen from any height (issue #25):
+
+* :mod:`.dome`, :mod:`.domecameras` -- :class:`~.dome.ViewDome` (views over the hemisphere,
+  triangulated) and the camera rule of views that look at the pivot from any direction;
+* :mod:`.gbuffer` -- :class:`~.gbuffer.ViewSurface`: albedo, normals and depth of an image;
+* :mod:`.depthmorph` -- the per-pixel morph of three views with their depth;
+* :mod:`.domeasset`, :mod:`.domefile` -- :class:`~.domeasset.DomeAsset`, :func:`~.domeasset.bake_dome`
+  and the versioned file; :mod:`.analytic` -- an exact sphere asset (no GL);
+* :mod:`.impostor` -- the engines' hemi-octahedral impostor, the anchor baseline;
+* :mod:`.litmodes`, :mod:`.litmesh`, :mod:`.sun` -- relit billboards and their relit ground
+  truth (:mod:`morphkit.shading`), the sun's path.
+
 Scene side:
 
 * :mod:`.instances` -- N instances (asset, position, yaw, scale);
