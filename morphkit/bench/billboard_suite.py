@@ -104,10 +104,12 @@ from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_int
+from . import dome_suite
 from .billboard_scenes import SUITE, hit_rate_rows, scene_accuracy_rows, speed_rows, temporal_rows
 from .harness import Timing, make_row, time_call, time_calls
 
-__all__ = ["run", "AssetCache", "SECTIONS", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
+__all__ = ["run", "AssetCache", "SECTIONS", "SECTIONS_ENV", "section_name", "selected_sections", "SUITE",
+           "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
 
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "crossfade"
@@ -650,10 +652,67 @@ def textured_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
 #: The suite's sections, in order; each ``(cache, quick) -> rows``.
 SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
     pair_rows, ring_rows, equal_memory_rows, bake_rows, textured_rows, scene_rows]
+SECTIONS += dome_suite.SECTIONS
+
+#: Environment variable: a comma-separated list of section names (:func:`section_name`) to run
+#: (unset or empty: every section).
+SECTIONS_ENV = "MORPHKIT_BENCH_SECTIONS"
+
+
+def section_name(section: Callable[..., Any]) -> str:
+    """A section's name: its function's name less ``_rows``, dashes for underscores
+    (``equal_memory_rows`` -> ``equal-memory``, ``dome_bands_rows`` -> ``dome-bands``).
+
+    Parameters
+    ----------
+    section : callable
+        A function of :data:`SECTIONS`.
+
+    Returns
+    -------
+    str
+        The name.
+    """
+    return section.__name__.removesuffix("_rows").replace("_", "-")
+
+
+def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bool], list[dict[str, Any]]]]:
+    """The sections named in ``names`` (comma-separated; default: the environment variable
+    :data:`SECTIONS_ENV`), in :data:`SECTIONS` order; all of them when it is unset or empty.
+
+    Parameters
+    ----------
+    names : str, optional
+        E.g. ``"dome-bands,dome-relit"``.
+
+    Returns
+    -------
+    list of callable
+        The sections to run.
+
+    Raises
+    ------
+    ValidationError
+        A name that is not a section's.
+    """
+    import os
+
+    from ..errors import ValidationError, expected_got
+
+    raw = os.environ.get(SECTIONS_ENV, "") if names is None else names
+    want = [w.strip() for w in raw.split(",") if w.strip()]
+    if not want:
+        return list(SECTIONS)
+    known = [section_name(s) for s in SECTIONS]
+    unknown = [w for w in want if w not in known]
+    if unknown:
+        raise ValidationError(expected_got(f"{SECTIONS_ENV} sections", f"names among {known}", unknown))
+    return [s for s in SECTIONS if section_name(s) in want]
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """Run every section of :data:`SECTIONS`; see the module docstring.
+    """Run every section of :data:`SECTIONS` (or those named in the environment variable
+    :data:`SECTIONS_ENV`, :func:`selected_sections`); see the module docstring.
 
     Parameters
     ----------
@@ -670,6 +729,6 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     with Renderer() as r:
         cache = AssetCache(r)
-        for section in SECTIONS:
+        for section in selected_sections():
             rows += section(cache, quick)
     return rows
