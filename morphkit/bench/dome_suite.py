@@ -58,7 +58,10 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   issue's baseline was measured with (``bake_asset`` K = 8 at 10 degrees elevation, ``S^2``, 3
   levels, ``AxialFacing``, ``MorphMode``) against ``MeshMode`` (bake lights and ambient,
   supersampled 2x) on the same flyover and instances; its ``n`` counts only the billboards
-  it draws (edge-on quads from above are not drawn).
+  it draws (edge-on quads from above are not drawn). ``dome-temporal-one``: the same modes
+  on one instance at the origin, the fly-over about its pivot at 4 half extents (the quad
+  stays centred, only its image changes; 161 frames, quick 41): a view or frame switch
+  shows as a spike (``argmax_elevation``: the eye's elevation at the largest step).
 * ``dome-speed`` -- 1000 trees (quick 200) over a field, 640 x 480 (quick 320 x 240), one
   camera 30 degrees up at the flyover's distance: the warm frame time (one frame fills
   the cache, then the median of repeats, interleaved by
@@ -89,6 +92,7 @@ from ..billboard import (
     Backdrop,
     BillboardScene,
     ClassicMode,
+    Instances,
     MeshMode,
     MorphCache,
     MorphMode,
@@ -497,6 +501,35 @@ def dome_temporal_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
                                  Timing.from_seconds(ms[m]), metrics=metrics,
                                  note="per billboard box vs "
                                  + ("MeshMode" if m == "ring-morph" else "LitMeshMode")))
+    one = {m: mode for m, (_, mode) in modes.items()} | {"mesh": truth_lit}
+    return rows + _one_instance_rows(dome, imp, ring, one, 41 if quick else 161, shape)
+
+
+def _one_instance_rows(dome: DomeAsset, imp: OctahedralImpostor, ring: Any, modes: dict[str, Any],
+                       frames: int, shape: tuple[int, int]) -> list[dict[str, Any]]:
+    """Step changes of one instance at the origin seen along a fly-over about its pivot (the quad
+    stays centred, so only its image changes: a frame switch shows as a spike)."""
+    name = dome.name
+    inst = Instances((name,), np.zeros(1, np.int64), np.zeros((1, 2)), np.zeros(1), np.ones(1))
+    scenes = {"dome": BillboardScene({name: dome}, inst, backdrop=Backdrop(), facing=ViewpointFacing()),
+              "impostor": BillboardScene({name: imp}, inst, backdrop=Backdrop(), facing=ViewpointFacing()),
+              "ring": BillboardScene({name: ring}, inst, backdrop=Backdrop(), facing=AxialFacing())}
+    path = FlyoverPath(centre=tuple(float(v) for v in dome.pivot), distance=4.0 * max(dome.half_extent))
+    cams = path.cameras(frames, shape)
+    rows = []
+    for m, mode in modes.items():
+        scene = scenes["impostor" if m == "impostor" else "ring" if m == "ring-morph" else "dome"]
+        fs = [scene.render(c, mode) for c in cams]
+        d = step_changes([f.layer for f in fs])
+        med, mx = float(np.median(d)), float(d.max())
+        rows.append(make_row(SUITE, m, {"section": "dome-temporal-one", "mesh": name, "frames": frames,
+                                        "size": dome.size[0], "shape": f"{shape[1]}x{shape[0]}"},
+                             Timing.from_seconds([f.stats.ms / 1e3 for f in fs]),
+                             metrics={"step_max": mx, "step_median": med,
+                                      "max_over_median": mx / med if med > 0 else 1e9,
+                                      "argmax_elevation": path.elevation_at(float(np.argmax(d) + 0.5)
+                                                                            / (frames - 1))},
+                             note=f"{len(d)} steps of {80 / (frames - 1):.2f} deg elevation, one instance"))
     return rows
 
 
