@@ -31,17 +31,21 @@ def test_band_directions_refuse_a_band_outside_the_hemisphere():
         ds.band_directions((80.0, 95.0), 3, np.random.default_rng(0))
 
 
-def test_dome_sections_are_appended_and_selectable_by_name(monkeypatch):
+def test_dome_sections_are_appended_and_selectable_by_name():
     names = [bs.section_name(s) for s in bs.SECTIONS]
     assert names[-5:] == ["dome-bands", "dome-relit", "dome-temporal", "dome-speed", "dome-bake"]
     assert names[:3] == ["pair", "ring", "equal-memory"]
     assert bs.selected_sections("dome-bake, pair") == [bs.pair_rows, ds.dome_bake_rows]
-    monkeypatch.setenv(bs.SECTIONS_ENV, "dome-speed")
-    assert bs.selected_sections() == [ds.dome_speed_rows]
-    monkeypatch.setenv(bs.SECTIONS_ENV, "")
-    assert bs.selected_sections() == bs.SECTIONS
+    assert bs.selected_sections("") == bs.SECTIONS == bs.selected_sections(None)
     with pytest.raises(ValidationError, match="no-such-section"):
         bs.selected_sections("dome-bands,no-such-section")
+
+
+def test_bench_sections_flag_is_for_the_billboards_suite_only(capsys):
+    from morphkit.cli import main
+
+    assert main(["bench", "warp", "--quick", "--sections", "pair"]) == 2
+    assert "--sections is an option of `bench billboards` only" in capsys.readouterr().err
 
 
 @pytest.mark.gl

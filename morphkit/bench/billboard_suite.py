@@ -108,7 +108,7 @@ from . import dome_suite
 from .billboard_scenes import SUITE, hit_rate_rows, scene_accuracy_rows, speed_rows, temporal_rows
 from .harness import Timing, make_row, time_call, time_calls
 
-__all__ = ["run", "AssetCache", "SECTIONS", "SECTIONS_ENV", "section_name", "selected_sections", "SUITE",
+__all__ = ["run", "AssetCache", "SECTIONS", "section_name", "selected_sections", "SUITE",
            "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
 
 #: The method the table's ratio column divides by.
@@ -654,11 +654,6 @@ SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
     pair_rows, ring_rows, equal_memory_rows, bake_rows, textured_rows, scene_rows]
 SECTIONS += dome_suite.SECTIONS
 
-#: Environment variable: a comma-separated list of section names (:func:`section_name`) to run
-#: (unset or empty: every section).
-SECTIONS_ENV = "MORPHKIT_BENCH_SECTIONS"
-
-
 def section_name(section: Callable[..., Any]) -> str:
     """A section's name: its function's name less ``_rows``, dashes for underscores
     (``equal_memory_rows`` -> ``equal-memory``, ``dome_bands_rows`` -> ``dome-bands``).
@@ -677,8 +672,8 @@ def section_name(section: Callable[..., Any]) -> str:
 
 
 def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bool], list[dict[str, Any]]]]:
-    """The sections named in ``names`` (comma-separated; default: the environment variable
-    :data:`SECTIONS_ENV`), in :data:`SECTIONS` order; all of them when it is unset or empty.
+    """The sections named in ``names`` (comma-separated, ``morphkit bench billboards --sections``),
+    in :data:`SECTIONS` order; all of them when ``names`` is None or empty.
 
     Parameters
     ----------
@@ -695,29 +690,28 @@ def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bo
     ValidationError
         A name that is not a section's.
     """
-    import os
-
     from ..errors import ValidationError, expected_got
 
-    raw = os.environ.get(SECTIONS_ENV, "") if names is None else names
-    want = [w.strip() for w in raw.split(",") if w.strip()]
+    want = [w.strip() for w in (names or "").split(",") if w.strip()]
     if not want:
         return list(SECTIONS)
     known = [section_name(s) for s in SECTIONS]
     unknown = [w for w in want if w not in known]
     if unknown:
-        raise ValidationError(expected_got(f"{SECTIONS_ENV} sections", f"names among {known}", unknown))
+        raise ValidationError(expected_got("sections", f"names among {known}", unknown))
     return [s for s in SECTIONS if section_name(s) in want]
 
 
-def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """Run every section of :data:`SECTIONS` (or those named in the environment variable
-    :data:`SECTIONS_ENV`, :func:`selected_sections`); see the module docstring.
+def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, Any]]:
+    """Run every section of :data:`SECTIONS`, or those named in ``sections``; see the module docstring.
 
     Parameters
     ----------
     quick : bool
         Smaller assets and fewer cases in every section (a smoke run).
+    sections : str, optional
+        Comma-separated section names (:func:`section_name`, e.g. ``"dome-bands,dome-speed"``);
+        None or empty: every section.
 
     Returns
     -------
@@ -726,9 +720,10 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """
     from ..render import Renderer
 
+    chosen = selected_sections(sections)  # before the renderer starts: a bad name fails at once
     rows: list[dict[str, Any]] = []
     with Renderer() as r:
         cache = AssetCache(r)
-        for section in selected_sections():
+        for section in chosen:
             rows += section(cache, quick)
     return rows

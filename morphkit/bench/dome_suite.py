@@ -130,7 +130,9 @@ PSNR_CAP = 99.0
 GOLDEN_DEG = 180.0 * (3.0 - math.sqrt(5.0))
 #: Seed of the bench directions and instance fields.
 SEED = 25
+#: Frames a side of the impostor (the engines' default).
 IMPOSTOR_FRAMES = 12
+#: Pyramid levels of the dome assets and mip levels of the impostors.
 LEVELS = 3
 
 
