@@ -66,6 +66,11 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             print("morphkit: error: --workers is an option of `bench bake` only", file=sys.stderr)
             return 2
         options["workers"] = args.workers
+    if args.sections is not None:
+        if args.suite != "billboards":
+            print("morphkit: error: --sections is an option of `bench billboards` only", file=sys.stderr)
+            return 2
+        options["sections"] = args.sections
     run_suite(args.suite, quick=args.quick, json_path=args.json, plot_path=args.plot, options=options)
     return 0
 
@@ -368,6 +373,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--workers", type=int, nargs="+", default=None, metavar="N",
                    help="bake only: the local worker counts to time (default 1 2; 1 is always included); "
                    "reports the speed-up curve, per-worker start-up and a 16-worker projection")
+    b.add_argument("--sections", default=None, metavar="NAMES",
+                   help="billboards only: run only these sections, comma-separated "
+                   "(e.g. dome-bands,dome-relit; names: the suite's section functions less _rows)")
     b.set_defaults(func=_cmd_bench)
 
     v = sub.add_parser(

@@ -104,10 +104,12 @@ from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_int
+from . import dome_suite
 from .billboard_scenes import SUITE, hit_rate_rows, scene_accuracy_rows, speed_rows, temporal_rows
 from .harness import Timing, make_row, time_call, time_calls
 
-__all__ = ["run", "AssetCache", "SECTIONS", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
+__all__ = ["run", "AssetCache", "SECTIONS", "section_name", "selected_sections", "SUITE",
+           "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
 
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "crossfade"
@@ -650,15 +652,66 @@ def textured_rows(cache: AssetCache, quick: bool) -> list[dict[str, Any]]:
 #: The suite's sections, in order; each ``(cache, quick) -> rows``.
 SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
     pair_rows, ring_rows, equal_memory_rows, bake_rows, textured_rows, scene_rows]
+SECTIONS += dome_suite.SECTIONS
+
+def section_name(section: Callable[..., Any]) -> str:
+    """A section's name: its function's name less ``_rows``, dashes for underscores
+    (``equal_memory_rows`` -> ``equal-memory``, ``dome_bands_rows`` -> ``dome-bands``).
+
+    Parameters
+    ----------
+    section : callable
+        A function of :data:`SECTIONS`.
+
+    Returns
+    -------
+    str
+        The name.
+    """
+    return section.__name__.removesuffix("_rows").replace("_", "-")
 
 
-def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """Run every section of :data:`SECTIONS`; see the module docstring.
+def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bool], list[dict[str, Any]]]]:
+    """The sections named in ``names`` (comma-separated, ``morphkit bench billboards --sections``),
+    in :data:`SECTIONS` order; all of them when ``names`` is None or empty.
+
+    Parameters
+    ----------
+    names : str, optional
+        E.g. ``"dome-bands,dome-relit"``.
+
+    Returns
+    -------
+    list of callable
+        The sections to run.
+
+    Raises
+    ------
+    ValidationError
+        A name that is not a section's.
+    """
+    from ..errors import ValidationError, expected_got
+
+    want = [w.strip() for w in (names or "").split(",") if w.strip()]
+    if not want:
+        return list(SECTIONS)
+    known = [section_name(s) for s in SECTIONS]
+    unknown = [w for w in want if w not in known]
+    if unknown:
+        raise ValidationError(expected_got("sections", f"names among {known}", unknown))
+    return [s for s in SECTIONS if section_name(s) in want]
+
+
+def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, Any]]:
+    """Run every section of :data:`SECTIONS`, or those named in ``sections``; see the module docstring.
 
     Parameters
     ----------
     quick : bool
         Smaller assets and fewer cases in every section (a smoke run).
+    sections : str, optional
+        Comma-separated section names (:func:`section_name`, e.g. ``"dome-bands,dome-speed"``);
+        None or empty: every section.
 
     Returns
     -------
@@ -667,9 +720,10 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """
     from ..render import Renderer
 
+    chosen = selected_sections(sections)  # before the renderer starts: a bad name fails at once
     rows: list[dict[str, Any]] = []
     with Renderer() as r:
         cache = AssetCache(r)
-        for section in SECTIONS:
+        for section in chosen:
             rows += section(cache, quick)
     return rows
