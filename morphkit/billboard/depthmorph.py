@@ -17,9 +17,10 @@ the bounding sphere is sampled at ``steps`` points; each is projected into view
 ``k`` and compared with ``k``'s depth there. The first sample at or behind ``k``'s
 surface ends the march:
 
-* **hit** -- the ray crossed ``k``'s surface between this sample and the one before
-  (both in front of surface there, or the crossing within :data:`THICKNESS_STEPS`
-  steps): the crossing is refined (secant, then :data:`REFINE_STEPS` bisections);
+* **hit** -- the ray crossed ``k``'s surface between this sample and the one before: the
+  sample lies at most :data:`THICKNESS_STEPS` steps behind the surface there (a ray that
+  passes behind a part's outline is farther behind it); the crossing is refined (secant
+  where the sample before saw a surface too, then :data:`REFINE_STEPS` bisections);
 * **occluded** -- the ray passed behind a nearer part's outline as ``k`` sees it: ``k``
   does not see the point (the other references fill it in);
 * **free** -- no sample behind ``k``'s surface: ``k`` sees the ray's whole path as empty.
@@ -178,7 +179,7 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
         f = np.where(d < _FAR, z - d, np.float32(-np.inf)).astype(np.float32)
         behind = (f >= 0) & ~done
         if behind.any():
-            crossed = behind & (np.isfinite(prev_f) | (f <= thick))
+            crossed = behind & (f <= thick)
             status[behind] = np.where(crossed[behind], HIT, OCCLUDED)
             # secant between the previous sample and this one where both saw a surface
             both = crossed & np.isfinite(prev_f)
