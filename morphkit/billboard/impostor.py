@@ -307,6 +307,7 @@ class OctahedralImpostor:
         self.cameras = cameras
         self.frames = n
         self._stored = [list(level) for level in stored]
+        self._nbytes = int(sum(s.nbytes for level in self._stored for s in level))
         self.frame_side = int(m)
         out = m if out_size is None else as_int(out_size, "out_size", lo=1)
         self.size = (out, out)
@@ -423,7 +424,7 @@ class OctahedralImpostor:
         """Stored bytes: every frame at every mip level, 9 bytes a pixel (RGBA uint8,
         normal int8 x 3, depth float16); the frame directions are computed from the grid,
         not stored, and the float32 working copies the runtime decodes are not counted."""
-        return int(sum(s.nbytes for level in self._stored for s in level))
+        return self._nbytes  # counted once: a runtime-checked protocol reads it on every isinstance
 
     def camera(self, azimuth_deg: float, elevation_deg: float, level: int = 0) -> CameraModel:
         """The camera of the surface of a direction at ``level`` (its depth is along this
