@@ -11,7 +11,11 @@ the bounding sphere) as a depth map and its coverage. :meth:`SunAtlas.light_view
 gives the light view along any sun direction: the three atlas views of the dome
 triangle around it, morphed per pixel by marching their depth maps
 (:func:`~morphkit.billboard.depthmorph.morph_views`; a light view is just a view),
-exactly the stored view at an atlas direction.
+exactly the stored view at an atlas direction. A texel of the morphed view holds the
+caster where the views' weighted vote says so (the morph's coverage at least
+:data:`~morphkit.tol.SUN_VIEW_MIN_COVERAGE`): the morph's own rule (any view's hit
+covers) makes the union of three views' silhouettes, a shadow too large by about a
+texel all round.
 
 **The rule.** An instance's pose is ``x = s Rz(yaw) p + t`` (object point ``p``,
 :meth:`~morphkit.billboard.instances.Instances.object2world`). A sun in world direction
@@ -346,7 +350,8 @@ class SunAtlas:
         target = self.cameras.ortho_camera(az, el, shape)
         refs = [(self.view_camera(k), self._surface(k), w) for k, w in live]
         morph = morph_views(target, self.cameras.pivot, self.cameras.radius, refs)
-        return target, morph.depth
+        held = morph.alpha >= np.float32(tol.SUN_VIEW_MIN_COVERAGE)
+        return target, np.where(held, morph.depth, np.float32(np.inf))
 
 
 def bake_sun_atlas(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, dome: ViewDome | None = None,

@@ -36,7 +36,7 @@ def _angles(d: np.ndarray) -> tuple[float, float]:
             float(np.degrees(np.arcsin(np.clip(d[2], -1.0, 1.0)))))
 
 
-def direct_light_view(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: SceneRenderer,
+def direct_light_view(atlas: SunAtlas, normalized_mesh: trimesh.Trimesh, renderer: SceneRenderer,
                       sun_dir_object: np.ndarray, shape: tuple[int, int] | None = None
                       ) -> tuple[CameraModel, np.ndarray] | None:
     """The light view :meth:`SunAtlas.light_view` approximates, rendered directly.
@@ -44,9 +44,10 @@ def direct_light_view(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: SceneRen
     Parameters
     ----------
     atlas : SunAtlas
-        Gives the camera rule (and checks ``mesh`` by hash).
-    mesh : trimesh.Trimesh
-        The atlas's mesh (normalised here, as the bake did).
+        Gives the camera rule.
+    normalized_mesh : trimesh.Trimesh
+        The atlas's mesh, normalised (:func:`morphkit.meshes.normalize`; not checked here:
+        :meth:`SunAtlas.check_mesh` does, :func:`direct_ground_shadow` calls it).
     renderer : SceneRenderer
         Draws the depth.
     sun_dir_object : (3,) float
@@ -63,16 +64,15 @@ def direct_light_view(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: SceneRen
     Raises
     ------
     ValidationError
-        Another mesh than the atlas's; a zero direction; a bad shape.
+        A zero direction; a bad shape.
     """
-    atlas.check_mesh(mesh)
     d = as_finite_array(sun_dir_object, "sun_dir_object", shape=(3,))
     shape = atlas.cameras.shape if shape is None else as_shape(shape, "shape")
     if atlas.light_view(d, (8, 8)) is None:  # validates the direction; None below the horizon
         return None
     az, el = _angles(d / np.linalg.norm(d))
     cam = atlas.cameras.ortho_camera(az, max(el, tol.SUN_MIN_ELEVATION_DEG), shape)
-    return cam, renderer.depth(cam, [Item(normalize(mesh))])
+    return cam, renderer.depth(cam, [Item(normalized_mesh)])
 
 
 def direct_ground_shadow(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: SceneRenderer,
@@ -85,7 +85,7 @@ def direct_ground_shadow(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: Scene
     atlas : SunAtlas
         The camera rule (and the mesh's hash).
     mesh : trimesh.Trimesh
-        The caster.
+        The caster (normalised here; checked against the atlas by hash).
     renderer : SceneRenderer
         Draws the depth.
     pose : (4, 4) float
@@ -101,10 +101,16 @@ def direct_ground_shadow(atlas: SunAtlas, mesh: trimesh.Trimesh, renderer: Scene
     -------
     (N,) float32
         1 lit, 0 shadowed.
+
+    Raises
+    ------
+    ValidationError
+        Another mesh than the atlas's (both hashes named); bad pose, direction or points.
     """
+    atlas.check_mesh(mesh)
     pts = as_finite_array(points, "points", shape=(None, 3))
     sun = sun_in_object(pose, sun_dir_world)
-    view = None if sun is None else direct_light_view(atlas, mesh, renderer, sun, shape)
+    view = None if sun is None else direct_light_view(atlas, normalize(mesh), renderer, sun, shape)
     if view is None:
         return np.ones(len(pts), np.float32)
     return ground_visibility(view[0], view[1], pose, pts)
