@@ -195,3 +195,26 @@ def test_a_baked_atlas_matches_its_direct_render_and_the_ray_cast(renderer):
     assert shadow_iou(direct_ground_shadow(atlas, mesh, renderer, pose, sun, pts) < 0.5, truth) > 0.9
     with pytest.raises(ValidationError, match="hash"):
         direct_ground_shadow(atlas, trimesh.creation.icosphere(), renderer, pose, sun, pts)
+
+
+def test_a_jump_to_a_nearer_surface_is_no_crossing_for_light_views():
+    """A ray passing from in front of a far plate to behind a nearer one (a gap between parts
+    the reference sees overlapping): the billboards' rule calls it a hit, ``jump_steps`` occluded."""
+    from morphkit.billboard.depthmorph import HIT, OCCLUDED, march_view
+    from morphkit.camera import orthographic
+
+    cam = orthographic(1.0, 1.0, (16, 16), np.eye(4), znear=0.1, zfar=10.0)  # camera frame = world
+    depth = np.full((16, 16), 3.0, np.float32)
+    depth[:, :8] = 1.0  # the near plate on the image's left (camera x < 0)
+    d = np.array([-1.0, 0.0, 0.2]) / np.linalg.norm([-1.0, 0.0, 0.2])
+    o = np.array([[0.5, 0.0, 1.5]], np.float32)
+    dirs = d[None].astype(np.float32)
+    t0, t1 = np.zeros(1, np.float32), np.ones(1, np.float32)
+    assert march_view(o, dirs, t0, t1, cam, depth, 32).status[0] == HIT
+    assert march_view(o, dirs, t0, t1, cam, depth, 32, tol.SUN_CROSSING_JUMP_STEPS).status[0] == OCCLUDED
+    # a continuous crossing of the far plate stays a hit
+    down = np.array([[-0.05, 0.0, 0.96]], np.float32)  # steep into the far plate at x > 0
+    deep = np.array([[0.5, 0.0, 2.0]], np.float32)
+    hit = march_view(deep, down / np.linalg.norm(down), t0, 2 * t1, cam, depth, 32,
+                     tol.SUN_CROSSING_JUMP_STEPS)
+    assert hit.status[0] == HIT and abs(2.0 + hit.t[0] * 0.96 / np.linalg.norm(down) - 3.0) < 0.05

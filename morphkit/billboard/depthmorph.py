@@ -24,6 +24,13 @@ surface ends the march:
   does not see the point (the other references fill it in);
 * **free** -- no sample behind ``k``'s surface: ``k`` sees the ray's whole path as empty.
 
+With ``jump_steps`` (opt-in; light views of :mod:`morphkit.shadow.sunatlas` use it) a
+crossing must also be continuous: the sample's depth behind ``k``'s surface may have
+grown by at most ``jump_steps`` march steps since the sample before. A larger jump is
+the ray passing from in front of a far surface to behind a nearer one (a gap between
+two parts that ``k`` sees overlapping): occluded, not hit, so gaps another view sees
+through stay open.
+
 The views' answers are combined (:func:`combine`): alpha is the weighted mean of the
 hit views' coverage and the free views' zero (occluded views abstain); colour,
 normal and depth come from the hit views whose point lies within
@@ -137,7 +144,8 @@ def _lookup(depth: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.ndarray,
-               camera: CameraModel, depth: np.ndarray, steps: int) -> ViewHits:
+               camera: CameraModel, depth: np.ndarray, steps: int, jump_steps: float | None = None
+               ) -> ViewHits:
     """March rays through one reference's depth map (module docstring).
 
     Parameters
@@ -152,6 +160,9 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
         Its linear depth, ``+inf`` where nothing is drawn.
     steps : int
         Samples per ray (:func:`steps_for`).
+    jump_steps : float, optional
+        A crossing must be continuous to within this many march steps (module docstring);
+        ``None`` (default): any crossing after a sample in front of a surface is a hit.
 
     Returns
     -------
@@ -179,6 +190,9 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
         behind = (f >= 0) & ~done
         if behind.any():
             crossed = behind & (np.isfinite(prev_f) | (f <= thick))
+            if jump_steps is not None:
+                with np.errstate(invalid="ignore"):  # -inf where no surface before: not continuous
+                    crossed &= (f <= thick) | (f - prev_f <= np.float32(jump_steps) * dt)
             status[behind] = np.where(crossed[behind], HIT, OCCLUDED)
             # secant between the previous sample and this one where both saw a surface
             both = crossed & np.isfinite(prev_f)
@@ -275,7 +289,8 @@ def combine(hits: Sequence[ViewHits], surfaces: Sequence[ViewSurface], weights: 
 
 
 def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
-                views: Sequence[tuple[CameraModel, ViewSurface, float]]) -> ViewSurface:
+                views: Sequence[tuple[CameraModel, ViewSurface, float]], *,
+                jump_steps: float | None = None) -> ViewSurface:
     """The surface ``target`` sees, morphed from the weighted references ``views``.
 
     Parameters
@@ -289,6 +304,8 @@ def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
     views : sequence of (CameraModel, ViewSurface, float)
         Each reference's camera (same image shape as its surface), surface and weight
         (weights > 0; they need not sum to 1).
+    jump_steps : float, optional
+        Passed to :func:`march_view` (``None``: the billboards' rule).
 
     Returns
     -------
@@ -313,7 +330,7 @@ def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
         t1 = (-b[inside] + sq).astype(np.float32)
         oi, di = o[inside].astype(np.float32), d[inside].astype(np.float32)
         steps = steps_for(target.shape)
-        hits = [march_view(oi, di, t0, t1, cam, s.depth, steps) for cam, s, _ in views]
+        hits = [march_view(oi, di, t0, t1, cam, s.depth, steps, jump_steps) for cam, s, _ in views]
         dt = (t1 - t0) / np.float32(steps - 1)
         alb, nrm, t, covered = combine(hits, [s for _, s, _ in views], [wt for _, _, wt in views], dt)
         albedo[inside] = alb

@@ -15,7 +15,10 @@ exactly the stored view at an atlas direction. A texel of the morphed view holds
 caster where the views' weighted vote says so (the morph's coverage at least
 :data:`~morphkit.tol.SUN_VIEW_MIN_COVERAGE`): the morph's own rule (any view's hit
 covers) makes the union of three views' silhouettes, a shadow too large by about a
-texel all round.
+texel all round. A view's crossing of its surface must be continuous
+(:data:`~morphkit.tol.SUN_CROSSING_JUMP_STEPS`): a ray between two parts that view sees
+overlapping (a cow's legs) is not blocked by it, so the gap another view sees through
+stays open in the shadow.
 
 **The rule.** An instance's pose is ``x = s Rz(yaw) p + t`` (object point ``p``,
 :meth:`~morphkit.billboard.instances.Instances.object2world`). A sun in world direction
@@ -349,7 +352,8 @@ class SunAtlas:
             return self.view_camera(k), self._surface(k).depth.copy()  # an atlas direction: exact
         target = self.cameras.ortho_camera(az, el, shape)
         refs = [(self.view_camera(k), self._surface(k), w) for k, w in live]
-        morph = morph_views(target, self.cameras.pivot, self.cameras.radius, refs)
+        morph = morph_views(target, self.cameras.pivot, self.cameras.radius, refs,
+                            jump_steps=tol.SUN_CROSSING_JUMP_STEPS)
         held = morph.alpha >= np.float32(tol.SUN_VIEW_MIN_COVERAGE)
         return target, np.where(held, morph.depth, np.float32(np.inf))
 
