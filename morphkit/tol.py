@@ -500,3 +500,43 @@ LIGHT_DEPTH_PAD = 1e-3
 #: only float64 noise; a position outside by more gets the
 #: :class:`~morphkit.shadow.rig.RangeClampWarning`.
 POSITION_EQUAL = 1e-12
+
+# --- sun atlases (morphkit.shadow.sunatlas) ----------------------------------
+#: The grazing cut-off (degrees above the horizon) of a sun atlas's light views
+#: (:mod:`morphkit.shadow.sunatlas`): a sun between the horizon and this elevation is
+#: served as if it stood at this elevation (clamped, not refused, so shadows do not
+#: pop out while the sun sets). Below 5 degrees a shadow is over 11 object heights
+#: long (``1 / tan 5``) and the ground it falls on gets ``sin 5 = 0.087`` of the
+#: sun's noon light, while the light view's depth of a ground point changes by
+#: ``cot e`` texels per texel, so the lookup grows as unreliable as the shadow grows
+#: invisible. At or below the horizon there is no light view at all (no shadow).
+SUN_MIN_ELEVATION_DEG = 5.0
+
+#: Depth bias (light-view texels, constant, no slope term) of a ground point looked
+#: up in a sun atlas's light view (:func:`morphkit.shadow.sunatlas.ground_visibility`).
+#: The ground is not drawn into the map, so it cannot shadow itself (no acne, no
+#: slope term needed); what the bias absorbs is the morphed depth's own error, a
+#: crossing refined by a secant and two bisections of a march step of about two
+#: texels (:mod:`morphkit.billboard.depthmorph`), so about half a texel: one texel
+#: covers it and loses at most a texel of contact shadow where the caster meets the
+#: ground.
+SUN_GROUND_BIAS_TEXELS = 1.0
+
+#: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves)
+#: when its third column, divided by the pose's uniform scale, is ``+z`` to within
+#: this (absolute) and its columns are orthonormal to :data:`POSE_ORTHO`: poses
+#: built from a yaw in float64 are ~1e-16 off.
+SUN_YAW_ONLY_ATOL = 1e-6
+
+#: A texel of a sun atlas's morphed light view holds the caster where the morph's
+#: coverage (the weighted vote of the three views: hit 1, free 0, occluded abstains;
+#: :func:`morphkit.billboard.depthmorph.combine`) is at least this. The morph's own rule
+#: (covered where any view hit) is the union of three silhouettes, each off by up to
+#: half a texel either way, so it grows the shadow: on the tree (8 suns at 37 degrees'
+#: yaw, ground grid against the ray cast) it shadowed 4.2x as many ground points
+#: wrongly as it missed at 64 texels; a majority (0.5) brings that to 1.6x with the
+#: fewest wrong points of the cuts tried (0.02, 0.5, 0.65, 0.8). With continuous
+#: crossings only, 0.5 still has the fewest on the tree and the cow at
+#: 64 and 128 texels (0.65: about as many, fewer extra and more missing).
+SUN_VIEW_MIN_COVERAGE = 0.5
+

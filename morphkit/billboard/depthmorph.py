@@ -25,6 +25,11 @@ surface ends the march:
   does not see the point (the other references fill it in);
 * **free** -- no sample behind ``k``'s surface: ``k`` sees the ray's whole path as empty.
 
+A ray passing from in front of a far surface to behind a nearer one (a gap between two
+parts that ``k`` sees overlapping) lands far behind the nearer one: occluded, not hit,
+so gaps another view sees through stay open (light views of
+:mod:`morphkit.shadow.sunatlas` rely on it).
+
 The views' answers are combined (:func:`combine`): alpha is the weighted mean of the
 hit views' coverage and the free views' zero (occluded views abstain); colour,
 normal and depth come from the hit views whose point lies within

@@ -18,6 +18,9 @@
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
 * :mod:`.filtered` -- the filtered lookup: the fraction of a light cell one map says a point sees;
 * :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
+* :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction in its frame
+  (every yaw, every sun), morphed per pixel; one instance's ground shadow;
+* :mod:`.sunbaselines` -- the sun atlas's baselines: the direct light render and the ray-cast truth;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
 * :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and
   a video (imported by the CLI, not re-exported here).
@@ -52,6 +55,7 @@ from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .runtime import AtlasRuntime
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
+from .sunatlas import SunAtlas, bake_sun_atlas, ground_shadow
 from .warped import ComposedWarp, ThreeWarps
 
 __all__ = [
@@ -83,4 +87,7 @@ __all__ = [
     "PcfSoftShadow",
     "PcssSoftShadow",
     "default_soft_shadow",
+    "SunAtlas",
+    "bake_sun_atlas",
+    "ground_shadow",
 ]

@@ -1,0 +1,484 @@
+"""A shadow atlas over the sun's direction in an asset's frame: one atlas, every yaw, every sun.
+
+Paper 1's atlas samples a light view over the object's *translation*; a field of
+billboards needs the other variable: the **direction of the sun in the asset's own
+frame**. A :class:`SunAtlas` holds, for every direction ``d(a, e)`` of a
+:class:`~morphkit.billboard.dome.ViewDome` (read here as directions *towards the sun*,
+object frame, upper hemisphere: :mod:`morphkit.billboard.domecameras` for ``d``), the
+orthographic light view of the normalised mesh along ``-d`` (the dome's
+:meth:`~morphkit.billboard.domecameras.DomeCameras.ortho_camera`, a square covering
+the bounding sphere) as a depth map and its coverage. :meth:`SunAtlas.light_view`
+gives the light view along any sun direction: the three atlas views of the dome
+triangle around it, morphed per pixel by marching their depth maps
+(:func:`~morphkit.billboard.depthmorph.morph_views`; a light view is just a view),
+exactly the stored view at an atlas direction. A texel of the morphed view holds the
+caster where the views' weighted vote says so (the morph's coverage at least
+:data:`~morphkit.tol.SUN_VIEW_MIN_COVERAGE`): the morph's own rule (any view's hit
+covers) makes the union of three views' silhouettes, a shadow too large by about a
+texel all round. A view's crossing of its surface is one the ray makes within
+:data:`~morphkit.billboard.depthmorph.THICKNESS_STEPS` steps (the morph's rule): a ray
+between two parts that view sees overlapping (a cow's legs) is not blocked by it, so the
+gap another view sees through stays open in the shadow.
+
+**The rule.** An instance's pose is ``x = s Rz(yaw) p + t`` (object point ``p``,
+:meth:`~morphkit.billboard.instances.Instances.object2world`). A sun in world direction
+``l`` shines on it as a sun in direction ``Rz(-yaw) l`` shines on the unturned object:
+a yawed instance under a sun is the object under the sun turned by ``-yaw`` (same
+elevation, azimuth minus the yaw). So one atlas serves every instance of the asset,
+whatever its yaw, scale and place, and every sun position (:func:`sun_in_object`).
+Only turns about ``+z`` are served (a tilted instance would see the sun from below
+its own horizon, which the atlas does not hold): other poses raise.
+
+**Horizon and grazing sun.** A sun at or below the horizon (world elevation ``<= 0``)
+has no light view: :meth:`SunAtlas.light_view` returns ``None`` and
+:func:`ground_shadow` reports every point lit by this caster (no shadow; the ground
+gets no direct sun light then anyway), without an error. A sun between the horizon
+and :data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG` is **clamped** to that elevation (its
+azimuth kept): the shadow stops growing there instead of vanishing, so it does not
+pop while the sun sets (the reason for the value: the tolerance's note).
+
+**Lookup** (:func:`ground_visibility`): each ground point is taken into the object
+frame, projected along the sun into the light view and shadowed where it lies behind
+the stored depth by more than :data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS` texels
+(the projective lookup of :mod:`.lookup`; points outside the view are lit: the view
+holds the whole bounding sphere).
+
+Storage: depth as float16 offsets from the camera distance (``+inf`` where nothing is
+drawn) and coverage as uint8: :data:`BYTES_PER_TEXEL` bytes a texel
+(:attr:`SunAtlas.nbytes`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import trimesh
+
+from .. import tol
+from ..billboard.bakelook import mesh_hash
+from ..billboard.depthmorph import morph_views
+from ..billboard.dome import ViewDome
+from ..billboard.domecameras import DomeCameras
+from ..billboard.gbuffer import ViewSurface
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..meshes import normalize
+from ..protocols import SceneRenderer
+from ..scene import Item
+from ..validate import as_finite_array, as_int, as_shape
+from .lookup import ShadowBias, shadow_visibility
+
+__all__ = ["SunAtlas", "bake_sun_atlas", "sun_in_object", "instance_frame", "ground_visibility",
+           "ground_shadow", "sun_direction", "BYTES_PER_TEXEL"]
+
+#: Stored bytes per atlas texel: float16 depth and uint8 coverage.
+BYTES_PER_TEXEL = 3
+
+
+def sun_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
+    """The unit direction towards a sun at ``(azimuth, elevation)`` (world or object frame).
+
+    Parameters
+    ----------
+    azimuth_deg, elevation_deg : float
+        Degrees (azimuth from ``+x`` counter-clockwise about ``+z``; elevation above the
+        horizon).
+
+    Returns
+    -------
+    (3,) float64
+        ``(cos e cos a, cos e sin a, sin e)``.
+    """
+    a, e = np.radians(float(azimuth_deg)), np.radians(float(elevation_deg))
+    return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+
+
+def _angles(d: np.ndarray) -> tuple[float, float]:
+    az = float(np.degrees(np.arctan2(d[1], d[0])))
+    el = float(np.degrees(np.arcsin(np.clip(d[2], -1.0, 1.0))))
+    return az, el
+
+
+def _unit(v: object, name: str) -> np.ndarray:
+    d = as_finite_array(v, name, shape=(3,))
+    n = float(np.linalg.norm(d))
+    if not n > tol.MIN_EXTENT:
+        raise ValidationError(expected_got(name, "a non-zero direction (3,)", d.tolist()))
+    return d / n
+
+
+def instance_frame(pose: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """Scale, yaw and translation of an instance's ``object2world`` pose (module docstring).
+
+    Parameters
+    ----------
+    pose : (4, 4) float
+        ``translation(t) @ Rz(yaw) @ scale(s)``, as
+        :meth:`~morphkit.billboard.instances.Instances.object2world` builds it.
+
+    Returns
+    -------
+    scale : float
+        ``s > 0``.
+    yaw_deg : float
+        Degrees.
+    translation : (3,) float64
+        ``t``.
+
+    Raises
+    ------
+    ValidationError
+        Not a 4x4 finite matrix; a last row other than ``0 0 0 1``; a rotation other
+        than a turn about ``+z``, or a non-uniform scale.
+    """
+    T = as_finite_array(pose, "pose", shape=(4, 4))
+    if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=tol.POSE_ORTHO):
+        raise ValidationError(expected_got("pose", "a last row 0 0 0 1", T[3].tolist()))
+    M = T[:3, :3]
+    s = float(np.cbrt(np.linalg.det(M)))
+    if not s > tol.MIN_EXTENT:
+        raise ValidationError(expected_got("pose", "a positive uniform scale (det > 0)", f"det {s**3:g}"))
+    R = M / s
+    if (not np.allclose(R.T @ R, np.eye(3), atol=tol.POSE_ORTHO)
+            or not np.allclose(R[:, 2], [0.0, 0.0, 1.0], atol=tol.SUN_YAW_ONLY_ATOL)):
+        raise ValidationError(expected_got("pose", "translation @ Rz(yaw) @ uniform scale (a yaw only)",
+                                           "a tilted or sheared pose"))
+    return s, float(np.degrees(np.arctan2(R[1, 0], R[0, 0]))), T[:3, 3].copy()
+
+
+def sun_in_object(pose: np.ndarray, sun_dir_world: np.ndarray) -> np.ndarray | None:
+    """The direction towards the sun in the instance's object frame (the rule, module docstring).
+
+    Parameters
+    ----------
+    pose : (4, 4) float
+        The instance's ``object2world`` (:func:`instance_frame`).
+    sun_dir_world : (3,) float
+        Towards the sun, world frame (any length > 0).
+
+    Returns
+    -------
+    (3,) float64 or None
+        ``Rz(-yaw) l``, unit; ``None`` when the sun is at or below the horizon.
+
+    Raises
+    ------
+    ValidationError
+        A pose that is not a yaw (:func:`instance_frame`); a zero or non-finite direction.
+    """
+    _, yaw, _ = instance_frame(pose)
+    d = _unit(sun_dir_world, "sun_dir_world")
+    if d[2] <= 0.0:
+        return None
+    c, s = np.cos(np.radians(yaw)), np.sin(np.radians(yaw))
+    return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1], d[2]])
+
+
+@dataclass(frozen=True, eq=False)
+class SunAtlas:
+    """Orthographic light views of one asset over the sun's direction (module docstring).
+
+    Parameters
+    ----------
+    dome : ViewDome
+        The sun directions (object frame), one view each.
+    cameras : DomeCameras
+        The camera rule; its ``shape`` is the views' (``(n, n)``).
+    depth : (V, n, n) float16
+        Depth along each view's axis minus ``cameras.distance``; ``+inf`` where empty.
+    coverage : (V, n, n) uint8
+        Coverage, 255 where the mesh is drawn.
+    mesh_hash : str
+        :func:`~morphkit.billboard.bakelook.mesh_hash` of the mesh (``"0" * 64`` for
+        analytic atlases).
+
+    Raises
+    ------
+    ValidationError
+        Arrays that do not fit the dome and the cameras.
+    """
+
+    dome: ViewDome
+    cameras: DomeCameras
+    depth: np.ndarray
+    coverage: np.ndarray
+    mesh_hash: str = "0" * 64
+    _surfaces: dict = field(init=False, repr=False, default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.dome, ViewDome):
+            raise ValidationError(expected_got("dome", "a ViewDome", type(self.dome).__name__))
+        if not isinstance(self.cameras, DomeCameras):
+            raise ValidationError(expected_got("cameras", "a DomeCameras", type(self.cameras).__name__))
+        want = (self.dome.views, *self.cameras.shape)
+        d, c = np.asarray(self.depth), np.asarray(self.coverage)
+        if d.shape != want or d.dtype != np.float16 or c.shape != want or c.dtype != np.uint8:
+            raise ValidationError(expected_got("depth, coverage", f"float16 and uint8 arrays of {want}",
+                                               f"{d.dtype} {d.shape}, {c.dtype} {c.shape}"))
+        if np.isnan(d).any() or (d == -np.inf).any():
+            raise ValidationError(expected_got("depth", "finite offsets or +inf", "NaN or -inf"))
+
+    @classmethod
+    def from_depths(cls, dome: ViewDome, cameras: DomeCameras, depths: np.ndarray,
+                    mesh_hash: str = "0" * 64) -> SunAtlas:
+        """An atlas from float depth maps of the dome's light views (``+inf`` where empty).
+
+        Parameters
+        ----------
+        dome : ViewDome
+            The sun directions.
+        cameras : DomeCameras
+            The camera rule the views were made with (:meth:`view_camera`).
+        depths : (V, n, n) float
+            Linear depth along each view's axis.
+        mesh_hash : str
+            The mesh's hash.
+
+        Returns
+        -------
+        SunAtlas
+            Stored at float16 / uint8 (coverage: the drawn texels).
+        """
+        d = np.asarray(depths, dtype=np.float32)
+        drawn = np.isfinite(d)
+        off = np.where(drawn, d - np.float32(cameras.distance), np.inf).astype(np.float16)
+        return cls(dome, cameras, off, np.where(drawn, 255, 0).astype(np.uint8), mesh_hash)
+
+    @property
+    def size(self) -> int:
+        """The views' side, texels."""
+        return int(self.cameras.shape[0])
+
+    @property
+    def nbytes(self) -> int:
+        """Stored bytes of the views (depth and coverage)."""
+        return int(self.depth.nbytes + self.coverage.nbytes)
+
+    def view_camera(self, k: int) -> CameraModel:
+        """The light camera of atlas view ``k`` (object frame).
+
+        Parameters
+        ----------
+        k : int
+            View index.
+
+        Returns
+        -------
+        CameraModel
+            Orthographic, of the views' shape.
+        """
+        k = as_int(k, "view", lo=0, hi=self.dome.views - 1)
+        return self.cameras.ortho_camera(float(self.dome.azimuths_deg()[k]),
+                                         float(self.dome.elevations_deg()[k]), self.cameras.shape)
+
+    def view_depth(self, k: int) -> np.ndarray:
+        """Linear depth ``(n, n)`` float32 of atlas view ``k`` (``+inf`` where empty).
+
+        Parameters
+        ----------
+        k : int
+            View index.
+
+        Returns
+        -------
+        (n, n) float32
+            Along the view's axis.
+        """
+        return self._surface(as_int(k, "view", lo=0, hi=self.dome.views - 1)).depth
+
+    def _surface(self, k: int) -> ViewSurface:
+        s = self._surfaces.get(k)
+        if s is None:
+            n = self.size
+            depth = self.depth[k].astype(np.float32) + np.float32(self.cameras.distance)
+            albedo = np.zeros((n, n, 4), np.float32)
+            albedo[..., 3] = self.coverage[k].astype(np.float32) * np.float32(1.0 / 255.0)
+            s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
+        return s
+
+    def check_mesh(self, mesh: trimesh.Trimesh) -> None:
+        """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            Any mesh (normalised first, as the bake did).
+
+        Raises
+        ------
+        ValidationError
+            Another mesh (both hashes named).
+        """
+        got = mesh_hash(mesh)
+        if got != self.mesh_hash:
+            raise ValidationError(expected_got("mesh", f"the atlas's mesh (hash {self.mesh_hash[:12]})",
+                                               f"hash {got[:12]}"))
+
+    def light_view(self, sun_dir_object: np.ndarray, shape: tuple[int, int] | None = None
+                   ) -> tuple[CameraModel, np.ndarray] | None:
+        """The orthographic light view along a sun direction, object frame (module docstring).
+
+        Parameters
+        ----------
+        sun_dir_object : (3,) float
+            Towards the sun, object frame (any length > 0).
+        shape : tuple of 2 int, optional
+            ``(h, w)`` of the view (default: the atlas's).
+
+        Returns
+        -------
+        (CameraModel, (h, w) float32) or None
+            The light camera (object frame, looking along the sun's light) and the
+            caster's linear depth along its axis (``+inf`` where empty); ``None`` for a sun
+            at or below the horizon. A sun under
+            :data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG` is served at that elevation.
+
+        Raises
+        ------
+        ValidationError
+            A zero or non-finite direction, a bad shape.
+        """
+        d = _unit(sun_dir_object, "sun_dir_object")
+        shape = self.cameras.shape if shape is None else as_shape(shape, "shape")
+        if d[2] <= 0.0:
+            return None
+        az, el = _angles(d)
+        el = max(el, tol.SUN_MIN_ELEVATION_DEG)
+        views, weights = self.dome.weights(az, el)
+        live = [(int(k), float(w)) for k, w in zip(views, weights, strict=True) if w > 0.0]
+        if len(live) == 1 and tuple(shape) == self.cameras.shape:
+            k = live[0][0]
+            return self.view_camera(k), self._surface(k).depth.copy()  # an atlas direction: exact
+        target = self.cameras.ortho_camera(az, el, shape)
+        refs = [(self.view_camera(k), self._surface(k), w) for k, w in live]
+        morph = morph_views(target, self.cameras.pivot, self.cameras.radius, refs)
+        held = morph.alpha >= np.float32(tol.SUN_VIEW_MIN_COVERAGE)
+        return target, np.where(held, morph.depth, np.float32(np.inf))
+
+
+def bake_sun_atlas(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, dome: ViewDome | None = None,
+                   size: int = 128) -> SunAtlas:
+    """Render the light views of ``mesh`` over the sun's directions (module docstring).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        Any mesh; normalised first (:func:`morphkit.meshes.normalize`), as
+        :func:`~morphkit.billboard.domeasset.bake_dome` does.
+    renderer : SceneRenderer
+        E.g. :class:`morphkit.render.Renderer` (its ``depth``).
+    dome : ViewDome, optional
+        The sun directions (default :class:`ViewDome` ``()``).
+    size : int
+        Each view's side, texels.
+
+    Returns
+    -------
+    SunAtlas
+        The atlas.
+
+    Raises
+    ------
+    ValidationError
+        Bad arguments.
+    MeshError
+        Not a usable mesh.
+    """
+    dome = ViewDome() if dome is None else dome
+    if not isinstance(dome, ViewDome):
+        raise ValidationError(expected_got("dome", "a ViewDome", type(dome).__name__))
+    size = as_int(size, "size", lo=8, hi=tol.MAX_BILLBOARD_SIDE)
+    norm = normalize(mesh)
+    cams = DomeCameras.fit(norm, size)
+    items = [Item(norm)]
+    az, el = dome.azimuths_deg(), dome.elevations_deg()
+    depths = np.stack([renderer.depth(cams.ortho_camera(float(az[k]), float(el[k]), cams.shape), items)
+                       for k in range(dome.views)])
+    return SunAtlas.from_depths(dome, cams, depths, mesh_hash(norm))
+
+
+def ground_visibility(light_cam: CameraModel, depth: np.ndarray, pose: np.ndarray,
+                      points: np.ndarray) -> np.ndarray:
+    """Visibility of world points under one instance's light view (module docstring, "Lookup").
+
+    Parameters
+    ----------
+    light_cam : CameraModel
+        The light view's camera, object frame.
+    depth : (h, w) float32
+        Its depth map (``+inf`` where empty).
+    pose : (4, 4) float
+        The instance's ``object2world`` (:func:`instance_frame`).
+    points : (N, 3) float
+        Receiver points, world frame.
+
+    Returns
+    -------
+    (N,) float32
+        1 lit, 0 shadowed by this instance.
+    """
+    instance_frame(pose)
+    pts = as_finite_array(points, "points", shape=(None, 3))
+    inv = np.linalg.inv(np.asarray(pose, dtype=np.float64))
+    local = pts @ inv[:3, :3].T + inv[:3, 3]
+    bias = ShadowBias(constant=tol.SUN_GROUND_BIAS_TEXELS, slope=0.0)
+    return shadow_visibility(local, depth, light_cam, bias=bias)
+
+
+def ground_shadow(atlas: SunAtlas, pose: np.ndarray, sun_dir_world: np.ndarray, points: np.ndarray,
+                  *, shape: tuple[int, int] | None = None) -> np.ndarray:
+    """One instance's shadow on receiver points, from its asset's sun atlas.
+
+    Parameters
+    ----------
+    atlas : SunAtlas
+        The asset's atlas.
+    pose : (4, 4) float
+        The instance's ``object2world`` (a yaw, a uniform scale, a translation).
+    sun_dir_world : (3,) float
+        Towards the sun, world frame.
+    points : (N, 3) float
+        Receiver points (e.g. the ground's), world frame.
+    shape : tuple of 2 int, optional
+        The light view's ``(h, w)`` (default: the atlas's).
+
+    Returns
+    -------
+    (N,) float32
+        1 lit, 0 shadowed; all 1 for a sun at or below the horizon.
+
+    Raises
+    ------
+    ValidationError
+        Not a SunAtlas; a pose that is not a yaw; bad points or direction.
+
+    Examples
+    --------
+    The analytic sphere's atlas (radius 0.6 about ``(0, 0, 1)``) under a sun straight
+    above shadows the ground under its centre, not a point 1 unit aside:
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
+    >>> from morphkit.billboard.dome import ViewDome
+    >>> from morphkit.billboard.domecameras import DomeCameras
+    >>> from morphkit.shadow.sunatlas import SunAtlas, ground_shadow
+    >>> dome = ViewDome(((20.0, 6),), top=True)
+    >>> cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (32, 32))
+    >>> depths = [sphere_view(cams.ortho_camera(a, e, (32, 32)))[2]
+    ...           for a, e in zip(dome.azimuths_deg(), dome.elevations_deg())]
+    >>> atlas = SunAtlas.from_depths(dome, cams, np.stack(depths))
+    >>> ground = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    >>> ground_shadow(atlas, np.eye(4), np.array([0.0, 0.0, 1.0]), ground)
+    array([0., 1.], dtype=float32)
+    """
+    if not isinstance(atlas, SunAtlas):
+        raise ValidationError(expected_got("atlas", "a SunAtlas", type(atlas).__name__))
+    pts = as_finite_array(points, "points", shape=(None, 3))
+    sun = sun_in_object(pose, sun_dir_world)
+    if sun is None:
+        return np.ones(len(pts), np.float32)
+    view = atlas.light_view(sun, shape)
+    if view is None:  # pragma: no cover - sun_in_object already refused it
+        return np.ones(len(pts), np.float32)
+    return ground_visibility(view[0], view[1], pose, pts)
