@@ -583,6 +583,7 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
     has_nrm = nrm.shape[0] > 0
     stack = np.empty((4 + 3 * len(off), 3), np.int64)  # _behind's depth-first stack
     inv_zb = 1.0 / (z_mean if mode == 0 else z_min)
+    z_far = pyr[len(pyr) - 1]  # the pyramid's top: the farthest occluder texel
     # the occluder window in map pixels, widened by a texel against rounding
     xlo, xhi = c0 - 1.5, c0 + sub_w + 0.5
     ylo, yhi = r0 - 1.5, r0 + sub_h + 0.5
@@ -652,10 +653,13 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                     i1 = min(int(np.floor(px + sx + 0.5)), sub_w - 1)
                     j0 = max(int(np.floor(py - sy + 0.5)), 0)
                     j1 = min(int(np.floor(py + sy + 0.5)), sub_h - 1)
-                    m = _box_max(pyr, off, wid, i0, i1, j0, j1)
-                    if m == -np.inf:
-                        continue  # no occluder texel under the widest box
-                    fast = m < zs  # every occluder texel under the box is in front: the tables answer
+                    if z_far < zs:  # every occluder texel of the map is in front: the tables answer
+                        fast = True  # (no occluder under the box: no blocker, or a box of zeros)
+                    else:
+                        m = _box_max(pyr, off, wid, i0, i1, j0, j1)
+                        if m == -np.inf:
+                            continue  # no occluder texel under the widest box
+                        fast = m < zs  # every occluder texel under the box is in front
                     if mode == 1:  # blocker search over the widest box's whole texels (i0..i1, j0..j1)
                         a = sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0] + sat[j0, i0, 0]
                         ds = sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1] + sat[j0, i0, 1]
