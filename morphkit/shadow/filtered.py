@@ -403,10 +403,12 @@ def _box_sums(sat: np.ndarray, x0: float, x1: float, y0: float, y1: float, depth
 
 def _box_max(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, i0: int, i1: int, j0: int,
              j1: int) -> float:
-    """An upper bound of the occluder depths in window texels ``[i0, i1] x [j0, j1]``."""
+    """An upper bound of the occluder depths in window texels ``[i0, i1] x [j0, j1]``: the
+    blocks of the pyramid level a quarter of the span wide (at most 5 x 5 reads; a bound
+    from blocks as wide as the span, 2 x 2 reads, sends more boxes to the search)."""
     span = max(i1 - i0, j1 - j0) + 1
     lev = 0
-    while (1 << lev) < span and lev < len(off) - 1:
+    while (1 << (lev + 2)) < span and lev < len(off) - 1:
         lev += 1
     o, w = off[lev], wid[lev]
     m = -np.inf
