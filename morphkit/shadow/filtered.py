@@ -61,10 +61,18 @@ one texel wide.
 
 Speed. Per map, summed-area tables of occluder coverage and depth (one pass)
 make a box's coverage and depth sum four bilinear reads each, whatever its size;
-a max-depth pyramid tells in four reads whether every occluder texel under the
-box is in front of the receiver (always so for a receiver below the object). Only
-boxes that hold occluder texels both in front of and behind the point (a surface
-shadowing itself) are summed texel by texel.
+a max-depth pyramid bounds the depths under the box in at most 25 reads (none
+where the map's farthest occluder is in front of the point), telling whether
+every occluder texel there is in front of the receiver (always so for a receiver
+below the object). Where some may be behind the point (a surface shadowing itself,
+an object touching the receiver), the tables' sums less those of the texels
+behind answer, found block by block down the pyramid (the blocker search keeps
+them for its kernel's smaller box); a point whose search box is all occluder in
+front is umbra at once. The points go in runs of :data:`CHUNK_POINTS` (and groups
+of runs): a run whose bounding box keeps every widest box off the map's occluder
+window is lit without projecting its points, so the cost follows the points near
+the shadow, not all points times all maps. From :data:`PARALLEL_MIN_POINTS`
+points the groups alternate between threads.
 """
 
 from __future__ import annotations
