@@ -68,10 +68,10 @@ below the object). Where some may be behind the point (a surface shadowing itsel
 an object touching the receiver), the tables' sums less those of the texels
 behind answer, found block by block down the pyramid (the blocker search keeps
 them for its kernel's smaller box); a point whose search box is all occluder in
-front is umbra at once. The points go in runs of :data:`CHUNK_POINTS` (and groups
+front is umbra at once. The points go in runs of ``CHUNK_POINTS`` (and groups
 of runs): a run whose bounding box keeps every widest box off the map's occluder
 window is lit without projecting its points, so the cost follows the points near
-the shadow, not all points times all maps. From :data:`PARALLEL_MIN_POINTS`
+the shadow, not all points times all maps. From ``PARALLEL_MIN_POINTS``
 points the groups alternate between threads.
 """
 
@@ -302,8 +302,8 @@ def filtered_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Ca
 
 
 def point_chunks(pts: np.ndarray) -> np.ndarray:
-    """Bounding boxes of consecutive runs of :data:`CHUNK_POINTS` points, then of runs of
-    :data:`CHUNK_GROUP` such runs, for :func:`filter_into` (made once when several maps
+    """Bounding boxes of consecutive runs of ``CHUNK_POINTS`` points, then of runs of
+    ``CHUNK_GROUP`` such runs, for :func:`filter_into` (made once when several maps
     filter the same points).
 
     Parameters
