@@ -371,6 +371,7 @@ def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
     kernel = _filter_kernel if use_compiled(_filter_kernel) else _filter_loop  # no numba: slow; correct
     n = WARP_THREADS if kernel is _filter_kernel and len(pts) >= PARALLEL_MIN_POINTS else 1
     # thread b: groups b, b + n, ... (the points' groups lie in bands: each thread gets its share)
+    vis.fill(1.0)  # the points of runs that miss the map are left as they are
     futures = [band_pool().submit(kernel, *head, b, n, np.empty((BEHIND_KEEP, 3))) for b in range(1, n)]
     kernel(*head, 0, n, np.empty((BEHIND_KEEP, 3)))
     for f in futures:
@@ -584,10 +585,10 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                  b_slope: float, b_max: float, min_half: float, area_floor: float, near: int,
                  R: np.ndarray, cx: float, cy: float, fy: float, bounds: np.ndarray,
                  chunk: int, group: int, g_first: int, g_step: int, kept: np.ndarray) -> None:
-    """The per-point loop (module docstring); ``vis`` is written for the points of groups
-    ``g_first, g_first + g_step, ...``. ``bounds``: :func:`_chunk_bounds_loop` of ``pts``
-    by ``chunk`` points and ``group`` runs; ``kept``: room for the texels behind a point
-    that its blocker search finds."""
+    """The per-point loop (module docstring); ``vis`` (ones on entry) is written for the
+    points of groups ``g_first, g_first + g_step, ...`` that may see an occluder.
+    ``bounds``: :func:`_chunk_bounds_loop` of ``pts`` by ``chunk`` points and ``group``
+    runs; ``kept``: room for the texels behind a point that its blocker search finds."""
     h, w = dm.shape
     sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
     has_nrm = nrm.shape[0] > 0
@@ -601,14 +602,10 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
     n_c = -(-n_p // chunk)
     for g in range(g_first, bounds.shape[0] - n_c, g_step):
         if _chunk_misses(T, bounds, n_c + g, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
-            for k in range(g * group * chunk, min((g + 1) * group * chunk, n_p)):
-                vis[k] = 1.0
-            continue
+            continue  # lit (the caller filled vis with ones)
         for ch in range(g * group, min((g + 1) * group, n_c)):
             k_end = min((ch + 1) * chunk, n_p)
             if _chunk_misses(T, bounds, ch, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
-                for k in range(ch * chunk, k_end):
-                    vis[k] = 1.0
                 continue
             for k in range(ch * chunk, k_end):
                 vis[k] = 1.0
