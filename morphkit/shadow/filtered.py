@@ -560,6 +560,9 @@ def _chunk_misses(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: 
     widest box grows with depth."""
     ulo, uhi, vlo, vhi, zhi = np.inf, -np.inf, np.inf, -np.inf, -np.inf
     for a in range(8):
+        if ((a & 1 and bounds[c, 3] == bounds[c, 0]) or (a & 2 and bounds[c, 4] == bounds[c, 1])
+                or (a & 4 and bounds[c, 5] == bounds[c, 2])):
+            continue  # a flat box: the corner repeats one already projected
         x = bounds[c, 3] if a & 1 else bounds[c, 0]
         y = bounds[c, 4] if a & 2 else bounds[c, 1]
         z0 = bounds[c, 5] if a & 4 else bounds[c, 2]
