@@ -220,12 +220,10 @@ def _tables_loop(sub: np.ndarray, sat: np.ndarray, pyr: np.ndarray, off: np.ndar
         nh, nw = (ph + 1) // 2, (pw + 1) // 2
         po, no = off[lev - 1], off[lev]
         for j in range(nh):
+            a, b = po + 2 * j * pw, po + min(2 * j + 1, ph - 1) * pw  # the two rows (one at the edge)
             for i in range(nw):
-                m = -np.inf
-                for jj in range(2 * j, min(2 * j + 2, ph)):
-                    for ii in range(2 * i, min(2 * i + 2, pw)):
-                        m = max(m, pyr[po + jj * pw + ii])
-                pyr[no + j * nw + i] = m
+                i0, i1 = 2 * i, min(2 * i + 1, pw - 1)
+                pyr[no + j * nw + i] = max(max(pyr[a + i0], pyr[a + i1]), max(pyr[b + i0], pyr[b + i1]))
         ph, pw = nh, nw
 
 
