@@ -20,9 +20,10 @@ from morphkit.shadow import (
     SoftShadow,
     bake_atlas,
     bake_soft_atlas,
+    filtered,
     shadow_visibility,
 )
-from morphkit.shadow.filtered import DepthTables, cell_half_widths, filtered_visibility
+from morphkit.shadow.filtered import DepthTables, cell_half_widths, filtered_visibility, point_chunks
 from morphkit.shadow.lookup import ShadowBias
 from morphkit.shadow.penumbra import (
     PcfSoftShadow,
@@ -115,6 +116,37 @@ def test_tables_give_the_texel_by_texel_definition(synthetic, mode, height):
     np.testing.assert_allclose(got, want, atol=2e-6)
     if height == 0:  # (at 0.65 the penumbra falls outside the grid)
         assert np.count_nonzero((got > 0.05) & (got < 0.95)) > 50  # a real penumbra was tested
+
+
+@pytest.mark.parametrize("mode", ["mean", "search"])
+def test_runs_and_threads_leave_the_lookup_unchanged(synthetic, rng, monkeypatch, mode):
+    """Runs of points whose bounding box misses the map are lit without a look at their
+    points: shuffled points (every run spans the map) give the same values bit for bit,
+    and so does a split of the points over threads."""
+    cam, dm, g = synthetic
+    far = g + [5, 0, 0]  # beyond the map's reach
+    pts = np.concatenate([g, g + [0, 0, 0.65], far])
+    cell = np.array([[0.1, 0, 0], [0, 0.07, 0]])
+    want = filtered_visibility(pts, dm, cam, cell, blocker=mode)
+    assert np.all(want[2 * len(g):] == 1) and np.count_nonzero((want > 0.05) & (want < 0.95)) > 50
+    order = rng.permutation(len(pts))
+    np.testing.assert_array_equal(filtered_visibility(pts[order], dm, cam, cell, blocker=mode), want[order])
+    monkeypatch.setattr(filtered, "PARALLEL_MIN_POINTS", 1)
+    monkeypatch.setattr(filtered, "WARP_THREADS", 3)
+    np.testing.assert_array_equal(filtered_visibility(pts, dm, cam, cell, blocker=mode), want)
+
+
+def test_point_chunks_bound_their_runs(rng):
+    pts = rng.normal(size=(1000, 3))
+    ch = point_chunks(pts)
+    n_c = -(-1000 // filtered.CHUNK_POINTS)
+    assert ch.shape == (n_c + -(-n_c // filtered.CHUNK_GROUP), 6)
+    run = pts[filtered.CHUNK_POINTS:2 * filtered.CHUNK_POINTS]
+    np.testing.assert_array_equal(ch[1], np.r_[run.min(0), run.max(0)])
+    np.testing.assert_array_equal(ch[n_c], np.r_[pts[:filtered.CHUNK_POINTS * filtered.CHUNK_GROUP].min(0),
+                                                  pts[:filtered.CHUNK_POINTS * filtered.CHUNK_GROUP].max(0)])
+    last = (n_c - 1) // filtered.CHUNK_GROUP * filtered.CHUNK_GROUP * filtered.CHUNK_POINTS
+    np.testing.assert_array_equal(ch[-1, 3:], pts[last:].max(0))
 
 
 def test_a_cell_of_zero_extent_is_the_hard_lookup_exactly(synthetic, rng):

@@ -32,6 +32,12 @@ the averaging methods: against the ray cast with the method's *own* ``N``
 samples, the method's error without the sampling error), ``banding``
 (:func:`banding`) and ``mae_contact`` (the error within 2 map texels of the
 lines where the object touches the ground: :func:`contact_region`).
+
+Light-size sweep (issue #27: wide penumbrae are where banding shows most): the
+same scene and metrics with the square light's side set to each of
+``LIGHT_SIZES`` (:func:`light_of_size`; the suite's own light is 0.6), its own
+atlas (baked over the range grown by that light) and its own 256-sample ray cast;
+rows ``what="light-size"`` with the side in ``light``.
 """
 
 from __future__ import annotations
@@ -54,8 +60,8 @@ from ..shadow.penumbra import PcfSoftShadow, PcssSoftShadow, PenumbraSoftShadow
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import Timing, make_row, time_cycling
 
-__all__ = ["run", "run_subset", "accuracy_rows", "banding", "contact_region", "SoftTruth", "FLOOR_METHOD",
-           "PLOT_OPTIONS"]
+__all__ = ["run", "run_subset", "accuracy_rows", "light_size_rows", "light_of_size", "banding",
+           "contact_region", "SoftTruth", "FLOOR_METHOD", "PLOT_OPTIONS", "LIGHT_SIZES"]
 
 SUITE = "soft"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
@@ -73,6 +79,25 @@ FILTERED: dict[str, type[PenumbraSoftShadow]] = {"pcf": PcfSoftShadow, "pcss": P
 CONTACT_HEIGHT = 0.005
 #: Half-width of the contact region, in light-map texels at the ground.
 CONTACT_TEXELS = 2.0
+#: Sides (world units) of the square light in the light-size sweep (:func:`light_size_rows`).
+LIGHT_SIZES = (0.2, 0.5, 1.0)
+
+
+def light_of_size(size: float) -> AreaLight:
+    """The suite's area light (same centre and orientation) with side ``size``.
+
+    Parameters
+    ----------
+    size : float
+        Side of the square light, world units (the suite's own light: 0.6).
+
+    Returns
+    -------
+    morphkit.scene.AreaLight
+        The light.
+    """
+    half = 0.5 * float(size)
+    return AreaLight(AREA.center, [half, 0.0, 0.0], [0.0, half, 0.0])
 
 
 def _positions(n: int, seed: int = 2026) -> np.ndarray:
@@ -148,11 +173,14 @@ class SoftTruth:
     ----------
     dense : int
         Light samples per axis of the reference ray cast.
+    light : morphkit.scene.AreaLight, optional
+        The area light (default: the suite's ``AREA``).
     """
 
-    def __init__(self, dense: int) -> None:
+    def __init__(self, dense: int, light: AreaLight | None = None) -> None:
         self.grid = receiver_grid(GROUND_HALF, (GROUND_N, GROUND_N)).reshape(-1, 3)
         self.dense = dense
+        self.light = AREA if light is None else light
         self._cache: Memo[tuple[Any, ...], np.ndarray] = Memo()
 
     def __call__(self, mesh_name: str, mesh: Any, xy: np.ndarray,
@@ -165,7 +193,7 @@ class SoftTruth:
             pose = np.eye(4)
             pose[:2, 3] = xy
             obj = SceneObject(mesh, pose)
-            return (area_visibility(self.grid, AREA, obj, dense) if same_as is None
+            return (area_visibility(self.grid, self.light, obj, dense) if same_as is None
                     else sampled_visibility(self.grid, same_as.point_lights(), obj))
 
         return self._cache.get(key, cast)
@@ -290,6 +318,60 @@ def accuracy_rows(renderer: SceneRenderer, truth: SoftTruth, meshes: list[str], 
     return rows
 
 
+def light_size_rows(renderer: SceneRenderer, meshes: list[str], light_sizes: list[float],
+                    n_positions: int, repeats: int) -> list[dict[str, Any]]:
+    """The light-size sweep (module docstring): 256^2 maps, ``N = 9`` for the warp and
+    the default (``pcss-reproject_9``) and PCSS on the mesh warps (``pcss_9``), against
+    ``direct_16`` and the banding reference ``direct_64``, per mesh and light side.
+
+    Parameters
+    ----------
+    renderer : morphkit.render.Renderer
+        Bakes and re-renders.
+    meshes : list of str
+        Sample mesh names.
+    light_sizes : list of float
+        Sides of the square light, world units.
+    n_positions : int
+        Seeded random positions per case.
+    repeats : int
+        Timing repeats.
+
+    Returns
+    -------
+    list of dict
+        The rows, ``what="light-size"``, the side in ``light``.
+    """
+    rows = []
+    xys = _positions(n_positions)
+    size = 256
+    for mesh_name in meshes:
+        mesh = sample_mesh(mesh_name)
+        for side in light_sizes:
+            light = light_of_size(side)
+            truth = SoftTruth(TRUTH_SAMPLES, light)
+            atlas = bake_soft_atlas(mesh, np.eye(4), MOTION, light, (size, size), renderer=renderer,
+                                    progress=False)
+            direct = DirectShadow(atlas.rig, mesh, renderer)
+            methods: dict[str, SoftShadow] = {
+                "warp_9": SoftShadow(atlas, light, SAMPLES[9]),
+                "pcss_9": PcssSoftShadow(atlas, light, SAMPLES[9]),
+                "pcss-reproject_9": PcssSoftShadow(atlas.method(warps="reproject"), light, SAMPLES[9]),
+                "direct_16": SoftShadow(direct, light, SAMPLES[16]),
+                "direct_64": SoftShadow(direct, light, SAMPLES[64])}
+            timings = _time(methods, xys, truth.grid, repeats=repeats)
+            radius = CONTACT_TEXELS * float(light.center[2]) / float(atlas.rig.fx)
+            for name, m in methods.items():
+                err = _errors(m, mesh_name, mesh, xys, truth, radius)
+                rows.append(make_row(SUITE, name, {"what": "light-size", "mesh": mesh_name, "size": size,
+                                                   "samples": m.n_samples, "faces": len(mesh.faces),
+                                                   "light": float(side)},
+                                     timings[name], metrics=err))
+            del atlas, methods
+            gc.collect()
+    return rows
+
+
 def _reference_rows(truth: SoftTruth) -> list[dict[str, Any]]:
     """The 256-sample ray cast against a 1024-sample one (cow, one position): converged?"""
     mesh = sample_mesh("cow")
@@ -337,6 +419,7 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
 
 def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: int, repeats: int,
                *, complexity: bool = True, reference: bool = True,
+               light_sizes: list[float] | None = None, light_meshes: list[str] | None = None,
                json_path: str | None = None) -> list[dict[str, Any]]:
     """A chosen part of the full run (the full run is long on a shared machine): accuracy rows
     for ``meshes`` x ``sizes`` x ``ns``, then the complexity sweep and the reference check.
@@ -357,6 +440,10 @@ def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: 
         Add the full complexity sweep (6k to 1M faces).
     reference : bool
         Add the 256- against 1024-sample ray-cast row.
+    light_sizes : list of float, optional
+        Add the light-size sweep (:func:`light_size_rows`) with these sides.
+    light_meshes : list of str, optional
+        The sweep's meshes (default: ``meshes``).
     json_path : str, optional
         Write the rows there as JSON.
 
@@ -371,6 +458,9 @@ def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: 
     truth = SoftTruth(dense=TRUTH_SAMPLES)
     with Renderer() as renderer:
         rows = accuracy_rows(renderer, truth, meshes, sizes, ns, n_positions, repeats)
+        if light_sizes:
+            rows += light_size_rows(renderer, meshes if light_meshes is None else light_meshes,
+                                    list(light_sizes), n_positions, repeats)
         if complexity:
             rows += _complexity_rows(renderer, False)
     if reference:
@@ -382,7 +472,8 @@ def run_subset(meshes: list[str], sizes: list[int], ns: list[int], n_positions: 
 
 
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
-    """All soft-shadow rows: accuracy + time per mesh and map size, complexity sweep.
+    """All soft-shadow rows: accuracy + time per mesh and map size, the light-size sweep
+    (teapot), complexity sweep.
 
     Parameters
     ----------
@@ -404,6 +495,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
         else:
             rows = accuracy_rows(renderer, truth, ["teapot", "chair", "cow"], [128, 256, 512],
                                  [4, 5, 9, 16], 10, 7)
+            rows += light_size_rows(renderer, ["teapot"], list(LIGHT_SIZES), 10, 7)
             rows += _reference_rows(truth)
         rows += _complexity_rows(renderer, quick)
     print(f"soft suite: {len(rows)} rows in {time.perf_counter() - t0:.0f} s", flush=True)

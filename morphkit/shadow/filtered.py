@@ -61,10 +61,18 @@ one texel wide.
 
 Speed. Per map, summed-area tables of occluder coverage and depth (one pass)
 make a box's coverage and depth sum four bilinear reads each, whatever its size;
-a max-depth pyramid tells in four reads whether every occluder texel under the
-box is in front of the receiver (always so for a receiver below the object). Only
-boxes that hold occluder texels both in front of and behind the point (a surface
-shadowing itself) are summed texel by texel.
+a max-depth pyramid bounds the depths under the box in at most 25 reads (none
+where the map's farthest occluder is in front of the point), telling whether
+every occluder texel there is in front of the receiver (always so for a receiver
+below the object). Where some may be behind the point (a surface shadowing itself,
+an object touching the receiver), the tables' sums less those of the texels
+behind answer, found block by block down the pyramid (the blocker search keeps
+them for its kernel's smaller box); a point whose search box is all occluder in
+front is umbra at once. The points go in runs of ``CHUNK_POINTS`` (and groups
+of runs): a run whose bounding box keeps every widest box off the map's occluder
+window is lit without projecting its points, so the cost follows the points near
+the shadow, not all points times all maps. From ``PARALLEL_MIN_POINTS``
+points the groups alternate between threads.
 """
 
 from __future__ import annotations
@@ -77,11 +85,12 @@ import numpy as np
 from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..settings import compile_kernel, use_compiled
+from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array
+from ..warp import band_pool
 from .lookup import ShadowBias, check_depth_map
 
-__all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDepth"]
+__all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDepth", "point_chunks"]
 
 #: How a filtered lookup finds the occluders' depth per map: ``"mean"`` (one mean blocker depth
 #: per map, PCF) or ``"search"`` (a blocker search per point, PCSS).
@@ -90,6 +99,17 @@ _MODES = {"mean": 0, "search": 1}
 #: Contact hardening reach (texels) of the blocker search (module docstring): the point's
 #: texel and its 8 neighbours, enough to catch a blocker the nearest-texel rounding misses.
 CONTACT_TEXELS = 1
+#: Points per run whose bounding box the lookup tests against a map first (module docstring):
+#: a run whose every widest box misses the map's occluder window is lit without a look at
+#: its points. Runs of ``CHUNK_GROUP`` runs are tested before their runs.
+CHUNK_POINTS = 32
+CHUNK_GROUP = 16
+#: Texels of the behind-the-point occluders a blocker search keeps for its kernel's box.
+BEHIND_KEEP = 256
+#: Points below which a filtered lookup runs in the calling thread alone; from it, the groups
+#: of runs alternate between :data:`~morphkit.settings.WARP_THREADS` threads (the calling one
+#: and :func:`~morphkit.warp.band_pool`'s).
+PARALLEL_MIN_POINTS = 1 << 14
 
 
 @dataclass(frozen=True)
@@ -200,12 +220,10 @@ def _tables_loop(sub: np.ndarray, sat: np.ndarray, pyr: np.ndarray, off: np.ndar
         nh, nw = (ph + 1) // 2, (pw + 1) // 2
         po, no = off[lev - 1], off[lev]
         for j in range(nh):
+            a, b = po + 2 * j * pw, po + min(2 * j + 1, ph - 1) * pw  # the two rows (one at the edge)
             for i in range(nw):
-                m = -np.inf
-                for jj in range(2 * j, min(2 * j + 2, ph)):
-                    for ii in range(2 * i, min(2 * i + 2, pw)):
-                        m = max(m, pyr[po + jj * pw + ii])
-                pyr[no + j * nw + i] = m
+                i0, i1 = 2 * i, min(2 * i + 1, pw - 1)
+                pyr[no + j * nw + i] = max(max(pyr[a + i0], pyr[a + i1]), max(pyr[b + i0], pyr[b + i1]))
         ph, pw = nh, nw
 
 
@@ -281,9 +299,33 @@ def filtered_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Ca
     return vis
 
 
+def point_chunks(pts: np.ndarray) -> np.ndarray:
+    """Bounding boxes of consecutive runs of ``CHUNK_POINTS`` points, then of runs of
+    ``CHUNK_GROUP`` such runs, for :func:`filter_into` (made once when several maps
+    filter the same points).
+
+    Parameters
+    ----------
+    pts : (P, 3) float64
+        Points, world frame (validated).
+
+    Returns
+    -------
+    (C + G, 6) float64
+        Per run: least x, y, z, then greatest x, y, z; the ``C = ceil(P / CHUNK_POINTS)``
+        runs, then the ``G = ceil(C / CHUNK_GROUP)`` groups.
+    """
+    pts = np.ascontiguousarray(pts, np.float64)
+    n_c = -(-len(pts) // CHUNK_POINTS)
+    out = np.empty((n_c + -(-n_c // CHUNK_GROUP), 6))
+    (_chunk_bounds_kernel if use_compiled(_chunk_bounds_kernel) else _chunk_bounds_loop)(
+        pts, CHUNK_POINTS, CHUNK_GROUP, out)
+    return out
+
+
 def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: CameraModel,
                 k: tuple[float, float], mode: int, normals: np.ndarray | None, b: ShadowBias,
-                t: DepthTables) -> None:
+                t: DepthTables, chunks: np.ndarray | None = None) -> None:
     """Write the filtered visibility of every point into ``vis`` (inputs already
     validated; ``k`` from :func:`cell_half_widths`, ``mode`` 0 mean, 1 search).
 
@@ -307,10 +349,15 @@ def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
         The bias.
     t : DepthTables
         The map's tables.
+    chunks : (C, 6) float64, optional
+        :func:`point_chunks` of ``pts`` (made here if not given).
     """
+    pts = np.ascontiguousarray(pts, np.float64)
+    if chunks is None:
+        chunks = point_chunks(pts)
     nrm = np.zeros((0, 3), np.float32) if normals is None else np.ascontiguousarray(normals,
                                                                                     np.float32)
-    args = (vis, np.ascontiguousarray(pts, np.float64), nrm,
+    head = (vis, pts, nrm,
             np.ascontiguousarray(light_cam.texture_matrix(), np.float64),
             np.ascontiguousarray(dm, np.float32), t.sat, t.pyramid, t.offsets, t.widths,
             int(t.origin[0]), int(t.origin[1]), float(light_cam.fx),
@@ -318,11 +365,15 @@ def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
             float(t.z_mean), float(t.z_min), float(b.constant), float(b.slope), float(b.max_tan),
             float(tol.PENUMBRA_MIN_HALF_TEXEL), float(tol.PX_EQUAL), int(CONTACT_TEXELS),
             np.ascontiguousarray(light_cam.world2cam[:3, :3], np.float64), float(light_cam.cx),
-            float(light_cam.cy), float(light_cam.fy))
-    if use_compiled(_filter_kernel):
-        _filter_kernel(*args)
-    else:  # no numba: the same loop, interpreted (slow; correct)
-        _filter_loop(*args)
+            float(light_cam.cy), float(light_cam.fy), chunks, CHUNK_POINTS, CHUNK_GROUP)
+    kernel = _filter_kernel if use_compiled(_filter_kernel) else _filter_loop  # no numba: slow; correct
+    n = WARP_THREADS if kernel is _filter_kernel and len(pts) >= PARALLEL_MIN_POINTS else 1
+    # thread b: groups b, b + n, ... (the points' groups lie in bands: each thread gets its share)
+    vis.fill(1.0)  # the points of runs that miss the map are left as they are
+    futures = [band_pool().submit(kernel, *head, b, n, np.empty((BEHIND_KEEP, 3))) for b in range(1, n)]
+    kernel(*head, 0, n, np.empty((BEHIND_KEEP, 3)))
+    for f in futures:
+        f.result()
 
 
 # ----------------------------------------------------------------- the kernel
@@ -359,10 +410,12 @@ def _box_sums(sat: np.ndarray, x0: float, x1: float, y0: float, y1: float, depth
 
 def _box_max(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, i0: int, i1: int, j0: int,
              j1: int) -> float:
-    """An upper bound of the occluder depths in window texels ``[i0, i1] x [j0, j1]``."""
+    """An upper bound of the occluder depths in window texels ``[i0, i1] x [j0, j1]``: the
+    blocks of the pyramid level a quarter of the span wide (at most 5 x 5 reads; a bound
+    from blocks as wide as the span, 2 x 2 reads, sends more boxes to the search)."""
     span = max(i1 - i0, j1 - j0) + 1
     lev = 0
-    while (1 << lev) < span and lev < len(off) - 1:
+    while (1 << (lev + 2)) < span and lev < len(off) - 1:
         lev += 1
     o, w = off[lev], wid[lev]
     m = -np.inf
@@ -386,52 +439,25 @@ def _plane_min(dpl: float, ax: float, ay: float, a0: float, x0: float, x1: float
     return m
 
 
-def _box_scan(sub_h: int, sub_w: int, pyr: np.ndarray, x0: float, x1: float, y0: float,
-              y1: float, zt: float, plane: bool, dpl: float, ax: float, ay: float, a0: float,
-              bias0: float, si0: int, si1: int, sj0: int, sj1: int) -> tuple[float, float]:
-    """Texel by texel: (area, area x depth) of occluder texels under the box in front of
-    the receiver (level 0 of the pyramid is the window's depths): closer than the
-    receiver's plane minus ``bias0`` at the texel with ``plane``, else than ``zt``.
-    Texels in ``[si0, si1] x [sj0, sj1]`` are skipped (counted by the caller)."""
+def _behind(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, stack: np.ndarray, sub_w: int,
+            sub_h: int, x0: float, x1: float, y0: float, y1: float, zt: float, plane: bool,
+            dpl: float, ax: float, ay: float, a0: float, bias0: float, kept: np.ndarray
+            ) -> tuple[float, float, int]:
+    """(area, area x depth) of the occluder texels under the box (window coordinates, real
+    edges) that are *not* in front of the receiver, each with the area it shares with the
+    box: the tables' sums over the box less these are the sums over the occluders in
+    front. In front: closer than the receiver's plane minus ``bias0`` at the texel with
+    ``plane`` (where the plane faces the light), else than ``zt``. Block by block down the
+    max-depth pyramid (level 0 is the window's depths): a block whose every occluder
+    texel is in front, or that is empty, is skipped, so the cost grows with the texels
+    behind the receiver (a surface shadowing itself, an object touching it), not with the
+    box. The texels found go to ``kept`` (column, row, depth) as far as it has room; the
+    third value is their count (all of them are there when it is at most ``len(kept)``)."""
     i0, i1 = max(int(np.floor(x0 + 0.5)), 0), min(int(np.floor(x1 + 0.5)), sub_w - 1)
     j0, j1 = max(int(np.floor(y0 + 0.5)), 0), min(int(np.floor(y1 + 0.5)), sub_h - 1)
-    area, dsum = 0.0, 0.0
-    for j in range(j0, j1 + 1):
-        oy = min(y1, j + 0.5) - max(y0, j - 0.5)
-        if oy <= 0:
-            continue
-        skip = sj0 <= j <= sj1
-        for part in range(2 if skip else 1):
-            ia, ib = i0, i1
-            if skip:
-                ia, ib = (i0, min(i1, si0 - 1)) if part == 0 else (max(i0, si1 + 1), i1)
-            for i in range(ia, ib + 1):
-                d = pyr[j * sub_w + i]
-                if not d > -np.inf:  # empty
-                    continue
-                thr = zt
-                if plane:
-                    den = ax * i + ay * j + a0
-                    if den * dpl > 0:
-                        thr = dpl / den - bias0
-                if not d < thr:  # not in front
-                    continue
-                ox = min(x1, i + 0.5) - max(x0, i - 0.5)
-                if ox > 0:
-                    area += ox * oy
-                    dsum += ox * oy * d
-    return area, dsum
-
-
-def _search_tree(sat: np.ndarray, pyr: np.ndarray, off: np.ndarray, wid: np.ndarray,
-                 stack: np.ndarray, i0: int, i1: int, j0: int, j1: int, zt: float, plane: bool,
-                 dpl: float, ax: float, ay: float, a0: float, bias0: float
-                 ) -> tuple[float, float]:
-    """:func:`_box_scan` over the whole texels ``[i0, i1] x [j0, j1]``, block by block
-    down the max-depth pyramid: a block whose every occluder texel is in front is
-    summed from the tables, an empty one skipped, a mixed one split (cost grows with
-    the mixed region's outline, not the box's area)."""
-    sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
+    area, dsum, nk = 0.0, 0.0, 0
+    if i0 > i1 or j0 > j1:
+        return area, dsum, nk
     span = max(i1 - i0, j1 - j0) + 1
     lev = 0
     while (1 << lev) < span and lev < len(off) - 1:
@@ -441,39 +467,116 @@ def _search_tree(sat: np.ndarray, pyr: np.ndarray, off: np.ndarray, wid: np.ndar
         for bi in range(i0 >> lev, (i1 >> lev) + 1):
             stack[n, 0], stack[n, 1], stack[n, 2] = lev, bi, bj
             n += 1
-    area, dsum = 0.0, 0.0
     while n > 0:
         n -= 1
         lv, bi, bj = stack[n, 0], stack[n, 1], stack[n, 2]
-        x0, x1 = max(bi << lv, i0), min(((bi + 1) << lv) - 1, i1, sub_w - 1)
-        y0, y1 = max(bj << lv, j0), min(((bj + 1) << lv) - 1, j1, sub_h - 1)
-        if x0 > x1 or y0 > y1:
-            continue
         m = pyr[off[lv] + bj * wid[lv] + bi]
-        if m == -np.inf:
+        if m == -np.inf:  # empty
             continue
         if lv == 0:
             thr = zt
             if plane:
-                den = ax * x0 + ay * y0 + a0
+                den = ax * bi + ay * bj + a0
                 if den * dpl > 0:
                     thr = dpl / den - bias0
-            if m < thr:
-                area += 1.0
-                dsum += m
+            if m < thr:  # in front
+                continue
+            if nk < kept.shape[0]:
+                kept[nk, 0], kept[nk, 1], kept[nk, 2] = bi, bj, m
+            nk += 1
+            ox = min(x1, bi + 0.5) - max(x0, bi - 0.5)
+            oy = min(y1, bj + 0.5) - max(y0, bj - 0.5)
+            if ox > 0 and oy > 0:
+                area += ox * oy
+                dsum += ox * oy * m
             continue
+        bx0, bx1 = max(bi << lv, i0), min(((bi + 1) << lv) - 1, i1)
+        by0, by1 = max(bj << lv, j0), min(((bj + 1) << lv) - 1, j1)
         thr = zt
         if plane:
-            thr = _plane_min(dpl, ax, ay, a0, x0 - 0.5, x1 + 0.5, y0 - 0.5, y1 + 0.5) - bias0
-        if m < thr:  # all in front: the tables
-            area += sat[y1 + 1, x1 + 1, 0] - sat[y0, x1 + 1, 0] - sat[y1 + 1, x0, 0] + sat[y0, x0, 0]
-            dsum += sat[y1 + 1, x1 + 1, 1] - sat[y0, x1 + 1, 1] - sat[y1 + 1, x0, 1] + sat[y0, x0, 1]
+            thr = _plane_min(dpl, ax, ay, a0, bx0 - 0.5, bx1 + 0.5, by0 - 0.5, by1 + 0.5) - bias0
+        if m < thr:  # all in front
             continue
         for cj in range(2):
             for ci in range(2):
-                stack[n, 0], stack[n, 1], stack[n, 2] = lv - 1, 2 * bi + ci, 2 * bj + cj
-                n += 1
-    return area, dsum
+                ci_, cj_ = 2 * bi + ci, 2 * bj + cj
+                if (ci_ << (lv - 1)) <= i1 and (((ci_ + 1) << (lv - 1)) - 1) >= i0 and \
+                        (cj_ << (lv - 1)) <= j1 and (((cj_ + 1) << (lv - 1)) - 1) >= j0:
+                    stack[n, 0], stack[n, 1], stack[n, 2] = lv - 1, ci_, cj_
+                    n += 1
+    return area, dsum, nk
+
+
+def _behind_kept(kept: np.ndarray, nk: int, x0: float, x1: float, y0: float, y1: float,
+                 zt: float, plane: bool, dpl: float, ax: float, ay: float, a0: float,
+                 bias0: float) -> float:
+    """:func:`_behind`'s area over a smaller box with a higher threshold, from the texels a
+    search over a box holding it kept (every texel behind then was behind there too)."""
+    area = 0.0
+    for q in range(nk):
+        i, j, d = kept[q, 0], kept[q, 1], kept[q, 2]
+        thr = zt
+        if plane:
+            den = ax * i + ay * j + a0
+            if den * dpl > 0:
+                thr = dpl / den - bias0
+        if d < thr:  # in front
+            continue
+        ox = min(x1, i + 0.5) - max(x0, i - 0.5)
+        oy = min(y1, j + 0.5) - max(y0, j - 0.5)
+        if ox > 0 and oy > 0:
+            area += ox * oy
+    return area
+
+
+def _chunk_bounds_loop(pts: np.ndarray, size: int, group: int, out: np.ndarray) -> None:
+    """:func:`point_chunks`: ``out[c] = (min x, min y, min z, max x, max y, max z)`` of
+    points ``[c size, (c + 1) size)``, then of the groups of ``group`` runs."""
+    n_c = -(-pts.shape[0] // size)
+    for c in range(out.shape[0]):
+        lo0, lo1, lo2 = np.inf, np.inf, np.inf
+        hi0, hi1, hi2 = -np.inf, -np.inf, -np.inf
+        if c < n_c:
+            for k in range(c * size, min((c + 1) * size, pts.shape[0])):
+                lo0, hi0 = min(lo0, pts[k, 0]), max(hi0, pts[k, 0])
+                lo1, hi1 = min(lo1, pts[k, 1]), max(hi1, pts[k, 1])
+                lo2, hi2 = min(lo2, pts[k, 2]), max(hi2, pts[k, 2])
+        else:
+            g = c - n_c
+            for q in range(g * group, min((g + 1) * group, n_c)):
+                lo0, lo1, lo2 = min(lo0, out[q, 0]), min(lo1, out[q, 1]), min(lo2, out[q, 2])
+                hi0, hi1, hi2 = max(hi0, out[q, 3]), max(hi1, out[q, 4]), max(hi2, out[q, 5])
+        out[c, 0], out[c, 1], out[c, 2], out[c, 3], out[c, 4], out[c, 5] = lo0, lo1, lo2, hi0, hi1, hi2
+
+
+def _chunk_misses(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: float,
+                  ky: float, min_half: float, xlo: float, xhi: float, ylo: float,
+                  yhi: float) -> bool:
+    """True when the widest box of every point in bounding box ``c`` misses the window
+    ``[xlo, xhi] x [ylo, yhi]`` (map pixels, already widened by a margin): the box
+    projects inside its corners' hull (every corner in front of the camera), and the
+    widest box grows with depth."""
+    ulo, uhi, vlo, vhi, zhi = np.inf, -np.inf, np.inf, -np.inf, -np.inf
+    for a in range(8):
+        if ((a & 1 and bounds[c, 3] == bounds[c, 0]) or (a & 2 and bounds[c, 4] == bounds[c, 1])
+                or (a & 4 and bounds[c, 5] == bounds[c, 2])):
+            continue  # a flat box: the corner repeats one already projected
+        x = bounds[c, 3] if a & 1 else bounds[c, 0]
+        y = bounds[c, 4] if a & 2 else bounds[c, 1]
+        z0 = bounds[c, 5] if a & 4 else bounds[c, 2]
+        qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
+        if not qw > tol.SHADOW_LOOKUP_W_MIN:
+            return False
+        iw = 1.0 / qw
+        u = (T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) * iw
+        v = (T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) * iw
+        ulo, uhi, vlo, vhi = min(ulo, u), max(uhi, u), min(vlo, v), max(vhi, v)
+        zhi = max(zhi, T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3])
+    if not zhi > 0:
+        return False
+    s = inv_zb - 1.0 / zhi
+    sx, sy = max(kx * s, min_half), max(ky * s, min_half)
+    return uhi + sx < xlo or vhi + sy < ylo or ulo - sx > xhi or vlo - sy > yhi
 
 
 def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarray,
@@ -481,110 +584,144 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                  wid: np.ndarray, r0: int, c0: int, fx: float, L: np.ndarray, kx: float,
                  ky: float, mode: int, z_mean: float, z_min: float, b_const: float,
                  b_slope: float, b_max: float, min_half: float, area_floor: float, near: int,
-                 R: np.ndarray, cx: float, cy: float, fy: float) -> None:
-    """The per-point loop (module docstring); ``vis`` is written for every point."""
+                 R: np.ndarray, cx: float, cy: float, fy: float, bounds: np.ndarray,
+                 chunk: int, group: int, g_first: int, g_step: int, kept: np.ndarray) -> None:
+    """The per-point loop (module docstring); ``vis`` (ones on entry) is written for the
+    points of groups ``g_first, g_first + g_step, ...`` that may see an occluder.
+    ``bounds``: :func:`_chunk_bounds_loop` of ``pts`` by ``chunk`` points and ``group``
+    runs; ``kept``: room for the texels behind a point that its blocker search finds."""
     h, w = dm.shape
     sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
     has_nrm = nrm.shape[0] > 0
-    stack = np.empty((4 + 3 * len(off), 3), np.int64)  # _search_tree's depth-first stack
-    for k in range(pts.shape[0]):
-        vis[k] = 1.0
-        x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
-        qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
-        if not qw > tol.SHADOW_LOOKUP_W_MIN:
-            continue
-        z = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
-        s = 1.0 / (z_mean if mode == 0 else z_min) - 1.0 / z  # the widest box, per unit k
-        # window coordinates of the point
-        pxa = (T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) / qw
-        pya = (T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) / qw
-        px, py = pxa - c0, pya - r0
-        sx, sy = max(kx * s, min_half), max(ky * s, min_half)
-        if px + sx < -0.5 or py + sy < -0.5 or px - sx > sub_w - 0.5 or py - sy > sub_h - 0.5:
-            continue  # the widest box misses every occluder texel
-        texel = abs(z) / fx
-        tan = 1.0
-        n0, n1, n2 = 0.0, 0.0, 0.0
-        if has_nrm:
-            n0, n1, n2 = np.float64(nrm[k, 0]), np.float64(nrm[k, 1]), np.float64(nrm[k, 2])
-            if n0 * n0 + n1 * n1 + n2 * n2 > 0:
-                t0, t1, t2 = L[0] - x, L[1] - y, L[2] - z0
-                tl = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-                cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
-                tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, tol.SHADOW_GRAZING_COS)
-        slope = b_slope * min(tan, b_max)
-        bias0 = texel * (b_const + slope)
-        zt = z - bias0  # occluders closer than this block
-        # the receiver's plane (with a normal): depth dpl / (ax i + ay j + a0) at window texel (i, j)
-        plane = has_nrm and (n0 * n0 + n1 * n1 + n2 * n2 > 0)
-        dpl, ax, ay, a0, bias_p = 0.0, 0.0, 0.0, 0.0, bias0
-        if plane:
-            m0 = R[0, 0] * n0 + R[0, 1] * n1 + R[0, 2] * n2
-            m1 = R[1, 0] * n0 + R[1, 1] * n1 + R[1, 2] * n2
-            m2 = R[2, 0] * n0 + R[2, 1] * n1 + R[2, 2] * n2
-            dpl = m0 * (pxa - cx) * z / fx + m1 * (pya - cy) * z / fy + m2 * z
-            ax, ay = m0 / fx, m1 / fy
-            a0 = m2 + m0 * (c0 - cx) / fx + m1 * (r0 - cy) / fy
-            bias_p = texel * b_const
-        hx, hy = kx * s, ky * s
-        fast = False
-        if max(hx, hy) >= min_half:
-            if plane:
-                zs = _plane_min(dpl, ax, ay, a0, px - sx, px + sx, py - sy, py + sy) - bias_p
-            else:  # no normal: the receiver may slope by tan = 1 across the box
-                zs = zt - texel * slope * max(sx, sy)
-            i0, i1 = max(int(np.floor(px - sx + 0.5)), 0), min(int(np.floor(px + sx + 0.5)), sub_w - 1)
-            j0, j1 = max(int(np.floor(py - sy + 0.5)), 0), min(int(np.floor(py + sy + 0.5)), sub_h - 1)
-            m = _box_max(pyr, off, wid, i0, i1, j0, j1)
-            if m == -np.inf:
-                continue  # no occluder texel under the widest box
-            fast = m < zs  # every occluder texel under the box is in front: the tables answer
-            if mode == 1:  # blocker search over the widest box
-                if fast:  # whole texels (i0..i1, j0..j1): the mean depth needs no more
-                    a = (sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0]
-                         + sat[j0, i0, 0])
-                    ds = (sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1]
-                          + sat[j0, i0, 1])
-                else:
-                    a, ds = _search_tree(sat, pyr, off, wid, stack, i0, i1, j0, j1, zs, plane,
-                                         dpl, ax, ay, a0, bias_p)
-                if a <= area_floor:
-                    continue  # no blocker in reach: the whole cell is seen
-                s = 1.0 / (ds / a) - 1.0 / z
-                # contact: a blocker next to the point (its texel and the 8 around)
-                # nearer the point than the mean narrows the kernel to its depth
-                c, r = int(np.rint(pxa)), int(np.rint(pya))
-                for rr in range(max(r - near, 0), min(r + near + 1, h)):
-                    for cc in range(max(c - near, 0), min(c + near + 1, w)):
-                        occ = np.float64(dm[rr, cc])
-                        if occ < zt:
-                            s = min(s, 1.0 / occ - 1.0 / z)
+    stack = np.empty((4 + 3 * len(off), 3), np.int64)  # _behind's depth-first stack
+    inv_zb = 1.0 / (z_mean if mode == 0 else z_min)
+    z_far = pyr[len(pyr) - 1]  # the pyramid's top: the farthest occluder texel
+    # the occluder window in map pixels, widened by a texel against rounding
+    xlo, xhi = c0 - 1.5, c0 + sub_w + 0.5
+    ylo, yhi = r0 - 1.5, r0 + sub_h + 0.5
+    n_p = pts.shape[0]
+    n_c = -(-n_p // chunk)
+    for g in range(g_first, bounds.shape[0] - n_c, g_step):
+        if _chunk_misses(T, bounds, n_c + g, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
+            continue  # lit (the caller filled vis with ones)
+        for ch in range(g * group, min((g + 1) * group, n_c)):
+            k_end = min((ch + 1) * chunk, n_p)
+            if _chunk_misses(T, bounds, ch, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
+                continue
+            for k in range(ch * chunk, k_end):
+                vis[k] = 1.0
+                x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
+                qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
+                if not qw > tol.SHADOW_LOOKUP_W_MIN:
+                    continue
+                z = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
+                inv_w = 1.0 / qw  # one division: a perspective camera's w is its linear depth
+                inv_z = inv_w if z == qw else 1.0 / z
+                s = inv_zb - inv_z  # the widest box, per unit k
+                # window coordinates of the point
+                pxa = (T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) * inv_w
+                pya = (T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) * inv_w
+                px, py = pxa - c0, pya - r0
+                sx, sy = max(kx * s, min_half), max(ky * s, min_half)
+                if px + sx < -0.5 or py + sy < -0.5 or px - sx > sub_w - 0.5 or py - sy > sub_h - 0.5:
+                    continue  # the widest box misses every occluder texel
+                texel = abs(z) / fx
+                tan = 1.0
+                n0, n1, n2 = 0.0, 0.0, 0.0
+                if has_nrm:
+                    n0, n1, n2 = np.float64(nrm[k, 0]), np.float64(nrm[k, 1]), np.float64(nrm[k, 2])
+                    if n0 * n0 + n1 * n1 + n2 * n2 > 0:
+                        t0, t1, t2 = L[0] - x, L[1] - y, L[2] - z0
+                        tl = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+                        cos = abs(n0 * (t0 / tl) + n1 * (t1 / tl) + n2 * (t2 / tl))
+                        tan = np.sqrt(max(1 - cos * cos, 0.0)) / max(cos, tol.SHADOW_GRAZING_COS)
+                slope = b_slope * min(tan, b_max)
+                bias0 = texel * (b_const + slope)
+                zt = z - bias0  # occluders closer than this block
+                # the receiver's plane (with a normal): depth dpl / (ax i + ay j + a0) at window texel (i, j)
+                plane = has_nrm and (n0 * n0 + n1 * n1 + n2 * n2 > 0)
+                dpl, ax, ay, a0, bias_p = 0.0, 0.0, 0.0, 0.0, bias0
+                if plane:
+                    m0 = R[0, 0] * n0 + R[0, 1] * n1 + R[0, 2] * n2
+                    m1 = R[1, 0] * n0 + R[1, 1] * n1 + R[1, 2] * n2
+                    m2 = R[2, 0] * n0 + R[2, 1] * n1 + R[2, 2] * n2
+                    dpl = m0 * (pxa - cx) * z / fx + m1 * (pya - cy) * z / fy + m2 * z
+                    ax, ay = m0 / fx, m1 / fy
+                    a0 = m2 + m0 * (c0 - cx) / fx + m1 * (r0 - cy) / fy
+                    bias_p = texel * b_const
                 hx, hy = kx * s, ky * s
-        if not max(hx, hy) >= min_half:  # the hard lookup (nearest texel)
-            c, r = np.rint(pxa), np.rint(pya)
-            if c >= 0 and c < w and r >= 0 and r < h:
-                occ = np.float64(dm[int(r), int(c)])
-                if np.isfinite(occ) and z > occ + texel * (b_const + slope):
-                    vis[k] = 0.0
-            continue
-        hx, hy = max(hx, min_half), max(hy, min_half)
-        if fast:  # the kernel box lies inside the widest box, with a smaller bias
-            a, _ds = _box_sums(sat, px - hx, px + hx, py - hy, py + hy, False)
-        else:
-            zk = zt - texel * slope * max(hx, hy)
-            # whole texels inside the box from the pyramid and tables, the border texel by texel
-            si0, si1 = max(int(np.ceil(px - hx + 0.5)), 0), min(int(np.floor(px + hx - 0.5)), sub_w - 1)
-            sj0, sj1 = max(int(np.ceil(py - hy + 0.5)), 0), min(int(np.floor(py + hy - 0.5)), sub_h - 1)
-            a = 0.0
-            if si0 <= si1 and sj0 <= sj1:
-                a, _ds = _search_tree(sat, pyr, off, wid, stack, si0, si1, sj0, sj1, zk, plane,
-                                      dpl, ax, ay, a0, bias_p)
-            else:
-                si0, si1 = 0, -1
-            b, _ds = _box_scan(sub_h, sub_w, pyr, px - hx, px + hx, py - hy, py + hy, zk, plane,
-                               dpl, ax, ay, a0, bias_p, si0, si1, sj0, sj1)
-            a += b
-        vis[k] = np.float32(min(max(1.0 - a / (4.0 * hx * hy), 0.0), 1.0))
+                fast = False
+                nk = kept.shape[0] + 1  # no texels kept yet
+                if max(hx, hy) >= min_half:
+                    if plane:
+                        zs = _plane_min(dpl, ax, ay, a0, px - sx, px + sx, py - sy, py + sy) - bias_p
+                    else:  # no normal: the receiver may slope by tan = 1 across the box
+                        zs = zt - texel * slope * max(sx, sy)
+                    i0 = max(int(np.floor(px - sx + 0.5)), 0)
+                    i1 = min(int(np.floor(px + sx + 0.5)), sub_w - 1)
+                    j0 = max(int(np.floor(py - sy + 0.5)), 0)
+                    j1 = min(int(np.floor(py + sy + 0.5)), sub_h - 1)
+                    if z_far < zs:  # every occluder texel of the map is in front: the tables answer
+                        fast = True  # (no occluder under the box: no blocker, or a box of zeros)
+                    else:
+                        m = _box_max(pyr, off, wid, i0, i1, j0, j1)
+                        if m == -np.inf:
+                            continue  # no occluder texel under the widest box
+                        fast = m < zs  # every occluder texel under the box is in front
+                    if mode == 1:  # blocker search over the widest box's whole texels (i0..i1, j0..j1)
+                        a = sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0] + sat[j0, i0, 0]
+                        ds = sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1] + sat[j0, i0, 1]
+                        if not fast:  # less the occluder texels behind the point
+                            ba, bd, nk = _behind(pyr, off, wid, stack, sub_w, sub_h, i0 - 0.5,
+                                                 i1 + 0.5, j0 - 0.5, j1 + 0.5, zs, plane, dpl, ax,
+                                                 ay, a0, bias_p, kept)
+                            a -= ba
+                            ds -= bd
+                        if a <= area_floor:
+                            continue  # no blocker in reach: the whole cell is seen
+                        if (fast and zs <= zt and a == (i1 - i0 + 1) * (j1 - j0 + 1)
+                                and px - sx >= i0 - 0.5 and px + sx <= i1 + 0.5
+                                and py - sy >= j0 - 0.5 and py + sy <= j1 + 0.5):
+                            # umbra: every texel under the widest box (which holds the kernel's
+                            # box and the nearest texel) is an occluder in front of the point
+                            vis[k] = 0.0
+                            continue
+                        s = a / ds - inv_z
+                        # contact: a blocker next to the point (its texel and the 8 around)
+                        # nearer the point than the mean narrows the kernel to its depth (the
+                        # farthest such blocker: 1/occ - 1/z falls as occ grows)
+                        c, r = int(np.rint(pxa)), int(np.rint(pya))
+                        far = -np.inf
+                        for rr in range(max(r - near, 0), min(r + near + 1, h)):
+                            for cc in range(max(c - near, 0), min(c + near + 1, w)):
+                                occ = np.float64(dm[rr, cc])
+                                if occ < zt and occ > far:
+                                    far = occ
+                        if far > -np.inf:
+                            s = min(s, 1.0 / far - inv_z)
+                        hx, hy = kx * s, ky * s
+                if not max(hx, hy) >= min_half:  # the hard lookup (nearest texel)
+                    c, r = np.rint(pxa), np.rint(pya)
+                    if c >= 0 and c < w and r >= 0 and r < h:
+                        occ = np.float64(dm[int(r), int(c)])
+                        if np.isfinite(occ) and z > occ + texel * (b_const + slope):
+                            vis[k] = 0.0
+                    continue
+                hx, hy = max(hx, min_half), max(hy, min_half)
+                # the kernel box lies inside the widest box: with fast, every occluder under it
+                # is in front (with a smaller bias); else less those behind the point
+                a, _ds = _box_sums(sat, px - hx, px + hx, py - hy, py + hy, False)
+                if not fast:
+                    zk = zt - texel * slope * max(hx, hy)
+                    if nk <= kept.shape[0]:  # the search kept every texel behind (a superset)
+                        a -= _behind_kept(kept, nk, px - hx, px + hx, py - hy, py + hy, zk, plane,
+                                          dpl, ax, ay, a0, bias_p)
+                    else:
+                        ba, _bd, _nk = _behind(pyr, off, wid, stack, sub_w, sub_h, px - hx, px + hx,
+                                               py - hy, py + hy, zk, plane, dpl, ax, ay, a0, bias_p,
+                                               kept)
+                        a -= ba
+                vis[k] = np.float32(min(max(1.0 - a / (4.0 * hx * hy), 0.0), 1.0))
 
 
 # numba resolves the helpers when it compiles the loop (at its first call): rebind them first
@@ -593,8 +730,10 @@ _bilerp = compile_kernel(_bilerp) or _bilerp
 _box_sums = compile_kernel(_box_sums) or _box_sums
 _box_max = compile_kernel(_box_max) or _box_max
 _plane_min = compile_kernel(_plane_min) or _plane_min
-_box_scan = compile_kernel(_box_scan) or _box_scan
-_search_tree = compile_kernel(_search_tree) or _search_tree
+_behind = compile_kernel(_behind) or _behind
+_behind_kept = compile_kernel(_behind_kept) or _behind_kept
+_chunk_misses = compile_kernel(_chunk_misses) or _chunk_misses
 _filter_kernel = compile_kernel(_filter_loop)
 _tables_kernel = compile_kernel(_tables_loop)
 _bbox_kernel = compile_kernel(_bbox_loop)
+_chunk_bounds_kernel = compile_kernel(_chunk_bounds_loop)

@@ -45,7 +45,7 @@ from ..errors import ValidationError, expected_got
 from ..scene import AreaLight
 from ..validate import as_finite_array
 from .atlas import ShadowAtlas
-from .filtered import BlockerDepth, DepthTables, cell_half_widths, filter_into
+from .filtered import BlockerDepth, DepthTables, cell_half_widths, filter_into, point_chunks
 from .lookup import ShadowBias
 from .method import ShadowMethod
 from .soft import SoftShadow, light_offsets
@@ -137,9 +137,11 @@ class PenumbraSoftShadow(SoftShadow):
         mode = {"mean": 0, "search": 1}[self.blocker]
         acc = np.zeros(len(pts), np.float32)
         lit = np.empty(len(pts), np.float32)
+        pts = np.ascontiguousarray(pts, np.float64)
+        chunks = point_chunks(pts)  # the same points for every map
         for depth, cam in self.maps(xy, clamp=clamp):  # a ShadowMethod's maps: checked there
             filter_into(lit, pts, depth, cam, cell_half_widths(self.cell, cam), mode, normals, bias,
-                        DepthTables.of(depth))
+                        DepthTables.of(depth), chunks)
             acc += lit
         acc /= np.float32(self.n_samples)
         return np.clip(acc, 0.0, 1.0)
