@@ -50,6 +50,7 @@ import numpy as np
 import trimesh
 from scipy.spatial import cKDTree
 
+from .. import tol
 from ..groundtruth import area_visibility, receiver_grid, sampled_visibility
 from ..memo import Memo
 from ..meshes import sample_mesh
@@ -108,8 +109,9 @@ def banding(est: np.ndarray, truth: np.ndarray) -> float:
     """Mean ``|gradient error|`` of a visibility image over the penumbra: the banding measure.
 
     Over every pair of neighbouring grid points (along rows and along columns)
-    of which one, in the estimate or in the truth, is in the penumbra (strictly
-    between 0 and 1): the mean of ``|(e1 - e0) - (t1 - t0)|``, in visibility per
+    of which one, in the estimate or in the truth, is in the penumbra (between
+    :data:`morphkit.tol.PENUMBRA_EPS` and ``1 -`` it: round-off of a sum of lit and shadowed
+    terms is not penumbra): the mean of ``|(e1 - e0) - (t1 - t0)|``, in visibility per
     grid step. A banded penumbra is flat between jumps of ``1/N`` where the truth
     ramps, so every step adds about its height; a smooth penumbra of the right
     width scores near zero (``docs/RESULTS.md`` gives the reason in full).
@@ -125,7 +127,8 @@ def banding(est: np.ndarray, truth: np.ndarray) -> float:
         The measure (0 without any penumbra).
     """
     e, t = np.asarray(est, np.float64), np.asarray(truth, np.float64)
-    pen = ((e > 0) & (e < 1)) | ((t > 0) & (t < 1))
+    lo, hi = tol.PENUMBRA_EPS, 1.0 - tol.PENUMBRA_EPS
+    pen = ((e > lo) & (e < hi)) | ((t > lo) & (t < hi))
     total, count = 0.0, 0
     for ax in (0, 1):
         d = np.abs(np.diff(e, axis=ax) - np.diff(t, axis=ax))
