@@ -36,6 +36,8 @@ from morphkit.bake.manifest import AssetRecord as ManifestRecord
 from morphkit.bake.manifest import Manifest, OutputRecord
 from morphkit.billboard import BillboardAsset
 from morphkit.billboard.assetfile import read_record
+from morphkit.billboard.domeasset import DomeAsset
+from morphkit.billboard.domefile import read_dome
 from morphkit.fileio import read_image, write_image
 from morphkit.meshes import load_mesh
 from morphkit.scene import PointLight
@@ -167,6 +169,50 @@ def test_asset_bad_metadata_and_values(asset_bytes, tmp_path, data):
             assert img.dtype == np.float32 and img.shape[-1] == 4
             assert np.isfinite(img).all() and img.min() >= 0 and img.max() <= 1
     outcome(read_record, path)
+
+
+# =================================================================== dome (relightable) asset
+@pytest.fixture(scope="module")
+def dome_bytes(tmp_path_factory) -> bytes:
+    from morphkit.billboard.analytic import sphere_dome_asset
+
+    path = tmp_path_factory.mktemp("dome") / "d.npz"
+    return sphere_dome_asset(size=16, levels=1).save(path).read_bytes()
+
+
+def _check_dome(asset: DomeAsset) -> None:
+    rec = asset.record()
+    assert rec.rgba.dtype == np.uint8 and rec.normal.dtype == np.int8
+    assert not np.isnan(rec.depth).any() and not (rec.depth == -np.inf).any()
+    # a loaded asset serves a surface between its views: finite, alpha in [0, 1]
+    ok, surf = outcome(asset.surface, 17.0, 33.0)
+    if ok:
+        assert np.isfinite(surf.albedo).all() and 0.0 <= surf.alpha.min() <= surf.alpha.max() <= 1.0
+
+
+@given(data=st.data())
+def test_dome_damaged_bytes(dome_bytes, tmp_path, data):
+    path = _write(tmp_path, "d.npz", data.draw(damaged(dome_bytes)))
+    ok, asset = outcome(DomeAsset.load, path)
+    if ok:
+        _check_dome(asset)
+
+
+@given(data=st.data())
+def test_dome_bad_metadata_and_values(dome_bytes, tmp_path, data):
+    arrays = read_npz(dome_bytes)
+    meta = json.loads(bytes(arrays["meta"]).decode())
+    if data.draw(st.booleans(), label="mutate metadata"):
+        meta = data.draw(mutated_json(meta, keep=("sha256", "format", "version", "kind")))
+    if data.draw(st.booleans(), label="mutate an array"):
+        k = data.draw(st.sampled_from([k for k in arrays if k != "meta"]))
+        arrays[k] = data.draw(mutated_array(arrays[k]))
+    arrays["meta"] = meta_array(_rehash_asset(meta, arrays))
+    path = _write(tmp_path, "d.npz", npz_bytes(arrays))
+    ok, asset = outcome(DomeAsset.load, path)
+    if ok:
+        _check_dome(asset)
+    outcome(read_dome, path)
 
 
 # =================================================================== bake manifest and journal

@@ -25,7 +25,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, QhullError
 
 from .. import tol
 from ..errors import ValidationError, expected_got
@@ -101,10 +101,14 @@ class ViewDome:
         if len(clean) > 1 or self.top:
             dirs = direction(self._az, self._el)
             pts = np.vstack([dirs, [[0.0, 0.0, -1.0]]])
-            hull = ConvexHull(pts)
-            nadir = len(dirs)
-            tris = np.array([s for s in hull.simplices if nadir not in s], dtype=np.int64)
-            inv = np.linalg.inv(np.transpose(dirs[tris], (0, 2, 1)))  # columns: the three directions
+            try:
+                hull = ConvexHull(pts)
+                nadir = len(dirs)
+                tris = np.array([s for s in hull.simplices if nadir not in s], dtype=np.int64)
+                inv = np.linalg.inv(np.transpose(dirs[tris], (0, 2, 1)))  # columns: the three directions
+            except (QhullError, np.linalg.LinAlgError, ValueError) as exc:
+                raise ValidationError(expected_got("rings", "views that span the upper hemisphere "
+                                                   "(their triangles not flat)", repr(clean))) from exc
         object.__setattr__(self, "_tris", tris)
         object.__setattr__(self, "_inv", inv)
 
