@@ -54,11 +54,19 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         soft = index["soft_shadows"][mesh]
         warped = soft["mae_warped_vs_raycast_lightfacing_pixels"]
         assert warped <= soft["mae_direct_vs_raycast_lightfacing_pixels"] + 0.03 and warped < 0.1
-    assert {"billboards_compare.png", "billboards_error.png", "billboards_textured.png"} <= names
+    assert {"billboards_compare.png", "billboards_error.png", "billboards_textured.png",
+            "billboards_relit.png"} <= names
     # the textured asset's billboard beside its real mesh, in its own look, turned +z up
     tex = index["billboards"]["textured"]
     assert (tex["asset"], tex["appearance"], tex["source_up"]) == ("photo_crate.glb", "own", "y")
     assert all(v["iou"] > 0.9 for v in tex["morph_vs_mesh"].values())
+    # relit from three heights: the view morph beside the impostor at equal bytes, both close to
+    # the mesh in outline (IoU > 0.9, measured >= 0.95 at 64 px) and the morph the sharper (PSNR)
+    relit = index["billboards"]["relit"]
+    assert relit["impostor_bytes"] <= relit["bytes"]
+    for row in relit["vs_mesh"].values():
+        assert row["morph"]["iou"] > 0.9 and row["impostor"]["iou"] > 0.9
+        assert row["morph"]["psnr"] > row["impostor"]["psnr"]
     # the first picture is morphkit's output: four rows (warped, soft, view morph, billboards),
     # each a captioned pair of OVERVIEW_TILE-high images; the ray-cast scenes have their own file
     from morphkit.demo import OVERVIEW_TILE
