@@ -24,6 +24,7 @@ happens here and nowhere else.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import struct
@@ -40,8 +41,8 @@ import numpy as np
 
 from .errors import FileFormatError, RenderError, ValidationError, expected_got
 
-__all__ = ["ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output", "open_video_writer",
-           "append_lines", "write_bytes",
+__all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
+           "open_video_writer", "append_lines", "write_bytes",
            "write_text", "write_json", "encode_image", "write_image", "read_image"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
@@ -270,6 +271,23 @@ def append_lines(path: str | os.PathLike[str], lines: Sequence[str]) -> Path:
     finally:
         os.close(fd)
     return p
+
+
+def array_digest(a: np.ndarray) -> str:
+    """SHA-256 (hex) of an array's bytes in C order: the checksum the ``.npz`` formats of
+    morphkit (shadow atlas, billboard and dome assets) store per array and check on load.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Any array.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
+    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
 
 
 def write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:

@@ -174,7 +174,7 @@ def _rehashed(change: Callable[[dict, dict], None], *names: str) -> Callable[[di
     """``change``, then the named arrays' checksums recomputed (a writer's bug, not damage)."""
 
     def both(meta: dict, a: dict) -> None:
-        from morphkit.shadow.atlasfile import array_digest
+        from morphkit.fileio import array_digest
 
         change(meta, a)
         for k in names:

@@ -38,11 +38,11 @@ from morphkit.billboard import BillboardAsset
 from morphkit.billboard.assetfile import read_record
 from morphkit.billboard.domeasset import DomeAsset
 from morphkit.billboard.domefile import read_dome
-from morphkit.fileio import read_image, write_image
+from morphkit.fileio import array_digest, read_image, write_image
 from morphkit.meshes import load_mesh
 from morphkit.scene import PointLight
 from morphkit.shadow import BakedAtlas, LightRig, MotionRange, ShadowAtlas
-from morphkit.shadow.atlasfile import array_digest, load_atlas, save_atlas
+from morphkit.shadow.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
 from morphkit.viewmorph import Correspondences
 from morphkit.viewmorph.correspondences import load_points, save_points

@@ -416,7 +416,7 @@ def test_load_refuses_bad_files(tmp_path, point_atlas):
     np.savez(tmp_path / "moved.npz", **arrays)
     with pytest.raises(FileFormatError, match="atlas array 'control': expected sha256"):
         ShadowAtlas.load(tmp_path / "moved.npz")
-    from morphkit.shadow.atlasfile import array_digest
+    from morphkit.fileio import array_digest
 
     meta["arrays"]["control"]["sha256"] = array_digest(arrays["control"])  # consistent checksum
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)

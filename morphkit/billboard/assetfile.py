@@ -40,7 +40,6 @@ or shape, or an array whose checksum does not match.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -51,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, expected_got
-from ..fileio import ARCHIVE_ERRORS, write_bytes
+from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 
 __all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
 
@@ -127,10 +126,6 @@ class AssetRecord:
     source_up: str | None = None
 
 
-def _sha(a: np.ndarray) -> str:
-    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
-
-
 def write_record(path: str | os.PathLike[str], rec: AssetRecord) -> Path:
     """Write ``rec`` to ``path`` (atomically; the folder must exist). Returns ``path``.
 
@@ -151,7 +146,7 @@ def write_record(path: str | os.PathLike[str], rec: AssetRecord) -> Path:
             "ring": rec.ring, "quad": rec.quad, "levels": rec.levels, "layers": rec.layers,
             "pairs": [list(p) for p in rec.pairs], "front_view": rec.front_view, "cameras": rec.cameras,
             "appearance": rec.appearance, "source_up": rec.source_up,
-            "sha256": {k: _sha(a) for k, a in arrays.items()}}
+            "sha256": {k: array_digest(a) for k, a in arrays.items()}}
     buf = io.BytesIO()
     np.savez(buf, meta=np.frombuffer(json.dumps(meta, allow_nan=False).encode(), np.uint8), **arrays)
     return write_bytes(path, buf.getvalue())
@@ -239,7 +234,7 @@ def _numbers(v: Any, n: int, what: str) -> list[float]:
 def _record(meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> AssetRecord:
     sums = _get(meta, "sha256", dict)
     for k, a in arrays.items():
-        if sums.get(k) != _sha(a):
+        if sums.get(k) != array_digest(a):
             raise _bad(f"array {k!r}", "the checksum stored in its metadata", "different bytes (corrupt)")
     ring = _get(meta, "ring", dict)
     views = _get(ring, "views", int, "ring")

@@ -25,7 +25,6 @@ arrays, wrong dtypes or shapes, NaN or ``-inf`` depths, or a checksum that does 
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -36,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, expected_got
-from ..fileio import ARCHIVE_ERRORS, write_bytes
+from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from .assetfile import FORMAT
 
 __all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome"]
@@ -94,10 +93,6 @@ class DomeRecord:
     depth: np.ndarray
 
 
-def _sha(a: np.ndarray) -> str:
-    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
-
-
 def write_dome(path: str | os.PathLike[str], rec: DomeRecord) -> Path:
     """Write ``rec`` to ``path`` atomically (the folder must exist).
 
@@ -119,7 +114,7 @@ def write_dome(path: str | os.PathLike[str], rec: DomeRecord) -> Path:
             "rings": [[float(e), int(k)] for e, k in rec.rings], "top": bool(rec.top),
             "pivot": [float(x) for x in rec.pivot], "distance": float(rec.distance),
             "radius": float(rec.radius), "size": int(rec.size), "levels": int(rec.levels),
-            "sha256": {k: _sha(a) for k, a in arrays.items()}}
+            "sha256": {k: array_digest(a) for k, a in arrays.items()}}
     buf = io.BytesIO()
     np.savez(buf, meta=np.frombuffer(json.dumps(meta, allow_nan=False).encode(), np.uint8), **arrays)
     return write_bytes(path, buf.getvalue())
@@ -192,7 +187,7 @@ def read_dome(path: str | os.PathLike[str]) -> DomeRecord:
                    f"an unreadable file ({type(exc).__name__}: {str(exc)[:120]})") from exc
     sums = _get(meta, "sha256", dict)
     for k, a in arrays.items():
-        if sums.get(k) != _sha(a):
+        if sums.get(k) != array_digest(a):
             raise _bad(f"array {k!r}", "the checksum recorded in meta", "different bytes (corrupt file)")
     rgba, normal, depth = arrays["rgba"], arrays["normal"], arrays["depth"]
     if rgba.dtype != np.uint8 or rgba.ndim != 4 or rgba.shape[3] != 4:

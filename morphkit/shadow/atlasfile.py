@@ -19,7 +19,6 @@ version are refused (re-bake to get a current one); version 1 had no checksums.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import math
@@ -31,13 +30,13 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
-from ..fileio import ARCHIVE_ERRORS, write_bytes
+from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from ..scene import DirectionalLight, PointLight
 from ..validate import as_pose
 from .baked import BakedAtlas
 from .rig import LightRig, MotionRange
 
-__all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas", "array_digest",
+__all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas",
            "light_to_dict", "light_from_dict"]
 
 #: The format name stored in every atlas file.
@@ -49,22 +48,6 @@ ATLAS_VERSION = 2
 ARRAYS = ("xs", "ys", "maps", "anchors", "plane_anchors", "control", "triangles")
 
 _ANCHOR_KINDS = ("sample", "shared", "plane")
-
-
-def array_digest(a: np.ndarray) -> str:
-    """SHA-256 (hex) of an array's bytes in C order (the checksum stored per array).
-
-    Parameters
-    ----------
-    a : numpy.ndarray
-        Any array.
-
-    Returns
-    -------
-    str
-        64 hex digits.
-    """
-    return hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
 
 
 def save_atlas(atlas: BakedAtlas, path: str | Path) -> Path:
