@@ -20,7 +20,8 @@ surface ends the march:
 * **hit** -- the ray crossed ``k``'s surface between this sample and the one before: the
   sample lies at most :data:`THICKNESS_STEPS` steps behind the surface there (a ray that
   passes behind a part's outline is farther behind it); the crossing is refined (secant
-  where the sample before saw a surface too, then :data:`REFINE_STEPS` bisections);
+  where the sample before saw a surface too, :data:`REFINE_STEPS` bisections, and a last
+  secant between the bracket's ends);
 * **occluded** -- the ray passed behind a nearer part's outline as ``k`` sees it: ``k``
   does not see the point (the other references fill it in);
 * **free** -- no sample behind ``k``'s surface: ``k`` sees the ray's whole path as empty.
@@ -74,7 +75,12 @@ FREE, HIT, OCCLUDED = 0, 1, 2
 
 def steps_for(shape: tuple[int, int]) -> int:
     """March samples through the bounding sphere for an image of ``shape``: about one per
-    two pixels across it, between 16 and 96.
+    three pixels across it, between 16 and 96. Fewer steps are a thicker surface (a crossing
+    lies within :data:`THICKNESS_STEPS` of them): one per three pixels kept thin parts' outlines
+    better than one per two, with the last secant of the refinement keeping the depth as
+    close (cow and tree at 128 px, 12 directions a band: IoU 0-20 degrees 0.947 -> 0.948 and
+    0.968 -> 0.971, 20-40 0.958 -> 0.959 and 0.974 -> 0.978, albedo PSNR +0.2 to +0.5 dB in
+    every band; one per four lost more at 0-20), and costs a third less.
 
     Parameters
     ----------
@@ -86,7 +92,7 @@ def steps_for(shape: tuple[int, int]) -> int:
     int
         The number of samples.
     """
-    return int(min(96, max(16, max(shape) // 2)))
+    return int(min(96, max(16, max(shape) // 3)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -201,14 +207,21 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
     if len(idx):
         lo = np.maximum(t_hit[idx] - dt[idx], t0[idx])
         hi = t_hit[idx] + np.float32(0.5) * dt[idx]
+        f_lo = np.full(len(idx), np.nan, np.float32)  # sample minus surface depth at lo, hi
+        f_hi = np.full(len(idx), np.nan, np.float32)
         for _ in range(REFINE_STEPS):
             mid = np.float32(0.5) * (lo + hi)
             u, v, z = _project(A[idx], B[idx], mid, camera)
             d = _lookup(dmap, u, v)
             behind = (d < _FAR) & (z >= d)
-            hi = np.where(behind, mid, hi)
-            lo = np.where(behind, lo, mid)
-        t_hit[idx] = hi
+            f = np.where(d < _FAR, z - d, np.float32(np.nan)).astype(np.float32)
+            hi, f_hi = np.where(behind, mid, hi), np.where(behind, f, f_hi)
+            lo, f_lo = np.where(behind, lo, mid), np.where(behind, f_lo, f)
+        # last, the secant between the bracket's ends where both saw the surface
+        with np.errstate(invalid="ignore", divide="ignore"):
+            frac = -f_lo / (f_hi - f_lo)
+        ok = np.isfinite(frac) & (frac >= 0) & (frac <= 1)
+        t_hit[idx] = np.where(ok, lo + np.where(ok, frac, 1.0) * (hi - lo), hi)
     u, v, _ = _project(A, B, np.where(hit, t_hit, t0), camera)
     return ViewHits(status, t_hit, u, v)
 
