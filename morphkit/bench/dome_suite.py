@@ -40,7 +40,7 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   lighting and ``relit_delta = psnr_bake - psnr_relit`` (target <= 2 dB); ``iou`` the mean
   silhouette IoU. Methods: morph, impostor, nearest, crossfade.
 * ``dome-temporal`` -- a field of 100 trees (quick 20; random positions and yaws,
-  seeded, scale 1, :func:`~morphkit.billboard.field.place_random`) with
+  seeded, scale 1, :func:`~morphkit.billboard.instances.place_random`) with
   :class:`~morphkit.billboard.facing.ViewpointFacing`, along
   :meth:`FlyoverPath.around <morphkit.billboard.paths.FlyoverPath.around>` (5 to 85 degrees
   elevation, a quarter circle) in 60 frames (quick 24) at 640 x 480 (quick 320 x 240):
@@ -117,8 +117,8 @@ from ..shading import Lighting, shade, shade_passes
 from .billboard_scenes import SUITE, step_changes
 from .harness import Timing, make_row, time_calls
 
-__all__ = ["BANDS", "MIN_VIEW_SEP_DEG", "band_directions", "band_label", "SECTIONS", "dome_bands_rows",
-           "dome_relit_rows", "dome_temporal_rows", "dome_speed_rows", "dome_bake_rows"]
+__all__ = ["MeshSource", "BANDS", "MIN_VIEW_SEP_DEG", "band_directions", "band_label", "SECTIONS",
+           "dome_bands_rows", "dome_relit_rows", "dome_temporal_rows", "dome_speed_rows", "dome_bake_rows"]
 
 #: Elevation bands (degrees, ``[lo, hi)``; the last includes 90) of the per-band rows.
 BANDS: tuple[tuple[float, float], ...] = ((0.0, 20.0), (20.0, 40.0), (40.0, 60.0), (60.0, 80.0), (80.0, 90.0))
@@ -136,12 +136,32 @@ IMPOSTOR_FRAMES = 12
 LEVELS = 3
 
 
-class _Cache(Protocol):
-    """What the sections use of ``billboard_suite.AssetCache`` (no import: no cycle)."""
+class MeshSource(Protocol):
+    """What the dome sections use of ``billboard_suite.AssetCache`` (declared here: importing it
+    would make a cycle).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
 
     renderer: SceneRenderer
 
-    def mesh(self, name: str) -> trimesh.Trimesh: ...
+    def mesh(self, name: str) -> trimesh.Trimesh:
+        """The sample mesh ``name``, normalised.
+
+        Parameters
+        ----------
+        name : str
+            A sample mesh name.
+
+        Returns
+        -------
+        trimesh.Trimesh
+            The mesh.
+        """
+        ...
 
 
 def band_label(band: tuple[float, float]) -> str:
@@ -243,7 +263,7 @@ def _impostor(mesh: trimesh.Trimesh, renderer: SceneRenderer, name: str, budget:
                          out_size=out_size, appearance="checker")
 
 
-def _assets(cache: _Cache, name: str, size: int) -> tuple[DomeAsset, OctahedralImpostor]:
+def _assets(cache: MeshSource, name: str, size: int) -> tuple[DomeAsset, OctahedralImpostor]:
     """The dome asset of mesh ``name`` at ``size`` and its impostor at equal bytes (baked once per cache)."""
     memo = _ASSETS.setdefault(cache, Memo(4))
 
@@ -279,7 +299,7 @@ def _directions(dome: DomeAsset, imp: OctahedralImpostor,
             for i, b in enumerate(BANDS)}
 
 
-def _truth_passes(cache: _Cache, dome: DomeAsset, a: float, e: float) -> tuple[Any, Any]:
+def _truth_passes(cache: MeshSource, dome: DomeAsset, a: float, e: float) -> tuple[Any, Any]:
     cam = dome.camera(a, e)
     items = dome.items(cache.mesh(dome.name))
     return cache.renderer.source_passes(cam, items, bake_lights(), ambient=BAKE_AMBIENT,
@@ -302,7 +322,7 @@ def _mean_rows(rows: list[dict[str, Any]], key: str, value: str, note: str) -> l
 # --------------------------------------------------------------------------- dome-bands
 
 
-def dome_bands_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
+def dome_bands_rows(cache: MeshSource, quick: bool) -> list[dict[str, Any]]:
     """Per elevation band: every method against the mesh under the bake lighting (module docstring).
 
     Parameters
@@ -364,7 +384,7 @@ def _band_row(method: str, mesh: str, band: str, size: int, vals: list[tuple[flo
 # --------------------------------------------------------------------------- dome-relit
 
 
-def dome_relit_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
+def dome_relit_rows(cache: MeshSource, quick: bool) -> list[dict[str, Any]]:
     """Under 8 suns against under the bake light, per method (module docstring).
 
     Parameters
@@ -428,7 +448,7 @@ def _field(names: str, n: int, seed: int) -> tuple[Any, float]:
     return inst, max(1.0, 1.5 * math.sqrt(n) / 2)
 
 
-def dome_temporal_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
+def dome_temporal_rows(cache: MeshSource, quick: bool) -> list[dict[str, Any]]:
     """Step changes and per-billboard accuracy along the fly-over (module docstring).
 
     Parameters
@@ -538,7 +558,7 @@ def _one_instance_rows(dome: DomeAsset, imp: OctahedralImpostor, ring: Any, mode
 # --------------------------------------------------------------------------- dome-speed
 
 
-def dome_speed_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
+def dome_speed_rows(cache: MeshSource, quick: bool) -> list[dict[str, Any]]:
     """Warm frame time of 1000 relit billboards against the classic billboard and the impostor.
 
     Parameters
@@ -593,7 +613,7 @@ def dome_speed_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
 # --------------------------------------------------------------------------- dome-bake
 
 
-def dome_bake_rows(cache: _Cache, quick: bool) -> list[dict[str, Any]]:
+def dome_bake_rows(cache: MeshSource, quick: bool) -> list[dict[str, Any]]:
     """Bake time and bytes of one dome asset and of its impostor at equal bytes.
 
     Parameters

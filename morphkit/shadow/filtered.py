@@ -301,7 +301,7 @@ def filtered_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Ca
 
 def point_chunks(pts: np.ndarray) -> np.ndarray:
     """Bounding boxes of consecutive runs of ``CHUNK_POINTS`` points, then of runs of
-    ``CHUNK_GROUP`` such runs, for :func:`filter_into` (made once when several maps
+    ``CHUNK_GROUP`` such runs, for ``filter_into`` (made once when several maps
     filter the same points).
 
     Parameters
