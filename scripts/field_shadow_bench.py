@@ -14,7 +14,11 @@ warmed first). Medians over the suns.
 The field view's resolution is the atlases' (texels per unit of a 128-texel view of an
 instance at scale 1, the larger asset's), so both ways see the same texel size.
 
-Usage: PYTHONPATH=. python scripts/field_shadow_bench.py [--counts 10 100] [--grid 512] [--json PATH]
+``--yaw-classes K`` draws the yaws from K values (instances of one asset and class share a light
+view per sun); ``--tpu-scale`` sets the field view's resolution against the atlases'.
+
+Usage: PYTHONPATH=. python scripts/field_shadow_bench.py [--counts 10 100] [--grid 512]
+[--yaw-classes K] [--tpu-scale S] [--json PATH]
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ import time
 import numpy as np
 
 from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.instances import place_random
+from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
@@ -44,6 +48,10 @@ def main() -> None:
     ap.add_argument("--counts", type=int, nargs="+", default=[10, 100])
     ap.add_argument("--grid", type=int, default=512)
     ap.add_argument("--seed", type=int, default=26)
+    ap.add_argument("--yaw-classes", type=int, default=0,
+                    help="yaws from K evenly spaced values (0: uniform); a class shares its light views")
+    ap.add_argument("--tpu-scale", type=float, default=1.0,
+                    help="the field view at S x the atlases' resolution")
     ap.add_argument("--json", help="write the rows here")
     args = ap.parse_args()
     meshes = {nm: sample_mesh(nm) for nm in ASSETS}
@@ -53,10 +61,14 @@ def main() -> None:
         t0 = time.perf_counter()
         atlases = {nm: bake_sun_atlas(meshes[nm], r, dome=SPARSE, size=128) for nm in ASSETS}
         t_bake = time.perf_counter() - t0
-        tpu = min(a.size / (2.0 * a.cameras.half_extent[0]) for a in atlases.values())
+        tpu = args.tpu_scale * min(a.size / (2.0 * a.cameras.half_extent[0]) for a in atlases.values())
         for n in args.counts:
             rng = np.random.default_rng(args.seed + n)
             inst = place_random(ASSETS, n, rng)
+            if args.yaw_classes:
+                k = args.yaw_classes
+                yaws = (360.0 / k) * rng.integers(0, k, n)
+                inst = Instances(inst.names, inst.asset, inst.xy, yaws, inst.scale)
             half = max(1.0, 1.5 * np.sqrt(n) / 2)
             rect = (-half - 1.0, -half - 1.0, half + 1.0, half + 1.0)
             xs = np.linspace(rect[0], rect[2], args.grid)
@@ -85,7 +97,7 @@ def main() -> None:
                 sc.append((shadow_iou(fm.visibility(pts) < 0.5, truth),
                            shadow_iou(dm.visibility(pts) < 0.5, truth)))
             sc = np.array(sc)
-            row = dict(instances=n, suns=len(SUNS), grid=args.grid, tpu=tpu,
+            row = dict(instances=n, yaw_classes=args.yaw_classes, suns=len(SUNS), grid=args.grid, tpu=tpu,
                        field_side_max=int(max(max(s) for s in shapes)),
                        light_views_per_sun=float(np.mean(views)),
                        iou_atlas=sc[:, 0].tolist(), iou_direct=sc[:, 1].tolist(),
@@ -97,11 +109,12 @@ def main() -> None:
             rows.append(row)
             print(json.dumps(row), flush=True)
     print()
-    print("| instances | field view (max side) | light views/sun | atlas IoU mean / min "
+    print("| instances (yaw classes) | field view (max side) | light views/sun | atlas IoU mean / min "
           "| direct IoU mean / min | ms atlas cold | ms atlas warm | ms direct | ms ray cast |")
     print("|---|---|---|---|---|---|---|---|---|")
     for w in rows:
-        print(f"| {w['instances']} | {w['field_side_max']} | {w['light_views_per_sun']:.0f} "
+        print(f"| {w['instances']} ({w['yaw_classes'] or 'any'}) | {w['field_side_max']} "
+              f"| {w['light_views_per_sun']:.0f} "
               f"| {w['iou_atlas_mean']:.3f} / {w['iou_atlas_min']:.3f} "
               f"| {w['iou_direct_mean']:.3f} / {w['iou_direct_min']:.3f} "
               f"| {w['ms_cold']:.0f} | {w['ms_warm']:.0f} | {w['ms_direct']:.0f} | {w['ms_truth']:.0f} |")
