@@ -1,0 +1,427 @@
+"""A field of instances' shadow on the ground from their assets' sun atlases: one light view.
+
+A scene of many instances (:class:`~morphkit.billboard.instances.Instances`) of a few assets,
+each with its :class:`~morphkit.shadow.sunatlas.SunAtlas`, under a directional sun: the
+field's shadow map is **one orthographic light view along the sun** (world frame) that
+covers the instances' bounding spheres at ``texels_per_unit`` texels per scene unit
+(:func:`field_camera`). Each instance's light view comes from its atlas, with the sun turned
+into its object frame by its yaw (:func:`~morphkit.shadow.sunatlas.sun_in_object`), and is
+placed into the field view with a minimum of depths:
+
+**The placement.** Both views look along the same direction (the instance's camera, turned by
+the pose ``s Rz(yaw)``, looks along the world sun), so a texel ``(u, v)`` of the instance's
+view maps to the field view by a 2-D similarity (the yaw's turn in the light's image plane,
+the scale ``s``, a translation), its depth by ``z' = s z + offset``. Both come from the
+product ``field world2cam @ object2world @ instance cam2world``; the in-plane part is taken at
+the depth of the asset's pivot (exact when the directions agree; the object-frame sun is
+quantised to :data:`SUN_QUANTUM_DEG` for the cache, so they differ by under half a quantum
+and the depth offset keeps the small tilt as a plane over the texels). The instance's depth
+is resampled with ``cv2.warpAffine`` (nearest, ``+inf`` outside) into the part of the field
+its view covers, and ``np.minimum`` keeps the nearer caster.
+
+**The cache.** Light views are kept per ``(asset, quantised object-frame sun)``: instances
+of one asset that share a yaw (to the quantum) share a light view, and a sun that comes back
+finds its views made (:attr:`FieldShadow.cached`, :meth:`FieldShadow.clear`).
+
+**Only what a scene needs.** Given a ground rectangle (the receiver), an instance whose
+bounding sphere's footprint in the field view (a disc) does not meet the receiver's (the
+bounding box of its corners' projections along the sun) cannot shadow it and is skipped
+(:attr:`FieldMap.skipped`).
+
+**Lookup** (:meth:`FieldMap.visibility`): a ground point is projected along the sun into the
+field view and shadowed where it lies behind the stored depth by more than
+:data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS` texels (as
+:func:`~morphkit.shadow.sunatlas.ground_visibility`).
+
+A sun at or below the horizon casts no shadow (every point lit, no error); under
+:data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG` the sun is clamped there, azimuth kept, as the
+atlas does (:mod:`.sunatlas`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from .. import tol
+from ..billboard.domecameras import direction, quad_axes
+from ..billboard.instances import Instances
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..validate import as_finite_array, as_positive
+from .lookup import ShadowBias, shadow_visibility
+from .sunatlas import SunAtlas, sun_direction
+
+__all__ = ["FieldShadow", "FieldMap", "field_camera", "field_sun", "receiver_footprint",
+           "SUN_QUANTUM_DEG"]
+
+#: The cache's step of the object-frame sun's azimuth and elevation, degrees.
+SUN_QUANTUM_DEG = 0.5
+
+
+def field_sun(sun_dir_world: np.ndarray) -> tuple[float, float] | None:
+    """The sun's ``(azimuth, elevation)`` in degrees as the field uses it (clamped; module docstring).
+
+    Parameters
+    ----------
+    sun_dir_world : (3,) float
+        Towards the sun, world frame (any length > 0).
+
+    Returns
+    -------
+    (float, float) or None
+        Degrees; the elevation at least :data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG`;
+        ``None`` at or below the horizon.
+
+    Raises
+    ------
+    ValidationError
+        A zero or non-finite direction.
+    """
+    d = as_finite_array(sun_dir_world, "sun_dir_world", shape=(3,))
+    n = float(np.linalg.norm(d))
+    if not n > tol.MIN_EXTENT:
+        raise ValidationError(expected_got("sun_dir_world", "a non-zero direction (3,)", d.tolist()))
+    d = d / n
+    if d[2] <= 0.0:
+        return None
+    el = float(np.degrees(np.arcsin(min(d[2], 1.0))))
+    return float(np.degrees(np.arctan2(d[1], d[0]))), max(el, tol.SUN_MIN_ELEVATION_DEG)
+
+
+def _axes(az: float, el: float) -> np.ndarray:
+    """(3, 3) rows: image right, image down, towards the sun (world)."""
+    right, up = quad_axes(az, el)
+    return np.stack([np.asarray(right, float), -np.asarray(up, float), np.asarray(direction(az, el), float)])
+
+
+def field_camera(centres: np.ndarray, radii: np.ndarray, azimuth_deg: float, elevation_deg: float,
+                 texels_per_unit: float) -> CameraModel:
+    """The orthographic light view along the sun covering spheres (module docstring).
+
+    Parameters
+    ----------
+    centres : (K, 3) float
+        Sphere centres, world frame (``K >= 1``).
+    radii : (K,) float
+        Their radii (> 0).
+    azimuth_deg, elevation_deg : float
+        The sun (:func:`field_sun`).
+    texels_per_unit : float
+        The view's resolution (its ``fx = fy``).
+
+    Returns
+    -------
+    CameraModel
+        Looking along the light (``-d(a, e)``), its window the spheres' footprints plus a
+        texel, its depth range the spheres' plus a unit.
+
+    Raises
+    ------
+    ValidationError
+        No sphere; a view over :data:`~morphkit.tol.MAX_TEXTURE_SIDE` texels a side.
+    """
+    c = as_finite_array(centres, "centres", shape=(None, 3))
+    r = as_finite_array(radii, "radii", shape=(len(c),))
+    tpu = as_positive(texels_per_unit, "texels_per_unit")
+    if len(c) == 0:
+        raise ValidationError(expected_got("centres", "at least one sphere", "none"))
+    ax = _axes(azimuth_deg, elevation_deg)
+    p = c @ ax.T
+    pad = 1.0 / tpu
+    lo = (p[:, :2] - r[:, None]).min(axis=0) - pad
+    hi = (p[:, :2] + r[:, None]).max(axis=0) + pad
+    w, h = (int(math.ceil((hi[k] - lo[k]) * tpu)) for k in (0, 1))
+    if max(w, h) > tol.MAX_TEXTURE_SIDE:
+        raise ValidationError(expected_got("field light view",
+                                           f"at most {tol.MAX_TEXTURE_SIDE} texels a side",
+                                           f"{w} x {h} (fewer texels_per_unit, or a smaller receiver)"))
+    mid = 0.5 * (lo + hi)
+    top = float((p[:, 2] + r).max()) + 1.0
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 1], pose[:3, 2] = ax[0], ax[1], -ax[2]
+    pose[:3, 3] = mid[0] * ax[0] + mid[1] * ax[1] + top * ax[2]
+    zfar = top - float((p[:, 2] - r).min()) + 1.0
+    return CameraModel("orthographic", (h, w), tpu, tpu, (w - 1) / 2.0, (h - 1) / 2.0, 0.5, zfar, pose)
+
+
+def receiver_footprint(rect: tuple[float, float, float, float], azimuth_deg: float,
+                       elevation_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """The bounding box, in the light's image plane, of a ground rectangle (``z = 0``).
+
+    Parameters
+    ----------
+    rect : (xmin, ymin, xmax, ymax)
+        The receiver, world units.
+    azimuth_deg, elevation_deg : float
+        The sun.
+
+    Returns
+    -------
+    lo, hi : (2,) float64
+        The box's corners, along the view's right and down axes (world units).
+
+    Raises
+    ------
+    ValidationError
+        Not four finite numbers with ``xmin < xmax``, ``ymin < ymax``.
+    """
+    x0, y0, x1, y1 = as_finite_array(rect, "receiver", shape=(4,))
+    if not (x0 < x1 and y0 < y1):
+        raise ValidationError(expected_got("receiver", "(xmin, ymin, xmax, ymax) with min < max",
+                                           [x0, y0, x1, y1]))
+    corners = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x0, y1, 0.0], [x1, y1, 0.0]])
+    p = corners @ _axes(azimuth_deg, elevation_deg)[:2].T
+    return p.min(axis=0), p.max(axis=0)
+
+
+@dataclass(frozen=True, eq=False)
+class FieldMap:
+    """The field's light view under one sun (:meth:`FieldShadow.build`).
+
+    Parameters
+    ----------
+    camera : CameraModel or None
+        The field's light camera (world); ``None`` when nothing casts (no instance kept, or
+        the sun at or below the horizon).
+    depth : (H, W) float32 or None
+        Nearest caster's depth along the light (``+inf`` where none).
+    kept : (M,) int64
+        Indices of the instances drawn.
+    skipped : int
+        Instances whose shadow cannot reach the receiver.
+    """
+
+    camera: CameraModel | None
+    depth: np.ndarray | None
+    kept: np.ndarray
+    skipped: int = 0
+
+    def visibility(self, points: np.ndarray) -> np.ndarray:
+        """Visibility of world points under the field (module docstring, "Lookup").
+
+        Parameters
+        ----------
+        points : (N, 3) float
+            Receiver points, world frame.
+
+        Returns
+        -------
+        (N,) float32
+            1 lit, 0 shadowed (all 1 when nothing casts).
+
+        Raises
+        ------
+        ValidationError
+            Points not ``(N, 3)`` finite.
+        """
+        pts = as_finite_array(points, "points", shape=(None, 3))
+        if self.camera is None or self.depth is None:
+            return np.ones(len(pts), np.float32)
+        bias = ShadowBias(constant=tol.SUN_GROUND_BIAS_TEXELS, slope=0.0)
+        return shadow_visibility(pts, self.depth, self.camera, bias=bias)
+
+
+class FieldShadow:
+    """The field shadow builder of a set of assets' sun atlases, with its light-view cache.
+
+    Parameters
+    ----------
+    atlases : mapping of str to SunAtlas
+        Each asset name of the instances to come, its atlas.
+
+    Raises
+    ------
+    ValidationError
+        No atlas, or a value that is not a SunAtlas.
+    """
+
+    def __init__(self, atlases: Mapping[str, SunAtlas]) -> None:
+        if not isinstance(atlases, Mapping) or not atlases:
+            raise ValidationError(expected_got("atlases", "a non-empty mapping name -> SunAtlas",
+                                               type(atlases).__name__))
+        for name, a in atlases.items():
+            if not isinstance(a, SunAtlas):
+                raise ValidationError(expected_got(f"atlases[{name!r}]", "a SunAtlas", type(a).__name__))
+        self.atlases = dict(atlases)
+        self._views: dict[tuple[str, int, int], tuple[CameraModel, np.ndarray]] = {}
+        self.hits = 0
+        self.misses = 0
+
+    @property
+    def cached(self) -> int:
+        """Light views held in the cache."""
+        return len(self._views)
+
+    def clear(self) -> None:
+        """Empty the light-view cache (and its hit and miss counts)."""
+        self._views.clear()
+        self.hits = self.misses = 0
+
+    def _atlas_of(self, instances: Instances) -> list[SunAtlas]:
+        if not isinstance(instances, Instances):
+            raise ValidationError(expected_got("instances", "an Instances", type(instances).__name__))
+        missing = [nm for nm in instances.names if nm not in self.atlases]
+        if missing:
+            raise ValidationError(expected_got("instances' assets",
+                                               f"names with an atlas ({sorted(self.atlases)})", missing))
+        return [self.atlases[nm] for nm in instances.names]
+
+    def spheres(self, instances: Instances) -> tuple[np.ndarray, np.ndarray]:
+        """The instances' bounding spheres, world frame (their atlases' pivot and radius, posed).
+
+        Parameters
+        ----------
+        instances : Instances
+            The field.
+
+        Returns
+        -------
+        centres : (N, 3) float64
+        radii : (N,) float64
+        """
+        atl = self._atlas_of(instances)
+        if len(instances) == 0:
+            return np.zeros((0, 3)), np.zeros(0)
+        centres = instances.pivots([a.cameras.pivot for a in atl])
+        radii = np.array([a.cameras.radius for a in atl])[instances.asset] * instances.scale
+        return centres, radii
+
+    def plan(self, instances: Instances, sun_dir_world: np.ndarray, texels_per_unit: float,
+             receiver: tuple[float, float, float, float] | None = None) -> FieldMap:
+        """The field's camera and the instances it draws, before drawing (depth ``None``).
+
+        Parameters
+        ----------
+        instances : Instances
+            The field.
+        sun_dir_world : (3,) float
+            Towards the sun, world frame.
+        texels_per_unit : float
+            The field view's resolution.
+        receiver : (xmin, ymin, xmax, ymax), optional
+            The ground rectangle to shadow; instances that cannot reach it are skipped
+            (default: none skipped).
+
+        Returns
+        -------
+        FieldMap
+            ``camera`` ``None`` when nothing casts.
+
+        Raises
+        ------
+        ValidationError
+            Bad arguments (an asset without an atlas included).
+        """
+        tpu = as_positive(texels_per_unit, "texels_per_unit")
+        centres, radii = self.spheres(instances)
+        sun = field_sun(sun_dir_world)
+        foot = None if receiver is None else receiver_footprint(receiver, 0.0, 45.0)  # validates
+        empty = np.zeros(0, np.int64)
+        if sun is None:
+            return FieldMap(None, None, empty, 0)
+        keep = np.arange(len(instances))
+        if foot is not None and len(keep):
+            lo, hi = receiver_footprint(receiver, *sun)  # type: ignore[arg-type]
+            p = centres @ _axes(*sun)[:2].T
+            meets = np.all((p + radii[:, None] >= lo) & (p - radii[:, None] <= hi), axis=1)
+            keep = np.flatnonzero(meets)
+        skipped = len(instances) - len(keep)
+        if len(keep) == 0:
+            return FieldMap(None, None, empty, skipped)
+        cam = field_camera(centres[keep], radii[keep], sun[0], sun[1], tpu)
+        return FieldMap(cam, None, keep.astype(np.int64), skipped)
+
+    def _light_view(self, name: str, atlas: SunAtlas, sun_obj: np.ndarray) -> tuple[CameraModel, np.ndarray]:
+        az = float(np.degrees(np.arctan2(sun_obj[1], sun_obj[0])))
+        el = float(np.degrees(np.arcsin(np.clip(sun_obj[2], -1.0, 1.0))))
+        q = SUN_QUANTUM_DEG
+        key = (name, round(az / q) % round(360.0 / q), round(el / q))
+        view = self._views.get(key)
+        if view is None:
+            self.misses += 1
+            got = atlas.light_view(sun_direction(key[1] * SUN_QUANTUM_DEG, key[2] * SUN_QUANTUM_DEG))
+            if got is None:  # pragma: no cover - the field's sun is above the horizon
+                raise ValidationError(expected_got("sun", "above the horizon", f"elevation {el:g}"))
+            view = self._views[key] = got
+        else:
+            self.hits += 1
+        return view
+
+    def build(self, instances: Instances, sun_dir_world: np.ndarray, texels_per_unit: float,
+              receiver: tuple[float, float, float, float] | None = None) -> FieldMap:
+        """The field's light view under a sun (module docstring).
+
+        Parameters
+        ----------
+        instances : Instances
+            The field (its asset names keys of the atlases).
+        sun_dir_world : (3,) float
+            Towards the sun, world frame.
+        texels_per_unit : float
+            The field view's resolution, texels per scene unit.
+        receiver : (xmin, ymin, xmax, ymax), optional
+            The ground rectangle to shadow (instances that cannot reach it are skipped).
+
+        Returns
+        -------
+        FieldMap
+            The map; no camera when nothing casts.
+
+        Raises
+        ------
+        ValidationError
+            Bad arguments; a field view over :data:`~morphkit.tol.MAX_TEXTURE_SIDE` a side.
+        """
+        plan = self.plan(instances, sun_dir_world, texels_per_unit, receiver)
+        if plan.camera is None:
+            return plan
+        cam = plan.camera
+        sun = field_sun(sun_dir_world)
+        assert sun is not None
+        l_world = sun_direction(*sun)
+        depth = np.full(cam.shape, np.inf, np.float32)
+        w2c = cam.world2cam
+        s_dst = np.array([[cam.fx, 0.0, cam.cx], [0.0, cam.fy, cam.cy], [0.0, 0.0, 1.0]])
+        for k in plan.kept:
+            name = instances.names[int(instances.asset[k])]
+            atlas = self.atlases[name]
+            yaw = np.radians(instances.yaw_deg[k])
+            c, s = np.cos(yaw), np.sin(yaw)
+            lx, ly, lz = l_world
+            sun_obj = np.array([c * lx + s * ly, -s * lx + c * ly, lz])  # Rz(-yaw) l
+            icam, idepth = self._light_view(name, atlas, sun_obj)
+            _place(depth, s_dst, w2c @ instances.object2world(int(k)) @ icam.cam2world, icam, idepth,
+                   atlas.cameras.distance)
+        return FieldMap(cam, depth, plan.kept, plan.skipped)
+
+
+def _place(field: np.ndarray, s_dst: np.ndarray, M: np.ndarray, icam: CameraModel, idepth: np.ndarray,
+           zref: float) -> None:
+    """Min one instance's light view into the field's depth (module docstring, "The placement")."""
+    s_src = np.array([[1.0 / icam.fx, 0.0, -icam.cx / icam.fx], [0.0, 1.0 / icam.fy, -icam.cy / icam.fy],
+                      [0.0, 0.0, 1.0]])
+    plane = np.array([[M[0, 0], M[0, 1], M[0, 2] * zref + M[0, 3]],
+                      [M[1, 0], M[1, 1], M[1, 2] * zref + M[1, 3]], [0.0, 0.0, 1.0]])
+    A = s_dst @ plane @ s_src  # source pixel -> field pixel
+    h, w = idepth.shape
+    corners = A @ np.array([[-0.5, w - 0.5, -0.5, w - 0.5], [-0.5, -0.5, h - 0.5, h - 0.5], [1, 1, 1, 1]])
+    H, W = field.shape
+    x0, y0 = max(int(np.floor(corners[0].min())), 0), max(int(np.floor(corners[1].min())), 0)
+    x1, y1 = min(int(np.ceil(corners[0].max())) + 1, W), min(int(np.ceil(corners[1].max())) + 1, H)
+    if x1 <= x0 or y1 <= y0:
+        return
+    A_roi = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -y0], [0.0, 0.0, 1.0]]) @ A
+    warped = cv2.warpAffine(idepth, A_roi[:2], (x1 - x0, y1 - y0), flags=cv2.INTER_NEAREST,
+                            borderMode=cv2.BORDER_CONSTANT, borderValue=float("inf"))
+    # depth: z' = M22 z + (M20 X + M21 Y + M23), X and Y those of the source texel (affine in u', v')
+    g = np.array([M[2, 0], M[2, 1], M[2, 3]]) @ s_src @ np.linalg.inv(A_roi)
+    ramp = (g[0] * np.arange(x1 - x0, dtype=np.float32)[None, :]
+            + g[1] * np.arange(y1 - y0, dtype=np.float32)[:, None] + g[2]).astype(np.float32)
+    z = warped * np.float32(M[2, 2]) + ramp
+    roi = field[y0:y1, x0:x1]
+    np.minimum(roi, z, out=roi)

@@ -1,0 +1,199 @@
+"""The field's shadow from many instances' sun atlases (issue 26): one light view, placed views,
+the receiver's cull, the cache, the horizon, bad arguments.
+
+The analytic sphere (:mod:`morphkit.billboard.analytic`: radius 0.6 about ``(0, 0, 1)``) gives
+atlases without GL and shadows known exactly (as in ``tests/test_sunatlas.py``); an atlas of
+the sphere moved off its axis gives a caster whose shadow turns with the instance's yaw.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
+from morphkit.billboard.dome import ViewDome
+from morphkit.billboard.domecameras import DomeCameras
+from morphkit.billboard.instances import Instances
+from morphkit.errors import ValidationError
+from morphkit.metrics import shadow_iou
+from morphkit.shadow.fieldshadow import FieldShadow
+from morphkit.shadow.sunatlas import SunAtlas, sun_direction
+
+DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
+N = 64
+TPU = 40.0
+OFFSET = np.array([0.3, 0.0, 0.0])  # the off-axis sphere's centre, relative to the pivot
+
+
+def _atlas(offset: np.ndarray) -> SunAtlas:
+    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (N, N))
+    depths = []
+    for a, e in zip(DOME.azimuths_deg(), DOME.elevations_deg(), strict=True):
+        cam = cams.ortho_camera(a, e, (N, N))
+        pose = np.array(cam.cam2world)
+        pose[:3, 3] -= offset  # the sphere seen from here sits at pivot + offset
+        depths.append(sphere_view(cam.with_pose(pose))[2])
+    return SunAtlas.from_depths(DOME, cams, np.stack(depths))
+
+
+@pytest.fixture(scope="module")
+def atlases() -> dict[str, SunAtlas]:
+    return {"ball": _atlas(np.zeros(3)), "off": _atlas(OFFSET)}
+
+
+def _grid(x0: float, y0: float, x1: float, y1: float, n: int = 200) -> np.ndarray:
+    X, Y = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
+    return np.stack([X, Y, np.zeros_like(X)], -1).reshape(-1, 3)
+
+
+def _truth(points: np.ndarray, spheres: list[tuple[np.ndarray, float]], sun: np.ndarray) -> np.ndarray:
+    """True where the ray from a point towards the sun passes through one of the spheres."""
+    out = np.zeros(len(points), bool)
+    for centre, radius in spheres:
+        v = centre - points
+        along = v @ sun
+        out |= (np.linalg.norm(v - along[:, None] * sun, axis=1) < radius) & (along > 0)
+    return out
+
+
+def _on_ground(centre: np.ndarray, sun: np.ndarray) -> np.ndarray:
+    return centre - centre[2] / sun[2] * sun
+
+
+def test_two_spheres_cast_their_two_ellipses(atlases):
+    sun = sun_direction(17.0, 52.0)
+    inst = Instances.from_records([("ball", 0.0, 0.0, 30.0), ("ball", 3.0, 1.0, 200.0, 1.5)])
+    fm = FieldShadow(atlases).build(inst, sun, TPU)
+    assert list(fm.kept) == [0, 1] and fm.skipped == 0
+    spheres = [(SPHERE_PIVOT.copy(), SPHERE_RADIUS), (np.array([3.0, 1.0, 0.0]) + 1.5 * SPHERE_PIVOT,
+                                                      1.5 * SPHERE_RADIUS)]
+    pts = _grid(-3.0, -3.0, 4.0, 3.0, 280)
+    shadow = fm.visibility(pts) < 0.5
+    assert shadow_iou(shadow, _truth(pts, spheres, sun)) > 0.93
+    for centre, radius in spheres:  # each ellipse about its own centre
+        c = _on_ground(centre, sun)
+        mine = shadow & (np.linalg.norm(pts[:, :2] - c[:2], axis=1) < 1.2 * radius / sun[2])
+        assert np.linalg.norm(pts[mine, :2].mean(axis=0) - c[:2]) < 2.0 / TPU
+
+
+def test_an_instance_whose_shadow_misses_the_receiver_is_skipped(atlases):
+    sun = sun_direction(0.0, 45.0)  # shadows fall towards -x
+    rect = (-2.0, -1.5, 1.0, 1.5)
+    near = Instances.from_records([("ball", 0.0, 0.0)])
+    both = Instances.from_records([("ball", 0.0, 0.0), ("ball", 0.0, 6.0), ("ball", 2.5, 0.0)])
+    fs = FieldShadow(atlases)
+    fm = fs.build(both, sun, TPU, rect)
+    # (0, 6) is far aside; (2.5, 0)'s shadow reaches x = 2.5 - 1.6 - 0.6 / sin 45 > -2: it stays
+    assert fm.skipped == 1 and list(fm.kept) == [0, 2]
+    pts = _grid(*rect, 120)
+    alone = fs.build(Instances.from_records([("ball", 0.0, 0.0), ("ball", 2.5, 0.0)]), sun, TPU, rect)
+    assert np.array_equal(fm.visibility(pts), alone.visibility(pts))
+    assert (fs.build(near, sun, TPU, rect).visibility(pts) < 0.5).sum() > 100
+    gone = fs.build(Instances.from_records([("ball", 0.0, 9.0)]), sun, TPU, rect)
+    assert gone.camera is None and gone.skipped == 1 and (gone.visibility(pts) == 1.0).all()
+
+
+def test_no_instance_lights_everything(atlases):
+    none = Instances.from_records([])
+    fm = FieldShadow(atlases).build(none, sun_direction(10.0, 40.0), TPU, (-1, -1, 1, 1))
+    assert fm.camera is None and len(fm.kept) == 0
+    vis = fm.visibility(_grid(-1, -1, 1, 1, 10))
+    assert vis.dtype == np.float32 and (vis == 1.0).all()
+
+
+def test_two_instances_at_one_spot_are_one(atlases):
+    sun = sun_direction(-70.0, 33.0)
+    fs = FieldShadow(atlases)
+    one = fs.build(Instances.from_records([("off", 1.0, 2.0, 40.0)]), sun, TPU)
+    two = fs.build(Instances.from_records([("off", 1.0, 2.0, 40.0), ("off", 1.0, 2.0, 40.0)]), sun, TPU)
+    assert np.isfinite(one.depth).sum() > 500
+    assert np.array_equal(one.depth, two.depth)
+    assert fs.misses == 1 and fs.hits == 2  # one light view, shared
+
+
+@pytest.mark.parametrize("elevation", [0.0, -10.0, -90.0])
+def test_a_sun_at_or_below_the_horizon_casts_nothing(atlases, elevation):
+    inst = Instances.from_records([("ball", 0.0, 0.0), ("off", 1.0, 1.0, 50.0)])
+    fm = FieldShadow(atlases).build(inst, sun_direction(30.0, elevation), TPU, (-3, -3, 3, 3))
+    assert fm.camera is None
+    assert (fm.visibility(_grid(-3, -3, 3, 3, 40)) == 1.0).all()
+
+
+def test_a_yawed_instance_casts_the_shadow_of_the_sun_turned_back(atlases):
+    yaw, sun = 90.0, sun_direction(-63.0, 41.0)
+    fs = FieldShadow(atlases)
+    fm = fs.build(Instances.from_records([("off", 0.0, 0.0, yaw)]), sun, TPU)
+    centre = SPHERE_PIVOT + np.array([0.0, 0.3, 0.0])  # the offset turned by 90 degrees
+    c = _on_ground(centre, sun)
+    pts = _grid(c[0] - 1.5, c[1] - 1.5, c[0] + 1.5, c[1] + 1.5)
+    seen = fm.visibility(pts)
+    assert shadow_iou(seen < 0.5, _truth(pts, [(centre, SPHERE_RADIUS)], sun)) > 0.93
+    # the unturned instance under the sun turned by -yaw, looked up at the points turned back
+    turned = sun_direction(-63.0 - yaw, 41.0)
+    back = fs.build(Instances.from_records([("off", 0.0, 0.0, 0.0)]), turned, TPU)
+    rot = pts @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # Rz(-90) p, as rows
+    assert (seen != back.visibility(rot)).mean() < 0.005
+    assert (seen < 0.5).sum() > 1000
+
+
+def test_a_sun_that_comes_back_finds_its_views_cached(atlases):
+    inst = Instances.from_records([("off", 0.0, 0.0, 10.0), ("off", 2.0, 0.0, 10.2),
+                                   ("ball", 4.0, 0.0, 10.0)])
+    fs = FieldShadow(atlases)
+    first = fs.build(inst, sun_direction(5.0, 50.0), TPU)
+    assert (fs.misses, fs.hits, fs.cached) == (2, 1, 2)  # yaws 10 and 10.2 round to one view
+    again = fs.build(inst, sun_direction(5.0, 50.0), TPU)
+    assert (fs.misses, fs.hits) == (2, 4) and np.array_equal(first.depth, again.depth)
+    fs.clear()
+    assert fs.cached == 0
+
+
+def test_bad_arguments_raise(atlases):
+    inst = Instances.from_records([("ball", 0.0, 0.0)])
+    up = np.array([0.0, 0.0, 1.0])
+    with pytest.raises(ValidationError, match="non-empty mapping"):
+        FieldShadow({})
+    with pytest.raises(ValidationError, match="a SunAtlas"):
+        FieldShadow({"ball": "atlas"})
+    fs = FieldShadow(atlases)
+    with pytest.raises(ValidationError, match="names with an atlas"):
+        fs.build(Instances.from_records([("tree", 0.0, 0.0)]), up, TPU)
+    with pytest.raises(ValidationError, match="an Instances"):
+        fs.build([("ball", 0.0, 0.0)], up, TPU)
+    with pytest.raises(ValidationError, match="texels_per_unit"):
+        fs.build(inst, up, 0.0)
+    with pytest.raises(ValidationError, match="min < max"):
+        fs.build(inst, up, TPU, (1.0, 0.0, -1.0, 2.0))
+    with pytest.raises(ValidationError, match="non-zero direction"):
+        fs.build(inst, np.zeros(3), TPU)
+    with pytest.raises(ValidationError, match="texels a side"):
+        fs.build(Instances.from_records([("ball", 0.0, 0.0), ("ball", 500.0, 0.0)]), up, TPU)
+    with pytest.raises(ValidationError, match="points"):
+        fs.build(inst, up, TPU).visibility(np.zeros((3, 2)))
+
+
+@pytest.mark.gl
+def test_the_field_matches_its_direct_render_and_the_ray_cast(renderer):
+    from morphkit.meshes import normalize
+    from morphkit.shadow.fieldbaselines import direct_field_map, ray_cast_field
+    from morphkit.shadow.sunatlas import bake_sun_atlas
+
+    meshes = {"box": trimesh.creation.box(extents=(0.3, 0.6, 1.0)), "ball": trimesh.creation.icosphere()}
+    atl = {nm: bake_sun_atlas(m, renderer, dome=DOME, size=48) for nm, m in meshes.items()}
+    inst = Instances.from_records([("box", 0.0, 0.0, 25.0), ("ball", 2.0, 1.0, 0.0, 0.7),
+                                   ("box", -1.5, 2.0, 120.0, 1.3), ("box", 30.0, 30.0)])
+    sun, rect = sun_direction(-140.0, 38.0), (-4.0, -3.0, 4.0, 4.0)
+    fs = FieldShadow(atl)
+    tpu = 48 / (2.0 * atl["box"].cameras.half_extent[0])
+    fm = fs.build(inst, sun, tpu, rect)
+    dm = direct_field_map(fs, {nm: normalize(m) for nm, m in meshes.items()}, renderer, inst, sun, tpu, rect)
+    assert fm.skipped == dm.skipped == 1
+    np.testing.assert_array_equal(fm.camera.cam2world, dm.camera.cam2world)
+    pts = _grid(*rect, 160)
+    truth = ray_cast_field(meshes, inst, sun, pts) < 0.5
+    assert truth.sum() > 1000
+    assert shadow_iou(fm.visibility(pts) < 0.5, truth) > 0.88
+    assert shadow_iou(dm.visibility(pts) < 0.5, truth) > 0.9
+    assert (ray_cast_field(meshes, inst, sun_direction(0.0, -5.0), pts) == 1.0).all()
