@@ -32,7 +32,11 @@ from ..errors import ValidationError, expected_got
 from ..validate import as_int
 from .domecameras import direction
 
-__all__ = ["ViewDome", "DEFAULT_RINGS"]
+__all__ = ["ViewDome", "DEFAULT_RINGS", "MAX_RINGS"]
+
+#: Most rings a dome may have (with at most :data:`morphkit.tol.MAX_BILLBOARD_VIEWS` views each):
+#: a file's ring list is read before its arrays are checked against it, so it is capped.
+MAX_RINGS = 16
 
 #: The default view set, chosen on ``morphkit bench billboards`` (dome rows): rings of
 #: (elevation degrees, views) plus a top view.
@@ -54,7 +58,8 @@ class ViewDome:
     Raises
     ------
     ValidationError
-        No rings, elevations out of range or not increasing, too few views.
+        No rings or more than :data:`MAX_RINGS`, elevations out of range or not increasing,
+        too few views or more than :data:`morphkit.tol.MAX_BILLBOARD_VIEWS` in a ring.
     """
 
     rings: tuple[tuple[float, int], ...] = DEFAULT_RINGS
@@ -66,9 +71,9 @@ class ViewDome:
 
     def __post_init__(self) -> None:
         rings = tuple(self.rings) if isinstance(self.rings, Sequence) else ()
-        if not rings:
-            raise ValidationError(expected_got("rings", "one or more (elevation_deg, views)",
-                                               repr(self.rings)))
+        if not 1 <= len(rings) <= MAX_RINGS:
+            raise ValidationError(expected_got("rings", f"1 to {MAX_RINGS} (elevation_deg, views)",
+                                               repr(self.rings)[:200]))
         clean: list[tuple[float, int]] = []
         for i, ring in enumerate(rings):
             try:
@@ -77,7 +82,8 @@ class ViewDome:
             except (TypeError, ValueError) as exc:
                 raise ValidationError(expected_got(f"rings[{i}]", "(elevation_deg, views)",
                                                    repr(ring))) from exc
-            k = as_int(k, f"rings[{i}] views", lo=2 if len(rings) == 1 and not self.top else 3)
+            k = as_int(k, f"rings[{i}] views", lo=2 if len(rings) == 1 and not self.top else 3,
+                       hi=tol.MAX_BILLBOARD_VIEWS)
             if not 0.0 <= e < 90.0:
                 raise ValidationError(expected_got(f"rings[{i}] elevation", "degrees in [0, 90)", e))
             if clean and e <= clean[-1][0]:
