@@ -290,3 +290,16 @@ def test_orthographic_views_morph_the_sphere_too():
     assert np.minimum(s.alpha, hit).sum() / np.maximum(s.alpha, hit).sum() > 0.95
     inner = hit & (s.alpha > 0.99)
     assert np.median(np.abs(s.depth[inner] - depth_true[inner])) < 0.01
+
+
+def test_a_file_whose_ring_list_would_build_a_huge_dome_is_refused_at_once(tmp_path):
+    """Generated input found it (the 10x profile): a file's ring list built the triangulation of
+    millions of views before the arrays were checked against it -- a hang, now a capped count."""
+    p = _sphere_asset(size=16).save(tmp_path / "ball.npz")
+
+    def huge(meta):
+        meta["rings"] = [[0.0, 10**7]]
+    with pytest.raises(FileFormatError, match=r"views: expected an integer in \[3, 64\]"):
+        DomeAsset.load(_rewrite(p, tmp_path / "huge.npz", edit_meta=huge))
+    with pytest.raises(ValidationError, match="1 to 16"):
+        ViewDome(tuple((float(e), 8) for e in range(17)))
