@@ -303,3 +303,8 @@ def test_a_file_whose_ring_list_would_build_a_huge_dome_is_refused_at_once(tmp_p
         DomeAsset.load(_rewrite(p, tmp_path / "huge.npz", edit_meta=huge))
     with pytest.raises(ValidationError, match="1 to 16"):
         ViewDome(tuple((float(e), 8) for e in range(17)))
+    for bad in (float("inf"), float("nan")):  # found by the 10x profile: int() of them was a raw error
+        def rings(meta, bad=bad):
+            meta["rings"] = [[0.0, bad]]
+        with pytest.raises(FileFormatError, match="finite numbers"):
+            DomeAsset.load(_rewrite(p, tmp_path / "bad.npz", edit_meta=rings))

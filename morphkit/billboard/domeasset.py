@@ -99,7 +99,7 @@ class DomeAsset:
         self.mesh_hash = record.mesh_hash
         self.appearance = check_appearance(record.appearance)
         self.source_up = check_source_up(record.source_up)
-        self.dome = ViewDome(tuple((float(e), int(k)) for e, k in record.rings), bool(record.top))
+        self.dome = ViewDome(tuple((e, k) for e, k in record.rings), bool(record.top))  # it checks them
         self.cameras = DomeCameras(np.asarray(record.pivot, np.float64), record.distance, record.radius,
                                    (record.size, record.size))
         self.levels = as_int(record.levels, "levels", lo=1)

@@ -201,8 +201,10 @@ def read_dome(path: str | os.PathLike[str]) -> DomeRecord:
         raise _bad("depth", "finite values or +inf (nothing drawn)", "NaN or -inf values")
     rings = _get(meta, "rings", list)
     for r in rings:
-        if not (isinstance(r, list) and len(r) == 2 and all(isinstance(x, int | float) for x in r)):
-            raise _bad("rings", "a list of [elevation_deg, views]", repr(rings))
+        finite = isinstance(r, list) and all(
+            isinstance(x, int | float) and not isinstance(x, bool) and np.isfinite(x) for x in r)
+        if not (finite and len(r) == 2):
+            raise _bad("rings", "a list of [elevation_deg, views] (finite numbers)", repr(rings)[:200])
     pivot = _get(meta, "pivot", list)
     if len(pivot) != 3 or not all(isinstance(x, int | float) and np.isfinite(x) for x in pivot):
         raise _bad("pivot", "3 finite numbers", repr(pivot))
