@@ -18,9 +18,10 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from .camera import CameraModel
+from .passes import RenderPasses
 from .scene import Item, Light
 
-__all__ = ["SceneRenderer"]
+__all__ = ["SceneRenderer", "PassRenderer"]
 
 
 @runtime_checkable
@@ -102,5 +103,68 @@ class SceneRenderer(Protocol):
         -------
         (H, W, 4) uint8
             Straight-alpha RGBA.
+        """
+        ...
+
+
+@runtime_checkable
+class PassRenderer(SceneRenderer, Protocol):
+    """A :class:`~morphkit.protocols.SceneRenderer` that also draws deferred passes
+    (:class:`morphkit.render.Renderer` does).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
+
+    def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+               ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+               ) -> RenderPasses:
+        """Colour, albedo, normals, depth and coverage of one view (:meth:`Renderer.passes
+        <morphkit.render.Renderer.passes>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights of the colour pass (not used here).
+        ambient : float, optional
+            Ambient level of the colour pass.
+        background : tuple of 3 float, optional
+            Colour pass background.
+
+        Returns
+        -------
+        RenderPasses
+            The passes.
+        """
+        ...
+
+    def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                      ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
+        """:meth:`passes` supersampled and area-averaged (:meth:`Renderer.source_passes
+        <morphkit.render.Renderer.source_passes>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights of the colour pass (not used here).
+        ambient : float, optional
+            Ambient level of the colour pass.
+        supersample : int, optional
+            Supersampling factor per axis.
+
+        Returns
+        -------
+        RenderPasses
+            The passes at ``camera.shape``.
         """
         ...

@@ -19,17 +19,15 @@ pixel the depth is its nearest sample's).
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..passes import RenderPasses
-from ..protocols import SceneRenderer
-from ..scene import Item, Light
+from ..protocols import PassRenderer
+from ..scene import Item
 from ..shading import Lighting, shade_passes
 from ..validate import as_flag, as_int
 from .compositor import finish
@@ -37,70 +35,7 @@ from .field import BillboardScene
 from .frame import Frame, FrameStats
 from .modes import MeshMode
 
-__all__ = ["PassRenderer", "LitMeshMode"]
-
-
-@runtime_checkable
-class PassRenderer(SceneRenderer, Protocol):
-    """A :class:`~morphkit.protocols.SceneRenderer` that also draws deferred passes
-    (:class:`morphkit.render.Renderer` does).
-
-    Parameters
-    ----------
-    *args, **kwargs
-        Not used: a protocol is not instantiated, classes implement its methods.
-    """
-
-    def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
-               ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               ) -> RenderPasses:
-        """Colour, albedo, normals, depth and coverage of one view (:meth:`Renderer.passes
-        <morphkit.render.Renderer.passes>`).
-
-        Parameters
-        ----------
-        camera : CameraModel
-            The view.
-        items : sequence of Item
-            Items to draw, world poses.
-        lights : iterable of Light
-            Lights of the colour pass (not used here).
-        ambient : float, optional
-            Ambient level of the colour pass.
-        background : tuple of 3 float, optional
-            Colour pass background.
-
-        Returns
-        -------
-        RenderPasses
-            The passes.
-        """
-        ...
-
-    def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
-                      ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
-        """:meth:`passes` supersampled and area-averaged (:meth:`Renderer.source_passes
-        <morphkit.render.Renderer.source_passes>`).
-
-        Parameters
-        ----------
-        camera : CameraModel
-            The view.
-        items : sequence of Item
-            Items to draw, world poses.
-        lights : iterable of Light
-            Lights of the colour pass (not used here).
-        ambient : float, optional
-            Ambient level of the colour pass.
-        supersample : int, optional
-            Supersampling factor per axis.
-
-        Returns
-        -------
-        RenderPasses
-            The passes at ``camera.shape``.
-        """
-        ...
+__all__ = ["LitMeshMode"]
 
 
 @dataclass
@@ -117,8 +52,8 @@ class LitMeshMode:
     lighting : Lighting
         World frame; replace it between frames to move the sun.
     supersample : int
-        1: one sample a pixel (coverage 0 or 1, :meth:`~PassRenderer.passes`); ``s > 1``:
-        supersampled passes (coverage alpha, :meth:`~PassRenderer.source_passes`).
+        1: one sample a pixel (coverage 0 or 1, :meth:`~morphkit.protocols.PassRenderer.passes`); ``s > 1``:
+        supersampled passes (coverage alpha, :meth:`~morphkit.protocols.PassRenderer.source_passes`).
     cull : bool
         Draw only the instances whose bounding sphere meets the frustum; False draws all.
     name : str, optional
