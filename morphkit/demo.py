@@ -59,7 +59,7 @@ from .fixtures import (
 from .groundtruth import area_visibility, hard_visibility, receiver_grid
 from .meshes import sample_mesh
 from .outfolder import DEMO_OUTPUT, claim_output, previous_run
-from .protocols import SceneRenderer
+from .protocols import PassRenderer, SceneRenderer
 from .render import Renderer
 from .scene import (
     Item,
@@ -364,7 +364,7 @@ def _textured_billboard_section(renderer: SceneRenderer, add: Any, *, quick: boo
             "size": size, "bake_ms": bake_ms, "morph_vs_mesh": per_az}
 
 
-def _relit_billboard_section(renderer: SceneRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
+def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
     """A tree seen from three heights under three suns (issue #25): the dome asset's view morph |
     the engines' octahedral impostor at equal bytes | the real mesh, each shaded by
     :mod:`morphkit.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""

@@ -45,7 +45,7 @@ from ..errors import (
 )
 from ..memo import Memo
 from ..meshes import normalize
-from ..protocols import SceneRenderer
+from ..protocols import PassRenderer
 from ..scene import Item
 from ..validate import as_int
 from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance, check_source_up, mesh_hash
@@ -405,7 +405,7 @@ class DomeAsset:
                                                str(exc))) from exc
 
 
-def bake_dome(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "asset",
+def bake_dome(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = "asset",
               dome: ViewDome | None = None, size: int = 128, levels: int = 3,
               distance_factor: float = DISTANCE_FACTOR, appearance: str = "own",
               source_up: str | None = None) -> DomeAsset:
@@ -415,8 +415,9 @@ def bake_dome(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "as
     ----------
     mesh : trimesh.Trimesh
         Any mesh; normalised first (:func:`morphkit.meshes.normalize`).
-    renderer : SceneRenderer
-        E.g. :class:`morphkit.render.Renderer`.
+    renderer : PassRenderer
+        Draws the views' passes (:class:`morphkit.protocols.PassRenderer`, e.g.
+        :class:`morphkit.render.Renderer`).
     name : str
         The asset's name.
     dome : ViewDome, optional

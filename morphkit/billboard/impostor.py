@@ -89,6 +89,7 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..meshes import normalize
+from ..protocols import PassRenderer
 from ..validate import as_int
 from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance
 from .cameras import DISTANCE_FACTOR
@@ -677,8 +678,9 @@ def _check_angles(azimuth_deg: Any, elevation_deg: Any) -> tuple[float, float]:
     return a, max(e, 0.0)
 
 
-def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", frames: int = DEFAULT_FRAMES,
-                  frame_size: int = 64, levels: int = DEFAULT_LEVELS, out_size: int | None = None,
+def bake_impostor(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = "asset",
+                  frames: int = DEFAULT_FRAMES, frame_size: int = 64, levels: int = DEFAULT_LEVELS,
+                  out_size: int | None = None,
                   appearance: str = "own", distance_factor: float = DISTANCE_FACTOR,
                   parallax_samples: int = 1, projection: str = "perspective", supersample: int = 3,
                   progress: bool = False) -> OctahedralImpostor:
@@ -689,8 +691,9 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
     mesh : trimesh.Trimesh
         Any mesh; normalised first (:func:`morphkit.meshes.normalize`), as
         :func:`~morphkit.billboard.bake.bake_asset` does: the object frame is the normalised mesh's.
-    renderer : morphkit.render.Renderer
-        Anything with ``source_passes(camera, items, lights, ambient=, supersample=)``.
+    renderer : PassRenderer
+        Draws the frames' passes (:class:`morphkit.protocols.PassRenderer`, e.g.
+        :class:`morphkit.render.Renderer`).
     name : str, optional
         The asset's name.
     frames : int, optional
@@ -724,7 +727,7 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
     Raises
     ------
     ValidationError
-        Bad arguments, or a renderer without ``source_passes``.
+        Bad arguments, or a renderer that is not a :class:`~morphkit.protocols.PassRenderer`.
     MeshError
         ``mesh`` is not a usable mesh.
     """
@@ -739,9 +742,9 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: Any, *, name: str = "asset", 
         raise ValidationError(expected_got("levels", f"a smallest level of >= {MIN_LEVEL_SIDE} px",
                                            f"{lv} levels of {m} px frames"))
     appearance = check_appearance(appearance)
-    if not callable(getattr(renderer, "source_passes", None)):
-        raise ValidationError(expected_got("renderer", "a renderer with source_passes "
-                                           "(morphkit.render.Renderer)", type(renderer).__name__))
+    if not isinstance(renderer, PassRenderer):
+        raise ValidationError(expected_got("renderer", "a PassRenderer (morphkit.protocols; "
+                                           "morphkit.render.Renderer is one)", type(renderer).__name__))
     norm = normalize(mesh)
     cams = DomeCameras.fit(norm, m, distance_factor=distance_factor)
     items, lights = bake_items(norm, appearance), bake_lights()
