@@ -35,7 +35,8 @@ from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.shadow.fieldbaselines import direct_field_map, posed_field_mesh, ray_cast_field
-from morphkit.shadow.fieldshadow import FieldShadow
+from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
+from morphkit.shadow.fieldsplat import SplatDrawer
 from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
 
 SPARSE = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
@@ -52,6 +53,8 @@ def main() -> None:
                     help="yaws from K evenly spaced values (0: uniform); a class shares its light views")
     ap.add_argument("--tpu-scale", type=float, default=1.0,
                     help="the field view at S x the atlases' resolution")
+    ap.add_argument("--drawer", choices=("splat", "morph"), default="splat",
+                    help="how the field view is drawn: points splatted (default) or views morphed and placed")
     ap.add_argument("--json", help="write the rows here")
     args = ap.parse_args()
     meshes = {nm: sample_mesh(nm) for nm in ASSETS}
@@ -75,7 +78,7 @@ def main() -> None:
             X, Y = np.meshgrid(xs, xs)
             pts = np.stack([X, Y, np.zeros_like(X)], -1).reshape(-1, 3)
             posed = posed_field_mesh(meshes, inst)
-            fs = FieldShadow(atlases)
+            fs = FieldShadow(atlases, SplatDrawer() if args.drawer == "splat" else MorphDrawer())
             direct_field_map(fs, norm, r, inst, SUNS[0], tpu, rect)  # warm the context at this size
             sc, t_cold, t_warm, t_direct, t_truth, shapes, views = [], [], [], [], [], [], []
             for sun in SUNS:
@@ -86,7 +89,7 @@ def main() -> None:
                 t = time.perf_counter()
                 fm = fs.build(inst, sun, tpu, rect)
                 t_cold.append(time.perf_counter() - t)
-                views.append(fs.misses)
+                views.append(fs.drawer.misses if isinstance(fs.drawer, MorphDrawer) else 0)
                 t = time.perf_counter()
                 fm = fs.build(inst, sun, tpu, rect)
                 t_warm.append(time.perf_counter() - t)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
-from morphkit.billboard.dome import ViewDome
+from morphkit.billboard.dome import DEFAULT_RINGS, ViewDome
 from morphkit.billboard.domeasset import DomeAsset
 from morphkit.billboard.domecameras import DomeCameras, direction, quad_axes
 from morphkit.billboard.domefile import DOME_VERSION, read_dome
@@ -308,3 +308,19 @@ def test_a_file_whose_ring_list_would_build_a_huge_dome_is_refused_at_once(tmp_p
             meta["rings"] = [[0.0, bad]]
         with pytest.raises(FileFormatError, match="finite numbers"):
             DomeAsset.load(_rewrite(p, tmp_path / "bad.npz", edit_meta=rings))
+
+
+def test_weights_many_equals_weights_one_by_one():
+    dome = ViewDome(DEFAULT_RINGS, top=True)
+    az = np.array([-170.0, -36.0, 0.0, 17.5, 90.0, 359.0, 720.0 + 12.0])
+    for el in (-10.0, 0.0, 14.0, 45.0, 60.0, 89.0):
+        views, weights = dome.weights_many(az, el)
+        for k, a in enumerate(az):
+            v1, w1 = dome.weights(float(a), el)
+            assert list(views[k]) == list(v1)
+            np.testing.assert_allclose(weights[k], w1, atol=1e-12)
+    ring = ViewDome(((0.0, 8),), top=False)
+    views, weights = ring.weights_many(az[:3], 30.0)
+    assert views.shape == weights.shape == (3, 3)
+    with pytest.raises(ValidationError, match="finite angles"):
+        dome.weights_many(np.array([0.0, np.nan]), 30.0)

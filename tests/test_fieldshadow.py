@@ -18,7 +18,8 @@ from morphkit.billboard.domecameras import DomeCameras
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
-from morphkit.shadow.fieldshadow import FieldShadow
+from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
+from morphkit.shadow.fieldsplat import SplatDrawer, splat_points
 from morphkit.shadow.sunatlas import SunAtlas, sun_direction
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
@@ -103,14 +104,16 @@ def test_no_instance_lights_everything(atlases):
     assert vis.dtype == np.float32 and (vis == 1.0).all()
 
 
-def test_two_instances_at_one_spot_are_one(atlases):
+@pytest.mark.parametrize("drawer", [SplatDrawer, MorphDrawer])
+def test_two_instances_at_one_spot_are_one(atlases, drawer):
     sun = sun_direction(-70.0, 33.0)
-    fs = FieldShadow(atlases)
+    fs = FieldShadow(atlases, drawer())
     one = fs.build(Instances.from_records([("off", 1.0, 2.0, 40.0)]), sun, TPU)
     two = fs.build(Instances.from_records([("off", 1.0, 2.0, 40.0), ("off", 1.0, 2.0, 40.0)]), sun, TPU)
     assert np.isfinite(one.depth).sum() > 500
     assert np.array_equal(one.depth, two.depth)
-    assert fs.misses == 1 and fs.hits == 2  # one light view, shared
+    if isinstance(fs.drawer, MorphDrawer):
+        assert fs.drawer.misses == 1 and fs.drawer.hits == 2  # one light view, shared
 
 
 @pytest.mark.parametrize("elevation", [0.0, -10.0, -90.0])
@@ -141,13 +144,64 @@ def test_a_yawed_instance_casts_the_shadow_of_the_sun_turned_back(atlases):
 def test_a_sun_that_comes_back_finds_its_views_cached(atlases):
     inst = Instances.from_records([("off", 0.0, 0.0, 10.0), ("off", 2.0, 0.0, 10.2),
                                    ("ball", 4.0, 0.0, 10.0)])
-    fs = FieldShadow(atlases)
+    morph = MorphDrawer()
+    fs = FieldShadow(atlases, morph)
     first = fs.build(inst, sun_direction(5.0, 50.0), TPU)
-    assert (fs.misses, fs.hits, fs.cached) == (2, 1, 2)  # yaws 10 and 10.2 round to one view
+    assert (morph.misses, morph.hits, morph.cached) == (2, 1, 2)  # yaws 10 and 10.2 round to one view
+    other = fs.build(inst, sun_direction(5.0, 51.0), TPU)
     again = fs.build(inst, sun_direction(5.0, 50.0), TPU)
-    assert (fs.misses, fs.hits) == (2, 4) and np.array_equal(first.depth, again.depth)
+    assert (morph.misses, morph.hits) == (4, 5) and np.array_equal(first.depth, again.depth)
+    assert other is not first and fs.reused == 0
     fs.clear()
-    assert fs.cached == 0
+    assert morph.cached == 0
+
+
+def test_an_unchanged_field_reuses_its_map_and_a_moved_one_does_not(atlases):
+    inst = Instances.from_records([("off", 0.0, 0.0, 10.0), ("ball", 2.0, 0.0)])
+    fs = FieldShadow(atlases)
+    sun = sun_direction(5.0, 50.0)
+    first = fs.build(inst, sun, TPU)
+    assert fs.build(inst, sun.copy(), TPU) is first and fs.reused == 1
+    moved = Instances(inst.names, inst.asset, inst.xy + [[0.0, 0.1], [0.0, 0.0]], inst.yaw_deg, inst.scale)
+    assert fs.build(moved, sun, TPU) is not first
+    assert fs.build(moved, sun, TPU, (-3.0, -3.0, 3.0, 3.0)) is not first  # another receiver
+    assert fs.reused == 1
+
+
+@pytest.mark.parametrize("half", [0.3, 0.5, 1.2])
+def test_the_compiled_splat_equals_its_numpy_reference(monkeypatch, half):
+    from morphkit.shadow import fieldsplat
+
+    rng = np.random.default_rng(7)
+    points = rng.uniform(-1.0, 1.0, (500, 3)).astype(np.float32)
+    seg_start, seg_len = np.array([0, 200, 350]), np.array([200, 150, 150])
+    T = np.zeros((2, 3, 4))
+    T[0, :, :3], T[0, :, 3] = 9.0 * np.eye(3), [10.0, 12.0, 5.0]
+    T[1, :, :3], T[1, :, 3] = 7.5 * np.eye(3)[[1, 0, 2]], [14.0, 9.5, 6.0]
+    seg = np.array([[0, 2, -1], [1, -1, -1]])
+    halves = np.array([half, 0.7 * half])
+    out = []
+    for compiled in (True, False):
+        monkeypatch.setattr(fieldsplat, "use_compiled", lambda _k, c=compiled: c)
+        d = np.full((24, 26), np.inf, np.float32)
+        splat_points(d, points, seg_start, seg_len, T, seg, halves)
+        out.append(d)
+    assert np.isfinite(out[0]).sum() > 50
+    np.testing.assert_array_equal(out[0], out[1])
+
+
+def test_a_point_fills_the_texels_whose_centres_its_square_covers():
+    d = np.full((6, 6), np.inf, np.float32)
+    T = np.zeros((1, 3, 4))
+    T[0, :, :3] = np.eye(3)
+    splat_points(d, np.array([[2.2, 3.0, 1.5]], np.float32), np.array([0]), np.array([1]), T,
+                 np.array([[0]]), np.array([1.0]))  # the square [1.2, 3.2) x [2, 4): columns 2, 3; rows 2, 3
+    assert sorted(zip(*np.nonzero(np.isfinite(d)), strict=True)) == [(2, 2), (2, 3), (3, 2), (3, 3)]
+    assert (d[np.isfinite(d)] == np.float32(1.5)).all()
+    small = np.full((6, 6), np.inf, np.float32)
+    splat_points(small, np.array([[2.5, 3.5, 1.0]], np.float32), np.array([0]), np.array([1]), T,
+                 np.array([[0]]), np.array([0.2]))  # between centres: no texel
+    assert not np.isfinite(small).any()
 
 
 def test_bad_arguments_raise(atlases):
@@ -157,6 +211,8 @@ def test_bad_arguments_raise(atlases):
         FieldShadow({})
     with pytest.raises(ValidationError, match="a SunAtlas"):
         FieldShadow({"ball": "atlas"})
+    with pytest.raises(ValidationError, match="a FieldDrawer"):
+        FieldShadow(atlases, "splat")  # type: ignore[arg-type]
     fs = FieldShadow(atlases)
     with pytest.raises(ValidationError, match="names with an atlas"):
         fs.build(Instances.from_records([("tree", 0.0, 0.0)]), up, TPU)

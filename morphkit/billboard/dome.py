@@ -202,6 +202,44 @@ class ViewDome:
         w[w < tol.REL_EQUAL] = 0.0
         return self._tris[t].copy(), w / w.sum()
 
+    def weights_many(self, azimuths_deg: np.ndarray, elevation_deg: float) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`weights` for many azimuths at one elevation, at once (a field's instances
+        under one sun: their object-frame suns differ by their yaws only).
+
+        Parameters
+        ----------
+        azimuths_deg : (M,) float
+            Azimuths, degrees (finite).
+        elevation_deg : float
+            The elevation shared by all (clamped as :meth:`weights` does).
+
+        Returns
+        -------
+        views : (M, 3) int64
+            Each direction's views, as :meth:`weights` returns them.
+        weights : (M, 3) float64
+            Their weights (rows sum to 1).
+
+        Raises
+        ------
+        ValidationError
+            A non-finite azimuth.
+        """
+        a = np.asarray(azimuths_deg, dtype=np.float64).reshape(-1)
+        if not np.all(np.isfinite(a)):
+            raise ValidationError(expected_got("azimuths_deg", "finite angles", "NaN or inf"))
+        if len(self._tris) == 0 or len(a) == 0:
+            got = [self.weights(float(x), elevation_deg) for x in a]
+            return (np.array([g[0] for g in got], np.int64).reshape(-1, 3),
+                    np.array([g[1] for g in got], np.float64).reshape(-1, 3))
+        d = direction(a, self.clamp(elevation_deg))
+        lam = np.einsum("tij,mj->mti", self._inv, d)  # (M, T, 3)
+        t = np.argmax(lam.min(axis=2), axis=1)
+        w = np.clip(lam[np.arange(len(a)), t], 0.0, None)
+        w /= w.sum(axis=1, keepdims=True)
+        w[w < tol.REL_EQUAL] = 0.0
+        return self._tris[t].astype(np.int64), w / w.sum(axis=1, keepdims=True)
+
     def _ring_weights(self, a: float) -> tuple[np.ndarray, np.ndarray]:
         k = len(self._az)
         step = 360.0 / k

@@ -43,6 +43,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -53,11 +54,12 @@ from ..billboard.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_positive
+from .fieldsplat import SplatDrawer
 from .lookup import ShadowBias, shadow_visibility
 from .sunatlas import SunAtlas, sun_direction
 
-__all__ = ["FieldShadow", "FieldMap", "field_camera", "field_sun", "receiver_footprint",
-           "SUN_QUANTUM_DEG"]
+__all__ = ["FieldShadow", "FieldMap", "FieldDrawer", "MorphDrawer", "field_camera", "field_sun",
+           "receiver_footprint", "SUN_QUANTUM_DEG"]
 
 #: The cache's step of the object-frame sun's azimuth and elevation, degrees.
 SUN_QUANTUM_DEG = 0.5
@@ -226,28 +228,39 @@ class FieldMap:
         return shadow_visibility(pts, self.depth, self.camera, bias=bias)
 
 
-class FieldShadow:
-    """The field shadow builder of a set of assets' sun atlases, with its light-view cache.
+@runtime_checkable
+class FieldDrawer(Protocol):
+    """How a field's light-view depth is drawn from the instances' atlases.
 
-    Parameters
-    ----------
-    atlases : mapping of str to SunAtlas
-        Each asset name of the instances to come, its atlas.
-
-    Raises
-    ------
-    ValidationError
-        No atlas, or a value that is not a SunAtlas.
+    :class:`~.fieldsplat.SplatDrawer` (the default: per-point reprojection, one pass) and
+    :class:`MorphDrawer` (a light view morphed per instance and placed).
     """
 
-    def __init__(self, atlases: Mapping[str, SunAtlas]) -> None:
-        if not isinstance(atlases, Mapping) or not atlases:
-            raise ValidationError(expected_got("atlases", "a non-empty mapping name -> SunAtlas",
-                                               type(atlases).__name__))
-        for name, a in atlases.items():
-            if not isinstance(a, SunAtlas):
-                raise ValidationError(expected_got(f"atlases[{name!r}]", "a SunAtlas", type(a).__name__))
-        self.atlases = dict(atlases)
+    name: str
+
+    def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
+             camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
+        """The light view's depth ``(H, W)`` float32 of ``camera`` (``+inf`` where none)."""
+        ...  # pragma: no cover - a protocol
+
+    def clear(self) -> None:
+        """Drop whatever the drawer keeps between draws."""
+        ...  # pragma: no cover - a protocol
+
+
+class MorphDrawer:
+    """Draws a field's light view from per-instance morphed light views (module docstring,
+    "The placement", "The cache").
+
+    Attributes
+    ----------
+    hits, misses : int
+        Light views found in / added to the cache.
+    """
+
+    name = "morph"
+
+    def __init__(self) -> None:
         self._views: dict[tuple[str, int, int], tuple[CameraModel, np.ndarray]] = {}
         self.hits = 0
         self.misses = 0
@@ -261,6 +274,104 @@ class FieldShadow:
         """Empty the light-view cache (and its hit and miss counts)."""
         self._views.clear()
         self.hits = self.misses = 0
+
+    def _light_view(self, name: str, atlas: SunAtlas, sun_obj: np.ndarray) -> tuple[CameraModel, np.ndarray]:
+        az = float(np.degrees(np.arctan2(sun_obj[1], sun_obj[0])))
+        el = float(np.degrees(np.arcsin(np.clip(sun_obj[2], -1.0, 1.0))))
+        q = SUN_QUANTUM_DEG
+        key = (name, round(az / q) % round(360.0 / q), round(el / q))
+        view = self._views.get(key)
+        if view is None:
+            self.misses += 1
+            got = atlas.light_view(sun_direction(key[1] * SUN_QUANTUM_DEG, key[2] * SUN_QUANTUM_DEG))
+            if got is None:  # pragma: no cover - the field's sun is above the horizon
+                raise ValidationError(expected_got("sun", "above the horizon", f"elevation {el:g}"))
+            view = self._views[key] = got
+        else:
+            self.hits += 1
+        return view
+
+    def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
+             camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
+        """The field's light-view depth from the kept instances' placed light views.
+
+        Parameters
+        ----------
+        atlases : mapping of str to SunAtlas
+            Each asset name's atlas.
+        instances : Instances
+            The field.
+        kept : (K,) int64
+            The instances to draw.
+        camera : CameraModel
+            The field's light view.
+        sun : (azimuth_deg, elevation_deg)
+            The field's sun (clamped, above the horizon).
+
+        Returns
+        -------
+        (H, W) float32
+            Nearest caster's depth along the light (``+inf`` where none).
+        """
+        l_world = sun_direction(*sun)
+        depth = np.full(camera.shape, np.inf, np.float32)
+        w2c = camera.world2cam
+        s_dst = np.array([[camera.fx, 0.0, camera.cx], [0.0, camera.fy, camera.cy], [0.0, 0.0, 1.0]])
+        for k in kept:
+            name = instances.names[int(instances.asset[k])]
+            atlas = atlases[name]
+            yaw = np.radians(instances.yaw_deg[k])
+            c, s = np.cos(yaw), np.sin(yaw)
+            lx, ly, lz = l_world
+            sun_obj = np.array([c * lx + s * ly, -s * lx + c * ly, lz])  # Rz(-yaw) l
+            icam, idepth = self._light_view(name, atlas, sun_obj)
+            _place(depth, s_dst, w2c @ instances.object2world(int(k)) @ icam.cam2world, icam, idepth,
+                   atlas.cameras.distance)
+        return depth
+
+
+class FieldShadow:
+    """The field shadow builder of a set of assets' sun atlases.
+
+    Parameters
+    ----------
+    atlases : mapping of str to SunAtlas
+        Each asset name of the instances to come, its atlas.
+    drawer : FieldDrawer, optional
+        How the light view is drawn (default: a new :class:`~.fieldsplat.SplatDrawer`).
+
+    Attributes
+    ----------
+    reused : int
+        Builds answered by the last map (module docstring, "The cache").
+
+    Raises
+    ------
+    ValidationError
+        No atlas, a value that is not a SunAtlas, a drawer that is not a FieldDrawer.
+    """
+
+    def __init__(self, atlases: Mapping[str, SunAtlas], drawer: FieldDrawer | None = None) -> None:
+        if not isinstance(atlases, Mapping) or not atlases:
+            raise ValidationError(expected_got("atlases", "a non-empty mapping name -> SunAtlas",
+                                               type(atlases).__name__))
+        for name, a in atlases.items():
+            if not isinstance(a, SunAtlas):
+                raise ValidationError(expected_got(f"atlases[{name!r}]", "a SunAtlas", type(a).__name__))
+        drawer = SplatDrawer() if drawer is None else drawer
+        if not isinstance(drawer, FieldDrawer):
+            raise ValidationError(expected_got("drawer", "a FieldDrawer (name, draw, clear)",
+                                               type(drawer).__name__))
+        self.atlases = dict(atlases)
+        self.drawer = drawer
+        self._last: tuple[tuple, FieldMap] | None = None
+        self.reused = 0
+
+    def clear(self) -> None:
+        """Forget the last map and empty the drawer's caches."""
+        self._last = None
+        self.reused = 0
+        self.drawer.clear()
 
     def _atlas_of(self, instances: Instances) -> list[SunAtlas]:
         if not isinstance(instances, Instances):
@@ -336,22 +447,6 @@ class FieldShadow:
         cam = field_camera(centres[keep], radii[keep], sun[0], sun[1], tpu)
         return FieldMap(cam, None, keep.astype(np.int64), skipped)
 
-    def _light_view(self, name: str, atlas: SunAtlas, sun_obj: np.ndarray) -> tuple[CameraModel, np.ndarray]:
-        az = float(np.degrees(np.arctan2(sun_obj[1], sun_obj[0])))
-        el = float(np.degrees(np.arcsin(np.clip(sun_obj[2], -1.0, 1.0))))
-        q = SUN_QUANTUM_DEG
-        key = (name, round(az / q) % round(360.0 / q), round(el / q))
-        view = self._views.get(key)
-        if view is None:
-            self.misses += 1
-            got = atlas.light_view(sun_direction(key[1] * SUN_QUANTUM_DEG, key[2] * SUN_QUANTUM_DEG))
-            if got is None:  # pragma: no cover - the field's sun is above the horizon
-                raise ValidationError(expected_got("sun", "above the horizon", f"elevation {el:g}"))
-            view = self._views[key] = got
-        else:
-            self.hits += 1
-        return view
-
     def build(self, instances: Instances, sun_dir_world: np.ndarray, texels_per_unit: float,
               receiver: tuple[float, float, float, float] | None = None) -> FieldMap:
         """The field's light view under a sun (module docstring).
@@ -370,7 +465,8 @@ class FieldShadow:
         Returns
         -------
         FieldMap
-            The map; no camera when nothing casts.
+            The map; no camera when nothing casts. The same object as the last build's
+            when neither the instances, the sun, the resolution nor the receiver changed.
 
         Raises
         ------
@@ -378,26 +474,21 @@ class FieldShadow:
             Bad arguments; a field view over :data:`~morphkit.tol.MAX_TEXTURE_SIDE` a side.
         """
         plan = self.plan(instances, sun_dir_world, texels_per_unit, receiver)
+        key = (id(instances), instances.xy.tobytes(), instances.yaw_deg.tobytes(), instances.scale.tobytes(),
+               instances.asset.tobytes(), np.asarray(sun_dir_world, np.float64).tobytes(),
+               float(texels_per_unit), None if receiver is None else tuple(map(float, receiver)))
+        if self._last is not None and self._last[0] == key:
+            self.reused += 1
+            return self._last[1]
         if plan.camera is None:
-            return plan
-        cam = plan.camera
-        sun = field_sun(sun_dir_world)
-        assert sun is not None
-        l_world = sun_direction(*sun)
-        depth = np.full(cam.shape, np.inf, np.float32)
-        w2c = cam.world2cam
-        s_dst = np.array([[cam.fx, 0.0, cam.cx], [0.0, cam.fy, cam.cy], [0.0, 0.0, 1.0]])
-        for k in plan.kept:
-            name = instances.names[int(instances.asset[k])]
-            atlas = self.atlases[name]
-            yaw = np.radians(instances.yaw_deg[k])
-            c, s = np.cos(yaw), np.sin(yaw)
-            lx, ly, lz = l_world
-            sun_obj = np.array([c * lx + s * ly, -s * lx + c * ly, lz])  # Rz(-yaw) l
-            icam, idepth = self._light_view(name, atlas, sun_obj)
-            _place(depth, s_dst, w2c @ instances.object2world(int(k)) @ icam.cam2world, icam, idepth,
-                   atlas.cameras.distance)
-        return FieldMap(cam, depth, plan.kept, plan.skipped)
+            out = plan
+        else:
+            sun = field_sun(sun_dir_world)
+            assert sun is not None
+            depth = self.drawer.draw(self.atlases, instances, plan.kept, plan.camera, sun)
+            out = FieldMap(plan.camera, depth, plan.kept, plan.skipped)
+        self._last = (key, out)
+        return out
 
 
 def _place(field: np.ndarray, s_dst: np.ndarray, M: np.ndarray, icam: CameraModel, idepth: np.ndarray,

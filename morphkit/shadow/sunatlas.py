@@ -205,6 +205,7 @@ class SunAtlas:
     coverage: np.ndarray
     mesh_hash: str = "0" * 64
     _surfaces: dict = field(init=False, repr=False, default_factory=dict)
+    _points: dict = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.dome, ViewDome):
@@ -296,6 +297,28 @@ class SunAtlas:
             albedo[..., 3] = self.coverage[k].astype(np.float32) * np.float32(1.0 / 255.0)
             s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
         return s
+
+    def view_points(self, k: int) -> np.ndarray:
+        """The surface points atlas view ``k`` holds: its drawn texels' centres at their depth.
+
+        Parameters
+        ----------
+        k : int
+            View index.
+
+        Returns
+        -------
+        (M, 3) float32
+            Object frame, one per drawn texel (read-only; cached).
+        """
+        k = as_int(k, "view", lo=0, hi=self.dome.views - 1)
+        pts = self._points.get(k)
+        if pts is None:
+            world, valid = self.view_camera(k).unproject(self._surface(k).depth)
+            pts = np.ascontiguousarray(world[valid & (self.coverage[k] > 0)], dtype=np.float32)
+            pts.setflags(write=False)
+            self._points[k] = pts
+        return pts
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
