@@ -21,8 +21,9 @@
 * :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction in its frame
   (every yaw, every sun), morphed per pixel; one instance's ground shadow;
 * :mod:`.sunbaselines` -- the sun atlas's baselines: the direct light render and the ray-cast truth;
-* :mod:`.fieldshadow` -- :class:`~.fieldshadow.FieldShadow`: a field of instances' shadow, their atlas
-  light views placed into one light view along the sun (cached, culled to a receiver);
+* :mod:`.fieldshadow` -- :class:`~.fieldshadow.FieldShadow`: a field of instances' shadow in one light
+  view along the sun (culled to a receiver, reused while nothing moves), drawn by a ``FieldDrawer``;
+* :mod:`.fieldsplat` -- the default drawer: the atlas views' points reprojected into that view;
 * :mod:`.fieldbaselines` -- the field's baselines: all posed meshes rendered into that view, the ray cast;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
 * :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and

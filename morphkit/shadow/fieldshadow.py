@@ -4,24 +4,34 @@ A scene of many instances (:class:`~morphkit.billboard.instances.Instances`) of 
 each with its :class:`~morphkit.shadow.sunatlas.SunAtlas`, under a directional sun: the
 field's shadow map is **one orthographic light view along the sun** (world frame) that
 covers the instances' bounding spheres at ``texels_per_unit`` texels per scene unit
-(:func:`field_camera`). Each instance's light view comes from its atlas, with the sun turned
-into its object frame by its yaw (:func:`~morphkit.shadow.sunatlas.sun_in_object`), and is
-placed into the field view with a minimum of depths:
+(:func:`field_camera`). What the instances cast is drawn into it by a :class:`FieldDrawer`,
+with a minimum of depths: each instance's light view comes from its atlas, with the sun
+turned into its object frame by its yaw (:func:`~morphkit.shadow.sunatlas.sun_in_object`).
 
-**The placement.** Both views look along the same direction (the instance's camera, turned by
-the pose ``s Rz(yaw)``, looks along the world sun), so a texel ``(u, v)`` of the instance's
-view maps to the field view by a 2-D similarity (the yaw's turn in the light's image plane,
-the scale ``s``, a translation), its depth by ``z' = s z + offset``. Both come from the
-product ``field world2cam @ object2world @ instance cam2world``; the in-plane part is taken at
-the depth of the asset's pivot (exact when the directions agree; the object-frame sun is
-quantised to :data:`SUN_QUANTUM_DEG` for the cache, so they differ by under half a quantum
-and the depth offset keeps the small tilt as a plane over the texels). The instance's depth
-is resampled with ``cv2.warpAffine`` (nearest, ``+inf`` outside) into the part of the field
-its view covers, and ``np.minimum`` keeps the nearer caster.
+**Drawers.** :class:`~.fieldsplat.SplatDrawer` (the default) reprojects the drawn texels
+of the atlas views around each instance's object-frame sun point by point into the field
+view: one compiled pass, nothing per sun to make or keep. :class:`MorphDrawer` morphs each
+instance's light view from its atlas (:meth:`~morphkit.shadow.sunatlas.SunAtlas.light_view`)
+and places it (below); it is the slower, earlier way, kept to compare with (figures:
+``docs/RESULTS.md``).
 
-**The cache.** Light views are kept per ``(asset, quantised object-frame sun)``: instances
-of one asset that share a yaw (to the quantum) share a light view, and a sun that comes back
-finds its views made (:attr:`FieldShadow.cached`, :meth:`FieldShadow.clear`).
+**The placement** (:class:`MorphDrawer`). Both views look along the same direction (the
+instance's camera, turned by the pose ``s Rz(yaw)``, looks along the world sun), so a texel
+``(u, v)`` of the instance's view maps to the field view by a 2-D similarity (the yaw's turn
+in the light's image plane, the scale ``s``, a translation), its depth by
+``z' = s z + offset``. Both come from the product ``field world2cam @ object2world @
+instance cam2world``; the in-plane part is taken at the depth of the asset's pivot (exact
+when the directions agree; the object-frame sun is quantised to :data:`SUN_QUANTUM_DEG` for
+the cache, so they differ by under half a quantum and the depth offset keeps the small tilt
+as a plane over the texels). The instance's depth is resampled with ``cv2.warpAffine``
+(nearest, ``+inf`` outside) into the part of the field its view covers, and ``np.minimum``
+keeps the nearer caster. Its light views are kept per ``(asset, quantised object-frame
+sun)``: instances of one asset that share a yaw (to the quantum) share one, and a sun that
+comes back finds its views made (:attr:`MorphDrawer.cached`).
+
+**The cache.** :meth:`FieldShadow.build` returns the last map it made when neither the
+instances, the sun, the resolution nor the receiver changed (:attr:`FieldShadow.reused`);
+:meth:`FieldShadow.clear` forgets it and empties the drawer's caches.
 
 **Only what a scene needs.** Given a ground rectangle (the receiver), an instance whose
 bounding sphere's footprint in the field view (a disc) does not meet the receiver's (the
