@@ -529,17 +529,11 @@ SUN_MIN_ELEVATION_DEG = 5.0
 #: ground.
 SUN_GROUND_BIAS_TEXELS = 1.0
 
-#: Side of a splatted atlas point's square in the field's light view, as a fraction of
-#: the atlas texel it stands for (:mod:`morphkit.shadow.fieldsplat`). A texel's square is
-#: its footprint where the view sees the surface head-on; the points near the sun's
-#: silhouette come from views that see that surface more squarely than the sun does, so
-#: their full squares reach past the silhouette by up to half a texel and the shadow
-#: grows. Measured (ground shadow IoU against the ray cast, ``scripts/field_shadow_bench.py``,
-#: tree and cow, 10 and 100 instances, 4 suns; analytic sphere, fields at 0.6-2x the
-#: atlas's resolution): 1.0 gives 0.962-0.965, 0.8 gives 0.969 (the morph: 0.967-0.968),
-#: 0.6 opens holes the one-texel closing cannot fill when the field and the atlas have the
-#: same resolution (sphere IoU 0.91-0.94).
-SPLAT_FOOTPRINT = 0.8
+#: The least |cos| between a splatted point's normal and its atlas view's direction used in
+#: its footprint's foreshortening (:mod:`morphkit.shadow.fieldsplat`): texels the view sees
+#: at a grazing angle (an estimated normal within 6 degrees of the image plane) are not
+#: taken to stand for more surface than that.
+SPLAT_MIN_COS = 0.1
 
 #: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves)
 #: when its third column, divided by the pose's uniform scale, is ``+z`` to within

@@ -174,34 +174,56 @@ def test_the_compiled_splat_equals_its_numpy_reference(monkeypatch, half):
 
     rng = np.random.default_rng(7)
     points = rng.uniform(-1.0, 1.0, (500, 3)).astype(np.float32)
+    normals = rng.normal(size=(500, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    normals[::7] = 0.0  # unknown normals: full squares
+    normals = normals.astype(np.float32)
     seg_start, seg_len = np.array([0, 200, 350]), np.array([200, 150, 150])
+    seg_dir = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, -0.6, 0.8]])
     T = np.zeros((2, 3, 4))
     T[0, :, :3], T[0, :, 3] = 9.0 * np.eye(3), [10.0, 12.0, 5.0]
     T[1, :, :3], T[1, :, 3] = 7.5 * np.eye(3)[[1, 0, 2]], [14.0, 9.5, 6.0]
     seg = np.array([[0, 2, -1], [1, -1, -1]])
     halves = np.array([half, 0.7 * half])
+    suns = np.array([[0.0, 0.6, 0.8], [0.36, 0.48, 0.8]])
     out = []
     for compiled in (True, False):
         monkeypatch.setattr(fieldsplat, "use_compiled", lambda _k, c=compiled: c)
         d = np.full((24, 26), np.inf, np.float32)
-        splat_points(d, points, seg_start, seg_len, T, seg, halves)
+        splat_points(d, points, normals, seg_start, seg_len, seg_dir, T, seg, halves, suns)
         out.append(d)
     assert np.isfinite(out[0]).sum() > 50
     np.testing.assert_array_equal(out[0], out[1])
 
 
-def test_a_point_fills_the_texels_whose_centres_its_square_covers():
+def _one_point(xyz, normal, sun, half, view=(0.0, 0.0, 1.0)) -> np.ndarray:
     d = np.full((6, 6), np.inf, np.float32)
     T = np.zeros((1, 3, 4))
     T[0, :, :3] = np.eye(3)
-    splat_points(d, np.array([[2.2, 3.0, 1.5]], np.float32), np.array([0]), np.array([1]), T,
-                 np.array([[0]]), np.array([1.0]))  # the square [1.2, 3.2) x [2, 4): columns 2, 3; rows 2, 3
+    splat_points(d, np.array([xyz], np.float32), np.array([normal], np.float32), np.array([0]),
+                 np.array([1]), np.array([view], float), T, np.array([[0]]), np.array([half]),
+                 np.array([sun], float))
+    return d
+
+
+def test_a_point_fills_the_texels_whose_centres_its_square_covers():
+    # facing its view and the sun alike: the square [1.2, 3.2) x [2, 4): columns 2, 3; rows 2, 3
+    d = _one_point([2.2, 3.0, 1.5], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], 1.0)
     assert sorted(zip(*np.nonzero(np.isfinite(d)), strict=True)) == [(2, 2), (2, 3), (3, 2), (3, 3)]
     assert (d[np.isfinite(d)] == np.float32(1.5)).all()
-    small = np.full((6, 6), np.inf, np.float32)
-    splat_points(small, np.array([[2.5, 3.5, 1.0]], np.float32), np.array([0]), np.array([1]), T,
-                 np.array([[0]]), np.array([0.2]))  # between centres: no texel
-    assert not np.isfinite(small).any()
+    assert not np.isfinite(_one_point([2.5, 3.5, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], 0.2)).any()
+    # an unknown normal keeps the full square
+    unknown = _one_point([2.2, 3.0, 1.5], [0.0, 0.0, 0.0], [0.6, 0.0, 0.8], 1.0)
+    assert np.array_equal(np.isfinite(unknown), np.isfinite(d))
+
+
+def test_a_patch_the_sun_grazes_shrinks_and_one_it_faces_does_not_grow():
+    # the sun at 0.25 of the view's cosine: the square's side halves, [1.7, 2.7) x [2.5, 3.5): one texel
+    grazed = _one_point([2.2, 3.0, 1.5], [0.0, 0.0, 1.0], [np.sqrt(1 - 0.0625), 0.0, 0.25], 1.0)
+    assert sorted(zip(*np.nonzero(np.isfinite(grazed)), strict=True)) == [(3, 2)]
+    # seen at a grazing angle from its view, squarely from the sun: not more than the full square
+    faced = _one_point([2.2, 3.0, 1.5], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0, view=(0.0, 0.0, 1.0))
+    assert np.isfinite(faced).sum() == 4
 
 
 def test_bad_arguments_raise(atlases):

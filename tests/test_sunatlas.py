@@ -216,3 +216,18 @@ def test_a_jump_to_a_nearer_surface_is_no_crossing_for_light_views():
     deep = np.array([[0.5, 0.0, 2.0]], np.float32)
     hit = march_view(deep, down / np.linalg.norm(down), t0, 2 * t1, cam, depth, 32)
     assert hit.status[0] == HIT and abs(2.0 + hit.t[0] * 0.96 / np.linalg.norm(down) - 3.0) < 0.05
+
+
+def test_view_points_lie_on_the_sphere_with_its_normals(sphere_atlas):
+    for k in (0, 9, 20):
+        pts, nrm = sphere_atlas.view_points(k)
+        assert pts.shape == nrm.shape and len(pts) == int((sphere_atlas.coverage[k] > 0).sum()) > 1000
+        radial = pts - SPHERE_PIVOT
+        # on the surface to float16 depth and the texel's half width
+        assert np.abs(np.linalg.norm(radial, axis=1) - SPHERE_RADIUS).max() < 0.02
+        known = np.linalg.norm(nrm, axis=1) > 0
+        assert known.mean() > 0.99
+        cos = np.sum(nrm[known] * radial[known], axis=1) / np.linalg.norm(radial[known], axis=1)
+        # the depth's differences give the normal: within 5 degrees where the view is not grazing
+        facing = radial[known] @ np.asarray(sphere_atlas.view_camera(k).cam2world)[:3, 2] < -0.3
+        assert np.median(cos) > 0.999 and cos[facing].min() > np.cos(np.radians(5.0))

@@ -59,7 +59,7 @@ from .. import tol
 from ..billboard.bakelook import mesh_hash
 from ..billboard.depthmorph import morph_views
 from ..billboard.dome import ViewDome
-from ..billboard.domecameras import DomeCameras
+from ..billboard.domecameras import DomeCameras, direction
 from ..billboard.gbuffer import ViewSurface
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
@@ -298,8 +298,12 @@ class SunAtlas:
             s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
         return s
 
-    def view_points(self, k: int) -> np.ndarray:
-        """The surface points atlas view ``k`` holds: its drawn texels' centres at their depth.
+    def view_points(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """The surface points atlas view ``k`` holds, and their normals.
+
+        Points: the drawn texels' centres at their depth. Normals: from the depth map's
+        neighbouring points (central differences, one-sided where a neighbour is empty),
+        turned towards the view; ``0`` where a texel has no drawn neighbour along an axis.
 
         Parameters
         ----------
@@ -308,17 +312,29 @@ class SunAtlas:
 
         Returns
         -------
-        (M, 3) float32
+        points : (M, 3) float32
             Object frame, one per drawn texel (read-only; cached).
+        normals : (M, 3) float32
+            Unit normals (object frame) or zero vectors (read-only; cached).
         """
         k = as_int(k, "view", lo=0, hi=self.dome.views - 1)
-        pts = self._points.get(k)
-        if pts is None:
+        got = self._points.get(k)
+        if got is None:
             world, valid = self.view_camera(k).unproject(self._surface(k).depth)
-            pts = np.ascontiguousarray(world[valid & (self.coverage[k] > 0)], dtype=np.float32)
+            drawn = valid & (self.coverage[k] > 0)
+            du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
+            n = np.cross(du, dv)
+            norm = np.linalg.norm(n, axis=-1, keepdims=True)
+            ok = norm[..., 0] > tol.MIN_EXTENT
+            n = np.where(ok[..., None], n / np.where(ok, norm[..., 0], 1.0)[..., None], 0.0)
+            toward = direction(float(self.dome.azimuths_deg()[k]), float(self.dome.elevations_deg()[k]))
+            n *= np.where(n @ toward < 0.0, -1.0, 1.0)[..., None]
+            pts = np.ascontiguousarray(world[drawn], dtype=np.float32)
+            nrm = np.ascontiguousarray(n[drawn], dtype=np.float32)
             pts.setflags(write=False)
-            self._points[k] = pts
-        return pts
+            nrm.setflags(write=False)
+            got = self._points[k] = (pts, nrm)
+        return got
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
@@ -378,6 +394,28 @@ class SunAtlas:
         morph = morph_views(target, self.cameras.pivot, self.cameras.radius, refs)
         held = morph.alpha >= np.float32(tol.SUN_VIEW_MIN_COVERAGE)
         return target, np.where(held, morph.depth, np.float32(np.inf))
+
+
+def _grid_difference(points: np.ndarray, drawn: np.ndarray, axis: int) -> np.ndarray:
+    """Per texel, the difference of its drawn neighbours' points along ``axis`` (central where
+    both are drawn, one-sided where one is, 0 where none)."""
+    p = np.where(drawn[..., None], points, 0.0)
+    fwd = np.zeros_like(p)
+    bwd = np.zeros_like(p)
+    has_f = np.zeros_like(drawn)
+    has_b = np.zeros_like(drawn)
+    sl_a = [slice(None)] * 2
+    sl_b = [slice(None)] * 2
+    sl_a[axis], sl_b[axis] = slice(0, -1), slice(1, None)
+    a, b = tuple(sl_a), tuple(sl_b)
+    fwd[a] = p[b] - p[a]
+    has_f[a] = drawn[b] & drawn[a]
+    bwd[b] = p[b] - p[a]
+    has_b[b] = drawn[b] & drawn[a]
+    both = has_f & has_b
+    out = np.where(both[..., None], 0.5 * (fwd + bwd), 0.0)
+    out = np.where((has_f & ~has_b)[..., None], fwd, out)
+    return np.where((has_b & ~has_f)[..., None], bwd, out)
 
 
 def bake_sun_atlas(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, dome: ViewDome | None = None,
