@@ -55,9 +55,11 @@ def main() -> None:
                     help="the field view at S x the atlases' resolution")
     ap.add_argument("--drawer", choices=("splat", "morph"), default="splat",
                     help="how the field view is drawn: points splatted (default) or views morphed and placed")
+    ap.add_argument("--faces", type=int, default=0,
+                    help="build the sample meshes at about this many faces (0: the stored ~6k)")
     ap.add_argument("--json", help="write the rows here")
     args = ap.parse_args()
-    meshes = {nm: sample_mesh(nm) for nm in ASSETS}
+    meshes = {nm: sample_mesh(nm, **({'faces': args.faces} if args.faces else {})) for nm in ASSETS}
     norm = {nm: normalize(m) for nm, m in meshes.items()}
     rows = []
     with Renderer() as r:
@@ -100,7 +102,8 @@ def main() -> None:
                 sc.append((shadow_iou(fm.visibility(pts) < 0.5, truth),
                            shadow_iou(dm.visibility(pts) < 0.5, truth)))
             sc = np.array(sc)
-            row = dict(instances=n, yaw_classes=args.yaw_classes, suns=len(SUNS), grid=args.grid, tpu=tpu,
+            row = dict(instances=n, faces={nm: len(m.faces) for nm, m in meshes.items()},
+                       yaw_classes=args.yaw_classes, suns=len(SUNS), grid=args.grid, tpu=tpu,
                        field_side_max=int(max(max(s) for s in shapes)),
                        light_views_per_sun=float(np.mean(views)),
                        iou_atlas=sc[:, 0].tolist(), iou_direct=sc[:, 1].tolist(),

@@ -275,3 +275,25 @@ def test_the_field_matches_its_direct_render_and_the_ray_cast(renderer):
     assert shadow_iou(fm.visibility(pts) < 0.5, truth) > 0.88
     assert shadow_iou(dm.visibility(pts) < 0.5, truth) > 0.9
     assert (ray_cast_field(meshes, inst, sun_direction(0.0, -5.0), pts) == 1.0).all()
+
+
+def test_holes_close_between_two_drawn_neighbours_only(monkeypatch):
+    from morphkit.shadow import fieldsplat
+
+    rng = np.random.default_rng(3)
+    d = np.where(rng.random((40, 50)) < 0.6, rng.uniform(1.0, 2.0, (40, 50)), np.inf).astype(np.float32)
+    got = []
+    for compiled in (True, False):
+        monkeypatch.setattr(fieldsplat, "use_compiled", lambda _k, c=compiled: c)
+        got.append(fieldsplat.close_holes(d))
+    np.testing.assert_array_equal(got[0], got[1])
+    filled = np.isfinite(got[0]) & ~np.isfinite(d)
+    assert filled.sum() > 50
+    r, c = np.nonzero(filled)
+    p = np.pad(d, 1, constant_values=np.inf)  # texels outside are empty
+    r, c = r + 1, c + 1
+    want = np.minimum(np.minimum(p[r, c - 1], p[r, c + 1]), np.minimum(p[r - 1, c], p[r + 1, c]))
+    assert np.array_equal(got[0][filled], want)
+    # a staircase outline keeps its steps: no texel with drawn neighbours on two adjacent sides only
+    stairs = np.where(np.add.outer(np.arange(8), np.arange(8)) < 8, 1.0, np.inf).astype(np.float32)
+    assert np.array_equal(fieldsplat.close_holes(stairs), stairs)

@@ -156,8 +156,27 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
         _splat_numpy(*args)
 
 
+def _close_loop(depth: np.ndarray, out: np.ndarray) -> None:
+    """:func:`close_holes` into ``out`` (a copy of ``depth``), one pass."""
+    H, W = depth.shape
+    inf = np.float32(np.inf)
+    for r in range(H):
+        for c in range(W):
+            if depth[r, c] < inf:
+                continue
+            lft = depth[r, c - 1] if c > 0 else inf
+            rgt = depth[r, c + 1] if c < W - 1 else inf
+            up = depth[r - 1, c] if r > 0 else inf
+            dn = depth[r + 1, c] if r < H - 1 else inf
+            if (lft < inf and rgt < inf) or (up < inf and dn < inf):
+                out[r, c] = min(min(lft, rgt), min(up, dn))
+
+
+_close_jit = compile_kernel(_close_loop, error_model="numpy")
+
+
 def close_holes(depth: np.ndarray) -> np.ndarray:
-    """``depth`` with one-texel holes closed (module docstring, "Holes"); a new array or ``depth``.
+    """``depth`` with one-texel holes closed (module docstring, "Holes"); a new array.
 
     Parameters
     ----------
@@ -170,14 +189,17 @@ def close_holes(depth: np.ndarray) -> np.ndarray:
         Each empty texel whose two horizontal or two vertical neighbours are drawn holds the
         nearest depth of its four neighbours.
     """
+    out = depth.copy()
+    if use_compiled(_close_jit):
+        _close_jit(depth, out)  # type: ignore[misc]
+        return out
     drawn = np.isfinite(depth).astype(np.uint8)
     both_h = cv2.erode(drawn, _PAIR_H, borderType=cv2.BORDER_CONSTANT, borderValue=0)
     both_v = cv2.erode(drawn, _PAIR_V, borderType=cv2.BORDER_CONSTANT, borderValue=0)
     fill = ((both_h | both_v) > 0) & (drawn == 0)
-    if not fill.any():
-        return depth
     nearest = cv2.erode(depth, _CROSS, borderType=cv2.BORDER_CONSTANT, borderValue=float("inf"))
-    return np.where(fill, nearest, depth)
+    out[fill] = nearest[fill]
+    return out
 
 
 _PAIR_H = np.array([[1, 0, 1]], np.uint8)
