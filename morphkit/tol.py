@@ -529,7 +529,7 @@ SUN_MIN_ELEVATION_DEG = 5.0
 #: ground.
 SUN_GROUND_BIAS_TEXELS = 1.0
 
-#: The least |cos| between a splatted point's normal and its atlas view's direction used in
+#: The least absolute cosine between a splatted point's normal and its atlas view's direction in
 #: its footprint's foreshortening (:mod:`morphkit.shadow.fieldsplat`): texels the view sees
 #: at a grazing angle (an estimated normal within 6 degrees of the image plane) are not
 #: taken to stand for more surface than that.

@@ -128,7 +128,7 @@ class Sky:
 
 @dataclass
 class Backdrop:
-    """Ground + sky (+ fog) of a scene; :meth:`draw` renders them for a camera.
+    """Ground + sky (+ fog) of a scene; :meth:`Backdrop.draw` renders them for a camera.
 
     Parameters
     ----------

@@ -244,13 +244,37 @@ class FieldDrawer(Protocol):
 
     :class:`~.fieldsplat.SplatDrawer` (the default: per-point reprojection, one pass) and
     :class:`MorphDrawer` (a light view morphed per instance and placed).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
     """
 
     name: str
 
     def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
              camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
-        """The light view's depth ``(H, W)`` float32 of ``camera`` (``+inf`` where none)."""
+        """The light view's depth of ``camera``.
+
+        Parameters
+        ----------
+        atlases : mapping of str to SunAtlas
+            Each asset name's atlas.
+        instances : Instances
+            The field.
+        kept : (K,) int64
+            The instances to draw.
+        camera : CameraModel
+            The field's light view (orthographic, world frame).
+        sun : (azimuth_deg, elevation_deg)
+            The field's sun (clamped, above the horizon).
+
+        Returns
+        -------
+        (H, W) float32
+            Nearest caster's depth along the light (``+inf`` where none).
+        """
         ...  # pragma: no cover - a protocol
 
     def clear(self) -> None:
