@@ -8,6 +8,13 @@ ground gets it per pixel, billboards per instance (:meth:`Fog.factor` at the
 pivot's distance). The image is drawn once per camera and reused while the
 camera stays (:meth:`Backdrop.draw` keeps the last one).
 
+**Shadows on the ground.** The ground's colours are its look in full sun. A
+shadowed frame passes :meth:`Backdrop.draw` a ``ground_factor`` per ground pixel
+(:meth:`Backdrop.ground_points` gives them in order): the share of the light the
+shading model leaves there (:func:`morphkit.shading.sun_shadow_factor`, linear
+light), applied to the colour as ``c f ^ (1/2.2)`` (the model's output encoding,
+:data:`morphkit.shading.LIT_GAMMA`) before the fog.
+
 Colours are RGB in ``[0, 1]``; images are float32 ``(H, W, 3)``.
 """
 
@@ -21,6 +28,7 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..memo import Memo
+from ..shading import LIT_GAMMA
 from ..validate import as_finite_array
 
 __all__ = ["Fog", "Ground", "Sky", "Backdrop"]
@@ -144,9 +152,45 @@ class Backdrop:
     _drawn: Memo[tuple[object, ...], np.ndarray] = field(default_factory=lambda: Memo(1), init=False,
                                                           repr=False, compare=False)
 
-    def draw(self, camera: CameraModel) -> np.ndarray:
+    def draw(self, camera: CameraModel, ground_factor: np.ndarray | None = None) -> np.ndarray:
         """The backdrop seen by ``camera``: float32 ``(H, W, 3)`` RGB in ``[0, 1]`` (read-only;
-        the same array while the camera is unchanged).
+        the same array while the camera is unchanged and no factor is given).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+        ground_factor : (M,) float, optional
+            The light kept at each ground pixel (module docstring, "Shadows on the ground"),
+            in the order of :meth:`ground_points`; default 1 (full sun).
+
+        Returns
+        -------
+        (H, W, 3) float32
+            RGB in ``[0, 1]``, read-only.
+
+        Raises
+        ------
+        ValidationError
+            A factor not one per ground pixel.
+        """
+        if ground_factor is not None:
+            return self._draw(camera, np.asarray(ground_factor, dtype=np.float32))
+        key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
+               camera.cam2world.tobytes())
+        return self._drawn.get(key, lambda: self._draw(camera))
+
+    @staticmethod
+    def _hits(camera: CameraModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        o, d = camera.rays()
+        dz = d[..., 2]
+        down = dz < -tol.BB_GROUND_RAY_DZ
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(down, -o[..., 2] / dz, np.inf)
+        return o, d, t, down & (t > 0)
+
+    def ground_points(self, camera: CameraModel) -> tuple[np.ndarray, np.ndarray]:
+        """The pixels of ``camera`` that see the ground, and their world points.
 
         Parameters
         ----------
@@ -155,20 +199,22 @@ class Backdrop:
 
         Returns
         -------
-        (H, W, 3) float32
-            RGB in ``[0, 1]``, read-only.
+        hit : (H, W) bool
+            True where the pixel's ray meets the ground plane (in front of the camera).
+        points : (M, 3) float64
+            Their points on ``z = 0``, row-major pixel order (``M = hit.sum()``).
         """
-        key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
-               camera.cam2world.tobytes())
-        return self._drawn.get(key, lambda: self._draw(camera))
+        o, d, t, hit = self._hits(camera)
+        p = o[hit] + t[hit, None] * d[hit]
+        p[:, 2] = 0.0
+        return hit, p
 
-    def _draw(self, camera: CameraModel) -> np.ndarray:
-        o, d = camera.rays()
+    def _draw(self, camera: CameraModel, factor: np.ndarray | None = None) -> np.ndarray:
+        o, d, t, hit = self._hits(camera)
         dz = d[..., 2]
-        down = dz < -tol.BB_GROUND_RAY_DZ
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(down, -o[..., 2] / dz, np.inf)
-        hit = down & (t > 0)
+        if factor is not None and factor.shape != (int(hit.sum()),):
+            raise ValidationError(expected_got("ground_factor", f"one per ground pixel ({int(hit.sum())},)",
+                                               factor.shape))
         img = np.empty(camera.shape + (3,), np.float32)
         elev = np.clip(dz, 0.0, 1.0)[..., None]
         sky_h, sky_z = np.asarray(self.sky.horizon), np.asarray(self.sky.zenith)
@@ -181,6 +227,8 @@ class Backdrop:
             else:
                 parity = (np.floor(p[:, 0] / self.ground.cell) + np.floor(p[:, 1] / self.ground.cell)) % 2
                 col = np.where(parity[:, None] > 0.5, cb, ca)
+            if factor is not None:
+                col = col * np.power(np.clip(factor, 0.0, 1.0), LIT_GAMMA)[:, None]
             if self.fog is not None:
                 f = self.fog.factor(t[hit])[:, None]
                 col = col * (1 - f) + f * np.asarray(self.fog.color)
