@@ -574,3 +574,11 @@ MAX_SUN_SAMPLES = 64
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
 #: over a quarter of the sky, outside what a sun disc (a narrow cone) stands for.
 MAX_SUN_DISC_DEG = 15.0
+
+#: How far (scene units; the assets are normalised to unit size) the ray-cast truth moves a
+#: real mesh's pixel point along its normal before casting towards the sun
+#: (:class:`morphkit.shadow.receivers.RayCastShadow`): the point comes from the depth pass
+#: (24-bit window depth, linearised), up to about 1e-3 units off its surface at the frames'
+#: distances, so rays from it hit its own triangle and speckle a sunlit surface with
+#: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.
+SUN_RAY_NORMAL_OFFSET = 2e-3

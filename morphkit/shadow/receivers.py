@@ -20,7 +20,9 @@ frame's camera; the ground's is the pixel's ray met with ``z = 0``
 themselves drawn into the field's map, so their points are moved along their own normal by
 :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels first (normal-offset
 bias, its reason there); ground points are looked up as they are (the map's constant bias,
-:data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS`).
+:data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS`). The ray cast moves a mesh pixel's point by
+:data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET` along its normal (a depth pass's point lies a
+depth quantum off its surface).
 
 **The receiver rectangle.** The field's map skips casters whose shadow cannot reach the
 receiver (:meth:`~.fieldshadow.FieldShadow.plan`). :func:`frame_receiver` gives the ground
@@ -489,7 +491,7 @@ class RayCastShadow:
                 continue
             disc = sun_disc(d, self.samples, self.disc_deg)
             fns = [_RayCast(self.meshes, instances, s, body) for s in disc]
-            per_sun.append((fns, 0.0))
+            per_sun.append((fns, tol.SUN_RAY_NORMAL_OFFSET))
         return FrameShadow(per_sun)
 
 
