@@ -557,9 +557,11 @@ SUN_VIEW_MIN_COVERAGE = 0.5
 #: ``tan(theta)`` texels across a texel at an angle ``theta`` to the light, plus the two
 #: morphs' depth errors (the billboard's view and the atlas's light view, each about half
 #: a texel): without an offset a billboard's sunlit side speckles with its own shadow
-#: (acne). The value is the smallest of those tried (0, 1, 2, 3) whose billboard-pixel
-#: shadow IoU against the ray cast stopped improving (scripts/billboard_shadow_bench.py).
-SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 2.0
+#: (acne). Of the offsets tried (0, 1, 2, 3 texels), 1 gave the best billboard-pixel shadow
+#: IoU against the ray-cast mesh frame under each of three suns (20 trees and cows;
+#: scripts/billboard_shadow_bench.py --offsets 0,1,2,3): 0 leaves the acne, larger ones
+#: lose the shadows that fall across a billboard from a neighbour close by.
+SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 
 #: Largest side (texels) of a billboard frame's field light view when its resolution is
 #: chosen automatically (:class:`morphkit.shadow.receivers.AtlasShadow`): a float32 map
