@@ -24,7 +24,13 @@ from ..shadow.receivers import FrameShadow, SceneShadow
 from .field import BillboardScene
 from .gbuffer import ViewSurface
 
-__all__ = ["frame_shadow", "surface_visibility", "points_visibility", "shadowed_backdrop", "FrameGround"]
+__all__ = ["frame_shadow", "surface_visibility", "points_visibility", "shadowed_backdrop", "FrameGround",
+           "darkened", "DARK_LEVELS"]
+
+#: A pixel is in a frame's shadow (:func:`darkened`) when the shadow takes at least this many
+#: levels (of 255) off one of its channels: more than the frame's rounding (1 level), less
+#: than the faintest shadow the bench's suns leave (the ambient share of the darkest ground).
+DARK_LEVELS = 3
 
 _UP = np.array([0.0, 0.0, 1.0])
 
@@ -175,3 +181,23 @@ def shadowed_backdrop(scene: BillboardScene, camera: CameraModel, lighting: Ligh
         vis = ground.shadow.visibility(ground.points[seen])
         factor[seen] = sun_shadow_factor(_UP, ambient, terms, vis)
     return scene.backdrop.draw(camera, factor)
+
+
+def darkened(plain: np.ndarray, shadowed: np.ndarray, levels: int = DARK_LEVELS) -> np.ndarray:
+    """The pixels a frame's shadows darken: where ``shadowed`` is at least ``levels`` below
+    ``plain`` (the same frame without shadows) in any channel. A pixel turned away from the
+    sun, which no shadow can darken, is not counted: the mask is what a viewer sees shadowed.
+
+    Parameters
+    ----------
+    plain, shadowed : (H, W, 3) uint8
+        The frame without and with shadows.
+    levels : int
+        The threshold (of 255).
+
+    Returns
+    -------
+    (H, W) bool
+        True where darkened.
+    """
+    return (plain.astype(np.int16) - shadowed.astype(np.int16)).max(axis=2) >= levels
