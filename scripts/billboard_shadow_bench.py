@@ -12,7 +12,9 @@ For each sun:
   which no shadow can darken, counts as neither);
 * **shadow IoU** of the billboard frame's shadowed pixels against the mesh frame's, on **ground
   pixels** (the backdrop seen in both frames: layer alpha < 0.5 in both) and on **billboard
-  pixels** (an object in both: alpha > 0.5 in both);
+  pixels** (an object in both: alpha > 0.5 in both); and, to tell the atlases' error from the
+  billboards', the real-mesh frame shadowed by the *atlases* against the truth on its object
+  pixels ("mesh+atlas");
 * **visibility error**: mean |atlas visibility - ray-cast visibility| at every ground pixel's
   point (the lookups themselves, not the pixels);
 * **ms a frame**, billboard frame with and without shadows, interleaved, medians of ``--reps``:
@@ -40,6 +42,7 @@ from morphkit.billboard.domeasset import bake_dome
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.billboard.litmesh import LitMeshMode
 from morphkit.billboard.litmodes import LitMode
+from morphkit.billboard.shadowing import DARK_LEVELS, darkened
 from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
 from morphkit.meshes import normalize, sample_mesh
@@ -60,7 +63,7 @@ def main() -> None:
     ap.add_argument("--asset-size", type=int, default=128)
     ap.add_argument("--atlas-size", type=int, default=128)
     ap.add_argument("--reps", type=int, default=5)
-    ap.add_argument("--dark", type=int, default=3)
+    ap.add_argument("--dark", type=int, default=DARK_LEVELS)
     ap.add_argument("--offsets", default=None, help="normal offsets to sweep, e.g. 0,1,2,3")
     ap.add_argument("--seed", type=int, default=3)
     a = ap.parse_args()
@@ -86,26 +89,30 @@ def main() -> None:
             [float(v) for v in a.offsets.split(",")]
         print(f"scene: {a.n} instances of tree + cow, {w}x{h}, soft {a.soft} (disc {a.disc} deg), "
               f"dark >= {a.dark}/255")
-        print("| sun (az/el) | offset | ground IoU | billboard IoU | ground vis. error | "
+        print("| sun (az/el) | offset | ground IoU | billboard IoU | mesh+atlas IoU | ground vis. error | "
               "ms no shadow | ms shadow (cached) | ms shadow (new sun) |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|")
         moved = 0
         for az, el in SUNS:
             lighting = Lighting(BAKE_AMBIENT, (sun(az, el),))
             m_plain = LitMeshMode(r, items, lighting)
             m_shad = LitMeshMode(r, items, lighting, shadow=truth)
             fm0, fm1 = m_plain.render(scene, cam), m_shad.render(scene, cam)
-            dark_m = (fm0.rgb.astype(int) - fm1.rgb.astype(int)).max(axis=2) >= a.dark
+            dark_m = darkened(fm0.rgb, fm1.rgb, a.dark)
             for off in offsets:
                 tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS = off
                 plain, shad = LitMode(lighting=lighting), LitMode(lighting=lighting, shadow=atlas)
                 fb0, fb1 = plain.render(scene, cam), shad.render(scene, cam)
-                dark_b = (fb0.rgb.astype(int) - fb1.rgb.astype(int)).max(axis=2) >= a.dark
+                dark_b = darkened(fb0.rgb, fb1.rgb, a.dark)
+                fma = LitMeshMode(r, items, lighting, shadow=atlas).render(scene, cam)
+                dark_ma = darkened(fm0.rgb, fma.rgb, a.dark)
                 ab, am = fb1.layer[..., 3], fm1.layer[..., 3]
                 ground = (ab < 0.5) & (am < 0.5)
                 objs = (ab > 0.5) & (am > 0.5)
                 iou_g = shadow_iou(dark_b[ground], dark_m[ground])
                 iou_b = shadow_iou(dark_b[objs], dark_m[objs])
+                mesh_objs = am > 0.5
+                iou_ma = shadow_iou(dark_ma[mesh_objs], dark_m[mesh_objs])
                 _, gp = scene.backdrop.ground_points(cam)
                 d = -lighting.lights[0].direction
                 va = atlas.frame(inst, [d], gp, np.arange(len(inst))).visibility(gp)[0]
@@ -126,7 +133,7 @@ def main() -> None:
                     t_plain.append(t1 - t0)
                     t_cached.append(t2 - t1)
                     t_new.append(t3 - t2)
-                print(f"| {az:g}/{el:g} | {off:g} | {iou_g:.3f} | {iou_b:.3f} | {verr:.4f} | "
+                print(f"| {az:g}/{el:g} | {off:g} | {iou_g:.3f} | {iou_b:.3f} | {iou_ma:.3f} | {verr:.4f} | "
                       f"{1e3 * statistics.median(t_plain):.0f} | {1e3 * statistics.median(t_cached):.0f} | "
                       f"{1e3 * statistics.median(t_new):.0f} |")
 

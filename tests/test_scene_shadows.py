@@ -264,3 +264,23 @@ def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message
     assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 1
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err and not (tmp_path / "o").exists()
+
+
+def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():
+    from morphkit.billboard import Backdrop, Fog
+    from morphkit.shading import LIT_GAMMA
+
+    cam = _camera()
+    for back in (Backdrop(), Backdrop(fog=Fog(density=0.2))):
+        hit, pts = back.ground_points(cam)
+        assert len(pts) == int(hit.sum()) > 0 and np.allclose(pts[:, 2], 0.0)
+        plain = back.draw(cam)
+        assert np.array_equal(back.draw(cam, np.ones(len(pts))), plain)
+        half = back.draw(cam, np.full(len(pts), 0.5))
+        ratio = half[hit] / plain[hit]
+        if back.fog is None:  # the factor in linear light, on the encoded colour
+            assert np.allclose(ratio, 0.5 ** LIT_GAMMA, atol=1e-5)
+        else:  # the fog is added after the shadow: less darkened, never brighter
+            assert np.all(ratio <= 1.0 + 1e-6) and np.all(ratio > 0.5 ** LIT_GAMMA - 1e-5)
+        with pytest.raises(ValidationError, match="ground_factor"):
+            back.draw(cam, np.ones(3))
