@@ -284,3 +284,15 @@ def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():
             assert np.all(ratio <= 1.0 + 1e-6) and np.all(ratio > 0.5 ** LIT_GAMMA - 1e-5)
         with pytest.raises(ValidationError, match="ground_factor"):
             back.draw(cam, np.ones(3))
+
+
+def test_the_light_view_cache_holds_one_sun(atlases):
+    inst = Instances.from_records([("ball", 0.0, 0.0, 10.0), ("ball", 2.0, 0.0, 80.0)])
+    shadow = AtlasShadow(atlases, texels_per_unit=TPU)
+    g = _grid(-2.0, -2.0, 3.0, 2.0, 10)
+    shadow.frame(inst, [sun_direction(10.0, 40.0)], g, np.array([0, 1]))
+    views = shadow.field.cached
+    shadow.frame(inst, [sun_direction(10.0, 40.0)], g, np.array([0, 1]))
+    assert views == 2 and shadow.field.cached == 2 and shadow.field.hits == 2  # the same sun: reused
+    shadow.frame(inst, [sun_direction(40.0, 45.0)], g, np.array([0, 1]))
+    assert shadow.field.cached == 2 and shadow.field.hits == 0  # another sun: the old views dropped

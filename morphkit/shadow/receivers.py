@@ -343,6 +343,13 @@ class AtlasShadow:
         that the map's side stays under :data:`~morphkit.tol.SUN_FIELD_MAX_SIDE`.
     name : str
         Its name.
+
+    Notes
+    -----
+    The builder's light-view cache holds the views of the current frame's suns: it is
+    emptied (:meth:`~.fieldshadow.FieldShadow.clear`) when a frame comes with other suns, so a
+    day's path keeps one sun's views (every instance's, for each disc direction), not every
+    sun's. Frames under the same sun (a camera moving at noon) reuse them.
     """
 
     def __init__(self, atlases: Mapping[str, SunAtlas] | FieldShadow, *, samples: int = 1,
@@ -356,6 +363,7 @@ class AtlasShadow:
                                                                                 "texels_per_unit")
         self.name = str(name)
         self.last_maps: list[FieldMap] = []
+        self._suns: tuple[bytes, ...] = ()
 
     def resolution(self, instances: Instances, sun_dir_world: np.ndarray,
                    receiver: tuple[float, float, float, float] | None) -> float:
@@ -409,6 +417,10 @@ class AtlasShadow:
         """
         per_sun: list[tuple[list, float]] = []
         self.last_maps = []
+        key = tuple(np.round(np.asarray(d, np.float64), 12).tobytes() for d in suns)
+        if key != self._suns:  # the sun moved: the last sun's light views are not needed again
+            self.field.clear()
+            self._suns = key
         centres, radii = self.field.spheres(instances)
         for d in suns:
             rect = frame_receiver(ground, centres, radii, visible, d)
