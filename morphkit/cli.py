@@ -16,8 +16,10 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from .cliargs import check_args
+from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError
 
 
@@ -253,6 +255,31 @@ def _billboard_views(args: argparse.Namespace) -> int | None:
     return None if v == "dome" else int(v)
 
 
+def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
+    """``--shadows``: each asset's sun atlas baked from its mesh (once, for this run) and the frames'
+    shadow from them; the comparisons' real meshes get the ray cast over the same sun directions."""
+    import trimesh
+
+    from .errors import ValidationError, expected_got
+    from .shadow.receivers import SCENE_ATLAS_SIZE, AtlasShadow, RayCastShadow, bake_scene_atlases
+
+    missing = [nm for nm in names if nm not in res.items]
+    if missing:
+        raise ValidationError(expected_got(
+            "--shadows", "every asset's mesh (its sun atlas is baked from it)",
+            "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in missing)))
+    meshes = {}
+    for nm in names:
+        parts = [it.mesh for it in res.items[nm]]
+        meshes[nm] = parts[0] if len(parts) == 1 else trimesh.util.concatenate(parts)
+    print(f"morphkit billboards: baking sun atlases of {', '.join(names)} ({SCENE_ATLAS_SIZE} texels)",
+          file=sys.stderr)
+    atlases = bake_scene_atlases(meshes, renderer)
+    samples = args.soft or 1
+    return (AtlasShadow(atlases, samples=samples, disc_deg=args.sun_radius),
+            RayCastShadow(meshes, samples=samples, disc_deg=args.sun_radius))
+
+
 def _cmd_billboards(args: argparse.Namespace) -> int:
     from .errors import ValidationError, expected_got
 
@@ -305,11 +332,14 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         if not known:
             why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
             print(f"morphkit billboards: comparisons with the real meshes skipped: {why}", file=sys.stderr)
+        shadow = truth_shadow = None
+        if args.shadows:
+            shadow, truth_shadow = _scene_shadows(args, res, r, names)
         if dome is not None:
-            mode = LitMode(MorphSurface(), base)
-            classic = LitMode(ClassicSurface(), base)
+            mode = LitMode(MorphSurface(), base, shadow=shadow)
+            classic = LitMode(ClassicSurface(), base, shadow=shadow)
             if known:
-                truth = LitMeshMode(r, res.items, base)
+                truth = LitMeshMode(r, res.items, base, shadow=truth_shadow)
         else:
             mode, classic = MorphMode(MorphCache()), None
             if known:
@@ -317,6 +347,8 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         summary = write_sequence(scene, cams, out, mode=mode, truth=truth, classic=classic, lighting=lighting,
                                  progress=args.frames >= 10)
     kind = "relit dome assets" if dome is not None else "ring assets"
+    if args.shadows:
+        kind += f", shadows from sun atlases ({args.soft or 1} sun direction(s))"
     print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
           f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}; {kind}), "
           f"cache hit rate {summary['hit_rate']:.1%}")
@@ -495,6 +527,17 @@ def build_parser() -> argparse.ArgumentParser:
     bb.add_argument("--sun-path", default=None, choices=["day"],
                     help="light the billboards by a sun moving across the sky over the frames "
                     "(relightable dome assets; default: the bake light)")
+    bb.add_argument("--shadows", action="store_true",
+                    help="the instances cast shadows on the ground and on each other under the sun "
+                    "(needs --sun-path and dome views): a sun atlas per asset (21 sun directions at 128 "
+                    "texels) is baked from its mesh at the start of the run and kept for the run; the "
+                    "comparison strips' real meshes get ray-cast shadows (the truth)")
+    bb.add_argument("--soft", type=int, default=None, metavar="N",
+                    help="with --shadows: a soft sun, N directions over its disc, one shadow map each, "
+                    "averaged (default: 1, a hard shadow)")
+    bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
+                    help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
+                    "%(default)s; larger discs give wider penumbrae, up to 15)")
     bb.add_argument("--frames", type=int, default=48, help="frames along the path (default: %(default)s)")
     bb.add_argument("--size", default="640x480", help="frame size WxH (default: %(default)s)")
     bb.add_argument("--asset-size", type=int, default=128,

@@ -16,6 +16,7 @@ import math
 from collections.abc import Callable
 
 from . import tol
+from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import ValidationError, expected_got
 from .validate import as_int
 
@@ -61,6 +62,7 @@ def _billboards(args: argparse.Namespace) -> None:
             raise ValidationError(expected_got(
                 "--views with --sun-path", "dome (relighting needs albedo, normals and depth: --views dome)",
                 f"a ring of {k} baked under its bake light"))
+    _billboard_shadows(args)
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
     parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area
@@ -68,6 +70,29 @@ def _billboards(args: argparse.Namespace) -> None:
             and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
         raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
                                            "(tol.MAX_IMAGE_PIXELS)", args.size))
+
+
+def _billboard_shadows(args: argparse.Namespace) -> None:
+    """``--shadows``, ``--soft``, ``--sun-radius`` of ``billboards``: the combinations that mean something."""
+    shadows = getattr(args, "shadows", False)
+    if getattr(args, "soft", None) is not None and not shadows:
+        raise ValidationError(expected_got("--soft", "together with --shadows", "--soft alone"))
+    radius = getattr(args, "sun_radius", None)
+    if radius is not None and radius != SUN_DISC_RADIUS_DEG and getattr(args, "soft", None) is None:
+        raise ValidationError(expected_got("--sun-radius", "together with --soft N", "--sun-radius alone"))
+    if not shadows:
+        return
+    if not getattr(args, "sun_path", None):
+        raise ValidationError(expected_got("--shadows", "a sun to cast them: --sun-path day",
+                                           "no --sun-path (the bake light has no position in the scene)"))
+    if args.views is not None and str(args.views) != "dome":
+        raise ValidationError(expected_got("--shadows", "dome views (--views dome: relit billboards)",
+                                           f"--views {args.views}"))
+    _count(args, "soft", "--soft", 1, tol.MAX_SUN_SAMPLES)
+    _finite(args, "sun_radius", "--sun-radius")
+    if radius is not None and not 0.0 <= radius <= tol.MAX_SUN_DISC_DEG:
+        raise ValidationError(expected_got("--sun-radius", f"degrees in [0, {tol.MAX_SUN_DISC_DEG:g}]",
+                                           radius))
 
 
 def _shadows(args: argparse.Namespace) -> None:

@@ -23,6 +23,8 @@ billboards | real meshes, the second paper's Fig. 5) and ``billboards_error.png`
 (the absolute difference of classic and of view-morphed billboards from the meshes),
 ``billboards_textured.png`` (a textured asset, ``morphkit/data/photo_crate.glb`` baked
 in its own look, as a view-morphed billboard beside its real mesh);
+``billboards_shadowed.png`` (a field of trees and cows under a sun: relit billboards with
+the shadows of their assets' sun atlases | the real meshes with ray-cast shadows);
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
 scene parameters and timings). Later features add their outputs here.
 
@@ -408,6 +410,58 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
             "impostor_bytes": imp.memory_bytes, "bake_ms": bake_ms, "vs_mesh": per_view}
 
 
+def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
+    """A field of trees and cows under one sun (issue #26): relit billboards shadowed by their
+    assets' sun atlases (:class:`~morphkit.shadow.receivers.AtlasShadow`) | the real meshes
+    shadowed by the ray cast (the truth); shadow IoU of the darkened pixels on the ground and on
+    the objects (:func:`~morphkit.billboard.shadowing.darkened`)."""
+    from .billboard import Backdrop, BillboardScene, place_random
+    from .billboard.bakelook import BAKE_AMBIENT
+    from .billboard.domeasset import bake_dome
+    from .billboard.facing import ViewpointFacing
+    from .billboard.litmesh import LitMeshMode
+    from .billboard.litmodes import LitMode
+    from .billboard.shadowing import darkened
+    from .billboard.sun import sun
+    from .camera import look_at, perspective
+    from .meshes import normalize
+    from .metrics import shadow_iou
+    from .shading import Lighting
+    from .shadow.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+
+    t0 = time.perf_counter()
+    names = ("tree", "cow")
+    meshes = {nm: normalize(sample_mesh(nm)) for nm in names}
+    size, atlas_size, shape = (48, 64, (96, 128)) if quick else (96, 128, (288, 384))
+    assets = {nm: bake_dome(meshes[nm], renderer, name=nm, size=size, appearance="checker") for nm in names}
+    items = {nm: assets[nm].items(meshes[nm]) for nm in names}
+    atlases = bake_scene_atlases(meshes, renderer, size=atlas_size)
+    inst = place_random(names, 16, np.random.default_rng(3), half_size=2.5)
+    scene = BillboardScene(assets, inst, backdrop=Backdrop(), facing=ViewpointFacing())
+    cam = perspective(np.radians(50.0), shape, look_at(np.array([0.0, -4.8, 1.9]), np.array([0.0, 0.0, 0.3]),
+                                                       up=np.array([0.0, 0.0, 1.0])))
+    lighting = Lighting(BAKE_AMBIENT, (sun(30.0, 35.0),))
+    t1 = time.perf_counter()
+    bb = LitMode(lighting=lighting, shadow=AtlasShadow(atlases)).render(scene, cam)
+    t2 = time.perf_counter()
+    mesh = LitMeshMode(renderer, items, lighting, shadow=RayCastShadow(meshes)).render(scene, cam)
+    t3 = time.perf_counter()
+    bb0 = LitMode(lighting=lighting).render(scene, cam)
+    mesh0 = LitMeshMode(renderer, items, lighting).render(scene, cam)
+    db, dm = darkened(bb0.rgb, bb.rgb), darkened(mesh0.rgb, mesh.rgb)
+    ab, am = bb.layer[..., 3], mesh.layer[..., 3]
+    ground, objects = (ab < 0.5) & (am < 0.5), (ab > 0.5) & (am > 0.5)
+    write_image(add("billboards_shadowed.png", "billboards", "tree+cow",
+                    "16 trees and cows under a sun at 35 degrees: relit view-morphed billboards shadowed by "
+                    "their assets' sun atlases (21 directions) | the real meshes with ray-cast shadows"),
+                np.concatenate([bb.rgb, mesh.rgb], axis=1))
+    return {"instances": len(inst), "sun": [30.0, 35.0], "asset_size": size, "atlas_size": atlas_size,
+            "shadow_iou_ground": shadow_iou(db[ground], dm[ground]),
+            "shadow_iou_objects": shadow_iou(db[objects], dm[objects]),
+            "setup_ms": 1e3 * (t1 - t0), "billboard_frame_ms": 1e3 * (t2 - t1),
+            "mesh_raycast_frame_ms": 1e3 * (t3 - t2), "section_ms": 1e3 * (time.perf_counter() - t0)}
+
+
 def previous_demo(out: str | Path) -> Path | None:
     """The ``index.json`` of a demo already in folder ``out``, or None.
 
@@ -509,6 +563,7 @@ def _render_demo(out: Path, size: int, quick: bool) -> dict[str, Any]:
         billboards = _billboard_section(renderer, min(size, 512), add, rows, quick=quick)
         billboards["textured"] = _textured_billboard_section(renderer, add, quick=quick)
         billboards["relit"] = _relit_billboard_section(renderer, add, quick=quick)
+        billboards["shadowed"] = _shadowed_billboard_section(renderer, add, quick=quick)
     write_image(add("overview.png", "overview", "all", "morphkit's results beside their ground truth, "
                     "each with its error: warped hard shadow, soft shadow, view morph, billboards"),
                 _stack_rows(rows))

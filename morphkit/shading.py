@@ -19,7 +19,16 @@ with ``a`` the ambient level, ``I_k`` and ``l_k = -direction_k`` the intensity a
 unit direction towards each :class:`~morphkit.scene.DirectionalLight` (a sun), ``I_j``
 the intensity of each :class:`~morphkit.scene.PointLight` at ``P_j``, ``d_j = |P_j - p|``
 and ``v_j = (P_j - p) / d_j``. The ``1 / pi`` is the Lambertian BRDF's (pyrender's units
-for the same light intensities). No shadows, no specular term.
+for the same light intensities). No specular term.
+
+* **Shadows.** A sun's term may be multiplied by a per-pixel **visibility** ``V_k`` in
+  ``[0, 1]`` (1 lit, 0 in the sun's shadow; a soft sun's: the fraction of its disc seen):
+  ``I_k / pi max(0, n . l_k) V_k``. Ambient and point lights are never shadowed. The
+  ``visibility`` arguments take ``(h, w)`` (every sun the same: the one-sun scenes of a
+  sun path) or ``(L, h, w)`` (one map per sun above the horizon, in the lighting's
+  order); ``None`` is all lit. :func:`sun_shadow_factor` is the bracket's ratio with
+  and without the visibility: what a receiver drawn in its lit colour (the billboard
+  scene's ground) keeps in shadow.
 
 * **Horizon.** A sun at or below the horizon adds nothing (ambient and point lights
   only): ``l_k . up <= 0`` with ``up`` the world's ``+z`` (:attr:`Lighting.up`,
@@ -56,8 +65,8 @@ from .validate import as_finite_array
 if TYPE_CHECKING:  # pragma: no cover
     from .billboard.gbuffer import ViewSurface
 
-__all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "encode_premultiplied",
-           "decode_premultiplied", "LIT_GAMMA"]
+__all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "sun_shadow_factor",
+           "encode_premultiplied", "decode_premultiplied", "LIT_GAMMA"]
 
 #: Exponent of the output encoding (gamma 1/2.2, as the renderer's lit colour pass).
 LIT_GAMMA = 1.0 / 2.2
@@ -197,15 +206,36 @@ class Lighting:
         return out
 
 
-def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | None) -> np.ndarray:
+def _visibility_maps(visibility: np.ndarray | None, suns: int, shape: tuple[int, int]
+                     ) -> np.ndarray | None:
+    """``(L, h, w)`` float32 of a ``visibility`` argument (module docstring, "Shadows"), or None."""
+    if visibility is None:
+        return None
+    v = np.asarray(visibility, dtype=np.float32)
+    if v.shape == shape:
+        return np.broadcast_to(v, (suns, *shape))
+    if v.shape != (suns, *shape):
+        raise ValidationError(expected_got("visibility", f"{shape} or ({suns}, {shape[0]}, {shape[1]}) "
+                                           "(one map per sun above the horizon)", v.shape))
+    return v
+
+
+def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | None,
+                visibility: np.ndarray | None = None) -> np.ndarray:
     """``(h, w)`` float32: the bracket of the model (module docstring) at every pixel."""
     h, w = normal.shape[:2]
     e = np.full((h, w), lighting.ambient, np.float32)
+    suns = sum(isinstance(lt, DirectionalLight) for lt in lighting.lights)
+    vis = _visibility_maps(visibility, suns, (h, w))
+    k = 0
     for lt in lighting.lights:
         if isinstance(lt, DirectionalLight):
             m = (-lt.direction * (lt.intensity / math.pi)).astype(np.float32).reshape(1, 3)
-            ndl = cv2.transform(normal, m).reshape(h, w)
-            cv2.add(e, cv2.max(ndl, 0.0), dst=e)
+            ndl = cv2.max(cv2.transform(normal, m).reshape(h, w), 0.0)
+            if vis is not None:
+                ndl = cv2.multiply(ndl, np.ascontiguousarray(vis[k]))
+            k += 1
+            cv2.add(e, ndl, dst=e)
         else:
             assert points is not None  # checked by the caller
             v = np.subtract(lt.position.astype(np.float32), points, dtype=np.float32)
@@ -215,7 +245,8 @@ def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | Non
     return e
 
 
-def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = None) -> np.ndarray:
+def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = None,
+          visibility: np.ndarray | None = None) -> np.ndarray:
     """A :class:`~morphkit.billboard.gbuffer.ViewSurface` lit by ``lighting`` (the model of
     :mod:`morphkit.shading`).
 
@@ -228,6 +259,9 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
         lighting :meth:`~Lighting.in_frame` of the instance's ``world2object``).
     points : (h, w, 3) float, optional
         Surface positions in the same frame; needed with point lights only.
+    visibility : (h, w) or (L, h, w) float, optional
+        The suns' visibility (module docstring, "Shadows"; ``L`` the suns above the
+        horizon); default all lit.
 
     Returns
     -------
@@ -237,7 +271,8 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
     Raises
     ------
     ValidationError
-        Point lights without ``points``, or ``points`` of another shape.
+        Point lights without ``points``, or ``points`` of another shape; a visibility of
+        another shape.
     """
     lighting = lighting.above_horizon()
     h, w = surface.shape
@@ -249,7 +284,7 @@ def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = 
         if points.shape != (h, w, 3):
             raise ValidationError(expected_got("points", f"({h}, {w}, 3)", points.shape))
     normal = np.ascontiguousarray(surface.normal, dtype=np.float32)
-    return _lit(surface, _irradiance(normal, lighting, points))
+    return _lit(surface, _irradiance(normal, lighting, points, visibility))
 
 
 def _lit(surface: ViewSurface, e: np.ndarray) -> np.ndarray:
@@ -339,7 +374,8 @@ def sun_terms(lighting: Lighting) -> tuple[float, np.ndarray]:
     return lighting.ambient, np.array(rows, np.float32).reshape(-1, 3)
 
 
-def shade_suns(surface: ViewSurface, ambient: float, terms: np.ndarray) -> np.ndarray:
+def shade_suns(surface: ViewSurface, ambient: float, terms: np.ndarray,
+               visibility: np.ndarray | None = None) -> np.ndarray:
     """:func:`shade` for suns and ambient only, from :func:`sun_terms` already in the
     surface's frame: the same model, without building a :class:`Lighting` per image (a
     frame of many billboards turns the rows by each instance's yaw).
@@ -352,22 +388,77 @@ def shade_suns(surface: ViewSurface, ambient: float, terms: np.ndarray) -> np.nd
         The ambient level.
     terms : (L, 3) float32
         The suns' rows (:func:`sun_terms`) in the surface's frame.
+    visibility : (h, w) or (L, h, w) float, optional
+        The suns' visibility (module docstring, "Shadows"); default all lit.
 
     Returns
     -------
     (h, w, 4) float32
         Premultiplied **linear** RGBA: :func:`encode_premultiplied` of it is :func:`shade` of
         the same lights (a frame of many images encodes its layer once instead).
+
+    Raises
+    ------
+    ValidationError
+        A visibility of another shape.
     """
     h, w = surface.shape
     normal = np.ascontiguousarray(surface.normal, dtype=np.float32)
     e = np.full((h, w), ambient, np.float32)
-    for row in np.asarray(terms, np.float32).reshape(-1, 3):
-        cv2.add(e, cv2.max(cv2.transform(normal, row.reshape(1, 3)).reshape(h, w), 0.0), dst=e)
+    rows = np.asarray(terms, np.float32).reshape(-1, 3)
+    vis = _visibility_maps(visibility, len(rows), (h, w))
+    for k, row in enumerate(rows):
+        ndl = cv2.max(cv2.transform(normal, row.reshape(1, 3)).reshape(h, w), 0.0)
+        if vis is not None:
+            ndl = cv2.multiply(ndl, np.ascontiguousarray(vis[k]))
+        cv2.add(e, ndl, dst=e)
     return _lit_linear(surface, e)
 
 
-def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel) -> np.ndarray:
+def sun_shadow_factor(normal: np.ndarray, ambient: float, terms: np.ndarray, visibility: np.ndarray
+                      ) -> np.ndarray:
+    """The model's bracket with the suns' visibility over the bracket without it (module
+    docstring, "Shadows"): what a receiver drawn in its fully lit colour keeps in shadow.
+
+    Parameters
+    ----------
+    normal : (3,) float
+        The receivers' unit normal (one for all: a plane, e.g. the ground's ``+z``), in
+        the frame of ``terms``.
+    ambient : float
+        The ambient level.
+    terms : (L, 3) float32
+        The suns' rows (:func:`sun_terms`).
+    visibility : (N,) or (L, N) float
+        The suns' visibility at ``N`` receiver points (``(N,)``: every sun the same).
+
+    Returns
+    -------
+    (N,) float32
+        ``(a + sum_k V_k max(0, n . T_k)) / (a + sum_k max(0, n . T_k))`` in ``[0, 1]``;
+        1 where the bracket is 0 (no light at all: nothing to take away).
+
+    Raises
+    ------
+    ValidationError
+        A visibility of another shape.
+    """
+    rows = np.asarray(terms, np.float64).reshape(-1, 3)
+    ndl = np.maximum(rows @ np.asarray(normal, np.float64).reshape(3), 0.0)
+    v = np.asarray(visibility, dtype=np.float32)
+    n = v.shape[-1] if v.ndim else 0
+    if v.ndim == 1:
+        v = np.broadcast_to(v, (len(rows), n))
+    if v.shape != (len(rows), n):
+        raise ValidationError(expected_got("visibility", f"(N,) or ({len(rows)}, N)", v.shape))
+    full = float(ambient) + float(ndl.sum())
+    if not full > 0.0:
+        return np.ones(n, np.float32)
+    return ((float(ambient) + ndl.astype(np.float32) @ v) / np.float32(full)).astype(np.float32)
+
+
+def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel,
+                 visibility: np.ndarray | None = None) -> np.ndarray:
     """The deferred passes of a mesh render lit by ``lighting`` (world frame): the ground
     truth of relit billboards, by the same model as :func:`shade`.
 
@@ -382,6 +473,8 @@ def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel) 
     camera : CameraModel
         The view the passes were drawn through (points from the depth when there are
         point lights).
+    visibility : (H, W) or (L, H, W) float, optional
+        The suns' visibility per pixel (module docstring, "Shadows"); default all lit.
 
     Returns
     -------
@@ -408,4 +501,4 @@ def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel) 
     points = None
     if any(isinstance(lt, PointLight) for lt in lighting.lights):
         points = camera.unproject(passes.depth)[0].astype(np.float32)
-    return shade(surface, lighting, points)
+    return shade(surface, lighting, points, visibility)

@@ -553,3 +553,40 @@ SUN_YAW_ONLY_ATOL = 1e-6
 #: 64 and 128 texels (0.65: about as many, fewer extra and more missing).
 SUN_VIEW_MIN_COVERAGE = 0.5
 
+
+# --- a billboard scene's shadow receivers (morphkit.shadow.receivers) ---------------
+#: How far (field light-view texels) a shadow receiver that is drawn into the field's map
+#: itself -- a billboard's pixel, a real mesh's pixel, from their depth -- is moved along
+#: its own normal before the lookup (normal-offset bias). The field's lookup has only a
+#: constant bias (:data:`SUN_GROUND_BIAS_TEXELS`, right for the ground, which is never in
+#: the map), but a caster's surface compared with its own map entry differs by up to
+#: ``tan(theta)`` texels across a texel at an angle ``theta`` to the light, plus the two
+#: morphs' depth errors (the billboard's view and the atlas's light view, each about half
+#: a texel): without an offset a billboard's sunlit side speckles with its own shadow
+#: (acne). Of the offsets tried (0, 1, 2, 3 texels), 1 gave the best billboard-pixel shadow
+#: IoU against the ray-cast mesh frame under each of three suns (20 trees and cows;
+#: scripts/billboard_shadow_bench.py --offsets 0,1,2,3): 0 leaves the acne, larger ones
+#: lose the shadows that fall across a billboard from a neighbour close by.
+SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
+
+#: Largest side (texels) of a billboard frame's field light view when its resolution is
+#: chosen automatically (:class:`morphkit.shadow.receivers.AtlasShadow`): a float32 map
+#: of 16 MiB, built (``np.full`` and one warp per caster) in a few ms; a wider field gets
+#: coarser texels rather than a larger map.
+SUN_FIELD_MAX_SIDE = 2048
+
+#: Most sun directions over a soft sun's disc (``--soft N``): one field map (or one ray
+#: cast) each, per frame.
+MAX_SUN_SAMPLES = 64
+
+#: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
+#: over a quarter of the sky, outside what a sun disc (a narrow cone) stands for.
+MAX_SUN_DISC_DEG = 15.0
+
+#: How far (scene units; the assets are normalised to unit size) the ray-cast truth moves a
+#: real mesh's pixel point along its normal before casting towards the sun
+#: (:class:`morphkit.shadow.receivers.RayCastShadow`): the point comes from the depth pass
+#: (24-bit window depth, linearised), up to about 1e-3 units off its surface at the frames'
+#: distances, so rays from it hit its own triangle and speckle a sunlit surface with
+#: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.
+SUN_RAY_NORMAL_OFFSET = 2e-3

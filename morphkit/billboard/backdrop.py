@@ -8,6 +8,13 @@ ground gets it per pixel, billboards per instance (:meth:`Fog.factor` at the
 pivot's distance). The image is drawn once per camera and reused while the
 camera stays (:meth:`Backdrop.draw` keeps the last one).
 
+**Shadows on the ground.** The ground's colours are its look in full sun. A
+shadowed frame passes :meth:`Backdrop.draw` a ``ground_factor`` per ground pixel
+(:meth:`Backdrop.ground_points` gives them in order): the share of the light the
+shading model leaves there (:func:`morphkit.shading.sun_shadow_factor`, linear
+light), applied to the colour as ``c f ^ (1/2.2)`` (the model's output encoding,
+:data:`morphkit.shading.LIT_GAMMA`) before the fog.
+
 Colours are RGB in ``[0, 1]``; images are float32 ``(H, W, 3)``.
 """
 
@@ -21,6 +28,7 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..memo import Memo
+from ..shading import LIT_GAMMA
 from ..validate import as_finite_array
 
 __all__ = ["Fog", "Ground", "Sky", "Backdrop"]
@@ -140,13 +148,49 @@ class Backdrop:
     ground: Ground = field(default_factory=Ground)
     sky: Sky = field(default_factory=Sky)
     fog: Fog | None = None
-    # the last image drawn, by camera: the modes of one frame (compare_modes) draw it once
-    _drawn: Memo[tuple[object, ...], np.ndarray] = field(default_factory=lambda: Memo(1), init=False,
-                                                          repr=False, compare=False)
+    # the last camera's layout (image, ground pixels): the modes of one frame draw it once
+    _drawn: Memo[tuple[object, ...], _Layout] = field(default_factory=lambda: Memo(1), init=False,
+                                                       repr=False, compare=False)
 
-    def draw(self, camera: CameraModel) -> np.ndarray:
+    def draw(self, camera: CameraModel, ground_factor: np.ndarray | None = None) -> np.ndarray:
         """The backdrop seen by ``camera``: float32 ``(H, W, 3)`` RGB in ``[0, 1]`` (read-only;
-        the same array while the camera is unchanged).
+        the same array while the camera is unchanged and no factor is given).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view, world frame.
+        ground_factor : (M,) float, optional
+            The light kept at each ground pixel (module docstring, "Shadows on the ground"),
+            in the order of :meth:`ground_points`; default 1 (full sun).
+
+        Returns
+        -------
+        (H, W, 3) float32
+            RGB in ``[0, 1]``, read-only.
+
+        Raises
+        ------
+        ValidationError
+            A factor not one per ground pixel.
+        """
+        lay = self._layout(camera)
+        if ground_factor is None:
+            return lay.image
+        f = np.asarray(ground_factor, dtype=np.float32)
+        if f.shape != (len(lay.color),):
+            raise ValidationError(expected_got("ground_factor", f"one per ground pixel ({len(lay.color)},)",
+                                               f.shape))
+        col = lay.color * np.power(np.clip(f, 0.0, 1.0), np.float32(LIT_GAMMA))[:, None]
+        if lay.fog is not None:
+            col = col * (1 - lay.fog) + lay.fog * np.asarray(self.fog.color, np.float32)  # type: ignore[union-attr]
+        img = lay.image.copy()
+        img[lay.hit] = col
+        img.setflags(write=False)
+        return img
+
+    def ground_points(self, camera: CameraModel) -> tuple[np.ndarray, np.ndarray]:
+        """The pixels of ``camera`` that see the ground, and their world points.
 
         Parameters
         ----------
@@ -155,14 +199,20 @@ class Backdrop:
 
         Returns
         -------
-        (H, W, 3) float32
-            RGB in ``[0, 1]``, read-only.
+        hit : (H, W) bool
+            True where the pixel's ray meets the ground plane (in front of the camera); read-only.
+        points : (M, 3) float64
+            Their points on ``z = 0``, row-major pixel order (``M = hit.sum()``); read-only.
         """
+        lay = self._layout(camera)
+        return lay.hit, lay.points
+
+    def _layout(self, camera: CameraModel) -> _Layout:
         key = (camera.projection, camera.shape, camera.fx, camera.fy, camera.cx, camera.cy,
                camera.cam2world.tobytes())
         return self._drawn.get(key, lambda: self._draw(camera))
 
-    def _draw(self, camera: CameraModel) -> np.ndarray:
+    def _draw(self, camera: CameraModel) -> _Layout:
         o, d = camera.rays()
         dz = d[..., 2]
         down = dz < -tol.BB_GROUND_RAY_DZ
@@ -173,17 +223,31 @@ class Backdrop:
         elev = np.clip(dz, 0.0, 1.0)[..., None]
         sky_h, sky_z = np.asarray(self.sky.horizon), np.asarray(self.sky.zenith)
         img[:] = sky_h + np.sqrt(elev) * (sky_z - sky_h)
-        if hit.any():
-            p = o[hit] + t[hit, None] * d[hit]
-            ca, cb = np.asarray(self.ground.color_a), np.asarray(self.ground.color_b)
-            if self.ground.cell is None:
-                col = np.broadcast_to(ca, p[:, :3].shape).copy()
-            else:
-                parity = (np.floor(p[:, 0] / self.ground.cell) + np.floor(p[:, 1] / self.ground.cell)) % 2
-                col = np.where(parity[:, None] > 0.5, cb, ca)
-            if self.fog is not None:
-                f = self.fog.factor(t[hit])[:, None]
-                col = col * (1 - f) + f * np.asarray(self.fog.color)
-            img[hit] = col
-        img.setflags(write=False)
-        return img
+        p = o[hit] + t[hit, None] * d[hit]
+        p[:, 2] = 0.0
+        ca, cb = np.asarray(self.ground.color_a), np.asarray(self.ground.color_b)
+        if self.ground.cell is None:
+            col = np.broadcast_to(ca, p[:, :3].shape).astype(np.float32)
+        else:
+            parity = (np.floor(p[:, 0] / self.ground.cell) + np.floor(p[:, 1] / self.ground.cell)) % 2
+            col = np.where(parity[:, None] > 0.5, cb, ca).astype(np.float32)
+        fog = None
+        shown = col
+        if self.fog is not None:
+            fog = self.fog.factor(t[hit])[:, None].astype(np.float32)
+            shown = col * (1 - fog) + fog * np.asarray(self.fog.color, np.float32)
+        img[hit] = shown
+        for a in (img, hit, p, col):
+            a.setflags(write=False)
+        return _Layout(img, hit, p, col, fog)
+
+
+@dataclass(frozen=True, eq=False)
+class _Layout:
+    """One camera's backdrop: the image, its ground pixels, their points, unfogged colours, fog."""
+
+    image: np.ndarray
+    hit: np.ndarray
+    points: np.ndarray
+    color: np.ndarray
+    fog: np.ndarray | None

@@ -11,6 +11,13 @@ The layer is composited over the scene's backdrop as the billboards' is.
 :attr:`LitMeshMode.lighting` may be replaced between frames (a moving sun,
 :class:`~.sun.SunPath`).
 
+**Shadows.** With a ``shadow`` (:class:`~morphkit.shadow.receivers.SceneShadow`), the sun
+terms of every mesh pixel are multiplied by the sun's visibility at its world point (the
+depth pass unprojected through the frame's camera, the normal pass for the normal offset)
+and the ground gets its shadows as in the billboard frames (:mod:`.shadowing`): with
+:class:`~morphkit.shadow.receivers.RayCastShadow` this is the truth of a shadowed billboard
+frame.
+
 Fog, when the scene has it, is applied per pixel from the depth pass's distance,
 at every ``supersample`` (the passes always carry depth; at a supersampled edge
 pixel the depth is its nearest sample's).
@@ -29,11 +36,13 @@ from ..errors import ValidationError, expected_got
 from ..protocols import PassRenderer
 from ..scene import Item
 from ..shading import Lighting, shade_passes
+from ..shadow.receivers import SceneShadow
 from ..validate import as_flag, as_int
 from .compositor import finish
 from .field import BillboardScene
 from .frame import Frame, FrameStats
 from .modes import MeshMode
+from .shadowing import frame_shadow, points_visibility, shadowed_backdrop
 
 __all__ = ["LitMeshMode"]
 
@@ -58,6 +67,8 @@ class LitMeshMode:
         Draw only the instances whose bounding sphere meets the frustum; False draws all.
     name : str, optional
         The mode's name in frames, strips and reports.
+    shadow : SceneShadow, optional
+        What shadows the suns (module docstring, "Shadows"); default none.
     """
 
     renderer: PassRenderer
@@ -66,8 +77,12 @@ class LitMeshMode:
     supersample: int = 1
     cull: bool = True
     name: str = "litmesh"
+    shadow: SceneShadow | None = None
 
     def __post_init__(self) -> None:
+        if self.shadow is not None and not isinstance(self.shadow, SceneShadow):
+            raise ValidationError(expected_got("shadow", "a morphkit.shadow.receivers.SceneShadow",
+                                               type(self.shadow).__name__))
         if not isinstance(self.renderer, PassRenderer):
             raise ValidationError(expected_got("renderer", "a renderer with passes and source_passes",
                                                type(self.renderer).__name__))
@@ -107,7 +122,15 @@ class LitMeshMode:
             passes = self.renderer.passes(camera, items, ())
         else:
             passes = self.renderer.source_passes(camera, items, (), supersample=self.supersample)
-        layer = shade_passes(passes, self.lighting, camera)
+        ground = None
+        vis = None
+        if self.shadow is not None:
+            ground = frame_shadow(self.shadow, scene, camera, self.lighting, np.asarray(idx, np.int64))
+            if ground.shadow is not None:
+                points, valid = camera.unproject(passes.depth)
+                vis = points_visibility(ground.shadow, points, np.asarray(passes.normal, np.float64),
+                                        valid & (np.asarray(passes.alpha) > 0))
+        layer = shade_passes(passes, self.lighting, camera, vis)
         fog = scene.backdrop.fog
         alpha = layer[:, :, 3:]
         if fog is not None and alpha.any():
@@ -116,7 +139,9 @@ class LitMeshMode:
             depth = np.where(np.isfinite(passes.depth), passes.depth, 0.0)
             f = fog.factor(depth * ray).astype(np.float32)[:, :, None]
             layer[:, :, :3] = layer[:, :, :3] * (1 - f) + f * alpha * np.asarray(fog.color, np.float32)
-        rgb = finish(layer, scene.backdrop.draw(camera))
+        back = (scene.backdrop.draw(camera) if ground is None
+                else shadowed_backdrop(scene, camera, self.lighting, ground, layer[:, :, 3]))
+        rgb = finish(layer, back)
         stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
                            plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
                            ms=1e3 * (time.perf_counter() - t0))

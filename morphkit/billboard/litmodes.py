@@ -21,6 +21,11 @@ Which surface is a family of objects (:class:`SurfaceChoice`):
 
 The ground truth under the same lights is :class:`~.litmesh.LitMeshMode` (the same
 shading of the meshes' own passes, :mod:`morphkit.shading`).
+
+**Shadows.** With a ``shadow`` (:class:`~morphkit.shadow.receivers.SceneShadow`: the
+assets' sun atlases, or the ray cast), each billboard pixel's sun terms are multiplied by
+the sun's visibility at the pixel's world point (from its surface's depth) and the ground
+is darkened by the light its shadows take (:mod:`.shadowing`).
 """
 
 from __future__ import annotations
@@ -43,6 +48,7 @@ from ..shading import (
     shade_suns,
     sun_terms,
 )
+from ..shadow.receivers import SceneShadow
 from .bakelook import BAKE_AMBIENT, bake_lights
 from .cache import MorphCache
 from .compositor import draw, finish, new_layer
@@ -52,6 +58,7 @@ from .field import BillboardScene
 from .frame import Frame, FrameStats, Placement
 from .gbuffer import ViewSurface
 from .protocols import SurfaceSource
+from .shadowing import frame_shadow, shadowed_backdrop, surface_visibility
 
 __all__ = ["Relit", "SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
            "LitMode", "pack_surface", "unpack_surface"]
@@ -310,10 +317,13 @@ class LitMode:
         cache; 0: exact directions, one entry each.
     name : str, optional
         The mode's name (default: the choice's).
+    shadow : SceneShadow, optional
+        What shadows the frame's suns (module docstring, "Shadows"); default none.
     """
 
     def __init__(self, choice: SurfaceChoice | None = None, lighting: Lighting | None = None, *,
-                 cache: MorphCache | None = None, quantum_deg: float = 1.0, name: str | None = None) -> None:
+                 cache: MorphCache | None = None, quantum_deg: float = 1.0, name: str | None = None,
+                 shadow: SceneShadow | None = None) -> None:
         self.choice = MorphSurface() if choice is None else choice
         if not isinstance(self.choice, SurfaceChoice):
             raise ValidationError(expected_got("choice", "a SurfaceChoice", type(choice).__name__))
@@ -329,6 +339,10 @@ class LitMode:
             raise ValidationError(expected_got("quantum_deg", "a finite number >= 0", quantum_deg))
         self.quantum_deg = q
         self.name = self.choice.name if name is None else str(name)
+        if shadow is not None and not isinstance(shadow, SceneShadow):
+            raise ValidationError(expected_got("shadow", "a morphkit.shadow.receivers.SceneShadow",
+                                               type(shadow).__name__))
+        self.shadow = shadow
 
     @property
     def cache(self) -> MorphCache:
@@ -399,6 +413,9 @@ class LitMode:
         points_lit = any(isinstance(lt, PointLight) for lt in lit.lights)
         ambient, terms = sun_terms(lit)
         inst = scene.instances
+        ground = None if self.shadow is None else frame_shadow(
+            self.shadow, scene, camera, lit, np.array([pl.index for pl in plan.placements], np.int64))
+        fs = None if ground is None else ground.shadow
         checked: set[str] = set()
         for pl in plan.placements:
             asset = scene.assets[pl.asset]
@@ -408,20 +425,26 @@ class LitMode:
                                                        type(asset).__name__))
                 checked.add(pl.asset)
             surf = self.surface(asset, pl)
+            vis = None
+            if fs is not None:
+                a, e = self._direction(pl)
+                vis = surface_visibility(fs, surf, asset.camera(a, e, pl.level), inst.object2world(pl.index))
             if points_lit:  # point lights: the general model, at the surface's points
                 local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
                 a, e = self._direction(pl)
                 points = asset.camera(a, e, pl.level).unproject(surf.depth)[0]
-                image = shade(surf, local, points)
+                image = shade(surf, local, points, vis)
                 image[..., :3] = decode_premultiplied(image)
             else:  # suns: their rows turned into the instance's frame by its yaw (rows times Rz)
                 yaw = np.radians(inst.yaw_deg[pl.index])
                 c, s_ = np.cos(yaw), np.sin(yaw)
                 rz = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]], np.float32)
-                image = shade_suns(surf, ambient, terms @ rz)
+                image = shade_suns(surf, ambient, terms @ rz, vis)
             draw(layer, pl, image, fog_color)
         encode_premultiplied(layer)
-        rgb = finish(layer, scene.backdrop.draw(camera))
+        back = (scene.backdrop.draw(camera) if ground is None
+                else shadowed_backdrop(scene, camera, lit, ground, layer[:, :, 3]))
+        rgb = finish(layer, back)
         counts = self._cache.counts - before
         stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
                            plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
