@@ -107,7 +107,7 @@ from . import tol
 from .camera import CameraModel
 from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
-from .glplatform import GL_LIBRARIES, explain_gl_failure, missing_gl_libraries
+from .glplatform import GL_LIBRARIES, check_gl_memory, explain_gl_failure, missing_gl_libraries
 from .look import DIELECTRIC, SurfaceLook, mesh_look
 from .meshes import closed_volume
 from .passes import RenderPasses, area_straight, as_uint8, decode_normals, supersampled_camera
@@ -313,37 +313,6 @@ if pyrender is not None:
         return pyrender.Mesh(primitives=[prim])
 
 
-def _check_gl_memory(shape: tuple[int, int]) -> None:
-    """Refuse a GL context of ``shape`` that this process has no memory for, before GL allocates.
-
-    Mesa (llvmpipe) does not survive a failed allocation of its framebuffers or tiles: it
-    dereferences the null pointer and the process dies of a segfault (a 8192 x 8192 demo under a
-    2 GiB address-space limit). So the memory a context and its first draw take
-    (:data:`morphkit.tol.GL_BYTES_PER_PIXEL` per pixel) is allocated and released here first,
-    untouched (address space only): where the process cannot get it (``RLIMIT_AS``, or more
-    than the machine has), a :class:`~morphkit.errors.RenderError` instead.
-
-    Parameters
-    ----------
-    shape : (int, int)
-        The context's image shape ``(H, W)``.
-
-    Raises
-    ------
-    RenderError
-        The memory cannot be allocated.
-    """
-    need = tol.GL_BYTES_PER_PIXEL * int(shape[0]) * int(shape[1])
-    try:
-        np.empty(need, np.uint8)
-    except MemoryError:
-        raise RenderError(expected_got(
-            f"memory for an offscreen GL context of shape {tuple(shape)}",
-            f"about {need / 2**20:.0f} MiB (its framebuffers and first draw)",
-            "a MemoryError: more than this process may allocate (its memory limit or the machine's "
-            "memory); render smaller images")) from None
-
-
 def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
     """The GL platform and the renderer string in use (the benches write both into their JSON rows).
 
@@ -387,7 +356,7 @@ class _Context:
 
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
-        _check_gl_memory(shape)
+        check_gl_memory(shape)
         try:
             self.renderer = _Offscreen(viewport_width=w, viewport_height=h)
         except Exception as exc:
