@@ -494,6 +494,18 @@ SHADOW_GRAZING_COS = 1e-6
 #: surface, while the object and the ground under it are centimetres apart.
 DEPTH_SAME_SURFACE_REL = 1e-4
 
+#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`, issue #26) equals the
+#: two-render frame within this mean absolute difference of ``shaded``, in levels of 255
+#: (the issue's bound). Why not exactly: the one pass draws into a framebuffer object,
+#: whose depth rounds differently from OSMesa's buffer (~1e-5 relative), so a shadow-edge
+#: pixel's unprojected point, hence its visibility, can change; a textured fragment's
+#: colour may round one level apart (:mod:`morphkit.render`, "One-pass frame").
+FRAME_ONCE_MEAN_LEVELS = 1.0
+
+#: ... and ``lit`` and ``unlit`` themselves differ by at most this many levels anywhere
+#: (0 for untextured items; 1 seen on textured ones).
+FRAME_ONCE_COLOR_LEVELS = 1
+
 #: Depth (scene units) added on each side of the object's depth range for a light
 #: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of
 #: its relative ``margin``): keeps ``znear < zfar`` for an object of no depth
