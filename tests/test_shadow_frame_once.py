@@ -136,3 +136,16 @@ def test_a_renderer_without_frame_pass_gets_the_two_render_frame(renderer, meshe
     want = render_frame(renderer, scene, vis, receiver_only=True, one_pass=False)
     for key in want:
         np.testing.assert_array_equal(got[key], want[key], err_msg=key)
+
+
+def test_bench_rows_time_every_frame_and_state_the_image_difference(renderer):
+    from morphkit.bench.shadow_suite import frame_once_rows
+
+    rows = frame_once_rows(renderer, faces=(6000,), size=48, repeats=1)
+    assert [r["method"] for r in rows] == ["two_warp", "once_warp", "once_reproject", "once_direct",
+                                           "camera_once", "camera_two"]
+    assert all(r["params"]["what"] == "frame_once" and r["ms_median"] > 0 for r in rows)
+    by = {r["method"]: r["metrics"] for r in rows}
+    assert by["once_direct"]["vs_direct"] == 1.0
+    for name in ("once_warp", "once_reproject", "once_direct"):
+        assert 0 <= by[name]["mean_levels"] <= tol.FRAME_ONCE_MEAN_LEVELS
