@@ -141,17 +141,25 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
         unlit, _ = renderer.color_depth(cam, items, [], ambient=scene.ambient, background=background)
         on_object = _object_pixels(renderer, scene, depth) if receiver_only else None
     world, valid = cam.unproject(depth)
-    test = valid if on_object is None else valid & ~on_object
     normals = normals_from_points(world, valid)
-    vis = np.ones(cam.shape, np.float32)
-    if test.any():
-        vis[test] = _checked_visibility(visibility(world[test], normals[test]), int(test.sum()))
+    # the drawn pixels' points and normals taken by index: several times faster than masking
+    # (H, W, 3) arrays with a boolean image (which the frame did three times)
+    drawn = np.flatnonzero(valid)
+    points = world.reshape(-1, 3).take(drawn, axis=0)
+    pixel_normals = normals.reshape(-1, 3).take(drawn, axis=0)
     light = scene.light
     if isinstance(light, DirectionalLight):
-        to_light = np.broadcast_to(-light.direction, world.shape)
+        to_light = np.broadcast_to(-light.direction, points.shape)
     else:
-        to_light = (light.center if isinstance(light, AreaLight) else light.position) - world
-    facing = valid & (np.einsum("hwk,hwk->hw", normals, to_light) > 0)
+        to_light = (light.center if isinstance(light, AreaLight) else light.position) - points
+    facing = np.zeros(cam.shape, bool)
+    facing.reshape(-1)[drawn] = np.einsum("nk,nk->n", pixel_normals, to_light) > 0
+    vis = np.ones(cam.shape, np.float32)
+    tested = None if on_object is None else ~on_object.reshape(-1).take(drawn)
+    if tested is not None and not tested.all():
+        drawn, points, pixel_normals = drawn[tested], points[tested], pixel_normals[tested]
+    if len(drawn):
+        vis.reshape(-1)[drawn] = _checked_visibility(visibility(points, pixel_normals), len(drawn))
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
             "shaded": shade(lit, unlit, vis), "facing": facing}
 
