@@ -3,8 +3,8 @@
 ``render_frame`` draws lit and unlit from one pass where the renderer is a ``FrameRenderer``
 (``Renderer.frame_pass``); ``one_pass=False`` is the frame as before (lit, then unlit). The
 two must agree within ``tol.FRAME_ONCE_MEAN_LEVELS`` (mean |difference| of ``shaded``, levels
-of 255; why not exactly: ``morphkit.tol``), on the demo scene's meshes, a photo-textured crate
-and a cut-out plant, with and without ``receiver_only``.
+of 255; why not exactly: ``morphkit.tol``), on the demo scene's meshes, a photo-textured crate,
+a cut-out plant and a vertex-coloured mesh, with and without ``receiver_only``.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pytest
 
 from morphkit import tol
 from morphkit.errors import ValidationError
-from morphkit.fixtures import DEMO_MESHES, demo_scene, write_leaf_plant, write_photo_glb
+from morphkit.fixtures import DEMO_MESHES, demo_scene, write_color_ply, write_leaf_plant, write_photo_glb
 from morphkit.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, sample_mesh
 from morphkit.protocols import FrameRenderer, SceneRenderer
@@ -31,6 +31,7 @@ def meshes(tmp_path_factory):
     out = {name: sample_mesh(name) for name in DEMO_MESHES}
     out["photo_crate"] = load_mesh(write_photo_glb(folder))  # textured (its own look)
     out["leaf_plant"] = load_mesh(write_leaf_plant(folder))  # alpha-masked cards (cut-outs)
+    out["color_ply"] = load_mesh(write_color_ply(folder))  # vertex colours
     return out
 
 
@@ -45,7 +46,7 @@ def _levels(a, b):
 
 
 @pytest.mark.parametrize("receiver_only", [False, True], ids=["self-shadowed", "receiver-only"])
-@pytest.mark.parametrize("name", [*DEMO_MESHES, "photo_crate", "leaf_plant"])
+@pytest.mark.parametrize("name", [*DEMO_MESHES, "photo_crate", "leaf_plant", "color_ply"])
 def test_one_pass_frame_equals_the_two_render_frame(renderer, meshes, name, receiver_only):
     scene = demo_scene(meshes[name], SIZE)
     once, twice = _frames(renderer, scene, receiver_only)
@@ -54,7 +55,7 @@ def test_one_pass_frame_equals_the_two_render_frame(renderer, meshes, name, rece
     assert mean <= tol.FRAME_ONCE_MEAN_LEVELS, f"{name}: mean |one pass - two renders| {mean:.3f} levels"
     for key in ("lit", "unlit"):
         assert _levels(once[key], twice[key]).max() <= tol.FRAME_ONCE_COLOR_LEVELS, key
-    if "photo" not in name and "leaf" not in name:  # untextured: the same fragments, bit for bit
+    if name in DEMO_MESHES:  # one colour: the same fragments, bit for bit
         np.testing.assert_array_equal(once["lit"], twice["lit"])
         np.testing.assert_array_equal(once["unlit"], twice["unlit"])
     drawn = np.isfinite(twice["depth"])
