@@ -78,7 +78,7 @@ def explain_gl_failure(exc: BaseException) -> str:
             "morphkit needs PyOpenGL >= 3.1.9)")
 
 
-def check_gl_memory(shape: tuple[int, int]) -> None:
+def check_gl_memory(shape: tuple[int, int], bytes_per_pixel: int = tol.GL_BYTES_PER_PIXEL) -> None:
     """Refuse a GL context of ``shape`` that this process has no memory for, before GL allocates.
 
     Mesa (llvmpipe) does not survive a failed allocation of its framebuffers or tiles: it
@@ -92,18 +92,21 @@ def check_gl_memory(shape: tuple[int, int]) -> None:
     ----------
     shape : (int, int)
         The context's image shape ``(H, W)``.
+    bytes_per_pixel : int, optional
+        What it takes per pixel (a new context's default; the one-pass frame's framebuffers:
+        :data:`morphkit.tol.GL_FRAME_PASS_BYTES_PER_PIXEL`).
 
     Raises
     ------
     RenderError
         The memory cannot be allocated.
     """
-    need = tol.GL_BYTES_PER_PIXEL * int(shape[0]) * int(shape[1])
+    need = int(bytes_per_pixel) * int(shape[0]) * int(shape[1])
     try:
         np.empty(need, np.uint8)
     except MemoryError:
         raise RenderError(expected_got(
             f"memory for an offscreen GL context of shape {tuple(shape)}",
-            f"about {need / 2**20:.0f} MiB (its framebuffers and first draw)",
+            f"about {need / 2**20:.0f} MiB (its framebuffers and draws)",
             "a MemoryError: more than this process may allocate (its memory limit or the machine's "
             "memory); render smaller images")) from None

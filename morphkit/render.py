@@ -738,8 +738,7 @@ class Renderer:
     def frame_pass(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                    ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
                    marked: Sequence[int] = ()) -> FramePass:
-        """:meth:`color_depth` with the lights on and off from one draw, and the pixels of some items
-        (module notes, "One-pass frame").
+        """Lit and unlit :meth:`color_depth` from one draw, and ``marked`` items' pixels (module notes).
 
         Parameters
         ----------
@@ -761,6 +760,7 @@ class Renderer:
         FramePass
             ``lit``, ``unlit``, ``depth`` and ``marked``.
         """
+        check_gl_memory(camera.shape, tol.GL_FRAME_PASS_BYTES_PER_PIXEL)  # its framebuffers (once made)
         ctx = self._lit(camera, items, lights, ambient, background)
         ids = ctx.frame_ids([items[as_int(k, "marked index", lo=0, hi=len(items) - 1)] for k in marked])
         color, raw, unlit = ctx.renderer.frame_pass(ctx.scene, *ids)

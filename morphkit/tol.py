@@ -148,6 +148,12 @@ LIGHT_FIT_DEPTH_PAD = 1e-6
 #: 2048^2, 4096^2 and 8192^2); 48 leaves a third on top for other drivers and draws.
 GL_BYTES_PER_PIXEL = 48
 
+#: Bytes of memory per pixel a context's first one-pass frame draw adds (checked before each:
+#: :meth:`morphkit.render.Renderer.frame_pass`; its framebuffer object of two colour attachments
+#: and depth, on OSMesa beside OSMesa's own buffer). Measured on llvmpipe: a 27-30 B/px rise of
+#: the peak address space at 2048^2 and 4096^2 (none at later draws); 40 leaves a third on top.
+GL_FRAME_PASS_BYTES_PER_PIXEL = 40
+
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
 #: frame holds several per-pixel buffers at once (unprojected world points and
 #: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):

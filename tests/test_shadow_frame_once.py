@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from morphkit import tol
-from morphkit.errors import ValidationError
+from morphkit.errors import RenderError, ValidationError
 from morphkit.fixtures import DEMO_MESHES, demo_scene, write_color_ply, write_leaf_plant, write_photo_glb
 from morphkit.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, sample_mesh
@@ -109,6 +109,15 @@ def test_frame_pass_refuses_a_mark_that_is_not_an_item(renderer, meshes):
     items = frame_items(scene)
     with pytest.raises(ValidationError, match=r"marked index: expected .*got 2"):
         renderer.frame_pass(scene.camera, items, [scene.light], marked=[len(items)])
+
+
+def test_a_frame_pass_without_memory_for_its_framebuffers_is_a_render_error():
+    from morphkit.glplatform import check_gl_memory
+
+    check_gl_memory((SIZE, SIZE), tol.GL_FRAME_PASS_BYTES_PER_PIXEL)  # fits
+    with pytest.raises(RenderError, match=r"memory for an offscreen GL context of shape \(1024, 1024\): "
+                                          r"expected about 16777216 MiB"):
+        check_gl_memory((1024, 1024), 1 << 24)  # 16 TiB: more than any machine here lets a process map
 
 
 class _TwoDrawRenderer:

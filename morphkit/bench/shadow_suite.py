@@ -24,7 +24,7 @@ neighbours' whole maps instead: ``layers=False``),
 control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
 ``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory
 with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
-``what=frame`` time a whole frame (camera render lit + unlit at 512^2, shadow
+``what=frame`` time a whole frame (camera drawn once, lit and unlit, at 512^2, shadow
 map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
 
 One-pass frames (rows with ``what=frame_once``, issue #26): the cow at ~6k and ~1M faces
@@ -243,7 +243,7 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
 
 
 def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
-    """Whole frame: camera render (lit + unlit, 512^2) + shadow map + lookup + composite."""
+    """Whole frame: camera pass (lit and unlit in one draw, 512^2) + shadow map + lookup + composite."""
     from ..camera import look_at, perspective
     from ..scene import Receiver, Scene
     from ..shadow.frame import render_frame
