@@ -11,7 +11,7 @@ frame), ``camera_once`` / ``camera_two`` (the camera draws alone). ``vs_direct``
 two-render frame, levels of 255 (the issue's bound: 1).
 
 Usage: PYTHONPATH=. python scripts/frame_once_bench.py [--faces 6000 1000000] [--size 512]
-[--repeats 9] [--json PATH]   (~2-4 min on 2 cores)
+[--repeats 9] [--receiver-only] [--json PATH]   (~2-4 min on 2 cores)
 """
 
 from __future__ import annotations
@@ -28,10 +28,12 @@ def main() -> None:
     ap.add_argument("--faces", type=int, nargs="+", default=[6000, 1000000])
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--repeats", type=int, default=9)
+    ap.add_argument("--receiver-only", action="store_true", help="frames in the receiver-only mode")
     ap.add_argument("--json", default=None, help="write the rows here")
     args = ap.parse_args()
     with Renderer() as renderer:
-        rows = frame_once_rows(renderer, tuple(args.faces), args.size, args.repeats)
+        rows = frame_once_rows(renderer, tuple(args.faces), args.size, args.repeats,
+                               receiver_only=args.receiver_only)
         print(f"GL: {gl_info()}")
     print(f"{'faces':>8} {'method':>15} {'ms median':>10} {'min-max':>15} {'vs_direct':>9} "
           f"{'mean_levels':>11}")

@@ -283,7 +283,7 @@ def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
 
 
 def frame_once_rows(renderer: FrameRenderer, faces: tuple[int, ...] = (6000, 1000000), size: int = 512,
-                    repeats: int = 7) -> list[dict[str, Any]]:
+                    repeats: int = 7, *, receiver_only: bool = False) -> list[dict[str, Any]]:
     """Whole frames drawing the camera once vs twice vs the direct frame (module notes).
 
     Parameters
@@ -296,6 +296,8 @@ def frame_once_rows(renderer: FrameRenderer, faces: tuple[int, ...] = (6000, 100
         Camera and shadow-map side, pixels.
     repeats : int
         Interleaved timed rounds per case (medians).
+    receiver_only : bool
+        Frames in the receiver-only mode (the two-render frame then draws the object alone too).
 
     Returns
     -------
@@ -308,13 +310,13 @@ def frame_once_rows(renderer: FrameRenderer, faces: tuple[int, ...] = (6000, 100
                       znear=0.1, zfar=20)
     rows = []
     for f in faces:
-        rows += _frame_once_case(renderer, cam, sample_mesh("cow", faces=f), repeats)
+        rows += _frame_once_case(renderer, cam, sample_mesh("cow", faces=f), repeats, receiver_only)
         gc.collect()
     return rows
 
 
-def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, repeats: int
-                     ) -> list[dict[str, Any]]:
+def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, repeats: int,
+                     receiver_only: bool) -> list[dict[str, Any]]:
     """:func:`frame_once_rows` for one mesh."""
     from ..scene import Receiver, Scene
     from ..shadow.frame import frame_items, render_frame
@@ -333,7 +335,7 @@ def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, r
     def frame(xy: np.ndarray, m: Any, one_pass: bool) -> dict[str, np.ndarray]:
         d, lcam = m.shadow_map(xy)
         return render_frame(renderer, scene_at(xy), lambda p, n: shadow_visibility(p, d, lcam, normals=n),
-                            one_pass=one_pass)
+                            one_pass=one_pass, receiver_only=receiver_only)
 
     def camera(xy: np.ndarray, once: bool) -> None:
         sc = scene_at(xy)
@@ -362,7 +364,7 @@ def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, r
         if name in mean_levels:
             metrics["mean_levels"] = mean_levels[name]
         params = {"what": "frame_once", "mesh": "cow", "light": "point", "size": cam.shape[0],
-                  "faces": len(mesh.faces)}
+                  "faces": len(mesh.faces), "receiver_only": receiver_only}
         rows.append(make_row(SUITE, name, params, t, metrics=metrics))
     return rows
 
