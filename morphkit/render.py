@@ -6,32 +6,24 @@ Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per p
 none). ``PYOPENGL_PLATFORM`` is set from it before pyrender (and PyOpenGL) are imported.
 :func:`gl_info` names the platform and the GL renderer string in use (benches record both).
 
-Headless import. pyrender imports its pyglet viewer, whose X11 backend (``libX11``,
-``libXrender``) fails on a machine without X11 client libraries. morphkit never opens a window:
-pyglet's ``headless`` option is set before pyrender is imported (pyglet then loads ``libEGL``
-and ``libGL`` only). When the import fails, the error names the GL library that could not be
-loaded and its package (:func:`missing_gl_libraries`).
+Headless import. pyrender imports its pyglet viewer, whose X11 backend (``libX11``, ``libXrender``)
+fails without X11 client libraries; morphkit never opens a window: pyglet's ``headless`` option is
+set before pyrender is imported (pyglet then loads ``libEGL`` and ``libGL`` only). A failed import
+names the GL library that could not be loaded and its package (:func:`missing_gl_libraries`).
 
 Everything returned from here is plain numpy in the conventions of :mod:`morphkit.conventions`:
+depth images are float32 linear depth along the camera's viewing axis (OpenCV ``Z``) in scene
+units, background ``+inf`` (pyrender's is wrong for orthographic cameras:
+:func:`morphkit.passes.linear_depth` corrects it; tested against analytic planes in
+``tests/test_render.py``); colour images are uint8 ``(H, W, 3)``; source views uint8 RGBA,
+straight (not premultiplied) alpha equal to pixel coverage. Shader programs: one cache per
+context, keyed by the shaders and defines only (``_ProgramCache`` says why).
 
-* depth images are float32 linear depth along the camera's viewing axis (OpenCV ``Z``) in
-  scene units, background ``+inf`` (:data:`~morphkit.conventions.BACKGROUND_DEPTH`);
-* colour images are uint8 ``(H, W, 3)``; source views are uint8 RGBA with
-  straight (not premultiplied) alpha equal to pixel coverage.
-
-Depth linearisation: pyrender's linear depth is wrong for orthographic cameras;
-:func:`morphkit.passes.linear_depth` corrects it (tested against analytic planes in
-``tests/test_render.py``).
-
-Shader programs: one cache per context, keyed by the shaders and defines only
-(``_ProgramCache`` says why pyrender's never hit on OSMesa).
-
-EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its
-framebuffer path rendered into a 4x multisampled buffer and blitted one sample back (depth
-and silhouettes off the pixel centre by about (+0.125, -0.375) px, issue #29): morphkit's
-buffers are single-sampled, depth at pixel centres as OSMesa's (``tests/test_render_egl.py``);
-its ``delete_context`` terminated the EGL display every context shares (closing one broke
-the others: ``EGL_NOT_INITIALIZED``): contexts are destroyed here without terminating it.
+EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path
+rendered into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the
+pixel centre by about (+0.125, -0.375) px, issue #29): morphkit's buffers are single-sampled, depth
+at pixel centres as OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the
+EGL display every context shares (closing one broke the others): it is not terminated here.
 
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one
 ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and reused for every
@@ -227,8 +219,7 @@ if pyrender is not None:
                 n = 1 if self._frame is None else 2
                 _GL.glDrawBuffers(n, [_GL.GL_COLOR_ATTACHMENT0, _GL.GL_COLOR_ATTACHMENT1][:n])
 
-        def _bind_and_draw_primitive(self, primitive: Any, pose: np.ndarray, program: Any, flags: int
-                                     ) -> None:
+        def _bind_and_draw_primitive(self, primitive: Any, pose: Any, program: Any, flags: int) -> None:
             """pyrender's, and in a :meth:`frame_pass` the item mark and single-sided closed volumes."""
             material, two_sided = primitive.material, primitive.material.doubleSided
             if self._frame is not None:
@@ -241,19 +232,30 @@ if pyrender is not None:
 
         def frame_pass(self, scene: pyrender.Scene, marks: dict[int, float], cull: set[int]
                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-            """One lit draw of ``scene`` offscreen (the context current): lit RGB, pyrender's depth,
-            and the second attachment's RGBA (unlit colour, mark); ``cull``: single-sided primitives."""
+            """One lit draw of ``scene`` offscreen (the context current): lit and unlit RGBA (the mark
+            in the unlit alpha), pyrender's depth; ``cull``: single-sided primitives."""
             self._frame, self._program_cache.frame = (marks, cull), True
             try:
-                color, depth = self.render(scene, pyrender.RenderFlags.OFFSCREEN)
-                _GL.glBindFramebuffer(_GL.GL_READ_FRAMEBUFFER, self._main_fb_ms)
-                _GL.glReadBuffer(_GL.GL_COLOR_ATTACHMENT1)
-                w, h = self._main_fb_dims
-                buf = _GL.glReadPixels(0, 0, w, h, _GL.GL_RGBA, _GL.GL_UNSIGNED_BYTE)
-                _GL.glReadBuffer(_GL.GL_COLOR_ATTACHMENT0)
+                (lit, unlit), depth = self.render(scene, pyrender.RenderFlags.OFFSCREEN)
             finally:
                 self._frame, self._program_cache.frame = None, False
-            return color, depth, np.frombuffer(buf, np.uint8).reshape(h, w, 4)[::-1]
+            return lit, depth, unlit
+
+        def _read_main_framebuffer(self, scene: pyrender.Scene, flags: int) -> Any:
+            """pyrender's; in a :meth:`frame_pass` both colours, read where drawn (single-sampled: no
+            blit) as RGBA (no conversion), and depth by pyrender's formula without its masking."""
+            if self._frame is None:
+                return super()._read_main_framebuffer(scene, flags)
+            (w, h), gl = self._main_fb_dims, _GL
+            gl.glBindFramebuffer(gl.GL_READ_FRAMEBUFFER, self._main_fb_ms)
+            rgba = []
+            for att in (gl.GL_COLOR_ATTACHMENT1, gl.GL_COLOR_ATTACHMENT0):  # unlit, lit (pyrender's setting)
+                gl.glReadBuffer(att)
+                rgba.insert(0, gl.glReadPixels(0, 0, w, h, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE))
+            z = np.frombuffer(gl.glReadPixels(0, 0, w, h, gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT), np.float32)
+            n, f = scene.main_camera_node.camera.znear, scene.main_camera_node.camera.zfar
+            lin = np.where(z == 1.0, np.float32(0.0), 2.0 * n * f / (f + n - (2.0 * z - 1.0) * (f - n)))
+            return [np.frombuffer(b, np.uint8).reshape(h, w, 4)[::-1] for b in rgba], lin.reshape(h, w)[::-1]
 
         def _configure_main_framebuffer(self) -> None:
             super()._configure_main_framebuffer()
@@ -280,9 +282,8 @@ if pyrender is not None:
                 self._egl_display = None  # shared by every context: not terminated
 
     class _Offscreen(pyrender.OffscreenRenderer):
-        """pyrender's offscreen renderer on :data:`~morphkit.settings.GL_PLATFORM`, with the
-        corrected EGL platform and renderer (see the module docstring) and per-context shader
-        cache (``_ProgramCache``)."""
+        """pyrender's offscreen renderer on :data:`~morphkit.settings.GL_PLATFORM`, with the corrected
+        EGL platform and renderer (module notes) and per-context shader cache (``_ProgramCache``)."""
 
         def _create(self) -> None:
             w, h = self.viewport_width, self.viewport_height
@@ -332,10 +333,9 @@ if pyrender is not None:
 
 
 def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
-    """The GL platform and the renderer string in use (the benches write both into their JSON rows).
-
-    Reads ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` from the first context this process
-    created; when there is none yet, from a small one made (and closed) unless ``open_context`` is False.
+    """The GL platform and the renderer string in use (the benches write both into their JSON rows):
+    ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` of this process's first context (or of a small
+    one made and closed to read them, unless ``open_context`` is False).
 
     Parameters
     ----------
