@@ -2,8 +2,9 @@
 
 Shadows
 -------
-A frame is rendered twice by :mod:`morphkit.render`: ``lit`` (ambient + the
-light) and ``unlit`` (ambient only). A pixel that sees a fraction ``v`` of the
+A frame is rendered by :mod:`morphkit.render` as ``lit`` (ambient + the light) and
+``unlit`` (ambient only), from one draw (:meth:`Renderer.frame_pass
+<morphkit.render.Renderer.frame_pass>`) or two. A pixel that sees a fraction ``v`` of the
 light is ``unlit + v (lit - unlit)``: ``v = 1`` is fully lit, ``v = 0`` is in
 full shadow (only the ambient term is left), fractional ``v`` is a penumbra.
 This is exact for one light and a shading model linear in the light's

@@ -1,9 +1,10 @@
-"""The GL libraries each rendering platform needs, and what to say when one is missing.
+"""What a GL context needs from the machine (its libraries, its memory), and what to say when
+it is missing.
 
 No GL is imported here (ctypes only), so the message for a machine without GL can be built
 before, and without, pyrender: :mod:`morphkit.render` uses it when pyrender cannot be
-imported or a context cannot be created. The platform itself is chosen in
-:mod:`morphkit.settings` (``MORPHKIT_GL``).
+imported or a context cannot be created, and calls :func:`check_gl_memory` before it
+creates one. The platform itself is chosen in :mod:`morphkit.settings` (``MORPHKIT_GL``).
 """
 
 from __future__ import annotations
@@ -11,9 +12,13 @@ from __future__ import annotations
 import ctypes
 import ctypes.util
 
+import numpy as np
+
+from . import tol
+from .errors import RenderError, expected_got
 from .settings import GL_PLATFORM
 
-__all__ = ["GL_LIBRARIES", "missing_gl_libraries", "explain_gl_failure"]
+__all__ = ["GL_LIBRARIES", "missing_gl_libraries", "explain_gl_failure", "check_gl_memory"]
 
 #: Shared libraries each platform loads (library name as ``ctypes.util.find_library`` takes it,
 #: what provides it on Debian/Ubuntu). pyglet's headless mode (imported with pyrender) loads
@@ -71,3 +76,37 @@ def explain_gl_failure(exc: BaseException) -> str:
                 f"Original error: {exc!r}")
     return (f"{exc!r} (GL platform {GL_PLATFORM!r}: MORPHKIT_GL selects osmesa or egl; "
             "morphkit needs PyOpenGL >= 3.1.9)")
+
+
+def check_gl_memory(shape: tuple[int, int], bytes_per_pixel: int = tol.GL_BYTES_PER_PIXEL) -> None:
+    """Refuse a GL context of ``shape`` that this process has no memory for, before GL allocates.
+
+    Mesa (llvmpipe) does not survive a failed allocation of its framebuffers or tiles: it
+    dereferences the null pointer and the process dies of a segfault (a 8192 x 8192 demo under a
+    2 GiB address-space limit). So the memory a context and its first draw take
+    (:data:`morphkit.tol.GL_BYTES_PER_PIXEL` per pixel) is allocated and released here first,
+    untouched (address space only): where the process cannot get it (``RLIMIT_AS``, or more
+    than the machine has), a :class:`~morphkit.errors.RenderError` instead.
+
+    Parameters
+    ----------
+    shape : (int, int)
+        The context's image shape ``(H, W)``.
+    bytes_per_pixel : int, optional
+        What it takes per pixel (a new context's default; the one-pass frame's framebuffers:
+        :data:`morphkit.tol.GL_FRAME_PASS_BYTES_PER_PIXEL`).
+
+    Raises
+    ------
+    RenderError
+        The memory cannot be allocated.
+    """
+    need = int(bytes_per_pixel) * int(shape[0]) * int(shape[1])
+    try:
+        np.empty(need, np.uint8)
+    except MemoryError:
+        raise RenderError(expected_got(
+            f"memory for an offscreen GL context of shape {tuple(shape)}",
+            f"about {need / 2**20:.0f} MiB (its framebuffers and draws)",
+            "a MemoryError: more than this process may allocate (its memory limit or the machine's "
+            "memory); render smaller images")) from None

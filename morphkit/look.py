@@ -57,12 +57,13 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from . import tol
 from .conventions import ALPHA_CUTOFF, DEFAULT_COLOR
 from .errors import MeshError, MeshLookWarning, ValidationError, expected_got
 from .meshes.parts import srgb_to_linear
 from .texture import texture_rgba
 
-__all__ = ["SurfaceLook", "MeshLookWarning", "mesh_look", "DIELECTRIC"]
+__all__ = ["SurfaceLook", "MeshLookWarning", "mesh_look", "look_arrays", "DIELECTRIC"]
 
 #: ``(metallic, roughness)`` of every item drawn with a colour, and of a mesh's own
 #: look where its material does not set them.
@@ -266,3 +267,53 @@ def mesh_look(mesh: trimesh.Trimesh) -> SurfaceLook:
         fc = _colors_uint8(visual.face_colors, len(mesh.faces), "mesh face colours")
         return _opaque(SurfaceLook((1.0, 1.0, 1.0, 1.0), face_colors=fc))
     return SurfaceLook(plain)  # type: ignore[arg-type]
+
+
+def look_arrays(mesh: trimesh.Trimesh, look: SurfaceLook, *, smooth: bool) -> dict[str, Any]:
+    """The arrays one GL primitive draws ``mesh`` in ``look`` with (:mod:`morphkit.render`, "Materials").
+
+    A cut-out without a texture gets a 1 x 1 white one (the shader's alpha test needs a texel);
+    a cut-out's factor alpha is scaled by ``0.5 / cutoff``, so that one shader test
+    (alpha < 0.5) serves every cutoff.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The geometry.
+    look : SurfaceLook
+        Its look (:func:`mesh_look`).
+    smooth : bool
+        Shared vertices with vertex normals (indexed), else three vertices per face with the face's
+        normal (face colours need the latter).
+
+    Returns
+    -------
+    dict of str to Any
+        ``positions``, ``normals`` (float32 ``(V, 3)``), ``indices`` (``(F, 3)`` or None), ``uv``
+        (float32 ``(V, 2)`` or None), ``colors`` (float32 RGBA in ``[0, 1]``, sRGB, or None),
+        ``texture`` (RGBA uint8 or None) and ``factor`` (the base colour factor, 4 floats).
+    """
+    faces = np.asarray(mesh.faces)
+    if smooth:
+        positions, normals, indices = mesh.vertices, mesh.vertex_normals, faces
+        per_vertex = (lambda a: a)  # noqa: E731
+    else:
+        positions = mesh.vertices[faces].reshape(-1, 3)
+        normals = np.repeat(mesh.face_normals, 3, axis=0)
+        indices = None
+        per_vertex = (lambda a: a[faces].reshape(-1, a.shape[1]))  # noqa: E731
+    colors = None
+    if look.vertex_colors is not None:
+        colors = per_vertex(look.vertex_colors)
+    elif look.face_colors is not None:
+        colors = np.repeat(look.face_colors, 3, axis=0)
+    texture, uv = look.texture, look.uv
+    if texture is None and look.masked:  # a cut-out without a texture: the shader's alpha test
+        texture, uv = np.full((1, 1, 4), 255, np.uint8), np.zeros((len(mesh.vertices), 2))
+    factor = list(look.base_color)
+    if look.masked:  # one shader test (alpha < 0.5) for every cutoff
+        factor[3] *= 0.5 / max(float(look.alpha_cutoff), tol.ALPHA_FLOOR)
+    return {"positions": np.asarray(positions, np.float32), "normals": np.asarray(normals, np.float32),
+            "indices": indices, "uv": None if uv is None else np.asarray(per_vertex(uv), np.float32),
+            "colors": None if colors is None else colors.astype(np.float32) / 255.0,
+            "texture": texture, "factor": factor}

@@ -1,7 +1,8 @@
 """Interfaces shared across morphkit, declared once (``typing.Protocol``).
 
 :class:`SceneRenderer` is what every module that needs pictures of meshes asks
-for: :class:`morphkit.render.Renderer` (pyrender, OSMesa) implements it, and a
+for (:class:`PassRenderer` and :class:`FrameRenderer` add draws some modules use when a
+renderer has them): :class:`morphkit.render.Renderer` (pyrender, OSMesa) implements it, and a
 test or a user can pass any other object with the same methods. Only
 :mod:`morphkit.render` imports pyrender; code typed against this protocol runs
 and type-checks without a GL context.
@@ -18,10 +19,10 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from .camera import CameraModel
-from .passes import RenderPasses
+from .passes import FramePass, RenderPasses
 from .scene import Item, Light
 
-__all__ = ["SceneRenderer", "PassRenderer"]
+__all__ = ["SceneRenderer", "PassRenderer", "FrameRenderer"]
 
 
 @runtime_checkable
@@ -166,5 +167,45 @@ class PassRenderer(SceneRenderer, Protocol):
         -------
         RenderPasses
             The passes at ``camera.shape``.
+        """
+        ...
+
+
+@runtime_checkable
+class FrameRenderer(SceneRenderer, Protocol):
+    """A :class:`~morphkit.protocols.SceneRenderer` that draws a view lit and unlit in one pass
+    (:class:`morphkit.render.Renderer` does; :func:`morphkit.shadow.frame.render_frame` uses it).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
+
+    def frame_pass(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                   ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                   marked: Sequence[int] = ()) -> FramePass:
+        """:meth:`color_depth` with ``lights`` on and off from one draw, and the pixels of the items
+        ``marked`` (:meth:`Renderer.frame_pass <morphkit.render.Renderer.frame_pass>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame (on in ``lit``, off in ``unlit``).
+        ambient : float, optional
+            Ambient light level.
+        background : tuple of 3 float, optional
+            RGB in ``[0, 1]`` where nothing is drawn.
+        marked : sequence of int, optional
+            Indices into ``items`` of the items whose visible pixels ``marked`` shows.
+
+        Returns
+        -------
+        FramePass
+            ``lit``, ``unlit``, ``depth`` and ``marked``.
         """
         ...

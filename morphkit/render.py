@@ -1,95 +1,66 @@
 """The rendering boundary: the only module of morphkit that imports pyrender.
 
-Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per
-process: ``osmesa`` (default; software, any Linux machine with ``libosmesa6``)
-or ``egl`` (``MORPHKIT_GL=egl``: a GPU through its driver's EGL, or Mesa's
-software EGL where there is none). ``PYOPENGL_PLATFORM`` is set from it before
-pyrender (and PyOpenGL) are imported. :func:`gl_info` names the platform and
-the GL renderer string in use (the benches record both).
+Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per process:
+``osmesa`` (default; software, any Linux machine with ``libosmesa6``) or ``egl``
+(``MORPHKIT_GL=egl``: a GPU through its driver's EGL, or Mesa's software EGL where there is
+none). ``PYOPENGL_PLATFORM`` is set from it before pyrender (and PyOpenGL) are imported.
+:func:`gl_info` names the platform and the GL renderer string in use (benches record both).
 
-Headless import. pyrender imports its pyglet viewer at import time, and pyglet
-would load its X11 backend (``libX11``, ``libXrender``) and fail on a machine
-without X11 client libraries. morphkit never opens a window: pyglet's
-``headless`` option is set before pyrender is imported (pyglet then loads
-``libEGL`` and ``libGL`` only). When the import fails, the error names the GL
-library that could not be loaded and the package that provides it
-(:func:`missing_gl_libraries`).
+Headless import. pyrender imports its pyglet viewer, whose X11 backend (``libX11``, ``libXrender``)
+fails without X11 client libraries; morphkit never opens a window: pyglet's ``headless`` option is
+set before pyrender is imported (pyglet then loads ``libEGL`` and ``libGL`` only). A failed import
+names the GL library that could not be loaded and its package (:func:`missing_gl_libraries`).
 
-Everything returned from here is plain numpy in the conventions of
-:mod:`morphkit.conventions`:
+Everything returned from here is plain numpy in the conventions of :mod:`morphkit.conventions`:
+depth images are float32 linear depth along the camera's viewing axis (OpenCV ``Z``) in scene
+units, background ``+inf`` (pyrender's is wrong for orthographic cameras:
+:func:`morphkit.passes.linear_depth` corrects it; tested against analytic planes in
+``tests/test_render.py``); colour images are uint8 ``(H, W, 3)``; source views uint8 RGBA,
+straight (not premultiplied) alpha equal to pixel coverage. Shader programs: one cache per
+context, keyed by the shaders and defines only (``_ProgramCache`` says why).
 
-* depth images are float32 linear depth along the camera's viewing axis
-  (OpenCV ``Z``) in scene units, background ``+inf``
-  (:data:`~morphkit.conventions.BACKGROUND_DEPTH`);
-* colour images are uint8 ``(H, W, 3)``; source views are uint8 RGBA with
-  straight (not premultiplied) alpha equal to pixel coverage.
+EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path
+rendered into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the
+pixel centre by about (+0.125, -0.375) px, issue #29): morphkit's buffers are single-sampled, depth
+at pixel centres as OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the
+EGL display every context shares (closing one broke the others): it is not terminated here.
 
-Depth linearisation. pyrender 0.1.45 (and its fork pyrender2) converts the
-depth buffer to linear depth with the *perspective* formula
-``d = 2 n f / (f + n - z_ndc (f - n))`` for every camera, which is wrong for
-orthographic cameras (a plane at distance 0.5 with ``n = 0.05, f = 100``
-comes back as 0.0502). morphkit does not trust that value for orthographic
-views: it inverts pyrender's formula back to NDC depth and applies the
-orthographic one, ``Z = (f + n + z_ndc (f - n)) / 2``, which simplifies to
-``Z = f + n - n f / d``. Perspective depth is pyrender's value unchanged.
-Tested against analytic planes in ``tests/test_render.py``.
+Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one
+``pyrender.Scene`` with its uploaded meshes) is kept per image shape and reused for every
+frame of that shape (on EGL too). Meshes are uploaded once per context; moving an object
+only changes its node pose.
 
-Shader programs. pyrender caches its compiled shader programs under a key that
-includes ``OpenGL.contextdata.getContext()``; with PyOpenGL >= 3.1.9 on OSMesa
-that call returns a new pointer object every time, so the cache never hits and
-every primitive of every frame compiled and linked a new program (and kept it:
-one GL program per drawn item and frame).
-Each context here gets a program cache keyed by the shaders and defines only
-(``_ProgramCache``: one cache per context, so the context needs no key).
+Materials. An item with a colour is one ``MetallicRoughnessMaterial`` of that colour
+(``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in
+its mesh's own look (:func:`morphkit.look.mesh_look`; arrays: :func:`morphkit.look.look_arrays`)
+as a ``pyrender.Primitive`` built here, not by ``from_trimesh(material=None)``: its materials are
+``alphaMode='BLEND'`` (order-dependent) and single-sided, a trimesh ``SimpleMaterial``'s grey
+diffuse (0.4) darkens textures, 16-bit textures wrap in ``astype(uint8)``, greyscale ones crash,
+and RGB textures of a width not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here
+textures are RGBA uint8 (:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or ``MASK``
+and two-sided. morphkit's copies of three pyrender fragment shaders (``morphkit/data/shaders``;
+pyrender's ignore ``alphaMode`` and ``alphaCutoff``) discard fragments with base-colour alpha
+below 0.5 (a look with cutoff ``c`` uploads its factor alpha times ``0.5 / c``, an opaque look
+all alphas at 1: one shader for every cutoff), decode vertex colours from sRGB before lighting,
+and draw the normals pass. Items without texture or vertex colours keep pyrender's own lit
+shader (their lit pixels are those of earlier versions); every flat draw (the albedo pass) uses
+morphkit's ``flat.frag``: the base colour in linear light (factor x decoded texel x decoded
+vertex colour), written sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY``
+draws ignore materials (no cut-outs) and always cull back faces (pyrender), dropping an open
+surface seen from behind that the two-sided colour draw shows. So a depth image with a cut-out
+item, or a mesh that is not a :func:`~morphkit.meshes.closed_volume` (decided once per mesh, by
+the first depth image showing it), in view is taken from a flat colour draw (no culling; same
+vertex transform, so the same depth). Closed volumes keep ``DEPTH_ONLY``: seen from outside,
+their front faces hide every back face (depth bit-identical). Known limit: a camera inside a
+closed volume, or a near plane cutting one, sees back faces that this draw drops.
 
-EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``):
-
-* its framebuffer path renders into a 4x multisampled buffer and blits one
-  sample back, so depth (and the silhouette) is sampled off the pixel centre
-  (about (+0.125, -0.375) px, reported on a GPU in issue #29; Mesa's EGL does the same);
-  morphkit renders into single-sampled buffers: depth at pixel centres,
-  identical to OSMesa's (``tests/test_render_egl.py``);
-* its ``delete_context`` terminates the EGL display, which every context of the
-  process shares: closing one context broke the others (a :class:`Renderer`
-  with contexts of two image sizes died in :meth:`Renderer.close` with
-  ``EGL_NOT_INITIALIZED``). Contexts are destroyed here without terminating the
-  display (the driver frees it at process exit).
-
-Contexts. An OSMesa context cannot resize its buffer, so one GL context (and
-one ``pyrender.Scene`` with its uploaded meshes) is kept per image shape and
-reused for every frame of that shape (on EGL too). Meshes are converted and uploaded once
-per context; moving an object only changes its node pose.
-
-Materials. An item with a colour is drawn as it always was: one
-``MetallicRoughnessMaterial`` of that colour (``pyrender.Mesh.from_trimesh``
-with that material, which drops the mesh's visuals). An item without one is
-drawn in its mesh's own look (:func:`morphkit.look.mesh_look`), built here into
-a ``pyrender.Primitive`` directly rather than by ``from_trimesh(material=None)``,
-whose pitfalls it avoids: every material it makes is ``alphaMode='BLEND'``
-(order-dependent blending) and single-sided, a trimesh ``SimpleMaterial``'s
-default grey diffuse (0.4) darkens its texture, 16-bit textures wrap around in
-``astype(uint8)``, greyscale ones crash, and RGB textures of a width that is
-not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here textures are
-RGBA uint8 (:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or
-``MASK`` and two-sided, and cut-outs are drawn by morphkit's copies of three
-pyrender fragment shaders (``morphkit/data/shaders``; pyrender's shaders ignore
-``alphaMode`` and ``alphaCutoff``) that discard fragments with base-colour
-alpha below 0.5: a look with cutoff ``c`` uploads its factor alpha times
-``0.5 / c``, an opaque look all alphas at 1, so one shader serves every cutoff.
-The same copies decode vertex colours from sRGB before lighting and draw the
-normals pass. Items without texture or vertex colours keep pyrender's own
-lit shader (their lit pixels are those of earlier versions); every flat draw
-(the albedo pass) uses morphkit's ``flat.frag``, which takes the base colour in
-linear light (factor x decoded texel x decoded vertex colour) and writes it
-sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY`` draws
-ignore materials (no cut-outs) and always cull back faces (pyrender), dropping
-an open surface seen from behind that the two-sided colour draw shows. So a
-depth image with a cut-out item, or a mesh that is not a :func:`~morphkit.meshes.closed_volume`
-(decided once per mesh, by the first depth image showing it), in view is taken
-from a flat colour draw (no culling; same vertex transform, so the same depth).
-Closed volumes keep ``DEPTH_ONLY``: seen from outside, their front faces hide
-every back face (depth bit-identical). Known limit: a camera inside a closed
-volume, or a near plane cutting one, sees back faces that this draw drops.
+One-pass frame (issue #26). :meth:`Renderer.frame_pass` draws a view once into two colour
+attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of
+morphkit's ``mesh.frag`` (define ``MORPHKIT_FRAME``), the colour with the lights off (ambient,
+occlusion and emission alone), an item mark (a uniform per primitive) in its alpha. Closed
+volumes are drawn single-sided there (as ``DEPTH_ONLY``: the same pixels and known limit, a
+third less time at 1M faces). On OSMesa it draws into a framebuffer object, not OSMesa's
+buffer: depth rounds differently (1e-5 relative), a textured pixel may differ by one level.
 """
 
 from __future__ import annotations
@@ -99,18 +70,25 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
-import cv2
 import numpy as np
 import trimesh
 
 from . import tol
 from .camera import CameraModel
-from .conventions import BACKGROUND_DEPTH, gl_pose_from_cv
+from .conventions import gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
-from .glplatform import GL_LIBRARIES, explain_gl_failure, missing_gl_libraries
-from .look import DIELECTRIC, SurfaceLook, mesh_look
+from .glplatform import GL_LIBRARIES, check_gl_memory, explain_gl_failure, missing_gl_libraries
+from .look import DIELECTRIC, SurfaceLook, look_arrays, mesh_look
 from .meshes import closed_volume
-from .passes import RenderPasses, area_straight, as_uint8, decode_normals, supersampled_camera
+from .passes import (
+    FramePass,
+    RenderPasses,
+    area_passes,
+    area_rgba,
+    decode_normals,
+    linear_depth,
+    supersampled_camera,
+)
 from .scene import AreaLight, DirectionalLight, Item, Light, PointLight
 from .settings import EGL_DEVICE, GL_PLATFORM, select_gl_platform
 from .validate import as_int
@@ -149,20 +127,17 @@ _GL_STRINGS: dict[str, str] = {}
 
 #: morphkit's copies of pyrender's fragment shaders (package data; module notes, "Materials").
 SHADER_DIR = Path(__file__).resolve().parent / "data" / "shaders"
-#: Faces above which a mesh is drawn with smooth (vertex) normals: flat shading repeats
-#: every vertex per face, tripling a 1M-face mesh (face colours are always flat).
+#: Faces above which a mesh is drawn with smooth normals (flat ones would triple a 1M-face mesh).
 _SMOOTH_FACES = 20000
 
 
 if pyrender is not None:
     class _MatrixCamera(pyrender.Camera):
-        """A pyrender camera with morphkit's projection matrix.
+        """A pyrender camera with morphkit's projection matrix (:meth:`CameraModel.gl_projection`).
 
-        pyrender's own cameras cannot express every CameraModel: its
-        OrthographicCamera ignores ``xmag`` (it forces square pixels from the
-        viewport's aspect), and off-centre principal points need
-        IntrinsicsCamera. :meth:`CameraModel.gl_projection` covers both.
-        """
+        pyrender's own cameras cannot express every CameraModel: its OrthographicCamera ignores
+        ``xmag`` (square pixels from the viewport's aspect); off-centre principal points need
+        IntrinsicsCamera."""
 
         def __init__(self, projection: np.ndarray, znear: float, zfar: float) -> None:
             super().__init__(znear=znear, zfar=zfar)
@@ -175,31 +150,33 @@ if pyrender is not None:
     class _ProgramCache(pyrender.shader_program.ShaderProgramCache):
         """pyrender's shader-program cache, keyed without the GL context handle.
 
-        pyrender keys each compiled program by ``OpenGL.contextdata.getContext()``,
-        which under OSMesa is a new pointer object on every call: the key never
-        matched, so every colour render compiled its programs again and kept the
-        old ones (a leak and a recompile on every render; figures in ``docs/RESULTS.md``).
-        Each :class:`_Context` has its own renderer and cache, so the context is
-        implicit in the cache.
+        pyrender keys each compiled program by ``OpenGL.contextdata.getContext()``, which under
+        OSMesa is a new pointer object on every call: the key never matched, so every colour render
+        compiled its programs again and kept the old ones (figures in ``docs/RESULTS.md``). Each
+        :class:`_Context` has its own renderer and cache, so the context is implicit in the cache.
         """
 
         #: When set, flat draws use morphkit's normals shader (the normals pass).
         normals: bool = False
+        #: When set, lit draws also write the unlit colour and the item mark (the one-pass frame).
+        frame: bool = False
 
         def _path(self, name: str | None, defines: dict) -> str | None:
-            """The file of shader ``name``: morphkit's copy for every flat draw (albedo; the
-            normals pass) and for lit textured or vertex-coloured primitives, pyrender's otherwise."""
+            """The file of shader ``name``: morphkit's copy for every flat draw (albedo; the normals
+            pass), lit textured or vertex-coloured primitives and one-pass frames, else pyrender's."""
             if name is None:
                 return None
             if name == "flat.frag":
                 return str(SHADER_DIR / ("normals.frag" if self.normals else "flat.frag"))
-            if name == "mesh.frag" and ("HAS_BASE_COLOR_TEX" in defines or "COLOR_0_LOC" in defines):
+            if name == "mesh.frag" and {"HAS_BASE_COLOR_TEX", "COLOR_0_LOC", "MORPHKIT_FRAME"} & set(defines):
                 return str(SHADER_DIR / name)
             return os.path.join(self.shader_dir, name)
 
         def get_program(self, vertex_shader: str, fragment_shader: str, geometry_shader: str | None = None,
                         defines: dict | None = None) -> pyrender.shader_program.ShaderProgram:
             defines = {} if defines is None else defines
+            if self.frame and fragment_shader == "mesh.frag":
+                defines = {**defines, "MORPHKIT_FRAME": 1}
             vs, fs, gs = (self._path(f, defines) for f in (vertex_shader, fragment_shader, geometry_shader))
             key = (vs, fs, gs, tuple(sorted(defines.items())))
             program = self._program_cache.get(key)
@@ -211,17 +188,74 @@ if pyrender is not None:
     class _SingleSampleRenderer(pyrender.Renderer):
         """pyrender's renderer with single-sampled offscreen buffers (EGL's framebuffer path).
 
-        pyrender allocates its "multisample" colour and depth buffers with 4 samples and
-        blits them into single-sampled ones: the depth read back is one sub-sample, off
-        the pixel centre. Here they are re-allocated with 0 samples right after pyrender
-        creates them, so the blit is an exact copy of depth rasterised at pixel centres.
-        Its shader programs are cached per context (``_ProgramCache``).
-        """
+        pyrender allocates its "multisample" colour and depth buffers with 4 samples and blits
+        them into single-sampled ones (depth read back off the pixel centre). Here they are
+        re-allocated with 0 samples right after pyrender creates them: the blit is an exact copy.
+        Programs are cached per context (``_ProgramCache``). :meth:`frame_pass` draws into a
+        second colour attachment too (the unlit colour and the item marks)."""
 
         def __init__(self, width: int, height: int) -> None:
+            self._unlit_rb: Any = None  # the second colour attachment, made by the first frame_pass
+            self._frame: tuple[dict[int, float], set[int]] | None = None  # marks, cull: in a frame_pass
             super().__init__(width, height)
             self._program_cache = _ProgramCache()
             self._single_sampled: tuple[Any, Any] | None = None
+
+        def _delete_main_framebuffer(self) -> None:
+            if self._unlit_rb is not None:
+                _GL.glDeleteRenderbuffers(1, [self._unlit_rb])
+                self._unlit_rb = None
+            super()._delete_main_framebuffer()
+
+        def _configure_forward_pass_viewport(self, flags: int) -> None:
+            super()._configure_forward_pass_viewport(flags)  # binds the main framebuffer offscreen
+            if self._frame is not None and self._unlit_rb is None:
+                self._unlit_rb = _GL.glGenRenderbuffers(1)
+                _GL.glBindRenderbuffer(_GL.GL_RENDERBUFFER, self._unlit_rb)
+                _GL.glRenderbufferStorage(_GL.GL_RENDERBUFFER, _GL.GL_RGBA8, *self._main_fb_dims)
+                _GL.glFramebufferRenderbuffer(_GL.GL_DRAW_FRAMEBUFFER, _GL.GL_COLOR_ATTACHMENT1,
+                                              _GL.GL_RENDERBUFFER, self._unlit_rb)
+            if flags & pyrender.RenderFlags.OFFSCREEN:
+                n = 1 if self._frame is None else 2
+                _GL.glDrawBuffers(n, [_GL.GL_COLOR_ATTACHMENT0, _GL.GL_COLOR_ATTACHMENT1][:n])
+
+        def _bind_and_draw_primitive(self, primitive: Any, pose: Any, program: Any, flags: int) -> None:
+            """pyrender's, and in a :meth:`frame_pass` the item mark and single-sided closed volumes."""
+            material, two_sided = primitive.material, primitive.material.doubleSided
+            if self._frame is not None:
+                program.set_uniform("item_mark", self._frame[0].get(id(primitive), 0.0))
+                material.doubleSided = two_sided and id(primitive) not in self._frame[1]
+            try:
+                super()._bind_and_draw_primitive(primitive, pose, program, flags)
+            finally:
+                material.doubleSided = two_sided
+
+        def frame_pass(self, scene: pyrender.Scene, marks: dict[int, float], cull: set[int]
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            """One lit draw of ``scene`` offscreen (the context current): lit and unlit RGBA (the mark
+            in the unlit alpha), pyrender's depth; ``cull``: single-sided primitives."""
+            self._frame, self._program_cache.frame = (marks, cull), True
+            try:
+                (lit, unlit), depth = self.render(scene, pyrender.RenderFlags.OFFSCREEN)
+            finally:
+                self._frame, self._program_cache.frame = None, False
+            return lit, depth, unlit
+
+        def _read_main_framebuffer(self, scene: pyrender.Scene, flags: int) -> Any:
+            """pyrender's; in a :meth:`frame_pass` both colours, read where drawn (single-sampled: no
+            blit) as RGBA (no conversion), and depth by pyrender's formula without its masking."""
+            if self._frame is None:
+                return super()._read_main_framebuffer(scene, flags)
+            (w, h), gl = self._main_fb_dims, _GL
+            gl.glBindFramebuffer(gl.GL_READ_FRAMEBUFFER, self._main_fb_ms)
+            rgba = []
+            for att in (gl.GL_COLOR_ATTACHMENT1, gl.GL_COLOR_ATTACHMENT0):  # unlit, lit (pyrender's setting)
+                gl.glReadBuffer(att)
+                rgba.insert(0, gl.glReadPixels(0, 0, w, h, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE))
+            z = np.frombuffer(gl.glReadPixels(0, 0, w, h, gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT), np.float32)
+            n, f = scene.main_camera_node.camera.znear, scene.main_camera_node.camera.zfar
+            lin = np.where(z == 1.0, np.float32(0.0), 2.0 * n * f / (f + n - (2.0 * z - 1.0) * (f - n)))
+            return [np.frombuffer(b, np.uint8).reshape(h, w, 4)[::-1] for b in rgba], lin.reshape(h, w)[::-1]
 
         def _configure_main_framebuffer(self) -> None:
             super()._configure_main_framebuffer()
@@ -248,9 +282,8 @@ if pyrender is not None:
                 self._egl_display = None  # shared by every context: not terminated
 
     class _Offscreen(pyrender.OffscreenRenderer):
-        """pyrender's offscreen renderer on :data:`~morphkit.settings.GL_PLATFORM`, with the
-        corrected EGL platform and renderer (see the module docstring) and per-context shader
-        cache (``_ProgramCache``)."""
+        """pyrender's offscreen renderer on :data:`~morphkit.settings.GL_PLATFORM`, with the corrected
+        EGL platform and renderer (module notes) and per-context shader cache (``_ProgramCache``)."""
 
         def _create(self) -> None:
             w, h = self.viewport_width, self.viewport_height
@@ -267,89 +300,42 @@ if pyrender is not None:
                     _GL_STRINGS[key] = value.decode("utf-8", "replace") if value else ""
             self._renderer = _SingleSampleRenderer(w, h)
 
+        def frame_pass(self, scene: pyrender.Scene, marks: dict[int, float], cull: set[int]
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            """:meth:`_SingleSampleRenderer.frame_pass` with this context current."""
+            self._platform.make_current()
+            try:
+                return self._renderer.frame_pass(scene, marks, cull)
+            finally:
+                self._platform.make_uncurrent()
+
     def _flat_color_mesh(mesh: trimesh.Trimesh, color: tuple[float, ...]) -> pyrender.Mesh:
         """One colour: pyrender's ``from_trimesh`` with one material (drops the mesh's visuals)."""
         mat = pyrender.MetallicRoughnessMaterial(
             baseColorFactor=[*color, 1.0], metallicFactor=DIELECTRIC[0], roughnessFactor=DIELECTRIC[1],
             doubleSided=True)
-        # Flat shading for small meshes (boxes look right); smooth for large ones
-        # (flat shading would triple the vertex count of a 1M-face mesh).
+        # Flat shading for small meshes (boxes look right); smooth for large ones (_SMOOTH_FACES)
         return pyrender.Mesh.from_trimesh(mesh, material=mat, smooth=len(mesh.faces) > _SMOOTH_FACES)
 
     def _look_mesh(mesh: trimesh.Trimesh, look: SurfaceLook) -> pyrender.Mesh:
         """A mesh's own look as one primitive (module notes, "Materials")."""
-        smooth = len(mesh.faces) > _SMOOTH_FACES and look.face_colors is None
-        faces = np.asarray(mesh.faces)
-        if smooth:
-            positions, normals, indices = mesh.vertices, mesh.vertex_normals, faces
-            per_vertex = (lambda a: a)  # noqa: E731
-        else:
-            positions = mesh.vertices[faces].reshape(-1, 3)
-            normals = np.repeat(mesh.face_normals, 3, axis=0)
-            indices = None
-            per_vertex = (lambda a: a[faces].reshape(-1, a.shape[1]))  # noqa: E731
-        colors = None
-        if look.vertex_colors is not None:
-            colors = per_vertex(look.vertex_colors)
-        elif look.face_colors is not None:
-            colors = np.repeat(look.face_colors, 3, axis=0)
-        texture, uv = look.texture, look.uv
-        if texture is None and look.masked:  # a cut-out without a texture: the shader's alpha test
-            texture, uv = np.full((1, 1, 4), 255, np.uint8), np.zeros((len(mesh.vertices), 2))
-        factor = list(look.base_color)
-        if look.masked:  # one shader test (alpha < 0.5) for every cutoff
-            factor[3] *= 0.5 / max(float(look.alpha_cutoff), tol.ALPHA_FLOOR)
-        tex = None if texture is None else pyrender.Texture(
-            source=texture, source_channels="RGBA", sampler=pyrender.Sampler())
+        a = look_arrays(mesh, look, smooth=len(mesh.faces) > _SMOOTH_FACES and look.face_colors is None)
+        tex = None if a["texture"] is None else pyrender.Texture(
+            source=a["texture"], source_channels="RGBA", sampler=pyrender.Sampler())
         mat = pyrender.MetallicRoughnessMaterial(
-            baseColorFactor=factor, baseColorTexture=tex, metallicFactor=look.metallic,
+            baseColorFactor=a["factor"], baseColorTexture=tex, metallicFactor=look.metallic,
             roughnessFactor=look.roughness, doubleSided=True,
             alphaMode="MASK" if look.masked else "OPAQUE", alphaCutoff=look.alpha_cutoff)
-        prim = pyrender.Primitive(
-            positions=np.asarray(positions, np.float32), normals=np.asarray(normals, np.float32),
-            texcoord_0=None if uv is None else np.asarray(per_vertex(uv), np.float32),
-            color_0=None if colors is None else colors.astype(np.float32) / 255.0,
-            indices=indices, material=mat, mode=pyrender.constants.GLTF.TRIANGLES)
+        prim = pyrender.Primitive(positions=a["positions"], normals=a["normals"], texcoord_0=a["uv"],
+                                  color_0=a["colors"], indices=a["indices"], material=mat,
+                                  mode=pyrender.constants.GLTF.TRIANGLES)
         return pyrender.Mesh(primitives=[prim])
 
 
-def _check_gl_memory(shape: tuple[int, int]) -> None:
-    """Refuse a GL context of ``shape`` that this process has no memory for, before GL allocates.
-
-    Mesa (llvmpipe) does not survive a failed allocation of its framebuffers or tiles: it
-    dereferences the null pointer and the process dies of a segfault (a 8192 x 8192 demo under a
-    2 GiB address-space limit). So the memory a context and its first draw take
-    (:data:`morphkit.tol.GL_BYTES_PER_PIXEL` per pixel) is allocated and released here first,
-    untouched (address space only): where the process cannot get it (``RLIMIT_AS``, or more
-    than the machine has), a :class:`~morphkit.errors.RenderError` instead.
-
-    Parameters
-    ----------
-    shape : (int, int)
-        The context's image shape ``(H, W)``.
-
-    Raises
-    ------
-    RenderError
-        The memory cannot be allocated.
-    """
-    need = tol.GL_BYTES_PER_PIXEL * int(shape[0]) * int(shape[1])
-    try:
-        np.empty(need, np.uint8)
-    except MemoryError:
-        raise RenderError(expected_got(
-            f"memory for an offscreen GL context of shape {tuple(shape)}",
-            f"about {need / 2**20:.0f} MiB (its framebuffers and first draw)",
-            "a MemoryError: more than this process may allocate (its memory limit or the machine's "
-            "memory); render smaller images")) from None
-
-
 def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
-    """The GL platform and the renderer string in use (the benches write both into their JSON rows).
-
-    Reads ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` from the first context this process
-    created; when none was created yet, creates a small one to read them (and closes it), unless
-    ``open_context`` is False.
+    """The GL platform and the renderer string in use (the benches write both into their JSON rows):
+    ``GL_RENDERER``, ``GL_VERSION`` and ``GL_VENDOR`` of this process's first context (or of a small
+    one made and closed to read them, unless ``open_context`` is False).
 
     Parameters
     ----------
@@ -387,7 +373,7 @@ class _Context:
 
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
-        _check_gl_memory(shape)
+        check_gl_memory(shape)
         try:
             self.renderer = _Offscreen(viewport_width=w, viewport_height=h)
         except Exception as exc:
@@ -402,6 +388,7 @@ class _Context:
         # cut-out at once, else decided by the first depth() that shows it (closed_volume)
         self.flat_depth: dict[int, bool] = {}
         self.pool_mesh: dict[int, trimesh.Trimesh] = {}
+        self.pools: dict[int, list[pyrender.Node]] = {}  # id(pool) -> pool
         self.shown: list[int] = []  # id(pool) of the uploads shown
         self.cam_node: pyrender.Node | None = None
         self.light_nodes: list[pyrender.Node] = []
@@ -423,6 +410,7 @@ class _Context:
                     _look_mesh(item.mesh, look)
             pool = entry[1][key] = [self.scene.add(pm, pose=np.eye(4))]
             self.pool_mesh[id(pool)] = item.mesh
+            self.pools[id(pool)] = pool
             if item.color is None and look.masked:
                 self.flat_depth[id(pool)] = True
         return pool
@@ -453,6 +441,14 @@ class _Context:
             if k not in self.flat_depth:
                 self.flat_depth[k] = not closed_volume(self.pool_mesh[k])
         return any(self.flat_depth[k] for k in self.shown)
+
+    def frame_ids(self, marked: Iterable[Item]) -> tuple[dict[int, float], set[int]]:
+        """``id`` of the primitives of ``marked`` (mark 1), and of the closed volumes shown without
+        cut-outs (drawn single-sided; decided once each)."""
+        self.depth_needs_flat_draw()
+        closed = [self.pools[k] for k in self.shown if not self.flat_depth[k]]
+        return ({id(p): 1.0 for it in marked for p in self._pool(it)[0].mesh.primitives},
+                {id(p) for pool in closed for p in pool[0].mesh.primitives})
 
     def set_camera(self, camera: CameraModel) -> None:
         cam = _MatrixCamera(camera.gl_projection(), camera.znear, camera.zfar)
@@ -535,16 +531,15 @@ class Renderer:
                                                    type(it).__name__))
         return items
 
-    def _linear_depth(self, raw: np.ndarray, camera: CameraModel) -> np.ndarray:
-        d = np.asarray(raw, dtype=np.float64)
-        bg = d <= 0.0  # pyrender writes 0 where nothing was drawn
-        if camera.projection == "orthographic":
-            n, f = camera.znear, camera.zfar
-            with np.errstate(divide="ignore"):
-                d = f + n - n * f / np.where(bg, 1.0, d)
-        out = d.astype(np.float32)
-        out[bg] = BACKGROUND_DEPTH
-        return out
+    def _lit(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], ambient: float,
+             background: tuple[float, float, float]) -> _Context:
+        """The context of ``camera`` set up for a lit draw of ``items``."""
+        ctx = self._ctx(camera)
+        ctx.show(self._check_items(items))
+        ctx.set_camera(camera)
+        ctx.set_lights(lights, ambient)
+        ctx.scene.bg_color = np.array([*background, 0.0])
+        return ctx
 
     def pyrender_depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """pyrender's own depth output, uncorrected (background 0; orthographic
@@ -590,8 +585,8 @@ class Renderer:
         ctx = self._ctx(camera)
         ctx.show(self._check_items(items))
         if ctx.depth_needs_flat_draw():
-            return self._linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
-        return self._linear_depth(self.pyrender_depth(camera, items), camera)
+            return linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
+        return linear_depth(self.pyrender_depth(camera, items), camera)
 
     def _flat(self, ctx: _Context, camera: CameraModel, *, normals: bool) -> tuple[np.ndarray, np.ndarray]:
         """A flat draw (albedo, or encoded normals) of the items shown: RGB uint8 and pyrender's
@@ -703,17 +698,8 @@ class Renderer:
             The passes at ``camera.shape``.
         """
         s = as_int(supersample, "supersample", lo=1)
-        h, w = camera.shape
-        big = self.passes(supersampled_camera(camera, s), items, lights, ambient=ambient)
-        cov = big.alpha
-        alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
-        color = as_uint8(area_straight(big.color, cov, alpha, (h, w)))
-        albedo = as_uint8(area_straight(big.albedo, cov, alpha, (h, w)))
-        n = cv2.resize(big.normal, (w, h), interpolation=cv2.INTER_AREA)
-        norm = np.linalg.norm(n, axis=-1, keepdims=True)
-        n = np.where((alpha[..., None] > 0) & (norm > 0), n / np.maximum(norm, tol.ALPHA_FLOOR), 0.0)
-        depth = big.depth.reshape(h, s, w, s).min(axis=(1, 3))
-        return RenderPasses(color, albedo, n.astype(np.float32), depth, alpha.astype(np.float32))
+        return area_passes(self.passes(supersampled_camera(camera, s), items, lights, ambient=ambient),
+                           camera.shape)
 
     def color_depth(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light],
                     *, ambient: float = 0.35,
@@ -745,13 +731,41 @@ class Renderer:
         depth : (H, W) float32
             Linear depth, ``+inf`` background.
         """
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
-        ctx.set_camera(camera)
-        ctx.set_lights(lights, ambient)
-        ctx.scene.bg_color = np.array([*background, 0.0])
+        ctx = self._lit(camera, items, lights, ambient, background)
         color, raw = ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.NONE)
-        return np.ascontiguousarray(color[..., :3]), self._linear_depth(raw, camera)
+        return np.ascontiguousarray(color[..., :3]), linear_depth(raw, camera)
+
+    def frame_pass(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
+                   ambient: float = 0.35, background: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                   marked: Sequence[int] = ()) -> FramePass:
+        """Lit and unlit :meth:`color_depth` from one draw, and ``marked`` items' pixels (module notes).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+        lights : iterable of Light
+            Lights, world frame (on in ``lit``, off in ``unlit``).
+        ambient : float, optional
+            Ambient light level.
+        background : tuple of 3 float, optional
+            RGB in ``[0, 1]`` where nothing is drawn (in both colours).
+        marked : sequence of int, optional
+            Indices into ``items`` of the items whose visible pixels ``marked`` shows.
+
+        Returns
+        -------
+        FramePass
+            ``lit``, ``unlit``, ``depth`` and ``marked``.
+        """
+        check_gl_memory(camera.shape, tol.GL_FRAME_PASS_BYTES_PER_PIXEL)  # its framebuffers (once made)
+        ctx = self._lit(camera, items, lights, ambient, background)
+        ids = ctx.frame_ids([items[as_int(k, "marked index", lo=0, hi=len(items) - 1)] for k in marked])
+        color, raw, unlit = ctx.renderer.frame_pass(ctx.scene, *ids)
+        return FramePass(np.ascontiguousarray(color[..., :3]), np.ascontiguousarray(unlit[..., :3]),
+                         linear_depth(raw, camera), unlit[..., 3] >= 128)
 
     def source_view(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                     ambient: float = 0.35, supersample: int = 3) -> np.ndarray:
@@ -782,11 +796,5 @@ class Renderer:
         s = int(supersample)
         if s < 1:
             raise ValidationError(expected_got("supersample", "an int >= 1", supersample))
-        h, w = camera.shape
         color, depth = self.color_depth(supersampled_camera(camera, s), items, lights, ambient=ambient)
-        cov = np.isfinite(depth).astype(np.float32)
-        alpha = cv2.resize(cov, (w, h), interpolation=cv2.INTER_AREA)
-        out = np.empty((h, w, 4), np.uint8)
-        out[..., :3] = as_uint8(area_straight(color, cov, alpha, (h, w)))
-        out[..., 3] = as_uint8(alpha * 255)
-        return out
+        return area_rgba(color, depth, camera.shape)

@@ -148,6 +148,12 @@ LIGHT_FIT_DEPTH_PAD = 1e-6
 #: 2048^2, 4096^2 and 8192^2); 48 leaves a third on top for other drivers and draws.
 GL_BYTES_PER_PIXEL = 48
 
+#: Bytes of memory per pixel a context's first one-pass frame draw adds (checked before each:
+#: :meth:`morphkit.render.Renderer.frame_pass`; its framebuffer object of two colour attachments
+#: and depth, on OSMesa beside OSMesa's own buffer). Measured on llvmpipe: a 27-30 B/px rise of
+#: the peak address space at 2048^2 and 4096^2 (none at later draws); 40 leaves a third on top.
+GL_FRAME_PASS_BYTES_PER_PIXEL = 40
+
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
 #: frame holds several per-pixel buffers at once (unprojected world points and
 #: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):
@@ -493,6 +499,18 @@ SHADOW_GRAZING_COS = 1e-6
 #: object's): linearised float32 depth buffers agree to ~1e-6 relative on one
 #: surface, while the object and the ground under it are centimetres apart.
 DEPTH_SAME_SURFACE_REL = 1e-4
+
+#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`, issue #26) equals the
+#: two-render frame within this mean absolute difference of ``shaded``, in levels of 255
+#: (the issue's bound). Why not exactly: the one pass draws into a framebuffer object,
+#: whose depth rounds differently from OSMesa's buffer (~1e-5 relative), so a shadow-edge
+#: pixel's unprojected point, hence its visibility, can change; a textured fragment's
+#: colour may round one level apart (:mod:`morphkit.render`, "One-pass frame").
+FRAME_ONCE_MEAN_LEVELS = 1.0
+
+#: ... and ``lit`` and ``unlit`` themselves differ by at most this many levels anywhere
+#: (0 for untextured items; 1 seen on textured ones).
+FRAME_ONCE_COLOR_LEVELS = 1
 
 #: Depth (scene units) added on each side of the object's depth range for a light
 #: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of

@@ -24,8 +24,17 @@ neighbours' whole maps instead: ``layers=False``),
 control points, shared anchors, 5 x 15 grid), ``direct`` (re-render per frame), ``ibr_nearest`` /
 ``ibr_blend`` with ``k`` maps per axis (the number in the method name) (32 by default, 3 for equal memory
 with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
-``what=frame`` time a whole frame (camera render lit + unlit at 512^2, shadow
+``what=frame`` time a whole frame (camera drawn once, lit and unlit, at 512^2, shadow
 map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
+
+One-pass frames (rows with ``what=frame_once``, issue #26): the cow at ~6k and ~1M faces
+(:func:`frame_once_rows`), camera 512^2, 512^2 maps, the point light: ``two_warp`` (the frame
+as before: the camera drawn lit, then unlit; the warped map), ``once_warp`` and
+``once_reproject`` (the camera drawn once, :meth:`Renderer.frame_pass
+<morphkit.render.Renderer.frame_pass>`), ``once_direct`` (the direct frame: one pass and the
+light's map re-rendered every frame), ``camera_once`` / ``camera_two`` (the camera draws
+alone). ``vs_direct`` is a row's median over ``once_direct``'s; ``mean_levels`` the mean
+|shaded difference| of the one-pass frame against the two-render frame (levels of 255).
 
 Cut-outs (rows with ``what=cutout``, issue #24): the leaf plant of
 :func:`morphkit.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf
@@ -51,12 +60,12 @@ from ..groundtruth import hard_visibility, receiver_grid
 from ..memo import Memo
 from ..meshes import load_mesh, sample_mesh
 from ..metrics import shadow_iou
-from ..protocols import SceneRenderer
+from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
 from .harness import Timing, make_row, time_cycling
 
-__all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
+__all__ = ["run", "frame_once_rows", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
 SUITE = "shadows"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
@@ -234,7 +243,7 @@ def _complexity_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any
 
 
 def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
-    """Whole frame: camera render (lit + unlit, 512^2) + shadow map + lookup + composite."""
+    """Whole frame: camera pass (lit and unlit in one draw, 512^2) + shadow map + lookup + composite."""
     from ..camera import look_at, perspective
     from ..scene import Receiver, Scene
     from ..shadow.frame import render_frame
@@ -273,6 +282,93 @@ def _frame_rows(renderer: SceneRenderer, quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
+def frame_once_rows(renderer: FrameRenderer, faces: tuple[int, ...] = (6000, 1000000), size: int = 512,
+                    repeats: int = 7, *, receiver_only: bool = False) -> list[dict[str, Any]]:
+    """Whole frames drawing the camera once vs twice vs the direct frame (module notes).
+
+    Parameters
+    ----------
+    renderer : FrameRenderer
+        Draws the frames (one-pass and two-render).
+    faces : tuple of int
+        Face counts of the subdivided cow (:func:`~morphkit.meshes.sample_mesh`).
+    size : int
+        Camera and shadow-map side, pixels.
+    repeats : int
+        Interleaved timed rounds per case (medians).
+    receiver_only : bool
+        Frames in the receiver-only mode (the two-render frame then draws the object alone too).
+
+    Returns
+    -------
+    list of dict
+        The rows (:func:`morphkit.bench.harness.make_row`).
+    """
+    from ..camera import look_at, perspective
+
+    cam = perspective(np.deg2rad(45), (size, size), look_at([2.4, -2.2, 1.8], [0.0, 0.0, 0.2]),
+                      znear=0.1, zfar=20)
+    rows = []
+    for f in faces:
+        rows += _frame_once_case(renderer, cam, sample_mesh("cow", faces=f), repeats, receiver_only)
+        gc.collect()
+    return rows
+
+
+def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, repeats: int,
+                     receiver_only: bool) -> list[dict[str, Any]]:
+    """:func:`frame_once_rows` for one mesh."""
+    from ..scene import Receiver, Scene
+    from ..shadow.frame import frame_items, render_frame
+
+    xys = _positions(6, seed=5)
+    atlas = bake_atlas(mesh, np.eye(4), MOTION, POINT, cam.shape, renderer=renderer, progress=False)
+    atlas.prepare()
+    maps = {"warp": atlas.method(), "reproject": atlas.method(warps="reproject"),
+            "direct": DirectShadow(atlas.rig, mesh, renderer)}
+
+    def scene_at(xy: np.ndarray) -> Scene:
+        pose = np.eye(4)
+        pose[:2, 3] = xy
+        return Scene(SceneObject(mesh, pose), POINT, cam, Receiver(2.0))
+
+    def frame(xy: np.ndarray, m: Any, one_pass: bool) -> dict[str, np.ndarray]:
+        d, lcam = m.shadow_map(xy)
+        return render_frame(renderer, scene_at(xy), lambda p, n: shadow_visibility(p, d, lcam, normals=n),
+                            one_pass=one_pass, receiver_only=receiver_only)
+
+    def camera(xy: np.ndarray, once: bool) -> None:
+        sc = scene_at(xy)
+        if once:
+            renderer.frame_pass(cam, frame_items(sc), [POINT], ambient=sc.ambient)
+        else:
+            for lights in ([POINT], []):
+                renderer.color_depth(cam, frame_items(sc), lights, ambient=sc.ambient)
+
+    fns = {"two_warp": lambda xy: frame(xy, maps["warp"], False),
+           "once_warp": lambda xy: frame(xy, maps["warp"], True),
+           "once_reproject": lambda xy: frame(xy, maps["reproject"], True),
+           "once_direct": lambda xy: frame(xy, maps["direct"], True),
+           "camera_once": lambda xy: camera(xy, True), "camera_two": lambda xy: camera(xy, False)}
+    timings = time_cycling(fns, xys, repeats=repeats, warmup=len(xys))  # warm: every position once
+
+    def levels(m: Any) -> float:  # mean |one pass - two renders| of shaded, levels of 255
+        return float(np.mean([np.abs(frame(xy, m, True)["shaded"].astype(np.int16)
+                                     - frame(xy, m, False)["shaded"]).mean() for xy in xys]))
+
+    mean_levels = {f"once_{k}": levels(m) for k, m in maps.items()}
+    floor = timings["once_direct"].ms_median
+    rows = []
+    for name, t in timings.items():
+        metrics = {"vs_direct": t.ms_median / floor}
+        if name in mean_levels:
+            metrics["mean_levels"] = mean_levels[name]
+        params = {"what": "frame_once", "mesh": "cow", "light": "point", "size": cam.shape[0],
+                  "faces": len(mesh.faces), "receiver_only": receiver_only}
+        rows.append(make_row(SUITE, name, params, t, metrics=metrics))
+    return rows
+
+
 def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """All shadow rows: accuracy + map time, cut-outs, control-grid sweep, complexity sweep, frames.
 
@@ -296,5 +392,7 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
         rows += _control_grid_rows(renderer, quick, truth)
         rows += _complexity_rows(renderer, quick)
         rows += _frame_rows(renderer, quick)
+        rows += frame_once_rows(renderer, (6000, 50000) if quick else (6000, 1000000), 256 if quick else 512,
+                                3 if quick else 9)
     print(f"shadows suite: {len(rows)} rows in {time.perf_counter() - t0:.0f} s", flush=True)
     return rows

@@ -1,6 +1,9 @@
 """A whole frame: camera render, per-pixel light visibility, composite.
 
-The camera view is rendered lit and unlit (:mod:`morphkit.render`), its depth
+The camera view is rendered lit and unlit (:mod:`morphkit.render`): in one draw where the
+renderer is a :class:`~morphkit.protocols.FrameRenderer` (:meth:`Renderer.frame_pass
+<morphkit.render.Renderer.frame_pass>`, issue #26: the lit pixels and, from the same fragments,
+the unlit ones), else (or with ``one_pass=False``) in two draws, lit then unlit. Its depth is
 unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`),
 and each visible point gets a light visibility from a callable: a shadow-map
 lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`) or the ray-cast
@@ -16,6 +19,13 @@ depth, so the ground seen through them is shaded like any ground pixel.
 ``receiver_only=True`` is Kang & Ihm's mode (their hardware could only project
 the shadow texture onto receivers): the object itself is never shadowed, so
 self-shadowing is off. Default: every visible point is tested, object included.
+The object's pixels are those the one-pass draw marks as the object's, or in two draws
+those where an object-only depth image agrees with the frame's (a third draw).
+
+The two ways give the same image within :data:`morphkit.tol.FRAME_ONCE_MEAN_LEVELS` (mean
+absolute difference of ``shaded``, tested on the demo scenes): the one pass draws offscreen,
+where depth rounds slightly differently from the two draws' buffer (module notes of
+:mod:`morphkit.render`, "One-pass frame"), which can flip a shadow-edge pixel's visibility.
 
 Warped shadow maps: Kang & Ihm [1]_; the projective depth test: Segal et al. [2]_.
 
@@ -38,7 +48,7 @@ from ..composite import shade
 from ..cutout import cached_look
 from ..errors import ValidationError, expected_got
 from ..groundtruth import hard_visibility
-from ..protocols import SceneRenderer
+from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import AreaLight, DirectionalLight, Item, Scene, scene_items
 from .lookup import normals_from_points, shadow_visibility
 from .method import ShadowMethod
@@ -71,8 +81,8 @@ def frame_items(scene: Scene) -> list[Item]:
 
 
 def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn, *,
-                 receiver_only: bool = False, background: tuple[float, float, float] = SKY
-                 ) -> dict[str, np.ndarray]:
+                 receiver_only: bool = False, background: tuple[float, float, float] = SKY,
+                 one_pass: bool = True) -> dict[str, np.ndarray]:
     """Render ``scene`` from its camera and shadow it with ``visibility``.
 
     Returns the images ``lit``, ``unlit`` (uint8 RGB), ``depth`` (float32),
@@ -93,6 +103,10 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
         Test only the receiver's pixels (the object's own pixels stay lit).
     background : (3,) float
         Background RGB in ``[0, 1]``.
+    one_pass : bool
+        Draw the camera once where ``renderer`` is a :class:`~morphkit.protocols.FrameRenderer`
+        (default); False: twice, lit then unlit, as before issue #26 (the reference the one pass
+        is tested against).
 
     Returns
     -------
@@ -117,29 +131,46 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
                                            type(visibility).__name__))
     items = frame_items(scene)
     cam = scene.camera
-    lit, depth = renderer.color_depth(cam, items, [scene.light], ambient=scene.ambient,
-                                      background=background)
-    unlit, _ = renderer.color_depth(cam, items, [], ambient=scene.ambient, background=background)
+    if one_pass and isinstance(renderer, FrameRenderer):
+        drawn = renderer.frame_pass(cam, items, [scene.light], ambient=scene.ambient, background=background,
+                                    marked=[len(items) - 1] if receiver_only else ())
+        lit, unlit, depth, on_object = drawn.lit, drawn.unlit, drawn.depth, drawn.marked
+    else:
+        lit, depth = renderer.color_depth(cam, items, [scene.light], ambient=scene.ambient,
+                                          background=background)
+        unlit, _ = renderer.color_depth(cam, items, [], ambient=scene.ambient, background=background)
+        on_object = _object_pixels(renderer, scene, depth) if receiver_only else None
     world, valid = cam.unproject(depth)
-    test = valid
-    if receiver_only:
-        obj_depth = renderer.depth(cam, [Item(scene.obj.mesh, scene.obj.pose)])
-        with np.errstate(invalid="ignore"):  # inf - inf on the background
-            same = np.abs(obj_depth - depth) <= tol.DEPTH_SAME_SURFACE_REL * np.abs(depth)
-            on_object = np.isfinite(obj_depth) & same
-        test = valid & ~on_object
     normals = normals_from_points(world, valid)
-    vis = np.ones(cam.shape, np.float32)
-    if test.any():
-        vis[test] = _checked_visibility(visibility(world[test], normals[test]), int(test.sum()))
+    # the drawn pixels' points and normals taken by index: several times faster than masking
+    # (H, W, 3) arrays with a boolean image (which the frame did three times)
+    drawn = np.flatnonzero(valid)
+    points = world.reshape(-1, 3).take(drawn, axis=0)
+    pixel_normals = normals.reshape(-1, 3).take(drawn, axis=0)
     light = scene.light
     if isinstance(light, DirectionalLight):
-        to_light = np.broadcast_to(-light.direction, world.shape)
+        to_light = np.broadcast_to(-light.direction, points.shape)
     else:
-        to_light = (light.center if isinstance(light, AreaLight) else light.position) - world
-    facing = valid & (np.einsum("hwk,hwk->hw", normals, to_light) > 0)
+        to_light = (light.center if isinstance(light, AreaLight) else light.position) - points
+    facing = np.zeros(cam.shape, bool)
+    facing.reshape(-1)[drawn] = np.einsum("nk,nk->n", pixel_normals, to_light) > 0
+    vis = np.ones(cam.shape, np.float32)
+    tested = None if on_object is None else ~on_object.reshape(-1).take(drawn)
+    if tested is not None and not tested.all():
+        drawn, points, pixel_normals = drawn[tested], points[tested], pixel_normals[tested]
+    if len(drawn):
+        vis.reshape(-1)[drawn] = _checked_visibility(visibility(points, pixel_normals), len(drawn))
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
             "shaded": shade(lit, unlit, vis), "facing": facing}
+
+
+def _object_pixels(renderer: SceneRenderer, scene: Scene, depth: np.ndarray) -> np.ndarray:
+    """The pixels of ``depth`` (the frame's) where the object is the visible surface: an
+    object-only depth image agrees with it (a third draw)."""
+    obj_depth = renderer.depth(scene.camera, [Item(scene.obj.mesh, scene.obj.pose)])
+    with np.errstate(invalid="ignore"):  # inf - inf on the background
+        same = np.abs(obj_depth - depth) <= tol.DEPTH_SAME_SURFACE_REL * np.abs(depth)
+    return np.isfinite(obj_depth) & same
 
 
 def _checked_visibility(v: object, n: int) -> np.ndarray:

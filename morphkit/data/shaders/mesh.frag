@@ -140,7 +140,16 @@ in vec4 color_multiplier;
 // OUTPUTS
 ///////////////////////////////////////////////////////////////////////////////
 
+#ifdef MORPHKIT_FRAME
+// morphkit: the one-pass frame (issue #26) writes, in the same draw, the colour with the
+// lights off (ambient, occlusion and emission only: the unlit frame) into a second colour
+// attachment, its alpha the drawn item's mark (uniform item_mark, 0 or 1)
+layout(location = 0) out vec4 frag_color;
+layout(location = 1) out vec4 frag_unlit;
+uniform float item_mark;
+#else
 out vec4 frag_color;
+#endif
 
 ///////////////////////////////////////////////////////////////////////////////
 // Constants
@@ -436,6 +445,10 @@ void main()
         color.xyz += res;
     }
     color.xyz += base_color.xyz * ambient_light;
+#ifdef MORPHKIT_FRAME
+    vec3 unlit = vec3(0.0);  // morphkit: the same terms, in the same order, with no light
+    unlit += base_color.xyz * ambient_light;
+#endif
 
     // Calculate lighting from environment
 #ifdef USE_IBL
@@ -446,6 +459,9 @@ void main()
 #ifdef HAS_OCCLUSION_TEX
     float ao = texture(material.occlusion_texture, uv_0).r;
     color.xyz *= ao;
+#ifdef MORPHKIT_FRAME
+    unlit *= ao;
+#endif
 #endif
 
     // Apply emissive map
@@ -454,6 +470,10 @@ void main()
     emissive *= srgb_to_linear(texture(material.emissive_texture, uv_0)).rgb;
 #endif
     color.xyz += emissive * material.emissive_factor;
+#ifdef MORPHKIT_FRAME
+    unlit += emissive * material.emissive_factor;
+    frag_unlit = clamp(vec4(pow(unlit, vec3(1.0/2.2)), item_mark), 0.0, 1.0);
+#endif
 
     // morphkit: vertex colours are applied above
 
