@@ -547,3 +547,10 @@ SUN_YAW_ONLY_ATOL = 1e-6
 #: 64 and 128 texels (0.65: about as many, fewer extra and more missing).
 SUN_VIEW_MIN_COVERAGE = 0.5
 
+
+#: The alpha test of an impostor card drawn into a shadow map
+#: (:mod:`morphkit.shadow.cardbaselines`): a texel of the card casts where the frame's
+#: coverage, bilinearly sampled as a GPU samples the card's texture, is at least this --
+#: the engines' default clip value (glTF's ``alphaCutoff``, Unreal's masked 0.5), which
+#: keeps a silhouette whose coverage ramps over a texel at its middle.
+IMPOSTOR_CARD_ALPHA_TEST = 0.5
