@@ -49,7 +49,7 @@ from .harness import Timing, make_row, time_cycling
 from .scene_fields import DOMES, METHODS, SceneKit, day_suns, field_tpu, path_suns, score
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
-           "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS"]
+           "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
 SUITE = "scene"
 #: The method the table's ratio column divides by.
@@ -401,6 +401,74 @@ def selected_sections(names: str | None = None) -> list[Section]:
     return [s for s in SECTIONS if section_name(s) in want]
 
 
+def _md(header: list[str], lines: list[list[str]]) -> list[str]:
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(x) + " |"
+                                                                          for x in lines]
+
+
+def _iou(m: dict[str, float]) -> str:
+    return f"{m['iou']:.3f} / {m['iou_min']:.3f}" if "iou" in m else "-"
+
+
+def summary_tables(rows: list[dict[str, Any]]) -> str:
+    """Markdown tables of the rows, one per section present (for ``docs/RESULTS.md``).
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of this suite.
+
+    Returns
+    -------
+    str
+        The tables, each after a line naming its section.
+    """
+    def of(section: str) -> list[dict[str, Any]]:
+        return [r for r in rows if r["params"].get("section") == section]
+
+    out: list[str] = []
+    acc = [r for r in of("accuracy") if r["method"] != "ray-cast"]
+    if acc:
+        out += ["accuracy (shadow IoU against the ray cast, mean / min over the suns):", ""]
+        out += _md(["instances", "method", "IoU mean / min", "vis. error", "ms a build"],
+                   [[str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
+                     f"{r['metrics']['mae']:.4f}", f"{r['ms_median']:.0f}"] for r in acc]) + [""]
+    change = of("sun-change")
+    if change:
+        cases = list(dict.fromkeys((r["params"]["instances"], r["params"]["faces"]) for r in change))
+        ms = {(r["params"]["instances"], r["params"]["faces"], r["method"]): r for r in change}
+        lines = []
+        for n, f in cases:
+            c, w, d = (ms[(n, f, m)] for m in ("atlas-cold", "atlas-warm", "direct"))
+            lines.append([str(n), str(f), f"{c['ms_median']:.0f}", f"{w['ms_median']:.1f}",
+                          f"{d['ms_median']:.0f}", f"{c['metrics']['vs_direct']:.2f}",
+                          f"{w['metrics']['vs_direct']:.3f}", f"{c['metrics']['flat']:.2f}",
+                          f"{d['metrics']['flat']:.2f}"])
+        out += ["sun change (ms, medians, interleaved):", ""]
+        out += _md(["instances", "faces an asset", "atlas cold", "atlas warm", "direct", "cold / direct",
+                    "warm / direct", "atlas flat", "direct flat"], lines) + [""]
+    grid = of("atlas-grid")
+    if grid:
+        out += ["atlas grid vs error vs bytes:", ""]
+        lines = []
+        for r in grid:
+            m = r["metrics"]
+            what = f"{r['params']['dome']} ({m['views']:.0f})" if r["method"] == "atlas" else "direct"
+            lines.append([str(r["params"]["texels"]), what, f"{m['kib']:.0f}" if "kib" in m else "-",
+                          _iou(m), f"{m['mae']:.4f}", f"{r['ms_median']:.0f}"])
+        out += _md(["texels", "dome (views)", "KiB", "IoU mean / min", "vis. error", "ms a cold build"],
+                   lines) + [""]
+    temporal = of("temporal")
+    if temporal:
+        out += ["temporal (fraction of ground points whose shadow flips a step):", ""]
+        out += _md(["method", "step median", "step max", "max / median", "max / median over the ray cast's",
+                    "IoU mean / min"],
+                   [[r["method"], f"{r['metrics']['step_median']:.4f}", f"{r['metrics']['step_max']:.4f}",
+                     f"{r['metrics']['spike']:.2f}", f"{r['metrics']['spike_vs_truth']:.2f}",
+                     _iou(r["metrics"])] for r in temporal]) + [""]
+    return "\n".join(out)
+
+
 def run(*, quick: bool = False, sections: str | None = None, instances: list[int] | None = None,
         suns: int | None = None, plan: ScenePlan | None = None) -> list[dict[str, Any]]:
     """Run the sections (module docstring).
@@ -439,5 +507,6 @@ def run(*, quick: bool = False, sections: str | None = None, instances: list[int
                        impostor_supersample=p.impostor_supersample)
         for section in chosen:
             rows += section(kit, p)
+    print(summary_tables(rows))
     print(f"scene suite: {len(rows)} rows in {time.perf_counter() - t0:.0f} s", flush=True)
     return rows
