@@ -213,7 +213,7 @@ class Field:
     camera_position: np.ndarray
     posed: list[trimesh.Trimesh]
     meshes: dict[str, trimesh.Trimesh]
-    _truths: dict[bytes, np.ndarray] = field(default_factory=dict, repr=False)
+    _truths: dict[bytes, np.ndarray] = field(default_factory=dict, init=False, repr=False)
 
     def truth(self, sun: np.ndarray) -> np.ndarray:
         """The ray-cast visibility of the receiver points under ``sun`` (computed once).
@@ -297,21 +297,58 @@ class SceneKit:
         self._fields: dict[tuple[int, int], Field] = {}
 
     def meshes(self, faces: int | None = None) -> dict[str, trimesh.Trimesh]:
-        """The assets' meshes, as loaded (``None``) or subdivided to ``faces`` (:func:`subdivided`)."""
+        """The assets' meshes, as loaded or subdivided (:func:`subdivided`).
+
+        Parameters
+        ----------
+        faces : int, optional
+            Faces an asset; ``None``: as loaded.
+
+        Returns
+        -------
+        dict of str to trimesh.Trimesh
+            By asset name (made once).
+        """
         if faces not in self._meshes:
             assert faces is not None
             self._meshes[faces] = {nm: subdivided(m, faces) for nm, m in self.base.items()}
         return self._meshes[faces]
 
     def normalized(self, faces: int | None = None) -> dict[str, trimesh.Trimesh]:
-        """The meshes normalised (as the atlases and the direct render pose them)."""
+        """The meshes normalised (as the atlases and the direct render pose them).
+
+        Parameters
+        ----------
+        faces : int, optional
+            As :meth:`meshes`.
+
+        Returns
+        -------
+        dict of str to trimesh.Trimesh
+            By asset name (made once).
+        """
         if faces not in self._normalized:
             self._normalized[faces] = {nm: normalize(m) for nm, m in self.meshes(faces).items()}
         return self._normalized[faces]
 
     def atlases(self, faces: int | None = None, dome: str = "sparse", size: int | None = None
                 ) -> dict[str, SunAtlas]:
-        """The assets' sun atlases over ``DOMES[dome]`` at ``size`` texels (default the kit's)."""
+        """The assets' sun atlases (baked once; the time in :attr:`bake_seconds`).
+
+        Parameters
+        ----------
+        faces : int, optional
+            As :meth:`meshes`.
+        dome : str
+            A key of :data:`DOMES`.
+        size : int, optional
+            Texels a side (default the kit's ``atlas_size``).
+
+        Returns
+        -------
+        dict of str to SunAtlas
+            By asset name.
+        """
         key = (faces, dome, self.atlas_size if size is None else size)
         if key not in self._atlases:
             t0 = time.perf_counter()
@@ -321,7 +358,13 @@ class SceneKit:
         return self._atlases[key]
 
     def impostors(self) -> dict[str, OctahedralImpostor]:
-        """The assets' octahedral impostors (frames at the atlas's size, one mip level)."""
+        """The assets' octahedral impostors (frames at the atlas's size, one mip level; baked once).
+
+        Returns
+        -------
+        dict of str to OctahedralImpostor
+            By asset name.
+        """
         if self._impostors is None:
             self._impostors = {nm: bake_impostor(m, self.renderer, name=nm, frames=self.impostor_frames,
                                                  frame_size=self.atlas_size, levels=1,
@@ -330,7 +373,20 @@ class SceneKit:
         return self._impostors
 
     def field(self, n: int, grid: int) -> Field:
-        """The field of ``n`` instances with a ``grid x grid`` receiver (module docstring)."""
+        """The field of ``n`` instances with a ``grid x grid`` receiver (module docstring; made once).
+
+        Parameters
+        ----------
+        n : int
+            Instances.
+        grid : int
+            Receiver points a side.
+
+        Returns
+        -------
+        Field
+            The field.
+        """
         if (n, grid) not in self._fields:
             inst = place_random(ASSETS, n, np.random.default_rng(self.seed + n))
             half = max(1.0, 1.5 * math.sqrt(n) / 2.0) + RECEIVER_MARGIN
