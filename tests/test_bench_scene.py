@@ -13,7 +13,7 @@ from morphkit import bench
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 
-SECTIONS = {"accuracy", "sun-change", "atlas-grid", "temporal"}
+SECTIONS = {"accuracy", "per-asset", "sun-change", "atlas-grid", "temporal"}
 
 
 def test_suite_is_registered_with_its_sections():
@@ -62,7 +62,7 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert {r["params"]["section"] for r in rows} == SECTIONS
     printed = capsys.readouterr().out
     assert "atlas-cold" in printed  # the harness's table
-    for title in ("accuracy (", "sun change (", "atlas grid vs", "temporal ("):  # the markdown summary
+    for title in ("accuracy (", "per asset (", "sun change (", "atlas grid vs", "temporal ("):  # markdown
         assert title in printed
     for r in rows:
         assert r["suite"] == "scene" and r["ms_median"] > 0
@@ -73,6 +73,8 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
         assert 0.3 < acc[m]["iou_min"] <= acc[m]["iou"] <= 1.0 and 0.0 <= acc[m]["mae"] < 0.2
     # the camera's card casts the camera's silhouette: worse than the light's own
     assert acc["card-camera"]["iou"] < acc["card-light"]["iou"]
+    per = {(r["params"]["asset"], r["method"]) for r in rows if r["params"]["section"] == "per-asset"}
+    assert per == {(a, m) for a in ("photo-crate", "leaf-plant") for m in acc}
     change = [r for r in rows if r["params"]["section"] == "sun-change"]
     assert {(r["method"], r["params"]["faces"]) for r in change} == {
         (m, f) for m in ("atlas-cold", "atlas-warm", "direct") for f in (6000, 50000)}

@@ -294,7 +294,7 @@ class SceneKit:
         self._atlases: dict[tuple[Any, ...], dict[str, SunAtlas]] = {}
         self.bake_seconds: dict[tuple[Any, ...], float] = {}
         self._impostors: dict[str, OctahedralImpostor] | None = None
-        self._fields: dict[tuple[int, int], Field] = {}
+        self._fields: dict[tuple[int, int, tuple[str, ...]], Field] = {}
 
     def meshes(self, faces: int | None = None) -> dict[str, trimesh.Trimesh]:
         """The assets' meshes, as loaded or subdivided (:func:`subdivided`).
@@ -372,7 +372,7 @@ class SceneKit:
                                for nm, m in self.base.items()}
         return self._impostors
 
-    def field(self, n: int, grid: int) -> Field:
+    def field(self, n: int, grid: int, assets: tuple[str, ...] = ASSETS) -> Field:
         """The field of ``n`` instances with a ``grid x grid`` receiver (module docstring; made once).
 
         Parameters
@@ -381,22 +381,24 @@ class SceneKit:
             Instances.
         grid : int
             Receiver points a side.
+        assets : tuple of str
+            The assets drawn from (default both).
 
         Returns
         -------
         Field
             The field.
         """
-        if (n, grid) not in self._fields:
-            inst = place_random(ASSETS, n, np.random.default_rng(self.seed + n))
+        if (n, grid, assets) not in self._fields:
+            inst = place_random(assets, n, np.random.default_rng(self.seed + n))
             half = max(1.0, 1.5 * math.sqrt(n) / 2.0) + RECEIVER_MARGIN
             pts = receiver_grid(half, (grid, grid)).reshape(-1, 3)
             a, e = np.radians(CAMERA_AZIMUTH_DEG), np.radians(CAMERA_ELEVATION_DEG)
             dist = CAMERA_DISTANCE_FACTOR * half + CAMERA_DISTANCE_PAD
             eye = dist * np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
-            self._fields[(n, grid)] = Field(inst, (-half, -half, half, half), grid, pts, eye,
-                                            posed_asset_meshes(self.base, inst), self.base)
-        return self._fields[(n, grid)]
+            self._fields[(n, grid, assets)] = Field(inst, (-half, -half, half, half), grid, pts, eye,
+                                                    posed_asset_meshes(self.base, inst), self.base)
+        return self._fields[(n, grid, assets)]
 
     def method(self, name: str, fs: FieldShadow, fld: Field, tpu: float, faces: int | None = None, *,
                cold: bool = True) -> Callable[[np.ndarray], FieldMap]:

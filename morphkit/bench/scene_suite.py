@@ -14,6 +14,8 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   atlas cold: cache emptied; not interleaved, the next section times). The atlas row carries
   ``iou_gain_card_camera`` / ``iou_gain_card_light`` (its mean IoU minus the card's) and a note
   on #26's targets (IoU >= 0.95; >= the impostor way + 0.15).
+* ``per-asset`` -- ``accuracy`` on a field of one asset at a time (the plan's first count): where
+  each method loses (the alpha-masked plant or the opaque crate).
 * ``sun-change`` -- ms a sun change, 100 and 1000 instances, each asset subdivided to ~6k and
   >= 50k faces: ``atlas-cold`` (cache emptied, a new sun), ``atlas-warm`` (the same sun again
   right after: every view cached), ``direct`` (all posed meshes drawn from the sun; context
@@ -48,7 +50,7 @@ from .. import tol
 from ..errors import ValidationError, expected_got
 from ..shadow.fieldshadow import FieldShadow
 from .harness import Timing, make_row, time_cycling
-from .scene_fields import DOMES, METHODS, SceneKit, day_suns, field_tpu, path_suns, score
+from .scene_fields import ASSETS, DOMES, METHODS, Field, SceneKit, day_suns, field_tpu, path_suns, score
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
            "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS"]
@@ -141,46 +143,77 @@ def accuracy_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
     """
     rows: list[dict[str, Any]] = []
     suns = day_suns(plan.suns)
-    atl = kit.atlases()
     kit.impostors()  # baked before any timing
     for n in plan.counts:
-        fld = kit.field(n, plan.grid)
-        fs = FieldShadow(atl)
-        tpu = field_tpu(atl, fld.rect)
-        fns = {m: kit.method(m, fs, fld, tpu) for m in METHODS}
-        fns["direct"](suns[0])  # the renderer's context at the view's size
-        got: dict[str, dict[str, list[float]]] = {m: {"iou": [], "mae": [], "s": []} for m in METHODS}
-        truth_s, side = [], 0
-        for sun in suns:
-            t0 = time.perf_counter()
-            fld.truth(sun)
-            truth_s.append(time.perf_counter() - t0)
-            for m, fn in fns.items():
-                t0 = time.perf_counter()
-                fm = fn(sun)
-                got[m]["s"].append(time.perf_counter() - t0)
-                iou, mae, _ = score(fm, fld, sun)
-                got[m]["iou"].append(iou)
-                got[m]["mae"].append(mae)
-                side = max(side, max(fm.camera.shape) if fm.camera is not None else 0)
         params = {"section": "accuracy", "instances": n, "suns": len(suns), "grid": plan.grid}
-        mean_iou = {m: float(np.mean(got[m]["iou"])) for m in METHODS}
-        for m in METHODS:
-            iou, iou_min = _summary(got[m]["iou"])
-            metrics = {"iou": iou, "iou_min": iou_min, "mae": float(np.mean(got[m]["mae"])),
-                       "mae_max": float(np.max(got[m]["mae"])), "tpu": tpu, "field_side": side}
-            note = "one build a sun" + (", cache emptied" if m == "atlas" else "")
-            if m == "atlas":
-                gains = {c: iou - mean_iou[c] for c in ("card-camera", "card-light")}
-                metrics.update(iou_gain_card_camera=gains["card-camera"],
-                               iou_gain_card_light=gains["card-light"])
-                note = (f"IoU >= {TARGET_IOU}: {_met(iou >= TARGET_IOU)} (min {iou_min:.3f}); "
-                        f">= card-camera + {TARGET_GAIN}: {_met(gains['card-camera'] >= TARGET_GAIN)}; "
-                        f">= card-light + {TARGET_GAIN}: {_met(gains['card-light'] >= TARGET_GAIN)}")
-            rows.append(make_row(SUITE, m, params, Timing.from_seconds(got[m]["s"]), metrics=metrics,
-                                 note=note))
-        rows.append(make_row(SUITE, "ray-cast", params, Timing.from_seconds(truth_s),
-                             note="the truth: Embree, the leaves' cut-outs honoured"))
+        rows += _accuracy_case(kit, kit.field(n, plan.grid), suns, params)
+    return rows
+
+
+def per_asset_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
+    """``accuracy`` on a field of one asset at a time, the first count of the plan (module docstring).
+
+    Parameters
+    ----------
+    kit : SceneKit
+        Assets and fields.
+    plan : ScenePlan
+        The cases.
+
+    Returns
+    -------
+    list of dict
+        One row per asset and method, and the ray cast's time.
+    """
+    rows: list[dict[str, Any]] = []
+    suns = day_suns(plan.suns)
+    kit.impostors()
+    n = plan.counts[0]
+    for asset in ASSETS:
+        params = {"section": "per-asset", "asset": asset, "instances": n, "suns": len(suns),
+                  "grid": plan.grid}
+        rows += _accuracy_case(kit, kit.field(n, plan.grid, (asset,)), suns, params)
+    return rows
+
+
+def _accuracy_case(kit: SceneKit, fld: Field, suns: list[np.ndarray], params: dict[str, Any]
+                   ) -> list[dict[str, Any]]:
+    """Every method's IoU, error and build time on one field under the suns."""
+    rows: list[dict[str, Any]] = []
+    atl = kit.atlases()
+    fs = FieldShadow(atl)
+    tpu = field_tpu(atl, fld.rect)
+    fns = {m: kit.method(m, fs, fld, tpu) for m in METHODS}
+    fns["direct"](suns[0])  # the renderer's context at the view's size
+    got: dict[str, dict[str, list[float]]] = {m: {"iou": [], "mae": [], "s": []} for m in METHODS}
+    truth_s, side = [], 0
+    for sun in suns:
+        t0 = time.perf_counter()
+        fld.truth(sun)
+        truth_s.append(time.perf_counter() - t0)
+        for m, fn in fns.items():
+            t0 = time.perf_counter()
+            fm = fn(sun)
+            got[m]["s"].append(time.perf_counter() - t0)
+            iou, mae, _ = score(fm, fld, sun)
+            got[m]["iou"].append(iou)
+            got[m]["mae"].append(mae)
+            side = max(side, max(fm.camera.shape) if fm.camera is not None else 0)
+    mean_iou = {m: float(np.mean(got[m]["iou"])) for m in METHODS}
+    for m in METHODS:
+        iou, iou_min = _summary(got[m]["iou"])
+        metrics = {"iou": iou, "iou_min": iou_min, "mae": float(np.mean(got[m]["mae"])),
+                   "mae_max": float(np.max(got[m]["mae"])), "tpu": tpu, "field_side": side}
+        note = "one build a sun" + (", cache emptied" if m == "atlas" else "")
+        if m == "atlas":
+            gains = {c: iou - mean_iou[c] for c in ("card-camera", "card-light")}
+            metrics.update(iou_gain_card_camera=gains["card-camera"], iou_gain_card_light=gains["card-light"])
+            note = (f"IoU >= {TARGET_IOU}: {_met(iou >= TARGET_IOU)} (min {iou_min:.3f}); "
+                    f">= card-camera + {TARGET_GAIN}: {_met(gains['card-camera'] >= TARGET_GAIN)}; "
+                    f">= card-light + {TARGET_GAIN}: {_met(gains['card-light'] >= TARGET_GAIN)}")
+        rows.append(make_row(SUITE, m, params, Timing.from_seconds(got[m]["s"]), metrics=metrics, note=note))
+    rows.append(make_row(SUITE, "ray-cast", params, Timing.from_seconds(truth_s),
+                         note="the truth: Embree, the leaves' cut-outs honoured"))
     return rows
 
 
@@ -358,7 +391,7 @@ def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
 
 #: The suite's sections, in order; each ``(kit, plan) -> rows``.
 SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
-    accuracy_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
+    accuracy_rows, per_asset_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
 
 
 def section_name(section: Callable[..., Any]) -> str:
@@ -440,6 +473,12 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
         out += _md(["instances", "method", "IoU mean / min", "vis. error", "ms a build"],
                    [[str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
                      f"{r['metrics']['mae']:.4f}", f"{r['ms_median']:.0f}"] for r in acc]) + [""]
+    per = [r for r in of("per-asset") if r["method"] != "ray-cast"]
+    if per:
+        out += ["per asset (one asset's field; IoU mean / min over the suns):", ""]
+        out += _md(["asset", "instances", "method", "IoU mean / min", "vis. error"],
+                   [[r["params"]["asset"], str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
+                     f"{r['metrics']['mae']:.4f}"] for r in per]) + [""]
     change = of("sun-change")
     if change:
         cases = list(dict.fromkeys((r["params"]["instances"], r["params"]["faces"]) for r in change))
