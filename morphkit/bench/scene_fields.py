@@ -71,8 +71,9 @@ DOMES: dict[str, ViewDome] = {
     "default": ViewDome(),
     "dense": ViewDome(((0.0, 16), (20.0, 16), (40.0, 12), (60.0, 8), (75.0, 6)), top=True),
 }
-#: Largest side (texels) of the field's light view; a larger field gets fewer texels per unit.
-MAX_FIELD_SIDE = 4096
+#: Largest side (texels) of the field's light view; a larger field gets fewer texels per unit
+#: (1000 instances keep the atlases' 78 texels a unit: a view of about 5800 texels a side).
+MAX_FIELD_SIDE = 6144
 #: Ground added to each side of the field's square for the receiver, scene units.
 RECEIVER_MARGIN = 1.5
 #: The camera of ``card-camera``: azimuth and elevation (degrees) seen from the field's centre.
@@ -180,7 +181,9 @@ def field_tpu(atlases: dict[str, SunAtlas], rect: tuple[float, float, float, flo
         Texels per scene unit.
     """
     tpu = min(a.size / (2.0 * a.cameras.half_extent[0]) for a in atlases.values())
-    span = max(rect[2] - rect[0], rect[3] - rect[1]) + 4.0  # the casters' spheres reach past it
+    # the receiver's diagonal bounds its extent across the light whatever the sun's azimuth; the
+    # casters' spheres reach past it
+    span = math.hypot(rect[2] - rect[0], rect[3] - rect[1]) + 4.0
     return float(min(tpu, MAX_FIELD_SIDE / span))
 
 
