@@ -69,10 +69,16 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             return 2
         options["workers"] = args.workers
     if args.sections is not None:
-        if args.suite != "billboards":
-            print("morphkit: error: --sections is an option of `bench billboards` only", file=sys.stderr)
+        if args.suite not in ("billboards", "scene"):
+            print("morphkit: error: --sections is an option of `bench billboards` and `bench scene` only",
+                  file=sys.stderr)
             return 2
         options["sections"] = args.sections
+    if args.instances is not None:
+        if args.suite != "scene":
+            print("morphkit: error: --instances is an option of `bench scene` only", file=sys.stderr)
+            return 2
+        options["instances"] = args.instances
     run_suite(args.suite, quick=args.quick, json_path=args.json, plot_path=args.plot, options=options)
     return 0
 
@@ -406,8 +412,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="bake only: the local worker counts to time (default 1 2; 1 is always included); "
                    "reports the speed-up curve, per-worker start-up and a 16-worker projection")
     b.add_argument("--sections", default=None, metavar="NAMES",
-                   help="billboards only: run only these sections, comma-separated "
-                   "(e.g. dome-bands,dome-relit; names: the suite's section functions less _rows)")
+                   help="billboards and scene only: run only these sections, comma-separated "
+                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal; "
+                   "names: the suite's section functions less _rows)")
+    b.add_argument("--instances", type=int, nargs="+", default=None, metavar="N",
+                   help="scene only: the instance counts of its accuracy and sun-change sections "
+                   "(default 10 100 1000 and 100 1000; --quick 10)")
     b.set_defaults(func=_cmd_bench)
 
     v = sub.add_parser(

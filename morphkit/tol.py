@@ -608,3 +608,10 @@ MAX_SUN_DISC_DEG = 15.0
 #: distances, so rays from it hit its own triangle and speckle a sunlit surface with
 #: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.
 SUN_RAY_NORMAL_OFFSET = 2e-3
+
+#: The alpha test of an impostor card drawn into a shadow map
+#: (:mod:`morphkit.shadow.cardbaselines`): a texel of the card casts where the frame's
+#: coverage, bilinearly sampled as a GPU samples the card's texture, is at least this --
+#: the engines' default clip value (glTF's ``alphaCutoff``, Unreal's masked 0.5), which
+#: keeps a silhouette whose coverage ramps over a texel at its middle.
+IMPOSTOR_CARD_ALPHA_TEST = 0.5

@@ -41,11 +41,11 @@ def test_dome_sections_are_appended_and_selectable_by_name():
         bs.selected_sections("dome-bands,no-such-section")
 
 
-def test_bench_sections_flag_is_for_the_billboards_suite_only(capsys):
+def test_bench_sections_flag_is_for_the_billboards_and_scene_suites_only(capsys):
     from morphkit.cli import main
 
     assert main(["bench", "warp", "--quick", "--sections", "pair"]) == 2
-    assert "--sections is an option of `bench billboards` only" in capsys.readouterr().err
+    assert "--sections is an option of `bench billboards` and `bench scene` only" in capsys.readouterr().err
 
 
 @pytest.mark.gl

@@ -66,6 +66,7 @@ SUITES: dict[str, Suite] = {
     "soft": lazy_suite("morphkit.bench.soft_suite", "run"),
     "bake": lazy_suite("morphkit.bench.bake_suite", "run"),
     "billboards": lazy_suite("morphkit.bench.billboard_suite", "run"),
+    "scene": lazy_suite("morphkit.bench.scene_suite", "run"),
 }
 
 

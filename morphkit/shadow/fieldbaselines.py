@@ -4,8 +4,10 @@
   into the same field light view (:meth:`~.fieldshadow.FieldShadow.plan`'s camera, the same
   instances): what a sun change costs without atlases.
 * **truth** (:func:`ray_cast_field`): a ray from each receiver point towards the exact sun
-  against all posed meshes at once (:func:`morphkit.groundtruth.hard_visibility`, Embree when
-  installed): no clamp at the grazing cut-off.
+  against all posed meshes (:func:`morphkit.groundtruth.hard_visibility`, Embree when
+  installed): no clamp at the grazing cut-off. The instances of one asset are posed into one
+  mesh that keeps the asset's look (:func:`posed_asset_meshes`), so a cut-out asset (alpha-masked
+  leaves) casts through its holes as the renders do; a ray is lit when no asset's mesh blocks it.
 
 Meshes are given by asset name and posed as the atlases are: the *normalised* mesh
 (:func:`morphkit.meshes.normalize`) by each instance's ``object2world``.
@@ -13,7 +15,7 @@ Meshes are given by asset name and posed as the atlases are: the *normalised* me
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import trimesh
@@ -27,7 +29,7 @@ from ..scene import DirectionalLight, Item, SceneObject
 from ..validate import as_finite_array
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 
-__all__ = ["direct_field_map", "ray_cast_field", "posed_field_mesh"]
+__all__ = ["direct_field_map", "ray_cast_field", "posed_field_mesh", "posed_asset_meshes"]
 
 
 def _normalised(meshes: Mapping[str, trimesh.Trimesh], instances: Instances) -> dict[str, trimesh.Trimesh]:
@@ -85,6 +87,9 @@ def direct_field_map(field: FieldShadow, normalized: Mapping[str, trimesh.Trimes
 def posed_field_mesh(meshes: Mapping[str, trimesh.Trimesh], instances: Instances) -> trimesh.Trimesh | None:
     """All instances' normalised meshes posed into one world-frame mesh.
 
+    The concatenation drops textured looks (a cut-out asset's holes included): for a truth
+    that honours them use :func:`posed_asset_meshes`.
+
     Parameters
     ----------
     meshes : mapping of str to trimesh.Trimesh
@@ -106,8 +111,61 @@ def posed_field_mesh(meshes: Mapping[str, trimesh.Trimesh], instances: Instances
     return trimesh.util.concatenate(parts) if parts else None
 
 
+def _posed_copies(mesh: trimesh.Trimesh, poses: list[np.ndarray]) -> trimesh.Trimesh:
+    """``mesh`` posed by each of ``poses``, one mesh; a texture's look kept (one material, UVs tiled)."""
+    uv = getattr(mesh.visual, "uv", None)
+    if not isinstance(mesh.visual, trimesh.visual.TextureVisuals) or uv is None:
+        parts = []
+        for pose in poses:
+            m = mesh.copy()
+            m.apply_transform(pose)
+            parts.append(m)
+        return trimesh.util.concatenate(parts)
+    v = np.asarray(mesh.vertices, dtype=np.float64)
+    nv = len(v)
+    verts = np.concatenate([v @ np.asarray(p)[:3, :3].T + np.asarray(p)[:3, 3] for p in poses])
+    faces = np.concatenate([np.asarray(mesh.faces) + k * nv for k in range(len(poses))])
+    visual = trimesh.visual.TextureVisuals(uv=np.tile(np.asarray(uv), (len(poses), 1)),
+                                           material=mesh.visual.material)
+    return trimesh.Trimesh(verts, faces, visual=visual, process=False)
+
+
+def posed_asset_meshes(meshes: Mapping[str, trimesh.Trimesh], instances: Instances) -> list[trimesh.Trimesh]:
+    """The instances of each asset posed into one world-frame mesh that keeps the asset's look.
+
+    A textured asset's copies share its material (UVs tiled), so its cut-out (alpha-masked
+    texels, :func:`morphkit.cutout.mesh_cutout`) holds for every instance.
+
+    Parameters
+    ----------
+    meshes : mapping of str to trimesh.Trimesh
+        Each asset's mesh (normalised here).
+    instances : Instances
+        The field.
+
+    Returns
+    -------
+    list of trimesh.Trimesh
+        One mesh per asset with instances, in the order of ``instances.names``; empty for
+        no instance.
+
+    Raises
+    ------
+    ValidationError
+        An asset without a mesh.
+    """
+    norm = _normalised(meshes, instances)
+    out = []
+    for a, name in enumerate(instances.names):
+        idx = np.flatnonzero(np.asarray(instances.asset) == a)
+        if len(idx):
+            out.append(_posed_copies(norm[name], [instances.object2world(int(k)) for k in idx]))
+    return out
+
+
 def ray_cast_field(meshes: Mapping[str, trimesh.Trimesh], instances: Instances, sun_dir_world: np.ndarray,
-                   points: np.ndarray, *, posed: trimesh.Trimesh | None = None) -> np.ndarray:
+                   points: np.ndarray, *,
+                   posed: trimesh.Trimesh | Sequence[trimesh.Trimesh] | None = None) -> np.ndarray:
     """The truth: rays from each point towards the exact sun against all posed meshes.
 
     Parameters
@@ -120,8 +178,9 @@ def ray_cast_field(meshes: Mapping[str, trimesh.Trimesh], instances: Instances, 
         Towards the sun, world frame.
     points : (N, 3) float
         Receiver points, world frame.
-    posed : trimesh.Trimesh, optional
-        :func:`posed_field_mesh` of the same field, made once for many suns.
+    posed : trimesh.Trimesh or sequence of trimesh.Trimesh, optional
+        The field's posed meshes, made once for many suns: :func:`posed_asset_meshes`
+        (the default; cut-outs honoured) or :func:`posed_field_mesh`.
 
     Returns
     -------
@@ -131,8 +190,15 @@ def ray_cast_field(meshes: Mapping[str, trimesh.Trimesh], instances: Instances, 
     pts = as_finite_array(points, "points", shape=(None, 3))
     if field_sun(sun_dir_world) is None:
         return np.ones(len(pts), np.float32)
-    body = posed_field_mesh(meshes, instances) if posed is None else posed
-    if body is None:
-        return np.ones(len(pts), np.float32)
+    if posed is None:
+        bodies = posed_asset_meshes(meshes, instances)
+    else:
+        bodies = [posed] if isinstance(posed, trimesh.Trimesh) else list(posed)
     d = np.asarray(sun_dir_world, dtype=np.float64)
-    return hard_visibility(pts, DirectionalLight(-d / np.linalg.norm(d)), SceneObject(body))
+    light = DirectionalLight(-d / np.linalg.norm(d))
+    vis = np.ones(len(pts), np.float32)
+    for body in bodies:
+        lit = np.flatnonzero(vis > 0.0)  # a ray one asset blocks needs no other
+        if len(lit):
+            vis[lit] = hard_visibility(pts[lit], light, SceneObject(body))
+    return vis
