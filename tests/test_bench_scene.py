@@ -13,7 +13,7 @@ from morphkit import bench
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 
-SECTIONS = {"accuracy", "per-asset", "sun-change", "atlas-grid", "temporal"}
+SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal"}
 
 
 def test_suite_is_registered_with_its_sections():
@@ -62,7 +62,8 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert {r["params"]["section"] for r in rows} == SECTIONS
     printed = capsys.readouterr().out
     assert "atlas-cold" in printed  # the harness's table
-    for title in ("accuracy (", "per asset (", "sun change (", "atlas grid vs", "temporal ("):  # markdown
+    titles = ("accuracy (", "per asset (", "receivers (", "sun change (", "atlas grid vs", "temporal (")
+    for title in titles:  # markdown
         assert title in printed
     for r in rows:
         assert r["suite"] == "scene" and r["ms_median"] > 0
@@ -75,6 +76,14 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert acc["card-camera"]["iou"] < acc["card-light"]["iou"]
     per = {(r["params"]["asset"], r["method"]) for r in rows if r["params"]["section"] == "per-asset"}
     assert per == {(a, m) for a in ("photo-crate", "leaf-plant") for m in acc}
+    rec = {r["method"]: r for r in rows if r["params"]["section"] == "receivers"}
+    assert set(rec) == {"atlas", "direct", "card-camera", "card-light"}
+    assert all(r["params"]["points"] > 500 for r in rec.values())
+    for r in rec.values():
+        m = r["metrics"]
+        assert 0.0 <= m["iou_min"] <= m["iou"] <= 1.0 and 0.0 <= m["mae"] < 0.5
+    # a flat card through the pivot cannot shadow the instances' own surfaces as their depth does
+    assert rec["atlas"]["metrics"]["iou"] > rec["card-light"]["metrics"]["iou"]
     change = [r for r in rows if r["params"]["section"] == "sun-change"]
     assert {(r["method"], r["params"]["faces"]) for r in change} == {
         (m, f) for m in ("atlas-cold", "atlas-warm", "direct") for f in (6000, 50000)}

@@ -49,6 +49,7 @@ from ..billboard.dome import ViewDome
 from ..billboard.impostor import OctahedralImpostor, bake_impostor
 from ..billboard.instances import Instances, place_random
 from ..billboard.sun import SunPath
+from ..cutout import mesh_cutout
 from ..errors import ValidationError, expected_got
 from ..fixtures import textured_demo_asset, write_leaf_plant
 from ..groundtruth import receiver_grid
@@ -61,7 +62,7 @@ from ..shadow.fieldshadow import FieldMap, FieldShadow
 from ..shadow.sunatlas import SunAtlas, bake_sun_atlas
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
-           "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE"]
+           "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE", "surface_receivers"]
 
 ASSETS = ("photo-crate", "leaf-plant")
 METHODS = ("atlas", "direct", "card-camera", "card-light")
@@ -263,6 +264,43 @@ def score(fm: FieldMap, fld: Field, sun: np.ndarray) -> tuple[float, float, np.n
     truth = fld.truth(sun)
     shadow = vis < 0.5
     return shadow_iou(shadow, truth < 0.5), float(np.abs(vis - truth).mean()), shadow
+
+
+def surface_receivers(fld: Field, count: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Points on the instances' own surfaces, with their normals: the receivers of the
+    ``receivers`` section (a shadow on the casters themselves, their own or a neighbour's).
+
+    ``count`` points are drawn on each asset's posed mesh by area (:func:`trimesh.sample.sample_surface`,
+    seeded from ``rng``); a point on a cut-out texel (no surface there,
+    :func:`morphkit.cutout.mesh_cutout`) is dropped.
+
+    Parameters
+    ----------
+    fld : Field
+        The field (its posed meshes).
+    count : int
+        Points drawn per asset.
+    rng : numpy.random.Generator
+        Seeds the draws.
+
+    Returns
+    -------
+    points : (M, 3) float64
+        World frame.
+    normals : (M, 3) float64
+        The faces' unit normals (as the mesh winds them).
+    """
+    pts, nrm = [], []
+    for body in fld.posed:
+        p, fi = trimesh.sample.sample_surface(body, count, seed=int(rng.integers(2**31)))
+        keep = np.ones(len(p), bool)
+        cut = mesh_cutout(body)
+        if cut is not None:
+            bary = trimesh.triangles.points_to_barycentric(body.triangles[fi], p)
+            keep = cut.opaque(fi, bary)
+        pts.append(p[keep])
+        nrm.append(body.face_normals[fi[keep]])
+    return np.concatenate(pts), np.concatenate(nrm)
 
 
 class SceneKit:

@@ -16,6 +16,13 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   on #26's targets (IoU >= 0.95; >= the impostor way + 0.15).
 * ``per-asset`` -- ``accuracy`` on a field of one asset at a time (the plan's first count): where
   each method loses (the alpha-masked plant or the opaque crate).
+* ``receivers`` -- the shadow on the instances themselves (their own and their neighbours'), the
+  plan's ``receiver_counts``: points drawn on the posed meshes by area
+  (:func:`~morphkit.bench.scene_fields.surface_receivers`, cut-out texels dropped), those facing
+  the sun (:data:`SUN_FACING_COS`) looked up moved along their normal by
+  :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels (as the billboard frames'
+  receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
+  IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
 * ``sun-change`` -- ms a sun change, 100 and 1000 instances, each asset subdivided to ~6k and
   >= 50k faces: ``atlas-cold`` (cache emptied, a new sun), ``atlas-warm`` (the same sun again
   right after: every view cached), ``direct`` (all posed meshes drawn from the sun; context
@@ -48,18 +55,36 @@ import numpy as np
 
 from .. import tol
 from ..errors import ValidationError, expected_got
+from ..metrics import shadow_iou
+from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
 from .harness import Timing, make_row, time_cycling
-from .scene_fields import ASSETS, DOMES, METHODS, Field, SceneKit, day_suns, field_tpu, path_suns, score
+from .scene_fields import (
+    ASSETS,
+    DOMES,
+    METHODS,
+    Field,
+    SceneKit,
+    day_suns,
+    field_tpu,
+    path_suns,
+    score,
+    surface_receivers,
+)
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
-           "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS"]
+           "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "SUN_FACING_COS"]
 
 SUITE = "scene"
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "direct"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
 PLOT_OPTIONS: dict[str, Any] = {"size_key": "instances", "error_key": "mae", "panel_keys": ("section",)}
+
+#: ``receivers``: a surface point receives when its normal is at least this cosine towards the
+#: sun (84 degrees): one facing away is shadowed by its own body whatever the method (a card's
+#: two sides are two faces, one of them kept).
+SUN_FACING_COS = 0.1
 
 #: #26's targets.
 TARGET_IOU, TARGET_GAIN, TARGET_SPEED, TARGET_FLAT, TARGET_SPIKE = 0.95, 0.15, 0.1, 1.3, 2.0
@@ -93,6 +118,10 @@ class ScenePlan:
         Its instances and suns.
     path_suns, path_count : int
         ``temporal``'s suns (sunrise to sunset) and instances.
+    receiver_counts : tuple of int
+        ``receivers``' instance counts.
+    receiver_points : int
+        Its surface points drawn per asset.
     """
 
     counts: tuple[int, ...] = (10, 100, 1000)
@@ -110,12 +139,15 @@ class ScenePlan:
     grid_suns: int = 2
     path_suns: int = 24
     path_count: int = 100
+    receiver_counts: tuple[int, ...] = (10, 100)
+    receiver_points: int = 40000
 
 
 FULL = ScenePlan()
 QUICK = ScenePlan(counts=(10,), suns=2, grid=160, atlas_size=64, impostor_frames=8, impostor_supersample=1,
                   change_counts=(10,), change_repeats=2, grid_domes=("sparse", "default"), grid_sizes=(64,),
-                  grid_count=10, grid_suns=1, path_suns=8, path_count=10)
+                  grid_count=10, grid_suns=1, path_suns=8, path_count=10, receiver_counts=(10,),
+                  receiver_points=4000)
 
 
 def _summary(vals: list[float]) -> tuple[float, float]:
@@ -214,6 +246,63 @@ def _accuracy_case(kit: SceneKit, fld: Field, suns: list[np.ndarray], params: di
         rows.append(make_row(SUITE, m, params, Timing.from_seconds(got[m]["s"]), metrics=metrics, note=note))
     rows.append(make_row(SUITE, "ray-cast", params, Timing.from_seconds(truth_s),
                          note="the truth: Embree, the leaves' cut-outs honoured"))
+    return rows
+
+
+def receivers_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
+    """Every method's IoU and error on the instances' own surfaces (module docstring).
+
+    Parameters
+    ----------
+    kit : SceneKit
+        Assets and fields.
+    plan : ScenePlan
+        The cases.
+
+    Returns
+    -------
+    list of dict
+        One row per method and count (``ms``: a build and the points' lookup, one a sun).
+    """
+    rows: list[dict[str, Any]] = []
+    suns = day_suns(plan.suns)
+    kit.impostors()
+    atl = kit.atlases()
+    for n in plan.receiver_counts:
+        fld = kit.field(n, plan.grid)
+        pts, nrm = surface_receivers(fld, plan.receiver_points, np.random.default_rng(kit.seed + n))
+        fs = FieldShadow(atl)
+        tpu = field_tpu(atl, fld.rect)
+        fns = {m: kit.method(m, fs, fld, tpu) for m in METHODS}
+        got: dict[str, dict[str, list[float]]] = {m: {"iou": [], "mae": [], "s": []} for m in METHODS}
+        used = []
+        for sun in suns:
+            facing = nrm @ np.asarray(sun, np.float64) >= SUN_FACING_COS
+            p, q = pts[facing], nrm[facing]
+            used.append(int(facing.sum()))
+            truth = ray_cast_field(fld.meshes, fld.instances, sun, p + tol.SUN_RAY_NORMAL_OFFSET * q,
+                                   posed=fld.posed)
+            looked = p + (tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS / tpu) * q
+            for m, fn in fns.items():
+                t0 = time.perf_counter()
+                vis = fn(sun).visibility(looked)
+                got[m]["s"].append(time.perf_counter() - t0)
+                got[m]["iou"].append(shadow_iou(vis < 0.5, truth < 0.5))
+                got[m]["mae"].append(float(np.abs(vis - truth).mean()))
+        mean_iou = {m: float(np.mean(got[m]["iou"])) for m in METHODS}
+        params = {"section": "receivers", "instances": n, "suns": len(suns), "points": int(np.median(used))}
+        for m in METHODS:
+            iou, iou_min = _summary(got[m]["iou"])
+            metrics = {"iou": iou, "iou_min": iou_min, "mae": float(np.mean(got[m]["mae"]))}
+            note = ""
+            if m == "atlas":
+                gains = {c: iou - mean_iou[c] for c in ("card-camera", "card-light")}
+                metrics.update(iou_gain_card_camera=gains["card-camera"],
+                               iou_gain_card_light=gains["card-light"])
+                note = (f">= card-camera + {TARGET_GAIN}: {_met(gains['card-camera'] >= TARGET_GAIN)}; "
+                        f">= card-light + {TARGET_GAIN}: {_met(gains['card-light'] >= TARGET_GAIN)}")
+            rows.append(make_row(SUITE, m, params, Timing.from_seconds(got[m]["s"]), metrics=metrics,
+                                 note=note or "ms: a build and the lookup"))
     return rows
 
 
@@ -391,7 +480,7 @@ def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
 
 #: The suite's sections, in order; each ``(kit, plan) -> rows``.
 SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
-    accuracy_rows, per_asset_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
+    accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
 
 
 def section_name(section: Callable[..., Any]) -> str:
@@ -473,6 +562,12 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
         out += _md(["instances", "method", "IoU mean / min", "vis. error", "ms a build"],
                    [[str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
                      f"{r['metrics']['mae']:.4f}", f"{r['ms_median']:.0f}"] for r in acc]) + [""]
+    rec = of("receivers")
+    if rec:
+        out += ["receivers (the instances' own sun-facing surfaces; IoU mean / min over the suns):", ""]
+        out += _md(["instances", "points", "method", "IoU mean / min", "vis. error"],
+                   [[str(r["params"]["instances"]), str(r["params"]["points"]), r["method"],
+                     _iou(r["metrics"]), f"{r['metrics']['mae']:.4f}"] for r in rec]) + [""]
     per = [r for r in of("per-asset") if r["method"] != "ray-cast"]
     if per:
         out += ["per asset (one asset's field; IoU mean / min over the suns):", ""]
