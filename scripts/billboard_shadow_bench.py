@@ -22,7 +22,7 @@ For each sun:
   point (the lookups themselves, not the pixels);
 * **ms a frame**, billboard frame with and without shadows, interleaved, medians of ``--reps``:
   "cached" re-renders the same sun (the field builder's light views made), "new sun" moves the
-  sun by a few degrees each repetition (every instance's light view morphed afresh).
+  sun by a few degrees each repetition (the field map built afresh).
 
 ``--offsets`` sweeps the receivers' normal offset (texels;
 :data:`morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS`).

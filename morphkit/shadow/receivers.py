@@ -223,7 +223,13 @@ def frame_receiver(ground: np.ndarray, centres: np.ndarray, radii: np.ndarray, v
     foot = c[:, :2] - (c[:, 2] / ell[2])[:, None] * ell[:2]  # sphere centres along the sun onto z = 0
     half = (r / math.sin(math.radians(sun[1])))[:, None]  # the shadow ellipse's semi-major axis
     lo_all, hi_all = (foot - half).min(axis=0), (foot + half).max(axis=0)
-    pts = [np.clip(g[:, :2], lo_all, hi_all)] if len(g) else []
+    # the ground's box clipped to where shadows can fall: clipping is monotone, so the box of the
+    # clipped points is the clipped box (reduced column by column: an axis-0 reduction over the
+    # strided (M, 2) columns took ~17 ms at 640 x 480, these ~1 ms)
+    pts = []
+    if len(g):
+        box = np.array([[g[:, 0].min(), g[:, 1].min()], [g[:, 0].max(), g[:, 1].max()]])
+        pts.append(np.clip(box, lo_all, hi_all))
     if len(vis):
         pts += [foot[vis] - half[vis], foot[vis] + half[vis]]
     p = np.concatenate(pts)
