@@ -297,3 +297,16 @@ def test_holes_close_between_two_drawn_neighbours_only(monkeypatch):
     # a staircase outline keeps its steps: no texel with drawn neighbours on two adjacent sides only
     stairs = np.where(np.add.outer(np.arange(8), np.arange(8)) < 8, 1.0, np.inf).astype(np.float32)
     assert np.array_equal(fieldsplat.close_holes(stairs), stairs)
+
+
+def test_a_map_with_nan_depths_is_refused_at_its_first_lookup(atlases):
+    from morphkit.shadow.fieldshadow import FieldMap
+
+    one = Instances.from_records([("ball", 0.0, 0.0)])
+    fm = FieldShadow(atlases).build(one, sun_direction(0.0, 50.0), TPU)
+    bad = fm.depth.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(ValidationError, match="NaN/-inf texels"):
+        FieldMap(fm.camera, bad, fm.kept).visibility(np.zeros((2, 3)))
+    pts = _grid(-2, -2, 2, 2, 30)
+    assert np.array_equal(fm.visibility(pts), fm.visibility(pts))  # checked once, then trusted

@@ -52,7 +52,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import cv2
@@ -65,7 +65,7 @@ from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_positive
 from .fieldsplat import SplatDrawer
-from .lookup import ShadowBias, shadow_visibility
+from .lookup import ShadowBias, check_depth_map, lookup_into
 from .sunatlas import SunAtlas, sun_direction
 
 __all__ = ["FieldShadow", "FieldMap", "FieldDrawer", "MorphDrawer", "field_camera", "field_sun",
@@ -212,6 +212,7 @@ class FieldMap:
     depth: np.ndarray | None
     kept: np.ndarray
     skipped: int = 0
+    _checked: bool = field(default=False, init=False, repr=False)
 
     def visibility(self, points: np.ndarray) -> np.ndarray:
         """Visibility of world points under the field (module docstring, "Lookup").
@@ -234,8 +235,13 @@ class FieldMap:
         pts = as_finite_array(points, "points", shape=(None, 3))
         if self.camera is None or self.depth is None:
             return np.ones(len(pts), np.float32)
-        bias = ShadowBias(constant=tol.SUN_GROUND_BIAS_TEXELS, slope=0.0)
-        return shadow_visibility(pts, self.depth, self.camera, bias=bias)
+        if not self._checked:  # the map is checked once, not at every lookup (a frame makes one per
+            check_depth_map(self.depth, self.camera.shape)  # billboard): a whole-map pass each
+            object.__setattr__(self, "_checked", True)
+        vis = np.ones(len(pts), np.float32)
+        lookup_into(vis, pts, self.depth, self.camera, None,
+                    ShadowBias(constant=tol.SUN_GROUND_BIAS_TEXELS, slope=0.0))
+        return vis
 
 
 @runtime_checkable
