@@ -17,7 +17,7 @@ import trimesh
 from . import tol
 from .camera import CameraModel, look_at, orthographic
 from .errors import DegenerateViewError, MeshError, ValidationError, expected_got
-from .validate import as_finite_array, as_int, as_pose, as_positive
+from .validate import as_direction, as_finite_array, as_int, as_pose, as_positive
 
 __all__ = [
     "Receiver",
@@ -57,14 +57,6 @@ def translation(x: float, y: float, z: float = 0.0) -> np.ndarray:
     T = np.eye(4)
     T[:3, 3] = (x, y, z)
     return T
-
-
-def _unit(v: np.ndarray, name: str) -> np.ndarray:
-    v = as_finite_array(v, name, shape=(3,))
-    n = float(np.linalg.norm(v))
-    if n < tol.MIN_EXTENT:
-        raise ValidationError(expected_got(name, "a non-zero 3-vector", v.tolist()))
-    return v / n
 
 
 @dataclass(frozen=True)
@@ -144,7 +136,7 @@ class DirectionalLight:
     intensity: float = 3.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "direction", _unit(self.direction, "direction"))
+        object.__setattr__(self, "direction", as_direction(self.direction, "direction"))
         as_positive(self.intensity, "intensity")
 
     def to_light(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

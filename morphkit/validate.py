@@ -369,6 +369,28 @@ def as_positive(v: Any, name: str) -> float:
     return f
 
 
+def as_direction(v: Any, name: str) -> np.ndarray:
+    """Return ``v``, a non-zero finite 3-vector, scaled to unit length.
+
+    Parameters
+    ----------
+    v : Any
+        The direction (any length > :data:`~morphkit.tol.MIN_EXTENT`).
+    name : str
+        Its name in the error message.
+
+    Returns
+    -------
+    (3,) float64
+        The unit vector.
+    """
+    d = as_finite_array(v, name, shape=(3,))
+    n = float(np.linalg.norm(d))
+    if not n > tol.MIN_EXTENT:
+        raise ValidationError(expected_got(name, "a non-zero direction (3-vector)", d.tolist()))
+    return d / n
+
+
 def as_unit_interval(v: Any, name: str) -> float:
     """Return ``v`` as a float in ``[0, 1]``.
 

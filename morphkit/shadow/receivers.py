@@ -72,7 +72,7 @@ from ..billboard.instances import Instances
 from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
-from ..validate import as_finite_array, as_int, as_positive
+from ..validate import as_direction, as_finite_array, as_int, as_positive
 from .fieldbaselines import posed_field_mesh, ray_cast_field
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import SunAtlas, bake_sun_atlas, sun_direction
@@ -130,14 +130,6 @@ def bake_scene_atlases(meshes: Mapping[str, trimesh.Trimesh], renderer: SceneRen
     return out
 
 
-def _unit(v: object, name: str) -> np.ndarray:
-    d = as_finite_array(v, name, shape=(3,))
-    n = float(np.linalg.norm(d))
-    if not n > tol.MIN_EXTENT:
-        raise ValidationError(expected_got(name, "a non-zero direction (3,)", d.tolist()))
-    return d / n
-
-
 def sun_disc(sun_dir_world: np.ndarray, samples: int, radius_deg: float = SUN_DISC_RADIUS_DEG
              ) -> np.ndarray:
     """Directions over a sun's disc (module docstring, "Soft sun").
@@ -169,7 +161,7 @@ def sun_disc(sun_dir_world: np.ndarray, samples: int, radius_deg: float = SUN_DI
     >>> d.shape, bool(np.degrees(np.arccos(d[:, 2])).max() < 2.0)
     ((8, 3), True)
     """
-    d = _unit(sun_dir_world, "sun_dir_world")
+    d = as_direction(sun_dir_world, "sun_dir_world")
     n = as_int(samples, "sun samples", lo=1, hi=tol.MAX_SUN_SAMPLES)
     r = float(radius_deg)
     if not (math.isfinite(r) and 0.0 <= r <= tol.MAX_SUN_DISC_DEG):

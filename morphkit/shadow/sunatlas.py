@@ -66,7 +66,7 @@ from ..errors import ValidationError, expected_got
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import Item
-from ..validate import as_finite_array, as_int, as_shape
+from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
 
 __all__ = ["SunAtlas", "bake_sun_atlas", "sun_in_object", "instance_frame", "ground_visibility",
@@ -98,14 +98,6 @@ def _angles(d: np.ndarray) -> tuple[float, float]:
     az = float(np.degrees(np.arctan2(d[1], d[0])))
     el = float(np.degrees(np.arcsin(np.clip(d[2], -1.0, 1.0))))
     return az, el
-
-
-def _unit(v: object, name: str) -> np.ndarray:
-    d = as_finite_array(v, name, shape=(3,))
-    n = float(np.linalg.norm(d))
-    if not n > tol.MIN_EXTENT:
-        raise ValidationError(expected_got(name, "a non-zero direction (3,)", d.tolist()))
-    return d / n
 
 
 def instance_frame(pose: np.ndarray) -> tuple[float, float, np.ndarray]:
@@ -168,7 +160,7 @@ def sun_in_object(pose: np.ndarray, sun_dir_world: np.ndarray) -> np.ndarray | N
         A pose that is not a yaw (:func:`instance_frame`); a zero or non-finite direction.
     """
     _, yaw, _ = instance_frame(pose)
-    d = _unit(sun_dir_world, "sun_dir_world")
+    d = as_direction(sun_dir_world, "sun_dir_world")
     if d[2] <= 0.0:
         return None
     c, s = np.cos(np.radians(yaw)), np.sin(np.radians(yaw))
@@ -378,7 +370,7 @@ class SunAtlas:
         ValidationError
             A zero or non-finite direction, a bad shape.
         """
-        d = _unit(sun_dir_object, "sun_dir_object")
+        d = as_direction(sun_dir_object, "sun_dir_object")
         shape = self.cameras.shape if shape is None else as_shape(shape, "shape")
         if d[2] <= 0.0:
             return None
