@@ -106,7 +106,7 @@ from ..scene import Item
 from ..validate import as_int
 from . import dome_suite
 from .billboard_scenes import SUITE, hit_rate_rows, scene_accuracy_rows, speed_rows, temporal_rows
-from .harness import Timing, make_row, time_call, time_calls
+from .harness import Timing, make_row, pick_sections, section_name, time_call, time_calls
 
 __all__ = ["run", "AssetCache", "SECTIONS", "section_name", "selected_sections", "SUITE",
            "FLOOR_METHOD", "PLOT_OPTIONS", "quality", "scene_rows"]
@@ -654,23 +654,6 @@ SECTIONS: list[Callable[[AssetCache, bool], list[dict[str, Any]]]] = [
     pair_rows, ring_rows, equal_memory_rows, bake_rows, textured_rows, scene_rows]
 SECTIONS += dome_suite.SECTIONS
 
-def section_name(section: Callable[..., Any]) -> str:
-    """A section's name: its function's name less ``_rows``, dashes for underscores
-    (``equal_memory_rows`` -> ``equal-memory``, ``dome_bands_rows`` -> ``dome-bands``).
-
-    Parameters
-    ----------
-    section : callable
-        A function of :data:`SECTIONS`.
-
-    Returns
-    -------
-    str
-        The name.
-    """
-    return section.__name__.removesuffix("_rows").replace("_", "-")
-
-
 def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bool], list[dict[str, Any]]]]:
     """The sections named in ``names`` (comma-separated, ``morphkit bench billboards --sections``),
     in :data:`SECTIONS` order; all of them when ``names`` is None or empty.
@@ -690,16 +673,7 @@ def selected_sections(names: str | None = None) -> list[Callable[[AssetCache, bo
     ValidationError
         A name that is not a section's.
     """
-    from ..errors import ValidationError, expected_got
-
-    want = [w.strip() for w in (names or "").split(",") if w.strip()]
-    if not want:
-        return list(SECTIONS)
-    known = [section_name(s) for s in SECTIONS]
-    unknown = [w for w in want if w not in known]
-    if unknown:
-        raise ValidationError(expected_got("sections", f"names among {known}", unknown))
-    return [s for s in SECTIONS if section_name(s) in want]
+    return pick_sections(names, SECTIONS)
 
 
 def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, Any]]:

@@ -29,6 +29,7 @@ from .. import fileio, tol
 from ..render import gl_info
 
 __all__ = [
+    "section_name", "pick_sections",
     "Timing",
     "time_call",
     "time_calls",
@@ -88,6 +89,56 @@ class Timing:
         if not ms:
             raise ValueError("no timing samples")
         return cls(statistics.median(ms), min(ms), max(ms), len(ms))
+
+
+def section_name(section: Callable[..., Any]) -> str:
+    """A suite section's name: its function's name less ``_rows``, dashes for underscores
+    (``dome_bands_rows`` -> ``dome-bands``).
+
+    Parameters
+    ----------
+    section : callable
+        A section function.
+
+    Returns
+    -------
+    str
+        The name.
+    """
+    return section.__name__.removesuffix("_rows").replace("_", "-")
+
+
+def pick_sections(names: str | None, sections: Sequence[Callable[..., Any]]) -> list[Callable[..., Any]]:
+    """The ``sections`` named in ``names`` (comma-separated, a suite's ``--sections``), in their
+    order; all of them when ``names`` is None or empty.
+
+    Parameters
+    ----------
+    names : str, optional
+        E.g. ``"dome-bands,dome-relit"``.
+    sections : sequence of callable
+        The suite's sections (:func:`section_name` names them).
+
+    Returns
+    -------
+    list of callable
+        The sections to run.
+
+    Raises
+    ------
+    ValidationError
+        A name that is not a section's.
+    """
+    from ..errors import ValidationError, expected_got
+
+    want = [w.strip() for w in (names or "").split(",") if w.strip()]
+    if not want:
+        return list(sections)
+    known = [section_name(s) for s in sections]
+    unknown = [w for w in want if w not in known]
+    if unknown:
+        raise ValidationError(expected_got("sections", f"names among {known}", unknown))
+    return [s for s in sections if section_name(s) in want]
 
 
 def time_call(fn: Callable[[], Any], *, repeats: int = 7, warmup: int = 1) -> Timing:

@@ -54,11 +54,10 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from ..errors import ValidationError, expected_got
 from ..metrics import shadow_iou
 from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
-from .harness import Timing, make_row, time_cycling
+from .harness import Timing, make_row, pick_sections, section_name, time_cycling
 from .scene_fields import (
     ASSETS,
     DOMES,
@@ -483,22 +482,6 @@ SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
     accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
 
 
-def section_name(section: Callable[..., Any]) -> str:
-    """A section's name: its function's name less ``_rows``, dashes for underscores.
-
-    Parameters
-    ----------
-    section : callable
-        A function of :data:`SECTIONS`.
-
-    Returns
-    -------
-    str
-        E.g. ``sun-change``.
-    """
-    return section.__name__.removesuffix("_rows").replace("_", "-")
-
-
 Section = Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]
 
 
@@ -520,14 +503,7 @@ def selected_sections(names: str | None = None) -> list[Section]:
     ValidationError
         A name that is not a section's.
     """
-    want = [w.strip() for w in (names or "").split(",") if w.strip()]
-    if not want:
-        return list(SECTIONS)
-    known = [section_name(s) for s in SECTIONS]
-    unknown = [w for w in want if w not in known]
-    if unknown:
-        raise ValidationError(expected_got("sections", f"names among {known}", unknown))
-    return [s for s in SECTIONS if section_name(s) in want]
+    return pick_sections(names, SECTIONS)
 
 
 def _md(header: list[str], lines: list[list[str]]) -> list[str]:
