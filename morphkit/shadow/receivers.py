@@ -344,10 +344,10 @@ class AtlasShadow:
 
     Notes
     -----
-    The builder's light-view cache holds the views of the current frame's suns: it is
-    emptied (:meth:`~.fieldshadow.FieldShadow.clear`) when a frame comes with other suns, so a
-    day's path keeps one sun's views (every instance's, for each disc direction), not every
-    sun's. Frames under the same sun (a camera moving at noon) reuse them.
+    The builder keeps the last map it made (:meth:`~.fieldshadow.FieldShadow.build`): frames
+    under the same sun with one disc direction (a camera moving at noon) reuse it; the
+    builder's caches are emptied (:meth:`~.fieldshadow.FieldShadow.clear`) when a frame comes
+    with other suns.
     """
 
     def __init__(self, atlases: Mapping[str, SunAtlas] | FieldShadow, *, samples: int = 1,
