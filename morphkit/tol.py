@@ -116,7 +116,8 @@ ALPHA_FLOOR = 1e-6
 #: bench's banding measure (:func:`morphkit.bench.soft_suite.banding`): a filtered lookup that
 #: sums lit and shadowed terms leaves round-off of about 1e-16 in the umbra, which a strict
 #: ``0 < v < 1`` counted as penumbra (the measure then moved with the summation order, not
-#: with the image: 0.0063 vs 0.0100 on the teapot for the same visibility to 2e-13).
+#: with the image: 0.0063 vs 0.0100 on the teapot for the same visibility to 2e-13). The sun
+#: disc's filtered lookup (:mod:`morphkit.shadow.sundisc`) returns such values as 0 or 1.
 PENUMBRA_EPS = 1e-6
 
 #: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees):
@@ -596,6 +597,13 @@ SUN_FIELD_MAX_SIDE = 2048
 #: Most sun directions over a soft sun's disc (``--soft N``): one field map (or one ray
 #: cast) each, per frame.
 MAX_SUN_SAMPLES = 64
+
+#: Widest blocker search and kernel, half-width in field texels, of a sun disc's filtered
+#: lookup (:mod:`morphkit.shadow.sundisc`): a wider penumbra is clipped to it (its edge then
+#: too sharp). At the field's usual 64-128 texels an asset, 16 texels is an eighth to a
+#: quarter of an instance, a 2-degree disc's penumbra 3 units behind its occluder; the cost
+#: per point grows with the square (a 33 x 33 box: about 1,100 reads).
+SUN_DISC_MAX_HALF_TEXELS = 16.0
 
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
 #: over a quarter of the sky, outside what a sun disc (a narrow cone) stands for.

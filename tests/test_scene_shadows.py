@@ -22,6 +22,7 @@ from morphkit.errors import ValidationError
 from morphkit.shading import shade_suns, sun_shadow_factor
 from morphkit.shadow.receivers import (
     AtlasShadow,
+    FilteredAtlasShadow,
     FrameShadow,
     bake_scene_atlases,
     frame_receiver,
@@ -57,6 +58,27 @@ def _vis(atlases, inst, sun, ground, visible=(), samples=1, disc=0.267) -> np.nd
     fs = AtlasShadow(atlases, samples=samples, disc_deg=disc, texels_per_unit=TPU).frame(
         inst, [sun], ground, np.asarray(visible, np.int64))
     return fs.visibility(ground)[0]
+
+
+def test_a_filtered_sun_disc_is_the_hard_shadow_at_zero_radius_and_soft_beyond(atlases):
+    inst = Instances.from_records([("ball", 0.0, 0.0)])
+    g = _grid(-3.0, -3.0, 1.0, 1.0, 120)
+    sun = sun_direction(0.0, 45.0)  # the shadow falls towards -x
+    hard = _vis(atlases, inst, sun, g, [0])
+
+    def filtered(disc: float) -> np.ndarray:
+        shadow = FilteredAtlasShadow(atlases, disc_deg=disc, texels_per_unit=TPU)
+        return shadow.frame(inst, [sun], g, np.array([0])).visibility(g)[0]
+
+    np.testing.assert_array_equal(filtered(0.0), hard)
+    soft = filtered(3.0)
+    pen = (soft > 0.0) & (soft < 1.0)
+    assert pen.sum() > 3 * ((hard > 0.0) & (hard < 1.0)).sum() + 100  # a penumbra where hard had none
+    # the umbra lies inside the hard shadow, and the hard shadow is (all but its rim) darkened
+    assert np.all(hard[soft == 0.0] == 0.0) and (soft == 0.0).sum() > 100
+    assert (soft[hard == 0.0] < 1.0).mean() > 0.95
+    with pytest.raises(ValidationError, match="radius"):
+        FilteredAtlasShadow(atlases, disc_deg=90.0)
 
 
 # ------------------------------------------------------------------ the sun's disc

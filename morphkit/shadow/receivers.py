@@ -61,6 +61,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from functools import partial
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -76,8 +77,10 @@ from ..validate import as_direction, as_finite_array, as_int, as_positive
 from .fieldbaselines import posed_field_mesh, ray_cast_field
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import SunAtlas, bake_sun_atlas, sun_direction
+from .sundisc import disc_visibility
 
-__all__ = ["sun_disc", "frame_receiver", "FrameShadow", "SceneShadow", "AtlasShadow", "RayCastShadow",
+__all__ = ["sun_disc", "frame_receiver", "FrameShadow", "SceneShadow", "AtlasShadow", "FilteredAtlasShadow",
+           "RayCastShadow",
            "bake_scene_atlases", "SCENE_ATLAS_DOME", "SCENE_ATLAS_SIZE"]
 
 _GOLDEN_ANGLE = math.pi * (3.0 - math.sqrt(5.0))
@@ -426,14 +429,49 @@ class AtlasShadow:
                 per_sun.append(([], 0.0))
                 continue
             tpu = self.resolution(instances, d, rect)
-            disc = sun_disc(d, self.samples, self.disc_deg)
-            maps = [self.field.build(instances, s, tpu, rect) for s in disc]
-            self.last_maps += maps
-            # a direction that casts nothing counts lit (its 1/N share)
-            fns = [m.visibility if m.camera is not None else _lit for m in maps]
-            casts = any(m.camera is not None for m in maps)
-            per_sun.append((fns if casts else [], tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS / tpu))
+            fns = self._sun_visibility(instances, d, tpu, rect)
+            per_sun.append((fns, tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS / tpu))
         return FrameShadow(per_sun)
+
+    def _sun_visibility(self, instances: Instances, d: np.ndarray, tpu: float,
+                        rect: tuple[float, float, float, float]) -> list:
+        """One sun's visibility functions (averaged by :class:`FrameShadow`), the maps kept;
+        empty when nothing casts."""
+        maps = [self.field.build(instances, s, tpu, rect) for s in sun_disc(d, self.samples, self.disc_deg)]
+        self.last_maps += maps
+        # a direction that casts nothing counts lit (its 1/N share)
+        fns = [m.visibility if m.camera is not None else _lit for m in maps]
+        return fns if any(m.camera is not None for m in maps) else []
+
+
+class FilteredAtlasShadow(AtlasShadow):
+    """:class:`AtlasShadow` with the sun's disc filtered from one map along its centre
+    (:func:`~.sundisc.disc_visibility`, PCSS) instead of ``samples`` maps averaged.
+
+    Parameters
+    ----------
+    atlases : mapping of str to SunAtlas, or FieldShadow
+        As :class:`AtlasShadow`.
+    disc_deg : float
+        The disc's angular radius, degrees.
+    texels_per_unit : float, optional
+        As :class:`AtlasShadow`.
+    name : str
+        Its name.
+    """
+
+    def __init__(self, atlases: Mapping[str, SunAtlas] | FieldShadow, *,
+                 disc_deg: float = SUN_DISC_RADIUS_DEG, texels_per_unit: float | None = None,
+                 name: str = "atlas-pcss") -> None:
+        super().__init__(atlases, samples=1, disc_deg=disc_deg, texels_per_unit=texels_per_unit, name=name)
+
+    def _sun_visibility(self, instances: Instances, d: np.ndarray, tpu: float,
+                        rect: tuple[float, float, float, float]) -> list:
+        m = self.field.build(instances, d, tpu, rect)
+        self.last_maps.append(m)
+        if m.camera is None or m.depth is None:
+            return []
+        return [partial(disc_visibility, depth_map=m.depth, light_cam=m.camera, radius_deg=self.disc_deg)]
 
 
 def _lit(points: np.ndarray) -> np.ndarray:

@@ -1,0 +1,165 @@
+"""A sun disc's soft shadow from one orthographic light view: percentage-closer soft shadows.
+
+The sun is a disc of angular radius ``a`` around its direction. Seen from a receiver point at
+depth ``z`` along the light, an occluder at depth ``d < z`` hides the disc where it covers
+it; moving the light direction by an angle ``b`` moves the occluder's shadow by
+``(z - d) tan b`` across the light, so the disc's penumbra is ``2 (z - d) tan a`` wide, in
+map texels ``2 fx (z - d) tan a`` (``fx`` texels per unit of the orthographic view). With
+one depth map along the disc's centre, the visible fraction of the disc is estimated by
+percentage-closer filtering with a kernel that wide (Reeves et al. 1987), its occluder depth
+``d`` from a blocker search first (PCSS, Fernando 2005), as :mod:`.filtered` does for the
+perspective maps of an area light's samples:
+
+1. **Search.** The texels that the square of half-width ``h_s = fx tan(a) (z - z_min)``
+   around the point's projection overlaps (``z_min`` the map's nearest occluder: no penumbra can be wider;
+   capped at :data:`~morphkit.tol.SUN_DISC_MAX_HALF_TEXELS`) that are closer than the point
+   by more than the bias: their mean depth is ``d``. None: the whole disc is seen (1).
+2. **Filter.** The kernel is the square of the disc's area, half-width
+   ``h = (sqrt(pi) / 2) fx tan(a) (z - d)``; the visibility is one less the fraction of its
+   area (each texel counting with the area it shares with the square) held by texels closer
+   than the point by more than the bias. Texels outside the map hold no occluder. A fraction
+   within :data:`~morphkit.tol.PENUMBRA_EPS` of 0 or 1 is the sums' round-off: 0 or 1.
+
+Below half a texel (``h`` or ``h_s`` under :data:`~morphkit.tol.PENUMBRA_MIN_HALF_TEXEL`)
+the lookup is the hard one (the nearest texel), so a disc of zero radius gives the hard
+shadow exactly. **Bias:** the field map's constant one
+(:data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS` texels), grown by ``h / fx`` for a kernel of
+``h`` texels: a receiver drawn into the map itself, sloped by up to 45 degrees to the light,
+is not its own occluder inside the kernel (the receivers' normal offset,
+:mod:`.receivers`, does the rest).
+
+Compared with averaging ``N`` maps over the disc (``N + 1`` levels: bands): one map, a
+smooth penumbra; its error is the single-depth assumption (an occluder at several depths in
+one kernel). Figures: ``docs/RESULTS.md``.
+
+References
+----------
+.. [1] W. T. Reeves, D. H. Salesin and R. L. Cook, "Rendering Antialiased Shadows with Depth
+   Maps", Computer Graphics (Proc. SIGGRAPH 87), 21(4), pp. 283-291, 1987.
+.. [2] R. Fernando, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 Sketches, 2005.
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from .. import tol
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..settings import compile_kernel, use_compiled
+from ..validate import as_finite_array
+from .lookup import check_depth_map
+
+__all__ = ["disc_visibility"]
+
+#: Half-width of the square of a disc's area per unit radius: ``sqrt(pi) / 2``.
+DISC_SQUARE = math.sqrt(math.pi) / 2.0
+
+
+def _disc_loop(vis: np.ndarray, pts: np.ndarray, T: np.ndarray, dm: np.ndarray, sat: np.ndarray,
+               z_min: float, k: float, bias: float, fx: float, min_half: float, max_half: float,
+               eps: float) -> None:
+    """The per-point loop (module docstring); ``vis`` holds ones on entry; ``sat`` the drawn
+    texels' summed-area table (``(H + 1, W + 1)``): a search box without one is lit at once."""
+    H, W = dm.shape
+    for n in range(pts.shape[0]):
+        x, y, z0 = pts[n, 0], pts[n, 1], pts[n, 2]
+        u = T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]
+        v = T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]
+        z = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
+        hs = min(k * (z - z_min), max_half)
+        if hs < min_half:  # no penumbra can reach a texel: the hard lookup
+            c, r = int(math.floor(u + 0.5)), int(math.floor(v + 0.5))
+            if 0 <= c < W and 0 <= r < H and dm[r, c] < z - bias:
+                vis[n] = 0.0
+            continue
+        # the texels the widest kernel overlaps (texel i covers [i - 1/2, i + 1/2])
+        r0, r1 = max(int(math.floor(v - hs + 0.5)), 0), min(int(math.floor(v + hs + 0.5)), H - 1)
+        c0, c1 = max(int(math.floor(u - hs + 0.5)), 0), min(int(math.floor(u + hs + 0.5)), W - 1)
+        if r1 < r0 or c1 < c0 or sat[r1 + 1, c1 + 1] - sat[r0, c1 + 1] - sat[r1 + 1, c0] + sat[r0, c0] == 0:
+            continue  # no occluder texel in reach: the whole disc is seen
+        zt = z - bias - hs / fx
+        total, count = 0.0, 0
+        for r in range(r0, r1 + 1):
+            for c in range(c0, c1 + 1):
+                d = dm[r, c]
+                if d < zt:
+                    total += d
+                    count += 1
+        if count == 0:
+            continue
+        h = min(DISC_SQUARE * k * (z - total / count), max_half)
+        if h < min_half:
+            c, r = int(math.floor(u + 0.5)), int(math.floor(v + 0.5))
+            if 0 <= c < W and 0 <= r < H and dm[r, c] < z - bias:
+                vis[n] = 0.0
+            continue
+        zt = z - bias - h / fx
+        blocked = 0.0
+        kr0, kr1 = max(int(math.floor(v - h + 0.5)), 0), min(int(math.floor(v + h + 0.5)), H - 1)
+        kc0, kc1 = max(int(math.floor(u - h + 0.5)), 0), min(int(math.floor(u + h + 0.5)), W - 1)
+        for r in range(kr0, kr1 + 1):
+            oy = min(v + h, r + 0.5) - max(v - h, r - 0.5)
+            if oy <= 0.0:
+                continue
+            for c in range(kc0, kc1 + 1):
+                if dm[r, c] < zt:
+                    ox = min(u + h, c + 0.5) - max(u - h, c - 0.5)
+                    if ox > 0.0:
+                        blocked += ox * oy
+        f = 1.0 - blocked / (4.0 * h * h)
+        vis[n] = np.float32(0.0 if f < eps else (1.0 if f > 1.0 - eps else f))
+
+
+_disc_kernel = compile_kernel(_disc_loop, error_model="numpy")
+
+
+def disc_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: CameraModel,
+                    radius_deg: float) -> np.ndarray:
+    """Fraction ``(N,)`` float32 of a sun disc each world point sees, from one orthographic map
+    along its centre (module docstring).
+
+    Parameters
+    ----------
+    points : (N, 3) float
+        Receiver points, world frame.
+    depth_map : (H, W) float32
+        The light view's depth (``+inf`` where empty).
+    light_cam : CameraModel
+        Its orthographic camera, looking along the disc's centre.
+    radius_deg : float
+        The disc's angular radius, degrees, in ``[0, 90)``.
+
+    Returns
+    -------
+    (N,) float32
+        In ``[0, 1]``: 1 the whole disc seen.
+
+    Raises
+    ------
+    ValidationError
+        Points not ``(N, 3)`` finite, a camera that is not orthographic, a bad map or radius.
+    """
+    pts = np.ascontiguousarray(as_finite_array(points, "points", shape=(None, 3)), np.float64)
+    if not isinstance(light_cam, CameraModel) or light_cam.projection != "orthographic":
+        raise ValidationError(expected_got("light_cam", "an orthographic CameraModel (a sun's view)",
+                                           type(light_cam).__name__ if not isinstance(light_cam, CameraModel)
+                                           else light_cam.projection))
+    dm = np.ascontiguousarray(check_depth_map(depth_map, light_cam.shape), np.float32)
+    a = float(radius_deg)
+    if not (np.isfinite(a) and 0.0 <= a < 90.0):
+        raise ValidationError(expected_got("radius_deg", "degrees in [0, 90)", radius_deg))
+    vis = np.ones(len(pts), np.float32)
+    drawn = np.isfinite(dm)
+    if not drawn.any() or len(pts) == 0:
+        return vis
+    fx = float(light_cam.fx)
+    sat = cv2.integral(drawn.astype(np.uint8))  # (H + 1, W + 1) int32
+    args = (vis, pts, np.ascontiguousarray(light_cam.texture_matrix()[:3], np.float64), dm, sat,
+            float(dm[drawn].min()), fx * math.tan(math.radians(a)), tol.SUN_GROUND_BIAS_TEXELS / fx, fx,
+            float(tol.PENUMBRA_MIN_HALF_TEXEL), float(tol.SUN_DISC_MAX_HALF_TEXELS), float(tol.PENUMBRA_EPS))
+    (_disc_kernel if use_compiled(_disc_kernel) else _disc_loop)(*args)
+    return vis

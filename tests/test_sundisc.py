@@ -1,0 +1,102 @@
+"""A sun disc's soft shadow from one orthographic map (issue #26's soft sun, #27's filtering):
+derived cases on a map made by hand (no GL)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from morphkit import tol
+from morphkit.camera import look_at, orthographic, perspective
+from morphkit.errors import ValidationError
+from morphkit.shadow import sundisc
+from morphkit.shadow.lookup import ShadowBias, shadow_visibility
+from morphkit.shadow.sundisc import DISC_SQUARE, disc_visibility
+
+N = 64  # texels a side over [-2, 2]: 16 texels a unit
+
+
+def _cam():
+    pose = look_at(np.array([0.0, 0.0, 10.0]), np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+    return orthographic(2.0, 2.0, (N, N), pose, znear=0.5, zfar=20.0)
+
+
+def _half_plane(depth: float) -> np.ndarray:
+    """Occluder texels at ``depth`` over x < 0 (image columns left of the centre)."""
+    dm = np.full((N, N), np.inf, np.float32)
+    dm[:, : N // 2] = depth
+    return dm
+
+
+def _ground(xs: np.ndarray, y: float = 0.3) -> np.ndarray:
+    return np.stack([xs, np.full_like(xs, y), np.zeros_like(xs)], axis=1)
+
+
+def test_a_disc_of_zero_radius_is_the_hard_lookup():
+    cam, rng = _cam(), np.random.default_rng(5)
+    dm = np.where(rng.random((N, N)) < 0.3, rng.uniform(2.0, 9.0, (N, N)), np.inf).astype(np.float32)
+    pts = np.c_[rng.uniform(-2.2, 2.2, (500, 2)), rng.uniform(0.0, 5.0, 500)]
+    hard = shadow_visibility(pts, dm, cam, bias=ShadowBias(constant=tol.SUN_GROUND_BIAS_TEXELS, slope=0.0))
+    got = disc_visibility(pts, dm, cam, 0.0)
+    assert 50 < (hard == 0).sum() < 450
+    np.testing.assert_array_equal(got, hard)
+
+
+def test_a_straight_edge_gives_the_linear_ramp_of_the_disc_square():
+    cam, a = _cam(), 2.0
+    dm = _half_plane(7.0)  # the occluder 3 units above the ground (depth 10)
+    k = cam.fx * math.tan(math.radians(a))
+    h = DISC_SQUARE * k * 3.0 / cam.fx  # the kernel's half-width, world units (0.0929)
+    xs = np.linspace(-0.3, 0.3, 61)
+    vis = disc_visibility(_ground(xs), dm, cam, a)
+    # the edge lies at the texel boundary x = 0 (column 31.5): the box's covered fraction
+    want = np.clip((xs + h) / (2 * h), 0.0, 1.0)
+    np.testing.assert_allclose(vis, want, atol=1e-5)
+    assert vis[0] == 0.0 and vis[-1] == 1.0 and np.all(np.diff(vis) >= 0)
+
+
+def test_the_penumbra_widens_with_the_distance_to_the_occluder():
+    cam, a = _cam(), 3.0
+    xs = np.linspace(-0.5, 0.5, 201)
+    widths = []
+    for depth in (8.0, 6.0):  # occluder 2, then 4 units above the ground
+        vis = disc_visibility(_ground(xs), _half_plane(depth), cam, a)
+        pen = (vis > 0.0) & (vis < 1.0)
+        widths.append(xs[pen].max() - xs[pen].min())
+    assert widths[1] == pytest.approx(2.0 * widths[0], rel=0.1)
+
+
+def test_far_from_occluders_lit_and_under_a_wide_plate_umbra():
+    cam = _cam()
+    dm = np.full((N, N), np.inf, np.float32)
+    dm[16:48, 16:48] = 8.0  # a plate [-1, 1]^2, 2 units above the ground
+    vis = disc_visibility(np.array([[0.0, 0.0, 0.0], [1.9, 1.9, 0.0], [-1.95, 0.0, 0.0]]), dm, cam, 2.0)
+    assert list(vis) == [0.0, 1.0, 1.0]
+
+
+def test_the_compiled_loop_equals_its_python_reference(monkeypatch):
+    cam, rng = _cam(), np.random.default_rng(9)
+    dm = np.where(rng.random((N, N)) < 0.4, rng.uniform(5.0, 9.5, (N, N)), np.inf).astype(np.float32)
+    pts = np.c_[rng.uniform(-2.0, 2.0, (400, 2)), rng.uniform(0.0, 3.0, 400)]
+    got = disc_visibility(pts, dm, cam, 4.0)
+    monkeypatch.setattr(sundisc, "use_compiled", lambda _k: False)
+    np.testing.assert_allclose(disc_visibility(pts, dm, cam, 4.0), got, atol=1e-6)
+    assert 0 < ((got > 0) & (got < 1)).sum()
+
+
+def test_bad_arguments_raise():
+    cam = _cam()
+    dm = _half_plane(7.0)
+    persp = perspective(math.radians(60.0), (N, N), cam.cam2world)
+    with pytest.raises(ValidationError, match="orthographic CameraModel"):
+        disc_visibility(np.zeros((1, 3)), dm, persp, 1.0)
+    with pytest.raises(ValidationError, match=r"degrees in \[0, 90\)"):
+        disc_visibility(np.zeros((1, 3)), dm, cam, 95.0)
+    with pytest.raises(ValidationError, match="points"):
+        disc_visibility(np.zeros((1, 2)), dm, cam, 1.0)
+    bad = dm.copy()
+    bad[0, 0] = np.nan
+    with pytest.raises(ValidationError, match="NaN/-inf"):
+        disc_visibility(np.zeros((1, 3)), bad, cam, 1.0)
