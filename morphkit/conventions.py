@@ -92,7 +92,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["CV_FROM_GL", "BACKGROUND_DEPTH", "SIFT_KEYPOINT_OFFSET_PX", "DEFAULT_COLOR", "ALPHA_CUTOFF",
-           "NORMAL_ENCODING_DEG", "gl_pose_from_cv", "cv_pose_from_gl"]
+           "NORMAL_ENCODING_DEG", "SUN_DISC_RADIUS_DEG", "gl_pose_from_cv", "cv_pose_from_gl"]
 
 #: 4x4 change of camera frame OpenGL -> OpenCV (equal to its inverse).
 CV_FROM_GL: np.ndarray = np.diag([1.0, -1.0, -1.0, 1.0])

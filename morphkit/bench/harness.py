@@ -33,6 +33,7 @@ __all__ = [
     "Timing",
     "time_call",
     "time_calls",
+    "time_cycling",
     "auto_repeats",
     "make_row",
     "case_key",
@@ -204,7 +205,24 @@ def time_calls(fns: Mapping[str, Callable[[], Any]], *, repeats: int = 7,
 def time_cycling(fns: Mapping[str, Callable[[Any], Any]], inputs: Sequence[Any], *,
                  repeats: int = 7, warmup: int = 1) -> dict[str, Timing]:
     """:func:`time_calls` where each call takes the next of ``inputs`` (cycling),
-    e.g. object positions, so that successive calls do not repeat the same case."""
+    e.g. object positions, so that successive calls do not repeat the same case.
+
+    Parameters
+    ----------
+    fns : mapping of str to callable
+        Each method, called with one input.
+    inputs : sequence
+        The inputs, cycled per method.
+    repeats : int
+        Timed rounds.
+    warmup : int
+        Untimed rounds first.
+
+    Returns
+    -------
+    dict of str to Timing
+        Per method name.
+    """
     if len(inputs) == 0:
         raise ValueError("no inputs to cycle through")
     wrapped = {}

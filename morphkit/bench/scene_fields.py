@@ -62,9 +62,13 @@ from ..shadow.fieldshadow import FieldMap, FieldShadow
 from ..shadow.sunatlas import SunAtlas, bake_sun_atlas
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
-           "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE", "surface_receivers"]
+           "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE", "surface_receivers",
+           "RECEIVER_MARGIN", "CAMERA_AZIMUTH_DEG", "CAMERA_ELEVATION_DEG", "CAMERA_DISTANCE_FACTOR",
+           "CAMERA_DISTANCE_PAD"]
 
+#: The scene's two textured assets (built from photographs at run time, the plant alpha-masked).
 ASSETS = ("photo-crate", "leaf-plant")
+#: The field-shadow methods compared (module docstring).
 METHODS = ("atlas", "direct", "card-camera", "card-light")
 #: Sun-direction grids of the atlases (the sparse one is the recommended, the suite's default).
 DOMES: dict[str, ViewDome] = {
@@ -240,7 +244,7 @@ class Field:
 
 
 def score(fm: FieldMap, fld: Field, sun: np.ndarray) -> tuple[float, float, np.ndarray]:
-    """Shadow IoU (visibility < 0.5) and mean |visibility error| of a map against the truth.
+    """Shadow IoU (visibility < 0.5) and mean absolute visibility error of a map against the truth.
 
     Parameters
     ----------

@@ -5,7 +5,7 @@ Scene, methods and truth: :mod:`morphkit.bench.scene_fields` (two textured asset
 alpha-masked; random yaws; the receiver a ground grid over the field; truth the ray cast towards
 the exact sun with the leaves' cut-outs; methods ``atlas``, ``direct``, ``card-camera``,
 ``card-light``). Metrics: ``iou`` -- shadow IoU (visibility < 0.5) against the ray cast, mean over
-the suns (``iou_min`` the worst sun); ``mae`` -- mean |visibility error| over the grid.
+the suns (``iou_min`` the worst sun); ``mae`` -- mean absolute visibility error over the grid.
 
 Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks some):
 
@@ -74,6 +74,7 @@ from .scene_fields import (
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
            "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "SUN_FACING_COS"]
 
+#: The suite's name (``morphkit bench scene``).
 SUITE = "scene"
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "direct"
@@ -142,7 +143,9 @@ class ScenePlan:
     receiver_points: int = 40000
 
 
+#: The full run's cases.
 FULL = ScenePlan()
+#: ``--quick``'s cases (about 10 s).
 QUICK = ScenePlan(counts=(10,), suns=2, grid=160, atlas_size=64, impostor_frames=8, impostor_supersample=1,
                   change_counts=(10,), change_repeats=2, grid_domes=("sparse", "default"), grid_sizes=(64,),
                   grid_count=10, grid_suns=1, path_suns=8, path_count=10, receiver_counts=(10,),

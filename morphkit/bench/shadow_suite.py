@@ -34,7 +34,7 @@ as before: the camera drawn lit, then unlit; the warped map), ``once_warp`` and
 <morphkit.render.Renderer.frame_pass>`), ``once_direct`` (the direct frame: one pass and the
 light's map re-rendered every frame), ``camera_once`` / ``camera_two`` (the camera draws
 alone). ``vs_direct`` is a row's median over ``once_direct``'s; ``mean_levels`` the mean
-|shaded difference| of the one-pass frame against the two-render frame (levels of 255).
+absolute shaded difference of the one-pass frame against the two-render frame (levels of 255).
 
 Cut-outs (rows with ``what=cutout``, issue #24): the leaf plant of
 :func:`morphkit.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf

@@ -6,8 +6,8 @@ it; moving the light direction by an angle ``b`` moves the occluder's shadow by
 ``(z - d) tan b`` across the light, so the disc's penumbra is ``2 (z - d) tan a`` wide, in
 map texels ``2 fx (z - d) tan a`` (``fx`` texels per unit of the orthographic view). With
 one depth map along the disc's centre, the visible fraction of the disc is estimated by
-percentage-closer filtering with a kernel that wide (Reeves et al. 1987), its occluder depth
-``d`` from a blocker search first (PCSS, Fernando 2005), as :mod:`.filtered` does for the
+percentage-closer filtering with a kernel that wide (Reeves et al. [1]_), its occluder depth
+``d`` from a blocker search first (PCSS, Fernando [2]_), as :mod:`.filtered` does for the
 perspective maps of an area light's samples:
 
 1. **Search.** The texels that the square of half-width ``h_s = fx tan(a) (z - z_min)``
