@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from .cliargs import check_args
+from .cliargs import SOFT_FILTER, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError
 
@@ -266,8 +266,15 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     shadow from them; the comparisons' real meshes get the ray cast over the same sun directions."""
     import trimesh
 
+    from . import tol
     from .errors import ValidationError, expected_got
-    from .shadow.receivers import SCENE_ATLAS_SIZE, AtlasShadow, RayCastShadow, bake_scene_atlases
+    from .shadow.receivers import (
+        SCENE_ATLAS_SIZE,
+        AtlasShadow,
+        FilteredAtlasShadow,
+        RayCastShadow,
+        bake_scene_atlases,
+    )
 
     missing = [nm for nm in names if nm not in res.items]
     if missing:
@@ -281,7 +288,10 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     print(f"morphkit billboards: baking sun atlases of {', '.join(names)} ({SCENE_ATLAS_SIZE} texels)",
           file=sys.stderr)
     atlases = bake_scene_atlases(meshes, renderer)
-    samples = args.soft or 1
+    if args.soft == SOFT_FILTER:
+        return (FilteredAtlasShadow(atlases, disc_deg=args.sun_radius),
+                RayCastShadow(meshes, samples=tol.SUN_DISC_TRUTH_SAMPLES, disc_deg=args.sun_radius))
+    samples = int(args.soft or 1)
     return (AtlasShadow(atlases, samples=samples, disc_deg=args.sun_radius),
             RayCastShadow(meshes, samples=samples, disc_deg=args.sun_radius))
 
@@ -354,7 +364,8 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
                                  progress=args.frames >= 10)
     kind = "relit dome assets" if dome is not None else "ring assets"
     if args.shadows:
-        kind += f", shadows from sun atlases ({args.soft or 1} sun direction(s))"
+        kind += (", shadows from sun atlases (the disc filtered from one map)" if args.soft == SOFT_FILTER
+                 else f", shadows from sun atlases ({args.soft or 1} sun direction(s))")
     print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
           f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}; {kind}), "
           f"cache hit rate {summary['hit_rate']:.1%}")
@@ -542,9 +553,11 @@ def build_parser() -> argparse.ArgumentParser:
                     "(needs --sun-path and dome views): a sun atlas per asset (21 sun directions at 128 "
                     "texels) is baked from its mesh at the start of the run and kept for the run; the "
                     "comparison strips' real meshes get ray-cast shadows (the truth)")
-    bb.add_argument("--soft", type=int, default=None, metavar="N",
+    bb.add_argument("--soft", default=None, metavar="N|pcss",
                     help="with --shadows: a soft sun, N directions over its disc, one shadow map each, "
-                    "averaged (default: 1, a hard shadow)")
+                    "averaged; or pcss: one map along the disc's centre, filtered (percentage-closer "
+                    "soft shadows: about the error of 8 averaged maps and the smoothness of 16, at the "
+                    "cost of 1 to 4; docs/RESULTS.md) (default: a hard shadow)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
                     help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
                     "%(default)s; larger discs give wider penumbrae, up to 15)")

@@ -20,7 +20,7 @@ from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import ValidationError, expected_got
 from .validate import as_int
 
-__all__ = ["check_args", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE"]
+__all__ = ["check_args", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
 MIN_FRAME_SIDE = 16
@@ -72,6 +72,11 @@ def _billboards(args: argparse.Namespace) -> None:
                                            "(tol.MAX_IMAGE_PIXELS)", args.size))
 
 
+#: ``billboards --soft pcss``: the sun's disc filtered from one map
+#: (:class:`morphkit.shadow.receivers.FilteredAtlasShadow`) instead of N maps averaged.
+SOFT_FILTER = "pcss"
+
+
 def _billboard_shadows(args: argparse.Namespace) -> None:
     """``--shadows``, ``--soft``, ``--sun-radius`` of ``billboards``: the combinations that mean something."""
     shadows = getattr(args, "shadows", False)
@@ -88,7 +93,16 @@ def _billboard_shadows(args: argparse.Namespace) -> None:
     if args.views is not None and str(args.views) != "dome":
         raise ValidationError(expected_got("--shadows", "dome views (--views dome: relit billboards)",
                                            f"--views {args.views}"))
-    _count(args, "soft", "--soft", 1, tol.MAX_SUN_SAMPLES)
+    soft = getattr(args, "soft", None)
+    if soft is not None and str(soft).strip().lower() == SOFT_FILTER:
+        args.soft = SOFT_FILTER
+    elif soft is not None:
+        try:
+            count = int(str(soft))
+        except ValueError:
+            raise ValidationError(expected_got("--soft", f"an integer in [1, {tol.MAX_SUN_SAMPLES}] or "
+                                               f"{SOFT_FILTER}", soft)) from None
+        args.soft = as_int(count, "--soft", lo=1, hi=tol.MAX_SUN_SAMPLES)
     _finite(args, "sun_radius", "--sun-radius")
     if radius is not None and not 0.0 <= radius <= tol.MAX_SUN_DISC_DEG:
         raise ValidationError(expected_got("--sun-radius", f"degrees in [0, {tol.MAX_SUN_DISC_DEG:g}]",

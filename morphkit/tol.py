@@ -605,6 +605,13 @@ MAX_SUN_SAMPLES = 64
 #: per point grows with the square (a 33 x 33 box: about 1,100 reads).
 SUN_DISC_MAX_HALF_TEXELS = 16.0
 
+#: Directions over the disc of the ray-cast truth beside a filtered soft sun
+#: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
+#: several directions, and a frame's ray cast costs one pass per direction; 16 is within
+#: about 0.01 mean visibility of 64 over 1-4 degree discs (``scripts/sun_disc_bench.py``:
+#: 32 against 64 directions 0.009).
+SUN_DISC_TRUTH_SAMPLES = 16
+
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
 #: over a quarter of the sky, outside what a sun disc (a narrow cone) stands for.
 MAX_SUN_DISC_DEG = 15.0

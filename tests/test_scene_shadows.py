@@ -286,6 +286,7 @@ def test_modes_refuse_a_shadow_that_is_not_one():
     (["--shadows", "--sun-path", "day", "--soft", "0"], "--soft: expected an integer"),
     (["--shadows", "--sun-path", "day", "--soft", "2", "--sun-radius", "99"], "--sun-radius"),
     (["--shadows", "--sun-path", "day", "--sun-radius", "2"], "--sun-radius: expected together with --soft"),
+    (["--shadows", "--sun-path", "day", "--soft", "many"], "--soft: expected an integer in [1, 64] or pcss"),
 ])
 def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message):
     assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 1
@@ -323,3 +324,13 @@ def test_the_map_of_an_unchanged_sun_is_reused(atlases):
     assert shadow.last_maps[0] is first and shadow.field.reused == 1  # the same sun: reused
     shadow.frame(inst, [sun_direction(40.0, 45.0)], g, np.array([0, 1]))
     assert shadow.last_maps[0] is not first and shadow.field.reused == 0  # another sun: cleared, made anew
+
+
+@pytest.mark.gl
+def test_the_cli_draws_a_filtered_soft_sun(tmp_path, capsys):
+    out = tmp_path / "o"
+    argv = ["billboards", "--n", "4", "--frames", "2", "--size", "96x72", "--asset-size", "32", "--sun-path",
+            "day", "--shadows", "--soft", "PCSS", "--sun-radius", "2", "-o", str(out)]
+    assert main(argv) == 0
+    assert "the disc filtered from one map" in capsys.readouterr().out
+    assert (out / "billboards.json").exists() and len(list((out / "frames").glob("*.png"))) == 2
