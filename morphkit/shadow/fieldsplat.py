@@ -219,25 +219,9 @@ class SplatDrawer:
 
     name = "splat"
 
-    def __init__(self) -> None:
-        self._packed: dict[int, tuple[np.ndarray, ...]] = {}
-
     def clear(self) -> None:
-        """Drop the packed atlas points (made again on the next draw)."""
-        self._packed.clear()
-
-    def _pack(self, atlas: SunAtlas) -> tuple[np.ndarray, ...]:
-        """An atlas's view points, concatenated: ``(points, normals, starts, lengths, directions)``."""
-        got = self._packed.get(id(atlas))
-        if got is None:
-            parts = [atlas.view_points(k) for k in range(atlas.dome.views)]
-            lens = np.array([len(p[0]) for p in parts], np.int64)
-            starts = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)
-            pts = np.ascontiguousarray(np.concatenate([p[0] for p in parts]), dtype=np.float32)
-            nrm = np.ascontiguousarray(np.concatenate([p[1] for p in parts]), dtype=np.float32)
-            dirs = direction(atlas.dome.azimuths_deg(), atlas.dome.elevations_deg()).reshape(-1, 3)
-            got = self._packed[id(atlas)] = (pts, nrm, starts, lens, dirs)
-        return got
+        """Nothing to drop: the drawer keeps nothing between draws (each atlas keeps its own
+        points, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
 
     def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
              camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
@@ -269,7 +253,7 @@ class SplatDrawer:
         for a, nm in enumerate(names):
             if not np.any(instances.asset[kept] == a):
                 continue
-            pts, nrm, starts, lens, dirs = self._pack(atlases[nm])
+            pts, nrm, starts, lens, dirs = atlases[nm].packed_points()
             offsets[a] = len(blocks)
             blocks.append((pts, nrm, starts + base, lens, dirs))
             base += len(pts)

@@ -51,6 +51,7 @@ drawn) and coverage as uint8: :data:`BYTES_PER_TEXEL` bytes a texel
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import trimesh
@@ -69,8 +70,8 @@ from ..scene import Item
 from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
 
-__all__ = ["SunAtlas", "bake_sun_atlas", "sun_in_object", "instance_frame", "ground_visibility",
-           "ground_shadow", "sun_direction", "BYTES_PER_TEXEL"]
+__all__ = ["SunAtlas", "AtlasPoints", "bake_sun_atlas", "sun_in_object", "instance_frame",
+           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL"]
 
 #: Stored bytes per atlas texel: float16 depth and uint8 coverage.
 BYTES_PER_TEXEL = 3
@@ -165,6 +166,26 @@ def sun_in_object(pose: np.ndarray, sun_dir_world: np.ndarray) -> np.ndarray | N
         return None
     c, s = np.cos(np.radians(yaw)), np.sin(np.radians(yaw))
     return np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1], d[2]])
+
+
+class AtlasPoints(NamedTuple):
+    """A sun atlas's surface points, all views concatenated (:meth:`SunAtlas.packed_points`).
+
+    Parameters
+    ----------
+    points, normals : (P, 3) float32
+        Object frame; a normal of zeros is unknown.
+    starts, lengths : (V,) int64
+        Each view's first point and count.
+    directions : (V, 3) float64
+        Each view's direction (towards the view, object frame).
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    starts: np.ndarray
+    lengths: np.ndarray
+    directions: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -326,6 +347,27 @@ class SunAtlas:
             pts.setflags(write=False)
             nrm.setflags(write=False)
             got = self._points[k] = (pts, nrm)
+        return got
+
+    def packed_points(self) -> AtlasPoints:
+        """Every view's :meth:`view_points`, concatenated in view order (made once, cached).
+
+        Returns
+        -------
+        AtlasPoints
+            The points, their normals, each view's first point and count, and each view's
+            direction (towards it, object frame).
+        """
+        got = self._points.get("packed")
+        if got is None:
+            parts = [self.view_points(k) for k in range(self.dome.views)]
+            lens = np.array([len(p[0]) for p in parts], np.int64)
+            got = self._points["packed"] = AtlasPoints(
+                np.ascontiguousarray(np.concatenate([p[0] for p in parts]), dtype=np.float32),
+                np.ascontiguousarray(np.concatenate([p[1] for p in parts]), dtype=np.float32),
+                np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
+                np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
+                                     .reshape(-1, 3), dtype=np.float64))
         return got
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
