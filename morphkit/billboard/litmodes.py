@@ -425,14 +425,11 @@ class LitMode:
                                                        type(asset).__name__))
                 checked.add(pl.asset)
             surf = self.surface(asset, pl)
-            vis = None
-            if fs is not None:
-                a, e = self._direction(pl)
-                vis = surface_visibility(fs, surf, asset.camera(a, e, pl.level), inst.object2world(pl.index))
+            view = asset.camera(*self._direction(pl), pl.level) if fs is not None or points_lit else None
+            vis = None if fs is None else surface_visibility(fs, surf, view, inst.object2world(pl.index))
             if points_lit:  # point lights: the general model, at the surface's points
                 local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
-                a, e = self._direction(pl)
-                points = asset.camera(a, e, pl.level).unproject(surf.depth)[0]
+                points = view.unproject(surf.depth)[0]
                 image = shade(surf, local, points, vis)
                 image[..., :3] = decode_premultiplied(image)
             else:  # suns: their rows turned into the instance's frame by its yaw (rows times Rz)
