@@ -34,7 +34,7 @@ from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
-from morphkit.shadow.fieldbaselines import direct_field_map, posed_field_mesh, ray_cast_field
+from morphkit.shadow.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
 from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
 from morphkit.shadow.fieldsplat import SplatDrawer
 from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
@@ -79,7 +79,7 @@ def main() -> None:
             xs = np.linspace(rect[0], rect[2], args.grid)
             X, Y = np.meshgrid(xs, xs)
             pts = np.stack([X, Y, np.zeros_like(X)], -1).reshape(-1, 3)
-            posed = posed_field_mesh(meshes, inst)
+            posed = posed_asset_meshes(meshes, inst)
             fs = FieldShadow(atlases, SplatDrawer() if args.drawer == "splat" else MorphDrawer())
             direct_field_map(fs, norm, r, inst, SUNS[0], tpu, rect)  # warm the context at this size
             sc, t_cold, t_warm, t_direct, t_truth, shapes, views = [], [], [], [], [], [], []

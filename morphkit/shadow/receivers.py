@@ -39,11 +39,11 @@ box), never too small.
 ``r`` (default the real sun's, :data:`~morphkit.conventions.SUN_DISC_RADIUS_DEG`; a larger
 disc is allowed up to :data:`~morphkit.tol.MAX_SUN_DISC_DEG`): a Vogel (golden-angle)
 spiral, point ``i`` at angle ``r sqrt((i + 1/2) / N)`` from the centre, evenly spread by
-area (``N = 1``: the centre). Each direction gets its own hard visibility (one field map:
-the builder caches its light views per quantised object-frame sun, so nearby directions
-share them; or one ray cast) and the visibilities are averaged, each with weight ``1 / N``
-(Kang & Ihm's accumulation of light samples). The ray-cast truth takes the same directions,
-so the two compare sample for sample.
+area (``N = 1``: the centre). Each direction gets its own hard visibility (one field map, or
+one ray cast) and the visibilities are averaged, each with weight ``1 / N`` (Kang & Ihm's
+accumulation of light samples). The ray-cast truth takes the same directions, so the two
+compare sample for sample. :class:`FilteredAtlasShadow` instead filters one map along the
+disc's centre (:mod:`.sundisc`, percentage-closer soft shadows).
 
 **Atlases on demand** (:func:`bake_scene_atlases`). A scene's assets get their sun atlases
 baked from their meshes when first needed, at :data:`SCENE_ATLAS_SIZE` texels over
@@ -74,7 +74,7 @@ from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..validate import as_direction, as_finite_array, as_int, as_positive
-from .fieldbaselines import posed_field_mesh, ray_cast_field
+from .fieldbaselines import posed_asset_meshes, ray_cast_field
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import SunAtlas, bake_sun_atlas, sun_direction
 from .sundisc import disc_visibility
@@ -504,11 +504,12 @@ class RayCastShadow:
         self.samples = int(samples)
         self.disc_deg = float(disc_deg)
         self.name = str(name)
-        self._posed: tuple[Instances, trimesh.Trimesh | None] | None = None
+        self._posed: tuple[Instances, list[trimesh.Trimesh]] | None = None
 
-    def _body(self, instances: Instances) -> trimesh.Trimesh | None:
+    def _bodies(self, instances: Instances) -> list[trimesh.Trimesh]:
+        """The posed meshes, one per asset, each keeping its look (its cut-outs cast nothing)."""
         if self._posed is None or self._posed[0] is not instances:
-            self._posed = (instances, posed_field_mesh(self.meshes, instances))
+            self._posed = (instances, posed_asset_meshes(self.meshes, instances))
         return self._posed[1]
 
     def frame(self, instances: Instances, suns: Sequence[np.ndarray], ground: np.ndarray,
@@ -531,10 +532,10 @@ class RayCastShadow:
         FrameShadow
             One row per sun.
         """
-        body = self._body(instances)
+        body = self._bodies(instances)
         per_sun: list[tuple[list, float]] = []
         for d in suns:
-            if body is None or field_sun(d) is None:
+            if not body or field_sun(d) is None:
                 per_sun.append(([], 0.0))
                 continue
             disc = sun_disc(d, self.samples, self.disc_deg)
@@ -547,7 +548,7 @@ class _RayCast:
     """``points -> visibility`` of one sun direction by :func:`ray_cast_field`."""
 
     def __init__(self, meshes: Mapping[str, trimesh.Trimesh], instances: Instances, d: np.ndarray,
-                 body: trimesh.Trimesh) -> None:
+                 body: list[trimesh.Trimesh]) -> None:
         self.meshes, self.instances, self.d, self.body = meshes, instances, d, body
 
     def __call__(self, points: np.ndarray) -> np.ndarray:
