@@ -514,9 +514,10 @@ class FieldShadow:
             Bad arguments; a field view over :data:`~morphkit.tol.MAX_TEXTURE_SIDE` a side.
         """
         plan = self.plan(instances, sun_dir_world, texels_per_unit, receiver)
-        key = (id(instances), instances.xy.tobytes(), instances.yaw_deg.tobytes(), instances.scale.tobytes(),
-               instances.asset.tobytes(), np.asarray(sun_dir_world, np.float64).tobytes(),
-               float(texels_per_unit), None if receiver is None else tuple(map(float, receiver)))
+        key = (instances.names, instances.xy.tobytes(), instances.yaw_deg.tobytes(),
+               instances.scale.tobytes(), instances.asset.tobytes(),
+               np.asarray(sun_dir_world, np.float64).tobytes(), float(texels_per_unit),
+               None if receiver is None else tuple(map(float, receiver)))
         if self._last is not None and self._last[0] == key:
             self.reused += 1
             return self._last[1]
