@@ -13,7 +13,7 @@ from morphkit import bench
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 
-SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal"}
+SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal", "sun-disc"}
 
 
 def test_suite_is_registered_with_its_sections():
@@ -62,7 +62,8 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert {r["params"]["section"] for r in rows} == SECTIONS
     printed = capsys.readouterr().out
     assert "atlas-cold" in printed  # the harness's table
-    titles = ("accuracy (", "per asset (", "receivers (", "sun change (", "atlas grid vs", "temporal (")
+    titles = ("accuracy (", "per asset (", "receivers (", "sun change (", "atlas grid vs", "temporal (",
+              "sun disc (")
     for title in titles:  # markdown
         assert title in printed
     for r in rows:
@@ -84,6 +85,11 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
         assert 0.0 <= m["iou_min"] <= m["iou"] <= 1.0 and 0.0 <= m["mae"] < 0.5
     # a flat card through the pivot cannot shadow the instances' own surfaces as their depth does
     assert rec["atlas"]["metrics"]["iou"] > rec["card-light"]["metrics"]["iou"]
+    disc = {r["method"]: r for r in rows if r["params"]["section"] == "sun-disc"}
+    assert set(disc) == {"avg-4", "pcss", "ray-cast"}
+    for name in ("avg-4", "pcss"):
+        m = disc[name]["metrics"]
+        assert 0.0 < m["mae"] < 0.5 and 0.0 < m["banding"] < 1.0
     change = [r for r in rows if r["params"]["section"] == "sun-change"]
     assert {(r["method"], r["params"]["faces"]) for r in change} == {
         (m, f) for m in ("atlas-cold", "atlas-warm", "direct") for f in (6000, 50000)}

@@ -23,6 +23,12 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels (as the billboard frames'
   receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
+* ``sun-disc`` -- a soft sun (issues #26, #27): for the plan's radii and suns, ``avg-K`` (K field
+  maps over the disc, :func:`~morphkit.shadow.receivers.sun_disc`, averaged) and ``pcss`` (one
+  map along the centre, filtered: :func:`~morphkit.shadow.sundisc.disc_visibility`) against the
+  fraction of ``disc_truth`` directions the ray cast sees from each ground point; ``mae`` over
+  the points the truth or the estimate do not see fully lit, ``banding``
+  (:func:`~morphkit.bench.soft_suite.banding`), ``ms`` the maps and the lookups of a new sun.
 * ``sun-change`` -- ms a sun change, 100 and 1000 instances, each asset subdivided to ~6k and
   >= 50k faces: ``atlas-cold`` (cache emptied, a new sun), ``atlas-warm`` (the same sun again
   right after: every view cached), ``direct`` (all posed meshes drawn from the sun; context
@@ -57,6 +63,8 @@ from .. import tol
 from ..metrics import shadow_iou
 from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
+from ..shadow.receivers import sun_disc
+from ..shadow.sundisc import disc_visibility
 from .harness import Timing, make_row, pick_sections, section_name, time_cycling
 from .scene_fields import (
     ASSETS,
@@ -70,6 +78,7 @@ from .scene_fields import (
     score,
     surface_receivers,
 )
+from .soft_suite import banding
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
            "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "SUN_FACING_COS"]
@@ -122,6 +131,14 @@ class ScenePlan:
         ``receivers``' instance counts.
     receiver_points : int
         Its surface points drawn per asset.
+    disc_count, disc_grid : int
+        ``sun-disc``'s instances and ground points a side.
+    disc_radii : tuple of float
+        Its disc radii, degrees.
+    disc_suns, disc_truth : int
+        Its suns, and the directions over each disc its truth ray-casts.
+    disc_averaged : tuple of int
+        The map counts of its ``avg-K`` rows.
     """
 
     counts: tuple[int, ...] = (10, 100, 1000)
@@ -141,6 +158,12 @@ class ScenePlan:
     path_count: int = 100
     receiver_counts: tuple[int, ...] = (10, 100)
     receiver_points: int = 40000
+    disc_count: int = 30
+    disc_grid: int = 256
+    disc_radii: tuple[float, ...] = (0.267, 1.0, 2.0, 4.0)
+    disc_suns: int = 2
+    disc_truth: int = 64
+    disc_averaged: tuple[int, ...] = (4, 8, 16)
 
 
 #: The full run's cases.
@@ -149,7 +172,8 @@ FULL = ScenePlan()
 QUICK = ScenePlan(counts=(10,), suns=2, grid=160, atlas_size=64, impostor_frames=8, impostor_supersample=1,
                   change_counts=(10,), change_repeats=2, grid_domes=("sparse", "default"), grid_sizes=(64,),
                   grid_count=10, grid_suns=1, path_suns=8, path_count=10, receiver_counts=(10,),
-                  receiver_points=4000)
+                  receiver_points=4000, disc_count=10, disc_grid=96, disc_radii=(2.0,), disc_suns=1,
+                  disc_truth=16, disc_averaged=(4,))
 
 
 def _summary(vals: list[float]) -> tuple[float, float]:
@@ -416,6 +440,59 @@ def _steps(masks: list[np.ndarray]) -> np.ndarray:
     return np.array([float(np.mean(a != b)) for a, b in zip(masks[:-1], masks[1:], strict=True)])
 
 
+def sun_disc_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
+    """A soft sun: K maps over the disc averaged against one map filtered (module docstring).
+
+    Parameters
+    ----------
+    kit : SceneKit
+        Assets and fields.
+    plan : ScenePlan
+        The cases.
+
+    Returns
+    -------
+    list of dict
+        One row per sun, radius and method (and the truth's time).
+    """
+    rows: list[dict[str, Any]] = []
+    atl = kit.atlases()
+    fld = kit.field(plan.disc_count, plan.disc_grid)
+    fs = FieldShadow(atl)
+    tpu = field_tpu(atl, fld.rect)
+    g = plan.disc_grid
+    for sun in day_suns(plan.disc_suns):
+        for radius in plan.disc_radii:
+            t0 = time.perf_counter()
+            seen = [ray_cast_field(fld.meshes, fld.instances, d, fld.points, posed=fld.posed)
+                    for d in sun_disc(sun, plan.disc_truth, radius)]
+            truth = np.mean(seen, axis=0)
+            truth_s = time.perf_counter() - t0
+            params = {"section": "sun-disc", "instances": plan.disc_count, "grid": g, "radius_deg": radius,
+                      "elevation_deg": round(float(np.degrees(np.arcsin(sun[2]))), 1)}
+            for k in (*plan.disc_averaged, 0):
+                times, est = [], np.ones(len(fld.points), np.float32)
+                for _ in range(2):  # the second is timed too: both are new builds (cache emptied)
+                    fs.clear()
+                    t0 = time.perf_counter()
+                    if k:
+                        maps = [fs.build(fld.instances, d, tpu, fld.rect) for d in sun_disc(sun, k, radius)]
+                        est = np.mean([m.visibility(fld.points) for m in maps], axis=0)
+                    else:
+                        m = fs.build(fld.instances, sun, tpu, fld.rect)
+                        est = (disc_visibility(fld.points, m.depth, m.camera, radius) if m.camera is not None
+                               else np.ones(len(fld.points), np.float32))
+                    times.append(time.perf_counter() - t0)
+                region = (truth < 1.0 - tol.PENUMBRA_EPS) | (est < 1.0 - tol.PENUMBRA_EPS)
+                mae = float(np.abs(est - truth)[region].mean()) if region.any() else 0.0
+                metrics = {"mae": mae, "banding": banding(est.reshape(g, g), truth.reshape(g, g))}
+                rows.append(make_row(SUITE, f"avg-{k}" if k else "pcss", params, Timing.from_seconds(times),
+                                     metrics=metrics, note="maps and lookups, a new sun"))
+            rows.append(make_row(SUITE, "ray-cast", params, Timing.from_seconds([truth_s]),
+                                 note=f"the truth: {plan.disc_truth} directions over the disc"))
+    return rows
+
+
 def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
     """Shadow change per step along the day's path (module docstring).
 
@@ -482,7 +559,8 @@ def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
 
 #: The suite's sections, in order; each ``(kit, plan) -> rows``.
 SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
-    accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows]
+    accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows,
+    sun_disc_rows]
 
 
 Section = Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]
@@ -567,6 +645,13 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
         out += ["sun change (ms, medians, interleaved):", ""]
         out += _md(["instances", "faces an asset", "atlas cold", "atlas warm", "direct", "cold / direct",
                     "warm / direct", "atlas flat", "direct flat"], lines) + [""]
+    disc = [r for r in of("sun-disc") if r["method"] != "ray-cast"]
+    if disc:
+        out += ["sun disc (a soft sun: K maps averaged or one filtered; error over shadow and penumbra):", ""]
+        out += _md(["sun elevation", "disc radius", "method", "mae", "banding", "ms"],
+                   [[f"{r['params']['elevation_deg']:g}", f"{r['params']['radius_deg']:g}", r["method"],
+                     f"{r['metrics']['mae']:.4f}", f"{r['metrics']['banding']:.4f}", f"{r['ms_median']:.0f}"]
+                    for r in disc]) + [""]
     grid = of("atlas-grid")
     if grid:
         out += ["atlas grid vs error vs bytes:", ""]
