@@ -557,7 +557,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="with --shadows: a soft sun, N directions over its disc, one shadow map each, "
                     "averaged; or pcss: one map along the disc's centre, filtered (percentage-closer "
                     "soft shadows: about the error of 8 averaged maps and the smoothness of 16, at the "
-                    "cost of 1 to 5; docs/RESULTS.md) (default: a hard shadow)")
+                    "cost of 1 to 10; docs/RESULTS.md) (default: a hard shadow)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
                     help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
                     "%(default)s; larger discs give wider penumbrae, up to 15)")
