@@ -100,3 +100,16 @@ def test_bad_arguments_raise():
     bad[0, 0] = np.nan
     with pytest.raises(ValidationError, match="NaN/-inf"):
         disc_visibility(np.zeros((1, 3)), bad, cam, 1.0)
+
+
+def test_a_prepared_map_answers_as_a_one_off_lookup():
+    from morphkit.shadow.sundisc import DiscMap
+
+    cam, rng = _cam(), np.random.default_rng(11)
+    dm = np.where(rng.random((N, N)) < 0.4, rng.uniform(5.0, 9.5, (N, N)), np.inf).astype(np.float32)
+    prepared = DiscMap(dm, cam)
+    for radius in (0.0, 1.5, 4.0):
+        pts = np.c_[rng.uniform(-2.0, 2.0, (300, 2)), rng.uniform(0.0, 3.0, 300)]
+        np.testing.assert_array_equal(prepared.visibility(pts, radius), disc_visibility(pts, dm, cam, radius))
+    empty = DiscMap(np.full((N, N), np.inf, np.float32), cam)
+    assert (empty.visibility(np.zeros((4, 3)), 2.0) == 1.0).all()

@@ -77,7 +77,7 @@ from ..validate import as_direction, as_finite_array, as_int, as_positive
 from .fieldbaselines import posed_asset_meshes, ray_cast_field
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import SunAtlas, bake_sun_atlas, sun_direction
-from .sundisc import disc_visibility
+from .sundisc import DiscMap
 
 __all__ = ["sun_disc", "frame_receiver", "FrameShadow", "SceneShadow", "AtlasShadow", "FilteredAtlasShadow",
            "RayCastShadow",
@@ -471,7 +471,7 @@ class FilteredAtlasShadow(AtlasShadow):
         self.last_maps.append(m)
         if m.camera is None or m.depth is None:
             return []
-        return [partial(disc_visibility, depth_map=m.depth, light_cam=m.camera, radius_deg=self.disc_deg)]
+        return [partial(DiscMap(m.depth, m.camera).visibility, radius_deg=self.disc_deg)]
 
 
 def _lit(points: np.ndarray) -> np.ndarray:

@@ -53,7 +53,7 @@ from ..settings import compile_kernel, use_compiled
 from ..validate import as_finite_array
 from .lookup import check_depth_map
 
-__all__ = ["disc_visibility"]
+__all__ = ["disc_visibility", "DiscMap"]
 
 #: Half-width of the square of a disc's area per unit radius: ``sqrt(pi) / 2``.
 DISC_SQUARE = math.sqrt(math.pi) / 2.0
@@ -117,10 +117,75 @@ def _disc_loop(vis: np.ndarray, pts: np.ndarray, T: np.ndarray, dm: np.ndarray, 
 _disc_kernel = compile_kernel(_disc_loop, error_model="numpy")
 
 
+class DiscMap:
+    """One orthographic map prepared for :func:`disc_visibility`'s lookups: checked once, its
+    drawn texels' summed-area table and nearest depth made once (a frame looks up once per
+    billboard; each lookup would otherwise pass over the whole map three times).
+
+    Parameters
+    ----------
+    depth_map : (H, W) float32
+        The light view's depth (``+inf`` where empty).
+    light_cam : CameraModel
+        Its orthographic camera, looking along the disc's centre.
+
+    Raises
+    ------
+    ValidationError
+        A camera that is not orthographic, a bad map.
+    """
+
+    def __init__(self, depth_map: np.ndarray, light_cam: CameraModel) -> None:
+        if not isinstance(light_cam, CameraModel) or light_cam.projection != "orthographic":
+            got = light_cam.projection if isinstance(light_cam, CameraModel) else type(light_cam).__name__
+            raise ValidationError(expected_got("light_cam", "an orthographic CameraModel (a sun view)", got))
+        self.depth = np.ascontiguousarray(check_depth_map(depth_map, light_cam.shape), np.float32)
+        self.camera = light_cam
+        drawn = np.isfinite(self.depth)
+        self.empty = not drawn.any()
+        self.z_min = float(self.depth[drawn].min()) if not self.empty else float("inf")
+        self.sat = cv2.integral(drawn.astype(np.uint8))  # (H + 1, W + 1) int32
+        self.T = np.ascontiguousarray(light_cam.texture_matrix()[:3], np.float64)
+
+    def visibility(self, points: np.ndarray, radius_deg: float) -> np.ndarray:
+        """Fraction ``(N,)`` float32 of the disc each world point sees (module docstring).
+
+        Parameters
+        ----------
+        points : (N, 3) float
+            Receiver points, world frame.
+        radius_deg : float
+            The disc's angular radius, degrees, in ``[0, 90)``.
+
+        Returns
+        -------
+        (N,) float32
+            In ``[0, 1]``: 1 the whole disc seen.
+
+        Raises
+        ------
+        ValidationError
+            Points not ``(N, 3)`` finite, a bad radius.
+        """
+        pts = np.ascontiguousarray(as_finite_array(points, "points", shape=(None, 3)), np.float64)
+        a = float(radius_deg)
+        if not (np.isfinite(a) and 0.0 <= a < 90.0):
+            raise ValidationError(expected_got("radius_deg", "degrees in [0, 90)", radius_deg))
+        vis = np.ones(len(pts), np.float32)
+        if self.empty or len(pts) == 0:
+            return vis
+        fx = float(self.camera.fx)
+        args = (vis, pts, self.T, self.depth, self.sat, self.z_min, fx * math.tan(math.radians(a)),
+                tol.SUN_GROUND_BIAS_TEXELS / fx, fx, float(tol.PENUMBRA_MIN_HALF_TEXEL),
+                float(tol.SUN_DISC_MAX_HALF_TEXELS), float(tol.PENUMBRA_EPS))
+        (_disc_kernel if use_compiled(_disc_kernel) else _disc_loop)(*args)
+        return vis
+
+
 def disc_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: CameraModel,
                     radius_deg: float) -> np.ndarray:
     """Fraction ``(N,)`` float32 of a sun disc each world point sees, from one orthographic map
-    along its centre (module docstring).
+    along its centre (module docstring; one lookup: :class:`DiscMap` for many on one map).
 
     Parameters
     ----------
@@ -143,23 +208,4 @@ def disc_visibility(points: np.ndarray, depth_map: np.ndarray, light_cam: Camera
     ValidationError
         Points not ``(N, 3)`` finite, a camera that is not orthographic, a bad map or radius.
     """
-    pts = np.ascontiguousarray(as_finite_array(points, "points", shape=(None, 3)), np.float64)
-    if not isinstance(light_cam, CameraModel) or light_cam.projection != "orthographic":
-        raise ValidationError(expected_got("light_cam", "an orthographic CameraModel (a sun's view)",
-                                           type(light_cam).__name__ if not isinstance(light_cam, CameraModel)
-                                           else light_cam.projection))
-    dm = np.ascontiguousarray(check_depth_map(depth_map, light_cam.shape), np.float32)
-    a = float(radius_deg)
-    if not (np.isfinite(a) and 0.0 <= a < 90.0):
-        raise ValidationError(expected_got("radius_deg", "degrees in [0, 90)", radius_deg))
-    vis = np.ones(len(pts), np.float32)
-    drawn = np.isfinite(dm)
-    if not drawn.any() or len(pts) == 0:
-        return vis
-    fx = float(light_cam.fx)
-    sat = cv2.integral(drawn.astype(np.uint8))  # (H + 1, W + 1) int32
-    args = (vis, pts, np.ascontiguousarray(light_cam.texture_matrix()[:3], np.float64), dm, sat,
-            float(dm[drawn].min()), fx * math.tan(math.radians(a)), tol.SUN_GROUND_BIAS_TEXELS / fx, fx,
-            float(tol.PENUMBRA_MIN_HALF_TEXEL), float(tol.SUN_DISC_MAX_HALF_TEXELS), float(tol.PENUMBRA_EPS))
-    (_disc_kernel if use_compiled(_disc_kernel) else _disc_loop)(*args)
-    return vis
+    return DiscMap(depth_map, light_cam).visibility(points, radius_deg)
