@@ -22,6 +22,8 @@ from .cliargs import SOFT_FILTER, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError
 
+#: The bench suites that take ``--sections``.
+SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from .demo import previous_demo, run_demo
@@ -68,9 +70,14 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             print("morphkit: error: --workers is an option of `bench bake` only", file=sys.stderr)
             return 2
         options["workers"] = args.workers
+    if args.assets is not None:
+        if args.suite != "bake":
+            print("morphkit: error: --assets is an option of `bench bake` only", file=sys.stderr)
+            return 2
+        options["assets"] = args.assets
     if args.sections is not None:
-        if args.suite not in ("billboards", "scene"):
-            print("morphkit: error: --sections is an option of `bench billboards` and `bench scene` only",
+        if args.suite not in SECTIONED_SUITES:
+            print(f"morphkit: error: --sections is an option of `bench {'|'.join(SECTIONED_SUITES)}` only",
                   file=sys.stderr)
             return 2
         options["sections"] = args.sections
@@ -422,10 +429,14 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--workers", type=int, nargs="+", default=None, metavar="N",
                    help="bake only: the local worker counts to time (default 1 2; 1 is always included); "
                    "reports the speed-up curve, per-worker start-up and a 16-worker projection")
+    b.add_argument("--assets", type=int, default=None, metavar="N",
+                   help="bake only: the library's size (its 16 meshes repeated, each copy turned; "
+                   "default 16): e.g. 256 on a machine with 16 cores")
     b.add_argument("--sections", default=None, metavar="NAMES",
-                   help="billboards and scene only: run only these sections, comma-separated "
-                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal; "
-                   "names: the suite's section functions less _rows)")
+                   help=f"{', '.join(SECTIONED_SUITES)} only: run only these sections, comma-separated "
+                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal; shadows: "
+                   "accuracy,cutout,control-grid,complexity,frame,frame-once; render: depth,accuracy,"
+                   "fidelity,pass; names: the suite's section functions less _rows)")
     b.add_argument("--instances", type=int, nargs="+", default=None, metavar="N",
                    help="scene only: the instance counts of its accuracy and sun-change sections "
                    "(default 10 100 1000 and 100 1000; --quick 10)")

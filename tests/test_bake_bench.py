@@ -78,3 +78,31 @@ def test_library_meshes_load_upright(tmp_path):
         np.testing.assert_allclose(loaded.bounds, built.bounds, atol=1e-6)
         np.testing.assert_allclose(loaded.extents, built.extents, atol=1e-6)
         assert loaded.extents[2] < loaded.extents[:2].max()  # the teapot is wider than high
+
+
+def test_library_of_n_assets_repeats_its_meshes_each_copy_turned(tmp_path):
+    """--assets N: N distinct inputs (distinct hashes), copy k turned k degrees about the up axis."""
+    import hashlib
+
+    import trimesh
+
+    from morphkit.bench.bake_suite import LIBRARY, write_library
+    from morphkit.meshes import load_mesh
+
+    n_lib = len(LIBRARY[::2])
+    paths = write_library(tmp_path, quick=True, assets=n_lib + 3)
+    assert len(paths) == n_lib + 3
+    assert len({hashlib.sha256(p.read_bytes()).hexdigest() for p in paths}) == len(paths)
+    assert paths[0].suffix == ".ply"  # written as built (+z up)
+    first, copy = (trimesh.load(paths[i], process=False) for i in (0, n_lib))  # the same mesh, copy 1
+    c, s = np.cos(np.deg2rad(1.0)), np.sin(np.deg2rad(1.0))
+    turned = first.vertices @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    np.testing.assert_allclose(copy.vertices, turned, atol=1e-5)
+    assert len(load_mesh(paths[n_lib]).faces) == len(first.faces)
+    with pytest.raises(ValidationError, match="library assets"):
+        write_library(tmp_path / "none", quick=True, assets=0)
+
+
+def test_assets_is_an_option_of_bench_bake_only(capsys):
+    assert main(["bench", "warp", "--quick", "--assets", "32"]) == 2
+    assert "--assets is an option of `bench bake` only" in capsys.readouterr().err

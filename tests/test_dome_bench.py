@@ -41,11 +41,25 @@ def test_dome_sections_are_appended_and_selectable_by_name():
         bs.selected_sections("dome-bands,no-such-section")
 
 
-def test_bench_sections_flag_is_for_the_billboards_and_scene_suites_only(capsys):
+def test_bench_sections_flag_is_for_the_sectioned_suites_only(capsys):
     from morphkit.cli import main
 
     assert main(["bench", "warp", "--quick", "--sections", "pair"]) == 2
-    assert "--sections is an option of `bench billboards` and `bench scene` only" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--sections is an option of `bench billboards|scene|shadows|render` only" in err
+
+
+def test_shadows_and_render_suites_name_their_sections():
+    from morphkit.bench import render_suite, shadow_suite
+    from morphkit.bench.harness import pick_sections, section_name
+
+    assert [section_name(s) for s in shadow_suite.SECTIONS] == [
+        "accuracy", "cutout", "control-grid", "complexity", "frame", "frame-once"]
+    assert [section_name(s) for s in render_suite.SECTIONS] == ["depth", "accuracy", "fidelity", "pass"]
+    with pytest.raises(ValidationError, match="no-such"):
+        pick_sections("complexity,no-such", shadow_suite.SECTIONS)
+    with pytest.raises(ValidationError, match="no-such"):
+        shadow_suite.run(sections="no-such")
 
 
 @pytest.mark.gl

@@ -93,8 +93,8 @@ class Timing:
 
 
 def section_name(section: Callable[..., Any]) -> str:
-    """A suite section's name: its function's name less ``_rows``, dashes for underscores
-    (``dome_bands_rows`` -> ``dome-bands``).
+    """A suite section's name: its function's name less ``_rows`` and a leading underscore, dashes
+    for underscores (``dome_bands_rows`` -> ``dome-bands``, ``_control_grid_rows`` -> ``control-grid``).
 
     Parameters
     ----------
@@ -106,7 +106,7 @@ def section_name(section: Callable[..., Any]) -> str:
     str
         The name.
     """
-    return section.__name__.removesuffix("_rows").replace("_", "-")
+    return section.__name__.removesuffix("_rows").lstrip("_").replace("_", "-")
 
 
 def pick_sections(names: str | None, sections: Sequence[Callable[..., Any]]) -> list[Callable[..., Any]]:

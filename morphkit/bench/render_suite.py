@@ -50,7 +50,7 @@ from ..meshes import sample_mesh
 from ..metrics import psnr
 from ..render import Renderer
 from ..scene import PointLight, light_view
-from .harness import Timing, make_row, time_call, time_calls
+from .harness import Timing, make_row, pick_sections, section_name, time_call, time_calls
 
 __all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
@@ -211,13 +211,19 @@ def _pass_rows(renderer: Renderer, quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
-def run(*, quick: bool = False) -> list[dict[str, Any]]:
+#: The suite's sections in their order (``--sections``: depth, accuracy, fidelity, pass).
+SECTIONS = (_depth_rows, _accuracy_rows, _fidelity_rows, _pass_rows)
+
+
+def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, Any]]:
     """Run the suite (the rows are described in the module docstring).
 
     Parameters
     ----------
     quick : bool
         The reduced sweep (two mesh sizes).
+    sections : str, optional
+        Comma-separated names of the sections to run (:data:`SECTIONS`); all when None.
 
     Returns
     -------
@@ -226,6 +232,11 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """
     from ..render import Renderer
 
+    picked = {section_name(s) for s in pick_sections(sections, SECTIONS)}
+    rows: list[dict[str, Any]] = []
     with Renderer() as renderer:
-        return (_depth_rows(renderer, quick) + _accuracy_rows(renderer) + _fidelity_rows(renderer)
-                + _pass_rows(renderer, quick))
+        for section in SECTIONS:
+            if section_name(section) not in picked:
+                continue
+            rows += section(renderer, quick) if section in (_depth_rows, _pass_rows) else section(renderer)
+    return rows

@@ -63,7 +63,7 @@ from ..metrics import shadow_iou
 from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility
-from .harness import Timing, make_row, time_cycling
+from .harness import Timing, make_row, pick_sections, section_name, time_cycling
 
 __all__ = ["run", "frame_once_rows", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
@@ -369,13 +369,20 @@ def _frame_once_case(renderer: FrameRenderer, cam: Any, mesh: trimesh.Trimesh, r
     return rows
 
 
-def run(*, quick: bool = False) -> list[dict[str, Any]]:
+#: The suite's sections in their order (``--sections``: their names less ``_rows``, dashes for
+#: underscores: accuracy, cutout, control-grid, complexity, frame, frame-once).
+SECTIONS = (_accuracy_rows, _cutout_rows, _control_grid_rows, _complexity_rows, _frame_rows, frame_once_rows)
+
+
+def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, Any]]:
     """All shadow rows: accuracy + map time, cut-outs, control-grid sweep, complexity sweep, frames.
 
     Parameters
     ----------
     quick : bool
         Fewer and smaller cases (a smoke run).
+    sections : str, optional
+        Comma-separated names of the sections to run (:data:`SECTIONS`); all when None.
 
     Returns
     -------
@@ -384,15 +391,19 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
     """
     from ..render import Renderer
 
+    picked = {section_name(s) for s in pick_sections(sections, SECTIONS)}
     t0 = time.perf_counter()
     truth = _Truth()
+    rows: list[dict[str, Any]] = []
     with Renderer() as renderer:
-        rows = _accuracy_rows(renderer, quick, truth)
-        rows += _cutout_rows(renderer, quick, truth)
-        rows += _control_grid_rows(renderer, quick, truth)
-        rows += _complexity_rows(renderer, quick)
-        rows += _frame_rows(renderer, quick)
-        rows += frame_once_rows(renderer, (6000, 50000) if quick else (6000, 1000000), 256 if quick else 512,
-                                3 if quick else 9)
+        for section in (_accuracy_rows, _cutout_rows, _control_grid_rows):
+            if section_name(section) in picked:
+                rows += section(renderer, quick, truth)
+        for section in (_complexity_rows, _frame_rows):
+            if section_name(section) in picked:
+                rows += section(renderer, quick)
+        if section_name(frame_once_rows) in picked:
+            rows += frame_once_rows(renderer, (6000, 50000) if quick else (6000, 1000000),
+                                    256 if quick else 512, 3 if quick else 9)
     print(f"shadows suite: {len(rows)} rows in {time.perf_counter() - t0:.0f} s", flush=True)
     return rows
