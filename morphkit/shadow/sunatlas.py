@@ -69,12 +69,15 @@ from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
+from .pointlevels import block_points
 
 __all__ = ["SunAtlas", "AtlasPoints", "bake_sun_atlas", "sun_in_object", "instance_frame",
-           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL"]
+           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL", "MAX_POINT_LEVEL"]
 
 #: Stored bytes per atlas texel: float16 depth and uint8 coverage.
 BYTES_PER_TEXEL = 3
+#: The coarsest level of :meth:`SunAtlas.packed_points` (blocks of ``2**6 = 64`` texels a side).
+MAX_POINT_LEVEL = 6
 
 
 def sun_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
@@ -179,6 +182,8 @@ class AtlasPoints(NamedTuple):
         Each view's first point and count.
     directions : (V, 3) float64
         Each view's direction (towards the view, object frame).
+    sizes : (P,) float32
+        Each point's footprint side, atlas texels (1 at level 0; :mod:`.pointlevels`).
     """
 
     points: np.ndarray
@@ -186,6 +191,7 @@ class AtlasPoints(NamedTuple):
     starts: np.ndarray
     lengths: np.ndarray
     directions: np.ndarray
+    sizes: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -311,6 +317,19 @@ class SunAtlas:
             s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
         return s
 
+    def _view_grid(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """View ``k``'s texels' points ``(n, n, 3)``, drawn mask and normals (:meth:`view_points`)."""
+        world, valid = self.view_camera(k).unproject(self._surface(k).depth)
+        drawn = valid & (self.coverage[k] > 0)
+        du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
+        n = np.cross(du, dv)
+        norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        ok = norm[..., 0] > tol.MIN_EXTENT
+        n = np.where(ok[..., None], n / np.where(ok, norm[..., 0], 1.0)[..., None], 0.0)
+        toward = direction(float(self.dome.azimuths_deg()[k]), float(self.dome.elevations_deg()[k]))
+        n *= np.where(n @ toward < 0.0, -1.0, 1.0)[..., None]
+        return world, drawn, n
+
     def view_points(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """The surface points atlas view ``k`` holds, and their normals.
 
@@ -333,15 +352,7 @@ class SunAtlas:
         k = as_int(k, "view", lo=0, hi=self.dome.views - 1)
         got = self._points.get(k)
         if got is None:
-            world, valid = self.view_camera(k).unproject(self._surface(k).depth)
-            drawn = valid & (self.coverage[k] > 0)
-            du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
-            n = np.cross(du, dv)
-            norm = np.linalg.norm(n, axis=-1, keepdims=True)
-            ok = norm[..., 0] > tol.MIN_EXTENT
-            n = np.where(ok[..., None], n / np.where(ok, norm[..., 0], 1.0)[..., None], 0.0)
-            toward = direction(float(self.dome.azimuths_deg()[k]), float(self.dome.elevations_deg()[k]))
-            n *= np.where(n @ toward < 0.0, -1.0, 1.0)[..., None]
+            world, drawn, n = self._view_grid(k)
             pts = np.ascontiguousarray(world[drawn], dtype=np.float32)
             nrm = np.ascontiguousarray(n[drawn], dtype=np.float32)
             pts.setflags(write=False)
@@ -349,25 +360,51 @@ class SunAtlas:
             got = self._points[k] = (pts, nrm)
         return got
 
-    def packed_points(self) -> AtlasPoints:
-        """Every view's :meth:`view_points`, concatenated in view order (made once, cached).
+    def _level_points(self, k: int, level: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """View ``k``'s points at ``level`` and their sizes (:mod:`.pointlevels`)."""
+        if level == 0:
+            pts, nrm = self.view_points(k)
+            return pts, nrm, np.ones(len(pts), np.float32)
+        world, drawn, n = self._view_grid(k)
+        b = 2 ** level
+        gap = tol.SPLAT_LEVEL_DEPTH_GAP * b * 2.0 * float(self.cameras.half_extent[0]) / self.size
+        return block_points(world, drawn, n, self._surface(k).depth, b, gap)
+
+    def packed_points(self, level: int = 0) -> AtlasPoints:
+        """Every view's points at a level, concatenated in view order (made once a level, cached).
+
+        Parameters
+        ----------
+        level : int
+            0: each view's :meth:`view_points` (size 1); ``l > 0``: one point per ``2**l``
+            texels a side (:func:`~morphkit.shadow.pointlevels.block_points`), at most
+            :data:`MAX_POINT_LEVEL`.
 
         Returns
         -------
         AtlasPoints
-            The points, their normals, each view's first point and count, and each view's
-            direction (towards it, object frame).
+            The points, their normals and sizes, each view's first point and count, and each
+            view's direction (towards it, object frame).
+
+        Raises
+        ------
+        ValidationError
+            A level outside ``0 .. MAX_POINT_LEVEL``.
         """
-        got = self._points.get("packed")
+        level = as_int(level, "level", lo=0, hi=MAX_POINT_LEVEL)
+        key = ("packed", level)
+        got = self._points.get(key)
         if got is None:
-            parts = [self.view_points(k) for k in range(self.dome.views)]
+            parts = [self._level_points(k, level) for k in range(self.dome.views)]
             lens = np.array([len(p[0]) for p in parts], np.int64)
-            got = self._points["packed"] = AtlasPoints(
-                np.ascontiguousarray(np.concatenate([p[0] for p in parts]), dtype=np.float32),
-                np.ascontiguousarray(np.concatenate([p[1] for p in parts]), dtype=np.float32),
-                np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
+            arrays = [np.ascontiguousarray(np.concatenate([p[j] for p in parts]), dtype=np.float32)
+                      for j in range(3)]
+            for a in arrays:
+                a.setflags(write=False)
+            got = self._points[key] = AtlasPoints(
+                arrays[0], arrays[1], np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
                 np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
-                                     .reshape(-1, 3), dtype=np.float64))
+                                     .reshape(-1, 3), dtype=np.float64), arrays[2])
         return got
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
