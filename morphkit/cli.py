@@ -424,10 +424,10 @@ def build_parser() -> argparse.ArgumentParser:
                    "reports the speed-up curve, per-worker start-up and a 16-worker projection")
     b.add_argument("--sections", default=None, metavar="NAMES",
                    help="billboards and scene only: run only these sections, comma-separated "
-                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal; "
+                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal,levels; "
                    "names: the suite's section functions less _rows)")
     b.add_argument("--instances", type=int, nargs="+", default=None, metavar="N",
-                   help="scene only: the instance counts of its accuracy and sun-change sections "
+                   help="scene only: the instance counts of its accuracy, sun-change and levels sections "
                    "(default 10 100 1000 and 100 1000; --quick 10)")
     b.set_defaults(func=_cmd_bench)
 
