@@ -360,18 +360,20 @@ class SunAtlas:
             got = self._points[k] = (pts, nrm)
         return got
 
-    def _level_points(self, k: int, level: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """View ``k``'s points at ``level`` and their sizes (:mod:`.pointlevels`)."""
-        if level == 0:
-            pts, nrm = self.view_points(k)
-            return pts, nrm, np.ones(len(pts), np.float32)
+    def _coarse_levels(self, k: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """View ``k``'s points and sizes at levels ``1 .. MAX_POINT_LEVEL`` (:mod:`.pointlevels`),
+        from one pass over its texels."""
         world, drawn, n = self._view_grid(k)
-        b = 2 ** level
-        gap = tol.SPLAT_LEVEL_DEPTH_GAP * b * 2.0 * float(self.cameras.half_extent[0]) / self.size
-        return block_points(world, drawn, n, self._surface(k).depth, b, gap)
+        depth = self._surface(k).depth
+        texel = 2.0 * float(self.cameras.half_extent[0]) / self.size
+        return [block_points(world, drawn, n, depth, 2 ** lv, tol.SPLAT_LEVEL_DEPTH_GAP * 2 ** lv * texel)
+                for lv in range(1, MAX_POINT_LEVEL + 1)]
 
     def packed_points(self, level: int = 0) -> AtlasPoints:
-        """Every view's points at a level, concatenated in view order (made once a level, cached).
+        """Every view's points at a level, concatenated in view order (made once, cached).
+
+        Level 0 is made at its first call, the coarser levels all together at the first call of
+        any of them (one pass over each view's texels).
 
         Parameters
         ----------
@@ -392,20 +394,27 @@ class SunAtlas:
             A level outside ``0 .. MAX_POINT_LEVEL``.
         """
         level = as_int(level, "level", lo=0, hi=MAX_POINT_LEVEL)
-        key = ("packed", level)
-        got = self._points.get(key)
-        if got is None:
-            parts = [self._level_points(k, level) for k in range(self.dome.views)]
+        got = self._points.get(("packed", level))
+        if got is not None:
+            return got
+        if level == 0:
+            per_level = {0: [(*self.view_points(k), np.ones(len(self.view_points(k)[0]), np.float32))
+                             for k in range(self.dome.views)]}
+        else:
+            views = [self._coarse_levels(k) for k in range(self.dome.views)]
+            per_level = {lv: [v[lv - 1] for v in views] for lv in range(1, MAX_POINT_LEVEL + 1)}
+        dirs = np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
+                                    .reshape(-1, 3), dtype=np.float64)
+        for lv, parts in per_level.items():
             lens = np.array([len(p[0]) for p in parts], np.int64)
             arrays = [np.ascontiguousarray(np.concatenate([p[j] for p in parts]), dtype=np.float32)
                       for j in range(3)]
             for a in arrays:
                 a.setflags(write=False)
-            got = self._points[key] = AtlasPoints(
+            self._points[("packed", lv)] = AtlasPoints(
                 arrays[0], arrays[1], np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
-                np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
-                                     .reshape(-1, 3), dtype=np.float64), arrays[2])
-        return got
+                dirs, arrays[2])
+        return self._points[("packed", level)]
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
