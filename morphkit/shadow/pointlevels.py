@@ -17,6 +17,13 @@ another point already holds. **Level** ``l`` of a view keeps one point per block
 * its **normal**: the sum of its drawn texels' known unit normals, normalised (zero where none
   is known).
 
+**The outline.** A block only part drawn (on the view's outline) is given at the next finer
+level instead, its ``b / 2`` sub-blocks each a point as above: a square of a thin drawn strip's
+area about its centroid reaches past the strip, and the outline's shadow grows (on the suite's
+field, ``morphkit bench scene --sections levels``: more ground points wrongly shadowed than at
+level 0, fewer missed); at the next level the reach is halved, for a few more points (each
+partial block's texels at level 0 would be many more).
+
 **Front and back.** A block whose drawn texels lie at two depths (a leaf before a stem, a card
 before the ground behind it) would put its centroid in the air between them: its texels are
 split into the **front** (within ``depth_gap`` of the block's nearest depth) and the **back**
@@ -62,8 +69,8 @@ def _cluster(m: np.ndarray, p: np.ndarray, n: np.ndarray, b: int
 
 def block_points(points: np.ndarray, drawn: np.ndarray, normals: np.ndarray, depth: np.ndarray,
                  block: int, depth_gap: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Up to two points per ``block x block`` texels of a view, its front and its back (module
-    docstring).
+    """Up to two points per ``block x block`` texels of a view, its front and its back; a block
+    only part drawn at half the side (module docstring).
 
     Parameters
     ----------
@@ -84,8 +91,8 @@ def block_points(points: np.ndarray, drawn: np.ndarray, normals: np.ndarray, dep
     Returns
     -------
     points : (M, 3) float32
-        One per block's front (blocks with a drawn texel, row-major), then one per block's
-        back (those that have one).
+        One per full block's front and back (those that have one), then those of the other
+        blocks' ``block / 2`` sub-blocks.
     normals : (M, 3) float32
         Unit, or zero where none of the part's normals is known.
     sizes : (M,) float32
@@ -107,10 +114,23 @@ def block_points(points: np.ndarray, drawn: np.ndarray, normals: np.ndarray, dep
     if p.shape != (*m.shape, 3) or n.shape != p.shape or d.shape != m.shape:
         raise ValidationError(expected_got("points, normals, depth", f"{(*m.shape, 3)} and {m.shape}",
                                            f"{p.shape}, {n.shape}, {d.shape}"))
-    near = _blocks(np.where(m, d, np.inf), b).min(axis=2)  # (R, C)
-    near_t = np.repeat(np.repeat(near, b, axis=0), b, axis=1)[: m.shape[0], : m.shape[1]]
-    front = m & (d <= near_t + gap)
-    parts = [_cluster(front, p, n, b), _cluster(m & ~front, p, n, b)]
+    if b == 1:
+        parts = _fronts(m, p, n, d, 1, gap)
+    else:
+        full = _spread(_blocks(m, b).all(axis=2), b, m.shape)
+        parts = _fronts(m & full, p, n, d, b, gap) + _fronts(m & ~full, p, n, d, b // 2, gap / 2.0)
     pts, nrm, size = (np.ascontiguousarray(np.concatenate([q[j] for q in parts]), np.float32)
                       for j in range(3))
     return pts, nrm, size
+
+
+def _spread(per_block: np.ndarray, b: int, shape: tuple[int, ...]) -> np.ndarray:
+    """A per-block ``(R, C)`` array given to each of its texels, ``shape[:2]``."""
+    return np.repeat(np.repeat(per_block, b, axis=0), b, axis=1)[: shape[0], : shape[1]]
+
+
+def _fronts(m: np.ndarray, p: np.ndarray, n: np.ndarray, d: np.ndarray, b: int, gap: float) -> list:
+    """The ``_cluster`` of each ``b``-block's front and of its back (module docstring)."""
+    near = _spread(_blocks(np.where(m, d, np.inf), b).min(axis=2), b, m.shape)
+    front = m & (d <= near + gap)
+    return [_cluster(front, p, n, b), _cluster(m & ~front, p, n, b)]
