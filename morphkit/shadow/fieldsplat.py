@@ -304,8 +304,9 @@ class SplatDrawer:
         self.last_levels = np.zeros(0, np.int64)
 
     def clear(self) -> None:
-        """Nothing to drop: the drawer keeps nothing between draws (each atlas keeps its own
-        points, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
+        """Forget the last draw's levels; nothing else is kept between draws (each atlas keeps its
+        own points and levels, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
+        self.last_levels = np.zeros(0, np.int64)
 
     def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
              camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
