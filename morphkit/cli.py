@@ -434,11 +434,11 @@ def build_parser() -> argparse.ArgumentParser:
                    "default 16): e.g. 256 on a machine with 16 cores")
     b.add_argument("--sections", default=None, metavar="NAMES",
                    help=f"{', '.join(SECTIONED_SUITES)} only: run only these sections, comma-separated "
-                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal; shadows: "
-                   "accuracy,cutout,control-grid,complexity,frame,frame-once; render: depth,accuracy,"
-                   "fidelity,pass; names: the suite's section functions less _rows)")
+                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal,levels; "
+                   "shadows: accuracy,cutout,control-grid,complexity,frame,frame-once; render: depth,"
+                   "accuracy,fidelity,pass; names: the suite's section functions less _rows)")
     b.add_argument("--instances", type=int, nargs="+", default=None, metavar="N",
-                   help="scene only: the instance counts of its accuracy and sun-change sections "
+                   help="scene only: the instance counts of its accuracy, sun-change and levels sections "
                    "(default 10 100 1000 and 100 1000; --quick 10)")
     b.set_defaults(func=_cmd_bench)
 

@@ -554,6 +554,25 @@ SUN_GROUND_BIAS_TEXELS = 1.0
 #: taken to stand for more surface than that.
 SPLAT_MIN_COS = 0.1
 
+#: The largest side, in field light-view texels, of the atlas point level an instance is
+#: splatted at (:func:`morphkit.shadow.fieldsplat.splat_levels`): an instance whose atlas texel
+#: covers ``f`` field texels is drawn from blocks of ``2**l`` atlas texels with
+#: ``2**l * f`` at most this. At 1 a level's point is never wider than the field's texel, so
+#: the shadow's outline moves by under a field texel (the map cannot hold a finer one); a
+#: field as fine as its atlases (``f`` near 1) keeps every point. Of 0.5, 0.71, 1 and 1.5 (the
+#: ``bench scene`` fields of 10, 100 and 1000 instances at a quarter of the suite's resolution,
+#: ground IoU against the ray cast), 1 kept level 0's IoU at 100 and 1000 instances with the
+#: fewest points, 1.5 lost some at 10 (its coarse blocks' outlines are a field texel and a half).
+SPLAT_LEVEL_MAX_TEXELS = 1.0
+
+#: A block of a coarser atlas point level (:func:`morphkit.shadow.pointlevels.block_points`)
+#: is split into its front and its back where its drawn texels' depths differ by more than this
+#: many block sides (object units: this times the block's side): a surface that steep across the
+#: block (over about 55 degrees to the view's image plane along a diagonal) or two surfaces
+#: apart. A split only adds a point (each part's centroid is on a flat surface); a gap too large
+#: would put a point between a leaf and what lies behind it.
+SPLAT_LEVEL_DEPTH_GAP = 2.0
+
 #: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves)
 #: when its third column, divided by the pose's uniform scale, is ``+z`` to within
 #: this (absolute) and its columns are orthonormal to :data:`POSE_ORTHO`: poses

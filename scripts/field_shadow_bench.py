@@ -18,7 +18,7 @@ instance at scale 1, the larger asset's), so both ways see the same texel size.
 view per sun); ``--tpu-scale`` sets the field view's resolution against the atlases'.
 
 Usage: PYTHONPATH=. python scripts/field_shadow_bench.py [--counts 10 100] [--grid 512]
-[--yaw-classes K] [--tpu-scale S] [--json PATH]
+[--yaw-classes K] [--tpu-scale S] [--max-level L] [--json PATH]
 """
 
 from __future__ import annotations
@@ -55,6 +55,8 @@ def main() -> None:
                     help="the field view at S x the atlases' resolution")
     ap.add_argument("--drawer", choices=("splat", "morph"), default="splat",
                     help="how the field view is drawn: points splatted (default) or views morphed and placed")
+    ap.add_argument("--max-level", type=int, default=None,
+                    help="splat: the coarsest atlas point level (0: every atlas texel; default the drawer's)")
     ap.add_argument("--faces", type=int, default=0,
                     help="build the sample meshes at about this many faces (0: the stored ~6k)")
     ap.add_argument("--json", help="write the rows here")
@@ -80,7 +82,8 @@ def main() -> None:
             X, Y = np.meshgrid(xs, xs)
             pts = np.stack([X, Y, np.zeros_like(X)], -1).reshape(-1, 3)
             posed = posed_asset_meshes(meshes, inst)
-            fs = FieldShadow(atlases, SplatDrawer() if args.drawer == "splat" else MorphDrawer())
+            splat = SplatDrawer() if args.max_level is None else SplatDrawer(max_level=args.max_level)
+            fs = FieldShadow(atlases, splat if args.drawer == "splat" else MorphDrawer())
             direct_field_map(fs, norm, r, inst, SUNS[0], tpu, rect)  # warm the context at this size
             sc, t_cold, t_warm, t_direct, t_truth, shapes, views = [], [], [], [], [], [], []
             for sun in SUNS:

@@ -13,7 +13,8 @@ from morphkit import bench
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 
-SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal", "sun-disc"}
+SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal", "sun-disc",
+            "levels"}
 
 
 def test_suite_is_registered_with_its_sections():
@@ -63,7 +64,7 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "atlas-cold" in printed  # the harness's table
     titles = ("accuracy (", "per asset (", "receivers (", "sun change (", "atlas grid vs", "temporal (",
-              "sun disc (")
+              "sun disc (", "levels (")
     for title in titles:  # markdown
         assert title in printed
     for r in rows:
@@ -102,3 +103,11 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert set(temporal) == {"atlas", "direct", "card-camera", "card-light", "ray-cast"}
     for m in temporal.values():
         assert 0.0 < m["step_median"] <= m["step_max"] < 1.0 and m["spike"] >= 1.0
+    lv = {(r["params"]["resolution"], r["method"]): r["metrics"]
+          for r in rows if r["params"]["section"] == "levels"}
+    assert set(lv) == {(res, m) for res in ("suite", "frame", "suite/4")
+                       for m in ("splat-l0", "splat-levels")}
+    for (_, m), x in lv.items():
+        assert 0.3 < x["iou_min"] <= x["iou"] <= 1.0 and x["vs_l0"] > 0.0
+        assert m == "splat-levels" or x["coarse"] == x["level_mean"] == 0.0
+    assert lv[("suite/4", "splat-levels")]["coarse"] == 1.0  # a field 4x coarser than every atlas

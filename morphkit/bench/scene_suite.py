@@ -45,6 +45,10 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   above the grazing cut-off (:data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG`), where the atlas is not
   clamped; the atlas keeps its cache along the path (``ms``: a step).
 
+* ``levels`` -- the splat at level 0 against per-instance point levels (small or far casters
+  drawn from coarser atlas points), IoU and interleaved time at three field resolutions:
+  :mod:`morphkit.bench.scene_levels`.
+
 ``--quick``: 10 instances, 2 suns, a 160^2 grid, 64-texel atlases and 8 x 8-frame impostors
 (no supersampling), faces 6k and 50k at 10 instances, 2 domes, 8 suns on the path.
 """
@@ -78,6 +82,7 @@ from .scene_fields import (
     score,
     surface_receivers,
 )
+from .scene_levels import levels_rows, levels_table
 from .soft_suite import banding
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
@@ -560,7 +565,7 @@ def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
 #: The suite's sections, in order; each ``(kit, plan) -> rows``.
 SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
     accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows,
-    sun_disc_rows]
+    sun_disc_rows, levels_rows]
 
 
 Section = Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]
@@ -674,6 +679,7 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
                           cut, f"{m['spike_vs_truth']:.2f}", _iou(m)])
         out += _md(["method", "step median", "step max", "max / median", "max / median above the cut-off",
                     "max / median over the ray cast's", "IoU mean / min"], lines) + [""]
+    out += levels_table(rows)
     return "\n".join(out)
 
 

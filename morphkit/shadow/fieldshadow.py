@@ -10,7 +10,9 @@ turned into its object frame by its yaw (:func:`~morphkit.shadow.sunatlas.sun_in
 
 **Drawers.** :class:`~.fieldsplat.SplatDrawer` (the default) reprojects the drawn texels
 of the atlas views around each instance's object-frame sun point by point into the field
-view: one compiled pass, nothing per sun to make or keep. :class:`MorphDrawer` morphs each
+view: one compiled pass, nothing per sun to make or keep; an instance whose atlas texel is
+smaller than the field's is drawn from a coarser level of its atlas's points (its module
+docstring, "Levels"). :class:`MorphDrawer` morphs each
 instance's light view from its atlas (:meth:`~morphkit.shadow.sunatlas.SunAtlas.light_view`)
 and places it (below); it is the slower, earlier way, kept to compare with (figures:
 ``docs/RESULTS.md``).

@@ -32,6 +32,20 @@ below) takes the nearest depth of its four neighbours (``cv2.erode``). A ``3 x 3
 morphological closing would also fill every step of a slanted silhouette, a shadow grown
 by up to a texel along every edge that is not axis-aligned.
 
+**Levels** (only what a scene needs: small or far casters get coarser points). Where the field's
+texel is wider than an atlas texel (``f < 1``: a wide field, a map capped at
+:data:`~morphkit.tol.SUN_FIELD_MAX_SIDE`, a small instance) most points land on a texel another
+point of the same view already holds. Each instance is drawn instead from the coarsest **level**
+``l`` of its atlas's points (:meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`, one point
+per ``2**l`` texels a side, :mod:`.pointlevels`; made once per atlas and level, kept by the atlas)
+whose texel stays within :data:`~morphkit.tol.SPLAT_LEVEL_MAX_TEXELS` field texels,
+``2**l * f <= SPLAT_LEVEL_MAX_TEXELS`` (:func:`splat_levels`; level 0 where ``f`` is larger: a
+field as fine as its atlas keeps every point, the same map as without levels). A level's point
+stands for a square of ``size`` atlas texels a side (its block's drawn area); its splat side is
+``f * size`` with the same foreshortening. So the points a sun change splats fall with the field
+texel's area, about ``1 / 4`` a level, while the outline moves by under a field texel.
+``SplatDrawer(max_level=0)`` splats every texel (the drawer before levels, kept to compare with).
+
 **Convention.** The field camera's :meth:`~morphkit.camera.CameraModel.texture_matrix`
 ``T_pix_world``; the pose ``object2world = translation(x, y, 0) Rz(yaw) scale``
 (:meth:`~morphkit.billboard.instances.Instances.object2world`); field texel ``(u, v)`` holds
@@ -54,15 +68,17 @@ from .. import tol
 from ..billboard.domecameras import direction
 from ..billboard.instances import Instances
 from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
 from ..settings import compile_kernel, use_compiled
-from .sunatlas import SunAtlas
+from ..validate import as_finite_array, as_int, as_positive
+from .sunatlas import MAX_POINT_LEVEL, SunAtlas
 
-__all__ = ["SplatDrawer", "splat_points", "close_holes"]
+__all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes"]
 
 
-def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start: np.ndarray,
-           seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
-           inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
+def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
+           seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray,
+           inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
     """Min each instance's segments of points, posed by its ``(3, 4)``, into ``depth`` (in place)."""
     H, W = depth.shape
     for i in range(inst_T.shape[0]):
@@ -77,7 +93,7 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start
             for p in range(a, a + seg_len[sg]):
                 x, y, z = points[p, 0], points[p, 1], points[p, 2]
                 nx, ny, nz = normals[p, 0], normals[p, 1], normals[p, 2]
-                h = inst_half[i]
+                h = inst_half[i] * sizes[p]
                 if nx != 0.0 or ny != 0.0 or nz != 0.0:
                     cs = abs(nx * sx + ny * sy + nz * sz)
                     ck = max(abs(nx * dx + ny * dy + nz * dz), min_cos)
@@ -97,9 +113,9 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start
 _splat_jit = compile_kernel(_splat, error_model="numpy")
 
 
-def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start: np.ndarray,
-                 seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
-                 inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
+def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
+                 seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray,
+                 inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
     """The reference of :func:`_splat` (same texels, same minimum)."""
     H, W = depth.shape
     for i in range(len(inst_T)):
@@ -113,7 +129,8 @@ def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
             cs = np.abs(n @ inst_sun[i])
             ck = np.maximum(np.abs(n @ seg_dir[sg]), min_cos)
             known = np.any(n != 0.0, axis=1)
-            h = inst_half[i] * np.where(known & (cs < ck), np.sqrt(cs / ck), 1.0)
+            h = inst_half[i] * sizes[sl].astype(np.float64)
+            h = h * np.where(known & (cs < ck), np.sqrt(cs / ck), 1.0)
             c0, c1 = np.ceil(q[:, 0] - h).astype(np.int64), np.ceil(q[:, 0] + h).astype(np.int64) - 1
             r0, r1 = np.ceil(q[:, 1] - h).astype(np.int64), np.ceil(q[:, 1] + h).astype(np.int64) - 1
             d = q[:, 2].astype(np.float32)
@@ -126,7 +143,7 @@ def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
 
 def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start: np.ndarray,
                  seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
-                 inst_half: np.ndarray, inst_sun: np.ndarray) -> None:
+                 inst_half: np.ndarray, inst_sun: np.ndarray, sizes: np.ndarray | None = None) -> None:
     """Splat segments of points, posed per instance, into a depth map by minimum (in place).
 
     Parameters
@@ -147,9 +164,13 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
         Half each instance's splat side, texels (module docstring, "Splat size").
     inst_sun : (M, 3) float64
         Each instance's sun direction in its object frame (unit).
+    sizes : (P,) float32, optional
+        Each point's footprint side in atlas texels, a factor of its instance's (module
+        docstring, "Levels"); default 1 (every point one atlas texel).
     """
-    args = (depth, points, normals, seg_start, seg_len, seg_dir, inst_T, inst_seg, inst_half, inst_sun,
-            float(tol.SPLAT_MIN_COS))
+    sizes = np.ones(len(points), np.float32) if sizes is None else np.asarray(sizes, np.float32)
+    args = (depth, points, normals, sizes, seg_start, seg_len, seg_dir, inst_T, inst_seg, inst_half,
+            inst_sun, float(tol.SPLAT_MIN_COS))
     if use_compiled(_splat_jit):
         _splat_jit(*args)  # type: ignore[misc]
     else:
@@ -207,21 +228,85 @@ _PAIR_V = _PAIR_H.T.copy()
 _CROSS = np.array([[0, 1, 0], [1, 0, 1], [0, 1, 0]], np.uint8)
 
 
+def splat_levels(footprint: np.ndarray, max_level: int, max_texels: float) -> np.ndarray:
+    """Each instance's point level (module docstring, "Levels").
+
+    Parameters
+    ----------
+    footprint : (M,) float
+        Field texels a side of one atlas texel of each instance (``scale`` times the field's
+        texels per unit over the atlas's).
+    max_level : int
+        The coarsest level allowed (0: every instance at level 0).
+    max_texels : float
+        The largest side, field texels, of a level's texel (``2**l`` atlas texels).
+
+    Returns
+    -------
+    (M,) int64
+        The coarsest ``l <= max_level`` with ``2**l * footprint <= max_texels``; 0 where even
+        level 0's texel is larger (a field finer than the atlas).
+
+    Raises
+    ------
+    ValidationError
+        A footprint that is not positive and finite; a level outside ``0 ..``
+        :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`; ``max_texels`` not positive.
+    """
+    f = as_finite_array(footprint, "footprint", shape=(None,))
+    if np.any(f <= 0.0):
+        raise ValidationError(expected_got("footprint", "positive field texels per atlas texel",
+                                           float(f.min())))
+    top = as_int(max_level, "max_level", lo=0, hi=MAX_POINT_LEVEL)
+    cap = as_positive(max_texels, "max_texels")
+    return np.clip(np.floor(np.log2(cap / f)), 0, top).astype(np.int64)
+
+
 class SplatDrawer:
     """Draws a field's light view by splatting atlas points (module docstring).
+
+    Parameters
+    ----------
+    max_level : int
+        The coarsest point level an instance may be drawn at (module docstring, "Levels");
+        default :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`; 0 splats every atlas texel
+        (the drawer before levels, kept to compare with).
+    max_texels : float
+        The largest side, in field texels, of the level's texel an instance is drawn at
+        (default :data:`~morphkit.tol.SPLAT_LEVEL_MAX_TEXELS`).
+
+    Attributes
+    ----------
+    last_levels : (K,) int64
+        The level of each instance of the last draw (the ``kept`` order).
+
+    Raises
+    ------
+    ValidationError
+        A level outside ``0 ..`` :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`;
+        ``max_texels`` not positive.
 
     Examples
     --------
     >>> from morphkit.shadow.fieldsplat import SplatDrawer
     >>> SplatDrawer().name
     'splat'
+    >>> SplatDrawer(max_level=0).max_level
+    0
     """
 
     name = "splat"
 
+    def __init__(self, max_level: int = MAX_POINT_LEVEL,
+                 max_texels: float = tol.SPLAT_LEVEL_MAX_TEXELS) -> None:
+        self.max_level = as_int(max_level, "max_level", lo=0, hi=MAX_POINT_LEVEL)
+        self.max_texels = as_positive(max_texels, "max_texels")
+        self.last_levels = np.zeros(0, np.int64)
+
     def clear(self) -> None:
-        """Nothing to drop: the drawer keeps nothing between draws (each atlas keeps its own
-        points, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
+        """Forget the last draw's levels; nothing else is kept between draws (each atlas keeps its
+        own points and levels, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
+        self.last_levels = np.zeros(0, np.int64)
 
     def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
              camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
@@ -248,24 +333,32 @@ class SplatDrawer:
         depth = np.full(camera.shape, np.inf, np.float32)
         T = camera.texture_matrix()[:3]
         names: Sequence[str] = instances.names
-        offsets, blocks = {}, []
-        base = 0
-        for a, nm in enumerate(names):
-            if not np.any(instances.asset[kept] == a):
-                continue
-            pts, nrm, starts, lens, dirs = atlases[nm].packed_points()
-            offsets[a] = len(blocks)
-            blocks.append((pts, nrm, starts + base, lens, dirs))
-            base += len(pts)
-        if not blocks:
-            return depth
-        points, normals, seg_start, seg_len, seg_dir = (
-            np.concatenate([b[j] for b in blocks]) if len(blocks) > 1 else blocks[0][j] for j in range(5))
-        seg_base = np.concatenate([[0], np.cumsum([len(b[2]) for b in blocks])[:-1]]).astype(np.int64)
-
         asset = instances.asset[kept]
         yaw = np.radians(instances.yaw_deg[kept])
         scale = instances.scale[kept]
+        # field texels a side of one atlas texel, per instance
+        texel = np.array([2.0 * float(atlases[nm].cameras.half_extent[0]) / atlases[nm].size for nm in names])
+        inst_half = np.ascontiguousarray(0.5 * scale * texel[asset] * camera.fx, np.float64)
+        foot = 2.0 * inst_half
+        level = splat_levels(foot, self.max_level, self.max_texels)
+        self.last_levels = level
+        groups = sorted(set(zip(asset.tolist(), level.tolist(), strict=True)))
+        if not groups:
+            return depth
+        packs = [atlases[names[a]].packed_points(lv) for a, lv in groups]
+        seg_base = np.concatenate([[0], np.cumsum([len(pk.starts) for pk in packs])[:-1]]).astype(np.int64)
+        pt_base = np.concatenate([[0], np.cumsum([len(pk.points) for pk in packs])[:-1]]).astype(np.int64)
+        if len(packs) == 1:
+            pk = packs[0]
+            points, normals, sizes, seg_start, seg_len, seg_dir = (
+                pk.points, pk.normals, pk.sizes, pk.starts, pk.lengths, pk.directions)
+        else:
+            points, normals, sizes = (np.concatenate([getattr(pk, f) for pk in packs])
+                                      for f in ("points", "normals", "sizes"))
+            seg_start = np.concatenate([pk.starts + b for pk, b in zip(packs, pt_base, strict=True)])
+            seg_len = np.concatenate([pk.lengths for pk in packs])
+            seg_dir = np.concatenate([pk.directions for pk in packs])
+
         c, s = np.cos(yaw), np.sin(yaw)
         o2w = np.zeros((len(kept), 4, 4))
         o2w[:, 0, 0], o2w[:, 0, 1] = scale * c, -scale * s
@@ -275,17 +368,13 @@ class SplatDrawer:
         o2w[:, 3, 3] = 1.0
         inst_T = np.ascontiguousarray(np.einsum("ij,mjk->mik", T, o2w))
         inst_seg = np.full((len(kept), 3), -1, np.int64)
-        inst_half = np.zeros(len(kept), np.float64)
         az_sun, el_sun = sun
         az_obj = az_sun - np.degrees(yaw)
         inst_sun = np.ascontiguousarray(direction(az_obj, np.full_like(az_obj, el_sun)).reshape(-1, 3))
-        for a, row in offsets.items():
-            mine = np.flatnonzero(asset == a)
-            atlas = atlases[names[a]]
-            views, weights = atlas.dome.weights_many(az_obj[mine], el_sun)
-            inst_seg[mine] = np.where(weights > 0.0, views + seg_base[row], -1)
-            texel = 2.0 * float(atlas.cameras.half_extent[0]) / atlas.size  # object units per atlas texel
-            inst_half[mine] = 0.5 * scale[mine] * texel * camera.fx
+        for g, (a, lv) in enumerate(groups):
+            mine = np.flatnonzero((asset == a) & (level == lv))
+            views, weights = atlases[names[a]].dome.weights_many(az_obj[mine], el_sun)
+            inst_seg[mine] = np.where(weights > 0.0, views + seg_base[g], -1)
         splat_points(depth, points, normals, seg_start, seg_len, np.ascontiguousarray(seg_dir, np.float64),
-                     inst_T, inst_seg, inst_half, inst_sun)
+                     inst_T, inst_seg, inst_half, inst_sun, sizes)
         return close_holes(depth)

@@ -69,12 +69,15 @@ from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
+from .pointlevels import block_points
 
 __all__ = ["SunAtlas", "AtlasPoints", "bake_sun_atlas", "sun_in_object", "instance_frame",
-           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL"]
+           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL", "MAX_POINT_LEVEL"]
 
 #: Stored bytes per atlas texel: float16 depth and uint8 coverage.
 BYTES_PER_TEXEL = 3
+#: The coarsest level of :meth:`SunAtlas.packed_points` (blocks of ``2**6 = 64`` texels a side).
+MAX_POINT_LEVEL = 6
 
 
 def sun_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
@@ -179,6 +182,8 @@ class AtlasPoints(NamedTuple):
         Each view's first point and count.
     directions : (V, 3) float64
         Each view's direction (towards the view, object frame).
+    sizes : (P,) float32
+        Each point's footprint side, atlas texels (1 at level 0; :mod:`.pointlevels`).
     """
 
     points: np.ndarray
@@ -186,6 +191,7 @@ class AtlasPoints(NamedTuple):
     starts: np.ndarray
     lengths: np.ndarray
     directions: np.ndarray
+    sizes: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -311,6 +317,19 @@ class SunAtlas:
             s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
         return s
 
+    def _view_grid(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """View ``k``'s texels' points ``(n, n, 3)``, drawn mask and normals (:meth:`view_points`)."""
+        world, valid = self.view_camera(k).unproject(self._surface(k).depth)
+        drawn = valid & (self.coverage[k] > 0)
+        du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
+        n = np.cross(du, dv)
+        norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        ok = norm[..., 0] > tol.MIN_EXTENT
+        n = np.where(ok[..., None], n / np.where(ok, norm[..., 0], 1.0)[..., None], 0.0)
+        toward = direction(float(self.dome.azimuths_deg()[k]), float(self.dome.elevations_deg()[k]))
+        n *= np.where(n @ toward < 0.0, -1.0, 1.0)[..., None]
+        return world, drawn, n
+
     def view_points(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """The surface points atlas view ``k`` holds, and their normals.
 
@@ -333,15 +352,7 @@ class SunAtlas:
         k = as_int(k, "view", lo=0, hi=self.dome.views - 1)
         got = self._points.get(k)
         if got is None:
-            world, valid = self.view_camera(k).unproject(self._surface(k).depth)
-            drawn = valid & (self.coverage[k] > 0)
-            du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
-            n = np.cross(du, dv)
-            norm = np.linalg.norm(n, axis=-1, keepdims=True)
-            ok = norm[..., 0] > tol.MIN_EXTENT
-            n = np.where(ok[..., None], n / np.where(ok, norm[..., 0], 1.0)[..., None], 0.0)
-            toward = direction(float(self.dome.azimuths_deg()[k]), float(self.dome.elevations_deg()[k]))
-            n *= np.where(n @ toward < 0.0, -1.0, 1.0)[..., None]
+            world, drawn, n = self._view_grid(k)
             pts = np.ascontiguousarray(world[drawn], dtype=np.float32)
             nrm = np.ascontiguousarray(n[drawn], dtype=np.float32)
             pts.setflags(write=False)
@@ -349,26 +360,61 @@ class SunAtlas:
             got = self._points[k] = (pts, nrm)
         return got
 
-    def packed_points(self) -> AtlasPoints:
-        """Every view's :meth:`view_points`, concatenated in view order (made once, cached).
+    def _coarse_levels(self, k: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """View ``k``'s points and sizes at levels ``1 .. MAX_POINT_LEVEL`` (:mod:`.pointlevels`),
+        from one pass over its texels."""
+        world, drawn, n = self._view_grid(k)
+        depth = self._surface(k).depth
+        texel = 2.0 * float(self.cameras.half_extent[0]) / self.size
+        return [block_points(world, drawn, n, depth, 2 ** lv, tol.SPLAT_LEVEL_DEPTH_GAP * 2 ** lv * texel)
+                for lv in range(1, MAX_POINT_LEVEL + 1)]
+
+    def packed_points(self, level: int = 0) -> AtlasPoints:
+        """Every view's points at a level, concatenated in view order (made once, cached).
+
+        Level 0 is made at its first call, the coarser levels all together at the first call of
+        any of them (one pass over each view's texels).
+
+        Parameters
+        ----------
+        level : int
+            0: each view's :meth:`view_points` (size 1); ``l > 0``: one point per ``2**l``
+            texels a side (:func:`~morphkit.shadow.pointlevels.block_points`), at most
+            :data:`MAX_POINT_LEVEL`.
 
         Returns
         -------
         AtlasPoints
-            The points, their normals, each view's first point and count, and each view's
-            direction (towards it, object frame).
+            The points, their normals and sizes, each view's first point and count, and each
+            view's direction (towards it, object frame).
+
+        Raises
+        ------
+        ValidationError
+            A level outside ``0 .. MAX_POINT_LEVEL``.
         """
-        got = self._points.get("packed")
-        if got is None:
-            parts = [self.view_points(k) for k in range(self.dome.views)]
+        level = as_int(level, "level", lo=0, hi=MAX_POINT_LEVEL)
+        got = self._points.get(("packed", level))
+        if got is not None:
+            return got
+        if level == 0:
+            per_level = {0: [(*self.view_points(k), np.ones(len(self.view_points(k)[0]), np.float32))
+                             for k in range(self.dome.views)]}
+        else:
+            views = [self._coarse_levels(k) for k in range(self.dome.views)]
+            per_level = {lv: [v[lv - 1] for v in views] for lv in range(1, MAX_POINT_LEVEL + 1)}
+        dirs = np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
+                                    .reshape(-1, 3), dtype=np.float64)
+        for lv, parts in per_level.items():
             lens = np.array([len(p[0]) for p in parts], np.int64)
-            got = self._points["packed"] = AtlasPoints(
-                np.ascontiguousarray(np.concatenate([p[0] for p in parts]), dtype=np.float32),
-                np.ascontiguousarray(np.concatenate([p[1] for p in parts]), dtype=np.float32),
-                np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
-                np.ascontiguousarray(direction(self.dome.azimuths_deg(), self.dome.elevations_deg())
-                                     .reshape(-1, 3), dtype=np.float64))
-        return got
+            arrays = [np.ascontiguousarray(np.concatenate([p[j] for p in parts]), dtype=np.float32)
+                      for j in range(3)]
+            for a in arrays:
+                a.setflags(write=False)
+            self._points[("packed", lv)] = AtlasPoints(
+                arrays[0], arrays[1], np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
+                dirs, arrays[2])
+        return self._points[("packed", level)]
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
