@@ -45,14 +45,14 @@ EOF
     scene) "$py" -m morphkit bench scene --sections sun-change --json "$out/scene.json" || status=1 ;;
     soft) "$py" -m morphkit bench soft --json "$out/soft.json" || status=1 ;;
     bake)
-      ASSETS="${ASSETS:-256}" WORKERS="${WORKERS:-1 4 8 16}" OUTJSON="$out/bake.json" "$py" - <<'EOF' || status=1
+      # -c, not a here-document: Dask's worker processes re-import the parent's main module by path
+      ASSETS="${ASSETS:-256}" WORKERS="${WORKERS:-1 4 8 16}" OUTJSON="$out/bake.json" "$py" -c '
 import os
 from morphkit.bench import run_suite
 run_suite("bake", json_path=os.environ["OUTJSON"],
           options={"workers": [int(w) for w in os.environ["WORKERS"].split()],
                    "assets": int(os.environ["ASSETS"]), "repeats": 1, "serial_once": True,
-                   "dask_defaults": False})
-EOF
+                   "dask_defaults": False})' || status=1
       ;;
     *) echo "gpu_bench: unknown part $part (info render shadows scene soft bake)" >&2; exit 2 ;;
   esac
