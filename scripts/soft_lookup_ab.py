@@ -42,7 +42,7 @@ def module_at(rev: str) -> ModuleType:
     src = subprocess.run(["git", "show", f"{rev}:morphkit/shadow/filtered.py"], check=True,
                          capture_output=True, text=True).stdout
     src = (src.replace("from .. import tol", "from morphkit import tol")
-           .replace("from ..", "from morphkit.").replace("from .lookup", "from morphkit.shadow.lookup"))
+           .replace("from ..", "from morphkit.").replace("from .", "from morphkit.shadow."))
     path = Path(tempfile.mkdtemp()) / "filtered_before.py"
     path.write_text(src)
     spec = importlib.util.spec_from_file_location("filtered_before", path)

@@ -136,6 +136,35 @@ def test_runs_and_threads_leave_the_lookup_unchanged(synthetic, rng, monkeypatch
     np.testing.assert_array_equal(filtered_visibility(pts, dm, cam, cell, blocker=mode), want)
 
 
+@pytest.mark.parametrize("normals", [False, True], ids=["no-normals", "normals"])
+@pytest.mark.parametrize("half", [0.1, 0.6], ids=["narrow", "wide"])
+def test_shared_searches_leave_the_lookup_unchanged(synthetic, rng, normals, half):
+    """Ground points on a slab at their own depth (texels behind the point under every box,
+    as where an object touches its receiver) beside a nearer block: a point's texels
+    behind come from a search shared with its neighbours or from its own, and runs are
+    tested as a whole first; points in grid order, shuffled, and one at a time (nothing
+    shared, runs of one) agree bit for bit. The wide cell's shared searches hold more
+    texels than ``BEHIND_SHARE_KEEP`` (the points then search alone)."""
+    cam, _dm, g = synthetic
+    dm = np.full((64, 64), np.inf, np.float32)
+    dm[4:60, 4:60] = 2.4  # the ground's depth under the camera at 2.4
+    dm[26:38, 18:30] = 1.6
+    cell = np.array([[half, 0, 0], [0, half, 0]])
+    nrm = np.tile([0.0, 0.0, 1.0], (len(g), 1)) if normals else None
+    grid = filtered_visibility(g, dm, cam, cell, normals=nrm)
+    assert np.count_nonzero((grid > 0.05) & (grid < 0.95)) > 50  # a penumbra on the slab
+    if half > 0.5:  # the shared box (widest box + margins) over the slab overflows
+        sx = cell_half_widths(cell, cam)[0] * (1 / 1.6 - 1 / 2.4)
+        assert (2 * sx + 1 + 2 * filtered.BEHIND_SHARE_TEXELS) ** 2 > filtered.BEHIND_SHARE_KEEP
+    order = rng.permutation(len(g))
+    shuffled = filtered_visibility(g[order], dm, cam, cell, normals=None if nrm is None else nrm[order])
+    np.testing.assert_array_equal(shuffled, grid[order])
+    some = rng.choice(len(g), 300, replace=False)
+    alone = [filtered_visibility(g[k:k + 1], dm, cam, cell, normals=None if nrm is None else nrm[k:k + 1])[0]
+             for k in some]
+    np.testing.assert_array_equal(alone, grid[some])
+
+
 def test_point_chunks_bound_their_runs(rng):
     pts = rng.normal(size=(1000, 3))
     ch = point_chunks(pts)

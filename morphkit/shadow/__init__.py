@@ -17,6 +17,8 @@
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
 * :mod:`.filtered` -- the filtered lookup: the fraction of a light cell one map says a point sees;
+* :mod:`.depthtables` -- :class:`~.depthtables.DepthTables`: the filtered lookup's per-map
+  summed-area tables and max-depth pyramid;
 * :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
 * :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction in its frame
   (every yaw, every sun), morphed per pixel; one instance's ground shadow;

@@ -59,25 +59,29 @@ texels. When both half-widths are below
 a light of zero extent gives the hard shadow exactly; wider boxes are at least
 one texel wide.
 
-Speed. Per map, summed-area tables of occluder coverage and depth (one pass)
-make a box's coverage and depth sum four bilinear reads each, whatever its size;
-a max-depth pyramid bounds the depths under the box in at most 25 reads (none
-where the map's farthest occluder is in front of the point), telling whether
-every occluder texel there is in front of the receiver (always so for a receiver
-below the object). Where some may be behind the point (a surface shadowing itself,
-an object touching the receiver), the tables' sums less those of the texels
-behind answer, found block by block down the pyramid (the blocker search keeps
-them for its kernel's smaller box); a point whose search box is all occluder in
-front is umbra at once. The points go in runs of ``CHUNK_POINTS`` (and groups
-of runs): a run whose bounding box keeps every widest box off the map's occluder
-window is lit without projecting its points, so the cost follows the points near
-the shadow, not all points times all maps. From ``PARALLEL_MIN_POINTS``
-points the groups alternate between threads.
+Speed. Per map, summed-area tables of occluder coverage and depth (one pass,
+:class:`~morphkit.shadow.depthtables.DepthTables`) make a box's coverage and depth
+sum four bilinear reads each, whatever its size (a box without occluder texels is
+lit after the four reads of its count); a max-depth pyramid bounds the depths under
+the box (2 x 2 reads, then at most 25; none where the map's farthest occluder is
+in front of the point), telling whether every occluder texel there is in front of
+the receiver (always so for a receiver below the object). Where some may be behind
+the point (a surface shadowing itself, an object touching the receiver), the
+tables' sums less those of the texels behind answer, found block by block down the
+pyramid (the blocker search keeps them for its kernel's smaller box, and one search
+over a wider box and a lower depth serves the next points: ``BEHIND_SHARE_*``); a
+point whose search box is all occluder in front is umbra at once. The points go in
+runs of ``CHUNK_POINTS`` (and groups of runs): a run whose bounding box keeps every
+widest box off the map's occluder window, or off every occluder texel, is lit
+without projecting its points, and without normals a run whose widest boxes'
+occluders all lie in front of its nearest threshold skips the pyramid point by
+point; the cost follows the points near the shadow, not all points times all maps.
+Every such test only picks the path: the visibility is the same either way. From
+``PARALLEL_MIN_POINTS`` points the groups alternate between threads.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -88,6 +92,7 @@ from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array
 from ..warp import band_pool
+from .depthtables import DepthTables
 from .lookup import ShadowBias, check_depth_map
 
 __all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDepth", "point_chunks"]
@@ -106,125 +111,18 @@ CHUNK_POINTS = 32
 CHUNK_GROUP = 16
 #: Texels of the behind-the-point occluders a blocker search keeps for its kernel's box.
 BEHIND_KEEP = 256
+#: The searches of neighbouring points share their texels behind: one search over the box
+#: grown by ``BEHIND_SHARE_TEXELS`` (each side), for a depth ``BEHIND_SHARE_DEPTH`` texel
+#: widths nearer, keeps up to ``BEHIND_SHARE_KEEP`` texels; the next points whose box and
+#: depth lie within pick theirs from those (the same texels: exact) instead of walking the
+#: pyramid again.
+BEHIND_SHARE_TEXELS = 6
+BEHIND_SHARE_DEPTH = 4.0
+BEHIND_SHARE_KEEP = 1024
 #: Points below which a filtered lookup runs in the calling thread alone; from it, the groups
 #: of runs alternate between :data:`~morphkit.settings.WARP_THREADS` threads (the calling one
 #: and :func:`~morphkit.warp.band_pool`'s).
 PARALLEL_MIN_POINTS = 1 << 14
-
-
-@dataclass(frozen=True)
-class DepthTables:
-    """Per-map tables of the filtered lookup (see the module docstring), over the
-    window of the map that holds occluder texels (outside it the map is empty).
-
-    Parameters
-    ----------
-    sat : (h + 1, w + 1, 2) float64
-        Summed-area tables of occluder coverage (``[..., 0]``) and depth
-        (``[..., 1]``) over the window (``sat[j, i]``: texels of window rows ``< j``
-        and columns ``< i``).
-    pyramid : (M,) float64
-        Max-depth pyramid of the window, levels concatenated (``-inf``: no occluder).
-    offsets : (L,) int64
-        Start of each level in ``pyramid``.
-    widths : (L,) int64
-        Width of each level (level ``l`` has ``ceil(w / 2^l)`` columns).
-    origin : (int, int)
-        Map row and column of the window's first texel.
-    z_min : float
-        Nearest occluder depth (``+inf`` for an empty map).
-    z_mean : float
-        Mean occluder depth (``+inf`` for an empty map).
-    """
-
-    sat: np.ndarray
-    pyramid: np.ndarray
-    offsets: np.ndarray
-    widths: np.ndarray
-    origin: tuple[int, int]
-    z_min: float
-    z_mean: float
-
-    @classmethod
-    def of(cls, depth_map: np.ndarray) -> DepthTables:
-        """The tables of a (checked) depth map.
-
-        Parameters
-        ----------
-        depth_map : (H, W) float32 or float64
-            Linear light depth, ``+inf`` where empty.
-
-        Returns
-        -------
-        DepthTables
-            Its summed-area tables, pyramid and depth statistics.
-        """
-        box = np.zeros(4, np.int64)
-        (_bbox_kernel if use_compiled(_bbox_kernel) else _bbox_loop)(depth_map, box)
-        r0, r1, c0, c1 = (int(v) for v in box)
-        if r1 < r0:
-            return cls(np.zeros((2, 2, 2)), np.full(1, -np.inf), np.zeros(1, np.int64),
-                       np.ones(1, np.int64), (0, 0), np.inf, np.inf)
-        sub = np.ascontiguousarray(depth_map[r0:r1 + 1, c0:c1 + 1], np.float64)
-        h, w = sub.shape
-        shapes = [(h, w)]
-        while shapes[-1] != (1, 1):
-            shapes.append(((shapes[-1][0] + 1) // 2, (shapes[-1][1] + 1) // 2))
-        sizes = np.array([a * b for a, b in shapes], np.int64)
-        offsets = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
-        widths = np.array([b for _a, b in shapes], np.int64)
-        sat = np.zeros((h + 1, w + 1, 2))
-        pyramid = np.empty(int(sizes.sum()))
-        stats = np.zeros(2)
-        tables = _tables_kernel if use_compiled(_tables_kernel) else _tables_loop
-        tables(sub, sat, pyramid, offsets, widths, stats)
-        return cls(sat, pyramid, offsets, widths, (r0, c0), float(stats[0]),
-                   float(stats[1] / sat[-1, -1, 0]))
-
-
-def _bbox_loop(dm: np.ndarray, box: np.ndarray) -> None:
-    """``box = (first row, last row, first column, last column)`` of the finite texels
-    (last < first when there are none)."""
-    h, w = dm.shape
-    r0, r1, c0, c1 = h, -1, w, -1
-    for j in range(h):
-        for i in range(w):
-            if dm[j, i] < np.inf:
-                r0, r1 = min(r0, j), max(r1, j)
-                c0, c1 = min(c0, i), max(c1, i)
-    box[0], box[1], box[2], box[3] = r0, r1, c0, c1
-
-
-def _tables_loop(sub: np.ndarray, sat: np.ndarray, pyr: np.ndarray, off: np.ndarray,
-                 wid: np.ndarray, stats: np.ndarray) -> None:
-    """Fill the summed-area tables and the pyramid; ``stats = (z_min, depth sum)``."""
-    h, w = sub.shape
-    z_min = np.inf
-    for j in range(h):
-        c_row, d_row = 0.0, 0.0
-        for i in range(w):
-            d = sub[j, i]
-            if d < np.inf:
-                c_row += 1.0
-                d_row += d
-                z_min = min(z_min, d)
-                pyr[j * w + i] = d
-            else:
-                pyr[j * w + i] = -np.inf
-            sat[j + 1, i + 1, 0] = sat[j, i + 1, 0] + c_row
-            sat[j + 1, i + 1, 1] = sat[j, i + 1, 1] + d_row
-    stats[0] = z_min
-    stats[1] = sat[h, w, 1]
-    ph, pw = h, w
-    for lev in range(1, len(off)):
-        nh, nw = (ph + 1) // 2, (pw + 1) // 2
-        po, no = off[lev - 1], off[lev]
-        for j in range(nh):
-            a, b = po + 2 * j * pw, po + min(2 * j + 1, ph - 1) * pw  # the two rows (one at the edge)
-            for i in range(nw):
-                i0, i1 = 2 * i, min(2 * i + 1, pw - 1)
-                pyr[no + j * nw + i] = max(max(pyr[a + i0], pyr[a + i1]), max(pyr[b + i0], pyr[b + i1]))
-        ph, pw = nh, nw
 
 
 def cell_half_widths(cell: np.ndarray, light_cam: CameraModel) -> tuple[float, float]:
@@ -370,8 +268,9 @@ def filter_into(vis: np.ndarray, pts: np.ndarray, dm: np.ndarray, light_cam: Cam
     n = WARP_THREADS if kernel is _filter_kernel and len(pts) >= PARALLEL_MIN_POINTS else 1
     # thread b: groups b, b + n, ... (the points' groups lie in bands: each thread gets its share)
     vis.fill(1.0)  # the points of runs that miss the map are left as they are
-    futures = [band_pool().submit(kernel, *head, b, n, np.empty((BEHIND_KEEP, 3))) for b in range(1, n)]
-    kernel(*head, 0, n, np.empty((BEHIND_KEEP, 3)))
+    futures = [band_pool().submit(kernel, *head, b, n, np.empty((BEHIND_KEEP, 3)),
+                                  np.empty((BEHIND_SHARE_KEEP, 3))) for b in range(1, n)]
+    kernel(*head, 0, n, np.empty((BEHIND_KEEP, 3)), np.empty((BEHIND_SHARE_KEEP, 3)))
     for f in futures:
         f.result()
 
@@ -409,13 +308,13 @@ def _box_sums(sat: np.ndarray, x0: float, x1: float, y0: float, y1: float, depth
 
 
 def _box_max(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, i0: int, i1: int, j0: int,
-             j1: int) -> float:
+             j1: int, fine: int) -> float:
     """An upper bound of the occluder depths in window texels ``[i0, i1] x [j0, j1]``: the
-    blocks of the pyramid level a quarter of the span wide (at most 5 x 5 reads; a bound
-    from blocks as wide as the span, 2 x 2 reads, sends more boxes to the search)."""
+    blocks of the pyramid level ``2^-fine`` times the span wide (``fine = 2``: at most 5 x 5
+    reads; ``fine = 0``: 2 x 2, a looser bound)."""
     span = max(i1 - i0, j1 - j0) + 1
     lev = 0
-    while (1 << (lev + 2)) < span and lev < len(off) - 1:
+    while (1 << (lev + fine)) < span and lev < len(off) - 1:
         lev += 1
     o, w = off[lev], wid[lev]
     m = -np.inf
@@ -529,6 +428,32 @@ def _behind_kept(kept: np.ndarray, nk: int, x0: float, x1: float, y0: float, y1:
     return area
 
 
+def _behind_shared(shared: np.ndarray, ns: int, i0: int, i1: int, j0: int, j1: int, zt: float,
+                   plane: bool, dpl: float, ax: float, ay: float, a0: float, bias0: float,
+                   kept: np.ndarray) -> tuple[float, float, int]:
+    """:func:`_behind` over whole texels ``[i0, i1] x [j0, j1]`` from the ``ns`` texels of a
+    wider search with a lower threshold (``shared``: every texel there behind any threshold
+    at least that one): the same texels, tested alike (the same sums, in another order)."""
+    area, dsum, nk = 0.0, 0.0, 0
+    for q in range(ns):
+        i, j, d = shared[q, 0], shared[q, 1], shared[q, 2]
+        if i < i0 or i > i1 or j < j0 or j > j1:
+            continue
+        thr = zt
+        if plane:
+            den = ax * i + ay * j + a0
+            if den * dpl > 0:
+                thr = dpl / den - bias0
+        if d < thr:  # in front
+            continue
+        if nk < kept.shape[0]:
+            kept[nk, 0], kept[nk, 1], kept[nk, 2] = i, j, d
+        nk += 1
+        area += 1.0
+        dsum += d
+    return area, dsum, nk
+
+
 def _chunk_bounds_loop(pts: np.ndarray, size: int, group: int, out: np.ndarray) -> None:
     """:func:`point_chunks`: ``out[c] = (min x, min y, min z, max x, max y, max z)`` of
     points ``[c size, (c + 1) size)``, then of the groups of ``group`` runs."""
@@ -549,14 +474,13 @@ def _chunk_bounds_loop(pts: np.ndarray, size: int, group: int, out: np.ndarray) 
         out[c, 0], out[c, 1], out[c, 2], out[c, 3], out[c, 4], out[c, 5] = lo0, lo1, lo2, hi0, hi1, hi2
 
 
-def _chunk_misses(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: float,
-                  ky: float, min_half: float, xlo: float, xhi: float, ylo: float,
-                  yhi: float) -> bool:
-    """True when the widest box of every point in bounding box ``c`` misses the window
-    ``[xlo, xhi] x [ylo, yhi]`` (map pixels, already widened by a margin): the box
-    projects inside its corners' hull (every corner in front of the camera), and the
-    widest box grows with depth."""
-    ulo, uhi, vlo, vhi, zhi = np.inf, -np.inf, np.inf, -np.inf, -np.inf
+def _chunk_reach(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: float,
+                 ky: float, min_half: float) -> tuple[bool, float, float, float, float, float, float]:
+    """``(ok, u0, u1, v0, v1, z0, z1)``: the map pixels ``[u0, u1] x [v0, v1]`` that the
+    widest box of every point in bounding box ``c`` stays in, and the points' depths
+    ``[z0, z1]`` (``ok`` False: some corner not in front of the camera). The box
+    projects inside its corners' hull, and the widest box grows with depth."""
+    ulo, uhi, vlo, vhi, zlo, zhi = np.inf, -np.inf, np.inf, -np.inf, np.inf, -np.inf
     for a in range(8):
         if ((a & 1 and bounds[c, 3] == bounds[c, 0]) or (a & 2 and bounds[c, 4] == bounds[c, 1])
                 or (a & 4 and bounds[c, 5] == bounds[c, 2])):
@@ -566,17 +490,27 @@ def _chunk_misses(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: 
         z0 = bounds[c, 5] if a & 4 else bounds[c, 2]
         qw = T[3, 0] * x + T[3, 1] * y + T[3, 2] * z0 + T[3, 3]
         if not qw > tol.SHADOW_LOOKUP_W_MIN:
-            return False
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         iw = 1.0 / qw
         u = (T[0, 0] * x + T[0, 1] * y + T[0, 2] * z0 + T[0, 3]) * iw
         v = (T[1, 0] * x + T[1, 1] * y + T[1, 2] * z0 + T[1, 3]) * iw
         ulo, uhi, vlo, vhi = min(ulo, u), max(uhi, u), min(vlo, v), max(vhi, v)
-        zhi = max(zhi, T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3])
+        zc = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z0 + T[2, 3]
+        zlo, zhi = min(zlo, zc), max(zhi, zc)
     if not zhi > 0:
-        return False
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     s = inv_zb - 1.0 / zhi
     sx, sy = max(kx * s, min_half), max(ky * s, min_half)
-    return uhi + sx < xlo or vhi + sy < ylo or ulo - sx > xhi or vlo - sy > yhi
+    return True, ulo - sx, uhi + sx, vlo - sy, vhi + sy, zlo, zhi
+
+
+def _chunk_misses(T: np.ndarray, bounds: np.ndarray, c: int, inv_zb: float, kx: float,
+                  ky: float, min_half: float, xlo: float, xhi: float, ylo: float,
+                  yhi: float) -> bool:
+    """True when the widest box of every point in bounding box ``c`` misses the window
+    ``[xlo, xhi] x [ylo, yhi]`` (map pixels, already widened by a margin)."""
+    ok, u0, u1, v0, v1, _z0, _z1 = _chunk_reach(T, bounds, c, inv_zb, kx, ky, min_half)
+    return ok and (u1 < xlo or v1 < ylo or u0 > xhi or v0 > yhi)
 
 
 def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarray,
@@ -585,11 +519,13 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                  ky: float, mode: int, z_mean: float, z_min: float, b_const: float,
                  b_slope: float, b_max: float, min_half: float, area_floor: float, near: int,
                  R: np.ndarray, cx: float, cy: float, fy: float, bounds: np.ndarray,
-                 chunk: int, group: int, g_first: int, g_step: int, kept: np.ndarray) -> None:
+                 chunk: int, group: int, g_first: int, g_step: int, kept: np.ndarray,
+                 shared: np.ndarray) -> None:
     """The per-point loop (module docstring); ``vis`` (ones on entry) is written for the
     points of groups ``g_first, g_first + g_step, ...`` that may see an occluder.
     ``bounds``: :func:`_chunk_bounds_loop` of ``pts`` by ``chunk`` points and ``group``
-    runs; ``kept``: room for the texels behind a point that its blocker search finds."""
+    runs; ``kept``: room for the texels behind a point that its blocker search finds;
+    ``shared``: room for those of a wider search that the next points share."""
     h, w = dm.shape
     sub_h, sub_w = sat.shape[0] - 1, sat.shape[1] - 1
     has_nrm = nrm.shape[0] > 0
@@ -601,13 +537,34 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
     ylo, yhi = r0 - 1.5, r0 + sub_h + 0.5
     n_p = pts.shape[0]
     n_c = -(-n_p // chunk)
+    # the shared search: its texels' window box, threshold and count (-1: none)
+    si0, si1, sj0, sj1, s_thr, ns = 0, -1, 0, -1, np.inf, -1
+    share_m, share_d = BEHIND_SHARE_TEXELS, BEHIND_SHARE_DEPTH
     for g in range(g_first, bounds.shape[0] - n_c, g_step):
         if _chunk_misses(T, bounds, n_c + g, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
             continue  # lit (the caller filled vis with ones)
         for ch in range(g * group, min((g + 1) * group, n_c)):
             k_end = min((ch + 1) * chunk, n_p)
-            if _chunk_misses(T, bounds, ch, inv_zb, kx, ky, min_half, xlo, xhi, ylo, yhi):
-                continue
+            ok, u0, u1, v0, v1, zlo, zhi = _chunk_reach(T, bounds, ch, inv_zb, kx, ky, min_half)
+            if ok and (u1 < xlo or v1 < ylo or u0 > xhi or v0 > yhi):
+                continue  # every widest box misses the occluder window
+            all_fast = False
+            if ok and zlo > 0:  # the run's widest boxes in whole window texels (a texel wider)
+                ri0 = max(int(np.floor(u0 - c0 + 0.5)) - 1, 0)
+                ri1 = min(int(np.floor(u1 - c0 + 0.5)) + 1, sub_w - 1)
+                rj0 = max(int(np.floor(v0 - r0 + 0.5)) - 1, 0)
+                rj1 = min(int(np.floor(v1 - r0 + 0.5)) + 1, sub_h - 1)
+                if ri0 > ri1 or rj0 > rj1 or sat[rj1 + 1, ri1 + 1, 0] - sat[rj0, ri1 + 1, 0] \
+                        - sat[rj1 + 1, ri0, 0] + sat[rj0, ri0, 0] == 0:
+                    continue  # no occluder texel under any widest box: lit
+                if not has_nrm:  # the least depth a point of the run tests against (zs below)
+                    t_hi = zhi / fx
+                    slope1 = b_slope * min(1.0, b_max)
+                    s_hi = inv_zb - 1.0 / zhi  # every point's sx, sy is at most sw
+                    sw = max(max(kx * s_hi, ky * s_hi), min_half)
+                    z_lo = zlo - t_hi * (b_const + slope1) - t_hi * slope1 * sw
+                    z_lo -= abs(z_lo) * tol.REL_EQUAL
+                    all_fast = _box_max(pyr, off, wid, ri0, ri1, rj0, rj1, 2) < z_lo
             for k in range(ch * chunk, k_end):
                 vis[k] = 1.0
                 x, y, z0 = pts[k, 0], pts[k, 1], pts[k, 2]
@@ -661,20 +618,41 @@ def _filter_loop(vis: np.ndarray, pts: np.ndarray, nrm: np.ndarray, T: np.ndarra
                     i1 = min(int(np.floor(px + sx + 0.5)), sub_w - 1)
                     j0 = max(int(np.floor(py - sy + 0.5)), 0)
                     j1 = min(int(np.floor(py + sy + 0.5)), sub_h - 1)
-                    if z_far < zs:  # every occluder texel of the map is in front: the tables answer
-                        fast = True  # (no occluder under the box: no blocker, or a box of zeros)
-                    else:
-                        m = _box_max(pyr, off, wid, i0, i1, j0, j1)
-                        if m == -np.inf:
-                            continue  # no occluder texel under the widest box
-                        fast = m < zs  # every occluder texel under the box is in front
-                    if mode == 1:  # blocker search over the widest box's whole texels (i0..i1, j0..j1)
-                        a = sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0] + sat[j0, i0, 0]
+                    # occluder texels under the widest box (whole texels i0..i1, j0..j1): a count, exact
+                    a = sat[j1 + 1, i1 + 1, 0] - sat[j0, i1 + 1, 0] - sat[j1 + 1, i0, 0] + sat[j0, i0, 0]
+                    if a == 0:
+                        continue  # no occluder texel under the widest box
+                    # every occluder texel under the box in front: the tables answer. Any upper
+                    # bound of their depths decides it (a loose one only sends more points to the
+                    # exact search below): the map's farthest, 2 x 2 blocks as wide as the box, 5 x 5
+                    fast = all_fast or z_far < zs or _box_max(pyr, off, wid, i0, i1, j0, j1, 0) < zs \
+                        or _box_max(pyr, off, wid, i0, i1, j0, j1, 2) < zs
+                    if mode == 1:  # blocker search over the widest box's whole texels
                         ds = sat[j1 + 1, i1 + 1, 1] - sat[j0, i1 + 1, 1] - sat[j1 + 1, i0, 1] + sat[j0, i0, 1]
                         if not fast:  # less the occluder texels behind the point
-                            ba, bd, nk = _behind(pyr, off, wid, stack, sub_w, sub_h, i0 - 0.5,
-                                                 i1 + 0.5, j0 - 0.5, j1 + 0.5, zs, plane, dpl, ax,
-                                                 ay, a0, bias_p, kept)
+                            # the least threshold of a texel of the box (texel centres reach
+                            # half a texel past the box: the plane's least over them too)
+                            lo = zs
+                            if plane:
+                                lo = min(zs, _plane_min(dpl, ax, ay, a0, i0, i1, j0, j1) - bias_p)
+                            lo -= abs(lo) * tol.REL_EQUAL  # rounding inside the box
+                            inside = si0 <= i0 and i1 <= si1 and sj0 <= j0 and j1 <= sj1 and lo >= s_thr
+                            if not inside and lo > -np.inf:  # a new shared search (-1: too many)
+                                si0, si1 = max(i0 - share_m, 0), min(i1 + share_m, sub_w - 1)
+                                sj0, sj1 = max(j0 - share_m, 0), min(j1 + share_m, sub_h - 1)
+                                s_thr = lo - share_d * texel
+                                _ba, _bd, ns = _behind(pyr, off, wid, stack, sub_w, sub_h, si0 - 0.5,
+                                                       si1 + 0.5, sj0 - 0.5, sj1 + 0.5, s_thr, False,
+                                                       0.0, 0.0, 0.0, 0.0, 0.0, shared)
+                                ns = ns if ns <= shared.shape[0] else -1
+                                inside = True
+                            if inside and ns >= 0:
+                                ba, bd, nk = _behind_shared(shared, ns, i0, i1, j0, j1, zs, plane, dpl,
+                                                            ax, ay, a0, bias_p, kept)
+                            else:
+                                ba, bd, nk = _behind(pyr, off, wid, stack, sub_w, sub_h, i0 - 0.5,
+                                                     i1 + 0.5, j0 - 0.5, j1 + 0.5, zs, plane, dpl,
+                                                     ax, ay, a0, bias_p, kept)
                             a -= ba
                             ds -= bd
                         if a <= area_floor:
@@ -732,8 +710,8 @@ _box_max = compile_kernel(_box_max) or _box_max
 _plane_min = compile_kernel(_plane_min) or _plane_min
 _behind = compile_kernel(_behind) or _behind
 _behind_kept = compile_kernel(_behind_kept) or _behind_kept
+_behind_shared = compile_kernel(_behind_shared) or _behind_shared
+_chunk_reach = compile_kernel(_chunk_reach) or _chunk_reach
 _chunk_misses = compile_kernel(_chunk_misses) or _chunk_misses
 _filter_kernel = compile_kernel(_filter_loop)
-_tables_kernel = compile_kernel(_tables_loop)
-_bbox_kernel = compile_kernel(_bbox_loop)
 _chunk_bounds_kernel = compile_kernel(_chunk_bounds_loop)
