@@ -223,7 +223,7 @@ def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, A
     quick : bool
         The reduced sweep (two mesh sizes).
     sections : str, optional
-        Comma-separated names of the sections to run (:data:`SECTIONS`); all when None.
+        Comma-separated names of the sections to run (``SECTIONS``); all when None.
 
     Returns
     -------

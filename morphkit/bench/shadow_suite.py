@@ -382,7 +382,7 @@ def run(*, quick: bool = False, sections: str | None = None) -> list[dict[str, A
     quick : bool
         Fewer and smaller cases (a smoke run).
     sections : str, optional
-        Comma-separated names of the sections to run (:data:`SECTIONS`); all when None.
+        Comma-separated names of the sections to run (``SECTIONS``); all when None.
 
     Returns
     -------
