@@ -30,6 +30,7 @@ import numpy as np
 
 from . import tol
 from .errors import ValidationError, expected_got
+from .settings import compile_kernel, use_compiled
 from .validate import as_image
 
 __all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped"]
@@ -61,9 +62,38 @@ def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndar
     if vis.min() < 0 or vis.max() > 1:
         raise ValidationError(expected_got("visibility", "values in [0, 1]",
                                            f"[{vis.min():g}, {vis.max():g}]"))
+    if use_compiled(_shade_kernel) and lit.dtype == unlit.dtype == np.uint8:
+        out = np.empty(lit.shape, np.uint8)
+        _shade_kernel(np.ascontiguousarray(lit), np.ascontiguousarray(unlit), np.ascontiguousarray(vis), out)
+        return out
+    return _shade_numpy(lit, unlit, vis)
+
+
+def _shade_numpy(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray) -> np.ndarray:
+    """The numpy reference of :func:`shade` (inputs validated)."""
     lo, hi = unlit.astype(np.float32), lit.astype(np.float32)
     out = lo + vis[..., None] * (hi - lo)
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def _shade_loop(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray, out: np.ndarray) -> None:
+    """:func:`_shade_numpy` per pixel, uint8 in and out (the same float32 operations)."""
+    h, w, c = lit.shape
+    for r in range(h):
+        for x in range(w):
+            v = vis[r, x]
+            if v == 1 or v == 0:  # the blend is exactly lit or unlit there (integers in float32)
+                src = lit if v == 1 else unlit
+                for k in range(c):
+                    out[r, x, k] = src[r, x, k]
+                continue
+            for k in range(c):
+                lo = np.float32(unlit[r, x, k])
+                y = np.rint(lo + v * (np.float32(lit[r, x, k]) - lo))
+                out[r, x, k] = np.uint8(min(max(y, np.float32(0.0)), np.float32(255.0)))
+
+
+_shade_kernel = compile_kernel(_shade_loop)
 
 
 def _alpha_max(dtype: np.dtype) -> float:
