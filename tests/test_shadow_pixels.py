@@ -12,6 +12,7 @@ from morphkit.composite import shade
 from morphkit.errors import ValidationError
 from morphkit.scene import AreaLight, DirectionalLight, PointLight
 from morphkit.shadow import pixels as px
+from morphkit.warp import PARALLEL_MIN_PIXELS
 
 needs_kernels = pytest.mark.skipif(not settings.COMPILED,
                                    reason="compiled kernels off (numba missing or MORPHKIT_WARP_NUMPY=1)")
@@ -101,6 +102,26 @@ def test_the_kernel_equals_the_numpy_reference_on_a_depth_image_with_holes(cam, 
         _assert_same(got, ref)
         assert 0 < len(got.index) < depth.size
         assert 0 < got.facing.sum() < len(got.index)  # both sides of the light among them
+
+
+@needs_kernels
+def test_bands_of_rows_give_the_one_band_result(rng, monkeypatch):
+    """A frame large enough for bands (three, whatever the CPUs): every band's pixels land after
+    those above it, so the result is the one band's, byte for byte, and the reference's."""
+    cam = perspective(np.deg2rad(50), (270, 250), look_at([0.4, -0.3, 3.0], [0, 0, 0]),
+                      znear=0.5, zfar=8.0)
+    assert cam.shape[0] * cam.shape[1] >= PARALLEL_MIN_PIXELS
+    depth = rng.uniform(2.0, 4.0, cam.shape).astype(np.float32)
+    depth[rng.random(cam.shape) < 0.2] = np.inf
+    depth[85:95] = np.inf  # a band boundary (rows 90, 180) among holes
+    light = PointLight([0.5, 0.2, 2.0])
+    monkeypatch.setattr(px, "WARP_THREADS", 1)
+    one = px.drawn_pixels(cam, depth, light)
+    monkeypatch.setattr(px, "WARP_THREADS", 3)
+    got, ref = _both(cam, depth, light, monkeypatch)
+    for a, b in zip(got, one, strict=True):
+        np.testing.assert_array_equal(a, b)
+    _assert_same(got, ref)
 
 
 def test_drawn_pixels_refuses_a_depth_of_another_shape():

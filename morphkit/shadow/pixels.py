@@ -12,6 +12,7 @@ an image of points, with the same float32 arithmetic for the normals (the tests 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -19,7 +20,8 @@ import numpy as np
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import AreaLight, DirectionalLight, Light
-from ..settings import compile_kernel, use_compiled
+from ..settings import WARP_THREADS, compile_kernel, use_compiled
+from ..warp import PARALLEL_MIN_PIXELS, band_pool
 from .lookup import normals_from_points
 
 __all__ = ["DrawnPixels", "drawn_pixels"]
@@ -81,17 +83,34 @@ def drawn_pixels(camera: CameraModel, depth: np.ndarray, light: Light) -> DrawnP
         return _drawn_numpy(camera, depth, directional, toward)
     if depth.dtype not in (np.float32, np.float64):
         depth = depth.astype(np.float64)
+    depth = np.ascontiguousarray(depth)
     h, w = camera.shape
     index = np.empty(h * w, np.intp)
     points = np.empty((h * w, 3), np.float64)
     normals = np.empty((h * w, 3), np.float32)
     facing = np.zeros((h, w), bool)
     pose = camera.cam2world
-    n = _pixels_kernel(np.ascontiguousarray(depth), np.ascontiguousarray(pose[:3, :3], np.float64),
-                       np.ascontiguousarray(pose[:3, 3], np.float64), float(camera.cx), float(camera.cy),
-                       float(camera.fx), float(camera.fy), camera.projection == "perspective",
-                       directional, np.ascontiguousarray(toward), index, points, normals, facing)
-    return DrawnPixels(index[:n], points[:n], normals[:n], facing)
+    args = (depth, np.ascontiguousarray(pose[:3, :3], np.float64),
+            np.ascontiguousarray(pose[:3, 3], np.float64), float(camera.cx), float(camera.cy),
+            float(camera.fx), float(camera.fy),
+            camera.projection == "perspective", directional, np.ascontiguousarray(toward))
+    # bands of rows on WARP_THREADS threads (band 0 in this one), each writing its drawn pixels
+    # after those of the bands above it: the same output as one band
+    n = WARP_THREADS if h * w >= PARALLEL_MIN_PIXELS else 1
+    bands = [(h * b // n, h * (b + 1) // n) for b in range(n)]
+    counts = _in_bands(lambda b: _count_kernel(depth, *bands[b]), n)
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    _in_bands(lambda b: _pixels_kernel(*args, *bands[b], int(starts[b]), index, points, normals, facing), n)
+    total = int(starts[-1])
+    return DrawnPixels(index[:total], points[:total], normals[:total], facing)
+
+
+def _in_bands(fn: Callable[[int], int], n: int) -> list[int]:
+    """``[fn(0), ..., fn(n - 1)]``, band 0 in the calling thread, the others in the band pool."""
+    if n == 1:
+        return [fn(0)]
+    futures = [band_pool().submit(fn, b) for b in range(1, n)]
+    return [fn(0)] + [f.result() for f in futures]
 
 
 def _drawn_numpy(camera: CameraModel, depth: np.ndarray, directional: bool, toward: np.ndarray
@@ -126,17 +145,30 @@ def _row_points(depth: np.ndarray, r: int, R: np.ndarray, t: np.ndarray, cx: flo
         out[c, 2] = R[2, 0] * X + R[2, 1] * Y + R[2, 2] * z + t[2]
 
 
+def _count_drawn(depth: np.ndarray, r0: int, r1: int) -> int:
+    """The drawn pixels (finite positive depth) of rows ``r0:r1``."""
+    n = 0
+    for r in range(r0, r1):
+        for c in range(depth.shape[1]):
+            z = depth[r, c]
+            if np.isfinite(z) and z > 0:
+                n += 1
+    return n
+
+
 def _pixels_loop(depth: np.ndarray, R: np.ndarray, t: np.ndarray, cx: float, cy: float, fx: float,
-                 fy: float, persp: bool, directional: bool, toward: np.ndarray, index: np.ndarray,
-                 points: np.ndarray, normals: np.ndarray, facing: np.ndarray) -> int:
-    """:func:`_drawn_numpy` in one pass over the rows, keeping three rows of world points;
-    returns the number of drawn pixels."""
+                 fy: float, persp: bool, directional: bool, toward: np.ndarray, r0: int, r1: int, n0: int,
+                 index: np.ndarray, points: np.ndarray, normals: np.ndarray, facing: np.ndarray) -> int:
+    """:func:`_drawn_numpy` for rows ``r0:r1`` in one pass, keeping three rows of world points;
+    their drawn pixels go to ``index``, ``points`` and ``normals`` from entry ``n0`` on.
+    Returns the number of them."""
     h, w = depth.shape
     rows = np.empty((3, w, 3), np.float64)  # world points of rows r - 1, r, r + 1 (ring)
-    _row_points(depth, 0, R, t, cx, cy, fx, fy, persp, rows[0])
-    n = 0
+    for r in range(max(r0 - 1, 0), r0 + 1):
+        _row_points(depth, r, R, t, cx, cy, fx, fy, persp, rows[r % 3])
+    n = n0
     zero = np.float32(0.0)
-    for r in range(h):
+    for r in range(r0, r1):
         if r + 1 < h:
             _row_points(depth, r + 1, R, t, cx, cy, fx, fy, persp, rows[(r + 1) % 3])
         up, mid, down = rows[(r + 2) % 3], rows[r % 3], rows[(r + 1) % 3]
@@ -170,8 +202,9 @@ def _pixels_loop(depth: np.ndarray, R: np.ndarray, t: np.ndarray, cx: float, cy:
                 tx, ty, tz = toward[0] - px, toward[1] - py, toward[2] - pz
             facing[r, c] = np.float64(n0) * tx + np.float64(n1) * ty + np.float64(n2) * tz > 0
             n += 1
-    return n
+    return n - n0
 
 
 _row_points = compile_kernel(_row_points)  # called by the kernel below (None without numba: unused)
 _pixels_kernel = compile_kernel(_pixels_loop)
+_count_kernel = compile_kernel(_count_drawn)
