@@ -145,8 +145,10 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
     drawn, points, pixel_normals, facing = drawn_pixels(cam, depth, scene.light)
     vis = np.ones(cam.shape, np.float32)
     tested = None if on_object is None else ~on_object.reshape(-1).take(drawn)
-    if tested is not None and not tested.all():
-        drawn, points, pixel_normals = drawn[tested], points[tested], pixel_normals[tested]
+    if tested is not None and not tested.all():  # by index: several times faster than a boolean mask
+        keep = np.flatnonzero(tested)
+        drawn, points, pixel_normals = (drawn.take(keep), points.take(keep, axis=0),
+                                        pixel_normals.take(keep, axis=0))
     if len(drawn):
         vis.reshape(-1)[drawn] = _checked_visibility(visibility(points, pixel_normals), len(drawn))
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
