@@ -30,8 +30,9 @@ import numpy as np
 
 from . import tol
 from .errors import ValidationError, expected_got
-from .settings import compile_kernel, use_compiled
+from .settings import WARP_THREADS, compile_kernel, use_compiled
 from .validate import as_image
+from .warp import PARALLEL_MIN_PIXELS, band_pool
 
 __all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped"]
 
@@ -64,7 +65,14 @@ def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndar
                                            f"[{vis.min():g}, {vis.max():g}]"))
     if use_compiled(_shade_kernel) and lit.dtype == unlit.dtype == np.uint8:
         out = np.empty(lit.shape, np.uint8)
-        _shade_kernel(np.ascontiguousarray(lit), np.ascontiguousarray(unlit), np.ascontiguousarray(vis), out)
+        args = (np.ascontiguousarray(lit), np.ascontiguousarray(unlit), np.ascontiguousarray(vis), out)
+        h = lit.shape[0]
+        n = WARP_THREADS if vis.size >= PARALLEL_MIN_PIXELS else 1  # bands of rows (nogil kernel)
+        futures = [band_pool().submit(_shade_kernel, *args, h * b // n, h * (b + 1) // n)
+                   for b in range(1, n)]
+        _shade_kernel(*args, 0, h // n)
+        for f in futures:
+            f.result()
         return out
     return _shade_numpy(lit, unlit, vis)
 
@@ -76,10 +84,11 @@ def _shade_numpy(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray) -> np.ndar
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
 
 
-def _shade_loop(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray, out: np.ndarray) -> None:
-    """:func:`_shade_numpy` per pixel, uint8 in and out (the same float32 operations)."""
-    h, w, c = lit.shape
-    for r in range(h):
+def _shade_loop(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray, out: np.ndarray, r0: int, r1: int
+                ) -> None:
+    """:func:`_shade_numpy` per pixel of rows ``r0:r1``, uint8 in and out (the same float32 operations)."""
+    w, c = lit.shape[1:]
+    for r in range(r0, r1):
         for x in range(w):
             v = vis[r, x]
             if v == 1 or v == 0:  # the blend is exactly lit or unlit there (integers in float32)

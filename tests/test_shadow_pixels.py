@@ -131,11 +131,17 @@ def test_drawn_pixels_refuses_a_depth_of_another_shape():
 
 
 @needs_kernels
-def test_the_shade_kernel_equals_the_numpy_blend(rng, monkeypatch):
-    """uint8 frames blended by visibility 0, 1 and in between: the kernel's bytes are numpy's."""
-    lit = rng.integers(0, 256, (24, 32, 3), dtype=np.uint8)
-    unlit = rng.integers(0, 256, (24, 32, 3), dtype=np.uint8)
-    vis = rng.random((24, 32)).astype(np.float32)
+@pytest.mark.parametrize("shape", [(24, 32), (260, 256)], ids=["small", "bands"])
+def test_the_shade_kernel_equals_the_numpy_blend(shape, rng, monkeypatch):
+    """uint8 frames blended by visibility 0, 1 and in between: the kernel's bytes are numpy's
+    (in one band, and in three bands of rows where the frame is large enough)."""
+    from morphkit import composite
+
+    monkeypatch.setattr(composite, "WARP_THREADS", 3)
+    assert (shape[0] * shape[1] >= PARALLEL_MIN_PIXELS) == (shape[0] > 100)
+    lit = rng.integers(0, 256, (*shape, 3), dtype=np.uint8)
+    unlit = rng.integers(0, 256, (*shape, 3), dtype=np.uint8)
+    vis = rng.random(shape).astype(np.float32)
     vis[rng.random(vis.shape) < 0.3] = 0.0
     vis[rng.random(vis.shape) < 0.3] = 1.0
     vis[0, :4] = [0.5, 0.25, 0.75, np.float32(1 / 3)]  # rounding ties and near-ties
