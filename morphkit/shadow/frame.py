@@ -4,10 +4,11 @@ The camera view is rendered lit and unlit (:mod:`morphkit.render`): in one draw 
 renderer is a :class:`~morphkit.protocols.FrameRenderer` (:meth:`Renderer.frame_pass
 <morphkit.render.Renderer.frame_pass>`, issue #26: the lit pixels and, from the same fragments,
 the unlit ones), else (or with ``one_pass=False``) in two draws, lit then unlit. Its depth is
-unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`),
-and each visible point gets a light visibility from a callable: a shadow-map
-lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`) or the ray-cast
-ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
+unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`) with normals
+(:func:`~morphkit.shadow.lookup.normals_from_points`), in one compiled pass over the drawn
+pixels (:func:`~morphkit.shadow.pixels.drawn_pixels`), and each visible point gets a light
+visibility from a callable: a shadow-map lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`)
+or the ray-cast ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
 
 The object is drawn in its mesh's own look (:mod:`morphkit.look`: texture,
 vertex or face colours, cut-outs, an ``Item`` without a colour) where the mesh

@@ -30,7 +30,7 @@ __all__ = ["DrawnPixels", "drawn_pixels"]
 class DrawnPixels(NamedTuple):
     """The drawn pixels of a depth image (:func:`drawn_pixels`).
 
-    Attributes
+    Parameters
     ----------
     index : (N,) intp
         Flat (row-major) indices of the pixels with a finite positive depth, ascending.
