@@ -6,8 +6,12 @@ pixels holding a finite positive depth (in row-major order), their world points
 (:func:`~morphkit.shadow.lookup.normals_from_points`) and the facing test (normal towards the
 light). The numpy reference does it as those functions do, on whole ``(H, W, 3)`` images; the
 compiled kernel (numba, :func:`morphkit.settings.compile_kernel`) does it in one pass over the
-drawn pixels, unprojecting each pixel's four neighbours again for its normal instead of keeping
-an image of points, with the same float32 arithmetic for the normals (the tests compare the two).
+rows, keeping three rows of points (no ``(H, W, 3)`` image), with the same float32 arithmetic for
+the normals, and writes only the drawn pixels; in bands of rows on
+:data:`~morphkit.settings.WARP_THREADS` threads for frames of at least
+:data:`~morphkit.warp.PARALLEL_MIN_PIXELS` pixels (the same output as one band). The tests compare
+it with the reference: the same pixels and facing, normals within float32 rounding, points within
+the last bit or two of float64 (numpy's matrix product sums in BLAS's order).
 """
 
 from __future__ import annotations
