@@ -30,7 +30,9 @@ import numpy as np
 
 from . import tol
 from .errors import ValidationError, expected_got
+from .settings import WARP_THREADS, compile_kernel, use_compiled
 from .validate import as_image
+from .warp import PARALLEL_MIN_PIXELS, band_pool
 
 __all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped"]
 
@@ -61,9 +63,46 @@ def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndar
     if vis.min() < 0 or vis.max() > 1:
         raise ValidationError(expected_got("visibility", "values in [0, 1]",
                                            f"[{vis.min():g}, {vis.max():g}]"))
+    if use_compiled(_shade_kernel) and lit.dtype == unlit.dtype == np.uint8:
+        out = np.empty(lit.shape, np.uint8)
+        args = (np.ascontiguousarray(lit), np.ascontiguousarray(unlit), np.ascontiguousarray(vis), out)
+        h = lit.shape[0]
+        n = WARP_THREADS if vis.size >= PARALLEL_MIN_PIXELS else 1  # bands of rows (nogil kernel)
+        futures = [band_pool().submit(_shade_kernel, *args, h * b // n, h * (b + 1) // n)
+                   for b in range(1, n)]
+        _shade_kernel(*args, 0, h // n)
+        for f in futures:
+            f.result()
+        return out
+    return _shade_numpy(lit, unlit, vis)
+
+
+def _shade_numpy(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray) -> np.ndarray:
+    """The numpy reference of :func:`shade` (inputs validated)."""
     lo, hi = unlit.astype(np.float32), lit.astype(np.float32)
     out = lo + vis[..., None] * (hi - lo)
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def _shade_loop(lit: np.ndarray, unlit: np.ndarray, vis: np.ndarray, out: np.ndarray, r0: int, r1: int
+                ) -> None:
+    """:func:`_shade_numpy` per pixel of rows ``r0:r1``, uint8 in and out (the same float32 operations)."""
+    w, c = lit.shape[1:]
+    for r in range(r0, r1):
+        for x in range(w):
+            v = vis[r, x]
+            if v == 1 or v == 0:  # the blend is exactly lit or unlit there (integers in float32)
+                src = lit if v == 1 else unlit
+                for k in range(c):
+                    out[r, x, k] = src[r, x, k]
+                continue
+            for k in range(c):
+                lo = np.float32(unlit[r, x, k])
+                y = np.rint(lo + v * (np.float32(lit[r, x, k]) - lo))
+                out[r, x, k] = np.uint8(min(max(y, np.float32(0.0)), np.float32(255.0)))
+
+
+_shade_kernel = compile_kernel(_shade_loop)
 
 
 def _alpha_max(dtype: np.dtype) -> float:

@@ -25,10 +25,9 @@ pixel centre by about (+0.125, -0.375) px, issue #29): morphkit's buffers are si
 at pixel centres as OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the
 EGL display every context shares (closing one broke the others): it is not terminated here.
 
-Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one
-``pyrender.Scene`` with its uploaded meshes) is kept per image shape and reused for every
-frame of that shape (on EGL too). Meshes are uploaded once per context; moving an object
-only changes its node pose.
+Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one ``pyrender.Scene``
+with its uploaded meshes) is kept per image shape and reused for every frame of that shape (on
+EGL too). Meshes are uploaded once per context; moving an object only changes its node pose.
 
 Materials. An item with a colour is one ``MetallicRoughnessMaterial`` of that colour
 (``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in
@@ -70,6 +69,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 import trimesh
 
@@ -239,7 +239,7 @@ if pyrender is not None:
                 (lit, unlit), depth = self.render(scene, pyrender.RenderFlags.OFFSCREEN)
             finally:
                 self._frame, self._program_cache.frame = None, False
-            return lit, depth, unlit
+            return cv2.flip(lit, 0), depth, cv2.flip(unlit, 0)  # colours: bottom row read first
 
         def _read_main_framebuffer(self, scene: pyrender.Scene, flags: int) -> Any:
             """pyrender's; in a :meth:`frame_pass` both colours, read where drawn (single-sampled: no
@@ -255,7 +255,7 @@ if pyrender is not None:
             z = np.frombuffer(gl.glReadPixels(0, 0, w, h, gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT), np.float32)
             n, f = scene.main_camera_node.camera.znear, scene.main_camera_node.camera.zfar
             lin = np.where(z == 1.0, np.float32(0.0), 2.0 * n * f / (f + n - (2.0 * z - 1.0) * (f - n)))
-            return [np.frombuffer(b, np.uint8).reshape(h, w, 4)[::-1] for b in rgba], lin.reshape(h, w)[::-1]
+            return [np.frombuffer(b, np.uint8).reshape(h, w, 4) for b in rgba], lin.reshape(h, w)[::-1]
 
         def _configure_main_framebuffer(self) -> None:
             super()._configure_main_framebuffer()
@@ -764,7 +764,7 @@ class Renderer:
         ctx = self._lit(camera, items, lights, ambient, background)
         ids = ctx.frame_ids([items[as_int(k, "marked index", lo=0, hi=len(items) - 1)] for k in marked])
         color, raw, unlit = ctx.renderer.frame_pass(ctx.scene, *ids)
-        return FramePass(np.ascontiguousarray(color[..., :3]), np.ascontiguousarray(unlit[..., :3]),
+        return FramePass(cv2.cvtColor(color, cv2.COLOR_RGBA2RGB), cv2.cvtColor(unlit, cv2.COLOR_RGBA2RGB),
                          linear_depth(raw, camera), unlit[..., 3] >= 128)
 
     def source_view(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,

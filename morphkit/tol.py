@@ -513,6 +513,17 @@ FRAME_ONCE_MEAN_LEVELS = 1.0
 #: (0 for untextured items; 1 seen on textured ones).
 FRAME_ONCE_COLOR_LEVELS = 1
 
+#: The compiled drawn-pixel kernel (:mod:`morphkit.shadow.pixels`) against its numpy reference
+#: (:meth:`~morphkit.camera.CameraModel.unproject`): world points agree within this (scene units).
+#: Same formula, but numpy's matrix product sums in BLAS's order (with fused multiply-adds), so the
+#: last float64 bit or two differ: ~1e-15 on unit-size scenes a few units from the camera.
+DRAWN_POINTS_ABS = 1e-12
+
+#: ... and unit normals within this: both compute them in float32 from the float32 points, the same
+#: operations in the same order; a float64 point one bit apart can round to a neighbouring float32
+#: (~6e-8 relative), which moves a normal by that over the pixel's central difference.
+DRAWN_NORMALS_ABS = 1e-5
+
 #: Depth (scene units) added on each side of the object's depth range for a light
 #: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of
 #: its relative ``margin``): keeps ``znear < zfar`` for an object of no depth

@@ -182,8 +182,9 @@ def warm_worker() -> dict[str, float]:
 
 def kernel_workload() -> dict[str, float]:
     """numba's compile time in this process: a default-kind atlas bake, then playback through
-    every compiled path (composed warps, reprojection, the shadow lookup), from numba's
-    ``numba:compile`` events (run it in a fresh process: :func:`measure_compile`).
+    every compiled path (composed warps, reprojection, the shadow lookup, a frame's drawn pixels
+    and shade), from numba's ``numba:compile`` events (run it in a fresh process:
+    :func:`measure_compile`).
 
     Returns
     -------
@@ -193,9 +194,11 @@ def kernel_workload() -> dict[str, float]:
     """
     import numpy as np
 
+    from ..composite import shade
     from ..groundtruth import receiver_grid
     from ..scene import PointLight
     from ..shadow import MotionRange, bake_atlas, shadow_visibility
+    from ..shadow.pixels import drawn_pixels
 
     if numba is None:  # pragma: no cover - numba is a dependency
         return {"compile_s": 0.0, "bake_compile_s": 0.0, "kernels": 0.0, "wall_s": 0.0}
@@ -211,6 +214,9 @@ def kernel_workload() -> dict[str, float]:
         for warps in ("composed", "reproject"):
             depth, cam = atlas.shadow_map([0.2, -0.3], warps=warps)
             shadow_visibility(ground, depth, cam)
+        drawn_pixels(cam, depth, light)  # a frame's per-pixel kernels (render_frame)
+        shade(np.zeros((*cam.shape, 3), np.uint8), np.zeros((*cam.shape, 3), np.uint8),
+              np.ones(cam.shape, np.float32))
 
     def top_level(buffer: list[Any]) -> tuple[float, int]:
         total, depth, start, n = 0.0, 0, 0.0, 0

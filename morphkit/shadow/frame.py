@@ -4,10 +4,11 @@ The camera view is rendered lit and unlit (:mod:`morphkit.render`): in one draw 
 renderer is a :class:`~morphkit.protocols.FrameRenderer` (:meth:`Renderer.frame_pass
 <morphkit.render.Renderer.frame_pass>`, issue #26: the lit pixels and, from the same fragments,
 the unlit ones), else (or with ``one_pass=False``) in two draws, lit then unlit. Its depth is
-unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`),
-and each visible point gets a light visibility from a callable: a shadow-map
-lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`) or the ray-cast
-ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
+unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`) with normals
+(:func:`~morphkit.shadow.lookup.normals_from_points`), in one compiled pass over the drawn
+pixels (:func:`~morphkit.shadow.pixels.drawn_pixels`), and each visible point gets a light
+visibility from a callable: a shadow-map lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`)
+or the ray-cast ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
 
 The object is drawn in its mesh's own look (:mod:`morphkit.look`: texture,
 vertex or face colours, cut-outs, an ``Item`` without a colour) where the mesh
@@ -49,9 +50,10 @@ from ..cutout import cached_look
 from ..errors import ValidationError, expected_got
 from ..groundtruth import hard_visibility
 from ..protocols import FrameRenderer, SceneRenderer
-from ..scene import AreaLight, DirectionalLight, Item, Scene, scene_items
-from .lookup import normals_from_points, shadow_visibility
+from ..scene import Item, Scene, scene_items
+from .lookup import shadow_visibility
 from .method import ShadowMethod
+from .pixels import drawn_pixels
 
 __all__ = ["render_frame", "compare_frames", "frame_items", "VisibilityFn"]
 
@@ -140,24 +142,14 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
                                           background=background)
         unlit, _ = renderer.color_depth(cam, items, [], ambient=scene.ambient, background=background)
         on_object = _object_pixels(renderer, scene, depth) if receiver_only else None
-    world, valid = cam.unproject(depth)
-    normals = normals_from_points(world, valid)
-    # the drawn pixels' points and normals taken by index: several times faster than masking
-    # (H, W, 3) arrays with a boolean image (which the frame did three times)
-    drawn = np.flatnonzero(valid)
-    points = world.reshape(-1, 3).take(drawn, axis=0)
-    pixel_normals = normals.reshape(-1, 3).take(drawn, axis=0)
-    light = scene.light
-    if isinstance(light, DirectionalLight):
-        to_light = np.broadcast_to(-light.direction, points.shape)
-    else:
-        to_light = (light.center if isinstance(light, AreaLight) else light.position) - points
-    facing = np.zeros(cam.shape, bool)
-    facing.reshape(-1)[drawn] = np.einsum("nk,nk->n", pixel_normals, to_light) > 0
+    # the drawn pixels' points, normals and light facing in one pass (module morphkit.shadow.pixels)
+    drawn, points, pixel_normals, facing = drawn_pixels(cam, depth, scene.light)
     vis = np.ones(cam.shape, np.float32)
     tested = None if on_object is None else ~on_object.reshape(-1).take(drawn)
-    if tested is not None and not tested.all():
-        drawn, points, pixel_normals = drawn[tested], points[tested], pixel_normals[tested]
+    if tested is not None and not tested.all():  # by index: several times faster than a boolean mask
+        keep = np.flatnonzero(tested)
+        drawn, points, pixel_normals = (drawn.take(keep), points.take(keep, axis=0),
+                                        pixel_normals.take(keep, axis=0))
     if len(drawn):
         vis.reshape(-1)[drawn] = _checked_visibility(visibility(points, pixel_normals), len(drawn))
     return {"lit": lit, "unlit": unlit, "depth": depth, "visibility": vis,
