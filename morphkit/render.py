@@ -189,7 +189,7 @@ if pyrender is not None:
         colour attachment too (the unlit colour and the item marks, or the encoded normals)."""
 
         def __init__(self, width: int, height: int) -> None:
-            self._unlit_rb: Any = None  # the second colour attachment, made by the first frame_pass
+            self._unlit_rb: Any = None  # the second colour attachment, made by the first two_pass
             self._frame: tuple[dict[int, float], set[int]] | None = None  # marks, cull: in a two_pass
             super().__init__(width, height)
             self._program_cache = _ProgramCache()
