@@ -5,6 +5,17 @@ No GL is imported here (ctypes only), so the message for a machine without GL ca
 before, and without, pyrender: :mod:`morphkit.render` uses it when pyrender cannot be
 imported or a context cannot be created, and calls :func:`check_gl_memory` before it
 creates one. The platform itself is chosen in :mod:`morphkit.settings` (``MORPHKIT_GL``).
+
+Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per process:
+``osmesa`` (default; software, any Linux machine with ``libosmesa6``) or ``egl``
+(``MORPHKIT_GL=egl``: a GPU through its driver's EGL, or Mesa's software EGL where there is
+none). ``PYOPENGL_PLATFORM`` is set from it before pyrender (and PyOpenGL) are imported.
+
+Headless import. pyrender imports its pyglet viewer, whose X11 backend (``libX11``, ``libXrender``)
+fails without X11 client libraries; morphkit never opens a window: :mod:`morphkit.render` sets
+pyglet's ``headless`` option before it imports pyrender (pyglet then loads ``libEGL`` and ``libGL``
+only). A failed import names the GL library that could not be loaded and its package
+(:func:`missing_gl_libraries`).
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """Interfaces shared across morphkit, declared once (``typing.Protocol``).
 
 :class:`SceneRenderer` is what every module that needs pictures of meshes asks
-for (:class:`PassRenderer` and :class:`FrameRenderer` add draws some modules use when a
-renderer has them): :class:`morphkit.render.Renderer` (pyrender, OSMesa) implements it, and a
-test or a user can pass any other object with the same methods. Only
+for (:class:`PassRenderer`, :class:`GBufferRenderer` and :class:`FrameRenderer` add draws some
+modules use when a renderer has them): :class:`morphkit.render.Renderer` (pyrender, OSMesa)
+implements it, and a test or a user can pass any other object with the same methods. Only
 :mod:`morphkit.render` imports pyrender; code typed against this protocol runs
 and type-checks without a GL context.
 
@@ -22,7 +22,7 @@ from .camera import CameraModel
 from .passes import FramePass, RenderPasses
 from .scene import Item, Light
 
-__all__ = ["SceneRenderer", "PassRenderer", "FrameRenderer"]
+__all__ = ["SceneRenderer", "PassRenderer", "GBufferRenderer", "FrameRenderer"]
 
 
 @runtime_checkable
@@ -167,6 +167,37 @@ class PassRenderer(SceneRenderer, Protocol):
         -------
         RenderPasses
             The passes at ``camera.shape``.
+        """
+        ...
+
+
+@runtime_checkable
+class GBufferRenderer(PassRenderer, Protocol):
+    """A :class:`~morphkit.protocols.PassRenderer` that draws the deferred passes a shader needs in
+    one draw (:class:`morphkit.render.Renderer` does; :class:`morphkit.billboard.litmesh.LitMeshMode`
+    uses it).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
+    """
+
+    def gbuffer_pass(self, camera: CameraModel, items: Sequence[Item]) -> RenderPasses:
+        """:meth:`passes` without the lit colour, from one draw (:meth:`Renderer.gbuffer_pass
+        <morphkit.render.Renderer.gbuffer_pass>`).
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        RenderPasses
+            Albedo, normals, depth and coverage (0 or 1) as :meth:`passes`'; ``color`` is the albedo.
         """
         ...
 

@@ -1,23 +1,13 @@
 """The rendering boundary: the only module of morphkit that imports pyrender.
 
-Platform. :data:`morphkit.settings.GL_PLATFORM` picks the GL platform once per process:
-``osmesa`` (default; software, any Linux machine with ``libosmesa6``) or ``egl``
-(``MORPHKIT_GL=egl``: a GPU through its driver's EGL, or Mesa's software EGL where there is
-none). ``PYOPENGL_PLATFORM`` is set from it before pyrender (and PyOpenGL) are imported.
-:func:`gl_info` names the platform and the GL renderer string in use (benches record both).
-
-Headless import. pyrender imports its pyglet viewer, whose X11 backend (``libX11``, ``libXrender``)
-fails without X11 client libraries; morphkit never opens a window: pyglet's ``headless`` option is
-set before pyrender is imported (pyglet then loads ``libEGL`` and ``libGL`` only). A failed import
-names the GL library that could not be loaded and its package (:func:`missing_gl_libraries`).
+Platform and headless import: :mod:`morphkit.glplatform`; :func:`gl_info`: platform and GL renderer.
 
 Everything returned from here is plain numpy in the conventions of :mod:`morphkit.conventions`:
-depth images are float32 linear depth along the camera's viewing axis (OpenCV ``Z``) in scene
-units, background ``+inf`` (pyrender's is wrong for orthographic cameras:
+depth images are float32 linear depth along the camera's viewing axis (OpenCV ``Z``) in scene units,
+background ``+inf`` (pyrender's is wrong for orthographic cameras:
 :func:`morphkit.passes.linear_depth` corrects it; tested against analytic planes in
-``tests/test_render.py``); colour images are uint8 ``(H, W, 3)``; source views uint8 RGBA,
-straight (not premultiplied) alpha equal to pixel coverage. Shader programs: one cache per
-context, keyed by the shaders and defines only (``_ProgramCache`` says why).
+``tests/test_render.py``); colour images are uint8 ``(H, W, 3)``; source views uint8 RGBA, straight
+(not premultiplied) alpha equal to pixel coverage.
 
 EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path
 rendered into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the
@@ -26,8 +16,9 @@ at pixel centres as OSMesa's (``tests/test_render_egl.py``); its ``delete_contex
 EGL display every context shares (closing one broke the others): it is not terminated here.
 
 Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one ``pyrender.Scene``
-with its uploaded meshes) is kept per image shape and reused for every frame of that shape (on
-EGL too). Meshes are uploaded once per context; moving an object only changes its node pose.
+with its uploaded meshes) is kept per image shape and reused for every frame of that shape (on EGL
+too). Meshes are uploaded once per context; moving an object only changes its node pose. Shader
+programs: one cache per context, keyed by the shaders and defines only (``_ProgramCache``).
 
 Materials. An item with a colour is one ``MetallicRoughnessMaterial`` of that colour
 (``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in
@@ -37,7 +28,7 @@ as a ``pyrender.Primitive`` built here, not by ``from_trimesh(material=None)``: 
 diffuse (0.4) darkens textures, 16-bit textures wrap in ``astype(uint8)``, greyscale ones crash,
 and RGB textures of a width not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here
 textures are RGBA uint8 (:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or ``MASK``
-and two-sided. morphkit's copies of three pyrender fragment shaders (``morphkit/data/shaders``;
+and two-sided. morphkit's copies of pyrender's fragment shaders (``morphkit/data/shaders``;
 pyrender's ignore ``alphaMode`` and ``alphaCutoff``) discard fragments with base-colour alpha
 below 0.5 (a look with cutoff ``c`` uploads its factor alpha times ``0.5 / c``, an opaque look
 all alphas at 1: one shader for every cutoff), decode vertex colours from sRGB before lighting,
@@ -53,13 +44,16 @@ vertex transform, so the same depth). Closed volumes keep ``DEPTH_ONLY``: seen f
 their front faces hide every back face (depth bit-identical). Known limit: a camera inside a
 closed volume, or a near plane cutting one, sees back faces that this draw drops.
 
-One-pass frame (issue #26). :meth:`Renderer.frame_pass` draws a view once into two colour
-attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of
+One-pass frame and G-buffer (issue #26). :meth:`Renderer.frame_pass` draws a view once into two
+colour attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of
 morphkit's ``mesh.frag`` (define ``MORPHKIT_FRAME``), the colour with the lights off (ambient,
-occlusion and emission alone), an item mark (a uniform per primitive) in its alpha. Closed
-volumes are drawn single-sided there (as ``DEPTH_ONLY``: the same pixels and known limit, a
-third less time at 1M faces). On OSMesa it draws into a framebuffer object, not OSMesa's
-buffer: depth rounds differently (1e-5 relative), a textured pixel may differ by one level.
+occlusion and emission alone), an item mark (a uniform per primitive) in its alpha. Closed volumes
+are drawn single-sided there (as ``DEPTH_ONLY``: the same pixels and known limit, a third less time
+at 1M faces). :meth:`Renderer.gbuffer_pass` is :meth:`Renderer.passes` without the lit colour, from
+one flat draw (``gbuffer.frag``: ``flat.frag``'s albedo and ``normals.frag``'s encoded normal in
+two attachments; two-sided, depth and coverage its own). On OSMesa both draw into a framebuffer
+object, not OSMesa's buffer: depth rounds differently (1e-5 relative), a textured pixel may differ
+by one level.
 """
 
 from __future__ import annotations
@@ -97,7 +91,7 @@ __all__ = ["Renderer", "RenderPasses", "SHADER_DIR", "closed_volume", "gl_info",
            "GL_LIBRARIES"]
 
 def _headless_pyglet() -> None:
-    """pyglet without its X11 backend (see the module docstring); before pyrender is imported."""
+    """pyglet without its X11 backend (:mod:`morphkit.glplatform`); before pyrender is imported."""
     try:
         import pyglet
     except ImportError:  # pragma: no cover - pyglet comes with pyrender
@@ -133,11 +127,9 @@ _SMOOTH_FACES = 20000
 
 if pyrender is not None:
     class _MatrixCamera(pyrender.Camera):
-        """A pyrender camera with morphkit's projection matrix (:meth:`CameraModel.gl_projection`).
-
-        pyrender's own cameras cannot express every CameraModel: its OrthographicCamera ignores
-        ``xmag`` (square pixels from the viewport's aspect); off-centre principal points need
-        IntrinsicsCamera."""
+        """A pyrender camera with morphkit's projection matrix (:meth:`CameraModel.gl_projection`):
+        pyrender's cannot express every CameraModel (its OrthographicCamera ignores ``xmag``: square
+        pixels from the viewport's aspect; off-centre principal points need IntrinsicsCamera)."""
 
         def __init__(self, projection: np.ndarray, znear: float, zfar: float) -> None:
             super().__init__(znear=znear, zfar=zfar)
@@ -158,16 +150,18 @@ if pyrender is not None:
 
         #: When set, flat draws use morphkit's normals shader (the normals pass).
         normals: bool = False
-        #: When set, lit draws also write the unlit colour and the item mark (the one-pass frame).
+        #: When set, draws write two colour attachments: lit ones the unlit colour and the item mark
+        #: too (the one-pass frame), flat ones albedo and encoded normals (the G-buffer).
         frame: bool = False
 
         def _path(self, name: str | None, defines: dict) -> str | None:
-            """The file of shader ``name``: morphkit's copy for every flat draw (albedo; the normals
-            pass), lit textured or vertex-coloured primitives and one-pass frames, else pyrender's."""
+            """The file of shader ``name``: morphkit's copy for every flat draw (albedo, normals,
+            G-buffer), lit textured or vertex-coloured primitives and one-pass frames, else pyrender's."""
             if name is None:
                 return None
             if name == "flat.frag":
-                return str(SHADER_DIR / ("normals.frag" if self.normals else "flat.frag"))
+                return str(SHADER_DIR / ("gbuffer.frag" if self.frame else
+                                         "normals.frag" if self.normals else "flat.frag"))
             if name == "mesh.frag" and {"HAS_BASE_COLOR_TEX", "COLOR_0_LOC", "MORPHKIT_FRAME"} & set(defines):
                 return str(SHADER_DIR / name)
             return os.path.join(self.shader_dir, name)
@@ -191,12 +185,12 @@ if pyrender is not None:
         pyrender allocates its "multisample" colour and depth buffers with 4 samples and blits
         them into single-sampled ones (depth read back off the pixel centre). Here they are
         re-allocated with 0 samples right after pyrender creates them: the blit is an exact copy.
-        Programs are cached per context (``_ProgramCache``). :meth:`frame_pass` draws into a
-        second colour attachment too (the unlit colour and the item marks)."""
+        Programs are cached per context (``_ProgramCache``). :meth:`two_pass` draws into a second
+        colour attachment too (the unlit colour and the item marks, or the encoded normals)."""
 
         def __init__(self, width: int, height: int) -> None:
-            self._unlit_rb: Any = None  # the second colour attachment, made by the first frame_pass
-            self._frame: tuple[dict[int, float], set[int]] | None = None  # marks, cull: in a frame_pass
+            self._unlit_rb: Any = None  # the second colour attachment, made by the first two_pass
+            self._frame: tuple[dict[int, float], set[int]] | None = None  # marks, cull: in a two_pass
             super().__init__(width, height)
             self._program_cache = _ProgramCache()
             self._single_sampled: tuple[Any, Any] | None = None
@@ -220,7 +214,7 @@ if pyrender is not None:
                 _GL.glDrawBuffers(n, [_GL.GL_COLOR_ATTACHMENT0, _GL.GL_COLOR_ATTACHMENT1][:n])
 
         def _bind_and_draw_primitive(self, primitive: Any, pose: Any, program: Any, flags: int) -> None:
-            """pyrender's, and in a :meth:`frame_pass` the item mark and single-sided closed volumes."""
+            """pyrender's, and in a :meth:`two_pass` the item mark and single-sided closed volumes."""
             material, two_sided = primitive.material, primitive.material.doubleSided
             if self._frame is not None:
                 program.set_uniform("item_mark", self._frame[0].get(id(primitive), 0.0))
@@ -230,19 +224,20 @@ if pyrender is not None:
             finally:
                 material.doubleSided = two_sided
 
-        def frame_pass(self, scene: pyrender.Scene, marks: dict[int, float], cull: set[int]
-                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-            """One lit draw of ``scene`` offscreen (the context current): lit and unlit RGBA (the mark
-            in the unlit alpha), pyrender's depth; ``cull``: single-sided primitives."""
+        def two_pass(self, scene: pyrender.Scene, flags: int, marks: dict[int, float], cull: set[int]
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            """One draw of ``scene`` offscreen (the context current) into both attachments, lit (lit and
+            unlit RGBA, the mark in the unlit alpha) or ``FLAT`` (albedo, encoded normals), and pyrender's
+            depth; ``cull``: single-sided primitives."""
             self._frame, self._program_cache.frame = (marks, cull), True
             try:
-                (lit, unlit), depth = self.render(scene, pyrender.RenderFlags.OFFSCREEN)
+                (first, second), depth = self.render(scene, flags | pyrender.RenderFlags.OFFSCREEN)
             finally:
                 self._frame, self._program_cache.frame = None, False
-            return cv2.flip(lit, 0), depth, cv2.flip(unlit, 0)  # colours: bottom row read first
+            return cv2.flip(first, 0), depth, cv2.flip(second, 0)  # colours: bottom row read first
 
         def _read_main_framebuffer(self, scene: pyrender.Scene, flags: int) -> Any:
-            """pyrender's; in a :meth:`frame_pass` both colours, read where drawn (single-sampled: no
+            """pyrender's; in a :meth:`two_pass` both colours, read where drawn (single-sampled: no
             blit) as RGBA (no conversion), and depth by pyrender's formula without its masking."""
             if self._frame is None:
                 return super()._read_main_framebuffer(scene, flags)
@@ -300,12 +295,12 @@ if pyrender is not None:
                     _GL_STRINGS[key] = value.decode("utf-8", "replace") if value else ""
             self._renderer = _SingleSampleRenderer(w, h)
 
-        def frame_pass(self, scene: pyrender.Scene, marks: dict[int, float], cull: set[int]
-                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-            """:meth:`_SingleSampleRenderer.frame_pass` with this context current."""
+        def two_pass(self, scene: pyrender.Scene, flags: int, marks: dict[int, float], cull: set[int]
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            """:meth:`_SingleSampleRenderer.two_pass` with this context current."""
             self._platform.make_current()
             try:
-                return self._renderer.frame_pass(scene, marks, cull)
+                return self._renderer.two_pass(scene, flags, marks, cull)
             finally:
                 self._platform.make_uncurrent()
 
@@ -345,9 +340,8 @@ def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
     Returns
     -------
     dict of str to str or None
-        ``platform`` (``"osmesa"`` or ``"egl"``), ``renderer`` (e.g. ``"llvmpipe (LLVM 15.0.6,
-        256 bits)"`` or the GPU's name), ``version``, ``vendor``; the three GL strings are None
-        when no context was read (with ``error`` saying why when one could not be created).
+        ``platform`` (``"osmesa"`` or ``"egl"``), ``renderer`` (``"llvmpipe (LLVM ...)"`` or the GPU's),
+        ``version``, ``vendor``; the GL strings are None where no context was read (``error``: why).
     """
     info: dict[str, str | None] = {"platform": GL_PLATFORM}
     if not _GL_STRINGS and open_context:
@@ -482,10 +476,7 @@ def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]
         T[:3, 3] = light.position
         return [(pyrender.PointLight(color=np.ones(3), intensity=light.intensity), T)]
     if isinstance(light, AreaLight):
-        out = []
-        for p in light.point_lights(2):
-            out += _as_pyrender_lights(p)
-        return out
+        return [pl for p in light.point_lights(2) for pl in _as_pyrender_lights(p)]
     raise ValidationError(expected_got("light", "a DirectionalLight, PointLight or AreaLight",
                                        type(light).__name__))
 
@@ -523,19 +514,20 @@ class Renderer:
             ctx = self._contexts[camera.shape] = _Context(camera.shape)
         return ctx
 
-    @staticmethod
-    def _check_items(items: Sequence[Item]) -> Sequence[Item]:
+    def _shown(self, camera: CameraModel, items: Sequence[Item]) -> _Context:
+        """The context of ``camera`` showing ``items`` (checked)."""
         for it in items:
             if not isinstance(it, Item):
                 raise ValidationError(expected_got("items", "a sequence of morphkit.render.Item",
                                                    type(it).__name__))
-        return items
+        ctx = self._ctx(camera)
+        ctx.show(items)
+        return ctx
 
     def _lit(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], ambient: float,
              background: tuple[float, float, float]) -> _Context:
         """The context of ``camera`` set up for a lit draw of ``items``."""
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
+        ctx = self._shown(camera, items)
         ctx.set_camera(camera)
         ctx.set_lights(lights, ambient)
         ctx.scene.bg_color = np.array([*background, 0.0])
@@ -557,18 +549,15 @@ class Renderer:
         (H, W) float32
             pyrender's depth, ``0`` background.
         """
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
+        ctx = self._shown(camera, items)
         ctx.set_camera(camera)
         return ctx.renderer.render(ctx.scene, flags=pyrender.RenderFlags.DEPTH_ONLY)
 
     def depth(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """Linear depth ``(H, W)`` float32 of ``items`` seen by ``camera``; background ``+inf``.
 
-        Cut-out texels are holes, and every surface is two-sided: an open surface (a card, a
-        quad) seen from behind has depth, as in the colour draw (with a cut-out item, or a mesh
-        that is not a closed outward-facing volume, in view the depth comes from a flat colour
-        draw: module notes, "Materials").
+        Cut-out texels are holes, and every surface is two-sided as in the colour draw (module
+        notes, "Materials").
 
         Parameters
         ----------
@@ -582,8 +571,7 @@ class Renderer:
         (H, W) float32
             Linear depth, ``+inf`` background.
         """
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
+        ctx = self._shown(camera, items)
         if ctx.depth_needs_flat_draw():
             return linear_depth(self._flat(ctx, camera, normals=False)[1], camera)
         return linear_depth(self.pyrender_depth(camera, items), camera)
@@ -616,9 +604,7 @@ class Renderer:
         (H, W, 3) uint8
             Albedo.
         """
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
-        return self._flat(ctx, camera, normals=False)[0]
+        return self._flat(self._shown(camera, items), camera, normals=False)[0]
 
     def normals(self, camera: CameraModel, items: Sequence[Item]) -> np.ndarray:
         """World-frame unit normals ``(H, W, 3)`` float32 of the surfaces facing ``camera``,
@@ -637,9 +623,7 @@ class Renderer:
         (H, W, 3) float32
             Unit normals, world frame.
         """
-        ctx = self._ctx(camera)
-        ctx.show(self._check_items(items))
-        enc, raw = self._flat(ctx, camera, normals=True)
+        enc, raw = self._flat(self._shown(camera, items), camera, normals=True)
         return decode_normals(enc, raw > tol.PYRENDER_BACKGROUND)
 
     def passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
@@ -666,11 +650,32 @@ class Renderer:
             The passes; ``alpha`` is 1 where a surface is drawn, else 0.
         """
         color, depth = self.color_depth(camera, items, lights, ambient=ambient, background=background)
-        ctx = self._ctx(camera)
-        albedo = self._flat(ctx, camera, normals=False)[0]
-        enc = self._flat(ctx, camera, normals=True)[0]
+        albedo, enc = (self._flat(self._ctx(camera), camera, normals=n)[0] for n in (False, True))
         covered = np.isfinite(depth)
         return RenderPasses(color, albedo, decode_normals(enc, covered), depth, covered.astype(np.float32))
+
+    def gbuffer_pass(self, camera: CameraModel, items: Sequence[Item]) -> RenderPasses:
+        """:meth:`passes` without its lit colour, from one draw (module notes, "One-pass frame and G-buffer").
+
+        Parameters
+        ----------
+        camera : CameraModel
+            The view.
+        items : sequence of Item
+            Items to draw, world poses.
+
+        Returns
+        -------
+        RenderPasses
+            As :meth:`passes`' (``alpha`` 0 or 1), but ``color`` is ``albedo``: no lit colour is drawn.
+        """
+        check_gl_memory(camera.shape, tol.GL_FRAME_PASS_BYTES_PER_PIXEL)  # its framebuffers (once made)
+        ctx = self._lit(camera, items, (), 0.0, (0.0, 0.0, 0.0))  # no light in a flat draw
+        rgba, raw, code = ctx.renderer.two_pass(ctx.scene, pyrender.RenderFlags.FLAT, {}, set())
+        depth, albedo = linear_depth(raw, camera), cv2.cvtColor(rgba, cv2.COLOR_RGBA2RGB)
+        covered = np.isfinite(depth)
+        return RenderPasses(albedo, albedo, decode_normals(code[..., :3], covered), depth,
+                            covered.astype(np.float32))
 
     def source_passes(self, camera: CameraModel, items: Sequence[Item], lights: Iterable[Light], *,
                       ambient: float = 0.35, supersample: int = 3) -> RenderPasses:
@@ -707,9 +712,7 @@ class Renderer:
                     ) -> tuple[np.ndarray, np.ndarray]:
         """Shaded colour ``(H, W, 3)`` uint8 and linear depth ``(H, W)`` float32.
 
-        No shadows are drawn (shadows are morphkit's job); ``ambient`` is the
-        ambient light level (same for R, G, B); ``background`` is the RGB colour
-        in [0, 1] where nothing is drawn.
+        No shadows are drawn (shadows are morphkit's job).
 
         Parameters
         ----------
@@ -763,7 +766,7 @@ class Renderer:
         check_gl_memory(camera.shape, tol.GL_FRAME_PASS_BYTES_PER_PIXEL)  # its framebuffers (once made)
         ctx = self._lit(camera, items, lights, ambient, background)
         ids = ctx.frame_ids([items[as_int(k, "marked index", lo=0, hi=len(items) - 1)] for k in marked])
-        color, raw, unlit = ctx.renderer.frame_pass(ctx.scene, *ids)
+        color, raw, unlit = ctx.renderer.two_pass(ctx.scene, pyrender.RenderFlags.NONE, *ids)
         return FramePass(cv2.cvtColor(color, cv2.COLOR_RGBA2RGB), cv2.cvtColor(unlit, cv2.COLOR_RGBA2RGB),
                          linear_depth(raw, camera), unlit[..., 3] >= 128)
 
@@ -771,9 +774,8 @@ class Renderer:
                     ambient: float = 0.35, supersample: int = 3) -> np.ndarray:
         """RGBA ``(H, W, 4)`` uint8 of ``items`` alone on a transparent background.
 
-        Alpha is pixel coverage, measured by rendering at ``supersample`` times
-        the resolution and area-averaging (OSMesa has no multisampling); colour
-        is straight (un-premultiplied) alpha.
+        Alpha is pixel coverage (drawn at ``supersample`` times the resolution and area-averaged:
+        OSMesa has no multisampling); colour is straight (un-premultiplied) alpha.
 
         Parameters
         ----------
@@ -793,8 +795,6 @@ class Renderer:
         (H, W, 4) uint8
             Straight-alpha RGBA.
         """
-        s = int(supersample)
-        if s < 1:
-            raise ValidationError(expected_got("supersample", "an int >= 1", supersample))
+        s = as_int(supersample, "supersample", lo=1)
         color, depth = self.color_depth(supersampled_camera(camera, s), items, lights, ambient=ambient)
         return area_rgba(color, depth, camera.shape)

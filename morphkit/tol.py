@@ -150,9 +150,10 @@ LIGHT_FIT_DEPTH_PAD = 1e-6
 GL_BYTES_PER_PIXEL = 48
 
 #: Bytes of memory per pixel a context's first one-pass frame draw adds (checked before each:
-#: :meth:`morphkit.render.Renderer.frame_pass`; its framebuffer object of two colour attachments
-#: and depth, on OSMesa beside OSMesa's own buffer). Measured on llvmpipe: a 27-30 B/px rise of
-#: the peak address space at 2048^2 and 4096^2 (none at later draws); 40 leaves a third on top.
+#: :meth:`morphkit.render.Renderer.frame_pass` and ``gbuffer_pass``, which share it; its framebuffer
+#: object of two colour attachments and depth, on OSMesa beside OSMesa's own buffer). Measured on
+#: llvmpipe: a 27-30 B/px rise of the peak address space at 2048^2 and 4096^2 (none at later draws);
+#: 40 leaves a third on top.
 GL_FRAME_PASS_BYTES_PER_PIXEL = 40
 
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
@@ -523,6 +524,18 @@ DRAWN_POINTS_ABS = 1e-12
 #: operations in the same order; a float64 point one bit apart can round to a neighbouring float32
 #: (~6e-8 relative), which moves a normal by that over the pixel's central difference.
 DRAWN_NORMALS_ABS = 1e-5
+
+#: The one-draw G-buffer (:meth:`morphkit.render.Renderer.gbuffer_pass`, issue #26) and the
+#: three-draw passes (:meth:`~morphkit.render.Renderer.passes`): albedo differs by at most this
+#: many levels anywhere (0 for untextured items; 1 seen on textured ones: a framebuffer object
+#: rounds differently from OSMesa's buffer, :mod:`morphkit.render`, "One-pass frame and G-buffer").
+#: Coverage is identical; depth agrees within :data:`DEPTH_SAME_SURFACE_REL`.
+GBUFFER_ALBEDO_LEVELS = 1
+
+#: ... and a :class:`~morphkit.billboard.litmesh.LitMeshMode` frame shaded from either equals
+#: the other within this mean absolute difference of ``rgb`` (all pixels and channels), in
+#: levels of 255 (the issue's bound, as :data:`FRAME_ONCE_MEAN_LEVELS`).
+GBUFFER_FRAME_MEAN_LEVELS = 1.0
 
 #: Depth (scene units) added on each side of the object's depth range for a light
 #: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of

@@ -2,8 +2,10 @@
 
 :class:`LitMeshMode` is :class:`~.modes.MeshMode` with morphkit's shading instead of
 the renderer's lighting: the meshes at every instance's pose are drawn as deferred
-passes (albedo, world normals, depth, coverage: :meth:`Renderer.passes
-<morphkit.render.Renderer.passes>`, or ``source_passes`` when supersampled) and
+passes (albedo, world normals, depth, coverage: in one draw where the renderer is a
+:class:`~morphkit.protocols.GBufferRenderer`, :meth:`Renderer.gbuffer_pass
+<morphkit.render.Renderer.gbuffer_pass>`, else :meth:`Renderer.passes
+<morphkit.render.Renderer.passes>`; ``source_passes`` when supersampled) and
 shaded by :func:`morphkit.shading.shade_passes` under a world-frame
 :class:`~morphkit.shading.Lighting` -- the one model (:mod:`morphkit.shading`) that
 also shades the relit billboards, so the two compare like with like under any sun.
@@ -33,7 +35,7 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..protocols import PassRenderer
+from ..protocols import GBufferRenderer, PassRenderer
 from ..scene import Item
 from ..shading import Lighting, shade_passes
 from ..shadow.receivers import SceneShadow
@@ -61,7 +63,8 @@ class LitMeshMode:
     lighting : Lighting
         World frame; replace it between frames to move the sun.
     supersample : int
-        1: one sample a pixel (coverage 0 or 1, :meth:`~morphkit.protocols.PassRenderer.passes`); ``s > 1``:
+        1: one sample a pixel (coverage 0 or 1, :meth:`~morphkit.protocols.GBufferRenderer.gbuffer_pass`
+        or :meth:`~morphkit.protocols.PassRenderer.passes`: ``gbuffer``); ``s > 1``:
         supersampled passes (coverage alpha, :meth:`~morphkit.protocols.PassRenderer.source_passes`).
     cull : bool
         Draw only the instances whose bounding sphere meets the frustum; False draws all.
@@ -69,6 +72,11 @@ class LitMeshMode:
         The mode's name in frames, strips and reports.
     shadow : SceneShadow, optional
         What shadows the suns (module docstring, "Shadows"); default none.
+    gbuffer : bool, optional
+        At ``supersample`` 1, draw the passes in one draw where the renderer is a
+        :class:`~morphkit.protocols.GBufferRenderer` (default); False: always
+        :meth:`~morphkit.protocols.PassRenderer.passes` (three draws with
+        :class:`morphkit.render.Renderer`, whose lit colour is not used).
     """
 
     renderer: PassRenderer
@@ -78,6 +86,7 @@ class LitMeshMode:
     cull: bool = True
     name: str = "litmesh"
     shadow: SceneShadow | None = None
+    gbuffer: bool = True
 
     def __post_init__(self) -> None:
         if self.shadow is not None and not isinstance(self.shadow, SceneShadow):
@@ -88,6 +97,7 @@ class LitMeshMode:
                                                type(self.renderer).__name__))
         self.supersample = as_int(self.supersample, "supersample", lo=1)
         self.cull = as_flag(self.cull, "cull")
+        self.gbuffer = as_flag(self.gbuffer, "gbuffer")
         # the posing of MeshMode (and its checks of the items); its lights are never used
         self._posed = MeshMode(self.renderer, self.meshes, cull=self.cull)
 
@@ -118,7 +128,9 @@ class LitMeshMode:
         plan = scene.plan(camera)
         idx = plan.visible if self.cull else np.arange(len(scene))
         items = self._posed.items(scene, idx)
-        if self.supersample == 1:
+        if self.supersample == 1 and self.gbuffer and isinstance(self.renderer, GBufferRenderer):
+            passes = self.renderer.gbuffer_pass(camera, items)
+        elif self.supersample == 1:
             passes = self.renderer.passes(camera, items, ())
         else:
             passes = self.renderer.source_passes(camera, items, (), supersample=self.supersample)
