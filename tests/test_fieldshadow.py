@@ -196,6 +196,40 @@ def test_the_compiled_splat_equals_its_numpy_reference(monkeypatch, half):
     np.testing.assert_array_equal(out[0], out[1])
 
 
+@pytest.mark.parametrize("bands", [2, 3, 5])
+def test_the_splat_and_the_closing_in_bands_of_rows_equal_one_band(monkeypatch, bands):
+    """Each band draws the instances whose rows it can reach and writes its own rows: the map
+    equals the numpy reference bit for bit (an instance's row bound too tight would lose the
+    points of the rows beyond it)."""
+    from morphkit.shadow import fieldsplat
+
+    rng = np.random.default_rng(11)
+    points = rng.uniform(-1.0, 1.0, (600, 3)).astype(np.float32)
+    normals = rng.normal(size=(600, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = normals.astype(np.float32)
+    seg_start, seg_len = np.array([0, 300]), np.array([300, 300])
+    seg_dir = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
+    T = np.zeros((3, 3, 4))
+    poses = [(9.0, [10.0, 12.0, 5.0]), (6.0, [20.0, 30.0, 6.0]), (11.0, [30.0, 41.0, 4.0])]
+    for i, (k, t) in enumerate(poses):
+        T[i, :, :3], T[i, :, 3] = k * np.eye(3), t
+    seg = np.array([[0, 1], [1, -1], [0, -1]])
+    halves, suns = np.array([0.6, 0.9, 0.4]), np.array([[0.0, 0.6, 0.8]] * 3)
+    sizes = rng.choice(np.array([1.0, 2.0, 4.0], np.float32), 600)
+    got = {}
+    for name, compiled, n in (("numpy", False, 1), ("bands", True, bands)):
+        monkeypatch.setattr(fieldsplat, "use_compiled", lambda _k, c=compiled: c)
+        monkeypatch.setattr(fieldsplat, "WARP_THREADS", n)
+        monkeypatch.setattr(fieldsplat, "PARALLEL_MIN_PIXELS", 0)
+        d = np.full((52, 44), np.inf, np.float32)
+        splat_points(d, points, normals, seg_start, seg_len, seg_dir, T, seg, halves, suns, sizes)
+        got[name] = (d, fieldsplat.close_holes(d))
+    assert np.isfinite(got["numpy"][0]).sum() > 300
+    np.testing.assert_array_equal(got["bands"][0], got["numpy"][0])
+    np.testing.assert_array_equal(got["bands"][1], got["numpy"][1])
+
+
 def _one_point(xyz, normal, sun, half, view=(0.0, 0.0, 1.0)) -> np.ndarray:
     d = np.full((6, 6), np.inf, np.float32)
     T = np.zeros((1, 3, 4))

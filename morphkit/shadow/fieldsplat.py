@@ -46,6 +46,12 @@ stands for a square of ``size`` atlas texels a side (its block's drawn area); it
 texel's area, about ``1 / 4`` a level, while the outline moves by under a field texel.
 ``SplatDrawer(max_level=0)`` splats every texel (the drawer before levels, kept to compare with).
 
+**Threads.** On maps of at least :data:`~morphkit.warp.PARALLEL_MIN_PIXELS` texels the splat and
+the closing run in bands of rows on :data:`~morphkit.settings.WARP_THREADS` threads
+(:func:`~morphkit.warp.in_bands`): a band draws the instances whose splats can reach its rows
+(their points' ball about the origin, posed) and writes only its own rows, so the map is the
+same, bit for bit, as one band's (the minimum does not depend on the order).
+
 **Convention.** The field camera's :meth:`~morphkit.camera.CameraModel.texture_matrix`
 ``T_pix_world``; the pose ``object2world = translation(x, y, 0) Rz(yaw) scale``
 (:meth:`~morphkit.billboard.instances.Instances.object2world`); field texel ``(u, v)`` holds
@@ -69,8 +75,9 @@ from ..billboard.domecameras import direction
 from ..billboard.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..settings import compile_kernel, use_compiled
+from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array, as_int, as_positive
+from ..warp import PARALLEL_MIN_PIXELS, in_bands
 from .sunatlas import MAX_POINT_LEVEL, SunAtlas
 
 __all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes"]
@@ -78,10 +85,14 @@ __all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes"]
 
 def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
            seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray,
-           inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
-    """Min each instance's segments of points, posed by its ``(3, 4)``, into ``depth`` (in place)."""
+           inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float,
+           inst_rows: np.ndarray, r_lo: int, r_hi: int) -> None:
+    """Min each instance's segments of points, posed by its ``(3, 4)``, into rows ``r_lo`` to
+    ``r_hi - 1`` of ``depth`` (in place); ``inst_rows``: the rows each instance can reach."""
     H, W = depth.shape
     for i in range(inst_T.shape[0]):
+        if inst_rows[i, 1] < r_lo or inst_rows[i, 0] >= r_hi:
+            continue
         T = inst_T[i]
         sx, sy, sz = inst_sun[i, 0], inst_sun[i, 1], inst_sun[i, 2]
         for j in range(inst_seg.shape[1]):
@@ -104,7 +115,7 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
                 d = np.float32(T[2, 0] * x + T[2, 1] * y + T[2, 2] * z + T[2, 3])
                 c0, c1 = int(math.ceil(u - h)), int(math.ceil(u + h)) - 1
                 r0, r1 = int(math.ceil(v - h)), int(math.ceil(v + h)) - 1
-                for r in range(max(r0, 0), min(r1 + 1, H)):
+                for r in range(max(r0, r_lo), min(r1 + 1, r_hi)):
                     for c in range(max(c0, 0), min(c1 + 1, W)):
                         if d < depth[r, c]:
                             depth[r, c] = d
@@ -171,17 +182,39 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
     sizes = np.ones(len(points), np.float32) if sizes is None else np.asarray(sizes, np.float32)
     args = (depth, points, normals, sizes, seg_start, seg_len, seg_dir, inst_T, inst_seg, inst_half,
             inst_sun, float(tol.SPLAT_MIN_COS))
-    if use_compiled(_splat_jit):
-        _splat_jit(*args)  # type: ignore[misc]
-    else:
+    if not use_compiled(_splat_jit):
         _splat_numpy(*args)
+        return
+    # bands of rows on WARP_THREADS threads, each instance drawn in the bands its points can
+    # reach, each band writing its own rows: the same minimum (bit for bit) as one band
+    H = depth.shape[0]
+    rows = _instance_rows(points, seg_start, seg_len, inst_T, inst_seg, inst_half, sizes)
+    n = WARP_THREADS if depth.size >= PARALLEL_MIN_PIXELS else 1
+    bands = [(H * b // n, H * (b + 1) // n) for b in range(n)]
+    in_bands(lambda b: _splat_jit(*args, rows, *bands[b]), n)  # type: ignore[misc]
 
 
-def _close_loop(depth: np.ndarray, out: np.ndarray) -> None:
-    """:func:`close_holes` into ``out`` (a copy of ``depth``), one pass."""
+def _instance_rows(points: np.ndarray, seg_start: np.ndarray, seg_len: np.ndarray, inst_T: np.ndarray,
+                   inst_seg: np.ndarray, inst_half: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """``(M, 2)`` int64: the first and last map row each instance's splats can reach (its segments'
+    points in a ball about its origin, posed; plus its largest splat's half side)."""
+    reach = np.zeros(len(seg_start))
+    for sg in np.unique(inst_seg[inst_seg >= 0]):
+        sl = slice(int(seg_start[sg]), int(seg_start[sg] + seg_len[sg]))
+        if sl.stop > sl.start:
+            reach[sg] = float(np.sqrt(np.einsum("ij,ij->i", points[sl], points[sl]).max()))
+    radius = np.where(inst_seg >= 0, reach[np.maximum(inst_seg, 0)], 0.0).max(axis=1, initial=0.0)
+    smax = float(sizes.max(initial=1.0))
+    ext = np.linalg.norm(inst_T[:, 1, :3], axis=1) * radius + inst_half * smax + 1.0
+    v = inst_T[:, 1, 3]
+    return np.stack([np.floor(v - ext), np.ceil(v + ext)], axis=1).astype(np.int64)
+
+
+def _close_loop(depth: np.ndarray, out: np.ndarray, r_lo: int, r_hi: int) -> None:
+    """:func:`close_holes` into rows ``r_lo`` to ``r_hi - 1`` of ``out`` (a copy of ``depth``)."""
     H, W = depth.shape
     inf = np.float32(np.inf)
-    for r in range(H):
+    for r in range(r_lo, r_hi):
         for c in range(W):
             if depth[r, c] < inf:
                 continue
@@ -212,7 +245,10 @@ def close_holes(depth: np.ndarray) -> np.ndarray:
     """
     out = depth.copy()
     if use_compiled(_close_jit):
-        _close_jit(depth, out)  # type: ignore[misc]
+        H = depth.shape[0]
+        n = WARP_THREADS if depth.size >= PARALLEL_MIN_PIXELS else 1
+        bands = [(H * b // n, H * (b + 1) // n) for b in range(n)]
+        in_bands(lambda b: _close_jit(depth, out, *bands[b]), n)  # type: ignore[misc]
         return out
     drawn = np.isfinite(depth).astype(np.uint8)
     both_h = cv2.erode(drawn, _PAIR_H, borderType=cv2.BORDER_CONSTANT, borderValue=0)

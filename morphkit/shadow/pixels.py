@@ -16,7 +16,6 @@ the last bit or two of float64 (numpy's matrix product sums in BLAS's order).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -25,7 +24,7 @@ from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import AreaLight, DirectionalLight, Light
 from ..settings import WARP_THREADS, compile_kernel, use_compiled
-from ..warp import PARALLEL_MIN_PIXELS, band_pool
+from ..warp import PARALLEL_MIN_PIXELS, in_bands
 from .lookup import normals_from_points
 
 __all__ = ["DrawnPixels", "drawn_pixels"]
@@ -102,19 +101,11 @@ def drawn_pixels(camera: CameraModel, depth: np.ndarray, light: Light) -> DrawnP
     # after those of the bands above it: the same output as one band
     n = WARP_THREADS if h * w >= PARALLEL_MIN_PIXELS else 1
     bands = [(h * b // n, h * (b + 1) // n) for b in range(n)]
-    counts = _in_bands(lambda b: _count_kernel(depth, *bands[b]), n)
+    counts = in_bands(lambda b: _count_kernel(depth, *bands[b]), n)
     starts = np.concatenate([[0], np.cumsum(counts)])
-    _in_bands(lambda b: _pixels_kernel(*args, *bands[b], int(starts[b]), index, points, normals, facing), n)
+    in_bands(lambda b: _pixels_kernel(*args, *bands[b], int(starts[b]), index, points, normals, facing), n)
     total = int(starts[-1])
     return DrawnPixels(index[:total], points[:total], normals[:total], facing)
-
-
-def _in_bands(fn: Callable[[int], int], n: int) -> list[int]:
-    """``[fn(0), ..., fn(n - 1)]``, band 0 in the calling thread, the others in the band pool."""
-    if n == 1:
-        return [fn(0)]
-    futures = [band_pool().submit(fn, b) for b in range(1, n)]
-    return [fn(0)] + [f.result() for f in futures]
 
 
 def _drawn_numpy(camera: CameraModel, depth: np.ndarray, directional: bool, toward: np.ndarray

@@ -101,7 +101,7 @@ This package re-exports its public API; the modules hold one concept each:
   constant borders, channel grouping (never two channels at once), dtype
   conversion, the non-finite guard; :data:`OUTSIDE`.
 * :mod:`.accumulate` -- the fused accumulation: :func:`accumulate_warps`,
-  :class:`Accumulation`, :func:`band_pool`, :func:`roi_union`,
+  :class:`Accumulation`, :func:`band_pool`, :func:`in_bands`, :func:`roi_union`,
   :data:`PARALLEL_MIN_PIXELS`.
 * :mod:`.pool` -- per-thread coordinate planes and recycled map buffers.
 * :mod:`.scanline` -- the compiled (numba) kernels: map fill, fused
@@ -123,11 +123,11 @@ References
 from __future__ import annotations
 
 from ..settings import WARP_THREADS
-from .accumulate import PARALLEL_MIN_PIXELS, Accumulation, accumulate_warps, band_pool, roi_union
+from .accumulate import PARALLEL_MIN_PIXELS, Accumulation, accumulate_warps, band_pool, in_bands, roi_union
 from .maps import OUTSIDE, WarpMaps
 from .mesh import delaunay_triangles, grid_shape, grid_triangles
 from .warper import MeshWarper, warp_mesh
 
 __all__ = ["warp_mesh", "MeshWarper", "WarpMaps", "grid_triangles", "delaunay_triangles", "grid_shape",
-           "OUTSIDE", "accumulate_warps", "Accumulation", "roi_union", "band_pool", "PARALLEL_MIN_PIXELS",
-           "WARP_THREADS"]
+           "OUTSIDE", "accumulate_warps", "Accumulation", "roi_union", "band_pool", "in_bands",
+           "PARALLEL_MIN_PIXELS", "WARP_THREADS"]

@@ -3,9 +3,9 @@ run-time blend), in bands of rows over a thread pool."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import NamedTuple
+from typing import NamedTuple, TypeVar
 
 import cv2
 import numpy as np
@@ -15,7 +15,9 @@ from ..settings import WARP_THREADS
 from . import scanline
 from .maps import WarpMaps
 
-__all__ = ["Accumulation", "accumulate_warps", "band_pool", "roi_union", "PARALLEL_MIN_PIXELS"]
+T = TypeVar("T")
+
+__all__ = ["Accumulation", "accumulate_warps", "band_pool", "in_bands", "roi_union", "PARALLEL_MIN_PIXELS"]
 
 
 class Accumulation(NamedTuple):
@@ -159,6 +161,28 @@ def band_pool() -> ThreadPoolExecutor:
         _pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="morphkit-warp")
         _pool_workers = workers
     return _pool
+
+
+def in_bands(fn: Callable[[int], T], n: int) -> list[T]:
+    """``[fn(0), ..., fn(n - 1)]``: band 0 in the calling thread, the others in :func:`band_pool`
+    (a banded pass whose bands write disjoint parts of its output).
+
+    Parameters
+    ----------
+    fn : callable
+        ``fn(band) -> result`` (a compiled kernel that releases the GIL, for the bands to overlap).
+    n : int
+        The number of bands (1: ``fn(0)`` alone, no pool).
+
+    Returns
+    -------
+    list
+        Each band's result, in band order.
+    """
+    if n == 1:
+        return [fn(0)]
+    futures = [band_pool().submit(fn, b) for b in range(1, n)]
+    return [fn(0)] + [f.result() for f in futures]
 
 
 def roi_union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]
