@@ -80,7 +80,7 @@ from ..validate import as_finite_array, as_int, as_positive
 from ..warp import PARALLEL_MIN_PIXELS, in_bands
 from .sunatlas import MAX_POINT_LEVEL, SunAtlas
 
-__all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes"]
+__all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes", "empty_depth"]
 
 
 def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
@@ -211,11 +211,12 @@ def _instance_rows(points: np.ndarray, seg_start: np.ndarray, seg_len: np.ndarra
 
 
 def _close_loop(depth: np.ndarray, out: np.ndarray, r_lo: int, r_hi: int) -> None:
-    """:func:`close_holes` into rows ``r_lo`` to ``r_hi - 1`` of ``out`` (a copy of ``depth``)."""
+    """:func:`close_holes`: rows ``r_lo`` to ``r_hi - 1`` of ``depth`` into ``out``, closed."""
     H, W = depth.shape
     inf = np.float32(np.inf)
     for r in range(r_lo, r_hi):
         for c in range(W):
+            out[r, c] = depth[r, c]
             if depth[r, c] < inf:
                 continue
             lft = depth[r, c - 1] if c > 0 else inf
@@ -227,6 +228,40 @@ def _close_loop(depth: np.ndarray, out: np.ndarray, r_lo: int, r_hi: int) -> Non
 
 
 _close_jit = compile_kernel(_close_loop, error_model="numpy")
+
+
+def _fill_inf(depth: np.ndarray, r_lo: int, r_hi: int) -> None:
+    """Rows ``r_lo`` to ``r_hi - 1`` of ``depth`` set to ``+inf``."""
+    inf = np.float32(np.inf)
+    for r in range(r_lo, r_hi):
+        for c in range(depth.shape[1]):
+            depth[r, c] = inf
+
+
+_fill_jit = compile_kernel(_fill_inf)
+
+
+def empty_depth(shape: tuple[int, int]) -> np.ndarray:
+    """An empty field map: ``(H, W)`` float32 of ``+inf`` (filled in bands of rows on large maps,
+    module docstring, "Threads").
+
+    Parameters
+    ----------
+    shape : (H, W)
+        The map's shape.
+
+    Returns
+    -------
+    (H, W) float32
+        ``+inf`` everywhere.
+    """
+    if not use_compiled(_fill_jit):
+        return np.full(shape, np.inf, np.float32)
+    depth = np.empty(shape, np.float32)
+    n = WARP_THREADS if depth.size >= PARALLEL_MIN_PIXELS else 1
+    bands = [(shape[0] * b // n, shape[0] * (b + 1) // n) for b in range(n)]
+    in_bands(lambda b: _fill_jit(depth, *bands[b]), n)  # type: ignore[misc]
+    return depth
 
 
 def close_holes(depth: np.ndarray) -> np.ndarray:
@@ -243,13 +278,14 @@ def close_holes(depth: np.ndarray) -> np.ndarray:
         Each empty texel whose two horizontal or two vertical neighbours are drawn holds the
         nearest depth of its four neighbours.
     """
-    out = depth.copy()
     if use_compiled(_close_jit):
+        out = np.empty_like(depth)  # each band copies its rows, then closes them
         H = depth.shape[0]
         n = WARP_THREADS if depth.size >= PARALLEL_MIN_PIXELS else 1
         bands = [(H * b // n, H * (b + 1) // n) for b in range(n)]
         in_bands(lambda b: _close_jit(depth, out, *bands[b]), n)  # type: ignore[misc]
         return out
+    out = depth.copy()
     drawn = np.isfinite(depth).astype(np.uint8)
     both_h = cv2.erode(drawn, _PAIR_H, borderType=cv2.BORDER_CONSTANT, borderValue=0)
     both_v = cv2.erode(drawn, _PAIR_V, borderType=cv2.BORDER_CONSTANT, borderValue=0)
@@ -366,7 +402,7 @@ class SplatDrawer:
         (H, W) float32
             Nearest caster's depth along the light (``+inf`` where none).
         """
-        depth = np.full(camera.shape, np.inf, np.float32)
+        depth = empty_depth(camera.shape)
         T = camera.texture_matrix()[:3]
         names: Sequence[str] = instances.names
         asset = instances.asset[kept]
