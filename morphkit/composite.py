@@ -122,7 +122,8 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
     Parameters
     ----------
     image : (H, W) or (H, W, C) uint8, integer or float
-        Straight (not premultiplied) image, ``C`` in 1, 3 or 4 (alpha last).
+        Straight (not premultiplied) image, ``C`` in 1, 3 or 4 (alpha last, in ``[0, 1]`` for
+        floats, ``[0, 255]`` for uint8).
     channels : int
         Colour layout to promote to: 1 grey, 3 RGB, 4 RGBA.
 
@@ -132,6 +133,12 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
         Premultiplied colour in the input's units, then alpha in ``[0, 1]``
         (``C'`` is the input's colour count, 1 or 3; grey becomes 3 when
         ``channels >= 3``).
+
+    Raises
+    ------
+    ValidationError
+        Not an image of 1, 3 or 4 channels; ``channels`` not 1, 3 or 4; values beyond float32's
+        range; an alpha outside its range.
     """
     img = as_image(image, "image", channels=(1, 3, 4))
     if channels not in (1, 3, 4):
@@ -147,6 +154,10 @@ def to_premultiplied(image: np.ndarray, channels: int) -> np.ndarray:
     c = x.shape[2]
     if c == 4:
         color, alpha = x[:, :, :3], x[:, :, 3:] / np.float32(amax)
+        if alpha.size and (float(alpha.min()) < 0.0 or float(alpha.max()) > 1.0):
+            a = img[:, :, 3]
+            raise ValidationError(expected_got("image alpha", f"values in [0, {amax:g}]",
+                                               f"{float(a.min()):g} to {float(a.max()):g}"))
     else:
         color, alpha = x, np.ones(x.shape[:2] + (1,), np.float32)
     if channels >= 3 and color.shape[2] == 1:

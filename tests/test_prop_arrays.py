@@ -11,6 +11,7 @@ raw exception, a hang or NaN output.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -18,6 +19,7 @@ from props import outcome
 
 from morphkit.camera import CameraModel, look_at, perspective
 from morphkit.composite import over, shade, to_premultiplied
+from morphkit.errors import ValidationError
 from morphkit.metrics import mean_abs_error, psnr, rmse, shadow_iou, ssim
 from morphkit.scene import DirectionalLight, PointLight, light_view
 from morphkit.shadow.lookup import shadow_visibility
@@ -119,6 +121,17 @@ def test_to_premultiplied(image, channels):
     if ok:
         assert out.dtype == np.float32 and out.shape[:2] == image.shape[:2]
         assert np.isfinite(out).all()
+
+
+def test_to_premultiplied_refuses_an_alpha_beyond_its_range():
+    """Found by the property above: a float alpha of 2 times a colour near float32's largest
+    value overflowed to inf (and an alpha of 2 was returned as is)."""
+    image = np.zeros((2, 2, 4))
+    image[..., 0], image[..., 3] = 3e38, 2.0
+    with pytest.raises(ValidationError, match=r"image alpha: expected values in \[0, 1\], got 2 to 2"):
+        to_premultiplied(image, 4)
+    image[..., 3] = 1.0
+    assert np.isfinite(to_premultiplied(image, 4)).all()
 
 
 @given(out=st.none() | images(dtypes=["float32", "float64"], channels=(2, 4), shape=(8, 8)),
