@@ -344,3 +344,21 @@ def test_a_map_with_nan_depths_is_refused_at_its_first_lookup(atlases):
         FieldMap(fm.camera, bad, fm.kept).visibility(np.zeros((2, 3)))
     pts = _grid(-2, -2, 2, 2, 30)
     assert np.array_equal(fm.visibility(pts), fm.visibility(pts))  # checked once, then trusted
+
+
+def test_objects2world_is_translation_yaw_scale_of_each():
+    """The splat poses its instances in one batch: translation(x, y, 0) @ Rz(yaw) @ scale each,
+    as :meth:`Instances.object2world` documents."""
+    import trimesh
+
+    xy, yaw, scale = np.array([[0.5, -1.0], [2.0, 3.0], [-4.0, 0.25]]), np.array([0.0, 37.0, -120.0]), \
+        np.array([1.0, 0.5, 2.5])
+    inst = Instances(["a", "b"], np.array([0, 1, 0]), xy, yaw, scale)
+    order = [2, 0, 1]
+    many = inst.objects2world(np.array(order))
+    for row, k in enumerate(order):
+        want = (trimesh.transformations.translation_matrix([*xy[k], 0.0])
+                @ trimesh.transformations.rotation_matrix(np.radians(yaw[k]), [0.0, 0.0, 1.0])
+                @ trimesh.transformations.scale_matrix(scale[k]))
+        np.testing.assert_allclose(many[row], want, atol=1e-12)
+        np.testing.assert_array_equal(inst.object2world(k), many[row])

@@ -196,11 +196,30 @@ class Instances:
         (4, 4) float64
             ``object2world``.
         """
-        a = np.radians(self.yaw_deg[k])
-        c, s, m = np.cos(a), np.sin(a), self.scale[k]
-        T = np.eye(4)
-        T[:3, :3] = m * np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        T[:2, 3] = self.xy[k]
+        return self.objects2world(np.array([k]))[0]
+
+    def objects2world(self, idx: np.ndarray) -> np.ndarray:
+        """:meth:`object2world` of the instances ``idx`` at once.
+
+        Parameters
+        ----------
+        idx : (K,) int
+            Instance indices.
+
+        Returns
+        -------
+        (K, 4, 4) float64
+            Each one's ``object2world``.
+        """
+        idx = np.asarray(idx, np.int64)
+        a = np.radians(self.yaw_deg[idx])
+        c, s, m = np.cos(a), np.sin(a), self.scale[idx]
+        T = np.zeros((len(idx), 4, 4))
+        T[:, 0, 0], T[:, 0, 1] = m * c, m * -s
+        T[:, 1, 0], T[:, 1, 1] = m * s, m * c
+        T[:, 2, 2] = m
+        T[:, :2, 3] = self.xy[idx]
+        T[:, 3, 3] = 1.0
         return T
 
     def pivots(self, pivot_by_asset: Sequence[np.ndarray]) -> np.ndarray:

@@ -431,14 +431,7 @@ class SplatDrawer:
             seg_len = np.concatenate([pk.lengths for pk in packs])
             seg_dir = np.concatenate([pk.directions for pk in packs])
 
-        c, s = np.cos(yaw), np.sin(yaw)
-        o2w = np.zeros((len(kept), 4, 4))
-        o2w[:, 0, 0], o2w[:, 0, 1] = scale * c, -scale * s
-        o2w[:, 1, 0], o2w[:, 1, 1] = scale * s, scale * c
-        o2w[:, 2, 2] = scale
-        o2w[:, :2, 3] = instances.xy[kept]
-        o2w[:, 3, 3] = 1.0
-        inst_T = np.ascontiguousarray(np.einsum("ij,mjk->mik", T, o2w))
+        inst_T = np.ascontiguousarray(np.einsum("ij,mjk->mik", T, instances.objects2world(kept)))
         inst_seg = np.full((len(kept), 3), -1, np.int64)
         az_sun, el_sun = sun
         az_obj = az_sun - np.degrees(yaw)
