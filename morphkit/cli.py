@@ -13,8 +13,11 @@ code 130). No traceback.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
-from collections.abc import Sequence
+import threading
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -611,23 +614,70 @@ def main(argv: Sequence[str] | None = None) -> int:
         output folder refused), 130 after Ctrl-C (``morphkit: interrupted``).
     """
     args = build_parser().parse_args(argv)
+    with _interrupt_flag() as interrupted:
+        return _run(args, interrupted)
+
+
+def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
+    """Check the options, run the command; print morphkit's errors, file system failures, failed
+    allocations and interrupts as one line (:func:`main`)."""
     try:
         check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
-    except (MorphkitError, OSError) as exc:
-        msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
-        print(f"morphkit: error: {msg}", file=sys.stderr)
-        return 2 if isinstance(exc, OutputExistsError) else 1
-    except Exception as exc:  # sizes that need more memory than the process may have: one line too
-        if not _out_of_memory(exc):
+    except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
+        print("morphkit: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:
+        if interrupted.is_set():
+            # Ctrl-C inside a library's C callback (numba saving a kernel it was compiling): the
+            # KeyboardInterrupt was swallowed there and the library failed instead: an interrupt
+            print("morphkit: interrupted", file=sys.stderr)
+            return 130
+        if isinstance(exc, (MorphkitError, OSError)):
+            msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
+            print(f"morphkit: error: {msg}", file=sys.stderr)
+            return 2 if isinstance(exc, OutputExistsError) else 1
+        if not _out_of_memory(exc):  # sizes that need more memory than the process may have: one line
             raise
         why = " ".join(str(exc).split("error: ", 1)[-1].split()) or "an allocation failed"  # cv2: its reason
         print(f"morphkit: error: out of memory: {why} (the sizes asked for need more memory than this "
               "process may use: choose smaller ones)", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
-        print("morphkit: interrupted", file=sys.stderr)
-        return 130
+
+
+@contextmanager
+def _interrupt_flag() -> Iterator[threading.Event]:
+    """An event set by Ctrl-C while the block runs (SIGINT still raises ``KeyboardInterrupt``), so
+    that an interrupt a library swallowed is still told as one; a ``KeyboardInterrupt`` raised in
+    a C callback (where Python can only report it as "Exception ignored", with a traceback) sets
+    it silently. Python's own SIGINT handler is replaced only where it is installed (not where
+    SIGINT is ignored) and only in the main thread."""
+    flag = threading.Event()
+    previous = signal.getsignal(signal.SIGINT)
+    main_thread = threading.current_thread() is threading.main_thread()
+    if previous is not signal.default_int_handler or not main_thread:
+        yield flag
+        return
+
+    def on_sigint(signum: int, frame: Any) -> None:
+        flag.set()
+        raise KeyboardInterrupt
+
+    hook = sys.unraisablehook
+
+    def on_unraisable(info: Any) -> None:
+        if isinstance(info.exc_value, KeyboardInterrupt):
+            flag.set()
+            return
+        hook(info)
+
+    signal.signal(signal.SIGINT, on_sigint)
+    sys.unraisablehook = on_unraisable
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        sys.unraisablehook = hook
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -393,3 +393,39 @@ def test_a_library_with_odd_names_links_and_a_fifo_bakes_what_it_can(tmp_path, c
     rc, _o, err = run(capfd, "bake", lib, "-o", out, "--workers", "1", "--atlas-size", "32", "-q")
     m = Manifest.open(out)  # a rerun: the baked ones are kept, the bad ones fail again
     assert rc == 1 and m.assets["box"].status == m.assets[odd_name].status == "skipped"
+
+
+def test_an_interrupt_a_library_swallowed_is_still_an_interrupt(monkeypatch, capsys):
+    """Seen with numba: Ctrl-C while it saved a kernel it was compiling landed in a C callback,
+    where the KeyboardInterrupt was dropped, and numba then failed with a RuntimeError; the
+    command must still end as interrupted (130, one line), not with that traceback."""
+    from morphkit import cli
+
+    def swallowing_command(args):
+        import ctypes
+
+        def callback():
+            os.kill(os.getpid(), signal.SIGINT)  # the handler runs in the callback and raises
+            time.sleep(1.0)
+
+        ctypes.CFUNCTYPE(None)(callback)()  # a C callback: the KeyboardInterrupt is dropped there
+        raise RuntimeError("no compiled object yet")
+
+    def plain_failure(args):
+        raise RuntimeError("a bug, not an interrupt")
+
+    # Python's own handler, as in a terminal (a test run in the background may inherit SIGINT ignored)
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        monkeypatch.setattr(cli, "_cmd_demo", swallowing_command)
+        hook = sys.unraisablehook
+        assert cli.main(["demo", "-o", "unused"]) == 130
+        err = capsys.readouterr().err
+        assert err.strip().splitlines()[-1] == "morphkit: interrupted" and "Traceback" not in err
+        assert sys.unraisablehook is hook  # restored
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+        monkeypatch.setattr(cli, "_cmd_demo", plain_failure)
+        with pytest.raises(RuntimeError, match="a bug, not an interrupt"):
+            cli.main(["demo", "-o", "unused"])
+    finally:
+        signal.signal(signal.SIGINT, old)
