@@ -182,9 +182,11 @@ def warm_worker() -> dict[str, float]:
 
 def kernel_workload() -> dict[str, float]:
     """numba's compile time in this process: a default-kind atlas bake, then playback through
-    every compiled path (composed warps, reprojection, the shadow lookup, a frame's drawn pixels
-    and shade), from numba's ``numba:compile`` events (run it in a fresh process:
-    :func:`measure_compile`).
+    every compiled path (composed warps and reprojection at 512^2, in bands of rows where this
+    machine has the threads, the shadow lookup, a frame's drawn pixels and shade, the default
+    soft shadow's filtered lookup, a field's splatted sun view), from numba's ``numba:compile``
+    events (run it in a fresh process: :func:`measure_compile`). ``scripts/setup.sh`` runs it
+    once, so that the demo, the tests and a bake compile nothing after setup.
 
     Returns
     -------
@@ -194,11 +196,21 @@ def kernel_workload() -> dict[str, float]:
     """
     import numpy as np
 
+    from ..billboard.instances import Instances
     from ..composite import shade
     from ..groundtruth import receiver_grid
-    from ..scene import PointLight
-    from ..shadow import MotionRange, bake_atlas, shadow_visibility
+    from ..scene import AreaLight, PointLight
+    from ..shadow import (
+        MotionRange,
+        bake_atlas,
+        bake_soft_atlas,
+        bake_sun_atlas,
+        default_soft_shadow,
+        shadow_visibility,
+    )
+    from ..shadow.fieldshadow import FieldShadow
     from ..shadow.pixels import drawn_pixels
+    from ..warp import warp_mesh
 
     if numba is None:  # pragma: no cover - numba is a dependency
         return {"compile_s": 0.0, "bake_compile_s": 0.0, "kernels": 0.0, "wall_s": 0.0}
@@ -206,9 +218,9 @@ def kernel_workload() -> dict[str, float]:
 
     t0 = time.perf_counter()
     with event.install_recorder("numba:compile") as rec:
-        light = PointLight([0.25, -0.2, 2.4])
-        atlas = bake_atlas(teapot(6), np.eye(4), MotionRange([-0.6, -0.6], [0.6, 0.6]), light, (128, 128),
-                           renderer=worker_renderer(), progress=False)
+        light, motion, mesh = PointLight([0.25, -0.2, 2.4]), MotionRange([-0.6, -0.6], [0.6, 0.6]), teapot(6)
+        renderer = worker_renderer()
+        atlas = bake_atlas(mesh, np.eye(4), motion, light, (128, 128), renderer=renderer, progress=False)
         n_bake = len(rec.buffer)
         ground = receiver_grid(1.5, (64, 64)).reshape(-1, 3)
         for warps in ("composed", "reproject"):
@@ -217,6 +229,23 @@ def kernel_workload() -> dict[str, float]:
         drawn_pixels(cam, depth, light)  # a frame's per-pixel kernels (render_frame)
         shade(np.zeros((*cam.shape, 3), np.uint8), np.zeros((*cam.shape, 3), np.uint8),
               np.ones(cam.shape, np.float32))
+        # the demo's sizes: maps of 512^2 warp and reproject in bands of rows
+        big = bake_atlas(mesh, np.eye(4), motion, light, (512, 512), renderer=renderer, progress=False)
+        for warps in ("composed", "reproject"):
+            big.shadow_map([0.2, -0.3], warps=warps)
+        # the default soft shadow (its filtered lookup over the reprojected maps)
+        area = AreaLight([0.25, -0.2, 2.4], [0.3, 0.0, 0.0], [0.0, 0.3, 0.0])
+        soft = bake_soft_atlas(mesh, np.eye(4), motion, area, (128, 128), renderer=renderer, progress=False)
+        default_soft_shadow(soft, area).visibility(np.array([0.1, 0.1]), ground)
+        # a field's sun view, splatted (a map large enough for bands of rows), of one asset and of two
+        sun_atlas = bake_sun_atlas(mesh, renderer, size=32)
+        for names in (("a",), ("a", "b")):
+            field = Instances(names, np.arange(2) % len(names), np.array([[0.0, 0.0], [1.5, 0.5]]),
+                              np.array([0.0, 40.0]), np.ones(2))
+            FieldShadow(dict.fromkeys(names, sun_atlas)).build(field, np.array([0.3, -0.2, 0.9]), 400.0)
+        # an image's piecewise-affine warp (view morphing, billboards)
+        pts = np.stack(np.meshgrid(np.linspace(0, 63, 5), np.linspace(0, 63, 5)), -1).reshape(-1, 2)
+        warp_mesh(np.zeros((64, 64, 3), np.uint8), pts, pts * 0.9 + 3.0, (64, 64))
 
     def top_level(buffer: list[Any]) -> tuple[float, int]:
         total, depth, start, n = 0.0, 0, 0.0, 0
