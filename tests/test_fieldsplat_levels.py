@@ -163,6 +163,10 @@ def test_a_level_packs_fewer_points_of_the_same_area(plate):
         pk = plate.packed_points(lv)
         assert pk.points.shape == pk.normals.shape and len(pk.sizes) == len(pk.points)
         assert pk.lengths.sum() == len(pk.points)
+        # each view's reach, packed once: its farthest point from the origin
+        norms = np.linalg.norm(pk.points.astype(np.float64), axis=1)
+        want = [norms[a:a + n].max() if n else 0.0 for a, n in zip(pk.starts, pk.lengths, strict=True)]
+        np.testing.assert_allclose(pk.reach, want, rtol=1e-12)
         areas.append(float((pk.sizes.astype(np.float64) ** 2).sum()))
         if lv:
             assert len(pk.points) < len(plate.packed_points(lv - 1).points) / 2

@@ -78,7 +78,7 @@ from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array, as_int, as_positive
 from ..warp import PARALLEL_MIN_PIXELS, in_bands
-from .sunatlas import MAX_POINT_LEVEL, SunAtlas
+from .sunatlas import MAX_POINT_LEVEL, SunAtlas, segment_reach
 
 __all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes", "empty_depth"]
 
@@ -154,7 +154,8 @@ def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, siz
 
 def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start: np.ndarray,
                  seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
-                 inst_half: np.ndarray, inst_sun: np.ndarray, sizes: np.ndarray | None = None) -> None:
+                 inst_half: np.ndarray, inst_sun: np.ndarray, sizes: np.ndarray | None = None,
+                 seg_reach: np.ndarray | None = None) -> None:
     """Splat segments of points, posed per instance, into a depth map by minimum (in place).
 
     Parameters
@@ -178,6 +179,10 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
     sizes : (P,) float32, optional
         Each point's footprint side in atlas texels, a factor of its instance's (module
         docstring, "Levels"); default 1 (every point one atlas texel).
+    seg_reach : (S,) float, optional
+        Each segment's farthest point from its object's origin (the ``reach`` of
+        :class:`~morphkit.shadow.sunatlas.AtlasPoints`, made when the atlas packs its points);
+        default: found here (:func:`~morphkit.shadow.sunatlas.segment_reach`).
     """
     sizes = np.ones(len(points), np.float32) if sizes is None else np.asarray(sizes, np.float32)
     args = (depth, points, normals, sizes, seg_start, seg_len, seg_dir, inst_T, inst_seg, inst_half,
@@ -188,21 +193,18 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
     # bands of rows on WARP_THREADS threads, each instance drawn in the bands its points can
     # reach, each band writing its own rows: the same minimum (bit for bit) as one band
     H = depth.shape[0]
-    rows = _instance_rows(points, seg_start, seg_len, inst_T, inst_seg, inst_half, sizes)
+    reach = segment_reach(points, seg_start, seg_len) if seg_reach is None else \
+        np.asarray(seg_reach, np.float64)
+    rows = _instance_rows(reach, inst_T, inst_seg, inst_half, sizes)
     n = WARP_THREADS if depth.size >= PARALLEL_MIN_PIXELS else 1
     bands = [(H * b // n, H * (b + 1) // n) for b in range(n)]
     in_bands(lambda b: _splat_jit(*args, rows, *bands[b]), n)  # type: ignore[misc]
 
 
-def _instance_rows(points: np.ndarray, seg_start: np.ndarray, seg_len: np.ndarray, inst_T: np.ndarray,
-                   inst_seg: np.ndarray, inst_half: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+def _instance_rows(reach: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray, inst_half: np.ndarray,
+                   sizes: np.ndarray) -> np.ndarray:
     """``(M, 2)`` int64: the first and last map row each instance's splats can reach (its segments'
-    points in a ball about its origin, posed; plus its largest splat's half side)."""
-    reach = np.zeros(len(seg_start))
-    for sg in np.unique(inst_seg[inst_seg >= 0]):
-        sl = slice(int(seg_start[sg]), int(seg_start[sg] + seg_len[sg]))
-        if sl.stop > sl.start:
-            reach[sg] = float(np.sqrt(np.einsum("ij,ij->i", points[sl], points[sl]).max()))
+    points in a ball of their ``reach`` about its origin, posed; plus its largest splat's half side)."""
     radius = np.where(inst_seg >= 0, reach[np.maximum(inst_seg, 0)], 0.0).max(axis=1, initial=0.0)
     smax = float(sizes.max(initial=1.0))
     ext = np.linalg.norm(inst_T[:, 1, :3], axis=1) * radius + inst_half * smax + 1.0
@@ -422,14 +424,14 @@ class SplatDrawer:
         pt_base = np.concatenate([[0], np.cumsum([len(pk.points) for pk in packs])[:-1]]).astype(np.int64)
         if len(packs) == 1:
             pk = packs[0]
-            points, normals, sizes, seg_start, seg_len, seg_dir = (
-                pk.points, pk.normals, pk.sizes, pk.starts, pk.lengths, pk.directions)
+            points, normals, sizes, seg_start, seg_len, seg_dir, seg_reach = (
+                pk.points, pk.normals, pk.sizes, pk.starts, pk.lengths, pk.directions, pk.reach)
         else:
             points, normals, sizes = (np.concatenate([getattr(pk, f) for pk in packs])
                                       for f in ("points", "normals", "sizes"))
             seg_start = np.concatenate([pk.starts + b for pk, b in zip(packs, pt_base, strict=True)])
-            seg_len = np.concatenate([pk.lengths for pk in packs])
-            seg_dir = np.concatenate([pk.directions for pk in packs])
+            seg_len, seg_dir, seg_reach = (np.concatenate([getattr(pk, f) for pk in packs])
+                                           for f in ("lengths", "directions", "reach"))
 
         inst_T = np.ascontiguousarray(np.einsum("ij,mjk->mik", T, instances.objects2world(kept)))
         inst_seg = np.full((len(kept), 3), -1, np.int64)
@@ -441,5 +443,5 @@ class SplatDrawer:
             views, weights = atlases[names[a]].dome.weights_many(az_obj[mine], el_sun)
             inst_seg[mine] = np.where(weights > 0.0, views + seg_base[g], -1)
         splat_points(depth, points, normals, seg_start, seg_len, np.ascontiguousarray(seg_dir, np.float64),
-                     inst_T, inst_seg, inst_half, inst_sun, sizes)
+                     inst_T, inst_seg, inst_half, inst_sun, sizes, seg_reach)
         return close_holes(depth)

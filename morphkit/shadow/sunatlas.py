@@ -71,7 +71,7 @@ from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
 from .pointlevels import block_points
 
-__all__ = ["SunAtlas", "AtlasPoints", "bake_sun_atlas", "sun_in_object", "instance_frame",
+__all__ = ["SunAtlas", "AtlasPoints", "segment_reach", "bake_sun_atlas", "sun_in_object", "instance_frame",
            "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL", "MAX_POINT_LEVEL"]
 
 #: Stored bytes per atlas texel: float16 depth and uint8 coverage.
@@ -184,6 +184,8 @@ class AtlasPoints(NamedTuple):
         Each view's direction (towards the view, object frame).
     sizes : (P,) float32
         Each point's footprint side, atlas texels (1 at level 0; :mod:`.pointlevels`).
+    reach : (V,) float64
+        Each view's farthest point from the object origin (:func:`segment_reach`; 0: no point).
     """
 
     points: np.ndarray
@@ -192,6 +194,30 @@ class AtlasPoints(NamedTuple):
     lengths: np.ndarray
     directions: np.ndarray
     sizes: np.ndarray
+    reach: np.ndarray
+
+
+def segment_reach(points: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """Each segment's farthest point from the origin.
+
+    Parameters
+    ----------
+    points : (P, 3) float
+        All segments' points, concatenated.
+    starts, lengths : (S,) int
+        Each segment's first point and count.
+
+    Returns
+    -------
+    (S,) float64
+        The largest ``|p|`` of each segment's points (0 for an empty segment).
+    """
+    out = np.zeros(len(starts))
+    for i, (a, n) in enumerate(zip(np.asarray(starts).tolist(), np.asarray(lengths).tolist(), strict=True)):
+        if n:
+            seg = np.asarray(points[a:a + n], np.float64)
+            out[i] = float(np.sqrt(np.einsum("ij,ij->i", seg, seg).max()))
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -411,9 +437,9 @@ class SunAtlas:
                       for j in range(3)]
             for a in arrays:
                 a.setflags(write=False)
-            self._points[("packed", lv)] = AtlasPoints(
-                arrays[0], arrays[1], np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64), lens,
-                dirs, arrays[2])
+            starts = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)
+            self._points[("packed", lv)] = AtlasPoints(arrays[0], arrays[1], starts, lens, dirs, arrays[2],
+                                                       segment_reach(arrays[0], starts, lens))
         return self._points[("packed", level)]
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
