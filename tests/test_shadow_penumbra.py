@@ -23,7 +23,8 @@ from morphkit.shadow import (
     filtered,
     shadow_visibility,
 )
-from morphkit.shadow.filtered import DepthTables, cell_half_widths, filtered_visibility, point_chunks
+from morphkit.shadow.depthtables import DepthTables
+from morphkit.shadow.filtered import cell_half_widths, filtered_visibility, point_chunks
 from morphkit.shadow.lookup import ShadowBias
 from morphkit.shadow.penumbra import (
     PcfSoftShadow,

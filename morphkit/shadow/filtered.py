@@ -95,7 +95,7 @@ from ..warp import band_pool
 from .depthtables import DepthTables
 from .lookup import ShadowBias, check_depth_map
 
-__all__ = ["DepthTables", "filtered_visibility", "cell_half_widths", "BlockerDepth", "point_chunks"]
+__all__ = ["filtered_visibility", "cell_half_widths", "BlockerDepth", "point_chunks"]
 
 #: How a filtered lookup finds the occluders' depth per map: ``"mean"`` (one mean blocker depth
 #: per map, PCF) or ``"search"`` (a blocker search per point, PCSS).

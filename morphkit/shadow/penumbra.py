@@ -45,7 +45,8 @@ from ..errors import ValidationError, expected_got
 from ..scene import AreaLight
 from ..validate import as_finite_array
 from .atlas import ShadowAtlas
-from .filtered import BlockerDepth, DepthTables, cell_half_widths, filter_into, point_chunks
+from .depthtables import DepthTables
+from .filtered import BlockerDepth, cell_half_widths, filter_into, point_chunks
 from .lookup import ShadowBias
 from .method import ShadowMethod
 from .soft import SoftShadow, light_offsets
