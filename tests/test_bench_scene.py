@@ -14,7 +14,7 @@ from morphkit.cli import main
 from morphkit.errors import ValidationError
 
 SECTIONS = {"accuracy", "per-asset", "receivers", "sun-change", "atlas-grid", "temporal", "sun-disc",
-            "levels"}
+            "levels", "receivers-resolution"}
 
 
 def test_suite_is_registered_with_its_sections():
@@ -64,7 +64,7 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "atlas-cold" in printed  # the harness's table
     titles = ("accuracy (", "per asset (", "receivers (", "sun change (", "atlas grid vs", "temporal (",
-              "sun disc (", "levels (")
+              "sun disc (", "levels (", "receivers by resolution (")
     for title in titles:  # markdown
         assert title in printed
     for r in rows:
@@ -111,3 +111,11 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
         assert 0.3 < x["iou_min"] <= x["iou"] <= 1.0 and x["vs_l0"] > 0.0
         assert m == "splat-levels" or x["coarse"] == x["level_mean"] == 0.0
     assert lv[("suite/4", "splat-levels")]["coarse"] == 1.0  # a field 4x coarser than every atlas
+    res = {(r["params"]["texels"], r["method"]): r["metrics"]
+           for r in rows if r["params"]["section"] == "receivers-resolution"}
+    assert set(res) == {(t, m) for t in (64, 128) for m in ("atlas", "direct")}
+    for x in res.values():
+        assert 0.0 <= x["iou_min"] <= x["iou"] <= 1.0 and 0.0 <= x["mae"] < 0.5
+    # the map's resolution follows the atlas's texels (twice the texels, twice the texels a unit)
+    assert res[(128, "direct")]["tpu"] == pytest.approx(2.0 * res[(64, "direct")]["tpu"], rel=1e-6)
+    assert res[(128, "atlas")]["kib"] == pytest.approx(4.0 * res[(64, "atlas")]["kib"], rel=0.05)

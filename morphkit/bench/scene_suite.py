@@ -19,7 +19,7 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
 * ``receivers`` -- the shadow on the instances themselves (their own and their neighbours'), the
   plan's ``receiver_counts``: points drawn on the posed meshes by area
   (:func:`~morphkit.bench.scene_fields.surface_receivers`, cut-out texels dropped), those facing
-  the sun (:data:`SUN_FACING_COS`) looked up moved along their normal by
+  the sun (:data:`~morphkit.bench.scene_resolution.SUN_FACING_COS`) looked up moved along their normal by
   :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels (as the billboard frames'
   receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
@@ -48,9 +48,13 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
 * ``levels`` -- the splat at level 0 against per-instance point levels (small or far casters
   drawn from coarser atlas points), IoU and interleaved time at three field resolutions:
   :mod:`morphkit.bench.scene_levels`.
+* ``receivers-resolution`` -- ``receivers`` at each of the plan's ``resolution_sizes`` (atlas
+  texels a side), the atlas against the meshes drawn from the sun at the same resolution:
+  :mod:`morphkit.bench.scene_resolution`.
 
 ``--quick``: 10 instances, 2 suns, a 160^2 grid, 64-texel atlases and 8 x 8-frame impostors
-(no supersampling), faces 6k and 50k at 10 instances, 2 domes, 8 suns on the path.
+(no supersampling), faces 6k and 50k at 10 instances, 2 domes, 8 suns on the path, atlases of
+64 and 128 texels in ``receivers-resolution``.
 """
 
 from __future__ import annotations
@@ -64,7 +68,6 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from ..metrics import shadow_iou
 from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
 from ..shadow.receivers import sun_disc
@@ -83,10 +86,11 @@ from .scene_fields import (
     surface_receivers,
 )
 from .scene_levels import levels_rows, levels_table
+from .scene_resolution import receivers_resolution_rows, receivers_resolution_table, surface_scores
 from .soft_suite import banding
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
-           "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS", "SUN_FACING_COS"]
+           "summary_tables", "SUITE", "FLOOR_METHOD", "PLOT_OPTIONS"]
 
 #: The suite's name (``morphkit bench scene``).
 SUITE = "scene"
@@ -94,11 +98,6 @@ SUITE = "scene"
 FLOOR_METHOD = "direct"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
 PLOT_OPTIONS: dict[str, Any] = {"size_key": "instances", "error_key": "mae", "panel_keys": ("section",)}
-
-#: ``receivers``: a surface point receives when its normal is at least this cosine towards the
-#: sun (84 degrees): one facing away is shadowed by its own body whatever the method (a card's
-#: two sides are two faces, one of them kept).
-SUN_FACING_COS = 0.1
 
 #: #26's targets.
 TARGET_IOU, TARGET_GAIN, TARGET_SPEED, TARGET_FLAT, TARGET_SPIKE = 0.95, 0.15, 0.1, 1.3, 2.0
@@ -144,6 +143,8 @@ class ScenePlan:
         Its suns, and the directions over each disc its truth ray-casts.
     disc_averaged : tuple of int
         The map counts of its ``avg-K`` rows.
+    resolution_sizes : tuple of int
+        ``receivers-resolution``'s atlas texels a side.
     """
 
     counts: tuple[int, ...] = (10, 100, 1000)
@@ -169,6 +170,7 @@ class ScenePlan:
     disc_suns: int = 2
     disc_truth: int = 64
     disc_averaged: tuple[int, ...] = (4, 8, 16)
+    resolution_sizes: tuple[int, ...] = (128, 256, 512)
 
 
 #: The full run's cases.
@@ -178,7 +180,7 @@ QUICK = ScenePlan(counts=(10,), suns=2, grid=160, atlas_size=64, impostor_frames
                   change_counts=(10,), change_repeats=2, grid_domes=("sparse", "default"), grid_sizes=(64,),
                   grid_count=10, grid_suns=1, path_suns=8, path_count=10, receiver_counts=(10,),
                   receiver_points=4000, disc_count=10, disc_grid=96, disc_radii=(2.0,), disc_suns=1,
-                  disc_truth=16, disc_averaged=(4,))
+                  disc_truth=16, disc_averaged=(4,), resolution_sizes=(64, 128))
 
 
 def _summary(vals: list[float]) -> tuple[float, float]:
@@ -317,21 +319,7 @@ def receivers_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
         fs = FieldShadow(atl)
         tpu = field_tpu(atl, fld.rect)
         fns = {m: kit.method(m, fs, fld, tpu) for m in METHODS}
-        got: dict[str, dict[str, list[float]]] = {m: {"iou": [], "mae": [], "s": []} for m in METHODS}
-        used = []
-        for sun in suns:
-            facing = nrm @ np.asarray(sun, np.float64) >= SUN_FACING_COS
-            p, q = pts[facing], nrm[facing]
-            used.append(int(facing.sum()))
-            truth = ray_cast_field(fld.meshes, fld.instances, sun, p + tol.SUN_RAY_NORMAL_OFFSET * q,
-                                   posed=fld.posed)
-            looked = p + (tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS / tpu) * q
-            for m, fn in fns.items():
-                t0 = time.perf_counter()
-                vis = fn(sun).visibility(looked)
-                got[m]["s"].append(time.perf_counter() - t0)
-                got[m]["iou"].append(shadow_iou(vis < 0.5, truth < 0.5))
-                got[m]["mae"].append(float(np.abs(vis - truth).mean()))
+        got, used = surface_scores(fld, pts, nrm, suns, fns, tpu)
         params = {"section": "receivers", "instances": n, "suns": len(suns), "points": int(np.median(used))}
         rows += _method_rows(got, params, "ms: a build and the lookup", target_iou=False)
     return rows
@@ -565,7 +553,7 @@ def temporal_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
 #: The suite's sections, in order; each ``(kit, plan) -> rows``.
 SECTIONS: list[Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]] = [
     accuracy_rows, per_asset_rows, receivers_rows, sun_change_rows, atlas_grid_rows, temporal_rows,
-    sun_disc_rows, levels_rows]
+    sun_disc_rows, levels_rows, receivers_resolution_rows]
 
 
 Section = Callable[[SceneKit, ScenePlan], list[dict[str, Any]]]
@@ -680,6 +668,7 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
         out += _md(["method", "step median", "step max", "max / median", "max / median above the cut-off",
                     "max / median over the ray cast's", "IoU mean / min"], lines) + [""]
     out += levels_table(rows)
+    out += receivers_resolution_table(rows)
     return "\n".join(out)
 
 
