@@ -38,6 +38,7 @@ __all__ = [
     "make_row",
     "case_key",
     "format_table",
+    "markdown_table",
     "write_json",
     "write_plots",
 ]
@@ -328,6 +329,30 @@ def _fmt(v: Any) -> str:
             return f"{v:.3f}"
         return f"{v:.1e}"
     return str(v)
+
+
+def markdown_table(header: Sequence[str], lines: Sequence[Sequence[str]]) -> list[str]:
+    """A markdown table's lines: the header, its rule, one line a row (cells already formatted).
+
+    Parameters
+    ----------
+    header : sequence of str
+        The column titles.
+    lines : sequence of sequence of str
+        The rows' cells.
+
+    Returns
+    -------
+    list of str
+        ``len(lines) + 2`` lines.
+
+    Examples
+    --------
+    >>> markdown_table(["a", "b"], [["1", "2"]])
+    ['| a | b |', '|---|---|', '| 1 | 2 |']
+    """
+    return (["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            + ["| " + " | ".join(x) + " |" for x in lines])
 
 
 def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "remap") -> str:

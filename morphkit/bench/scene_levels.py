@@ -25,7 +25,7 @@ import numpy as np
 from ..shadow.fieldshadow import FieldShadow
 from ..shadow.fieldsplat import SplatDrawer
 from ..shadow.receivers import AtlasShadow
-from .harness import make_row, time_cycling
+from .harness import make_row, markdown_table, time_cycling
 from .scene_fields import SceneKit, day_suns, field_tpu, score
 
 __all__ = ["levels_rows", "levels_table", "LEVEL_METHODS", "FAR_FACTOR"]
@@ -125,5 +125,4 @@ def levels_table(rows: list[dict[str, Any]]) -> list[str]:
                       f"{m['iou']:.4f} / {m['iou_min']:.4f}", f"{m['mae']:.4f}", f"{r['ms_median']:.1f}",
                       f"{m['vs_l0']:.2f}"])
     return (["levels (the splat at level 0 against per-instance point levels; IoU against the ray cast, "
-             "ms interleaved):", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-            + ["| " + " | ".join(x) + " |" for x in lines] + [""])
+             "ms interleaved):", "", *markdown_table(head, lines), ""])

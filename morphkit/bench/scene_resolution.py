@@ -24,7 +24,7 @@ from .. import tol
 from ..metrics import shadow_iou
 from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldMap, FieldShadow
-from .harness import Timing, make_row
+from .harness import Timing, make_row, markdown_table
 from .scene_fields import Field, SceneKit, day_suns, field_tpu, surface_receivers
 
 __all__ = ["surface_scores", "receivers_resolution_rows", "receivers_resolution_table", "SUN_FACING_COS",
@@ -154,5 +154,4 @@ def receivers_resolution_table(rows: list[dict[str, Any]]) -> list[str]:
                       r["method"], f"{m['kib']:.0f}" if m["kib"] else "-",
                       f"{m['iou']:.3f} / {m['iou_min']:.3f}", f"{m['mae']:.4f}", f"{r['ms_median']:.0f}"])
     return (["receivers by resolution (the instances' own sun-facing surfaces; atlas against the meshes "
-             "drawn at its resolution):", "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-            + ["| " + " | ".join(x) + " |" for x in lines] + [""])
+             "drawn at its resolution):", "", *markdown_table(head, lines), ""])

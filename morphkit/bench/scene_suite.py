@@ -72,7 +72,7 @@ from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
 from ..shadow.receivers import sun_disc
 from ..shadow.sundisc import disc_visibility
-from .harness import Timing, make_row, pick_sections, section_name, time_cycling
+from .harness import Timing, make_row, markdown_table, pick_sections, section_name, time_cycling
 from .scene_fields import (
     ASSETS,
     DOMES,
@@ -580,9 +580,6 @@ def selected_sections(names: str | None = None) -> list[Section]:
     return pick_sections(names, SECTIONS)
 
 
-def _md(header: list[str], lines: list[list[str]]) -> list[str]:
-    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(x) + " |"
-                                                                          for x in lines]
 
 
 def _iou(m: dict[str, float]) -> str:
@@ -609,21 +606,21 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
     acc = [r for r in of("accuracy") if r["method"] != "ray-cast"]
     if acc:
         out += ["accuracy (shadow IoU against the ray cast, mean / min over the suns):", ""]
-        out += _md(["instances", "method", "IoU mean / min", "vis. error", "ms a build"],
-                   [[str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
-                     f"{r['metrics']['mae']:.4f}", f"{r['ms_median']:.0f}"] for r in acc]) + [""]
+        out += markdown_table(["instances", "method", "IoU mean / min", "vis. error", "ms a build"],
+                              [[str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
+                                f"{r['metrics']['mae']:.4f}", f"{r['ms_median']:.0f}"] for r in acc]) + [""]
     rec = of("receivers")
     if rec:
         out += ["receivers (the instances' own sun-facing surfaces; IoU mean / min over the suns):", ""]
-        out += _md(["instances", "points", "method", "IoU mean / min", "vis. error"],
-                   [[str(r["params"]["instances"]), str(r["params"]["points"]), r["method"],
-                     _iou(r["metrics"]), f"{r['metrics']['mae']:.4f}"] for r in rec]) + [""]
+        out += markdown_table(["instances", "points", "method", "IoU mean / min", "vis. error"],
+                              [[str(r["params"]["instances"]), str(r["params"]["points"]), r["method"],
+                                _iou(r["metrics"]), f"{r['metrics']['mae']:.4f}"] for r in rec]) + [""]
     per = [r for r in of("per-asset") if r["method"] != "ray-cast"]
     if per:
         out += ["per asset (one asset's field; IoU mean / min over the suns):", ""]
-        out += _md(["asset", "instances", "method", "IoU mean / min", "vis. error"],
-                   [[r["params"]["asset"], str(r["params"]["instances"]), r["method"], _iou(r["metrics"]),
-                     f"{r['metrics']['mae']:.4f}"] for r in per]) + [""]
+        out += markdown_table(["asset", "instances", "method", "IoU mean / min", "vis. error"],
+                              [[r["params"]["asset"], str(r["params"]["instances"]), r["method"],
+                                _iou(r["metrics"]), f"{r['metrics']['mae']:.4f}"] for r in per]) + [""]
     change = of("sun-change")
     if change:
         cases = list(dict.fromkeys((r["params"]["instances"], r["params"]["faces"]) for r in change))
@@ -636,12 +633,12 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
                           f"{w['metrics']['vs_direct']:.3f}", f"{c['metrics']['flat']:.2f}",
                           f"{d['metrics']['flat']:.2f}"])
         out += ["sun change (ms, medians, interleaved):", ""]
-        out += _md(["instances", "faces an asset", "atlas cold", "atlas warm", "direct", "cold / direct",
-                    "warm / direct", "atlas flat", "direct flat"], lines) + [""]
+        out += markdown_table(["instances", "faces an asset", "atlas cold", "atlas warm", "direct",
+                               "cold / direct", "warm / direct", "atlas flat", "direct flat"], lines) + [""]
     disc = [r for r in of("sun-disc") if r["method"] != "ray-cast"]
     if disc:
         out += ["sun disc (a soft sun: K maps averaged or one filtered; error over shadow and penumbra):", ""]
-        out += _md(["sun elevation", "disc radius", "method", "mae", "banding", "ms"],
+        out += markdown_table(["sun elevation", "disc radius", "method", "mae", "banding", "ms"],
                    [[f"{r['params']['elevation_deg']:g}", f"{r['params']['radius_deg']:g}", r["method"],
                      f"{r['metrics']['mae']:.4f}", f"{r['metrics']['banding']:.4f}", f"{r['ms_median']:.0f}"]
                     for r in disc]) + [""]
@@ -654,8 +651,8 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
             what = f"{r['params']['dome']} ({m['views']:.0f})" if r["method"] == "atlas" else "direct"
             lines.append([str(r["params"]["texels"]), what, f"{m['kib']:.0f}" if "kib" in m else "-",
                           _iou(m), f"{m['mae']:.4f}", f"{r['ms_median']:.0f}"])
-        out += _md(["texels", "dome (views)", "KiB", "IoU mean / min", "vis. error", "ms a cold build"],
-                   lines) + [""]
+        out += markdown_table(["texels", "dome (views)", "KiB", "IoU mean / min", "vis. error",
+                               "ms a cold build"], lines) + [""]
     temporal = of("temporal")
     if temporal:
         out += ["temporal (fraction of ground points whose shadow flips a step):", ""]
@@ -665,8 +662,9 @@ def summary_tables(rows: list[dict[str, Any]]) -> str:
             cut = f"{m['spike_cutoff']:.2f}" if "spike_cutoff" in m else "-"
             lines.append([r["method"], f"{m['step_median']:.4f}", f"{m['step_max']:.4f}", f"{m['spike']:.2f}",
                           cut, f"{m['spike_vs_truth']:.2f}", _iou(m)])
-        out += _md(["method", "step median", "step max", "max / median", "max / median above the cut-off",
-                    "max / median over the ray cast's", "IoU mean / min"], lines) + [""]
+        out += markdown_table(["method", "step median", "step max", "max / median",
+                               "max / median above the cut-off", "max / median over the ray cast's",
+                               "IoU mean / min"], lines) + [""]
     out += levels_table(rows)
     out += receivers_resolution_table(rows)
     return "\n".join(out)
