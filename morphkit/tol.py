@@ -663,6 +663,20 @@ SUN_DISC_MAX_HALF_TEXELS = 16.0
 #: 0.25 is the widest on the flat part.
 SUN_DISC_RASTER_HALF_TEXEL = 0.25
 
+#: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
+#: resolution, :class:`morphkit.shadow.receivers.FilteredAtlasShadow`; still capped by
+#: :data:`SUN_FIELD_MAX_SIDE`). At the field's native resolution the filtered map's error at
+#: the real sun (0.267 degrees) stays above that of 4 maps averaged over the disc, however
+#: it is filtered: its edges lie on a texel grid that 4 slightly turned maps dither. The
+#: atlases' points carry their positions below a texel, so a finer field map draws the edges
+#: finer, for less than a second map's cost (the splat grows with its texels). Measured on
+#: both benches' fields at 1, 1.5 and 2 (scripts/sun_disc_bench.py, morphkit bench scene
+#: --sections sun-disc): 1.5 brings the real sun's error under 4 native maps' (and 16's) in
+#: all four cases at a third to a half of their time; 2 gains little more there and costs
+#: more, and at a 4-degree disc under a low sun both lose some (the kernel's cap,
+#: :data:`SUN_DISC_MAX_HALF_TEXELS`, is in texels: a finer map clips wide penumbrae sooner).
+SUN_DISC_MAP_SCALE = 1.5
+
 #: Directions over the disc of the ray-cast truth beside a filtered soft sun
 #: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
 #: several directions, and a frame's ray cast costs one pass per direction; 16 is within
