@@ -308,6 +308,18 @@ def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message
     assert message in err and "Traceback" not in err and not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize("soft, want", [([], None), (["--soft"], "pcss"), (["--soft", "PCSS"], "pcss"),
+                                        (["--soft", "4"], 4)])
+def test_soft_alone_is_the_filtered_disc_and_a_count_averages(tmp_path, soft, want):
+    from morphkit.cli import build_parser
+    from morphkit.cliargs import SOFT_FILTER, check_args
+
+    argv = ["billboards", "--shadows", "--sun-path", "day", *soft, "-o", str(tmp_path)]
+    args = build_parser().parse_args(argv)
+    check_args(args)
+    assert args.soft == want and (want != "pcss" or args.soft == SOFT_FILTER)
+
+
 def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():
     from morphkit.billboard import Backdrop, Fog
     from morphkit.shading import LIT_GAMMA
