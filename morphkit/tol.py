@@ -672,9 +672,10 @@ SUN_DISC_RASTER_HALF_TEXEL = 0.25
 #: finer, for less than a second map's cost (the splat grows with its texels). Measured on
 #: both benches' fields at 1, 1.5 and 2 (scripts/sun_disc_bench.py, morphkit bench scene
 #: --sections sun-disc): 1.5 brings the real sun's error under 4 native maps' (and 16's) in
-#: all four cases at a third to a half of their time; 2 gains little more there and costs
-#: more, and at a 4-degree disc under a low sun both lose some (the kernel's cap,
-#: :data:`SUN_DISC_MAX_HALF_TEXELS`, is in texels: a finer map clips wide penumbrae sooner).
+#: all four cases in under two thirds of 4 maps' time; 2 lowers it a little further (1-14 %)
+#: for 1.3-1.9x the cost of the 1.5 map, and loses more at a 4-degree disc under a low sun,
+#: where 1.5 already loses some (the kernel's cap, :data:`SUN_DISC_MAX_HALF_TEXELS`, is in
+#: texels: a finer map clips wide penumbrae sooner; a cap scaled with the map was mixed).
 SUN_DISC_MAP_SCALE = 1.5
 
 #: Directions over the disc of the ray-cast truth beside a filtered soft sun
