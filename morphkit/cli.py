@@ -567,11 +567,14 @@ def build_parser() -> argparse.ArgumentParser:
                     "(needs --sun-path and dome views): a sun atlas per asset (21 sun directions at 128 "
                     "texels) is baked from its mesh at the start of the run and kept for the run; the "
                     "comparison strips' real meshes get ray-cast shadows (the truth)")
-    bb.add_argument("--soft", default=None, metavar="N|pcss",
-                    help="with --shadows: a soft sun, N directions over its disc, one shadow map each, "
-                    "averaged; or pcss: one map along the disc's centre, filtered (percentage-closer "
-                    "soft shadows: about the error of 8 averaged maps and the smoothness of 16, at the "
-                    "cost of 1 to 10; docs/RESULTS.md) (default: a hard shadow)")
+    bb.add_argument("--soft", default=None, nargs="?", const=SOFT_FILTER, metavar="N|pcss",
+                    help="with --shadows: a soft sun. --soft alone (or --soft pcss): one map along the "
+                    "disc's centre at 1.5 times the atlases' texels, filtered (percentage-closer soft "
+                    "shadows: at the real sun less error than 4 to 16 maps averaged, in under two thirds "
+                    "of the time of 4; over 1-4 degree discs about the error of 8 to 16, smoother, in at "
+                    "most about the time of 8; docs/RESULTS.md); "
+                    "--soft N: N directions over its disc, one shadow map each, averaged "
+                    "(default: a hard shadow)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
                     help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
                     "%(default)s; larger discs give wider penumbrae, up to 15)")

@@ -72,7 +72,7 @@ def _billboards(args: argparse.Namespace) -> None:
                                            "(tol.MAX_IMAGE_PIXELS)", args.size))
 
 
-#: ``billboards --soft pcss``: the sun's disc filtered from one map
+#: ``billboards --soft`` (alone, or ``--soft pcss``): the sun's disc filtered from one map
 #: (:class:`morphkit.shadow.receivers.FilteredAtlasShadow`) instead of N maps averaged.
 SOFT_FILTER = "pcss"
 
@@ -84,7 +84,7 @@ def _billboard_shadows(args: argparse.Namespace) -> None:
         raise ValidationError(expected_got("--soft", "together with --shadows", "--soft alone"))
     radius = getattr(args, "sun_radius", None)
     if radius is not None and radius != SUN_DISC_RADIUS_DEG and getattr(args, "soft", None) is None:
-        raise ValidationError(expected_got("--sun-radius", "together with --soft N", "--sun-radius alone"))
+        raise ValidationError(expected_got("--sun-radius", "together with --soft", "--sun-radius alone"))
     if not shadows:
         return
     if not getattr(args, "sun_path", None):

@@ -648,6 +648,36 @@ MAX_SUN_SAMPLES = 64
 #: per point grows with the square (a 33 x 33 box: about 1,100 reads).
 SUN_DISC_MAX_HALF_TEXELS = 16.0
 
+#: Half-width (field texels) of the box a sun disc's filtered lookup widens its kernel by
+#: (:mod:`morphkit.shadow.sundisc`; a disc of nonzero radius only): the map holds an
+#: occluder's edge only to the texel (a texel is drawn when its centre is covered), so the
+#: true edge lies anywhere within half a texel either way of the drawn one, and at the real
+#: sun (0.267 degrees) the disc's own penumbra is mostly narrower than that. The kernel is
+#: the disc's square convolved with this box (a trapezoid a side), so the penumbra is never
+#: narrower than half a texel and never falls back to the hard lookup. The mean estimate of
+#: that edge would take 0.5 (the whole uncertainty), the error-minimising one in the mean
+#: absolute sense 0 (the disc's square alone, centred on the drawn edge); measured on both
+#: benches' fields (scripts/sun_disc_bench.py, morphkit bench scene --sections sun-disc;
+#: 0, 0.1, 0.15, 0.2, 0.25, 0.3, 0.5 tried), the mean error is flat (within 3e-4) from 0
+#: to 0.3 and 1e-3 to 3e-3 higher at 0.5, while the banding measure falls with the width:
+#: 0.25 is the widest on the flat part.
+SUN_DISC_RASTER_HALF_TEXEL = 0.25
+
+#: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
+#: resolution, :class:`morphkit.shadow.receivers.FilteredAtlasShadow`; still capped by
+#: :data:`SUN_FIELD_MAX_SIDE`). At the field's native resolution the filtered map's error at
+#: the real sun (0.267 degrees) stays above that of 4 maps averaged over the disc, however
+#: it is filtered: its edges lie on a texel grid that 4 slightly turned maps dither. The
+#: atlases' points carry their positions below a texel, so a finer field map draws the edges
+#: finer, for less than a second map's cost (the splat grows with its texels). Measured on
+#: both benches' fields at 1, 1.5 and 2 (scripts/sun_disc_bench.py, morphkit bench scene
+#: --sections sun-disc): 1.5 brings the real sun's error under 4 native maps' (and 16's) in
+#: all four cases in under two thirds of 4 maps' time; 2 lowers it a little further (1-14 %)
+#: for 1.3-1.9x the cost of the 1.5 map, and loses more at a 4-degree disc under a low sun,
+#: where 1.5 already loses some (the kernel's cap, :data:`SUN_DISC_MAX_HALF_TEXELS`, is in
+#: texels: a finer map clips wide penumbrae sooner; a cap scaled with the map was mixed).
+SUN_DISC_MAP_SCALE = 1.5
+
 #: Directions over the disc of the ray-cast truth beside a filtered soft sun
 #: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
 #: several directions, and a frame's ray cast costs one pass per direction; 16 is within

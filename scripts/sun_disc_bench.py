@@ -7,7 +7,9 @@ Truth: the fraction of 64 directions over the disc (a golden-angle spiral,
 :func:`morphkit.shadow.receivers.sun_disc`) that the ray cast from each ground point sees
 (Embree); the 32-direction truth against it on one case shows how far it has converged.
 Methods: ``avg-K`` -- K field maps over the disc (the same spiral), their hard lookups averaged (alpha 1/K);
-``pcss`` -- one map along the centre, :func:`morphkit.shadow.sundisc.disc_visibility`.
+``pcss`` -- one map along the centre at :data:`morphkit.tol.SUN_DISC_MAP_SCALE` times the
+atlases' texels (as :class:`morphkit.shadow.receivers.FilteredAtlasShadow` draws it),
+:func:`morphkit.shadow.sundisc.disc_visibility`.
 Metrics on a GRID^2 ground grid over the field: ``mae`` -- mean |visibility error| over the
 points that the truth or the estimate do not see fully lit; ``banding`` --
 :func:`morphkit.bench.soft_suite.banding`; ``ms`` -- the maps and the lookups, median of 3.
@@ -53,7 +55,7 @@ def _estimate(fs: FieldShadow, inst: Instances, d: np.ndarray, radius: float, tp
               rect: tuple[float, float, float, float], pts: np.ndarray, k: int) -> np.ndarray:
     """``k`` maps averaged, or (``k = 0``) one map filtered."""
     if k == 0:
-        m = fs.build(inst, d, tpu, rect)
+        m = fs.build(inst, d, tpu * tol.SUN_DISC_MAP_SCALE, rect)  # as FilteredAtlasShadow draws it
         return disc_visibility(pts, m.depth, m.camera, radius)
     maps = [fs.build(inst, s, tpu, rect) for s in sun_disc(d, k, radius)]
     return np.mean([m.visibility(pts) for m in maps], axis=0)

@@ -81,6 +81,20 @@ def test_a_filtered_sun_disc_is_the_hard_shadow_at_zero_radius_and_soft_beyond(a
         FilteredAtlasShadow(atlases, disc_deg=90.0)
 
 
+def test_a_filtered_sun_draws_its_one_map_finer_by_the_map_scale(atlases):
+    inst = Instances.from_records([("ball", 0.0, 0.0)])
+    g = _grid(-3.0, -3.0, 1.0, 1.0, 40)
+    sun = sun_direction(0.0, 45.0)
+    plain, filt = AtlasShadow(atlases), FilteredAtlasShadow(atlases, disc_deg=0.5)
+    plain.frame(inst, [sun], g, np.array([0]))
+    filt.frame(inst, [sun], g, np.array([0]))
+    (mp,), (mf,) = plain.last_maps, filt.last_maps
+    assert mf.camera.fx == pytest.approx(tol.SUN_DISC_MAP_SCALE * mp.camera.fx, rel=1e-9)
+    given = FilteredAtlasShadow(atlases, disc_deg=0.5, texels_per_unit=TPU)
+    given.frame(inst, [sun], g, np.array([0]))
+    assert given.last_maps[0].camera.fx == pytest.approx(TPU, rel=1e-9)  # a resolution given is kept
+
+
 # ------------------------------------------------------------------ the sun's disc
 def test_sun_disc_one_sample_is_the_centre_and_n_samples_lie_on_the_disc():
     d = sun_direction(40.0, 30.0)
@@ -292,6 +306,18 @@ def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message
     assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 1
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("soft, want", [([], None), (["--soft"], "pcss"), (["--soft", "PCSS"], "pcss"),
+                                        (["--soft", "4"], 4)])
+def test_soft_alone_is_the_filtered_disc_and_a_count_averages(tmp_path, soft, want):
+    from morphkit.cli import build_parser
+    from morphkit.cliargs import SOFT_FILTER, check_args
+
+    argv = ["billboards", "--shadows", "--sun-path", "day", *soft, "-o", str(tmp_path)]
+    args = build_parser().parse_args(argv)
+    check_args(args)
+    assert args.soft == want and (want != "pcss" or args.soft == SOFT_FILTER)
 
 
 def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():

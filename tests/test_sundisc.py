@@ -10,6 +10,7 @@ import pytest
 
 from morphkit import tol
 from morphkit.camera import look_at, orthographic, perspective
+from morphkit.conventions import SUN_DISC_RADIUS_DEG
 from morphkit.errors import ValidationError
 from morphkit.shadow import sundisc
 from morphkit.shadow.lookup import ShadowBias, shadow_visibility
@@ -44,17 +45,49 @@ def test_a_disc_of_zero_radius_is_the_hard_lookup():
     np.testing.assert_array_equal(got, hard)
 
 
-def test_a_straight_edge_gives_the_linear_ramp_of_the_disc_square():
-    cam, a = _cam(), 2.0
+def _spread_ramp(xs: np.ndarray, h: float, r: float, n: int = 20000) -> np.ndarray:
+    """The lit fraction of the disc's square (half-width ``h``) beside a straight edge at x = 0
+    (occluder over x < 0), averaged over shifts uniform in ``[-r, r]``: midpoints of ``n``
+    strips (the integrand is piecewise linear: exact but for its two kinks, ~1e-9 here)."""
+    s = (np.arange(n) + 0.5) / n * 2.0 * r - r
+    return np.clip((xs[:, None] + s[None, :] + h) / (2.0 * h), 0.0, 1.0).mean(axis=1)
+
+
+@pytest.mark.parametrize("a", [SUN_DISC_RADIUS_DEG, 2.0])
+def test_a_straight_edge_gives_the_disc_square_spread_over_the_raster(a):
+    cam = _cam()
     dm = _half_plane(7.0)  # the occluder 3 units above the ground (depth 10)
     k = cam.fx * math.tan(math.radians(a))
-    h = DISC_SQUARE * k * 3.0 / cam.fx  # the kernel's half-width, world units (0.0929)
-    xs = np.linspace(-0.3, 0.3, 61)
+    h = DISC_SQUARE * k * 3.0 / cam.fx  # the square's half-width, world units (0.0929 at 2 degrees)
+    r = tol.SUN_DISC_RASTER_HALF_TEXEL / cam.fx
+    xs = np.linspace(-1.5 * (h + r), 1.5 * (h + r), 61)
     vis = disc_visibility(_ground(xs), dm, cam, a)
-    # the edge lies at the texel boundary x = 0 (column 31.5): the box's covered fraction
-    want = np.clip((xs + h) / (2 * h), 0.0, 1.0)
-    np.testing.assert_allclose(vis, want, atol=1e-5)
+    # the edge lies at the texel boundary x = 0 (column 31.5): the trapezoid's covered fraction
+    np.testing.assert_allclose(vis, _spread_ramp(xs, h, r), atol=1e-5)
     assert vis[0] == 0.0 and vis[-1] == 1.0 and np.all(np.diff(vis) >= 0)
+    assert 0 < vis[len(xs) // 2 - 2] < 0.5 < vis[len(xs) // 2 + 2] < 1  # soft at the real sun too
+
+
+def test_at_the_real_sun_an_edge_between_texel_centres_is_nearer_the_disc_than_the_hard_lookup():
+    """The true edge anywhere within a texel (16 offsets), the map drawn by texel centres: against
+    the disc's exact visible fraction (a circular segment), the filtered lookup's mean absolute
+    and rms errors are below the hard lookup's (the edge on the texel grid)."""
+    cam, a, height = _cam(), SUN_DISC_RADIUS_DEG, 3.0
+    radius = height * math.tan(math.radians(a))  # the disc's shadow radius: 0.47 texel
+    xs = np.linspace(-0.2, 0.2, 801)
+    centres = (np.arange(N) - cam.texture_matrix()[0, 3]) / cam.texture_matrix()[0, 0]
+    err = {"disc": [], "hard": []}
+    for t in (np.arange(16) + 0.5) / 16 - 0.5:
+        edge = t / cam.fx  # t texels right of the texel boundary x = 0
+        dm = np.full((N, N), np.inf, np.float32)
+        dm[:, centres < edge] = 10.0 - height
+        s = np.clip((xs - edge) / radius, -1.0, 1.0)
+        truth = 1.0 - (np.arccos(s) - s * np.sqrt(1.0 - s * s)) / math.pi
+        for name, deg in (("disc", a), ("hard", 0.0)):
+            err[name].append(disc_visibility(_ground(xs), dm, cam, deg) - truth)
+    mae = {k: float(np.abs(v).mean()) for k, v in err.items()}
+    rms = {k: float(np.sqrt(np.square(v).mean())) for k, v in err.items()}
+    assert mae["disc"] < mae["hard"] and rms["disc"] < 0.9 * rms["hard"]
 
 
 def test_the_penumbra_widens_with_the_distance_to_the_occluder():
@@ -65,7 +98,8 @@ def test_the_penumbra_widens_with_the_distance_to_the_occluder():
         vis = disc_visibility(_ground(xs), _half_plane(depth), cam, a)
         pen = (vis > 0.0) & (vis < 1.0)
         widths.append(xs[pen].max() - xs[pen].min())
-    assert widths[1] == pytest.approx(2.0 * widths[0], rel=0.1)
+    raster = 2.0 * tol.SUN_DISC_RASTER_HALF_TEXEL / cam.fx  # the box's own width: not the disc's
+    assert widths[1] - raster == pytest.approx(2.0 * (widths[0] - raster), rel=0.1)
 
 
 def test_far_from_occluders_lit_and_under_a_wide_plate_umbra():

@@ -170,8 +170,10 @@ def path_suns(count: int) -> tuple[list[np.ndarray], np.ndarray]:
             np.array([DAY.elevation_at(float(t)) for t in ts]))
 
 
-def field_tpu(atlases: dict[str, SunAtlas], rect: tuple[float, float, float, float]) -> float:
-    """The field view's texels per unit: the atlases', capped at :data:`MAX_FIELD_SIDE` a side.
+def field_tpu(atlases: dict[str, SunAtlas], rect: tuple[float, float, float, float], scale: float = 1.0
+              ) -> float:
+    """The field view's texels per unit: the atlases' (times ``scale``), capped at
+    :data:`MAX_FIELD_SIDE` a side.
 
     Parameters
     ----------
@@ -179,13 +181,16 @@ def field_tpu(atlases: dict[str, SunAtlas], rect: tuple[float, float, float, flo
         The assets' atlases.
     rect : (xmin, ymin, xmax, ymax)
         The receiver.
+    scale : float
+        A factor on the atlases' resolution (the filtered sun disc's map:
+        :data:`~morphkit.tol.SUN_DISC_MAP_SCALE`).
 
     Returns
     -------
     float
         Texels per scene unit.
     """
-    tpu = min(a.size / (2.0 * a.cameras.half_extent[0]) for a in atlases.values())
+    tpu = scale * min(a.size / (2.0 * a.cameras.half_extent[0]) for a in atlases.values())
     # the receiver's diagonal bounds its extent across the light whatever the sun's azimuth; the
     # casters' spheres reach past it
     span = math.hypot(rect[2] - rect[0], rect[3] - rect[1]) + 4.0

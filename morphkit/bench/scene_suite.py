@@ -25,7 +25,9 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
 * ``sun-disc`` -- a soft sun (issues #26, #27): for the plan's radii and suns, ``avg-K`` (K field
   maps over the disc, :func:`~morphkit.shadow.receivers.sun_disc`, averaged) and ``pcss`` (one
-  map along the centre, filtered: :func:`~morphkit.shadow.sundisc.disc_visibility`) against the
+  map along the centre at :data:`~morphkit.tol.SUN_DISC_MAP_SCALE` times the field's texels, as
+  :class:`~morphkit.shadow.receivers.FilteredAtlasShadow` draws it, filtered:
+  :func:`~morphkit.shadow.sundisc.disc_visibility`) against the
   fraction of ``disc_truth`` directions the ray cast sees from each ground point; ``mae`` over
   the points the truth or the estimate do not see fully lit, ``banding``
   (:func:`~morphkit.bench.soft_suite.banding`), ``ms`` the maps and the lookups of a new sun.
@@ -453,6 +455,7 @@ def sun_disc_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
     fld = kit.field(plan.disc_count, plan.disc_grid)
     fs = FieldShadow(atl)
     tpu = field_tpu(atl, fld.rect)
+    tpu_disc = field_tpu(atl, fld.rect, tol.SUN_DISC_MAP_SCALE)  # the filtered disc's own map
     g = plan.disc_grid
     for sun in day_suns(plan.disc_suns):
         for radius in plan.disc_radii:
@@ -472,7 +475,7 @@ def sun_disc_rows(kit: SceneKit, plan: ScenePlan) -> list[dict[str, Any]]:
                         maps = [fs.build(fld.instances, d, tpu, fld.rect) for d in sun_disc(sun, k, radius)]
                         est = np.mean([m.visibility(fld.points) for m in maps], axis=0)
                     else:
-                        m = fs.build(fld.instances, sun, tpu, fld.rect)
+                        m = fs.build(fld.instances, sun, tpu_disc, fld.rect)
                         est = (disc_visibility(fld.points, m.depth, m.camera, radius) if m.camera is not None
                                else np.ones(len(fld.points), np.float32))
                     times.append(time.perf_counter() - t0)

@@ -353,6 +353,10 @@ class AtlasShadow:
     with other suns.
     """
 
+    #: The default resolution's factor over the atlases' own (:meth:`resolution`); the
+    #: receivers' normal offset keeps (at least) its world length at the unscaled map's.
+    map_scale: float = 1.0
+
     def __init__(self, atlases: Mapping[str, SunAtlas] | FieldShadow, *, samples: int = 1,
                  disc_deg: float = SUN_DISC_RADIUS_DEG, texels_per_unit: float | None = None,
                  name: str = "atlas") -> None:
@@ -388,8 +392,9 @@ class AtlasShadow:
             return self.texels_per_unit
         used = sorted(set(instances.names[int(a)] for a in np.unique(instances.asset)))
         mean_scale = float(np.mean(instances.scale)) if len(instances) else 1.0
-        native = max(self.field.atlases[nm].size / (2.0 * self.field.atlases[nm].cameras.radius)
-                     for nm in used) / mean_scale
+        atl = self.field.atlases
+        native = self.map_scale * max(atl[nm].size / (2.0 * atl[nm].cameras.radius) for nm in used)
+        native /= mean_scale
         probe = self.field.plan(instances, sun_dir_world, 1.0, receiver)
         if probe.camera is None:
             return native
@@ -430,7 +435,8 @@ class AtlasShadow:
                 continue
             tpu = self.resolution(instances, d, rect)
             fns = self._sun_visibility(instances, d, tpu, rect)
-            per_sun.append((fns, tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS / tpu))
+            scale = self.map_scale if self.texels_per_unit is None else 1.0
+            per_sun.append((fns, tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS * scale / tpu))
         return FrameShadow(per_sun)
 
     def _sun_visibility(self, instances: Instances, d: np.ndarray, tpu: float,
@@ -446,7 +452,9 @@ class AtlasShadow:
 
 class FilteredAtlasShadow(AtlasShadow):
     """:class:`AtlasShadow` with the sun's disc filtered from one map along its centre
-    (:func:`~.sundisc.disc_visibility`, PCSS) instead of ``samples`` maps averaged.
+    (:func:`~.sundisc.disc_visibility`, PCSS) instead of ``samples`` maps averaged; the map's
+    default resolution is :data:`~morphkit.tol.SUN_DISC_MAP_SCALE` times the atlases' own
+    (its edges finer: the filter's error at the real sun is the texel grid's).
 
     Parameters
     ----------
@@ -455,10 +463,12 @@ class FilteredAtlasShadow(AtlasShadow):
     disc_deg : float
         The disc's angular radius, degrees.
     texels_per_unit : float, optional
-        As :class:`AtlasShadow`.
+        As :class:`AtlasShadow` (a value given is used as it is).
     name : str
         Its name.
     """
+
+    map_scale = tol.SUN_DISC_MAP_SCALE
 
     def __init__(self, atlases: Mapping[str, SunAtlas] | FieldShadow, *,
                  disc_deg: float = SUN_DISC_RADIUS_DEG, texels_per_unit: float | None = None,
