@@ -27,7 +27,7 @@ For each sun:
 ``--offsets`` sweeps the receivers' normal offset (texels;
 :data:`morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS`).
 
-Usage: ``PYTHONPATH=. python scripts/billboard_shadow_bench.py [--n 20] [--soft 1] [--size 320x240]``
+Usage: ``PYTHONPATH=. python scripts/billboard_shadow_bench.py [--n 20] [--soft 1] [--pcss] [--size 320x240]``
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.shading import Lighting
-from morphkit.shadow.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+from morphkit.shadow.receivers import AtlasShadow, FilteredAtlasShadow, RayCastShadow, bake_scene_atlases
 
 SUNS = ((30.0, 35.0), (120.0, 60.0), (-60.0, 20.0))  # (azimuth, elevation), degrees
 
@@ -61,6 +61,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--n", type=int, default=20)
     ap.add_argument("--soft", type=int, default=1)
+    ap.add_argument("--pcss", action="store_true",
+                    help="the atlas side's soft sun filtered from one map (FilteredAtlasShadow, "
+                         "`billboards --soft`); the truth ray-casts --soft directions over the disc")
     ap.add_argument("--disc", type=float, default=0.267, help="sun disc radius, degrees")
     ap.add_argument("--size", default="640x480")
     ap.add_argument("--asset-size", type=int, default=128)
@@ -86,11 +89,13 @@ def main() -> None:
         eye = np.array([0.0, -half - 2.0, 1.6])  # low, over the field's near edge
         cam = perspective(np.radians(50.0), (h, w), look_at(eye, np.array([0.0, 0.0, 0.3]),
                                                             up=np.array([0.0, 0.0, 1.0])))
-        atlas = AtlasShadow(atlases, samples=a.soft, disc_deg=a.disc)
+        atlas = FilteredAtlasShadow(atlases, disc_deg=a.disc) if a.pcss else \
+            AtlasShadow(atlases, samples=a.soft, disc_deg=a.disc)
         truth = RayCastShadow(meshes, samples=a.soft, disc_deg=a.disc)
         offsets = [tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS] if a.offsets is None else \
             [float(v) for v in a.offsets.split(",")]
-        print(f"scene: {a.n} instances of tree + cow, {w}x{h}, soft {a.soft} (disc {a.disc} deg), "
+        print(f"scene: {a.n} instances of tree + cow, {w}x{h}, soft {a.soft} (disc {a.disc} deg)"
+              f"{', atlas side filtered (pcss)' if a.pcss else ''}, "
               f"dark >= {a.dark}/255")
         print("| sun (az/el) | offset | ground IoU | billboard IoU | mesh+atlas IoU | bb atlas vs bb ray | "
               "bb ray vs truth | ground vis. error | ms no shadow | ms shadow (cached) | "
@@ -128,7 +133,8 @@ def main() -> None:
                 vt = truth.frame(inst, [d], gp, np.arange(len(inst))).visibility(gp)[0]
                 verr = float(np.abs(va - vt).mean())
                 # its own builder: the moving sun empties its light-view cache, not the cached one's
-                own = AtlasShadow(atlases, samples=a.soft, disc_deg=a.disc)
+                own = FilteredAtlasShadow(atlases, disc_deg=a.disc) if a.pcss else \
+                    AtlasShadow(atlases, samples=a.soft, disc_deg=a.disc)
                 moving = LitMode(lighting=lighting, shadow=own)
                 t_plain, t_cached, t_new = [], [], []
                 for _ in range(a.reps):
