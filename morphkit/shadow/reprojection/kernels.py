@@ -26,6 +26,11 @@ __all__ = ["reproject_numpy"]
 #: :data:`morphkit.tol.MESH_BOUNDARY_PX` does for the mesh warp.
 _EDGE_EPS = tol.MESH_BOUNDARY_PX
 
+#: Stretched quads: the margin around their drawn triangles, and the slivers that
+#: keep the whole box (:func:`_drawn_box`).
+_DRAWN_BOX_PX = tol.REPROJECT_DRAWN_BOX_PX
+_DRAWN_BOX_MIN_AREA2 = tol.REPROJECT_SLIVER_AREA2_PX2
+
 
 # ----------------------------------------------------------------- compiled kernel
 def _tri(px: float, py: float, x0: float, y0: float, z0: float, x1: float, y1: float, z1: float,
@@ -62,6 +67,35 @@ def _fits(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float, lim:
     """Whether the triangle's bounding box is at most ``lim`` wide and tall."""
     return (max(x0, x1, x2) - min(x0, x1, x2) <= lim
             and max(y0, y1, y2) - min(y0, y1, y2) <= lim)
+
+
+def _area2(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float) -> float:
+    """Twice the triangle's area (unsigned)."""
+    return abs((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0))
+
+
+def _drawn_box(xa: float, ya: float, xb: float, yb: float, xc: float, yc: float, xd: float, yd: float,
+               t0: bool, t1: bool, t2: bool, t3: bool, ia: int, ib: int, ja: int, jb: int
+               ) -> tuple[int, int, int, int]:
+    """The centres ``[ia, ib] x [ja, jb]`` of a quad's box that its drawn triangles
+    (``t0 .. t3`` as in :func:`_draw_quads`: abc, bdc, abd, adc) can cover: their
+    vertices' box widened by :data:`_DRAWN_BOX_PX`, within the given one. A centre
+    that :func:`_tri` takes lies within ``2 _EDGE_EPS`` times a triangle's extent
+    (at most the stretch limit) of its vertices' box, plus its rounding, which is
+    far below that margin unless the triangle is a sliver: with one under
+    :data:`_DRAWN_BOX_MIN_AREA2`, the box is left as it is."""
+    lim = _DRAWN_BOX_MIN_AREA2
+    if ((t0 and _area2(xa, ya, xb, yb, xc, yc) < lim) or (t1 and _area2(xb, yb, xd, yd, xc, yc) < lim)
+            or (t2 and _area2(xa, ya, xb, yb, xd, yd) < lim)
+            or (t3 and _area2(xa, ya, xd, yd, xc, yc) < lim)):
+        return ia, ib, ja, jb
+    xmin, xmax, ymin, ymax = np.inf, -np.inf, np.inf, -np.inf
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xa, ya, t0 or t2 or t3)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xb, yb, t0 or t1 or t2)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xc, yc, t0 or t1 or t3)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, t1 or t2 or t3)
+    return (max(ia, math.ceil(xmin - _DRAWN_BOX_PX)), min(ib, math.floor(xmax + _DRAWN_BOX_PX)),
+            max(ja, math.ceil(ymin - _DRAWN_BOX_PX)), min(jb, math.floor(ymax + _DRAWN_BOX_PX)))
 
 
 def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.ndarray,
@@ -153,10 +187,18 @@ def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, 
             t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, stretch)
             if not (t0 or t1 or t2 or t3):
                 continue
-        jlo = min(jlo, ja)
-        jhi = max(jhi, jb + 1)
-        ilo = min(ilo, ia)
-        ihi = max(ihi, ib + 1)
+            jlo = min(jlo, ja)
+            jhi = max(jhi, jb + 1)
+            ilo = min(ilo, ia)
+            ihi = max(ihi, ib + 1)
+            # a stretched quad's box can be far larger than its drawn triangles':
+            # test only the centres those can reach (the same writes)
+            ia, ib, ja, jb = _drawn_box(xa, ya, xb, yb, xc, yc, xd, yd, t0, t1, t2, t3, ia, ib, ja, jb)
+        else:
+            jlo = min(jlo, ja)
+            jhi = max(jhi, jb + 1)
+            ilo = min(ilo, ia)
+            ihi = max(ihi, ib + 1)
         znear = min(za, zb, zc, zd)
         zskip = znear + early_z * (znear if persp else 1.0)
         for j in range(ja, jb + 1):
@@ -323,6 +365,8 @@ if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they
     _tri = compile_kernel(_tri, inline="always")
     _grow = compile_kernel(_grow, inline="always")
     _fits = compile_kernel(_fits, inline="always")
+    _area2 = compile_kernel(_area2, inline="always")
+    _drawn_box = compile_kernel(_drawn_box, inline="always")
     _project_row = compile_kernel(_project_row, inline="always")
     _draw_quads = compile_kernel(_draw_quads, inline="always")
 reproject_kernel = compile_kernel(_reproject_loop)
