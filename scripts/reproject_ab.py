@@ -53,6 +53,8 @@ def base_package(rev: str) -> ModuleType:
         t.extractall(root, filter="data")
     (root / "morphkit").rename(root / "morphkit_base")
     sys.path.insert(0, str(root))
+    for name in ("shadow", "shadow.reprojected", "settings"):
+        importlib.import_module(f"morphkit_base.{name}")
     return importlib.import_module("morphkit_base")
 
 
