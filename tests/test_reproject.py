@@ -279,6 +279,15 @@ def test_orthographic_motion_is_a_translation():
     np.testing.assert_allclose(out[np.isfinite(want)], want[np.isfinite(want)], rtol=1e-6)
 
 
+def test_an_unchecked_reprojection_is_the_checked_one():
+    e = (0.05, -0.02, 0.1)
+    ref = rp.Reprojection(True, FX, FY, C, (C[0] + 1.25, C[1] - 0.5), e)
+    got = rp.Reprojection.unchecked(True, [FX, FY, C[0], C[1], C[0] + 1.25, C[1] - 0.5, *e])
+    assert got.perspective and got.params.dtype == np.float64
+    np.testing.assert_array_equal(got.params, ref.params)
+    assert not got.identity
+
+
 def test_bad_input_is_refused():
     with pytest.raises(ValidationError, match="finite parameters"):
         rp.Reprojection(True, FX, FY, C, C, (np.nan, 0, 0))

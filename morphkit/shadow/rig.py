@@ -395,6 +395,8 @@ class LightRig:
                                         self.light.position)
 
     def _point_light_centre(self, anchor: np.ndarray, L: np.ndarray) -> tuple[float, float]:
+        """The principal point of the light at ``L`` looking along the rig's axis with the
+        object's anchor at ``anchor`` (world), checked to be in front of it."""
         h, w = self.shape
         a = (anchor - L) @ self.R
         cx = (w - 1) / 2 - self.fx * a[0] / a[2]
