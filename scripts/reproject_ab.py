@@ -6,8 +6,10 @@ Usage: ``PYTHONPATH=. python scripts/reproject_ab.py REV [check|time|both] [REPE
 the checkout to test. ``REV``'s ``morphkit`` is extracted (``git archive``) into a temporary
 folder as the package ``morphkit_base``; both load the *same* saved atlases (baked once
 with the working tree, cached in ``$TMPDIR/reproject_ab``): the default soft shadow's
-(``morphkit.bench.soft_suite``, 256^2, teapot and chair; its 9 light offsets) and the
-point-light shadow suite's (``morphkit.bench.shadow_suite``, cow, 512^2).
+(``morphkit.bench.soft_suite``, 256^2, teapot and chair; its 9 light offsets), the
+point-light shadow suite's (``morphkit.bench.shadow_suite``, cow, 512^2: the positions of
+the 512^2 frame timing of issue #26) and a directional one (chair, 192^2; checked only).
+The base's reprojection includes its own rig and cell code (``resolve``, ``cell``).
 
 ``check``: every map of ``ReprojectedMaps`` (``layers`` True and False, ``nearest``) at
 seeded positions, with and without light offsets, on 1 and 2 threads
