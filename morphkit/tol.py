@@ -703,3 +703,16 @@ SUN_RAY_NORMAL_OFFSET = 2e-3
 #: the engines' default clip value (glTF's ``alphaCutoff``, Unreal's masked 0.5), which
 #: keeps a silhouette whose coverage ramps over a texel at its middle.
 IMPOSTOR_CARD_ALPHA_TEST = 0.5
+
+#: Margin (pixels) around a stretched reprojected quad's drawn triangles within which the
+#: reprojection tests pixel centres (:mod:`morphkit.shadow.reprojection.kernels`), not its
+#: whole box: a centre the barycentric test takes lies within ``2 *`` :data:`MESH_BOUNDARY_PX`
+#: times a triangle's extent (at most the stretch limit, 4 px: 8e-6 px) of its vertices'
+#: box, plus the test's rounding (~1e-12 px for triangles of at least
+#: :data:`REPROJECT_SLIVER_AREA2_PX2`); 1e-3 is ~100x that, so no write changes.
+REPROJECT_DRAWN_BOX_PX = 1e-3
+
+#: A reprojected triangle with twice its area (pixels^2) under this is a sliver whose
+#: barycentric rounding is not bounded by :data:`REPROJECT_DRAWN_BOX_PX`: its quad keeps
+#: its whole box.
+REPROJECT_SLIVER_AREA2_PX2 = 1e-2

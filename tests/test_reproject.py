@@ -165,6 +165,51 @@ def test_layer_kernel_agrees_with_the_numpy_reference(monkeypatch):
     np.testing.assert_allclose(got[both], ref[both], rtol=1e-6)
 
 
+def test_stretched_quads_cover_what_the_numpy_reference_covers(monkeypatch):
+    """Across a slanted depth jump moved far, quads with one corner across it are
+    stretched and draw one triangle of two: the kernel tests only the centres of the
+    triangles it draws, the reference every centre of every kept triangle; the same
+    coverage and depths."""
+    y, x = np.mgrid[0:H, 0:W]
+    band = np.abs(x + 0.8 * y - 50) < 9  # slanted edges: quads with one corner (a or d) across
+    depth = np.where(band, np.float32(1.5), _patch(n=(0, 0, 1.0), d=3.0, lo=(-0.9, -0.6), hi=(0.9, 0.6)))
+    e = (0.25, -0.12, 0.3)  # ~11 px of parallax between the band and the plane
+    maps = [(depth, e)]
+    got, _ = _run(maps, early_z=0.0, c_dst=(C[0] + 3.5, C[1] - 2.25))
+    monkeypatch.setattr(settings, "NUMPY_ONLY", True)
+    ref, _ = _run(maps, early_z=0.0, c_dst=(C[0] + 3.5, C[1] - 2.25))
+    assert np.isfinite(ref).sum() > 2000
+    np.testing.assert_array_equal(np.isfinite(got), np.isfinite(ref))
+    both = np.isfinite(ref)
+    np.testing.assert_allclose(got[both], ref[both], rtol=1e-6)
+
+
+def test_a_layer_draws_its_runs_as_one_run_at_a_time_would(rng):
+    """The layer kernel keeps each projected row for the next row's runs: a layer of
+    random quads draws, bit for bit, what its runs drawn as one layer each draw."""
+    depth = _occluded_scene((0.0, 0.0, 0.0))
+    fin = np.isfinite(depth).astype(np.int8)
+    solid = (fin[:-1, :-1] + fin[:-1, 1:] + fin[1:, :-1] + fin[1:, 1:]) >= 3
+    quads = solid & (rng.random(solid.shape) < 0.6)
+    layer = rp.Layer(depth, quads)
+    assert len(layer.runs) > 500
+    e = (0.09, -0.04, 0.05)
+    got, box = _run([(layer, e)], early_z=0.0)
+    one = [rp.Layer(depth, np.isin(np.arange(solid.shape[0]), [r])[:, None] & quads & _cols(solid, a, b))
+           for r, a, b in layer.runs]
+    ref, ref_box = _run([(lay, e) for lay in one], early_z=0.0)  # z-buffer min: any order
+    assert np.isfinite(got).sum() > 1500
+    np.testing.assert_array_equal(got, ref)
+    assert box == ref_box
+
+
+def _cols(solid, a, b):
+    """The quads of columns ``a .. b - 1``."""
+    m = np.zeros(solid.shape, bool)
+    m[:, a:b] = True
+    return m
+
+
 def _layer_at(primary, e_primary, secondary, e_secondary):
     """The hidden layer of a map baked with the object at ``e_secondary`` against
     one baked at ``e_primary`` (the motion between them: their difference)."""
@@ -232,6 +277,15 @@ def test_orthographic_motion_is_a_translation():
     want[:-2, 3:] = src[2:, :-3] + np.float32(0.5)
     np.testing.assert_array_equal(np.isfinite(out), np.isfinite(want))
     np.testing.assert_allclose(out[np.isfinite(want)], want[np.isfinite(want)], rtol=1e-6)
+
+
+def test_an_unchecked_reprojection_is_the_checked_one():
+    e = (0.05, -0.02, 0.1)
+    ref = rp.Reprojection(True, FX, FY, C, (C[0] + 1.25, C[1] - 0.5), e)
+    got = rp.Reprojection.unchecked(True, [FX, FY, C[0], C[1], C[0] + 1.25, C[1] - 0.5, *e])
+    assert got.perspective and got.params.dtype == np.float64
+    np.testing.assert_array_equal(got.params, ref.params)
+    assert not got.identity
 
 
 def test_bad_input_is_refused():

@@ -104,3 +104,12 @@ def test_point_light_inside_the_range_is_refused():
         LightRig(PointLight([0.0, 0.0, 0.3]), BOX, BASE, MotionRange([-1, -1], [1, 1]), (32, 32))
     with pytest.raises(ValidationError, match="light: expected a DirectionalLight or PointLight"):
         LightRig("sun", BOX, BASE, MotionRange([-1, -1], [1, 1]), (32, 32))
+
+
+@pytest.mark.parametrize("light", [PointLight([0.2, 0.1, 2.5]), DirectionalLight([0.3, -0.4, -1])])
+def test_principal_point_is_the_cameras_bit_for_bit(light, rng):
+    """A reprojection's destination takes only the principal point: the same numbers as the camera."""
+    rig = LightRig(light, BOX, BASE, MotionRange([-1, -1], [1, 1]), (64, 80))
+    for xy in rng.uniform(-1, 1, (8, 2)):
+        cam = rig.camera_at(xy)
+        assert rig.principal_point(xy) == (cam.cx, cam.cy)

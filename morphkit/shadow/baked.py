@@ -201,8 +201,9 @@ class BakedAtlas:
         tuple
             ``(j, i, v, u)``: ints, then fractions in ``[0, 1]`` (clamped).
         """
-        i = int(np.clip(np.searchsorted(self.xs, xy[0], side="right") - 1, 0, len(self.xs) - 2))
-        j = int(np.clip(np.searchsorted(self.ys, xy[1], side="right") - 1, 0, len(self.ys) - 2))
+        # scalar min/max, not np.clip (per frame; the same values, -0.0 included)
+        i = min(max(int(np.searchsorted(self.xs, xy[0], side="right")) - 1, 0), len(self.xs) - 2)
+        j = min(max(int(np.searchsorted(self.ys, xy[1], side="right")) - 1, 0), len(self.ys) - 2)
         u = float((xy[0] - self.xs[i]) / (self.xs[i + 1] - self.xs[i]))
         v = float((xy[1] - self.ys[j]) / (self.ys[j + 1] - self.ys[j]))
-        return j, i, float(np.clip(v, 0, 1)), float(np.clip(u, 0, 1))
+        return j, i, min(max(v, 0.0), 1.0), min(max(u, 0.0), 1.0)

@@ -85,14 +85,14 @@ class ReprojectedMaps(AtlasMethodBase):
 
     def _reprojected(self, eq: np.ndarray, sources: list[tuple[int, int]]) -> np.ndarray:
         rt, a = self.runtime, self.runtime.baked
-        cam = a.rig.camera_at(eq)
+        c_dst = a.rig.principal_point(eq)
         jobs = []
         pixels = 0
         for k, (jj, ii) in enumerate(sources):
-            src, src_cam = rt.reprojection_source(jj, ii)
+            src = rt.reprojection_source(jj, ii)[0]
             if k > 0 and self.layers:
                 src = rt.hidden_layer(sources[0], (jj, ii))
-            rp = rt.reprojection(src_cam, cam, eq - np.array([a.xs[ii], a.ys[jj]]))
+            rp = rt.moved(jj, ii, c_dst, eq - np.array([a.xs[ii], a.ys[jj]]))
             pixels += int(src.cum[-1])
             jobs.append((src, rp))
         out = np.full(a.shape, np.inf, np.float32)

@@ -300,6 +300,33 @@ class AtlasRuntime:
         e = rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
         return Reprojection(persp, rig.fx, rig.fy, (src_cam.cx, src_cam.cy), (dst_cam.cx, dst_cam.cy), e)
 
+    def moved(self, j: int, i: int, c_dst: tuple[float, float], dxy: np.ndarray) -> Reprojection:
+        """:meth:`reprojection` of map ``(j, i)`` into the light camera of principal
+        point ``c_dst`` (:meth:`LightRig.principal_point
+        <morphkit.shadow.rig.LightRig.principal_point>`), the same motion, per
+        frame: the map's camera and the rig were checked when they were made.
+
+        Parameters
+        ----------
+        j, i : int
+            The map's sample indices.
+        c_dst : (float, float)
+            The destination's principal point, pixels.
+        dxy : (2,) float64
+            Object translation from the map's sample to the destination (world units).
+
+        Returns
+        -------
+        morphkit.shadow.reprojection.Reprojection
+            The per-pixel motion.
+        """
+        cam = self.reprojection_source(j, i)[1]
+        rig = self.baked.rig
+        persp = cam.projection == "perspective"
+        e = rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
+        return Reprojection.unchecked(persp, [rig.fx, rig.fy, cam.cx, cam.cy, c_dst[0], c_dst[1],
+                                              e[0], e[1], e[2]])
+
     def hidden_layer(self, primary: Key, other: Key) -> Layer:
         """What map ``other`` holds that map ``primary`` does not (cached per pair;
         :func:`morphkit.shadow.reprojection.hidden_layer`).

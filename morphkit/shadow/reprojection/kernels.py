@@ -26,6 +26,11 @@ __all__ = ["reproject_numpy"]
 #: :data:`morphkit.tol.MESH_BOUNDARY_PX` does for the mesh warp.
 _EDGE_EPS = tol.MESH_BOUNDARY_PX
 
+#: Stretched quads: the margin around their drawn triangles, and the slivers that
+#: keep the whole box (:func:`_drawn_box`).
+_DRAWN_BOX_PX = tol.REPROJECT_DRAWN_BOX_PX
+_DRAWN_BOX_MIN_AREA2 = tol.REPROJECT_SLIVER_AREA2_PX2
+
 
 # ----------------------------------------------------------------- compiled kernel
 def _tri(px: float, py: float, x0: float, y0: float, z0: float, x1: float, y1: float, z1: float,
@@ -64,10 +69,61 @@ def _fits(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float, lim:
             and max(y0, y1, y2) - min(y0, y1, y2) <= lim)
 
 
+def _area2(x0: float, y0: float, x1: float, y1: float, x2: float, y2: float) -> float:
+    """Twice the triangle's area (unsigned)."""
+    return abs((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0))
+
+
+def _drawn_box(xa: float, ya: float, xb: float, yb: float, xc: float, yc: float, xd: float, yd: float,
+               t0: bool, t1: bool, t2: bool, t3: bool, ia: int, ib: int, ja: int, jb: int
+               ) -> tuple[int, int, int, int]:
+    """The centres ``[ia, ib] x [ja, jb]`` of a quad's box that its drawn triangles
+    (``t0 .. t3`` as in :func:`_draw_quads`: abc, bdc, abd, adc) can cover: their
+    vertices' box widened by :data:`_DRAWN_BOX_PX`, within the given one. A centre
+    that :func:`_tri` takes lies within ``2 _EDGE_EPS`` times a triangle's extent
+    (at most the stretch limit) of its vertices' box, plus its rounding, which is
+    far below that margin unless the triangle is a sliver: with one under
+    :data:`_DRAWN_BOX_MIN_AREA2`, the box is left as it is."""
+    lim = _DRAWN_BOX_MIN_AREA2
+    if ((t0 and _area2(xa, ya, xb, yb, xc, yc) < lim) or (t1 and _area2(xb, yb, xd, yd, xc, yc) < lim)
+            or (t2 and _area2(xa, ya, xb, yb, xd, yd) < lim)
+            or (t3 and _area2(xa, ya, xd, yd, xc, yc) < lim)):
+        return ia, ib, ja, jb
+    xmin, xmax, ymin, ymax = np.inf, -np.inf, np.inf, -np.inf
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xa, ya, t0 or t2 or t3)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xb, yb, t0 or t1 or t2)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xc, yc, t0 or t1 or t3)
+    xmin, xmax, ymin, ymax = _grow(xmin, xmax, ymin, ymax, xd, yd, t1 or t2 or t3)
+    return (max(ia, math.ceil(xmin - _DRAWN_BOX_PX)), min(ib, math.floor(xmax + _DRAWN_BOX_PX)),
+            max(ja, math.ceil(ymin - _DRAWN_BOX_PX)), min(jb, math.floor(ymax + _DRAWN_BOX_PX)))
+
+
+def _project_px(row: np.ndarray, c: int, yr: float, persp: bool, fx: float, fy: float, cxs: float,
+                cxd: float, cyd: float, ex: float, ey: float, ez: float, X: np.ndarray, Y: np.ndarray,
+                Z: np.ndarray, k: int) -> None:
+    """Destination ``X[k], Y[k]`` and depth ``Z[k]`` of pixel ``c`` of a source row
+    ``row`` (``yr = (r - cy_s) / fy``; the parameters: :class:`Reprojection`);
+    ``Z[k] = +inf`` (background) leaves ``X, Y``."""
+    z = np.float64(row[c])
+    if z < np.inf:
+        zd = z + ez
+        xr = (c - cxs) / fx
+        if persp:
+            t = 1.0 / zd
+            X[k] = fx * (z * xr + ex) * t + cxd
+            Y[k] = fy * (z * yr + ey) * t + cyd
+        else:
+            X[k] = fx * (xr + ex) + cxd
+            Y[k] = fy * (yr + ey) + cyd
+        Z[k] = zd
+    else:
+        Z[k] = np.inf
+
+
 def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.ndarray,
                  X: np.ndarray, Y: np.ndarray, Z: np.ndarray, lo: int, hi: int) -> None:
     """Destination ``X, Y`` and depth ``Z`` (``+inf``: background) of
-    ``src[r, c0:c1]``; only columns in ``[lo, hi)`` can hold the object."""
+    ``src[r, c0:c1]`` (:func:`_project_px`); only columns in ``[lo, hi)`` can hold the object."""
     Z[:] = np.inf
     lo = max(lo, c0)
     fx = p[0]
@@ -82,19 +138,7 @@ def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.n
     row = src[r]
     yr = (r - cys) / fy
     for c in range(lo, min(hi, c1)):
-        k = c - c0
-        z = np.float64(row[c])
-        if z < np.inf:
-            zd = z + ez
-            xr = (c - cxs) / fx
-            if persp:
-                t = 1.0 / zd
-                X[k] = fx * (z * xr + ex) * t + cxd
-                Y[k] = fy * (z * yr + ey) * t + cyd
-            else:
-                X[k] = fx * (xr + ex) + cxd
-                Y[k] = fy * (yr + ey) + cyd
-            Z[k] = zd
+        _project_px(row, c, yr, persp, fx, fy, cxs, cxd, cyd, ex, ey, ez, X, Y, Z, c - c0)
 
 
 def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, Yb: np.ndarray,
@@ -153,10 +197,18 @@ def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, 
             t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, stretch)
             if not (t0 or t1 or t2 or t3):
                 continue
-        jlo = min(jlo, ja)
-        jhi = max(jhi, jb + 1)
-        ilo = min(ilo, ia)
-        ihi = max(ihi, ib + 1)
+            jlo = min(jlo, ja)
+            jhi = max(jhi, jb + 1)
+            ilo = min(ilo, ia)
+            ihi = max(ihi, ib + 1)
+            # a stretched quad's box can be far larger than its drawn triangles':
+            # test only the centres those can reach (the same writes)
+            ia, ib, ja, jb = _drawn_box(xa, ya, xb, yb, xc, yc, xd, yd, t0, t1, t2, t3, ia, ib, ja, jb)
+        else:
+            jlo = min(jlo, ja)
+            jhi = max(jhi, jb + 1)
+            ilo = min(ilo, ia)
+            ihi = max(ihi, ib + 1)
         znear = min(za, zb, zc, zd)
         zskip = znear + early_z * (znear if persp else 1.0)
         for j in range(ja, jb + 1):
@@ -237,19 +289,37 @@ def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool,
     quads with top row ``r`` and left columns ``a .. b - 1``) into rows
     ``[jmin, jmax)`` of ``zbuf``, as :func:`_reproject_loop` draws them; ``box``
     grows likewise."""
-    n = 1
-    for t in range(t0, t1):
-        n = max(n, runs[t, 2] - runs[t, 1] + 1)
-    rows = np.empty((6, n))  # two projected rows: X, Y, Z of each
-    Xa, Ya, Za, Xb, Yb, Zb = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
+    w = src.shape[1]
+    # projected pixels by row parity, full width (a run's rows r, r + 1 take both
+    # slots), kept across runs: the runs of the next row reuse their lower row
+    proj = np.empty((2, 3, w))
+    held = np.full((2, w), -1, np.int64)  # the row each slot's column holds (-1: none)
     jlo, jhi, ilo, ihi = box[0], box[1], box[2], box[3]
+    fx = p[0]
+    fy = p[1]
+    cxs = p[2]
+    cys = p[3]
+    cxd = p[4]
+    cyd = p[5]
+    ex = p[6]
+    ey = p[7]
+    ez = p[8]
     for t in range(t0, t1):
         r = runs[t, 0]
         a = runs[t, 1]
         b = runs[t, 2] + 1
-        _project_row(src, r, a, b, persp, p, Xa, Ya, Za, a, b)
-        _project_row(src, r + 1, a, b, persp, p, Xb, Yb, Zb, a, b)
-        jlo, jhi, ilo, ihi = _draw_quads(Xa, Ya, Za, Xb, Yb, Zb, 0, b - a - 1, stretch, early_z,
+        for q in range(r, r + 2):
+            s = q & 1
+            row = src[q]
+            yr = (q - cys) / fy
+            P = proj[s]
+            for c in range(a, b):
+                if held[s, c] != q:
+                    _project_px(row, c, yr, persp, fx, fy, cxs, cxd, cyd, ex, ey, ez, P[0], P[1], P[2], c)
+                    held[s, c] = q
+        A = proj[r & 1]
+        B = proj[(r + 1) & 1]
+        jlo, jhi, ilo, ihi = _draw_quads(A[0], A[1], A[2], B[0], B[1], B[2], a, b - 1, stretch, early_z,
                                          persp, zbuf, jlo, jhi, ilo, ihi, jmin, jmax)
     box[0] = jlo
     box[1] = jhi
@@ -323,6 +393,9 @@ if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they
     _tri = compile_kernel(_tri, inline="always")
     _grow = compile_kernel(_grow, inline="always")
     _fits = compile_kernel(_fits, inline="always")
+    _area2 = compile_kernel(_area2, inline="always")
+    _drawn_box = compile_kernel(_drawn_box, inline="always")
+    _project_px = compile_kernel(_project_px, inline="always")
     _project_row = compile_kernel(_project_row, inline="always")
     _draw_quads = compile_kernel(_draw_quads, inline="always")
 reproject_kernel = compile_kernel(_reproject_loop)

@@ -74,6 +74,30 @@ class Reprojection:
             raise ValidationError(expected_got("reprojection", "finite parameters and fx, fy > 0",
                                                self.params.tolist()))
 
+    @classmethod
+    def unchecked(cls, perspective: bool, params: list[float]) -> Reprojection:
+        """A reprojection from parameters the caller has already validated (the
+        constructor's, in its order ``fx, fy, cx_s, cy_s, cx_d, cy_d, ex, ey, ez``),
+        without checking them again: for the per-frame motions of a validated rig
+        (:meth:`AtlasRuntime.moved <morphkit.shadow.runtime.AtlasRuntime.moved>`).
+
+        Parameters
+        ----------
+        perspective : bool
+            Perspective (point light) or orthographic maps.
+        params : list of float
+            The nine parameters, finite, ``fx, fy > 0``.
+
+        Returns
+        -------
+        Reprojection
+            The motion, built without validation.
+        """
+        rp = object.__new__(cls)
+        rp.perspective = bool(perspective)
+        rp.params = np.array(params, dtype=np.float64)
+        return rp
+
     @property
     def identity(self) -> bool:
         """True when nothing moves: equal principal points and ``e = 0``."""
