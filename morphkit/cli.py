@@ -437,7 +437,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "default 16): e.g. 256 on a machine with 16 cores")
     b.add_argument("--sections", default=None, metavar="NAMES",
                    help=f"{', '.join(SECTIONED_SUITES)} only: run only these sections, comma-separated "
-                   "(e.g. dome-bands,dome-relit; scene: accuracy,sun-change,atlas-grid,temporal,levels; "
+                   "(e.g. dome-bands,dome-relit; scene: accuracy,per-asset,receivers,sun-change,atlas-grid,"
+                   "temporal,sun-disc,levels,receivers-resolution; "
                    "shadows: accuracy,cutout,control-grid,complexity,frame,frame-once; render: depth,"
                    "accuracy,fidelity,pass; names: the suite's section functions less _rows)")
     b.add_argument("--instances", type=int, nargs="+", default=None, metavar="N",

@@ -119,3 +119,13 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     # the map's resolution follows the atlas's texels (twice the texels, twice the texels a unit)
     assert res[(128, "direct")]["tpu"] == pytest.approx(2.0 * res[(64, "direct")]["tpu"], rel=1e-6)
     assert res[(128, "atlas")]["kib"] == pytest.approx(4.0 * res[(64, "atlas")]["kib"], rel=0.05)
+
+
+def test_the_bench_help_names_every_scene_section(capsys):
+    from morphkit.bench import scene_suite as ss
+
+    with pytest.raises(SystemExit, match="0"):
+        main(["bench", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    listed = text.split("scene: ", 1)[1].split(";", 1)[0].replace("- ", "-").replace(" ", "")
+    assert listed.split(",") == [ss.section_name(s) for s in ss.SECTIONS]
