@@ -277,34 +277,13 @@ class AtlasRuntime:
         b = self.baked
         return self._sources.get((j, i), lambda: (Source(b.maps[j, i]), b.rig.camera_at(b.sample_xy(j, i))))
 
-    def reprojection(self, src_cam: CameraModel, dst_cam: CameraModel, dxy: np.ndarray
-                     ) -> Reprojection:
-        """How a map of ``src_cam`` moves into ``dst_cam`` with the object moved by
-        ``dxy`` on the ground: ``e = R^T d`` in the light frame; a directional
-        light's camera moves with the object (rig model), so there ``e = 0``.
-
-        Parameters
-        ----------
-        src_cam, dst_cam : morphkit.camera.CameraModel
-            Light cameras of the source map and of the destination.
-        dxy : (2,) float
-            Object translation from the source to the destination (world units).
-
-        Returns
-        -------
-        morphkit.shadow.reprojection.Reprojection
-            The per-pixel motion.
-        """
-        rig = self.baked.rig
-        persp = dst_cam.projection == "perspective"
-        e = rig.R.T @ np.array([dxy[0], dxy[1], 0.0]) if persp else np.zeros(3)
-        return Reprojection(persp, rig.fx, rig.fy, (src_cam.cx, src_cam.cy), (dst_cam.cx, dst_cam.cy), e)
-
     def moved(self, j: int, i: int, c_dst: tuple[float, float], dxy: np.ndarray) -> Reprojection:
-        """:meth:`reprojection` of map ``(j, i)`` into the light camera of principal
-        point ``c_dst`` (:meth:`LightRig.principal_point
-        <morphkit.shadow.rig.LightRig.principal_point>`), the same motion, per
-        frame: the map's camera and the rig were checked when they were made.
+        """How map ``(j, i)`` moves into the light camera of principal point ``c_dst``
+        (:meth:`LightRig.principal_point <morphkit.shadow.rig.LightRig.principal_point>`, or
+        another sample's camera) with the object moved by ``dxy`` on the ground: ``e = R^T d``
+        in the light frame; a directional light's camera moves with the object (rig model), so
+        there ``e = 0``. Not checked again (per frame): the map's camera and the rig were
+        checked when they were made.
 
         Parameters
         ----------
@@ -344,8 +323,8 @@ class AtlasRuntime:
         def make() -> Layer:
             b = self.baked
             (jk, ik), (jn, i_n) = primary, other
-            rp = self.reprojection(self.reprojection_source(jn, i_n)[1], self.reprojection_source(jk, ik)[1],
-                                   np.array([b.xs[ik] - b.xs[i_n], b.ys[jk] - b.ys[jn]]))
+            dst = self.reprojection_source(jk, ik)[1]
+            rp = self.moved(jn, i_n, (dst.cx, dst.cy), np.array([b.xs[ik] - b.xs[i_n], b.ys[jk] - b.ys[jn]]))
             return hidden_layer(b.maps[jk, ik], b.maps[jn, i_n], rp)
 
         return self._layers.get((primary, other), make)
