@@ -190,25 +190,21 @@ def _draw_quads(Xa: np.ndarray, Ya: np.ndarray, Za: np.ndarray, Xb: np.ndarray, 
         t1 = vb and vc and vd
         t2 = (not (vb and vc)) and va and vb and vd
         t3 = (not (vb and vc)) and va and vc and vd
-        if xmax - xmin > stretch or ymax - ymin > stretch:
+        stretched = xmax - xmin > stretch or ymax - ymin > stretch
+        if stretched:
             t0 = t0 and _fits(xa, ya, xb, yb, xc, yc, stretch)
             t1 = t1 and _fits(xb, yb, xd, yd, xc, yc, stretch)
             t2 = t2 and _fits(xa, ya, xb, yb, xd, yd, stretch)
             t3 = t3 and _fits(xa, ya, xd, yd, xc, yc, stretch)
             if not (t0 or t1 or t2 or t3):
                 continue
-            jlo = min(jlo, ja)
-            jhi = max(jhi, jb + 1)
-            ilo = min(ilo, ia)
-            ihi = max(ihi, ib + 1)
-            # a stretched quad's box can be far larger than its drawn triangles':
-            # test only the centres those can reach (the same writes)
+        jlo = min(jlo, ja)
+        jhi = max(jhi, jb + 1)
+        ilo = min(ilo, ia)
+        ihi = max(ihi, ib + 1)
+        if stretched:  # its box can be far larger than its drawn triangles': test only the
+            # centres those can reach (the same writes; the box above keeps the quad's)
             ia, ib, ja, jb = _drawn_box(xa, ya, xb, yb, xc, yc, xd, yd, t0, t1, t2, t3, ia, ib, ja, jb)
-        else:
-            jlo = min(jlo, ja)
-            jhi = max(jhi, jb + 1)
-            ilo = min(ilo, ia)
-            ihi = max(ihi, ib + 1)
         znear = min(za, zb, zc, zd)
         zskip = znear + early_z * (znear if persp else 1.0)
         for j in range(ja, jb + 1):
