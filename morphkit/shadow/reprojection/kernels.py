@@ -98,6 +98,12 @@ def _drawn_box(xa: float, ya: float, xb: float, yb: float, xc: float, yc: float,
             max(ja, math.ceil(ymin - _DRAWN_BOX_PX)), min(jb, math.floor(ymax + _DRAWN_BOX_PX)))
 
 
+def _motion(p: np.ndarray) -> tuple[float, float, float, float, float, float, float, float, float]:
+    """A :class:`Reprojection`'s nine parameters as scalars: ``fx, fy, cx_s, cy_s, cx_d, cy_d,
+    ex, ey, ez``."""
+    return p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]
+
+
 def _project_px(row: np.ndarray, c: int, yr: float, persp: bool, fx: float, fy: float, cxs: float,
                 cxd: float, cyd: float, ex: float, ey: float, ez: float, X: np.ndarray, Y: np.ndarray,
                 Z: np.ndarray, k: int) -> None:
@@ -126,15 +132,7 @@ def _project_row(src: np.ndarray, r: int, c0: int, c1: int, persp: bool, p: np.n
     ``src[r, c0:c1]`` (:func:`_project_px`); only columns in ``[lo, hi)`` can hold the object."""
     Z[:] = np.inf
     lo = max(lo, c0)
-    fx = p[0]
-    fy = p[1]
-    cxs = p[2]
-    cys = p[3]
-    cxd = p[4]
-    cyd = p[5]
-    ex = p[6]
-    ey = p[7]
-    ez = p[8]
+    fx, fy, cxs, cys, cxd, cyd, ex, ey, ez = _motion(p)
     row = src[r]
     yr = (r - cys) / fy
     for c in range(lo, min(hi, c1)):
@@ -291,15 +289,7 @@ def _runs_loop(src: np.ndarray, runs: np.ndarray, t0: int, t1: int, persp: bool,
     proj = np.empty((2, 3, w))
     held = np.full((2, w), -1, np.int64)  # the row each slot's column holds (-1: none)
     jlo, jhi, ilo, ihi = box[0], box[1], box[2], box[3]
-    fx = p[0]
-    fy = p[1]
-    cxs = p[2]
-    cys = p[3]
-    cxd = p[4]
-    cyd = p[5]
-    ex = p[6]
-    ey = p[7]
-    ez = p[8]
+    fx, fy, cxs, cys, cxd, cyd, ex, ey, ez = _motion(p)
     for t in range(t0, t1):
         r = runs[t, 0]
         a = runs[t, 1]
@@ -391,6 +381,7 @@ if NUMBA_AVAILABLE:  # inlined helpers first: the kernels resolve them when they
     _fits = compile_kernel(_fits, inline="always")
     _area2 = compile_kernel(_area2, inline="always")
     _drawn_box = compile_kernel(_drawn_box, inline="always")
+    _motion = compile_kernel(_motion, inline="always")
     _project_px = compile_kernel(_project_px, inline="always")
     _project_row = compile_kernel(_project_row, inline="always")
     _draw_quads = compile_kernel(_draw_quads, inline="always")
