@@ -417,24 +417,21 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     the objects (:func:`~morphkit.billboard.shadowing.darkened`)."""
     from .billboard import Backdrop, BillboardScene, place_random
     from .billboard.bakelook import BAKE_AMBIENT
-    from .billboard.domeasset import bake_dome
     from .billboard.facing import ViewpointFacing
     from .billboard.litmesh import LitMeshMode
     from .billboard.litmodes import LitMode
     from .billboard.shadowing import darkened
     from .billboard.sun import sun
     from .camera import look_at, perspective
-    from .meshes import normalize
+    from .fixtures import FIELD_MESHES, field_domes
     from .metrics import shadow_iou
     from .shading import Lighting
     from .shadow.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
 
     t0 = time.perf_counter()
-    names = ("tree", "cow")
-    meshes = {nm: normalize(sample_mesh(nm)) for nm in names}
+    names = FIELD_MESHES
     size, atlas_size, shape = (48, 64, (96, 128)) if quick else (96, 128, (288, 384))
-    assets = {nm: bake_dome(meshes[nm], renderer, name=nm, size=size, appearance="checker") for nm in names}
-    items = {nm: assets[nm].items(meshes[nm]) for nm in names}
+    meshes, assets, items = field_domes(renderer, size, names)
     atlases = bake_scene_atlases(meshes, renderer, size=atlas_size)
     inst = place_random(names, 16, np.random.default_rng(3), half_size=2.5)
     scene = BillboardScene(assets, inst, backdrop=Backdrop(), facing=ViewpointFacing())

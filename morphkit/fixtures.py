@@ -46,22 +46,58 @@ from skimage import data as skdata
 
 from .appearance import checker_items
 from .bake.kinds import WARP_LIGHT, WARP_RANGE
+from .billboard.domeasset import DomeAsset, bake_dome
 from .camera import CameraModel, look_at, perspective
 from .groundtruth import hard_visibility
-from .meshes import sample_mesh
-from .protocols import SceneRenderer
-from .scene import AreaLight, DirectionalLight, Receiver, Scene, SceneObject
+from .meshes import normalize, sample_mesh
+from .protocols import PassRenderer, SceneRenderer
+from .scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
 from .shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",
            "circle_camera", "textured_items", "render_pair", "TALL_BOX_EXTENTS", "photo_texture",
            "uv_box", "write_photo_obj", "write_photo_glb", "write_color_ply", "write_two_part_gltf",
-           "leaf_texture", "write_leaf_plant", "textured_demo_asset", "checker_alpha", "alpha_card"]
+           "leaf_texture", "write_leaf_plant", "textured_demo_asset", "checker_alpha", "alpha_card",
+           "FIELD_MESHES", "field_domes"]
 
 
 #: The sample meshes (:func:`morphkit.meshes.sample_mesh` names) every demo scene shows.
 DEMO_MESHES = ("teapot", "chair", "cow")
+
+#: The sample meshes of the billboard fields (the demo's shadowed field, the scene scripts).
+FIELD_MESHES = ("tree", "cow")
+
+
+def field_domes(renderer: PassRenderer, size: int, names: tuple[str, ...] = FIELD_MESHES
+                ) -> tuple[dict[str, trimesh.Trimesh], dict[str, DomeAsset], dict[str, list[Item]]]:
+    """The billboard fields' assets: each sample mesh normalised, its dome asset baked in the
+    checker look (:func:`~morphkit.billboard.domeasset.bake_dome`), and its render items in that
+    look (the real meshes' frames).
+
+    Parameters
+    ----------
+    renderer : PassRenderer
+        Bakes the domes (e.g. :class:`morphkit.render.Renderer`).
+    size : int
+        The domes' views' side, pixels.
+    names : tuple of str
+        Sample mesh names.
+
+    Returns
+    -------
+    meshes : dict of str to trimesh.Trimesh
+        Normalised meshes, by name.
+    assets : dict of str to DomeAsset
+        Their dome assets.
+    items : dict of str to list of Item
+        Their render items.
+    """
+    meshes = {nm: normalize(sample_mesh(nm)) for nm in names}
+    assets = {nm: bake_dome(meshes[nm], renderer, name=nm, size=size, appearance="checker")
+              for nm in names}
+    return meshes, assets, {nm: assets[nm].items(meshes[nm]) for nm in names}
+
 
 #: The demo light: from the upper right-front, casting shadows back-left.
 DEMO_LIGHT_DIRECTION = (-0.55, 0.35, -1.0)

@@ -41,14 +41,13 @@ import numpy as np
 from morphkit import tol
 from morphkit.billboard import Backdrop, BillboardScene, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
-from morphkit.billboard.domeasset import bake_dome
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.billboard.litmesh import LitMeshMode
 from morphkit.billboard.litmodes import LitMode
 from morphkit.billboard.shadowing import DARK_LEVELS, darkened
 from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
-from morphkit.meshes import normalize, sample_mesh
+from morphkit.fixtures import FIELD_MESHES, field_domes
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.shading import Lighting
@@ -74,12 +73,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=3)
     a = ap.parse_args()
     w, h = (int(v) for v in a.size.split("x"))
-    names = ["tree", "cow"]
+    names = list(FIELD_MESHES)
     with Renderer() as r:
-        meshes = {nm: normalize(sample_mesh(nm)) for nm in names}
-        assets = {nm: bake_dome(meshes[nm], r, name=nm, size=a.asset_size, appearance="checker")
-                  for nm in names}
-        items = {nm: assets[nm].items(meshes[nm]) for nm in names}
+        meshes, assets, items = field_domes(r, a.asset_size)
         t0 = time.perf_counter()
         atlases = bake_scene_atlases(meshes, r, size=a.atlas_size)
         print(f"atlases baked in {time.perf_counter() - t0:.1f} s ({a.atlas_size} texels, 21 directions)")

@@ -21,12 +21,11 @@ import numpy as np
 
 from morphkit.billboard import Backdrop, BillboardScene, MeshMode, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
-from morphkit.billboard.domeasset import bake_dome
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.billboard.litmesh import LitMeshMode
 from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
-from morphkit.meshes import normalize, sample_mesh
+from morphkit.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer, gl_info
 from morphkit.shading import Lighting
 from morphkit.shadow.receivers import RayCastShadow
@@ -41,12 +40,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=3)
     a = ap.parse_args()
     w, h = (int(v) for v in a.size.split("x"))
-    names = ["tree", "cow"]
+    names = list(FIELD_MESHES)
     with Renderer() as r:
-        meshes = {nm: normalize(sample_mesh(nm)) for nm in names}
-        assets = {nm: bake_dome(meshes[nm], r, name=nm, size=a.asset_size, appearance="checker")
-                  for nm in names}
-        items = {nm: assets[nm].items(meshes[nm]) for nm in names}
+        meshes, assets, items = field_domes(r, a.asset_size)
         inst = place_random(names, a.n, np.random.default_rng(a.seed), half_size=max(2.0, 0.6 * np.sqrt(a.n)))
         scene = BillboardScene(assets, inst, backdrop=Backdrop(), facing=ViewpointFacing())
         half = float(np.abs(inst.xy).max()) if len(inst) else 1.0

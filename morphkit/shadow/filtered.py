@@ -324,6 +324,18 @@ def _box_max(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, i0: int, i1: int
     return m
 
 
+def _texel_threshold(i: float, j: float, zt: float, plane: bool, ax: float, ay: float, a0: float,
+                     dpl: float, bias0: float) -> float:
+    """The depth a texel ``(i, j)`` must be nearer than to hide the point: ``zt``, or with
+    ``plane`` the receiver's plane through it (where the plane is in front of the light) less
+    ``bias0``."""
+    if plane:
+        den = ax * i + ay * j + a0
+        if den * dpl > 0:
+            return dpl / den - bias0
+    return zt
+
+
 def _plane_min(dpl: float, ax: float, ay: float, a0: float, x0: float, x1: float, y0: float,
                y1: float) -> float:
     """The least depth of the receiver's plane over the box (at a corner: the depth is
@@ -373,12 +385,7 @@ def _behind(pyr: np.ndarray, off: np.ndarray, wid: np.ndarray, stack: np.ndarray
         if m == -np.inf:  # empty
             continue
         if lv == 0:
-            thr = zt
-            if plane:
-                den = ax * bi + ay * bj + a0
-                if den * dpl > 0:
-                    thr = dpl / den - bias0
-            if m < thr:  # in front
+            if m < _texel_threshold(bi, bj, zt, plane, ax, ay, a0, dpl, bias0):  # in front
                 continue
             if nk < kept.shape[0]:
                 kept[nk, 0], kept[nk, 1], kept[nk, 2] = bi, bj, m
@@ -414,12 +421,7 @@ def _behind_kept(kept: np.ndarray, nk: int, x0: float, x1: float, y0: float, y1:
     area = 0.0
     for q in range(nk):
         i, j, d = kept[q, 0], kept[q, 1], kept[q, 2]
-        thr = zt
-        if plane:
-            den = ax * i + ay * j + a0
-            if den * dpl > 0:
-                thr = dpl / den - bias0
-        if d < thr:  # in front
+        if d < _texel_threshold(i, j, zt, plane, ax, ay, a0, dpl, bias0):  # in front
             continue
         ox = min(x1, i + 0.5) - max(x0, i - 0.5)
         oy = min(y1, j + 0.5) - max(y0, j - 0.5)
@@ -439,12 +441,7 @@ def _behind_shared(shared: np.ndarray, ns: int, i0: int, i1: int, j0: int, j1: i
         i, j, d = shared[q, 0], shared[q, 1], shared[q, 2]
         if i < i0 or i > i1 or j < j0 or j > j1:
             continue
-        thr = zt
-        if plane:
-            den = ax * i + ay * j + a0
-            if den * dpl > 0:
-                thr = dpl / den - bias0
-        if d < thr:  # in front
+        if d < _texel_threshold(i, j, zt, plane, ax, ay, a0, dpl, bias0):  # in front
             continue
         if nk < kept.shape[0]:
             kept[nk, 0], kept[nk, 1], kept[nk, 2] = i, j, d
@@ -708,6 +705,7 @@ _bilerp = compile_kernel(_bilerp) or _bilerp
 _box_sums = compile_kernel(_box_sums) or _box_sums
 _box_max = compile_kernel(_box_max) or _box_max
 _plane_min = compile_kernel(_plane_min) or _plane_min
+_texel_threshold = compile_kernel(_texel_threshold) or _texel_threshold
 _behind = compile_kernel(_behind) or _behind
 _behind_kept = compile_kernel(_behind_kept) or _behind_kept
 _behind_shared = compile_kernel(_behind_shared) or _behind_shared
