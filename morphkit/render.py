@@ -9,51 +9,48 @@ background ``+inf`` (pyrender's is wrong for orthographic cameras:
 ``tests/test_render.py``); colour images are uint8 ``(H, W, 3)``; source views uint8 RGBA, straight
 (not premultiplied) alpha equal to pixel coverage.
 
-EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path
-rendered into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the
-pixel centre by about (+0.125, -0.375) px, issue #29): morphkit's buffers are single-sampled, depth
-at pixel centres as OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the
-EGL display every context shares (closing one broke the others): it is not terminated here.
+EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path rendered
+into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the pixel centre by
+about (+0.125, -0.375) px, issue #29): morphkit's buffers are single-sampled, depth at pixel centres as
+OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the EGL display every context
+shares (closing one broke the others): it is not terminated here.
 
-Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one ``pyrender.Scene``
-with its uploaded meshes) is kept per image shape and reused for every frame of that shape (on EGL
-too). Meshes are uploaded once per context; moving an object only changes its node pose. Shader
-programs: one cache per context, keyed by the shaders and defines only (``_ProgramCache``).
+Contexts. An OSMesa context cannot resize its buffer, so one GL context (and one ``pyrender.Scene`` with its
+uploaded meshes) is kept per image shape and reused for every frame of that shape (on EGL too). Meshes are
+uploaded once per context; moving an object only changes its node pose. Shader programs: one cache per
+context, keyed by the shaders and defines only (``_ProgramCache``).
 
 Materials. An item with a colour is one ``MetallicRoughnessMaterial`` of that colour
-(``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in
-its mesh's own look (:func:`morphkit.look.mesh_look`; arrays: :func:`morphkit.look.look_arrays`)
-as a ``pyrender.Primitive`` built here, not by ``from_trimesh(material=None)``: its materials are
-``alphaMode='BLEND'`` (order-dependent) and single-sided, a trimesh ``SimpleMaterial``'s grey
-diffuse (0.4) darkens textures, 16-bit textures wrap in ``astype(uint8)``, greyscale ones crash,
-and RGB textures of a width not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here
-textures are RGBA uint8 (:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or ``MASK``
-and two-sided. morphkit's copies of pyrender's fragment shaders (``morphkit/data/shaders``;
-pyrender's ignore ``alphaMode`` and ``alphaCutoff``) discard fragments with base-colour alpha
-below 0.5 (a look with cutoff ``c`` uploads its factor alpha times ``0.5 / c``, an opaque look
-all alphas at 1: one shader for every cutoff), decode vertex colours from sRGB before lighting,
-and draw the normals pass. Items without texture or vertex colours keep pyrender's own lit
-shader (their lit pixels are those of earlier versions); every flat draw (the albedo pass) uses
-morphkit's ``flat.frag``: the base colour in linear light (factor x decoded texel x decoded
-vertex colour), written sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY``
-draws ignore materials (no cut-outs) and always cull back faces (pyrender), dropping an open
-surface seen from behind that the two-sided colour draw shows. So a depth image with a cut-out
-item, or a mesh that is not a :func:`~morphkit.meshes.closed_volume` (decided once per mesh, by
-the first depth image showing it), in view is taken from a flat colour draw (no culling; same
-vertex transform, so the same depth). Closed volumes keep ``DEPTH_ONLY``: seen from outside,
-their front faces hide every back face (depth bit-identical). Known limit: a camera inside a
-closed volume, or a near plane cutting one, sees back faces that this draw drops.
+(``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in its mesh's
+own look (:func:`morphkit.look.mesh_look`; arrays: :func:`morphkit.look.look_arrays`) as a
+``pyrender.Primitive`` built here, not by ``from_trimesh(material=None)``: its materials are
+``alphaMode='BLEND'`` (order-dependent) and single-sided, a trimesh ``SimpleMaterial``'s grey diffuse (0.4)
+darkens textures, 16-bit textures wrap in ``astype(uint8)``, greyscale ones crash, and RGB textures of a
+width not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here textures are RGBA uint8
+(:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or ``MASK`` and two-sided. morphkit's copies
+of pyrender's fragment shaders (``morphkit/data/shaders``; pyrender's ignore ``alphaMode`` and
+``alphaCutoff``) discard fragments with base-colour alpha below 0.5 (a look with cutoff ``c`` uploads its
+factor alpha times ``0.5 / c``, an opaque look all alphas at 1: one shader for every cutoff), decode vertex
+colours from sRGB before lighting, and draw the normals pass. Items without texture or vertex colours keep
+pyrender's own lit shader (their lit pixels are those of earlier versions); every flat draw (the albedo
+pass) uses morphkit's ``flat.frag``: the base colour in linear light (factor x decoded texel x decoded
+vertex colour), written sRGB-encoded (:mod:`morphkit.conventions`, "Colour"). ``DEPTH_ONLY`` draws ignore
+materials (no cut-outs) and always cull back faces (pyrender), dropping an open surface seen from behind
+that the two-sided colour draw shows. So a depth image with a cut-out item, or a mesh that is not a
+:func:`~morphkit.meshes.closed_volume` (decided once per mesh, by the first depth image showing it), in view
+is taken from a flat colour draw (no culling; same vertex transform, so the same depth). Closed volumes keep
+``DEPTH_ONLY``: seen from outside, their front faces hide every back face (depth bit-identical). Known
+limit: a camera inside a closed volume, or a near plane cutting one, sees back faces that this draw drops.
 
-One-pass frame and G-buffer (issue #26). :meth:`Renderer.frame_pass` draws a view once into two
-colour attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of
-morphkit's ``mesh.frag`` (define ``MORPHKIT_FRAME``), the colour with the lights off (ambient,
-occlusion and emission alone), an item mark (a uniform per primitive) in its alpha. Closed volumes
-are drawn single-sided there (as ``DEPTH_ONLY``: the same pixels and known limit, a third less time
-at 1M faces). :meth:`Renderer.gbuffer_pass` is :meth:`Renderer.passes` without the lit colour, from
-one flat draw (``gbuffer.frag``: ``flat.frag``'s albedo and ``normals.frag``'s encoded normal in
-two attachments; two-sided, depth and coverage its own). On OSMesa both draw into a framebuffer
-object, not OSMesa's buffer: depth rounds differently (1e-5 relative), a textured pixel may differ
-by one level.
+One-pass frame and G-buffer (issue #26). :meth:`Renderer.frame_pass` draws a view once into two colour
+attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of morphkit's
+``mesh.frag`` (define ``MORPHKIT_FRAME``), the colour with the lights off (ambient, occlusion and emission
+alone), an item mark (a uniform per primitive) in its alpha. Closed volumes are drawn single-sided there (as
+``DEPTH_ONLY``: the same pixels and known limit, a third less time at 1M faces).
+:meth:`Renderer.gbuffer_pass` is :meth:`Renderer.passes` without the lit colour, from one flat draw
+(``gbuffer.frag``: ``flat.frag``'s albedo and ``normals.frag``'s encoded normal in two attachments;
+two-sided, depth and coverage its own). On OSMesa both draw into a framebuffer object, not OSMesa's buffer:
+depth rounds differently (1e-5 relative), a textured pixel may differ by one level.
 """
 
 from __future__ import annotations
@@ -118,6 +115,7 @@ else:
 
 #: GL strings read from the first context this process created (see :func:`gl_info`).
 _GL_STRINGS: dict[str, str] = {}
+_DRAW_RANK: dict[int, int] = {}  # id(node) -> its item's rank in its context's last show: ties' draw order
 
 #: morphkit's copies of pyrender's fragment shaders (package data; module notes, "Materials").
 SHADER_DIR = Path(__file__).resolve().parent / "data" / "shaders"
@@ -186,7 +184,8 @@ if pyrender is not None:
         them into single-sampled ones (depth read back off the pixel centre). Here they are
         re-allocated with 0 samples right after pyrender creates them: the blit is an exact copy.
         Programs are cached per context (``_ProgramCache``). :meth:`two_pass` draws into a second
-        colour attachment too (the unlit colour and the item marks, or the encoded normals)."""
+        colour attachment too (the unlit colour and the item marks, or the encoded normals). Ties in
+        distance draw in the items' order, not pyrender's set order (which varies between runs)."""
 
         def __init__(self, width: int, height: int) -> None:
             self._unlit_rb: Any = None  # the second colour attachment, made by the first two_pass
@@ -194,6 +193,11 @@ if pyrender is not None:
             super().__init__(width, height)
             self._program_cache = _ProgramCache()
             self._single_sampled: tuple[Any, Any] | None = None
+
+        def _sorted_mesh_nodes(self, scene: pyrender.Scene) -> list[pyrender.Node]:
+            at = scene.get_pose(scene.main_camera_node)[:3, 3]
+            return sorted(scene.mesh_nodes, key=lambda n: (n.mesh.is_transparent, -float(
+                np.linalg.norm(scene.get_pose(n)[:3, 3] - at)), _DRAW_RANK.get(id(n), 0)))
 
         def _delete_main_framebuffer(self) -> None:
             if self._unlit_rb is not None:
@@ -351,19 +355,16 @@ def gl_info(*, open_context: bool = True) -> dict[str, str | None]:
             _Offscreen(8, 8).delete()
         except Exception as exc:  # noqa: BLE001 - reported, not raised: a bench row still gets written
             return {**info, "renderer": None, "version": None, "vendor": None, "error": repr(exc)}
-    if not _GL_STRINGS:
-        return {**info, "renderer": None, "version": None, "vendor": None}
-    return {**info, **_GL_STRINGS}
+    return {**info, **(_GL_STRINGS or {"renderer": None, "version": None, "vendor": None})}
 
 
 class _Context:
     """One GL context of a fixed shape with its scene and node cache.
 
-    Each (mesh, look) is converted and uploaded once (one ``pyrender.Mesh``; the
-    look is the item's colour, or the mesh's own look for ``color=None``);
-    several :class:`~morphkit.scene.Item` s sharing it (instances of one mesh at
-    several poses) get one node each, all referring to that uploaded mesh.
-    """
+    Each (mesh, look) is converted and uploaded once (one ``pyrender.Mesh``; the look is the item's
+    colour, or the mesh's own look for ``color=None``); several :class:`~morphkit.scene.Item` s
+    sharing it (instances of one mesh at several poses) get one node each, all referring to that
+    uploaded mesh."""
 
     def __init__(self, shape: tuple[int, int]) -> None:
         h, w = shape
@@ -410,10 +411,10 @@ class _Context:
         return pool
 
     def show(self, items: Sequence[Item]) -> None:
-        groups: dict[int, tuple[list[pyrender.Node], list[Item]]] = {}
-        for it in items:
+        groups: dict[int, tuple[list[pyrender.Node], list[tuple[int, Item]]]] = {}
+        for rank, it in enumerate(items):
             pool = self._pool(it)
-            groups.setdefault(id(pool), (pool, []))[1].append(it)
+            groups.setdefault(id(pool), (pool, []))[1].append((rank, it))
         self.shown = list(groups)
         for _mesh, by_color in self.nodes.values():
             for pool in by_color.values():
@@ -425,7 +426,8 @@ class _Context:
                     if k < len(used):
                         if k > 0 and not self.scene.has_node(node):
                             self.scene.add_node(node)
-                        self.scene.set_pose(node, np.asarray(used[k].pose, dtype=np.float64))
+                        self.scene.set_pose(node, np.asarray(used[k][1].pose, dtype=np.float64))
+                        _DRAW_RANK[id(node)] = used[k][0]
                     elif k > 0 and self.scene.has_node(node):
                         self.scene.remove_node(node)
 
@@ -484,10 +486,9 @@ def _as_pyrender_lights(light: Light) -> list[tuple[pyrender.Light, np.ndarray]]
 class Renderer:
     """A reusable headless renderer (create once, render many frames).
 
-    Creating a GL context costs far more than rendering a frame in it (``morphkit
-    bench render``). Keep one :class:`Renderer` for a whole session; it keeps one
-    context per image shape. Call :meth:`close` (or use ``with``) to free GL.
-    """
+    Creating a GL context costs far more than rendering a frame in it (``morphkit bench render``).
+    Keep one :class:`Renderer` for a whole session; it keeps one context per image shape. Call
+    :meth:`close` (or use ``with``) to free GL."""
 
     def __init__(self) -> None:
         if pyrender is None:
@@ -509,10 +510,9 @@ class Renderer:
     def _ctx(self, camera: CameraModel) -> _Context:
         if not isinstance(camera, CameraModel):
             raise ValidationError(expected_got("camera", "a morphkit CameraModel", type(camera).__name__))
-        ctx = self._contexts.get(camera.shape)
-        if ctx is None:
-            ctx = self._contexts[camera.shape] = _Context(camera.shape)
-        return ctx
+        if camera.shape not in self._contexts:
+            self._contexts[camera.shape] = _Context(camera.shape)
+        return self._contexts[camera.shape]
 
     def _shown(self, camera: CameraModel, items: Sequence[Item]) -> _Context:
         """The context of ``camera`` showing ``items`` (checked)."""
