@@ -78,17 +78,19 @@ from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array, as_int, as_positive
 from ..warp import PARALLEL_MIN_PIXELS, in_bands
-from .sunatlas import MAX_POINT_LEVEL, SunAtlas, segment_reach
+from .sunatlas import MAX_POINT_LEVEL, AtlasPoints, AtlasQuads, SunAtlas, segment_reach
 
 __all__ = ["SplatDrawer", "splat_points", "splat_levels", "close_holes", "empty_depth"]
 
 
-def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
-           seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray,
-           inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float,
-           inst_rows: np.ndarray, r_lo: int, r_hi: int) -> None:
-    """Min each instance's segments of points, posed by its ``(3, 4)``, into rows ``r_lo`` to
-    ``r_hi - 1`` of ``depth`` (in place); ``inst_rows``: the rows each instance can reach."""
+def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray, inner: np.ndarray,
+           seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, seg_qstart: np.ndarray,
+           seg_qlen: np.ndarray, quads: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
+           inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float, inst_rows: np.ndarray, r_lo: int,
+           r_hi: int) -> None:
+    """Min each instance's segments, posed by its ``(3, 4)``, into rows ``r_lo`` to ``r_hi - 1`` of
+    ``depth`` (in place): their quads' triangles, then their points not ``inner`` as squares;
+    ``inst_rows``: the rows each instance can reach."""
     H, W = depth.shape
     for i in range(inst_T.shape[0]):
         if inst_rows[i, 1] < r_lo or inst_rows[i, 0] >= r_hi:
@@ -100,8 +102,42 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
             if sg < 0:
                 continue
             a = seg_start[sg]
+            # the segment's points to the map once (where it has quads), then its quads' triangles
+            m = seg_len[sg] if seg_qlen[sg] > 0 else 0
+            uvd = np.empty((m, 3))
+            for p in range(a, a + m):
+                x, y, z = points[p, 0], points[p, 1], points[p, 2]
+                uvd[p - a, 0] = T[0, 0] * x + T[0, 1] * y + T[0, 2] * z + T[0, 3]
+                uvd[p - a, 1] = T[1, 0] * x + T[1, 1] * y + T[1, 2] * z + T[1, 3]
+                uvd[p - a, 2] = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z + T[2, 3]
+            for qi in range(seg_qstart[sg], seg_qstart[sg] + seg_qlen[sg]):
+                for t in range(2):  # triangles (q0, q1, q2) and (q0, q2, q3)
+                    pa, pb, pc = quads[qi, 0] - a, quads[qi, 1 + t] - a, quads[qi, 2 + t] - a
+                    ua, va, da = uvd[pa, 0], uvd[pa, 1], uvd[pa, 2]
+                    ub, vb, db = uvd[pb, 0], uvd[pb, 1], uvd[pb, 2]
+                    uc, vc, dc = uvd[pc, 0], uvd[pc, 1], uvd[pc, 2]
+                    area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
+                    if area == 0.0:
+                        continue
+                    inv = 1.0 / area
+                    c0 = max(int(math.ceil(min(ua, min(ub, uc)))), 0)
+                    c1 = min(int(math.floor(max(ua, max(ub, uc)))), W - 1)
+                    r0 = max(int(math.ceil(min(va, min(vb, vc)))), r_lo)
+                    r1 = min(int(math.floor(max(va, max(vb, vc)))), r_hi - 1)
+                    for r in range(r0, r1 + 1):
+                        for c in range(c0, c1 + 1):
+                            wa = ((ub - c) * (vc - r) - (uc - c) * (vb - r)) * inv
+                            wb = ((uc - c) * (va - r) - (ua - c) * (vc - r)) * inv
+                            wc = 1.0 - wa - wb
+                            if wa < 0.0 or wb < 0.0 or wc < 0.0:
+                                continue
+                            d = np.float32(wa * da + wb * db + wc * dc)
+                            if d < depth[r, c]:
+                                depth[r, c] = d
             dx, dy, dz = seg_dir[sg, 0], seg_dir[sg, 1], seg_dir[sg, 2]
             for p in range(a, a + seg_len[sg]):
+                if inner[p]:
+                    continue
                 x, y, z = points[p, 0], points[p, 1], points[p, 2]
                 nx, ny, nz = normals[p, 0], normals[p, 1], normals[p, 2]
                 h = inst_half[i] * sizes[p]
@@ -124,8 +160,39 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
 _splat_jit = compile_kernel(_splat, error_model="numpy")
 
 
+def _uvd(points: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Map ``u``, ``v`` and depth of object points under one instance's ``(3, 4)`` (the kernel's sums)."""
+    x, y, z = (points[:, k].astype(np.float64) for k in range(3))
+    return tuple(T[k, 0] * x + T[k, 1] * y + T[k, 2] * z + T[k, 3] for k in range(3))  # type: ignore[return-value]
+
+
+def _triangles_numpy(depth: np.ndarray, points: np.ndarray, quads: np.ndarray, T: np.ndarray) -> None:
+    """The reference of :func:`_splat`'s quads: both triangles of each quad, min into ``depth``."""
+    H, W = depth.shape
+    for t in range(2):
+        (ua, va, da), (ub, vb, db), (uc, vc, dc) = (_uvd(points[quads[:, k]], T) for k in (0, 1 + t, 2 + t))
+        area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
+        ok = area != 0.0
+        inv = 1.0 / np.where(ok, area, 1.0)
+        c0 = np.maximum(np.ceil(np.minimum(ua, np.minimum(ub, uc))), 0).astype(np.int64)
+        c1 = np.minimum(np.floor(np.maximum(ua, np.maximum(ub, uc))), W - 1).astype(np.int64)
+        r0 = np.maximum(np.ceil(np.minimum(va, np.minimum(vb, vc))), 0).astype(np.int64)
+        r1 = np.minimum(np.floor(np.maximum(va, np.maximum(vb, vc))), H - 1).astype(np.int64)
+        for dr in range(max(int((r1 - r0).max(initial=-1)), -1) + 1):
+            for dcol in range(max(int((c1 - c0).max(initial=-1)), -1) + 1):
+                r, c = r0 + dr, c0 + dcol
+                rf, cf = r.astype(np.float64), c.astype(np.float64)
+                wa = ((ub - cf) * (vc - rf) - (uc - cf) * (vb - rf)) * inv
+                wb = ((uc - cf) * (va - rf) - (ua - cf) * (vc - rf)) * inv
+                wc = 1.0 - wa - wb
+                sel = ok & (r <= r1) & (c <= c1) & (wa >= 0.0) & (wb >= 0.0) & (wc >= 0.0)
+                d = (wa * da + wb * db + wc * dc).astype(np.float32)
+                np.minimum.at(depth, (r[sel], c[sel]), d[sel])
+
+
 def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
-                 seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray,
+                 inner: np.ndarray, seg_start: np.ndarray, seg_len: np.ndarray, seg_dir: np.ndarray,
+                 seg_qstart: np.ndarray, seg_qlen: np.ndarray, quads: np.ndarray, inst_T: np.ndarray,
                  inst_seg: np.ndarray, inst_half: np.ndarray, inst_sun: np.ndarray, min_cos: float) -> None:
     """The reference of :func:`_splat` (same texels, same minimum)."""
     H, W = depth.shape
@@ -133,7 +200,11 @@ def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, siz
         for sg in inst_seg[i]:
             if sg < 0:
                 continue
-            sl = slice(int(seg_start[sg]), int(seg_start[sg] + seg_len[sg]))
+            q0 = int(seg_qstart[sg])
+            if seg_qlen[sg]:
+                _triangles_numpy(depth, points, quads[q0:q0 + int(seg_qlen[sg])], inst_T[i])
+            sl = np.arange(int(seg_start[sg]), int(seg_start[sg] + seg_len[sg]))
+            sl = sl[~inner[sl]]
             p = points[sl].astype(np.float64)
             n = normals[sl].astype(np.float64)
             q = p @ inst_T[i][:, :3].T + inst_T[i][:, 3]
@@ -155,8 +226,9 @@ def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, siz
 def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg_start: np.ndarray,
                  seg_len: np.ndarray, seg_dir: np.ndarray, inst_T: np.ndarray, inst_seg: np.ndarray,
                  inst_half: np.ndarray, inst_sun: np.ndarray, sizes: np.ndarray | None = None,
-                 seg_reach: np.ndarray | None = None) -> None:
-    """Splat segments of points, posed per instance, into a depth map by minimum (in place).
+                 seg_reach: np.ndarray | None = None, quads: AtlasQuads | None = None) -> None:
+    """Splat segments of points, posed per instance, into a depth map by minimum (in place);
+    with ``quads``, each segment's quads are drawn as triangles and its inner points skipped.
 
     Parameters
     ----------
@@ -183,10 +255,18 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
         Each segment's farthest point from its object's origin (the ``reach`` of
         :class:`~morphkit.shadow.sunatlas.AtlasPoints`, made when the atlas packs its points);
         default: found here (:func:`~morphkit.shadow.sunatlas.segment_reach`).
+    quads : AtlasQuads, optional
+        Quads of the segments (module docstring, "Quads"): ``quads`` index ``points``,
+        ``starts`` / ``lengths`` give each segment's (``(S,)``; a length 0 for a segment
+        without), ``inner`` the points the quads alone draw (``(P,)``); default none (every
+        point a square).
     """
     sizes = np.ones(len(points), np.float32) if sizes is None else np.asarray(sizes, np.float32)
-    args = (depth, points, normals, sizes, seg_start, seg_len, seg_dir, inst_T, inst_seg, inst_half,
-            inst_sun, float(tol.SPLAT_MIN_COS))
+    if quads is None:
+        quads = AtlasQuads(np.zeros((0, 4), np.int64), np.zeros(len(seg_start), np.int64),
+                           np.zeros(len(seg_start), np.int64), np.zeros(len(points), bool))
+    args = (depth, points, normals, sizes, quads.inner, seg_start, seg_len, seg_dir, quads.starts,
+            quads.lengths, quads.quads, inst_T, inst_seg, inst_half, inst_sun, float(tol.SPLAT_MIN_COS))
     if not use_compiled(_splat_jit):
         _splat_numpy(*args)
         return
@@ -348,6 +428,10 @@ class SplatDrawer:
     max_texels : float
         The largest side, in field texels, of the level's texel an instance is drawn at
         (default :data:`~morphkit.tol.SPLAT_LEVEL_MAX_TEXELS`).
+    quads : bool
+        Instances drawn at level 0 draw their views' quads as triangles and square only the
+        other points (module docstring, "Quads"); ``False``: every point a square (the drawer
+        before quads, kept to compare with).
 
     Attributes
     ----------
@@ -367,12 +451,17 @@ class SplatDrawer:
     'splat'
     >>> SplatDrawer(max_level=0).max_level
     0
+    >>> SplatDrawer(quads=False).quads
+    False
     """
 
     name = "splat"
 
     def __init__(self, max_level: int = MAX_POINT_LEVEL,
-                 max_texels: float = tol.SPLAT_LEVEL_MAX_TEXELS) -> None:
+                 max_texels: float = tol.SPLAT_LEVEL_MAX_TEXELS, quads: bool = True) -> None:
+        if not isinstance(quads, bool):
+            raise ValidationError(expected_got("quads", "True or False", repr(quads)))
+        self.quads = quads
         self.max_level = as_int(max_level, "max_level", lo=0, hi=MAX_POINT_LEVEL)
         self.max_texels = as_positive(max_texels, "max_texels")
         self.last_levels = np.zeros(0, np.int64)
@@ -420,6 +509,7 @@ class SplatDrawer:
         if not groups:
             return depth
         packs = [atlases[names[a]].packed_points(lv) for a, lv in groups]
+        quads = [atlases[names[a]].packed_quads() if self.quads and lv == 0 else None for a, lv in groups]
         seg_base = np.concatenate([[0], np.cumsum([len(pk.starts) for pk in packs])[:-1]]).astype(np.int64)
         pt_base = np.concatenate([[0], np.cumsum([len(pk.points) for pk in packs])[:-1]]).astype(np.int64)
         if len(packs) == 1:
@@ -432,6 +522,7 @@ class SplatDrawer:
             seg_start = np.concatenate([pk.starts + b for pk, b in zip(packs, pt_base, strict=True)])
             seg_len, seg_dir, seg_reach = (np.concatenate([getattr(pk, f) for pk in packs])
                                            for f in ("lengths", "directions", "reach"))
+        quad = _joined_quads(packs, quads, pt_base) if any(q is not None for q in quads) else None
 
         inst_T = np.ascontiguousarray(np.einsum("ij,mjk->mik", T, instances.objects2world(kept)))
         inst_seg = np.full((len(kept), 3), -1, np.int64)
@@ -443,5 +534,27 @@ class SplatDrawer:
             views, weights = atlases[names[a]].dome.weights_many(az_obj[mine], el_sun)
             inst_seg[mine] = np.where(weights > 0.0, views + seg_base[g], -1)
         splat_points(depth, points, normals, seg_start, seg_len, np.ascontiguousarray(seg_dir, np.float64),
-                     inst_T, inst_seg, inst_half, inst_sun, sizes, seg_reach)
+                     inst_T, inst_seg, inst_half, inst_sun, sizes, seg_reach, quad)
         return close_holes(depth)
+
+
+def _joined_quads(packs: Sequence[AtlasPoints], quads: Sequence[AtlasQuads | None], pt_base: np.ndarray
+                  ) -> AtlasQuads:
+    """The groups' quads for their points concatenated (a group without quads: none, no inner point)."""
+    if len(packs) == 1 and quads[0] is not None:
+        return quads[0]
+    qs, starts, lens, inner = [], [], [], []
+    q_base = 0
+    for pk, q, b in zip(packs, quads, pt_base, strict=True):
+        if q is None:
+            starts.append(np.zeros(len(pk.starts), np.int64))
+            lens.append(np.zeros(len(pk.starts), np.int64))
+            inner.append(np.zeros(len(pk.points), bool))
+            continue
+        qs.append(q.quads + b)
+        starts.append(q.starts + q_base)
+        lens.append(q.lengths)
+        inner.append(q.inner)
+        q_base += len(q.quads)
+    return AtlasQuads(np.ascontiguousarray(np.concatenate(qs)), np.concatenate(starts), np.concatenate(lens),
+                      np.concatenate(inner))

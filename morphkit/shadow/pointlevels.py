@@ -39,7 +39,7 @@ from .. import tol
 from ..errors import ValidationError, expected_got
 from ..validate import as_int
 
-__all__ = ["block_points"]
+__all__ = ["block_points", "grid_quads"]
 
 
 def _blocks(a: np.ndarray, b: int) -> np.ndarray:
@@ -134,3 +134,64 @@ def _fronts(m: np.ndarray, p: np.ndarray, n: np.ndarray, d: np.ndarray, b: int, 
     near = _spread(_blocks(np.where(m, d, np.inf), b).min(axis=2), b, m.shape)
     front = m & (d <= near + gap)
     return [_cluster(front, p, n, b), _cluster(m & ~front, p, n, b)]
+
+
+def grid_quads(drawn: np.ndarray, depth: np.ndarray, depth_gap: float) -> tuple[np.ndarray, np.ndarray]:
+    """A view's quads of drawn texels and the texels they cover alone (module docstring, "Quads").
+
+    Parameters
+    ----------
+    drawn : (n0, n1) bool
+        The texels that hold a point.
+    depth : (n0, n1) float
+        Depth along the view's axis (any value where not drawn).
+    depth_gap : float
+        A quad's four depths lie within this of each other (the depth's units, ``>= 0``).
+
+    Returns
+    -------
+    quads : (Q, 4) int64
+        Each quad's texels as indices into the drawn texels in row-major order (the order of
+        ``points[drawn]``), going round the quad; its triangles are ``(q0, q1, q2)`` and
+        ``(q0, q2, q3)``.
+    inner : (M,) bool
+        Per drawn texel (row-major): all four quads it is a corner of are kept.
+
+    Raises
+    ------
+    ValidationError
+        Shapes that differ or are not 2-D; a negative or non-finite gap.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from morphkit.shadow.pointlevels import grid_quads
+    >>> quads, inner = grid_quads(np.ones((3, 3), bool), np.zeros((3, 3)), 0.5)
+    >>> len(quads), int(inner.sum())  # four quads; only the centre texel is inside all four
+    (4, 1)
+    """
+    gap = float(depth_gap)
+    if not gap >= 0.0 or not np.isfinite(gap):
+        raise ValidationError(expected_got("depth_gap", "a finite depth >= 0", depth_gap))
+    m = np.asarray(drawn, bool)
+    d = np.asarray(depth, np.float64)
+    if m.ndim != 2 or d.shape != m.shape:
+        raise ValidationError(expected_got("drawn, depth", "two (n0, n1) arrays of one shape",
+                                           f"{m.shape}, {d.shape}"))
+    idx = np.full(m.shape, -1, np.int64)
+    idx[m] = np.arange(int(m.sum()))
+    d = np.where(m, d, 0.0)
+    # corners a (top left), b (top right), c (bottom right), e (bottom left) of each quad
+    a, b, c, e = idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]
+    da, db, dc, de = d[:-1, :-1], d[:-1, 1:], d[1:, 1:], d[1:, :-1]
+    four = np.stack([da, db, dc, de])
+    kept = (a >= 0) & (b >= 0) & (c >= 0) & (e >= 0) & (four.max(axis=0) - four.min(axis=0) <= gap)
+    main = da + dc >= db + de  # split along the deeper diagonal: a-c, else b-e
+    k = kept.ravel()
+    ring_ac = np.stack([a, b, c, e], -1).reshape(-1, 4)
+    ring_be = np.stack([b, c, e, a], -1).reshape(-1, 4)
+    quads = np.where(main.ravel()[:, None], ring_ac, ring_be)[k]
+    around = np.zeros((m.shape[0] + 1, m.shape[1] + 1), bool)
+    around[1:-1, 1:-1] = kept
+    inner = around[:-1, :-1] & around[:-1, 1:] & around[1:, :-1] & around[1:, 1:]
+    return np.ascontiguousarray(quads, np.int64), inner[m]

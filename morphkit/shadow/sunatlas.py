@@ -69,10 +69,11 @@ from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_direction, as_finite_array, as_int, as_shape
 from .lookup import ShadowBias, shadow_visibility
-from .pointlevels import block_points
+from .pointlevels import block_points, grid_quads
 
-__all__ = ["SunAtlas", "AtlasPoints", "segment_reach", "bake_sun_atlas", "sun_in_object", "instance_frame",
-           "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL", "MAX_POINT_LEVEL"]
+__all__ = ["SunAtlas", "AtlasPoints", "AtlasQuads", "segment_reach", "bake_sun_atlas", "sun_in_object",
+           "instance_frame", "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL",
+           "MAX_POINT_LEVEL"]
 
 #: Stored bytes per atlas texel: float16 depth and uint8 coverage.
 BYTES_PER_TEXEL = 3
@@ -195,6 +196,27 @@ class AtlasPoints(NamedTuple):
     directions: np.ndarray
     sizes: np.ndarray
     reach: np.ndarray
+
+
+class AtlasQuads(NamedTuple):
+    """A sun atlas's level-0 quads, all views concatenated (:meth:`SunAtlas.packed_quads`).
+
+    Parameters
+    ----------
+    quads : (Q, 4) int64
+        Each quad's four points, indices into :meth:`SunAtlas.packed_points` ``(0).points``;
+        its triangles ``(q0, q1, q2)`` and ``(q0, q2, q3)``
+        (:func:`~morphkit.shadow.pointlevels.grid_quads`).
+    starts, lengths : (V,) int64
+        Each view's first quad and count.
+    inner : (P,) bool
+        Per level-0 point: the quads alone draw it (no square).
+    """
+
+    quads: np.ndarray
+    starts: np.ndarray
+    lengths: np.ndarray
+    inner: np.ndarray
 
 
 def segment_reach(points: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
@@ -441,6 +463,38 @@ class SunAtlas:
             self._points[("packed", lv)] = AtlasPoints(arrays[0], arrays[1], starts, lens, dirs, arrays[2],
                                                        segment_reach(arrays[0], starts, lens))
         return self._points[("packed", level)]
+
+    def packed_quads(self) -> AtlasQuads:
+        """Every view's quads of level-0 points, concatenated in view order (made once, cached).
+
+        A quad: four drawn texels meeting at a corner whose depths lie within
+        :data:`~morphkit.tol.SPLAT_QUAD_DEPTH_GAP` texels of each other
+        (:func:`~morphkit.shadow.pointlevels.grid_quads`).
+
+        Returns
+        -------
+        AtlasQuads
+            The quads (indices into ``packed_points(0)``), each view's first quad and count,
+            and the points the quads alone draw.
+        """
+        got = self._points.get("quads")
+        if got is not None:
+            return got
+        pk = self.packed_points(0)
+        texel = 2.0 * float(self.cameras.half_extent[0]) / self.size
+        parts = []
+        for k in range(self.dome.views):
+            drawn = self._view_grid(k)[1]
+            q, inner = grid_quads(drawn, self._surface(k).depth, tol.SPLAT_QUAD_DEPTH_GAP * texel)
+            parts.append((q + pk.starts[k], inner))
+        lens = np.array([len(q) for q, _ in parts], np.int64)
+        quads = np.ascontiguousarray(np.concatenate([q for q, _ in parts]).reshape(-1, 4), np.int64)
+        inner = np.ascontiguousarray(np.concatenate([i for _, i in parts]), bool)
+        for a in (quads, inner):
+            a.setflags(write=False)
+        starts = np.concatenate([[0], np.cumsum(lens)[:-1]]).astype(np.int64)
+        got = self._points["quads"] = AtlasQuads(quads, starts, lens, inner)
+        return got
 
     def check_mesh(self, mesh: trimesh.Trimesh) -> None:
         """Raise unless ``mesh`` is the one this atlas was baked from (by hash).
