@@ -33,6 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..errors import OutputWriteError, ValidationError, expected_got
 from ..meshes import UP_AXES, resolve_up
@@ -44,7 +45,7 @@ from .kinds import AssetKind, ShadowAtlasKind
 from .manifest import LEGACY_UP_AXIS, AssetRecord, Manifest, file_digest, utc_now
 from .worker import BakeTask, bake_task
 
-__all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS", "STOP_ERRNOS"]
+__all__ = ["BakeOptions", "bake_library", "COMMIT_INTERVAL_S", "HASH_THREADS", "STOP_ERRNOS", "STOP_WAIT_S"]
 
 #: Seconds between atomic rewrites of the manifest during a run (the journal holds the rest);
 #: longer for a manifest so large that rewriting it would take over 5% of the time.
@@ -58,6 +59,11 @@ HASH_THREADS = 8
 #: write would be refused too. The run raises :class:`~morphkit.errors.OutputWriteError`;
 #: another OS error fails its asset only (e.g. a name too long for the file system).
 STOP_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO})
+
+#: Seconds a stopped run waits for the tasks its workers are still executing: Dask cancels the
+#: tasks not started, but one running cannot be interrupted, and it would finish its save (or
+#: remove its temporary file) after the run had reported; past this the run reports anyway.
+STOP_WAIT_S = 60.0
 
 
 @dataclass(frozen=True)
@@ -245,6 +251,7 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
                         bar.set_postfix(failed=n_failed, refresh=False)
                     if stop:  # every later write would be refused too: stop here, keep what is done
                         client.cancel(list(futures))
+                        _wait_executing(client, f"morphkit-bake-{token}-", STOP_WAIT_S)
                         break
     finally:
         bar.close()
@@ -262,6 +269,27 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
     except OSError as exc:  # atomic: the old manifest and the journal stay
         raise _stopped(folder, exc.errno or errno.EIO, "the manifest", n_kept, len(tasks) - n_kept) from exc
     return manifest
+
+
+def _executing(prefix: str, dask_worker: Any = None) -> list[str]:
+    """The keys starting with ``prefix`` that a worker is still executing, cancelled ones included
+    (run on each worker by ``Client.run``, which passes ``dask_worker``)."""
+    ws = dask_worker.state
+    return [str(ts.key) for ts in ws.executing | ws.long_running if str(ts.key).startswith(prefix)]
+
+
+def _wait_executing(client: Any, prefix: str, timeout: float) -> None:
+    """Return once no worker executes a task whose key starts with ``prefix`` (:data:`STOP_WAIT_S`),
+    or after ``timeout`` seconds, or when the workers cannot be asked."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            left = client.run(_executing, prefix)
+        except Exception:  # noqa: BLE001 - a worker gone: nothing of it left to wait for
+            return
+        if not any(left.values()):
+            return
+        time.sleep(0.05)
 
 
 def _refused_write(task: BakeTask, fut: object) -> tuple[int, str] | None:
