@@ -113,7 +113,7 @@ def test_the_quick_run_gives_every_section_with_sane_values(tmp_path, capsys):
     assert lv[("suite/4", "splat-levels")]["coarse"] == 1.0  # a field 4x coarser than every atlas
     res = {(r["params"]["texels"], r["method"]): r["metrics"]
            for r in rows if r["params"]["section"] == "receivers-resolution"}
-    assert set(res) == {(t, m) for t in (64, 128) for m in ("atlas", "direct")}
+    assert set(res) == {(t, m) for t in (64, 128) for m in ("atlas", "atlas-squares", "direct")}
     for x in res.values():
         assert 0.0 <= x["iou_min"] <= x["iou"] <= 1.0 and 0.0 <= x["mae"] < 0.5
     # the map's resolution follows the atlas's texels (twice the texels, twice the texels a unit)

@@ -7,7 +7,9 @@ atlases' texel, :func:`~morphkit.bench.scene_fields.field_tpu`). Here the same s
 and ray-cast truth (:func:`surface_scores`) are scored for each of the plan's
 ``resolution_sizes``: the atlases baked at that many texels a side (``atlas``), and the meshes
 rendered from the sun into a map of the same texels a unit (``direct``: the best any map of that
-resolution can do, with the same lookup and normal offset). Metrics: ``iou`` / ``iou_min`` (the
+resolution can do, with the same lookup and normal offset), and ``atlas-squares``: the atlas
+drawn with squares only (``SplatDrawer(quads=False)``, the drawer before its quads,
+:mod:`morphkit.shadow.fieldsplat`). Metrics: ``iou`` / ``iou_min`` (the
 worst sun), ``mae``, ``tpu`` (field texels a unit), ``kib`` (both assets' atlases); ``ms`` a build
 and the lookup, one a sun.
 """
@@ -24,6 +26,7 @@ from .. import tol
 from ..metrics import shadow_iou
 from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldMap, FieldShadow
+from ..shadow.fieldsplat import SplatDrawer
 from .harness import Timing, make_row, markdown_table
 from .scene_fields import Field, SceneKit, day_suns, field_tpu, surface_receivers
 
@@ -35,8 +38,8 @@ __all__ = ["surface_scores", "receivers_resolution_rows", "receivers_resolution_
 #: faces, one of them kept).
 SUN_FACING_COS = 0.1
 
-#: The two ways of making the map compared at each resolution (module docstring).
-RESOLUTION_METHODS = ("atlas", "direct")
+#: The ways of making the map compared at each resolution (module docstring).
+RESOLUTION_METHODS = ("atlas", "atlas-squares", "direct")
 
 
 def surface_scores(fld: Field, points: np.ndarray, normals: np.ndarray, suns: list[np.ndarray],
@@ -113,17 +116,19 @@ def receivers_resolution_rows(kit: SceneKit, plan: Any) -> list[dict[str, Any]]:
             atl = kit.atlases(None, "sparse", size)
             fs = FieldShadow(atl)
             tpu = field_tpu(atl, fld.rect)
-            fns = {m: kit.method(m, fs, fld, tpu) for m in RESOLUTION_METHODS}
+            fns = {m: kit.method(m, fs, fld, tpu) for m in ("atlas", "direct")}
+            fns["atlas-squares"] = kit.method("atlas", FieldShadow(atl, SplatDrawer(quads=False)), fld, tpu)
             got, used = surface_scores(fld, pts, nrm, suns, fns, tpu)
             side = max(fns["atlas"](suns[0]).camera.shape)
             for m in RESOLUTION_METHODS:
                 g = got[m]
                 metrics = {"iou": float(np.mean(g["iou"])), "iou_min": float(np.min(g["iou"])),
                            "mae": float(np.mean(g["mae"])), "tpu": float(tpu), "field_side": float(side),
-                           "kib": sum(a.nbytes for a in atl.values()) / 1024.0 if m == "atlas" else 0.0}
+                           "kib": sum(a.nbytes for a in atl.values()) / 1024.0 if m != "direct" else 0.0}
                 params = {"section": "receivers-resolution", "instances": n, "texels": size,
                           "suns": len(suns), "points": int(np.median(used))}
-                note = "both assets' atlases" if m == "atlas" else "the meshes drawn at its resolution"
+                note = {"atlas": "both assets' atlases", "atlas-squares": "the atlases drawn as squares only",
+                        "direct": "the meshes drawn at its resolution"}[m]
                 rows.append(make_row("scene", m, params, Timing.from_seconds(g["s"]), metrics=metrics,
                                      note=note + "; ms: a build and the lookup"))
     return rows

@@ -51,8 +51,8 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   drawn from coarser atlas points), IoU and interleaved time at three field resolutions:
   :mod:`morphkit.bench.scene_levels`.
 * ``receivers-resolution`` -- ``receivers`` at each of the plan's ``resolution_sizes`` (atlas
-  texels a side), the atlas against the meshes drawn from the sun at the same resolution:
-  :mod:`morphkit.bench.scene_resolution`.
+  texels a side), the atlas (with and without its quads) against the meshes drawn from the sun
+  at the same resolution: :mod:`morphkit.bench.scene_resolution`.
 
 ``--quick``: 10 instances, 2 suns, a 160^2 grid, 64-texel atlases and 8 x 8-frame impostors
 (no supersampling), faces 6k and 50k at 10 instances, 2 domes, 8 suns on the path, atlases of

@@ -26,6 +26,18 @@ a patch the sun grazes (the shadow's outline) would reach half a texel past it, 
 texel a point lands in" would grow the shadow by half a texel all round. A patch the sun
 sees more squarely than its view is not grown (the other two views' points fill it).
 
+**Quads** (instances drawn at level 0, below). A square about each point has one depth across
+it and reaches up to half its side past the surface's edge: past a crease (a crate's top meeting
+its side) it lies in front of the face beyond, which then shadows itself where the sun grazes it
+(at 512 texels, nearly all the atlas's false shadows on the instances' own surfaces). So each
+view's **quads**, four drawn texels meeting at a corner at nearby depths
+(:meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_quads`, :func:`~morphkit.shadow.pointlevels.grid_quads`),
+are drawn as two triangles, their depth interpolated (the view's depth map drawn as a mesh: a
+triangle covers the field texels whose centres it contains, edges included, as a rasteriser
+does); only the points not inside four quads (the view's outline, a depth edge, a surface the
+view grazes) keep their squares. Coarser levels have no grid and keep squares.
+``SplatDrawer(quads=False)`` draws squares only (the drawer before quads).
+
 **Holes** between points (a surface the views see obliquely, a grid turned by the yaw) are
 closed afterwards: an empty texel between two drawn ones (left and right, or above and
 below) takes the nearest depth of its four neighbours (``cv2.erode``). A ``3 x 3``
