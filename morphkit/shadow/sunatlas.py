@@ -365,10 +365,16 @@ class SunAtlas:
             s = self._surfaces[k] = ViewSurface(albedo, np.zeros((n, n, 3), np.float32), depth)
         return s
 
+    def _drawn(self, k: int) -> np.ndarray:
+        """View ``k``'s texels that hold a point: covered, at a finite positive depth (the texels
+        :meth:`~morphkit.camera.CameraModel.unproject` finds valid)."""
+        depth = self._surface(k).depth
+        return np.isfinite(depth) & (depth > 0) & (self.coverage[k] > 0)
+
     def _view_grid(self, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """View ``k``'s texels' points ``(n, n, 3)``, drawn mask and normals (:meth:`view_points`)."""
-        world, valid = self.view_camera(k).unproject(self._surface(k).depth)
-        drawn = valid & (self.coverage[k] > 0)
+        world = self.view_camera(k).unproject(self._surface(k).depth)[0]
+        drawn = self._drawn(k)
         du, dv = (_grid_difference(world, drawn, axis) for axis in (1, 0))
         n = np.cross(du, dv)
         norm = np.linalg.norm(n, axis=-1, keepdims=True)
@@ -484,8 +490,7 @@ class SunAtlas:
         texel = 2.0 * float(self.cameras.half_extent[0]) / self.size
         parts = []
         for k in range(self.dome.views):
-            drawn = self._view_grid(k)[1]
-            q, inner = grid_quads(drawn, self._surface(k).depth, tol.SPLAT_QUAD_DEPTH_GAP * texel)
+            q, inner = grid_quads(self._drawn(k), self._surface(k).depth, tol.SPLAT_QUAD_DEPTH_GAP * texel)
             parts.append((q + pk.starts[k], inner))
         lens = np.array([len(q) for q, _ in parts], np.int64)
         quads = np.ascontiguousarray(np.concatenate([q for q, _ in parts]).reshape(-1, 4), np.int64)
