@@ -128,14 +128,16 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
                     ua, va, da = uvd[pa, 0], uvd[pa, 1], uvd[pa, 2]
                     ub, vb, db = uvd[pb, 0], uvd[pb, 1], uvd[pb, 2]
                     uc, vc, dc = uvd[pc, 0], uvd[pc, 1], uvd[pc, 2]
-                    area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
-                    if area == 0.0:
-                        continue
-                    inv = 1.0 / area
                     c0 = max(int(math.ceil(min(ua, min(ub, uc)))), 0)
                     c1 = min(int(math.floor(max(ua, max(ub, uc)))), W - 1)
                     r0 = max(int(math.ceil(min(va, min(vb, vc)))), r_lo)
                     r1 = min(int(math.floor(max(va, max(vb, vc)))), r_hi - 1)
+                    if c0 > c1 or r0 > r1:  # no texel centre in its box (most, where f < 2)
+                        continue
+                    area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
+                    if area == 0.0:
+                        continue
+                    inv = 1.0 / area
                     for r in range(r0, r1 + 1):
                         for c in range(c0, c1 + 1):
                             wa = ((ub - c) * (vc - r) - (uc - c) * (vb - r)) * inv
