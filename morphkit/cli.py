@@ -295,9 +295,9 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     for nm in names:
         parts = [it.mesh for it in res.items[nm]]
         meshes[nm] = parts[0] if len(parts) == 1 else trimesh.util.concatenate(parts)
-    print(f"morphkit billboards: baking sun atlases of {', '.join(names)} ({SCENE_ATLAS_SIZE} texels)",
-          file=sys.stderr)
-    atlases = bake_scene_atlases(meshes, renderer)
+    size = SCENE_ATLAS_SIZE if args.sun_atlas_size is None else args.sun_atlas_size
+    print(f"morphkit billboards: baking sun atlases of {', '.join(names)} ({size} texels)", file=sys.stderr)
+    atlases = bake_scene_atlases(meshes, renderer, size=size)
     if args.soft == SOFT_FILTER:
         return (FilteredAtlasShadow(atlases, disc_deg=args.sun_radius),
                 RayCastShadow(meshes, samples=tol.SUN_DISC_TRUTH_SAMPLES, disc_deg=args.sun_radius))
@@ -576,6 +576,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "most about the time of 8; docs/RESULTS.md); "
                     "--soft N: N directions over its disc, one shadow map each, averaged "
                     "(default: a hard shadow)")
+    bb.add_argument("--sun-atlas-size", type=int, default=None, metavar="N",
+                    help="with --shadows: texels a side of each asset's sun atlas views (default 128, 2 MB "
+                    "for two assets; 256: 8 MB, sharper shadows on the instances and meshes themselves "
+                    "for about 30-45 ms more a frame under a new sun; docs/RESULTS.md)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
                     help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
                     "%(default)s; larger discs give wider penumbrae, up to 15)")

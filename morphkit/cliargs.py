@@ -78,10 +78,18 @@ SOFT_FILTER = "pcss"
 
 
 def _billboard_shadows(args: argparse.Namespace) -> None:
-    """``--shadows``, ``--soft``, ``--sun-radius`` of ``billboards``: the combinations that mean something."""
+    """``--shadows``, ``--soft``, ``--sun-radius``, ``--sun-atlas-size`` of ``billboards``: the
+    combinations that mean something."""
     shadows = getattr(args, "shadows", False)
     if getattr(args, "soft", None) is not None and not shadows:
         raise ValidationError(expected_got("--soft", "together with --shadows", "--soft alone"))
+    atlas_size = getattr(args, "sun_atlas_size", None)
+    if atlas_size is not None and not shadows:
+        raise ValidationError(expected_got("--sun-atlas-size", "together with --shadows",
+                                           "--sun-atlas-size alone"))
+    if atlas_size is not None:
+        args.sun_atlas_size = as_int(atlas_size, "--sun-atlas-size", lo=tol.MIN_SUN_ATLAS_SIZE,
+                                     hi=tol.MAX_SUN_ATLAS_SIZE)
     radius = getattr(args, "sun_radius", None)
     if radius is not None and radius != SUN_DISC_RADIUS_DEG and getattr(args, "soft", None) is None:
         raise ValidationError(expected_got("--sun-radius", "together with --soft", "--sun-radius alone"))

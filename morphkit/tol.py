@@ -647,6 +647,12 @@ SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 #: coarser texels rather than a larger map.
 SUN_FIELD_MAX_SIDE = 2048
 
+#: ``billboards --sun-atlas-size``: the sun atlas views' side, texels. Under 16 an asset is a few
+#: texels across; over 1024 an atlas of 21 views takes 66 MB (3 bytes a texel) and a frame's
+#: field map (at most :data:`SUN_FIELD_MAX_SIDE` a side) no longer resolves it (measured: 512
+#: texels no better than 256 in a billboard frame, docs/RESULTS.md).
+MIN_SUN_ATLAS_SIZE, MAX_SUN_ATLAS_SIZE = 16, 1024
+
 #: Most sun directions over a soft sun's disc (``--soft N``): one field map (or one ray
 #: cast) each, per frame.
 MAX_SUN_SAMPLES = 64

@@ -301,6 +301,9 @@ def test_modes_refuse_a_shadow_that_is_not_one():
     (["--shadows", "--sun-path", "day", "--soft", "2", "--sun-radius", "99"], "--sun-radius"),
     (["--shadows", "--sun-path", "day", "--sun-radius", "2"], "--sun-radius: expected together with --soft"),
     (["--shadows", "--sun-path", "day", "--soft", "many"], "--soft: expected an integer in [1, 64] or pcss"),
+    (["--sun-path", "day", "--sun-atlas-size", "256"], "--sun-atlas-size: expected together with --shadows"),
+    (["--shadows", "--sun-path", "day", "--sun-atlas-size", "8"], "--sun-atlas-size"),
+    (["--shadows", "--sun-path", "day", "--sun-atlas-size", "4096"], "--sun-atlas-size"),
 ])
 def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message):
     assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 1
@@ -356,7 +359,9 @@ def test_the_map_of_an_unchanged_sun_is_reused(atlases):
 def test_the_cli_draws_a_filtered_soft_sun(tmp_path, capsys):
     out = tmp_path / "o"
     argv = ["billboards", "--n", "4", "--frames", "2", "--size", "96x72", "--asset-size", "32", "--sun-path",
-            "day", "--shadows", "--soft", "PCSS", "--sun-radius", "2", "-o", str(out)]
+            "day", "--shadows", "--soft", "PCSS", "--sun-radius", "2", "--sun-atlas-size", "48",
+            "-o", str(out)]
     assert main(argv) == 0
-    assert "the disc filtered from one map" in capsys.readouterr().out
+    got = capsys.readouterr()
+    assert "the disc filtered from one map" in got.out and "(48 texels)" in got.err
     assert (out / "billboards.json").exists() and len(list((out / "frames").glob("*.png"))) == 2
