@@ -565,7 +565,7 @@ def _joined_quads(packs: Sequence[AtlasPoints], quads: Sequence[AtlasQuads | Non
             lens.append(np.zeros(len(pk.starts), np.int64))
             inner.append(np.zeros(len(pk.points), bool))
             continue
-        qs.append(q.quads + b)
+        qs.append((q.quads + b).astype(np.int32))
         starts.append(q.starts + q_base)
         lens.append(q.lengths)
         inner.append(q.inner)

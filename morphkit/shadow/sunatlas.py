@@ -203,7 +203,7 @@ class AtlasQuads(NamedTuple):
 
     Parameters
     ----------
-    quads : (Q, 4) int64
+    quads : (Q, 4) int32
         Each quad's four points, indices into :meth:`SunAtlas.packed_points` ``(0).points``;
         its triangles ``(q0, q1, q2)`` and ``(q0, q2, q3)``
         (:func:`~morphkit.shadow.pointlevels.grid_quads`).
@@ -493,7 +493,7 @@ class SunAtlas:
             q, inner = grid_quads(self._drawn(k), self._surface(k).depth, tol.SPLAT_QUAD_DEPTH_GAP * texel)
             parts.append((q + pk.starts[k], inner))
         lens = np.array([len(q) for q, _ in parts], np.int64)
-        quads = np.ascontiguousarray(np.concatenate([q for q, _ in parts]).reshape(-1, 4), np.int64)
+        quads = np.ascontiguousarray(np.concatenate([q for q, _ in parts]).reshape(-1, 4), np.int32)
         inner = np.ascontiguousarray(np.concatenate([i for _, i in parts]), bool)
         for a in (quads, inner):
             a.setflags(write=False)
