@@ -123,31 +123,37 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
                 uvd[p - a, 1] = T[1, 0] * x + T[1, 1] * y + T[1, 2] * z + T[1, 3]
                 uvd[p - a, 2] = T[2, 0] * x + T[2, 1] * y + T[2, 2] * z + T[2, 3]
             for qi in range(seg_qstart[sg], seg_qstart[sg] + seg_qlen[sg]):
-                for t in range(2):  # triangles (q0, q1, q2) and (q0, q2, q3)
-                    pa, pb, pc = quads[qi, 0] - a, quads[qi, 1 + t] - a, quads[qi, 2 + t] - a
-                    ua, va, da = uvd[pa, 0], uvd[pa, 1], uvd[pa, 2]
-                    ub, vb, db = uvd[pb, 0], uvd[pb, 1], uvd[pb, 2]
-                    uc, vc, dc = uvd[pc, 0], uvd[pc, 1], uvd[pc, 2]
-                    c0 = max(int(math.ceil(min(ua, min(ub, uc)))), 0)
-                    c1 = min(int(math.floor(max(ua, max(ub, uc)))), W - 1)
-                    r0 = max(int(math.ceil(min(va, min(vb, vc)))), r_lo)
-                    r1 = min(int(math.floor(max(va, max(vb, vc)))), r_hi - 1)
-                    if c0 > c1 or r0 > r1:  # no texel centre in its box (most, where f < 2)
-                        continue
-                    area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
-                    if area == 0.0:
-                        continue
-                    inv = 1.0 / area
-                    for r in range(r0, r1 + 1):
-                        for c in range(c0, c1 + 1):
-                            wa = ((ub - c) * (vc - r) - (uc - c) * (vb - r)) * inv
-                            wb = ((uc - c) * (va - r) - (ua - c) * (vc - r)) * inv
-                            wc = 1.0 - wa - wb
-                            if wa < 0.0 or wb < 0.0 or wc < 0.0:
+                p0, p1, p2, p3 = quads[qi, 0] - a, quads[qi, 1] - a, quads[qi, 2] - a, quads[qi, 3] - a
+                u0, v0, d0 = uvd[p0, 0], uvd[p0, 1], uvd[p0, 2]
+                u1, v1, d1 = uvd[p1, 0], uvd[p1, 1], uvd[p1, 2]
+                u2, v2, d2 = uvd[p2, 0], uvd[p2, 1], uvd[p2, 2]
+                u3, v3, d3 = uvd[p3, 0], uvd[p3, 1], uvd[p3, 2]
+                c0 = max(int(math.ceil(min(min(u0, u1), min(u2, u3)))), 0)
+                c1 = min(int(math.floor(max(max(u0, u1), max(u2, u3)))), W - 1)
+                r0 = max(int(math.ceil(min(min(v0, v1), min(v2, v3)))), r_lo)
+                r1 = min(int(math.floor(max(max(v0, v1), max(v2, v3)))), r_hi - 1)
+                for r in range(r0, r1 + 1):  # the texel centres in the quad's box (most have 0 or 1)
+                    for c in range(c0, c1 + 1):
+                        for t in range(2):  # triangle (q0, q1, q2), else (q0, q2, q3)
+                            if t == 0:
+                                ub, vb, db, uc, vc, dc = u1, v1, d1, u2, v2, d2
+                            else:
+                                ub, vb, db, uc, vc, dc = u2, v2, d2, u3, v3, d3
+                            area = (ub - u0) * (vc - v0) - (uc - u0) * (vb - v0)
+                            if area == 0.0:
                                 continue
-                            d = np.float32(wa * da + wb * db + wc * dc)
-                            if d < depth[r, c]:
-                                depth[r, c] = d
+                            ea = (ub - c) * (vc - r) - (uc - c) * (vb - r)
+                            eb = (uc - c) * (v0 - r) - (u0 - c) * (vc - r)
+                            ec = area - ea - eb
+                            if area > 0.0:
+                                inside = ea >= 0.0 and eb >= 0.0 and ec >= 0.0
+                            else:
+                                inside = ea <= 0.0 and eb <= 0.0 and ec <= 0.0
+                            if inside:  # its depth interpolated; a centre on the diagonal: the first
+                                d = np.float32((ea * d0 + eb * db + ec * dc) / area)
+                                if d < depth[r, c]:
+                                    depth[r, c] = d
+                                break
             dx, dy, dz = seg_dir[sg, 0], seg_dir[sg, 1], seg_dir[sg, 2]
             for p in range(a, a + seg_len[sg]):
                 if inner[p]:
@@ -181,27 +187,33 @@ def _uvd(points: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 
 
 def _triangles_numpy(depth: np.ndarray, points: np.ndarray, quads: np.ndarray, T: np.ndarray) -> None:
-    """The reference of :func:`_splat`'s quads: both triangles of each quad, min into ``depth``."""
+    """The reference of :func:`_splat`'s quads: each texel centre in a quad's box takes the depth of
+    the first of its two triangles that holds it, min into ``depth``."""
     H, W = depth.shape
-    for t in range(2):
-        (ua, va, da), (ub, vb, db), (uc, vc, dc) = (_uvd(points[quads[:, k]], T) for k in (0, 1 + t, 2 + t))
-        area = (ub - ua) * (vc - va) - (uc - ua) * (vb - va)
-        ok = area != 0.0
-        inv = 1.0 / np.where(ok, area, 1.0)
-        c0 = np.maximum(np.ceil(np.minimum(ua, np.minimum(ub, uc))), 0).astype(np.int64)
-        c1 = np.minimum(np.floor(np.maximum(ua, np.maximum(ub, uc))), W - 1).astype(np.int64)
-        r0 = np.maximum(np.ceil(np.minimum(va, np.minimum(vb, vc))), 0).astype(np.int64)
-        r1 = np.minimum(np.floor(np.maximum(va, np.maximum(vb, vc))), H - 1).astype(np.int64)
-        for dr in range(max(int((r1 - r0).max(initial=-1)), -1) + 1):
-            for dcol in range(max(int((c1 - c0).max(initial=-1)), -1) + 1):
-                r, c = r0 + dr, c0 + dcol
-                rf, cf = r.astype(np.float64), c.astype(np.float64)
-                wa = ((ub - cf) * (vc - rf) - (uc - cf) * (vb - rf)) * inv
-                wb = ((uc - cf) * (va - rf) - (ua - cf) * (vc - rf)) * inv
-                wc = 1.0 - wa - wb
-                sel = ok & (r <= r1) & (c <= c1) & (wa >= 0.0) & (wb >= 0.0) & (wc >= 0.0)
-                d = (wa * da + wb * db + wc * dc).astype(np.float32)
-                np.minimum.at(depth, (r[sel], c[sel]), d[sel])
+    (u0, v0, d0), (u1, v1, d1), (u2, v2, d2), (u3, v3, d3) = (_uvd(points[quads[:, k]], T) for k in range(4))
+    c0 = np.maximum(np.ceil(np.minimum(np.minimum(u0, u1), np.minimum(u2, u3))), 0).astype(np.int64)
+    c1 = np.minimum(np.floor(np.maximum(np.maximum(u0, u1), np.maximum(u2, u3))), W - 1).astype(np.int64)
+    r0 = np.maximum(np.ceil(np.minimum(np.minimum(v0, v1), np.minimum(v2, v3))), 0).astype(np.int64)
+    r1 = np.minimum(np.floor(np.maximum(np.maximum(v0, v1), np.maximum(v2, v3))), H - 1).astype(np.int64)
+    for dr in range(max(int((r1 - r0).max(initial=-1)), -1) + 1):
+        for dcol in range(max(int((c1 - c0).max(initial=-1)), -1) + 1):
+            r, c = r0 + dr, c0 + dcol
+            rf, cf = r.astype(np.float64), c.astype(np.float64)
+            got = np.zeros(len(r), bool)
+            d = np.zeros(len(r), np.float32)
+            for (ub, vb, db), (uc, vc, dc) in (((u1, v1, d1), (u2, v2, d2)), ((u2, v2, d2), (u3, v3, d3))):
+                area = (ub - u0) * (vc - v0) - (uc - u0) * (vb - v0)
+                ea = (ub - cf) * (vc - rf) - (uc - cf) * (vb - rf)
+                eb = (uc - cf) * (v0 - rf) - (u0 - cf) * (vc - rf)
+                ec = area - ea - eb
+                inside = (area != 0.0) & np.where(area > 0.0, (ea >= 0.0) & (eb >= 0.0) & (ec >= 0.0),
+                                                  (ea <= 0.0) & (eb <= 0.0) & (ec <= 0.0))
+                new = inside & ~got
+                at = ((ea * d0 + eb * db + ec * dc) / np.where(new, area, 1.0)).astype(np.float32)
+                d = np.where(new, at, d)
+                got |= inside
+            sel = got & (r <= r1) & (c <= c1)
+            np.minimum.at(depth, (r[sel], c[sel]), d[sel])
 
 
 def _splat_numpy(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np.ndarray,
