@@ -34,8 +34,10 @@ view's **quads**, four drawn texels meeting at a corner at nearby depths
 (:meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_quads`, :func:`~morphkit.shadow.pointlevels.grid_quads`),
 are drawn as two triangles, their depth interpolated (the view's depth map drawn as a mesh: a
 triangle covers the field texels whose centres it contains, edges included, as a rasteriser
-does); only the points not inside four quads (the view's outline, a depth edge, a surface the
-view grazes) keep their squares. Coarser levels have no grid and keep squares.
+does; a quad is rasterised as one, each texel centre in its box taking the first of its two
+triangles that holds it, so a centre on the diagonal is drawn once); only the points not inside
+four quads (the view's outline, a depth edge, a surface the view grazes) keep their squares.
+Coarser levels have no grid and keep squares.
 ``SplatDrawer(quads=False)`` draws squares only (the drawer before quads).
 
 **Holes** between points (a surface the views see obliquely, a grid turned by the yaw) are
