@@ -116,10 +116,9 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
             if sg < 0:
                 continue
             a = seg_start[sg]
-            # the segment's points to the map once (where it has quads), then its quads' triangles
-            m = seg_len[sg] if seg_qlen[sg] > 0 else 0
-            uvd = np.empty((m, 3))
-            for p in range(a, a + m):
+            # the segment's points to the map once, then its quads' triangles and the other points' squares
+            uvd = np.empty((seg_len[sg], 3))
+            for p in range(a, a + seg_len[sg]):
                 x, y, z = points[p, 0], points[p, 1], points[p, 2]
                 uvd[p - a, 0] = T[0, 0] * x + T[0, 1] * y + T[0, 2] * z + T[0, 3]
                 uvd[p - a, 1] = T[1, 0] * x + T[1, 1] * y + T[1, 2] * z + T[1, 3]
@@ -160,7 +159,6 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
             for p in range(a, a + seg_len[sg]):
                 if inner[p]:
                     continue
-                x, y, z = points[p, 0], points[p, 1], points[p, 2]
                 nx, ny, nz = normals[p, 0], normals[p, 1], normals[p, 2]
                 h = inst_half[i] * sizes[p]
                 if nx != 0.0 or ny != 0.0 or nz != 0.0:
@@ -168,9 +166,7 @@ def _splat(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, sizes: np
                     ck = max(abs(nx * dx + ny * dy + nz * dz), min_cos)
                     if cs < ck:
                         h *= math.sqrt(cs / ck)
-                u = T[0, 0] * x + T[0, 1] * y + T[0, 2] * z + T[0, 3]
-                v = T[1, 0] * x + T[1, 1] * y + T[1, 2] * z + T[1, 3]
-                d = np.float32(T[2, 0] * x + T[2, 1] * y + T[2, 2] * z + T[2, 3])
+                u, v, d = uvd[p - a, 0], uvd[p - a, 1], np.float32(uvd[p - a, 2])
                 c0, c1 = int(math.ceil(u - h)), int(math.ceil(u + h)) - 1
                 r0, r1 = int(math.ceil(v - h)), int(math.ceil(v + h)) - 1
                 for r in range(max(r0, r_lo), min(r1 + 1, r_hi)):
