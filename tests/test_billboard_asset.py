@@ -488,3 +488,28 @@ def test_a_pair_whose_layers_cannot_be_meshed_is_built_with_fewer(renderer, monk
     monkeypatch.setattr(ViewMorpher, "from_estimate", failing_above(0))
     with pytest.raises(DegenerateViewError, match=r"pair \(0, 1\) .*tried layers \[3, 2, 1\].*FoldOverError"):
         bake_asset(mesh, renderer, name="pot", views=2, size=SIZE, levels=1)
+
+
+@pytest.mark.gl
+def test_bake_samples_every_pixel_when_the_spacing_gives_too_few_pairs(renderer, monkeypatch):
+    import morphkit.billboard.bake as bake_module
+
+    calls: list[tuple[int, int, int]] = []
+    real = bake_module.from_depth
+
+    def counted(*args, **kwargs):
+        corr = real(*args, **kwargs)
+        if np.isfinite(kwargs["rtol"]):  # the shared pairs, not the rim
+            calls.append((kwargs["step"], kwargs["contour_step"], len(corr)))
+        return corr
+
+    monkeypatch.setattr(bake_module, "from_depth", counted)
+    mesh = sample_mesh("teapot")
+    bake_asset(mesh, renderer, name="pot", views=2, size=SIZE, levels=1)
+    [(step, contour_step, spaced)] = calls
+    assert (step, contour_step) != (1, 1)
+    calls.clear()
+    monkeypatch.setattr(tol, "BB_MIN_CORRESPONDENCES", spaced + 1)
+    asset = bake_asset(mesh, renderer, name="pot", views=2, size=SIZE, levels=1)
+    assert [c[:2] for c in calls] == [(step, contour_step), (1, 1)] and calls[1][2] > spaced
+    assert asset.morph(0, 1, 0.5, 0).shape[:2] == (SIZE, SIZE)

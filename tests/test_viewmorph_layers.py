@@ -17,6 +17,7 @@ from morphkit import tol
 from morphkit.camera import CameraModel, look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.viewmorph import Correspondences, ViewMorpher, from_depth, pair_depth
+from morphkit.viewmorph.correspondences import visible_in
 from morphkit.viewmorph.rectify import apply_h
 
 TARGET = np.array([0.0, 0.0, 0.3])
@@ -115,8 +116,6 @@ def test_from_depth_refuses_bad_input(posts):
 
 def test_from_depth_outline_only_and_without_occlusion_test(posts):
     import cv2
-
-    from morphkit.viewmorph.correspondences import visible_in
 
     c0, c1, _, _, d0, d1 = posts
     shared = from_depth(c0, c1, d0, d1, step=0, contour_step=1)
@@ -354,3 +353,21 @@ def test_fill_occluded_fills_what_a_nearer_layer_hid():
     one = ViewMorpher.from_estimate(i0, i1, corr, fill_occluded=True)
     assert not one.report.fill_occluded
     np.testing.assert_array_equal(one.morph(0.5), ViewMorpher.from_estimate(i0, i1, corr).morph(0.5))
+
+
+@pytest.mark.parametrize("nudge_px", [-1e-9, 0.0, 1e-9])
+def test_visible_in_a_point_on_a_pixel_centre_meets_that_pixel_alone(nudge_px):
+    # a surface at depth 2 seen through pixel (5, 5), nearer surfaces (depth 1) at all its
+    # neighbours: the point of pixel (5, 5), nudged by a last-bit-sized shift either way, is
+    # visible -- its test does not pick a neighbour by the rounding of its projection
+    c = perspective(np.radians(30), SIZE, look_at(np.array([0.0, -3.0, 0.3]), TARGET))
+    depth = np.full(SIZE, 1.0)
+    depth[5, 5] = 2.0
+    pts, _ = c.unproject(depth)
+    right = c.cam2world[:3, 0] * (2.0 / c.K[0, 0])  # one pixel to the right at depth 2
+    p = pts[5, 5] + nudge_px * (right + c.cam2world[:3, 1] * (2.0 / c.K[1, 1]))
+    px, vis = visible_in(c, p[None], depth)
+    assert np.abs(px[0] - 5.0).max() < 1e-6 and vis[0]
+    # a point half a pixel off the centre meets the nearer neighbours: hidden
+    _, vis = visible_in(c, (pts[5, 5] + 0.5 * right)[None], depth)
+    assert not vis[0]

@@ -121,7 +121,8 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         ``mesh`` is not a usable mesh.
     DegenerateViewError
         A pair of neighbouring views shares fewer than :data:`tol.BB_MIN_CORRESPONDENCES`
-        correspondences, or cannot be morphed (F, pre-warp); the message names the pair.
+        correspondences even when sampled at every pixel (the fallback when the image's
+        spacing gives too few), or cannot be morphed (F, pre-warp); the message names the pair.
     """
     from tqdm import tqdm
 
@@ -159,6 +160,10 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
             ci, cj = cams.camera(az[i]), cams.camera(az[j])
             corr = from_depth(ci, cj, depths[i], depths[j], step=step, contour_step=contour_step,
                               rtol=tol.BB_VISIBILITY_RADII / distance_factor)
+            if len(corr) < tol.BB_MIN_CORRESPONDENCES and (step, contour_step) != (1, 1):
+                # too few pairs at the image's spacing (a small or thin object): every pixel
+                corr = from_depth(ci, cj, depths[i], depths[j], step=1, contour_step=1,
+                                  rtol=tol.BB_VISIBILITY_RADII / distance_factor)
             if len(corr) < tol.BB_MIN_CORRESPONDENCES:
                 raise DegenerateViewError(expected_got(
                     f"billboard pair {(i, j)} (azimuths {az[i]:g}, {az[j]:g} deg) of {name!r}",

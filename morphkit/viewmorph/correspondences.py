@@ -51,6 +51,7 @@ __all__ = [
     "pair_depth",
     "load_points",
     "save_points",
+    "around_centre",
     "spread_subset",
     "visible_in",
 ]
@@ -224,7 +225,9 @@ def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None
     pixel centres around its projection (a conservative test near depth edges:
     a point on the far side of a silhouette is dropped; a point on the
     silhouette of its own surface, whose neighbouring centres see background
-    ``+inf``, is kept).
+    ``+inf``, is kept). A projection on a pixel centre (within
+    :data:`morphkit.tol.PX_EQUAL`) meets that centre alone (:func:`around_centre`), so
+    the test does not turn on the last bits of the projection.
 
     Parameters
     ----------
@@ -261,14 +264,48 @@ def visible_in(camera: CameraModel, points: np.ndarray, depth: np.ndarray | None
         if d.shape != camera.shape:
             raise ValidationError(expected_got("depth", f"shape {camera.shape}", f"shape {d.shape}"))
         idx = np.flatnonzero(inside)
-        x0 = np.clip(np.floor(px[idx, 0]).astype(np.int64), 0, w - 1)
-        y0 = np.clip(np.floor(px[idx, 1]).astype(np.int64), 0, h - 1)
-        x1 = np.minimum(x0 + 1, w - 1)
-        y1 = np.minimum(y0 + 1, h - 1)
+        x0, x1 = around_centre(px[idx, 0], w)
+        y0, y1 = around_centre(px[idx, 1], h)
         dd = np.stack([d[y0, x0], d[y0, x1], d[y1, x0], d[y1, x1]], axis=1).astype(np.float64)
         dmin = np.min(dd, axis=1)
         vis[idx] = z[idx] <= dmin * (1.0 + rtol)
     return px, vis
+
+
+def around_centre(coord: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """The pixel centres on either side of each coordinate along one image axis.
+
+    A coordinate within :data:`morphkit.tol.PX_EQUAL` of a pixel centre has that centre
+    on both sides (``lo == hi``): a point projected onto a centre -- a depth map's own
+    pixel, unprojected and projected again -- then meets that pixel alone, whichever way
+    its last bits rounded, instead of one neighbour or the other by the rounding.
+
+    Parameters
+    ----------
+    coord : (N,) float
+        Coordinates along the axis, pixels (:mod:`morphkit.conventions`: centres at integers).
+    size : int
+        Pixels along the axis; the indices are clipped to ``[0, size - 1]``.
+
+    Returns
+    -------
+    lo, hi : (N,) int64
+        ``floor(coord)`` and ``floor(coord) + 1``, or the centre twice.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from morphkit.viewmorph.correspondences import around_centre
+    >>> lo, hi = around_centre(np.array([2.0 - 1e-12, 2.0 + 1e-12, 2.5]), 8)
+    >>> lo.tolist(), hi.tolist()
+    ([2, 2, 2], [2, 2, 3])
+    """
+    c = np.asarray(coord, np.float64)
+    near = np.rint(c)
+    on = np.abs(c - near) <= tol.PX_EQUAL
+    lo = np.where(on, near, np.floor(c))
+    hi = np.where(on, near, lo + 1.0)
+    return (np.clip(lo, 0, size - 1).astype(np.int64), np.clip(hi, 0, size - 1).astype(np.int64))
 
 
 def spread_subset(px: np.ndarray, max_points: int, rng: np.random.Generator) -> np.ndarray:
