@@ -217,7 +217,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
     else:
         path = path_cls() if args.frames is None else path_cls(args.frames)
     atlas = ShadowAtlas.load(args.atlas)
-    mesh = baked_mesh(args.atlas, args.mesh)
+    mesh = baked_mesh(args.atlas, args.mesh, mesh_sha256=atlas.baked.mesh_sha256)
     area = None if args.area_light is None else area_light_for(atlas, *args.area_light)
     with claim.writing() as out, Renderer() as renderer:
         res = render_shadow_sequence(atlas, mesh, path, out, renderer=renderer, size=args.size,

@@ -352,7 +352,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
      r"atlas control_grid: expected \[rows, cols\]"),
     ("atlas: a pickled object array", _load(_pickled), FFE,
      r"atlas array 'xs': expected a numeric array \(pickled objects are never loaded\)"),
-    ("atlas: version 1", _load(_set("version", 1)), FFE, r"atlas version: expected 2 .*re-bake.*, got 1"),
+    ("atlas: version 1", _load(_set("version", 1)), FFE, r"atlas version: expected 3 .*re-bake.*, got 1"),
     ("atlas: another light", _load(light=PointLight([0, 0, 3])), FFE,
      r"atlas light: expected the light it is used with"),
     ("atlas: truncated file", _truncated, FFE, r"expected a complete morphkit-shadow-atlas .npz file"),

@@ -587,7 +587,8 @@ def test_shadows_finds_the_mesh_through_the_manifest_and_checks_its_hash(tmp_pat
     import shutil
 
     from morphkit.errors import FileFormatError
-    from morphkit.meshes import load_mesh
+    from morphkit.meshes import load_mesh, shape_hash
+    from morphkit.shadow import ShadowAtlas
     from morphkit.shadow.playback import baked_mesh
 
     lib, out = baked
@@ -605,3 +606,12 @@ def test_shadows_finds_the_mesh_through_the_manifest_and_checks_its_hash(tmp_pat
     rc, _o, err = run_cli(capsys, "shadows", str(out / "box.atlas.npz"), "--mesh", str(other),
                           "-o", str(tmp_path / "x"), "-q")
     assert rc == 1 and "expected the file the atlas was baked from" in one_line_error(err)
+    # away from its manifest the atlas still knows its mesh: another mesh is refused there too
+    assert ShadowAtlas.load(alone).baked.mesh_sha256 == shape_hash(load_mesh(lib / "box.ply"))
+    with pytest.raises(FileFormatError, match=r"mesh '.*other.ply': expected the mesh alone.atlas.npz was "
+                                              r"baked from \(shape sha256 [0-9a-f]{12}\), got another shape"):
+        baked_mesh(alone, other, mesh_sha256=ShadowAtlas.load(alone).baked.mesh_sha256)
+    rc, _o, err = run_cli(capsys, "shadows", str(alone), "--mesh", str(other), "-o", str(tmp_path / "y"),
+                          "-q")
+    assert rc == 1 and "expected the mesh alone.atlas.npz was baked from" in one_line_error(err)
+    assert not (tmp_path / "y").exists() or not any((tmp_path / "y").glob("*.png"))

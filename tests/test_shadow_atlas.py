@@ -408,9 +408,9 @@ def test_load_refuses_bad_files(tmp_path, point_atlas):
     meta["version"] = 999
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
     np.savez(tmp_path / "v999.npz", **arrays)
-    with pytest.raises(FileFormatError, match=r"atlas version: expected 2 .*re-bake.*, got 999"):
+    with pytest.raises(FileFormatError, match=r"atlas version: expected 3 .*re-bake.*, got 999"):
         ShadowAtlas.load(tmp_path / "v999.npz")
-    meta["version"] = 2
+    meta["version"] = 3
     arrays["control"] = arrays["control"] + 0.5
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)
     np.savez(tmp_path / "moved.npz", **arrays)

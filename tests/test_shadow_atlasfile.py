@@ -8,6 +8,7 @@ what was expected and what the file holds.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import io
 import json
@@ -66,7 +67,7 @@ def _write(path: Path, meta: dict, arrays: dict[str, np.ndarray], *, rehash: tup
 def test_round_trip_stores_a_checksum_per_array(tmp_path, atlas):
     path = save_atlas(atlas, tmp_path / "a.npz")
     meta, arrays = _arrays(path)
-    assert meta["version"] == ATLAS_VERSION == 2
+    assert meta["version"] == ATLAS_VERSION == 3
     names = {"xs", "ys", "maps", "anchors", "plane_anchors", "control", "triangles"}
     assert set(meta["arrays"]) == names
     for k in names:
@@ -75,6 +76,24 @@ def test_round_trip_stores_a_checksum_per_array(tmp_path, atlas):
     for k in ("xs", "ys", "maps", "anchors", "plane_anchors", "control"):
         np.testing.assert_array_equal(getattr(b, k), getattr(atlas, k))
     assert b.control_grid == atlas.control_grid and b.anchor_kind == atlas.anchor_kind
+    assert b.mesh_sha256 is None and meta["mesh_sha256"] is None  # made-up maps: no mesh known
+    digest = "ab" * 32
+    c = load_atlas(save_atlas(dataclasses.replace(atlas, mesh_sha256=digest), tmp_path / "m.npz"))
+    assert c.mesh_sha256 == digest
+
+
+@pytest.mark.parametrize("value, match", [
+    ("ab" * 31, r"atlas mesh_sha256: expected 64 hex digits or null, got 'abab"),
+    (5, r"atlas mesh_sha256: expected 64 hex digits or null, got 5"),
+])
+def test_a_bad_mesh_record_is_refused(tmp_path, atlas, value, match):
+    meta, arrays = _arrays(save_atlas(atlas, tmp_path / "a.npz"))
+    meta["mesh_sha256"] = value
+    with pytest.raises(FileFormatError, match=match):
+        load_atlas(_write(tmp_path / "bad.npz", meta, arrays))
+    del meta["mesh_sha256"]  # a version-2 writer's metadata under version 3
+    with pytest.raises(FileFormatError, match=r"atlas metadata: expected a key 'mesh_sha256'"):
+        load_atlas(_write(tmp_path / "old.npz", meta, arrays))
 
 
 def test_nan_in_a_map_is_refused(tmp_path, atlas):
@@ -172,7 +191,7 @@ def test_missing_keys_are_file_format_errors(tmp_path, atlas, drop):
     (("control_grid",), "17x17", r"atlas control_grid: expected \[rows, cols\], integers >= 2, got '17x17'"),
     (("control_grid",), [3.5, 3], r"atlas control_grid: expected \[rows, cols\], integers >= 2"),
     (("anchor_kind",), 3, r"atlas anchor_kind: expected 'sample', 'shared' or 'plane', got 3"),
-    (("version",), "2", r"atlas version: expected 2 .*, got '2'"),
+    (("version",), "3", r"atlas version: expected 3 .*, got '3'"),
     (("light",), "point", r"atlas light: expected an object, got 'point'"),
     (("light", "type"), "spot", r"atlas light type: expected 'directional' or 'point', got 'spot'"),
     (("light", "position"), [0, "a", 1], r"atlas light position: expected 3 finite numbers"),
@@ -209,7 +228,7 @@ def test_version_one_files_are_refused_with_how_to_get_a_new_one(tmp_path, atlas
     meta, arrays = _arrays(save_atlas(atlas, tmp_path / "a.npz"))
     meta["version"] = 1
     del meta["arrays"]
-    with pytest.raises(FileFormatError, match=r"atlas version: expected 2 .*re-bake .*, got 1"):
+    with pytest.raises(FileFormatError, match=r"atlas version: expected 3 .*re-bake .*, got 1"):
         load_atlas(_write(tmp_path / "v1.npz", meta, arrays))
 
 

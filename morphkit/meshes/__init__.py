@@ -5,6 +5,8 @@
   (the up axis of a file, with the per-format table);
 * :mod:`morphkit.meshes.parts` -- :func:`merge_parts` (a multi-part file as one
   mesh keeping every part's look), :func:`face_base_colors`;
+* :mod:`morphkit.meshes.identity` -- :func:`shape_hash` (what a baked file records of
+  its mesh);
 * :mod:`morphkit.meshes.samples` -- the sample meshes (:func:`sample_mesh`:
   teapot, chair, cow, tree, person).
 
@@ -13,6 +15,7 @@ The names are re-exported here: ``from morphkit.meshes import sample_mesh, load_
 
 from __future__ import annotations
 
+from .identity import shape_hash
 from .loading import (
     UP_AXES,
     UP_AXIS_BY_FORMAT,
@@ -44,6 +47,7 @@ __all__ = [
     "closed_volume",
     "load_mesh",
     "resolve_up",
+    "shape_hash",
     "UP_AXES",
     "UP_AXIS_BY_FORMAT",
     "Y_UP_TO_Z_UP",

@@ -106,7 +106,7 @@ from tqdm import tqdm
 from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..meshes import check_mesh
+from ..meshes import check_mesh, shape_hash
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, PointLight
 from ..validate import as_int, as_shape
@@ -150,6 +150,9 @@ class ShadowAtlas:
         Control points per map, ``N = rows * cols``.
     anchor_kind : {"sample", "shared", "plane"}
         How the anchors were lifted (:func:`bake_atlas`).
+    mesh_sha256 : str or None
+        The occluder's :func:`morphkit.meshes.shape_hash` (:func:`bake_atlas` records it);
+        None when not known.
 
     Attributes
     ----------
@@ -163,8 +166,9 @@ class ShadowAtlas:
 
     def __init__(self, rig: LightRig, xs: np.ndarray, ys: np.ndarray, maps: np.ndarray,
                  anchors: np.ndarray, plane_anchors: np.ndarray, control_grid: tuple[int, int],
-                 anchor_kind: str = "sample") -> None:
-        self.baked = BakedAtlas(rig, xs, ys, maps, anchors, plane_anchors, control_grid, anchor_kind)
+                 anchor_kind: str = "sample", mesh_sha256: str | None = None) -> None:
+        self.baked = BakedAtlas(rig, xs, ys, maps, anchors, plane_anchors, control_grid, anchor_kind,
+                                mesh_sha256)
         self.runtime = AtlasRuntime(self.baked)
         self._methods = AtlasMethods(self.runtime)
 
@@ -183,7 +187,7 @@ class ShadowAtlas:
             The atlas.
         """
         return cls(baked.rig, baked.xs, baked.ys, baked.maps, baked.anchors, baked.plane_anchors,
-                   baked.control_grid, baked.anchor_kind)
+                   baked.control_grid, baked.anchor_kind, baked.mesh_sha256)
 
     # ------------------------------------------------------------ the baked data
     @property
@@ -543,7 +547,7 @@ def bake_atlas(mesh: trimesh.Trimesh, base_pose: np.ndarray, motion: MotionRange
         plane[:] = plane[ky // 2, kx // 2]
     elif anchors == "plane":
         surf = plane
-    return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors)
+    return ShadowAtlas(rig, xs, ys, maps, surf, plane, (rows, cols), anchors, shape_hash(mesh))
 
 
 def _pair(v: Any, name: str, lo: int, want: str) -> tuple[int, int]:

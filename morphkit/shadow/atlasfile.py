@@ -14,7 +14,9 @@ and checked before anything is built from it:
 * the stored control points agree with those the anchors and the rig give.
 
 Any failure is a :class:`~morphkit.errors.FileFormatError`. Files of another
-version are refused (re-bake to get a current one); version 1 had no checksums.
+version are refused (re-bake to get a current one); version 1 had no checksums, version 2
+no record of its mesh (``mesh_sha256``: the occluder's :func:`morphkit.meshes.shape_hash`,
+which :func:`morphkit.shadow.playback.baked_mesh` checks the mesh it loads against).
 """
 
 from __future__ import annotations
@@ -41,8 +43,9 @@ __all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas"
 
 #: The format name stored in every atlas file.
 ATLAS_FORMAT = "morphkit-shadow-atlas"
-#: Version 2: per-array dtype, shape and SHA-256 in the metadata (``"arrays"``).
-ATLAS_VERSION = 2
+#: Version 3: the occluder's :func:`morphkit.meshes.shape_hash` (``"mesh_sha256"``), after
+#: version 2's per-array dtype, shape and SHA-256 in the metadata (``"arrays"``).
+ATLAS_VERSION = 3
 
 #: The arrays of an atlas file besides ``meta`` (the UTF-8 JSON metadata as uint8).
 ARRAYS = ("xs", "ys", "maps", "anchors", "plane_anchors", "control", "triangles")
@@ -79,6 +82,7 @@ def save_atlas(atlas: BakedAtlas, path: str | Path) -> Path:
         "rig": atlas.rig.params(),
         "control_grid": list(atlas.control_grid),
         "anchor_kind": atlas.anchor_kind,
+        "mesh_sha256": atlas.mesh_sha256,
         "arrays": {k: {"dtype": str(v.dtype), "shape": list(v.shape), "sha256": array_digest(v)}
                    for k, v in arrays.items()},
     }
@@ -142,11 +146,16 @@ def load_atlas(path: str | Path, *, light: DirectionalLight | PointLight | None 
     if kind not in _ANCHOR_KINDS:
         raise FileFormatError(expected_got("atlas anchor_kind", "'sample', 'shared' or 'plane'",
                                            repr(kind)[:80]))
+    mesh_sha256 = _key(meta, "mesh_sha256", "atlas metadata")
+    if mesh_sha256 is not None and not (isinstance(mesh_sha256, str)
+                                        and re.fullmatch(r"[0-9a-f]{64}", mesh_sha256)):
+        raise FileFormatError(expected_got("atlas mesh_sha256", "64 hex digits or null",
+                                           repr(mesh_sha256)[:80]))
     _check_checksums(data, _key(meta, "arrays", "atlas metadata"))
     _check_values(data, rig, (grid[0], grid[1]))
     try:
         atlas = BakedAtlas(rig, data["xs"], data["ys"], data["maps"], data["anchors"],
-                           data["plane_anchors"], (grid[0], grid[1]), kind)
+                           data["plane_anchors"], (grid[0], grid[1]), kind, mesh_sha256)
     except (MorphkitError, ArithmeticError, IndexError, TypeError, ValueError) as exc:
         raise FileFormatError(expected_got("atlas", "data that builds an atlas",
                                            f"{type(exc).__name__}: {exc}"[:200])) from exc

@@ -92,6 +92,9 @@ class BakedAtlas:
         Control points per map, ``N = rows * cols``.
     anchor_kind : {"sample", "shared", "plane"}
         How the anchors were lifted (:func:`~morphkit.shadow.atlas.bake_atlas`).
+    mesh_sha256 : str or None
+        :func:`morphkit.meshes.shape_hash` of the occluder the maps were rendered from
+        (what a playback checks its mesh against); None when not known.
 
     Attributes
     ----------
@@ -113,6 +116,7 @@ class BakedAtlas:
     plane_anchors: np.ndarray  # (ky, kx, N, 3)
     control_grid: tuple[int, int]
     anchor_kind: str = "sample"
+    mesh_sha256: str | None = None
     triangles: np.ndarray = field(init=False, repr=False)
     control: np.ndarray = field(init=False, repr=False)
     plane_control: np.ndarray = field(init=False, repr=False)

@@ -13,7 +13,10 @@ bake's manifest records each atlas's input file and its sha256, so
 :func:`baked_mesh` finds the ``manifest.json`` in the atlas's folder or a parent
 folder and loads that file after checking its hash; ``mesh=`` (``--mesh``)
 names the file instead (still checked against the manifest's hash when the
-atlas is listed in one, e.g. when the library moved).
+atlas is listed in one, e.g. when the library moved). Wherever the atlas lies, the
+mesh loaded must have the shape the atlas records (its
+:attr:`~morphkit.shadow.baked.BakedAtlas.mesh_sha256`, :func:`morphkit.meshes.shape_hash`):
+another mesh would cast a shadow that is not its own.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
 from ..fileio import atomic_output, open_video_writer, write_image
-from ..meshes import load_mesh
+from ..meshes import load_mesh, shape_hash
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
 from ..validate import as_int
@@ -211,8 +214,8 @@ class PointsPath:
         return np.array([motion.check(xy) for xy in np.asarray(self.points, np.float64)])
 
 
-def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] | None = None
-               ) -> trimesh.Trimesh:
+def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] | None = None, *,
+               mesh_sha256: str | None = None) -> trimesh.Trimesh:
     """The mesh an atlas was baked from (see the module docstring), normalised as the bake did.
 
     Parameters
@@ -221,6 +224,9 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
         The atlas file (``.atlas.npz``).
     mesh : path-like, optional
         The mesh file; default: the input the manifest records for the atlas.
+    mesh_sha256 : str, optional
+        The shape the atlas records (``ShadowAtlas.baked.mesh_sha256``); the loaded mesh
+        must have it (:func:`morphkit.meshes.shape_hash`). None: not checked.
 
     Returns
     -------
@@ -232,7 +238,8 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
     ValidationError
         No ``mesh`` and no manifest listing the atlas.
     FileFormatError
-        The mesh file's content differs from the one the atlas was baked from.
+        The mesh file's content differs from the one the atlas was baked from, or the
+        loaded mesh's shape from ``mesh_sha256``.
     MeshError
         The mesh file is missing or unreadable.
     """
@@ -259,7 +266,12 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
             raise FileFormatError(expected_got(f"mesh {str(path)!r}", "the file the atlas was baked from "
                                                f"(sha256 {recorded[1][:12]})", f"sha256 {got[:12]}"))
     # the axis the atlas was baked with (the manifest's); a mesh given alone: its format's default
-    return load_mesh(path, up=recorded[2] if recorded is not None else "auto")
+    loaded = load_mesh(path, up=recorded[2] if recorded is not None else "auto")
+    if mesh_sha256 is not None and shape_hash(loaded) != mesh_sha256:
+        raise FileFormatError(expected_got(
+            f"mesh {str(path)!r}", f"the mesh {atlas.name} was baked from (shape sha256 {mesh_sha256[:12]})",
+            f"another shape (sha256 {shape_hash(loaded)[:12]}; another mesh, or another up axis)"))
+    return loaded
 
 
 def area_light_for(atlas: ShadowAtlas, width: float, height: float) -> AreaLight:
