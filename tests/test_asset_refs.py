@@ -139,3 +139,16 @@ def test_billboards_with_a_fifo_texture_stops_with_one_line(tmp_path):
     assert done.returncode == 1 and len(lines) == 1, done.stderr
     assert re.fullmatch("morphkit: error: " + message, lines[0]), lines[0]
     assert not (tmp_path / "out").exists()  # refused before any work
+
+
+def test_a_bake_library_with_a_fifo_texture_bakes_the_rest(tmp_path):
+    lib = tmp_path / "lib"
+    _fifo_asset(lib, "texture")
+    trimesh.creation.box([1.0, 0.6, 0.8]).export(lib / "box.ply")
+    done = subprocess.run([sys.executable, "-m", "morphkit", "bake", str(lib), "-o", str(tmp_path / "out")],
+                          env=ENV, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1, done.stderr
+    assert "failed: m: MeshError: texture 't.png' of material 'SENTINEL_MATERIAL' (m.mtl) of mesh file " \
+           in done.stderr and "expected a regular file" in done.stderr
+    assert "1 baked, 0 skipped, 1 failed" in done.stdout + done.stderr
+    assert (tmp_path / "out" / "box.atlas.npz").is_file()
