@@ -8,11 +8,19 @@ writes into a folder that is
   (:data:`MARKER_NAME`, written when a run starts, or an older run's own index:
   ``index.json`` of a demo, ``manifest.json`` of a bake). Such a folder is
   replaced only when asked (``--overwrite``): the files the new run writes
-  replace the old ones, and the previous run's files that the new run did not
-  write again (old frames beyond the new count) are removed at the end, so old and
-  new output never mix; files that are not the command's (by name,
-  :attr:`OutputRule.owns`) stay. A bake *resumes* its previous run instead
-  (:attr:`OutputRule.resume`; its manifest says what is done).
+  replace the old ones, and the files the previous run *recorded* that the new run
+  did not write again (old frames beyond the new count) are removed at the end, so
+  old and new output never mix. Every other file stays: a user's own file beside a
+  run, in a subfolder, or named like the command's (``compare_0000 - edited.png``).
+  A bake *resumes* its previous run instead (:attr:`OutputRule.resume`; its
+  manifest says what is done).
+
+The record: a run lists the files it wrote (created or replaced during the run, of
+the command's names, :attr:`OutputRule.owns`) in its marker's ``files``, when it ends
+(cleanly or by an exception). A previous run without that list (an older morphkit's
+run, whose index lists its files under ``files``, or a killed run) is replaced by the
+index's list where there is one, else by the command's exact names alone
+(:func:`owned`: ``frame_0003.png``, never ``frame_0003 (copy).png``).
 
 Anything else (a folder holding other files, or another command's output, a
 file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
@@ -44,7 +52,7 @@ from pathlib import Path
 from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
 from .fileio import write_json
 
-__all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run",
+__all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run", "owned",
            "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
@@ -72,9 +80,10 @@ class OutputRule:
     command : str
         The command's name (in messages and in the marker).
     owns : tuple of str
-        ``fnmatch`` patterns of the paths (relative, POSIX) of the files a run writes;
-        with ``--overwrite``, such files of the previous run that the new run did not
-        write again are removed.
+        Patterns of the paths (relative, POSIX) of the files a run writes (:func:`owned`:
+        ``*`` is any characters but ``/``, ``#`` one or more digits); a run records the
+        files it wrote of these names, and with ``--overwrite`` the recorded files the
+        new run did not write again are removed.
     markers : tuple of str
         Files that also mark a previous run (an older run's index).
     resume : bool
@@ -87,19 +96,62 @@ class OutputRule:
     resume: bool = False
 
 
-#: ``morphkit demo``: PNGs and ``index.json`` (:mod:`morphkit.demo`).
+#: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
 #: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.mp4`` (:mod:`morphkit.shadow.playback`).
-SHADOWS_OUTPUT = OutputRule("shadows", ("frame_*.png", "shadows.mp4"))
+SHADOWS_OUTPUT = OutputRule("shadows", ("frame_#.png", "shadows.mp4"))
 #: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.mp4``, ``compare_NNNN.png``,
 #: ``billboards.json`` (:mod:`morphkit.billboard.sequence`).
-BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_*.png", "billboards.mp4", "compare_*.png",
+BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.mp4", "compare_#.png",
                                               "billboards.json"), markers=("billboards.json",))
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True)
 #: ``morphkit viewmorph --frames N``: ``frame_NNN.png``.
-VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_*.png",))
+VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_#.png",))
+
+
+def _pattern(pattern: str) -> re.Pattern[str]:
+    """The regular expression of an :attr:`OutputRule.owns` pattern."""
+    parts = {"*": "[^/]*", "#": "[0-9]+"}
+    return re.compile("".join(parts.get(c, re.escape(c)) for c in pattern))
+
+
+def owned(rel: str, rule: OutputRule) -> bool:
+    """Whether the relative POSIX path ``rel`` is one of the names ``rule``'s command writes.
+
+    A pattern of :attr:`OutputRule.owns` matches the whole path: ``*`` is any characters
+    but ``/`` (``*.png`` is a PNG in the folder itself, not in a subfolder), ``#`` one or
+    more digits (``frame_#.png`` is ``frame_0003.png``, not ``frame_0003 (copy).png``).
+
+    Parameters
+    ----------
+    rel : str
+        A path relative to the output folder, ``/``-separated.
+    rule : OutputRule
+        The command.
+
+    Returns
+    -------
+    bool
+        True when a pattern matches.
+    """
+    return any(_pattern(pat).fullmatch(rel) for pat in rule.owns)
+
+
+def _recorded(folder: Path, rule: OutputRule) -> set[str] | None:
+    """The files the previous run in ``folder`` recorded (its marker's ``files``, else its index's
+    ``files``: names, or objects with a ``path``), or None when it recorded none."""
+    for name in (MARKER_NAME, *rule.markers):
+        try:
+            data = json.loads((folder / name).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        files = data.get("files") if isinstance(data, dict) else None
+        if isinstance(files, list):
+            rels = [f.get("path") if isinstance(f, dict) else f for f in files]
+            return {r for r in rels if isinstance(r, str)}
+    return None
 
 
 def _marker_command(folder: Path) -> str | None:
@@ -215,7 +267,10 @@ class OutputClaim:
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
                 ) from None
             _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
-            before = _files(p) if self.previous and not self.rule.resume else {}
+            before = _files(p)
+            previous = _recorded(p, self.rule) if self.previous else set()
+            if previous is None:  # no record: the command's exact names
+                previous = {rel for rel in before if owned(rel, self.rule)}
             marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
                       "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}
             try:
@@ -229,23 +284,36 @@ class OutputClaim:
                 raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit "
                                                    "can write", f"{str(p)!r} ({type(exc).__name__}: "
                                                    f"{exc.strerror or exc})")) from exc
+
+            def record(after: dict[str, tuple[int, int]], keep: set[str]) -> list[str]:
+                """The files of this run: those it wrote, and ``keep`` (the previous run's, where kept)."""
+                wrote = {rel for rel, st in after.items() if before.get(rel) != st and owned(rel, self.rule)}
+                return sorted(wrote | (keep & set(after)))
+
             try:
                 yield p
             except BaseException:
                 _remove_temporaries(p)  # a process of this run killed mid-write (a bake's worker)
-                if not self.previous and set(_files(p)) <= {MARKER_NAME, LOCK_NAME}:
+                after = _files(p)
+                if not self.previous and set(after) <= {MARKER_NAME, LOCK_NAME}:
                     for name in (MARKER_NAME, LOCK_NAME):  # nothing written: leave nothing
                         with suppress(OSError):
                             (p / name).unlink()
                     _remove_dirs(created)
+                else:  # the next --overwrite replaces what this run and the one before it wrote
+                    with suppress(OSError):
+                        write_json(p / MARKER_NAME, {**marker, "files": record(after, previous)})
                 raise
             _remove_temporaries(p)
             after = _files(p)
-            for rel, stamp in before.items():  # the previous run's files not written again
-                if after.get(rel) == stamp and any(fnmatch.fnmatchcase(rel, pat) for pat in self.rule.owns):
-                    with suppress(OSError):
-                        (p / rel).unlink()
-            write_json(p / MARKER_NAME, {**marker, "status": "complete"})
+            if not self.rule.resume:
+                for rel in sorted(previous):  # the previous run's files not written again
+                    if rel in before and after.get(rel) == before[rel]:
+                        with suppress(OSError):
+                            (p / rel).unlink()
+                        after.pop(rel, None)
+            keep = previous if self.rule.resume else set()
+            write_json(p / MARKER_NAME, {**marker, "status": "complete", "files": record(after, keep)})
         finally:
             os.close(lock)  # releases the lock
 

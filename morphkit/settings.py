@@ -22,6 +22,10 @@ variable                   effect
                            :data:`GL_PLATFORM` for PyOpenGL.
 ``MORPHKIT_EGL_DEVICE``    EGL device index (:data:`EGL_DEVICE`, default
                            ``EGL_DEVICE_ID`` or 0: the first GPU).
+``MORPHKIT_ASSET_ROOT``    the folder the files a mesh refers to (materials,
+                           textures, buffers) may lie in (:data:`ASSET_ROOT`;
+                           default: each mesh file's own folder;
+                           :mod:`morphkit.meshes.assets`).
 ``NUMBA_CACHE_DIR``        where numba caches compiled kernels on disk (numba
                            reads it; default ``__pycache__`` beside the module).
 =========================  ==================================================
@@ -54,7 +58,7 @@ except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
 __all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
-           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE",
+           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE", "ASSET_ROOT",
            "child_environment"]
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -73,6 +77,10 @@ def _default_threads() -> int:
     n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     return min(4, n)
 
+
+#: ``MORPHKIT_ASSET_ROOT``: the folder a mesh's materials, textures and buffers may lie in
+#: (:mod:`morphkit.meshes.assets`); None (unset): each mesh file's own folder.
+ASSET_ROOT: str | None = os.environ.get("MORPHKIT_ASSET_ROOT") or None
 
 #: Threads that share a banded pass (fused warp accumulation, reprojection), each
 #: taking a band of rows: one per CPU this process may use, at most 4;

@@ -149,3 +149,53 @@ def test_a_killed_runs_temporary_files_are_removed_by_the_next_run(tmp_path):
         pass
     assert not os.path.exists(left) and (out / "sub" / "oak.atlas.npz").read_bytes() == b"done"
     assert (out / ".notes.part").read_text() == "the user's"
+
+
+def test_overwrite_removes_only_what_the_previous_run_recorded(tmp_path):
+    """The user's PNGs beside a demo and in its subfolders, and their edited copies of a
+    billboards run's frames, survive --overwrite; the run's own files not written again go."""
+    from morphkit.outfolder import BILLBOARDS_OUTPUT
+
+    demo = tmp_path / "demo"
+    with claim_output(demo, DEMO_OUTPUT).writing():
+        for name in ("cow_scene.png", "cow_viewmorph.png", "index.json"):
+            (demo / name).write_bytes(b"demo")
+    assert json.loads((demo / MARKER_NAME).read_text())["files"] == ["cow_scene.png", "cow_viewmorph.png",
+                                                                     "index.json"]
+    (demo / "holiday.png").write_bytes(b"mine")
+    (demo / "album").mkdir()
+    (demo / "album" / "beach.png").write_bytes(b"mine too")
+    with claim_output(demo, DEMO_OUTPUT, overwrite=True).writing():
+        for name in ("cow_scene.png", "index.json"):  # the new demo does not write cow_viewmorph.png
+            (demo / name).write_bytes(b"new")
+    assert not (demo / "cow_viewmorph.png").exists()
+    assert (demo / "holiday.png").read_bytes() == b"mine"
+    assert (demo / "album" / "beach.png").read_bytes() == b"mine too"
+
+    bb = tmp_path / "bb"
+    with claim_output(bb, BILLBOARDS_OUTPUT).writing():
+        (bb / "frames").mkdir()
+        for i in range(3):
+            (bb / "frames" / f"frame_{i:04d}.png").write_bytes(b"frame")
+        (bb / "compare_0000.png").write_bytes(b"compare")
+        (bb / "billboards.json").write_text("{}")
+    (bb / "compare_0000 - edited.png").write_bytes(b"edited")
+    (bb / "frames" / "frame_0000 (copy).png").write_bytes(b"copy")
+    with claim_output(bb, BILLBOARDS_OUTPUT, overwrite=True).writing():
+        (bb / "frames" / "frame_0000.png").write_bytes(b"new")
+        (bb / "billboards.json").write_text("{}")
+    assert sorted(p.name for p in (bb / "frames").iterdir()) == ["frame_0000 (copy).png", "frame_0000.png"]
+    assert sorted(p.name for p in bb.glob("compare_*")) == ["compare_0000 - edited.png"]
+    assert json.loads((bb / MARKER_NAME).read_text())["files"] == ["billboards.json", "frames/frame_0000.png"]
+
+
+def test_a_previous_run_without_a_record_is_replaced_by_the_commands_exact_names(tmp_path):
+    """A killed run (its marker says running, no file list): its frames go, a copy the user made stays."""
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / MARKER_NAME).write_text(json.dumps({"command": "shadows", "status": "running"}))
+    _write_frames(out, 3)
+    (out / "frame_0001 (copy).png").write_bytes(b"mine")
+    with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
+        _write_frames(out, 1)
+    assert sorted(p.name for p in out.glob("frame_*")) == ["frame_0000.png", "frame_0001 (copy).png"]

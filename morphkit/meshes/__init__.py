@@ -3,6 +3,9 @@
 * :mod:`morphkit.meshes.loading` -- :func:`load_mesh`, :func:`check_mesh`,
   :func:`normalize` (unit size, centred, on the ground), :func:`resolve_up`
   (the up axis of a file, with the per-format table);
+* :mod:`morphkit.meshes.assets` -- the files a mesh file refers to (materials, textures,
+  buffers): :class:`~morphkit.meshes.assets.AssetResolver`, confined to the asset root,
+  regular files only;
 * :mod:`morphkit.meshes.parts` -- :func:`merge_parts` (a multi-part file as one
   mesh keeping every part's look), :func:`face_base_colors`;
 * :mod:`morphkit.meshes.identity` -- :func:`shape_hash` (what a baked file records of

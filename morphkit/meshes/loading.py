@@ -42,23 +42,29 @@ with a textured material) keeps both (trimesh puts the colours in
 ``mtllib`` or ``map_Kd`` file is missing loads with an
 :class:`~morphkit.errors.AssetWarning`: the material keeps its ``Kd`` colour (trimesh
 drops the missing image silently); so does a ``.gltf`` whose external image is missing
-(its materials keep their ``baseColorFactor``). Vertices are merged where position and UV agree
-(OBJ/STL split them), except on meshes with vertex colours (left as stored).
+(its materials keep their ``baseColorFactor``). Every file a mesh file refers to is read through
+:mod:`morphkit.meshes.assets`: from inside the asset root only (default the file's folder; one
+outside it is not opened, with an :class:`~morphkit.errors.AssetWarning`) and only if it is a
+regular file (a FIFO is a :class:`~morphkit.errors.MeshError` before any read). Vertices are
+merged where position and UV agree (OBJ/STL split them), except on meshes with vertex colours
+(left as stored).
 """
 
 from __future__ import annotations
 
 import json
+import os
 import warnings
 from pathlib import Path
 from typing import Any
-from urllib.parse import unquote
 
 import numpy as np
 import trimesh
 
-from .. import tol
+from .. import settings, tol
 from ..errors import AssetWarning, MeshError, expected_got
+from . import assets
+from .assets import AssetResolver, locate, read_regular
 from .parts import copy_with_look, merge_parts, scene_parts
 
 __all__ = ["normalize", "check_mesh", "closed_volume", "load_mesh", "resolve_up", "UP_AXES",
@@ -247,25 +253,41 @@ def resolve_up(path: str | Path, up: str = "auto") -> str:
     return UP_AXIS_BY_FORMAT.get(Path(path).suffix.lower().lstrip("."), "z")
 
 
-def _mtl_warnings(obj: Path) -> None:
-    """Warn about an OBJ's material libraries and ``map_Kd`` images that are not there."""
+def _outside(obj: Path, kind: str, name: str, root: Path, fallback: str) -> None:
+    warnings.warn(f"mesh file {str(obj)!r}: {kind} {name!r} lies outside the asset root {str(root)!r}; not "
+                  f"opened, {fallback} (asset_root= / MORPHKIT_ASSET_ROOT widens the root)", AssetWarning,
+                  stacklevel=4)
+
+
+def _mtl_warnings(obj: Path, root: Path) -> None:
+    """Check an OBJ's material libraries and ``map_Kd`` images before trimesh reads them.
+
+    Warns about those that are not there or lie outside ``root`` (never opened); raises
+    :class:`~morphkit.errors.MeshError` for one that is not a regular file (a FIFO).
+    """
     try:
-        lines = obj.read_text(errors="replace").splitlines()
-    except OSError:
-        return
+        lines = read_regular(obj, f"mesh file {str(obj)!r}").decode(errors="replace").splitlines()
+    except MeshError:
+        return  # trimesh's error follows
+    name = f"mesh file {str(obj)!r}"
     libs = []
     for ln in lines:
         if ln.startswith("mtllib") and len(ln.split()) > 1:
             rest = ln.split(None, 1)[1].strip()  # one name with spaces, or several names
-            libs += [rest] if (obj.parent / rest).is_file() else rest.split()
+            libs += [rest] if locate(obj.parent, rest, root, f"material library {rest!r} of {name}")[0] \
+                else rest.split()
     for lib in libs:
-        mtl = obj.parent / lib
-        if not mtl.is_file():
+        mtl, outside = locate(obj.parent, lib, root, f"material library {lib!r} of {name}")
+        if outside:
+            _outside(obj, "material library", lib, root, "its parts are drawn without their materials")
+            continue
+        if mtl is None:
             warnings.warn(f"mesh file {str(obj)!r}: material library {lib!r} not found; its parts are drawn "
                           "without their materials", AssetWarning, stacklevel=3)
             continue
         material, kd = "?", "the default"
-        for ln in mtl.read_text(errors="replace").splitlines():
+        text = read_regular(mtl, f"material library {lib!r} of {name}").decode(errors="replace")
+        for ln in text.splitlines():
             words = ln.split()
             if not words:
                 continue
@@ -273,24 +295,47 @@ def _mtl_warnings(obj: Path) -> None:
                 material, kd = " ".join(words[1:]), "the default"
             elif words[0] == "Kd" and len(words) >= 4:
                 kd = str(words[1:4])
-            elif words[0] == "map_Kd" and len(words) > 1 and not (mtl.parent / words[-1]).is_file():
-                warnings.warn(f"mesh file {str(obj)!r}: texture {words[-1]!r} of material {material!r} "
-                              f"({lib}) not found; drawn in its Kd colour {kd}", AssetWarning, stacklevel=3)
+            elif words[0] == "map_Kd" and len(words) > 1:
+                tex = words[-1]
+                found, outside = locate(mtl.parent, tex, root, f"texture {tex!r} of material {material!r} "
+                                        f"({lib}) of {name}")
+                if outside:
+                    _outside(obj, "texture", tex, root,
+                             f"material {material!r} is drawn in its Kd colour {kd}")
+                elif found is None:
+                    warnings.warn(f"mesh file {str(obj)!r}: texture {tex!r} of material {material!r} "
+                                  f"({lib}) not found; drawn in its Kd colour {kd}", AssetWarning,
+                                  stacklevel=3)
 
 
-def _gltf_warnings(path: Path) -> None:
-    """Warn about a ``.gltf``'s external images that are not there (trimesh drops them silently)."""
+def _gltf_warnings(path: Path, root: Path) -> None:
+    """Check a ``.gltf``'s external buffers and images before trimesh reads them.
+
+    Warns about images that are not there or lie outside ``root`` (trimesh drops them
+    silently); raises :class:`~morphkit.errors.MeshError` for a buffer or image that is not
+    a regular file (a FIFO), or a buffer outside ``root``.
+    """
+    name = f"mesh file {str(path)!r}"
     try:
-        doc = json.loads(path.read_text(errors="replace"))
-    except (OSError, ValueError):
+        doc = json.loads(read_regular(path, name).decode(errors="replace"))
+    except (MeshError, ValueError):
         return  # not readable as JSON: trimesh's error follows
-    images = doc.get("images", []) if isinstance(doc, dict) else []
-    for i, im in enumerate(images if isinstance(images, list) else []):
-        uri = im.get("uri") if isinstance(im, dict) else None
-        external = isinstance(uri, str) and not uri.startswith("data:")
-        if external and not (path.parent / unquote(uri)).is_file():
-            warnings.warn(f"mesh file {str(path)!r}: image {i} {uri!r} not found; its materials are drawn in "
-                          "their baseColorFactor", AssetWarning, stacklevel=3)
+    for kind in ("buffers", "images"):
+        entries = doc.get(kind, []) if isinstance(doc, dict) else []
+        for i, entry in enumerate(entries if isinstance(entries, list) else []):
+            uri = entry.get("uri") if isinstance(entry, dict) else None
+            if not isinstance(uri, str) or uri.startswith("data:"):
+                continue
+            found, outside = locate(path.parent, uri, root, f"{kind[:-1]} {i} {uri!r} of {name}")
+            if kind == "buffers" and outside:
+                raise MeshError(expected_got(f"{kind[:-1]} {i} of {name}", f"a file inside the asset root "
+                                             f"{str(root)!r} (asset_root= / MORPHKIT_ASSET_ROOT widens it)",
+                                             f"{uri!r}, outside it (not opened)"))
+            if kind == "images" and outside:
+                _outside(path, f"image {i}", uri, root, "its materials are drawn in their baseColorFactor")
+            elif kind == "images" and found is None:
+                warnings.warn(f"mesh file {str(path)!r}: image {i} {uri!r} not found; its materials are "
+                              "drawn in their baseColorFactor", AssetWarning, stacklevel=3)
 
 
 def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
@@ -300,7 +345,8 @@ def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
     return v.kind == "vertex"
 
 
-def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
+def load_mesh(path: str | Path, *, up: str = "auto",
+              asset_root: str | os.PathLike[str] | None = None) -> trimesh.Trimesh:
     """Load a mesh file with its look, turn it ``+z`` up and return it normalised.
 
     Any format trimesh reads (OBJ, PLY, STL, GLB/GLTF, OFF, ...) is accepted. The
@@ -314,6 +360,10 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
         Path of the file; the format is taken from its extension.
     up : {"auto", "z", "y"}, optional
         The file's up axis; ``"auto"`` is the format's default (:func:`resolve_up`).
+    asset_root : str or os.PathLike, optional
+        The folder every file the mesh refers to (materials, textures, buffers) must lie
+        in (:mod:`morphkit.meshes.assets`); default :data:`morphkit.settings.ASSET_ROOT`
+        (``MORPHKIT_ASSET_ROOT``), else the mesh file's own folder.
 
     Returns
     -------
@@ -324,14 +374,16 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
     ------
     MeshError
         If ``up`` is not ``"auto"``, ``"z"`` or ``"y"``; the file does not exist,
-        cannot be read or has an unsupported format; it holds no triangles (e.g. a
+        cannot be read or has an unsupported format; a file it refers to is not a regular
+        file (a FIFO), or is a buffer outside the asset root; ``asset_root`` does not hold it;
+        it holds no triangles (e.g. a
         point cloud, a scene without geometry); or the mesh fails :func:`check_mesh`.
 
     Warns
     -----
     AssetWarning
-        An OBJ's ``mtllib`` or ``map_Kd`` file or a ``.gltf``'s external image is missing;
-        a texture without UVs in a multi-part file.
+        An OBJ's ``mtllib`` or ``map_Kd`` file or a ``.gltf``'s external image is missing,
+        or lies outside the asset root (not opened); a texture without UVs in a multi-part file.
     """
     p = Path(path)
     axis = resolve_up(p, up)
@@ -339,17 +391,28 @@ def load_mesh(path: str | Path, *, up: str = "auto") -> trimesh.Trimesh:
         why = "a directory" if p.is_dir() else "file not found"
         raise MeshError(expected_got("mesh path", "an existing mesh file", f"{str(p)!r} ({why})"))
     name = f"mesh file {str(p)!r}"
+    root = assets.asset_root(p, asset_root if asset_root is not None else settings.ASSET_ROOT)
     if p.suffix.lower() == ".obj":
-        _mtl_warnings(p)
+        _mtl_warnings(p, root)
     elif p.suffix.lower() == ".gltf":
-        _gltf_warnings(p)
+        _gltf_warnings(p, root)
+    resolver = AssetResolver(p, root)
     try:
         # process=False: trimesh's processing would silently drop non-finite vertices.
-        loaded = trimesh.load(str(p), process=False)
+        loaded = trimesh.load(str(p), process=False, resolver=resolver)
     except Exception as exc:  # trimesh raises many types for bad files
+        if resolver.errors:
+            raise resolver.errors[0] from exc
+        if resolver.outside:
+            raise MeshError(expected_got(
+                f"file {resolver.outside[0]!r} referred to by {name}", f"a file inside the asset root "
+                f"{str(root)!r} (asset_root= / MORPHKIT_ASSET_ROOT widens it)", "one outside it (not opened)"
+            )) from exc
         raise MeshError(
             expected_got(name, "a file trimesh can read", f"{type(exc).__name__}: {exc}"[:200])
         ) from exc
+    if resolver.errors:  # trimesh swallows a material's or an image's read errors
+        raise resolver.errors[0]
     if isinstance(loaded, trimesh.Scene):
         parts = scene_parts(loaded)
         if not parts:
