@@ -302,7 +302,7 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
 
 
 @pytest.mark.gl
-def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, scheduler):
+def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, scheduler, renderer):
     from morphkit.bake import DomeKind
     from morphkit.billboard.asset import mesh_hash
     from morphkit.billboard.domeasset import DomeAsset
@@ -319,6 +319,24 @@ def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, schedule
     assert asset.size == (32, 32) and asset.mesh_hash == mesh_hash(load_mesh(lib / "box.ply"))
     with pytest.raises(ValidationError, match=r"dome size: expected an integer in \[16, 2048\]"):
         DomeKind(size=8)
+    # a billboard scene finds the baked asset's mesh through the manifest (shadows and the
+    # mesh comparison need it), not only beside the file; a changed input is said, not used
+    from morphkit.billboard.dome import ViewDome
+    from morphkit.billboard.sources import resolve_assets
+
+    dome = tmp_path / "out" / rec.file
+    res = resolve_assets([str(dome)], renderer, dome=ViewDome())
+    assert "box" in res.items and not res.skipped
+    trimesh.creation.icosphere(subdivisions=1).export(lib / "box.ply")
+    res = resolve_assets([str(dome)], renderer, dome=ViewDome())
+    assert not res.items and "is missing or changed since the bake" in res.skipped["box"]
+    # a folder's manifest.json that is not a bake's is passed over
+    alone = tmp_path / "app" / "box.dome.npz"
+    alone.parent.mkdir()
+    (alone.parent / "manifest.json").write_text('{"name": "a web app", "icons": []}')
+    dome.replace(alone)
+    res = resolve_assets([str(alone)], renderer, dome=ViewDome())
+    assert "no mesh file box{.obj," in res.skipped["box"]
 
 
 @pytest.mark.gl

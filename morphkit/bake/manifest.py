@@ -55,7 +55,7 @@ from ..fileio import append_lines, write_json
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
-           "OutputRecord", "AssetRecord", "Manifest", "file_digest", "utc_now"]
+           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "file_digest", "utc_now"]
 
 #: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
@@ -471,3 +471,57 @@ class Manifest:
         r = self.run
         return (f"{r.get('baked', 0)} baked, {r.get('skipped', 0)} skipped, {r.get('failed', 0)} failed "
                 f"in {r.get('wall_s', 0.0):.1f} s")
+
+
+@dataclass(frozen=True)
+class BakedFrom:
+    """What a bake manifest records of the input an output file was baked from.
+
+    Parameters
+    ----------
+    manifest : pathlib.Path
+        The ``manifest.json`` that lists the output.
+    input : pathlib.Path
+        The input mesh file, as the bake recorded it.
+    input_sha256 : str
+        The input file's sha256 when it was baked.
+    up_axis : {"z", "y"}
+        The up axis it was loaded with (:data:`LEGACY_UP_AXIS` for records without one).
+    """
+
+    manifest: Path
+    input: Path
+    input_sha256: str
+    up_axis: str
+
+
+def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
+    """The record of the bake that wrote ``output``: the ``manifest.json`` of its folder or the
+    nearest parent folder that lists it, or None.
+
+    A ``manifest.json`` that is not a morphkit bake manifest (a web app's, a damaged one) is
+    passed over, as is one that does not list the file: the search goes on upwards.
+
+    Parameters
+    ----------
+    output : path-like
+        A baked file (an atlas, a billboard or dome asset).
+
+    Returns
+    -------
+    BakedFrom or None
+        The recorded input, or None when no manifest lists the file.
+    """
+    target = Path(output).resolve()
+    for folder in [target.parent, *target.parent.parents]:
+        if not (folder / MANIFEST_NAME).is_file():
+            continue
+        try:
+            records = Manifest.open(folder).assets.values()
+        except (FileFormatError, OSError):
+            continue
+        for rec in records:
+            if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
+                return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256,
+                                 rec.up_axis or LEGACY_UP_AXIS)
+    return None

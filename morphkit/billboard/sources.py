@@ -15,8 +15,10 @@ baked from (:meth:`~morphkit.billboard.asset.BillboardAsset.items`: the same loo
   (:meth:`~morphkit.billboard.asset.BillboardAsset.load`) and keeps its own name
   (the file's stem when it has bake_asset's default name ``"asset"``); its mesh is
   known (for the mesh mode) when the asset's name is a sample mesh, or a mesh file
-  named like the asset or the file (``NAME.obj``, ``.glb``, ...) lies beside it,
-  and that mesh's hash (shape and look) is the asset's. When none is found,
+  named like the asset or the file (``NAME.obj``, ``.glb``, ...) lies beside it, or
+  a bake manifest in its folder or a parent lists it (``morphkit bake --billboard
+  [--dome]``: the recorded input, unchanged since the bake, with its up axis), and
+  that mesh's hash (shape and look) is the asset's. When none is found,
   :attr:`ResolvedAssets.skipped` says why.
 
 Anything else is a :class:`~morphkit.errors.ValidationError` naming what was
@@ -31,6 +33,7 @@ from pathlib import Path
 
 import trimesh
 
+from ..bake.manifest import baked_from, file_digest
 from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
 from ..protocols import SceneRenderer
@@ -138,6 +141,17 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trim
             continue
         if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
             return mesh, ""
+    record = baked_from(path)  # a bake library's asset: the input its manifest records
+    if record is not None and record.input.is_file() and file_digest(record.input)[0] == record.input_sha256:
+        try:
+            mesh = load_mesh(record.input, up=record.up_axis)
+        except MeshError:
+            mesh = None
+        if mesh is not None and mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
+            return mesh, ""
+    if record is not None:
+        return None, (f"{record.input} (the input {record.manifest} records for {path.name}) is missing "
+                      "or changed since the bake (pass the mesh file itself as --asset)")
     if found:
         return None, (f"{', '.join(f.name for f in found)} beside {path.name} does not match the asset's "
                       f"hash (another shape or look)")
