@@ -239,7 +239,7 @@ def parse_size(text: str) -> tuple[int, int]:
     Returns
     -------
     tuple of (int, int)
-        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make an mp4v
+        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make a
         video).
 
     Raises
@@ -258,7 +258,7 @@ def parse_size(text: str) -> tuple[int, int]:
     hi = tol.MAX_VIDEO_SIDE
     if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
         raise ValidationError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
-                                           f"{hi}: the mp4v video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
+                                           f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
     return h, w
 
 
@@ -519,8 +519,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="render a baked atlas's scene along an object path with warped shadows (PNGs + video)",
         description="Move the mesh an atlas was baked from along a path over the atlas's range and "
         "render each frame with the warped shadow: hard, or soft with --area-light. Writes "
-        "OUT/frame_NNNN.png and OUT/shadows.mp4. The mesh comes from the bake manifest (its folder or a "
-        "parent), hash-checked, or from --mesh.",
+        "OUT/frame_NNNN.png and OUT/shadows.webm (VP9). The mesh comes from the bake manifest (its "
+        "folder or a parent), hash-checked, or from --mesh.",
     )
     h.add_argument("atlas", help="a baked shadow atlas (.atlas.npz)")
     h.add_argument("--path", default="line", metavar="line|circle|FILE.csv",
@@ -545,7 +545,7 @@ def build_parser() -> argparse.ArgumentParser:
         "billboards",
         help="a scene of view-morphed billboards along a camera path: frames, video, Fig. 5 comparisons",
         description="Bake (or load) billboard assets, place N instances from a seed on a ground, and "
-        "render a camera path with view-morphed billboards: OUT/frames/*.png, OUT/billboards.mp4, "
+        "render a camera path with view-morphed billboards: OUT/frames/*.png, OUT/billboards.webm (VP9), "
         "OUT/compare_*.png (classic | view-morphed | real meshes) and OUT/billboards.json.",
     )
     bb.add_argument("--asset", action="append", default=None, metavar="NAME_OR_FILE",

@@ -98,12 +98,14 @@ class OutputRule:
 
 #: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
-#: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.mp4`` (:mod:`morphkit.shadow.playback`).
-SHADOWS_OUTPUT = OutputRule("shadows", ("frame_#.png", "shadows.mp4"))
-#: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.mp4``, ``compare_NNNN.png``,
-#: ``billboards.json`` (:mod:`morphkit.billboard.sequence`).
-BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.mp4", "compare_#.png",
-                                              "billboards.json"), markers=("billboards.json",))
+#: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
+#: ``shadows.mp4`` is what older versions wrote).
+SHADOWS_OUTPUT = OutputRule("shadows", ("frame_#.png", "shadows.webm", "shadows.mp4"))
+#: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.webm``, ``compare_NNNN.png``,
+#: ``billboards.json`` (:mod:`morphkit.billboard.sequence`; ``billboards.mp4``: older versions').
+BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.webm", "billboards.mp4",
+                                              "compare_#.png", "billboards.json"),
+                               markers=("billboards.json",))
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True)

@@ -184,11 +184,9 @@ MAX_TEXTURE_PIXELS = 4096 * 4096
 #: :data:`MAX_TEXTURE_PIXELS`.
 MAX_TEXTURE_SIDE = 8192
 
-#: Largest side (pixels) of a video morphkit writes (``shadows.mp4``, ``billboards.mp4``: OpenCV's
-#: ``mp4v``, MPEG-4 Part 2, which stores width and height in 13 bits). FFmpeg refuses 8192
-#: ("dimensions too large for MPEG-4"): ``shadows --size 8192`` was accepted, rendered nothing and
-#: failed at the writer, so the commands that write a video cap their frame sides here. 8190, not
-#: 8191: OpenCV's writer rounds an odd side down to even (a 8191 video reads back 8190 wide).
+#: Largest side (pixels) of a video morphkit writes (``shadows.webm``, ``billboards.webm``, and
+#: ``.mp4`` files a caller names: ``mp4v`` stores width and height in 13 bits, and FFmpeg refuses
+#: 8192 there), checked before any frame is rendered so that a size no writer takes fails at once.
 MAX_VIDEO_SIDE = 8190
 
 #: Most frames one command renders along a path (``shadows``, ``billboards``,

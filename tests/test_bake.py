@@ -572,8 +572,8 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
     assert rc == 0 and "3 frames (hard)" in stdout
     names = sorted(p.name for p in (tmp_path / "f").iterdir())
     assert names == [".morphkit-output.json", ".morphkit-output.lock",  # morphkit.outfolder's marker, lock
-                     "frame_0000.png", "frame_0001.png", "frame_0002.png", "shadows.mp4"]
-    video = cv2.VideoCapture(str(tmp_path / "f" / "shadows.mp4"))
+                     "frame_0000.png", "frame_0001.png", "frame_0002.png", "shadows.webm"]
+    video = cv2.VideoCapture(str(tmp_path / "f" / "shadows.webm"))
     assert video.get(cv2.CAP_PROP_FRAME_COUNT) == 3 and video.get(cv2.CAP_PROP_FRAME_WIDTH) == 48
     video.release()
     frames = [fileio.read_image(tmp_path / "f" / f"frame_000{i}.png") for i in range(3)]

@@ -32,7 +32,7 @@ def test_write_sequence_writes_frames_video_and_summary(tmp_path):
     first = read_image(out / "frames" / "frame_0000.png")
     expect = scene.render(cams[0], MorphMode()).rgb
     np.testing.assert_array_equal(first, expect)
-    cap = cv2.VideoCapture(str(out / "billboards.mp4"))
+    cap = cv2.VideoCapture(str(out / "billboards.webm"))
     n = 0
     while cap.read()[0]:
         n += 1
@@ -54,6 +54,28 @@ def test_video_file_is_atomic_and_validated(tmp_path):
         VideoFile(tmp_path / "v.gif", 10, (16, 16))
     with VideoFile(target, 10, (16, 16)) as v, pytest.raises(ValidationError, match="video frame: expected"):
         v.write(np.zeros((8, 8, 3), np.uint8))
+
+
+def test_the_commands_videos_are_vp9_webm_and_odd_frames_keep_every_pixel(tmp_path):
+    from morphkit.billboard.video import VIDEO_SUFFIX
+
+    assert VIDEO_SUFFIX == ".webm"  # browsers play VP9 in WebM, not MPEG-4 Part 2
+    rng = np.random.default_rng(3)
+    frames = [cv2.GaussianBlur(rng.integers(0, 256, (33, 47, 3), dtype=np.uint8), (9, 9), 3)
+              for _ in range(3)]
+    with VideoFile(tmp_path / "odd.webm", 10, (33, 47)) as v:
+        for f in frames:
+            v.write(f)
+    cap = cv2.VideoCapture(str(tmp_path / "odd.webm"))
+    assert int(cap.get(cv2.CAP_PROP_FOURCC)).to_bytes(4, "little") == b"VP90"
+    ok, first = cap.read()
+    cap.release()
+    # padded to 34 x 48 with the edge repeated, not cropped to 32 x 46: the last column is there
+    assert ok and first.shape == (34, 48, 3)
+    # lossy, but the decoded frame follows the written one: its mean error is under half the
+    # frame's own spread (a flat grey or a shifted frame would be at or over it)
+    err = np.abs(cv2.cvtColor(first, cv2.COLOR_BGR2RGB)[:33, :47].astype(int) - frames[0]).mean()
+    assert err < 0.5 * frames[0].std()
 
 
 def test_compare_helpers():

@@ -18,6 +18,7 @@ import subprocess
 import sys
 import threading
 import time
+import types
 from pathlib import Path
 
 import numpy as np
@@ -122,10 +123,11 @@ def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_file
     def fake_render(atlas, mesh, path, out, **_kw):
         n = path.frames
         frames = [fileio.write_bytes(Path(out) / f"frame_{i:04d}.png", b"frame") for i in range(n)]
-        return {"frames": frames, "video": fileio.write_bytes(Path(out) / "shadows.mp4", b"v")}
+        return {"frames": frames, "video": fileio.write_bytes(Path(out) / "shadows.webm", b"v")}
 
-    monkeypatch.setattr(morphkit.shadow.ShadowAtlas, "load", staticmethod(lambda _p: None))
-    monkeypatch.setattr(playback, "baked_mesh", lambda *_a: None)
+    loaded = types.SimpleNamespace(baked=types.SimpleNamespace(mesh_sha256=None))
+    monkeypatch.setattr(morphkit.shadow.ShadowAtlas, "load", staticmethod(lambda _p: loaded))
+    monkeypatch.setattr(playback, "baked_mesh", lambda *_a, **_k: None)
     monkeypatch.setattr(playback, "render_shadow_sequence", fake_render)
     monkeypatch.setattr(morphkit.render, "Renderer", contextlib.nullcontext)
     out = tmp_path / "f"
@@ -135,7 +137,7 @@ def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_file
     assert rc == 2 and "--overwrite" in one_line(err)
     assert run(capfd, "shadows", "a.atlas.npz", "--frames", "2", "--overwrite", "-o", out)[0] == 0
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        [MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.mp4", "notes.txt"])
+        [MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm", "notes.txt"])
 
 
 def test_a_refused_bake_leaves_no_folder_behind(tmp_path, capfd, monkeypatch):

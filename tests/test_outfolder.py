@@ -22,7 +22,7 @@ from morphkit.outfolder import (
 def _write_frames(folder, n):
     for i in range(n):
         (folder / f"frame_{i:04d}.png").write_bytes(b"new %d" % i)
-    (folder / "shadows.mp4").write_bytes(b"video")
+    (folder / "shadows.webm").write_bytes(b"video")
 
 
 def test_a_new_folder_is_created_only_when_writing(tmp_path):
@@ -93,7 +93,7 @@ def test_a_previous_run_is_replaced_only_with_overwrite_and_never_mixed(tmp_path
     with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
         _write_frames(out, 2)  # fewer frames than before
     names = sorted(p.name for p in out.iterdir())
-    assert names == sorted([MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.mp4",
+    assert names == sorted([MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm",
                             "notes.txt"])  # old frames 2..4 gone, the user's file kept
 
 

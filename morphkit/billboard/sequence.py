@@ -4,7 +4,7 @@
 writes, into an output folder:
 
 * ``frames/frame_NNNN.png`` -- the frame sequence;
-* ``billboards.mp4`` -- the same frames as a video (:class:`~.video.VideoFile`,
+* ``billboards.webm`` -- the same frames as a video (:class:`~.video.VideoFile`,
   written under a temporary name and renamed when complete);
 * ``compare_NNNN.png`` -- for a few frames, classic | view-morphed | real meshes
   side by side (the paper's Fig. 5), when a mesh mode is given;
@@ -78,7 +78,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     fps : float
         Video frame rate.
     video : bool
-        Write ``billboards.mp4``.
+        Write ``billboards.webm``.
     progress : bool
         A progress bar over the frames.
     classic : FrameMode, optional
@@ -113,7 +113,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     files: list[str] = []
     per_frame: list[dict[str, Any]] = []
     compared: list[dict[str, Any]] = []
-    sink = VideoFile(out / "billboards.mp4", fps, cameras[0].shape) if video and cameras else None
+    sink = VideoFile(out / "billboards.webm", fps, cameras[0].shape) if video and cameras else None
     try:
         for k, frame in enumerate(scene.render_path(lit(cameras), mode, progress=progress,
                                                     total=len(cameras))):
@@ -139,7 +139,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
         raise
     if sink is not None:
         sink.close()
-        files.append("billboards.mp4")
+        files.append("billboards.webm")
     hits = sum(f["hits"] for f in per_frame)
     misses = sum(f["misses"] for f in per_frame)
     summary = {"morphkit_billboards": 1, "mode": mode.name, "frames": len(cameras),

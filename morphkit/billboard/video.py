@@ -8,7 +8,12 @@ every frame was written -- a crash or an error mid-sequence leaves the old file
 Use it as a context manager: leaving the ``with`` block by an exception removes
 the temporary file.
 
-Codecs: ``mp4v`` for ``.mp4``, ``MJPG`` for ``.avi``.
+Codecs (:data:`CODECS`): VP9 for ``.webm`` -- what morphkit's own commands write
+(:data:`VIDEO_SUFFIX`), since browsers play it -- and, for callers who name them,
+``mp4v`` (MPEG-4 Part 2, which browsers do not play) for ``.mp4`` and ``MJPG`` for
+``.avi``. Frames of an odd width or height are padded by one repeated edge row or
+column to even sides (4:2:0 chroma halves both; the encoder would otherwise drop
+the last column).
 """
 
 from __future__ import annotations
@@ -25,10 +30,12 @@ from .. import tol
 from ..errors import RenderError, ValidationError, expected_got
 from ..fileio import open_video_writer
 
-__all__ = ["VideoFile", "CODECS"]
+__all__ = ["VideoFile", "CODECS", "VIDEO_SUFFIX"]
 
 #: FourCC per file extension.
-CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
+CODECS = {".webm": "VP90", ".mp4": "mp4v", ".avi": "MJPG"}
+#: The extension of the videos morphkit's commands write (VP9 in WebM).
+VIDEO_SUFFIX = ".webm"
 
 
 class VideoFile:
@@ -37,7 +44,7 @@ class VideoFile:
     Parameters
     ----------
     path : path-like
-        The target, ``.mp4`` or ``.avi``; its folder must exist.
+        The target, ``.webm``, ``.mp4`` or ``.avi``; its folder must exist.
     fps : float
         Frames per second.
     shape : (H, W)
@@ -46,7 +53,7 @@ class VideoFile:
     Raises
     ------
     ValidationError
-        An unknown extension, a bad fps, or an ``.mp4`` frame side past
+        An unknown extension, a bad fps, or a frame side past
         :data:`morphkit.tol.MAX_VIDEO_SIDE`.
     RenderError
         OpenCV cannot open a writer for it (:func:`morphkit.fileio.open_video_writer`).
@@ -61,14 +68,16 @@ class VideoFile:
         if not (np.isfinite(fps) and fps > 0):
             raise ValidationError(expected_got("fps", "a finite number > 0", fps))
         self.shape = (int(shape[0]), int(shape[1]))
-        if ext == ".mp4" and max(self.shape) > tol.MAX_VIDEO_SIDE:
-            raise ValidationError(expected_got("video frame shape", f"sides of at most {tol.MAX_VIDEO_SIDE} "
-                                               "pixels for mp4v (tol.MAX_VIDEO_SIDE)", self.shape))
+        if min(self.shape) < 1 or max(self.shape) > tol.MAX_VIDEO_SIDE:
+            raise ValidationError(expected_got("video frame shape", f"sides of 1 to {tol.MAX_VIDEO_SIDE} "
+                                               "pixels (tol.MAX_VIDEO_SIDE)", self.shape))
+        self._pad = (self.shape[0] % 2, self.shape[1] % 2)  # to even sides (module notes)
         fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=ext, dir=self.path.parent)
         os.close(fd)
         self._tmp = Path(tmp)
         try:
-            self._writer = open_video_writer(self._tmp, CODECS[ext], fps, self.shape)
+            self._writer = open_video_writer(self._tmp, CODECS[ext], fps,
+                                             (self.shape[0] + self._pad[0], self.shape[1] + self._pad[1]))
         except RenderError:
             self._tmp.unlink(missing_ok=True)
             raise
@@ -85,7 +94,10 @@ class VideoFile:
         if rgb.shape != self.shape + (3,) or rgb.dtype != np.uint8:
             raise ValidationError(expected_got("video frame", f"uint8 {self.shape + (3,)}",
                                                f"{rgb.dtype} {rgb.shape}"))
-        self._writer.write(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))
+        bgr = cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)
+        if any(self._pad):
+            bgr = cv2.copyMakeBorder(bgr, 0, self._pad[0], 0, self._pad[1], cv2.BORDER_REPLICATE)
+        self._writer.write(bgr)
         self.frames += 1
 
     def close(self) -> Path:

@@ -50,7 +50,7 @@ __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "
            "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
 
 #: The video beside the frames.
-VIDEO_NAME = "shadows.mp4"
+VIDEO_NAME = "shadows.webm"
 
 
 @runtime_checkable
@@ -374,12 +374,12 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         The object's positions, one per frame, over the usable range (the atlas's range, shrunk by the
         area light's extent when there is one).
     out : path-like
-        Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (mp4v).
+        Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (VP9).
     renderer : SceneRenderer
         Renders the frames.
     size : int
         Frame side in pixels, in [16, 8190] (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make
-        an mp4v video).
+        a VP9 video).
     area_light : AreaLight, optional
         Soft shadows of this light (:func:`area_light_for`), ``samples x samples`` light samples.
     samples : int
@@ -401,7 +401,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     OutOfRangeError
         A position of the path lies outside the usable range.
     RenderError
-        OpenCV has no mp4v video writer here, or none for frames of ``size`` (memory).
+        OpenCV has no VP9 video writer here, or none for frames of ``size`` (memory).
     """
     size = as_int(size, "frame size", lo=16, hi=tol.MAX_VIDEO_SIDE)
     samples = as_int(samples, "light samples per axis", lo=1, hi=64)
@@ -416,7 +416,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     frames: list[Path] = []
     video = folder / VIDEO_NAME
     with atomic_output(video) as tmp:
-        writer = open_video_writer(tmp, "mp4v", fps, (size, size))
+        writer = open_video_writer(tmp, "VP90", fps, (size, size))
         try:
             for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
                                         disable=None if progress else True, leave=False)):
