@@ -42,8 +42,9 @@ Scene side:
 * :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
-* :mod:`.compare`, :mod:`.video`, :mod:`.sequence`, :mod:`.sources` -- errors against the
-  meshes and Fig. 5 strips, video files, a path written to files, assets from names or files.
+* :mod:`.compare`, :mod:`.sequence`, :mod:`.sources` -- errors against the meshes and Fig. 5
+  strips, a path written to files (its video through :mod:`morphkit.video`), assets from names
+  or files.
 
 An asset is anything implementing :class:`morphkit.billboard.protocols.BillboardSource`.
 Nothing here imports pyrender; bakes and the mesh mode render through a

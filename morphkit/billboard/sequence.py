@@ -4,7 +4,7 @@
 writes, into an output folder:
 
 * ``frames/frame_NNNN.png`` -- the frame sequence;
-* ``billboards.webm`` -- the same frames as a video (:class:`~.video.VideoFile`,
+* ``billboards.webm`` -- the same frames as a video (:class:`morphkit.video.VideoFile`,
   written under a temporary name and renamed when complete);
 * ``compare_NNNN.png`` -- for a few frames, classic | view-morphed | real meshes
   side by side (the paper's Fig. 5), when a mesh mode is given;
@@ -24,11 +24,11 @@ from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..fileio import write_image, write_json
 from ..shading import Lighting
+from ..video import VideoFile
 from .compare import compare_modes
 from .field import BillboardScene, FrameMode
 from .litmodes import Relit
 from .modes import ClassicMode, MorphMode
-from .video import VideoFile
 
 __all__ = ["write_sequence", "compare_indices"]
 
