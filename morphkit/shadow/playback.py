@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
-import cv2
 import numpy as np
 import trimesh
 from tqdm import tqdm
@@ -35,11 +34,12 @@ from .. import tol
 from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
-from ..fileio import atomic_output, open_video_writer, write_image
+from ..fileio import write_image
 from ..meshes import load_mesh, shape_hash
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
 from ..validate import as_int
+from ..video import VideoFile
 from .atlas import ShadowAtlas
 from .frame import render_frame
 from .lookup import shadow_visibility
@@ -415,22 +415,18 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     folder.mkdir(parents=True, exist_ok=True)
     frames: list[Path] = []
     video = folder / VIDEO_NAME
-    with atomic_output(video) as tmp:
-        writer = open_video_writer(tmp, "VP90", fps, (size, size))
-        try:
-            for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
-                                        disable=None if progress else True, leave=False)):
-                sc = scene.with_object_pose(atlas.rig.object_pose(xy))
-                if soft is not None:
-                    vis = soft.visibility_fn(xy)
-                else:
-                    depth, lcam = atlas.shadow_map(xy)
-                    vis = _hard(depth, lcam)
-                rgb = render_frame(renderer, sc, vis)["shaded"]
-                frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
-                writer.write(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR))  # cv2.VideoWriter takes BGR
-        finally:
-            writer.release()
+    with VideoFile(video, fps, (size, size)) as writer:
+        for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
+                                    disable=None if progress else True, leave=False)):
+            sc = scene.with_object_pose(atlas.rig.object_pose(xy))
+            if soft is not None:
+                vis = soft.visibility_fn(xy)
+            else:
+                depth, lcam = atlas.shadow_map(xy)
+                vis = _hard(depth, lcam)
+            rgb = render_frame(renderer, sc, vis)["shaded"]
+            frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
+            writer.write(rgb)
     return {"frames": frames, "video": video, "positions": positions.tolist()}
 
 
