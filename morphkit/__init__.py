@@ -20,6 +20,7 @@ from .errors import (
     OutputExistsError,
     OutputWriteError,
     RenderError,
+    UsageError,
     ValidationError,
 )
 
@@ -41,4 +42,5 @@ __all__ = [
     "OutputExistsError",
     "OutputBusyError",
     "OutputWriteError",
+    "UsageError",
 ]

@@ -4,10 +4,19 @@ Heavy modules are imported inside each subcommand so ``morphkit --help`` is fast
 and needs no GL context.
 
 Errors: every command's morphkit errors, OS errors and memory errors are caught in
-:func:`main` and printed as one line ``morphkit: error: ...`` on stderr (exit code 1); usage
-errors exit with 2 (argparse's, and an output folder refused by
-:mod:`morphkit.outfolder`'s rule); Ctrl-C prints ``morphkit: interrupted`` (exit
-code 130). No traceback.
+:func:`main` and printed as one line ``morphkit: error: ...`` on stderr; Ctrl-C prints
+``morphkit: interrupted``. No traceback. Exit codes, decided in one place (:func:`_exit_code`):
+
+* 2, the command line was used wrongly: argparse's usage errors, a bad option value or
+  combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
+  command's own checks, :func:`_option_values`), an output refused by the overwrite rule
+  (:class:`~morphkit.errors.OutputExistsError`), a morphkit environment variable with a value
+  it does not take;
+* 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
+  geometry that cannot be morphed, a GL, file system or memory failure;
+* 130, interrupted.
+
+Warnings print as one line each, ``morphkit: warning: ...`` (:func:`_one_line_warnings`).
 """
 
 from __future__ import annotations
@@ -16,6 +25,7 @@ import argparse
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
@@ -23,10 +33,22 @@ from typing import Any
 
 from .cliargs import SOFT_FILTER, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import MorphkitError, OutputExistsError
+from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
+
+@contextmanager
+def _option_values() -> Iterator[None]:
+    """A :class:`~morphkit.errors.ValidationError` raised in the block is about an option's value:
+    re-raised as a :class:`~morphkit.errors.UsageError` (exit code 2, :func:`_exit_code`)."""
+    try:
+        yield
+    except (UsageError, OutputExistsError):
+        raise
+    except ValidationError as exc:
+        raise UsageError(str(exc)) from exc
+
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from .demo import previous_demo, run_demo
@@ -44,17 +66,17 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _check_output_file(path: Path | None, what: str) -> None:
     """Refuse, before any work, an output file path that is a folder or lies under a file."""
-    from .errors import ValidationError, expected_got
+    from .errors import expected_got
 
     if path is None:
         return
     if path.is_dir():
-        raise ValidationError(expected_got(what, "a file path", f"the folder {path}"))
+        raise UsageError(expected_got(what, "a file path", f"the folder {path}"))
     for parent in path.parents:
         if parent.exists():
             if not parent.is_dir():
-                raise ValidationError(expected_got(what, "a path under a folder", f"{path} (under the file "
-                                                   f"{parent})"))
+                raise UsageError(expected_got(what, "a path under a folder", f"{path} (under the file "
+                                              f"{parent})"))
             break
 
 
@@ -93,13 +115,43 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _scene_matches(left: Any, right: Any) -> Any:
+    """:func:`morphkit.viewmorph.from_images`'s pairs of the two images, refused when they share fewer
+    distinctive (SIFT) matches than :data:`morphkit.tol.VM_MIN_SCENE_MATCHES`: dense flow pairs any two
+    images, so without them two unrelated photos would be morphed (with ``--fallback morph`` too)."""
+    from . import tol
+    from .errors import ValidationError, expected_got
+    from .viewmorph.matching import DEFAULT_MATCHER, SiftMatcher, join_matches
+
+    parts = DEFAULT_MATCHER.match_each(left, right)
+    distinctive = sum(len(c) for m, c in zip(DEFAULT_MATCHER.matchers, parts, strict=True)
+                      if isinstance(m, SiftMatcher))
+    if distinctive < tol.VM_MIN_SCENE_MATCHES:
+        raise ValidationError(expected_got(
+            "viewmorph LEFT, RIGHT", f"two views of one scene, with at least {tol.VM_MIN_SCENE_MATCHES} "
+            "distinctive (SIFT) matches (the pairs F needs, tol.VM_MIN_SCENE_MATCHES)",
+            f"{distinctive}: the images do not seem to show one scene (if they do, give the "
+            "correspondences with --points FILE)"))
+    return join_matches(parts)
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """``a`` and ``b`` name the same file (one path resolved, or one file by two names)."""
+    try:
+        if a.exists() and b.exists():
+            return a.samefile(b)
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False
+
+
 def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .errors import FileFormatError, ValidationError, expected_got
     from .fileio import encode_image, read_image, write_bytes
     from .outfolder import VIEWMORPH_OUTPUT, claim_output
-    from .viewmorph import ViewMorpher, from_images, load_points
+    from .viewmorph import ViewMorpher, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
         if img.dtype.kind == "f":
@@ -114,20 +166,29 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
             raise ValidationError(expected_got("output", "a writable image path",
                                                f"{str(path)!r}: {exc.strerror or exc}")) from exc
 
-    # the output is checked before the work: a folder, a file in the way, an unknown extension
+    # the output is checked before the work: an input, a folder, a file in the way, an unknown
+    # extension, a file that exists (replaced only with --overwrite): usage errors (exit 2)
     out = Path(args.out)
-    folder = out if args.frames else out.parent
-    in_the_way = next((a for a in (folder, *folder.parents) if a.exists() and not a.is_dir()), None)
-    if in_the_way is not None:
-        expected = "a folder path" if args.frames else "a path whose parents are folders"
-        raise ValidationError(expected_got("output" + (" with --frames" if args.frames else ""), expected,
-                                           f"{str(out)!r}, where {str(in_the_way)!r} is a file"))
-    if not args.frames:
-        if out.is_dir():
-            raise ValidationError(expected_got("output", "an image file path (or --frames N for a folder)",
-                                               f"the folder {str(out)!r}"))
-        encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
-    claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
+    with _option_values():
+        for option, given in (("LEFT", args.left), ("RIGHT", args.right), ("--points", args.points)):
+            if given is not None and _same_file(out, Path(given)):
+                raise UsageError(expected_got("-o", "a path other than the inputs' (never replaced)",
+                                              f"{str(out)!r}, which is {option}"))
+        folder = out if args.frames else out.parent
+        in_the_way = next((a for a in (folder, *folder.parents) if a.exists() and not a.is_dir()), None)
+        if in_the_way is not None:
+            expected = "a folder path" if args.frames else "a path whose parents are folders"
+            raise ValidationError(expected_got("output" + (" with --frames" if args.frames else ""), expected,
+                                               f"{str(out)!r}, where {str(in_the_way)!r} is a file"))
+        if not args.frames:
+            if out.is_dir():
+                raise ValidationError(expected_got("output", "an image file path (or --frames N for a "
+                                                   "folder)", f"the folder {str(out)!r}"))
+            if out.exists() and not args.overwrite:
+                raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
+                                                     f"the existing file {str(out)!r}"))
+            encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
+        claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
     left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
@@ -139,7 +200,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                                   f'{{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}}, got '
                                   f"{type(exc).__name__}: {exc}") from exc
     else:
-        corr = from_images(left, right)
+        corr = _scene_matches(left, right)
     vm = ViewMorpher.from_estimate(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
     rep, fit = vm.report, vm.fit
     print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
@@ -182,7 +243,8 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
 def _cmd_bake(args: argparse.Namespace) -> int:
     from .bake import BakeOptions, bake_library
 
-    options = BakeOptions(_bake_kinds(args), up=args.up_axis)
+    with _option_values():  # the kinds check their options (--atlas-size, --grid, ...)
+        options = BakeOptions(_bake_kinds(args), up=args.up_axis)
     manifest = bake_library(args.inputs, args.out, options=options, workers=args.workers,
                             scheduler=args.scheduler, progress=not args.quiet)
     for name, error in sorted(manifest.failed().items()):
@@ -192,7 +254,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .errors import ValidationError, expected_got
+    from .errors import expected_got
     from .outfolder import SHADOWS_OUTPUT, claim_output
     from .render import Renderer
     from .shadow import ShadowAtlas
@@ -206,13 +268,14 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
     )
 
     if args.samples is not None and args.area_light is None:
-        raise ValidationError(expected_got("--samples", "together with --area-light", "--samples alone"))
-    claim = claim_output(args.out, SHADOWS_OUTPUT, overwrite=args.overwrite)
+        raise UsageError(expected_got("--samples", "together with --area-light", "--samples alone"))
+    with _option_values():
+        claim = claim_output(args.out, SHADOWS_OUTPUT, overwrite=args.overwrite)
     path_cls = {"line": LinePath, "circle": CirclePath}.get(args.path)
     if path_cls is None:
         if args.frames is not None:
-            raise ValidationError(expected_got("--frames", "with --path line or circle (a CSV file gives "
-                                               "its own positions)", f"--path {args.path}"))
+            raise UsageError(expected_got("--frames", "with --path line or circle (a CSV file gives "
+                                          "its own positions)", f"--path {args.path}"))
         path = PointsPath.from_csv(args.path)
     else:
         path = path_cls() if args.frames is None else path_cls(args.frames)
@@ -244,11 +307,11 @@ def parse_size(text: str) -> tuple[int, int]:
 
     Raises
     ------
-    ValidationError
-        Not two positive integers joined by ``x``.
+    UsageError
+        Not two positive integers joined by ``x`` (a :class:`~morphkit.errors.ValidationError`).
     """
     from . import tol
-    from .errors import ValidationError, expected_got
+    from .errors import expected_got
 
     parts = str(text).lower().split("x")
     try:
@@ -257,8 +320,8 @@ def parse_size(text: str) -> tuple[int, int]:
         w = h = 0
     hi = tol.MAX_VIDEO_SIDE
     if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
-        raise ValidationError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
-                                           f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
+        raise UsageError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
+                                      f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
     return h, w
 
 
@@ -469,7 +532,8 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--frame", default="contain", choices=["contain", "fit", "fixed"],
                    help="crop/size policy (default: %(default)s)")
     v.add_argument("-o", "--out", required=True, help="output image (or folder with --frames)")
-    v.add_argument("--overwrite", action="store_true", help="with --frames: replace a previous run in OUT")
+    v.add_argument("--overwrite", action="store_true",
+                   help="replace an existing OUT image, or with --frames a previous run in OUT")
     v.set_defaults(func=_cmd_viewmorph)
 
     k = sub.add_parser(
@@ -615,22 +679,63 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 1 after a :class:`~morphkit.errors.MorphkitError`, an
-        ``OSError`` (a file system failure: disk full, folder removed) or a failed allocation (a
-        ``MemoryError`` or OpenCV's: sizes past the process's memory), printed to stderr as one
-        line ``morphkit: error: ...`` (2 for an :class:`~morphkit.errors.OutputExistsError`, an
-        output folder refused), 130 after Ctrl-C (``morphkit: interrupted``).
+        The exit status: 0 on success; 2 for a usage error (argparse's, a bad option value or
+        environment variable, an output refused without ``--overwrite``); 1 after any other
+        :class:`~morphkit.errors.MorphkitError`, an ``OSError`` (a file system failure: disk
+        full, folder removed) or a failed allocation (a ``MemoryError`` or OpenCV's: sizes past
+        the process's memory); each printed to stderr as one line ``morphkit: error: ...``;
+        130 after Ctrl-C (``morphkit: interrupted``).
     """
-    args = build_parser().parse_args(argv)
-    with _interrupt_flag() as interrupted:
-        return _run(args, interrupted)
+    with _one_line_warnings():
+        try:
+            with _option_values():  # a usage error (exit 2), even for --help
+                from . import settings  # a variable it cannot read is refused when it is imported
+
+                settings.check_environment()
+        except MorphkitError as exc:
+            return _error(exc)
+        args = build_parser().parse_args(argv)
+        with _interrupt_flag() as interrupted:
+            return _run(args, interrupted)
+
+
+def _exit_code(exc: MorphkitError | OSError) -> int:
+    """The exit code of an error (the rule in this module's docstring): 2 for a usage error, 1 for a
+    run that failed."""
+    return 2 if isinstance(exc, UsageError | OutputExistsError) else 1
+
+
+def _error(exc: MorphkitError | OSError) -> int:
+    """Print ``exc`` as one line ``morphkit: error: ...``; its exit code."""
+    msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
+    print(f"morphkit: error: {msg}", file=sys.stderr)
+    return _exit_code(exc)
+
+
+@contextmanager
+def _one_line_warnings() -> Iterator[None]:
+    """While the block runs, a warning prints as one line ``morphkit: warning: MESSAGE`` on stderr
+    (no source path, no code line); Python's own printer is restored after."""
+    previous = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+             file: Any = None, line: str | None = None) -> None:
+        text = " ".join(str(message).split()) or category.__name__
+        print(f"morphkit: warning: {text}", file=sys.stderr if file is None else file)
+
+    warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = previous
 
 
 def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
     """Check the options, run the command; print morphkit's errors, file system failures, failed
     allocations and interrupts as one line (:func:`main`)."""
     try:
-        check_args(args)  # every option refused before any work (morphkit.cliargs)
+        with _option_values():
+            check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
     except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
         print("morphkit: interrupted", file=sys.stderr)
@@ -642,9 +747,7 @@ def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
             print("morphkit: interrupted", file=sys.stderr)
             return 130
         if isinstance(exc, (MorphkitError, OSError)):
-            msg = " ".join(str(exc).split()) or type(exc).__name__  # one line
-            print(f"morphkit: error: {msg}", file=sys.stderr)
-            return 2 if isinstance(exc, OutputExistsError) else 1
+            return _error(exc)
         if not _out_of_memory(exc):  # sizes that need more memory than the process may have: one line
             raise
         why = " ".join(str(exc).split("error: ", 1)[-1].split()) or "an allocation failed"  # cv2: its reason

@@ -142,8 +142,24 @@ def _bake(args: argparse.Namespace) -> None:
     _count(args, "workers", "--workers", 1, tol.MAX_LOCAL_WORKERS)
 
 
+def _bench(args: argparse.Namespace) -> None:
+    for n in getattr(args, "workers", None) or ():
+        as_int(n, "--workers", lo=1, hi=tol.MAX_LOCAL_WORKERS)
+    _count(args, "assets", "--assets", 1, tol.MAX_BENCH_ASSETS)
+    for n in getattr(args, "instances", None) or ():
+        as_int(n, "--instances", lo=1, hi=tol.MAX_INSTANCES)
+    sections = getattr(args, "sections", None)
+    if sections is not None:
+        names = [s.strip() for s in str(sections).split(",")]
+        if not any(names) or not all(names):
+            raise ValidationError(expected_got("--sections", "section names, comma-separated (e.g. "
+                                               "accuracy,sun-change)", repr(sections)))
+        args.sections = ",".join(names)
+
+
 _CHECKS: dict[str, Callable[[argparse.Namespace], None]] = {
-    "demo": _demo, "billboards": _billboards, "shadows": _shadows, "viewmorph": _viewmorph, "bake": _bake}
+    "bench": _bench, "demo": _demo, "billboards": _billboards, "shadows": _shadows, "viewmorph": _viewmorph,
+    "bake": _bake}
 
 
 def check_args(args: argparse.Namespace) -> None:

@@ -9,7 +9,8 @@ Hierarchy::
     ├── ValidationError (also ValueError)    bad argument: shape, dtype, value, NaN
     │   ├── MeshError                         unreadable, unknown or empty mesh
     │   ├── OutOfRangeError                   a position outside a baked range
-    │   └── OutputExistsError                 an output folder holds what a run would replace
+    │   ├── OutputExistsError                 an output folder holds what a run would replace
+    │   └── UsageError                        a command-line option's value refused (the CLI exits 2)
     ├── GeometryError                         degenerate geometry (refused, not repaired)
     │   ├── FoldOverError                     a warp triangle flips or collapses
     │   └── DegenerateViewError               camera inside object, epipole in image, ...
@@ -47,6 +48,7 @@ __all__ = [
     "FileFormatError",
     "ClusterError",
     "OutputExistsError",
+    "UsageError",
     "OutputBusyError",
     "OutputWriteError",
     "AssetWarning",
@@ -97,6 +99,12 @@ class ClusterError(MorphkitError):
 
 class OutputExistsError(ValidationError):
     """An output folder holds files a run would replace or mix with its own (refused before any work)."""
+
+
+class UsageError(ValidationError):
+    """A command-line option's value, or a combination of options, is refused: the command line was
+    used wrongly (``morphkit`` exits with 2, as for argparse's own usage errors; see
+    :mod:`morphkit.cli`)."""
 
 
 class OutputBusyError(MorphkitError):

@@ -30,6 +30,10 @@ variable                   effect
                            reads it; default ``__pycache__`` beside the module).
 =========================  ==================================================
 
+A value a variable does not take (``MORPHKIT_WARP_THREADS=abc``) is refused with a
+:class:`~morphkit.errors.ValidationError` that names it, when this module is imported;
+:func:`check_environment` checks them again (and ``MORPHKIT_GL``) for the command line.
+
 Compiled kernels
 ----------------
 :func:`compile_kernel` is the one gate between numba and numpy: it returns the
@@ -43,6 +47,7 @@ import os
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from . import tol
 from .errors import ValidationError, expected_got
 
 # numba's parallel bands run on OpenMP (libgomp) where available, whose idle
@@ -58,8 +63,8 @@ except ImportError:  # pragma: no cover - numba is a dependency
     numba = None
 
 __all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
-           "use_compiled", "select_gl_platform", "GL_PLATFORMS", "GL_PLATFORM", "EGL_DEVICE", "ASSET_ROOT",
-           "child_environment"]
+           "use_compiled", "select_gl_platform", "check_environment", "GL_PLATFORMS", "GL_PLATFORM",
+           "EGL_DEVICE", "ASSET_ROOT", "child_environment"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -82,10 +87,46 @@ def _default_threads() -> int:
 #: (:mod:`morphkit.meshes.assets`); None (unset): each mesh file's own folder.
 ASSET_ROOT: str | None = os.environ.get("MORPHKIT_ASSET_ROOT") or None
 
+
+def _env_int(names: tuple[str, ...], lo: int, hi: int, what: str) -> int | None:
+    """The first of the variables ``names`` that is set (and not blank) as an integer in
+    ``[lo, hi]``, or None when none is set.
+
+    Raises
+    ------
+    ValidationError
+        The variable's value is not such an integer (named, with what it takes).
+    """
+    for name in names:
+        raw = os.environ.get(name)
+        if raw is None or not raw.strip():
+            continue
+        try:
+            value = int(raw.strip())
+        except ValueError:
+            value = None
+        if value is None or not lo <= value <= hi:
+            raise ValidationError(expected_got(f"environment variable {name}", f"an integer in [{lo}, {hi}] "
+                                               f"({what}; or unset)", repr(raw)))
+        return value
+    return None
+
+
+def _warp_threads() -> int:
+    return _env_int(("MORPHKIT_WARP_THREADS",), 1, tol.MAX_WARP_THREADS,
+                    "threads of the banded passes, tol.MAX_WARP_THREADS") or _default_threads()
+
+
+def _egl_device() -> int:
+    return _env_int(("MORPHKIT_EGL_DEVICE", "EGL_DEVICE_ID"), 0, tol.MAX_EGL_DEVICE,
+                    "an EGL device index, tol.MAX_EGL_DEVICE") or 0
+
+
 #: Threads that share a banded pass (fused warp accumulation, reprojection), each
 #: taking a band of rows: one per CPU this process may use, at most 4;
-#: ``MORPHKIT_WARP_THREADS`` overrides.
-WARP_THREADS: int = max(1, int(os.environ.get("MORPHKIT_WARP_THREADS", 0)) or _default_threads())
+#: ``MORPHKIT_WARP_THREADS`` overrides (an integer in ``[1, tol.MAX_WARP_THREADS]``;
+#: anything else is refused when morphkit.settings is imported).
+WARP_THREADS: int = _warp_threads()
 
 
 def compile_kernel(fn: F, **options: Any) -> F | None:
@@ -137,7 +178,7 @@ GL_PLATFORM: str = (os.environ.get("MORPHKIT_GL") or os.environ.get("PYOPENGL_PL
                     or "osmesa").strip().lower()
 
 #: EGL device index (``MORPHKIT_EGL_DEVICE``, else pyrender's ``EGL_DEVICE_ID``, else 0).
-EGL_DEVICE: int = int(os.environ.get("MORPHKIT_EGL_DEVICE") or os.environ.get("EGL_DEVICE_ID") or 0)
+EGL_DEVICE: int = _egl_device()
 
 
 def select_gl_platform() -> str:
@@ -160,6 +201,24 @@ def select_gl_platform() -> str:
                                            f"one of {', '.join(GL_PLATFORMS)}", repr(GL_PLATFORM)))
     os.environ["PYOPENGL_PLATFORM"] = GL_PLATFORM
     return GL_PLATFORM
+
+
+def check_environment() -> None:
+    """Refuse, as this process's environment now reads, a morphkit variable whose value is not one it
+    takes: ``MORPHKIT_WARP_THREADS``, ``MORPHKIT_EGL_DEVICE`` (or ``EGL_DEVICE_ID``) and
+    ``MORPHKIT_GL`` (the command line calls it first, before ``--help``).
+
+    Raises
+    ------
+    ValidationError
+        The first such variable, its value and what it takes.
+    """
+    _warp_threads()
+    _egl_device()
+    gl = os.environ.get("MORPHKIT_GL")
+    if gl is not None and gl.strip() and gl.strip().lower() not in GL_PLATFORMS:
+        raise ValidationError(expected_got("environment variable MORPHKIT_GL",
+                                           f"one of {', '.join(GL_PLATFORMS)} (or unset)", repr(gl)))
 
 
 def child_environment(**overrides: str) -> dict[str, str]:

@@ -217,6 +217,19 @@ MAX_BILLBOARD_SIDE = 2048
 #: machine's useful count, while an uncapped count started processes until memory ran out.
 MAX_LOCAL_WORKERS = 256
 
+#: Most threads of a banded pass (``MORPHKIT_WARP_THREADS``): each takes a band of rows
+#: and a stack of its own; beyond one a core, they only wait on each other.
+MAX_WARP_THREADS = 256
+
+#: Largest EGL device index (``MORPHKIT_EGL_DEVICE``): far beyond the GPUs of any one machine,
+#: so that a typo (a port number, a PCI address) is refused rather than tried.
+MAX_EGL_DEVICE = 1023
+
+#: Largest library ``morphkit bench bake --assets`` builds: each asset is a mesh file
+#: written and baked (seconds each on one core), so 4096 is hours on 16 cores, while a
+#: count without a cap wrote meshes until the disk was full.
+MAX_BENCH_ASSETS = 4096
+
 #: Largest seed a command takes (``billboards --seed``): numpy's generators take any
 #: non-negative integer; one that fits 64 bits is what a user can write down and repeat.
 MAX_SEED = 2**64 - 1
@@ -346,6 +359,23 @@ VM_LAYER_OVERLAP = 0.02
 #: round at ~1e-16 relative, so 1e-12 is converged, and the layer cuts it gives
 #: are far finer than any pixel's depth difference.
 VM_KMEANS_CONVERGED_REL = 1e-12
+
+#: Fewest distinctive (SIFT) matches two images must share for ``morphkit viewmorph`` to
+#: take them for views of one scene when it finds the correspondences itself: the 8
+#: pairs F needs (:func:`morphkit.viewmorph.plan_view_morph`'s minimum). Dense flow finds
+#: forward-backward consistent pairs between any two images (17 to 1339 on four unrelated
+#: synthetic pairs, which a robust F or a homography then explained: a double exposure),
+#: so only the distinctive matches can tell; SIFT found 0, 3, 5 and 11 on those pairs.
+#: Fewer than F's own minimum refuses what cannot be one scene's views; more does not prove
+#: that the views are of one scene.
+VM_MIN_SCENE_MATCHES = 8
+
+#: Smallest side (pixels) of the images DIS optical flow runs on (``FlowMatcher`` pads
+#: smaller ones with zeros): OpenCV's DIS refuses a side under 12, and (OpenCV 5.1,
+#: measured) kills the process with a segfault on images under 16 rows high and 40 or
+#: more wide (preset medium), or under 32 rows and 80 or more wide (fast, ultrafast);
+#: from 32 rows and columns on, none did (up to 8000 wide, every preset).
+VM_FLOW_MIN_SIDE = 32
 
 #: Fewest pairs a depth layer may hold; with fewer, the layer count drops (the
 #: fallback is reported in ``ViewMorpher.report.layers``). 8 is the pair count F needs,

@@ -422,14 +422,14 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
      r"image for .xyz"),
     ("run_demo: into a file", _run_demo_into_a_file, VE,
      r"demo output folder: expected a folder, got the file"),
-    # -- the CLI: one line, exit 1 (errors) or 2 (usage)
+    # -- the CLI: one line, exit 1 (a failed run) or 2 (usage: bad option values included)
     ("cli viewmorph: output whose parent is a file", vm("{tmp}/afile/o.png"), CliExit,
-     r"exit 1: .*expected a path whose parents are folders, got .*afile.* is a file"),
+     r"exit 2: .*expected a path whose parents are folders, got .*afile.* is a file"),
     ("cli viewmorph: output under a system path", vm("/proc/morphkit-bad-input.png"), CliExit,
      r"exit 1: .*cannot write /proc/morphkit-bad-input.png"),
-    ("cli viewmorph: unknown image extension", vm("{tmp}/o.xyz"), CliExit, r"exit 1: .*image for .xyz"),
+    ("cli viewmorph: unknown image extension", vm("{tmp}/o.xyz"), CliExit, r"exit 2: .*image for .xyz"),
     ("cli viewmorph: output that is a folder", vm("{tmp}"), CliExit,
-     r"exit 1: .*expected an image file path .*, got the folder"),
+     r"exit 2: .*expected an image file path .*, got the folder"),
     ("cli viewmorph: malformed --points JSON", vm("{tmp}/o.png", "syntax.json"), CliExit,
      r"exit 1: .*points file: expected valid JSON"),
     ("cli viewmorph: --points of the wrong layout", vm("{tmp}/o.png", "layout.json"), CliExit,
@@ -444,7 +444,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
         "demo", "--quick", "-o", "{tmp}/demo")), CliExit, r"exit 2: .*already holds a demo.*--overwrite"),
     ("cli bench: unknown suite", cli("bench", "nope"), CliExit, r"exit 2: .*unknown suite 'nope'"),
     ("cli bench: --json is a folder", cli("bench", "warp", "--json", "{tmp}"), CliExit,
-     r"exit 1: .*--json: expected a file path, got the folder"),
+     r"exit 2: .*--json: expected a file path, got the folder"),
     # -- the mesh warp (issue 18's second list)
     ("warp_mesh: NaN pixels", _api(lambda: warp_mesh(_nan_image(), _SQUARE, _SQUARE, (32, 32))), VE,
      r"image: expected no NaN pixels .*, got 1 NaN values"),
@@ -469,17 +469,17 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("bake: a billboard kind of one view", _api(lambda: _bake_pkg().BillboardKind(views=1)), VE,
      r"billboard views: expected an integer in \[2, 64\], got 1"),
     ("cli billboards: a size that is not WxH", cli("billboards", "--size", "640by480", "-o", "{tmp}/o"),
-     CliExit, r"exit 1: .*--size: expected WIDTHxHEIGHT"),
+     CliExit, r"exit 2: .*--size: expected WIDTHxHEIGHT"),
     ("cli billboards: unknown asset", cli("billboards", "--asset", "unicorn", "-o", "{tmp}/o"), CliExit,
      r"exit 1: .*asset: expected a sample mesh name .*got 'unicorn'"),
     ("cli billboards: negative count", cli("billboards", "--n", "-1", "-o", "{tmp}/o"), CliExit,
-     r"exit 1: .*--n: expected an integer in \[0, 100000\], got -1"),
+     r"exit 2: .*--n: expected an integer in \[0, 100000\], got -1"),
     ("cli bake: missing input", cli("bake", "{tmp}/missing.obj", "-o", "{tmp}/out"), CliExit,
      r"exit 1: .*input: expected an existing mesh file or folder"),
     ("cli bake: --views without --billboard", _with(lambda tmp: trimesh.creation.box().export(tmp / "b.ply"),
                                                     cli("bake", "{tmp}/b.ply", "-o", "{tmp}/out", "--views",
                                                         "3")), CliExit,
-     r"exit 1: .*--views: expected together with --billboard"),
+     r"exit 2: .*--views: expected together with --billboard"),
 ]
 
 

@@ -1,5 +1,6 @@
 """CLI error paths: every command catches morphkit and OS errors at its edge and
-prints one line ``morphkit: error: ...`` (exit 1; usage errors exit 2), no traceback."""
+prints one line ``morphkit: error: ...`` (exit 1; usage errors, bad option values included, exit 2),
+no traceback."""
 
 from __future__ import annotations
 
@@ -71,7 +72,9 @@ def test_viewmorph_errors_are_one_line(pair, capsys, case, match):
     }[case]
     if case == "system-path" and not Path("/proc/self").exists():
         pytest.skip("needs Linux /proc (a folder nobody can create files in)")
-    assert main(argv) == 1
+    # a bad -o is a usage error (exit 2); an input or a write that fails, a failed run (exit 1)
+    usage = case in ("parent-is-a-file", "unknown-extension", "output-is-a-folder")
+    assert main(argv) == (2 if usage else 1)
     line = _one_error_line(capsys)
     assert __import__("re").search(match, line), line
 
@@ -90,9 +93,9 @@ def test_usage_errors_exit_2(capsys):
 def test_bench_refuses_bad_output_paths_before_running(tmp_path, capsys, flag):
     """A folder, or a path under a file, is refused before the (long) suite runs."""
     (tmp_path / "f").write_text("x")
-    assert main(["bench", "nope-never-run", flag, str(tmp_path)]) == 1
+    assert main(["bench", "nope-never-run", flag, str(tmp_path)]) == 2
     assert "expected a file path, got the folder" in _one_error_line(capsys)
-    assert main(["bench", "warp", flag, str(tmp_path / "f" / "x.json")]) == 1
+    assert main(["bench", "warp", flag, str(tmp_path / "f" / "x.json")]) == 2
     assert "expected a path under a folder" in _one_error_line(capsys)
 
 

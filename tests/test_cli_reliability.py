@@ -359,7 +359,7 @@ def test_options_are_refused_before_any_work(tmp_path, capfd, no_work, args, mes
     library(tmp_path / "lib")
     argv = [a.format(tmp=tmp_path) for a in args] + ["-o", str(tmp_path / "out")]
     rc, _o, err = run(capfd, *argv)
-    assert rc == 1 and re.search(message, one_line(err)), err
+    assert rc == 2 and re.search(message, one_line(err)), err  # a bad option value: a usage error
     assert not (tmp_path / "out").exists()
 
 

@@ -38,10 +38,11 @@ rarely = st.integers(0, 3).map(lambda v: v == 0)
 
 
 def check_cli(capsys, argv: list[str], out: Path) -> None:
+    by_argparse = False
     try:
         code = main(argv)
     except SystemExit as exc:  # argparse refuses the argument list
-        code = exc.code
+        code, by_argparse = exc.code, True
         assert code == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err
@@ -51,9 +52,12 @@ def check_cli(capsys, argv: list[str], out: Path) -> None:
     elif code == 1:
         event(f"{argv[0]}: refused (exit 1)")
         assert len(lines) == 1 and ONE_LINE.match(lines[0]), err
-    else:
+    elif by_argparse:
         event(f"{argv[0]}: refused by argparse (exit 2)")
         assert code == 2 and lines and ARGPARSE.match(lines[-1]), err
+    else:  # a bad option value: a usage error too
+        event(f"{argv[0]}: refused (exit 2)")
+        assert code == 2 and len(lines) == 1 and ONE_LINE.match(lines[0]), err
     if out.exists():  # no temporary or partial file (fileio's ".<stem>.*.part<suffix>") left behind
         names = {p.name for p in out.rglob("*")}
         left = [n for n in names if ".part" in n

@@ -32,6 +32,7 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -44,7 +45,8 @@ from ..errors import ValidationError, expected_got
 from ..validate import as_image, as_int
 from .correspondences import Correspondences
 
-__all__ = ["ImageMatcher", "SiftMatcher", "FlowMatcher", "CombinedMatcher", "DEFAULT_MATCHER", "from_images"]
+__all__ = ["ImageMatcher", "SiftMatcher", "FlowMatcher", "CombinedMatcher", "DEFAULT_MATCHER", "from_images",
+           "join_matches"]
 
 DIS_PRESETS = {"ultrafast": cv2.DISOPTICAL_FLOW_PRESET_ULTRAFAST, "fast": cv2.DISOPTICAL_FLOW_PRESET_FAST,
                "medium": cv2.DISOPTICAL_FLOW_PRESET_MEDIUM}
@@ -196,7 +198,9 @@ class FlowMatcher:
     by the forward flow; a pair is kept when the backward flow at its end
     (bilinear) brings it back within ``max_fb_error`` pixels, the end lies inside
     image 1 (on its object, for RGBA). Images of different sizes are padded to a
-    common size (coordinates are unchanged).
+    common size (coordinates are unchanged), and to at least
+    :data:`morphkit.tol.VM_FLOW_MIN_SIDE` pixels a side (DIS refuses, or crashes on,
+    smaller ones).
 
     Parameters
     ----------
@@ -241,7 +245,7 @@ class FlowMatcher:
         g1, m1, _ = _gray_u8(image1)
         h0, w0 = g0.shape
         h1, w1 = g1.shape
-        H, W = max(h0, h1), max(w0, w1)
+        H, W = max(h0, h1, tol.VM_FLOW_MIN_SIDE), max(w0, w1, tol.VM_FLOW_MIN_SIDE)
         g0p = cv2.copyMakeBorder(g0, 0, H - h0, 0, W - w0, cv2.BORDER_CONSTANT, value=0)
         g1p = cv2.copyMakeBorder(g1, 0, H - h1, 0, W - w1, cv2.BORDER_CONSTANT, value=0)
         dis = cv2.DISOpticalFlow_create(DIS_PRESETS[self.preset])
@@ -297,9 +301,41 @@ class CombinedMatcher:
         Correspondences
             ``source="features"``.
         """
-        got = [m.match(image0, image1) for m in self.matchers]
-        return Correspondences(np.concatenate([c.pts0 for c in got]), np.concatenate([c.pts1 for c in got]),
-                               "features")
+        return join_matches(self.match_each(image0, image1))
+
+    def match_each(self, image0: np.ndarray, image1: np.ndarray) -> tuple[Correspondences, ...]:
+        """Each matcher's pairs, in the order of :attr:`matchers` (:meth:`match` joins them).
+
+        Parameters
+        ----------
+        image0, image1 : numpy.ndarray
+            ``(H, W[, C])`` grey/RGB/RGBA images.
+
+        Returns
+        -------
+        tuple of Correspondences
+            One per matcher.
+        """
+        return tuple(m.match(image0, image1) for m in self.matchers)
+
+
+def join_matches(parts: Sequence[Correspondences]) -> Correspondences:
+    """Several matchers' pairs as one set, in order (what :meth:`CombinedMatcher.match` returns).
+
+    Parameters
+    ----------
+    parts : sequence of Correspondences
+        E.g. :meth:`CombinedMatcher.match_each`'s.
+
+    Returns
+    -------
+    Correspondences
+        ``source="features"``; duplicates kept (:meth:`Correspondences.cleaned` drops them).
+    """
+    if not parts:
+        return _empty()
+    return Correspondences(np.concatenate([c.pts0 for c in parts]), np.concatenate([c.pts1 for c in parts]),
+                           "features")
 
 
 #: What :func:`from_images` uses by default: SIFT (robust to large motion) and flow (dense).
