@@ -472,44 +472,48 @@ def one_line_error(err: str) -> str:
     return lines[0]
 
 
-@pytest.mark.parametrize(("args", "message"), [
+# exit 2: a usage mistake (a bad option value or combination); 1: a run that failed on its inputs
+@pytest.mark.parametrize(("args", "message", "code"), [
     (["bake", "{tmp}/missing.obj", "-o", "{tmp}/out"],
-     r"input: expected an existing mesh file or folder, got '.*missing.obj' \(not found\)"),
+     r"input: expected an existing mesh file or folder, got '.*missing.obj' \(not found\)", 1),
     (["bake", "{lib}", "-o", "{tmp}/file.txt/sub"],
      "output folder: expected a folder morphkit can create and write, got '.*file.txt/sub' "
-     r"\(NotADirectoryError"),
+     r"\(NotADirectoryError", 1),
     (["bake", "{lib}", "-o", "{tmp}/out", "--atlas-size", "0"],
-     r"atlas size: expected an integer in \[8, 8192\], got 0"),
-    (["bake", "{lib}", "-o", "{tmp}/out", "--grid", "1"], r"grid: expected an integer in \[2, 64\], got 1"),
-    (["bake", "{lib}", "-o", "{tmp}/out", "--range", "1", "0", "0", "1"], "motion range: expected hi > lo"),
-    (["bake", "{lib}", "-o", "{tmp}/out", "--light", "0", "nan", "2"], "light: expected finite values"),
+     r"atlas size: expected an integer in \[8, 8192\], got 0", 2),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--grid", "1"],
+     r"grid: expected an integer in \[2, 64\], got 1", 2),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--range", "1", "0", "0", "1"],
+     "motion range: expected hi > lo", 2),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--light", "0", "nan", "2"], "light: expected finite values", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--directional", "--light", "0", "0", "0"],
-     "direction"),
+     "direction", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--workers", "0"],
-     r"workers: expected an integer in \[1, 256\], got 0"),
+     r"workers: expected an integer in \[1, 256\], got 0", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--scheduler", "tcp://127.0.0.1:9"],
-     "Dask scheduler: expected one answering at 'tcp://127.0.0.1:9' within 1 s"),
-    (["bake", "{lib}", "-o", "{tmp}/out", "--views", "4"], "--views: expected together with --billboard"),
+     "Dask scheduler: expected one answering at 'tcp://127.0.0.1:9' within 1 s", 1),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--views", "4"], "--views: expected together with --billboard", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--billboard", "--views", "1"],
-     r"billboard views: expected an integer in \[2, 64\], got 1"),
-    (["shadows", "{tmp}/missing.atlas.npz", "-o", "{tmp}/frames"], "atlas file: expected an existing file"),
+     r"billboard views: expected an integer in \[2, 64\], got 1", 2),
+    (["shadows", "{tmp}/missing.atlas.npz", "-o", "{tmp}/frames"],
+     "atlas file: expected an existing file", 1),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--samples", "2"],
-     "--samples: expected together with --area-light"),
+     "--samples: expected together with --area-light", 2),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--path", "{tmp}/p.csv", "--frames", "3"],
-     "--frames: expected with --path line or circle"),
+     "--frames: expected with --path line or circle", 2),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--path", "{tmp}/nope.csv"],
-     "path file: expected an existing CSV file"),
+     "path file: expected an existing CSV file", 1),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--path", "zigzag"],
-     "path file: expected an existing CSV file of x,y rows, got 'zigzag'"),
+     "path file: expected an existing CSV file of x,y rows, got 'zigzag'", 1),
 ])
-def test_cli_user_mistakes_are_one_line_errors(tmp_path, capsys, monkeypatch, args, message):
+def test_cli_user_mistakes_are_one_line_errors(tmp_path, capsys, monkeypatch, args, message, code):
     monkeypatch.setattr(bake_cluster, "CONNECT_TIMEOUT_S", 1.0)
     lib = make_library(tmp_path / "lib")
     (tmp_path / "file.txt").write_text("x")
     (tmp_path / "p.csv").write_text("x,y\n0,0\n")
     argv = [a.format(tmp=tmp_path, lib=lib) for a in args]
     rc, _out, err = run_cli(capsys, *argv)
-    assert rc == 1
+    assert rc == code
     line = one_line_error(err)
     assert line.startswith("morphkit: error: ")
     assert re.search(message, line), line

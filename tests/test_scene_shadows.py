@@ -306,7 +306,7 @@ def test_modes_refuse_a_shadow_that_is_not_one():
     (["--shadows", "--sun-path", "day", "--sun-atlas-size", "4096"], "--sun-atlas-size"),
 ])
 def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message):
-    assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 1
+    assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 2  # a usage mistake
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err and not (tmp_path / "o").exists()
 
