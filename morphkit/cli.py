@@ -279,15 +279,23 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         path = PointsPath.from_csv(args.path)
     else:
         path = path_cls() if args.frames is None else path_cls(args.frames)
+    view = {} if args.view is None else {"view": tuple(args.view)}
     atlas = ShadowAtlas.load(args.atlas)
     mesh = baked_mesh(args.atlas, args.mesh, mesh_sha256=atlas.baked.mesh_sha256)
     area = None if args.area_light is None else area_light_for(atlas, *args.area_light)
     with claim.writing() as out, Renderer() as renderer:
         res = render_shadow_sequence(atlas, mesh, path, out, renderer=renderer, size=args.size,
                                      area_light=area, samples=3 if args.samples is None else args.samples,
-                                     progress=not args.quiet)
+                                     progress=not args.quiet, **view)
     kind = "hard" if area is None else f"soft, {args.area_light[0]:g} x {args.area_light[1]:g} area light"
     print(f"morphkit shadows: {len(res['frames'])} frames ({kind}) in {out}; video {res['video']}")
+    if area is None:
+        iou = [e["iou"] for e in res["errors"]]
+        print(f"  shadow vs ray cast on the ground: IoU min {min(iou):.3f} mean {sum(iou) / len(iou):.3f}")
+    else:
+        mae = [e["mae"] for e in res["errors"]]
+        print(f"  shadow vs ray cast on the ground: visibility error (mean abs) max {max(mae):.3f} "
+              f"mean {sum(mae) / len(mae):.3f}")
     return 0
 
 
@@ -600,6 +608,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="frame size in pixels (default: %(default)s)")
     h.add_argument("--mesh", default=None, help="the mesh file the atlas was baked from, if not where "
                    "the manifest says")
+    h.add_argument("--view", type=float, nargs=2, metavar=("AZ", "EL"), default=None,
+                   help="camera azimuth and elevation in degrees, looking at the range's centre "
+                   "(default: -43.2 20.6, a 3/4 view; elevation 5-89)")
     h.add_argument("-o", "--out", required=True, help="output folder (created)")
     h.add_argument("--overwrite", action="store_true", help="replace a previous `shadows` run in OUT")
     h.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

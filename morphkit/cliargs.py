@@ -123,6 +123,10 @@ def _shadows(args: argparse.Namespace) -> None:
     # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all
     _count(args, "samples", "--samples", 1, math.isqrt(tol.MAX_LIGHT_SAMPLES))
     _finite(args, "area_light", "--area-light")
+    _finite(args, "view", "--view")
+    if getattr(args, "view", None) is not None and not 5.0 <= args.view[1] <= 89.0:
+        raise ValidationError(expected_got("--view", "an azimuth and an elevation in [5, 89] degrees",
+                                           " ".join(map(str, args.view))))
     if args.area_light is not None and min(args.area_light) <= 0:
         raise ValidationError(expected_got("--area-light", "a width and height > 0",
                                            " ".join(map(str, args.area_light))))

@@ -42,7 +42,7 @@ import numpy as np
 from .errors import FileFormatError, RenderError, ValidationError, expected_got
 
 __all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
-           "open_video_writer", "append_lines", "write_bytes",
+           "open_video_writer", "quiet_stderr", "append_lines", "write_bytes",
            "write_text", "write_json", "encode_image", "write_image", "read_image"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
@@ -167,14 +167,44 @@ def atomic_output(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise
 
 
+@contextmanager
+def quiet_stderr() -> Iterator[None]:
+    """Hold back what native code writes on the process's stderr (file descriptor 2) inside the
+    block: a C library's diagnostics that morphkit reports in its own words. Python's
+    ``sys.stderr`` is flushed first; the descriptor is restored on leaving, also by an exception.
+
+    Yields
+    ------
+    None
+    """
+    import sys
+
+    with suppress(Exception):
+        sys.stderr.flush()
+    try:
+        saved = os.dup(2)
+    except OSError:  # no stderr to hold back
+        yield
+        return
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def open_video_writer(path: str | os.PathLike[str], fourcc: str, fps: float,
                       shape: tuple[int, int]) -> cv2.VideoWriter:
     """An open ``cv2.VideoWriter`` of ``shape`` frames at ``path``, or a one-line error saying why not.
 
     OpenCV only answers "not opened" (and logs its reason on stderr); here its log is held back
-    and the cause told apart: a writer that opens for 16 x 16 frames but not for ``shape`` was
-    refused the size (the encoder's buffers need more memory than the process may use, or pass
-    the codec's own limits), one that never opens is missing from this OpenCV build.
+    -- and the FFmpeg backend's own line on stderr while the writer opens (WebM has no codec
+    tags, so any FourCC for it is "not supported ... fallback") -- and the cause told apart:
+    a writer that opens for 16 x 16 frames but not for ``shape`` was refused the size (the
+    encoder's buffers need more memory than the process may use, or pass the codec's own
+    limits), one that never opens is missing from this OpenCV build.
 
     Parameters
     ----------
@@ -201,7 +231,8 @@ def open_video_writer(path: str | os.PathLike[str], fourcc: str, fps: float,
     level = cv2.utils.logging.getLogLevel()
     cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)  # its reason is ours to tell
     try:
-        writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), float(fps), (w, h))
+        with quiet_stderr():
+            writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), float(fps), (w, h))
         if writer.isOpened():
             return writer
         writer.release()
@@ -209,7 +240,8 @@ def open_video_writer(path: str | os.PathLike[str], fourcc: str, fps: float,
         fd, probe = tempfile.mkstemp(prefix=".morphkit-probe-", suffix=p.suffix, dir=p.parent)
         os.close(fd)
         try:
-            small = cv2.VideoWriter(probe, cv2.VideoWriter_fourcc(*fourcc), float(fps), (16, 16))
+            with quiet_stderr():
+                small = cv2.VideoWriter(probe, cv2.VideoWriter_fourcc(*fourcc), float(fps), (16, 16))
             opens_small = small.isOpened()
             small.release()
         finally:

@@ -760,3 +760,9 @@ REPROJECT_DRAWN_BOX_PX = 1e-3
 #: barycentric rounding is not bounded by :data:`REPROJECT_DRAWN_BOX_PX`: its quad keeps
 #: its whole box.
 REPROJECT_SLIVER_AREA2_PX2 = 1e-2
+
+
+#: A frame pixel shows the ground (``z = 0``) when its unprojected point lies within this of the
+#: plane (scene units; the playback scene's object is normalised to size 1): above the depth
+#: buffer's error at the playback distances (~1e-4), below any part of an object standing on it.
+GROUND_PIXEL_DZ = 1e-3

@@ -574,6 +574,7 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
     rc, stdout, _err = run_cli(capsys, "shadows", str(out / "box.atlas.npz"), "-o", str(tmp_path / "f"),
                                "--frames", "3", "--size", "48", "-q")
     assert rc == 0 and "3 frames (hard)" in stdout
+    assert re.search(r"shadow vs ray cast on the ground: IoU min 0\.\d{3} mean 0\.\d{3}", stdout)
     names = sorted(p.name for p in (tmp_path / "f").iterdir())
     assert names == [".morphkit-output.json", ".morphkit-output.lock",  # morphkit.outfolder's marker, lock
                      "frame_0000.png", "frame_0001.png", "frame_0002.png", "shadows.webm"]
@@ -582,6 +583,8 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
     video.release()
     frames = [fileio.read_image(tmp_path / "f" / f"frame_000{i}.png") for i in range(3)]
     assert not np.array_equal(frames[0], frames[2])  # the object moved
+    # the light is exposed for the frame: no pixel clipped to white (the ground was, 39 % of it)
+    assert all(np.count_nonzero(f.min(axis=2) >= 250) == 0 for f in frames)
     # the same frame without a shadow is nowhere darker and somewhere brighter: a shadow was drawn
     atlas = ShadowAtlas.load(out / "box.atlas.npz")
     xy = LinePath(3).positions(atlas.rig.motion)[1]
@@ -599,6 +602,7 @@ def test_shadows_soft_with_an_area_light(tmp_path, baked, capsys):
                               "0.2", "--samples", "2", "-q")
     assert rc == 0, err
     assert "2 frames (soft, 0.2 x 0.2 area light)" in stdout
+    assert re.search(r"visibility error \(mean abs\) max 0\.\d{3} mean 0\.\d{3}", stdout)
     rc, _out, err = run_cli(capsys, "shadows", str(out / "box.atlas.npz"), "-o", str(tmp_path / "s2"),
                             "--area-light", "1.5", "0.2", "-q")
     assert rc == 1 and "area light: expected smaller than the baked range" in one_line_error(err)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 
 import cv2
 import numpy as np
@@ -76,6 +77,16 @@ def test_the_commands_videos_are_vp9_webm_and_odd_frames_keep_every_pixel(tmp_pa
     # frame's own spread (a flat grey or a shifted frame would be at or over it)
     err = np.abs(cv2.cvtColor(first, cv2.COLOR_BGR2RGB)[:33, :47].astype(int) - frames[0]).mean()
     assert err < 0.5 * frames[0].std()
+
+
+def test_opening_a_webm_writer_prints_nothing(tmp_path, capfd):
+    # FFmpeg's "tag ... is not supported ... fallback" line (WebM has no codec tags) is held back
+    with VideoFile(tmp_path / "q.webm", 10, (16, 16)) as v:
+        v.write(np.zeros((16, 16, 3), np.uint8))
+    out, err = capfd.readouterr()
+    assert (out, err) == ("", "") and (tmp_path / "q.webm").stat().st_size > 0
+    print("after", file=sys.stderr)  # stderr is back
+    assert capfd.readouterr().err == "after\n"
 
 
 def test_compare_helpers():

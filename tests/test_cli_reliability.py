@@ -123,7 +123,8 @@ def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_file
     def fake_render(atlas, mesh, path, out, **_kw):
         n = path.frames
         frames = [fileio.write_bytes(Path(out) / f"frame_{i:04d}.png", b"frame") for i in range(n)]
-        return {"frames": frames, "video": fileio.write_bytes(Path(out) / "shadows.webm", b"v")}
+        return {"frames": frames, "video": fileio.write_bytes(Path(out) / "shadows.webm", b"v"),
+                "errors": [{"iou": 1.0}] * n}
 
     loaded = types.SimpleNamespace(baked=types.SimpleNamespace(mesh_sha256=None))
     monkeypatch.setattr(morphkit.shadow.ShadowAtlas, "load", staticmethod(lambda _p: loaded))

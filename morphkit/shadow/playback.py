@@ -8,6 +8,15 @@ soft under an area light centred on it (:func:`morphkit.shadow.default_soft_shad
 PCSS on one reprojected map per light sample; the path then keeps to the range shrunk by the
 light's extent, where every sample's map can be warped).
 
+The frames. The camera looks at the range's centre from :data:`DEFAULT_VIEW` (azimuth,
+elevation; ``view=``, ``--view``) at the distance that keeps the whole range in sight; the
+light is *exposed* for the frame (:func:`exposed`: its intensity set so that the brightest
+lit ground point reaches :data:`GROUND_PEAK`, not white); the warped shadow falls on the
+ground (the receiver), the object shaded by its own facing (a self-shadow from a map of a few
+hundred texels would be acne). Each frame's shadow is compared with the ray-cast truth on the
+ground pixels it shows (:mod:`morphkit.groundtruth`): hard shadows by IoU of the shadowed
+pixels, soft ones by the mean absolute visibility error.
+
 The mesh. An atlas stores light-view maps, not the mesh the frames show. The
 bake's manifest records each atlas's input file and its sha256, so
 :func:`baked_mesh` finds the ``manifest.json`` in the atlas's folder or a parent
@@ -21,6 +30,7 @@ another mesh would cast a shadow that is not its own.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,9 +45,11 @@ from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
 from ..fileio import write_image
+from ..groundtruth import area_visibility, hard_visibility
 from ..meshes import load_mesh, shape_hash
+from ..metrics import shadow_iou
 from ..protocols import SceneRenderer
-from ..scene import AreaLight, PointLight, Receiver, Scene, SceneObject
+from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
 from ..validate import as_int
 from ..video import VideoFile
 from .atlas import ShadowAtlas
@@ -320,8 +332,54 @@ def _usable_range(atlas: ShadowAtlas, area: AreaLight | None) -> MotionRange:
     return MotionRange(motion.lo + ext, motion.hi - ext)
 
 
+#: The playback camera's direction from the range's centre: azimuth (degrees counter-clockwise
+#: from world ``+x``) and elevation above the ground, degrees -- a 3/4 view from the front right.
+DEFAULT_VIEW = (-43.2, 20.6)
+
+#: The playback scene's ambient term (the unlit share of the ground's colour).
+PLAYBACK_AMBIENT = 0.3
+
+#: Linear brightness of the brightest lit ground point of a playback frame, in the receiver's
+#: brightest channel (:func:`exposed`): below 1, so the ground keeps its shading in the light.
+GROUND_PEAK = 0.8
+
+
+def exposed(light: PointLight | DirectionalLight | AreaLight, receiver: Receiver, ambient: float
+            ) -> PointLight | DirectionalLight | AreaLight:
+    """``light`` with its intensity set so that the brightest lit point of the ground reaches
+    :data:`GROUND_PEAK` (linear, the receiver's brightest channel) under ``ambient``.
+
+    The renderer's diffuse term is ``albedo / pi * E * cos`` plus ``ambient * albedo``
+    (:mod:`morphkit.render`'s shader), with ``E = I / d^2`` for a point light (brightest at its
+    foot, ``d`` its height; an area light as a point at its centre) and ``E = I`` for a
+    directional one (``cos`` its elevation's sine). A light that does not reach the ground
+    (below or level with it) is returned as it is.
+
+    Parameters
+    ----------
+    light : PointLight, DirectionalLight or AreaLight
+        The light, world frame.
+    receiver : Receiver
+        The ground (its colour).
+    ambient : float
+        The scene's ambient term.
+
+    Returns
+    -------
+    PointLight, DirectionalLight or AreaLight
+        The same light with another intensity.
+    """
+    albedo = max(float(max(receiver.color)), 1e-3)
+    irradiance = max(GROUND_PEAK - ambient * albedo, 0.05) * np.pi / albedo
+    if isinstance(light, DirectionalLight):
+        cos = -float(light.direction[2]) / float(np.linalg.norm(light.direction))
+        return light if cos <= 0 else dataclasses.replace(light, intensity=irradiance / cos)
+    height = float((light.center if isinstance(light, AreaLight) else light.position)[2])
+    return light if height <= 0 else dataclasses.replace(light, intensity=irradiance * height**2)
+
+
 def playback_scene(mesh: trimesh.Trimesh, atlas: ShadowAtlas, size: int,
-                   light: AreaLight | None = None) -> Scene:
+                   light: AreaLight | None = None, *, view: tuple[float, float] = DEFAULT_VIEW) -> Scene:
     """The scene the frames show: the mesh on a ground square covering the range, the atlas's
     light (or ``light``), and a 3/4 view camera of ``size x size`` pixels that sees the whole
     range with the object anywhere on it.
@@ -336,6 +394,9 @@ def playback_scene(mesh: trimesh.Trimesh, atlas: ShadowAtlas, size: int,
         Side of the square camera image, in pixels.
     light : AreaLight, optional
         The light of the scene instead of the atlas's.
+    view : (float, float)
+        The camera's azimuth and elevation (degrees) from the range's centre
+        (:data:`DEFAULT_VIEW`); the elevation in ``[5, 89]``.
 
     Returns
     -------
@@ -343,25 +404,32 @@ def playback_scene(mesh: trimesh.Trimesh, atlas: ShadowAtlas, size: int,
         Object, light, camera (world frame) and a ground receiver; move the object with
         ``Scene.with_object_pose``.
     """
+    az, el = (float(v) for v in view)
+    if not (np.isfinite(az) and np.isfinite(el) and 5.0 <= el <= 89.0):
+        raise ValidationError(expected_got("view", "an azimuth and an elevation in [5, 89] degrees",
+                                           tuple(view)))
     motion = atlas.rig.motion
     # a sphere around the range and the object on it (normalised: size 1), seen whole at 40 deg
     fov = np.deg2rad(40)
     centre = np.r_[motion.center, 0.35]
     radius = 0.5 * float(np.linalg.norm(motion.hi - motion.lo)) + 0.6
-    view = np.array([1.65, -1.55, 0.85]) / np.linalg.norm([1.65, -1.55, 0.85])
+    a, e = np.deg2rad(az), np.deg2rad(el)
+    towards = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
     dist = radius / np.sin(fov / 2)
-    cam = perspective(fov, (size, size), look_at(centre + dist * view, centre), znear=0.1,
+    cam = perspective(fov, (size, size), look_at(centre + dist * towards, centre), znear=0.1,
                       zfar=dist + 4 * radius)
     half = max(2.0, float(np.max(np.abs(np.r_[motion.lo, motion.hi]))) + 1.5)
     obj = SceneObject(mesh, atlas.rig.object_pose(motion.center))
-    return Scene(obj, atlas.rig.light if light is None else light, cam, Receiver(half_size=half),
-                 ambient=0.3)
+    ground = Receiver(half_size=half)
+    return Scene(obj, exposed(atlas.rig.light if light is None else light, ground, PLAYBACK_AMBIENT), cam,
+                 ground, ambient=PLAYBACK_AMBIENT)
 
 
 def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: ObjectPath,
                            out: str | os.PathLike[str], *, renderer: SceneRenderer, size: int = 512,
                            area_light: AreaLight | None = None, samples: int = 3, fps: float = 24.0,
-                           progress: bool = True) -> dict[str, Any]:
+                           view: tuple[float, float] = DEFAULT_VIEW, progress: bool = True
+                           ) -> dict[str, Any]:
     """Render the frames of ``mesh`` moving along ``path`` with the atlas's warped shadow.
 
     Parameters
@@ -386,13 +454,19 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         Light samples per axis of ``area_light``, in [1, 64]; unused without it.
     fps : float
         Frame rate of the video.
+    view : (float, float)
+        The camera's azimuth and elevation, degrees (:func:`playback_scene`).
     progress : bool
         Show a progress bar (tqdm).
 
     Returns
     -------
     dict
-        ``frames`` (paths), ``video`` (path), ``positions`` (list of (x, y)).
+        ``frames`` (paths), ``video`` (path), ``positions`` (list of (x, y)), and ``errors``:
+        per frame, the shadow on the ground pixels against the ray cast
+        (:mod:`morphkit.groundtruth`) -- ``{"iou": ...}`` (hard: the shadowed pixels, IoU 1
+        when neither has any) or ``{"mae": ...}`` (soft: mean absolute visibility error over
+        the ground pixels).
 
     Raises
     ------
@@ -410,10 +484,11 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     motion = _usable_range(atlas, area_light)
     positions = path.positions(motion)
     soft = None if area_light is None else default_soft_shadow(atlas, area_light, (samples, samples))
-    scene = playback_scene(mesh, atlas, size, area_light)
+    scene = playback_scene(mesh, atlas, size, area_light, view=view)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     frames: list[Path] = []
+    errors: list[dict[str, float]] = []
     video = folder / VIDEO_NAME
     with VideoFile(video, fps, (size, size)) as writer:
         for i, xy in enumerate(tqdm(positions, desc="morphkit shadows", unit="frame",
@@ -424,10 +499,29 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
             else:
                 depth, lcam = atlas.shadow_map(xy)
                 vis = _hard(depth, lcam)
-            rgb = render_frame(renderer, sc, vis)["shaded"]
+            drawn = render_frame(renderer, sc, vis, receiver_only=True)
+            rgb = drawn["shaded"]
             frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
             writer.write(rgb)
-    return {"frames": frames, "video": video, "positions": positions.tolist()}
+            errors.append(_against_truth(sc, drawn, area_light, samples))
+    return {"frames": frames, "video": video, "positions": positions.tolist(), "errors": errors}
+
+
+def _against_truth(scene: Scene, drawn: dict[str, np.ndarray], area_light: AreaLight | None,
+                   samples: int) -> dict[str, float]:
+    """The frame's shadow on its ground pixels against the ray cast (``errors`` of
+    :func:`render_shadow_sequence`)."""
+    world, valid = scene.camera.unproject(drawn["depth"])
+    ground = valid & (np.abs(world[..., 2]) <= tol.GROUND_PIXEL_DZ)
+    points = world[ground]
+    shown = drawn["visibility"][ground]
+    if not len(points):  # the ground is out of sight: nothing to be wrong about
+        return {"iou": 1.0} if area_light is None else {"mae": 0.0}
+    if area_light is None:
+        truth = hard_visibility(points, scene.light, scene.obj)  # type: ignore[arg-type]
+        return {"iou": shadow_iou(shown < 0.5, truth < 0.5)}
+    truth = area_visibility(points, area_light, scene.obj, samples)
+    return {"mae": float(np.mean(np.abs(shown - truth)))}
 
 
 def _hard(depth: np.ndarray, lcam: Any) -> Any:
