@@ -27,8 +27,9 @@ file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
 (or :class:`~morphkit.errors.ValidationError` for a path that cannot be a
 folder) before any work and before anything is created: a refusal leaves no
 folder behind. :func:`claim_output` makes the check (no side effect);
-:meth:`OutputClaim.writing` creates the folder, takes its lock (:data:`LOCK_NAME`,
-``fcntl.flock``: a second run into the same folder at the same time is refused,
+:meth:`OutputClaim.writing` creates the folder, takes its lock (``fcntl.flock`` on the
+folder itself, so that a finished folder holds one file of morphkit's own, the marker: a
+second run into the same folder at the same time is refused,
 :class:`~morphkit.errors.OutputBusyError`), removes the temporary files of a killed
 run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. On exit,
 clean or not, it removes the temporary files again (a process of the run killed mid-write, e.g. a
@@ -59,10 +60,12 @@ __all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_outpu
 #: "running" | "complete", "started": ...}``.
 MARKER_NAME = ".morphkit-output.json"
 
-#: The lock file of an output folder (held with ``fcntl.flock`` while a run writes there).
+#: The lock file older versions kept in an output folder (the lock is now taken on the folder
+#: itself); a run removes one it finds.
 LOCK_NAME = ".morphkit-output.lock"
 
-#: Names of files morphkit itself leaves in a folder: its marker and lock, and the temporary
+#: Names of files morphkit itself leaves in a folder: its marker (and an older version's lock
+#: file), and the temporary
 #: files of an atomic write (:mod:`morphkit.fileio`) a killed process could not remove.
 HOUSEKEEPING = (MARKER_NAME, LOCK_NAME, ".*.part*", ".morphkit-probe-*")
 
@@ -168,6 +171,15 @@ def _marker_command(folder: Path) -> str | None:
         return "?"
 
 
+def _marker_pid(folder: Path) -> str:
+    """The pid a folder's marker names (the run holding its lock), or ``"?"``."""
+    try:
+        pid = json.loads((folder / MARKER_NAME).read_text(encoding="utf-8")).get("pid")
+    except (OSError, ValueError, AttributeError):
+        return "?"
+    return str(pid) if type(pid) is int else "?"
+
+
 def previous_run(folder: str | os.PathLike[str], rule: OutputRule) -> Path | None:
     """The file that marks a previous run of ``rule``'s command in ``folder``, or None.
 
@@ -251,9 +263,9 @@ class OutputClaim:
             created.append(d)
         try:
             p.mkdir(parents=True, exist_ok=True)
-            # held on a read-only descriptor: a run holds no file open for writing, so the folder's
-            # file system can still be remounted read-only under it (the run then stops cleanly)
-            lock = os.open(p / LOCK_NAME, os.O_RDONLY | os.O_CREAT, 0o644)
+            # the folder's own descriptor, read-only: no lock file to leave behind, and no file
+            # held open for writing (the file system can be remounted read-only under a run)
+            lock = os.open(p, os.O_RDONLY | os.O_DIRECTORY)
         except OSError as exc:
             _remove_dirs(created)
             raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit can "
@@ -263,7 +275,7 @@ class OutputClaim:
             try:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                holder = os.pread(lock, 64, 0).decode("ascii", "replace").strip() or "?"
+                holder = _marker_pid(p)
                 raise OutputBusyError(expected_got(
                     f"{self.rule.command} output folder {str(p)!r}", "one no other run is writing to (wait "
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
@@ -276,12 +288,9 @@ class OutputClaim:
             marker = {"morphkit_output": 1, "command": self.rule.command, "status": "running",
                       "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "pid": os.getpid()}
             try:
-                fd = os.open(p / LOCK_NAME, os.O_WRONLY | os.O_TRUNC)  # the holder's pid, for a second run
-                try:
-                    os.write(fd, str(os.getpid()).encode())
-                finally:
-                    os.close(fd)
-                write_json(p / MARKER_NAME, marker)
+                with suppress(FileNotFoundError):
+                    (p / LOCK_NAME).unlink()  # an older version's lock file
+                write_json(p / MARKER_NAME, marker)  # with the pid: a second run names the holder
             except OSError as exc:
                 raise ValidationError(expected_got(f"{self.rule.command} output folder", "a folder morphkit "
                                                    "can write", f"{str(p)!r} ({type(exc).__name__}: "
@@ -297,10 +306,9 @@ class OutputClaim:
             except BaseException:
                 _remove_temporaries(p)  # a process of this run killed mid-write (a bake's worker)
                 after = _files(p)
-                if not self.previous and set(after) <= {MARKER_NAME, LOCK_NAME}:
-                    for name in (MARKER_NAME, LOCK_NAME):  # nothing written: leave nothing
-                        with suppress(OSError):
-                            (p / name).unlink()
+                if not self.previous and set(after) <= {MARKER_NAME}:
+                    with suppress(OSError):  # nothing written: leave nothing
+                        (p / MARKER_NAME).unlink()
                     _remove_dirs(created)
                 else:  # the next --overwrite replaces what this run and the one before it wrote
                     with suppress(OSError):

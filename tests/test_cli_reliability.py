@@ -30,7 +30,7 @@ from morphkit.bake import Manifest
 from morphkit.bake import cluster as bake_cluster
 from morphkit.bake import pipeline as bake_pipeline
 from morphkit.cli import main
-from morphkit.outfolder import BAKE_OUTPUT, LOCK_NAME, MARKER_NAME, claim_output
+from morphkit.outfolder import BAKE_OUTPUT, MARKER_NAME, claim_output
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
@@ -138,7 +138,7 @@ def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_file
     assert rc == 2 and "--overwrite" in one_line(err)
     assert run(capfd, "shadows", "a.atlas.npz", "--frames", "2", "--overwrite", "-o", out)[0] == 0
     assert sorted(p.name for p in out.iterdir()) == sorted(
-        [MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm", "notes.txt"])
+        [MARKER_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm", "notes.txt"])
 
 
 def test_a_refused_bake_leaves_no_folder_behind(tmp_path, capfd, monkeypatch):
@@ -261,7 +261,7 @@ def test_ctrl_c_in_the_middle_of_a_write_leaves_no_temporary_file(tmp_path, capf
     (tmp_path / "p.json").write_text(json.dumps([[1, 1, 1, 1]] * 4))
     rc, _o, err = run(capfd, *argv)
     assert rc == 130 and err.strip().splitlines()[-1] == "morphkit: interrupted" and "Traceback" not in err
-    assert sorted(p.name for p in out.iterdir()) == [MARKER_NAME, LOCK_NAME, "frame_000.png"]
+    assert sorted(p.name for p in out.iterdir()) == [MARKER_NAME, "frame_000.png"]
     assert json.loads((out / MARKER_NAME).read_text())["status"] == "running"
     assert run(capfd, *argv)[0] == 2
 

@@ -30,7 +30,7 @@ def test_a_new_folder_is_created_only_when_writing(tmp_path):
     claim = claim_output(out, SHADOWS_OUTPUT)
     assert not (tmp_path / "a").exists()  # the check creates nothing
     with claim.writing() as folder:
-        assert folder == out and (out / LOCK_NAME).is_file()
+        assert folder == out and sorted(q.name for q in out.iterdir()) == [MARKER_NAME]  # no lock file
         assert json.loads((out / MARKER_NAME).read_text())["status"] == "running"
         _write_frames(folder, 2)
     marker = json.loads((out / MARKER_NAME).read_text())
@@ -93,7 +93,7 @@ def test_a_previous_run_is_replaced_only_with_overwrite_and_never_mixed(tmp_path
     with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
         _write_frames(out, 2)  # fewer frames than before
     names = sorted(p.name for p in out.iterdir())
-    assert names == sorted([MARKER_NAME, LOCK_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm",
+    assert names == sorted([MARKER_NAME, "frame_0000.png", "frame_0001.png", "shadows.webm",
                             "notes.txt"])  # old frames 2..4 gone, the user's file kept
 
 
@@ -199,3 +199,14 @@ def test_a_previous_run_without_a_record_is_replaced_by_the_commands_exact_names
     with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
         _write_frames(out, 1)
     assert sorted(p.name for p in out.glob("frame_*")) == ["frame_0000.png", "frame_0001 (copy).png"]
+
+
+def test_an_older_versions_lock_file_is_removed_and_none_is_left(tmp_path):
+    out = tmp_path / "o"
+    with claim_output(out, SHADOWS_OUTPUT).writing():
+        _write_frames(out, 1)
+    (out / LOCK_NAME).write_text("4242")  # what an older morphkit left beside its marker
+    with claim_output(out, SHADOWS_OUTPUT, overwrite=True).writing():
+        _write_frames(out, 1)
+    own = [p.name for p in out.iterdir() if p.name.startswith(".")]
+    assert own == [MARKER_NAME]
