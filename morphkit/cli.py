@@ -333,13 +333,37 @@ def parse_size(text: str) -> tuple[int, int]:
     return h, w
 
 
-def _billboard_views(args: argparse.Namespace) -> int | None:
+def _billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
+                     ) -> tuple[int | None, str]:
     """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
-    views over the hemisphere (``dome``, or ``--sun-path`` without ``--views``); default 8."""
+    views over the hemisphere (``dome``), and, when it was not given, the line saying which
+    representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
+    path whose eye looks down from above the ring's band (:meth:`ViewRing.band_deg`), else a
+    ring of 8 (``.npz`` asset files load as they were baked: a ring unless ``--views dome``)."""
+    from .billboard.paths import look_down_deg
+    from .billboard.ring import ViewRing
+
     v = args.views
-    if v is None:
-        return None if args.sun_path else 8
-    return None if v == "dome" else int(v)
+    if v is not None:
+        return (None if v == "dome" else int(v)), ""
+    head = "morphkit billboards: "
+    if args.sun_path:
+        return None, head + "dome views (--sun-path relights them: albedo, normals and depth)"
+    ring = ViewRing(8)
+    lo, hi = ring.band_deg
+    top = float(look_down_deg(cameras).max()) if len(cameras) else 0.0
+    files = [sp for sp in specs if sp.lower().endswith(".npz")]
+    if top <= hi:
+        return 8, (head + f"a ring of 8 views (the {args.path} path's eye looks down by at most "
+                   f"{top:.0f} degrees, inside the ring's band of {lo:g}-{hi:g}; --views dome for views "
+                   "from any height)")
+    if files:
+        return 8, (head + f"a ring of 8 views: asset files load as they were baked (the {args.path} "
+                   f"path's eye looks down by up to {top:.0f} degrees, above the ring's band of "
+                   f"{lo:g}-{hi:g}: --views dome for dome asset files)")
+    return None, (head + f"dome views (the {args.path} path's eye looks down by up to {top:.0f} degrees, "
+                  f"above the ring's band of {lo:g}-{hi:g}, where a ring loses the shape from above; "
+                  "--views K for a ring)")
 
 
 def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
@@ -386,24 +410,37 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
                         ("--asset-size", args.asset_size, 16)):
         if v < lo:
             raise ValidationError(expected_got(name, f"an int >= {lo}", v))
-    views = _billboard_views(args)
     from .billboard.sources import check_specs, resolve_assets
 
     specs = args.asset or ["tree", "person"]
     check_specs(specs)
-    from .outfolder import BILLBOARDS_OUTPUT, claim_output
-
-    claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
+    import dataclasses
 
     import numpy as np
 
     from .billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode, place_random
+    from .billboard.paths import make_path
+
+    # the field and the path first (placeholder names, one per asset, renamed once they are
+    # known): the representation the path needs is chosen before any asset is baked
+    placed = place_random([f"asset{k}" for k in range(len(specs))], args.n, np.random.default_rng(args.seed))
+    half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
+    cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
+    views, chosen = _billboard_views(args, cams, specs)
+    from .outfolder import BILLBOARDS_OUTPUT, claim_output
+
+    claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
+    implied = getattr(args, "implied", None)  # morphkit.cliargs.implied_sun_options
+    if implied:
+        print("morphkit billboards: " + "; ".join(implied), file=sys.stderr)
+    if chosen:
+        print(chosen, file=sys.stderr)
+
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.dome import ViewDome
     from .billboard.facing import AxialFacing, ViewpointFacing
     from .billboard.litmesh import LitMeshMode
     from .billboard.litmodes import ClassicSurface, LitMode, MorphSurface
-    from .billboard.paths import make_path
     from .billboard.sequence import write_sequence
     from .billboard.sun import SunPath
     from .render import Renderer
@@ -414,12 +451,10 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
         res = resolve_assets(specs, r, views=views or 8, size=args.asset_size, up=args.up_axis, progress=True,
                              dome=dome)
         names = list(res.assets)
-        inst = place_random(names, args.n, np.random.default_rng(args.seed))
-        half = float(np.abs(inst.xy).max()) if len(inst) else 1.0
+        inst = dataclasses.replace(placed, names=tuple(names))
         fog = None if args.no_fog else Fog()
         facing = ViewpointFacing() if dome is not None else AxialFacing()
         scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog), facing=facing)
-        cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
         base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
         lighting = None
         if args.sun_path:
@@ -634,30 +669,34 @@ def build_parser() -> argparse.ArgumentParser:
     bb.add_argument("--views", default=None, metavar="K|dome",
                     help="reference views per baked asset: 2 is the paper's pair, more a full ring at one "
                     "elevation; 'dome': relightable views over the hemisphere, seen from any height "
-                    "(default: 8, or dome with --sun-path)")
+                    "(default: what the scene needs, said in one line: dome with --sun-path or for a "
+                    "path whose eye looks down from above the ring's band, flyover and topdown; else 8)")
     bb.add_argument("--sun-path", default=None, choices=["day"],
                     help="light the billboards by a sun moving across the sky over the frames "
                     "(relightable dome assets; default: the bake light)")
     bb.add_argument("--shadows", action="store_true",
                     help="the instances cast shadows on the ground and on each other under the sun "
-                    "(needs --sun-path and dome views): a sun atlas per asset (21 sun directions at 128 "
-                    "texels) is baked from its mesh at the start of the run and kept for the run; the "
+                    "(alone: with the default sun, --sun-path day, and dome views): a sun atlas per "
+                    "asset (21 sun directions at 128 texels) is baked from its mesh at the start of the "
+                    "run and kept for the run; the "
                     "comparison strips' real meshes get ray-cast shadows (the truth)")
     bb.add_argument("--soft", default=None, nargs="?", const=SOFT_FILTER, metavar="N|pcss",
-                    help="with --shadows: a soft sun. --soft alone (or --soft pcss): one map along the "
-                    "disc's centre at 1.5 times the atlases' texels, filtered (percentage-closer soft "
+                    help="a soft sun for --shadows (implied). --soft alone (or --soft pcss): one map "
+                    "along the disc's centre at 1.5 times the atlases' texels, filtered (percentage-closer "
+                    "soft "
                     "shadows: at the real sun less error than 4 to 16 maps averaged, in under two thirds "
                     "of the time of 4; over 1-4 degree discs about the error of 8 to 16, smoother, in at "
                     "most about the time of 8; docs/RESULTS.md); "
                     "--soft N: N directions over its disc, one shadow map each, averaged "
                     "(default: a hard shadow)")
     bb.add_argument("--sun-atlas-size", type=int, default=None, metavar="N",
-                    help="with --shadows: texels a side of each asset's sun atlas views (default 128, 2 MB "
-                    "for two assets; 256: 8 MB, sharper shadows on the instances and meshes themselves "
+                    help="for --shadows (implied): texels a side of each asset's sun atlas views "
+                    "(default 128, 2 MB for two assets; 256: 8 MB, sharper shadows on the instances and "
+                    "meshes themselves "
                     "for about 30-45 ms more a frame under a new sun; docs/RESULTS.md)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
-                    help="with --soft: the sun disc's angular radius, degrees (default: the real sun's "
-                    "%(default)s; larger discs give wider penumbrae, up to 15)")
+                    help="for --soft (implied): the sun disc's angular radius, degrees (default: the "
+                    "real sun's %(default)s; larger discs give wider penumbrae, up to 15)")
     bb.add_argument("--frames", type=int, default=48, help="frames along the path (default: %(default)s)")
     bb.add_argument("--size", default="640x480", help="frame size WxH (default: %(default)s)")
     bb.add_argument("--asset-size", type=int, default=128,

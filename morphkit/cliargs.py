@@ -20,7 +20,7 @@ from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import ValidationError, expected_got
 from .validate import as_int
 
-__all__ = ["check_args", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
+__all__ = ["check_args", "implied_sun_options", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
 MIN_FRAME_SIDE = 16
@@ -49,6 +49,7 @@ def _demo(args: argparse.Namespace) -> None:
 
 
 def _billboards(args: argparse.Namespace) -> None:
+    args.implied = implied_sun_options(args)
     _count(args, "n", "--n", 0, tol.MAX_INSTANCES)
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
     if args.views is not None and str(args.views) != "dome":  # a ring of K views, or "dome"
@@ -61,7 +62,8 @@ def _billboards(args: argparse.Namespace) -> None:
         if getattr(args, "sun_path", None):
             raise ValidationError(expected_got(
                 "--views with --sun-path", "dome (relighting needs albedo, normals and depth: --views dome)",
-                f"a ring of {k} baked under its bake light"))
+                f"a ring of {k} baked under its bake light"
+                + (f" ({'; '.join(args.implied)})" if args.implied else "")))
     _billboard_shadows(args)
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
@@ -77,27 +79,53 @@ def _billboards(args: argparse.Namespace) -> None:
 SOFT_FILTER = "pcss"
 
 
+def implied_sun_options(args: argparse.Namespace) -> list[str]:
+    """``billboards``: a sun option given alone does what it says, taking what it needs.
+
+    ``--sun-radius`` (other than the real sun's) alone is a soft sun (``--soft``, the
+    filtered disc); ``--soft`` or ``--sun-atlas-size`` alone cast shadows (``--shadows``);
+    ``--shadows`` alone has the default sun (``--sun-path day``, which takes dome views
+    where ``--views`` is not given). ``args`` is updated in place.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed ``billboards`` arguments.
+
+    Returns
+    -------
+    list of str
+        What was implied, one phrase each (``"--soft implies --shadows"``), in the order of
+        the chain; empty when nothing was.
+    """
+    said: list[str] = []
+    radius = getattr(args, "sun_radius", None)
+    if radius is not None and radius != SUN_DISC_RADIUS_DEG and getattr(args, "soft", None) is None:
+        args.soft = SOFT_FILTER
+        said.append(f"--sun-radius implies --soft ({SOFT_FILTER})")
+    if not getattr(args, "shadows", False):
+        given = [o for o, a in (("--soft", "soft"), ("--sun-atlas-size", "sun_atlas_size"))
+                 if getattr(args, a, None) is not None]
+        if given:
+            args.shadows = True
+            said.append(f"{' and '.join(given)} {'implies' if len(given) == 1 else 'imply'} --shadows")
+    if getattr(args, "shadows", False) and not getattr(args, "sun_path", None):
+        args.sun_path = "day"
+        said.append("--shadows implies --sun-path day (a default sun)")
+    return said
+
+
 def _billboard_shadows(args: argparse.Namespace) -> None:
     """``--shadows``, ``--soft``, ``--sun-radius``, ``--sun-atlas-size`` of ``billboards``: the
-    combinations that mean something."""
+    combinations that mean something (after :func:`implied_sun_options`)."""
     shadows = getattr(args, "shadows", False)
-    if getattr(args, "soft", None) is not None and not shadows:
-        raise ValidationError(expected_got("--soft", "together with --shadows", "--soft alone"))
     atlas_size = getattr(args, "sun_atlas_size", None)
-    if atlas_size is not None and not shadows:
-        raise ValidationError(expected_got("--sun-atlas-size", "together with --shadows",
-                                           "--sun-atlas-size alone"))
     if atlas_size is not None:
         args.sun_atlas_size = as_int(atlas_size, "--sun-atlas-size", lo=tol.MIN_SUN_ATLAS_SIZE,
                                      hi=tol.MAX_SUN_ATLAS_SIZE)
     radius = getattr(args, "sun_radius", None)
-    if radius is not None and radius != SUN_DISC_RADIUS_DEG and getattr(args, "soft", None) is None:
-        raise ValidationError(expected_got("--sun-radius", "together with --soft", "--sun-radius alone"))
     if not shadows:
         return
-    if not getattr(args, "sun_path", None):
-        raise ValidationError(expected_got("--shadows", "a sun to cast them: --sun-path day",
-                                           "no --sun-path (the bake light has no position in the scene)"))
     if args.views is not None and str(args.views) != "dome":
         raise ValidationError(expected_got("--shadows", "dome views (--views dome: relit billboards)",
                                            f"--views {args.views}"))

@@ -34,7 +34,7 @@ from .settings import WARP_THREADS, compile_kernel, use_compiled
 from .validate import as_image
 from .warp import PARALLEL_MIN_PIXELS, band_pool
 
-__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped"]
+__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped", "fade_towards"]
 
 
 def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndarray:
@@ -280,6 +280,42 @@ def _check_over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, i
                                            f"{getattr(out, 'shape', '')}"))
 
 
+def fade_towards(rgb: np.ndarray, alpha: np.ndarray, fraction: np.ndarray | float,
+                 color: tuple[float, float, float]) -> np.ndarray:
+    """Blend premultiplied colour towards a straight ``color`` by ``fraction``, keeping its
+    alpha, in place: ``rgb (1 - f) + alpha f color`` (distance fog), in the colour units of
+    ``rgb`` (the caller's encoding; no conversion here).
+
+    Parameters
+    ----------
+    rgb : (..., 3) float32
+        Premultiplied colour; updated in place.
+    alpha : (..., 1) float
+        Its alpha (``1`` for an opaque colour).
+    fraction : float or (..., 1) float
+        How much of ``color`` per pixel, in ``[0, 1]``.
+    color : (3,) float
+        Straight colour faded towards.
+
+    Returns
+    -------
+    (..., 3) float32
+        ``rgb``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from morphkit.composite import fade_towards
+    >>> rgb, alpha = np.array([[0.5, 0.5, 0.5]], np.float32), np.array([[0.5]], np.float32)
+    >>> fade_towards(rgb, alpha, 0.5, (1.0, 0.0, 0.0))
+    array([[0.5 , 0.25, 0.25]], dtype=float32)
+    """
+    f = np.asarray(fraction, np.float32)
+    rgb *= np.float32(1.0) - f
+    rgb += np.asarray(alpha, np.float32) * (f * np.asarray(color, np.float32))
+    return rgb
+
+
 def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,
                 roi: tuple[int, int, int, int], *, mask: np.ndarray | None = None,
                 fade: float = 0.0, fade_color: tuple[float, float, float] = (0.0, 0.0, 0.0),
@@ -324,9 +360,7 @@ def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,
         part *= mask[:, :, None]
     alpha = part[:, :, -1:]
     if fade > 0.0:
-        f = np.float32(fade)
-        part[:, :, :-1] *= 1.0 - f
-        part[:, :, :-1] += alpha * (f * np.asarray(fade_color, np.float32))
+        fade_towards(part[:, :, :-1], alpha, fade, fade_color)
     view = out[r0:r1, c0:c1]
     view *= 1.0 - alpha
     view += part

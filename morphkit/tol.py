@@ -469,6 +469,14 @@ IMP_MIN_COS = 1e-3
 #: :mod:`morphkit.billboard.facing`.
 BB_ABOVE_RATIO = 1e-6
 
+#: How far (degrees) above a ring asset's reference elevation (:class:`~morphkit.billboard.ring.ViewRing`)
+#: its views still serve an eye (:meth:`ViewRing.band_deg`): its axial quads stand vertical, so
+#: seen from higher the object's top, which no reference view holds, is missing and its
+#: silhouette is the side view foreshortened by ``sin e``. Twenty degrees holds the pan, orbit and
+#: fly paths (their eyes look down by 5 to 17 degrees); the fly-over (rising to 85) and the
+#: top-down pan (90) leave it, and ``morphkit billboards`` takes dome views for them.
+BB_RING_BAND_DEG = 20.0
+
 #: A billboard quad whose screen projection covers less than this area (pixels^2)
 #: is skipped as too small, whatever its height: an axial quad seen (nearly)
 #: edge-on, e.g. from directly above, projects to a sliver whose homography is

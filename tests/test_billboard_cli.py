@@ -139,3 +139,23 @@ def test_fly_over_under_a_moving_sun_with_dome_assets(capsys, tmp_path):
     err = _one_line_error(capsys, ["billboards", "--asset", str(tmp_path / "ring.npz"), "--views", "dome",
                                    "--frames", "1", "-o", str(tmp_path / "bb3")])
     assert "re-bake" in err
+
+
+@pytest.mark.parametrize("path, argv, chosen", [
+    ("pan", [], "a ring of 8 views (the pan path's eye looks down by at most 8 degrees"),
+    ("orbit", [], "a ring of 8 views (the orbit path"),
+    ("fly", [], "a ring of 8 views (the fly path"),
+    ("flyover", [], "dome views (the flyover path's eye looks down by up to 85 degrees, above the ring's "
+                    "band of 0-30"),
+    ("topdown", [], "dome views (the topdown path's eye looks down by up to 90 degrees"),
+    ("pan", ["--sun-path", "day"], "dome views (--sun-path relights them"),
+])
+def test_the_default_views_follow_the_camera_path_and_say_so(capsys, tmp_path, path, argv, chosen):
+    broken = tmp_path / "broken.ply"  # the run stops at loading it: after the choice, before any bake
+    broken.write_text("not a mesh")
+    run = ["billboards", "--asset", str(broken), "--path", path, "--frames", "5"]
+    assert main([*run, *argv, "-o", str(tmp_path / "a")]) == 1
+    err = capsys.readouterr().err
+    assert f"morphkit billboards: {chosen}" in err and "broken.ply" in err
+    assert main([*run, "--views", "4", "-o", str(tmp_path / "b")]) == 1
+    assert "morphkit billboards:" not in capsys.readouterr().err  # given: nothing to choose or say

@@ -131,7 +131,7 @@ def test_make_path_knows_the_new_and_the_old_paths():
 
 
 def test_a_day_rises_below_the_horizon_peaks_at_noon_and_sets():
-    path = SunPath(azimuth_range=(-90.0, 90.0), max_elevation=60.0, night_deg=5.0)
+    path = SunPath(azimuth_range=(-90.0, 90.0), max_elevation=60.0, rise_deg=-5.0)
     suns = path.suns(11)
     up = np.array([-s.direction[2] for s in suns])  # sin(elevation) of the way to the sun
     elev = np.degrees(np.arcsin(up))
@@ -142,13 +142,22 @@ def test_a_day_rises_below_the_horizon_peaks_at_noon_and_sets():
     az = np.degrees(np.arctan2(-np.array([s.direction[1] for s in suns]),
                                -np.array([s.direction[0] for s in suns])))
     np.testing.assert_allclose(az, np.linspace(-90, 90, 11), atol=1e-9)
-    # on the horizon exactly at both ends with night_deg = 0
-    edge = SunPath.day(3, night_deg=0.0)
+    # on the horizon exactly at both ends with rise_deg = 0
+    edge = SunPath.day(3, rise_deg=0.0)
     assert edge[0].direction[2] == 0.0 and edge[-1].direction[2] == 0.0
     with pytest.raises(ValidationError, match=r"max_elevation: expected degrees in \(0, 90\]"):
         SunPath(max_elevation=95.0)
+    with pytest.raises(ValidationError, match=r"rise_deg: expected degrees in \(-90, max_elevation = 60\]"):
+        SunPath(rise_deg=70.0)
     with pytest.raises(ValidationError, match=r"t: expected a number in \[0, 1\]"):
         path.sun_at(1.5)
+
+
+@pytest.mark.parametrize("frames", [1, 2, 3, 4, 5, 8, 48])
+def test_every_frame_of_the_default_day_has_a_sun(frames):
+    elev = np.degrees(np.arcsin(np.array([-s.direction[2] for s in SunPath.day(frames)])))
+    assert len(elev) == frames and (elev > 0.0).all()
+    assert elev.min() == pytest.approx(SunPath().rise_deg)  # sunrise is the lowest
 
 
 def test_the_eight_test_suns():

@@ -119,3 +119,22 @@ def test_pack_round_trip(ball):
     s = ball.surface(12.0, 34.0)
     back = unpack_surface(pack_surface(s))
     assert np.array_equal(back.albedo, s.albedo) and np.array_equal(back.depth, s.depth)
+
+
+def test_relit_billboards_take_the_fog_of_the_ground_and_the_meshes(ball):
+    """One fog model (backdrop.Fog.blend, on the encoded colour): a relit billboard's fogged
+    layer is its clear layer blended by its placement's fog factor, as the meshes are."""
+    from morphkit.billboard import Fog
+
+    fog = Fog(density=0.08)
+    mode = LitMode(MorphSurface(), Lighting(0.2, (sun(30.0, 40.0),)), quantum_deg=0.0)
+    cam = _camera(10.0, 35.0)
+    clear = mode.render(_scene(ball), cam).layer
+    foggy_scene = _scene(ball)
+    foggy_scene.backdrop = Backdrop(fog=fog)
+    foggy = mode.render(foggy_scene, cam)
+    f = foggy.placements[0].fog
+    assert 0.3 < f < 0.9 and clear[..., 3].sum() > 100
+    want = fog.blend(clear[..., :3].copy(), clear[..., 3:], f)
+    np.testing.assert_allclose(foggy.layer[..., :3], want, atol=1e-5)
+    np.testing.assert_array_equal(foggy.layer[..., 3], clear[..., 3])

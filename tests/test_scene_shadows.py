@@ -295,15 +295,15 @@ def test_modes_refuse_a_shadow_that_is_not_one():
 
 # ------------------------------------------------------------------ command line
 @pytest.mark.parametrize("argv, message", [
-    (["--shadows"], "--shadows: expected a sun"),
-    (["--soft", "4", "--sun-path", "day"], "--soft: expected together with --shadows"),
     (["--shadows", "--sun-path", "day", "--soft", "0"], "--soft: expected an integer"),
+    (["--soft", "0"], "--soft: expected an integer"),
     (["--shadows", "--sun-path", "day", "--soft", "2", "--sun-radius", "99"], "--sun-radius"),
-    (["--shadows", "--sun-path", "day", "--sun-radius", "2"], "--sun-radius: expected together with --soft"),
+    (["--sun-radius", "99"], "--sun-radius: expected degrees in [0, 15]"),
     (["--shadows", "--sun-path", "day", "--soft", "many"], "--soft: expected an integer in [1, 64] or pcss"),
-    (["--sun-path", "day", "--sun-atlas-size", "256"], "--sun-atlas-size: expected together with --shadows"),
     (["--shadows", "--sun-path", "day", "--sun-atlas-size", "8"], "--sun-atlas-size"),
     (["--shadows", "--sun-path", "day", "--sun-atlas-size", "4096"], "--sun-atlas-size"),
+    (["--shadows", "--views", "8"], "--views with --sun-path: expected dome"),
+    (["--shadows", "--sun-path", "day", "--views", "8"], "--views with --sun-path: expected dome"),
 ])
 def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message):
     assert main(["billboards", *argv, "-o", str(tmp_path / "o")]) == 2  # a usage mistake
@@ -321,6 +321,36 @@ def test_soft_alone_is_the_filtered_disc_and_a_count_averages(tmp_path, soft, wa
     args = build_parser().parse_args(argv)
     check_args(args)
     assert args.soft == want and (want != "pcss" or args.soft == SOFT_FILTER)
+
+
+@pytest.mark.parametrize("given, shadows, sun_path, soft, said", [
+    (["--shadows"], True, "day", None, ["--shadows implies --sun-path day (a default sun)"]),
+    (["--soft"], True, "day", "pcss", ["--soft implies --shadows", "--shadows implies --sun-path day"]),
+    (["--soft", "4", "--sun-path", "day"], True, "day", 4, ["--soft implies --shadows"]),
+    (["--sun-atlas-size", "64"], True, "day", None, ["--sun-atlas-size implies --shadows",
+                                                     "--shadows implies --sun-path day"]),
+    (["--sun-radius", "2"], True, "day", "pcss", ["--sun-radius implies --soft (pcss)",
+                                                  "--soft implies --shadows", "--shadows implies"]),
+    (["--sun-path", "day"], False, "day", None, []),
+    ([], False, None, None, []),
+])
+def test_a_sun_option_alone_takes_what_it_needs(tmp_path, given, shadows, sun_path, soft, said):
+    from morphkit.cli import build_parser
+    from morphkit.cliargs import check_args
+
+    args = build_parser().parse_args(["billboards", *given, "-o", str(tmp_path)])
+    check_args(args)
+    assert (args.shadows, args.sun_path, args.soft) == (shadows, sun_path, soft)
+    assert all(g.startswith(w) for g, w in zip(args.implied, said, strict=True))
+
+
+def test_the_cli_says_in_one_line_what_a_flag_alone_implied(tmp_path, capsys):
+    broken = tmp_path / "broken.ply"  # the run stops at loading it: after the line, before any bake
+    broken.write_text("not a mesh")
+    assert main(["billboards", "--asset", str(broken), "--shadows", "-o", str(tmp_path / "o")]) == 1
+    err = capsys.readouterr().err
+    assert "morphkit billboards: --shadows implies --sun-path day (a default sun)\n" in err
+    assert "broken.ply" in err and "--shadows: expected" not in err
 
 
 def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():

@@ -85,9 +85,9 @@ RECEIVER_MARGIN = 1.5
 CAMERA_AZIMUTH_DEG, CAMERA_ELEVATION_DEG = -120.0, 25.0
 #: Its distance: this times the field's half side, plus :data:`CAMERA_DISTANCE_PAD` units.
 CAMERA_DISTANCE_FACTOR, CAMERA_DISTANCE_PAD = 2.0, 6.0
-#: The day the suns are drawn from (:class:`~morphkit.billboard.sun.SunPath` defaults:
-#: azimuth -90 to 90, 60 degrees at noon, 5 below the horizon at both ends).
-DAY = SunPath()
+#: The day the suns are drawn from (:class:`~morphkit.billboard.sun.SunPath`: azimuth -90 to 90,
+#: 60 degrees at noon, 5 below the horizon at both ends, so the path's suns cross the horizon).
+DAY = SunPath(rise_deg=-5.0)
 
 
 def textured_meshes(folder: str | Path) -> dict[str, trimesh.Trimesh]:

@@ -5,7 +5,11 @@ plane ``z = 0`` -- a checker of two colours (or one flat colour) -- or the sky, 
 vertical gradient from a horizon colour to a zenith colour. Distance fog (like
 the paper's Fig. 1) blends a colour in by ``1 - exp(-density * distance)``; the
 ground gets it per pixel, billboards per instance (:meth:`Fog.factor` at the
-pivot's distance). The image is drawn once per camera and reused while the
+pivot's distance). **One fog model for everything drawn** (:meth:`Fog.blend`):
+the blend is made on the output-encoded colour (the frame's values, as the
+ground's and the fog's colours are given), for the ground, the meshes, the ring
+billboards and the relit ones alike (the relit ones are encoded before they are
+fogged and composited, :mod:`.litmodes`). The image is drawn once per camera and reused while the
 camera stays (:meth:`Backdrop.draw` keeps the last one).
 
 **Shadows on the ground.** The ground's colours are its look in full sun. A
@@ -26,6 +30,7 @@ import numpy as np
 
 from .. import tol
 from ..camera import CameraModel
+from ..composite import fade_towards
 from ..errors import ValidationError, expected_got
 from ..memo import Memo
 from ..shading import LIT_GAMMA
@@ -89,6 +94,26 @@ class Fog:
             Fog fraction in ``[0, 1)``, shape of ``distance``.
         """
         return -np.expm1(-self.density * np.asarray(distance, dtype=np.float64))
+
+    def blend(self, rgb: np.ndarray, alpha: np.ndarray | float, factor: np.ndarray | float) -> np.ndarray:
+        """The fog model (module docstring): premultiplied output-encoded colour blended towards
+        :attr:`color` by ``factor`` (:meth:`factor`), its alpha kept; in place.
+
+        Parameters
+        ----------
+        rgb : (..., 3) float32
+            Premultiplied colour in the output encoding; updated in place.
+        alpha : float or (..., 1) float
+            Its alpha (1: opaque).
+        factor : float or (..., 1) float
+            Fog fraction, :meth:`factor` of the distance.
+
+        Returns
+        -------
+        (..., 3) float32
+            ``rgb``.
+        """
+        return fade_towards(rgb, np.asarray(alpha, np.float32), factor, self.color)
 
 
 @dataclass(frozen=True)
@@ -182,8 +207,8 @@ class Backdrop:
             raise ValidationError(expected_got("ground_factor", f"one per ground pixel ({len(lay.color)},)",
                                                f.shape))
         col = lay.color * np.power(np.clip(f, 0.0, 1.0), np.float32(LIT_GAMMA))[:, None]
-        if lay.fog is not None:
-            col = col * (1 - lay.fog) + lay.fog * np.asarray(self.fog.color, np.float32)  # type: ignore[union-attr]
+        if lay.fog is not None and self.fog is not None:
+            self.fog.blend(col, 1.0, lay.fog)
         img = lay.image.copy()
         img[lay.hit] = col
         img.setflags(write=False)
@@ -235,7 +260,7 @@ class Backdrop:
         shown = col
         if self.fog is not None:
             fog = self.fog.factor(t[hit])[:, None].astype(np.float32)
-            shown = col * (1 - fog) + fog * np.asarray(self.fog.color, np.float32)
+            shown = self.fog.blend(col.copy(), 1.0, fog)
         img[hit] = shown
         for a in (img, hit, p, col):
             a.setflags(write=False)

@@ -150,7 +150,7 @@ class LitMeshMode:
             ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
             depth = np.where(np.isfinite(passes.depth), passes.depth, 0.0)
             f = fog.factor(depth * ray).astype(np.float32)[:, :, None]
-            layer[:, :, :3] = layer[:, :, :3] * (1 - f) + f * alpha * np.asarray(fog.color, np.float32)
+            fog.blend(layer[:, :, :3], alpha, f)
         back = (scene.backdrop.draw(camera) if ground is None
                 else shadowed_backdrop(scene, camera, self.lighting, ground, layer[:, :, 3]))
         rgb = finish(layer, back)

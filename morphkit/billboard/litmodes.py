@@ -40,9 +40,7 @@ from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import PointLight
 from ..shading import (
-    LIT_GAMMA,
     Lighting,
-    decode_premultiplied,
     encode_premultiplied,
     shade,
     shade_suns,
@@ -405,10 +403,11 @@ class LitMode:
                                                type(scene.facing).__name__))
         before = self._cache.counts
         plan = scene.plan(camera)
-        layer = new_layer(camera.shape)  # linear light; encoded once before the backdrop
+        # each image is shaded in linear light and encoded before it is fogged and composited:
+        # the backdrop's one fog model (backdrop.Fog.blend), as for the ground and the meshes
+        layer = new_layer(camera.shape)
         fog = scene.backdrop.fog
-        fog_color = ((0.0, 0.0, 0.0) if fog is None
-                     else tuple(float(c) ** (1.0 / LIT_GAMMA) for c in fog.color))  # linear
+        fog_color = (0.0, 0.0, 0.0) if fog is None else fog.color
         lit = self.lighting.above_horizon()
         points_lit = any(isinstance(lt, PointLight) for lt in lit.lights)
         ambient, terms = sun_terms(lit)
@@ -430,15 +429,13 @@ class LitMode:
             if points_lit:  # point lights: the general model, at the surface's points
                 local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
                 points = view.unproject(surf.depth)[0]
-                image = shade(surf, local, points, vis)
-                image[..., :3] = decode_premultiplied(image)
+                image = shade(surf, local, points, vis)  # encoded
             else:  # suns: their rows turned into the instance's frame by its yaw (rows times Rz)
                 yaw = np.radians(inst.yaw_deg[pl.index])
                 c, s_ = np.cos(yaw), np.sin(yaw)
                 rz = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]], np.float32)
-                image = shade_suns(surf, ambient, terms @ rz, vis)
+                image = encode_premultiplied(shade_suns(surf, ambient, terms @ rz, vis))
             draw(layer, pl, image, fog_color)
-        encode_premultiplied(layer)
         back = (scene.backdrop.draw(camera) if ground is None
                 else shadowed_backdrop(scene, camera, lit, ground, layer[:, :, 3]))
         rgb = finish(layer, back)

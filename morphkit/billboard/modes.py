@@ -425,8 +425,7 @@ class MeshMode:
                 x, y = camera.pixel_grid()
                 ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
                 f = fog.factor(np.where(alpha > 0, depth, 0.0) * ray).astype(np.float32)[:, :, None]
-                layer[:, :, :3] = layer[:, :, :3] * (1 - f) + f * alpha[:, :, None] * np.asarray(
-                    fog.color, np.float32)
+                fog.blend(layer[:, :, :3], alpha[:, :, None], f)
         else:
             rgba = self.renderer.source_view(camera, items, self.lights, ambient=self.ambient,
                                              supersample=int(self.supersample))

@@ -29,7 +29,7 @@ size ``half_size`` (:func:`~.instances.place_random`).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -39,7 +39,8 @@ from ..camera import CameraModel, look_at, perspective
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_int, as_positive, as_shape
 
-__all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "FlyoverPath", "TopDownPan", "PATHS", "make_path"]
+__all__ = ["CameraPath", "PanPath", "OrbitPath", "FlyPath", "FlyoverPath", "TopDownPan", "PATHS", "make_path",
+           "look_down_deg"]
 
 DEFAULT_SHAPE = (480, 640)
 
@@ -593,3 +594,27 @@ def make_path(name: str, half_size: float) -> CameraPath:
     if name not in PATHS:
         raise ValidationError(expected_got("camera path", f"one of {sorted(PATHS)}", repr(name)))
     return PATHS[name](half_size)
+
+
+def look_down_deg(cameras: Sequence[CameraModel]) -> np.ndarray:
+    """How far each camera looks down: its optical axis's angle below the horizontal, degrees
+    (0: level, 90: straight down; negative: looking up).
+
+    Parameters
+    ----------
+    cameras : sequence of CameraModel
+        World frame (``+z`` up).
+
+    Returns
+    -------
+    (len(cameras),) float64
+        Degrees in ``[-90, 90]``.
+
+    Examples
+    --------
+    >>> from morphkit.billboard.paths import look_down_deg, make_path
+    >>> look_down_deg(make_path("topdown", 5.0).cameras(2)).round(6) + 0.0
+    array([90., 90.])
+    """
+    axes = np.array([np.asarray(c.cam2world, np.float64)[:3, 2] for c in cameras]).reshape(-1, 3)
+    return np.degrees(np.arcsin(np.clip(-axes[:, 2], -1.0, 1.0)))

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import tol
 from ..errors import ValidationError, expected_got
 from ..validate import as_int
 
@@ -121,6 +122,19 @@ class ViewRing:
         object.__setattr__(self, "views", k)
         object.__setattr__(self, "arc_deg", arc)
         object.__setattr__(self, "elevation_deg", e)
+
+    @property
+    def band_deg(self) -> tuple[float, float]:
+        """The eye elevations (degrees) the ring's views serve: its elevation up to
+        :data:`morphkit.tol.BB_RING_BAND_DEG` above it, from the horizon (0).
+
+        Examples
+        --------
+        >>> from morphkit.billboard.ring import ViewRing
+        >>> ViewRing(8).band_deg
+        (0.0, 30.0)
+        """
+        return (0.0, self.elevation_deg + tol.BB_RING_BAND_DEG)
 
     @property
     def spacing_deg(self) -> float:

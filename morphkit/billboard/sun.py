@@ -9,12 +9,12 @@ adds no light, by the shading model (:mod:`morphkit.shading`, "Horizon"): such
 frames show ambient light only.
 
 * :class:`SunPath` -- a day: the azimuth sweeps evenly across ``azimuth_range``, the
-  elevation rises as ``e(t) = (e_max + n) sin(pi t) - n`` (``n`` =
-  ``night_deg``) from ``-n`` at sunrise (``t = 0``) to ``e_max`` at noon
-  (``t = 1/2``) and back at sunset (``t = 1``). With ``n > 0`` the first and last
-  frames are below the horizon (no light) and the horizon is crossed at
-  ``t = asin(n / (e_max + n)) / pi`` and its mirror; with ``n = 0`` the end
-  frames lie exactly on it (also no light).
+  elevation rises as ``e(t) = r + (e_max - r) sin(pi t)`` (``r`` = ``rise_deg``)
+  from ``r`` at sunrise (``t = 0``) to ``e_max`` at noon (``t = 1/2``) and back at
+  sunset (``t = 1``). By default ``r > 0``: every frame of the day has a sun. With
+  ``r < 0`` the first and last frames are below the horizon (no light) and the
+  horizon is crossed at ``t = asin(-r / (e_max - r)) / pi`` and its mirror; with
+  ``r = 0`` the end frames lie exactly on it (also no light).
 * :func:`sun_directions_8` -- eight fixed suns for the relit bench, named, each
   relative to the viewer's azimuth so that "behind the billboard" means what it says.
 """
@@ -31,10 +31,14 @@ from ..scene import DirectionalLight
 from ..validate import as_finite_array, as_int, as_positive
 from .domecameras import direction
 
-__all__ = ["SunPath", "sun", "sun_directions_8", "SUN_INTENSITY", "TEST_SUNS"]
+__all__ = ["SunPath", "sun", "sun_directions_8", "SUN_INTENSITY", "TEST_SUNS", "DEFAULT_RISE_DEG"]
 
 #: Default sun intensity (the :class:`~morphkit.scene.DirectionalLight` default).
 SUN_INTENSITY = 3.0
+#: The default day's elevation at sunrise and sunset, degrees: above the horizon, so every
+#: frame of a day has a sun (and above the sun atlases' grazing cut-off,
+#: :data:`morphkit.tol.SUN_MIN_ELEVATION_DEG`, so every frame's shadow is looked up as it is).
+DEFAULT_RISE_DEG = 10.0
 
 
 def sun(azimuth_deg: float, elevation_deg: float, intensity: float = SUN_INTENSITY) -> DirectionalLight:
@@ -76,27 +80,31 @@ class SunPath:
         Sun azimuths at sunrise (``t = 0``) and sunset (``t = 1``), degrees (world).
     max_elevation : float
         Elevation at noon, degrees in ``(0, 90]``.
-    night_deg : float
-        How far below the horizon the sun starts and ends, degrees ``>= 0``.
+    rise_deg : float
+        Elevation at sunrise and sunset, degrees in ``(-90, max_elevation]`` (default
+        :data:`DEFAULT_RISE_DEG`, above the horizon; ``< 0``: the day starts and ends in
+        the night, those frames unlit).
     intensity : float
         Light intensity.
 
     Examples
     --------
-    The default day: 5 degrees below the horizon at both ends, 60 degrees at noon,
-    ``65 sin(pi / 4) - 5`` at ``t = 1/4``.
+    The default day: 10 degrees up at both ends, 60 degrees at noon,
+    ``10 + 50 sin(pi / 4)`` at ``t = 1/4``; a day from 5 degrees below the horizon:
 
     >>> from morphkit.billboard.sun import SunPath
     >>> path = SunPath()
     >>> [round(path.elevation_at(t), 6) for t in (0.0, 0.25, 0.5, 1.0)]
-    [-5.0, 40.961941, 60.0, -5.0]
+    [10.0, 45.355339, 60.0, 10.0]
+    >>> [round(SunPath(rise_deg=-5.0).elevation_at(t), 6) for t in (0.0, 0.25, 0.5)]
+    [-5.0, 40.961941, 60.0]
     >>> len(SunPath.day(5))
     5
     """
 
     azimuth_range: tuple[float, float] = (-90.0, 90.0)
     max_elevation: float = 60.0
-    night_deg: float = 5.0
+    rise_deg: float = DEFAULT_RISE_DEG
     intensity: float = SUN_INTENSITY
 
     def __post_init__(self) -> None:
@@ -104,12 +112,13 @@ class SunPath:
         e = float(self.max_elevation)
         if not 0.0 < e <= 90.0:
             raise ValidationError(expected_got("max_elevation", "degrees in (0, 90]", self.max_elevation))
-        n = float(self.night_deg)
-        if not 0.0 <= n < 90.0:
-            raise ValidationError(expected_got("night_deg", "degrees in [0, 90)", self.night_deg))
+        r = float(self.rise_deg)
+        if not -90.0 < r <= e:
+            raise ValidationError(expected_got("rise_deg", f"degrees in (-90, max_elevation = {e:g}]",
+                                               self.rise_deg))
         object.__setattr__(self, "azimuth_range", (float(az[0]), float(az[1])))
         object.__setattr__(self, "max_elevation", e)
-        object.__setattr__(self, "night_deg", n)
+        object.__setattr__(self, "rise_deg", r)
         object.__setattr__(self, "intensity", as_positive(self.intensity, "intensity"))
 
     @staticmethod
@@ -136,8 +145,8 @@ class SunPath:
         return a0 + self._t(t) * (a1 - a0)
 
     def elevation_at(self, t: float) -> float:
-        """Sun elevation at ``t``, degrees: ``(e_max + n) sin(pi t) - n``, symmetric about noon
-        (exactly ``-n`` at both ends).
+        """Sun elevation at ``t``, degrees: ``r + (e_max - r) sin(pi t)``, symmetric about noon
+        (exactly ``r`` at both ends).
 
         Parameters
         ----------
@@ -151,7 +160,7 @@ class SunPath:
         """
         tt = self._t(t)
         s = math.sin(math.pi * min(tt, 1.0 - tt))  # exactly 0 at both ends (sin(pi) is not)
-        return (self.max_elevation + self.night_deg) * s - self.night_deg
+        return self.rise_deg + (self.max_elevation - self.rise_deg) * s
 
     def sun_at(self, t: float) -> DirectionalLight:
         """The sun at ``t``.
@@ -187,7 +196,7 @@ class SunPath:
 
     @classmethod
     def day(cls, frames: int, *, azimuth_range: tuple[float, float] = (-90.0, 90.0),
-            max_elevation: float = 60.0, night_deg: float = 5.0,
+            max_elevation: float = 60.0, rise_deg: float = DEFAULT_RISE_DEG,
             intensity: float = SUN_INTENSITY) -> list[DirectionalLight]:
         """The suns of ``frames`` frames of a day: ``SunPath(...).suns(frames)``.
 
@@ -199,8 +208,8 @@ class SunPath:
             Sun azimuths at sunrise and sunset, degrees.
         max_elevation : float
             Elevation at noon, degrees.
-        night_deg : float
-            Degrees below the horizon at both ends.
+        rise_deg : float
+            Elevation at sunrise and sunset, degrees.
         intensity : float
             Light intensity.
 
@@ -209,7 +218,7 @@ class SunPath:
         list of DirectionalLight
             One per frame, world frame.
         """
-        return cls(azimuth_range, max_elevation, night_deg, intensity).suns(frames)
+        return cls(azimuth_range, max_elevation, rise_deg, intensity).suns(frames)
 
 
 #: The eight test suns of :func:`sun_directions_8`: name -> (azimuth relative to the
