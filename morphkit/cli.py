@@ -33,7 +33,7 @@ from typing import Any
 
 from .cliargs import SOFT_FILTER, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError
+from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -339,20 +339,31 @@ def _billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Se
     views over the hemisphere (``dome``), and, when it was not given, the line saying which
     representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
     path whose eye looks down from above the ring's band (:meth:`ViewRing.band_deg`), else a
-    ring of 8 (``.npz`` asset files load as they were baked: a ring unless ``--views dome``)."""
+    ring of 8 (``.npz`` asset files load as they were baked: dome files as a dome, ring files as
+    a ring)."""
+    from .billboard.domefile import is_dome_file
     from .billboard.paths import look_down_deg
     from .billboard.ring import ViewRing
 
     v = args.views
+    files = [sp for sp in specs if sp.lower().endswith(".npz")]
+    domes = [sp for sp in files if is_dome_file(sp)]
+    if domes and (len(domes) < len(files) or (v is not None and v != "dome")):
+        rings = [sp for sp in files if sp not in domes]
+        got = f"dome {', '.join(domes)}" + (f" with ring {', '.join(rings)}" if rings
+                                            else f" with --views {v}")
+        raise UsageError(expected_got("--asset files", "assets of one kind: dome files (relightable) or "
+                                      "ring files (--views K)", got))
     if v is not None:
         return (None if v == "dome" else int(v)), ""
     head = "morphkit billboards: "
+    if domes:
+        return None, head + "dome views (the --asset files are dome assets)"
     if args.sun_path:
         return None, head + "dome views (--sun-path relights them: albedo, normals and depth)"
     ring = ViewRing(8)
     lo, hi = ring.band_deg
     top = float(look_down_deg(cameras).max()) if len(cameras) else 0.0
-    files = [sp for sp in specs if sp.lower().endswith(".npz")]
     if top <= hi:
         return 8, (head + f"a ring of 8 views (the {args.path} path's eye looks down by at most "
                    f"{top:.0f} degrees, inside the ring's band of {lo:g}-{hi:g}; --views dome for views "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import cv2
+import numpy as np
 import pytest
 
 from morphkit.cli import main, parse_size
@@ -159,3 +160,30 @@ def test_the_default_views_follow_the_camera_path_and_say_so(capsys, tmp_path, p
     assert f"morphkit billboards: {chosen}" in err and "broken.ply" in err
     assert main([*run, "--views", "4", "-o", str(tmp_path / "b")]) == 1
     assert "morphkit billboards:" not in capsys.readouterr().err  # given: nothing to choose or say
+
+
+def _dome_like(path):
+    """An .npz whose metadata says dome asset (of a version no reader takes: the run stops at
+    loading it, after the choice of views)."""
+    import json
+
+    meta = {"format": "morphkit-billboard", "version": 999, "kind": "dome", "name": "thing"}
+    np.savez(path, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8))
+    return path
+
+
+def test_dome_asset_files_take_dome_views_and_one_kind_is_asked_for(capsys, tmp_path):
+    from morphkit.billboard.domefile import is_dome_file
+
+    dome = _dome_like(tmp_path / "thing.npz")  # a dome file by its metadata, not by its name
+    assert is_dome_file(dome) and not is_dome_file(tmp_path / "missing.npz") and not is_dome_file(tmp_path)
+    run = ["billboards", "--asset", str(dome), "--frames", "2"]
+    assert main([*run, "-o", str(tmp_path / "a")]) == 1  # the made-up version: refused at loading
+    assert "morphkit billboards: dome views (the --asset files are dome assets)" in capsys.readouterr().err
+    assert main([*run, "--views", "4", "-o", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    assert "--asset files: expected assets of one kind" in err and "with --views 4" in err
+    ring = tmp_path / "ring.npz"
+    np.savez(ring, meta=np.frombuffer(b'{"format": "morphkit-billboard", "version": 2}', np.uint8))
+    assert main(["billboards", "--asset", str(dome), "--asset", str(ring), "-o", str(tmp_path / "c")]) == 2
+    assert f"with ring {ring}" in capsys.readouterr().err

@@ -38,7 +38,7 @@ from ..errors import FileFormatError, expected_got
 from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from .assetfile import FORMAT
 
-__all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome"]
+__all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]
 
 #: Version of the dome asset file (3: views over the hemisphere with albedo, normals and
 #: depth; 2 and older: a ring at one elevation, lit by the bake light).
@@ -217,3 +217,29 @@ def read_dome(path: str | os.PathLike[str]) -> DomeRecord:
         pivot=[float(x) for x in pivot], distance=float(_get(meta, "distance", (int, float))),
         radius=float(_get(meta, "radius", (int, float))), size=_get(meta, "size", int),
         levels=_get(meta, "levels", int), rgba=rgba, normal=normal, depth=depth)
+
+
+def is_dome_file(path: str | Path) -> bool:
+    """Whether ``path`` is a regular file whose metadata says it is a dome asset
+    (``format`` :data:`~.assetfile.FORMAT`, ``kind`` ``"dome"``), whatever its version: which
+    reader to hand it to. Anything unreadable answers False (its reader then says why).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        An ``.npz`` asset file.
+
+    Returns
+    -------
+    bool
+    """
+    p = Path(path)
+    try:
+        if not p.is_file():  # a FIFO or a folder is no asset file: never opened here
+            return False
+        with np.load(p, allow_pickle=False) as z:
+            meta = json.loads(bytes(z["meta"]).decode("utf-8"))
+    except Exception:  # noqa: BLE001 -- any failure: not recognised (the reader reports it)
+        return False
+    return isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("kind") == "dome"
+
