@@ -36,6 +36,13 @@ def _count(args: argparse.Namespace, attr: str, option: str, lo: int, hi: int) -
         as_int(v, option, lo=lo, hi=hi)
 
 
+def _counts(args: argparse.Namespace, attr: str, option: str, lo: int, hi: int) -> None:
+    """Each of ``args.<attr>`` (a list, when given) as an integer in ``[lo, hi]``."""
+    v = getattr(args, attr, None)
+    if v is not None:
+        setattr(args, attr, [as_int(x, option, lo=lo, hi=hi) for x in v])
+
+
 def _finite(args: argparse.Namespace, attr: str, option: str) -> None:
     """Every number of ``args.<attr>`` (when given) finite."""
     v = getattr(args, attr, None)
@@ -136,6 +143,13 @@ def _viewmorph(args: argparse.Namespace) -> None:
         raise ValidationError(expected_got("--s", "a position in [0, 1]", args.s))
 
 
+def _bench(args: argparse.Namespace) -> None:
+    # every count option of `bench` (which suite takes which is cli._cmd_bench's to say)
+    _counts(args, "workers", "--workers", 1, tol.MAX_LOCAL_WORKERS)
+    _count(args, "assets", "--assets", 1, tol.MAX_BENCH_ASSETS)
+    _counts(args, "instances", "--instances", 1, tol.MAX_BENCH_INSTANCES)
+
+
 def _bake(args: argparse.Namespace) -> None:
     # the kinds' options (--atlas-size, --grid, --range, --light, --views) are checked by the
     # kinds themselves (morphkit.bake.kinds) before the bake starts
@@ -143,7 +157,8 @@ def _bake(args: argparse.Namespace) -> None:
 
 
 _CHECKS: dict[str, Callable[[argparse.Namespace], None]] = {
-    "demo": _demo, "billboards": _billboards, "shadows": _shadows, "viewmorph": _viewmorph, "bake": _bake}
+    "demo": _demo, "bench": _bench, "billboards": _billboards, "shadows": _shadows, "viewmorph": _viewmorph,
+    "bake": _bake}
 
 
 def check_args(args: argparse.Namespace) -> None:

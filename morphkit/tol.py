@@ -219,6 +219,17 @@ MAX_BILLBOARD_SIDE = 2048
 #: machine's useful count, while an uncapped count started processes until memory ran out.
 MAX_LOCAL_WORKERS = 256
 
+#: Most instances of one ``bench scene`` field (``morphkit bench scene --instances``): its
+#: ``sun-change`` section poses every instance's copy of an asset of up to 50k faces into one mesh
+#: that is drawn and ray-cast, about 5e7 faces (gigabytes) at the suite's largest default of 1000,
+#: so twice that is the most a machine of tens of GB holds (10^9 grew past 23 GB until killed).
+MAX_BENCH_INSTANCES = 2000
+
+#: Most assets of the ``bench bake`` library (``morphkit bench bake --assets``): each is a mesh file
+#: written to a temporary folder and baked once per phase, so a count without a cap wrote files
+#: until the disk was full; 16x the 256 assets the suite's projection targets.
+MAX_BENCH_ASSETS = 4096
+
 #: Largest seed a command takes (``billboards --seed``): numpy's generators take any
 #: non-negative integer; one that fits 64 bits is what a user can write down and repeat.
 MAX_SEED = 2**64 - 1
