@@ -53,6 +53,12 @@ MESH_BOUNDARY_PX = 1e-6
 #: ~9e10; 1e9 is 90x below that and a million kilometres on a metre scale: no real model.
 MESH_MAX_COORD = 1e9
 
+#: Most nodes of a glTF file morphkit reads (:mod:`morphkit.meshes.gltf`, checked on its JSON before
+#: trimesh reads it): every node is posed and merged into the one mesh in Python, about 0.8 ms a node
+#: (8 s at this count), so a file of a million nodes ran for a quarter of an hour without a word; one
+#: asset of ten thousand parts is already a scene, not an object to bake.
+MAX_GLTF_NODES = 10_000
+
 #: Relative length below which a mesh counts as flat in a direction
 #: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
 #: (or second bounding-box extent) over its first. Vertex coordinates round at

@@ -9,12 +9,18 @@ refusing it fails the test rather than the machine.
 
 from __future__ import annotations
 
+import base64
+import json
 import os
+import re
 import resource
+import struct
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 import pytest
 
 from morphkit import tol
@@ -56,8 +62,6 @@ def _want(what: str, cap: int, got: int) -> str:
     (("bake", "--assets", "1000000000"), _want("--assets", tol.MAX_BENCH_ASSETS, 1000000000)),
 ], ids=["instances-1e9", "instances-0", "workers-1e5", "workers-negative", "assets-1e9"])
 def test_bench_counts_are_capped_before_any_work(argv, match):
-    import re
-
     rc, line = morphkit_cli("bench", *argv)
     assert rc == 1
     assert re.search(match, line), line
@@ -70,10 +74,112 @@ def test_bench_counts_are_capped_before_any_work(argv, match):
 ], ids=["scene-instances", "bake-workers", "bake-assets"])
 def test_bench_suites_check_their_counts_too(call, match):
     """The API refuses the same counts (in a subprocess: code that took them would run the suite)."""
-    import re
-
     r = subprocess.run([sys.executable, "-c", f"from morphkit.bench import bake_suite, scene_suite; {call}"],
                        capture_output=True, text=True, env=ENV, timeout=120, preexec_fn=_limit_memory,
                        cwd=ROOT)
     assert r.returncode == 1
     assert re.search("ValidationError: " + match, r.stderr.strip().splitlines()[-1]), r.stderr[-2000:]
+
+
+# ------------------------------------------------------------ glTF node graphs
+
+
+def _gltf_doc(nodes: list[dict[str, Any]], roots: list[int]) -> tuple[dict[str, Any], bytes]:
+    """A glTF document of one triangle drawn by ``nodes`` (scene roots ``roots``), and its buffer."""
+    buf = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32).tobytes()
+    buf += np.array([0, 1, 2, 0], np.uint16).tobytes()
+    doc = {"asset": {"version": "2.0"}, "buffers": [{"byteLength": len(buf)}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                           {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]},
+                         {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+           "nodes": nodes, "scenes": [{"nodes": roots}], "scene": 0}
+    return doc, buf
+
+
+def _write_gltf(path: Path, nodes: list[dict[str, Any]], roots: list[int]) -> Path:
+    """``nodes`` as a ``.gltf`` (buffer as a data URI) or a ``.glb`` (JSON and BIN chunks)."""
+    doc, buf = _gltf_doc(nodes, roots)
+    if path.suffix == ".gltf":
+        doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(buf).decode()
+        path.write_text(json.dumps(doc))
+        return path
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    buf += b"\0" * (-len(buf) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(buf), 0x004E4942) + buf
+    path.write_bytes(b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body)
+    return path
+
+
+def _chain(n: int) -> list[dict[str, Any]]:
+    """``n`` nodes, each drawing the triangle, node ``i``'s child ``i + 1``."""
+    return [{"mesh": 0, "translation": [0.01, 0, 0], **({"children": [i + 1]} if i + 1 < n else {})}
+            for i in range(n)]
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_gltf_trees_load(tmp_path, suffix):
+    """The check passes what glTF allows: a tree of nodes, and a flat list of roots."""
+    from morphkit.meshes import load_mesh
+
+    assert len(load_mesh(_write_gltf(tmp_path / f"chain{suffix}", _chain(4), [0])).faces) == 4
+    flat = [{"mesh": 0, "translation": [i, 0, 0]} for i in range(3)]
+    assert len(load_mesh(_write_gltf(tmp_path / f"flat{suffix}", flat, [0, 1, 2])).faces) == 3
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+@pytest.mark.parametrize("nodes, roots, match", [
+    ([{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}], [0], r"a cycle of children 0 -> 1 -> 0"),
+    ([{"mesh": 0}, {"mesh": 0, "children": [2]}, {"mesh": 0, "children": [3]}, {"children": [1, 4]},
+      {"mesh": 0}], [0], r"a cycle of children 1 -> 2 -> 3 -> 1"),
+    ([{"mesh": 0, "children": [0]}], [0], r"got node 0 a child of itself"),
+    ([{"mesh": 0, "children": [2]}, {"mesh": 0, "children": [2]}, {"mesh": 0}], [0, 1],
+     r"got node 2 a child of node 0 and node 1"),
+    ([{"mesh": 0, "children": [7]}], [0],
+     r"node 0 of .*: expected children that are node indices in \[0, 1\), got 7"),
+], ids=["cycle", "cycle-below-a-root", "own-child", "two-parents", "no-such-child"])
+def test_gltf_nodes_that_are_not_trees_are_refused(tmp_path, suffix, nodes, roots, match):
+    from morphkit.errors import MeshError
+    from morphkit.meshes import load_mesh
+
+    with pytest.raises(MeshError, match=match):
+        load_mesh(_write_gltf(tmp_path / f"bad{suffix}", nodes, roots))
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_gltf_of_more_nodes_than_the_cap_is_refused(tmp_path, suffix):
+    from morphkit.errors import MeshError
+    from morphkit.meshes import load_mesh
+
+    n = tol.MAX_GLTF_NODES + 1
+    path = _write_gltf(tmp_path / f"many{suffix}", [{"mesh": 0}] * n, list(range(n)))
+    with pytest.raises(MeshError, match=rf"nodes of mesh file .*: expected at most {tol.MAX_GLTF_NODES} "
+                       rf"\(tol.MAX_GLTF_NODES\), got {n} nodes"):
+        load_mesh(path)
+
+
+def test_glb_node_check_reads_the_json_chunk_only(tmp_path, monkeypatch):
+    """A GLB's binary chunk is not read for the check: one cut off after its header is refused by
+    the node count (trimesh, which reads it, would fail on the missing bytes instead)."""
+    from morphkit.errors import MeshError
+    from morphkit.meshes import load_mesh
+
+    monkeypatch.setattr(tol, "MAX_GLTF_NODES", 3)
+    path = _write_gltf(tmp_path / "many.glb", [{"mesh": 0}] * 4, [0, 1, 2, 3])
+    data = path.read_bytes()
+    path.write_bytes(data[:-44])  # the BIN chunk's data (44 bytes) gone
+    with pytest.raises(MeshError, match=r"expected at most 3 \(tol.MAX_GLTF_NODES\), got 4 nodes"):
+        load_mesh(path)
+
+
+def test_cli_on_a_cyclic_gltf_is_one_line(tmp_path):
+    """``billboards --asset FILE`` loads the mesh first: one line, exit 1, nothing rendered."""
+    cycle = [{"mesh": 0, "children": [1]}, {"mesh": 0, "children": [0]}]
+    path = _write_gltf(tmp_path / "cycle.gltf", cycle, [0])
+    rc, line = morphkit_cli("billboards", "--asset", path, "--frames", "1", "-o", tmp_path / "out")
+    assert rc == 1
+    assert re.search(r"nodes of mesh file .*cycle.gltf.*: expected nodes forming trees .*, got a cycle of "
+                     r"children 0 -> 1 -> 0$", line), line
