@@ -568,6 +568,12 @@ LIGHT_DEPTH_PAD = 1e-3
 #: :class:`~morphkit.shadow.rig.RangeClampWarning`.
 POSITION_EQUAL = 1e-12
 
+#: Slack, relative to the far plane, by which a dome asset file's drawn depths may lie outside its
+#: views' near and far planes (:func:`morphkit.billboard.domefile.read_dome`): they are stored in
+#: float16 relative to the camera distance, which rounds them to 2**-11 of their size (at most the
+#: far plane); 2**-10 is twice that, and far below a depth that draws something else.
+DOME_DEPTH_SLACK_REL = 2.0**-10
+
 # --- sun atlases (morphkit.shadow.sunatlas) ----------------------------------
 #: The grazing cut-off (degrees above the horizon) of a sun atlas's light views
 #: (:mod:`morphkit.shadow.sunatlas`): a sun between the horizon and this elevation is

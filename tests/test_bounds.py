@@ -183,3 +183,56 @@ def test_cli_on_a_cyclic_gltf_is_one_line(tmp_path):
     assert rc == 1
     assert re.search(r"nodes of mesh file .*cycle.gltf.*: expected nodes forming trees .*, got a cycle of "
                      r"children 0 -> 1 -> 0$", line), line
+
+
+# ------------------------------------------------------------ dome files
+
+
+def _redepth(path: Path, out: Path, edit: Any) -> Path:
+    """``path``'s dome file with its depth array edited and its checksums recomputed."""
+    from morphkit.fileio import array_digest
+
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    meta = json.loads(bytes(arrays.pop("meta")).decode())
+    arrays["depth"] = edit(arrays["depth"].copy(), meta)
+    meta["sha256"] = {k: array_digest(np.ascontiguousarray(a)) for k, a in arrays.items()}
+    np.savez(out, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8), **arrays)
+    return out
+
+
+def _negative(d: np.ndarray, meta: dict[str, Any]) -> np.ndarray:
+    drawn = np.isfinite(d)
+    d[drawn] = np.float16(-meta["distance"] - 1.0)  # linear depth -1: behind every view's camera
+    return d
+
+
+def _beyond_far(d: np.ndarray, meta: dict[str, Any]) -> np.ndarray:
+    d[np.isfinite(d)] = np.float16(2.0 * meta["radius"])  # past D + 1.5 r
+    return d
+
+
+_DEPTH = (r"dome billboard asset file: depth: expected drawn depths \(depth \+ distance .*\) within "
+          r"the views' ")
+
+
+@pytest.mark.parametrize("edit, match", [
+    (_negative, _DEPTH + r"near and far planes \[.*\], or \+inf \(nothing drawn\), got -1 to -1 "
+                         r"\(behind the camera\)"),
+    (_beyond_far, _DEPTH + r"near and far planes"),
+], ids=["negative", "beyond-far"])
+def test_dome_file_of_depths_no_view_draws_is_refused(tmp_path, edit, match):
+    from morphkit.billboard.analytic import sphere_dome_asset
+    from morphkit.billboard.domeasset import DomeAsset
+    from morphkit.billboard.domefile import read_dome
+    from morphkit.errors import FileFormatError
+
+    p = sphere_dome_asset(None, 32).save(tmp_path / "ball.npz")
+    read_dome(p)  # the baked file passes (its depths within the planes)
+    same = _redepth(p, tmp_path / "same.npz", lambda d, meta: d)
+    assert np.array_equal(read_dome(same).depth, read_dome(p).depth, equal_nan=True)
+    bad = _redepth(p, tmp_path / "bad.npz", edit)
+    with pytest.raises(FileFormatError, match=match):
+        read_dome(bad)
+    with pytest.raises(FileFormatError, match=match):
+        DomeAsset.load(bad)
