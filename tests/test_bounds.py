@@ -236,3 +236,49 @@ def test_dome_file_of_depths_no_view_draws_is_refused(tmp_path, edit, match):
         read_dome(bad)
     with pytest.raises(FileFormatError, match=match):
         DomeAsset.load(bad)
+
+
+# ------------------------------------------------------------ bake lights
+
+
+@pytest.mark.parametrize("light, directional, match", [
+    ((0.3, 0.0, 1.0), True, r"light with directional: expected a direction travelling down \(z < 0\) to "
+                            r"reach the ground, got \(0.3, 0.0, 1.0\) \(z >= 0: away from it\)"),
+    ((1.0, 0.0, 0.0), True, r"light with directional: expected a direction travelling down"),
+    ((0.2, -0.1, -2.0), False, r"light: expected a point light above the ground \(z > 0\), got "
+                               r"\(0.2, -0.1, -2.0\) \(at or under the ground\)"),
+    ((0.2, -0.1, 0.0), False, r"light: expected a point light above the ground"),
+], ids=["directional-up", "directional-level", "point-under", "point-on"])
+def test_a_light_that_cannot_reach_the_ground_is_refused(light, directional, match):
+    from morphkit.bake import ShadowAtlasKind
+    from morphkit.errors import ValidationError
+
+    with pytest.raises(ValidationError, match=match):
+        ShadowAtlasKind(light=light, directional=directional)
+    ShadowAtlasKind(light=(0.3, 0.0, -1.0), directional=True)  # what reaches it is taken
+    ShadowAtlasKind(light=(0.2, -0.1, 0.5))
+
+
+@pytest.mark.parametrize("argv, match", [
+    (("--light", "0", "0", "1", "--directional"), r"light with directional: expected a direction travelling "
+                                                  r"down"),
+    (("--light", "0.2", "0", "-1"), r"light: expected a point light above the ground \(z > 0\)"),
+], ids=["directional-up", "point-under"])
+def test_bake_refuses_such_a_light_in_one_line(tmp_path, argv, match):
+    import trimesh
+
+    trimesh.creation.box().export(tmp_path / "box.ply")
+    rc, line = morphkit_cli("bake", tmp_path / "box.ply", "-o", tmp_path / "out", *argv, timeout=300)
+    assert rc == 1 and re.search(match, line), line
+    assert not (tmp_path / "out").exists()
+
+
+def test_directional_alone_takes_the_default_light_s_direction_down():
+    """``--directional`` without ``--light`` just works: the default point light's way to the origin."""
+    from morphkit.bake import ShadowAtlasKind
+    from morphkit.bake.kinds import WARP_LIGHT
+
+    assert ShadowAtlasKind().light == WARP_LIGHT
+    kind = ShadowAtlasKind(directional=True)
+    assert kind.light == tuple(-v for v in WARP_LIGHT) and kind.light[2] < 0
+    assert kind.options()["light"] == [-v for v in WARP_LIGHT]
