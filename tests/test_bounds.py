@@ -282,3 +282,34 @@ def test_directional_alone_takes_the_default_light_s_direction_down():
     kind = ShadowAtlasKind(directional=True)
     assert kind.light == tuple(-v for v in WARP_LIGHT) and kind.light[2] < 0
     assert kind.options()["light"] == [-v for v in WARP_LIGHT]
+
+
+# ------------------------------------------------------------ files of other programs
+
+
+def test_another_program_s_manifest_json_above_an_atlas_is_passed_by(tmp_path):
+    import trimesh
+
+    from morphkit.bake.manifest import MANIFEST_FORMAT, is_bake_manifest
+    from morphkit.errors import FileFormatError, ValidationError
+    from morphkit.shadow.playback import baked_mesh
+
+    trimesh.creation.box().export(tmp_path / "box.ply")
+    (tmp_path / "site").mkdir()
+    web = tmp_path / "site" / "manifest.json"
+    web.write_text(json.dumps({"name": "My App", "start_url": "/", "icons": []}))
+    atlas = tmp_path / "site" / "baked" / "box.atlas.npz"
+    atlas.parent.mkdir()
+    assert not is_bake_manifest(web)
+    assert len(baked_mesh(atlas, tmp_path / "box.ply").faces) == 12  # the web app's file is not read as ours
+    with pytest.raises(ValidationError, match=r"mesh of box.atlas.npz: expected a bake manifest listing the "
+                       r"atlas \(its folder or a parent\), or --mesh, got neither"):
+        baked_mesh(atlas)
+    (tmp_path / "site" / "manifest.json").write_text("[1, 2")  # not JSON, not naming morphkit's format
+    assert len(baked_mesh(atlas, tmp_path / "box.ply").faces) == 12
+    damaged = json.dumps({"format": MANIFEST_FORMAT, "version": 1, "assets": {}})[:-9]  # ours, cut short
+    (atlas.parent / "manifest.json").write_text(damaged)
+    assert is_bake_manifest(atlas.parent / "manifest.json")
+    with pytest.raises(FileFormatError, match=rf"manifest .*manifest.json: expected a {MANIFEST_FORMAT} "
+                       r"JSON file"):
+        baked_mesh(atlas, tmp_path / "box.ply")
