@@ -232,6 +232,9 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
              "light": None if args.light is None else tuple(args.light)}
     atlas = ShadowAtlasKind(**{k: v for k, v in given.items() if v is not None},
                             directional=args.directional)
+    if args.directional and args.light is None:
+        print(f"morphkit bake: --directional without --light: the light travels {atlas.light} (from the "
+              "default point light towards the object)", file=sys.stderr)
     kinds: tuple = (atlas,)
     if args.billboard:
         kinds += (BillboardKind(**({} if args.views is None else {"views": args.views})),)
@@ -610,8 +613,9 @@ def build_parser() -> argparse.ArgumentParser:
     k.add_argument("--range", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=None,
                    help="the object's range of motion on the ground (default: -0.6 -0.6 0.6 0.6)")
     k.add_argument("--light", type=float, nargs=3, metavar=("X", "Y", "Z"), default=None,
-                   help="point light position, or with --directional the direction light travels "
-                   "(default: 0.25 -0.2 2.4)")
+                   help="point light position (z > 0), or with --directional the direction light "
+                   "travels (z < 0) (default: 0.25 -0.2 2.4); with --directional its way to the object, "
+                   "-0.25 0.2 -2.4")
     k.add_argument("--directional", action="store_true", help="a directional light (see --light)")
     where = k.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, default=None, metavar="N",

@@ -36,6 +36,13 @@ def _count(args: argparse.Namespace, attr: str, option: str, lo: int, hi: int) -
         as_int(v, option, lo=lo, hi=hi)
 
 
+def _counts(args: argparse.Namespace, attr: str, option: str, lo: int, hi: int) -> None:
+    """Each of ``args.<attr>`` (a list, when given) as an integer in ``[lo, hi]``."""
+    v = getattr(args, attr, None)
+    if v is not None:
+        setattr(args, attr, [as_int(x, option, lo=lo, hi=hi) for x in v])
+
+
 def _finite(args: argparse.Namespace, attr: str, option: str) -> None:
     """Every number of ``args.<attr>`` (when given) finite."""
     v = getattr(args, attr, None)
@@ -175,11 +182,10 @@ def _bake(args: argparse.Namespace) -> None:
 
 
 def _bench(args: argparse.Namespace) -> None:
-    for n in getattr(args, "workers", None) or ():
-        as_int(n, "--workers", lo=1, hi=tol.MAX_LOCAL_WORKERS)
+    # every count option of `bench` (which suite takes which is cli._cmd_bench's to say)
+    _counts(args, "workers", "--workers", 1, tol.MAX_LOCAL_WORKERS)
     _count(args, "assets", "--assets", 1, tol.MAX_BENCH_ASSETS)
-    for n in getattr(args, "instances", None) or ():
-        as_int(n, "--instances", lo=1, hi=tol.MAX_INSTANCES)
+    _counts(args, "instances", "--instances", 1, tol.MAX_BENCH_INSTANCES)
     sections = getattr(args, "sections", None)
     if sections is not None:
         names = [s.strip() for s in str(sections).split(",")]

@@ -53,6 +53,12 @@ MESH_BOUNDARY_PX = 1e-6
 #: ~9e10; 1e9 is 90x below that and a million kilometres on a metre scale: no real model.
 MESH_MAX_COORD = 1e9
 
+#: Most nodes of a glTF file morphkit reads (:mod:`morphkit.meshes.gltf`, checked on its JSON before
+#: trimesh reads it): every node is posed and merged into the one mesh in Python, about 0.8 ms a node
+#: (8 s at this count), so a file of a million nodes ran for a quarter of an hour without a word; one
+#: asset of ten thousand parts is already a scene, not an object to bake.
+MAX_GLTF_NODES = 10_000
+
 #: Relative length below which a mesh counts as flat in a direction
 #: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
 #: (or second bounding-box extent) over its first. Vertex coordinates round at
@@ -225,9 +231,15 @@ MAX_WARP_THREADS = 256
 #: so that a typo (a port number, a PCI address) is refused rather than tried.
 MAX_EGL_DEVICE = 1023
 
-#: Largest library ``morphkit bench bake --assets`` builds: each asset is a mesh file
-#: written and baked (seconds each on one core), so 4096 is hours on 16 cores, while a
-#: count without a cap wrote meshes until the disk was full.
+#: Most instances of one ``bench scene`` field (``morphkit bench scene --instances``): its
+#: ``sun-change`` section poses every instance's copy of an asset of up to 50k faces into one mesh
+#: that is drawn and ray-cast, about 5e7 faces (gigabytes) at the suite's largest default of 1000,
+#: so twice that is the most a machine of tens of GB holds (10^9 grew past 23 GB until killed).
+MAX_BENCH_INSTANCES = 2000
+
+#: Most assets of the ``bench bake`` library (``morphkit bench bake --assets``): each is a mesh file
+#: written to a temporary folder and baked once per phase, so a count without a cap wrote files
+#: until the disk was full; 16x the 256 assets the suite's projection targets.
 MAX_BENCH_ASSETS = 4096
 
 #: Largest seed a command takes (``billboards --seed``): numpy's generators take any
@@ -586,6 +598,12 @@ LIGHT_DEPTH_PAD = 1e-3
 #: only float64 noise; a position outside by more gets the
 #: :class:`~morphkit.shadow.rig.RangeClampWarning`.
 POSITION_EQUAL = 1e-12
+
+#: Slack, relative to the far plane, by which a dome asset file's drawn depths may lie outside its
+#: views' near and far planes (:func:`morphkit.billboard.domefile.read_dome`): they are stored in
+#: float16 relative to the camera distance, which rounds them to 2**-11 of their size (at most the
+#: far plane); 2**-10 is twice that, and far below a depth that draws something else.
+DOME_DEPTH_SLACK_REL = 2.0**-10
 
 # --- sun atlases (morphkit.shadow.sunatlas) ----------------------------------
 #: The grazing cut-off (degrees above the horizon) of a sun atlas's light views

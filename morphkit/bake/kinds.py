@@ -37,6 +37,7 @@ from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
 from ..billboard.dome import DEFAULT_RINGS
 from ..billboard.domeasset import bake_dome
 from ..billboard.domefile import DOME_VERSION
+from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
@@ -138,8 +139,11 @@ class ShadowAtlasKind:
         Maps per axis, ``k >= 2`` (3: Kang & Ihm's 3 x 3).
     range : (x0, y0, x1, y1)
         The object's translations on the ground, world units (:class:`~morphkit.shadow.MotionRange`).
-    light : (x, y, z)
-        Point light position; with ``directional`` the direction the light travels.
+    light : (x, y, z), optional
+        Point light position, above the ground (``z > 0``); with ``directional`` the direction
+        the light travels, down (``z < 0``): a light that cannot reach the ground is refused.
+        Default :data:`WARP_LIGHT`, or with ``directional`` its direction to the origin
+        (``-WARP_LIGHT``).
     directional : bool
         A :class:`~morphkit.scene.DirectionalLight` instead of a point light.
     """
@@ -147,7 +151,7 @@ class ShadowAtlasKind:
     atlas_size: int = 512
     grid: int = 3
     range: tuple[float, float, float, float] = (*WARP_RANGE[0], *WARP_RANGE[1])
-    light: tuple[float, float, float] = WARP_LIGHT
+    light: tuple[float, float, float] | None = None
     directional: bool = False
 
     name: ClassVar[str] = "shadow-atlas"
@@ -158,7 +162,9 @@ class ShadowAtlasKind:
         size = as_int(self.atlas_size, "atlas size", lo=8, hi=8192)
         grid = as_int(self.grid, "grid", lo=2, hi=64)
         rng = as_finite_array(self.range, "range (x0, y0, x1, y1)", shape=(4,))
-        light = as_finite_array(self.light, "light", shape=(3,))
+        given = self.light if self.light is not None else (
+            tuple(-v for v in WARP_LIGHT) if self.directional else WARP_LIGHT)
+        light = as_finite_array(given, "light", shape=(3,))
         object.__setattr__(self, "atlas_size", size)
         object.__setattr__(self, "grid", grid)
         object.__setattr__(self, "range", tuple(float(v) for v in rng))
@@ -166,6 +172,14 @@ class ShadowAtlasKind:
         object.__setattr__(self, "directional", bool(self.directional))
         self.motion()  # validates the range
         self.scene_light()  # and the light
+        # a light that cannot reach the ground (z = 0, morphkit.conventions) casts no shadow on it
+        if self.directional and light[2] >= 0.0:
+            raise ValidationError(expected_got("light with directional", "a direction travelling down "
+                                               "(z < 0) to reach the ground",
+                                               f"{self.light} (z >= 0: away from it)"))
+        if not self.directional and light[2] <= 0.0:
+            raise ValidationError(expected_got("light", "a point light above the ground (z > 0)",
+                                               f"{self.light} (at or under the ground)"))
 
     def motion(self) -> MotionRange:
         """The object's range of motion.

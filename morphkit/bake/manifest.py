@@ -55,7 +55,8 @@ from ..fileio import append_lines, write_json
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
-           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "file_digest", "utc_now"]
+           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "file_digest", "utc_now",
+           "is_bake_manifest"]
 
 #: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
@@ -92,6 +93,37 @@ def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
             h.update(chunk)
             n += len(chunk)
     return h.hexdigest(), n
+
+
+def is_bake_manifest(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a morphkit bake manifest (of any version, or damaged), not another
+    program's file of the same name (a web app's ``manifest.json``).
+
+    Parameters
+    ----------
+    path : path-like
+        A file named :data:`MANIFEST_NAME`.
+
+    Returns
+    -------
+    bool
+        True for a regular file whose JSON object names :data:`MANIFEST_FORMAT` as its
+        ``format``, or that is not JSON (or no object) but holds that name (a manifest cut
+        short: :meth:`Manifest.open` reports it); False for anything else (absent, not a regular
+        file, unreadable, JSON of another format).
+    """
+    p = Path(path)
+    if not p.is_file():
+        return False
+    try:
+        text = p.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return False
+    try:
+        d = json.loads(text, parse_constant=_no_constant)
+    except (ValueError, TypeError):
+        return MANIFEST_FORMAT in text
+    return d.get("format") == MANIFEST_FORMAT if isinstance(d, dict) else MANIFEST_FORMAT in text
 
 
 def utc_now() -> str:

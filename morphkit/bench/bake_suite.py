@@ -81,11 +81,13 @@ from typing import Any
 
 import morphkit
 
+from .. import tol
 from ..bake import BakeOptions, ShadowAtlasKind, bake_library, find_inputs, open_client, worker_renderer
 from ..errors import ValidationError, expected_got
 from ..fileio import append_lines
 from ..meshes import Y_UP_TO_Z_UP, chair, cow, load_mesh, resolve_up, teapot
 from ..settings import child_environment, numba
+from ..validate import as_int
 from .harness import Timing, make_row
 
 #: The suite's name in bench rows.
@@ -137,9 +139,8 @@ def write_library(folder: Path, quick: bool, assets: int | None = None) -> list[
     import trimesh
 
     entries = LIBRARY[::2] if quick else LIBRARY
-    total = len(entries) if assets is None else int(assets)
-    if total < 1:
-        raise ValidationError(expected_got("library assets", ">= 1", assets))
+    total = len(entries) if assets is None else as_int(assets, "library assets", lo=1,
+                                                       hi=tol.MAX_BENCH_ASSETS)
     folder.mkdir(parents=True, exist_ok=True)
     built: dict[int, Any] = {}
     paths = []
@@ -432,9 +433,9 @@ def run(*, quick: bool = False, workers: Sequence[int] = DEFAULT_WORKERS, assets
     list of dict
         The rows (:func:`morphkit.bench.harness.make_row`).
     """
-    counts = sorted({1, *(int(w) for w in workers)})
-    if any(w < 1 for w in counts):
-        raise ValidationError(expected_got("workers", "counts >= 1", list(workers)))
+    counts = sorted({1, *(as_int(w, "workers", lo=1, hi=tol.MAX_LOCAL_WORKERS) for w in workers)})
+    if assets is not None:  # refused before any work (write_library checks it again)
+        as_int(assets, "library assets", lo=1, hi=tol.MAX_BENCH_ASSETS)
     kind = ShadowAtlasKind(atlas_size=256 if quick else 512)
     options = BakeOptions((kind,))
     repeats = (1 if quick else 3) if repeats is None else int(repeats)

@@ -74,6 +74,7 @@ from ..shadow.fieldbaselines import ray_cast_field
 from ..shadow.fieldshadow import FieldShadow
 from ..shadow.receivers import sun_disc
 from ..shadow.sundisc import disc_visibility
+from ..validate import as_int
 from .harness import Timing, make_row, markdown_table, pick_sections, section_name, time_cycling
 from .scene_fields import (
     ASSETS,
@@ -697,10 +698,11 @@ def run(*, quick: bool = False, sections: str | None = None, instances: list[int
     """
     from ..render import Renderer
 
-    chosen = selected_sections(sections)  # a bad name fails before any work
+    # a bad count or name fails before any work
+    counts = tuple(as_int(v, "instances", lo=1, hi=tol.MAX_BENCH_INSTANCES) for v in instances or ())
+    chosen = selected_sections(sections)
     p = plan if plan is not None else (QUICK if quick else FULL)
-    if instances:
-        counts = tuple(int(v) for v in instances)
+    if counts:
         p = replace(p, counts=counts, change_counts=counts)
     if suns is not None:
         p = replace(p, suns=int(suns))

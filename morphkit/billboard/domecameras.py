@@ -213,9 +213,19 @@ class DomeCameras:
         pose[:3, 0], pose[:3, 1], pose[:3, 2] = right, -up, -d
         pose[:3, 3] = self.pivot + self.distance * d
         f = 0.5 * w * self.distance / self.half_extent[0]
-        r = self.radius
-        return CameraModel("perspective", (h, w), f, f, (w - 1) / 2.0, (h - 1) / 2.0,
-                           max(self.distance - 1.5 * r, 1e-3 * self.distance), self.distance + 1.5 * r, pose)
+        near, far = self.depth_range()
+        return CameraModel("perspective", (h, w), f, f, (w - 1) / 2.0, (h - 1) / 2.0, near, far, pose)
+
+    def depth_range(self) -> tuple[float, float]:
+        """The views' near and far planes (linear depth, scene units): every drawn depth lies in it.
+
+        Returns
+        -------
+        tuple of float
+            ``(znear, zfar)``: ``D - 1.5 r`` (at least ``D / 1000``) and ``D + 1.5 r``.
+        """
+        d, r = self.distance, self.radius
+        return max(d - 1.5 * r, 1e-3 * d), d + 1.5 * r
 
     def ortho_camera(self, azimuth_deg: float, elevation_deg: float, shape: tuple[int, int]) -> CameraModel:
         """An orthographic camera along ``-d(a, e)`` whose image of ``shape`` covers the quad.

@@ -20,7 +20,9 @@ array           dtype, shape             content
 ``top``, ``pivot``, ``distance``, ``radius``, ``size``, ``levels`` and ``sha256``
 (per array). :func:`read_dome` raises :class:`~morphkit.errors.FileFormatError` for a
 missing, truncated or corrupt file, another format, kind or version, missing keys or
-arrays, wrong dtypes or shapes, NaN or ``-inf`` depths, or a checksum that does not match.
+arrays, wrong dtypes or shapes, NaN or ``-inf`` depths, drawn depths outside the views' near and
+far planes (:meth:`~.domecameras.DomeCameras.depth_range`: a negative depth draws nothing), or a
+checksum that does not match.
 """
 
 from __future__ import annotations
@@ -34,9 +36,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FileFormatError, expected_got
+from .. import tol
+from ..errors import FileFormatError, ValidationError, expected_got
 from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from .assetfile import FORMAT
+from .domecameras import DomeCameras
 
 __all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]
 
@@ -211,11 +215,24 @@ def read_dome(path: str | os.PathLike[str]) -> DomeRecord:
     src = meta.get("source_up")
     if src is not None and not isinstance(src, str):
         raise _bad("source_up", "a string or null", repr(src))
+    distance, radius = float(_get(meta, "distance", (int, float))), float(_get(meta, "radius", (int, float)))
+    size = _get(meta, "size", int)
+    try:
+        near, far = DomeCameras(np.asarray(pivot, np.float64), distance, radius, size).depth_range()
+    except ValidationError as exc:
+        raise _bad("meta", "a camera distance, radius and size that make the views' cameras",
+                   str(exc)) from exc
+    drawn = depth[np.isfinite(depth)].astype(np.float64) + distance  # linear depths of the drawn texels
+    slack = tol.DOME_DEPTH_SLACK_REL * far
+    if drawn.size and (drawn.min() < near - slack or drawn.max() > far + slack):
+        raise _bad("depth", f"drawn depths (depth + distance {distance:g}) within the views' near and far "
+                   f"planes [{near:g}, {far:g}], or +inf (nothing drawn)",
+                   f"{drawn.min():g} to {drawn.max():g}"
+                   + (" (behind the camera)" if drawn.min() <= 0 else ""))
     return DomeRecord(
         name=_get(meta, "name", str), mesh_hash=_get(meta, "mesh_hash", str),
         appearance=_get(meta, "appearance", str), source_up=src, rings=rings, top=_get(meta, "top", bool),
-        pivot=[float(x) for x in pivot], distance=float(_get(meta, "distance", (int, float))),
-        radius=float(_get(meta, "radius", (int, float))), size=_get(meta, "size", int),
+        pivot=[float(x) for x in pivot], distance=distance, radius=radius, size=size,
         levels=_get(meta, "levels", int), rgba=rgba, normal=normal, depth=depth)
 
 

@@ -6,6 +6,8 @@
 * :mod:`morphkit.meshes.assets` -- the files a mesh file refers to (materials, textures,
   buffers): :class:`~morphkit.meshes.assets.AssetResolver`, confined to the asset root,
   regular files only;
+* :mod:`morphkit.meshes.gltf` -- a glTF's node graph bounded before trimesh reads it
+  (node count, trees only);
 * :mod:`morphkit.meshes.parts` -- :func:`merge_parts` (a multi-part file as one
   mesh keeping every part's look), :func:`face_base_colors`;
 * :mod:`morphkit.meshes.identity` -- :func:`shape_hash` (what a baked file records of

@@ -52,7 +52,6 @@ merged where position and UV agree (OBJ/STL split them), except on meshes with v
 
 from __future__ import annotations
 
-import json
 import os
 import warnings
 from pathlib import Path
@@ -63,7 +62,7 @@ import trimesh
 
 from .. import settings, tol
 from ..errors import AssetWarning, MeshError, expected_got
-from . import assets
+from . import assets, gltf
 from .assets import AssetResolver, locate, read_regular
 from .parts import copy_with_look, merge_parts, scene_parts
 
@@ -308,20 +307,16 @@ def _mtl_warnings(obj: Path, root: Path) -> None:
                                   stacklevel=3)
 
 
-def _gltf_warnings(path: Path, root: Path) -> None:
-    """Check a ``.gltf``'s external buffers and images before trimesh reads them.
+def _gltf_warnings(path: Path, root: Path, doc: dict[str, Any]) -> None:
+    """Check a ``.gltf``'s external buffers and images (its JSON: ``doc``) before trimesh reads them.
 
     Warns about images that are not there or lie outside ``root`` (trimesh drops them
     silently); raises :class:`~morphkit.errors.MeshError` for a buffer or image that is not
     a regular file (a FIFO), or a buffer outside ``root``.
     """
     name = f"mesh file {str(path)!r}"
-    try:
-        doc = json.loads(read_regular(path, name).decode(errors="replace"))
-    except (MeshError, ValueError):
-        return  # not readable as JSON: trimesh's error follows
     for kind in ("buffers", "images"):
-        entries = doc.get(kind, []) if isinstance(doc, dict) else []
+        entries = doc.get(kind, [])
         for i, entry in enumerate(entries if isinstance(entries, list) else []):
             uri = entry.get("uri") if isinstance(entry, dict) else None
             if not isinstance(uri, str) or uri.startswith("data:"):
@@ -374,7 +369,9 @@ def load_mesh(path: str | Path, *, up: str = "auto",
     ------
     MeshError
         If ``up`` is not ``"auto"``, ``"z"`` or ``"y"``; the file does not exist,
-        cannot be read or has an unsupported format; a file it refers to is not a regular
+        cannot be read or has an unsupported format; a glTF's nodes are more than
+        :data:`morphkit.tol.MAX_GLTF_NODES` or do not form trees (a cycle:
+        :mod:`morphkit.meshes.gltf`); a file it refers to is not a regular
         file (a FIFO), or is a buffer outside the asset root; ``asset_root`` does not hold it;
         it holds no triangles (e.g. a
         point cloud, a scene without geometry); or the mesh fails :func:`check_mesh`.
@@ -394,8 +391,12 @@ def load_mesh(path: str | Path, *, up: str = "auto",
     root = assets.asset_root(p, asset_root if asset_root is not None else settings.ASSET_ROOT)
     if p.suffix.lower() == ".obj":
         _mtl_warnings(p, root)
-    elif p.suffix.lower() == ".gltf":
-        _gltf_warnings(p, root)
+    elif p.suffix.lower() in (".gltf", ".glb"):
+        doc = gltf.gltf_document(p, name)  # None: not glTF JSON, trimesh's error follows
+        if doc is not None:
+            gltf.check_node_graph(doc, name)  # bounded before trimesh walks it (morphkit.meshes.gltf)
+            if p.suffix.lower() == ".gltf":
+                _gltf_warnings(p, root, doc)
     resolver = AssetResolver(p, root)
     try:
         # process=False: trimesh's processing would silently drop non-finite vertices.

@@ -17,13 +17,13 @@ hundred texels would be acne). Each frame's shadow is compared with the ray-cast
 ground pixels it shows (:mod:`morphkit.groundtruth`): hard shadows by IoU of the shadowed
 pixels, soft ones by the mean absolute visibility error.
 
-The mesh. An atlas stores light-view maps, not the mesh the frames show. The
-bake's manifest records each atlas's input file and its sha256, so
-:func:`baked_mesh` finds the ``manifest.json`` in the atlas's folder or a parent
-folder and loads that file after checking its hash; ``mesh=`` (``--mesh``)
-names the file instead (still checked against the manifest's hash when the
-atlas is listed in one, e.g. when the library moved). Wherever the atlas lies, the
-mesh loaded must have the shape the atlas records (its
+The mesh. An atlas stores light-view maps, not the mesh the frames show. The bake's manifest
+records each atlas's input file and its sha256, so :func:`baked_mesh` finds the
+``manifest.json`` in the atlas's folder or a parent folder (another program's file of that
+name, a web app's, is passed by: :func:`morphkit.bake.manifest.is_bake_manifest`) and loads
+that file after checking its hash; ``mesh=`` (``--mesh``) names the file instead (still
+checked against the manifest's hash when the atlas is listed in one, e.g. when the library
+moved). Wherever the atlas lies, the mesh loaded must have the shape the atlas records (its
 :attr:`~morphkit.shadow.baked.BakedAtlas.mesh_sha256`, :func:`morphkit.meshes.shape_hash`):
 another mesh would cast a shadow that is not its own.
 """
@@ -41,7 +41,7 @@ import trimesh
 from tqdm import tqdm
 
 from .. import tol
-from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest
+from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest, is_bake_manifest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
 from ..fileio import write_image
@@ -258,7 +258,7 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
     atlas = Path(atlas_path).resolve()
     recorded: tuple[str, str, str] | None = None
     for folder in [atlas.parent, *atlas.parent.parents]:
-        if (folder / MANIFEST_NAME).is_file():
+        if is_bake_manifest(folder / MANIFEST_NAME):  # another program's manifest.json: not ours, passed by
             for rec in Manifest.open(folder).assets.values():
                 if any((folder / o.file).resolve() == atlas for o in rec.outputs.values()):
                     recorded = (rec.input, rec.input_sha256, rec.up_axis or LEGACY_UP_AXIS)
