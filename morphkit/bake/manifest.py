@@ -531,8 +531,9 @@ def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
     """The record of the bake that wrote ``output``: the ``manifest.json`` of its folder or the
     nearest parent folder that lists it, or None.
 
-    A ``manifest.json`` that is not a morphkit bake manifest (a web app's, a damaged one) is
-    passed over, as is one that does not list the file: the search goes on upwards.
+    A ``manifest.json`` that is not a morphkit bake manifest (a web app's:
+    :func:`is_bake_manifest`) is passed over, as is one that does not list the file: the search
+    goes on upwards.
 
     Parameters
     ----------
@@ -543,16 +544,17 @@ def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
     -------
     BakedFrom or None
         The recorded input, or None when no manifest lists the file.
+
+    Raises
+    ------
+    FileFormatError
+        A morphkit manifest on the way up is damaged or of another version (:meth:`Manifest.open`).
     """
     target = Path(output).resolve()
     for folder in [target.parent, *target.parent.parents]:
-        if not (folder / MANIFEST_NAME).is_file():
+        if not is_bake_manifest(folder / MANIFEST_NAME):
             continue
-        try:
-            records = Manifest.open(folder).assets.values()
-        except (FileFormatError, OSError):
-            continue
-        for rec in records:
+        for rec in Manifest.open(folder).assets.values():
             if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
                 return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256,
                                  rec.up_axis or LEGACY_UP_AXIS)

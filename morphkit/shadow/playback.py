@@ -41,7 +41,7 @@ import trimesh
 from tqdm import tqdm
 
 from .. import tol
-from ..bake.manifest import LEGACY_UP_AXIS, MANIFEST_NAME, Manifest, file_digest, is_bake_manifest
+from ..bake.manifest import baked_from, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
 from ..fileio import write_image
@@ -256,15 +256,8 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
         The mesh file is missing or unreadable.
     """
     atlas = Path(atlas_path).resolve()
-    recorded: tuple[str, str, str] | None = None
-    for folder in [atlas.parent, *atlas.parent.parents]:
-        if is_bake_manifest(folder / MANIFEST_NAME):  # another program's manifest.json: not ours, passed by
-            for rec in Manifest.open(folder).assets.values():
-                if any((folder / o.file).resolve() == atlas for o in rec.outputs.values()):
-                    recorded = (rec.input, rec.input_sha256, rec.up_axis or LEGACY_UP_AXIS)
-                    break
-        if recorded is not None:
-            break
+    found = baked_from(atlas)  # another program's manifest.json on the way is passed by
+    recorded = None if found is None else (str(found.input), found.input_sha256, found.up_axis)
     if mesh is None and recorded is None:
         raise ValidationError(expected_got(f"mesh of {atlas.name}", "a bake manifest listing the atlas "
                                            "(its folder or a parent), or --mesh", "neither"))
