@@ -14,27 +14,12 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from clirun import one_line, run
 
 from morphkit import tol
 from morphkit.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def run(capsys, *argv: object) -> tuple[int, str, str]:
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse
-        rc = int(exc.code)
-    out, err = capsys.readouterr()
-    return rc, out, err
-
-
-def one_line(err: str, prefix: str = "morphkit: error: ") -> str:
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in err, err
-    assert lines[0].startswith(prefix), lines[0]
-    return lines[0]
 
 
 @pytest.fixture(scope="module")

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from clirun import one_line, run
 
 from morphkit import fileio
 from morphkit.bake import Manifest
@@ -34,22 +35,6 @@ from morphkit.outfolder import BAKE_OUTPUT, MARKER_NAME, claim_output
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
-
-
-def run(capfd, *argv: object) -> tuple[int, str, str]:
-    try:
-        rc = main([str(a) for a in argv])
-    except SystemExit as exc:  # argparse
-        rc = int(exc.code)
-    out, err = capfd.readouterr()
-    return rc, out, err
-
-
-def one_line(err: str, prefix: str = "morphkit: error: ") -> str:
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in err, err
-    assert lines[0].startswith(prefix), lines[0]
-    return lines[0]
 
 
 def library(folder: Path) -> Path:
