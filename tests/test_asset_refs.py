@@ -133,6 +133,7 @@ def test_a_fifo_a_mesh_refers_to_is_a_clear_error_not_a_hang(tmp_path, kind):
 def test_billboards_with_a_fifo_texture_stops_with_one_line(tmp_path):
     path, message = _fifo_asset(tmp_path / "asset", "texture")
     done = subprocess.run([sys.executable, "-m", "morphkit", "billboards", "--asset", str(path), "--n", "2",
+                           "--views", "8",  # given: no line saying which views were chosen
                            "--frames", "1", "-o", str(tmp_path / "out")], env=ENV, capture_output=True,
                           text=True, timeout=60)
     lines = done.stderr.strip().splitlines()
