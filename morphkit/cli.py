@@ -31,7 +31,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from .cliargs import SOFT_FILTER, check_args
+from .cliargs import SOFT_FILTER, billboard_views, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
 
@@ -66,7 +66,6 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _check_output_file(path: Path | None, what: str) -> None:
     """Refuse, before any work, an output file path that is a folder or lies under a file."""
-    from .errors import expected_got
 
     if path is None:
         return
@@ -115,26 +114,6 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _scene_matches(left: Any, right: Any) -> Any:
-    """:func:`morphkit.viewmorph.from_images`'s pairs of the two images, refused when they share fewer
-    distinctive (SIFT) matches than :data:`morphkit.tol.VM_MIN_SCENE_MATCHES`: dense flow pairs any two
-    images, so without them two unrelated photos would be morphed (with ``--fallback morph`` too)."""
-    from . import tol
-    from .errors import ValidationError, expected_got
-    from .viewmorph.matching import DEFAULT_MATCHER, SiftMatcher, join_matches
-
-    parts = DEFAULT_MATCHER.match_each(left, right)
-    distinctive = sum(len(c) for m, c in zip(DEFAULT_MATCHER.matchers, parts, strict=True)
-                      if isinstance(m, SiftMatcher))
-    if distinctive < tol.VM_MIN_SCENE_MATCHES:
-        raise ValidationError(expected_got(
-            "viewmorph LEFT, RIGHT", f"two views of one scene, with at least {tol.VM_MIN_SCENE_MATCHES} "
-            "distinctive (SIFT) matches (the pairs F needs, tol.VM_MIN_SCENE_MATCHES)",
-            f"{distinctive}: the images do not seem to show one scene (if they do, give the "
-            "correspondences with --points FILE)"))
-    return join_matches(parts)
-
-
 def _same_file(a: Path, b: Path) -> bool:
     """``a`` and ``b`` name the same file (one path resolved, or one file by two names)."""
     try:
@@ -148,7 +127,7 @@ def _same_file(a: Path, b: Path) -> bool:
 def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from .errors import FileFormatError, ValidationError, expected_got
+    from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
     from .outfolder import VIEWMORPH_OUTPUT, claim_output
     from .viewmorph import ViewMorpher, load_points
@@ -200,7 +179,9 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                                   f'{{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}}, got '
                                   f"{type(exc).__name__}: {exc}") from exc
     else:
-        corr = _scene_matches(left, right)
+        from .viewmorph.matching import scene_matches
+
+        corr = scene_matches(left, right)
     vm = ViewMorpher.from_estimate(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
     rep, fit = vm.report, vm.fit
     print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
@@ -223,7 +204,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
 def _bake_kinds(args: argparse.Namespace) -> tuple:
     from .bake import BillboardKind, DomeKind, ShadowAtlasKind
-    from .errors import ValidationError, expected_got
+    from .errors import ValidationError
 
     if args.views is not None and not args.billboard:
         raise ValidationError(expected_got("--views", "together with --billboard", "--views alone"))
@@ -257,7 +238,6 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .errors import expected_got
     from .outfolder import SHADOWS_OUTPUT, claim_output
     from .render import Renderer
     from .shadow import ShadowAtlas
@@ -322,7 +302,6 @@ def parse_size(text: str) -> tuple[int, int]:
         Not two positive integers joined by ``x`` (a :class:`~morphkit.errors.ValidationError`).
     """
     from . import tol
-    from .errors import expected_got
 
     parts = str(text).lower().split("x")
     try:
@@ -336,57 +315,13 @@ def parse_size(text: str) -> tuple[int, int]:
     return h, w
 
 
-def _billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
-                     ) -> tuple[int | None, str]:
-    """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
-    views over the hemisphere (``dome``), and, when it was not given, the line saying which
-    representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
-    path whose eye looks down from above the ring's band (:meth:`ViewRing.band_deg`), else a
-    ring of 8 (``.npz`` asset files load as they were baked: dome files as a dome, ring files as
-    a ring)."""
-    from .billboard.domefile import is_dome_file
-    from .billboard.paths import look_down_deg
-    from .billboard.ring import ViewRing
-
-    v = args.views
-    files = [sp for sp in specs if sp.lower().endswith(".npz")]
-    domes = [sp for sp in files if is_dome_file(sp)]
-    if domes and (len(domes) < len(files) or (v is not None and v != "dome")):
-        rings = [sp for sp in files if sp not in domes]
-        got = f"dome {', '.join(domes)}" + (f" with ring {', '.join(rings)}" if rings
-                                            else f" with --views {v}")
-        raise UsageError(expected_got("--asset files", "assets of one kind: dome files (relightable) or "
-                                      "ring files (--views K)", got))
-    if v is not None:
-        return (None if v == "dome" else int(v)), ""
-    head = "morphkit billboards: "
-    if domes:
-        return None, head + "dome views (the --asset files are dome assets)"
-    if args.sun_path:
-        return None, head + "dome views (--sun-path relights them: albedo, normals and depth)"
-    ring = ViewRing(8)
-    lo, hi = ring.band_deg
-    top = float(look_down_deg(cameras).max()) if len(cameras) else 0.0
-    if top <= hi:
-        return 8, (head + f"a ring of 8 views (the {args.path} path's eye looks down by at most "
-                   f"{top:.0f} degrees, inside the ring's band of {lo:g}-{hi:g}; --views dome for views "
-                   "from any height)")
-    if files:
-        return 8, (head + f"a ring of 8 views: asset files load as they were baked (the {args.path} "
-                   f"path's eye looks down by up to {top:.0f} degrees, above the ring's band of "
-                   f"{lo:g}-{hi:g}: --views dome for dome asset files)")
-    return None, (head + f"dome views (the {args.path} path's eye looks down by up to {top:.0f} degrees, "
-                  f"above the ring's band of {lo:g}-{hi:g}, where a ring loses the shape from above; "
-                  "--views K for a ring)")
-
-
 def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
     """``--shadows``: each asset's sun atlas baked from its mesh (once, for this run) and the frames'
     shadow from them; the comparisons' real meshes get the ray cast over the same sun directions."""
     import trimesh
 
     from . import tol
-    from .errors import ValidationError, expected_got
+    from .errors import ValidationError
     from .shadow.receivers import (
         SCENE_ATLAS_SIZE,
         AtlasShadow,
@@ -416,7 +351,7 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
 
 
 def _cmd_billboards(args: argparse.Namespace) -> int:
-    from .errors import ValidationError, expected_got
+    from .errors import ValidationError
 
     # every user error is refused before anything is baked or written
     shape = parse_size(args.size)
@@ -440,7 +375,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     placed = place_random([f"asset{k}" for k in range(len(specs))], args.n, np.random.default_rng(args.seed))
     half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
     cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
-    views, chosen = _billboard_views(args, cams, specs)
+    views, chosen = billboard_views(args, cams, specs)
     from .outfolder import BILLBOARDS_OUTPUT, claim_output
 
     claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)

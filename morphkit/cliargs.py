@@ -13,14 +13,16 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from . import tol
 from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import ValidationError, expected_got
+from .errors import UsageError, ValidationError, expected_got
 from .validate import as_int
 
-__all__ = ["check_args", "implied_sun_options", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
+__all__ = ["check_args", "billboard_views", "implied_sun_options", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE",
+           "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
 MIN_FRAME_SIDE = 16
@@ -217,3 +219,47 @@ def check_args(args: argparse.Namespace) -> None:
     check = _CHECKS.get(getattr(args, "command", None) or "")
     if check is not None:
         check(args)
+
+
+def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
+                     ) -> tuple[int | None, str]:
+    """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
+    views over the hemisphere (``dome``), and, when it was not given, the line saying which
+    representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
+    path whose eye looks down from above the ring's band (:meth:`ViewRing.band_deg`), else a
+    ring of 8 (``.npz`` asset files load as they were baked: dome files as a dome, ring files as
+    a ring)."""
+    from .billboard.domefile import is_dome_file  # lazy: checking arguments imports no wing
+    from .billboard.paths import look_down_deg
+    from .billboard.ring import ViewRing
+
+    v = args.views
+    files = [sp for sp in specs if sp.lower().endswith(".npz")]
+    domes = [sp for sp in files if is_dome_file(sp)]
+    if domes and (len(domes) < len(files) or (v is not None and v != "dome")):
+        rings = [sp for sp in files if sp not in domes]
+        got = f"dome {', '.join(domes)}" + (f" with ring {', '.join(rings)}" if rings
+                                            else f" with --views {v}")
+        raise UsageError(expected_got("--asset files", "assets of one kind: dome files (relightable) or "
+                                      "ring files (--views K)", got))
+    if v is not None:
+        return (None if v == "dome" else int(v)), ""
+    head = "morphkit billboards: "
+    if domes:
+        return None, head + "dome views (the --asset files are dome assets)"
+    if args.sun_path:
+        return None, head + "dome views (--sun-path relights them: albedo, normals and depth)"
+    ring = ViewRing(8)
+    lo, hi = ring.band_deg
+    top = float(look_down_deg(cameras).max()) if len(cameras) else 0.0
+    if top <= hi:
+        return 8, (head + f"a ring of 8 views (the {args.path} path's eye looks down by at most "
+                   f"{top:.0f} degrees, inside the ring's band of {lo:g}-{hi:g}; --views dome for views "
+                   "from any height)")
+    if files:
+        return 8, (head + f"a ring of 8 views: asset files load as they were baked (the {args.path} "
+                   f"path's eye looks down by up to {top:.0f} degrees, above the ring's band of "
+                   f"{lo:g}-{hi:g}: --views dome for dome asset files)")
+    return None, (head + f"dome views (the {args.path} path's eye looks down by up to {top:.0f} degrees, "
+                  f"above the ring's band of {lo:g}-{hi:g}, where a ring loses the shape from above; "
+                  "--views K for a ring)")

@@ -46,7 +46,7 @@ from ..validate import as_image, as_int
 from .correspondences import Correspondences
 
 __all__ = ["ImageMatcher", "SiftMatcher", "FlowMatcher", "CombinedMatcher", "DEFAULT_MATCHER", "from_images",
-           "join_matches"]
+           "join_matches", "scene_matches"]
 
 DIS_PRESETS = {"ultrafast": cv2.DISOPTICAL_FLOW_PRESET_ULTRAFAST, "fast": cv2.DISOPTICAL_FLOW_PRESET_FAST,
                "medium": cv2.DISOPTICAL_FLOW_PRESET_MEDIUM}
@@ -366,3 +366,40 @@ def from_images(image0: np.ndarray, image1: np.ndarray, *, matcher: ImageMatcher
         raise ValidationError(expected_got("matcher", "an ImageMatcher (with a match(image0, image1) method)",
                                            type(m).__name__))
     return m.match(image0, image1)
+
+
+def scene_matches(image0: np.ndarray, image1: np.ndarray, matcher: CombinedMatcher = DEFAULT_MATCHER
+                  ) -> Correspondences:
+    """``matcher``'s pairs of two images, refused when they share fewer distinctive (SIFT)
+    matches than :data:`morphkit.tol.VM_MIN_SCENE_MATCHES`: dense flow pairs any two images, so
+    without this two unrelated photos would be morphed into a double exposure.
+
+    Parameters
+    ----------
+    image0, image1 : numpy.ndarray
+        ``(H, W[, C])`` grey/RGB/RGBA images.
+    matcher : CombinedMatcher
+        The matchers (default :data:`DEFAULT_MATCHER`); its :class:`SiftMatcher` pairs are counted.
+
+    Returns
+    -------
+    Correspondences
+        Every matcher's pairs joined (:func:`join_matches`).
+
+    Raises
+    ------
+    ValidationError
+        Too few distinctive matches: the images do not seem to show one scene (the message
+        points to user-given correspondences).
+    """
+    parts = matcher.match_each(image0, image1)
+    distinctive = sum(len(c) for m, c in zip(matcher.matchers, parts, strict=True)
+                      if isinstance(m, SiftMatcher))
+    if distinctive < tol.VM_MIN_SCENE_MATCHES:
+        raise ValidationError(expected_got(
+            "viewmorph LEFT, RIGHT", f"two views of one scene, with at least {tol.VM_MIN_SCENE_MATCHES} "
+            "distinctive (SIFT) matches (the pairs F needs, tol.VM_MIN_SCENE_MATCHES)",
+            f"{distinctive}: the images do not seem to show one scene (if they do, give the "
+            "correspondences with --points FILE)"))
+    return join_matches(parts)
+
