@@ -380,10 +380,11 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
     implied = getattr(args, "implied", None)  # morphkit.cliargs.implied_sun_options
+    # what the run chose: on stdout with its other lines (stderr holds the one error line)
     if implied:
-        print("morphkit billboards: " + "; ".join(implied), file=sys.stderr)
+        print("morphkit billboards: " + "; ".join(implied), flush=True)
     if chosen:
-        print(chosen, file=sys.stderr)
+        print(chosen, flush=True)
 
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.dome import ViewDome

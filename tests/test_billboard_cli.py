@@ -156,10 +156,12 @@ def test_the_default_views_follow_the_camera_path_and_say_so(capsys, tmp_path, p
     broken.write_text("not a mesh")
     run = ["billboards", "--asset", str(broken), "--path", path, "--frames", "5"]
     assert main([*run, *argv, "-o", str(tmp_path / "a")]) == 1
-    err = capsys.readouterr().err
-    assert f"morphkit billboards: {chosen}" in err and "broken.ply" in err
+    out, err = capsys.readouterr()
+    # said on stdout; the error alone, one line, on stderr
+    assert f"morphkit billboards: {chosen}" in out
+    assert len(err.strip().splitlines()) == 1 and "broken.ply" in err
     assert main([*run, "--views", "4", "-o", str(tmp_path / "b")]) == 1
-    assert "morphkit billboards:" not in capsys.readouterr().err  # given: nothing to choose or say
+    assert "morphkit billboards:" not in capsys.readouterr().out  # given: nothing to choose or say
 
 
 def _dome_like(path):
@@ -179,7 +181,7 @@ def test_dome_asset_files_take_dome_views_and_one_kind_is_asked_for(capsys, tmp_
     assert is_dome_file(dome) and not is_dome_file(tmp_path / "missing.npz") and not is_dome_file(tmp_path)
     run = ["billboards", "--asset", str(dome), "--frames", "2"]
     assert main([*run, "-o", str(tmp_path / "a")]) == 1  # the made-up version: refused at loading
-    assert "morphkit billboards: dome views (the --asset files are dome assets)" in capsys.readouterr().err
+    assert "morphkit billboards: dome views (the --asset files are dome assets)" in capsys.readouterr().out
     assert main([*run, "--views", "4", "-o", str(tmp_path / "b")]) == 2
     err = capsys.readouterr().err
     assert "--asset files: expected assets of one kind" in err and "with --views 4" in err
