@@ -386,6 +386,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     if chosen:
         print(chosen, flush=True)
 
+    from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.dome import ViewDome
     from .billboard.facing import AxialFacing, ViewpointFacing
@@ -399,7 +400,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     with claim.writing() as out, Renderer() as r:
         dome = ViewDome() if views is None else None
         res = resolve_assets(specs, r, views=views or 8, size=args.asset_size, up=args.up_axis, progress=True,
-                             dome=dome)
+                             dome=dome, records=ManifestRecords())
         names = list(res.assets)
         inst = dataclasses.replace(placed, names=tuple(names))
         fog = None if args.no_fog else Fog()

@@ -14,6 +14,7 @@ live in :mod:`morphkit.billboard.protocols`.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -22,7 +23,7 @@ from .camera import CameraModel
 from .passes import FramePass, RenderPasses
 from .scene import Item, Light
 
-__all__ = ["SceneRenderer", "PassRenderer", "GBufferRenderer", "FrameRenderer"]
+__all__ = ["SceneRenderer", "PassRenderer", "GBufferRenderer", "FrameRenderer", "InputRecords"]
 
 
 @runtime_checkable
@@ -240,3 +241,28 @@ class FrameRenderer(SceneRenderer, Protocol):
             ``lit``, ``unlit``, ``depth`` and ``marked``.
         """
         ...
+
+
+@runtime_checkable
+class InputRecords(Protocol):
+    """Where the input a file was baked from is recorded (a bake library's manifests:
+    :class:`morphkit.bake.manifest.ManifestRecords`), for a reader that needs the mesh back.
+    """
+
+    def find(self, output: Path) -> tuple[Path, str] | str | None:
+        """The recorded input of ``output``.
+
+        Parameters
+        ----------
+        output : pathlib.Path
+            A baked file.
+
+        Returns
+        -------
+        (pathlib.Path, str) or str or None
+            The input mesh file and the up axis it was loaded with, when a record lists
+            ``output`` and the input is unchanged since; a sentence saying why not when a
+            record lists it but the input is missing or changed; None when no record lists it.
+        """
+        ...
+

@@ -321,21 +321,22 @@ def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, schedule
         DomeKind(size=8)
     # a billboard scene finds the baked asset's mesh through the manifest (shadows and the
     # mesh comparison need it), not only beside the file; a changed input is said, not used
+    from morphkit.bake.manifest import ManifestRecords
     from morphkit.billboard.dome import ViewDome
     from morphkit.billboard.sources import resolve_assets
 
     dome = tmp_path / "out" / rec.file
-    res = resolve_assets([str(dome)], renderer, dome=ViewDome())
+    res = resolve_assets([str(dome)], renderer, dome=ViewDome(), records=ManifestRecords())
     assert "box" in res.items and not res.skipped
     trimesh.creation.icosphere(subdivisions=1).export(lib / "box.ply")
-    res = resolve_assets([str(dome)], renderer, dome=ViewDome())
+    res = resolve_assets([str(dome)], renderer, dome=ViewDome(), records=ManifestRecords())
     assert not res.items and "is missing or changed since the bake" in res.skipped["box"]
     # a folder's manifest.json that is not a bake's is passed over
     alone = tmp_path / "app" / "box.dome.npz"
     alone.parent.mkdir()
     (alone.parent / "manifest.json").write_text('{"name": "a web app", "icons": []}')
     dome.replace(alone)
-    res = resolve_assets([str(alone)], renderer, dome=ViewDome())
+    res = resolve_assets([str(alone)], renderer, dome=ViewDome(), records=ManifestRecords())
     assert "no mesh file box{.obj," in res.skipped["box"]
 
 

@@ -55,8 +55,8 @@ from ..fileio import append_lines, write_json
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
-           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "file_digest", "utc_now",
-           "is_bake_manifest"]
+           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "ManifestRecords",
+           "file_digest", "utc_now", "is_bake_manifest"]
 
 #: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
@@ -559,3 +559,30 @@ def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
                 return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256,
                                  rec.up_axis or LEGACY_UP_AXIS)
     return None
+
+
+class ManifestRecords:
+    """The bake manifests as :class:`morphkit.protocols.InputRecords`: :func:`baked_from`, the
+    input checked against its recorded sha256."""
+
+    def find(self, output: Path) -> tuple[Path, str] | str | None:
+        """See :meth:`morphkit.protocols.InputRecords.find`.
+
+        Parameters
+        ----------
+        output : pathlib.Path
+            A baked file.
+
+        Returns
+        -------
+        (pathlib.Path, str) or str or None
+            The input and its up axis, why not, or None.
+        """
+        rec = baked_from(output)
+        if rec is None:
+            return None
+        if rec.input.is_file() and file_digest(rec.input)[0] == rec.input_sha256:
+            return rec.input, rec.up_axis
+        return (f"{rec.input} (the input {rec.manifest} records for {Path(output).name}) is missing or "
+                "changed since the bake")
+

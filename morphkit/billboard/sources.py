@@ -16,7 +16,7 @@ baked from (:meth:`~morphkit.billboard.asset.BillboardAsset.items`: the same loo
   (the file's stem when it has bake_asset's default name ``"asset"``); its mesh is
   known (for the mesh mode) when the asset's name is a sample mesh, or a mesh file
   named like the asset or the file (``NAME.obj``, ``.glb``, ...) lies beside it, or
-  a bake manifest in its folder or a parent lists it (``morphkit bake --billboard
+  ``records`` name its input (a bake library's manifest, ``morphkit bake --billboard
   [--dome]``: the recorded input, unchanged since the bake, with its up axis), and
   that mesh's hash (shape and look) is the asset's. When none is found,
   :attr:`ResolvedAssets.skipped` says why.
@@ -33,10 +33,9 @@ from pathlib import Path
 
 import trimesh
 
-from ..bake.manifest import baked_from, file_digest
 from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
-from ..protocols import SceneRenderer
+from ..protocols import InputRecords, SceneRenderer
 from ..scene import Item
 from .asset import BillboardAsset, mesh_hash
 from .bake import bake_asset
@@ -121,7 +120,8 @@ def check_specs(specs: Sequence[str]) -> None:
             raise ValidationError(expected_got("asset", want, repr(spec)))
 
 
-def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trimesh | None, str]:
+def _beside(path: Path, asset: BillboardAsset | DomeAsset, records: InputRecords | None
+            ) -> tuple[trimesh.Trimesh | None, str]:
     """The mesh of a loaded asset: a sample mesh of its name, or a mesh file beside the asset
     file named like the asset or the file; ``(None, why)`` when there is none that matches."""
     if asset.name in BILLBOARD_MESHES:
@@ -141,17 +141,17 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trim
             continue
         if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
             return mesh, ""
-    record = baked_from(path)  # a bake library's asset: the input its manifest records
-    if record is not None and record.input.is_file() and file_digest(record.input)[0] == record.input_sha256:
+    record = None if records is None else records.find(path)  # a bake library's: its recorded input
+    if isinstance(record, tuple):
         try:
-            mesh = load_mesh(record.input, up=record.up_axis)
+            mesh = load_mesh(record[0], up=record[1])
         except MeshError:
             mesh = None
         if mesh is not None and mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
             return mesh, ""
+        record = f"{record[0]} (recorded for {path.name}) does not match the asset's hash"
     if record is not None:
-        return None, (f"{record.input} (the input {record.manifest} records for {path.name}) is missing "
-                      "or changed since the bake (pass the mesh file itself as --asset)")
+        return None, f"{record} (pass the mesh file itself as --asset)"
     if found:
         return None, (f"{', '.join(f.name for f in found)} beside {path.name} does not match the asset's "
                       f"hash (another shape or look)")
@@ -161,7 +161,7 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset) -> tuple[trimesh.Trim
 
 def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int = 8, size: int = 128,
                    levels: int | None = None, up: str = "auto", progress: bool = False,
-                   dome: ViewDome | None = None) -> ResolvedAssets:
+                   dome: ViewDome | None = None, records: InputRecords | None = None) -> ResolvedAssets:
     """Bake or load each of ``specs`` (see the module notes).
 
     Parameters
@@ -183,6 +183,9 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         Relightable assets over these views instead (:func:`~.domeasset.bake_dome`, ``views``
         not used; ``.npz`` files are read as :class:`~.domeasset.DomeAsset` -- a ring asset
         file is refused with "re-bake").
+    records : InputRecords, optional
+        Where baked files' inputs are recorded (``morphkit.bake.manifest.ManifestRecords()``:
+        the bake library's manifests), so that a loaded asset finds its mesh there too.
 
     Returns
     -------
@@ -228,7 +231,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
             asset = BillboardAsset.load(path) if dome is None else DomeAsset.load(path)
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
                 asset.name = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
-            known, why = _beside(path, asset)
+            known, why = _beside(path, asset, records)
         if asset.name in assets:
             raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
         assets[asset.name] = asset
