@@ -5,18 +5,18 @@ and needs no GL context.
 
 Errors: every command's morphkit errors, OS errors and memory errors are caught in
 :func:`main` and printed as one line ``morphkit: error: ...`` on stderr; Ctrl-C prints
-``morphkit: interrupted``. No traceback. Exit codes, decided in one place (:func:`_exit_code`):
+``morphkit: interrupted``. No traceback. Exit codes, decided in one place (``_exit_code``):
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
   combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
-  command's own checks, :func:`_option_values`), an output refused by the overwrite rule
+  command's own checks, ``_option_values``), an output refused by the overwrite rule
   (:class:`~morphkit.errors.OutputExistsError`), a morphkit environment variable with a value
   it does not take;
 * 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
   geometry that cannot be morphed, a GL, file system or memory failure;
 * 130, interrupted.
 
-Warnings print as one line each, ``morphkit: warning: ...`` (:func:`_one_line_warnings`).
+Warnings print as one line each, ``morphkit: warning: ...`` (``_one_line_warnings``).
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
 @contextmanager
 def _option_values() -> Iterator[None]:
     """A :class:`~morphkit.errors.ValidationError` raised in the block is about an option's value:
-    re-raised as a :class:`~morphkit.errors.UsageError` (exit code 2, :func:`_exit_code`)."""
+    re-raised as a :class:`~morphkit.errors.UsageError` (exit code 2, ``_exit_code``)."""
     try:
         yield
     except (UsageError, OutputExistsError):

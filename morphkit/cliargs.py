@@ -226,9 +226,31 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
     """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
     views over the hemisphere (``dome``), and, when it was not given, the line saying which
     representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
-    path whose eye looks down from above the ring's band (:meth:`ViewRing.band_deg`), else a
-    ring of 8 (``.npz`` asset files load as they were baked: dome files as a dome, ring files as
-    a ring)."""
+    path whose eye looks down from above the ring's band
+    (:attr:`morphkit.billboard.ring.ViewRing.band_deg`), else a ring of 8 (``.npz`` asset files
+    load as they were baked: dome files as a dome, ring files as a ring).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``billboards`` options.
+    cameras : sequence of CameraModel
+        The path's cameras (their look-down angle decides).
+    specs : sequence of str
+        The ``--asset`` arguments (dome and ring asset files are told apart by their metadata).
+
+    Returns
+    -------
+    views : int or None
+        Ring views, or None for dome views.
+    said : str
+        The line saying what was chosen and why; empty when ``--views`` was given.
+
+    Raises
+    ------
+    UsageError
+        Dome asset files with ring files, or with ``--views K``.
+    """
     from .billboard.domefile import is_dome_file  # lazy: checking arguments imports no wing
     from .billboard.paths import look_down_deg
     from .billboard.ring import ViewRing

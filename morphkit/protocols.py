@@ -247,6 +247,11 @@ class FrameRenderer(SceneRenderer, Protocol):
 class InputRecords(Protocol):
     """Where the input a file was baked from is recorded (a bake library's manifests:
     :class:`morphkit.bake.manifest.ManifestRecords`), for a reader that needs the mesh back.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its methods.
     """
 
     def find(self, output: Path) -> tuple[Path, str] | str | None:

@@ -130,6 +130,18 @@ def locate(folder: Path, name: str, root: Path, what: str) -> tuple[Path | None,
 def read_regular(path: Path, what: str) -> bytes:
     """The bytes of ``path``, opened without blocking and read only if it is a regular file.
 
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    what : str
+        What the file is, for the error message.
+
+    Returns
+    -------
+    bytes
+        Its content.
+
     Raises
     ------
     MeshError
@@ -173,13 +185,34 @@ class AssetResolver(FilePathResolver):
         self.errors: list[MeshError] = []
 
     def namespaced(self, namespace: str) -> AssetResolver:
-        """A resolver for a subfolder, with the same root and the same records."""
+        """A resolver for a subfolder, with the same root and the same records.
+
+        Parameters
+        ----------
+        namespace : str
+            The subfolder, relative to this resolver's folder.
+
+        Returns
+        -------
+        AssetResolver
+            Sharing :attr:`outside` and :attr:`errors` with this one.
+        """
         sub = AssetResolver(os.path.join(self.parent, namespace), self.root)
         sub.outside, sub.errors = self.outside, self.errors
         return sub
 
     def get(self, name: str) -> bytes:
         """The bytes of the file ``name`` refers to (:func:`locate`); refused names raise ``OSError``.
+
+        Parameters
+        ----------
+        name : str
+            The name as the mesh file gives it (relative to the mesh's folder, or absolute).
+
+        Returns
+        -------
+        bytes
+            The file's content.
 
         Raises
         ------
@@ -205,5 +238,13 @@ class AssetResolver(FilePathResolver):
             raise OSError(str(exc)) from exc
 
     def write(self, name: str, data: str | bytes) -> None:
-        """Refused: loading never writes."""
+        """Refused: loading never writes.
+
+        Parameters
+        ----------
+        name : str
+            The file asked for.
+        data : str or bytes
+            Its content (not written).
+        """
         raise OSError(f"AssetResolver is read-only (asked to write {name!r})")

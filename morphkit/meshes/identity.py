@@ -15,15 +15,15 @@ import trimesh
 
 from .loading import check_mesh
 
-__all__ = ["shape_hash"]
+__all__ = ["shape_hash", "HASH_DECIMALS"]
 
 #: Decimals the vertices are rounded to before hashing (1e-9 units).
 HASH_DECIMALS = 9
 
 
 def shape_hash(mesh: trimesh.Trimesh) -> str:
-    """sha256 (hex) of a mesh's shape: its vertices (rounded to :data:`HASH_DECIMALS` decimals)
-    and faces.
+    """sha256 (hex) of a mesh's shape: its vertices (rounded to
+    :data:`~morphkit.meshes.identity.HASH_DECIMALS` decimals) and faces.
 
     Parameters
     ----------

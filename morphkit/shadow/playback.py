@@ -59,7 +59,8 @@ from .penumbra import default_soft_shadow
 from .rig import MotionRange
 
 __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",
-           "playback_scene", "render_shadow_sequence", "VIDEO_NAME"]
+           "playback_scene", "render_shadow_sequence", "VIDEO_NAME", "DEFAULT_VIEW", "GROUND_PEAK",
+           "PLAYBACK_AMBIENT", "exposed"]
 
 #: The video beside the frames.
 VIDEO_NAME = "shadows.webm"
