@@ -258,25 +258,25 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
     """
     atlas = Path(atlas_path).resolve()
     found = baked_from(atlas)  # another program's manifest.json on the way is passed by
-    recorded = None if found is None else (str(found.input), found.input_sha256, found.up_axis)
-    if mesh is None and recorded is None:
+    if mesh is None and found is None:
         raise ValidationError(expected_got(f"mesh of {atlas.name}", "a bake manifest listing the atlas "
                                            "(its folder or a parent), or --mesh", "neither"))
-    path = Path(mesh) if mesh is not None else Path(recorded[0])  # type: ignore[index]
-    if recorded is not None:
+    path = Path(mesh) if mesh is not None else found.input  # type: ignore[union-attr]
+    if found is not None:
         if not path.is_file():
             raise MeshError(expected_got("mesh the atlas was baked from", "an existing file",
                                          f"{str(path)!r} (not found; give its new place with --mesh)"))
         got = file_digest(path)[0]
-        if got != recorded[1]:
+        if got != found.input_sha256:
             raise FileFormatError(expected_got(f"mesh {str(path)!r}", "the file the atlas was baked from "
-                                               f"(sha256 {recorded[1][:12]})", f"sha256 {got[:12]}"))
+                                               f"(sha256 {found.input_sha256[:12]})", f"sha256 {got[:12]}"))
     # the axis the atlas was baked with (the manifest's); a mesh given alone: its format's default
-    loaded = load_mesh(path, up=recorded[2] if recorded is not None else "auto")
-    if mesh_sha256 is not None and shape_hash(loaded) != mesh_sha256:
+    loaded = load_mesh(path, up=found.up_axis if found is not None else "auto")
+    shape = None if mesh_sha256 is None else shape_hash(loaded)
+    if shape is not None and shape != mesh_sha256:
         raise FileFormatError(expected_got(
             f"mesh {str(path)!r}", f"the mesh {atlas.name} was baked from (shape sha256 {mesh_sha256[:12]})",
-            f"another shape (sha256 {shape_hash(loaded)[:12]}; another mesh, or another up axis)"))
+            f"another shape (sha256 {shape[:12]}; another mesh, or another up axis)"))
     return loaded
 
 
