@@ -34,7 +34,8 @@ from .settings import WARP_THREADS, compile_kernel, use_compiled
 from .validate import as_image
 from .warp import PARALLEL_MIN_PIXELS, band_pool
 
-__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped", "fade_towards"]
+__all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped", "warped_part",
+           "box_from", "fade_towards"]
 
 
 def shade(lit: np.ndarray, unlit: np.ndarray, visibility: np.ndarray) -> np.ndarray:
@@ -351,17 +352,63 @@ def over_warped(out: np.ndarray, src: np.ndarray, H_out_src: np.ndarray,
         ``out``.
     """
     r0, r1, c0, c1 = roi
-    T = np.array([[1.0, 0.0, -c0], [0.0, 1.0, -r0], [0.0, 0.0, 1.0]])
-    part = cv2.warpPerspective(src, T @ np.asarray(H_out_src, dtype=np.float64), (c1 - c0, r1 - r0),
-                               flags=interpolation, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    part = warped_part(src, H_out_src, roi, mask=mask, fade=fade, fade_color=fade_color,
+                       interpolation=interpolation)
+    view = out[r0:r1, c0:c1]
+    view *= 1.0 - part[:, :, -1:]
+    view += part
+    return out
+
+
+def warped_part(src: np.ndarray, H_out_src: np.ndarray, roi: tuple[int, int, int, int], *,
+                mask: np.ndarray | None = None, fade: float = 0.0,
+                fade_color: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                interpolation: int = cv2.INTER_LINEAR) -> np.ndarray:
+    """The part of :func:`over_warped` before the composite: premultiplied ``src`` warped by
+    ``H_out_src`` into the box ``roi`` of the output, masked and faded.
+
+    Parameters
+    ----------
+    src : (h, w, C) float32
+        Premultiplied image, alpha last.
+    H_out_src : (3, 3) float
+        Homography from ``src`` pixels to output pixels (:mod:`morphkit.conventions`).
+    roi : (r0, r1, c0, c1)
+        The output box.
+    mask, fade, fade_color, interpolation
+        As for :func:`over_warped`.
+
+    Returns
+    -------
+    (r1 - r0, c1 - c0, C) float32
+        The warped image in the box's pixels.
+    """
+    r0, r1, c0, c1 = roi
+    part = cv2.warpPerspective(src, box_from(roi) @ np.asarray(H_out_src, dtype=np.float64),
+                               (c1 - c0, r1 - r0), flags=interpolation, borderMode=cv2.BORDER_CONSTANT,
+                               borderValue=0)
     if part.ndim == 2:
         part = part[:, :, None]
     if mask is not None:
         part *= mask[:, :, None]
-    alpha = part[:, :, -1:]
     if fade > 0.0:
-        fade_towards(part[:, :, :-1], alpha, fade, fade_color)
-    view = out[r0:r1, c0:c1]
-    view *= 1.0 - alpha
-    view += part
-    return out
+        fade_towards(part[:, :, :-1], part[:, :, -1:], fade, fade_color)
+    return part
+
+
+def box_from(roi: tuple[int, int, int, int]) -> np.ndarray:
+    """``(3, 3)`` translation from output pixels to the pixels of its box ``roi = (r0, r1, c0, c1)``
+    (the box's top-left pixel is ``(0, 0)``).
+
+    Parameters
+    ----------
+    roi : (r0, r1, c0, c1)
+        The box: rows ``r0:r1``, columns ``c0:c1``.
+
+    Returns
+    -------
+    (3, 3) float64
+        ``[[1, 0, -c0], [0, 1, -r0], [0, 0, 1]]``.
+    """
+    r0, _, c0, _ = roi
+    return np.array([[1.0, 0.0, -c0], [0.0, 1.0, -r0], [0.0, 0.0, 1.0]])
