@@ -500,6 +500,16 @@ BB_MIN_AREA_PX2 = 0.5
 #: (the horizon row at most) show the sky, so the hit distance ``-z / dz`` stays finite.
 BB_GROUND_RAY_DZ = 1e-12
 
+#: A billboard pixel goes under the frame's depth buffer (:mod:`morphkit.billboard.compositor`,
+#: "Depth") only when it lies behind it by more than this fraction of the buffer's depth:
+#: surfaces that meet (one pivot's quad plane, the same point seen twice) keep the plain
+#: back-to-front "over" rather than flipping with the last bits of their depths.
+BB_DEPTH_REL = 1e-5
+#: A billboard pixel writes its depth into the frame's depth buffer from this alpha on: the
+#: silhouette threshold of the coverage measures (alpha > 0.5 is inside), so that a faint
+#: anti-aliased rim does not hide what lies behind it.
+BB_DEPTH_OPAQUE_ALPHA = 0.5
+
 #: Largest forward-backward disagreement (pixels) of a pair from dense optical
 #: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the
 #: forward flow and back by the backward flow must land within this of where it

@@ -23,7 +23,9 @@ from morphkit.billboard import (
     place_random,
     quantise_s,
 )
-from morphkit.billboard.compositor import finish, new_layer
+from morphkit.billboard.compositor import draw, finish, new_depth, new_layer
+from morphkit.billboard.frame import Placement
+from morphkit.billboard.frustum import unit_from_image
 from morphkit.billboard.protocols import BillboardSource, ViewPairing
 from morphkit.camera import look_at, perspective
 from morphkit.composite import over_warped
@@ -120,6 +122,47 @@ def test_over_warped_matches_a_hand_computed_pixel():
     layer[0, 0] = (0.2, 0.1, 0.05, 0.5)
     rgb = finish(layer, np.full((1, 2, 3), (0.32, 0.6, 1.0), np.float32))
     assert rgb.tolist() == [[[92, 102, 140], [82, 153, 255]]]  # 255 * (0.36, 0.4, 0.55), 255 * 0.32 rounded
+
+
+def _placement(shape, offset, depth):
+    """A placement drawing an image of ``shape`` at pixel ``offset = (x, y)``, unscaled."""
+    T = np.array([[1.0, 0, offset[0]], [0, 1.0, offset[1]], [0, 0, 1]])
+    H = T @ np.linalg.inv(unit_from_image(shape))
+    roi = (offset[1], offset[1] + shape[0], offset[0], offset[0] + shape[1])
+    return Placement(0, "fake", 0.0, 0.0, False, depth, depth, float(shape[0]), 0, H, roi, None, 0.0)
+
+
+def test_draw_by_depth_goes_over_in_front_and_under_behind():
+    """Premultiplied red (0.5, 0, 0, a=0.5) at depth 5, then blue (0, 0, 0.8, a=0.8): where the
+    blue is at depth 3 it goes over, (0, 0, 0.8, 0.8) + 0.2 red = (0.1, 0, 0.8, 0.9), and takes
+    the depth buffer; where it is at depth 8 it goes under, red + 0.5 blue = (0.5, 0, 0.4, 0.9),
+    and the buffer keeps 5."""
+    layer, zbuf = new_layer((4, 6)), new_depth((4, 6))
+    red = np.zeros((2, 4, 4), np.float32)
+    red[:] = (0.5, 0.0, 0.0, 0.5)
+    draw(layer, _placement((2, 4), (1, 1), 5.0), red, zbuf=zbuf, depth=np.full((2, 4), 5.0, np.float32))
+    blue = np.zeros((2, 4, 4), np.float32)
+    blue[:] = (0.0, 0.0, 0.8, 0.8)
+    depth = np.array([[3.0, 3.0, 8.0, 8.0]] * 2, np.float32)
+    draw(layer, _placement((2, 4), (1, 1), 4.0), blue, zbuf=zbuf, depth=depth)
+    np.testing.assert_allclose(layer[1:3, 1:3], np.broadcast_to([0.1, 0.0, 0.8, 0.9], (2, 2, 4)), atol=1e-6)
+    np.testing.assert_allclose(layer[1:3, 3:5], np.broadcast_to([0.5, 0.0, 0.4, 0.9], (2, 2, 4)), atol=1e-6)
+    np.testing.assert_array_equal(zbuf[1:3, 1:5], depth * [1, 1, 0, 0] + 5.0 * np.array([0, 0, 1, 1]))
+    assert np.isinf(zbuf[0]).all() and (layer[0] == 0).all()  # outside the boxes: untouched
+
+
+def test_draw_by_depth_of_flat_quads_back_to_front_is_the_plain_over():
+    """Images without depth lie at their pivots' depth: drawn back to front, the depth test
+    never sends one under, and the layer is bit for bit the plain "over" of each."""
+    rng = np.random.default_rng(4)
+    plain, layer, zbuf = new_layer((12, 12)), new_layer((12, 12)), new_depth((12, 12))
+    for k, z in enumerate([9.0, 7.0, 7.0, 2.0]):  # back to front, a tie among them
+        img = rng.uniform(0, 1, (5, 5, 4)).astype(np.float32)
+        img[..., :3] *= img[..., 3:]
+        pl = _placement((5, 5), (k * 2, k), z)
+        draw(plain, pl, img)
+        draw(layer, pl, img, zbuf=zbuf)
+    np.testing.assert_array_equal(layer, plain)
 
 
 def test_quad_footprint_is_the_projected_rectangle():

@@ -22,6 +22,10 @@ Which surface is a family of objects (:class:`SurfaceChoice`):
 The ground truth under the same lights is :class:`~.litmesh.LitMeshMode` (the same
 shading of the meshes' own passes, :mod:`morphkit.shading`).
 
+**Depth.** Every surface carries its depth, so the billboards are composited pixel by
+pixel against each other (:mod:`.compositor`, "Depth"): overlapping instances hide each
+other where their surfaces are, not where their pivots' order says.
+
 **Shadows.** With a ``shadow`` (:class:`~morphkit.shadow.receivers.SceneShadow`: the
 assets' sun atlases, or the ray cast), each billboard pixel's sun terms are multiplied by
 the sun's visibility at the pixel's world point (from its surface's depth) and the ground
@@ -49,7 +53,7 @@ from ..shading import (
 from ..shadow.receivers import SceneShadow
 from .bakelook import BAKE_AMBIENT, bake_lights
 from .cache import MorphCache
-from .compositor import draw, finish, new_layer
+from .compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
 from .domeasset import DomeAsset
 from .facing import ViewpointFacing
 from .field import BillboardScene
@@ -405,7 +409,7 @@ class LitMode:
         plan = scene.plan(camera)
         # each image is shaded in linear light and encoded before it is fogged and composited:
         # the backdrop's one fog model (backdrop.Fog.blend), as for the ground and the meshes
-        layer = new_layer(camera.shape)
+        layer, zbuf = new_layer(camera.shape), new_depth(camera.shape)
         fog = scene.backdrop.fog
         fog_color = (0.0, 0.0, 0.0) if fog is None else fog.color
         lit = self.lighting.above_horizon()
@@ -416,7 +420,9 @@ class LitMode:
             self.shadow, scene, camera, lit, np.array([pl.index for pl in plan.placements], np.int64))
         fs = None if ground is None else ground.shadow
         checked: set[str] = set()
-        for pl in plan.placements:
+        radii = [scene.assets[pl.asset].half_extent[0] * inst.scale[pl.index] for pl in plan.placements]
+        by_depth = entangled(plan.placements, np.array(radii))
+        for pl, deep in zip(plan.placements, by_depth, strict=True):
             asset = scene.assets[pl.asset]
             if pl.asset not in checked:
                 if not isinstance(asset, SurfaceSource):
@@ -424,10 +430,12 @@ class LitMode:
                                                        type(asset).__name__))
                 checked.add(pl.asset)
             surf = self.surface(asset, pl)
-            view = asset.camera(*self._direction(pl), pl.level) if fs is not None or points_lit else None
-            vis = None if fs is None else surface_visibility(fs, surf, view, inst.object2world(pl.index))
+            needs_view = deep or fs is not None or points_lit
+            view = asset.camera(*self._direction(pl), pl.level) if needs_view else None
+            pose = inst.object2world(pl.index)
+            vis = None if fs is None else surface_visibility(fs, surf, view, pose)
             if points_lit:  # point lights: the general model, at the surface's points
-                local = lit.in_frame(np.linalg.inv(inst.object2world(pl.index)))
+                local = lit.in_frame(np.linalg.inv(pose))
                 points = view.unproject(surf.depth)[0]
                 image = shade(surf, local, points, vis)  # encoded
             else:  # suns: their rows turned into the instance's frame by its yaw (rows times Rz)
@@ -435,7 +443,11 @@ class LitMode:
                 c, s_ = np.cos(yaw), np.sin(yaw)
                 rz = np.array([[c, -s_, 0.0], [s_, c, 0.0], [0.0, 0.0, 1.0]], np.float32)
                 image = encode_premultiplied(shade_suns(surf, ambient, terms @ rz, vis))
-            draw(layer, pl, image, fog_color)
+            if deep:
+                z = surface_depth(view, surf.depth, pose, camera)
+                draw(layer, pl, image, fog_color, zbuf=zbuf, depth=z)
+            else:
+                draw(layer, pl, image, fog_color)
         back = (scene.backdrop.draw(camera) if ground is None
                 else shadowed_backdrop(scene, camera, lit, ground, layer[:, :, 3]))
         rgb = finish(layer, back)
