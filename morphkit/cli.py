@@ -29,11 +29,15 @@ import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .cliargs import SOFT_FILTER, billboard_views, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
+
+if TYPE_CHECKING:
+    from .billboard.instances import Instances
+    from .billboard.sources import ResolvedAssets
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -350,6 +354,26 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
             RayCastShadow(meshes, samples=samples, disc_deg=args.sun_radius))
 
 
+def _spread(inst: Instances, res: ResolvedAssets, args: argparse.Namespace) -> Instances:
+    """The instances moved apart so that no two footprints overlap (billboard.instances.separate):
+    each asset's footprint from its mesh where the run has it, else its quad's half width (a
+    bound); one line says how many moved, a warning how many the field could not hold apart."""
+    import numpy as np
+
+    from .billboard.instances import field_half_size, footprint_radius, separate
+
+    radius = {nm: footprint_radius(res.items[nm]) if nm in res.items else float(res.assets[nm].half_extent[0])
+              for nm in inst.names}
+    out = separate(inst, radius, np.random.default_rng([args.seed, 1]), half_size=field_half_size(len(inst)))
+    if out.moved:
+        print(f"morphkit billboards: {out.moved} of {len(inst)} instances moved apart so that none "
+              "stands inside another", flush=True)
+    if out.crowded:
+        warnings.warn(f"{out.crowded} of {len(inst)} instances still overlap another: the field is too small "
+                      f"for {len(inst)} of these assets (give a smaller --n)", stacklevel=2)
+    return out.instances
+
+
 def _cmd_billboards(args: argparse.Namespace) -> int:
     from .errors import ValidationError
 
@@ -403,6 +427,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
                              dome=dome, records=ManifestRecords())
         names = list(res.assets)
         inst = dataclasses.replace(placed, names=tuple(names))
+        inst = _spread(inst, res, args)
         fog = None if args.no_fog else Fog()
         facing = ViewpointFacing() if dome is not None else AxialFacing()
         scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog), facing=facing)
@@ -614,7 +639,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="a sample mesh name, a mesh file (.obj, .glb/.gltf, .ply: baked in its own look) "
                     "or a .npz asset file (loaded); repeat for several "
                     "(default: tree and person)")
-    bb.add_argument("--n", type=int, default=200, help="number of billboards (default: %(default)s)")
+    bb.add_argument("--n", type=int, default=200,
+                    help="number of billboards, scattered from --seed over a field of about one per 1.5 x 1.5"
+                    " units and moved apart where one would stand inside another (default: %(default)s)")
     bb.add_argument("--path", default="pan", choices=["pan", "orbit", "fly", "flyover", "topdown"],
                     help="camera path: the paper's pan, an orbit, a fly-through, a fly-over rising from 5 to "
                     "85 degrees or a top-down pan (default: %(default)s)")

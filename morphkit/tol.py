@@ -510,6 +510,12 @@ BB_DEPTH_REL = 1e-5
 #: anti-aliased rim does not hide what lies behind it.
 BB_DEPTH_OPAQUE_ALPHA = 0.5
 
+#: Draws of a new position for an instance whose footprint meets another's
+#: (:func:`morphkit.billboard.instances.separate`) before it is counted as crowded: dart
+#: throwing fills a field to about half its area with such discs, where one draw in two
+#: or three lands free; a hundred misses in a row say the field is full.
+BB_SCATTER_TRIES = 100
+
 #: Largest forward-backward disagreement (pixels) of a pair from dense optical
 #: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the
 #: forward flow and back by the backward flow must land within this of where it

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import cv2
 import numpy as np
@@ -75,6 +76,16 @@ def test_tiny_run_writes_frames_video_and_comparisons(capsys, tmp_path):
     assert [c["frame"] for c in summary["compared"]] == [0, 1, 2]
     printed = capsys.readouterr().out
     assert "cache hit rate" in printed and str(out.resolve()) in printed
+
+
+@pytest.mark.gl
+def test_instances_that_would_stand_inside_each_other_are_moved_apart(capsys, tmp_path):
+    """The seed's uniform scatter of 80 trees puts some inside others: the run moves them (the
+    footprint test itself: test_instances_spacing.py) and says so on stdout."""
+    assert main(["billboards", "--asset", "tree", "--n", "80", "--frames", "1", "--size", "64x48",
+                 "--views", "2", "--asset-size", "32", "-o", str(tmp_path / "bb")]) == 0
+    printed = capsys.readouterr().out
+    assert re.search(r"\b[1-9]\d* of 80 instances moved apart", printed), printed
 
 
 @pytest.mark.gl

@@ -10,15 +10,19 @@ so its asset's object frame stands on the ground at ``(x, y)`` with its front
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
+import trimesh
 
+from .. import tol
 from ..errors import ValidationError, expected_got
+from ..scene import Item
 from ..validate import as_finite_array, as_int, as_positive
 
-__all__ = ["Instance", "Instances", "place_random"]
+__all__ = ["Instance", "Instances", "place_random", "field_half_size", "footprint_radius", "Separated",
+           "separate"]
 
 
 @dataclass(frozen=True)
@@ -284,7 +288,7 @@ def place_random(names: Sequence[str], n: int, rng: np.random.Generator, *,
         raise ValidationError(expected_got("asset names", "at least one", "none"))
     n = as_int(n, "instance count", lo=0)
     spacing = as_positive(spacing, "spacing")
-    half = max(1.0, spacing * np.sqrt(n) / 2) if half_size is None else as_positive(half_size, "half_size")
+    half = field_half_size(n, spacing) if half_size is None else as_positive(half_size, "half_size")
     lo_s, hi_s = (as_positive(v, "scale") for v in scale)
     if hi_s < lo_s:
         raise ValidationError(expected_got("scale range", "lo <= hi", scale))
@@ -292,3 +296,157 @@ def place_random(names: Sequence[str], n: int, rng: np.random.Generator, *,
     xy = rng.uniform(-half, half, size=(n, 2))
     return Instances(names, rng.integers(0, len(names), size=n), xy, rng.uniform(y0, y1, size=n),
                      rng.uniform(lo_s, hi_s, size=n))
+
+
+def field_half_size(n: int, spacing: float = 1.5) -> float:
+    """The half size of :func:`place_random`'s default field: ``max(1, spacing sqrt(n) / 2)``,
+    about one instance per ``spacing^2``.
+
+    Parameters
+    ----------
+    n : int
+        Number of instances (>= 0).
+    spacing : float
+        Mean distance between neighbours (> 0).
+
+    Returns
+    -------
+    float
+        The half size, scene units.
+    """
+    return max(1.0, as_positive(spacing, "spacing") * float(np.sqrt(as_int(n, "instance count", lo=0))) / 2)
+
+
+def footprint_radius(items: Iterable[Item]) -> float:
+    """The radius about the object frame's vertical axis that holds every vertex of ``items``
+    (the parts of one asset, object frame): two instances of footprints ``r_i``, ``r_j`` (times
+    their scales) whose positions lie ``r_i s_i + r_j s_j`` apart or more cannot interpenetrate,
+    however they are turned.
+
+    Parameters
+    ----------
+    items : iterable of Item
+        The asset's parts (meshes and poses), object frame (``+z`` up, standing at the origin).
+
+    Returns
+    -------
+    float
+        ``max hypot(x, y)`` over the vertices, scene units.
+
+    Raises
+    ------
+    ValidationError
+        No vertices.
+    """
+    parts = [trimesh.transform_points(np.asarray(it.mesh.vertices, np.float64), it.pose)[:, :2]
+             for it in items]
+    xy = np.concatenate(parts) if parts else np.zeros((0, 2))
+    if len(xy) == 0:
+        raise ValidationError(expected_got("footprint parts", "at least one vertex", "none"))
+    return float(np.hypot(xy[:, 0], xy[:, 1]).max())
+
+
+@dataclass(frozen=True)
+class Separated:
+    """What :func:`separate` did.
+
+    Parameters
+    ----------
+    instances : Instances
+        The instances, with new positions where they were moved.
+    moved : int
+        Instances given a new position.
+    crowded : int
+        Instances that still overlap another: no free place was found for them in
+        :data:`~morphkit.tol.BB_SCATTER_TRIES` draws (the field is too small for their
+        footprints); they keep their first position.
+    """
+
+    instances: Instances
+    moved: int
+    crowded: int
+
+
+def separate(instances: Instances, radius: Mapping[str, float], rng: np.random.Generator, *,
+             half_size: float) -> Separated:
+    """Scatter with a minimum spacing: move the instances that would interpenetrate.
+
+    In order, each instance keeps its position when its footprint circle (``radius`` of its
+    asset times its scale, about its position) meets none of those kept before it; otherwise
+    it is drawn again, uniformly over ``[-half_size, half_size]^2``, up to
+    :data:`~morphkit.tol.BB_SCATTER_TRIES` times (dart throwing, a Poisson-disc scatter
+    seeded by the first positions). Yaw, scale and asset stay.
+
+    Parameters
+    ----------
+    instances : Instances
+        The first positions (e.g. :func:`place_random`).
+    radius : mapping of str to float
+        Footprint radius of each asset name at scale 1, scene units (:func:`footprint_radius`,
+        or any bound of it such as the quad's half width).
+    rng : numpy.random.Generator
+        The random source of the new positions.
+    half_size : float
+        The field's half size (> 0).
+
+    Returns
+    -------
+    Separated
+        The instances and the counts of moved and still crowded ones.
+
+    Raises
+    ------
+    ValidationError
+        A name without a radius, a radius < 0, a bad ``rng`` or ``half_size``.
+
+    Examples
+    --------
+    Two unit discs 1 apart overlap: the second is moved at least 2 away from the first.
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.instances import Instances, separate
+    >>> inst = Instances.from_records([("tree", 0.0, 0.0), ("tree", 1.0, 0.0)])
+    >>> out = separate(inst, {"tree": 1.0}, np.random.default_rng(0), half_size=5.0)
+    >>> out.moved, out.crowded, bool(np.hypot(*out.instances.xy[1]) >= 2.0)
+    (1, 0, True)
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise ValidationError(expected_got("rng", "a numpy Generator (np.random.default_rng(seed))",
+                                           type(rng).__name__))
+    half = as_positive(half_size, "half_size")
+    missing = [nm for nm in instances.names if nm not in radius]
+    if missing:
+        raise ValidationError(expected_got("footprint radius", f"one for each asset {list(instances.names)}",
+                                           f"none for {missing}"))
+    per_asset = np.array([float(radius[nm]) for nm in instances.names], np.float64)
+    if len(per_asset) and (not np.all(np.isfinite(per_asset)) or per_asset.min() < 0):
+        raise ValidationError(expected_got("footprint radius", "finite values >= 0", per_asset.tolist()))
+    n = len(instances)
+    r = per_asset[instances.asset] * instances.scale
+    xy = instances.xy.copy()
+    cell = max(2.0 * float(r.max()) if n else 1.0, 1e-9)
+    grid: dict[tuple[int, int], list[int]] = {}
+    moved = crowded = 0
+
+    def clear(k: int, p: np.ndarray) -> bool:
+        cx, cy = int(np.floor(p[0] / cell)), int(np.floor(p[1] / cell))
+        for gx in (cx - 1, cx, cx + 1):
+            for gy in (cy - 1, cy, cy + 1):
+                for j in grid.get((gx, gy), ()):
+                    if np.hypot(*(xy[j] - p)) < r[k] + r[j]:
+                        return False
+        return True
+
+    for k in range(n):
+        p = xy[k]
+        if not clear(k, p):
+            for _ in range(tol.BB_SCATTER_TRIES):
+                q = rng.uniform(-half, half, size=2)
+                if clear(k, q):
+                    xy[k] = q
+                    moved += 1
+                    break
+            else:
+                crowded += 1
+        grid.setdefault((int(np.floor(xy[k, 0] / cell)), int(np.floor(xy[k, 1] / cell))), []).append(k)
+    return Separated(replace(instances, xy=xy), moved, crowded)
