@@ -5,7 +5,8 @@ and needs no GL context.
 
 Errors: every command's morphkit errors, OS errors and memory errors are caught in
 :func:`main` and printed as one line ``morphkit: error: ...`` on stderr; Ctrl-C prints
-``morphkit: interrupted``. No traceback. Exit codes, decided in one place (``_exit_code``):
+``morphkit: interrupted``, SIGTERM ``morphkit: terminated`` (the run unwinds as after Ctrl-C:
+temporary files removed). No traceback. Exit codes, decided in one place (``_exit_code``):
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
   combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
@@ -14,7 +15,8 @@ Errors: every command's morphkit errors, OS errors and memory errors are caught 
   it does not take;
 * 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
   geometry that cannot be morphed, a GL, file system or memory failure;
-* 130, interrupted.
+* 130, interrupted (Ctrl-C, SIGINT); 143, terminated (SIGTERM): 128 and the signal's number, as a
+  shell reports a process the signal ended.
 
 Warnings print as one line each, ``morphkit: warning: ...`` (``_one_line_warnings``).
 """
@@ -33,7 +35,7 @@ from typing import Any
 
 from .cliargs import SOFT_FILTER, billboard_views, check_args
 from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
+from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -686,7 +688,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         :class:`~morphkit.errors.MorphkitError`, an ``OSError`` (a file system failure: disk
         full, folder removed) or a failed allocation (a ``MemoryError`` or OpenCV's: sizes past
         the process's memory); each printed to stderr as one line ``morphkit: error: ...``;
-        130 after Ctrl-C (``morphkit: interrupted``).
+        130 after Ctrl-C (``morphkit: interrupted``); 143 after SIGTERM (``morphkit: terminated``),
+        which the run unwinds like Ctrl-C (128 + the signal's number: what a shell reports).
     """
     with _one_line_warnings():
         try:
@@ -697,8 +700,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         except MorphkitError as exc:
             return _error(exc)
         args = build_parser().parse_args(argv)
-        with _interrupt_flag() as interrupted:
-            return _run(args, interrupted)
+        with _interrupt_flag() as stop:
+            return _run(args, stop)
 
 
 def _exit_code(exc: MorphkitError | OSError) -> int:
@@ -732,22 +735,31 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
-def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
+#: The line and exit code of a run a signal stopped (``_run``): 128 + the signal's number.
+_STOPPED = {signal.SIGINT: ("morphkit: interrupted", 130), signal.SIGTERM: ("morphkit: terminated", 143)}
+
+
+def _stopped(signum: int) -> int:
+    """Print the one line of a run that signal ``signum`` stopped; its exit code."""
+    line, code = _STOPPED[signal.Signals(signum)]
+    print(line, file=sys.stderr)
+    return code
+
+
+def _run(args: argparse.Namespace, stop: _Stop) -> int:
     """Check the options, run the command; print morphkit's errors, file system failures, failed
     allocations and interrupts as one line (:func:`main`)."""
     try:
         with _option_values():
             check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
-    except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
-        print("morphkit: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: one line; atomic writes removed their temporaries
+        return _stopped(signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Exception as exc:
-        if interrupted.is_set():
+        if stop.signum is not None:
             # Ctrl-C inside a library's C callback (numba saving a kernel it was compiling): the
             # KeyboardInterrupt was swallowed there and the library failed instead: an interrupt
-            print("morphkit: interrupted", file=sys.stderr)
-            return 130
+            return _stopped(stop.signum)
         if isinstance(exc, (MorphkitError, OSError)):
             return _error(exc)
         if not _out_of_memory(exc):  # sizes that need more memory than the process may have: one line
@@ -758,38 +770,50 @@ def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
         return 1
 
 
-@contextmanager
-def _interrupt_flag() -> Iterator[threading.Event]:
-    """An event set by Ctrl-C while the block runs (SIGINT still raises ``KeyboardInterrupt``), so
-    that an interrupt a library swallowed is still told as one; a ``KeyboardInterrupt`` raised in
-    a C callback (where Python can only report it as "Exception ignored", with a traceback) sets
-    it silently. Python's own SIGINT handler is replaced only where it is installed (not where
-    SIGINT is ignored) and only in the main thread."""
-    flag = threading.Event()
-    previous = signal.getsignal(signal.SIGINT)
-    main_thread = threading.current_thread() is threading.main_thread()
-    if previous is not signal.default_int_handler or not main_thread:
-        yield flag
-        return
+class _Stop:
+    """The signal that stopped the run (``SIGINT``, ``SIGTERM``), or None while none came."""
 
-    def on_sigint(signum: int, frame: Any) -> None:
-        flag.set()
-        raise KeyboardInterrupt
+    signum: int | None = None
+
+
+@contextmanager
+def _interrupt_flag() -> Iterator[_Stop]:
+    """While the block runs, Ctrl-C (SIGINT) raises ``KeyboardInterrupt`` and SIGTERM
+    :class:`~morphkit.errors.Terminated` (a ``KeyboardInterrupt``: the run unwinds the same way,
+    removing its temporary files), and the signal is recorded, so that an interrupt a library
+    swallowed is still told as one; a ``KeyboardInterrupt`` raised in a C callback (where Python can
+    only report it as "Exception ignored", with a traceback) records it silently. A signal's own
+    handler is replaced only where Python's default is installed (not where it is ignored, or
+    another handler was set) and only in the main thread."""
+    stop = _Stop()
+    if threading.current_thread() is not threading.main_thread():
+        yield stop
+        return
+    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+    previous = {signum: signal.getsignal(signum) for signum in defaults}
+
+    def on_signal(signum: int, frame: Any) -> None:
+        stop.signum = signum
+        raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
     hook = sys.unraisablehook
 
     def on_unraisable(info: Any) -> None:
         if isinstance(info.exc_value, KeyboardInterrupt):
-            flag.set()
+            if stop.signum is None:
+                stop.signum = signal.SIGTERM if isinstance(info.exc_value, Terminated) else signal.SIGINT
             return
         hook(info)
 
-    signal.signal(signal.SIGINT, on_sigint)
+    mine = [signum for signum, default in defaults.items() if previous[signum] is default]
+    for signum in mine:
+        signal.signal(signum, on_signal)
     sys.unraisablehook = on_unraisable
     try:
-        yield flag
+        yield stop
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for signum in mine:
+            signal.signal(signum, previous[signum])
         sys.unraisablehook = hook
 
 

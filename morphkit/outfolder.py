@@ -40,7 +40,6 @@ anything removes what it created.
 from __future__ import annotations
 
 import fcntl
-import fnmatch
 import json
 import os
 import re
@@ -64,14 +63,23 @@ MARKER_NAME = ".morphkit-output.json"
 #: itself); a run removes one it finds.
 LOCK_NAME = ".morphkit-output.lock"
 
-#: Names of files morphkit itself leaves in a folder: its marker (and an older version's lock
-#: file), and the temporary
-#: files of an atomic write (:mod:`morphkit.fileio`) a killed process could not remove.
-HOUSEKEEPING = (MARKER_NAME, LOCK_NAME, ".*.part*", ".morphkit-probe-*")
+#: Names of files morphkit itself leaves in a folder: its marker and an older version's lock file
+#: (and the temporary files a killed process could not remove, :data:`TEMPORARY`).
+HOUSEKEEPING = (MARKER_NAME, LOCK_NAME)
 
-#: A temporary file of :func:`morphkit.fileio.atomic_output` (``.<stem>.<8 random>.part<suffix>``)
-#: or :func:`morphkit.fileio.check_writable`'s probe: left only by a process that was killed.
-TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8})$")
+#: A temporary file morphkit names: :func:`morphkit.fileio.atomic_output`'s and
+#: :class:`morphkit.video.VideoFile`'s (``.<stem>.<8 random>.part<suffix>``), a probe of
+#: :func:`morphkit.fileio.check_writable` or of the video writer (``.morphkit-probe-<8 random>``,
+#: with the video's suffix), and an older version's video (``.billboards.<8 random>.webm``, also
+#: ``shadows`` and ``.mp4``): left only by a process that was killed, removed by the next run into
+#: the folder. Nothing else is taken for one (``.notes.webm``, ``.billboards.webm`` stay).
+TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8}(\.[a-z0-9]+)?"
+                       r"|\.(billboards|shadows)\.[a-z0-9_]{8}\.(webm|mp4))$")
+
+
+def _housekeeping(name: str) -> bool:
+    """``name`` is a file morphkit itself leaves in a folder (:data:`HOUSEKEEPING`, :data:`TEMPORARY`)."""
+    return name in HOUSEKEEPING or TEMPORARY.match(name) is not None
 
 
 @dataclass(frozen=True)
@@ -384,7 +392,7 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
     except OSError as exc:
         raise ValidationError(expected_got(what, "a folder morphkit can list",
                                            f"{p} ({type(exc).__name__}: {exc.strerror or exc})")) from exc
-    housekeeping = all(any(fnmatch.fnmatchcase(e, pat) for pat in HOUSEKEEPING) for e in entries)
+    housekeeping = all(_housekeeping(e) for e in entries)
     if not entries or (housekeeping and _marker_command(p) is None):
         return OutputClaim(p, rule, False)
     mark = previous_run(p, rule)
