@@ -34,7 +34,11 @@ second run into the same folder at the same time is refused,
 run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. On exit,
 clean or not, it removes the temporary files again (a process of the run killed mid-write, e.g. a
 bake's worker process, while the run went on). A run that fails or is interrupted before writing
-anything removes what it created.
+anything (a bad input found once the folder was claimed) leaves the folder as it was: it removes
+what it created (its marker, the folder and its parents, a subfolder such as ``frames/``) and puts
+back the marker it found. A subfolder morphkit writes into (:func:`subfolders`) that holds nothing
+(an older version left one when it stopped before its first frame) counts as nothing: it never
+makes a folder "hold other files".
 """
 
 from __future__ import annotations
@@ -50,10 +54,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
-from .fileio import write_json
+from .fileio import write_bytes, write_json
 
 __all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run", "owned",
-           "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
+           "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT",
+           "subfolders"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
 #: "running" | "complete", "started": ...}``.
@@ -122,6 +127,19 @@ BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True)
 #: ``morphkit viewmorph --frames N``: ``frame_NNN.png``.
 VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_#.png",))
+
+
+def subfolders() -> frozenset[str]:
+    """The subfolders morphkit's commands write into (the first part of an :attr:`OutputRule.owns`
+    pattern holding a ``/``: ``frames``).
+
+    Returns
+    -------
+    frozenset of str
+        Folder names.
+    """
+    rules = (DEMO_OUTPUT, SHADOWS_OUTPUT, BILLBOARDS_OUTPUT, BAKE_OUTPUT, VIEWMORPH_OUTPUT)
+    return frozenset(pat.split("/", 1)[0] for rule in rules for pat in rule.owns if "/" in pat)
 
 
 def _pattern(pattern: str) -> re.Pattern[str]:
@@ -223,6 +241,25 @@ def _files(folder: Path) -> dict[str, tuple[int, int]]:
     return out
 
 
+def _dirs(folder: Path) -> set[str]:
+    """Every folder under ``folder`` (relative POSIX paths)."""
+    out = set()
+    for root, dirs, _names in os.walk(folder):
+        out.update((Path(root) / d).relative_to(folder).as_posix() for d in dirs)
+    return out
+
+
+def _empty_leftover(path: Path) -> bool:
+    """``path`` is one of the subfolders morphkit writes into (:func:`subfolders`) holding nothing but
+    what morphkit leaves (:data:`TEMPORARY`): a run that stopped before its first frame made it."""
+    if path.name not in subfolders() or path.is_symlink() or not path.is_dir():
+        return False
+    try:
+        return all(not e.is_dir(follow_symlinks=False) and TEMPORARY.match(e.name) for e in os.scandir(path))
+    except OSError:
+        return False
+
+
 @dataclass(frozen=True)
 class OutputClaim:
     """An output folder checked for a command (:func:`claim_output`); write with :meth:`writing`.
@@ -247,7 +284,9 @@ class OutputClaim:
 
         On a clean exit a replaced previous run's files that were not written again are
         removed and the marker says ``complete``. On an exception (an interrupt too)
-        before anything but the marker was written, what this call created is removed. Either
+        before anything but the marker was written, the folder is left as it was: what this
+        call created is removed (the marker, subfolders, the folder and its parents) and the
+        marker it found is put back. Either
         way no temporary file (``TEMPORARY``) is left: the block's writers are done, and one
         killed mid-write cannot remove its own.
 
@@ -289,7 +328,11 @@ class OutputClaim:
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
                 ) from None
             _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
-            before = _files(p)
+            before, dirs_before = _files(p), _dirs(p)
+            try:
+                old_marker: bytes | None = (p / MARKER_NAME).read_bytes()
+            except OSError:
+                old_marker = None
             previous = _recorded(p, self.rule) if self.previous else set()
             if previous is None:  # no record: the command's exact names
                 previous = {rel for rel in before if owned(rel, self.rule)}
@@ -314,10 +357,15 @@ class OutputClaim:
             except BaseException:
                 _remove_temporaries(p)  # a process of this run killed mid-write (a bake's worker)
                 after = _files(p)
-                if not self.previous and set(after) <= {MARKER_NAME}:
-                    with suppress(OSError):  # nothing written: leave nothing
-                        (p / MARKER_NAME).unlink()
-                    _remove_dirs(created)
+                if {rel for rel, st in after.items() if before.get(rel) != st} <= {MARKER_NAME}:
+                    # refused (or stopped) before writing anything: the folder is left as it was
+                    with suppress(OSError):
+                        if old_marker is None:
+                            (p / MARKER_NAME).unlink()
+                        else:
+                            write_bytes(p / MARKER_NAME, old_marker)
+                    # the subfolders this run made (innermost first), then the folder and its parents
+                    _remove_dirs([p / d for d in sorted(_dirs(p) - dirs_before, reverse=True)] + created)
                 else:  # the next --overwrite replaces what this run and the one before it wrote
                     with suppress(OSError):
                         write_json(p / MARKER_NAME, {**marker, "files": record(after, previous)})
@@ -392,7 +440,9 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
     except OSError as exc:
         raise ValidationError(expected_got(what, "a folder morphkit can list",
                                            f"{p} ({type(exc).__name__}: {exc.strerror or exc})")) from exc
-    housekeeping = all(_housekeeping(e) for e in entries)
+    # what morphkit itself leaves: its marker, a killed run's temporary files, and a subfolder it made
+    # that holds nothing of them (a run stopped before its first frame, by an older version)
+    housekeeping = all(_housekeeping(e) or _empty_leftover(p / e) for e in entries)
     if not entries or (housekeeping and _marker_command(p) is None):
         return OutputClaim(p, rule, False)
     mark = previous_run(p, rule)

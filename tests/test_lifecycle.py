@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 import trimesh
+from clirun import one_line, run
 
 from morphkit.bake import cluster as bake_cluster
 
@@ -145,7 +146,6 @@ def test_sigterm_mid_billboards_is_one_line_exit_143_and_leaves_no_temporary(tmp
 
 @pytest.mark.gl
 def test_a_later_run_removes_what_a_killed_run_left_half_written_and_nothing_else(tmp_path, capfd):
-    from clirun import run
 
     out = tmp_path / "out"
     p = start(*BILLBOARDS, "--frames", "400", "-o", out)
@@ -161,3 +161,97 @@ def test_a_later_run_removes_what_a_killed_run_left_half_written_and_nothing_els
     rc, _out, err = run(capfd, *BILLBOARDS, "--frames", "2", "-o", out, "--overwrite")
     assert rc == 0, err
     assert _dotfiles(out) == sorted([".morphkit-output.json", *mine])
+
+
+# ------------------------------------------------------------------ a run refused once it claimed its folder
+def snapshot(folder: Path) -> dict[str, bytes | None]:
+    """Every file (its bytes) and folder under ``folder``."""
+    return {p.relative_to(folder).as_posix(): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
+
+
+def no_video_writer(*_a: object, **_k: object) -> None:
+    """What an OpenCV build without VP9 answers (morphkit.fileio.open_video_writer)."""
+    from morphkit.errors import RenderError
+
+    raise RenderError("video writer: expected OpenCV's VP90 writer for .webm files, got none in this "
+                      "OpenCV build")
+
+
+@pytest.mark.gl
+def test_a_refused_billboards_run_leaves_the_folder_as_it_was_and_overwrite_works(tmp_path, capfd,
+                                                                                  monkeypatch):
+    import morphkit.billboard.sequence as sequence
+
+    out = tmp_path / "out"
+    with monkeypatch.context() as m:
+        m.setattr(sequence, "VideoFile", no_video_writer)  # refused after frames/ was made
+        rc, _o, err = run(capfd, *BILLBOARDS, "--frames", "2", "-o", out)
+        assert rc == 1 and "VP90 writer" in one_line(err)
+        assert not out.exists()
+        assert run(capfd, *BILLBOARDS, "--frames", "2", "-o", out)[0] == 1  # the same refusal again
+        assert not out.exists()
+    assert run(capfd, *BILLBOARDS, "--frames", "2", "-o", out)[0] == 0
+    before = snapshot(out)
+    with monkeypatch.context() as m:
+        m.setattr(sequence, "VideoFile", no_video_writer)
+        assert run(capfd, *BILLBOARDS, "--frames", "3", "-o", out, "--overwrite")[0] == 1
+    assert snapshot(out) == before  # the previous run, its marker ("complete") included
+    rc, _o, err = run(capfd, *BILLBOARDS, "--frames", "3", "-o", out, "--overwrite")
+    assert rc == 0, err
+    assert (out / "frames" / "frame_0002.png").is_file()
+    # the empty frames/ an older version left is no obstacle, with or without --overwrite
+    for extra in ((), ("--overwrite",)):
+        old = tmp_path / f"old{len(extra)}"
+        (old / "frames").mkdir(parents=True)
+        rc, _o, err = run(capfd, *BILLBOARDS, "--frames", "2", "-o", old, *extra)
+        assert rc == 0, err
+
+
+@pytest.fixture(scope="module")
+def atlas_file(tmp_path_factory) -> Path:
+    """A small baked shadow atlas (its folder holds the bake's manifest, which names the mesh)."""
+    from morphkit.cli import main
+
+    root = tmp_path_factory.mktemp("bake")
+    trimesh.creation.box([0.4, 0.4, 0.6]).export(root / "box.ply")
+    assert main(["bake", str(root / "box.ply"), "-o", str(root / "out"), "--workers", "1",
+                 "--atlas-size", "32", "--grid", "2", "-q"]) == 0
+    return root / "out" / "box.atlas.npz"
+
+
+@pytest.mark.gl
+def test_a_refused_shadows_run_leaves_the_folder_as_it_was(tmp_path, capfd, atlas_file):
+
+    out = tmp_path / "out"
+    assert run(capfd, "shadows", atlas_file, "--frames", "2", "--size", "32", "-q", "-o", out)[0] == 0
+    (out / "notes.txt").write_text("mine")
+    before = snapshot(out)
+    far = tmp_path / "far.csv"
+    far.write_text("0,0\n50,50\n")  # found outside the atlas's range once the folder is claimed
+    argv = ("shadows", atlas_file, "--path", far, "--size", "32", "-q")
+    rc, _o, err = run(capfd, *argv, "-o", out, "--overwrite")
+    assert rc == 1 and "range" in one_line(err)
+    assert snapshot(out) == before
+    assert run(capfd, *argv, "-o", tmp_path / "new")[0] == 1
+    assert not (tmp_path / "new").exists()
+
+
+def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monkeypatch):
+    import morphkit.demo
+    from morphkit.errors import RenderError
+    from morphkit.outfolder import DEMO_OUTPUT, claim_output
+
+    out = tmp_path / "out"
+    with claim_output(out, DEMO_OUTPUT).writing():  # a finished demo, as run_demo leaves it
+        (out / "cow_scene.png").write_bytes(b"png")
+        (out / "index.json").write_text('{"files": [{"path": "cow_scene.png"}]}')
+    before = snapshot(out)
+
+    def no_gl() -> None:
+        raise RenderError("GL context: expected one (OSMesa or EGL), got none")
+
+    monkeypatch.setattr(morphkit.demo, "Renderer", no_gl)
+    rc, _o, err = run(capfd, "demo", "--quick", "-o", out, "--overwrite")
+    assert rc == 1 and "GL context" in one_line(err)
+    assert snapshot(out) == before
