@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import signal
 import sys
-import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -34,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from .cliargs import SOFT_FILTER, billboard_views, check_args
+from .clistop import Stop, report_stop, stop_signals
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
 
@@ -700,7 +700,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         except MorphkitError as exc:
             return _error(exc)
         args = build_parser().parse_args(argv)
-        with _interrupt_flag() as stop:
+        with stop_signals() as stop:
             return _run(args, stop)
 
 
@@ -735,18 +735,7 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
-#: The line and exit code of a run a signal stopped (``_run``): 128 + the signal's number.
-_STOPPED = {signal.SIGINT: ("morphkit: interrupted", 130), signal.SIGTERM: ("morphkit: terminated", 143)}
-
-
-def _stopped(signum: int) -> int:
-    """Print the one line of a run that signal ``signum`` stopped; its exit code."""
-    line, code = _STOPPED[signal.Signals(signum)]
-    print(line, file=sys.stderr)
-    return code
-
-
-def _run(args: argparse.Namespace, stop: _Stop) -> int:
+def _run(args: argparse.Namespace, stop: Stop) -> int:
     """Check the options, run the command; print morphkit's errors, file system failures, failed
     allocations and interrupts as one line (:func:`main`)."""
     try:
@@ -754,12 +743,12 @@ def _run(args: argparse.Namespace, stop: _Stop) -> int:
             check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
     except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: one line; atomic writes removed their temporaries
-        return _stopped(signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+        return report_stop(signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Exception as exc:
         if stop.signum is not None:
             # Ctrl-C inside a library's C callback (numba saving a kernel it was compiling): the
             # KeyboardInterrupt was swallowed there and the library failed instead: an interrupt
-            return _stopped(stop.signum)
+            return report_stop(stop.signum)
         if isinstance(exc, (MorphkitError, OSError)):
             return _error(exc)
         if not _out_of_memory(exc):  # sizes that need more memory than the process may have: one line
@@ -768,53 +757,6 @@ def _run(args: argparse.Namespace, stop: _Stop) -> int:
         print(f"morphkit: error: out of memory: {why} (the sizes asked for need more memory than this "
               "process may use: choose smaller ones)", file=sys.stderr)
         return 1
-
-
-class _Stop:
-    """The signal that stopped the run (``SIGINT``, ``SIGTERM``), or None while none came."""
-
-    signum: int | None = None
-
-
-@contextmanager
-def _interrupt_flag() -> Iterator[_Stop]:
-    """While the block runs, Ctrl-C (SIGINT) raises ``KeyboardInterrupt`` and SIGTERM
-    :class:`~morphkit.errors.Terminated` (a ``KeyboardInterrupt``: the run unwinds the same way,
-    removing its temporary files), and the signal is recorded, so that an interrupt a library
-    swallowed is still told as one; a ``KeyboardInterrupt`` raised in a C callback (where Python can
-    only report it as "Exception ignored", with a traceback) records it silently. A signal's own
-    handler is replaced only where Python's default is installed (not where it is ignored, or
-    another handler was set) and only in the main thread."""
-    stop = _Stop()
-    if threading.current_thread() is not threading.main_thread():
-        yield stop
-        return
-    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
-    previous = {signum: signal.getsignal(signum) for signum in defaults}
-
-    def on_signal(signum: int, frame: Any) -> None:
-        stop.signum = signum
-        raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
-
-    hook = sys.unraisablehook
-
-    def on_unraisable(info: Any) -> None:
-        if isinstance(info.exc_value, KeyboardInterrupt):
-            if stop.signum is None:
-                stop.signum = signal.SIGTERM if isinstance(info.exc_value, Terminated) else signal.SIGINT
-            return
-        hook(info)
-
-    mine = [signum for signum, default in defaults.items() if previous[signum] is default]
-    for signum in mine:
-        signal.signal(signum, on_signal)
-    sys.unraisablehook = on_unraisable
-    try:
-        yield stop
-    finally:
-        for signum in mine:
-            signal.signal(signum, previous[signum])
-        sys.unraisablehook = hook
 
 
 if __name__ == "__main__":  # pragma: no cover
