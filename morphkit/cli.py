@@ -131,7 +131,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
     from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
-    from .outfolder import VIEWMORPH_OUTPUT, claim_output
+    from .outfolder import VIEWMORPH_OUTPUT, claim_output, frame_name
     from .viewmorph import ViewMorpher, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -195,7 +195,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     if claim is not None:
         with claim.writing():
             for i, img in enumerate(vm.frames(args.frames, **kw)):
-                name = out / f"frame_{i:03d}.png"
+                name = out / frame_name(i)
                 write(name, encode(name, img))
         print(f"wrote {args.frames} frames to {out.resolve()}")
     else:
@@ -518,7 +518,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default: %(default)s)")
     v.add_argument("--points", default=None, help="correspondences file (.json or .csv)")
     v.add_argument("--frames", type=int, default=0,
-                   help="write N in-between views (s = 0..1) as OUT/frame_NNN.png instead of one image")
+                   help="write N in-between views (s = 0..1) as OUT/frames/frame_NNNN.png instead of one "
+                   "image")
     v.add_argument("--prewarp", default="auto", choices=["auto", "opencv", "seitz-dyer", "none"],
                    help="rectification (default: %(default)s; none = plain mesh morph)")
     v.add_argument("--fallback", default="raise", choices=["raise", "morph"],
@@ -580,7 +581,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="render a baked atlas's scene along an object path with warped shadows (PNGs + video)",
         description="Move the mesh an atlas was baked from along a path over the atlas's range and "
         "render each frame with the warped shadow: hard, or soft with --area-light. Writes "
-        "OUT/frame_NNNN.png and OUT/shadows.webm (VP9). The mesh comes from the bake manifest (its "
+        "OUT/frames/frame_NNNN.png and OUT/shadows.webm (VP9). The mesh comes from the bake manifest (its "
         "folder or a parent), hash-checked, or from --mesh.",
     )
     h.add_argument("atlas", help="a baked shadow atlas (.atlas.npz)")

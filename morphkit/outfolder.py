@@ -20,7 +20,10 @@ the command's names, :attr:`OutputRule.owns`) in its marker's ``files``, when it
 (cleanly or by an exception). A previous run without that list (an older morphkit's
 run, whose index lists its files under ``files``, or a killed run) is replaced by the
 index's list where there is one, else by the command's exact names alone
-(:func:`owned`: ``frame_0003.png``, never ``frame_0003 (copy).png``).
+(:func:`owned`: ``frames/frame_0003.png``, never ``frames/frame_0003 (copy).png``).
+
+Frames: every command that writes a sequence names its frames alike, ``frames/frame_0000.png``
+(:func:`frame_name`); a finished folder holds one file of morphkit's own, its marker.
 
 Anything else (a folder holding other files, or another command's output, a
 file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
@@ -56,9 +59,9 @@ from pathlib import Path
 from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
 from .fileio import write_bytes, write_json
 
-__all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run", "owned",
-           "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT",
-           "subfolders"]
+__all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
+           "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
+           "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
 #: "running" | "complete", "started": ...}``.
@@ -112,11 +115,37 @@ class OutputRule:
     resume: bool = False
 
 
+#: The folder of a command's frame sequence (``billboards``, ``shadows``, ``viewmorph --frames``): every
+#: command names its frames alike, :func:`frame_name`.
+FRAMES_FOLDER = "frames"
+
+
+def frame_name(index: int) -> str:
+    """The path, relative to the output folder, of frame ``index`` of any command's sequence.
+
+    Parameters
+    ----------
+    index : int
+        The frame's number, from 0.
+
+    Returns
+    -------
+    str
+        ``frames/frame_0000.png`` (four digits, more past 9999).
+
+    Examples
+    --------
+    >>> frame_name(3)
+    'frames/frame_0003.png'
+    """
+    return f"{FRAMES_FOLDER}/frame_{int(index):04d}.png"
+
+
 #: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
-#: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
-#: ``shadows.mp4`` is what older versions wrote).
-SHADOWS_OUTPUT = OutputRule("shadows", ("frame_#.png", "shadows.webm", "shadows.mp4"))
+#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
+#: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).
+SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "frame_#.png", "shadows.mp4"))
 #: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.webm``, ``compare_NNNN.png``,
 #: ``billboards.json`` (:mod:`morphkit.billboard.sequence`; ``billboards.mp4``: older versions').
 BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.webm", "billboards.mp4",
@@ -125,8 +154,9 @@ BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True)
-#: ``morphkit viewmorph --frames N``: ``frame_NNN.png``.
-VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_#.png",))
+#: ``morphkit viewmorph --frames N``: ``frames/frame_NNNN.png`` (older versions: ``frame_NNN.png`` in the
+#: folder itself).
+VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frames/frame_#.png", "frame_#.png"))
 
 
 def subfolders() -> frozenset[str]:

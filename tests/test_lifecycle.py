@@ -3,6 +3,7 @@ workers, and a finished folder (one file of morphkit's own, one frame pattern)."
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -255,3 +256,73 @@ def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monk
     rc, _o, err = run(capfd, "demo", "--quick", "-o", out, "--overwrite")
     assert rc == 1 and "GL context" in one_line(err)
     assert snapshot(out) == before
+
+
+# ------------------------------------------------------------------ one frame pattern, one file of its own
+def viewmorph_inputs(folder: Path) -> tuple[Path, Path, Path]:
+    """Two images of one textured scene (the second shifted 4 px) and their correspondences."""
+    import cv2
+    import numpy as np
+
+    from morphkit.fileio import write_image
+
+    folder.mkdir(parents=True, exist_ok=True)
+    img = cv2.GaussianBlur((np.random.default_rng(0).random((96, 128, 3)) * 255).astype(np.uint8), (0, 0), 3)
+    left, right = write_image(folder / "l.png", img), write_image(folder / "r.png", np.roll(img, 4, axis=1))
+    points = folder / "p.csv"
+    rows = [f"{x},{y},{x + 4},{y}" for x in range(20, 100, 15) for y in range(20, 80, 15)]
+    points.write_text("\n".join(rows))
+    return left, right, points
+
+
+def listing(folder: Path) -> list[str]:
+    return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*"))
+
+
+def test_viewmorph_frames_follow_the_one_pattern_and_overwrite_an_old_layout(tmp_path, capfd):
+    from morphkit.outfolder import MARKER_NAME, frame_name
+
+    left, right, points = viewmorph_inputs(tmp_path / "in")
+    argv = ("viewmorph", left, right, "--points", points, "--prewarp", "none")
+    out = tmp_path / "out"
+    rc, _o, err = run(capfd, *argv, "--frames", "3", "-o", out)
+    assert rc == 0, err
+    assert listing(out) == [MARKER_NAME, "frames", "frames/frame_0000.png", "frames/frame_0001.png",
+                            "frames/frame_0002.png"]
+    assert frame_name(2) == "frames/frame_0002.png"
+    # folders an older version left: frame_NNN.png in the folder itself, with its record or without
+    for record in (True, False):
+        old = tmp_path / f"old-{record}"
+        old.mkdir()
+        names = ["frame_000.png", "frame_001.png", "frame_002.png"]
+        for name in names:
+            (old / name).write_bytes(b"old frame")
+        (old / "notes.txt").write_text("mine")
+        marker = {"morphkit_output": 1, "command": "viewmorph", "status": "complete"}
+        (old / MARKER_NAME).write_text(json.dumps({**marker, "files": names} if record else marker))
+        assert run(capfd, *argv, "--frames", "2", "-o", old)[0] == 2  # a previous run: --overwrite
+        rc, _o, err = run(capfd, *argv, "--frames", "2", "-o", old, "--overwrite")
+        assert rc == 0, err
+        assert listing(old) == [MARKER_NAME, "frames", "frames/frame_0000.png", "frames/frame_0001.png",
+                                "notes.txt"]
+
+
+@pytest.mark.gl
+def test_every_command_names_its_frames_alike_and_keeps_one_file_of_its_own(tmp_path, capfd, atlas_file):
+    from morphkit.outfolder import MARKER_NAME
+
+    two = ["frames", "frames/frame_0000.png", "frames/frame_0001.png"]
+    rc, _o, err = run(capfd, *BILLBOARDS, "--frames", "2", "-o", tmp_path / "bb")
+    assert rc == 0, err
+    assert listing(tmp_path / "bb") == sorted([MARKER_NAME, *two, "billboards.json", "billboards.webm",
+                                               "compare_0000.png", "compare_0001.png"])
+    rc, _o, err = run(capfd, "shadows", atlas_file, "--frames", "2", "--size", "32", "-q",
+                      "-o", tmp_path / "sh")
+    assert rc == 0, err
+    assert listing(tmp_path / "sh") == sorted([MARKER_NAME, *two, "shadows.webm"])
+    left, right, points = viewmorph_inputs(tmp_path / "in")
+    rc, _o, err = run(capfd, "viewmorph", left, right, "--points", points, "--prewarp", "none",
+                      "--frames", "2", "-o", tmp_path / "vm")
+    assert rc == 0, err
+    assert listing(tmp_path / "vm") == sorted([MARKER_NAME, *two])
+    assert listing(atlas_file.parent) == sorted([MARKER_NAME, "box.atlas.npz", "manifest.json"])

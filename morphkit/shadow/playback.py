@@ -48,6 +48,7 @@ from ..fileio import write_image
 from ..groundtruth import area_visibility, hard_visibility
 from ..meshes import load_mesh, shape_hash
 from ..metrics import shadow_iou
+from ..outfolder import FRAMES_FOLDER, frame_name
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
 from ..validate import as_int
@@ -436,7 +437,8 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         The object's positions, one per frame, over the usable range (the atlas's range, shrunk by the
         area light's extent when there is one).
     out : path-like
-        Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (VP9).
+        Output folder (created): ``frames/frame_NNNN.png`` (RGB,
+        :func:`morphkit.outfolder.frame_name`) and :data:`VIDEO_NAME` (VP9).
     renderer : SceneRenderer
         Renders the frames.
     size : int
@@ -480,7 +482,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     soft = None if area_light is None else default_soft_shadow(atlas, area_light, (samples, samples))
     scene = playback_scene(mesh, atlas, size, area_light, view=view)
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    (folder / FRAMES_FOLDER).mkdir(parents=True, exist_ok=True)
     frames: list[Path] = []
     errors: list[dict[str, float]] = []
     video = folder / VIDEO_NAME
@@ -495,7 +497,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
                 vis = _hard(depth, lcam)
             drawn = render_frame(renderer, sc, vis, receiver_only=True)
             rgb = drawn["shaded"]
-            frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
+            frames.append(write_image(folder / frame_name(i), rgb))
             writer.write(rgb)
             errors.append(_against_truth(sc, drawn, area_light, samples))
     return {"frames": frames, "video": video, "positions": positions.tolist(), "errors": errors}
