@@ -56,8 +56,8 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
-from .fileio import write_bytes, write_json
+from .errors import FileFormatError, OutputBusyError, OutputExistsError, ValidationError, expected_got
+from .fileio import open_regular, write_bytes, write_json
 
 __all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
            "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
@@ -205,8 +205,9 @@ def _recorded(folder: Path, rule: OutputRule) -> set[str] | None:
     ``files``: names, or objects with a ``path``), or None when it recorded none."""
     for name in (MARKER_NAME, *rule.markers):
         try:
-            data = json.loads((folder / name).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
+            with open_regular(folder / name, name) as f:  # a FIFO or a folder is no record
+                data = json.loads(f.read().decode("utf-8"))
+        except (OSError, ValueError, FileFormatError):
             continue
         files = data.get("files") if isinstance(data, dict) else None
         if isinstance(files, list):
@@ -221,17 +222,19 @@ def _marker_command(folder: Path) -> str | None:
     if not marker.is_file():
         return None
     try:
-        data = json.loads(marker.read_text(encoding="utf-8"))
+        with open_regular(marker, MARKER_NAME) as f:
+            data = json.loads(f.read().decode("utf-8"))
         return str(data["command"]) if isinstance(data, dict) and "command" in data else "?"
-    except (OSError, ValueError):
+    except (OSError, ValueError, FileFormatError):
         return "?"
 
 
 def _marker_pid(folder: Path) -> str:
     """The pid a folder's marker names (the run holding its lock), or ``"?"``."""
     try:
-        pid = json.loads((folder / MARKER_NAME).read_text(encoding="utf-8")).get("pid")
-    except (OSError, ValueError, AttributeError):
+        with open_regular(folder / MARKER_NAME, MARKER_NAME) as f:
+            pid = json.loads(f.read().decode("utf-8")).get("pid")
+    except (OSError, ValueError, AttributeError, FileFormatError):
         return "?"
     return str(pid) if type(pid) is int else "?"
 
@@ -360,8 +363,9 @@ class OutputClaim:
             _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
             before, dirs_before = _files(p), _dirs(p)
             try:
-                old_marker: bytes | None = (p / MARKER_NAME).read_bytes()
-            except OSError:
+                with open_regular(p / MARKER_NAME, MARKER_NAME) as f:
+                    old_marker: bytes | None = f.read()
+            except (OSError, FileFormatError):
                 old_marker = None
             previous = _recorded(p, self.rule) if self.previous else set()
             if previous is None:  # no record: the command's exact names
