@@ -5,7 +5,8 @@ and needs no GL context.
 
 Errors: every command's morphkit errors, OS errors and memory errors are caught in
 :func:`main` and printed as one line ``morphkit: error: ...`` on stderr; Ctrl-C prints
-``morphkit: interrupted``. No traceback. Exit codes, decided in one place (``_exit_code``):
+``morphkit: interrupted``, SIGTERM ``morphkit: terminated`` (the run unwinds as after Ctrl-C:
+temporary files removed). No traceback. Exit codes, decided in one place (``_exit_code``):
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
   combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
@@ -14,7 +15,8 @@ Errors: every command's morphkit errors, OS errors and memory errors are caught 
   it does not take;
 * 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
   geometry that cannot be morphed, a GL, file system or memory failure;
-* 130, interrupted.
+* 130, interrupted (Ctrl-C, SIGINT); 143, terminated (SIGTERM): 128 and the signal's number, as a
+  shell reports a process the signal ended.
 
 Warnings print as one line each, ``morphkit: warning: ...`` (``_one_line_warnings``).
 """
@@ -24,7 +26,6 @@ from __future__ import annotations
 import argparse
 import signal
 import sys
-import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
@@ -32,8 +33,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from .cliargs import SOFT_FILTER, billboard_views, check_args
+from .clistop import Stop, report_stop, stop_signals
 from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
+from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
 
 if TYPE_CHECKING:
     from .billboard.instances import Instances
@@ -133,7 +135,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
     from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
-    from .outfolder import VIEWMORPH_OUTPUT, claim_output
+    from .outfolder import VIEWMORPH_OUTPUT, claim_output, frame_name
     from .viewmorph import ViewMorpher, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -197,7 +199,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     if claim is not None:
         with claim.writing():
             for i, img in enumerate(vm.frames(args.frames, **kw)):
-                name = out / f"frame_{i:03d}.png"
+                name = out / frame_name(i)
                 write(name, encode(name, img))
         print(f"wrote {args.frames} frames to {out.resolve()}")
     else:
@@ -541,7 +543,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default: %(default)s)")
     v.add_argument("--points", default=None, help="correspondences file (.json or .csv)")
     v.add_argument("--frames", type=int, default=0,
-                   help="write N in-between views (s = 0..1) as OUT/frame_NNN.png instead of one image")
+                   help="write N in-between views (s = 0..1) as OUT/frames/frame_NNNN.png instead of one "
+                   "image")
     v.add_argument("--prewarp", default="auto", choices=["auto", "opencv", "seitz-dyer", "none"],
                    help="rectification (default: %(default)s; none = plain mesh morph)")
     v.add_argument("--fallback", default="raise", choices=["raise", "morph"],
@@ -603,7 +606,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="render a baked atlas's scene along an object path with warped shadows (PNGs + video)",
         description="Move the mesh an atlas was baked from along a path over the atlas's range and "
         "render each frame with the warped shadow: hard, or soft with --area-light. Writes "
-        "OUT/frame_NNNN.png and OUT/shadows.webm (VP9). The mesh comes from the bake manifest (its "
+        "OUT/frames/frame_NNNN.png and OUT/shadows.webm (VP9). The mesh comes from the bake manifest (its "
         "folder or a parent), hash-checked, or from --mesh.",
     )
     h.add_argument("atlas", help="a baked shadow atlas (.atlas.npz)")
@@ -713,7 +716,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         :class:`~morphkit.errors.MorphkitError`, an ``OSError`` (a file system failure: disk
         full, folder removed) or a failed allocation (a ``MemoryError`` or OpenCV's: sizes past
         the process's memory); each printed to stderr as one line ``morphkit: error: ...``;
-        130 after Ctrl-C (``morphkit: interrupted``).
+        130 after Ctrl-C (``morphkit: interrupted``); 143 after SIGTERM (``morphkit: terminated``),
+        which the run unwinds like Ctrl-C (128 + the signal's number: what a shell reports).
     """
     with _one_line_warnings():
         try:
@@ -724,8 +728,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         except MorphkitError as exc:
             return _error(exc)
         args = build_parser().parse_args(argv)
-        with _interrupt_flag() as interrupted:
-            return _run(args, interrupted)
+        with stop_signals() as stop:
+            return _run(args, stop)
 
 
 def _exit_code(exc: MorphkitError | OSError) -> int:
@@ -759,22 +763,20 @@ def _one_line_warnings() -> Iterator[None]:
         warnings.showwarning = previous
 
 
-def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
+def _run(args: argparse.Namespace, stop: Stop) -> int:
     """Check the options, run the command; print morphkit's errors, file system failures, failed
     allocations and interrupts as one line (:func:`main`)."""
     try:
         with _option_values():
             check_args(args)  # every option refused before any work (morphkit.cliargs)
         return int(args.func(args))
-    except KeyboardInterrupt:  # Ctrl-C: one line; atomic writes removed their temporary files
-        print("morphkit: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: one line; atomic writes removed their temporaries
+        return report_stop(signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
     except Exception as exc:
-        if interrupted.is_set():
+        if stop.signum is not None:
             # Ctrl-C inside a library's C callback (numba saving a kernel it was compiling): the
             # KeyboardInterrupt was swallowed there and the library failed instead: an interrupt
-            print("morphkit: interrupted", file=sys.stderr)
-            return 130
+            return report_stop(stop.signum)
         if isinstance(exc, (MorphkitError, OSError)):
             return _error(exc)
         if not _out_of_memory(exc):  # sizes that need more memory than the process may have: one line
@@ -783,41 +785,6 @@ def _run(args: argparse.Namespace, interrupted: threading.Event) -> int:
         print(f"morphkit: error: out of memory: {why} (the sizes asked for need more memory than this "
               "process may use: choose smaller ones)", file=sys.stderr)
         return 1
-
-
-@contextmanager
-def _interrupt_flag() -> Iterator[threading.Event]:
-    """An event set by Ctrl-C while the block runs (SIGINT still raises ``KeyboardInterrupt``), so
-    that an interrupt a library swallowed is still told as one; a ``KeyboardInterrupt`` raised in
-    a C callback (where Python can only report it as "Exception ignored", with a traceback) sets
-    it silently. Python's own SIGINT handler is replaced only where it is installed (not where
-    SIGINT is ignored) and only in the main thread."""
-    flag = threading.Event()
-    previous = signal.getsignal(signal.SIGINT)
-    main_thread = threading.current_thread() is threading.main_thread()
-    if previous is not signal.default_int_handler or not main_thread:
-        yield flag
-        return
-
-    def on_sigint(signum: int, frame: Any) -> None:
-        flag.set()
-        raise KeyboardInterrupt
-
-    hook = sys.unraisablehook
-
-    def on_unraisable(info: Any) -> None:
-        if isinstance(info.exc_value, KeyboardInterrupt):
-            flag.set()
-            return
-        hook(info)
-
-    signal.signal(signal.SIGINT, on_sigint)
-    sys.unraisablehook = on_unraisable
-    try:
-        yield flag
-    finally:
-        signal.signal(signal.SIGINT, previous)
-        sys.unraisablehook = hook
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -26,6 +26,9 @@ Hierarchy::
     └── MeshLookWarning                       ... found when the look is drawn (morphkit.look: e.g.
                                               a texture without UVs drawn in its mean colour)
 
+    Terminated (a KeyboardInterrupt)          SIGTERM arrived (the command line's handler raises it):
+                                              unwound like Ctrl-C, temporary files removed
+
 Warnings: filter on :class:`AssetWarning`, the one name for every look
 fallback, whether the loader (:func:`morphkit.meshes.load_mesh`) or the
 renderer (:mod:`morphkit.look`) found it, e.g.
@@ -51,6 +54,7 @@ __all__ = [
     "UsageError",
     "OutputBusyError",
     "OutputWriteError",
+    "Terminated",
     "AssetWarning",
     "MeshLookWarning",
     "expected_got",
@@ -136,6 +140,12 @@ class OutputWriteError(MorphkitError):
             The class and its arguments ``(message, errno)``.
         """
         return type(self), (str(self), self.errno)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived: raised by the command line's handler (:func:`morphkit.cli.main`) so that the
+    run unwinds as after Ctrl-C (every ``except KeyboardInterrupt`` and ``finally`` runs: atomic
+    writes remove their temporary files, an output folder its unfinished claim)."""
 
 
 class AssetWarning(UserWarning):

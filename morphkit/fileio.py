@@ -27,6 +27,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import stat
 import struct
 import tempfile
 import zipfile
@@ -39,11 +40,11 @@ from typing import IO, Any
 import cv2
 import numpy as np
 
-from .errors import FileFormatError, RenderError, ValidationError, expected_got
+from .errors import FileFormatError, MorphkitError, RenderError, ValidationError, expected_got
 
 __all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
-           "open_video_writer", "quiet_stderr", "append_lines", "write_bytes",
-           "write_text", "write_json", "encode_image", "write_image", "read_image"]
+           "open_video_writer", "quiet_stderr", "append_lines", "write_bytes", "write_text", "write_json",
+           "encode_image", "write_image", "read_image", "file_kind", "open_regular"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
 #: raise: every file loader catches these and raises a FileFormatError naming the file and what
@@ -448,6 +449,76 @@ def write_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     return write_bytes(path, encode_image(path, image))
 
 
+def file_kind(mode: int) -> str:
+    """What a file that is not a regular file is, from its ``st_mode``, for a message.
+
+    Parameters
+    ----------
+    mode : int
+        ``os.stat(path).st_mode``.
+
+    Returns
+    -------
+    str
+        ``"a FIFO (named pipe)"``, ``"a character device"``, ``"a block device"``, ``"a socket"``,
+        ``"a directory"``, or ``"not a regular file"``.
+    """
+    for test, name in ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+                       (stat.S_ISDIR, "a directory")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+@contextmanager
+def open_regular(path: str | os.PathLike[str], what: str,
+                 error: type[MorphkitError] = FileFormatError) -> Iterator[IO[bytes]]:
+    """``path`` open for reading, only if it is a regular file.
+
+    It is opened without blocking (opening a FIFO that no process writes to would wait forever) and
+    checked on the open descriptor (a file swapped for a FIFO or a folder after a check by name is
+    refused too); a regular file is then read as usual.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    what : str
+        What the file is, for the error message.
+    error : type of MorphkitError
+        The error raised (default :class:`~morphkit.errors.FileFormatError`).
+
+    Yields
+    ------
+    file object
+        Binary, blocking, closed on leaving the block.
+
+    Raises
+    ------
+    MorphkitError
+        ``error``: nothing at ``path``, a file that cannot be opened, or one that is not a regular
+        file (a FIFO, a folder, a device, a socket; :func:`file_kind`).
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except FileNotFoundError as exc:
+        raise error(expected_got(what, "an existing file", f"nothing at {str(path)!r}")) from exc
+    except OSError as exc:
+        raise error(expected_got(what, "a readable file", f"{str(path)!r} ({exc.strerror or exc})")) from exc
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise error(expected_got(what, "a regular file", f"{str(path)!r}: {file_kind(mode)}"))
+        os.set_blocking(fd, True)
+        f = os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+    with f:
+        yield f
+
+
 def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     """Read an image file into morphkit's channel order.
 
@@ -471,14 +542,15 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
     """
     p = Path(path)
     # decoded from bytes: cv2.imread prints its own warning for a missing file
-    if not p.is_file():
+    if p.is_dir() or not p.exists():  # a FIFO, a device: refused by open_regular, never waited on
         raise FileFormatError(expected_got(f"image {str(path)!r}", "an existing file",
                                            "a folder" if p.is_dir() else "nothing there"))
-    try:
-        data = np.fromfile(p, dtype=np.uint8)
-    except OSError as exc:
-        raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
-                                           exc.strerror or exc)) from exc
+    with open_regular(p, f"image {str(path)!r}") as f:
+        try:
+            data = np.frombuffer(f.read(), dtype=np.uint8)
+        except OSError as exc:
+            raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
+                                               exc.strerror or exc)) from exc
     try:
         img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
     except cv2.error as exc:  # e.g. a damaged header's size past OpenCV's limit

@@ -20,7 +20,10 @@ the command's names, :attr:`OutputRule.owns`) in its marker's ``files``, when it
 (cleanly or by an exception). A previous run without that list (an older morphkit's
 run, whose index lists its files under ``files``, or a killed run) is replaced by the
 index's list where there is one, else by the command's exact names alone
-(:func:`owned`: ``frame_0003.png``, never ``frame_0003 (copy).png``).
+(:func:`owned`: ``frames/frame_0003.png``, never ``frames/frame_0003 (copy).png``).
+
+Frames: every command that writes a sequence names its frames alike, ``frames/frame_0000.png``
+(:func:`frame_name`); a finished folder holds one file of morphkit's own, its marker.
 
 Anything else (a folder holding other files, or another command's output, a
 file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
@@ -34,13 +37,16 @@ second run into the same folder at the same time is refused,
 run (``TEMPORARY``; a run that is killed cannot remove its own) and writes the marker. On exit,
 clean or not, it removes the temporary files again (a process of the run killed mid-write, e.g. a
 bake's worker process, while the run went on). A run that fails or is interrupted before writing
-anything removes what it created.
+anything (a bad input found once the folder was claimed) leaves the folder as it was: it removes
+what it created (its marker, the folder and its parents, a subfolder such as ``frames/``) and puts
+back the marker it found. A subfolder morphkit writes into (:func:`subfolders`) that holds nothing
+(an older version left one when it stopped before its first frame) counts as nothing: it never
+makes a folder "hold other files".
 """
 
 from __future__ import annotations
 
 import fcntl
-import fnmatch
 import json
 import os
 import re
@@ -50,11 +56,12 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import OutputBusyError, OutputExistsError, ValidationError, expected_got
-from .fileio import write_json
+from .errors import FileFormatError, OutputBusyError, OutputExistsError, ValidationError, expected_got
+from .fileio import open_regular, write_bytes, write_json
 
-__all__ = ["MARKER_NAME", "LOCK_NAME", "OutputRule", "OutputClaim", "claim_output", "previous_run", "owned",
-           "DEMO_OUTPUT", "SHADOWS_OUTPUT", "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
+__all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
+           "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
+           "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
 #: "running" | "complete", "started": ...}``.
@@ -64,14 +71,23 @@ MARKER_NAME = ".morphkit-output.json"
 #: itself); a run removes one it finds.
 LOCK_NAME = ".morphkit-output.lock"
 
-#: Names of files morphkit itself leaves in a folder: its marker (and an older version's lock
-#: file), and the temporary
-#: files of an atomic write (:mod:`morphkit.fileio`) a killed process could not remove.
-HOUSEKEEPING = (MARKER_NAME, LOCK_NAME, ".*.part*", ".morphkit-probe-*")
+#: Names of files morphkit itself leaves in a folder: its marker and an older version's lock file
+#: (and the temporary files a killed process could not remove, :data:`TEMPORARY`).
+HOUSEKEEPING = (MARKER_NAME, LOCK_NAME)
 
-#: A temporary file of :func:`morphkit.fileio.atomic_output` (``.<stem>.<8 random>.part<suffix>``)
-#: or :func:`morphkit.fileio.check_writable`'s probe: left only by a process that was killed.
-TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8})$")
+#: A temporary file morphkit names: :func:`morphkit.fileio.atomic_output`'s and
+#: :class:`morphkit.video.VideoFile`'s (``.<stem>.<8 random>.part<suffix>``), a probe of
+#: :func:`morphkit.fileio.check_writable` or of the video writer (``.morphkit-probe-<8 random>``,
+#: with the video's suffix), and an older version's video (``.billboards.<8 random>.webm``, also
+#: ``shadows`` and ``.mp4``): left only by a process that was killed, removed by the next run into
+#: the folder. Nothing else is taken for one (``.notes.webm``, ``.billboards.webm`` stay).
+TEMPORARY = re.compile(r"^(\..+\.[a-z0-9_]{8}\.part(\.[^.]+)*|\.morphkit-probe-[a-z0-9_]{8}(\.[a-z0-9]+)?"
+                       r"|\.(billboards|shadows)\.[a-z0-9_]{8}\.(webm|mp4))$")
+
+
+def _housekeeping(name: str) -> bool:
+    """``name`` is a file morphkit itself leaves in a folder (:data:`HOUSEKEEPING`, :data:`TEMPORARY`)."""
+    return name in HOUSEKEEPING or TEMPORARY.match(name) is not None
 
 
 @dataclass(frozen=True)
@@ -99,11 +115,37 @@ class OutputRule:
     resume: bool = False
 
 
+#: The folder of a command's frame sequence (``billboards``, ``shadows``, ``viewmorph --frames``): every
+#: command names its frames alike, :func:`frame_name`.
+FRAMES_FOLDER = "frames"
+
+
+def frame_name(index: int) -> str:
+    """The path, relative to the output folder, of frame ``index`` of any command's sequence.
+
+    Parameters
+    ----------
+    index : int
+        The frame's number, from 0.
+
+    Returns
+    -------
+    str
+        ``frames/frame_0000.png`` (four digits, more past 9999).
+
+    Examples
+    --------
+    >>> frame_name(3)
+    'frames/frame_0003.png'
+    """
+    return f"{FRAMES_FOLDER}/frame_{int(index):04d}.png"
+
+
 #: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
-#: ``morphkit shadows``: ``frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
-#: ``shadows.mp4`` is what older versions wrote).
-SHADOWS_OUTPUT = OutputRule("shadows", ("frame_#.png", "shadows.webm", "shadows.mp4"))
+#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
+#: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).
+SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "frame_#.png", "shadows.mp4"))
 #: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.webm``, ``compare_NNNN.png``,
 #: ``billboards.json`` (:mod:`morphkit.billboard.sequence`; ``billboards.mp4``: older versions').
 BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.webm", "billboards.mp4",
@@ -112,8 +154,22 @@ BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True)
-#: ``morphkit viewmorph --frames N``: ``frame_NNN.png``.
-VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frame_#.png",))
+#: ``morphkit viewmorph --frames N``: ``frames/frame_NNNN.png`` (older versions: ``frame_NNN.png`` in the
+#: folder itself).
+VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frames/frame_#.png", "frame_#.png"))
+
+
+def subfolders() -> frozenset[str]:
+    """The subfolders morphkit's commands write into (the first part of an :attr:`OutputRule.owns`
+    pattern holding a ``/``: ``frames``).
+
+    Returns
+    -------
+    frozenset of str
+        Folder names.
+    """
+    rules = (DEMO_OUTPUT, SHADOWS_OUTPUT, BILLBOARDS_OUTPUT, BAKE_OUTPUT, VIEWMORPH_OUTPUT)
+    return frozenset(pat.split("/", 1)[0] for rule in rules for pat in rule.owns if "/" in pat)
 
 
 def _pattern(pattern: str) -> re.Pattern[str]:
@@ -149,8 +205,9 @@ def _recorded(folder: Path, rule: OutputRule) -> set[str] | None:
     ``files``: names, or objects with a ``path``), or None when it recorded none."""
     for name in (MARKER_NAME, *rule.markers):
         try:
-            data = json.loads((folder / name).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
+            with open_regular(folder / name, name) as f:  # a FIFO or a folder is no record
+                data = json.loads(f.read().decode("utf-8"))
+        except (OSError, ValueError, FileFormatError):
             continue
         files = data.get("files") if isinstance(data, dict) else None
         if isinstance(files, list):
@@ -165,17 +222,19 @@ def _marker_command(folder: Path) -> str | None:
     if not marker.is_file():
         return None
     try:
-        data = json.loads(marker.read_text(encoding="utf-8"))
+        with open_regular(marker, MARKER_NAME) as f:
+            data = json.loads(f.read().decode("utf-8"))
         return str(data["command"]) if isinstance(data, dict) and "command" in data else "?"
-    except (OSError, ValueError):
+    except (OSError, ValueError, FileFormatError):
         return "?"
 
 
 def _marker_pid(folder: Path) -> str:
     """The pid a folder's marker names (the run holding its lock), or ``"?"``."""
     try:
-        pid = json.loads((folder / MARKER_NAME).read_text(encoding="utf-8")).get("pid")
-    except (OSError, ValueError, AttributeError):
+        with open_regular(folder / MARKER_NAME, MARKER_NAME) as f:
+            pid = json.loads(f.read().decode("utf-8")).get("pid")
+    except (OSError, ValueError, AttributeError, FileFormatError):
         return "?"
     return str(pid) if type(pid) is int else "?"
 
@@ -215,6 +274,25 @@ def _files(folder: Path) -> dict[str, tuple[int, int]]:
     return out
 
 
+def _dirs(folder: Path) -> set[str]:
+    """Every folder under ``folder`` (relative POSIX paths)."""
+    out = set()
+    for root, dirs, _names in os.walk(folder):
+        out.update((Path(root) / d).relative_to(folder).as_posix() for d in dirs)
+    return out
+
+
+def _empty_leftover(path: Path) -> bool:
+    """``path`` is one of the subfolders morphkit writes into (:func:`subfolders`) holding nothing but
+    what morphkit leaves (:data:`TEMPORARY`): a run that stopped before its first frame made it."""
+    if path.name not in subfolders() or path.is_symlink() or not path.is_dir():
+        return False
+    try:
+        return all(not e.is_dir(follow_symlinks=False) and TEMPORARY.match(e.name) for e in os.scandir(path))
+    except OSError:
+        return False
+
+
 @dataclass(frozen=True)
 class OutputClaim:
     """An output folder checked for a command (:func:`claim_output`); write with :meth:`writing`.
@@ -239,7 +317,9 @@ class OutputClaim:
 
         On a clean exit a replaced previous run's files that were not written again are
         removed and the marker says ``complete``. On an exception (an interrupt too)
-        before anything but the marker was written, what this call created is removed. Either
+        before anything but the marker was written, the folder is left as it was: what this
+        call created is removed (the marker, subfolders, the folder and its parents) and the
+        marker it found is put back. Either
         way no temporary file (``TEMPORARY``) is left: the block's writers are done, and one
         killed mid-write cannot remove its own.
 
@@ -281,7 +361,12 @@ class OutputClaim:
                     "for it to finish, or choose another folder)", f"one locked by process {holder}")
                 ) from None
             _remove_temporaries(p)  # locked: a temporary file here is a killed run's, half written
-            before = _files(p)
+            before, dirs_before = _files(p), _dirs(p)
+            try:
+                with open_regular(p / MARKER_NAME, MARKER_NAME) as f:
+                    old_marker: bytes | None = f.read()
+            except (OSError, FileFormatError):
+                old_marker = None
             previous = _recorded(p, self.rule) if self.previous else set()
             if previous is None:  # no record: the command's exact names
                 previous = {rel for rel in before if owned(rel, self.rule)}
@@ -306,10 +391,15 @@ class OutputClaim:
             except BaseException:
                 _remove_temporaries(p)  # a process of this run killed mid-write (a bake's worker)
                 after = _files(p)
-                if not self.previous and set(after) <= {MARKER_NAME}:
-                    with suppress(OSError):  # nothing written: leave nothing
-                        (p / MARKER_NAME).unlink()
-                    _remove_dirs(created)
+                if {rel for rel, st in after.items() if before.get(rel) != st} <= {MARKER_NAME}:
+                    # refused (or stopped) before writing anything: the folder is left as it was
+                    with suppress(OSError):
+                        if old_marker is None:
+                            (p / MARKER_NAME).unlink()
+                        else:
+                            write_bytes(p / MARKER_NAME, old_marker)
+                    # the subfolders this run made (innermost first), then the folder and its parents
+                    _remove_dirs([p / d for d in sorted(_dirs(p) - dirs_before, reverse=True)] + created)
                 else:  # the next --overwrite replaces what this run and the one before it wrote
                     with suppress(OSError):
                         write_json(p / MARKER_NAME, {**marker, "files": record(after, previous)})
@@ -384,7 +474,9 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
     except OSError as exc:
         raise ValidationError(expected_got(what, "a folder morphkit can list",
                                            f"{p} ({type(exc).__name__}: {exc.strerror or exc})")) from exc
-    housekeeping = all(any(fnmatch.fnmatchcase(e, pat) for pat in HOUSEKEEPING) for e in entries)
+    # what morphkit itself leaves: its marker, a killed run's temporary files, and a subfolder it made
+    # that holds nothing of them (a run stopped before its first frame, by an older version)
+    housekeeping = all(_housekeeping(e) or _empty_leftover(p / e) for e in entries)
     if not entries or (housekeeping and _marker_command(p) is None):
         return OutputClaim(p, rule, False)
     mark = previous_run(p, rule)

@@ -72,7 +72,9 @@ class VideoFile:
             raise ValidationError(expected_got("video frame shape", f"sides of 1 to {tol.MAX_VIDEO_SIDE} "
                                                "pixels (tol.MAX_VIDEO_SIDE)", self.shape))
         self._pad = (self.shape[0] % 2, self.shape[1] % 2)  # to even sides (module notes)
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=ext, dir=self.path.parent)
+        # named as morphkit.fileio.atomic_output's temporary files (.<stem>.<8 random>.part<suffix>): a
+        # run killed mid-video leaves one that the next run into the folder knows as its own
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=f".part{ext}", dir=self.path.parent)
         os.close(fd)
         self._tmp = Path(tmp)
         try:

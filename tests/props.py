@@ -14,7 +14,8 @@ import io
 import json
 import signal
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -52,6 +53,19 @@ def outcome(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> tuple[bool, An
         signal.signal(signal.SIGALRM, old)
     event(f"{_name(fn)}: valid")
     return True, result
+
+
+@contextmanager
+def hang_limit() -> Iterator[None]:
+    """The block fails with :class:`Hang` past :data:`HANG_S` seconds (a blocking ``open`` of a FIFO
+    no process writes to is interrupted too)."""
+    old = signal.signal(signal.SIGALRM, _alarm)
+    signal.alarm(HANG_S)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
 
 
 def _name(fn: Callable[..., Any]) -> str:

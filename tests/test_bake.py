@@ -576,13 +576,14 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
                                "--frames", "3", "--size", "48", "-q")
     assert rc == 0 and "3 frames (hard)" in stdout
     assert re.search(r"shadow vs ray cast on the ground: IoU min 0\.\d{3} mean 0\.\d{3}", stdout)
-    names = sorted(p.name for p in (tmp_path / "f").iterdir())
+    names = sorted(p.relative_to(tmp_path / "f").as_posix() for p in (tmp_path / "f").rglob("*"))
     assert names == [".morphkit-output.json",  # morphkit.outfolder's marker, its one file of its own
-                     "frame_0000.png", "frame_0001.png", "frame_0002.png", "shadows.webm"]
+                     "frames", "frames/frame_0000.png", "frames/frame_0001.png", "frames/frame_0002.png",
+                     "shadows.webm"]
     video = cv2.VideoCapture(str(tmp_path / "f" / "shadows.webm"))
     assert video.get(cv2.CAP_PROP_FRAME_COUNT) == 3 and video.get(cv2.CAP_PROP_FRAME_WIDTH) == 48
     video.release()
-    frames = [fileio.read_image(tmp_path / "f" / f"frame_000{i}.png") for i in range(3)]
+    frames = [fileio.read_image(tmp_path / "f" / "frames" / f"frame_000{i}.png") for i in range(3)]
     assert not np.array_equal(frames[0], frames[2])  # the object moved
     # the light is exposed for the frame: no pixel clipped to white (the ground was, 39 % of it)
     assert all(np.count_nonzero(f.min(axis=2) >= 250) == 0 for f in frames)

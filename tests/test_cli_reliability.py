@@ -246,7 +246,8 @@ def test_ctrl_c_in_the_middle_of_a_write_leaves_no_temporary_file(tmp_path, capf
     (tmp_path / "p.json").write_text(json.dumps([[1, 1, 1, 1]] * 4))
     rc, _o, err = run(capfd, *argv)
     assert rc == 130 and err.strip().splitlines()[-1] == "morphkit: interrupted" and "Traceback" not in err
-    assert sorted(p.name for p in out.iterdir()) == [MARKER_NAME, "frame_000.png"]
+    assert sorted(p.relative_to(out).as_posix() for p in out.rglob("*")) == [
+        MARKER_NAME, "frames", "frames/frame_0000.png"]
     assert json.loads((out / MARKER_NAME).read_text())["status"] == "running"
     assert run(capfd, *argv)[0] == 2
 

@@ -140,3 +140,28 @@ def test_append_lines_leaves_no_half_line(tmp_path: Path, monkeypatch) -> None:
         f.write('{"c": ')  # a crash in the middle of a line
     fileio.append_lines(log, ['{"d": 4}'])
     assert log.read_text().splitlines() == ['{"a": 1}', '{"c": ', '{"d": 4}']
+
+
+def test_open_regular_refuses_what_is_not_a_regular_file_without_waiting(tmp_path):
+    import os
+
+    from morphkit.errors import MeshError
+    from morphkit.fileio import open_regular
+
+    (tmp_path / "a.txt").write_bytes(b"content")
+    with open_regular(tmp_path / "a.txt", "a file") as f:
+        assert f.read() == b"content"
+    os.mkfifo(tmp_path / "fifo")  # no writer: a plain open would wait forever
+    (tmp_path / "folder").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "folder", target_is_directory=True)
+    kinds = {"fifo": r"a FIFO \(named pipe\)", "folder": "a directory", "link": "a directory"}
+    for name, kind in kinds.items():
+        got = rf"^points file: expected a regular file, got '.*{name}': {kind}$"
+        with pytest.raises(FileFormatError, match=got):
+            with open_regular(tmp_path / name, "points file"):
+                pass
+    with pytest.raises(MeshError, match=r"^mesh: expected an existing file, got nothing at '.*nothing'$"):
+        with open_regular(tmp_path / "nothing", "mesh", MeshError):
+            pass
+    with pytest.raises(FileFormatError, match=r"image '.*fifo': expected a regular file, got .*: a FIFO"):
+        read_image(tmp_path / "fifo")

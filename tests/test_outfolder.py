@@ -210,3 +210,57 @@ def test_an_older_versions_lock_file_is_removed_and_none_is_left(tmp_path):
         _write_frames(out, 1)
     own = [p.name for p in out.iterdir() if p.name.startswith(".")]
     assert own == [MARKER_NAME]
+
+
+def _snapshot(folder):
+    """Every file (its bytes) and folder under ``folder``."""
+    return {p.relative_to(folder).as_posix(): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
+
+
+def test_a_run_refused_after_making_a_subfolder_leaves_the_folder_as_it_was(tmp_path):
+    from morphkit.outfolder import BILLBOARDS_OUTPUT
+
+    out = tmp_path / "a" / "b"
+    claim = claim_output(out, BILLBOARDS_OUTPUT)
+    with pytest.raises(ValidationError, match="the video writer"), claim.writing():
+        (out / "frames").mkdir()  # the run's first step, then it finds a bad input
+        (out / "frames" / ".frame_0000.ab12cd34.part.png").write_bytes(b"half")
+        raise ValidationError("the video writer")
+    assert list(tmp_path.iterdir()) == []  # no frames/, no marker, no folders
+    # a previous run: the folder is left byte for byte as it was (its marker says complete still)
+    with claim_output(out, BILLBOARDS_OUTPUT).writing():
+        (out / "frames").mkdir()
+        (out / "frames" / "frame_0000.png").write_bytes(b"frame")
+    (out / "notes").mkdir()
+    before = _snapshot(out)
+    for exc in (ValidationError("a bad asset"), KeyboardInterrupt()):
+        with pytest.raises(type(exc)), claim_output(out, BILLBOARDS_OUTPUT, overwrite=True).writing():
+            (out / "compare").mkdir()
+            (out / "frames" / "more").mkdir()
+            raise exc
+        assert _snapshot(out) == before
+    assert json.loads((out / MARKER_NAME).read_text())["status"] == "complete"
+
+
+def test_an_empty_subfolder_morphkit_makes_never_blocks_a_run(tmp_path):
+    from morphkit.outfolder import BILLBOARDS_OUTPUT, subfolders
+
+    assert subfolders() == {"frames"}
+    out = tmp_path / "o"
+    (out / "frames").mkdir(parents=True)  # what an older version left of a run refused at its start
+    (out / "frames" / ".frame_0000.ab12cd34.part.png").write_bytes(b"half")
+    for rule in (BILLBOARDS_OUTPUT, SHADOWS_OUTPUT):
+        for overwrite in (False, True):
+            assert claim_output(out, rule, overwrite=overwrite).previous is False
+    with claim_output(out, BILLBOARDS_OUTPUT, overwrite=True).writing():
+        (out / "frames" / "frame_0000.png").write_bytes(b"frame")
+    assert sorted(_snapshot(out)) == [MARKER_NAME, "frames", "frames/frame_0000.png"]
+    # a subfolder holding a file of the user's, or another empty folder, is not morphkit's
+    for extra in ("frames2/", "frames/mine.txt"):
+        other = tmp_path / extra.replace("/", "_")
+        (other / "frames").mkdir(parents=True)
+        target = other / extra
+        target.mkdir() if extra.endswith("/") else target.write_text("mine")
+        with pytest.raises(OutputExistsError, match=r"holding \d entries that are not one"):
+            claim_output(other, BILLBOARDS_OUTPUT, overwrite=True)

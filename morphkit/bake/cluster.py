@@ -24,7 +24,13 @@ Local workers are configured for bakes (:data:`LOCAL_WORKER_CONFIG`):
   it (figures: ``docs/RESULTS.md``, bake section);
 * Dask's statistical profiler of the worker threads (for its dashboard, which a
   bake does not show) is off: it samples the task's thread every 10 ms, which
-  costs the task CPU.
+  costs the task CPU;
+* they never take SIGINT (it stays blocked in them, ``_sigint_held``): a Ctrl-C at the terminal
+  stops the run, which cancels the tasks and closes the cluster, instead of each worker printing
+  its ``KeyboardInterrupt`` traceback;
+* Dask's own log lines, the workers' too, print only when critical: a bake reports a failed asset
+  itself (the manifest, one line on stderr), and what Dask logs as an error while a stopped run
+  closes the cluster (a worker's heartbeat to the scheduler that is going away) is no failure.
 
 For your own cluster, start workers with
 ``DASK_DISTRIBUTED__NANNY__PRE_SPAWN_ENVIRON='{"MALLOC_TRIM_THRESHOLD_": None}'``
@@ -36,10 +42,12 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Iterator
+import signal
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from ..errors import ClusterError, ValidationError, expected_got
+from ..fileio import quiet_stderr
 
 __all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client", "check_scheduler"]
 
@@ -113,11 +121,13 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
         raise ValidationError(expected_got("workers", "an integer >= 1", repr(workers)))
     import dask
 
-    with _quiet_logs(), dask.config.set(LOCAL_WORKER_CONFIG):
-        # the scheduler's HTTP server always starts: a free port on localhost (8787 may be taken)
+    with _quiet_logs(), dask.config.set(LOCAL_WORKER_CONFIG), _sigint_held() as release:
+        # the cluster's threads, and the workers they start, never take Ctrl-C (_sigint_held); the
+        # scheduler's HTTP server always starts: a free port on localhost (8787 may be taken)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+                               dashboard_address="127.0.0.1:0", silence_logs=logging.CRITICAL)
         try:
+            release()  # a Ctrl-C that came meanwhile is raised here: the cluster is closed below
             client = Client(cluster, set_as_default=False)
             try:
                 yield client
@@ -199,8 +209,40 @@ def check_scheduler(address: str, timeout: float | None = None) -> str:
 
 
 @contextmanager
+def _sigint_held() -> Iterator[Callable[[], None]]:
+    """SIGINT blocked in the calling thread until the block calls the function it is given, or ends
+    (a Ctrl-C that came meanwhile is delivered then: ``KeyboardInterrupt`` there).
+
+    A thread inherits the signal mask of the thread that starts it, and a process that of the thread
+    that forks it, across ``exec`` too: the local cluster's event-loop thread, started while SIGINT is
+    held, keeps it blocked, and so do the worker processes it spawns (restarted ones too). A Ctrl-C
+    at the terminal, which signals the whole process group, reaches only this process then: the
+    run stops and closes the cluster, and its workers print no ``KeyboardInterrupt`` traceback.
+    """
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield lambda: None
+        return
+    from multiprocessing import resource_tracker
+
+    # started first: starting it unblocks SIGINT in the thread that starts it; its stderr held back
+    # (its only lines are a warning at exit about semaphores a closing cluster had not freed yet)
+    with quiet_stderr():
+        resource_tracker.ensure_running()
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+
+    def release() -> None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
+
+    try:
+        yield release
+    finally:
+        release()
+
+
+@contextmanager
 def _quiet_logs() -> Iterator[None]:
-    """Dask's INFO lines (workers starting and closing) off, errors still shown."""
+    """Dask's INFO lines (workers starting and closing) off in this process (the local cluster shows
+    only critical lines while it runs, module notes)."""
     logger = logging.getLogger("distributed")
     old = logger.level
     logger.setLevel(logging.ERROR)

@@ -51,7 +51,7 @@ from typing import Any
 
 from .. import __version__
 from ..errors import FileFormatError, expected_got
-from ..fileio import append_lines, write_json
+from ..fileio import append_lines, open_regular, write_json
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
@@ -339,7 +339,9 @@ class Manifest:
         m = cls(folder)
         if m.path.exists():
             try:
-                d = json.loads(m.path.read_text(encoding="utf-8"), parse_constant=_no_constant)
+                with open_regular(m.path, "manifest") as f:  # a FIFO or a folder: refused, not waited on
+                    text = f.read().decode("utf-8")
+                d = json.loads(text, parse_constant=_no_constant)
                 if d.get("format") != MANIFEST_FORMAT:
                     raise FileFormatError(expected_got(f"manifest {m.path}", MANIFEST_FORMAT,
                                                        d.get("format")))
@@ -357,7 +359,9 @@ class Manifest:
                 raise FileFormatError(expected_got(f"manifest {m.path}", f"a {MANIFEST_FORMAT} JSON file",
                                                    f"{type(exc).__name__}: {exc}")) from exc
         if m.journal.exists():
-            for line in m.journal.read_text(encoding="utf-8", errors="replace").splitlines():
+            with open_regular(m.journal, "manifest journal") as f:
+                journal = f.read().decode("utf-8", errors="replace")
+            for line in journal.splitlines():
                 try:
                     rec = AssetRecord.from_dict(json.loads(line, parse_constant=_no_constant))
                 except (ValueError, KeyError, TypeError, FileFormatError):

@@ -227,32 +227,36 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
                                          pure=False): t for i, t in enumerate(tasks)}
                 last_commit, commit_s = time.perf_counter(), 0.0
                 n_failed = 0
-                for batch in as_completed(list(futures), loop=client.loop).batches():
-                    done = [(futures.pop(fut), fut) for fut in batch]
-                    recs = [_record(manifest, task, fut) for task, fut in done]
-                    stop = next(filter(None, (_refused_write(task, fut) for task, fut in done)), None)
-                    for fut in batch:
-                        fut.release()
-                    try:
-                        manifest.record(*recs)  # the results that arrived together: one disk sync
-                        n_kept += sum(r.status == "baked" for r in recs)
-                        # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
-                        due = time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s)
-                        if due and not stop:
-                            t0 = time.perf_counter()
-                            manifest.commit()
-                            last_commit = time.perf_counter()
-                            commit_s = last_commit - t0
-                    except OSError as exc:  # the journal or the manifest (atomic: the old one stays)
-                        stop = stop or (exc.errno or errno.EIO, "the manifest")
-                    n_failed += sum(r.status == "failed" for r in recs)
-                    bar.update(len(recs))
-                    if n_failed:
-                        bar.set_postfix(failed=n_failed, refresh=False)
-                    if stop:  # every later write would be refused too: stop here, keep what is done
-                        client.cancel(list(futures))
-                        _wait_executing(client, f"morphkit-bake-{token}-", STOP_WAIT_S)
-                        break
+                try:
+                    for batch in as_completed(list(futures), loop=client.loop).batches():
+                        done = [(futures.pop(fut), fut) for fut in batch]
+                        recs = [_record(manifest, task, fut) for task, fut in done]
+                        stop = next(filter(None, (_refused_write(task, fut) for task, fut in done)), None)
+                        for fut in batch:
+                            fut.release()
+                        try:
+                            manifest.record(*recs)  # the results that arrived together: one disk sync
+                            n_kept += sum(r.status == "baked" for r in recs)
+                            # rewrite the manifest every COMMIT_INTERVAL_S, and no more than 5% of the time
+                            due = time.perf_counter() - last_commit > max(COMMIT_INTERVAL_S, 20 * commit_s)
+                            if due and not stop:
+                                t0 = time.perf_counter()
+                                manifest.commit()
+                                last_commit = time.perf_counter()
+                                commit_s = last_commit - t0
+                        except OSError as exc:  # the journal or the manifest (atomic: the old one stays)
+                            stop = stop or (exc.errno or errno.EIO, "the manifest")
+                        n_failed += sum(r.status == "failed" for r in recs)
+                        bar.update(len(recs))
+                        if n_failed:
+                            bar.set_postfix(failed=n_failed, refresh=False)
+                        if stop:  # every later write would be refused too: stop here, keep what is done
+                            client.cancel(list(futures))
+                            _wait_executing(client, f"morphkit-bake-{token}-", STOP_WAIT_S)
+                            break
+                except KeyboardInterrupt:  # Ctrl-C: no task starts after it (the cluster closes next)
+                    client.cancel(list(futures))
+                    raise
     finally:
         bar.close()
     if stop:

@@ -219,7 +219,8 @@ class BillboardScene:
         if progress:
             from tqdm import tqdm
 
-            it = tqdm(cameras, total=total, desc=f"billboards ({mode.name})",
-                      unit="frame")
+            # on a terminal only (as every progress bar of morphkit's): a log or a pipe gets none
+            it = tqdm(cameras, total=total, desc=f"billboards ({mode.name})", unit="frame", disable=None,
+                      leave=False)
         for cam in it:
             yield mode.render(self, cam)

@@ -23,6 +23,7 @@ from typing import Any
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..fileio import write_image, write_json
+from ..outfolder import FRAMES_FOLDER, frame_name
 from ..shading import Lighting
 from ..video import VideoFile
 from .compare import compare_modes
@@ -95,7 +96,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
         relative to ``out``).
     """
     out = Path(out)
-    (out / "frames").mkdir(parents=True, exist_ok=True)
+    (out / FRAMES_FOLDER).mkdir(parents=True, exist_ok=True)
     mode = MorphMode() if mode is None else mode
     picks = set(compare_indices(len(cameras), compare)) if truth is not None else set()
     classic = ClassicMode() if classic is None else classic
@@ -117,7 +118,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     try:
         for k, frame in enumerate(scene.render_path(lit(cameras), mode, progress=progress,
                                                     total=len(cameras))):
-            name = f"frames/frame_{k:04d}.png"
+            name = frame_name(k)
             write_image(out / name, frame.rgb)
             files.append(name)
             if sink is not None:

@@ -32,6 +32,7 @@ from urllib.parse import unquote
 from trimesh.resolvers import FilePathResolver
 
 from ..errors import MeshError, expected_got
+from ..fileio import file_kind, open_regular
 
 __all__ = ["AssetResolver", "asset_root", "locate", "read_regular"]
 
@@ -66,15 +67,6 @@ def asset_root(mesh_path: str | os.PathLike[str], root: str | os.PathLike[str] |
         raise MeshError(expected_got("asset root", f"a folder holding the mesh file {str(mesh_path)!r}",
                                      repr(str(root))))
     return r
-
-
-def _kind(mode: int) -> str:
-    for test, name in ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
-                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
-                       (stat.S_ISDIR, "a directory")):
-        if test(mode):
-            return name
-    return "not a regular file"
 
 
 def locate(folder: Path, name: str, root: Path, what: str) -> tuple[Path | None, bool]:
@@ -122,7 +114,7 @@ def locate(folder: Path, name: str, root: Path, what: str) -> tuple[Path | None,
         except OSError:
             continue
         if not stat.S_ISREG(mode):
-            raise MeshError(expected_got(what, "a regular file", f"{str(path)!r}: {_kind(mode)}"))
+            raise MeshError(expected_got(what, "a regular file", f"{str(path)!r}: {file_kind(mode)}"))
         return path, False
     return None, outside
 
@@ -148,20 +140,8 @@ def read_regular(path: Path, what: str) -> bytes:
         ``path`` is not a regular file (checked on the open file: a file swapped for a FIFO
         after :func:`locate` is refused too) or cannot be read.
     """
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-    except OSError as exc:
-        raise MeshError(expected_got(what, "a readable file",
-                                     f"{str(path)!r} ({exc.strerror or exc})")) from exc
-    try:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            raise MeshError(expected_got(what, "a regular file", f"{str(path)!r}: {_kind(mode)}"))
-        os.set_blocking(fd, True)
-        with os.fdopen(fd, "rb", closefd=False) as f:
-            return f.read()
-    finally:
-        os.close(fd)
+    with open_regular(path, what, MeshError) as f:
+        return f.read()
 
 
 class AssetResolver(FilePathResolver):

@@ -32,7 +32,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
-from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ..fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
 from ..scene import DirectionalLight, PointLight
 from ..validate import as_pose
 from .baked import BakedAtlas
@@ -219,7 +219,8 @@ def _read_arrays(path: Path) -> dict[str, np.ndarray]:
     names = ("meta",) + ARRAYS
     want = f"a complete {ATLAS_FORMAT} .npz file with the arrays {', '.join(names)}"
     try:
-        with np.load(path, allow_pickle=False) as z:
+        # opened by open_regular: a FIFO or a folder is refused, never waited on
+        with open_regular(path, "atlas file") as f, np.load(f, allow_pickle=False) as z:
             if not hasattr(z, "files"):  # a bare .npy
                 raise FileFormatError(expected_got("atlas file", want, f"one array in {path.name}"))
             for k in names:

@@ -44,10 +44,11 @@ from .. import tol
 from ..bake.manifest import baked_from, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
-from ..fileio import write_image
+from ..fileio import file_kind, write_image
 from ..groundtruth import area_visibility, hard_visibility
 from ..meshes import load_mesh, shape_hash
 from ..metrics import shadow_iou
+from ..outfolder import FRAMES_FOLDER, frame_name
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
 from ..validate import as_int
@@ -187,9 +188,9 @@ class PointsPath:
             Missing or unreadable file, or not two finite numbers per row.
         """
         p = Path(path)
-        if not p.is_file():
+        if not p.is_file():  # a FIFO or a folder too: never opened
             raise ValidationError(expected_got("path file", "an existing CSV file of x,y rows",
-                                               f"{str(p)!r} (not found)"))
+                                               f"{str(p)!r} ({_not_a_file(p)})"))
         rows = []
         for i, line in enumerate(p.read_text(encoding="utf-8", errors="replace").splitlines()):
             line = line.split("#", 1)[0].strip()
@@ -263,9 +264,10 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
                                            "(its folder or a parent), or --mesh", "neither"))
     path = Path(mesh) if mesh is not None else found.input  # type: ignore[union-attr]
     if found is not None:
-        if not path.is_file():
+        if not path.is_file():  # a FIFO or a folder too: never opened
+            hint = "; give its new place with --mesh" if mesh is None else ""
             raise MeshError(expected_got("mesh the atlas was baked from", "an existing file",
-                                         f"{str(path)!r} (not found; give its new place with --mesh)"))
+                                         f"{str(path)!r} ({_not_a_file(path)}{hint})"))
         got = file_digest(path)[0]
         if got != found.input_sha256:
             raise FileFormatError(expected_got(f"mesh {str(path)!r}", "the file the atlas was baked from "
@@ -278,6 +280,14 @@ def baked_mesh(atlas_path: str | os.PathLike[str], mesh: str | os.PathLike[str] 
             f"mesh {str(path)!r}", f"the mesh {atlas.name} was baked from (shape sha256 {mesh_sha256[:12]})",
             f"another shape (sha256 {shape[:12]}; another mesh, or another up axis)"))
     return loaded
+
+
+def _not_a_file(path: Path) -> str:
+    """What ``path``, which is no regular file, is: ``not found``, or its kind (a FIFO, a folder)."""
+    try:
+        return file_kind(path.stat().st_mode)
+    except OSError:
+        return "not found"
 
 
 def area_light_for(atlas: ShadowAtlas, width: float, height: float) -> AreaLight:
@@ -436,7 +446,8 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         The object's positions, one per frame, over the usable range (the atlas's range, shrunk by the
         area light's extent when there is one).
     out : path-like
-        Output folder (created): ``frame_NNNN.png`` (RGB) and :data:`VIDEO_NAME` (VP9).
+        Output folder (created): ``frames/frame_NNNN.png`` (RGB,
+        :func:`morphkit.outfolder.frame_name`) and :data:`VIDEO_NAME` (VP9).
     renderer : SceneRenderer
         Renders the frames.
     size : int
@@ -480,7 +491,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     soft = None if area_light is None else default_soft_shadow(atlas, area_light, (samples, samples))
     scene = playback_scene(mesh, atlas, size, area_light, view=view)
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    (folder / FRAMES_FOLDER).mkdir(parents=True, exist_ok=True)
     frames: list[Path] = []
     errors: list[dict[str, float]] = []
     video = folder / VIDEO_NAME
@@ -495,7 +506,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
                 vis = _hard(depth, lcam)
             drawn = render_frame(renderer, sc, vis, receiver_only=True)
             rgb = drawn["shaded"]
-            frames.append(write_image(folder / f"frame_{i:04d}.png", rgb))
+            frames.append(write_image(folder / frame_name(i), rgb))
             writer.write(rgb)
             errors.append(_against_truth(sc, drawn, area_light, samples))
     return {"frames": frames, "video": video, "positions": positions.tolist(), "errors": errors}

@@ -39,7 +39,7 @@ import numpy as np
 from .. import tol
 from ..camera import CameraModel
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..fileio import write_text
+from ..fileio import open_regular, write_text
 from ..validate import as_finite_array, as_image, as_int, as_points
 from ..warp.mesh import as_mesh_points
 
@@ -530,7 +530,8 @@ def load_points(path: str | Path) -> Correspondences:
     """
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        with open_regular(p, "points file") as f:  # a FIFO or a folder is refused, never waited on
+            text = f.read().decode("utf-8")
     except OSError as exc:
         raise FileFormatError(expected_got("points file", "a readable file", f"{p}: {exc}")) from exc
     except UnicodeDecodeError as exc:
