@@ -54,9 +54,8 @@ MESH_BOUNDARY_PX = 1e-6
 MESH_MAX_COORD = 1e9
 
 #: Most nodes of a glTF file morphkit reads (:mod:`morphkit.meshes.gltf`, checked on its JSON before
-#: trimesh reads it): every node is posed and merged into the one mesh in Python, about 0.8 ms a node
-#: (8 s at this count), so a file of a million nodes ran for a quarter of an hour without a word; one
-#: asset of ten thousand parts is already a scene, not an object to bake.
+#: trimesh reads it): trimesh poses and merges every node in Python, so the read's time grows with
+#: the count (docs/RESULTS.md); one asset of ten thousand parts is already a scene, not an object.
 MAX_GLTF_NODES = 10_000
 
 #: Relative length below which a mesh counts as flat in a direction
@@ -359,11 +358,8 @@ VM_MIN_TRIANGLE_AREA_PX2 = 1e-3
 #: fraction of the pairs' depth range, so that a surface cut by a layer edge is
 #: drawn by both layers near the cut (the two meshes approximate the cut
 #: differently; without overlap thin cracks open there). More overlap also
-#: drags a little of the far side into the near layer. Measured on the chair,
-#: 20-degree baseline, s = 0.25/0.5/0.75 (``morphkit bench viewmorph`` scene),
-#: silhouette IoU / PSNR: 0 -> 0.972/0.967/0.981, 23.1/22.0/23.7 dB;
-#: 0.02 -> 0.970/0.965/0.979, 23.5/22.3/24.0 dB; 0.05 -> 0.971/0.963/0.976,
-#: 23.5/22.4/23.8 dB. 0.02 keeps most of both.
+#: drags a little of the far side into the near layer; 0.02 keeps most of both
+#: (docs/RESULTS.md, "View morphing": the overlap swept).
 VM_LAYER_OVERLAP = 0.02
 
 #: The 1-D k-means of the depth layers stops when no centre moved by more than
@@ -395,9 +391,8 @@ VM_FLOW_MIN_SIDE = 32
 VM_MIN_LAYER_PAIRS = 8
 
 #: A post-warp to a target camera is the least-squares homography over at most
-#: this many pairs, spread over image 0. The fit costs ~0.4 us per pair (cv2):
-#: 2,200 dense pairs took 1.0 ms, 256 take 0.15 ms; on a noisy synthetic fit the
-#: RMS residual over all pairs grew by 0.3% (0.4274 vs 0.4262 px).
+#: this many pairs, spread over image 0: a fraction of the time of all the dense pairs for
+#: a residual within a percent (docs/RESULTS.md, "View morphing": the post-warp's pairs).
 VM_POST_FIT_PAIRS = 256
 
 #: ``ViewMorpher(layers="auto")`` layers the morph when the single mesh had to
@@ -500,20 +495,16 @@ BB_MIN_AREA_PX2 = 0.5
 #: (the horizon row at most) show the sky, so the hit distance ``-z / dz`` stays finite.
 BB_GROUND_RAY_DZ = 1e-12
 
-#: A billboard pixel goes under the frame's depth buffer (:mod:`morphkit.billboard.compositor`,
-#: "Depth") only when it lies behind it by more than this fraction of the buffer's depth:
-#: surfaces that meet (one pivot's quad plane, the same point seen twice) keep the plain
-#: back-to-front "over" rather than flipping with the last bits of their depths.
+#: A billboard pixel goes under the frame's depth buffer (:mod:`morphkit.billboard.compositor`)
+#: only when behind it by more than this fraction, so that surfaces that meet keep the plain
+#: back-to-front "over" instead of flipping with the last bits of their depths.
 BB_DEPTH_REL = 1e-5
-#: A billboard pixel writes its depth into the frame's depth buffer from this alpha on: the
-#: silhouette threshold of the coverage measures (alpha > 0.5 is inside), so that a faint
-#: anti-aliased rim does not hide what lies behind it.
+#: A billboard pixel writes the depth buffer from this alpha on: the coverage measures'
+#: silhouette threshold, so that a faint anti-aliased rim hides nothing behind it.
 BB_DEPTH_OPAQUE_ALPHA = 0.5
-
 #: Draws of a new position for an instance whose footprint meets another's
-#: (:func:`morphkit.billboard.instances.separate`) before it is counted as crowded: dart
-#: throwing fills a field to about half its area with such discs, where one draw in two
-#: or three lands free; a hundred misses in a row say the field is full.
+#: (:func:`morphkit.billboard.instances.separate`) before it is counted as crowded: a free
+#: place is found in a few draws until the field is nearly full.
 BB_SCATTER_TRIES = 100
 
 #: Largest forward-backward disagreement (pixels) of a pair from dense optical
@@ -719,8 +710,7 @@ SUN_FIELD_MAX_SIDE = 2048
 
 #: ``billboards --sun-atlas-size``: the sun atlas views' side, texels. Under 16 an asset is a few
 #: texels across; over 1024 an atlas of 21 views takes 66 MB (3 bytes a texel) and a frame's
-#: field map (at most :data:`SUN_FIELD_MAX_SIDE` a side) no longer resolves it (measured: 512
-#: texels no better than 256 in a billboard frame, docs/RESULTS.md).
+#: field map (at most :data:`SUN_FIELD_MAX_SIDE` a side) no longer resolves it (docs/RESULTS.md).
 MIN_SUN_ATLAS_SIZE, MAX_SUN_ATLAS_SIZE = 16, 1024
 
 #: Most sun directions over a soft sun's disc (``--soft N``): one field map (or one ray
