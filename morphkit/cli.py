@@ -245,9 +245,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
     from .outfolder import SHADOWS_OUTPUT, claim_output
-    from .render import Renderer
-    from .shadow import ShadowAtlas
-    from .shadow.playback import (
+    from .playback import (
         CirclePath,
         LinePath,
         PointsPath,
@@ -255,6 +253,8 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         baked_mesh,
         render_shadow_sequence,
     )
+    from .render import Renderer
+    from .shadow import ShadowAtlas
 
     if args.samples is not None and args.area_light is None:
         raise UsageError(expected_got("--samples", "together with --area-light", "--samples alone"))

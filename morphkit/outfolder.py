@@ -143,7 +143,7 @@ def frame_name(index: int) -> str:
 
 #: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
-#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.shadow.playback`;
+#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.playback`;
 #: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).
 SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "frame_#.png", "shadows.mp4"))
 #: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.webm``, ``compare_NNNN.png``,

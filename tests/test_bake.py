@@ -528,8 +528,8 @@ def test_cli_unparsable_number_is_an_argparse_error(tmp_path, capsys):
 
 def test_points_path_reads_csv_and_checks_the_range(tmp_path):
     from morphkit.errors import OutOfRangeError
+    from morphkit.playback import CirclePath, LinePath, PointsPath
     from morphkit.shadow import MotionRange
-    from morphkit.shadow.playback import CirclePath, LinePath, PointsPath
 
     motion = MotionRange([-1.0, -0.5], [1.0, 0.5])
     csv = tmp_path / "p.csv"
@@ -567,9 +567,9 @@ def baked(tmp_path_factory, scheduler) -> tuple[Path, Path]:
 def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, baked, capsys, renderer):
     import cv2
 
+    from morphkit.playback import LinePath, baked_mesh, playback_scene
     from morphkit.shadow import ShadowAtlas
     from morphkit.shadow.frame import render_frame
-    from morphkit.shadow.playback import LinePath, baked_mesh, playback_scene
 
     _lib, out = baked
     rc, stdout, _err = run_cli(capsys, "shadows", str(out / "box.atlas.npz"), "-o", str(tmp_path / "f"),
@@ -616,8 +616,8 @@ def test_shadows_finds_the_mesh_through_the_manifest_and_checks_its_hash(tmp_pat
 
     from morphkit.errors import FileFormatError
     from morphkit.meshes import load_mesh, shape_hash
+    from morphkit.playback import baked_mesh
     from morphkit.shadow import ShadowAtlas
-    from morphkit.shadow.playback import baked_mesh
 
     lib, out = baked
     np.testing.assert_array_equal(baked_mesh(out / "box.atlas.npz").vertices,

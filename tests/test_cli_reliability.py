@@ -101,9 +101,9 @@ def test_a_previous_run_is_kept_without_overwrite(tmp_path, capfd, no_work, comm
 def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_files(tmp_path, capfd,
                                                                                   monkeypatch):
     """The command's wiring (the render is a stand-in writing N frames; test_bake renders for real)."""
+    import morphkit.playback as playback
     import morphkit.render
     import morphkit.shadow
-    import morphkit.shadow.playback as playback
 
     def fake_render(atlas, mesh, path, out, **_kw):
         n = path.frames

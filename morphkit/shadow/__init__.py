@@ -27,9 +27,10 @@
   view along the sun (culled to a receiver, reused while nothing moves), drawn by a ``FieldDrawer``;
 * :mod:`.fieldsplat` -- the default drawer: the atlas views' points reprojected into that view;
 * :mod:`.fieldbaselines` -- the field's baselines: all posed meshes rendered into that view, the ray cast;
-* :mod:`.frame` -- a whole frame: camera render + shadow map + composite;
-* :mod:`.playback` -- ``morphkit shadows``: a baked atlas's scene along an object path, to frames and
-  a video (imported by the CLI, not re-exported here).
+* :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
+
+The program ``morphkit shadows`` (a baked atlas's scene along an object path, to frames and a video)
+is :mod:`morphkit.playback`, above this package and the bake pipeline.
 
 Papers: the warped shadow maps of Kang & Ihm [1]_, built on shadow mapping [2]_ and projective
 texture mapping [3]_; the image-based baseline of Lee & Ihm [4]_.
