@@ -414,7 +414,6 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
-    from .billboard.dome import ViewDome
     from .billboard.facing import AxialFacing, ViewpointFacing
     from .billboard.litmesh import LitMeshMode
     from .billboard.litmodes import ClassicSurface, LitMode, MorphSurface
@@ -422,6 +421,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .billboard.sun import SunPath
     from .render import Renderer
     from .shading import Lighting
+    from .views.dome import ViewDome
 
     with claim.writing() as out, Renderer() as r:
         dome = ViewDome() if views is None else None

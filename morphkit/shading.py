@@ -1,6 +1,6 @@
 """The one shading model of relit images: Lambert under ambient light, suns and point lights.
 
-Relit billboards (:class:`~morphkit.billboard.gbuffer.ViewSurface`, :func:`shade`) and
+Relit billboards (:class:`~morphkit.views.gbuffer.ViewSurface`, :func:`shade`) and
 their ground truth, the real meshes' deferred passes (:func:`shade_passes`,
 :class:`~morphkit.billboard.litmesh.LitMeshMode`), are shaded by this one model, so a
 difference between them is a difference of geometry, albedo or normals, never of lighting.
@@ -63,7 +63,7 @@ from .scene import DirectionalLight, PointLight
 from .validate import as_finite_array
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .billboard.gbuffer import ViewSurface
+    from .views.gbuffer import ViewSurface
 
 __all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "sun_shadow_factor",
            "encode_premultiplied", "decode_premultiplied", "LIT_GAMMA"]
@@ -247,7 +247,7 @@ def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | Non
 
 def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = None,
           visibility: np.ndarray | None = None) -> np.ndarray:
-    """A :class:`~morphkit.billboard.gbuffer.ViewSurface` lit by ``lighting`` (the model of
+    """A :class:`~morphkit.views.gbuffer.ViewSurface` lit by ``lighting`` (the model of
     :mod:`morphkit.shading`).
 
     Parameters
@@ -466,7 +466,7 @@ def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel,
     ----------
     passes : RenderPasses
         From :meth:`~morphkit.render.Renderer.passes` or ``source_passes``: albedo
-        sRGB-encoded (decoded here by :func:`~morphkit.billboard.gbuffer.srgb_to_linear`),
+        sRGB-encoded (decoded here by :func:`~morphkit.views.gbuffer.srgb_to_linear`),
         world-frame normals, linear depth, coverage alpha.
     lighting : Lighting
         World frame.
@@ -486,7 +486,7 @@ def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel,
     ValidationError
         Passes whose shape is not the camera's.
     """
-    from .billboard.gbuffer import ViewSurface, srgb_to_linear  # see shade
+    from .views.gbuffer import ViewSurface, srgb_to_linear  # see shade
 
     h, w = camera.shape
     if passes.albedo.shape != (h, w, 3) or passes.alpha.shape != (h, w):

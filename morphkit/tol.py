@@ -628,7 +628,7 @@ SUN_MIN_ELEVATION_DEG = 5.0
 #: The ground is not drawn into the map, so it cannot shadow itself (no acne, no
 #: slope term needed); what the bias absorbs is the morphed depth's own error, a
 #: crossing refined by a secant and two bisections of a march step of about two
-#: texels (:mod:`morphkit.billboard.depthmorph`), so about half a texel: one texel
+#: texels (:mod:`morphkit.views.depthmorph`), so about half a texel: one texel
 #: covers it and loses at most a texel of contact shadow where the caster meets the
 #: ground.
 SUN_GROUND_BIAS_TEXELS = 1.0
@@ -676,7 +676,7 @@ SUN_YAW_ONLY_ATOL = 1e-6
 
 #: A texel of a sun atlas's morphed light view holds the caster where the morph's
 #: coverage (the weighted vote of the three views: hit 1, free 0, occluded abstains;
-#: :func:`morphkit.billboard.depthmorph.combine`) is at least this. The morph's own rule
+#: :func:`morphkit.views.depthmorph.combine`) is at least this. The morph's own rule
 #: (covered where any view hit) is the union of three silhouettes, each off by up to
 #: half a texel either way, so it grows the shadow: on the tree (8 suns at 37 degrees'
 #: yaw, ground grid against the ray cast) it shadowed 4.2x as many ground points

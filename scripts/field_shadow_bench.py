@@ -29,7 +29,6 @@ import time
 
 import numpy as np
 
-from morphkit.billboard.dome import ViewDome
 from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
@@ -38,6 +37,7 @@ from morphkit.shadow.fieldbaselines import direct_field_map, posed_asset_meshes,
 from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
 from morphkit.shadow.fieldsplat import SplatDrawer
 from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
+from morphkit.views.dome import ViewDome
 
 SPARSE = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 SUNS = [sun_direction(az, el) for az, el in ((-140.0, 20.0), (-35.0, 37.0), (62.0, 53.0), (151.0, 70.0))]

@@ -20,12 +20,12 @@ import time
 import numpy as np
 
 from morphkit.billboard.bakelook import bake_items
-from morphkit.billboard.domecameras import DomeCameras
-from morphkit.billboard.gbuffer import ViewSurface, linear_to_srgb
 from morphkit.billboard.impostor import bake_impostor
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.passes import RenderPasses
 from morphkit.render import Renderer
+from morphkit.views.domecameras import DomeCameras
+from morphkit.views.gbuffer import ViewSurface, linear_to_srgb
 
 BANDS = ((0.0, 20.0), (20.0, 40.0), (40.0, 60.0), (60.0, 80.0), (80.0, 90.0))
 

@@ -25,12 +25,12 @@ import time
 
 import numpy as np
 
-from morphkit.billboard.dome import DEFAULT_RINGS, ViewDome
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.shadow.sunatlas import bake_sun_atlas, ground_visibility, sun_direction, sun_in_object
 from morphkit.shadow.sunbaselines import direct_light_view, ray_cast_ground_shadow
+from morphkit.views.dome import DEFAULT_RINGS, ViewDome
 
 DOMES = {
     "sparse": ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True),

@@ -26,7 +26,6 @@ import numpy as np
 
 from morphkit import tol
 from morphkit.bench.soft_suite import banding
-from morphkit.billboard.dome import ViewDome
 from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
@@ -35,6 +34,7 @@ from morphkit.shadow.fieldshadow import FieldShadow
 from morphkit.shadow.receivers import sun_disc
 from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
 from morphkit.shadow.sundisc import disc_visibility
+from morphkit.views.dome import ViewDome
 
 SPARSE = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 ASSETS = ("tree", "cow")

@@ -322,8 +322,8 @@ def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, schedule
     # a billboard scene finds the baked asset's mesh through the manifest (shadows and the
     # mesh comparison need it), not only beside the file; a changed input is said, not used
     from morphkit.bake.manifest import ManifestRecords
-    from morphkit.billboard.dome import ViewDome
     from morphkit.billboard.sources import resolve_assets
+    from morphkit.views.dome import ViewDome
 
     dome = tmp_path / "out" / rec.file
     res = resolve_assets([str(dome)], renderer, dome=ViewDome(), records=ManifestRecords())

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.domecameras import direction, quad_axes
 from morphkit.billboard.facing import AxialFacing, ViewpointFacing, view_directions
 from morphkit.billboard.paths import (
     PATHS,
@@ -19,6 +18,7 @@ from morphkit.billboard.paths import (
 from morphkit.billboard.sun import TEST_SUNS, SunPath, sun, sun_directions_8
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
+from morphkit.views.domecameras import direction, quad_axes
 
 CAM = perspective(np.radians(50), (48, 64), look_at([0, -10, 1], [0, 0, 1]))
 

@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
-from morphkit.billboard.dome import DEFAULT_RINGS, ViewDome
 from morphkit.billboard.domeasset import DomeAsset
-from morphkit.billboard.domecameras import DomeCameras, direction, quad_axes
 from morphkit.billboard.domefile import DOME_VERSION, read_dome
-from morphkit.billboard.gbuffer import linear_to_srgb, srgb_to_linear
 from morphkit.errors import FileFormatError, ValidationError
+from morphkit.views.dome import DEFAULT_RINGS, ViewDome
+from morphkit.views.domecameras import DomeCameras, direction, quad_axes
+from morphkit.views.gbuffer import linear_to_srgb, srgb_to_linear
 
 PIVOT = SPHERE_PIVOT
 R_BOUND = 1.0  # bounding radius of the analytic asset's rule
@@ -273,7 +273,7 @@ def test_exactly_between_three_views_the_weights_are_a_third_and_the_sphere_hold
 def test_orthographic_views_morph_the_sphere_too():
     """The march projects through either projection: orthographic references and target (light
     views) morph the sphere as the perspective ones do."""
-    from morphkit.billboard.depthmorph import morph_views
+    from morphkit.views.depthmorph import morph_views
 
     rule = DomeCameras(PIVOT, D, R_BOUND, (48, 48))
     dome = ViewDome()
@@ -282,7 +282,7 @@ def test_orthographic_views_morph_the_sphere_too():
     for k, wk in zip(views, w, strict=True):
         cam = rule.ortho_camera(dome.azimuths_deg()[k], dome.elevations_deg()[k], (48, 48))
         rgba, n, depth, _ = sphere_view(cam)
-        from morphkit.billboard.gbuffer import decode_surface, encode_surface
+        from morphkit.views.gbuffer import decode_surface, encode_surface
         refs.append((cam, decode_surface(encode_surface(rgba, n, depth)), float(wk)))
     target = rule.ortho_camera(23.0, 41.0, (48, 48))
     s = morph_views(target, PIVOT, R_BOUND, refs)

@@ -8,8 +8,8 @@ import pytest
 
 from morphkit.bench import billboard_suite as bs
 from morphkit.bench import dome_suite as ds
-from morphkit.billboard.domecameras import direction
 from morphkit.errors import ValidationError
+from morphkit.views.domecameras import direction
 
 
 def test_band_directions_stay_in_their_band_and_away_from_the_views():

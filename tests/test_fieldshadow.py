@@ -13,14 +13,14 @@ import pytest
 import trimesh
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.domecameras import DomeCameras
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
 from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
 from morphkit.shadow.fieldsplat import SplatDrawer, splat_points
 from morphkit.shadow.sunatlas import SunAtlas, sun_direction
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 N = 64

@@ -11,14 +11,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.domecameras import DomeCameras
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.shadow.fieldshadow import FieldShadow
 from morphkit.shadow.fieldsplat import SplatDrawer, splat_levels, splat_points
 from morphkit.shadow.pointlevels import block_points
 from morphkit.shadow.sunatlas import MAX_POINT_LEVEL, SunAtlas, sun_direction
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 N = 128

@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
-from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.domecameras import DomeCameras, direction
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.shadow.fieldshadow import FieldShadow
 from morphkit.shadow.fieldsplat import SplatDrawer, splat_points
 from morphkit.shadow.pointlevels import grid_quads
 from morphkit.shadow.sunatlas import AtlasQuads, SunAtlas
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras, direction
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 N = 64

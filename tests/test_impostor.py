@@ -6,8 +6,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.domecameras import DomeCameras, direction, quad_axes
-from morphkit.billboard.gbuffer import BYTES_PER_PIXEL, ViewSurface
 from morphkit.billboard.impostor import (
     OctahedralImpostor,
     frame_grid_uv,
@@ -17,6 +15,8 @@ from morphkit.billboard.impostor import (
 )
 from morphkit.billboard.protocols import SurfaceSource
 from morphkit.errors import ValidationError
+from morphkit.views.domecameras import DomeCameras, direction, quad_axes
+from morphkit.views.gbuffer import BYTES_PER_PIXEL, ViewSurface
 
 PIVOT = np.array([0.1, -0.2, 0.5])
 CENTRE = PIVOT + np.array([0.25, 0.1, 0.2])  # the sphere is off the pivot: parallax matters

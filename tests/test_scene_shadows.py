@@ -13,9 +13,6 @@ import trimesh
 
 from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.domecameras import DomeCameras
-from morphkit.billboard.gbuffer import ViewSurface
 from morphkit.billboard.instances import Instances
 from morphkit.cli import main
 from morphkit.errors import ValidationError
@@ -29,6 +26,9 @@ from morphkit.shadow.receivers import (
     sun_disc,
 )
 from morphkit.shadow.sunatlas import SunAtlas, sun_direction
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras
+from morphkit.views.gbuffer import ViewSurface
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 N = 48

@@ -8,12 +8,12 @@ import sys
 import numpy as np
 import pytest
 
-from morphkit.billboard.gbuffer import ViewSurface
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.passes import RenderPasses
 from morphkit.scene import AreaLight, DirectionalLight, PointLight
 from morphkit.shading import Lighting, shade, shade_passes
+from morphkit.views.gbuffer import ViewSurface
 
 
 def _srgb(x: float) -> float:

@@ -14,8 +14,6 @@ import trimesh
 
 from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.dome import ViewDome
-from morphkit.billboard.domecameras import DomeCameras
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
 from morphkit.shadow.sunatlas import (
@@ -26,6 +24,8 @@ from morphkit.shadow.sunatlas import (
     sun_direction,
     sun_in_object,
 )
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras
 
 DOME = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
 N = 64
@@ -200,8 +200,8 @@ def test_a_baked_atlas_matches_its_direct_render_and_the_ray_cast(renderer):
 def test_a_jump_to_a_nearer_surface_is_no_crossing_for_light_views():
     """A ray passing from in front of a far plate to behind a nearer one (a gap between parts
     the reference sees overlapping) lands far behind the near plate: occluded, not hit."""
-    from morphkit.billboard.depthmorph import HIT, OCCLUDED, march_view
     from morphkit.camera import orthographic
+    from morphkit.views.depthmorph import HIT, OCCLUDED, march_view
 
     cam = orthographic(1.0, 1.0, (16, 16), np.eye(4), znear=0.1, zfar=10.0)  # camera frame = world
     depth = np.full((16, 16), 3.0, np.float32)

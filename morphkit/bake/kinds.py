@@ -34,7 +34,6 @@ import trimesh
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
-from ..billboard.dome import DEFAULT_RINGS
 from ..billboard.domeasset import bake_dome
 from ..billboard.domefile import DOME_VERSION
 from ..errors import ValidationError, expected_got
@@ -42,6 +41,7 @@ from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
 from ..validate import as_finite_array, as_int
+from ..views.dome import DEFAULT_RINGS
 
 __all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "DomeKind", "output_name",
            "WARP_LIGHT", "WARP_RANGE"]
@@ -306,7 +306,7 @@ class BillboardKind:
 @dataclass(frozen=True)
 class DomeKind:
     """The relightable billboard asset of a mesh seen from any height
-    (:func:`~morphkit.billboard.domeasset.bake_dome`: a :class:`~morphkit.billboard.dome.ViewDome`
+    (:func:`~morphkit.billboard.domeasset.bake_dome`: a :class:`~morphkit.views.dome.ViewDome`
     of albedo, normals and depth).
 
     Parameters

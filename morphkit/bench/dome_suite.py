@@ -4,13 +4,13 @@ height and relit by the scene's lights, against octahedral impostors at equal by
 Assets. The sample meshes ``cow`` and ``tree`` (``--quick``: the tree only;
 :func:`morphkit.meshes.sample_mesh`, normalised, ``appearance="checker"`` as the other
 billboard rows) baked by :func:`~morphkit.billboard.domeasset.bake_dome` with the default
-:class:`~morphkit.billboard.dome.ViewDome` at ``S^2`` per view (``S = 128``, quick 64), 3
+:class:`~morphkit.views.dome.ViewDome` at ``S^2`` per view (``S = 128``, quick 64), 3
 levels; the octahedral impostor (:func:`~morphkit.billboard.impostor.bake_impostor`) of the
 same mesh at **equal bytes**: 12 x 12 frames, 3 mip levels, the largest frame side whose
 bytes fit the dome asset's :attr:`~morphkit.billboard.domeasset.DomeAsset.memory_bytes`
 (:func:`~morphkit.billboard.impostor.impostor_frame_size`), output ``S^2`` (the same image
 size, so the same truth); ``bytes`` in every row is the method's asset's. Both assets fit the
-same :class:`~morphkit.billboard.domecameras.DomeCameras` to the same normalised mesh (their
+same :class:`~morphkit.views.domecameras.DomeCameras` to the same normalised mesh (their
 pivots and half extents are checked equal), so every method's surface is in the frame of the
 dome asset's :meth:`~morphkit.billboard.domeasset.DomeAsset.camera` for a direction.
 
@@ -102,7 +102,6 @@ from ..billboard import (
 )
 from ..billboard.compare import box_errors
 from ..billboard.domeasset import DOME_SUPERSAMPLE, DomeAsset, bake_dome
-from ..billboard.domecameras import direction
 from ..billboard.facing import AxialFacing, ViewpointFacing
 from ..billboard.impostor import OctahedralImpostor, bake_impostor, impostor_frame_size
 from ..billboard.litmesh import LitMeshMode
@@ -114,6 +113,7 @@ from ..memo import Memo
 from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
 from ..shading import Lighting, shade, shade_passes
+from ..views.domecameras import direction
 from .billboard_scenes import SUITE, step_changes
 from .harness import Timing, make_row, time_calls
 

@@ -45,7 +45,6 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..billboard.dome import ViewDome
 from ..billboard.impostor import OctahedralImpostor, bake_impostor
 from ..billboard.instances import Instances, place_random
 from ..billboard.sun import SunPath
@@ -60,6 +59,7 @@ from ..shadow.cardbaselines import card_field_map
 from ..shadow.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
 from ..shadow.fieldshadow import FieldMap, FieldShadow
 from ..shadow.sunatlas import SunAtlas, bake_sun_atlas
+from ..views.dome import ViewDome
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
            "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE", "surface_receivers",

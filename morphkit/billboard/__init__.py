@@ -16,12 +16,9 @@ Asset side:
 * :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
   the references' depth (the morph's alpha).
 
-Relightable assets seen from any height (issue #25):
+Relightable assets seen from any height, built on the views with depth of :mod:`morphkit.views`
+(the dome of directions, its cameras, the surfaces and their per-pixel morph):
 
-* :mod:`.dome`, :mod:`.domecameras` -- :class:`~.dome.ViewDome` (views over the hemisphere,
-  triangulated) and the camera rule of views that look at the pivot from any direction;
-* :mod:`.gbuffer` -- :class:`~.gbuffer.ViewSurface`: albedo, normals and depth of an image;
-* :mod:`.depthmorph` -- the per-pixel morph of three views with their depth;
 * :mod:`.domeasset`, :mod:`.domefile` -- :class:`~.domeasset.DomeAsset`, :func:`~.domeasset.bake_dome`
   and the versioned file; :mod:`.analytic` -- an exact sphere asset (no GL);
 * :mod:`.impostor` -- the engines' hemi-octahedral impostor, the anchor baseline;

@@ -12,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..camera import CameraModel
-from .dome import ViewDome
+from ..views.dome import ViewDome
+from ..views.domecameras import DomeCameras
+from ..views.gbuffer import encode_surface
 from .domeasset import DomeAsset
-from .domecameras import DomeCameras
 from .domefile import DomeRecord
-from .gbuffer import encode_surface
 
 __all__ = ["SPHERE_PIVOT", "SPHERE_RADIUS", "sphere_view", "sphere_dome_asset"]
 

@@ -1,20 +1,20 @@
 """Relightable billboard assets seen from any height: a dome of views, morphed per pixel.
 
 A :class:`DomeAsset` holds, for one (normalised) mesh, the views of a
-:class:`~.dome.ViewDome` (rings at several elevations and a top view) rendered by
-the camera rule of :class:`~.domecameras.DomeCameras`, each as a
-:class:`~.gbuffer.ViewSurface`: albedo and coverage, object-frame normals and depth
+:class:`~morphkit.views.dome.ViewDome` (rings at several elevations and a top view) rendered by
+the camera rule of :class:`~morphkit.views.domecameras.DomeCameras`, each as a
+:class:`~morphkit.views.gbuffer.ViewSurface`: albedo and coverage, object-frame normals and depth
 (no light: the scene's lights shade it, :mod:`morphkit.shading`). For a viewing
 direction it returns the surface of that direction's camera
 (:meth:`DomeAsset.surface`): the three views around the direction
-(:meth:`ViewDome.weights`) morphed with their depth (:mod:`.depthmorph`). The
+(:meth:`ViewDome.weights`) morphed with their depth (:mod:`morphkit.views.depthmorph`). The
 baselines of the same views: :meth:`~DomeAsset.nearest_surface` (the view of the
 largest weight, as an impostor that switches), :meth:`~DomeAsset.crossfade_surface`
 (the three views blended by weight, no parallax) and
 :meth:`~DomeAsset.classic_surface` (the front view for every direction).
 
 Level ``l`` surfaces are the level-0 views downsampled
-(:func:`~.gbuffer.downsample_surface`), made on first use and kept; every other
+(:func:`~morphkit.views.gbuffer.downsample_surface`), made on first use and kept; every other
 image is made per call (the scene's cache keeps what repeats,
 :class:`~.cache.MorphCache`).
 
@@ -48,13 +48,10 @@ from ..meshes import normalize
 from ..protocols import PassRenderer
 from ..scene import Item
 from ..validate import as_int
-from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance, check_source_up, mesh_hash
-from .cameras import DISTANCE_FACTOR
-from .depthmorph import morph_views, plane_warp
-from .dome import ViewDome
-from .domecameras import DomeCameras
-from .domefile import DomeRecord, read_dome, write_dome
-from .gbuffer import (
+from ..views.depthmorph import morph_views, plane_warp
+from ..views.dome import ViewDome
+from ..views.domecameras import DomeCameras
+from ..views.gbuffer import (
     BYTES_PER_PIXEL,
     StoredSurface,
     ViewSurface,
@@ -62,6 +59,9 @@ from .gbuffer import (
     downsample_surface,
     encode_surface,
 )
+from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance, check_source_up, mesh_hash
+from .cameras import DISTANCE_FACTOR
+from .domefile import DomeRecord, read_dome, write_dome
 
 __all__ = ["DomeAsset", "bake_dome", "DOME_SUPERSAMPLE"]
 
@@ -137,7 +137,7 @@ class DomeAsset:
 
     @property
     def memory_bytes(self) -> int:
-        """Bytes of the views at every pyramid level at :data:`~.gbuffer.BYTES_PER_PIXEL`
+        """Bytes of the views at every pyramid level at :data:`~morphkit.views.gbuffer.BYTES_PER_PIXEL`
         (what a texture memory holds; the file stores level 0 and the levels are made on
         load), counted as :attr:`~.impostor.OctahedralImpostor.memory_bytes` counts its frames."""
         px = sum(int(np.prod(self.cameras.level_shape(lv))) for lv in range(self.levels))

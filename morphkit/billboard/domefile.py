@@ -21,7 +21,7 @@ array           dtype, shape             content
 (per array). :func:`read_dome` raises :class:`~morphkit.errors.FileFormatError` for a
 missing, truncated or corrupt file, another format, kind or version, missing keys or
 arrays, wrong dtypes or shapes, NaN or ``-inf`` depths, drawn depths outside the views' near and
-far planes (:meth:`~.domecameras.DomeCameras.depth_range`: a negative depth draws nothing), or a
+far planes (:meth:`~morphkit.views.domecameras.DomeCameras.depth_range`: a negative depth draws nothing), or a
 checksum that does not match.
 """
 
@@ -39,8 +39,8 @@ import numpy as np
 from .. import tol
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ..views.domecameras import DomeCameras
 from .assetfile import FORMAT
-from .domecameras import DomeCameras
 
 __all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]
 

@@ -14,7 +14,7 @@ Three rules, one object each (:class:`Facing`):
   right and up axes are the camera's.
 * :class:`ViewpointFacing` -- the quad is perpendicular to the direction from the
   pivot to the eye, in elevation too (billboards seen from any height): the quad of
-  the camera rule of :mod:`.domecameras` for the instance's viewing azimuth and
+  the camera rule of :mod:`morphkit.views.domecameras` for the instance's viewing azimuth and
   elevation, turned into the world. With ``t`` the unit horizontal direction
   towards the eye (:attr:`ViewDirections.toward_eye`, world) and ``e`` the
   elevation, ``up = -sin(e) t + cos(e) z`` and ``right = (-t_y, t_x, 0)``; the
@@ -209,7 +209,7 @@ class ScreenFacing:
 @dataclass(frozen=True)
 class ViewpointFacing:
     """Quads perpendicular to the direction from the pivot to the eye (module docstring): the
-    quads of :mod:`.domecameras` for each instance's viewing azimuth and elevation."""
+    quads of :mod:`morphkit.views.domecameras` for each instance's viewing azimuth and elevation."""
 
     def axes(self, camera: CameraModel, views: ViewDirections) -> tuple[np.ndarray, np.ndarray]:
         """Right ``= (-t_y, t_x, 0)``, up ``= -sin(e) t + cos(e) z`` (``t`` the horizontal

@@ -27,8 +27,8 @@ Frames. Each is an orthographic view along ``-d`` (:meth:`DomeCameras.ortho_came
 of its azimuth and elevation; straight above, azimuth 0, which only sets the frame's
 roll) whose square image of ``m x m`` pixels covers the quad of ``half_extent`` through
 the pivot: every frame covers the same bounding sphere. Frames are stored with
-:func:`~morphkit.billboard.gbuffer.encode_surface` (9 bytes a pixel) at ``levels`` mip
-levels of ``round(m 2^-l)`` pixels a side (:func:`~morphkit.billboard.gbuffer.downsample_surface`).
+:func:`~morphkit.views.gbuffer.encode_surface` (9 bytes a pixel) at ``levels`` mip
+levels of ``round(m 2^-l)`` pixels a side (:func:`~morphkit.views.gbuffer.downsample_surface`).
 
 Runtime (:meth:`OctahedralImpostor.surface`). The viewing direction (elevation below 0
 clamped to 0: the impostor has no views from below) maps to the grid coordinate ``g =
@@ -91,10 +91,8 @@ from ..errors import ValidationError, expected_got
 from ..meshes import normalize
 from ..protocols import PassRenderer
 from ..validate import as_int
-from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance
-from .cameras import DISTANCE_FACTOR
-from .domecameras import DomeCameras, direction, quad_axes
-from .gbuffer import (
+from ..views.domecameras import DomeCameras, direction, quad_axes
+from ..views.gbuffer import (
     BYTES_PER_PIXEL,
     StoredSurface,
     ViewSurface,
@@ -103,6 +101,8 @@ from .gbuffer import (
     encode_surface,
     linear_to_srgb,
 )
+from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance
+from .cameras import DISTANCE_FACTOR
 
 __all__ = ["OctahedralImpostor", "bake_impostor", "impostor_frame_size", "hemi_oct_encode",
            "hemi_oct_decode", "frame_grid_uv", "DEFAULT_FRAMES", "DEFAULT_LEVELS", "MIN_LEVEL_SIDE",
@@ -204,7 +204,7 @@ def _stored_bytes(m: int, frames: int, levels: int) -> int:
 
 def impostor_frame_size(budget_bytes: int, frames: int = DEFAULT_FRAMES, levels: int = DEFAULT_LEVELS) -> int:
     """The largest frame side ``m`` whose impostor (``frames^2`` frames, ``levels`` mip
-    levels, :data:`~morphkit.billboard.gbuffer.BYTES_PER_PIXEL` a pixel) fits ``budget_bytes``
+    levels, :data:`~morphkit.views.gbuffer.BYTES_PER_PIXEL` a pixel) fits ``budget_bytes``
     (its :attr:`OctahedralImpostor.memory_bytes`).
 
     Parameters
@@ -591,7 +591,7 @@ class OctahedralImpostor:
         -------
         ViewSurface
             Of :meth:`OctahedralImpostor.level_shape`, in the image frame of the direction's quad
-            (:mod:`~morphkit.billboard.domecameras`); depth from the direction's eye plane.
+            (:mod:`~morphkit.views.domecameras`); depth from the direction's eye plane.
 
         Raises
         ------

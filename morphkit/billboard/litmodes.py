@@ -51,6 +51,7 @@ from ..shading import (
     sun_terms,
 )
 from ..shadow.receivers import SceneShadow
+from ..views.gbuffer import ViewSurface
 from .bakelook import BAKE_AMBIENT, bake_lights
 from .cache import MorphCache
 from .compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
@@ -58,7 +59,6 @@ from .domeasset import DomeAsset
 from .facing import ViewpointFacing
 from .field import BillboardScene
 from .frame import Frame, FrameStats, Placement
-from .gbuffer import ViewSurface
 from .protocols import SurfaceSource
 from .shadowing import frame_shadow, shadowed_backdrop, surface_visibility
 

@@ -15,7 +15,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ..camera import CameraModel
-from .gbuffer import ViewSurface
+from ..views.gbuffer import ViewSurface
 
 __all__ = ["ViewPairing", "Placeable", "BillboardSource", "SurfaceSource"]
 
@@ -188,9 +188,9 @@ class BillboardSource(Protocol):
 class SurfaceSource(Protocol):
     """A relightable billboard asset: the unshaded surface of its object from any direction.
 
-    Every surface of level ``l`` is a :class:`~morphkit.billboard.gbuffer.ViewSurface` of
+    Every surface of level ``l`` is a :class:`~morphkit.views.gbuffer.ViewSurface` of
     shape ``level_shape(l)`` (square), in the image frame of the quad of direction
-    ``(azimuth_deg, elevation_deg)`` of :mod:`morphkit.billboard.domecameras`: the image's
+    ``(azimuth_deg, elevation_deg)`` of :mod:`morphkit.views.domecameras`: the image's
     outer edges map to the square of half size ``half_extent`` about ``pivot``,
     perpendicular to the direction, with the rule's ``up``. Implemented by
     :class:`~morphkit.billboard.domeasset.DomeAsset` (views morphed) and

@@ -21,8 +21,8 @@ from ..errors import ValidationError, expected_got
 from ..scene import DirectionalLight
 from ..shading import Lighting, sun_shadow_factor, sun_terms
 from ..shadow.receivers import FrameShadow, SceneShadow
+from ..views.gbuffer import ViewSurface
 from .field import BillboardScene
-from .gbuffer import ViewSurface
 
 __all__ = ["frame_shadow", "surface_visibility", "points_visibility", "shadowed_backdrop", "FrameGround",
            "darkened", "DARK_LEVELS"]

@@ -37,9 +37,9 @@ from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
 from ..protocols import InputRecords, SceneRenderer
 from ..scene import Item
+from ..views.dome import ViewDome
 from .asset import BillboardAsset, mesh_hash
 from .bake import bake_asset
-from .dome import ViewDome
 from .domeasset import DomeAsset, bake_dome
 
 __all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]

@@ -2,7 +2,7 @@
 
 A sun is a :class:`~morphkit.scene.DirectionalLight` (world frame) whose direction
 towards the light is ``d(a, e) = (cos e cos a, cos e sin a, sin e)`` -- the rule of
-:func:`~morphkit.billboard.domecameras.direction`, with the sun's azimuth ``a``
+:func:`~morphkit.views.domecameras.direction`, with the sun's azimuth ``a``
 (degrees counter-clockwise from world ``+x``) and elevation ``e`` above the horizon --
 so the light travels along ``-d(a, e)``. A sun at or below the horizon (``e <= 0``)
 adds no light, by the shading model (:mod:`morphkit.shading`, "Horizon"): such
@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import ValidationError, expected_got
 from ..scene import DirectionalLight
 from ..validate import as_finite_array, as_int, as_positive
-from .domecameras import direction
+from ..views.domecameras import direction
 
 __all__ = ["SunPath", "sun", "sun_directions_8", "SUN_INTENSITY", "TEST_SUNS", "DEFAULT_RISE_DEG"]
 

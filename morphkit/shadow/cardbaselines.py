@@ -14,7 +14,7 @@ Two images (:data:`CARD_IMAGES`), both from an
 * ``"camera"`` -- the card shows **the image the camera sees**: the frame nearest to the
   direction from the instance's pivot to the camera (object frame), the billboard's
   current view, mapped onto the card's corners (its right along the card's right, the
-  light's :func:`~morphkit.billboard.domecameras.quad_axes`). The shadow has the camera's
+  light's :func:`~morphkit.views.domecameras.quad_axes`). The shadow has the camera's
   silhouette and turns with the camera: the complaint about impostor shadows.
 * ``"light"`` -- the card shows **the frame nearest to the light direction** (object frame,
   the sun turned back by the yaw): the silhouette the light sees, up to the grid's step.
@@ -36,11 +36,11 @@ import cv2
 import numpy as np
 
 from .. import tol
-from ..billboard.domecameras import quad_axes
 from ..billboard.impostor import OctahedralImpostor
 from ..billboard.instances import Instances
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
+from ..views.domecameras import quad_axes
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import sun_direction
 

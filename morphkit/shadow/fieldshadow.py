@@ -61,11 +61,11 @@ import cv2
 import numpy as np
 
 from .. import tol
-from ..billboard.domecameras import direction, quad_axes
 from ..billboard.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_positive
+from ..views.domecameras import direction, quad_axes
 from .fieldsplat import SplatDrawer
 from .lookup import ShadowBias, check_depth_map, lookup_into
 from .sunatlas import SunAtlas, sun_direction

@@ -5,7 +5,7 @@
 neighbouring maps, here forward): for each instance, the sun is turned into its object frame
 (:func:`~morphkit.shadow.sunatlas.sun_in_object`: the same elevation, the azimuth minus its
 yaw), the atlas views of the dome triangle around that direction are chosen
-(:meth:`~morphkit.billboard.dome.ViewDome.weights_many`), and each drawn texel of each of
+(:meth:`~morphkit.views.dome.ViewDome.weights_many`), and each drawn texel of each of
 those views, a surface point of the object (:meth:`~morphkit.shadow.sunatlas.SunAtlas.view_points`),
 is taken by the instance's pose and the field camera's texture matrix to a field texel and
 its depth along the light; the field keeps the nearest (``min``). Nothing is morphed or
@@ -85,12 +85,12 @@ import cv2
 import numpy as np
 
 from .. import tol
-from ..billboard.domecameras import direction
 from ..billboard.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS, compile_kernel, use_compiled
 from ..validate import as_finite_array, as_int, as_positive
+from ..views.domecameras import direction
 from ..warp import PARALLEL_MIN_PIXELS, in_bands
 from .sunatlas import MAX_POINT_LEVEL, AtlasPoints, AtlasQuads, SunAtlas, segment_reach
 

@@ -68,12 +68,12 @@ import numpy as np
 import trimesh
 
 from .. import tol
-from ..billboard.dome import ViewDome
 from ..billboard.instances import Instances
 from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..validate import as_direction, as_finite_array, as_int, as_positive
+from ..views.dome import ViewDome
 from .fieldbaselines import posed_asset_meshes, ray_cast_field
 from .fieldshadow import FieldMap, FieldShadow, field_sun
 from .sunatlas import SunAtlas, bake_sun_atlas, sun_direction

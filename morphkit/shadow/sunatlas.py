@@ -3,20 +3,20 @@
 Paper 1's atlas samples a light view over the object's *translation*; a field of
 billboards needs the other variable: the **direction of the sun in the asset's own
 frame**. A :class:`SunAtlas` holds, for every direction ``d(a, e)`` of a
-:class:`~morphkit.billboard.dome.ViewDome` (read here as directions *towards the sun*,
-object frame, upper hemisphere: :mod:`morphkit.billboard.domecameras` for ``d``), the
+:class:`~morphkit.views.dome.ViewDome` (read here as directions *towards the sun*,
+object frame, upper hemisphere: :mod:`morphkit.views.domecameras` for ``d``), the
 orthographic light view of the normalised mesh along ``-d`` (the dome's
-:meth:`~morphkit.billboard.domecameras.DomeCameras.ortho_camera`, a square covering
+:meth:`~morphkit.views.domecameras.DomeCameras.ortho_camera`, a square covering
 the bounding sphere) as a depth map and its coverage. :meth:`SunAtlas.light_view`
 gives the light view along any sun direction: the three atlas views of the dome
 triangle around it, morphed per pixel by marching their depth maps
-(:func:`~morphkit.billboard.depthmorph.morph_views`; a light view is just a view),
+(:func:`~morphkit.views.depthmorph.morph_views`; a light view is just a view),
 exactly the stored view at an atlas direction. A texel of the morphed view holds the
 caster where the views' weighted vote says so (the morph's coverage at least
 :data:`~morphkit.tol.SUN_VIEW_MIN_COVERAGE`): the morph's own rule (any view's hit
 covers) makes the union of three views' silhouettes, a shadow too large by about a
 texel all round. A view's crossing of its surface is one the ray makes within
-:data:`~morphkit.billboard.depthmorph.THICKNESS_STEPS` steps (the morph's rule): a ray
+:data:`~morphkit.views.depthmorph.THICKNESS_STEPS` steps (the morph's rule): a ray
 between two parts that view sees overlapping (a cow's legs) is not blocked by it, so the
 gap another view sees through stays open in the shadow.
 
@@ -58,16 +58,16 @@ import trimesh
 
 from .. import tol
 from ..billboard.bakelook import mesh_hash
-from ..billboard.depthmorph import morph_views
-from ..billboard.dome import ViewDome
-from ..billboard.domecameras import DomeCameras, direction
-from ..billboard.gbuffer import ViewSurface
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_direction, as_finite_array, as_int, as_shape
+from ..views.depthmorph import morph_views
+from ..views.dome import ViewDome
+from ..views.domecameras import DomeCameras, direction
+from ..views.gbuffer import ViewSurface
 from .lookup import ShadowBias, shadow_visibility
 from .pointlevels import block_points, grid_quads
 
@@ -686,8 +686,8 @@ def ground_shadow(atlas: SunAtlas, pose: np.ndarray, sun_dir_world: np.ndarray, 
 
     >>> import numpy as np
     >>> from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
-    >>> from morphkit.billboard.dome import ViewDome
-    >>> from morphkit.billboard.domecameras import DomeCameras
+    >>> from morphkit.views.dome import ViewDome
+    >>> from morphkit.views.domecameras import DomeCameras
     >>> from morphkit.shadow.sunatlas import SunAtlas, ground_shadow
     >>> dome = ViewDome(((20.0, 6),), top=True)
     >>> cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (32, 32))

@@ -2,7 +2,7 @@
 
 * **direct** (:func:`direct_light_view`, :func:`direct_ground_shadow`): the normalised
   mesh rendered into an orthographic depth map along the exact sun direction (the
-  atlas's own camera rule, :meth:`~morphkit.billboard.domecameras.DomeCameras.ortho_camera`,
+  atlas's own camera rule, :meth:`~morphkit.views.domecameras.DomeCameras.ortho_camera`,
   at the same resolution) and looked up as the atlas's views are
   (:func:`~.sunatlas.ground_visibility`): the best a light view of that many texels
   can do, the upper bound of an atlas at that size.

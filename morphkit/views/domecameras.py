@@ -1,7 +1,7 @@
 """The camera rule of billboards seen from any height: views that look at the pivot.
 
 A view direction is ``(azimuth a, elevation e)`` in degrees, object frame
-(azimuth as in :mod:`.ring`: ``0`` is the asset's front ``+x``, counter-clockwise
+(azimuth as in :mod:`morphkit.billboard.ring`: ``0`` is the asset's front ``+x``, counter-clockwise
 about ``+z``; elevation above the horizontal plane through the pivot, up to 90
 straight above). Its unit direction from the pivot towards the eye is
 
@@ -17,7 +17,7 @@ and half size ``half_extent`` on both axes. ``up`` is defined at every direction
 straight above included, where it is ``-(cos a, sin a, 0)``: the azimuth then
 only turns the image about the vertical (the scene passes the azimuth that makes
 the quad's up the camera's, :class:`~morphkit.billboard.facing.ViewpointFacing`). At
-``e = 0`` the quad is the ring's (:mod:`.cameras`): ``up = +z``,
+``e = 0`` the quad is the ring's (:mod:`morphkit.billboard.cameras`): ``up = +z``,
 ``right = (-sin a, cos a, 0)``.
 
 The **camera** of a direction (:meth:`DomeCameras.camera`) sits at
@@ -26,7 +26,7 @@ The **camera** of a direction (:meth:`DomeCameras.camera`) sits at
 convention, :mod:`morphkit.conventions`): ``f = (W/2) D / half_extent``, principal
 point at the image centre. ``half_extent`` is the bounding sphere's (radius ``r``
 about ``pivot``) tangent cone cut by the quad's plane, ``r D / sqrt(D^2 - r^2)``,
-plus :data:`~.cameras.FRAME_MARGIN`: the object stays inside the image from every
+plus :data:`~.framing.FRAME_MARGIN`: the object stays inside the image from every
 direction. Level ``l`` of the pyramid has shape ``level_shape(l)`` (about ``2^-l``
 of level 0) and the same quad.
 """
@@ -42,7 +42,7 @@ import trimesh
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array, as_int, as_positive
-from .cameras import DISTANCE_FACTOR, FRAME_MARGIN, check_distance_factor
+from .framing import DISTANCE_FACTOR, FRAME_MARGIN, check_distance_factor
 
 __all__ = ["DomeCameras", "direction", "quad_axes"]
 
@@ -136,7 +136,7 @@ class DomeCameras:
         size : int
             Level-0 image side, pixels.
         distance_factor : float
-            ``D / r`` (:data:`~.cameras.DISTANCE_FACTOR_RANGE`).
+            ``D / r`` (:data:`~.framing.DISTANCE_FACTOR_RANGE`).
 
         Returns
         -------

@@ -14,7 +14,7 @@ that change continuously across triangle edges.
 Clamps: a direction below the lowest ring (the camera under the asset's horizon)
 is treated as at the lowest ring's elevation; above the highest ring without a
 top view, as at the highest ring's. :meth:`ViewDome.clamp` says which elevation
-was used. A one-ring dome (the ring of :mod:`.ring`) has no triangles: its
+was used. A one-ring dome (the ring of :mod:`morphkit.billboard.ring`) has no triangles: its
 directions are served by the two ring views around the azimuth (weights along the
 chord, the third weight 0).
 """
