@@ -31,7 +31,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cliargs import SOFT_FILTER, billboard_views, check_args
+from .cliargs import SOFT_FILTER, billboard_views, check_args, check_output_file, parse_size, same_file
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, UsageError, ValidationError, expected_got
 
@@ -68,26 +68,11 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_output_file(path: Path | None, what: str) -> None:
-    """Refuse, before any work, an output file path that is a folder or lies under a file."""
-
-    if path is None:
-        return
-    if path.is_dir():
-        raise UsageError(expected_got(what, "a file path", f"the folder {path}"))
-    for parent in path.parents:
-        if parent.exists():
-            if not parent.is_dir():
-                raise UsageError(expected_got(what, "a path under a folder", f"{path} (under the file "
-                                              f"{parent})"))
-            break
-
-
 def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import SUITES, run_suite
 
-    _check_output_file(args.json, "--json")
-    _check_output_file(args.plot, "--plot")
+    check_output_file(args.json, "--json")
+    check_output_file(args.plot, "--plot")
     if args.suite not in SUITES:
         print(f"morphkit: error: unknown suite {args.suite!r}; available: {', '.join(sorted(SUITES))}",
               file=sys.stderr)
@@ -118,16 +103,6 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    """``a`` and ``b`` name the same file (one path resolved, or one file by two names)."""
-    try:
-        if a.exists() and b.exists():
-            return a.samefile(b)
-        return a.resolve() == b.resolve()
-    except OSError:
-        return False
-
-
 def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -154,7 +129,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     out = Path(args.out)
     with _option_values():
         for option, given in (("LEFT", args.left), ("RIGHT", args.right), ("--points", args.points)):
-            if given is not None and _same_file(out, Path(given)):
+            if given is not None and same_file(out, Path(given)):
                 raise UsageError(expected_got("-o", "a path other than the inputs' (never replaced)",
                                               f"{str(out)!r}, which is {option}"))
         folder = out if args.frames else out.parent
@@ -284,39 +259,6 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         print(f"  shadow vs ray cast on the ground: visibility error (mean abs) max {max(mae):.3f} "
               f"mean {sum(mae) / len(mae):.3f}")
     return 0
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """``"WxH"`` (e.g. ``640x480``) as an image shape ``(H, W)``.
-
-    Parameters
-    ----------
-    text : str
-        Width and height in pixels joined by ``x`` (case-insensitive), e.g. ``"640x480"``.
-
-    Returns
-    -------
-    tuple of (int, int)
-        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make a
-        video).
-
-    Raises
-    ------
-    UsageError
-        Not two positive integers joined by ``x`` (a :class:`~morphkit.errors.ValidationError`).
-    """
-    from . import tol
-
-    parts = str(text).lower().split("x")
-    try:
-        w, h = (int(v) for v in parts)
-    except ValueError:
-        w = h = 0
-    hi = tol.MAX_VIDEO_SIDE
-    if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
-        raise UsageError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
-                                      f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
-    return h, w
 
 
 def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
