@@ -9,11 +9,14 @@ Errors: every command's morphkit errors, OS errors and memory errors are caught 
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
   combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
-  command's own checks, ``_option_values``), an output refused by the overwrite rule
+  command's own checks, ``_option_values``), a value naming nothing there is (an unknown
+  sample, suite, section or path name, a malformed scheduler address), an ``-o`` that cannot
+  be the command's folder (a file, a path under a file) or refused by the overwrite rule
   (:class:`~morphkit.errors.OutputExistsError`), a morphkit environment variable with a value
   it does not take;
-* 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
-  geometry that cannot be morphed, a GL, file system or memory failure;
+* 1, the run failed on its inputs or the machine: a missing, unreadable or unsuitable input
+  file, a geometry that cannot be morphed, a scheduler that does not answer, a GL, file
+  system or memory failure;
 * 130, interrupted.
 
 Warnings print as one line each, ``morphkit: warning: ...`` (``_one_line_warnings``).
@@ -38,6 +41,7 @@ from .errors import MorphkitError, OutputExistsError, UsageError, ValidationErro
 if TYPE_CHECKING:
     from .billboard.instances import Instances
     from .billboard.sources import ResolvedAssets
+    from .outfolder import OutputClaim, OutputRule
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -54,14 +58,26 @@ def _option_values() -> Iterator[None]:
         raise UsageError(str(exc)) from exc
 
 
+def _output_folder(out: str, rule: OutputRule, overwrite: bool = False) -> OutputClaim:
+    """``-o``'s folder checked for the command before any work (:func:`morphkit.outfolder.claim_output`,
+    no side effect): a file, a path under a file, another command's output or a previous run
+    without ``--overwrite`` are usage errors (exit 2)."""
+    from .outfolder import claim_output
+
+    with _option_values():
+        return claim_output(out, rule, overwrite=overwrite)
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from .demo import previous_demo, run_demo
+    from .outfolder import DEMO_OUTPUT
 
     old = previous_demo(args.out)
     if old is not None and not args.overwrite:
         print(f"morphkit: error: {args.out} already holds a demo ({old.name}); pass --overwrite to "
               "replace it", file=sys.stderr)
         return 2
+    _output_folder(args.out, DEMO_OUTPUT, args.overwrite)  # run_demo claims it again, when it starts
     index = run_demo(Path(args.out), size=args.size, quick=args.quick, overwrite=args.overwrite)
     print(f"morphkit demo: wrote {len(index['files'])} files to {Path(args.out).resolve()}")
     print(f"index: {Path(args.out).resolve() / 'index.json'}")
@@ -93,6 +109,12 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             print(f"morphkit: error: --sections is an option of `bench {'|'.join(SECTIONED_SUITES)}` only",
                   file=sys.stderr)
             return 2
+        import importlib
+
+        from .bench.harness import pick_sections
+
+        with _option_values():  # an unknown section's name, before any work
+            pick_sections(args.sections, importlib.import_module(SUITES[args.suite].__module__).SECTIONS)
         options["sections"] = args.sections
     if args.instances is not None:
         if args.suite != "scene":
@@ -108,7 +130,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
     from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
-    from .outfolder import VIEWMORPH_OUTPUT, claim_output
+    from .outfolder import VIEWMORPH_OUTPUT
     from .viewmorph import ViewMorpher, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -146,7 +168,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                 raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
                                                      f"the existing file {str(out)!r}"))
             encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
-        claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
+    claim = _output_folder(args.out, VIEWMORPH_OUTPUT, args.overwrite) if args.frames else None
     left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
@@ -205,9 +227,14 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
 
 def _cmd_bake(args: argparse.Namespace) -> int:
     from .bake import BakeOptions, bake_library
+    from .bake.cluster import scheduler_address
+    from .outfolder import BAKE_OUTPUT
 
     with _option_values():  # the kinds check their options (--atlas-size, --grid, ...)
         options = BakeOptions(_bake_kinds(args), up=args.up_axis)
+        if args.scheduler is not None:
+            scheduler_address(args.scheduler)  # its form; whether a scheduler answers is the run's
+    _output_folder(args.out, BAKE_OUTPUT)  # before the inputs are searched; bake_library claims it
     manifest = bake_library(args.inputs, args.out, options=options, workers=args.workers,
                             scheduler=args.scheduler, progress=not args.quiet)
     for name, error in sorted(manifest.failed().items()):
@@ -217,7 +244,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .outfolder import SHADOWS_OUTPUT, claim_output
+    from .outfolder import SHADOWS_OUTPUT
     from .render import Renderer
     from .shadow import ShadowAtlas
     from .shadow.playback import (
@@ -231,8 +258,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 
     if args.samples is not None and args.area_light is None:
         raise UsageError(expected_got("--samples", "together with --area-light", "--samples alone"))
-    with _option_values():
-        claim = claim_output(args.out, SHADOWS_OUTPUT, overwrite=args.overwrite)
+    claim = _output_folder(args.out, SHADOWS_OUTPUT, args.overwrite)
     path_cls = {"line": LinePath, "circle": CirclePath}.get(args.path)
     if path_cls is None:
         if args.frames is not None:
@@ -342,9 +368,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
     cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
     views, chosen = billboard_views(args, cams, specs)
-    from .outfolder import BILLBOARDS_OUTPUT, claim_output
+    from .outfolder import BILLBOARDS_OUTPUT
 
-    claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
+    claim = _output_folder(args.out, BILLBOARDS_OUTPUT, args.overwrite)
     implied = getattr(args, "implied", None)  # morphkit.cliargs.implied_sun_options
     # what the run chose: on stdout with its other lines (stderr holds the one error line)
     if implied:

@@ -60,6 +60,7 @@ def _demo(args: argparse.Namespace) -> None:
 
 def _billboards(args: argparse.Namespace) -> None:
     args.implied = implied_sun_options(args)
+    _asset_names(args.asset or [])
     _count(args, "n", "--n", 0, tol.MAX_INSTANCES)
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
     if args.views is not None and str(args.views) != "dome":  # a ring of K views, or "dome"
@@ -82,6 +83,28 @@ def _billboards(args: argparse.Namespace) -> None:
             and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
         raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
                                            "(tol.MAX_IMAGE_PIXELS)", args.size))
+
+
+def _asset_names(specs: Sequence[str]) -> None:
+    """``--asset``: a value that can never be an asset, neither a sample name nor a path of an
+    asset file's kind, is a usage error (a mesh or ``.npz`` file that is missing or cannot be
+    read is the run's input failing: :func:`morphkit.billboard.sources.check_specs`)."""
+    from .billboard.sources import MESH_SUFFIXES  # lazy: only billboards' checks need the wing
+    from .meshes import BILLBOARD_MESHES
+
+    kinds = (*MESH_SUFFIXES, ".npz")
+    for spec in specs:
+        path = Path(spec)
+        if spec in BILLBOARD_MESHES or path.suffix.lower() in kinds:
+            continue
+        if not spec.strip():
+            got = "an empty name"
+        elif path.exists():
+            got = f"{spec!r}, a {'folder' if path.is_dir() else 'file'} of another kind"
+        else:
+            got = f"{spec!r}, no sample of that name (and no file)"
+        raise UsageError(expected_got("--asset", f"a sample mesh name ({', '.join(BILLBOARD_MESHES)}) or a "
+                                      f"mesh or asset file ({', '.join(kinds)})", got))
 
 
 #: ``billboards --soft`` (alone, or ``--soft pcss``): the sun's disc filtered from one map
@@ -156,6 +179,11 @@ def _billboard_shadows(args: argparse.Namespace) -> None:
 
 
 def _shadows(args: argparse.Namespace) -> None:
+    path = getattr(args, "path", None)
+    if path is not None and path not in ("line", "circle") and not str(path).lower().endswith(".csv") \
+            and not Path(path).is_file():
+        raise UsageError(expected_got("--path", "line, circle or a CSV file of x,y rows (FILE.csv)",
+                                      f"{path!r}, no path of that name (and no file)"))
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
     _count(args, "size", "--size", MIN_FRAME_SIDE, tol.MAX_VIDEO_SIDE)  # its frames make a video too
     # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all

@@ -147,14 +147,15 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     MeshError
         An input is missing, or no mesh file was found.
     ValidationError
-        The output folder is not writable, two inputs share an asset name, or
-        both ``workers`` and ``scheduler`` are given (all before any work).
+        The output folder is not writable, two inputs share an asset name,
+        both ``workers`` and ``scheduler`` are given, or ``scheduler`` is malformed (all
+        before any work).
     OutputExistsError
         ``out`` holds files and is not a bake's output folder (:mod:`morphkit.outfolder`).
     OutputBusyError
         Another bake is writing into ``out`` (it holds the folder's lock).
     ClusterError
-        ``scheduler`` is malformed, does not answer as a Dask scheduler within
+        ``scheduler`` does not answer as a Dask scheduler within
         :data:`~morphkit.bake.cluster.CONNECT_TIMEOUT_S`, or has no worker.
     FileFormatError
         ``out`` holds a manifest that is not one.
