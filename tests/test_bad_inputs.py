@@ -291,7 +291,7 @@ def _with(prepare: Callable[[Path], Any], run: Callable[[Path], Any]) -> Callabl
 
 def _previous_demo(tmp: Path) -> None:
     (tmp / "demo").mkdir()
-    (tmp / "demo" / "index.json").write_text('{"files": []}')
+    (tmp / "demo" / "index.json").write_text('{"morphkit_demo": 1, "files": []}')
 
 
 #: A square warp mesh (4 control points, pixels).

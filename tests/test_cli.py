@@ -113,7 +113,7 @@ def test_demo_into_a_file_is_one_line(tmp_path, capsys):
 @pytest.mark.gl
 def test_demo_keeps_a_previous_demo_unless_overwrite(tmp_path, capsys):
     index = tmp_path / "index.json"
-    index.write_text('{"files": [{"path": "teapot_scene.png"}]}')
+    index.write_text('{"morphkit_demo": 1, "files": [{"path": "teapot_scene.png"}]}')
     assert main(["demo", "--quick", "-o", str(tmp_path)]) == 2
     line = _one_error_line(capsys)
     assert "already holds a demo (index.json); pass --overwrite" in line
