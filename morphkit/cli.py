@@ -131,7 +131,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
     from .outfolder import VIEWMORPH_OUTPUT
-    from .viewmorph import ViewMorpher, load_points
+    from .viewmorph import ViewMorpher, from_images, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
         if img.dtype.kind == "f":
@@ -180,9 +180,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                                   f'{{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}}, got '
                                   f"{type(exc).__name__}: {exc}") from exc
     else:
-        from .viewmorph.matching import scene_matches
-
-        corr = scene_matches(left, right)
+        corr = from_images(left, right)  # refuses images that do not seem to show one scene
     vm = ViewMorpher.from_estimate(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
     rep, fit = vm.report, vm.fit
     print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
