@@ -176,3 +176,17 @@ def test_billboards_with_a_damaged_texture_says_so_in_one_line(tmp_path, capfd):
     assert re.fullmatch(rf"{head} of material 'photo' \(photo_box\.mtl\) is not an image morphkit can decode "
                         rf"\(.*\); {KD}", line), line
     assert (tmp_path / "out" / "billboards.json").is_file()
+
+
+@pytest.mark.gl
+def test_a_bake_says_a_workers_texture_warning_in_one_line(tmp_path, capfd):
+    """A worker process printed the warning in Python's two-line form (its source line and code)."""
+    (tmp_path / "lib").mkdir()
+    path = F.write_photo_obj(tmp_path / "lib")
+    (tmp_path / "lib" / "photo_box.png").write_bytes(b"")
+    rc, out, err = run(capfd, "bake", tmp_path / "lib", "--atlas-size", "32", "--grid", "2", "--workers", "1",
+                       "-q", "-o", tmp_path / "out")
+    assert rc == 0 and "1 baked" in out, err
+    assert one_line(err, "morphkit: warning: ") == (
+        f"morphkit: warning: mesh file {str(path)!r}: texture 'photo_box.png' of material 'photo' "
+        "(photo_box.mtl) is empty; drawn in its Kd colour ['0.8', '0.8', '0.8']")
