@@ -10,11 +10,14 @@ temporary files removed). No traceback. Exit codes, decided in one place (``_exi
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
   combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
-  command's own checks, ``_option_values``), an output refused by the overwrite rule
+  command's own checks, ``_option_values``), a value naming nothing there is (an unknown
+  sample, suite, section or path name, a malformed scheduler address), an ``-o`` that cannot
+  be the command's folder (a file, a path under a file) or refused by the overwrite rule
   (:class:`~morphkit.errors.OutputExistsError`), a morphkit environment variable with a value
   it does not take;
-* 1, the run failed on its inputs or the machine: an unreadable or unsuitable input file, a
-  geometry that cannot be morphed, a GL, file system or memory failure;
+* 1, the run failed on its inputs or the machine: a missing, unreadable or unsuitable input
+  file, a geometry that cannot be morphed, a scheduler that does not answer, a GL, file
+  system or memory failure;
 * 130, interrupted (Ctrl-C, SIGINT); 143, terminated (SIGTERM): 128 and the signal's number, as a
   shell reports a process the signal ended.
 
@@ -32,7 +35,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cliargs import SOFT_FILTER, billboard_views, check_args
+from .cliargs import SOFT_FILTER, billboard_views, check_args, check_output_file, parse_size, same_file
 from .clistop import Stop, report_stop, stop_signals
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
@@ -40,6 +43,7 @@ from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, Va
 if TYPE_CHECKING:
     from .billboard.instances import Instances
     from .billboard.sources import ResolvedAssets
+    from .outfolder import OutputClaim, OutputRule
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -56,40 +60,37 @@ def _option_values() -> Iterator[None]:
         raise UsageError(str(exc)) from exc
 
 
+def _output_folder(out: str, rule: OutputRule, overwrite: bool = False) -> OutputClaim:
+    """``-o``'s folder checked for the command before any work (:func:`morphkit.outfolder.claim_output`,
+    no side effect): a file, a path under a file, another command's output or a previous run
+    without ``--overwrite`` are usage errors (exit 2)."""
+    from .outfolder import claim_output
+
+    with _option_values():
+        return claim_output(out, rule, overwrite=overwrite)
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from .demo import previous_demo, run_demo
+    from .outfolder import DEMO_OUTPUT
 
     old = previous_demo(args.out)
     if old is not None and not args.overwrite:
         print(f"morphkit: error: {args.out} already holds a demo ({old.name}); pass --overwrite to "
               "replace it", file=sys.stderr)
         return 2
+    _output_folder(args.out, DEMO_OUTPUT, args.overwrite)  # run_demo claims it again, when it starts
     index = run_demo(Path(args.out), size=args.size, quick=args.quick, overwrite=args.overwrite)
     print(f"morphkit demo: wrote {len(index['files'])} files to {Path(args.out).resolve()}")
     print(f"index: {Path(args.out).resolve() / 'index.json'}")
     return 0
 
 
-def _check_output_file(path: Path | None, what: str) -> None:
-    """Refuse, before any work, an output file path that is a folder or lies under a file."""
-
-    if path is None:
-        return
-    if path.is_dir():
-        raise UsageError(expected_got(what, "a file path", f"the folder {path}"))
-    for parent in path.parents:
-        if parent.exists():
-            if not parent.is_dir():
-                raise UsageError(expected_got(what, "a path under a folder", f"{path} (under the file "
-                                              f"{parent})"))
-            break
-
-
 def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import SUITES, run_suite
 
-    _check_output_file(args.json, "--json")
-    _check_output_file(args.plot, "--plot")
+    check_output_file(args.json, "--json")
+    check_output_file(args.plot, "--plot")
     if args.suite not in SUITES:
         print(f"morphkit: error: unknown suite {args.suite!r}; available: {', '.join(sorted(SUITES))}",
               file=sys.stderr)
@@ -110,6 +111,12 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             print(f"morphkit: error: --sections is an option of `bench {'|'.join(SECTIONED_SUITES)}` only",
                   file=sys.stderr)
             return 2
+        import importlib
+
+        from .bench.harness import pick_sections
+
+        with _option_values():  # an unknown section's name, before any work
+            pick_sections(args.sections, importlib.import_module(SUITES[args.suite].__module__).SECTIONS)
         options["sections"] = args.sections
     if args.instances is not None:
         if args.suite != "scene":
@@ -120,23 +127,13 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    """``a`` and ``b`` name the same file (one path resolved, or one file by two names)."""
-    try:
-        if a.exists() and b.exists():
-            return a.samefile(b)
-        return a.resolve() == b.resolve()
-    except OSError:
-        return False
-
-
 def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .errors import FileFormatError, ValidationError
     from .fileio import encode_image, read_image, write_bytes
-    from .outfolder import VIEWMORPH_OUTPUT, claim_output, frame_name
-    from .viewmorph import ViewMorpher, load_points
+    from .outfolder import VIEWMORPH_OUTPUT, frame_name
+    from .viewmorph import ViewMorpher, from_images, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
         if img.dtype.kind == "f":
@@ -156,7 +153,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     out = Path(args.out)
     with _option_values():
         for option, given in (("LEFT", args.left), ("RIGHT", args.right), ("--points", args.points)):
-            if given is not None and _same_file(out, Path(given)):
+            if given is not None and same_file(out, Path(given)):
                 raise UsageError(expected_got("-o", "a path other than the inputs' (never replaced)",
                                               f"{str(out)!r}, which is {option}"))
         folder = out if args.frames else out.parent
@@ -173,7 +170,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                 raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
                                                      f"the existing file {str(out)!r}"))
             encode(out, np.zeros((1, 1, 3), np.uint8))  # an unknown extension is refused here
-        claim = claim_output(out, VIEWMORPH_OUTPUT, overwrite=args.overwrite) if args.frames else None
+    claim = _output_folder(args.out, VIEWMORPH_OUTPUT, args.overwrite) if args.frames else None
     left, right = read_image(args.left), read_image(args.right)
     if args.points:
         try:
@@ -185,9 +182,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
                                   f'{{"pts0": [[x, y], ...], "pts1": [[x, y], ...]}}, got '
                                   f"{type(exc).__name__}: {exc}") from exc
     else:
-        from .viewmorph.matching import scene_matches
-
-        corr = scene_matches(left, right)
+        corr = from_images(left, right)  # refuses images that do not seem to show one scene
     vm = ViewMorpher.from_estimate(left, right, corr, prewarp=args.prewarp, fallback=args.fallback)
     rep, fit = vm.report, vm.fit
     print(f"morphkit viewmorph: mode {vm.mode}, pre-warp {vm.rectification.method}, "
@@ -232,9 +227,14 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
 
 def _cmd_bake(args: argparse.Namespace) -> int:
     from .bake import BakeOptions, bake_library
+    from .bake.cluster import scheduler_address
+    from .outfolder import BAKE_OUTPUT
 
     with _option_values():  # the kinds check their options (--atlas-size, --grid, ...)
         options = BakeOptions(_bake_kinds(args), up=args.up_axis)
+        if args.scheduler is not None:
+            scheduler_address(args.scheduler)  # its form; whether a scheduler answers is the run's
+    _output_folder(args.out, BAKE_OUTPUT)  # before the inputs are searched; bake_library claims it
     manifest = bake_library(args.inputs, args.out, options=options, workers=args.workers,
                             scheduler=args.scheduler, progress=not args.quiet)
     for name, error in sorted(manifest.failed().items()):
@@ -244,7 +244,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .outfolder import SHADOWS_OUTPUT, claim_output
+    from .outfolder import SHADOWS_OUTPUT
     from .playback import (
         CirclePath,
         LinePath,
@@ -258,8 +258,7 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 
     if args.samples is not None and args.area_light is None:
         raise UsageError(expected_got("--samples", "together with --area-light", "--samples alone"))
-    with _option_values():
-        claim = claim_output(args.out, SHADOWS_OUTPUT, overwrite=args.overwrite)
+    claim = _output_folder(args.out, SHADOWS_OUTPUT, args.overwrite)
     path_cls = {"line": LinePath, "circle": CirclePath}.get(args.path)
     if path_cls is None:
         if args.frames is not None:
@@ -286,39 +285,6 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
         print(f"  shadow vs ray cast on the ground: visibility error (mean abs) max {max(mae):.3f} "
               f"mean {sum(mae) / len(mae):.3f}")
     return 0
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """``"WxH"`` (e.g. ``640x480``) as an image shape ``(H, W)``.
-
-    Parameters
-    ----------
-    text : str
-        Width and height in pixels joined by ``x`` (case-insensitive), e.g. ``"640x480"``.
-
-    Returns
-    -------
-    tuple of (int, int)
-        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make a
-        video).
-
-    Raises
-    ------
-    UsageError
-        Not two positive integers joined by ``x`` (a :class:`~morphkit.errors.ValidationError`).
-    """
-    from . import tol
-
-    parts = str(text).lower().split("x")
-    try:
-        w, h = (int(v) for v in parts)
-    except ValueError:
-        w = h = 0
-    hi = tol.MAX_VIDEO_SIDE
-    if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
-        raise UsageError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
-                                      f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
-    return h, w
 
 
 def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
@@ -402,9 +368,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
     cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
     views, chosen = billboard_views(args, cams, specs)
-    from .outfolder import BILLBOARDS_OUTPUT, claim_output
+    from .outfolder import BILLBOARDS_OUTPUT
 
-    claim = claim_output(args.out, BILLBOARDS_OUTPUT, overwrite=args.overwrite)
+    claim = _output_folder(args.out, BILLBOARDS_OUTPUT, args.overwrite)
     implied = getattr(args, "implied", None)  # morphkit.cliargs.implied_sun_options
     # what the run chose: on stdout with its other lines (stderr holds the one error line)
     if implied:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 from . import tol
@@ -21,8 +22,8 @@ from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import UsageError, ValidationError, expected_got
 from .validate import as_int
 
-__all__ = ["check_args", "billboard_views", "implied_sun_options", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE",
-           "SOFT_FILTER"]
+__all__ = ["check_args", "billboard_views", "implied_sun_options", "parse_size", "check_output_file",
+           "same_file", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
 MIN_FRAME_SIDE = 16
@@ -59,6 +60,7 @@ def _demo(args: argparse.Namespace) -> None:
 
 def _billboards(args: argparse.Namespace) -> None:
     args.implied = implied_sun_options(args)
+    _asset_names(args.asset or [])
     _count(args, "n", "--n", 0, tol.MAX_INSTANCES)
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
     if args.views is not None and str(args.views) != "dome":  # a ring of K views, or "dome"
@@ -76,11 +78,33 @@ def _billboards(args: argparse.Namespace) -> None:
     _billboard_shadows(args)
     _count(args, "asset_size", "--asset-size", 16, tol.MAX_BILLBOARD_SIDE)
     _count(args, "seed", "--seed", 0, tol.MAX_SEED)
-    parts = str(args.size).lower().split("x")  # the form is cli.parse_size's to check; here its area
+    parts = str(args.size).lower().split("x")  # the form is parse_size's to check; here its area
     if len(parts) == 2 and all(p.strip().isdigit() for p in parts) \
             and int(parts[0]) * int(parts[1]) > tol.MAX_IMAGE_PIXELS:
         raise ValidationError(expected_got("--size", f"at most {tol.MAX_IMAGE_PIXELS} pixels "
                                            "(tol.MAX_IMAGE_PIXELS)", args.size))
+
+
+def _asset_names(specs: Sequence[str]) -> None:
+    """``--asset``: a value that can never be an asset, neither a sample name nor a path of an
+    asset file's kind, is a usage error (a mesh or ``.npz`` file that is missing or cannot be
+    read is the run's input failing: :func:`morphkit.billboard.sources.check_specs`)."""
+    from .billboard.sources import MESH_SUFFIXES  # lazy: only billboards' checks need the wing
+    from .meshes import BILLBOARD_MESHES
+
+    kinds = (*MESH_SUFFIXES, ".npz")
+    for spec in specs:
+        path = Path(spec)
+        if spec in BILLBOARD_MESHES or path.suffix.lower() in kinds:
+            continue
+        if not spec.strip():
+            got = "an empty name"
+        elif path.exists():
+            got = f"{spec!r}, a {'folder' if path.is_dir() else 'file'} of another kind"
+        else:
+            got = f"{spec!r}, no sample of that name (and no file)"
+        raise UsageError(expected_got("--asset", f"a sample mesh name ({', '.join(BILLBOARD_MESHES)}) or a "
+                                      f"mesh or asset file ({', '.join(kinds)})", got))
 
 
 #: ``billboards --soft`` (alone, or ``--soft pcss``): the sun's disc filtered from one map
@@ -155,6 +179,11 @@ def _billboard_shadows(args: argparse.Namespace) -> None:
 
 
 def _shadows(args: argparse.Namespace) -> None:
+    path = getattr(args, "path", None)
+    if path is not None and path not in ("line", "circle") and not str(path).lower().endswith(".csv") \
+            and not Path(path).is_file():
+        raise UsageError(expected_got("--path", "line, circle or a CSV file of x,y rows (FILE.csv)",
+                                      f"{path!r}, no path of that name (and no file)"))
     _count(args, "frames", "--frames", 1, tol.MAX_FRAMES)
     _count(args, "size", "--size", MIN_FRAME_SIDE, tol.MAX_VIDEO_SIDE)  # its frames make a video too
     # N x N samples, at most tol.MAX_LIGHT_SAMPLES in all
@@ -285,3 +314,82 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
     return None, (head + f"dome views (the {args.path} path's eye looks down by up to {top:.0f} degrees, "
                   f"above the ring's band of {lo:g}-{hi:g}, where a ring loses the shape from above; "
                   "--views K for a ring)")
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``"WxH"`` (e.g. ``640x480``) as an image shape ``(H, W)``.
+
+    Parameters
+    ----------
+    text : str
+        Width and height in pixels joined by ``x`` (case-insensitive), e.g. ``"640x480"``.
+
+    Returns
+    -------
+    tuple of (int, int)
+        ``(H, W)``, each in 1..8190 (:data:`morphkit.tol.MAX_VIDEO_SIDE`: the frames make a
+        video).
+
+    Raises
+    ------
+    UsageError
+        Not two positive integers joined by ``x`` (a :class:`~morphkit.errors.ValidationError`).
+    """
+    parts = str(text).lower().split("x")
+    try:
+        w, h = (int(v) for v in parts)
+    except ValueError:
+        w = h = 0
+    hi = tol.MAX_VIDEO_SIDE
+    if len(parts) != 2 or w < 1 or h < 1 or w > hi or h > hi:
+        raise UsageError(expected_got("--size", f"WIDTHxHEIGHT, two integers in 1..{hi} (e.g. 640x480; "
+                                      f"{hi}: the video's limit, tol.MAX_VIDEO_SIDE)", repr(text)))
+    return h, w
+
+
+def check_output_file(path: Path | None, what: str) -> None:
+    """Refuse, before any work, an output file path that is a folder or lies under a file.
+
+    Parameters
+    ----------
+    path : pathlib.Path or None
+        The output file (None: nothing to check).
+    what : str
+        The option, for the message (``"--json"``).
+
+    Raises
+    ------
+    UsageError
+        ``path`` is a folder, or a parent of it is a file.
+    """
+    if path is None:
+        return
+    if path.is_dir():
+        raise UsageError(expected_got(what, "a file path", f"the folder {path}"))
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise UsageError(expected_got(what, "a path under a folder", f"{path} (under the file "
+                                              f"{parent})"))
+            break
+
+
+def same_file(a: Path, b: Path) -> bool:
+    """``a`` and ``b`` name the same file (one path resolved, or one file by two names).
+
+    Parameters
+    ----------
+    a, b : pathlib.Path
+        The paths.
+
+    Returns
+    -------
+    bool
+        True for one file (False when either cannot be looked at).
+    """
+    try:
+        if a.exists() and b.exists():
+            return a.samefile(b)
+        return a.resolve() == b.resolve()
+    except OSError:
+        return False

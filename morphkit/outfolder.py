@@ -6,7 +6,8 @@ writes into a folder that is
 * new (created, with its missing parents, only when the work starts), or empty, or
 * a previous run of the same command: it holds that command's marker
   (:data:`MARKER_NAME`, written when a run starts, or an older run's own index:
-  ``index.json`` of a demo, ``manifest.json`` of a bake). Such a folder is
+  ``index.json`` of a demo, ``manifest.json`` of a bake, told by its content from another
+  program's file of that name, :attr:`OutputRule.recognise`). Such a folder is
   replaced only when asked (``--overwrite``): the files the new run writes
   replace the old ones, and the files the previous run *recorded* that the new run
   did not write again (old frames beyond the new count) are removed at the end, so
@@ -26,7 +27,8 @@ Frames: every command that writes a sequence names its frames alike, ``frames/fr
 (:func:`frame_name`); a finished folder holds one file of morphkit's own, its marker.
 
 Anything else (a folder holding other files, or another command's output, a
-file) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
+file, another program's file under an index's name: a web app's ``manifest.json``, never
+read as a bake's nor replaced) is refused with a one-line :class:`~morphkit.errors.OutputExistsError`
 (or :class:`~morphkit.errors.ValidationError` for a path that cannot be a
 folder) before any work and before anything is created: a refusal leaves no
 folder behind. :func:`claim_output` makes the check (no side effect);
@@ -51,7 +53,7 @@ import json
 import os
 import re
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
@@ -107,12 +109,37 @@ class OutputRule:
         Files that also mark a previous run (an older run's index).
     resume : bool
         A previous run is continued, not replaced (no ``--overwrite`` needed).
+    recognise : callable, optional
+        Whether a file named as one of :attr:`markers` is the command's (its content), not
+        another program's file of that name; None takes any.
     """
 
     command: str
     owns: tuple[str, ...]
     markers: tuple[str, ...] = ()
     resume: bool = False
+    recognise: Callable[[Path], bool] | None = None
+
+
+def _json_holding(key: str) -> Callable[[Path], bool]:
+    """A :attr:`OutputRule.recognise` test: the file is a JSON object holding ``key``."""
+
+    def test(path: Path) -> bool:
+        try:
+            with open_regular(path, path.name) as f:  # a FIFO is never waited on: not ours
+                data = json.loads(f.read().decode("utf-8"))
+        except (OSError, ValueError, FileFormatError):
+            return False
+        return isinstance(data, dict) and key in data
+
+    return test
+
+
+def _bake_manifest(path: Path) -> bool:
+    """A :attr:`OutputRule.recognise` test: a morphkit bake manifest (damaged ones too)."""
+    from .bake.manifest import is_bake_manifest  # lazy: the bake imports this module
+
+    return is_bake_manifest(path)
 
 
 #: The folder of a command's frame sequence (``billboards``, ``shadows``, ``viewmorph --frames``): every
@@ -142,7 +169,8 @@ def frame_name(index: int) -> str:
 
 
 #: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
-DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",))
+DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",),
+                         recognise=_json_holding("morphkit_demo"))
 #: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.playback`;
 #: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).
 SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "frame_#.png", "shadows.mp4"))
@@ -150,10 +178,10 @@ SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "f
 #: ``billboards.json`` (:mod:`morphkit.billboard.sequence`; ``billboards.mp4``: older versions').
 BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.webm", "billboards.mp4",
                                               "compare_#.png", "billboards.json"),
-                               markers=("billboards.json",))
+                               markers=("billboards.json",), recognise=_json_holding("morphkit_billboards"))
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
-                         markers=("manifest.json",), resume=True)
+                         markers=("manifest.json",), resume=True, recognise=_bake_manifest)
 #: ``morphkit viewmorph --frames N``: ``frames/frame_NNNN.png`` (older versions: ``frame_NNN.png`` in the
 #: folder itself).
 VIEWMORPH_OUTPUT = OutputRule("viewmorph", ("frames/frame_#.png", "frame_#.png"))
@@ -200,10 +228,23 @@ def owned(rel: str, rule: OutputRule) -> bool:
     return any(_pattern(pat).fullmatch(rel) for pat in rule.owns)
 
 
+def _ours(path: Path, rule: OutputRule) -> bool:
+    """Whether ``path``, named as one of ``rule``'s markers, is a file of the command's."""
+    return path.is_file() and (rule.recognise is None or rule.recognise(path))
+
+
+def _foreign(folder: Path, rule: OutputRule) -> str | None:
+    """The name of a file (or folder) in ``folder`` named as one of ``rule``'s markers that is not
+    the command's (another program's ``manifest.json``), or None."""
+    return next((n for n in rule.markers if (folder / n).exists() and not _ours(folder / n, rule)), None)
+
+
 def _recorded(folder: Path, rule: OutputRule) -> set[str] | None:
     """The files the previous run in ``folder`` recorded (its marker's ``files``, else its index's
     ``files``: names, or objects with a ``path``), or None when it recorded none."""
     for name in (MARKER_NAME, *rule.markers):
+        if name != MARKER_NAME and not _ours(folder / name, rule):
+            continue  # another program's file of an index's name: its "files" are not ours
         try:
             with open_regular(folder / name, name) as f:  # a FIFO or a folder is no record
                 data = json.loads(f.read().decode("utf-8"))
@@ -252,12 +293,13 @@ def previous_run(folder: str | os.PathLike[str], rule: OutputRule) -> Path | Non
     Returns
     -------
     pathlib.Path or None
-        The command's own index (:attr:`OutputRule.markers`) when there is one, else the
-        marker (:data:`MARKER_NAME`) when it names this command, else None.
+        The command's own index (:attr:`OutputRule.markers`, recognised by
+        :attr:`OutputRule.recognise`) when there is one, else the marker (:data:`MARKER_NAME`)
+        when it names this command, else None.
     """
     p = Path(folder)
     for name in rule.markers:
-        if (p / name).is_file():
+        if _ours(p / name, rule):
             return p / name
     return p / MARKER_NAME if _marker_command(p) == rule.command else None
 
@@ -456,8 +498,9 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
     ValidationError
         ``path`` is a file, lies under a file, or cannot be listed.
     OutputExistsError
-        The folder holds files that are not a previous run of the command, or a previous
-        run and ``overwrite`` is False (and the command does not resume).
+        The folder holds files that are not a previous run of the command (another
+        program's file named as the command's index among them), or a previous run and
+        ``overwrite`` is False (and the command does not resume).
     """
     p = Path(os.path.abspath(os.fspath(path)))
     what = f"{rule.command} output"
@@ -479,6 +522,12 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
     housekeeping = all(_housekeeping(e) or _empty_leftover(p / e) for e in entries)
     if not entries or (housekeeping and _marker_command(p) is None):
         return OutputClaim(p, rule, False)
+    foreign = _foreign(p, rule)
+    if foreign is not None:  # never read as the command's index, nor replaced by it
+        raise OutputExistsError(expected_got(
+            f"{what} folder", f"a new or empty folder, or a previous {rule.command} run",
+            f"{p} holding {foreign!r} of another program (not morphkit {rule.command}'s; it is never "
+            "replaced: choose another folder)"))
     mark = previous_run(p, rule)
     if mark is None:
         other = _marker_command(p)

@@ -19,10 +19,16 @@ values are left as stored (sRGB, see :mod:`morphkit.conventions`).
 
 Textures larger than :data:`morphkit.tol.MAX_TEXTURE_PIXELS` or wider/taller than
 :data:`morphkit.tol.MAX_TEXTURE_SIDE` are refused before any conversion.
+
+An image file's bytes are checked by :func:`image_problem` before a mesh loader takes them: PIL
+opens an image lazily, so a file that is not an image is dropped by trimesh without a word and
+a damaged one fails only when its texels are first read, far from the file.
 """
 
 from __future__ import annotations
 
+import io
+import warnings
 from typing import Any
 
 import numpy as np
@@ -30,7 +36,7 @@ import numpy as np
 from . import tol
 from .errors import ValidationError, expected_got
 
-__all__ = ["texture_rgba", "texture_shape"]
+__all__ = ["texture_rgba", "texture_shape", "image_problem"]
 
 #: PIL modes read as unsigned 16-bit values (PNG 16-bit greyscale opens as ``I;16`` or ``I``).
 _PIL_16BIT = ("I;16", "I;16B", "I;16L", "I;16N", "I")
@@ -77,6 +83,46 @@ def texture_shape(image: Any, name: str = "texture") -> tuple[int, int]:
                   f"{tol.MAX_TEXTURE_SIDE} on a side (morphkit.tol.MAX_TEXTURE_SIDE); downscale it",
             f"{w} x {h} texels"))
     return h, w
+
+
+def image_problem(data: bytes) -> str | None:
+    """Why the bytes of an image file cannot be drawn as a texture, or None when they decode.
+
+    The image is decoded whole (every texel read), so that a damaged file (truncated, a
+    broken chunk) is found here and not when it is first drawn. An image over the texture
+    limits is not decoded: :func:`texture_shape` refuses it, naming the limits, when it is
+    drawn.
+
+    Parameters
+    ----------
+    data : bytes
+        The file's content.
+
+    Returns
+    -------
+    str or None
+        The reason as a phrase (``"is empty"``, ``"is not an image morphkit can decode
+        ..."``, ``"is damaged (...)"``), or None for an image that decodes.
+    """
+    from PIL import Image, UnidentifiedImageError
+
+    if not data:
+        return "is empty"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)  # sizes: texture_shape's
+            with Image.open(io.BytesIO(data)) as img:
+                w, h = (int(v) for v in img.size)
+                if w * h > tol.MAX_TEXTURE_PIXELS or max(w, h) > tol.MAX_TEXTURE_SIDE:
+                    return None
+                img.load()
+    except UnidentifiedImageError:
+        return "is not an image morphkit can decode (PNG, JPEG, or another format Pillow reads)"
+    except Image.DecompressionBombError as exc:
+        return f"is too large to decode ({exc})"
+    except Exception as exc:  # Pillow's decoders raise many types for damaged data
+        return " ".join(f"is damaged ({type(exc).__name__}: {exc})".split())[:200]
+    return None
 
 
 def _to_uint8(a: np.ndarray, name: str) -> np.ndarray:

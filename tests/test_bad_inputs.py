@@ -291,7 +291,7 @@ def _with(prepare: Callable[[Path], Any], run: Callable[[Path], Any]) -> Callabl
 
 def _previous_demo(tmp: Path) -> None:
     (tmp / "demo").mkdir()
-    (tmp / "demo" / "index.json").write_text('{"files": []}')
+    (tmp / "demo" / "index.json").write_text('{"morphkit_demo": 1, "files": []}')
 
 
 #: A square warp mesh (4 control points, pixels).
@@ -439,7 +439,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
      r"exit 1: .*image .*no.png.*: expected an existing file, got nothing there"),
     ("cli demo: -o pointing at a file", _with(lambda tmp: (tmp / "f").write_text("x"),
                                             cli("demo", "--quick", "-o", "{tmp}/f")), CliExit,
-     r"exit 1: .*demo output folder: expected a folder"),
+     r"exit 2: .*demo output folder: expected a folder"),
     ("cli demo: folder with a previous demo, no --overwrite", _with(_previous_demo, cli(
         "demo", "--quick", "-o", "{tmp}/demo")), CliExit, r"exit 2: .*already holds a demo.*--overwrite"),
     ("cli bench: unknown suite", cli("bench", "nope"), CliExit, r"exit 2: .*unknown suite 'nope'"),
@@ -471,7 +471,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
     ("cli billboards: a size that is not WxH", cli("billboards", "--size", "640by480", "-o", "{tmp}/o"),
      CliExit, r"exit 2: .*--size: expected WIDTHxHEIGHT"),
     ("cli billboards: unknown asset", cli("billboards", "--asset", "unicorn", "-o", "{tmp}/o"), CliExit,
-     r"exit 1: .*asset: expected a sample mesh name .*got 'unicorn'"),
+     r"exit 2: .*--asset: expected a sample mesh name \(teapot, chair, cow, tree, person\).*got 'unicorn'"),
     ("cli billboards: negative count", cli("billboards", "--n", "-1", "-o", "{tmp}/o"), CliExit,
      r"exit 2: .*--n: expected an integer in \[0, 100000\], got -1"),
     ("cli bake: missing input", cli("bake", "{tmp}/missing.obj", "-o", "{tmp}/out"), CliExit,

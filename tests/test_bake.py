@@ -479,7 +479,7 @@ def one_line_error(err: str) -> str:
      r"input: expected an existing mesh file or folder, got '.*missing.obj' \(not found\)", 1),
     (["bake", "{lib}", "-o", "{tmp}/file.txt/sub"],
      "output folder: expected a folder morphkit can create and write, got '.*file.txt/sub' "
-     r"\(NotADirectoryError", 1),
+     r"\(NotADirectoryError", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--atlas-size", "0"],
      r"atlas size: expected an integer in \[8, 8192\], got 0", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--grid", "1"],
@@ -505,7 +505,7 @@ def one_line_error(err: str) -> str:
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--path", "{tmp}/nope.csv"],
      "path file: expected an existing CSV file", 1),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--path", "zigzag"],
-     "path file: expected an existing CSV file of x,y rows, got 'zigzag'", 1),
+     r"--path: expected line, circle or a CSV file of x,y rows \(FILE.csv\), got 'zigzag'", 2),
 ])
 def test_cli_user_mistakes_are_one_line_errors(tmp_path, capsys, monkeypatch, args, message, code):
     monkeypatch.setattr(bake_cluster, "CONNECT_TIMEOUT_S", 1.0)

@@ -103,17 +103,17 @@ def test_bench_refuses_bad_output_paths_before_running(tmp_path, capsys, flag):
 def test_demo_into_a_file_is_one_line(tmp_path, capsys):
     f = tmp_path / "not-a-folder"
     f.write_text("keep")
-    assert main(["demo", "--quick", "-o", str(f)]) == 1
+    assert main(["demo", "--quick", "-o", str(f)]) == 2  # -o used wrongly: a usage error
     assert "demo output folder: expected a folder, got the file" in _one_error_line(capsys)
     assert f.read_text() == "keep"
-    assert main(["demo", "--quick", "-o", str(f / "sub")]) == 1  # a file on the path
+    assert main(["demo", "--quick", "-o", str(f / "sub")]) == 2  # a file on the path
     _one_error_line(capsys)
 
 
 @pytest.mark.gl
 def test_demo_keeps_a_previous_demo_unless_overwrite(tmp_path, capsys):
     index = tmp_path / "index.json"
-    index.write_text('{"files": [{"path": "teapot_scene.png"}]}')
+    index.write_text('{"morphkit_demo": 1, "files": [{"path": "teapot_scene.png"}]}')
     assert main(["demo", "--quick", "-o", str(tmp_path)]) == 2
     line = _one_error_line(capsys)
     assert "already holds a demo (index.json); pass --overwrite" in line

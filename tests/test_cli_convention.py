@@ -133,6 +133,55 @@ def test_bad_option_values_exit_2(images, capsys, monkeypatch, args, message):
     assert rc == 2 and re.search(message, one_line(err)), err
 
 
+NOT_SAMPLE = (r"--asset: expected a sample mesh name \(teapot, chair, cow, tree, person\) or a mesh or asset "
+              r"file \(\.obj, .*\.npz\), got 'unicorn', no sample of that name")
+AN_O_FILE = r"output folder: expected a folder, got the file .*a-file"
+
+
+@pytest.mark.parametrize("args, message", [
+    (["billboards", "--asset", "unicorn", "-o", "{dir}/o"], NOT_SAMPLE),
+    (["billboards", "--asset", "tree", "--asset", "{file}", "-o", "{dir}/o"],
+     r"--asset: .*got '.*a-file', a file of another kind"),
+    (["billboards", "-o", "{file}"], "billboards " + AN_O_FILE),
+    (["billboards", "-o", "{file}/sub"], r"billboards output folder: .*a-file is a file"),
+    (["demo", "-o", "{file}"], "demo " + AN_O_FILE),
+    (["shadows", "{dir}/none.atlas.npz", "-o", "{file}"], "shadows " + AN_O_FILE),
+    (["shadows", "{dir}/none.atlas.npz", "--path", "circel", "-o", "{dir}/o"],
+     r"--path: expected line, circle or a CSV file of x,y rows \(FILE\.csv\), got 'circel'"),
+    (["bake", "{dir}/none.obj", "-o", "{file}"], "bake " + AN_O_FILE),
+    (["bake", "{dir}/none.obj", "-o", "{file}/sub"], r"bake output folder: .*a-file is a file"),
+    (["bake", "{dir}/none.obj", "--scheduler", "nonsense", "-o", "{dir}/o"],
+     r"Dask scheduler address: expected"),
+    (["bench", "scene", "--sections", "accuracy,nosuch"],
+     r"sections: expected names among \[.*'accuracy'.*\], got \['nosuch'\]"),
+])
+def test_usage_errors_of_names_and_output_folders_exit_2(tmp_path, capsys, monkeypatch, args, message):
+    """A value that names nothing (a sample, a path, a section) or an -o that cannot be the command's
+    folder is the command line used wrongly: exit 2, before any work (these exited 1)."""
+    import morphkit.bench
+
+    def never(*_a, **_k):
+        raise AssertionError("the suite ran")
+
+    monkeypatch.setattr(morphkit.bench, "run_suite", never)
+    file = tmp_path / "a-file"
+    file.write_text("mine")
+    rc, _o, err = run(capsys, *[a.format(file=file, dir=tmp_path) for a in args])
+    assert rc == 2 and re.search(message, one_line(err)), err
+    assert file.read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == ["a-file"]
+
+
+@pytest.mark.parametrize("args, message", [
+    (["billboards", "--asset", "{dir}/missing.obj"], r"asset: expected .* got '.*missing\.obj'"),
+    (["shadows", "{dir}/none.atlas.npz", "--path", "{dir}/missing.csv"],
+     r"path file: expected an existing CSV"),
+    (["bake", "{dir}/missing.obj"], r"input: expected an existing mesh file or folder, got '.*missing\.obj'"),
+])
+def test_a_missing_input_file_is_still_the_run_failing(tmp_path, capsys, args, message):
+    rc, _o, err = run(capsys, *[a.format(dir=tmp_path) for a in args], "-o", tmp_path / "o")
+    assert rc == 1 and re.search(message, one_line(err)), err
+
+
 def test_a_failed_run_exits_1_and_argparse_2(images, tmp_path, capsys):
     missing = images["dir"] / "missing.png"
     rc, _o, err = run(capsys, "viewmorph", missing, images["r.png"], "-o", tmp_path / "o.png")

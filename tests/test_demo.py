@@ -22,8 +22,8 @@ def test_help_lists_subcommands(capsys):
 def test_demo_quick_writes_indexed_files(tmp_path, capsys):
     # a previous demo: replaced only with --overwrite; its files that the new demo
     # does not write again go, files it did not list stay
-    (tmp_path / "index.json").write_text(json.dumps({"files": [{"path": "old_extra.png"},
-                                                              {"path": "teapot_scene.png"}]}))
+    (tmp_path / "index.json").write_text(json.dumps({"morphkit_demo": 1, "files": [
+        {"path": "old_extra.png"}, {"path": "teapot_scene.png"}]}))
     (tmp_path / "old_extra.png").write_bytes(b"old")
     (tmp_path / "notes.txt").write_text("mine")
     assert main(["demo", "--quick", "-o", str(tmp_path)]) == 2

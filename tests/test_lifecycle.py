@@ -246,7 +246,7 @@ def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monk
     out = tmp_path / "out"
     with claim_output(out, DEMO_OUTPUT).writing():  # a finished demo, as run_demo leaves it
         (out / "cow_scene.png").write_bytes(b"png")
-        (out / "index.json").write_text('{"files": [{"path": "cow_scene.png"}]}')
+        (out / "index.json").write_text('{"morphkit_demo": 1, "files": [{"path": "cow_scene.png"}]}')
     before = snapshot(out)
 
     def no_gl() -> None:

@@ -10,6 +10,7 @@ import pytest
 from morphkit.errors import OutputBusyError, OutputExistsError, ValidationError
 from morphkit.outfolder import (
     BAKE_OUTPUT,
+    BILLBOARDS_OUTPUT,
     DEMO_OUTPUT,
     LOCK_NAME,
     MARKER_NAME,
@@ -98,13 +99,54 @@ def test_a_previous_run_is_replaced_only_with_overwrite_and_never_mixed(tmp_path
 
 
 def test_a_bake_folder_is_resumed_without_overwrite(tmp_path):
-    (tmp_path / "manifest.json").write_text("{}")  # an older bake (no marker)
+    (tmp_path / "manifest.json").write_text('{"format": "morphkit-bake-manifest", "version": 1}')  # no marker
     (tmp_path / "box.atlas.npz").write_bytes(b"atlas")
     claim = claim_output(tmp_path, BAKE_OUTPUT)
     assert claim.previous
     with claim.writing():
         pass
     assert (tmp_path / "box.atlas.npz").read_bytes() == b"atlas"  # resumed: nothing removed
+
+
+WEB_MANIFEST = '{"name": "My App", "short_name": "app", "start_url": "/", "icons": []}'
+
+
+@pytest.mark.parametrize("others", [(), ("index.html",), (MARKER_NAME,)])
+def test_another_programs_manifest_is_never_taken_for_a_bake(tmp_path, others):
+    """A web app's manifest.json was taken for a bake's: resumed into, refused only once the bake
+    had marked the folder (exit 1: 'expected morphkit-bake-manifest, got None')."""
+    (tmp_path / "manifest.json").write_text(WEB_MANIFEST)
+    for name in others:  # beside the site's page, or a bake's marker left by that refused run
+        (tmp_path / name).write_text('{"morphkit_output": 1, "command": "bake"}' if name == MARKER_NAME
+                                     else "<html>")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    marked = others == (MARKER_NAME,)
+    assert previous_run(tmp_path, BAKE_OUTPUT) == (tmp_path / MARKER_NAME if marked else None)
+    with pytest.raises(OutputExistsError, match=r"bake output folder: expected a new or empty folder, or a "
+                       r"previous bake run, got .* holding 'manifest\.json' of another program \(not "
+                       r"morphkit bake's; it is never replaced: choose another folder\)"):
+        claim_output(tmp_path, BAKE_OUTPUT)
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert (tmp_path / "manifest.json").read_text() == WEB_MANIFEST
+
+
+def test_a_damaged_bake_manifest_is_still_a_bake(tmp_path):
+    (tmp_path / "manifest.json").write_text('{"format": "morphkit-bake-manifest", "version": 1, "ass')
+    assert claim_output(tmp_path, BAKE_OUTPUT).previous  # its bake reports the damage (FileFormatError)
+
+
+@pytest.mark.parametrize("rule, index, key", [(DEMO_OUTPUT, "index.json", "morphkit_demo"),
+                                              (BILLBOARDS_OUTPUT, "billboards.json", "morphkit_billboards")])
+def test_another_programs_index_is_not_a_run_whose_files_overwrite_removes(tmp_path, rule, index, key):
+    """A site's index.json listing its files was a previous demo: --overwrite would have removed
+    the files it lists that the demo did not write again."""
+    (tmp_path / index).write_text(json.dumps({"files": ["notes.txt"]}))
+    (tmp_path / "notes.txt").write_text("mine")
+    assert previous_run(tmp_path, rule) is None
+    with pytest.raises(OutputExistsError, match=rf"holding '{index}' of another program"):
+        claim_output(tmp_path, rule, overwrite=True)
+    (tmp_path / index).write_text(json.dumps({key: 1, "files": ["notes.txt"]}))  # the command's own
+    assert previous_run(tmp_path, rule) == tmp_path / index
 
 
 def test_an_interrupted_run_counts_as_a_previous_run(tmp_path):
@@ -159,7 +201,7 @@ def test_overwrite_removes_only_what_the_previous_run_recorded(tmp_path):
     demo = tmp_path / "demo"
     with claim_output(demo, DEMO_OUTPUT).writing():
         for name in ("cow_scene.png", "cow_viewmorph.png", "index.json"):
-            (demo / name).write_bytes(b"demo")
+            (demo / name).write_bytes(b'{"morphkit_demo": 1}' if name == "index.json" else b"demo")
     assert json.loads((demo / MARKER_NAME).read_text())["files"] == ["cow_scene.png", "cow_viewmorph.png",
                                                                      "index.json"]
     (demo / "holiday.png").write_bytes(b"mine")
@@ -167,7 +209,7 @@ def test_overwrite_removes_only_what_the_previous_run_recorded(tmp_path):
     (demo / "album" / "beach.png").write_bytes(b"mine too")
     with claim_output(demo, DEMO_OUTPUT, overwrite=True).writing():
         for name in ("cow_scene.png", "index.json"):  # the new demo does not write cow_viewmorph.png
-            (demo / name).write_bytes(b"new")
+            (demo / name).write_bytes(b'{"morphkit_demo": 2}' if name == "index.json" else b"new")
     assert not (demo / "cow_viewmorph.png").exists()
     assert (demo / "holiday.png").read_bytes() == b"mine"
     assert (demo / "album" / "beach.png").read_bytes() == b"mine too"
@@ -178,12 +220,12 @@ def test_overwrite_removes_only_what_the_previous_run_recorded(tmp_path):
         for i in range(3):
             (bb / "frames" / f"frame_{i:04d}.png").write_bytes(b"frame")
         (bb / "compare_0000.png").write_bytes(b"compare")
-        (bb / "billboards.json").write_text("{}")
+        (bb / "billboards.json").write_text('{"morphkit_billboards": 1}')
     (bb / "compare_0000 - edited.png").write_bytes(b"edited")
     (bb / "frames" / "frame_0000 (copy).png").write_bytes(b"copy")
     with claim_output(bb, BILLBOARDS_OUTPUT, overwrite=True).writing():
         (bb / "frames" / "frame_0000.png").write_bytes(b"new")
-        (bb / "billboards.json").write_text("{}")
+        (bb / "billboards.json").write_text('{"morphkit_billboards": 1}')
     assert sorted(p.name for p in (bb / "frames").iterdir()) == ["frame_0000 (copy).png", "frame_0000.png"]
     assert sorted(p.name for p in bb.glob("compare_*")) == ["compare_0000 - edited.png"]
     assert json.loads((bb / MARKER_NAME).read_text())["files"] == ["billboards.json", "frames/frame_0000.png"]

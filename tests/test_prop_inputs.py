@@ -241,7 +241,8 @@ def _pil(rgb: np.ndarray):  # noqa: ANN202 - a PIL image for trimesh's material
     return Image.fromarray(rgb.astype(np.uint8))
 
 
-def test_a_previous_runs_index_that_is_a_fifo_is_no_record_and_never_waited_on(tmp_path):
+def test_an_index_that_is_a_fifo_is_refused_as_not_ours_and_never_waited_on(tmp_path):
+    from morphkit.errors import OutputExistsError
     from morphkit.outfolder import DEMO_OUTPUT, claim_output
 
     out = tmp_path / "demo"
@@ -249,9 +250,7 @@ def test_a_previous_runs_index_that_is_a_fifo_is_no_record_and_never_waited_on(t
     marker = {"morphkit_output": 1, "command": "demo", "status": "complete"}
     (out / MARKER_NAME).write_text(json.dumps(marker))  # a record without its file list: the index next
     os.mkfifo(out / "index.json")
-    with hang_limit():
-        claim = claim_output(out, DEMO_OUTPUT, overwrite=True)
-        with pytest.raises(RuntimeError, match="stop"), claim.writing():
-            raise RuntimeError("stop")
+    with hang_limit(), pytest.raises(OutputExistsError, match="'index.json' of another program"):
+        claim_output(out, DEMO_OUTPUT, overwrite=True)  # not a demo's index: refused, never read
     assert sorted(p.name for p in out.iterdir()) == sorted([MARKER_NAME, "index.json"])
     assert json.loads((out / MARKER_NAME).read_text()) == marker

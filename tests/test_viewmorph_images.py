@@ -196,3 +196,40 @@ def test_refused_F_of_sparse_sift_matches_is_replaced_by_the_better_affine_F(ren
         # the affine F is the better geometry (measured 0.46 px RMS against 0.97-1.14 px)
         assert rms(vm.fit.F) < 0.6 and rms(vm.fit.F) < 0.6 * rms(general.F)
     assert replaced >= 1  # measured: 2 of the 16 orders
+
+
+def _unrelated_pair(rng):
+    """A texture and a picture of blurred discs: few SIFT matches, flow pairs them anyway."""
+    texture = cv2.GaussianBlur(rng.integers(0, 255, (60, 90, 3), dtype=np.uint8), (0, 0), 1.0)
+    discs = np.full((60, 90, 3), 90, np.uint8)
+    for _ in range(12):
+        colour = tuple(int(v) for v in rng.integers(0, 255, 3))
+        centre = (int(rng.integers(0, 90)), int(rng.integers(0, 60)))
+        cv2.circle(discs, centre, int(rng.integers(4, 20)), colour, -1)
+    return texture, cv2.GaussianBlur(discs, (0, 0), 2.0)
+
+
+NESTED = CombinedMatcher((CombinedMatcher((SiftMatcher(),)), FlowMatcher()))
+
+
+@pytest.mark.parametrize("matcher", [None, NESTED])
+def test_images_that_do_not_show_one_scene_are_refused_by_the_library(rng, matcher):
+    """The command line's rule (tol.VM_MIN_SCENE_MATCHES distinctive matches) is the library's: the
+    Python API with the morph fallback made a double exposure of these two without a word."""
+    from morphkit import tol
+
+    a, b = _unrelated_pair(rng)
+    assert len(SiftMatcher().match(a, b)) < tol.VM_MIN_SCENE_MATCHES  # the case: few distinctive matches
+    with pytest.raises(ValidationError, match=rf"images: expected two views of one scene, with at least "
+                       rf"{tol.VM_MIN_SCENE_MATCHES} distinctive \(SIFT\) matches .*, got \d: the images do "
+                       r"not seem to show one scene \(if they do, give the correspondences explicitly: "
+                       r"viewmorph --points FILE, or pairs to ViewMorpher.from_estimate\)"):
+        ViewMorpher.from_estimate(a, b, from_images(a, b, matcher=matcher), fallback="morph")
+
+
+def test_views_of_one_scene_pass_and_a_matcher_without_sift_is_taken_as_it_is(rng):
+    texture = cv2.GaussianBlur(rng.integers(0, 255, (80, 120, 3), dtype=np.uint8), (0, 0), 1.0)
+    left, right = texture[10:70, 10:100], texture[10:70, 14:104]
+    assert len(from_images(left, right)) > len(SiftMatcher().match(left, right))  # SIFT and flow, joined
+    a, b = _unrelated_pair(rng)
+    assert len(from_images(a, b, matcher=FlowMatcher())) > 0  # no distinctive matches to count: not checked

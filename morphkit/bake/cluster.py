@@ -9,7 +9,8 @@
   ``dask scheduler`` and, on each machine, ``dask worker tcp://host:8786
   --nthreads 1 --nworkers N`` (the same morphkit installed on the scheduler and
   the workers: the scheduler unpickles the tasks; input and output paths must be
-  the same on every machine, e.g. a shared file system). An
+  the same on every machine, e.g. a shared file system). A malformed address is
+  a :class:`~morphkit.errors.ValidationError` (:func:`scheduler_address`); an
   address that does not answer within :data:`CONNECT_TIMEOUT_S`, or a
   scheduler without any worker after that long, is a
   :class:`~morphkit.errors.ClusterError` (no hang).
@@ -49,7 +50,8 @@ from contextlib import contextmanager
 from ..errors import ClusterError, ValidationError, expected_got
 from ..fileio import quiet_stderr
 
-__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client", "check_scheduler"]
+__all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client", "check_scheduler",
+           "scheduler_address"]
 
 #: Seconds to wait for a scheduler to answer, and then for its first worker.
 CONNECT_TIMEOUT_S = 5.0
@@ -137,15 +139,52 @@ def open_client(*, workers: int | None = None, scheduler: str | None = None,
             cluster.close()
 
 
+def scheduler_address(address: str) -> str:
+    """``address`` as a Dask scheduler's address, checked for its form only (nothing is asked).
+
+    Only ``tcp://host:port`` or ``host:port`` (port 1..65535), and ``inproc://`` of a
+    scheduler in this process, are taken.
+
+    Parameters
+    ----------
+    address : str
+        The scheduler's address.
+
+    Returns
+    -------
+    str
+        The address as given (stripped).
+
+    Raises
+    ------
+    ValidationError
+        A malformed or unsupported address (a bad value: the command line's usage error).
+    """
+    from distributed.comm import parse_address, parse_host_port
+
+    text = str(address).strip()
+    expected = "tcp://HOST:PORT (PORT 1..65535) of a running Dask scheduler"
+    try:
+        scheme, loc = parse_address(text)
+        if scheme == "inproc":  # a scheduler in this process (tests, notebooks): nothing to ask
+            return text
+        host, port = parse_host_port(loc)
+        ok = scheme == "tcp" and host != "" and 1 <= int(port) <= 65535
+    except (ValueError, TypeError):
+        ok = False
+    if not ok:
+        raise ValidationError(expected_got("Dask scheduler address", expected, repr(address)))
+    return text
+
+
 def check_scheduler(address: str, timeout: float | None = None) -> str:
     """Refuse, within ``timeout`` seconds, an address that is not a Dask scheduler's.
 
-    A malformed or unsupported address (only ``tcp://host:port`` or ``host:port``, and
-    ``inproc://`` of a scheduler in this process, taken as it is) is
-    refused at once; otherwise the address is asked who it is (Dask's ``identity``
-    message) and must answer as a scheduler within ``timeout``: a port that never
-    answers, nothing listening, or another server (HTTP, ...) is refused, not waited on
-    (Dask's own client may wait for such a server far longer than its timeout).
+    A malformed or unsupported address (:func:`scheduler_address`) is refused at once;
+    otherwise the address is asked who it is (Dask's ``identity`` message) and must answer
+    as a scheduler within ``timeout`` (``inproc://`` addresses are taken as they are): a port
+    that never answers, nothing listening, or another server (HTTP, ...) is refused, not waited
+    on (Dask's own client may wait for such a server far longer than its timeout).
 
     Parameters
     ----------
@@ -162,26 +201,19 @@ def check_scheduler(address: str, timeout: float | None = None) -> str:
 
     Raises
     ------
+    ValidationError
+        A malformed or unsupported address.
     ClusterError
-        Not a scheduler's address, or no scheduler answered there in time.
+        No scheduler answered there in time.
     """
     import asyncio
 
-    from distributed.comm import connect, parse_address, parse_host_port
+    from distributed.comm import connect, parse_address
 
     timeout = CONNECT_TIMEOUT_S if timeout is None else float(timeout)
-    text = str(address).strip()
-    expected = "tcp://HOST:PORT (PORT 1..65535) of a running Dask scheduler"
-    try:
-        scheme, loc = parse_address(text)
-        if scheme == "inproc":  # a scheduler in this process (tests, notebooks): nothing to ask
-            return text
-        host, port = parse_host_port(loc)
-        ok = scheme == "tcp" and host != "" and 1 <= int(port) <= 65535
-    except (ValueError, TypeError):
-        ok = False
-    if not ok:
-        raise ClusterError(expected_got("Dask scheduler address", expected, repr(address)))
+    text = scheduler_address(address)
+    if parse_address(text)[0] == "inproc":  # a scheduler in this process: nothing to ask
+        return text
 
     async def identity() -> object:
         comm = await connect(text, timeout=timeout)

@@ -28,6 +28,7 @@ import shutil
 import stat
 import time
 import uuid
+import warnings
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import suppress
@@ -35,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import OutputWriteError, ValidationError, expected_got
+from ..errors import AssetWarning, OutputWriteError, ValidationError, expected_got
 from ..meshes import UP_AXES, resolve_up
 from ..outfolder import BAKE_OUTPUT, claim_output
 from ..validate import as_int
@@ -147,14 +148,15 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
     MeshError
         An input is missing, or no mesh file was found.
     ValidationError
-        The output folder is not writable, two inputs share an asset name, or
-        both ``workers`` and ``scheduler`` are given (all before any work).
+        The output folder is not writable, two inputs share an asset name,
+        both ``workers`` and ``scheduler`` are given, or ``scheduler`` is malformed (all
+        before any work).
     OutputExistsError
         ``out`` holds files and is not a bake's output folder (:mod:`morphkit.outfolder`).
     OutputBusyError
         Another bake is writing into ``out`` (it holds the folder's lock).
     ClusterError
-        ``scheduler`` is malformed, does not answer as a Dask scheduler within
+        ``scheduler`` does not answer as a Dask scheduler within
         :data:`~morphkit.bake.cluster.CONNECT_TIMEOUT_S`, or has no worker.
     FileFormatError
         ``out`` holds a manifest that is not one.
@@ -216,6 +218,7 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
     n_workers = 0
     stop: tuple[int, str] | None = None  # a write the output's file system refused: (errno, what)
     n_kept = 0  # assets baked and journaled by this run
+    said: list[str] = []  # the tasks' AssetWarnings (TaskResult.warnings), said when the bar is done
     try:
         if tasks:
             with open_client(workers=workers, scheduler=scheduler) as client:
@@ -231,6 +234,8 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
                     for batch in as_completed(list(futures), loop=client.loop).batches():
                         done = [(futures.pop(fut), fut) for fut in batch]
                         recs = [_record(manifest, task, fut) for task, fut in done]
+                        said += [w for _t, fut in done if fut.status == "finished"
+                                 for w in fut.result().warnings]
                         stop = next(filter(None, (_refused_write(task, fut) for task, fut in done)), None)
                         for fut in batch:
                             fut.release()
@@ -259,6 +264,8 @@ def _bake_into(folder: Path, assets: list[AssetInput], options: BakeOptions, wor
                     raise
     finally:
         bar.close()
+        for message in dict.fromkeys(said):  # the workers' look fallbacks, after the bar, each once
+            warnings.warn(message, AssetWarning, stacklevel=2)
     if stop:
         with suppress(OSError):  # what did not reach the journal, if there is room now
             manifest.commit()

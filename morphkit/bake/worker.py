@@ -24,14 +24,16 @@ bake`` has one thread); they are closed when the process exits.
 from __future__ import annotations
 
 import atexit
+import dataclasses
 import os
 import socket
 import threading
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import MeshError, MorphkitError, expected_got
+from ..errors import AssetWarning, MeshError, MorphkitError, expected_got
 from ..meshes import load_mesh
 from ..protocols import SceneRenderer
 from .kinds import AssetKind, output_name
@@ -124,6 +126,11 @@ class TaskResult:
     errno : int, optional
         The OS error number when an output could not be written (``errno.ENOSPC``: the disk is
         full, ``errno.EROFS``, ...); ``error`` names the file.
+    warnings : tuple of str
+        The messages of the :class:`~morphkit.errors.AssetWarning` s the task gave (a look's
+        fallback: a texture that could not be drawn), in order, each once: the driver says
+        them (a worker's own stderr would print them in Python's two-line form, far from the
+        run's lines).
     """
 
     name: str
@@ -132,6 +139,7 @@ class TaskResult:
     worker: str
     error: str | None = None
     errno: int | None = None
+    warnings: tuple[str, ...] = ()
 
 
 def bake_task(task: BakeTask) -> TaskResult:
@@ -145,7 +153,8 @@ def bake_task(task: BakeTask) -> TaskResult:
     Returns
     -------
     TaskResult
-        The outputs, or ``error``: ``"<ErrorType>: <message>"`` when the file is
+        The outputs and the look's warnings (:attr:`TaskResult.warnings`), or ``error``:
+        ``"<ErrorType>: <message>"`` when the file is
         unreadable, empty or degenerate, changed since it was hashed, or a kind
         refused the mesh (any :class:`~morphkit.errors.MorphkitError`), or it needs more
         memory than the worker has (a ``MemoryError``); or when an
@@ -153,12 +162,19 @@ def bake_task(task: BakeTask) -> TaskResult:
         with its ``errno``.
     """
     worker = f"{socket.gethostname()}:{os.getpid()}"
-    try:
-        return _bake(task, worker)
-    except MorphkitError as exc:
-        return TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: {exc}")
-    except MemoryError as exc:  # sizes past the worker's memory: this asset fails, not the run
-        return TaskResult(task.name, {}, {}, worker, f"MemoryError: {exc or 'an allocation failed'}")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AssetWarning)
+        try:
+            result = _bake(task, worker)
+        except MorphkitError as exc:
+            result = TaskResult(task.name, {}, {}, worker, f"{type(exc).__name__}: {exc}")
+        except MemoryError as exc:  # sizes past the worker's memory: this asset fails, not the run
+            result = TaskResult(task.name, {}, {}, worker, f"MemoryError: {exc or 'an allocation failed'}")
+    for w in caught:  # others as they would have been shown
+        if not issubclass(w.category, AssetWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    said = tuple(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AssetWarning)))
+    return dataclasses.replace(result, warnings=said) if said else result
 
 
 def _bake(task: BakeTask, worker: str) -> TaskResult:

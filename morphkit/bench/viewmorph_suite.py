@@ -242,13 +242,14 @@ def _image_only(renderer: SceneRenderer, name: str, items: list[Any], base: floa
                  "images-depth": lambda c0=c0, c1=c1, d0=d0, d1=d1: from_depth(c0, c1, d0, d1)}
         for method, make in pairs.items():
             t0 = time.perf_counter()
-            corr = make()
+            corr = None
             try:
+                corr = make()  # from_images refuses images with too few distinctive matches: a failure
                 vm = ViewMorpher.from_estimate(i0, i1, corr)
                 out = vm.morph(0.5)
             except MorphkitError as exc:
-                got[method].append({"ok": False, "s": time.perf_counter() - t0, "n": len(corr), "az": az,
-                                    "why": type(exc).__name__})
+                got[method].append({"ok": False, "s": time.perf_counter() - t0, "az": az,
+                                    "n": 0 if corr is None else len(corr), "why": type(exc).__name__})
                 continue
             dt = time.perf_counter() - t0
             iou = shadow_iou(out[..., 3] > 127, gt[..., 3] > 127)

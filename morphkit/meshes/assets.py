@@ -14,6 +14,10 @@ An OBJ names its material libraries (``mtllib``) and their images (``map_Kd``); 
   (:data:`morphkit.settings.ASSET_ROOT`); the mesh file must lie inside the root.
 * **regular files only**: a reference to a FIFO, a device or a socket (which would block
   the read, or never end) is a :class:`~morphkit.errors.MeshError` before anything is read.
+* **images checked**: an image file the loader checked (:meth:`AssetResolver.check_image`:
+  read and decoded before the load) is served from what was read then; one that cannot be
+  read or decoded is withheld, as if missing (the loader warns and draws the material without
+  it).
 
 trimesh's own ``FilePathResolver`` (since trimesh 5.0) confines paths to the file's folder
 too, but opens whatever is there (a FIFO blocks it) and has no root wider than the folder
@@ -32,7 +36,8 @@ from urllib.parse import unquote
 from trimesh.resolvers import FilePathResolver
 
 from ..errors import MeshError, expected_got
-from ..fileio import file_kind, open_regular
+from ..fileio import file_kind
+from ..texture import image_problem
 
 __all__ = ["AssetResolver", "asset_root", "locate", "read_regular"]
 
@@ -119,6 +124,20 @@ def locate(folder: Path, name: str, root: Path, what: str) -> tuple[Path | None,
     return None, outside
 
 
+def _read(path: Path, what: str) -> bytes:
+    """:func:`read_regular`, with the ``OSError`` of an open or a read that failed as it is."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise MeshError(expected_got(what, "a regular file", f"{str(path)!r}: {file_kind(mode)}"))
+        os.set_blocking(fd, True)
+        with os.fdopen(fd, "rb", closefd=False) as f:
+            return f.read()
+    finally:
+        os.close(fd)
+
+
 def read_regular(path: Path, what: str) -> bytes:
     """The bytes of ``path``, opened without blocking and read only if it is a regular file.
 
@@ -138,10 +157,13 @@ def read_regular(path: Path, what: str) -> bytes:
     ------
     MeshError
         ``path`` is not a regular file (checked on the open file: a file swapped for a FIFO
-        after :func:`locate` is refused too) or cannot be read.
+        after :func:`locate` is refused too) or cannot be opened or read.
     """
-    with open_regular(path, what, MeshError) as f:
-        return f.read()
+    try:
+        return _read(path, what)
+    except OSError as exc:
+        raise MeshError(expected_got(what, "a readable file",
+                                     f"{str(path)!r} ({exc.strerror or exc})")) from exc
 
 
 class AssetResolver(FilePathResolver):
@@ -163,6 +185,9 @@ class AssetResolver(FilePathResolver):
         self.outside: list[str] = []
         #: Errors of references that are not regular files (trimesh swallows some of them).
         self.errors: list[MeshError] = []
+        #: Image files read and checked before the load (:meth:`check_image`): their bytes,
+        #: served as read then, or None for one withheld (the load goes on without it).
+        self.checked: dict[Path, bytes | None] = {}
 
     def namespaced(self, namespace: str) -> AssetResolver:
         """A resolver for a subfolder, with the same root and the same records.
@@ -178,8 +203,43 @@ class AssetResolver(FilePathResolver):
             Sharing :attr:`outside` and :attr:`errors` with this one.
         """
         sub = AssetResolver(os.path.join(self.parent, namespace), self.root)
-        sub.outside, sub.errors = self.outside, self.errors
+        sub.outside, sub.errors, sub.checked = self.outside, self.errors, self.checked
         return sub
+
+    def check_image(self, path: Path, what: str) -> str | None:
+        """Read the image file ``path`` (found by :func:`locate`) and decode it
+        (:func:`morphkit.texture.image_problem`); why it cannot be drawn, or None.
+
+        An image that cannot be read or decoded is withheld from the load (:meth:`get` answers
+        as for a missing file: the mesh loads without it); one that decodes is served from the
+        bytes read here (read once: the file checked is the file drawn).
+
+        Parameters
+        ----------
+        path : pathlib.Path
+            The image file, resolved.
+        what : str
+            How an error names it.
+
+        Returns
+        -------
+        str or None
+            The reason, a phrase (``"cannot be read (Permission denied)"``, ``"is damaged
+            (...)"``), or None.
+
+        Raises
+        ------
+        MeshError
+            ``path`` is not a regular file (a FIFO put in its place after :func:`locate`).
+        """
+        try:
+            data = _read(path, what)
+        except OSError as exc:
+            self.checked[path] = None
+            return f"cannot be read ({exc.strerror or exc})"
+        why = image_problem(data)
+        self.checked[path] = None if why else data
+        return why
 
     def get(self, name: str) -> bytes:
         """The bytes of the file ``name`` refers to (:func:`locate`); refused names raise ``OSError``.
@@ -197,9 +257,10 @@ class AssetResolver(FilePathResolver):
         Raises
         ------
         FileNotFoundError
-            No such file inside the root (one outside it is recorded in :attr:`outside`).
+            No such file inside the root (one outside it is recorded in :attr:`outside`), or
+            an image :meth:`check_image` withheld.
         OSError
-            Not a regular file (recorded in :attr:`errors`).
+            Not a regular file, or unreadable (recorded in :attr:`errors`).
         """
         what = f"file {name!r} referred to by mesh file {self.source!r}"
         try:
@@ -211,6 +272,11 @@ class AssetResolver(FilePathResolver):
             if outside:
                 self.outside.append(name)
             raise FileNotFoundError(name)
+        if path in self.checked:
+            data = self.checked[path]
+            if data is None:
+                raise FileNotFoundError(f"{name} (withheld: it cannot be drawn)")
+            return data
         try:
             return read_regular(path, what)
         except MeshError as exc:

@@ -42,7 +42,13 @@ with a textured material) keeps both (trimesh puts the colours in
 ``mtllib`` or ``map_Kd`` file is missing loads with an
 :class:`~morphkit.errors.AssetWarning`: the material keeps its ``Kd`` colour (trimesh
 drops the missing image silently); so does a ``.gltf`` whose external image is missing
-(its materials keep their ``baseColorFactor``). Every file a mesh file refers to is read through
+(its materials keep their ``baseColorFactor``). The same fallback, with the same warning
+naming the file, the texture and why, holds for a texture that is there but cannot be drawn:
+unreadable, empty, not an image, or damaged (every image, a file or one a glTF holds in a
+data URI or a buffer view, is decoded whole before the load,
+:func:`morphkit.texture.image_problem`; trimesh drops one it cannot open without a word, and
+a damaged one failed only when first drawn), and for a ``map_Kd`` image found but not taken
+by trimesh's OBJ reader (a line with options). Every file a mesh file refers to is read through
 :mod:`morphkit.meshes.assets`: from inside the asset root only (default the file's folder; one
 outside it is not opened, with an :class:`~morphkit.errors.AssetWarning`) and only if it is a
 regular file (a FIFO is a :class:`~morphkit.errors.MeshError` before any read). Vertices are
@@ -62,6 +68,7 @@ import trimesh
 
 from .. import settings, tol
 from ..errors import AssetWarning, MeshError, expected_got
+from ..texture import image_problem
 from . import assets, gltf
 from .assets import AssetResolver, locate, read_regular
 from .parts import copy_with_look, merge_parts, scene_parts
@@ -252,22 +259,35 @@ def resolve_up(path: str | Path, up: str = "auto") -> str:
     return UP_AXIS_BY_FORMAT.get(Path(path).suffix.lower().lstrip("."), "z")
 
 
-def _outside(obj: Path, kind: str, name: str, root: Path, fallback: str) -> None:
-    warnings.warn(f"mesh file {str(obj)!r}: {kind} {name!r} lies outside the asset root {str(root)!r}; not "
-                  f"opened, {fallback} (asset_root= / MORPHKIT_ASSET_ROOT widens the root)", AssetWarning,
-                  stacklevel=4)
+def _outside(obj: Path, kind: str, name: str, root: Path, fallback: str, folder: Path | None = None) -> None:
+    where = f"{kind} {name!r} lies outside"
+    link = Path(os.path.normpath((folder or obj.parent).resolve() / name))
+    if link.is_relative_to(root) and not link.resolve().is_relative_to(root):
+        where = f"{kind} {name!r} is a link to {str(link.resolve())!r}, outside"
+    warnings.warn(f"mesh file {str(obj)!r}: {where} the asset root {str(root)!r}; not opened, {fallback} "
+                  "(asset_root= / MORPHKIT_ASSET_ROOT widens the root)", AssetWarning, stacklevel=4)
 
 
-def _mtl_warnings(obj: Path, root: Path) -> None:
+#: What an OBJ material whose ``map_Kd`` image cannot be drawn falls back to.
+_KD_FALLBACK = "drawn in its Kd colour {kd}"
+#: What the materials of a glTF image that cannot be drawn fall back to.
+_FACTOR_FALLBACK = "its materials are drawn in their baseColorFactor"
+
+
+def _mtl_warnings(obj: Path, root: Path, resolver: AssetResolver) -> dict[str, str]:
     """Check an OBJ's material libraries and ``map_Kd`` images before trimesh reads them.
 
-    Warns about those that are not there or lie outside ``root`` (never opened); raises
-    :class:`~morphkit.errors.MeshError` for one that is not a regular file (a FIFO).
+    Warns about those that are not there or lie outside ``root`` (never opened), and about
+    images that cannot be read or decoded (withheld from trimesh:
+    :meth:`morphkit.meshes.assets.AssetResolver.check_image`); raises
+    :class:`~morphkit.errors.MeshError` for one that is not a regular file (a FIFO). Returns,
+    per material whose image was found and decodes, the warning to give if trimesh still
+    comes back without it.
     """
     try:
         lines = read_regular(obj, f"mesh file {str(obj)!r}").decode(errors="replace").splitlines()
     except MeshError:
-        return  # trimesh's error follows
+        return {}  # trimesh's error follows
     name = f"mesh file {str(obj)!r}"
     libs = []
     for ln in lines:
@@ -275,6 +295,7 @@ def _mtl_warnings(obj: Path, root: Path) -> None:
             rest = ln.split(None, 1)[1].strip()  # one name with spaces, or several names
             libs += [rest] if locate(obj.parent, rest, root, f"material library {rest!r} of {name}")[0] \
                 else rest.split()
+    expected: dict[str, str] = {}
     for lib in libs:
         mtl, outside = locate(obj.parent, lib, root, f"material library {lib!r} of {name}")
         if outside:
@@ -296,41 +317,108 @@ def _mtl_warnings(obj: Path, root: Path) -> None:
                 kd = str(words[1:4])
             elif words[0] == "map_Kd" and len(words) > 1:
                 tex = words[-1]
-                found, outside = locate(mtl.parent, tex, root, f"texture {tex!r} of material {material!r} "
-                                        f"({lib}) of {name}")
+                what = f"texture {tex!r} of material {material!r} ({lib}) of {name}"
+                head = f"mesh file {str(obj)!r}: texture {tex!r} of material {material!r} ({lib})"
+                fallback = _KD_FALLBACK.format(kd=kd)
+                found, outside = locate(mtl.parent, tex, root, what)
                 if outside:
-                    _outside(obj, "texture", tex, root,
-                             f"material {material!r} is drawn in its Kd colour {kd}")
+                    _outside(obj, "texture", tex, root, f"material {material!r} is {fallback}", mtl.parent)
                 elif found is None:
-                    warnings.warn(f"mesh file {str(obj)!r}: texture {tex!r} of material {material!r} "
-                                  f"({lib}) not found; drawn in its Kd colour {kd}", AssetWarning,
-                                  stacklevel=3)
+                    warnings.warn(f"{head} not found; {fallback}", AssetWarning, stacklevel=3)
+                elif (why := resolver.check_image(found, what)) is not None:
+                    warnings.warn(f"{head} {why}; {fallback}", AssetWarning, stacklevel=3)
+                else:
+                    options = f" (its map_Kd line has options, {' '.join(words[1:-1])!r}, which trimesh's " \
+                              "OBJ reader takes for the file name)" if len(words) > 2 else ""
+                    expected[material] = f"{head} was found but not loaded{options}; {fallback}"
+    return expected
 
 
-def _gltf_warnings(path: Path, root: Path, doc: dict[str, Any]) -> None:
-    """Check a ``.gltf``'s external buffers and images (its JSON: ``doc``) before trimesh reads them.
+def _gltf_warnings(path: Path, root: Path, doc: dict[str, Any], resolver: AssetResolver) -> int:
+    """Check a ``.gltf``'s or ``.glb``'s external buffers and its images (its JSON: ``doc``) before
+    trimesh reads them; the number of images warned about.
 
-    Warns about images that are not there or lie outside ``root`` (trimesh drops them
-    silently); raises :class:`~morphkit.errors.MeshError` for a buffer or image that is not
-    a regular file (a FIFO), or a buffer outside ``root``.
+    Warns about images that are not there, lie outside ``root`` (trimesh drops them silently),
+    or cannot be read or decoded (those in files are withheld from trimesh:
+    :meth:`morphkit.meshes.assets.AssetResolver.check_image`; those the file holds itself,
+    :func:`morphkit.meshes.gltf.embedded_images`, are dropped after the load when trimesh has
+    kept them); raises :class:`~morphkit.errors.MeshError` for a buffer or image that is not a
+    regular file (a FIFO), or a buffer outside ``root``.
     """
     name = f"mesh file {str(path)!r}"
+    bad = 0
+
+    def warn(message: str) -> None:
+        nonlocal bad
+        bad += 1
+        warnings.warn(f"{name}: {message}; {_FACTOR_FALLBACK}", AssetWarning, stacklevel=4)
+
     for kind in ("buffers", "images"):
         entries = doc.get(kind, [])
         for i, entry in enumerate(entries if isinstance(entries, list) else []):
             uri = entry.get("uri") if isinstance(entry, dict) else None
+            if kind == "images" and isinstance(entry, dict) and uri is None and "bufferView" not in entry:
+                warn(f"image {i} has neither a uri nor a bufferView")
             if not isinstance(uri, str) or uri.startswith("data:"):
                 continue
-            found, outside = locate(path.parent, uri, root, f"{kind[:-1]} {i} {uri!r} of {name}")
+            what = f"{kind[:-1]} {i} {uri!r} of {name}"
+            found, outside = locate(path.parent, uri, root, what)
             if kind == "buffers" and outside:
                 raise MeshError(expected_got(f"{kind[:-1]} {i} of {name}", f"a file inside the asset root "
                                              f"{str(root)!r} (asset_root= / MORPHKIT_ASSET_ROOT widens it)",
                                              f"{uri!r}, outside it (not opened)"))
             if kind == "images" and outside:
-                _outside(path, f"image {i}", uri, root, "its materials are drawn in their baseColorFactor")
+                bad += 1
+                _outside(path, f"image {i}", uri, root, _FACTOR_FALLBACK)
             elif kind == "images" and found is None:
-                warnings.warn(f"mesh file {str(path)!r}: image {i} {uri!r} not found; its materials are "
-                              "drawn in their baseColorFactor", AssetWarning, stacklevel=3)
+                warn(f"image {i} {uri!r} not found")
+            elif kind == "images" and (why := resolver.check_image(found, what)) is not None:
+                warn(f"image {i} {uri!r} {why}")
+
+    def external(uri: str) -> bytes | None:
+        try:
+            return resolver.get(uri)
+        except OSError:
+            return None
+
+    for i, (where, data) in sorted(gltf.embedded_images(path, doc, name, external).items()):
+        why = "cannot be taken out of the file" if data is None else image_problem(data)
+        if why is not None:
+            warn(f"image {i} (in {where}) {why}")
+    return bad
+
+
+#: The attributes of trimesh's materials that hold an image.
+_IMAGE_ATTRIBUTES = ("image", "baseColorTexture", "metallicRoughnessTexture", "normalTexture",
+                     "emissiveTexture", "occlusionTexture")
+
+
+def _loaded_looks(loaded: Any, name: str, expected: dict[str, str], warned: bool) -> None:
+    """After trimesh's load: an image that does not decode is dropped from its material (trimesh
+    opens images lazily: a damaged one failed only when first read), with a warning unless
+    the checks before the load gave one; an OBJ material whose image was found and decodes
+    (``expected``: its warning) but came back without it is said."""
+    geoms = loaded.geometry.values() if isinstance(loaded, trimesh.Scene) else [loaded]
+    for g in geoms:
+        material = getattr(getattr(g, "visual", None), "material", None)
+        if material is None:
+            continue
+        for attr in _IMAGE_ATTRIBUTES:
+            img = getattr(material, attr, None)
+            if img is None or not hasattr(img, "load"):
+                continue
+            try:
+                img.load()
+            except Exception as exc:  # Pillow's decoders raise many types for damaged data
+                setattr(material, attr, None)
+                if not warned:
+                    warnings.warn(f"{name}: the {attr} image of material {getattr(material, 'name', '?')!r} "
+                                  f"is damaged ({type(exc).__name__}: {exc}); drawn without it", AssetWarning,
+                                  stacklevel=4)
+        said = expected.get(str(getattr(material, "name", None)))
+        if said is not None and getattr(material, "image", "") is None and getattr(g.visual, "uv", None) \
+                is not None:
+            warnings.warn(said, AssetWarning, stacklevel=4)
 
 
 def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
@@ -379,8 +467,10 @@ def load_mesh(path: str | Path, *, up: str = "auto",
     Warns
     -----
     AssetWarning
-        An OBJ's ``mtllib`` or ``map_Kd`` file or a ``.gltf``'s external image is missing,
-        or lies outside the asset root (not opened); a texture without UVs in a multi-part file.
+        An OBJ's ``mtllib`` or ``map_Kd`` file or a glTF's external image is missing, or lies
+        outside the asset root (not opened); a texture (a file, or held in a glTF) cannot be
+        read or decoded, and its material is drawn without it (module notes); a texture
+        without UVs in a multi-part file.
     """
     p = Path(path)
     axis = resolve_up(p, up)
@@ -389,15 +479,16 @@ def load_mesh(path: str | Path, *, up: str = "auto",
         raise MeshError(expected_got("mesh path", "an existing mesh file", f"{str(p)!r} ({why})"))
     name = f"mesh file {str(p)!r}"
     root = assets.asset_root(p, asset_root if asset_root is not None else settings.ASSET_ROOT)
+    resolver = AssetResolver(p, root)
+    expected: dict[str, str] = {}  # OBJ materials whose image was checked and decodes
+    warned = 0
     if p.suffix.lower() == ".obj":
-        _mtl_warnings(p, root)
+        expected = _mtl_warnings(p, root, resolver)
     elif p.suffix.lower() in (".gltf", ".glb"):
         doc = gltf.gltf_document(p, name)  # None: not glTF JSON, trimesh's error follows
         if doc is not None:
             gltf.check_node_graph(doc, name)  # bounded before trimesh walks it (morphkit.meshes.gltf)
-            if p.suffix.lower() == ".gltf":
-                _gltf_warnings(p, root, doc)
-    resolver = AssetResolver(p, root)
+            warned = _gltf_warnings(p, root, doc, resolver)
     try:
         # process=False: trimesh's processing would silently drop non-finite vertices.
         loaded = trimesh.load(str(p), process=False, resolver=resolver)
@@ -414,6 +505,7 @@ def load_mesh(path: str | Path, *, up: str = "auto",
         ) from exc
     if resolver.errors:  # trimesh swallows a material's or an image's read errors
         raise resolver.errors[0]
+    _loaded_looks(loaded, name, expected, warned > 0)
     if isinstance(loaded, trimesh.Scene):
         parts = scene_parts(loaded)
         if not parts:

@@ -11,7 +11,9 @@
   dropped by :meth:`Correspondences.cleaned` later).
 
 :func:`from_images` runs one (default :data:`DEFAULT_MATCHER`: SIFT and flow
-combined). Every matcher's result still holds outliers: the view morpher fits F
+combined) and refuses two images that share fewer distinctive (SIFT) matches than
+:data:`morphkit.tol.VM_MIN_SCENE_MATCHES` (the command line and the library alike). Every
+matcher's result still holds outliers: the view morpher fits F
 robustly (:func:`morphkit.viewmorph.fundamental.estimate_fundamental`) and keeps
 its inliers. Measured success rates of the image-only path are in
 ``docs/RESULTS.md`` (``morphkit bench viewmorph``, ``viewmorph-images`` rows).
@@ -46,7 +48,7 @@ from ..validate import as_image, as_int
 from .correspondences import Correspondences
 
 __all__ = ["ImageMatcher", "SiftMatcher", "FlowMatcher", "CombinedMatcher", "DEFAULT_MATCHER", "from_images",
-           "join_matches", "scene_matches"]
+           "join_matches"]
 
 DIS_PRESETS = {"ultrafast": cv2.DISOPTICAL_FLOW_PRESET_ULTRAFAST, "fast": cv2.DISOPTICAL_FLOW_PRESET_FAST,
                "medium": cv2.DISOPTICAL_FLOW_PRESET_MEDIUM}
@@ -342,9 +344,33 @@ def join_matches(parts: Sequence[Correspondences]) -> Correspondences:
 DEFAULT_MATCHER = CombinedMatcher((SiftMatcher(), FlowMatcher()))
 
 
+def _matched(matcher: ImageMatcher, image0: np.ndarray, image1: np.ndarray
+             ) -> tuple[list[Correspondences], int | None]:
+    """``matcher``'s pairs (one part per matcher it runs) and how many of them are distinctive
+    (a :class:`SiftMatcher`'s, inside a :class:`CombinedMatcher` too); None when it runs none."""
+    if isinstance(matcher, SiftMatcher):
+        c = matcher.match(image0, image1)
+        return [c], len(c)
+    if isinstance(matcher, CombinedMatcher):
+        parts: list[Correspondences] = []
+        count: int | None = None
+        for m in matcher.matchers:
+            p, n = _matched(m, image0, image1)
+            parts += p
+            count = count if n is None else (count or 0) + n
+        return parts, count
+    return [matcher.match(image0, image1)], None
+
+
 def from_images(image0: np.ndarray, image1: np.ndarray, *, matcher: ImageMatcher | None = None
                 ) -> Correspondences:
-    """Correspondences from the images alone.
+    """Correspondences from the images alone, refused when the images do not seem to show one scene.
+
+    Dense flow pairs any two images, so that two unrelated photos would be morphed into a double
+    exposure (with ``fallback="morph"``, or wherever F happens to fit the flow): the images
+    must share at least :data:`morphkit.tol.VM_MIN_SCENE_MATCHES` distinctive (SIFT) matches,
+    the pairs F needs. A matcher that runs no :class:`SiftMatcher` cannot tell: its pairs are
+    taken as they are.
 
     Parameters
     ----------
@@ -357,49 +383,25 @@ def from_images(image0: np.ndarray, image1: np.ndarray, *, matcher: ImageMatcher
     Returns
     -------
     Correspondences
-        ``source="features"``, outliers included (the view morpher fits F
-        robustly); possibly fewer than 8 pairs (then the view morpher refuses
-        it with a ValidationError).
+        ``source="features"``: every matcher's pairs joined (:func:`join_matches`), outliers
+        included (the view morpher fits F robustly).
+
+    Raises
+    ------
+    ValidationError
+        ``matcher`` is not an :class:`ImageMatcher`; or the images share fewer distinctive
+        matches than :data:`morphkit.tol.VM_MIN_SCENE_MATCHES`: they do not seem to show one
+        scene (the message points to correspondences given explicitly).
     """
     m = DEFAULT_MATCHER if matcher is None else matcher
     if not isinstance(m, ImageMatcher):
         raise ValidationError(expected_got("matcher", "an ImageMatcher (with a match(image0, image1) method)",
                                            type(m).__name__))
-    return m.match(image0, image1)
-
-
-def scene_matches(image0: np.ndarray, image1: np.ndarray, matcher: CombinedMatcher = DEFAULT_MATCHER
-                  ) -> Correspondences:
-    """``matcher``'s pairs of two images, refused when they share fewer distinctive (SIFT)
-    matches than :data:`morphkit.tol.VM_MIN_SCENE_MATCHES`: dense flow pairs any two images, so
-    without this two unrelated photos would be morphed into a double exposure.
-
-    Parameters
-    ----------
-    image0, image1 : numpy.ndarray
-        ``(H, W[, C])`` grey/RGB/RGBA images.
-    matcher : CombinedMatcher
-        The matchers (default :data:`DEFAULT_MATCHER`); its :class:`SiftMatcher` pairs are counted.
-
-    Returns
-    -------
-    Correspondences
-        Every matcher's pairs joined (:func:`join_matches`).
-
-    Raises
-    ------
-    ValidationError
-        Too few distinctive matches: the images do not seem to show one scene (the message
-        points to user-given correspondences).
-    """
-    parts = matcher.match_each(image0, image1)
-    distinctive = sum(len(c) for m, c in zip(matcher.matchers, parts, strict=True)
-                      if isinstance(m, SiftMatcher))
-    if distinctive < tol.VM_MIN_SCENE_MATCHES:
+    parts, distinctive = _matched(m, image0, image1)
+    if distinctive is not None and distinctive < tol.VM_MIN_SCENE_MATCHES:
         raise ValidationError(expected_got(
-            "viewmorph LEFT, RIGHT", f"two views of one scene, with at least {tol.VM_MIN_SCENE_MATCHES} "
-            "distinctive (SIFT) matches (the pairs F needs, tol.VM_MIN_SCENE_MATCHES)",
+            "images", f"two views of one scene, with at least {tol.VM_MIN_SCENE_MATCHES} distinctive (SIFT) "
+            "matches (the pairs F needs, tol.VM_MIN_SCENE_MATCHES)",
             f"{distinctive}: the images do not seem to show one scene (if they do, give the "
-            "correspondences with --points FILE)"))
+            "correspondences explicitly: viewmorph --points FILE, or pairs to ViewMorpher.from_estimate)"))
     return join_matches(parts)
-
