@@ -251,7 +251,7 @@ class BillboardKind:
         Side of the square level-0 reference views, in pixels (16..2048).
     distance_factor : float
         Reference cameras' distance in bounding radii
-        (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`; in its range).
+        (:data:`~morphkit.views.framing.DISTANCE_FACTOR`; in its range).
     """
 
     views: int = 2
@@ -314,7 +314,7 @@ class DomeKind:
     size : int
         Side of the square level-0 views, in pixels (16..2048).
     distance_factor : float
-        Cameras' distance in bounding radii (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`).
+        Cameras' distance in bounding radii (:data:`~morphkit.views.framing.DISTANCE_FACTOR`).
     """
 
     size: int = 128

@@ -94,7 +94,7 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
         Depth layers of the morphs (``ViewMorpher(layers=...)``).
     distance_factor : float
         Reference cameras' distance from the pivot in radii of the mesh's bounding
-        sphere (:data:`~morphkit.billboard.cameras.DISTANCE_FACTOR`): about the distance
+        sphere (:data:`~morphkit.views.framing.DISTANCE_FACTOR`): about the distance
         the scene sees the asset from, so the views have its perspective.
     progress : bool
         Show a progress bar (tqdm; silent when not a terminal).

@@ -427,7 +427,7 @@ def bake_dome(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = "ass
     levels : int
         Pyramid levels (the smallest >= 8 px).
     distance_factor : float
-        Camera distance in bounding radii (:data:`~.cameras.DISTANCE_FACTOR`).
+        Camera distance in bounding radii (:data:`~morphkit.views.framing.DISTANCE_FACTOR`).
     appearance : {"own", "checker"}
         The look (:func:`~.bakelook.bake_items`).
     source_up : {"z", "y"} or None
