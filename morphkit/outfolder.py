@@ -63,7 +63,8 @@ from .fileio import open_regular, write_bytes, write_json
 
 __all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
            "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
-           "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT"]
+           "BILLBOARDS_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT", "BAKE_MANIFEST_FORMAT",
+           "is_bake_manifest"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
 #: "running" | "complete", "started": ...}``.
@@ -135,10 +136,51 @@ def _json_holding(key: str) -> Callable[[Path], bool]:
     return test
 
 
+#: The ``format`` a morphkit bake manifest names (:mod:`morphkit.bake.manifest`): how the folder rule
+#: tells a bake's ``manifest.json`` from another program's.
+BAKE_MANIFEST_FORMAT = "morphkit-bake-manifest"
+
+
+def _no_json_constant(name: str) -> float:
+    raise ValueError(f"{name} is not a JSON number")
+
+
+def is_bake_manifest(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a morphkit bake manifest (of any version, or damaged), not another
+    program's file of the same name (a web app's ``manifest.json``).
+
+    Parameters
+    ----------
+    path : path-like
+        A file named :data:`morphkit.bake.manifest.MANIFEST_NAME`.
+
+    Returns
+    -------
+    bool
+        True for a regular file whose JSON object names :data:`BAKE_MANIFEST_FORMAT` as its
+        ``format``, or that is not JSON (or no object) but holds that name (a manifest cut
+        short: :meth:`morphkit.bake.manifest.Manifest.open` reports it); False for anything else
+        (absent, not a regular file, unreadable, JSON of another format).
+    """
+    p = Path(path)
+    if not p.is_file():
+        return False
+    try:
+        with open_regular(p, p.name) as f:  # never waits on a FIFO
+            text = f.read().decode("utf-8", errors="replace")
+    except (OSError, FileFormatError):
+        return False
+    try:
+        d = json.loads(text, parse_constant=_no_json_constant)
+    except (ValueError, TypeError):
+        return BAKE_MANIFEST_FORMAT in text
+    return d.get("format") == BAKE_MANIFEST_FORMAT if isinstance(d, dict) else BAKE_MANIFEST_FORMAT in text
+
+
+
+
 def _bake_manifest(path: Path) -> bool:
     """A :attr:`OutputRule.recognise` test: a morphkit bake manifest (damaged ones too)."""
-    from .bake.manifest import is_bake_manifest  # lazy: the bake imports this module
-
     return is_bake_manifest(path)
 
 

@@ -52,6 +52,7 @@ from typing import Any
 from .. import __version__
 from ..errors import FileFormatError, expected_got
 from ..fileio import append_lines, open_regular, write_json
+from ..outfolder import BAKE_MANIFEST_FORMAT, is_bake_manifest
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
@@ -62,8 +63,9 @@ __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION
 MANIFEST_NAME = "manifest.json"
 #: File name of the append-only journal of finished assets (replayed by the next run).
 JOURNAL_NAME = "manifest.journal"
-#: The format name stored in the manifest.
-MANIFEST_FORMAT = "morphkit-bake-manifest"
+#: The format name stored in the manifest (the output folders' rule recognises a bake by it:
+#: :data:`morphkit.outfolder.BAKE_MANIFEST_FORMAT`).
+MANIFEST_FORMAT = BAKE_MANIFEST_FORMAT
 #: The manifest format version this code reads and writes (``up_axis`` is optional in it).
 MANIFEST_VERSION = 1
 #: The up axis of a record without one: before the bake had an up axis every file was loaded
@@ -93,37 +95,6 @@ def file_digest(path: str | os.PathLike[str]) -> tuple[str, int]:
             h.update(chunk)
             n += len(chunk)
     return h.hexdigest(), n
-
-
-def is_bake_manifest(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is a morphkit bake manifest (of any version, or damaged), not another
-    program's file of the same name (a web app's ``manifest.json``).
-
-    Parameters
-    ----------
-    path : path-like
-        A file named :data:`MANIFEST_NAME`.
-
-    Returns
-    -------
-    bool
-        True for a regular file whose JSON object names :data:`MANIFEST_FORMAT` as its
-        ``format``, or that is not JSON (or no object) but holds that name (a manifest cut
-        short: :meth:`Manifest.open` reports it); False for anything else (absent, not a regular
-        file, unreadable, JSON of another format).
-    """
-    p = Path(path)
-    if not p.is_file():
-        return False
-    try:
-        text = p.read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return False
-    try:
-        d = json.loads(text, parse_constant=_no_constant)
-    except (ValueError, TypeError):
-        return MANIFEST_FORMAT in text
-    return d.get("format") == MANIFEST_FORMAT if isinstance(d, dict) else MANIFEST_FORMAT in text
 
 
 def utc_now() -> str:
