@@ -204,7 +204,7 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
 
 
 def _bake_kinds(args: argparse.Namespace) -> tuple:
-    from .bake import BillboardKind, DomeKind, ShadowAtlasKind
+    from .bake import BillboardKind, DomeKind, ShadowAtlasKind, SunAtlasKind
     from .errors import ValidationError
 
     if args.views is not None and not args.billboard:
@@ -222,6 +222,11 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
         kinds += (BillboardKind(**({} if args.views is None else {"views": args.views})),)
     if args.dome:
         kinds += (DomeKind(),)
+    if args.sun_atlas_size is not None and not args.sun_atlas:
+        raise ValidationError(expected_got("--sun-atlas-size", "together with --sun-atlas",
+                                           "--sun-atlas-size alone"))
+    if args.sun_atlas:
+        kinds += (SunAtlasKind(**({} if args.sun_atlas_size is None else {"size": args.sun_atlas_size})),)
     return kinds
 
 
@@ -293,6 +298,7 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     import trimesh
 
     from . import tol
+    from .bake.reuse import baked_sun_atlases
     from .errors import ValidationError
     from .shadow.receivers import (
         SCENE_ATLAS_SIZE,
@@ -312,8 +318,12 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
         parts = [it.mesh for it in res.items[nm]]
         meshes[nm] = parts[0] if len(parts) == 1 else trimesh.util.concatenate(parts)
     size = SCENE_ATLAS_SIZE if args.sun_atlas_size is None else args.sun_atlas_size
-    print(f"morphkit billboards: baking sun atlases of {', '.join(names)} ({size} texels)", file=sys.stderr)
-    atlases = bake_scene_atlases(meshes, renderer, size=size)
+    atlases, said = baked_sun_atlases(args.asset or [], names, meshes, size)
+    bake = [nm for nm in names if nm not in atlases]
+    if bake:
+        said.append(f"baking those of {', '.join(bake)} ({size} texels)")
+    print("morphkit billboards: sun atlases: " + "; ".join(said), file=sys.stderr)
+    atlases = bake_scene_atlases(meshes, renderer, atlases, size=size)
     if args.soft == SOFT_FILTER:
         return (FilteredAtlasShadow(atlases, disc_deg=args.sun_radius),
                 RayCastShadow(meshes, samples=tol.SUN_DISC_TRUTH_SAMPLES, disc_deg=args.sun_radius))
@@ -559,6 +569,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="billboard reference views (with --billboard)")
     k.add_argument("--dome", action="store_true",
                    help="also bake a relightable billboard seen from any height per mesh (<name>.dome.npz)")
+    k.add_argument("--sun-atlas", action="store_true",
+                   help="also bake a sun atlas per mesh (<name>.sunatlas.npz): billboards --shadows with "
+                   "the bake's .dome.npz assets then reads it instead of baking it at the start of the run")
+    k.add_argument("--sun-atlas-size", type=int, default=None, metavar="N",
+                   help="texels a side of the sun atlas views (with --sun-atlas; default 128, as "
+                   "billboards')")
     # the table is morphkit.meshes.UP_AXIS_BY_FORMAT's (a test checks it)
     k.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto",
                    help="the mesh files' up axis, turned to morphkit's +z: auto is each format's default "
@@ -625,8 +641,8 @@ def build_parser() -> argparse.ArgumentParser:
     bb.add_argument("--shadows", action="store_true",
                     help="the instances cast shadows on the ground and on each other under the sun "
                     "(alone: with the default sun, --sun-path day, and dome views): a sun atlas per "
-                    "asset (21 sun directions at 128 texels) is baked from its mesh at the start of the "
-                    "run and kept for the run; the "
+                    "asset (21 sun directions at 128 texels) is read from the bake beside a .dome.npz "
+                    "asset (bake --sun-atlas) or baked from its mesh at the start of the run; the "
                     "comparison strips' real meshes get ray-cast shadows (the truth)")
     bb.add_argument("--soft", default=None, nargs="?", const=SOFT_FILTER, metavar="N|pcss",
                     help="a soft sun for --shadows (implied). --soft alone (or --soft pcss): one map "

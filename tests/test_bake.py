@@ -302,6 +302,39 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
 
 
 @pytest.mark.gl
+def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler, capfd):
+    """bake --dome --sun-atlas writes the asset's sun atlas beside its dome asset; billboards
+    --shadows given the dome asset reads it (said on stderr) and draws the frames a run that
+    bakes the atlas itself draws."""
+    import cv2
+
+    from morphkit.bake import DomeKind, SunAtlasKind
+    from morphkit.cli import main
+    from morphkit.shadow.sunatlasfile import read_sun_atlas
+
+    lib = make_library(tmp_path / "lib")
+    out = tmp_path / "out"
+    kinds = (TINY, DomeKind(size=32), SunAtlasKind(size=16))
+    m = bake_library([lib / "box.ply"], out, options=BakeOptions(kinds),
+                     scheduler=scheduler, progress=False)
+    rec = m.assets["box"].outputs["sun_atlas"]
+    assert rec.file == "box.sunatlas.npz" and rec.options["size"] == 16
+    assert read_sun_atlas(out / rec.file).size == 16
+    with pytest.raises(ValidationError, match=r"sun atlas size: expected an integer in \[16, 1024\]"):
+        SunAtlasKind(size=8)
+    argv = ["billboards", "--asset", str(out / "box.dome.npz"), "--shadows", "--sun-atlas-size", "16",
+            "--n", "3", "--frames", "1", "--size", "64x48"]
+    capfd.readouterr()
+    assert main([*argv, "-o", str(tmp_path / "read")]) == 0
+    assert "box's from the bake (box.sunatlas.npz, 16 texels)" in capfd.readouterr().err
+    (out / rec.file).unlink()
+    assert main([*argv, "-o", str(tmp_path / "baked")]) == 0
+    assert "baking those of box (16 texels)" in capfd.readouterr().err
+    read, baked = (cv2.imread(str(tmp_path / d / "frames" / "frame_0000.png")) for d in ("read", "baked"))
+    assert read is not None and np.array_equal(read, baked)
+
+
+@pytest.mark.gl
 def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, scheduler, renderer):
     from morphkit.bake import DomeKind
     from morphkit.billboard.asset import mesh_hash
@@ -496,6 +529,10 @@ def one_line_error(err: str) -> str:
     (["bake", "{lib}", "-o", "{tmp}/out", "--views", "4"], "--views: expected together with --billboard", 2),
     (["bake", "{lib}", "-o", "{tmp}/out", "--billboard", "--views", "1"],
      r"billboard views: expected an integer in \[2, 64\], got 1", 2),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--sun-atlas-size", "64"],
+     "--sun-atlas-size: expected together with --sun-atlas", 2),
+    (["bake", "{lib}", "-o", "{tmp}/out", "--sun-atlas", "--sun-atlas-size", "8"],
+     r"sun atlas size: expected an integer in \[16, 1024\], got 8", 2),
     (["shadows", "{tmp}/missing.atlas.npz", "-o", "{tmp}/frames"],
      "atlas file: expected an existing file", 1),
     (["shadows", "{tmp}/a.atlas.npz", "-o", "{tmp}/frames", "--samples", "2"],

@@ -23,7 +23,15 @@ from __future__ import annotations
 from ..fileio import check_writable
 from .cluster import CONNECT_TIMEOUT_S, default_workers, open_client
 from .inputs import MESH_SUFFIXES, AssetInput, find_inputs
-from .kinds import AssetKind, BillboardKind, DomeKind, SavableAsset, ShadowAtlasKind, output_name
+from .kinds import (
+    AssetKind,
+    BillboardKind,
+    DomeKind,
+    SavableAsset,
+    ShadowAtlasKind,
+    SunAtlasKind,
+    output_name,
+)
 from .manifest import MANIFEST_NAME, AssetRecord, Manifest, OutputRecord, file_digest
 from .pipeline import BakeOptions, bake_library
 from .worker import BakeTask, TaskResult, bake_task, worker_renderer
@@ -33,6 +41,7 @@ __all__ = [
     "BakeOptions",
     "check_writable",
     "AssetKind",
+    "SunAtlasKind",
     "SavableAsset",
     "ShadowAtlasKind",
     "BillboardKind",

@@ -19,7 +19,10 @@ Implemented here: :class:`ShadowAtlasKind` (Kang & Ihm's k x k shadow atlas,
 :func:`morphkit.shadow.bake_atlas`) and :class:`BillboardKind` (the view-morphing
 billboard asset, :func:`morphkit.billboard.bake_asset`, suffix ``.billboard.npz``) and
 :class:`DomeKind` (the relightable billboard seen from any height,
-:func:`morphkit.billboard.domeasset.bake_dome`, suffix ``.dome.npz``).
+:func:`morphkit.billboard.domeasset.bake_dome`, suffix ``.dome.npz``) and :class:`SunAtlasKind` (the
+asset's light views over the sun's direction, :func:`morphkit.shadow.sunatlas.bake_sun_atlas`, suffix
+``.sunatlas.npz``: what ``billboards --shadows`` draws the asset's shadows with, read from the bake
+instead of baked at the start of the run).
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 import trimesh
 
+from .. import tol
 from ..billboard import bake_asset
 from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
@@ -40,10 +44,14 @@ from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
+from ..shadow.receivers import SCENE_ATLAS_DOME, SCENE_ATLAS_SIZE
+from ..shadow.sunatlas import bake_sun_atlas
+from ..shadow.sunatlasfile import SUN_ATLAS_VERSION, SavableSunAtlas
 from ..validate import as_finite_array, as_int
 from ..views.dome import DEFAULT_RINGS
 
-__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "DomeKind", "output_name",
+__all__ = ["SavableAsset", "AssetKind", "ShadowAtlasKind", "BillboardKind", "DomeKind", "SunAtlasKind",
+           "output_name",
            "WARP_LIGHT", "WARP_RANGE"]
 
 #: The default range of motion of a shadow atlas (:class:`ShadowAtlasKind`; the
@@ -359,6 +367,60 @@ class DomeKind:
         """
         return bake_dome(mesh, renderer, size=self.size, distance_factor=self.distance_factor,
                          source_up=source_up)
+
+
+@dataclass(frozen=True)
+class SunAtlasKind:
+    """The sun atlas of a mesh (:func:`~morphkit.shadow.sunatlas.bake_sun_atlas` over the scenes'
+    sun directions, :data:`~morphkit.shadow.receivers.SCENE_ATLAS_DOME`): the light views a
+    billboard field's shadows are drawn from.
+
+    Parameters
+    ----------
+    size : int
+        Texels a side of each light view (:data:`~morphkit.tol.MIN_SUN_ATLAS_SIZE` to
+        :data:`~morphkit.tol.MAX_SUN_ATLAS_SIZE`).
+    """
+
+    size: int = SCENE_ATLAS_SIZE
+
+    name: ClassVar[str] = "sun_atlas"
+    suffix: ClassVar[str] = ".sunatlas.npz"
+    version: ClassVar[int] = SUN_ATLAS_VERSION
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "size", as_int(self.size, "sun atlas size", lo=tol.MIN_SUN_ATLAS_SIZE,
+                                                hi=tol.MAX_SUN_ATLAS_SIZE))
+
+    def options(self) -> dict[str, Any]:
+        """The options that decide the output (recorded in the manifest; a change re-bakes).
+
+        Returns
+        -------
+        dict
+            ``size`` and the sun directions' rings.
+        """
+        return {"size": self.size, "rings": [[float(e), int(k)] for e, k in SCENE_ATLAS_DOME.rings],
+                "top": bool(SCENE_ATLAS_DOME.top)}
+
+    def bake(self, mesh: trimesh.Trimesh, renderer: SceneRenderer, source_up: str = "z") -> SavableAsset:
+        """The sun atlas of ``mesh``.
+
+        Parameters
+        ----------
+        mesh : trimesh.Trimesh
+            The normalised mesh, object frame, ``+z`` up.
+        renderer : SceneRenderer
+            Renders the light views' depth.
+        source_up : {"z", "y"}, optional
+            Not recorded (the atlas holds the shape's hash).
+
+        Returns
+        -------
+        SavableAsset
+            The atlas, with its ``save``.
+        """
+        return SavableSunAtlas(bake_sun_atlas(mesh, renderer, dome=SCENE_ATLAS_DOME, size=self.size))
 
 
 def output_name(asset: str, kind: AssetKind) -> str:

@@ -56,8 +56,8 @@ from ..outfolder import BAKE_MANIFEST_FORMAT, is_bake_manifest
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
-           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "ManifestRecords",
-           "file_digest", "utc_now", "is_bake_manifest"]
+           "OutputRecord", "AssetRecord", "Manifest", "BakedFrom", "baked_from", "baked_beside",
+           "ManifestRecords", "file_digest", "utc_now", "is_bake_manifest"]
 
 #: File name of the manifest in the output folder.
 MANIFEST_NAME = "manifest.json"
@@ -533,6 +533,39 @@ def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
             if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
                 return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256,
                                  rec.up_axis or LEGACY_UP_AXIS)
+    return None
+
+
+def baked_beside(output: str | os.PathLike[str], kind: str) -> Path | None:
+    """The file the bake that wrote ``output`` made of the same asset for another ``kind``
+    (a dome asset's sun atlas), when its manifest lists one that exists; else None.
+
+    Parameters
+    ----------
+    output : path-like
+        A baked file.
+    kind : str
+        The other kind's name (``AssetKind.name``, e.g. ``"sun_atlas"``).
+
+    Returns
+    -------
+    pathlib.Path or None
+        The other output file.
+
+    Raises
+    ------
+    FileFormatError
+        A morphkit manifest on the way up is damaged or of another version.
+    """
+    target = Path(output).resolve()
+    for folder in [target.parent, *target.parent.parents]:
+        if not is_bake_manifest(folder / MANIFEST_NAME):
+            continue
+        for rec in Manifest.open(folder).assets.values():
+            if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
+                other = rec.outputs.get(kind)
+                path = None if other is None else folder / other.file
+                return path if path is not None and path.is_file() else None
     return None
 
 

@@ -1,0 +1,164 @@
+"""The sun atlas file: one versioned ``.npz`` holding a :class:`~.sunatlas.SunAtlas`.
+
+Format ``"morphkit-sun-atlas"``, version :data:`SUN_ATLAS_VERSION`. Written atomically
+(:func:`morphkit.fileio.write_bytes`), read with ``allow_pickle=False``:
+
+============  =====================  =====================================================
+array         dtype, shape           content
+============  =====================  =====================================================
+``meta``      uint8 ``(n,)``         UTF-8 JSON, below
+``depth``     float16 ``(V, n, n)``  each light view's depth minus the camera distance
+                                     (``+inf`` where nothing is drawn)
+``coverage``  uint8 ``(V, n, n)``    255 where the mesh is drawn
+============  =====================  =====================================================
+
+``meta``: ``format``, ``version``, ``mesh_hash``, ``rings`` (list of ``[elevation_deg,
+views]``), ``top``, ``pivot``, ``distance``, ``radius``, ``size`` and ``sha256`` (per array).
+:func:`read_sun_atlas` raises :class:`~morphkit.errors.FileFormatError` for a missing,
+truncated or corrupt file, another format or version, missing keys or arrays, arrays that do not
+fit the dome and the cameras, or a checksum that does not match.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FileFormatError, ValidationError, expected_got
+from ..fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
+from ..views.dome import ViewDome
+from ..views.domecameras import DomeCameras
+from .sunatlas import SunAtlas
+
+__all__ = ["SUN_ATLAS_FORMAT", "SUN_ATLAS_VERSION", "write_sun_atlas", "read_sun_atlas", "SavableSunAtlas"]
+
+#: The ``format`` entry of a sun atlas file's metadata.
+SUN_ATLAS_FORMAT = "morphkit-sun-atlas"
+#: Version of the sun atlas file.
+SUN_ATLAS_VERSION = 1
+
+_ARRAYS = ("depth", "coverage")
+
+
+def write_sun_atlas(path: str | os.PathLike[str], atlas: SunAtlas) -> Path:
+    """Write ``atlas`` to ``path`` atomically (the folder must exist).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Output ``.npz`` file.
+    atlas : SunAtlas
+        What to write.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    arrays = {k: np.ascontiguousarray(getattr(atlas, k)) for k in _ARRAYS}
+    cams = atlas.cameras
+    meta = {"format": SUN_ATLAS_FORMAT, "version": SUN_ATLAS_VERSION, "mesh_hash": atlas.mesh_hash,
+            "rings": [[float(e), int(k)] for e, k in atlas.dome.rings], "top": bool(atlas.dome.top),
+            "pivot": [float(x) for x in cams.pivot], "distance": float(cams.distance),
+            "radius": float(cams.radius), "size": int(cams.shape[0]),
+            "sha256": {k: array_digest(a) for k, a in arrays.items()}}
+    buf = io.BytesIO()
+    np.savez(buf, meta=np.frombuffer(json.dumps(meta, allow_nan=False).encode(), np.uint8), **arrays)
+    return write_bytes(path, buf.getvalue())
+
+
+def _bad(what: str, expected: Any, got: Any) -> FileFormatError:
+    return FileFormatError(expected_got(f"sun atlas file: {what}", expected, got))
+
+
+def read_sun_atlas(path: str | os.PathLike[str]) -> SunAtlas:
+    """Read and check a sun atlas file written by :func:`write_sun_atlas`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A sun atlas file.
+
+    Returns
+    -------
+    SunAtlas
+        The atlas, as it was written.
+
+    Raises
+    ------
+    FileFormatError
+        See the module docstring.
+    """
+    p = Path(path)
+    try:
+        with open_regular(p, "sun atlas file") as f:
+            data = f.read()
+        with np.load(io.BytesIO(data), allow_pickle=False) as z:
+            names = set(z.files)
+            if "meta" not in names:
+                raise _bad("arrays", "a 'meta' array", sorted(names))
+            meta = json.loads(bytes(z["meta"]).decode("utf-8"))
+            if not isinstance(meta, dict) or meta.get("format") != SUN_ATLAS_FORMAT:
+                got = meta.get("format") if isinstance(meta, dict) else type(meta).__name__
+                raise _bad("format", SUN_ATLAS_FORMAT, repr(got))
+            if meta.get("version") != SUN_ATLAS_VERSION:
+                raise _bad("version", SUN_ATLAS_VERSION, repr(meta.get("version")) + " (re-bake it)")
+            missing = [k for k in _ARRAYS if k not in names]
+            if missing:
+                raise _bad("arrays", f"all of {list(_ARRAYS)}", f"{missing} missing")
+            arrays = {k: z[k] for k in _ARRAYS}
+    except FileFormatError:
+        raise
+    except (*ARCHIVE_ERRORS, AttributeError) as exc:
+        raise _bad(p.name, f"a complete {SUN_ATLAS_FORMAT} .npz file",
+                   f"an unreadable file ({type(exc).__name__}: {str(exc)[:120]})") from exc
+    sums = meta.get("sha256")
+    for k, a in arrays.items():
+        if not isinstance(sums, dict) or sums.get(k) != array_digest(a):
+            raise _bad(f"array {k!r}", "the checksum recorded in meta", "different bytes (corrupt file)")
+    try:
+        dome = ViewDome(tuple((float(e), int(k)) for e, k in meta["rings"]), bool(meta["top"]))
+        cams = DomeCameras(np.asarray(meta["pivot"], np.float64), float(meta["distance"]),
+                           float(meta["radius"]), int(meta["size"]))
+        mesh = meta["mesh_hash"]
+        if not isinstance(mesh, str):
+            raise ValidationError(expected_got("mesh_hash", "a string", repr(mesh)))
+        return SunAtlas(dome, cams, arrays["depth"], arrays["coverage"], mesh)
+    except (KeyError, TypeError, ValueError, ValidationError) as exc:
+        raise _bad("meta", "a dome, cameras and arrays that fit them",
+                   f"{type(exc).__name__}: {exc}") from exc
+
+
+@dataclass(frozen=True, eq=False)
+class SavableSunAtlas:
+    """A sun atlas that writes itself to its file (what a bake kind returns:
+    :class:`morphkit.bake.kinds.SavableAsset`).
+
+    Parameters
+    ----------
+    atlas : SunAtlas
+        The atlas.
+    """
+
+    atlas: SunAtlas
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the atlas to ``path`` atomically (:func:`write_sun_atlas`).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            Output ``.npz`` file; its folder exists.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path``.
+        """
+        return write_sun_atlas(path, self.atlas)
