@@ -525,14 +525,22 @@ def baked_from(output: str | os.PathLike[str]) -> BakedFrom | None:
     FileFormatError
         A morphkit manifest on the way up is damaged or of another version (:meth:`Manifest.open`).
     """
+    found = _listing(output)
+    if found is None:
+        return None
+    folder, rec = found
+    return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256, rec.up_axis or LEGACY_UP_AXIS)
+
+
+def _listing(output: str | os.PathLike[str]) -> tuple[Path, AssetRecord] | None:
+    """The folder of the nearest bake manifest that lists ``output``, and its asset's record."""
     target = Path(output).resolve()
     for folder in [target.parent, *target.parent.parents]:
         if not is_bake_manifest(folder / MANIFEST_NAME):
             continue
         for rec in Manifest.open(folder).assets.values():
             if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
-                return BakedFrom(folder / MANIFEST_NAME, Path(rec.input), rec.input_sha256,
-                                 rec.up_axis or LEGACY_UP_AXIS)
+                return folder, rec
     return None
 
 
@@ -557,16 +565,12 @@ def baked_beside(output: str | os.PathLike[str], kind: str) -> Path | None:
     FileFormatError
         A morphkit manifest on the way up is damaged or of another version.
     """
-    target = Path(output).resolve()
-    for folder in [target.parent, *target.parent.parents]:
-        if not is_bake_manifest(folder / MANIFEST_NAME):
-            continue
-        for rec in Manifest.open(folder).assets.values():
-            if any((folder / o.file).resolve() == target for o in rec.outputs.values()):
-                other = rec.outputs.get(kind)
-                path = None if other is None else folder / other.file
-                return path if path is not None and path.is_file() else None
-    return None
+    found = _listing(output)
+    other = None if found is None else found[1].outputs.get(kind)
+    if found is None or other is None:
+        return None
+    path = found[0] / other.file
+    return path if path.is_file() else None
 
 
 class ManifestRecords:
