@@ -378,8 +378,8 @@ class SunAtlasKind:
     Parameters
     ----------
     size : int
-        Texels a side of each light view (:data:`~morphkit.tol.MIN_SUN_ATLAS_SIZE` to
-        :data:`~morphkit.tol.MAX_SUN_ATLAS_SIZE`).
+        Texels a side of each light view, in ``tol.MIN_SUN_ATLAS_SIZE, tol.MAX_SUN_ATLAS_SIZE``
+        (:mod:`morphkit.tol`).
     """
 
     size: int = SCENE_ATLAS_SIZE
