@@ -606,8 +606,8 @@ LIGHT_DEPTH_PAD = 1e-3
 #: :class:`~morphkit.shadow.rig.RangeClampWarning`.
 POSITION_EQUAL = 1e-12
 
-#: Slack, relative to the far plane, by which a dome asset file's drawn depths may lie outside its
-#: views' near and far planes (:func:`morphkit.billboard.domefile.read_dome`): they are stored in
+#: Slack, relative to the far plane, by which a dome asset or sun atlas file's drawn depths may lie
+#: outside its views' near and far planes (``read_dome``, ``read_sun_atlas``): they are stored in
 #: float16 relative to the camera distance, which rounds them to 2**-11 of their size (at most the
 #: far plane); 2**-10 is twice that, and far below a depth that draws something else.
 DOME_DEPTH_SLACK_REL = 2.0**-10

@@ -44,6 +44,8 @@ from morphkit.scene import PointLight
 from morphkit.shadow import BakedAtlas, LightRig, MotionRange, ShadowAtlas
 from morphkit.shadow.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
+from morphkit.shadow.sunatlas import SunAtlas
+from morphkit.shadow.sunatlasfile import read_sun_atlas, write_sun_atlas
 from morphkit.viewmorph import Correspondences
 from morphkit.viewmorph.correspondences import load_points, save_points
 
@@ -213,6 +215,53 @@ def test_dome_bad_metadata_and_values(dome_bytes, tmp_path, data):
     if ok:
         _check_dome(asset)
     outcome(read_dome, path)
+
+
+# =================================================================== sun atlas
+@pytest.fixture(scope="module")
+def sun_atlas_bytes(tmp_path_factory) -> bytes:
+    from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
+    from morphkit.views.dome import ViewDome
+    from morphkit.views.domecameras import DomeCameras
+
+    dome = ViewDome(((10.0, 4), (50.0, 4)), top=True)
+    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (8, 8))
+    depths = [sphere_view(cams.ortho_camera(a, e, (8, 8)))[2]
+              for a, e in zip(dome.azimuths_deg(), dome.elevations_deg(), strict=True)]
+    atlas = SunAtlas.from_depths(dome, cams, np.stack(depths), "1" * 64)
+    return write_sun_atlas(tmp_path_factory.mktemp("sunatlas") / "s.sunatlas.npz", atlas).read_bytes()
+
+
+def _check_sun_atlas(atlas: SunAtlas) -> None:
+    assert not np.isnan(atlas.depth).any() and not (atlas.depth == -np.inf).any()
+    # a loaded atlas serves a light view between its directions: depths finite or +inf
+    ok, view = outcome(atlas.light_view, np.array([0.3, 0.2, 0.7]))
+    if ok and view is not None:
+        assert not np.isnan(view[1]).any()
+
+
+@given(data=st.data())
+def test_sun_atlas_damaged_bytes(sun_atlas_bytes, tmp_path, data):
+    path = _write(tmp_path, "s.npz", data.draw(damaged(sun_atlas_bytes)))
+    ok, atlas = outcome(read_sun_atlas, path)
+    if ok:
+        _check_sun_atlas(atlas)
+
+
+@given(data=st.data())
+def test_sun_atlas_bad_metadata_and_values(sun_atlas_bytes, tmp_path, data):
+    arrays = read_npz(sun_atlas_bytes)
+    meta = json.loads(bytes(arrays["meta"]).decode())
+    if data.draw(st.booleans(), label="mutate metadata"):
+        meta = data.draw(mutated_json(meta, keep=("sha256", "format", "version")))
+    if data.draw(st.booleans(), label="mutate an array"):
+        k = data.draw(st.sampled_from(["depth", "coverage"]))
+        arrays[k] = data.draw(mutated_array(arrays[k]))
+    arrays["meta"] = meta_array(_rehash_asset(meta, arrays))
+    path = _write(tmp_path, "s.npz", npz_bytes(arrays))
+    ok, atlas = outcome(read_sun_atlas, path)
+    if ok:
+        _check_sun_atlas(atlas)
 
 
 # =================================================================== bake manifest and journal

@@ -72,3 +72,65 @@ def test_damaged_or_foreign_files_are_refused(tmp_path):
         read_sun_atlas(tmp_path / "none.npz")
     with pytest.raises(FileFormatError, match="a regular file"):
         read_sun_atlas(tmp_path)
+
+
+def _parts(path):
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    return json.loads(bytes(arrays.pop("meta")).decode()), arrays
+
+
+def _rehashed(path, meta, arrays):
+    """``path`` rewritten with ``meta`` and ``arrays``, the checksums recomputed: a writer's bug, not
+    a damaged disk (the checks past the checksums)."""
+    from morphkit.fileio import array_digest
+
+    meta["sha256"] = {k: array_digest(a) for k, a in arrays.items()}
+    buf = io.BytesIO()
+    np.savez(buf, meta=np.frombuffer(json.dumps(meta).encode(), np.uint8), **arrays)
+    path.write_bytes(buf.getvalue())
+    return path
+
+
+def _set(key, value):
+    def change(meta, arrays):
+        meta[key] = value
+    return change
+
+
+def _drop(key):
+    def change(meta, arrays):
+        del meta[key]
+    return change
+
+
+def _behind_the_camera(meta, arrays):
+    arrays["depth"] = np.where(np.isfinite(arrays["depth"]), np.float16(-13.0), arrays["depth"])
+
+
+def _fewer_views(meta, arrays):
+    meta["rings"] = meta["rings"][:2]
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    (_set("top", "false"), r"top: expected true or false, got 'false'"),
+    (_set("size", 16.5), "size: expected an integer, got 16.5"),
+    (_set("rings", [[10.0, 8.9], [40.0, 8], [70.0, 4]]), r"rings: expected 1 to 16 \[elevation_deg, views\]"),
+    (_set("version", True), r"version: expected 1, got True \(re-bake it\)"),
+    (_set("mesh_hash", "abc"), "mesh_hash: expected 64 hex digits, got 'abc'"),
+    (_set("pivot", [0.0, 0.0]), "pivot: expected 3 finite numbers"),
+    (_drop("radius"), "meta: expected a 'radius' entry"),
+    (_set("radius", 20.0), "meta: expected a dome, cameras and arrays that fit them, got ValidationError: "
+     "radius: expected < the camera distance"),
+    (_fewer_views, r"meta: expected a dome, cameras and arrays that fit them, got ValidationError: depth, "
+     r"coverage: expected float16 and uint8 arrays of \(17, 16, 16\)"),
+    (_behind_the_camera, r"depth: expected drawn depths within the light views' near and far planes "
+     r"\(offsets within \+-1.05 of the distance 12\), or \+inf, got offsets -13 to -13"),
+])
+def test_metadata_of_another_type_or_values_that_cannot_be_are_refused_naming_the_file(tmp_path, change,
+                                                                                      message):
+    path = write_sun_atlas(tmp_path / "a.sunatlas.npz", _atlas())
+    meta, arrays = _parts(path)
+    change(meta, arrays)
+    with pytest.raises(FileFormatError, match=r"^sun atlas file '.*a\.sunatlas\.npz': " + message):
+        read_sun_atlas(_rehashed(path, meta, arrays))
