@@ -293,8 +293,10 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
 
 
 def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
-    """``--shadows``: each asset's sun atlas baked from its mesh (once, for this run) and the frames'
-    shadow from them; the comparisons' real meshes get the ray cast over the same sun directions."""
+    """``--shadows``: each asset's sun atlas, read from its bake when that holds one that serves
+    (:func:`morphkit.bake.reuse.baked_sun_atlases`) or else baked from its mesh (once, for this run),
+    and the frames' shadow from them; the comparisons' real meshes get the ray cast over the same sun
+    directions."""
     import trimesh
 
     from . import tol

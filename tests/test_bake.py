@@ -327,6 +327,12 @@ def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler
     capfd.readouterr()
     assert main([*argv, "-o", str(tmp_path / "read")]) == 0
     assert "box's from the bake (box.sunatlas.npz, 16 texels)" in capfd.readouterr().err
+    good = (out / rec.file).read_bytes()
+    (out / rec.file).write_bytes(good[: len(good) // 2])  # a damaged atlas: refused, not baked over
+    assert main([*argv, "-o", str(tmp_path / "damaged")]) == 1
+    line = one_line_error(capfd.readouterr().err)
+    assert line.startswith("morphkit: error: the bake's sun atlas of asset 'box': sun atlas file ")
+    assert "box.sunatlas.npz" in line and line.endswith("or remove the file to bake one at the run)")
     (out / rec.file).unlink()
     assert main([*argv, "-o", str(tmp_path / "baked")]) == 0
     assert "baking those of box (16 texels)" in capfd.readouterr().err

@@ -3,7 +3,11 @@
 ``morphkit bake --dome --sun-atlas`` writes an asset's relightable billboard and its sun atlas side by
 side, both listed in the manifest under the asset (:func:`~.manifest.baked_beside`); ``morphkit
 billboards --shadows`` given the ``.dome.npz`` files reads the atlases instead of baking them
-(:func:`baked_sun_atlases`), when they are of the size asked and of the assets' own meshes.
+(:func:`baked_sun_atlases`), when they are of the size and sun directions asked and of the assets'
+own meshes; the others are baked at the run, as without a bake, and the run's line says why. An atlas
+file that is there but cannot be read (damaged, of another version) is refused: one
+:class:`~morphkit.errors.FileFormatError` naming the asset and the file and what to do, never baked
+over in silence.
 """
 
 from __future__ import annotations
@@ -13,7 +17,7 @@ from pathlib import Path
 
 import trimesh
 
-from ..errors import ValidationError
+from ..errors import FileFormatError, ValidationError
 from ..shadow.receivers import SCENE_ATLAS_DOME
 from ..shadow.sunatlas import SunAtlas
 from ..shadow.sunatlasfile import read_sun_atlas
@@ -48,7 +52,7 @@ def baked_sun_atlases(specs: Sequence[str], names: Sequence[str], meshes: Mappin
     Raises
     ------
     FileFormatError
-        A damaged atlas file or manifest.
+        A damaged atlas file (naming the asset and the file, and what to do) or manifest.
     """
     found: dict[str, SunAtlas] = {}
     said: list[str] = []
@@ -60,10 +64,17 @@ def baked_sun_atlases(specs: Sequence[str], names: Sequence[str], meshes: Mappin
         path = baked_beside(spec, SunAtlasKind.name)
         if path is None:
             continue
-        atlas = read_sun_atlas(path)
-        same_dome = (atlas.dome.rings, atlas.dome.top) == (SCENE_ATLAS_DOME.rings, SCENE_ATLAS_DOME.top)
-        if atlas.size != size or not same_dome:
+        try:
+            atlas = read_sun_atlas(path)
+        except FileFormatError as exc:
+            raise FileFormatError(f"the bake's sun atlas of asset {nm!r}: {exc} (bake it again with morphkit "
+                                  "bake --sun-atlas, or remove the file to bake one at the run)") from None
+        if atlas.size != size:
             said.append(f"{path.name}: {atlas.size} texels, not {size}: baked again")
+            continue
+        if (atlas.dome.rings, atlas.dome.top) != (SCENE_ATLAS_DOME.rings, SCENE_ATLAS_DOME.top):
+            said.append(f"{path.name}: {atlas.dome.views} sun directions, not the scene's "
+                        f"{SCENE_ATLAS_DOME.views}: baked again")
             continue
         try:
             atlas.check_mesh(meshes[nm])
