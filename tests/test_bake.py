@@ -302,15 +302,20 @@ def test_billboard_kind_bakes_an_asset_beside_the_atlas(tmp_path, scheduler):
 
 
 @pytest.mark.gl
-def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler, capfd):
+def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler, capfd, renderer):
     """bake --dome --sun-atlas writes the asset's sun atlas beside its dome asset; billboards
     --shadows given the dome asset reads it (said on stderr) and draws the frames a run that
-    bakes the atlas itself draws."""
+    bakes the atlas itself draws (the bake is deterministic: the worker's atlas is the one baked
+    here, bit for bit), and those frames are drawn from the atlas read (one without a caster,
+    of the same mesh, draws other frames)."""
     import cv2
 
     from morphkit.bake import DomeKind, SunAtlasKind
     from morphkit.cli import main
-    from morphkit.shadow.sunatlasfile import read_sun_atlas
+    from morphkit.meshes import load_mesh, normalize
+    from morphkit.shadow.receivers import SCENE_ATLAS_DOME
+    from morphkit.shadow.sunatlas import SunAtlas, bake_sun_atlas
+    from morphkit.shadow.sunatlasfile import read_sun_atlas, write_sun_atlas
 
     lib = make_library(tmp_path / "lib")
     out = tmp_path / "out"
@@ -319,7 +324,10 @@ def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler
                      scheduler=scheduler, progress=False)
     rec = m.assets["box"].outputs["sun_atlas"]
     assert rec.file == "box.sunatlas.npz" and rec.options["size"] == 16
-    assert read_sun_atlas(out / rec.file).size == 16
+    baked_there = read_sun_atlas(out / rec.file)
+    here = bake_sun_atlas(normalize(load_mesh(lib / "box.ply")), renderer, dome=SCENE_ATLAS_DOME, size=16)
+    assert baked_there.size == 16 and baked_there.mesh_hash == here.mesh_hash
+    assert baked_there.depth.tobytes() == here.depth.tobytes() and np.isfinite(here.depth).any()
     with pytest.raises(ValidationError, match=r"sun atlas size: expected an integer in \[16, 1024\]"):
         SunAtlasKind(size=8)
     argv = ["billboards", "--asset", str(out / "box.dome.npz"), "--shadows", "--sun-atlas-size", "16",
@@ -328,6 +336,11 @@ def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler
     assert main([*argv, "-o", str(tmp_path / "read")]) == 0
     assert "box's from the bake (box.sunatlas.npz, 16 texels)" in capfd.readouterr().err
     good = (out / rec.file).read_bytes()
+    empty = SunAtlas(here.dome, here.cameras, np.full_like(here.depth, np.inf), np.zeros_like(here.coverage),
+                     here.mesh_hash)  # the box's, casting nothing
+    write_sun_atlas(out / rec.file, empty)
+    assert main([*argv, "-o", str(tmp_path / "empty")]) == 0
+    assert "box's from the bake (box.sunatlas.npz, 16 texels)" in capfd.readouterr().err
     (out / rec.file).write_bytes(good[: len(good) // 2])  # a damaged atlas: refused, not baked over
     assert main([*argv, "-o", str(tmp_path / "damaged")]) == 1
     line = one_line_error(capfd.readouterr().err)
@@ -336,8 +349,11 @@ def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler
     (out / rec.file).unlink()
     assert main([*argv, "-o", str(tmp_path / "baked")]) == 0
     assert "baking those of box (16 texels)" in capfd.readouterr().err
-    read, baked = (cv2.imread(str(tmp_path / d / "frames" / "frame_0000.png")) for d in ("read", "baked"))
+    read, baked, unshadowed = (cv2.imread(str(tmp_path / d / "frames" / "frame_0000.png"))
+                               for d in ("read", "baked", "empty"))
     assert read is not None and np.array_equal(read, baked)
+    lit = unshadowed.astype(int) - read  # the read atlas's shadow, gone without a caster: only lighter
+    assert lit.min() >= 0 and np.count_nonzero(lit > 5) > 100
 
 
 @pytest.mark.gl
