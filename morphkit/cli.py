@@ -302,7 +302,7 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     from . import tol
     from .bake.reuse import baked_sun_atlases
     from .errors import ValidationError
-    from .shadow.receivers import (
+    from .sunlit.receivers import (
         SCENE_ATLAS_SIZE,
         AtlasShadow,
         FilteredAtlasShadow,
@@ -393,12 +393,12 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.facing import AxialFacing, ViewpointFacing
-    from .billboard.litmesh import LitMeshMode
-    from .billboard.litmodes import ClassicSurface, LitMode, MorphSurface
     from .billboard.sequence import write_sequence
-    from .billboard.sun import SunPath
     from .render import Renderer
     from .shading import Lighting
+    from .sunlit.litmesh import LitMeshMode
+    from .sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
+    from .sunlit.sun import SunPath
     from .views.dome import ViewDome
 
     with claim.writing() as out, Renderer() as r:

@@ -108,7 +108,7 @@ def _asset_names(specs: Sequence[str]) -> None:
 
 
 #: ``billboards --soft`` (alone, or ``--soft pcss``): the sun's disc filtered from one map
-#: (:class:`morphkit.shadow.receivers.FilteredAtlasShadow`) instead of N maps averaged.
+#: (:class:`morphkit.sunlit.receivers.FilteredAtlasShadow`) instead of N maps averaged.
 SOFT_FILTER = "pcss"
 
 

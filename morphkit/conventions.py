@@ -152,5 +152,5 @@ def cv_pose_from_gl(cam_gl2world: np.ndarray) -> np.ndarray:
     return np.asarray(cam_gl2world, dtype=np.float64) @ CV_FROM_GL
 
 #: The real sun's angular radius seen from the Earth, degrees (its disc is about 0.53 deg
-#: across): the default disc of a soft sun (:func:`morphkit.shadow.receivers.sun_disc`).
+#: across): the default disc of a soft sun (:func:`morphkit.sunlit.receivers.sun_disc`).
 SUN_DISC_RADIUS_DEG = 0.267

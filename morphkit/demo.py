@@ -373,9 +373,9 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
     from .billboard.bakelook import BAKE_AMBIENT
     from .billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
     from .billboard.impostor import bake_impostor, impostor_frame_size
-    from .billboard.sun import sun
     from .metrics import psnr, shadow_iou
     from .shading import Lighting, shade, shade_passes
+    from .sunlit.sun import sun
 
     mesh = sample_mesh("tree")
     size = 64 if quick else 128
@@ -412,21 +412,21 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
 
 def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
     """A field of trees and cows under one sun (issue #26): relit billboards shadowed by their
-    assets' sun atlases (:class:`~morphkit.shadow.receivers.AtlasShadow`) | the real meshes
+    assets' sun atlases (:class:`~morphkit.sunlit.receivers.AtlasShadow`) | the real meshes
     shadowed by the ray cast (the truth); shadow IoU of the darkened pixels on the ground and on
-    the objects (:func:`~morphkit.billboard.shadowing.darkened`)."""
+    the objects (:func:`~morphkit.sunlit.shadowing.darkened`)."""
     from .billboard import Backdrop, BillboardScene, place_random
     from .billboard.bakelook import BAKE_AMBIENT
     from .billboard.facing import ViewpointFacing
-    from .billboard.litmesh import LitMeshMode
-    from .billboard.litmodes import LitMode
-    from .billboard.shadowing import darkened
-    from .billboard.sun import sun
     from .camera import look_at, perspective
     from .fixtures import FIELD_MESHES, field_domes
     from .metrics import shadow_iou
     from .shading import Lighting
-    from .shadow.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+    from .sunlit.litmesh import LitMeshMode
+    from .sunlit.litmodes import LitMode
+    from .sunlit.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+    from .sunlit.shadowing import darkened
+    from .sunlit.sun import sun
 
     t0 = time.perf_counter()
     names = FIELD_MESHES

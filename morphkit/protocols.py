@@ -175,7 +175,7 @@ class PassRenderer(SceneRenderer, Protocol):
 @runtime_checkable
 class GBufferRenderer(PassRenderer, Protocol):
     """A :class:`~morphkit.protocols.PassRenderer` that draws the deferred passes a shader needs in
-    one draw (:class:`morphkit.render.Renderer` does; :class:`morphkit.billboard.litmesh.LitMeshMode`
+    one draw (:class:`morphkit.render.Renderer` does; :class:`morphkit.sunlit.litmesh.LitMeshMode`
     uses it).
 
     Parameters

@@ -2,7 +2,7 @@
 
 Relit billboards (:class:`~morphkit.views.gbuffer.ViewSurface`, :func:`shade`) and
 their ground truth, the real meshes' deferred passes (:func:`shade_passes`,
-:class:`~morphkit.billboard.litmesh.LitMeshMode`), are shaded by this one model, so a
+:class:`~morphkit.sunlit.litmesh.LitMeshMode`), are shaded by this one model, so a
 difference between them is a difference of geometry, albedo or normals, never of lighting.
 
 Model

@@ -122,7 +122,7 @@ ALPHA_FLOOR = 1e-6
 #: sums lit and shadowed terms leaves round-off of about 1e-16 in the umbra, which a strict
 #: ``0 < v < 1`` counted as penumbra (the measure then moved with the summation order, not
 #: with the image: 0.0063 vs 0.0100 on the teapot for the same visibility to 2e-13). The sun
-#: disc's filtered lookup (:mod:`morphkit.shadow.sundisc`) returns such values as 0 or 1.
+#: disc's filtered lookup (:mod:`morphkit.sunlit.sundisc`) returns such values as 0 or 1.
 PENUMBRA_EPS = 1e-6
 
 #: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees):
@@ -587,7 +587,7 @@ DRAWN_NORMALS_ABS = 1e-5
 #: Coverage is identical; depth agrees within :data:`DEPTH_SAME_SURFACE_REL`.
 GBUFFER_ALBEDO_LEVELS = 1
 
-#: ... and a :class:`~morphkit.billboard.litmesh.LitMeshMode` frame shaded from either equals
+#: ... and a :class:`~morphkit.sunlit.litmesh.LitMeshMode` frame shaded from either equals
 #: the other within this mean absolute difference of ``rgb`` (all pixels and channels), in
 #: levels of 255 (the issue's bound, as :data:`FRAME_ONCE_MEAN_LEVELS`).
 GBUFFER_FRAME_MEAN_LEVELS = 1.0
@@ -612,9 +612,9 @@ POSITION_EQUAL = 1e-12
 #: far plane); 2**-10 is twice that, and far below a depth that draws something else.
 DOME_DEPTH_SLACK_REL = 2.0**-10
 
-# --- sun atlases (morphkit.shadow.sunatlas) ----------------------------------
+# --- sun atlases (morphkit.sunlit.sunatlas) ----------------------------------
 #: The grazing cut-off (degrees above the horizon) of a sun atlas's light views
-#: (:mod:`morphkit.shadow.sunatlas`): a sun between the horizon and this elevation is
+#: (:mod:`morphkit.sunlit.sunatlas`): a sun between the horizon and this elevation is
 #: served as if it stood at this elevation (clamped, not refused, so shadows do not
 #: pop out while the sun sets). Below 5 degrees a shadow is over 11 object heights
 #: long (``1 / tan 5``) and the ground it falls on gets ``sin 5 = 0.087`` of the
@@ -624,7 +624,7 @@ DOME_DEPTH_SLACK_REL = 2.0**-10
 SUN_MIN_ELEVATION_DEG = 5.0
 
 #: Depth bias (light-view texels, constant, no slope term) of a ground point looked
-#: up in a sun atlas's light view (:func:`morphkit.shadow.sunatlas.ground_visibility`).
+#: up in a sun atlas's light view (:func:`morphkit.sunlit.sunatlas.ground_visibility`).
 #: The ground is not drawn into the map, so it cannot shadow itself (no acne, no
 #: slope term needed); what the bias absorbs is the morphed depth's own error, a
 #: crossing refined by a secant and two bisections of a march step of about two
@@ -634,13 +634,13 @@ SUN_MIN_ELEVATION_DEG = 5.0
 SUN_GROUND_BIAS_TEXELS = 1.0
 
 #: The least absolute cosine between a splatted point's normal and its atlas view's direction in
-#: its footprint's foreshortening (:mod:`morphkit.shadow.fieldsplat`): texels the view sees
+#: its footprint's foreshortening (:mod:`morphkit.sunlit.fieldsplat`): texels the view sees
 #: at a grazing angle (an estimated normal within 6 degrees of the image plane) are not
 #: taken to stand for more surface than that.
 SPLAT_MIN_COS = 0.1
 
 #: The largest side, in field light-view texels, of the atlas point level an instance is
-#: splatted at (:func:`morphkit.shadow.fieldsplat.splat_levels`): an instance whose atlas texel
+#: splatted at (:func:`morphkit.sunlit.fieldsplat.splat_levels`): an instance whose atlas texel
 #: covers ``f`` field texels is drawn from blocks of ``2**l`` atlas texels with
 #: ``2**l * f`` at most this. At 1 a level's point is never wider than the field's texel, so
 #: the shadow's outline moves by under a field texel (the map cannot hold a finer one); a
@@ -650,7 +650,7 @@ SPLAT_MIN_COS = 0.1
 #: fewest points, 1.5 lost some at 10 (its coarse blocks' outlines are a field texel and a half).
 SPLAT_LEVEL_MAX_TEXELS = 1.0
 
-#: A block of a coarser atlas point level (:func:`morphkit.shadow.pointlevels.block_points`)
+#: A block of a coarser atlas point level (:func:`morphkit.sunlit.pointlevels.block_points`)
 #: is split into its front and its back where its drawn texels' depths differ by more than this
 #: many block sides (object units: this times the block's side): a surface that steep across the
 #: block (over about 55 degrees to the view's image plane along a diagonal) or two surfaces
@@ -659,7 +659,7 @@ SPLAT_LEVEL_MAX_TEXELS = 1.0
 SPLAT_LEVEL_DEPTH_GAP = 2.0
 
 #: A sun atlas view's quad (four drawn texels meeting at a corner,
-#: :func:`morphkit.shadow.pointlevels.grid_quads`) is drawn as two triangles when its four depths
+#: :func:`morphkit.sunlit.pointlevels.grid_quads`) is drawn as two triangles when its four depths
 #: lie within this many atlas texels of each other: a surface up to about 77 degrees from the
 #: view's image plane along a diagonal; steeper ones and depth edges keep their squares (the
 #: other views see them better). Of the gaps tried, 3 / 6 / 12, 6 gave the best surface IoU on
@@ -687,7 +687,7 @@ SUN_YAW_ONLY_ATOL = 1e-6
 SUN_VIEW_MIN_COVERAGE = 0.5
 
 
-# --- a billboard scene's shadow receivers (morphkit.shadow.receivers) ---------------
+# --- a billboard scene's shadow receivers (morphkit.sunlit.receivers) ---------------
 #: How far (field light-view texels) a shadow receiver that is drawn into the field's map
 #: itself -- a billboard's pixel, a real mesh's pixel, from their depth -- is moved along
 #: its own normal before the lookup (normal-offset bias). The field's lookup has only a
@@ -703,7 +703,7 @@ SUN_VIEW_MIN_COVERAGE = 0.5
 SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 
 #: Largest side (texels) of a billboard frame's field light view when its resolution is
-#: chosen automatically (:class:`morphkit.shadow.receivers.AtlasShadow`): a float32 map
+#: chosen automatically (:class:`morphkit.sunlit.receivers.AtlasShadow`): a float32 map
 #: of 16 MiB, built (``np.full`` and one warp per caster) in a few ms; a wider field gets
 #: coarser texels rather than a larger map.
 SUN_FIELD_MAX_SIDE = 2048
@@ -718,14 +718,14 @@ MIN_SUN_ATLAS_SIZE, MAX_SUN_ATLAS_SIZE = 16, 1024
 MAX_SUN_SAMPLES = 64
 
 #: Widest blocker search and kernel, half-width in field texels, of a sun disc's filtered
-#: lookup (:mod:`morphkit.shadow.sundisc`): a wider penumbra is clipped to it (its edge then
+#: lookup (:mod:`morphkit.sunlit.sundisc`): a wider penumbra is clipped to it (its edge then
 #: too sharp). At the field's usual 64-128 texels an asset, 16 texels is an eighth to a
 #: quarter of an instance, a 2-degree disc's penumbra 3 units behind its occluder; the cost
 #: per point grows with the square (a 33 x 33 box: about 1,100 reads).
 SUN_DISC_MAX_HALF_TEXELS = 16.0
 
 #: Half-width (field texels) of the box a sun disc's filtered lookup widens its kernel by
-#: (:mod:`morphkit.shadow.sundisc`; a disc of nonzero radius only): the map holds an
+#: (:mod:`morphkit.sunlit.sundisc`; a disc of nonzero radius only): the map holds an
 #: occluder's edge only to the texel (a texel is drawn when its centre is covered), so the
 #: true edge lies anywhere within half a texel either way of the drawn one, and at the real
 #: sun (0.267 degrees) the disc's own penumbra is mostly narrower than that. The kernel is
@@ -740,7 +740,7 @@ SUN_DISC_MAX_HALF_TEXELS = 16.0
 SUN_DISC_RASTER_HALF_TEXEL = 0.25
 
 #: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
-#: resolution, :class:`morphkit.shadow.receivers.FilteredAtlasShadow`; still capped by
+#: resolution, :class:`morphkit.sunlit.receivers.FilteredAtlasShadow`; still capped by
 #: :data:`SUN_FIELD_MAX_SIDE`). At the field's native resolution the filtered map's error at
 #: the real sun (0.267 degrees) stays above that of 4 maps averaged over the disc, however
 #: it is filtered: its edges lie on a texel grid that 4 slightly turned maps dither. The
@@ -767,14 +767,14 @@ MAX_SUN_DISC_DEG = 15.0
 
 #: How far (scene units; the assets are normalised to unit size) the ray-cast truth moves a
 #: real mesh's pixel point along its normal before casting towards the sun
-#: (:class:`morphkit.shadow.receivers.RayCastShadow`): the point comes from the depth pass
+#: (:class:`morphkit.sunlit.receivers.RayCastShadow`): the point comes from the depth pass
 #: (24-bit window depth, linearised), up to about 1e-3 units off its surface at the frames'
 #: distances, so rays from it hit its own triangle and speckle a sunlit surface with
 #: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.
 SUN_RAY_NORMAL_OFFSET = 2e-3
 
 #: The alpha test of an impostor card drawn into a shadow map
-#: (:mod:`morphkit.shadow.cardbaselines`): a texel of the card casts where the frame's
+#: (:mod:`morphkit.sunlit.cardbaselines`): a texel of the card casts where the frame's
 #: coverage, bilinearly sampled as a GPU samples the card's texture, is at least this --
 #: the engines' default clip value (glTF's ``alphaCutoff``, Unreal's masked 0.5), which
 #: keeps a silhouette whose coverage ramps over a texel at its middle.

@@ -4,9 +4,9 @@ Scene: N instances of the tree and the cow (dome assets, sun atlases of 21 direc
 texels, baked here), random yaws and scales, one camera looking over the field, three suns.
 For each sun:
 
-* the billboard frame with the atlases' shadows (:class:`~morphkit.shadow.receivers.AtlasShadow`)
-  and without, and the real-mesh frame (:class:`~morphkit.billboard.litmesh.LitMeshMode`) with
-  ray-cast shadows (:class:`~morphkit.shadow.receivers.RayCastShadow`, the truth) and without;
+* the billboard frame with the atlases' shadows (:class:`~morphkit.sunlit.receivers.AtlasShadow`)
+  and without, and the real-mesh frame (:class:`~morphkit.sunlit.litmesh.LitMeshMode`) with
+  ray-cast shadows (:class:`~morphkit.sunlit.receivers.RayCastShadow`, the truth) and without;
 * a frame's **shadowed pixels**: those its shadow darkens by at least ``--dark`` levels (of 255,
   in any channel) against the same frame without shadows (so a pixel turned away from the sun,
   which no shadow can darken, counts as neither);
@@ -42,16 +42,16 @@ from morphkit import tol
 from morphkit.billboard import Backdrop, BillboardScene, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
 from morphkit.billboard.facing import ViewpointFacing
-from morphkit.billboard.litmesh import LitMeshMode
-from morphkit.billboard.litmodes import LitMode
-from morphkit.billboard.shadowing import DARK_LEVELS, darkened
-from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
 from morphkit.fixtures import FIELD_MESHES, field_domes
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.shading import Lighting
-from morphkit.shadow.receivers import AtlasShadow, FilteredAtlasShadow, RayCastShadow, bake_scene_atlases
+from morphkit.sunlit.litmesh import LitMeshMode
+from morphkit.sunlit.litmodes import LitMode
+from morphkit.sunlit.receivers import AtlasShadow, FilteredAtlasShadow, RayCastShadow, bake_scene_atlases
+from morphkit.sunlit.shadowing import DARK_LEVELS, darkened
+from morphkit.sunlit.sun import sun
 
 SUNS = ((30.0, 35.0), (120.0, 60.0), (-60.0, 20.0))  # (azimuth, elevation), degrees
 

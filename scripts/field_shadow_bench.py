@@ -3,7 +3,7 @@
 For fields of 10 and 100 instances (tree and cow sample meshes, random positions, yaws and
 scales from a seeded rng, :func:`morphkit.billboard.instances.place_random`) under 4 suns
 (elevations 20..70 degrees): the field's light view built from the atlases (sparse dome,
-128 texels; :class:`morphkit.shadow.fieldshadow.FieldShadow`) and rendered directly (all
+128 texels; :class:`morphkit.sunlit.fieldshadow.FieldShadow`) and rendered directly (all
 posed meshes, one depth draw into the same view), each looked up on a GRID x GRID ground
 grid over the field and scored against the ray cast of the grid towards the sun against all
 posed meshes (Embree): shadow IoU (visibility < 0.5). Times per sun change (building the
@@ -33,10 +33,10 @@ from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
-from morphkit.shadow.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
-from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
-from morphkit.shadow.fieldsplat import SplatDrawer
-from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
+from morphkit.sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
+from morphkit.sunlit.fieldshadow import FieldShadow, MorphDrawer
+from morphkit.sunlit.fieldsplat import SplatDrawer
+from morphkit.sunlit.sunatlas import bake_sun_atlas, sun_direction
 from morphkit.views.dome import ViewDome
 
 SPARSE = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)

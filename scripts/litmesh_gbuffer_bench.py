@@ -22,13 +22,13 @@ import numpy as np
 from morphkit.billboard import Backdrop, BillboardScene, MeshMode, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
 from morphkit.billboard.facing import ViewpointFacing
-from morphkit.billboard.litmesh import LitMeshMode
-from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
 from morphkit.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer, gl_info
 from morphkit.shading import Lighting
-from morphkit.shadow.receivers import RayCastShadow
+from morphkit.sunlit.litmesh import LitMeshMode
+from morphkit.sunlit.receivers import RayCastShadow
+from morphkit.sunlit.sun import sun
 
 
 def main() -> None:

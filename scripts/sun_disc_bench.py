@@ -4,12 +4,12 @@ Scene: N_INST instances of the tree and the cow (sample meshes, random yaws and 
 + n), their sun atlases (21 directions, 128 texels), the field's light view at the atlases'
 resolution; suns at 25 and 55 degrees up; disc radii 0.267 (the real sun), 1, 2 and 4 degrees.
 Truth: the fraction of 64 directions over the disc (a golden-angle spiral,
-:func:`morphkit.shadow.receivers.sun_disc`) that the ray cast from each ground point sees
+:func:`morphkit.sunlit.receivers.sun_disc`) that the ray cast from each ground point sees
 (Embree); the 32-direction truth against it on one case shows how far it has converged.
 Methods: ``avg-K`` -- K field maps over the disc (the same spiral), their hard lookups averaged (alpha 1/K);
 ``pcss`` -- one map along the centre at :data:`morphkit.tol.SUN_DISC_MAP_SCALE` times the
-atlases' texels (as :class:`morphkit.shadow.receivers.FilteredAtlasShadow` draws it),
-:func:`morphkit.shadow.sundisc.disc_visibility`.
+atlases' texels (as :class:`morphkit.sunlit.receivers.FilteredAtlasShadow` draws it),
+:func:`morphkit.sunlit.sundisc.disc_visibility`.
 Metrics on a GRID^2 ground grid over the field: ``mae`` -- mean |visibility error| over the
 points that the truth or the estimate do not see fully lit; ``banding`` --
 :func:`morphkit.bench.soft_suite.banding`; ``ms`` -- the maps and the lookups, median of 3.
@@ -29,11 +29,11 @@ from morphkit.bench.soft_suite import banding
 from morphkit.billboard.instances import Instances, place_random
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
-from morphkit.shadow.fieldbaselines import posed_asset_meshes, ray_cast_field
-from morphkit.shadow.fieldshadow import FieldShadow
-from morphkit.shadow.receivers import sun_disc
-from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
-from morphkit.shadow.sundisc import disc_visibility
+from morphkit.sunlit.fieldbaselines import posed_asset_meshes, ray_cast_field
+from morphkit.sunlit.fieldshadow import FieldShadow
+from morphkit.sunlit.receivers import sun_disc
+from morphkit.sunlit.sunatlas import bake_sun_atlas, sun_direction
+from morphkit.sunlit.sundisc import disc_visibility
 from morphkit.views.dome import ViewDome
 
 SPARSE = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)

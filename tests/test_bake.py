@@ -313,9 +313,9 @@ def test_sun_atlas_kind_is_baked_once_and_read_by_billboards(tmp_path, scheduler
     from morphkit.bake import DomeKind, SunAtlasKind
     from morphkit.cli import main
     from morphkit.meshes import load_mesh, normalize
-    from morphkit.shadow.receivers import SCENE_ATLAS_DOME
-    from morphkit.shadow.sunatlas import SunAtlas, bake_sun_atlas
-    from morphkit.shadow.sunatlasfile import read_sun_atlas, write_sun_atlas
+    from morphkit.sunlit.receivers import SCENE_ATLAS_DOME
+    from morphkit.sunlit.sunatlas import SunAtlas, bake_sun_atlas
+    from morphkit.sunlit.sunatlasfile import read_sun_atlas, write_sun_atlas
 
     lib = make_library(tmp_path / "lib")
     out = tmp_path / "out"

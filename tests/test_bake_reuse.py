@@ -22,9 +22,9 @@ from morphkit.bake.reuse import baked_sun_atlases
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
 from morphkit.billboard.bakelook import mesh_hash
 from morphkit.errors import FileFormatError
-from morphkit.shadow.receivers import SCENE_ATLAS_DOME
-from morphkit.shadow.sunatlas import SunAtlas
-from morphkit.shadow.sunatlasfile import write_sun_atlas
+from morphkit.sunlit.receivers import SCENE_ATLAS_DOME
+from morphkit.sunlit.sunatlas import SunAtlas
+from morphkit.sunlit.sunatlasfile import write_sun_atlas
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras
 

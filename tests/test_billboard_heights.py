@@ -15,9 +15,9 @@ from morphkit.billboard.paths import (
     TopDownPan,
     make_path,
 )
-from morphkit.billboard.sun import TEST_SUNS, SunPath, sun, sun_directions_8
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
+from morphkit.sunlit.sun import TEST_SUNS, SunPath, sun, sun_directions_8
 from morphkit.views.domecameras import direction, quad_axes
 
 CAM = perspective(np.radians(50), (48, 64), look_at([0, -10, 1], [0, 0, 1]))

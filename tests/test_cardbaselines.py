@@ -9,10 +9,10 @@ import trimesh
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
-from morphkit.shadow.cardbaselines import card_field_map, nearest_frame
-from morphkit.shadow.fieldbaselines import ray_cast_field
-from morphkit.shadow.fieldshadow import FieldShadow
-from morphkit.shadow.sunatlas import bake_sun_atlas, sun_direction
+from morphkit.sunlit.cardbaselines import card_field_map, nearest_frame
+from morphkit.sunlit.fieldbaselines import ray_cast_field
+from morphkit.sunlit.fieldshadow import FieldShadow
+from morphkit.sunlit.sunatlas import bake_sun_atlas, sun_direction
 
 pytestmark = pytest.mark.gl
 

@@ -12,8 +12,8 @@ from morphkit.fixtures import write_leaf_plant
 from morphkit.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, normalize
 from morphkit.scene import DirectionalLight, SceneObject
-from morphkit.shadow.fieldbaselines import posed_asset_meshes, posed_field_mesh, ray_cast_field
-from morphkit.shadow.sunatlas import sun_direction
+from morphkit.sunlit.fieldbaselines import posed_asset_meshes, posed_field_mesh, ray_cast_field
+from morphkit.sunlit.sunatlas import sun_direction
 
 
 @pytest.fixture(scope="module")

@@ -16,9 +16,9 @@ from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
-from morphkit.shadow.fieldshadow import FieldShadow, MorphDrawer
-from morphkit.shadow.fieldsplat import SplatDrawer, splat_points
-from morphkit.shadow.sunatlas import SunAtlas, sun_direction
+from morphkit.sunlit.fieldshadow import FieldShadow, MorphDrawer
+from morphkit.sunlit.fieldsplat import SplatDrawer, splat_points
+from morphkit.sunlit.sunatlas import SunAtlas, sun_direction
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras
 
@@ -170,7 +170,7 @@ def test_an_unchanged_field_reuses_its_map_and_a_moved_one_does_not(atlases):
 
 @pytest.mark.parametrize("half", [0.3, 0.5, 1.2])
 def test_the_compiled_splat_equals_its_numpy_reference(monkeypatch, half):
-    from morphkit.shadow import fieldsplat
+    from morphkit.sunlit import fieldsplat
 
     rng = np.random.default_rng(7)
     points = rng.uniform(-1.0, 1.0, (500, 3)).astype(np.float32)
@@ -201,7 +201,7 @@ def test_the_splat_and_the_closing_in_bands_of_rows_equal_one_band(monkeypatch, 
     """Each band draws the instances whose rows it can reach and writes its own rows: the map
     equals the numpy reference bit for bit (an instance's row bound too tight would lose the
     points of the rows beyond it)."""
-    from morphkit.shadow import fieldsplat
+    from morphkit.sunlit import fieldsplat
 
     rng = np.random.default_rng(11)
     points = rng.uniform(-1.0, 1.0, (600, 3)).astype(np.float32)
@@ -289,8 +289,8 @@ def test_bad_arguments_raise(atlases):
 @pytest.mark.gl
 def test_the_field_matches_its_direct_render_and_the_ray_cast(renderer):
     from morphkit.meshes import normalize
-    from morphkit.shadow.fieldbaselines import direct_field_map, ray_cast_field
-    from morphkit.shadow.sunatlas import bake_sun_atlas
+    from morphkit.sunlit.fieldbaselines import direct_field_map, ray_cast_field
+    from morphkit.sunlit.sunatlas import bake_sun_atlas
 
     meshes = {"box": trimesh.creation.box(extents=(0.3, 0.6, 1.0)), "ball": trimesh.creation.icosphere()}
     atl = {nm: bake_sun_atlas(m, renderer, dome=DOME, size=48) for nm, m in meshes.items()}
@@ -312,7 +312,7 @@ def test_the_field_matches_its_direct_render_and_the_ray_cast(renderer):
 
 
 def test_holes_close_between_two_drawn_neighbours_only(monkeypatch):
-    from morphkit.shadow import fieldsplat
+    from morphkit.sunlit import fieldsplat
 
     rng = np.random.default_rng(3)
     d = np.where(rng.random((40, 50)) < 0.6, rng.uniform(1.0, 2.0, (40, 50)), np.inf).astype(np.float32)
@@ -334,7 +334,7 @@ def test_holes_close_between_two_drawn_neighbours_only(monkeypatch):
 
 
 def test_a_map_with_nan_depths_is_refused_at_its_first_lookup(atlases):
-    from morphkit.shadow.fieldshadow import FieldMap
+    from morphkit.sunlit.fieldshadow import FieldMap
 
     one = Instances.from_records([("ball", 0.0, 0.0)])
     fm = FieldShadow(atlases).build(one, sun_direction(0.0, 50.0), TPU)

@@ -13,10 +13,10 @@ import pytest
 
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
-from morphkit.shadow.fieldshadow import FieldShadow
-from morphkit.shadow.fieldsplat import SplatDrawer, splat_levels, splat_points
-from morphkit.shadow.pointlevels import block_points
-from morphkit.shadow.sunatlas import MAX_POINT_LEVEL, SunAtlas, sun_direction
+from morphkit.sunlit.fieldshadow import FieldShadow
+from morphkit.sunlit.fieldsplat import SplatDrawer, splat_levels, splat_points
+from morphkit.sunlit.pointlevels import block_points
+from morphkit.sunlit.sunatlas import MAX_POINT_LEVEL, SunAtlas, sun_direction
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras
 
@@ -175,7 +175,7 @@ def test_a_level_packs_fewer_points_of_the_same_area(plate):
 
 
 def test_sized_points_splat_alike_compiled_and_in_numpy(monkeypatch):
-    from morphkit.shadow import fieldsplat
+    from morphkit.sunlit import fieldsplat
 
     rng = np.random.default_rng(11)
     points = rng.uniform(-1.0, 1.0, (300, 3)).astype(np.float32)

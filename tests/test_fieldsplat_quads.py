@@ -1,7 +1,7 @@
 """Atlas views drawn as meshes into the field's light view (issue 26: the instances' own surfaces).
 
-:func:`~morphkit.shadow.pointlevels.grid_quads` joins four drawn texels that meet at a corner
-into a quad when their depths are within a gap; :class:`~morphkit.shadow.fieldsplat.SplatDrawer`
+:func:`~morphkit.sunlit.pointlevels.grid_quads` joins four drawn texels that meet at a corner
+into a quad when their depths are within a gap; :class:`~morphkit.sunlit.fieldsplat.SplatDrawer`
 rasterises the quads' triangles and squares only the other points. The analytic sphere
 (:mod:`morphkit.billboard.analytic`) gives the expected depth: a triangle through three points of
 a convex surface lies inside it, so seen along a view's own direction the quads are never nearer
@@ -17,10 +17,10 @@ import pytest
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
-from morphkit.shadow.fieldshadow import FieldShadow
-from morphkit.shadow.fieldsplat import SplatDrawer, splat_points
-from morphkit.shadow.pointlevels import grid_quads
-from morphkit.shadow.sunatlas import AtlasQuads, SunAtlas
+from morphkit.sunlit.fieldshadow import FieldShadow
+from morphkit.sunlit.fieldsplat import SplatDrawer, splat_points
+from morphkit.sunlit.pointlevels import grid_quads
+from morphkit.sunlit.sunatlas import AtlasQuads, SunAtlas
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras, direction
 
@@ -129,7 +129,7 @@ def _random_quads(rng: np.random.Generator, seg_start: np.ndarray, seg_len: np.n
 def test_triangles_compiled_in_bands_equal_their_numpy_reference(monkeypatch, bands):
     """Random triangles and squares over two posed instances: the compiled kernel, one band or
     three, writes the numpy reference's map bit for bit (the same sums in the same order)."""
-    from morphkit.shadow import fieldsplat
+    from morphkit.sunlit import fieldsplat
 
     rng = np.random.default_rng(5)
     points = rng.uniform(-1.0, 1.0, (400, 3)).astype(np.float32)

@@ -18,8 +18,6 @@ from billboard_fakes import FakeAsset
 
 from morphkit import tol
 from morphkit.billboard import Backdrop, BillboardScene, Ground, Instances, Sky
-from morphkit.billboard.litmesh import LitMeshMode
-from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
 from morphkit.conventions import NORMAL_ENCODING_DEG
 from morphkit.errors import ValidationError
@@ -29,7 +27,9 @@ from morphkit.protocols import GBufferRenderer, PassRenderer
 from morphkit.scene import Item
 from morphkit.shading import Lighting
 from morphkit.shadow.frame import frame_items
-from morphkit.shadow.receivers import RayCastShadow
+from morphkit.sunlit.litmesh import LitMeshMode
+from morphkit.sunlit.receivers import RayCastShadow
+from morphkit.sunlit.sun import sun
 
 pytestmark = pytest.mark.gl
 

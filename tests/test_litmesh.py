@@ -9,12 +9,12 @@ from billboard_fakes import FakeAsset
 
 from morphkit.billboard import Backdrop, BillboardScene, Fog, Ground, Instances, MeshMode, Sky
 from morphkit.billboard.compositor import finish
-from morphkit.billboard.litmesh import LitMeshMode
-from morphkit.billboard.sun import sun
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.scene import Item, PointLight
 from morphkit.shading import Lighting, shade_passes
+from morphkit.sunlit.litmesh import LitMeshMode
+from morphkit.sunlit.sun import sun
 
 pytestmark = pytest.mark.gl
 

@@ -11,7 +11,11 @@ import pytest
 from morphkit.billboard import Backdrop, BillboardScene, Instances
 from morphkit.billboard.analytic import sphere_dome_asset
 from morphkit.billboard.facing import AxialFacing, ViewpointFacing
-from morphkit.billboard.litmodes import (
+from morphkit.camera import look_at, perspective
+from morphkit.errors import ValidationError
+from morphkit.scene import PointLight
+from morphkit.shading import Lighting
+from morphkit.sunlit.litmodes import (
     ClassicSurface,
     CrossfadeSurface,
     LitMode,
@@ -20,11 +24,7 @@ from morphkit.billboard.litmodes import (
     pack_surface,
     unpack_surface,
 )
-from morphkit.billboard.sun import sun
-from morphkit.camera import look_at, perspective
-from morphkit.errors import ValidationError
-from morphkit.scene import PointLight
-from morphkit.shading import Lighting
+from morphkit.sunlit.sun import sun
 
 
 @pytest.fixture(scope="module")

@@ -44,8 +44,8 @@ from morphkit.scene import PointLight
 from morphkit.shadow import BakedAtlas, LightRig, MotionRange, ShadowAtlas
 from morphkit.shadow.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
-from morphkit.shadow.sunatlas import SunAtlas
-from morphkit.shadow.sunatlasfile import read_sun_atlas, write_sun_atlas
+from morphkit.sunlit.sunatlas import SunAtlas
+from morphkit.sunlit.sunatlasfile import read_sun_atlas, write_sun_atlas
 from morphkit.viewmorph import Correspondences
 from morphkit.viewmorph.correspondences import load_points, save_points
 

@@ -17,7 +17,7 @@ from morphkit.billboard.instances import Instances
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 from morphkit.shading import shade_suns, sun_shadow_factor
-from morphkit.shadow.receivers import (
+from morphkit.sunlit.receivers import (
     AtlasShadow,
     FilteredAtlasShadow,
     FrameShadow,
@@ -25,7 +25,7 @@ from morphkit.shadow.receivers import (
     frame_receiver,
     sun_disc,
 )
-from morphkit.shadow.sunatlas import SunAtlas, sun_direction
+from morphkit.sunlit.sunatlas import SunAtlas, sun_direction
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras
 from morphkit.views.gbuffer import ViewSurface
@@ -263,11 +263,11 @@ def _camera():
 @pytest.mark.parametrize("elevation", [35.0, -5.0])
 def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, elevation):
     from morphkit.billboard.bakelook import BAKE_AMBIENT
-    from morphkit.billboard.litmesh import LitMeshMode
-    from morphkit.billboard.litmodes import LitMode
-    from morphkit.billboard.sun import sun
     from morphkit.shading import Lighting
-    from morphkit.shadow.receivers import RayCastShadow
+    from morphkit.sunlit.litmesh import LitMeshMode
+    from morphkit.sunlit.litmodes import LitMode
+    from morphkit.sunlit.receivers import RayCastShadow
+    from morphkit.sunlit.sun import sun
 
     scene, meshes, items = box_scene
     atl = bake_scene_atlases(meshes, renderer, size=16)
@@ -287,7 +287,7 @@ def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, e
 
 
 def test_modes_refuse_a_shadow_that_is_not_one():
-    from morphkit.billboard.litmodes import LitMode
+    from morphkit.sunlit.litmodes import LitMode
 
     with pytest.raises(ValidationError, match="SceneShadow"):
         LitMode(shadow="atlas")  # type: ignore[arg-type]

@@ -218,6 +218,6 @@ def test_shade_passes_decodes_albedo_and_uses_the_depth_for_point_lights():
 def test_importing_shading_first_then_the_billboards_works():
     """shading imports the billboard package's colour tables lazily, so a billboard module
     may import shading whichever is imported first."""
-    code = "import morphkit.shading, morphkit.billboard, morphkit.billboard.litmesh; print('ok')"
+    code = "import morphkit.shading, morphkit.billboard, morphkit.sunlit.litmesh; print('ok')"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr

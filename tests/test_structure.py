@@ -215,11 +215,8 @@ def _ties(graph: dict[str, set[str]]) -> set[tuple[str, str]]:
     return {tuple(sorted((a, b))) for a, b in edges if (b, a) in edges}
 
 
-#: The two-way ties between parts still standing, each with what holds it. The field's shadows
-#: (``shadow/receivers``, ``sunatlas``, ``fieldsplat``, ... ) place their casters by the billboard
-#: wing's ``Instances`` and the relit billboards take a ``receivers.SceneShadow``: they join the two
-#: papers and are to move to a part of their own above both wings.
-KNOWN_TIES = {("billboard", "shadow")}
+#: The two-way ties between parts still standing, each with what holds it.
+KNOWN_TIES: set[tuple[str, str]] = {("billboard", "sunlit")}  # billboard/sequence.py, a program
 
 
 def test_the_tie_finder_finds_a_tie():

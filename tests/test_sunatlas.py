@@ -16,7 +16,7 @@ from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
 from morphkit.errors import ValidationError
 from morphkit.metrics import shadow_iou
-from morphkit.shadow.sunatlas import (
+from morphkit.sunlit.sunatlas import (
     SunAtlas,
     bake_sun_atlas,
     ground_shadow,
@@ -174,7 +174,7 @@ def test_bad_arguments_raise(sphere_atlas):
 @pytest.mark.gl
 def test_a_baked_atlas_matches_its_direct_render_and_the_ray_cast(renderer):
     from morphkit.meshes import normalize
-    from morphkit.shadow.sunbaselines import direct_ground_shadow, direct_light_view, ray_cast_ground_shadow
+    from morphkit.sunlit.sunbaselines import direct_ground_shadow, direct_light_view, ray_cast_ground_shadow
 
     mesh = trimesh.creation.box(extents=(0.3, 0.6, 1.0))
     atlas = bake_sun_atlas(mesh, renderer, dome=DOME, size=48)

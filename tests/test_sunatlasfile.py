@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from morphkit.errors import FileFormatError
-from morphkit.shadow.receivers import SCENE_ATLAS_DOME
-from morphkit.shadow.sunatlas import SunAtlas
-from morphkit.shadow.sunatlasfile import SavableSunAtlas, read_sun_atlas, write_sun_atlas
+from morphkit.sunlit.receivers import SCENE_ATLAS_DOME
+from morphkit.sunlit.sunatlas import SunAtlas
+from morphkit.sunlit.sunatlasfile import SavableSunAtlas, read_sun_atlas, write_sun_atlas
 from morphkit.views.domecameras import DomeCameras
 
 

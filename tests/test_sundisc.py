@@ -12,9 +12,9 @@ from morphkit import tol
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.conventions import SUN_DISC_RADIUS_DEG
 from morphkit.errors import ValidationError
-from morphkit.shadow import sundisc
+from morphkit.sunlit import sundisc
 from morphkit.shadow.lookup import ShadowBias, shadow_visibility
-from morphkit.shadow.sundisc import DISC_SQUARE, disc_visibility
+from morphkit.sunlit.sundisc import DISC_SQUARE, disc_visibility
 
 N = 64  # texels a side over [-2, 2]: 16 texels a unit
 
@@ -137,7 +137,7 @@ def test_bad_arguments_raise():
 
 
 def test_a_prepared_map_answers_as_a_one_off_lookup():
-    from morphkit.shadow.sundisc import DiscMap
+    from morphkit.sunlit.sundisc import DiscMap
 
     cam, rng = _cam(), np.random.default_rng(11)
     dm = np.where(rng.random((N, N)) < 0.4, rng.uniform(5.0, 9.5, (N, N)), np.inf).astype(np.float32)

@@ -20,7 +20,7 @@ Implemented here: :class:`ShadowAtlasKind` (Kang & Ihm's k x k shadow atlas,
 billboard asset, :func:`morphkit.billboard.bake_asset`, suffix ``.billboard.npz``) and
 :class:`DomeKind` (the relightable billboard seen from any height,
 :func:`morphkit.billboard.domeasset.bake_dome`, suffix ``.dome.npz``) and :class:`SunAtlasKind` (the
-asset's light views over the sun's direction, :func:`morphkit.shadow.sunatlas.bake_sun_atlas`, suffix
+asset's light views over the sun's direction, :func:`morphkit.sunlit.sunatlas.bake_sun_atlas`, suffix
 ``.sunatlas.npz``: what ``billboards --shadows`` draws the asset's shadows with, read from the bake
 instead of baked at the start of the run).
 """
@@ -44,9 +44,9 @@ from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight
 from ..shadow import ATLAS_VERSION, MotionRange, bake_atlas
-from ..shadow.receivers import SCENE_ATLAS_DOME, SCENE_ATLAS_SIZE
-from ..shadow.sunatlas import bake_sun_atlas
-from ..shadow.sunatlasfile import SUN_ATLAS_VERSION, SavableSunAtlas
+from ..sunlit.receivers import SCENE_ATLAS_DOME, SCENE_ATLAS_SIZE
+from ..sunlit.sunatlas import bake_sun_atlas
+from ..sunlit.sunatlasfile import SUN_ATLAS_VERSION, SavableSunAtlas
 from ..validate import as_finite_array, as_int
 from ..views.dome import DEFAULT_RINGS
 
@@ -371,8 +371,8 @@ class DomeKind:
 
 @dataclass(frozen=True)
 class SunAtlasKind:
-    """The sun atlas of a mesh (:func:`~morphkit.shadow.sunatlas.bake_sun_atlas` over the scenes'
-    sun directions, :data:`~morphkit.shadow.receivers.SCENE_ATLAS_DOME`): the light views a
+    """The sun atlas of a mesh (:func:`~morphkit.sunlit.sunatlas.bake_sun_atlas` over the scenes'
+    sun directions, :data:`~morphkit.sunlit.receivers.SCENE_ATLAS_DOME`): the light views a
     billboard field's shadows are drawn from.
 
     Parameters

@@ -18,9 +18,9 @@ from pathlib import Path
 import trimesh
 
 from ..errors import FileFormatError, ValidationError
-from ..shadow.receivers import SCENE_ATLAS_DOME
-from ..shadow.sunatlas import SunAtlas
-from ..shadow.sunatlasfile import read_sun_atlas
+from ..sunlit.receivers import SCENE_ATLAS_DOME
+from ..sunlit.sunatlas import SunAtlas
+from ..sunlit.sunatlasfile import read_sun_atlas
 from .kinds import SunAtlasKind
 from .manifest import baked_beside
 

@@ -205,12 +205,11 @@ def kernel_workload() -> dict[str, float]:
         MotionRange,
         bake_atlas,
         bake_soft_atlas,
-        bake_sun_atlas,
         default_soft_shadow,
         shadow_visibility,
     )
-    from ..shadow.fieldshadow import FieldShadow
     from ..shadow.pixels import drawn_pixels
+    from ..sunlit import FieldShadow, bake_sun_atlas
     from ..warp import warp_mesh
 
     if numba is None:  # pragma: no cover - numba is a dependency

@@ -34,7 +34,7 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   data range 1, capped at 99 dB), ``*_min`` the worst direction; time: one ``surface()``
   call (median over the directions).
 * ``dome-relit`` -- 3 directions per band (quick 1) under each of the 8 suns of
-  :func:`~morphkit.billboard.sun.sun_directions_8` relative to the viewing azimuth, one at a
+  :func:`~morphkit.sunlit.sun.sun_directions_8` relative to the viewing azimuth, one at a
   time (``Lighting(BAKE_AMBIENT, (sun,))``), truth and methods shaded as above; ``psnr_<sun>``
   per sun, ``psnr_relit`` their mean, ``psnr_bake`` the same directions under the bake
   lighting and ``relit_delta = psnr_bake - psnr_relit`` (target <= 2 dB); ``iou`` the mean
@@ -44,10 +44,10 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   :class:`~morphkit.billboard.facing.ViewpointFacing`, along
   :meth:`FlyoverPath.around <morphkit.billboard.paths.FlyoverPath.around>` (5 to 85 degrees
   elevation, a quarter circle) in 60 frames (quick 24) at 640 x 480 (quick 320 x 240):
-  :class:`~morphkit.billboard.litmodes.LitMode` with ``MorphSurface`` (dome scene),
+  :class:`~morphkit.sunlit.litmodes.LitMode` with ``MorphSurface`` (dome scene),
   ``MorphSurface(name="impostor")`` (the same instances of the impostor), ``NearestSurface``,
   ``CrossfadeSurface``, under the bake lighting; ground truth
-  :class:`~morphkit.billboard.litmesh.LitMeshMode` (the meshes' passes at every instance's
+  :class:`~morphkit.sunlit.litmesh.LitMeshMode` (the meshes' passes at every instance's
   pose, supersampled 2x, same lighting), whose own row ``mesh`` is the scene's reference step
   change (the camera moves, so every layer changes). ``step_max``, ``step_median``,
   ``max_over_median`` of :func:`~morphkit.bench.billboard_scenes.step_changes` over the
@@ -104,15 +104,15 @@ from ..billboard.compare import box_errors
 from ..billboard.domeasset import DOME_SUPERSAMPLE, DomeAsset, bake_dome
 from ..billboard.facing import AxialFacing, ViewpointFacing
 from ..billboard.impostor import OctahedralImpostor, bake_impostor, impostor_frame_size
-from ..billboard.litmesh import LitMeshMode
-from ..billboard.litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface
 from ..billboard.paths import FlyoverPath
-from ..billboard.sun import sun_directions_8
 from ..errors import ValidationError, expected_got
 from ..memo import Memo
 from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
 from ..shading import Lighting, shade, shade_passes
+from ..sunlit.litmesh import LitMeshMode
+from ..sunlit.litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface
+from ..sunlit.sun import sun_directions_8
 from ..views.domecameras import direction
 from .billboard_scenes import SUITE, step_changes
 from .harness import Timing, make_row, time_calls

@@ -11,18 +11,18 @@ A field of ``n`` instances (:meth:`SceneKit.field`): :func:`~morphkit.billboard.
 of both assets with a seeded generator (random positions about one per 1.5 x 1.5 units, yaws in
 ``[0, 360)``, scales 0.8-1.25); the receiver is the ground square over the field plus
 :data:`RECEIVER_MARGIN` a side, sampled on a ``grid x grid`` lattice of pixel centres
-(:func:`morphkit.groundtruth.receiver_grid`). Truth: :func:`~morphkit.shadow.fieldbaselines.ray_cast_field`
+(:func:`morphkit.groundtruth.receiver_grid`). Truth: :func:`~morphkit.sunlit.fieldbaselines.ray_cast_field`
 (Embree; each asset's instances posed into one mesh that keeps its cut-out) towards the exact sun.
 
-Methods (:data:`METHODS`; each a :class:`~morphkit.shadow.fieldshadow.FieldMap` of the same light
+Methods (:data:`METHODS`; each a :class:`~morphkit.sunlit.fieldshadow.FieldMap` of the same light
 view, ``FieldShadow.plan``'s camera, looked up with ``FieldMap.visibility``):
 
-* ``atlas`` -- :meth:`FieldShadow.build <morphkit.shadow.fieldshadow.FieldShadow.build>` from the
+* ``atlas`` -- :meth:`FieldShadow.build <morphkit.sunlit.fieldshadow.FieldShadow.build>` from the
   assets' sun atlases (whatever the builder does: only its public API is called);
-* ``direct`` -- :func:`~morphkit.shadow.fieldbaselines.direct_field_map`: all posed meshes drawn
+* ``direct`` -- :func:`~morphkit.sunlit.fieldbaselines.direct_field_map`: all posed meshes drawn
   from the sun into the same view;
 * ``card-camera`` and ``card-light`` -- the impostor way
-  (:func:`~morphkit.shadow.cardbaselines.card_field_map`): each instance's alpha-tested card
+  (:func:`~morphkit.sunlit.cardbaselines.card_field_map`): each instance's alpha-tested card
   facing the light, showing the camera's view (the camera at :data:`CAMERA_AZIMUTH_DEG`,
   :data:`CAMERA_ELEVATION_DEG` from the field's centre, :data:`CAMERA_DISTANCE_FACTOR` times the
   field's half side plus :data:`CAMERA_DISTANCE_PAD` away) or the frame nearest the light, of an
@@ -47,7 +47,6 @@ import trimesh
 
 from ..billboard.impostor import OctahedralImpostor, bake_impostor
 from ..billboard.instances import Instances, place_random
-from ..billboard.sun import SunPath
 from ..cutout import mesh_cutout
 from ..errors import ValidationError, expected_got
 from ..fixtures import textured_demo_asset, write_leaf_plant
@@ -55,10 +54,11 @@ from ..groundtruth import receiver_grid
 from ..meshes import load_mesh, normalize
 from ..metrics import shadow_iou
 from ..protocols import PassRenderer
-from ..shadow.cardbaselines import card_field_map
-from ..shadow.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
-from ..shadow.fieldshadow import FieldMap, FieldShadow
-from ..shadow.sunatlas import SunAtlas, bake_sun_atlas
+from ..sunlit.cardbaselines import card_field_map
+from ..sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
+from ..sunlit.fieldshadow import FieldMap, FieldShadow
+from ..sunlit.sun import SunPath
+from ..sunlit.sunatlas import SunAtlas, bake_sun_atlas
 from ..views.dome import ViewDome
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
@@ -85,7 +85,7 @@ RECEIVER_MARGIN = 1.5
 CAMERA_AZIMUTH_DEG, CAMERA_ELEVATION_DEG = -120.0, 25.0
 #: Its distance: this times the field's half side, plus :data:`CAMERA_DISTANCE_PAD` units.
 CAMERA_DISTANCE_FACTOR, CAMERA_DISTANCE_PAD = 2.0, 6.0
-#: The day the suns are drawn from (:class:`~morphkit.billboard.sun.SunPath`: azimuth -90 to 90,
+#: The day the suns are drawn from (:class:`~morphkit.sunlit.sun.SunPath`: azimuth -90 to 90,
 #: 60 degrees at noon, 5 below the horizon at both ends, so the path's suns cross the horizon).
 DAY = SunPath(rise_deg=-5.0)
 

@@ -4,10 +4,10 @@ coarser maps).
 
 For each of the plan's instance counts and three field resolutions -- ``suite`` (the suite's own,
 :func:`~morphkit.bench.scene_fields.field_tpu`: the atlases' texel), ``frame`` (the rule of a
-billboard frame's map, :meth:`~morphkit.shadow.receivers.AtlasShadow.resolution`: capped at
+billboard frame's map, :meth:`~morphkit.sunlit.receivers.AtlasShadow.resolution`: capped at
 :data:`~morphkit.tol.SUN_FIELD_MAX_SIDE` a side, the smallest over the suns) and ``suite/4`` (a
 field seen from four times as far) -- two builders of the same light view: ``splat-l0``
-(:class:`~morphkit.shadow.fieldsplat.SplatDrawer` ``(max_level=0)``, every atlas texel, the drawer
+(:class:`~morphkit.sunlit.fieldsplat.SplatDrawer` ``(max_level=0)``, every atlas texel, the drawer
 before levels) and ``splat-levels`` (the default drawer: each instance at the coarsest level whose
 texel fits :data:`~morphkit.tol.SPLAT_LEVEL_MAX_TEXELS` field texels). Metrics: ``iou`` / ``iou_min``
 / ``mae`` against the ray cast on the suite's ground grid (as ``accuracy``), ``level_mean`` and
@@ -22,9 +22,9 @@ from typing import Any
 
 import numpy as np
 
-from ..shadow.fieldshadow import FieldShadow
-from ..shadow.fieldsplat import SplatDrawer
-from ..shadow.receivers import AtlasShadow
+from ..sunlit.fieldshadow import FieldShadow
+from ..sunlit.fieldsplat import SplatDrawer
+from ..sunlit.receivers import AtlasShadow
 from .harness import make_row, markdown_table, time_cycling
 from .scene_fields import SceneKit, day_suns, field_tpu, score
 

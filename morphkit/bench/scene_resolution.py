@@ -9,7 +9,7 @@ and ray-cast truth (:func:`surface_scores`) are scored for each of the plan's
 rendered from the sun into a map of the same texels a unit (``direct``: the best any map of that
 resolution can do, with the same lookup and normal offset), and ``atlas-squares``: the atlas
 drawn with squares only (``SplatDrawer(quads=False)``, the drawer before its quads,
-:mod:`morphkit.shadow.fieldsplat`). Metrics: ``iou`` / ``iou_min`` (the
+:mod:`morphkit.sunlit.fieldsplat`). Metrics: ``iou`` / ``iou_min`` (the
 worst sun), ``mae``, ``tpu`` (field texels a unit), ``kib`` (both assets' atlases); ``ms`` a build
 and the lookup, one a sun.
 """
@@ -24,9 +24,9 @@ import numpy as np
 
 from .. import tol
 from ..metrics import shadow_iou
-from ..shadow.fieldbaselines import ray_cast_field
-from ..shadow.fieldshadow import FieldMap, FieldShadow
-from ..shadow.fieldsplat import SplatDrawer
+from ..sunlit.fieldbaselines import ray_cast_field
+from ..sunlit.fieldshadow import FieldMap, FieldShadow
+from ..sunlit.fieldsplat import SplatDrawer
 from .harness import Timing, make_row, markdown_table
 from .scene_fields import Field, SceneKit, day_suns, field_tpu, surface_receivers
 

@@ -24,10 +24,10 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
 * ``sun-disc`` -- a soft sun (issues #26, #27): for the plan's radii and suns, ``avg-K`` (K field
-  maps over the disc, :func:`~morphkit.shadow.receivers.sun_disc`, averaged) and ``pcss`` (one
+  maps over the disc, :func:`~morphkit.sunlit.receivers.sun_disc`, averaged) and ``pcss`` (one
   map along the centre at :data:`~morphkit.tol.SUN_DISC_MAP_SCALE` times the field's texels, as
-  :class:`~morphkit.shadow.receivers.FilteredAtlasShadow` draws it, filtered:
-  :func:`~morphkit.shadow.sundisc.disc_visibility`) against the
+  :class:`~morphkit.sunlit.receivers.FilteredAtlasShadow` draws it, filtered:
+  :func:`~morphkit.sunlit.sundisc.disc_visibility`) against the
   fraction of ``disc_truth`` directions the ray cast sees from each ground point; ``mae`` over
   the points the truth or the estimate do not see fully lit, ``banding``
   (:func:`~morphkit.bench.soft_suite.banding`), ``ms`` the maps and the lookups of a new sun.
@@ -70,10 +70,10 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from ..shadow.fieldbaselines import ray_cast_field
-from ..shadow.fieldshadow import FieldShadow
-from ..shadow.receivers import sun_disc
-from ..shadow.sundisc import disc_visibility
+from ..sunlit.fieldbaselines import ray_cast_field
+from ..sunlit.fieldshadow import FieldShadow
+from ..sunlit.receivers import sun_disc
+from ..sunlit.sundisc import disc_visibility
 from ..validate import as_int
 from .harness import Timing, make_row, markdown_table, pick_sections, section_name, time_cycling
 from .scene_fields import (

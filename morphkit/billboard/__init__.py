@@ -21,9 +21,10 @@ Relightable assets seen from any height, built on the views with depth of :mod:`
 
 * :mod:`.domeasset`, :mod:`.domefile` -- :class:`~.domeasset.DomeAsset`, :func:`~.domeasset.bake_dome`
   and the versioned file; :mod:`.analytic` -- an exact sphere asset (no GL);
-* :mod:`.impostor` -- the engines' hemi-octahedral impostor, the anchor baseline;
-* :mod:`.litmodes`, :mod:`.litmesh`, :mod:`.sun` -- relit billboards and their relit ground
-  truth (:mod:`morphkit.shading`), the sun's path.
+* :mod:`.impostor` -- the engines' hemi-octahedral impostor, the anchor baseline.
+
+Relit billboards under the sun, with the field's shadows, are :mod:`morphkit.sunlit` (above this
+package and :mod:`morphkit.shadow`).
 
 Scene side:
 

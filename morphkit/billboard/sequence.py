@@ -25,10 +25,10 @@ from ..errors import ValidationError, expected_got
 from ..fileio import write_image, write_json
 from ..outfolder import FRAMES_FOLDER, frame_name
 from ..shading import Lighting
+from ..sunlit.litmodes import Relit
 from ..video import VideoFile
 from .compare import compare_modes
 from .field import BillboardScene, FrameMode
-from .litmodes import Relit
 from .modes import ClassicMode, MorphMode
 
 __all__ = ["write_sequence", "compare_indices"]

@@ -20,17 +20,12 @@
 * :mod:`.depthtables` -- :class:`~.depthtables.DepthTables`: the filtered lookup's per-map
   summed-area tables and max-depth pyramid;
 * :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
-* :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction in its frame
-  (every yaw, every sun), morphed per pixel; one instance's ground shadow;
-* :mod:`.sunbaselines` -- the sun atlas's baselines: the direct light render and the ray-cast truth;
-* :mod:`.fieldshadow` -- :class:`~.fieldshadow.FieldShadow`: a field of instances' shadow in one light
-  view along the sun (culled to a receiver, reused while nothing moves), drawn by a ``FieldDrawer``;
-* :mod:`.fieldsplat` -- the default drawer: the atlas views' points reprojected into that view;
-* :mod:`.fieldbaselines` -- the field's baselines: all posed meshes rendered into that view, the ray cast;
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
 
 The program ``morphkit shadows`` (a baked atlas's scene along an object path, to frames and a video)
-is :mod:`morphkit.playback`, above this package and the bake pipeline.
+is :mod:`morphkit.playback`, above this package and the bake pipeline. The shadows of a field of
+billboards under the sun (one atlas per asset over the sun's direction) are
+:mod:`morphkit.sunlit`, the junction of both papers, above this package and the billboards.
 
 Papers: the warped shadow maps of Kang & Ihm [1]_, built on shadow mapping [2]_ and projective
 texture mapping [3]_; the image-based baseline of Lee & Ihm [4]_.
@@ -62,7 +57,6 @@ from .reprojected import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .runtime import AtlasRuntime
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range
-from .sunatlas import SunAtlas, bake_sun_atlas, ground_shadow
 from .warped import ComposedWarp, ThreeWarps
 
 __all__ = [
@@ -94,7 +88,4 @@ __all__ = [
     "PcfSoftShadow",
     "PcssSoftShadow",
     "default_soft_shadow",
-    "SunAtlas",
-    "bake_sun_atlas",
-    "ground_shadow",
 ]

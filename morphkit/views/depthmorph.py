@@ -29,7 +29,7 @@ surface ends the march:
 A ray passing from in front of a far surface to behind a nearer one (a gap between two
 parts that ``k`` sees overlapping) lands far behind the nearer one: occluded, not hit,
 so gaps another view sees through stay open (light views of
-:mod:`morphkit.shadow.sunatlas` rely on it).
+:mod:`morphkit.sunlit.sunatlas` rely on it).
 
 The views' answers are combined (:func:`combine`): alpha is the weighted mean of the
 hit views' coverage and the free views' zero (occluded views abstain); colour,

@@ -1,19 +1,19 @@
 """A field of instances' shadow on the ground from their assets' sun atlases: one light view.
 
 A scene of many instances (:class:`~morphkit.billboard.instances.Instances`) of a few assets,
-each with its :class:`~morphkit.shadow.sunatlas.SunAtlas`, under a directional sun: the
+each with its :class:`~morphkit.sunlit.sunatlas.SunAtlas`, under a directional sun: the
 field's shadow map is **one orthographic light view along the sun** (world frame) that
 covers the instances' bounding spheres at ``texels_per_unit`` texels per scene unit
 (:func:`field_camera`). What the instances cast is drawn into it by a :class:`FieldDrawer`,
 with a minimum of depths: each instance's light view comes from its atlas, with the sun
-turned into its object frame by its yaw (:func:`~morphkit.shadow.sunatlas.sun_in_object`).
+turned into its object frame by its yaw (:func:`~morphkit.sunlit.sunatlas.sun_in_object`).
 
 **Drawers.** :class:`~.fieldsplat.SplatDrawer` (the default) reprojects the drawn texels
 of the atlas views around each instance's object-frame sun point by point into the field
 view: one compiled pass, nothing per sun to make or keep; an instance whose atlas texel is
 smaller than the field's is drawn from a coarser level of its atlas's points (its module
 docstring, "Levels"). :class:`MorphDrawer` morphs each
-instance's light view from its atlas (:meth:`~morphkit.shadow.sunatlas.SunAtlas.light_view`)
+instance's light view from its atlas (:meth:`~morphkit.sunlit.sunatlas.SunAtlas.light_view`)
 and places it (below); it is the slower, earlier way, kept to compare with (figures:
 ``docs/RESULTS.md``).
 
@@ -43,7 +43,7 @@ bounding box of its corners' projections along the sun) cannot shadow it and is 
 **Lookup** (:meth:`FieldMap.visibility`): a ground point is projected along the sun into the
 field view and shadowed where it lies behind the stored depth by more than
 :data:`~morphkit.tol.SUN_GROUND_BIAS_TEXELS` texels (as
-:func:`~morphkit.shadow.sunatlas.ground_visibility`).
+:func:`~morphkit.sunlit.sunatlas.ground_visibility`).
 
 A sun at or below the horizon casts no shadow (every point lit, no error); under
 :data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG` the sun is clamped there, azimuth kept, as the
@@ -64,10 +64,10 @@ from .. import tol
 from ..billboard.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..shadow.lookup import ShadowBias, check_depth_map, lookup_into
 from ..validate import as_finite_array, as_positive
 from ..views.domecameras import direction, quad_axes
 from .fieldsplat import SplatDrawer
-from .lookup import ShadowBias, check_depth_map, lookup_into
 from .sunatlas import SunAtlas, sun_direction
 
 __all__ = ["FieldShadow", "FieldMap", "FieldDrawer", "MorphDrawer", "field_camera", "field_sun",

@@ -3,10 +3,10 @@
 :class:`SplatDrawer` draws the depth of a field's light view (:mod:`.fieldshadow`) by
 **reprojecting the atlas views' texels per point** (Kang & Ihm's per-pixel warp of the
 neighbouring maps, here forward): for each instance, the sun is turned into its object frame
-(:func:`~morphkit.shadow.sunatlas.sun_in_object`: the same elevation, the azimuth minus its
+(:func:`~morphkit.sunlit.sunatlas.sun_in_object`: the same elevation, the azimuth minus its
 yaw), the atlas views of the dome triangle around that direction are chosen
 (:meth:`~morphkit.views.dome.ViewDome.weights_many`), and each drawn texel of each of
-those views, a surface point of the object (:meth:`~morphkit.shadow.sunatlas.SunAtlas.view_points`),
+those views, a surface point of the object (:meth:`~morphkit.sunlit.sunatlas.SunAtlas.view_points`),
 is taken by the instance's pose and the field camera's texture matrix to a field texel and
 its depth along the light; the field keeps the nearest (``min``). Nothing is morphed or
 cached per sun: a sun change costs one pass over the points, whatever the yaws and the
@@ -16,7 +16,7 @@ meshes' face counts (the points are the atlas's texels).
 area, seen from the view head-on, is one texel. In the field that texel is a square of
 ``f = scale * field texels per unit / atlas texels per unit`` texels a side, and the patch,
 seen from the sun instead, is foreshortened by ``|n . s| / |n . d|`` (its normal ``n``
-estimated from the view's depth, :meth:`~morphkit.shadow.sunatlas.SunAtlas.view_points`;
+estimated from the view's depth, :meth:`~morphkit.sunlit.sunatlas.SunAtlas.view_points`;
 ``s`` the sun, ``d`` the view, object frame; ``|n . d|`` at least
 :data:`~morphkit.tol.SPLAT_MIN_COS`). The point fills the field texels whose centres lie in
 a square of side ``f * sqrt(min(1, |n . s| / |n . d|))`` centred on it (none when the square
@@ -31,7 +31,7 @@ it and reaches up to half its side past the surface's edge: past a crease (a cra
 its side) it lies in front of the face beyond, which then shadows itself where the sun grazes it
 (at 512 texels, nearly all the atlas's false shadows on the instances' own surfaces). So each
 view's **quads**, four drawn texels meeting at a corner at nearby depths
-(:meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_quads`, :func:`~morphkit.shadow.pointlevels.grid_quads`),
+(:meth:`~morphkit.sunlit.sunatlas.SunAtlas.packed_quads`, :func:`~morphkit.sunlit.pointlevels.grid_quads`),
 are drawn as two triangles, their depth interpolated (the view's depth map drawn as a mesh: a
 triangle covers the field texels whose centres it contains, edges included, as a rasteriser
 does; a quad is rasterised as one, each texel centre in its box taking the first of its two
@@ -50,7 +50,7 @@ by up to a texel along every edge that is not axis-aligned.
 texel is wider than an atlas texel (``f < 1``: a wide field, a map capped at
 :data:`~morphkit.tol.SUN_FIELD_MAX_SIDE`, a small instance) most points land on a texel another
 point of the same view already holds. Each instance is drawn instead from the coarsest **level**
-``l`` of its atlas's points (:meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`, one point
+``l`` of its atlas's points (:meth:`~morphkit.sunlit.sunatlas.SunAtlas.packed_points`, one point
 per ``2**l`` texels a side, :mod:`.pointlevels`; made once per atlas and level, kept by the atlas)
 whose texel stays within :data:`~morphkit.tol.SPLAT_LEVEL_MAX_TEXELS` field texels,
 ``2**l * f <= SPLAT_LEVEL_MAX_TEXELS`` (:func:`splat_levels`; level 0 where ``f`` is larger: a
@@ -277,8 +277,8 @@ def splat_points(depth: np.ndarray, points: np.ndarray, normals: np.ndarray, seg
         docstring, "Levels"); default 1 (every point one atlas texel).
     seg_reach : (S,) float, optional
         Each segment's farthest point from its object's origin (the ``reach`` of
-        :class:`~morphkit.shadow.sunatlas.AtlasPoints`, made when the atlas packs its points);
-        default: found here (:func:`~morphkit.shadow.sunatlas.segment_reach`).
+        :class:`~morphkit.sunlit.sunatlas.AtlasPoints`, made when the atlas packs its points);
+        default: found here (:func:`~morphkit.sunlit.sunatlas.segment_reach`).
     quads : AtlasQuads, optional
         Quads of the segments (module docstring, "Quads"): ``quads`` index ``points``,
         ``starts`` / ``lengths`` give each segment's (``(S,)``; a length 0 for a segment
@@ -429,7 +429,7 @@ def splat_levels(footprint: np.ndarray, max_level: int, max_texels: float) -> np
     ------
     ValidationError
         A footprint that is not positive and finite; a level outside ``0 ..``
-        :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`; ``max_texels`` not positive.
+        :data:`~morphkit.sunlit.sunatlas.MAX_POINT_LEVEL`; ``max_texels`` not positive.
     """
     f = as_finite_array(footprint, "footprint", shape=(None,))
     if np.any(f <= 0.0):
@@ -447,7 +447,7 @@ class SplatDrawer:
     ----------
     max_level : int
         The coarsest point level an instance may be drawn at (module docstring, "Levels");
-        default :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`; 0 splats every atlas texel
+        default :data:`~morphkit.sunlit.sunatlas.MAX_POINT_LEVEL`; 0 splats every atlas texel
         (the drawer before levels, kept to compare with).
     max_texels : float
         The largest side, in field texels, of the level's texel an instance is drawn at
@@ -465,12 +465,12 @@ class SplatDrawer:
     Raises
     ------
     ValidationError
-        A level outside ``0 ..`` :data:`~morphkit.shadow.sunatlas.MAX_POINT_LEVEL`;
+        A level outside ``0 ..`` :data:`~morphkit.sunlit.sunatlas.MAX_POINT_LEVEL`;
         ``max_texels`` not positive.
 
     Examples
     --------
-    >>> from morphkit.shadow.fieldsplat import SplatDrawer
+    >>> from morphkit.sunlit.fieldsplat import SplatDrawer
     >>> SplatDrawer().name
     'splat'
     >>> SplatDrawer(max_level=0).max_level
@@ -492,7 +492,7 @@ class SplatDrawer:
 
     def clear(self) -> None:
         """Forget the last draw's levels; nothing else is kept between draws (each atlas keeps its
-        own points and levels, :meth:`~morphkit.shadow.sunatlas.SunAtlas.packed_points`)."""
+        own points and levels, :meth:`~morphkit.sunlit.sunatlas.SunAtlas.packed_points`)."""
         self.last_levels = np.zeros(0, np.int64)
 
     def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,

@@ -63,12 +63,12 @@ from ..errors import ValidationError, expected_got
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import Item
+from ..shadow.lookup import ShadowBias, shadow_visibility
 from ..validate import as_direction, as_finite_array, as_int, as_shape
 from ..views.depthmorph import morph_views
 from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras, direction
 from ..views.gbuffer import ViewSurface
-from .lookup import ShadowBias, shadow_visibility
 from .pointlevels import block_points, grid_quads
 
 __all__ = ["SunAtlas", "AtlasPoints", "AtlasQuads", "segment_reach", "bake_sun_atlas", "sun_in_object",
@@ -206,7 +206,7 @@ class AtlasQuads(NamedTuple):
     quads : (Q, 4) int32
         Each quad's four points, indices into :meth:`SunAtlas.packed_points` ``(0).points``;
         its triangles ``(q0, q1, q2)`` and ``(q0, q2, q3)``
-        (:func:`~morphkit.shadow.pointlevels.grid_quads`).
+        (:func:`~morphkit.sunlit.pointlevels.grid_quads`).
     starts, lengths : (V,) int64
         Each view's first quad and count.
     inner : (P,) bool
@@ -433,7 +433,7 @@ class SunAtlas:
         ----------
         level : int
             0: each view's :meth:`view_points` (size 1); ``l > 0``: one point per ``2**l``
-            texels a side (:func:`~morphkit.shadow.pointlevels.block_points`), at most
+            texels a side (:func:`~morphkit.sunlit.pointlevels.block_points`), at most
             :data:`MAX_POINT_LEVEL`.
 
         Returns
@@ -475,7 +475,7 @@ class SunAtlas:
 
         A quad: four drawn texels meeting at a corner whose depths lie within
         :data:`~morphkit.tol.SPLAT_QUAD_DEPTH_GAP` texels of each other
-        (:func:`~morphkit.shadow.pointlevels.grid_quads`).
+        (:func:`~morphkit.sunlit.pointlevels.grid_quads`).
 
         Returns
         -------
@@ -688,7 +688,7 @@ def ground_shadow(atlas: SunAtlas, pose: np.ndarray, sun_dir_world: np.ndarray, 
     >>> from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
     >>> from morphkit.views.dome import ViewDome
     >>> from morphkit.views.domecameras import DomeCameras
-    >>> from morphkit.shadow.sunatlas import SunAtlas, ground_shadow
+    >>> from morphkit.sunlit.sunatlas import SunAtlas, ground_shadow
     >>> dome = ViewDome(((20.0, 6),), top=True)
     >>> cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (32, 32))
     >>> depths = [sphere_view(cams.ortho_camera(a, e, (32, 32)))[2]

@@ -1,7 +1,7 @@
 """Coarser levels of an atlas view's surface points: one point per ``b x b`` block of texels.
 
-A sun atlas view (:class:`~morphkit.shadow.sunatlas.SunAtlas`) holds one surface point per drawn
-texel (:meth:`~morphkit.shadow.sunatlas.SunAtlas.view_points`); splatted into a field light
+A sun atlas view (:class:`~morphkit.sunlit.sunatlas.SunAtlas`) holds one surface point per drawn
+texel (:meth:`~morphkit.sunlit.sunatlas.SunAtlas.view_points`); splatted into a field light
 view whose texel is several atlas texels wide (:mod:`.fieldsplat`), most of them land on a texel
 another point already holds. **Level** ``l`` of a view keeps one point per block of
 ``b = 2**l`` texels a side (level 0: the texels themselves), made by :func:`block_points`:
@@ -165,7 +165,7 @@ def grid_quads(drawn: np.ndarray, depth: np.ndarray, depth_gap: float) -> tuple[
     Examples
     --------
     >>> import numpy as np
-    >>> from morphkit.shadow.pointlevels import grid_quads
+    >>> from morphkit.sunlit.pointlevels import grid_quads
     >>> quads, inner = grid_quads(np.ones((3, 3), bool), np.zeros((3, 3)), 0.5)
     >>> len(quads), int(inner.sum())  # four quads; only the centre texel is inside all four
     (4, 1)

@@ -5,8 +5,8 @@ card): the shadow pass draws each instance's **flat card through its pivot, faci
 textured with one of the impostor's frames and **alpha-tested**
 (:data:`~morphkit.tol.IMPOSTOR_CARD_ALPHA_TEST`, the frame's coverage sampled bilinearly as a
 GPU samples the card's texture); the card's depth is flat, its plane's. Drawn into the field's
-light view (:meth:`~morphkit.shadow.fieldshadow.FieldShadow.plan`'s camera, min depth), it
-gives a :class:`~morphkit.shadow.fieldshadow.FieldMap` looked up like the atlas's.
+light view (:meth:`~morphkit.sunlit.fieldshadow.FieldShadow.plan`'s camera, min depth), it
+gives a :class:`~morphkit.sunlit.fieldshadow.FieldMap` looked up like the atlas's.
 
 Two images (:data:`CARD_IMAGES`), both from an
 :class:`~morphkit.billboard.impostor.OctahedralImpostor` of the asset:
@@ -24,7 +24,7 @@ Two images (:data:`CARD_IMAGES`), both from an
 The nearest frame is the one whose direction has the largest dot product with the wanted
 direction. Frames hold the whole bounding sphere (``half_extent`` about the pivot), so the
 card is the frame's square at the instance's scale. The sun is clamped at the field's
-grazing cut-off as the atlas's is (:func:`~morphkit.shadow.fieldshadow.field_sun`); at or
+grazing cut-off as the atlas's is (:func:`~morphkit.sunlit.fieldshadow.field_sun`); at or
 below the horizon nothing casts.
 """
 

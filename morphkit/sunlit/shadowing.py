@@ -1,11 +1,11 @@
 """Shadows in a relit billboard frame: the ground's and the billboards' sun visibility per pixel.
 
 The glue between a frame mode (:class:`~.litmodes.LitMode`, :class:`~.litmesh.LitMeshMode`)
-and a :class:`~morphkit.shadow.receivers.SceneShadow` (the atlases' field map, or the ray
-cast): :func:`frame_shadow` makes the frame's :class:`~morphkit.shadow.receivers.FrameShadow`
+and a :class:`~morphkit.sunlit.receivers.SceneShadow` (the atlases' field map, or the ray
+cast): :func:`frame_shadow` makes the frame's :class:`~morphkit.sunlit.receivers.FrameShadow`
 from the lighting's suns, the ground the camera sees and the instances it draws;
 :func:`surface_visibility` gives a billboard image's per-pixel visibility (its depth's world
-points, :mod:`morphkit.shadow.receivers`, "Receivers"); :func:`points_visibility` that of a
+points, :mod:`morphkit.sunlit.receivers`, "Receivers"); :func:`points_visibility` that of a
 mesh pass's pixels; :func:`shadowed_backdrop` the backdrop with the ground's light share
 (:func:`morphkit.shading.sun_shadow_factor`, ground normal ``+z``) where the layer leaves the
 ground visible (covered pixels keep full sun: nobody sees them).
@@ -16,13 +16,13 @@ from __future__ import annotations
 import numpy as np
 
 from .. import tol
+from ..billboard.field import BillboardScene
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import DirectionalLight
 from ..shading import Lighting, sun_shadow_factor, sun_terms
-from ..shadow.receivers import FrameShadow, SceneShadow
 from ..views.gbuffer import ViewSurface
-from .field import BillboardScene
+from .receivers import FrameShadow, SceneShadow
 
 __all__ = ["frame_shadow", "surface_visibility", "points_visibility", "shadowed_backdrop", "FrameGround",
            "darkened", "DARK_LEVELS"]
@@ -80,7 +80,7 @@ def frame_shadow(shadow: SceneShadow, scene: BillboardScene, camera: CameraModel
         ``shadow`` is not a SceneShadow.
     """
     if not isinstance(shadow, SceneShadow):
-        raise ValidationError(expected_got("shadow", "a morphkit.shadow.receivers.SceneShadow",
+        raise ValidationError(expected_got("shadow", "a morphkit.sunlit.receivers.SceneShadow",
                                            type(shadow).__name__))
     hit, ground = scene.backdrop.ground_points(camera)
     suns = [-lt.direction for lt in lighting.above_horizon().lights if isinstance(lt, DirectionalLight)]

@@ -26,7 +26,7 @@ shading of the meshes' own passes, :mod:`morphkit.shading`).
 pixel against each other (:mod:`.compositor`, "Depth"): overlapping instances hide each
 other where their surfaces are, not where their pivots' order says.
 
-**Shadows.** With a ``shadow`` (:class:`~morphkit.shadow.receivers.SceneShadow`: the
+**Shadows.** With a ``shadow`` (:class:`~morphkit.sunlit.receivers.SceneShadow`: the
 assets' sun atlases, or the ray cast), each billboard pixel's sun terms are multiplied by
 the sun's visibility at the pixel's world point (from its surface's depth) and the ground
 is darkened by the light its shadows take (:mod:`.shadowing`).
@@ -40,6 +40,14 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from ..billboard.bakelook import BAKE_AMBIENT, bake_lights
+from ..billboard.cache import MorphCache
+from ..billboard.compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
+from ..billboard.domeasset import DomeAsset
+from ..billboard.facing import ViewpointFacing
+from ..billboard.field import BillboardScene
+from ..billboard.frame import Frame, FrameStats, Placement
+from ..billboard.protocols import SurfaceSource
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..scene import PointLight
@@ -50,16 +58,8 @@ from ..shading import (
     shade_suns,
     sun_terms,
 )
-from ..shadow.receivers import SceneShadow
 from ..views.gbuffer import ViewSurface
-from .bakelook import BAKE_AMBIENT, bake_lights
-from .cache import MorphCache
-from .compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
-from .domeasset import DomeAsset
-from .facing import ViewpointFacing
-from .field import BillboardScene
-from .frame import Frame, FrameStats, Placement
-from .protocols import SurfaceSource
+from .receivers import SceneShadow
 from .shadowing import frame_shadow, shadowed_backdrop, surface_visibility
 
 __all__ = ["Relit", "SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
@@ -342,7 +342,7 @@ class LitMode:
         self.quantum_deg = q
         self.name = self.choice.name if name is None else str(name)
         if shadow is not None and not isinstance(shadow, SceneShadow):
-            raise ValidationError(expected_got("shadow", "a morphkit.shadow.receivers.SceneShadow",
+            raise ValidationError(expected_got("shadow", "a morphkit.sunlit.receivers.SceneShadow",
                                                type(shadow).__name__))
         self.shadow = shadow
 

@@ -39,7 +39,7 @@ def _angles(d: np.ndarray) -> tuple[float, float]:
 def direct_light_view(atlas: SunAtlas, normalized_mesh: trimesh.Trimesh, renderer: SceneRenderer,
                       sun_dir_object: np.ndarray, shape: tuple[int, int] | None = None
                       ) -> tuple[CameraModel, np.ndarray] | None:
-    """The light view :meth:`~morphkit.shadow.sunatlas.SunAtlas.light_view` approximates, rendered directly.
+    """The light view :meth:`~morphkit.sunlit.sunatlas.SunAtlas.light_view` approximates, rendered directly.
 
     Parameters
     ----------
@@ -47,7 +47,7 @@ def direct_light_view(atlas: SunAtlas, normalized_mesh: trimesh.Trimesh, rendere
         Gives the camera rule.
     normalized_mesh : trimesh.Trimesh
         The atlas's mesh, normalised (:func:`morphkit.meshes.normalize`; not checked here:
-        :meth:`~morphkit.shadow.sunatlas.SunAtlas.check_mesh` does, :func:`direct_ground_shadow` calls it).
+        :meth:`~morphkit.sunlit.sunatlas.SunAtlas.check_mesh` does, :func:`direct_ground_shadow` calls it).
     renderer : SceneRenderer
         Draws the depth.
     sun_dir_object : (3,) float
@@ -58,7 +58,7 @@ def direct_light_view(atlas: SunAtlas, normalized_mesh: trimesh.Trimesh, rendere
     Returns
     -------
     (CameraModel, (h, w) float32) or None
-        As :meth:`~morphkit.shadow.sunatlas.SunAtlas.light_view` (the same grazing clamp;
+        As :meth:`~morphkit.sunlit.sunatlas.SunAtlas.light_view` (the same grazing clamp;
         ``None`` at or below the horizon).
 
     Raises

@@ -57,8 +57,8 @@ from .. import tol
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
+from ..shadow.lookup import check_depth_map
 from ..validate import as_finite_array
-from .lookup import check_depth_map
 
 __all__ = ["disc_visibility", "DiscMap"]
 

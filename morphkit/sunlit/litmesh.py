@@ -13,11 +13,11 @@ The layer is composited over the scene's backdrop as the billboards' is.
 :attr:`LitMeshMode.lighting` may be replaced between frames (a moving sun,
 :class:`~.sun.SunPath`).
 
-**Shadows.** With a ``shadow`` (:class:`~morphkit.shadow.receivers.SceneShadow`), the sun
+**Shadows.** With a ``shadow`` (:class:`~morphkit.sunlit.receivers.SceneShadow`), the sun
 terms of every mesh pixel are multiplied by the sun's visibility at its world point (the
 depth pass unprojected through the frame's camera, the normal pass for the normal offset)
 and the ground gets its shadows as in the billboard frames (:mod:`.shadowing`): with
-:class:`~morphkit.shadow.receivers.RayCastShadow` this is the truth of a shadowed billboard
+:class:`~morphkit.sunlit.receivers.RayCastShadow` this is the truth of a shadowed billboard
 frame.
 
 Fog, when the scene has it, is applied per pixel from the depth pass's distance,
@@ -33,17 +33,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..billboard.compositor import finish
+from ..billboard.field import BillboardScene
+from ..billboard.frame import Frame, FrameStats
+from ..billboard.modes import MeshMode
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..protocols import GBufferRenderer, PassRenderer
 from ..scene import Item
 from ..shading import Lighting, shade_passes
-from ..shadow.receivers import SceneShadow
 from ..validate import as_flag, as_int
-from .compositor import finish
-from .field import BillboardScene
-from .frame import Frame, FrameStats
-from .modes import MeshMode
+from .receivers import SceneShadow
 from .shadowing import frame_shadow, points_visibility, shadowed_backdrop
 
 __all__ = ["LitMeshMode"]
@@ -90,7 +90,7 @@ class LitMeshMode:
 
     def __post_init__(self) -> None:
         if self.shadow is not None and not isinstance(self.shadow, SceneShadow):
-            raise ValidationError(expected_got("shadow", "a morphkit.shadow.receivers.SceneShadow",
+            raise ValidationError(expected_got("shadow", "a morphkit.sunlit.receivers.SceneShadow",
                                                type(self.shadow).__name__))
         if not isinstance(self.renderer, PassRenderer):
             raise ValidationError(expected_got("renderer", "a renderer with passes and source_passes",

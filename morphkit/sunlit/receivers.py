@@ -1,7 +1,7 @@
 """The sun's visibility at a billboard frame's receivers: the ground, the billboards, the meshes.
 
-A relit billboard frame (:class:`~morphkit.billboard.litmodes.LitMode`, its truth
-:class:`~morphkit.billboard.litmesh.LitMeshMode`) multiplies each sun's term of every shaded
+A relit billboard frame (:class:`~morphkit.sunlit.litmodes.LitMode`, its truth
+:class:`~morphkit.sunlit.litmesh.LitMeshMode`) multiplies each sun's term of every shaded
 pixel by the sun's **visibility** there (:mod:`morphkit.shading`, "Shadows"). A
 :class:`SceneShadow` gives it, per frame, a :class:`FrameShadow`: the visibility of any world
 points under each sun of the frame. Two of them:
@@ -159,7 +159,7 @@ def sun_disc(sun_dir_world: np.ndarray, samples: int, radius_deg: float = SUN_DI
     Examples
     --------
     >>> import numpy as np
-    >>> from morphkit.shadow.receivers import sun_disc
+    >>> from morphkit.sunlit.receivers import sun_disc
     >>> d = sun_disc(np.array([0.0, 0.0, 1.0]), 8, 2.0)
     >>> d.shape, bool(np.degrees(np.arccos(d[:, 2])).max() < 2.0)
     ((8, 3), True)
