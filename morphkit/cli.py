@@ -9,7 +9,7 @@ Errors: every command's morphkit errors, OS errors and memory errors are caught 
 temporary files removed). No traceback. Exit codes, decided in one place (``_exit_code``):
 
 * 2, the command line was used wrongly: argparse's usage errors, a bad option value or
-  combination (:mod:`morphkit.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
+  combination (:mod:`morphkit.programs.cliargs`, or a :class:`~morphkit.errors.UsageError` of a
   command's own checks, ``_option_values``), a value naming nothing there is (an unknown
   sample, suite, section or path name, a malformed scheduler address), an ``-o`` that cannot
   be the command's folder (a file, a path under a file) or refused by the overwrite rule
@@ -35,15 +35,22 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cliargs import SOFT_FILTER, billboard_views, check_args, check_output_file, parse_size, same_file
-from .clistop import Stop, report_stop, stop_signals
 from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
+from .programs.cliargs import (
+    SOFT_FILTER,
+    billboard_views,
+    check_args,
+    check_output_file,
+    parse_size,
+    same_file,
+)
+from .programs.clistop import Stop, report_stop, stop_signals
 
 if TYPE_CHECKING:
     from .billboard.instances import Instances
-    from .billboard.sources import ResolvedAssets
     from .outfolder import OutputClaim, OutputRule
+    from .programs.sources import ResolvedAssets
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -71,8 +78,8 @@ def _output_folder(out: str, rule: OutputRule, overwrite: bool = False) -> Outpu
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from .demo import previous_demo, run_demo
     from .outfolder import DEMO_OUTPUT
+    from .programs.demo import previous_demo, run_demo
 
     old = previous_demo(args.out)
     if old is not None and not args.overwrite:
@@ -250,7 +257,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
     from .outfolder import SHADOWS_OUTPUT
-    from .playback import (
+    from .programs.playback import (
         CirclePath,
         LinePath,
         PointsPath,
@@ -363,7 +370,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
                         ("--asset-size", args.asset_size, 16)):
         if v < lo:
             raise ValidationError(expected_got(name, f"an int >= {lo}", v))
-    from .billboard.sources import check_specs, resolve_assets
+    from .programs.sources import check_specs, resolve_assets
 
     specs = args.asset or ["tree", "person"]
     check_specs(specs)
@@ -383,7 +390,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .outfolder import BILLBOARDS_OUTPUT
 
     claim = _output_folder(args.out, BILLBOARDS_OUTPUT, args.overwrite)
-    implied = getattr(args, "implied", None)  # morphkit.cliargs.implied_sun_options
+    implied = getattr(args, "implied", None)  # morphkit.programs.cliargs.implied_sun_options
     # what the run chose: on stdout with its other lines (stderr holds the one error line)
     if implied:
         print("morphkit billboards: " + "; ".join(implied), flush=True)
@@ -393,7 +400,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.facing import AxialFacing, ViewpointFacing
-    from .billboard.sequence import write_sequence
+    from .programs.sequence import write_sequence
     from .render import Renderer
     from .shading import Lighting
     from .sunlit.litmesh import LitMeshMode
@@ -752,7 +759,7 @@ def _run(args: argparse.Namespace, stop: Stop) -> int:
     allocations and interrupts as one line (:func:`main`)."""
     try:
         with _option_values():
-            check_args(args)  # every option refused before any work (morphkit.cliargs)
+            check_args(args)  # every option refused before any work (morphkit.programs.cliargs)
         return int(args.func(args))
     except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: one line; atomic writes removed their temporaries
         return report_stop(signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)

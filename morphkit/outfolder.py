@@ -79,7 +79,7 @@ LOCK_NAME = ".morphkit-output.lock"
 HOUSEKEEPING = (MARKER_NAME, LOCK_NAME)
 
 #: A temporary file morphkit names: :func:`morphkit.fileio.atomic_output`'s and
-#: :class:`morphkit.video.VideoFile`'s (``.<stem>.<8 random>.part<suffix>``), a probe of
+#: :class:`morphkit.programs.video.VideoFile`'s (``.<stem>.<8 random>.part<suffix>``), a probe of
 #: :func:`morphkit.fileio.check_writable` or of the video writer (``.morphkit-probe-<8 random>``,
 #: with the video's suffix), and an older version's video (``.billboards.<8 random>.webm``, also
 #: ``shadows`` and ``.mp4``): left only by a process that was killed, removed by the next run into
@@ -210,14 +210,14 @@ def frame_name(index: int) -> str:
     return f"{FRAMES_FOLDER}/frame_{int(index):04d}.png"
 
 
-#: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.demo`).
+#: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.programs.demo`).
 DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",),
                          recognise=_json_holding("morphkit_demo"))
-#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.playback`;
+#: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.programs.playback`;
 #: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).
 SHADOWS_OUTPUT = OutputRule("shadows", ("frames/frame_#.png", "shadows.webm", "frame_#.png", "shadows.mp4"))
 #: ``morphkit billboards``: ``frames/frame_NNNN.png``, ``billboards.webm``, ``compare_NNNN.png``,
-#: ``billboards.json`` (:mod:`morphkit.billboard.sequence`; ``billboards.mp4``: older versions').
+#: ``billboards.json`` (:mod:`morphkit.programs.sequence`; ``billboards.mp4``: older versions').
 BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.webm", "billboards.mp4",
                                               "compare_#.png", "billboards.json"),
                                markers=("billboards.json",), recognise=_json_holding("morphkit_billboards"))

@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from morphkit.fileio import write_image
-from morphkit.fixtures import DEMO_MESHES, demo_scene, ground_truth_frame
 from morphkit.meshes import sample_mesh
+from morphkit.programs.fixtures import DEMO_MESHES, demo_scene, ground_truth_frame
 from morphkit.render import Renderer
 
 

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from morphkit.fileio import write_image
-from morphkit.fixtures import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.groundtruth import area_visibility, receiver_grid
 from morphkit.meshes import sample_mesh
+from morphkit.programs.fixtures import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.render import Renderer
 from morphkit.scene import SceneObject
 from morphkit.shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas

@@ -20,14 +20,14 @@ from pathlib import Path
 import numpy as np
 
 from morphkit.fileio import write_image
-from morphkit.fixtures import DEMO_MESHES, WARP_LIGHT, WARP_RANGE, demo_scene
 from morphkit.meshes import sample_mesh
 from morphkit.metrics import shadow_iou
+from morphkit.programs.fixtures import DEMO_MESHES, WARP_LIGHT, WARP_RANGE, demo_scene
+from morphkit.programs.visualize import colorize_depth
 from morphkit.render import Renderer
 from morphkit.scene import PointLight, Scene
 from morphkit.shadow import DirectShadow, MotionRange, bake_atlas
 from morphkit.shadow.frame import compare_frames
-from morphkit.visualize import colorize_depth
 
 
 def main() -> None:

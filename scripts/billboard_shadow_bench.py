@@ -43,8 +43,8 @@ from morphkit.billboard import Backdrop, BillboardScene, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
-from morphkit.fixtures import FIELD_MESHES, field_domes
 from morphkit.metrics import shadow_iou
+from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer
 from morphkit.shading import Lighting
 from morphkit.sunlit.litmesh import LitMeshMode

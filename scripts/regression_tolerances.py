@@ -57,10 +57,10 @@ from morphkit.fileio import write_image
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.scene import PointLight, Scene
-from morphkit.fixtures import demo_scene, ground_truth_frame
+from morphkit.programs.fixtures import demo_scene, ground_truth_frame
 from morphkit.shadow import MotionRange, bake_atlas
 from morphkit.shadow.frame import compare_frames
-from morphkit.visualize import colorize_depth
+from morphkit.programs.visualize import colorize_depth
 
 class _Fixed:
     """A shadow method that returns one given map (for the error variants)."""

@@ -321,7 +321,7 @@ def _api(fn: Callable[[], Any]) -> Callable[[Path], Any]:
 
 
 def _run_demo_into_a_file(tmp: Path) -> Any:
-    from morphkit.demo import run_demo  # imports the GL module (no context is made)
+    from morphkit.programs.demo import run_demo  # imports the GL module (no context is made)
 
     (tmp / "f").write_text("x")
     return run_demo(tmp / "f", quick=True)
@@ -483,7 +483,7 @@ ROWS: list[tuple[str, Callable[[Path], Any], type[BaseException], str]] = [
 ]
 
 
-#: rows that import the GL module (morphkit.demo imports morphkit.render; no context is made)
+#: rows that import the GL module (morphkit.programs.demo imports morphkit.render; no context is made)
 _GL = ("run_demo", "cli demo")
 
 

@@ -377,7 +377,7 @@ def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, schedule
     # a billboard scene finds the baked asset's mesh through the manifest (shadows and the
     # mesh comparison need it), not only beside the file; a changed input is said, not used
     from morphkit.bake.manifest import ManifestRecords
-    from morphkit.billboard.sources import resolve_assets
+    from morphkit.programs.sources import resolve_assets
     from morphkit.views.dome import ViewDome
 
     dome = tmp_path / "out" / rec.file
@@ -587,7 +587,7 @@ def test_cli_unparsable_number_is_an_argparse_error(tmp_path, capsys):
 
 def test_points_path_reads_csv_and_checks_the_range(tmp_path):
     from morphkit.errors import OutOfRangeError
-    from morphkit.playback import CirclePath, LinePath, PointsPath
+    from morphkit.programs.playback import CirclePath, LinePath, PointsPath
     from morphkit.shadow import MotionRange
 
     motion = MotionRange([-1.0, -0.5], [1.0, 0.5])
@@ -626,7 +626,7 @@ def baked(tmp_path_factory, scheduler) -> tuple[Path, Path]:
 def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, baked, capsys, renderer):
     import cv2
 
-    from morphkit.playback import LinePath, baked_mesh, playback_scene
+    from morphkit.programs.playback import LinePath, baked_mesh, playback_scene
     from morphkit.shadow import ShadowAtlas
     from morphkit.shadow.frame import render_frame
 
@@ -675,7 +675,7 @@ def test_shadows_finds_the_mesh_through_the_manifest_and_checks_its_hash(tmp_pat
 
     from morphkit.errors import FileFormatError
     from morphkit.meshes import load_mesh, shape_hash
-    from morphkit.playback import baked_mesh
+    from morphkit.programs.playback import baked_mesh
     from morphkit.shadow import ShadowAtlas
 
     lib, out = baked

@@ -204,7 +204,7 @@ def test_billboard_kind_bakes_the_mesh_turned_upright(tmp_path, scheduler):
 
 @pytest.mark.gl
 def test_shadow_playback_reloads_the_mesh_with_the_baked_axis(tmp_path, scheduler):
-    from morphkit.playback import baked_mesh
+    from morphkit.programs.playback import baked_mesh
 
     lib = tall_library(tmp_path / "lib")
     src = lib / "tall_obj.obj"

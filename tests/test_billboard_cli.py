@@ -90,7 +90,7 @@ def test_instances_that_would_stand_inside_each_other_are_moved_apart(capsys, tm
 
 @pytest.mark.gl
 def test_mesh_file_asset_is_baked_in_its_own_look_and_compared(capsys, tmp_path):
-    from morphkit.fixtures import photo_texture, write_photo_glb
+    from morphkit.programs.fixtures import photo_texture, write_photo_glb
 
     glb = write_photo_glb(tmp_path, photo_texture(32), name="crate")
     out = tmp_path / "bb"

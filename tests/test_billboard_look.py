@@ -22,11 +22,11 @@ from morphkit.billboard import (
     mesh_hash,
 )
 from morphkit.billboard.bakelook import sideways_colour
-from morphkit.billboard.sources import resolve_assets
 from morphkit.errors import FileFormatError, ValidationError
 from morphkit.fileio import write_bytes
-from morphkit.fixtures import photo_texture, textured_demo_asset, write_leaf_plant, write_photo_glb
 from morphkit.meshes import load_mesh, normalize, sample_mesh
+from morphkit.programs.fixtures import photo_texture, textured_demo_asset, write_leaf_plant, write_photo_glb
+from morphkit.programs.sources import resolve_assets
 
 SIZE = 48
 #: The stored (sRGB) colour of the one-colour box.

@@ -12,10 +12,10 @@ from billboard_fakes import FakeAsset
 
 from morphkit.billboard import BillboardScene, ClassicMode, MorphMode, OrbitPath, place_random
 from morphkit.billboard.compare import box_errors, compare_modes, mean_errors
-from morphkit.billboard.sequence import compare_indices, write_sequence
 from morphkit.errors import ValidationError
 from morphkit.fileio import read_image
-from morphkit.video import VideoFile
+from morphkit.programs.sequence import compare_indices, write_sequence
+from morphkit.programs.video import VideoFile
 
 
 def _scene():
@@ -58,7 +58,7 @@ def test_video_file_is_atomic_and_validated(tmp_path):
 
 
 def test_the_commands_videos_are_vp9_webm_and_odd_frames_keep_every_pixel(tmp_path):
-    from morphkit.video import VIDEO_SUFFIX
+    from morphkit.programs.video import VIDEO_SUFFIX
 
     assert VIDEO_SUFFIX == ".webm"  # browsers play VP9 in WebM, not MPEG-4 Part 2
     rng = np.random.default_rng(3)

@@ -293,7 +293,7 @@ def test_another_program_s_manifest_json_above_an_atlas_is_passed_by(tmp_path):
 
     from morphkit.bake.manifest import MANIFEST_FORMAT, is_bake_manifest
     from morphkit.errors import FileFormatError, ValidationError
-    from morphkit.playback import baked_mesh
+    from morphkit.programs.playback import baked_mesh
 
     trimesh.creation.box().export(tmp_path / "box.ply")
     (tmp_path / "site").mkdir()

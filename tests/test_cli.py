@@ -118,8 +118,8 @@ def test_demo_keeps_a_previous_demo_unless_overwrite(tmp_path, capsys):
     line = _one_error_line(capsys)
     assert "already holds a demo (index.json); pass --overwrite" in line
     assert [p.name for p in tmp_path.iterdir()] == ["index.json"]  # nothing written
-    from morphkit.demo import run_demo
     from morphkit.errors import ValidationError
+    from morphkit.programs.demo import run_demo
 
     with pytest.raises(ValidationError, match=r"demo output folder: expected one without a previous demo "
                        r"\(--overwrite / overwrite=True replaces it\), got .* holding index.json"):

@@ -214,7 +214,7 @@ def test_the_environment_is_checked_in_process_too(monkeypatch, capsys):
 
 # ------------------------------------------------------------------ warnings
 def test_a_warning_is_one_line(monkeypatch, capsys):
-    from morphkit import cliargs
+    from morphkit.programs import cliargs
 
     def warn(_args):
         warnings.warn("the texture of 'box' could not\nbe read; drawn grey", UserWarning, stacklevel=1)

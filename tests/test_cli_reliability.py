@@ -50,7 +50,7 @@ class NoWork(BaseException):
 @pytest.fixture
 def no_work(monkeypatch):
     """Any render or bake cluster raises NoWork."""
-    import morphkit.demo
+    import morphkit.programs.demo
     import morphkit.render
     from morphkit.viewmorph import ViewMorpher
 
@@ -58,7 +58,7 @@ def no_work(monkeypatch):
         raise NoWork
 
     monkeypatch.setattr(morphkit.render, "Renderer", stop)
-    monkeypatch.setattr(morphkit.demo, "Renderer", stop)
+    monkeypatch.setattr(morphkit.programs.demo, "Renderer", stop)
     monkeypatch.setattr(bake_pipeline, "open_client", stop)
     monkeypatch.setattr(ViewMorpher, "from_estimate", classmethod(stop))
 
@@ -101,7 +101,7 @@ def test_a_previous_run_is_kept_without_overwrite(tmp_path, capfd, no_work, comm
 def test_shadows_overwrite_replaces_the_previous_frames_and_keeps_the_users_files(tmp_path, capfd,
                                                                                   monkeypatch):
     """The command's wiring (the render is a stand-in writing N frames; test_bake renders for real)."""
-    import morphkit.playback as playback
+    import morphkit.programs.playback as playback
     import morphkit.render
     import morphkit.shadow
 

@@ -73,7 +73,7 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
     assert index["billboards"]["shadowed"]["shadow_iou_ground"] > 0.85
     # the first picture is morphkit's output: four rows (warped, soft, view morph, billboards),
     # each a captioned pair of OVERVIEW_TILE-high images; the ray-cast scenes have their own file
-    from morphkit.demo import OVERVIEW_TILE
+    from morphkit.programs.demo import OVERVIEW_TILE
 
     assert {"overview.png", "groundtruth_overview.png", "shadow_path_strip.png",
             "billboards_pan_strip.png"} <= names

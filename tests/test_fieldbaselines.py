@@ -8,9 +8,9 @@ import pytest
 from morphkit.billboard.instances import Instances
 from morphkit.cutout import mesh_cutout
 from morphkit.errors import ValidationError
-from morphkit.fixtures import write_leaf_plant
 from morphkit.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, normalize
+from morphkit.programs.fixtures import write_leaf_plant
 from morphkit.scene import DirectionalLight, SceneObject
 from morphkit.sunlit.fieldbaselines import posed_asset_meshes, posed_field_mesh, ray_cast_field
 from morphkit.sunlit.sunatlas import sun_direction

@@ -182,7 +182,7 @@ def no_video_writer(*_a: object, **_k: object) -> None:
 @pytest.mark.gl
 def test_a_refused_billboards_run_leaves_the_folder_as_it_was_and_overwrite_works(tmp_path, capfd,
                                                                                   monkeypatch):
-    import morphkit.billboard.sequence as sequence
+    import morphkit.programs.sequence as sequence
 
     out = tmp_path / "out"
     with monkeypatch.context() as m:
@@ -239,7 +239,7 @@ def test_a_refused_shadows_run_leaves_the_folder_as_it_was(tmp_path, capfd, atla
 
 
 def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monkeypatch):
-    import morphkit.demo
+    import morphkit.programs.demo
     from morphkit.errors import RenderError
     from morphkit.outfolder import DEMO_OUTPUT, claim_output
 
@@ -252,7 +252,7 @@ def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monk
     def no_gl() -> None:
         raise RenderError("GL context: expected one (OSMesa or EGL), got none")
 
-    monkeypatch.setattr(morphkit.demo, "Renderer", no_gl)
+    monkeypatch.setattr(morphkit.programs.demo, "Renderer", no_gl)
     rc, _o, err = run(capfd, "demo", "--quick", "-o", out, "--overwrite")
     assert rc == 1 and "GL context" in one_line(err)
     assert snapshot(out) == before

@@ -24,8 +24,8 @@ import pytest
 import trimesh
 
 from morphkit import tol
-from morphkit.cliargs import MAX_FRAME_SIDE
 from morphkit.fileio import write_image
+from morphkit.programs.cliargs import MAX_FRAME_SIDE
 
 ROOT = Path(__file__).resolve().parents[1]
 

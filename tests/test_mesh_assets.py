@@ -1,6 +1,6 @@
 """Real assets: load_mesh keeps a file's look, turns +y-up files +z up, merges parts (issue #24).
 
-The assets are written on the fly (morphkit.fixtures) from scikit-image's photographs;
+The assets are written on the fly (morphkit.programs.fixtures) from scikit-image's photographs;
 every expected colour is derived from the source image, factor or vertex colour, never
 read back through the code under test.
 """
@@ -15,7 +15,6 @@ import pytest
 import trimesh
 from PIL import Image
 
-from morphkit import fixtures as F
 from morphkit.errors import AssetWarning, MeshError
 from morphkit.meshes import (
     UP_AXIS_BY_FORMAT,
@@ -28,6 +27,7 @@ from morphkit.meshes import (
     scene_parts,
 )
 from morphkit.meshes.parts import PLAIN_PART_COLOR, linear_to_srgb, srgb_to_linear
+from morphkit.programs import fixtures as F
 
 #: One 8-bit level: merged colours agree with their source within it (sRGB-encoded).
 LEVEL = 1.0 / 255.0

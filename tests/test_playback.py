@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from morphkit.errors import ValidationError
-from morphkit.playback import DEFAULT_VIEW, GROUND_PEAK, exposed
+from morphkit.programs.playback import DEFAULT_VIEW, GROUND_PEAK, exposed
 from morphkit.scene import AreaLight, DirectionalLight, PointLight, Receiver
 
 
@@ -44,7 +44,7 @@ def test_a_light_that_cannot_reach_the_ground_is_left_as_it_is():
 
 
 def test_the_view_is_checked():
-    from morphkit.playback import playback_scene
+    from morphkit.programs.playback import playback_scene
 
     with pytest.raises(ValidationError, match=r"view: expected an azimuth and an elevation in \[5, 89\]"):
         playback_scene(None, None, 64, view=(0.0, 90.0))  # type: ignore[arg-type]

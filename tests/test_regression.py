@@ -46,8 +46,8 @@ TOL_COMPOSITE = {"max_mean_abs": 0.1, "max_bad_fraction": 0.0006, "bad_level": 1
 
 @pytest.fixture(scope="module")
 def teapot_frame(renderer):
-    from morphkit.fixtures import demo_scene, ground_truth_frame
     from morphkit.meshes import sample_mesh
+    from morphkit.programs.fixtures import demo_scene, ground_truth_frame
 
     return ground_truth_frame(renderer, demo_scene(sample_mesh("teapot"), size=128))
 
@@ -63,8 +63,8 @@ def test_demo_teapot_visibility_matches_reference(teapot_frame):
 
 def test_the_tolerances_catch_a_light_turned_by_one_degree(renderer, teapot_frame):
     """The scene and visibility tolerances are tight enough to fail a small error."""
-    from morphkit.fixtures import demo_scene, ground_truth_frame
     from morphkit.meshes import sample_mesh
+    from morphkit.programs.fixtures import demo_scene, ground_truth_frame
     from morphkit.scene import DirectionalLight, Scene
 
     if os.environ.get("MORPHKIT_REGEN_REFERENCES"):
@@ -95,8 +95,8 @@ WARPS = {"warped": {}, "reprojected": {"warps": "reproject"}}
 
 @pytest.fixture(scope="module", params=sorted(WARPS))
 def warped_cow(renderer, request):
-    from morphkit.fixtures import demo_scene
     from morphkit.meshes import sample_mesh
+    from morphkit.programs.fixtures import demo_scene
     from morphkit.scene import PointLight, Scene
     from morphkit.shadow import MotionRange, bake_atlas, shadow_visibility
     from morphkit.shadow.frame import compare_frames, render_frame
@@ -127,7 +127,7 @@ def _at(pose, xy):
 
 def test_warped_shadow_map_matches_reference(warped_cow):
     """The warped light depth map (cow, point light, 3x3 atlas, 128^2), colour-mapped."""
-    from morphkit.visualize import colorize_depth
+    from morphkit.programs.visualize import colorize_depth
 
     name, depth, _frame, (off_depth, _) = warped_cow
     check_image(f"{name}_cow_depth_128", colorize_depth(depth), **TOL_DEPTH)

@@ -315,7 +315,7 @@ def test_the_cli_refuses_bad_shadow_combinations(tmp_path, capsys, argv, message
                                         (["--soft", "4"], 4)])
 def test_soft_alone_is_the_filtered_disc_and_a_count_averages(tmp_path, soft, want):
     from morphkit.cli import build_parser
-    from morphkit.cliargs import SOFT_FILTER, check_args
+    from morphkit.programs.cliargs import SOFT_FILTER, check_args
 
     argv = ["billboards", "--shadows", "--sun-path", "day", *soft, "-o", str(tmp_path)]
     args = build_parser().parse_args(argv)
@@ -336,7 +336,7 @@ def test_soft_alone_is_the_filtered_disc_and_a_count_averages(tmp_path, soft, wa
 ])
 def test_a_sun_option_alone_takes_what_it_needs(tmp_path, given, shadows, sun_path, soft, said):
     from morphkit.cli import build_parser
-    from morphkit.cliargs import check_args
+    from morphkit.programs.cliargs import check_args
 
     args = build_parser().parse_args(["billboards", *given, "-o", str(tmp_path)])
     check_args(args)

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.fixtures import alpha_card, checker_alpha, demo_scene, leaf_texture, write_leaf_plant
 from morphkit.groundtruth import hard_visibility, receiver_grid
 from morphkit.meshes import load_mesh, sample_mesh
 from morphkit.metrics import shadow_iou
+from morphkit.programs.fixtures import alpha_card, checker_alpha, demo_scene, leaf_texture, write_leaf_plant
 from morphkit.scene import DirectionalLight, Item, Scene, SceneObject, light_view, translation
 from morphkit.shadow import DirectShadow, MotionRange, bake_atlas, shadow_visibility
 from morphkit.shadow.frame import frame_items, render_frame

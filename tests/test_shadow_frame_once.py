@@ -14,9 +14,15 @@ import pytest
 
 from morphkit import tol
 from morphkit.errors import RenderError, ValidationError
-from morphkit.fixtures import DEMO_MESHES, demo_scene, write_color_ply, write_leaf_plant, write_photo_glb
 from morphkit.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, sample_mesh
+from morphkit.programs.fixtures import (
+    DEMO_MESHES,
+    demo_scene,
+    write_color_ply,
+    write_leaf_plant,
+    write_photo_glb,
+)
 from morphkit.protocols import FrameRenderer, SceneRenderer
 from morphkit.shadow.frame import SKY, frame_items, render_frame
 

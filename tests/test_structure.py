@@ -5,8 +5,8 @@
   core runs without a GL context);
 * environment variables are read by :mod:`morphkit.settings` alone;
 * nothing outside :mod:`morphkit.bench` (and the CLI's ``bench`` command)
-  imports the benchmarks: scenes shared with them live in :mod:`morphkit.fixtures`;
-* nothing in the library imports those scenes (:mod:`morphkit.fixtures`): only the
+  imports the benchmarks: scenes shared with them live in :mod:`morphkit.programs.fixtures`;
+* nothing in the library imports those scenes (:mod:`morphkit.programs.fixtures`): only the
   benchmarks, the demo and the CLI (and the tests) may;
 * no import cycle between modules (function-local imports count: a cycle cannot
   hide inside a function), found with Tarjan's algorithm on the import graph;
@@ -98,18 +98,19 @@ def test_only_the_bench_and_the_cli_import_the_bench(path):
     assert not bad, f"{path.name} imports the benchmark: {bad}"
 
 
-#: The modules that may use the demo/bench/test scenes of :mod:`morphkit.fixtures`; the rest is
-#: the library, which must not depend on its own test scenes.
-FIXTURE_USERS = ("morphkit.fixtures", "morphkit.fidelity", "morphkit.bench", "morphkit.demo", "morphkit.cli")
+#: The modules that may use the demo/bench/test scenes of :mod:`morphkit.programs.fixtures`; the
+#: rest is the library, which must not depend on its own test scenes.
+FIXTURE_USERS = ("morphkit.programs.fixtures", "morphkit.fidelity", "morphkit.bench",
+                 "morphkit.programs.demo", "morphkit.cli")
 
 #: The fixture modules: the demo/bench/test scenes and the renderer's fidelity scenes.
-FIXTURES = ("fixtures", "fidelity")
+FIXTURES = ("morphkit.programs.fixtures", "morphkit.fidelity")
 
 
 def _imports_fixtures(path: Path) -> list[str]:
     return [f"line {ln}: {m}" for ln, m, names in _imports(path)
-            if any(m == f"morphkit.{f}" or m.startswith(f"morphkit.{f}.") for f in FIXTURES)
-            or (m == "morphkit" and any(f in names for f in FIXTURES))]
+            if any(m == f or m.startswith(f"{f}.") or any(f"{m}.{n}" == f for n in names)
+                   for f in FIXTURES)]
 
 
 @pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
@@ -118,13 +119,13 @@ def test_the_library_does_not_import_the_fixtures(path):
     if any(mod == u or mod.startswith(u + ".") for u in FIXTURE_USERS):
         return
     bad = _imports_fixtures(path)
-    assert not bad, f"{path.name} imports the test scenes (morphkit.fixtures): {bad}"
+    assert not bad, f"{path.name} imports the test scenes (morphkit.programs.fixtures): {bad}"
 
 
 def test_the_fixture_scan_sees_the_demo_import_them():
     """The check above can fail: the demo's imports of the fixtures are found."""
-    assert _imports_fixtures(PACKAGE / "demo.py")
-    assert not (PACKAGE / "scenes.py").exists()  # one module of scenes: morphkit.fixtures
+    assert _imports_fixtures(PACKAGE / "programs" / "demo.py")
+    assert not (PACKAGE / "scenes.py").exists()  # one module of scenes: morphkit.programs.fixtures
 
 
 def _graph() -> dict[str, set[str]]:
@@ -216,7 +217,7 @@ def _ties(graph: dict[str, set[str]]) -> set[tuple[str, str]]:
 
 
 #: The two-way ties between parts still standing, each with what holds it.
-KNOWN_TIES: set[tuple[str, str]] = {("billboard", "sunlit")}  # billboard/sequence.py, a program
+KNOWN_TIES: set[tuple[str, str]] = set()
 
 
 def test_the_tie_finder_finds_a_tie():

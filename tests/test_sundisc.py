@@ -12,8 +12,8 @@ from morphkit import tol
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.conventions import SUN_DISC_RADIUS_DEG
 from morphkit.errors import ValidationError
-from morphkit.sunlit import sundisc
 from morphkit.shadow.lookup import ShadowBias, shadow_visibility
+from morphkit.sunlit import sundisc
 from morphkit.sunlit.sundisc import DISC_SQUARE, disc_visibility
 
 N = 64  # texels a side over [-2, 2]: 16 texels a unit

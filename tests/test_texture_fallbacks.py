@@ -23,9 +23,9 @@ import pytest
 from clirun import one_line, run
 from PIL import Image
 
-from morphkit import fixtures as F
 from morphkit.errors import AssetWarning
 from morphkit.meshes import face_base_colors, load_mesh
+from morphkit.programs import fixtures as F
 from morphkit.texture import image_problem
 
 KD = r"drawn in its Kd colour \['0\.8', '0\.8', '0\.8'\]"

@@ -142,7 +142,7 @@ def test_few_pairs_where_usac_finds_no_model_are_a_geometry_error():
 
 def _issue_pair(renderer):
     """The issue's pair: teapot, 192^2, references 20 degrees apart about azimuth 60, and the middle view."""
-    from morphkit.fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
+    from morphkit.programs.fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 
     _, items = textured_items("teapot")
     cams = [circle_camera(a, 192) for a in (CENTRE_AZIMUTH - 10, CENTRE_AZIMUTH + 10, CENTRE_AZIMUTH)]

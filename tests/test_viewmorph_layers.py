@@ -249,7 +249,7 @@ def test_layer_arguments_are_checked(posts):
 
 @pytest.mark.gl
 def test_layered_morph_of_the_rendered_chair_meets_the_target(renderer):
-    from morphkit.fixtures import circle_camera, render_pair, textured_items
+    from morphkit.programs.fixtures import circle_camera, render_pair, textured_items
 
     _, items = textured_items("chair")
     c0, c1 = circle_camera(50.0, 256), circle_camera(70.0, 256)

@@ -50,8 +50,8 @@ other sections -- frame time, temporal stability -- append theirs):
 
 * ``textured-ring`` (``K = 8``, azimuths ``7.5 + 15 n``) and ``textured-pair`` (``K = 2``,
   inside the arc) -- textured meshes baked in their own look (``appearance="own"``):
-  the packaged photo crate (:func:`morphkit.fixtures.textured_demo_asset`) and the
-  alpha-masked leaf plant (:func:`morphkit.fixtures.write_leaf_plant`), loaded ``+z`` up
+  the packaged photo crate (:func:`morphkit.programs.fixtures.textured_demo_asset`) and the
+  alpha-masked leaf plant (:func:`morphkit.programs.fixtures.write_leaf_plant`), loaded ``+z`` up
   by :func:`morphkit.meshes.load_mesh`, against their real meshes drawn in the same look
   (:meth:`BillboardAsset.items`), same cameras: ``morph``, ``classic``, ``nearest``,
   ``crossfade``; besides IoU and PSNR, the detail each keeps: ``psnr_hp`` (PSNR of the
@@ -97,10 +97,10 @@ from ..billboard import (
 from ..billboard.bakelook import sideways_colour
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..camera import CameraModel
-from ..fixtures import textured_demo_asset, write_leaf_plant
 from ..memo import Memo
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..metrics import psnr, shadow_iou
+from ..programs.fixtures import textured_demo_asset, write_leaf_plant
 from ..protocols import SceneRenderer
 from ..scene import Item
 from ..validate import as_int

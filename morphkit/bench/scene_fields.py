@@ -1,8 +1,8 @@
 """The scenes of ``morphkit bench scene``: fields of two textured assets, their atlases and impostors,
 the methods that make a field's shadow map, and the ray-cast truth they are scored against.
 
-Assets (:data:`ASSETS`): the packaged photo crate (:func:`morphkit.fixtures.textured_demo_asset`,
-12 faces, opaque) and the alpha-masked leaf plant (:func:`morphkit.fixtures.write_leaf_plant`,
+Assets (:data:`ASSETS`): the packaged photo crate (:func:`morphkit.programs.fixtures.textured_demo_asset`,
+12 faces, opaque) and the alpha-masked leaf plant (:func:`morphkit.programs.fixtures.write_leaf_plant`,
 a stem and three leaf cards cut out by their texture's alpha), written into a temporary folder
 and loaded ``+z`` up by :func:`morphkit.meshes.load_mesh` (no network). For the timing
 sections each is subdivided to a face count (:func:`subdivided`: UVs and the cut-out kept).
@@ -49,10 +49,10 @@ from ..billboard.impostor import OctahedralImpostor, bake_impostor
 from ..billboard.instances import Instances, place_random
 from ..cutout import mesh_cutout
 from ..errors import ValidationError, expected_got
-from ..fixtures import textured_demo_asset, write_leaf_plant
 from ..groundtruth import receiver_grid
 from ..meshes import load_mesh, normalize
 from ..metrics import shadow_iou
+from ..programs.fixtures import textured_demo_asset, write_leaf_plant
 from ..protocols import PassRenderer
 from ..sunlit.cardbaselines import card_field_map
 from ..sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field

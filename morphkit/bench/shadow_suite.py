@@ -37,7 +37,7 @@ alone). ``vs_direct`` is a row's median over ``once_direct``'s; ``mean_levels`` 
 absolute shaded difference of the one-pass frame against the two-render frame (levels of 255).
 
 Cut-outs (rows with ``what=cutout``, issue #24): the leaf plant of
-:func:`morphkit.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf
+:func:`morphkit.programs.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf
 cards, loaded by :func:`morphkit.meshes.load_mesh`) under the point light at
 ``256^2``: ``warp``, ``reproject`` and ``direct`` against the cut-out-aware ray
 cast (the maps have holes where the leaves' texels are masked); ``iou_solid`` is the
@@ -55,11 +55,11 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..fixtures import write_leaf_plant
 from ..groundtruth import hard_visibility, receiver_grid
 from ..memo import Memo
 from ..meshes import load_mesh, sample_mesh
 from ..metrics import shadow_iou
+from ..programs.fixtures import write_leaf_plant
 from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject
 from ..shadow import DirectShadow, ImageBasedShadow, MotionRange, bake_atlas, shadow_visibility

@@ -40,9 +40,10 @@ Scene side:
 * :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
 * :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
-* :mod:`.compare`, :mod:`.sequence`, :mod:`.sources` -- errors against the meshes and Fig. 5
-  strips, a path written to files (its video through :mod:`morphkit.video`), assets from names
-  or files.
+* :mod:`.compare` -- errors against the meshes and Fig. 5 strips.
+
+A path written to files (frames, a video) and assets from names or files are programs:
+:mod:`morphkit.programs.sequence`, :mod:`morphkit.programs.sources`.
 
 An asset is anything implementing :class:`morphkit.billboard.protocols.BillboardSource`.
 Nothing here imports pyrender; bakes and the mesh mode render through a

@@ -55,8 +55,8 @@ part has colours, face colours if every part has face colours, else vertex colou
 :data:`~morphkit.conventions.DEFAULT_COLOR`).
 
 Measured against drawing the parts as separate items (wt-render24's renderer,
-256^2 and 1024^2 views of :func:`morphkit.fixtures.write_two_part_gltf` and
-:func:`morphkit.fixtures.write_leaf_plant`): coverage identical, lit colour and
+256^2 and 1024^2 views of :func:`morphkit.programs.fixtures.write_two_part_gltf` and
+:func:`morphkit.programs.fixtures.write_leaf_plant`): coverage identical, lit colour and
 albedo within 1 level everywhere (the albedo pass encodes a factor as it encodes
 the texel it is baked into: :mod:`morphkit.conventions`, "Colour").
 A compact atlas differs where textures are minified (a 64^2 photo on ~80 px:

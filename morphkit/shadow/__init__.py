@@ -23,7 +23,7 @@
 * :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
 
 The program ``morphkit shadows`` (a baked atlas's scene along an object path, to frames and a video)
-is :mod:`morphkit.playback`, above this package and the bake pipeline. The shadows of a field of
+is :mod:`morphkit.programs.playback`, above this package and the bake pipeline. The shadows of a field of
 billboards under the sun (one atlas per asset over the sun's direction) are
 :mod:`morphkit.sunlit`, the junction of both papers, above this package and the billboards.
 

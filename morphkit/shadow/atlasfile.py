@@ -16,7 +16,7 @@ and checked before anything is built from it:
 Any failure is a :class:`~morphkit.errors.FileFormatError`. Files of another
 version are refused (re-bake to get a current one); version 1 had no checksums, version 2
 no record of its mesh (``mesh_sha256``: the occluder's :func:`morphkit.meshes.shape_hash`,
-which :func:`morphkit.playback.baked_mesh` checks the mesh it loads against).
+which :func:`morphkit.programs.playback.baked_mesh` checks the mesh it loads against).
 """
 
 from __future__ import annotations

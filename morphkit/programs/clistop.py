@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .errors import Terminated
+from ..errors import Terminated
 
 __all__ = ["STOP_LINES", "Stop", "report_stop", "stop_signals"]
 

@@ -44,15 +44,15 @@ import trimesh
 from PIL import Image
 from skimage import data as skdata
 
-from .appearance import checker_items
-from .bake.kinds import WARP_LIGHT, WARP_RANGE
-from .billboard.domeasset import DomeAsset, bake_dome
-from .camera import CameraModel, look_at, perspective
-from .groundtruth import hard_visibility
-from .meshes import normalize, sample_mesh
-from .protocols import PassRenderer, SceneRenderer
-from .scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
-from .shadow.frame import SKY, render_frame
+from ..appearance import checker_items
+from ..bake.kinds import WARP_LIGHT, WARP_RANGE
+from ..billboard.domeasset import DomeAsset, bake_dome
+from ..camera import CameraModel, look_at, perspective
+from ..groundtruth import hard_visibility
+from ..meshes import normalize, sample_mesh
+from ..protocols import PassRenderer, SceneRenderer
+from ..scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
+from ..shadow.frame import SKY, render_frame
 
 __all__ = ["DEMO_MESHES", "DEMO_LIGHT_DIRECTION", "demo_scene", "ground_truth_frame", "WARP_RANGE",
            "WARP_LIGHT", "WARP_POSITION", "SOFT_LIGHT", "VIEWMORPH_BASELINE_DEG", "CENTRE_AZIMUTH",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from . import tol
+from .. import tol
 
 __all__ = ["colorize_depth"]
 

@@ -4,7 +4,7 @@
 writes, into an output folder:
 
 * ``frames/frame_NNNN.png`` -- the frame sequence;
-* ``billboards.webm`` -- the same frames as a video (:class:`morphkit.video.VideoFile`,
+* ``billboards.webm`` -- the same frames as a video (:class:`morphkit.programs.video.VideoFile`,
   written under a temporary name and renamed when complete);
 * ``compare_NNNN.png`` -- for a few frames, classic | view-morphed | real meshes
   side by side (the paper's Fig. 5), when a mesh mode is given;
@@ -20,16 +20,16 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..billboard.compare import compare_modes
+from ..billboard.field import BillboardScene, FrameMode
+from ..billboard.modes import ClassicMode, MorphMode
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..fileio import write_image, write_json
 from ..outfolder import FRAMES_FOLDER, frame_name
 from ..shading import Lighting
 from ..sunlit.litmodes import Relit
-from ..video import VideoFile
-from .compare import compare_modes
-from .field import BillboardScene, FrameMode
-from .modes import ClassicMode, MorphMode
+from .video import VideoFile
 
 __all__ = ["write_sequence", "compare_indices"]
 

@@ -17,10 +17,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from . import tol
-from .conventions import SUN_DISC_RADIUS_DEG
-from .errors import UsageError, ValidationError, expected_got
-from .validate import as_int
+from .. import tol
+from ..conventions import SUN_DISC_RADIUS_DEG
+from ..errors import UsageError, ValidationError, expected_got
+from ..validate import as_int
 
 __all__ = ["check_args", "billboard_views", "implied_sun_options", "parse_size", "check_output_file",
            "same_file", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
@@ -88,9 +88,9 @@ def _billboards(args: argparse.Namespace) -> None:
 def _asset_names(specs: Sequence[str]) -> None:
     """``--asset``: a value that can never be an asset, neither a sample name nor a path of an
     asset file's kind, is a usage error (a mesh or ``.npz`` file that is missing or cannot be
-    read is the run's input failing: :func:`morphkit.billboard.sources.check_specs`)."""
-    from .billboard.sources import MESH_SUFFIXES  # lazy: only billboards' checks need the wing
-    from .meshes import BILLBOARD_MESHES
+    read is the run's input failing: :func:`morphkit.programs.sources.check_specs`)."""
+    from ..meshes import BILLBOARD_MESHES
+    from .sources import MESH_SUFFIXES  # lazy: only billboards' checks need the wing
 
     kinds = (*MESH_SUFFIXES, ".npz")
     for spec in specs:
@@ -252,7 +252,7 @@ def check_args(args: argparse.Namespace) -> None:
 
 def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
                      ) -> tuple[int | None, str]:
-    """``--views`` (checked by :mod:`morphkit.cliargs`): K for a ring, None for relightable
+    """``--views`` (checked by :mod:`morphkit.programs.cliargs`): K for a ring, None for relightable
     views over the hemisphere (``dome``), and, when it was not given, the line saying which
     representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
     path whose eye looks down from above the ring's band
@@ -280,9 +280,9 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
     UsageError
         Dome asset files with ring files, or with ``--views K``.
     """
-    from .billboard.domefile import is_dome_file  # lazy: checking arguments imports no wing
-    from .billboard.paths import look_down_deg
-    from .billboard.ring import ViewRing
+    from ..billboard.domefile import is_dome_file  # lazy: checking arguments imports no wing
+    from ..billboard.paths import look_down_deg
+    from ..billboard.ring import ViewRing
 
     v = args.views
     files = [sp for sp in specs if sp.lower().endswith(".npz")]

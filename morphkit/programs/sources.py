@@ -33,14 +33,14 @@ from pathlib import Path
 
 import trimesh
 
+from ..billboard.asset import BillboardAsset, mesh_hash
+from ..billboard.bake import bake_asset
+from ..billboard.domeasset import DomeAsset, bake_dome
 from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
 from ..protocols import InputRecords, SceneRenderer
 from ..scene import Item
 from ..views.dome import ViewDome
-from .asset import BillboardAsset, mesh_hash
-from .bake import bake_asset
-from .domeasset import DomeAsset, bake_dome
 
 __all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]
 
@@ -85,7 +85,7 @@ def default_levels(size: int, most: int = 3) -> int:
 
     Examples
     --------
-    >>> from morphkit.billboard.sources import default_levels
+    >>> from morphkit.programs.sources import default_levels
     >>> default_levels(128), default_levels(16), default_levels(8)
     (3, 2, 1)
     """

@@ -40,23 +40,23 @@ import numpy as np
 import trimesh
 from tqdm import tqdm
 
-from . import tol
-from .bake.manifest import baked_from, file_digest
-from .camera import look_at, perspective
-from .errors import FileFormatError, MeshError, ValidationError, expected_got
-from .fileio import file_kind, write_image
-from .groundtruth import area_visibility, hard_visibility
-from .meshes import load_mesh, shape_hash
-from .metrics import shadow_iou
-from .outfolder import FRAMES_FOLDER, frame_name
-from .protocols import SceneRenderer
-from .scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
-from .shadow.atlas import ShadowAtlas
-from .shadow.frame import render_frame
-from .shadow.lookup import shadow_visibility
-from .shadow.penumbra import default_soft_shadow
-from .shadow.rig import MotionRange
-from .validate import as_int
+from .. import tol
+from ..bake.manifest import baked_from, file_digest
+from ..camera import look_at, perspective
+from ..errors import FileFormatError, MeshError, ValidationError, expected_got
+from ..fileio import file_kind, write_image
+from ..groundtruth import area_visibility, hard_visibility
+from ..meshes import load_mesh, shape_hash
+from ..metrics import shadow_iou
+from ..outfolder import FRAMES_FOLDER, frame_name
+from ..protocols import SceneRenderer
+from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
+from ..shadow.atlas import ShadowAtlas
+from ..shadow.frame import render_frame
+from ..shadow.lookup import shadow_visibility
+from ..shadow.penumbra import default_soft_shadow
+from ..shadow.rig import MotionRange
+from ..validate import as_int
 from .video import VideoFile
 
 __all__ = ["ObjectPath", "LinePath", "CirclePath", "PointsPath", "baked_mesh", "area_light_for",

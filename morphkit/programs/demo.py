@@ -46,7 +46,21 @@ import cv2
 import numpy as np
 import trimesh
 
-from .fileio import write_image, write_json
+from ..fileio import write_image, write_json
+from ..groundtruth import area_visibility, hard_visibility, receiver_grid
+from ..meshes import sample_mesh
+from ..outfolder import DEMO_OUTPUT, claim_output, previous_run
+from ..protocols import PassRenderer, SceneRenderer
+from ..render import Renderer
+from ..scene import (
+    Item,
+    PointLight,
+    Scene,
+    SceneObject,
+    light_view,
+)
+from ..shadow.frame import SKY, compare_frames, render_frame
+from ..shadow.lookup import shadow_visibility
 from .fixtures import (
     DEMO_LIGHT_DIRECTION,
     DEMO_MESHES,
@@ -58,20 +72,6 @@ from .fixtures import (
     demo_scene,
     ground_truth_frame,
 )
-from .groundtruth import area_visibility, hard_visibility, receiver_grid
-from .meshes import sample_mesh
-from .outfolder import DEMO_OUTPUT, claim_output, previous_run
-from .protocols import PassRenderer, SceneRenderer
-from .render import Renderer
-from .scene import (
-    Item,
-    PointLight,
-    Scene,
-    SceneObject,
-    light_view,
-)
-from .shadow.frame import SKY, compare_frames, render_frame
-from .shadow.lookup import shadow_visibility
 from .visualize import colorize_depth
 
 __all__ = ["run_demo", "previous_demo", "overview_row", "OVERVIEW_TILE"]
@@ -134,8 +134,8 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: l
                            ) -> dict[str, Any]:
     """Per mesh: a 3 x 3 atlas, and the frame at a position between samples shadowed
     by the warped map, a re-rendered map and the ray cast, side by side."""
-    from .metrics import shadow_iou
-    from .shadow import DirectShadow, MotionRange, bake_atlas
+    from ..metrics import shadow_iou
+    from ..shadow import DirectShadow, MotionRange, bake_atlas
 
     light = PointLight(WARP_LIGHT)
     motion = MotionRange(*WARP_RANGE)
@@ -202,7 +202,7 @@ def _soft_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: lis
     """Per mesh: soft shadows of an area light at a position between samples, by
     warping one atlas per light sample (9), by re-rendering per sample (9), and
     by ray casting (8 x 8 samples; 4 x 4 with ``quick``), side by side."""
-    from .shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas, default_soft_shadow
+    from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas, default_soft_shadow
 
     light = SOFT_LIGHT
     motion = MotionRange(*WARP_RANGE)
@@ -256,9 +256,9 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
 
     The morph uses dense pairs from the two depth maps and ``layers="auto"``
     (two depth layers where one mesh cannot follow crossing parts: the chair)."""
+    from ..metrics import shadow_iou
+    from ..viewmorph import ViewMorpher, from_depth, pair_depth
     from .fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
-    from .metrics import shadow_iou
-    from .viewmorph import ViewMorpher, from_depth, pair_depth
 
     report: dict[str, Any] = {"baseline_deg": VIEWMORPH_BASELINE_DEG, "s": 0.5}
     for name in DEMO_MESHES:
@@ -290,10 +290,10 @@ def _billboard_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
                        quick: bool) -> dict[str, Any]:
     """A field of trees and people (K = 8 rings), one camera of the paper's pan: classic |
     view-morphed | real meshes, the per-billboard errors against the meshes, and an error figure."""
-    from .billboard import Backdrop, BillboardScene, ClassicMode, MeshMode, MorphMode, PanPath, place_random
-    from .billboard.asset import BAKE_AMBIENT, bake_lights
-    from .billboard.compare import compare_modes
-    from .billboard.sources import resolve_assets
+    from ..billboard import Backdrop, BillboardScene, ClassicMode, MeshMode, MorphMode, PanPath, place_random
+    from ..billboard.asset import BAKE_AMBIENT, bake_lights
+    from ..billboard.compare import compare_modes
+    from .sources import resolve_assets
 
     t0 = time.perf_counter()
     res = resolve_assets(["tree", "person"], renderer, views=8, size=64 if quick else 128,
@@ -333,11 +333,11 @@ def _textured_billboard_section(renderer: SceneRenderer, add: Any, *, quick: boo
     (K = 8): its view-morphed billboard beside the real textured mesh at three azimuths between
     references, over grey, and their IoU / PSNR (:func:`morphkit.bench.billboard_suite.quality`'s
     definitions: alpha > 1/2, premultiplied colour)."""
-    from .billboard import bake_asset, bake_lights
-    from .billboard.asset import BAKE_AMBIENT
+    from ..billboard import bake_asset, bake_lights
+    from ..billboard.asset import BAKE_AMBIENT
+    from ..meshes import load_mesh, resolve_up
+    from ..metrics import psnr, shadow_iou
     from .fixtures import textured_demo_asset
-    from .meshes import load_mesh, resolve_up
-    from .metrics import psnr, shadow_iou
 
     path = textured_demo_asset()
     mesh = load_mesh(path)
@@ -370,12 +370,12 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
     """A tree seen from three heights under three suns (issue #25): the dome asset's view morph |
     the engines' octahedral impostor at equal bytes | the real mesh, each shaded by
     :mod:`morphkit.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""
-    from .billboard.bakelook import BAKE_AMBIENT
-    from .billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
-    from .billboard.impostor import bake_impostor, impostor_frame_size
-    from .metrics import psnr, shadow_iou
-    from .shading import Lighting, shade, shade_passes
-    from .sunlit.sun import sun
+    from ..billboard.bakelook import BAKE_AMBIENT
+    from ..billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
+    from ..billboard.impostor import bake_impostor, impostor_frame_size
+    from ..metrics import psnr, shadow_iou
+    from ..shading import Lighting, shade, shade_passes
+    from ..sunlit.sun import sun
 
     mesh = sample_mesh("tree")
     size = 64 if quick else 128
@@ -415,18 +415,18 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     assets' sun atlases (:class:`~morphkit.sunlit.receivers.AtlasShadow`) | the real meshes
     shadowed by the ray cast (the truth); shadow IoU of the darkened pixels on the ground and on
     the objects (:func:`~morphkit.sunlit.shadowing.darkened`)."""
-    from .billboard import Backdrop, BillboardScene, place_random
-    from .billboard.bakelook import BAKE_AMBIENT
-    from .billboard.facing import ViewpointFacing
-    from .camera import look_at, perspective
+    from ..billboard import Backdrop, BillboardScene, place_random
+    from ..billboard.bakelook import BAKE_AMBIENT
+    from ..billboard.facing import ViewpointFacing
+    from ..camera import look_at, perspective
+    from ..metrics import shadow_iou
+    from ..shading import Lighting
+    from ..sunlit.litmesh import LitMeshMode
+    from ..sunlit.litmodes import LitMode
+    from ..sunlit.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+    from ..sunlit.shadowing import darkened
+    from ..sunlit.sun import sun
     from .fixtures import FIELD_MESHES, field_domes
-    from .metrics import shadow_iou
-    from .shading import Lighting
-    from .sunlit.litmesh import LitMeshMode
-    from .sunlit.litmodes import LitMode
-    from .sunlit.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
-    from .sunlit.shadowing import darkened
-    from .sunlit.sun import sun
 
     t0 = time.perf_counter()
     names = FIELD_MESHES

@@ -26,9 +26,9 @@ from types import TracebackType
 import cv2
 import numpy as np
 
-from . import tol
-from .errors import RenderError, ValidationError, expected_got
-from .fileio import open_video_writer
+from .. import tol
+from ..errors import RenderError, ValidationError, expected_got
+from ..fileio import open_video_writer
 
 __all__ = ["VideoFile", "CODECS", "VIDEO_SUFFIX"]
 
