@@ -49,7 +49,7 @@ from .programs.clistop import Stop, report_stop, stop_signals
 
 if TYPE_CHECKING:
     from .billboard.instances import Instances
-    from .outfolder import OutputClaim, OutputRule
+    from .files.outfolder import OutputClaim, OutputRule
     from .programs.sources import ResolvedAssets
 
 #: The bench suites that take ``--sections``.
@@ -68,17 +68,17 @@ def _option_values() -> Iterator[None]:
 
 
 def _output_folder(out: str, rule: OutputRule, overwrite: bool = False) -> OutputClaim:
-    """``-o``'s folder checked for the command before any work (:func:`morphkit.outfolder.claim_output`,
+    """``-o``'s folder checked for the command before any work (:func:`morphkit.files.outfolder.claim_output`,
     no side effect): a file, a path under a file, another command's output or a previous run
     without ``--overwrite`` are usage errors (exit 2)."""
-    from .outfolder import claim_output
+    from .files.outfolder import claim_output
 
     with _option_values():
         return claim_output(out, rule, overwrite=overwrite)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from .outfolder import DEMO_OUTPUT
+    from .files.outfolder import DEMO_OUTPUT
     from .programs.demo import previous_demo, run_demo
 
     old = previous_demo(args.out)
@@ -138,8 +138,8 @@ def _cmd_viewmorph(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .errors import FileFormatError, ValidationError
-    from .fileio import encode_image, read_image, write_bytes
-    from .outfolder import VIEWMORPH_OUTPUT, frame_name
+    from .files.fileio import encode_image, read_image, write_bytes
+    from .files.outfolder import VIEWMORPH_OUTPUT, frame_name
     from .viewmorph import ViewMorpher, from_images, load_points
 
     def encode(path: Path, img: np.ndarray) -> bytes:
@@ -240,7 +240,7 @@ def _bake_kinds(args: argparse.Namespace) -> tuple:
 def _cmd_bake(args: argparse.Namespace) -> int:
     from .bake import BakeOptions, bake_library
     from .bake.cluster import scheduler_address
-    from .outfolder import BAKE_OUTPUT
+    from .files.outfolder import BAKE_OUTPUT
 
     with _option_values():  # the kinds check their options (--atlas-size, --grid, ...)
         options = BakeOptions(_bake_kinds(args), up=args.up_axis)
@@ -256,7 +256,7 @@ def _cmd_bake(args: argparse.Namespace) -> int:
 
 
 def _cmd_shadows(args: argparse.Namespace) -> int:
-    from .outfolder import SHADOWS_OUTPUT
+    from .files.outfolder import SHADOWS_OUTPUT
     from .programs.playback import (
         CirclePath,
         LinePath,
@@ -387,7 +387,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
     cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
     views, chosen = billboard_views(args, cams, specs)
-    from .outfolder import BILLBOARDS_OUTPUT
+    from .files.outfolder import BILLBOARDS_OUTPUT
 
     claim = _output_folder(args.out, BILLBOARDS_OUTPUT, args.overwrite)
     implied = getattr(args, "implied", None)  # morphkit.programs.cliargs.implied_sun_options
@@ -400,9 +400,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
     from .billboard.facing import AxialFacing, ViewpointFacing
+    from .imaging.shading import Lighting
     from .programs.sequence import write_sequence
     from .render import Renderer
-    from .shading import Lighting
     from .sunlit.litmesh import LitMeshMode
     from .sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
     from .sunlit.sun import SunPath

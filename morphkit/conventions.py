@@ -11,8 +11,8 @@ Pixels and images
 * Point arrays are ``(N, 2)`` in ``(x, y)`` order (``(N, 3)`` for 3-D points).
 * **Colour images are RGB**, ``(H, W, 3)``, or RGBA, ``(H, W, 4)`` (straight alpha
   unless a function says premultiplied), channel last; everything morphkit takes, returns,
-  writes (:func:`morphkit.fileio.write_image`) and reads
-  (:func:`morphkit.fileio.read_image`) is in this order. OpenCV's BGR / BGRA
+  writes (:func:`morphkit.files.fileio.write_image`) and reads
+  (:func:`morphkit.files.fileio.read_image`) is in this order. OpenCV's BGR / BGRA
   order appears only at the calls that hand pixels to or take them from OpenCV's
   file and video I/O and colour maps, which swap at that call.
 * OpenCV's SIFT keypoints are not quite in this convention: SIFT detects on
@@ -63,7 +63,7 @@ Colour
   stored in image, PLY and glTF files). An item's ``color`` and a material's
   base-colour factor are **linear** multipliers (glTF's rule), RGB in ``[0, 1]``.
   An item without a colour whose mesh has no visuals is drawn in
-  :data:`DEFAULT_COLOR` (:mod:`morphkit.look` has the rules for the rest).
+  :data:`DEFAULT_COLOR` (:mod:`morphkit.meshes.look` has the rules for the rest).
 * **Lit colour** (``Renderer.color_depth``, ``source_view``, the ``color`` pass):
   uint8 RGB, pyrender's lighting computed in linear light and encoded with
   gamma ``1/2.2``; textures and vertex colours are decoded from sRGB (the exact

@@ -23,7 +23,7 @@ Hierarchy::
 
     AssetWarning (a UserWarning)              a mesh's look could not be loaded or drawn as given:
     │                                         a documented fallback was used (e.g. a missing texture)
-    └── MeshLookWarning                       ... found when the look is drawn (morphkit.look: e.g.
+    └── MeshLookWarning                       ... found when the look is drawn (morphkit.meshes.look: e.g.
                                               a texture without UVs drawn in its mean colour)
 
     Terminated (a KeyboardInterrupt)          SIGTERM arrived (the command line's handler raises it):
@@ -31,7 +31,7 @@ Hierarchy::
 
 Warnings: filter on :class:`AssetWarning`, the one name for every look
 fallback, whether the loader (:func:`morphkit.meshes.load_mesh`) or the
-renderer (:mod:`morphkit.look`) found it, e.g.
+renderer (:mod:`morphkit.meshes.look`) found it, e.g.
 ``warnings.simplefilter("error", AssetWarning)`` to refuse every fallback.
 """
 
@@ -156,7 +156,7 @@ class AssetWarning(UserWarning):
 
 
 class MeshLookWarning(AssetWarning):
-    """An :class:`AssetWarning` found when a mesh's look is drawn (:mod:`morphkit.look`)."""
+    """An :class:`AssetWarning` found when a mesh's look is drawn (:mod:`morphkit.meshes.look`)."""
 
 
 def expected_got(what: str, expected: Any, got: Any) -> str:

@@ -22,12 +22,12 @@ context, keyed by the shaders and defines only (``_ProgramCache``).
 
 Materials. An item with a colour is one ``MetallicRoughnessMaterial`` of that colour
 (``pyrender.Mesh.from_trimesh``, which drops the mesh's visuals). An item without one is drawn in its mesh's
-own look (:func:`morphkit.look.mesh_look`; arrays: :func:`morphkit.look.look_arrays`) as a
+own look (:func:`morphkit.meshes.look.mesh_look`; arrays: :func:`morphkit.meshes.look.look_arrays`) as a
 ``pyrender.Primitive`` built here, not by ``from_trimesh(material=None)``: its materials are
 ``alphaMode='BLEND'`` (order-dependent) and single-sided, a trimesh ``SimpleMaterial``'s grey diffuse (0.4)
 darkens textures, 16-bit textures wrap in ``astype(uint8)``, greyscale ones crash, and RGB textures of a
 width not a multiple of 4 upload skewed (``GL_UNPACK_ALIGNMENT``). Here textures are RGBA uint8
-(:func:`morphkit.texture.texture_rgba`), materials ``OPAQUE`` or ``MASK`` and two-sided. morphkit's copies
+(:func:`morphkit.meshes.texture.texture_rgba`), materials ``OPAQUE``/``MASK``, two-sided. morphkit's copies
 of pyrender's fragment shaders (``morphkit/data/shaders``; pyrender's ignore ``alphaMode`` and
 ``alphaCutoff``) discard fragments with base-colour alpha below 0.5 (a look with cutoff ``c`` uploads its
 factor alpha times ``0.5 / c``, an opaque look all alphas at 1: one shader for every cutoff), decode vertex
@@ -69,8 +69,8 @@ from .camera import CameraModel
 from .conventions import gl_pose_from_cv
 from .errors import RenderError, ValidationError, expected_got
 from .glplatform import GL_LIBRARIES, check_gl_memory, explain_gl_failure, missing_gl_libraries
-from .look import DIELECTRIC, SurfaceLook, look_arrays, mesh_look
 from .meshes import closed_volume
+from .meshes.look import DIELECTRIC, SurfaceLook, look_arrays, mesh_look
 from .passes import (
     FramePass,
     RenderPasses,

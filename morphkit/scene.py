@@ -540,7 +540,7 @@ class Item:
         ``object2world``; identity by default.
     color : tuple of 3 float or None, optional
         ``None`` (default): the mesh's own look, its texture or vertex/face
-        colours (:mod:`morphkit.look`), or
+        colours (:mod:`morphkit.meshes.look`), or
         :data:`~morphkit.conventions.DEFAULT_COLOR` when it has none. A colour
         (linear RGB in ``[0, 1]``) draws the whole mesh in that one colour,
         whatever its visuals.

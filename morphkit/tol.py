@@ -34,11 +34,11 @@ RAY_OFFSET = 1e-4
 
 #: A shadow ray that hits a cut-out hole (a masked texel of a leaf card) is cast
 #: again from :data:`RAY_OFFSET` past the hit, at most this many times in all
-#: (:func:`morphkit.groundtruth.hard_visibility`). A ray through a plant crosses
+#: (:func:`morphkit.imaging.groundtruth.hard_visibility`). A ray through a plant crosses
 #: one card per layer of leaves (a few to a few tens); a ray grazing a card can
 #: land on the same card again after a step of ``RAY_OFFSET`` (float32 hits), so
 #: the bound stops that walk. A ray still in holes after it counts as shadowed,
-#: with a :class:`~morphkit.groundtruth.CutoutLayersWarning`.
+#: with a :class:`~morphkit.imaging.groundtruth.CutoutLayersWarning`.
 CUTOUT_MAX_LAYERS = 64
 
 #: Outward margin (pixels) by which a warp's destination mesh boundary is pushed

@@ -32,7 +32,7 @@ from morphkit.billboard import (
 from morphkit.billboard.asset import BAKE_AMBIENT, bake_lights
 from morphkit.billboard.compare import compare_modes
 from morphkit.cli import parse_size
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
 from morphkit.programs.sources import resolve_assets
 from morphkit.render import Renderer
 

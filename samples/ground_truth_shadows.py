@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
 from morphkit.meshes import sample_mesh
 from morphkit.programs.fixtures import DEMO_MESHES, demo_scene, ground_truth_frame
 from morphkit.render import Renderer

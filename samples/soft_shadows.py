@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from morphkit.fileio import write_image
-from morphkit.groundtruth import area_visibility, receiver_grid
+from morphkit.files.fileio import write_image
+from morphkit.imaging.groundtruth import area_visibility, receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.programs.fixtures import DEMO_MESHES, SOFT_LIGHT, WARP_POSITION, WARP_RANGE
 from morphkit.render import Renderer

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
 from morphkit.programs.fixtures import circle_camera, render_pair, textured_items
 from morphkit.render import Renderer
 from morphkit.viewmorph import ViewMorpher, from_depth, from_geometry, pair_depth, save_points

@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import sample_mesh
-from morphkit.metrics import shadow_iou
 from morphkit.programs.fixtures import DEMO_MESHES, WARP_LIGHT, WARP_RANGE, demo_scene
 from morphkit.programs.visualize import colorize_depth
 from morphkit.render import Renderer

@@ -43,10 +43,10 @@ from morphkit.billboard import Backdrop, BillboardScene, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
-from morphkit.metrics import shadow_iou
+from morphkit.imaging.metrics import shadow_iou
+from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer
-from morphkit.shading import Lighting
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.litmodes import LitMode
 from morphkit.sunlit.receivers import AtlasShadow, FilteredAtlasShadow, RayCastShadow, bake_scene_atlases

@@ -30,8 +30,8 @@ import time
 import numpy as np
 
 from morphkit.billboard.instances import Instances, place_random
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import normalize, sample_mesh
-from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
 from morphkit.sunlit.fieldshadow import FieldShadow, MorphDrawer

@@ -23,9 +23,9 @@ from morphkit.billboard import Backdrop, BillboardScene, MeshMode, place_random
 from morphkit.billboard.bakelook import BAKE_AMBIENT
 from morphkit.billboard.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
+from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer, gl_info
-from morphkit.shading import Lighting
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.receivers import RayCastShadow
 from morphkit.sunlit.sun import sun

@@ -53,7 +53,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.scene import PointLight, Scene

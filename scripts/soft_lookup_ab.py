@@ -29,7 +29,7 @@ import numpy as np
 
 import morphkit
 from morphkit.bench import soft_suite as suite
-from morphkit.groundtruth import receiver_grid
+from morphkit.imaging.groundtruth import receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.shadow import SoftShadow, bake_soft_atlas

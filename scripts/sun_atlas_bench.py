@@ -25,8 +25,8 @@ import time
 
 import numpy as np
 
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import normalize, sample_mesh
-from morphkit.metrics import shadow_iou
 from morphkit.render import Renderer
 from morphkit.sunlit.sunatlas import bake_sun_atlas, ground_visibility, sun_direction, sun_in_object
 from morphkit.sunlit.sunbaselines import direct_light_view, ray_cast_ground_shadow

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from morphkit.errors import FileFormatError
-from morphkit.fileio import read_image, write_image
+from morphkit.files.fileio import read_image, write_image
 
 REFERENCE_DIR = Path(__file__).parent / "reference"
 

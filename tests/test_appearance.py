@@ -1,11 +1,11 @@
-"""Tests of morphkit.appearance: the 3-D checker colouring of a mesh's faces."""
+"""Tests of morphkit.imaging.appearance: the 3-D checker colouring of a mesh's faces."""
 
 from __future__ import annotations
 
 import numpy as np
 import trimesh
 
-from morphkit.appearance import CHECKER, PALETTE, checker_items
+from morphkit.imaging.appearance import CHECKER, PALETTE, checker_items
 from morphkit.meshes import sample_mesh
 
 

@@ -38,8 +38,8 @@ from morphkit import tol
 from morphkit.bench import run_suite
 from morphkit.camera import perspective
 from morphkit.errors import FileFormatError, MeshError, OutOfRangeError, ValidationError
-from morphkit.fileio import write_image
-from morphkit.groundtruth import receiver_grid
+from morphkit.files.fileio import write_image
+from morphkit.imaging.groundtruth import receiver_grid
 from morphkit.meshes import check_mesh, load_mesh
 from morphkit.scene import AreaLight, PointLight
 from morphkit.shadow import LightRig, MotionRange, ShadowAtlas, SoftShadow
@@ -174,7 +174,7 @@ def _rehashed(change: Callable[[dict, dict], None], *names: str) -> Callable[[di
     """``change``, then the named arrays' checksums recomputed (a writer's bug, not damage)."""
 
     def both(meta: dict, a: dict) -> None:
-        from morphkit.fileio import array_digest
+        from morphkit.files.fileio import array_digest
 
         change(meta, a)
         for k in names:

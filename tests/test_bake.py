@@ -26,7 +26,6 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit import fileio
 from morphkit.bake import (
     MANIFEST_NAME,
     BakeOptions,
@@ -41,6 +40,7 @@ from morphkit.bake import pipeline as bake_pipeline
 from morphkit.bake.manifest import JOURNAL_NAME
 from morphkit.cli import main
 from morphkit.errors import ClusterError, MeshError, ValidationError
+from morphkit.files import fileio
 from morphkit.shadow import ATLAS_VERSION
 
 TINY = ShadowAtlasKind(atlas_size=32, grid=3)
@@ -636,7 +636,7 @@ def test_shadows_renders_frames_and_a_video_with_the_warped_shadow(tmp_path, bak
     assert rc == 0 and "3 frames (hard)" in stdout
     assert re.search(r"shadow vs ray cast on the ground: IoU min 0\.\d{3} mean 0\.\d{3}", stdout)
     names = sorted(p.relative_to(tmp_path / "f").as_posix() for p in (tmp_path / "f").rglob("*"))
-    assert names == [".morphkit-output.json",  # morphkit.outfolder's marker, its one file of its own
+    assert names == [".morphkit-output.json",  # morphkit.files.outfolder's marker, its one file of its own
                      "frames", "frames/frame_0000.png", "frames/frame_0001.png", "frames/frame_0002.png",
                      "shadows.webm"]
     video = cv2.VideoCapture(str(tmp_path / "f" / "shadows.webm"))

@@ -29,10 +29,10 @@ from typing import ClassVar
 import pytest
 import trimesh
 
-from morphkit import fileio
 from morphkit.bake import BakeOptions, Manifest, ShadowAtlasKind, bake_library
 from morphkit.bake.manifest import JOURNAL_NAME
 from morphkit.cli import main
+from morphkit.files import fileio
 from morphkit.shadow import ShadowAtlas
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -43,7 +43,7 @@ def test_the_suns_rise_from_the_morning_to_noon_and_the_path_crosses_the_horizon
 
 def test_subdivided_meshes_reach_the_face_count_and_keep_the_cutout(tmp_path):
     from morphkit.bench.scene_fields import subdivided, textured_meshes
-    from morphkit.cutout import mesh_cutout
+    from morphkit.imaging.cutout import mesh_cutout
 
     meshes = textured_meshes(tmp_path)
     for target in (600, 6000):

@@ -32,8 +32,8 @@ from morphkit.billboard import (
 )
 from morphkit.billboard.assetfile import AssetRecord
 from morphkit.errors import DegenerateViewError, FileFormatError, MeshError, ValidationError
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import normalize, sample_mesh
-from morphkit.metrics import shadow_iou
 
 # --------------------------------------------------------------------------- synthetic records (no GL)
 

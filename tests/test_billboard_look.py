@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.appearance import checker_items
 from morphkit.billboard import (
     BAKE_AMBIENT,
     VERSION,
@@ -23,7 +22,8 @@ from morphkit.billboard import (
 )
 from morphkit.billboard.bakelook import sideways_colour
 from morphkit.errors import FileFormatError, ValidationError
-from morphkit.fileio import write_bytes
+from morphkit.files.fileio import write_bytes
+from morphkit.imaging.appearance import checker_items
 from morphkit.meshes import load_mesh, normalize, sample_mesh
 from morphkit.programs.fixtures import photo_texture, textured_demo_asset, write_leaf_plant, write_photo_glb
 from morphkit.programs.sources import resolve_assets

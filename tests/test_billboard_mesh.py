@@ -10,7 +10,7 @@ from billboard_fakes import FakeAsset
 from morphkit.billboard import Backdrop, BillboardScene, Ground, Instances, MeshMode, MorphMode, Sky
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
-from morphkit.metrics import shadow_iou
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.scene import DirectionalLight, Item
 
 pytestmark = pytest.mark.gl

@@ -13,7 +13,7 @@ from billboard_fakes import FakeAsset
 from morphkit.billboard import BillboardScene, ClassicMode, MorphMode, OrbitPath, place_random
 from morphkit.billboard.compare import box_errors, compare_modes, mean_errors
 from morphkit.errors import ValidationError
-from morphkit.fileio import read_image
+from morphkit.files.fileio import read_image
 from morphkit.programs.sequence import compare_indices, write_sequence
 from morphkit.programs.video import VideoFile
 

@@ -28,8 +28,8 @@ from morphkit.billboard.frame import Placement
 from morphkit.billboard.frustum import unit_from_image
 from morphkit.billboard.protocols import BillboardSource, ViewPairing
 from morphkit.camera import look_at, perspective
-from morphkit.composite import over_warped
 from morphkit.errors import ValidationError
+from morphkit.imaging.composite import over_warped
 
 FLAT = Backdrop(Ground(cell=None), Sky((0.5, 0.5, 0.5), (0.5, 0.5, 0.5)))
 

@@ -191,7 +191,7 @@ def test_cli_on_a_cyclic_gltf_is_one_line(tmp_path):
 
 def _redepth(path: Path, out: Path, edit: Any) -> Path:
     """``path``'s dome file with its depth array edited and its checksums recomputed."""
-    from morphkit.fileio import array_digest
+    from morphkit.files.fileio import array_digest
 
     with np.load(path) as z:
         arrays = {k: z[k] for k in z.files}

@@ -8,7 +8,7 @@ import trimesh
 
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
-from morphkit.metrics import shadow_iou
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.sunlit.cardbaselines import card_field_map, nearest_frame
 from morphkit.sunlit.fieldbaselines import ray_cast_field
 from morphkit.sunlit.fieldshadow import FieldShadow

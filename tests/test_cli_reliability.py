@@ -26,12 +26,12 @@ import pytest
 import trimesh
 from clirun import one_line, run
 
-from morphkit import fileio
 from morphkit.bake import Manifest
 from morphkit.bake import cluster as bake_cluster
 from morphkit.bake import pipeline as bake_pipeline
 from morphkit.cli import main
-from morphkit.outfolder import BAKE_OUTPUT, MARKER_NAME, claim_output
+from morphkit.files import fileio
+from morphkit.files.outfolder import BAKE_OUTPUT, MARKER_NAME, claim_output
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}

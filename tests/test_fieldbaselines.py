@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from morphkit.billboard.instances import Instances
-from morphkit.cutout import mesh_cutout
 from morphkit.errors import ValidationError
-from morphkit.groundtruth import hard_visibility
+from morphkit.imaging.cutout import mesh_cutout
+from morphkit.imaging.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, normalize
 from morphkit.programs.fixtures import write_leaf_plant
 from morphkit.scene import DirectionalLight, SceneObject

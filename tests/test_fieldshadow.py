@@ -15,7 +15,7 @@ import trimesh
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
 from morphkit.billboard.instances import Instances
 from morphkit.errors import ValidationError
-from morphkit.metrics import shadow_iou
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.sunlit.fieldshadow import FieldShadow, MorphDrawer
 from morphkit.sunlit.fieldsplat import SplatDrawer, splat_points
 from morphkit.sunlit.sunatlas import SunAtlas, sun_direction

@@ -1,4 +1,4 @@
-"""morphkit.fileio: atomic writes leave the old file or the new one, never half of one."""
+"""morphkit.files.fileio: atomic writes leave the old file or the new one, never half of one."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from morphkit.errors import FileFormatError, ValidationError
-from morphkit.fileio import atomic_write, read_image, write_image, write_json, write_text
+from morphkit.files.fileio import atomic_write, read_image, write_image, write_json, write_text
 
 
 def test_write_replaces_and_leaves_no_temporary(tmp_path: Path) -> None:
@@ -85,7 +85,7 @@ def test_read_image_errors(tmp_path: Path) -> None:
 
 
 def test_atomic_output_renames_on_success_and_cleans_up_on_failure(tmp_path: Path) -> None:
-    from morphkit.fileio import atomic_output
+    from morphkit.files.fileio import atomic_output
 
     target = tmp_path / "clip.mp4"
     target.write_bytes(b"old")
@@ -103,7 +103,7 @@ def test_atomic_output_renames_on_success_and_cleans_up_on_failure(tmp_path: Pat
 
 
 def test_append_lines_appends_and_refuses_newlines(tmp_path: Path) -> None:
-    from morphkit.fileio import append_lines
+    from morphkit.files.fileio import append_lines
 
     log = tmp_path / "log.jsonl"
     append_lines(log, ['{"a": 1}'])
@@ -120,7 +120,7 @@ def test_append_lines_leaves_no_half_line(tmp_path: Path, monkeypatch) -> None:
     import errno
     import os
 
-    from morphkit import fileio
+    from morphkit.files import fileio
 
     log = tmp_path / "log.jsonl"
     fileio.append_lines(log, ['{"a": 1}'])
@@ -146,7 +146,7 @@ def test_open_regular_refuses_what_is_not_a_regular_file_without_waiting(tmp_pat
     import os
 
     from morphkit.errors import MeshError
-    from morphkit.fileio import open_regular
+    from morphkit.files.fileio import open_regular
 
     (tmp_path / "a.txt").write_bytes(b"content")
     with open_regular(tmp_path / "a.txt", "a file") as f:

@@ -21,11 +21,11 @@ from morphkit.billboard import Backdrop, BillboardScene, Ground, Instances, Sky
 from morphkit.camera import look_at, perspective
 from morphkit.conventions import NORMAL_ENCODING_DEG
 from morphkit.errors import ValidationError
+from morphkit.imaging.shading import Lighting
 from morphkit.meshes import load_mesh, sample_mesh
 from morphkit.programs.fixtures import demo_scene, write_color_ply, write_leaf_plant, write_photo_glb
 from morphkit.protocols import GBufferRenderer, PassRenderer
 from morphkit.scene import Item
-from morphkit.shading import Lighting
 from morphkit.shadow.frame import frame_items
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.receivers import RayCastShadow

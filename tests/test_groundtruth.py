@@ -8,7 +8,7 @@ import pytest
 import trimesh
 
 from morphkit.errors import ValidationError
-from morphkit.groundtruth import (
+from morphkit.imaging.groundtruth import (
     area_visibility,
     ground_pixels,
     hard_visibility,
@@ -123,7 +123,7 @@ def test_bad_input():
 
 
 def test_sampled_visibility_needs_a_light():
-    from morphkit.groundtruth import sampled_visibility
+    from morphkit.imaging.groundtruth import sampled_visibility
 
     obj = SceneObject(trimesh.creation.box((0.2, 0.2, 0.2)))
     with pytest.raises(ValidationError, match="at least one point light.*none"):

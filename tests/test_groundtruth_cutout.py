@@ -8,11 +8,16 @@ import pytest
 import trimesh
 from PIL import Image
 
-import morphkit.cutout as cutout_module
+import morphkit.imaging.cutout as cutout_module
 from morphkit import tol
-from morphkit.cutout import Cutout, mesh_cutout, sample_texture
 from morphkit.errors import ValidationError
-from morphkit.groundtruth import CutoutLayersWarning, hard_visibility, receiver_grid, sampled_visibility
+from morphkit.imaging.cutout import Cutout, mesh_cutout, sample_texture
+from morphkit.imaging.groundtruth import (
+    CutoutLayersWarning,
+    hard_visibility,
+    receiver_grid,
+    sampled_visibility,
+)
 from morphkit.meshes import sample_mesh
 from morphkit.programs.fixtures import alpha_card, checker_alpha
 from morphkit.scene import DirectionalLight, PointLight, SceneObject, translation

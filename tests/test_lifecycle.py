@@ -115,7 +115,7 @@ def test_an_ignored_sigterm_stays_ignored():
 
 
 def test_only_morphkits_own_temporary_names_are_taken_for_a_killed_runs():
-    from morphkit.outfolder import TEMPORARY
+    from morphkit.files.outfolder import TEMPORARY
 
     for name in (".frame_0003.k2x_9abc.part.png", ".billboards.b5jtfs0u.part.webm",
                  ".manifest.ab12cd34.part.json", ".morphkit-probe-ab12cd34", ".morphkit-probe-ab12cd34.webm",
@@ -172,7 +172,7 @@ def snapshot(folder: Path) -> dict[str, bytes | None]:
 
 
 def no_video_writer(*_a: object, **_k: object) -> None:
-    """What an OpenCV build without VP9 answers (morphkit.fileio.open_video_writer)."""
+    """What an OpenCV build without VP9 answers (morphkit.files.fileio.open_video_writer)."""
     from morphkit.errors import RenderError
 
     raise RenderError("video writer: expected OpenCV's VP90 writer for .webm files, got none in this "
@@ -241,7 +241,7 @@ def test_a_refused_shadows_run_leaves_the_folder_as_it_was(tmp_path, capfd, atla
 def test_a_refused_demo_leaves_the_previous_demo_as_it_was(tmp_path, capfd, monkeypatch):
     import morphkit.programs.demo
     from morphkit.errors import RenderError
-    from morphkit.outfolder import DEMO_OUTPUT, claim_output
+    from morphkit.files.outfolder import DEMO_OUTPUT, claim_output
 
     out = tmp_path / "out"
     with claim_output(out, DEMO_OUTPUT).writing():  # a finished demo, as run_demo leaves it
@@ -264,7 +264,7 @@ def viewmorph_inputs(folder: Path) -> tuple[Path, Path, Path]:
     import cv2
     import numpy as np
 
-    from morphkit.fileio import write_image
+    from morphkit.files.fileio import write_image
 
     folder.mkdir(parents=True, exist_ok=True)
     img = cv2.GaussianBlur((np.random.default_rng(0).random((96, 128, 3)) * 255).astype(np.uint8), (0, 0), 3)
@@ -280,7 +280,7 @@ def listing(folder: Path) -> list[str]:
 
 
 def test_viewmorph_frames_follow_the_one_pattern_and_overwrite_an_old_layout(tmp_path, capfd):
-    from morphkit.outfolder import MARKER_NAME, frame_name
+    from morphkit.files.outfolder import MARKER_NAME, frame_name
 
     left, right, points = viewmorph_inputs(tmp_path / "in")
     argv = ("viewmorph", left, right, "--points", points, "--prewarp", "none")
@@ -309,7 +309,7 @@ def test_viewmorph_frames_follow_the_one_pattern_and_overwrite_an_old_layout(tmp
 
 @pytest.mark.gl
 def test_every_command_names_its_frames_alike_and_keeps_one_file_of_its_own(tmp_path, capfd, atlas_file):
-    from morphkit.outfolder import MARKER_NAME
+    from morphkit.files.outfolder import MARKER_NAME
 
     two = ["frames", "frames/frame_0000.png", "frames/frame_0001.png"]
     rc, _o, err = run(capfd, *BILLBOARDS, "--frames", "2", "-o", tmp_path / "bb")

@@ -11,8 +11,8 @@ from morphkit.billboard import Backdrop, BillboardScene, Fog, Ground, Instances,
 from morphkit.billboard.compositor import finish
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
+from morphkit.imaging.shading import Lighting, shade_passes
 from morphkit.scene import Item, PointLight
-from morphkit.shading import Lighting, shade_passes
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.sun import sun
 
@@ -23,7 +23,7 @@ COLOR = (0.2, 0.4, 0.8)
 
 
 def _srgb(x: float) -> float:
-    return min(x, 1.0) ** (1 / 2.2)  # the model's output encoding (morphkit.shading)
+    return min(x, 1.0) ** (1 / 2.2)  # the model's output encoding (morphkit.imaging.shading)
 
 
 def _panel():
@@ -100,5 +100,5 @@ def test_lit_mesh_mode_refuses_what_it_cannot_use(renderer):
         LitMeshMode(renderer, meshes, Lighting(0.3), supersample=0)
     mode = LitMeshMode(renderer, meshes, Lighting(0.3))
     mode.lighting = [sun(0.0, 30.0)]
-    with pytest.raises(ValidationError, match="lighting: expected a morphkit.shading.Lighting"):
+    with pytest.raises(ValidationError, match="lighting: expected a morphkit.imaging.shading.Lighting"):
         scene.render(cam, mode)

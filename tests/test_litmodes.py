@@ -13,8 +13,8 @@ from morphkit.billboard.analytic import sphere_dome_asset
 from morphkit.billboard.facing import AxialFacing, ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
+from morphkit.imaging.shading import Lighting
 from morphkit.scene import PointLight
-from morphkit.shading import Lighting
 from morphkit.sunlit.litmodes import (
     ClassicSurface,
     CrossfadeSurface,

@@ -24,7 +24,7 @@ import pytest
 import trimesh
 
 from morphkit import tol
-from morphkit.fileio import write_image
+from morphkit.files.fileio import write_image
 from morphkit.programs.cliargs import MAX_FRAME_SIDE
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,4 +1,4 @@
-"""Tests of morphkit.metrics: values derivable by hand, scikit-image parity, validation."""
+"""Tests of morphkit.imaging.metrics: values derivable by hand, scikit-image parity, validation."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from morphkit.errors import ValidationError
-from morphkit.metrics import SSIM_WINDOW, mean_abs_error, psnr, rmse, shadow_iou, ssim
+from morphkit.imaging.metrics import SSIM_WINDOW, mean_abs_error, psnr, rmse, shadow_iou, ssim
 
 
 def rect(shape: tuple[int, int], r0: int, r1: int, c0: int, c1: int) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""morphkit.outfolder: one rule for every command's output folder (no GL)."""
+"""morphkit.files.outfolder: one rule for every command's output folder (no GL)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import os
 import pytest
 
 from morphkit.errors import OutputBusyError, OutputExistsError, ValidationError
-from morphkit.outfolder import (
+from morphkit.files.outfolder import (
     BAKE_OUTPUT,
     BILLBOARDS_OUTPUT,
     DEMO_OUTPUT,
@@ -196,7 +196,7 @@ def test_a_killed_runs_temporary_files_are_removed_by_the_next_run(tmp_path):
 def test_overwrite_removes_only_what_the_previous_run_recorded(tmp_path):
     """The user's PNGs beside a demo and in its subfolders, and their edited copies of a
     billboards run's frames, survive --overwrite; the run's own files not written again go."""
-    from morphkit.outfolder import BILLBOARDS_OUTPUT
+    from morphkit.files.outfolder import BILLBOARDS_OUTPUT
 
     demo = tmp_path / "demo"
     with claim_output(demo, DEMO_OUTPUT).writing():
@@ -261,7 +261,7 @@ def _snapshot(folder):
 
 
 def test_a_run_refused_after_making_a_subfolder_leaves_the_folder_as_it_was(tmp_path):
-    from morphkit.outfolder import BILLBOARDS_OUTPUT
+    from morphkit.files.outfolder import BILLBOARDS_OUTPUT
 
     out = tmp_path / "a" / "b"
     claim = claim_output(out, BILLBOARDS_OUTPUT)
@@ -286,7 +286,7 @@ def test_a_run_refused_after_making_a_subfolder_leaves_the_folder_as_it_was(tmp_
 
 
 def test_an_empty_subfolder_morphkit_makes_never_blocks_a_run(tmp_path):
-    from morphkit.outfolder import BILLBOARDS_OUTPUT, subfolders
+    from morphkit.files.outfolder import BILLBOARDS_OUTPUT, subfolders
 
     assert subfolders() == {"frames"}
     out = tmp_path / "o"

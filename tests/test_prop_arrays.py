@@ -18,9 +18,9 @@ from hypothesis.extra import numpy as hnp
 from props import outcome
 
 from morphkit.camera import CameraModel, look_at, perspective
-from morphkit.composite import over, shade, to_premultiplied
 from morphkit.errors import ValidationError
-from morphkit.metrics import mean_abs_error, psnr, rmse, shadow_iou, ssim
+from morphkit.imaging.composite import over, shade, to_premultiplied
+from morphkit.imaging.metrics import mean_abs_error, psnr, rmse, shadow_iou, ssim
 from morphkit.scene import DirectionalLight, PointLight, light_view
 from morphkit.shadow.lookup import shadow_visibility
 from morphkit.viewmorph import Correspondences, plan_view_morph

@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from props import damaged
 
 from morphkit.cli import main
-from morphkit.outfolder import LOCK_NAME, MARKER_NAME
+from morphkit.files.outfolder import LOCK_NAME, MARKER_NAME
 
 ONE_LINE = re.compile(r"^morphkit: error: \S.*$")
 ARGPARSE = re.compile(r"^morphkit \w+: error: \S.*$")
@@ -63,7 +63,7 @@ def check_cli(capsys, argv: list[str], out: Path) -> None:
         left = [n for n in names if ".part" in n
                 or (n.startswith(".morphkit-") and n not in (MARKER_NAME, LOCK_NAME))]
         assert not left, left
-        # the output folder's marker and lock (morphkit.outfolder) stay only beside what the run
+        # the output folder's marker and lock (morphkit.files.outfolder) stay only beside what the run
         # wrote: a run that wrote nothing leaves no folder behind, one that finished says so
         assert names - {MARKER_NAME, LOCK_NAME} or not names, sorted(names)
         if code == 0:  # every output folder the run claimed (e.g. viewmorph --frames) says finished

@@ -38,7 +38,7 @@ from morphkit.billboard import BillboardAsset
 from morphkit.billboard.assetfile import read_record
 from morphkit.billboard.domeasset import DomeAsset
 from morphkit.billboard.domefile import read_dome
-from morphkit.fileio import array_digest, read_image, write_image
+from morphkit.files.fileio import array_digest, read_image, write_image
 from morphkit.meshes import load_mesh
 from morphkit.scene import PointLight
 from morphkit.shadow import BakedAtlas, LightRig, MotionRange, ShadowAtlas

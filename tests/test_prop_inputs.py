@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 from props import hang_limit
 
 from morphkit.cli import main
-from morphkit.outfolder import MARKER_NAME, TEMPORARY
+from morphkit.files.outfolder import MARKER_NAME, TEMPORARY
 
 ONE_LINE = re.compile(r"^morphkit: error: \S.*$")
 ARGPARSE = re.compile(r"^morphkit( \w+)?: error: \S.*$")
@@ -243,7 +243,7 @@ def _pil(rgb: np.ndarray):  # noqa: ANN202 - a PIL image for trimesh's material
 
 def test_an_index_that_is_a_fifo_is_refused_as_not_ours_and_never_waited_on(tmp_path):
     from morphkit.errors import OutputExistsError
-    from morphkit.outfolder import DEMO_OUTPUT, claim_output
+    from morphkit.files.outfolder import DEMO_OUTPUT, claim_output
 
     out = tmp_path / "demo"
     out.mkdir()

@@ -248,7 +248,7 @@ def test_closed_volumes_keep_the_depth_only_draw(renderer):
 
 
 def test_closed_volume_tells_closed_outward_surfaces():
-    from morphkit.fidelity import quad
+    from morphkit.imaging.fidelity import quad
     from morphkit.meshes import chair, closed_volume, teapot
 
     box = trimesh.creation.box()

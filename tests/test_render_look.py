@@ -1,5 +1,5 @@
 """A mesh's own look in the renderer: textures, vertex and face colours, cut-outs, and the passes
-(albedo, normals), each against a value derived from the scene (morphkit.fidelity)."""
+(albedo, normals), each against a value derived from the scene (morphkit.imaging.fidelity)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from PIL import Image
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.conventions import ALPHA_CUTOFF, DEFAULT_COLOR, NORMAL_ENCODING_DEG
 from morphkit.errors import AssetWarning, MeshLookWarning, ValidationError
-from morphkit.fidelity import (
+from morphkit.imaging.fidelity import (
     gradient_quad,
     gradient_truth,
     head_on_camera,
@@ -22,8 +22,8 @@ from morphkit.fidelity import (
     sample_texture,
     textured_quad,
 )
+from morphkit.imaging.metrics import psnr
 from morphkit.meshes.parts import linear_to_srgb, merge_parts
-from morphkit.metrics import psnr
 from morphkit.scene import DirectionalLight, Item
 
 pytestmark = pytest.mark.gl
@@ -150,7 +150,7 @@ def test_albedo_of_a_factor_is_the_albedo_of_that_factor_baked_into_a_texel(rend
 def test_look_warnings_are_asset_warnings():
     """One family to filter on: the renderer's MeshLookWarning is an AssetWarning (the loader's)."""
     assert issubclass(MeshLookWarning, AssetWarning) and issubclass(AssetWarning, UserWarning)
-    from morphkit import look
+    from morphkit.meshes import look
 
     assert look.MeshLookWarning is MeshLookWarning  # still importable where it was
 

@@ -16,7 +16,7 @@ from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
 from morphkit.billboard.instances import Instances
 from morphkit.cli import main
 from morphkit.errors import ValidationError
-from morphkit.shading import shade_suns, sun_shadow_factor
+from morphkit.imaging.shading import shade_suns, sun_shadow_factor
 from morphkit.sunlit.receivers import (
     AtlasShadow,
     FilteredAtlasShadow,
@@ -263,7 +263,7 @@ def _camera():
 @pytest.mark.parametrize("elevation", [35.0, -5.0])
 def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, elevation):
     from morphkit.billboard.bakelook import BAKE_AMBIENT
-    from morphkit.shading import Lighting
+    from morphkit.imaging.shading import Lighting
     from morphkit.sunlit.litmesh import LitMeshMode
     from morphkit.sunlit.litmodes import LitMode
     from morphkit.sunlit.receivers import RayCastShadow
@@ -355,7 +355,7 @@ def test_the_cli_says_in_one_line_what_a_flag_alone_implied(tmp_path, capsys):
 
 def test_the_ground_keeps_its_colour_in_full_sun_and_darkens_under_the_fog():
     from morphkit.billboard import Backdrop, Fog
-    from morphkit.shading import LIT_GAMMA
+    from morphkit.imaging.shading import LIT_GAMMA
 
     cam = _camera()
     for back in (Backdrop(), Backdrop(fog=Fog(density=0.2))):

@@ -1,4 +1,4 @@
-"""The one shading model (morphkit.shading): analytic values, the horizon, frames, passes."""
+"""The one shading model (morphkit.imaging.shading): analytic values, the horizon, frames, passes."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import pytest
 
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
+from morphkit.imaging.shading import Lighting, shade, shade_passes
 from morphkit.passes import RenderPasses
 from morphkit.scene import AreaLight, DirectionalLight, PointLight
-from morphkit.shading import Lighting, shade, shade_passes
 from morphkit.views.gbuffer import ViewSurface
 
 
@@ -21,7 +21,7 @@ def _srgb(x: float) -> float:
     return min(x, 1.0) ** (1 / 2.2)
 
 
-# the encoding table (65536 steps) is within 0.01 / 255 of the curve above 0.01 (morphkit.shading)
+# the encoding table (65536 steps) is within 0.01 / 255 of the curve above 0.01 (morphkit.imaging.shading)
 ENC_ATOL = 0.25 / 255
 
 
@@ -218,6 +218,6 @@ def test_shade_passes_decodes_albedo_and_uses_the_depth_for_point_lights():
 def test_importing_shading_first_then_the_billboards_works():
     """shading imports the billboard package's colour tables lazily, so a billboard module
     may import shading whichever is imported first."""
-    code = "import morphkit.shading, morphkit.billboard, morphkit.sunlit.litmesh; print('ok')"
+    code = "import morphkit.imaging.shading, morphkit.billboard, morphkit.sunlit.litmesh; print('ok')"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr

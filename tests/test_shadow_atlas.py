@@ -11,9 +11,9 @@ import trimesh
 from scipy import ndimage
 
 from morphkit.errors import FileFormatError, OutOfRangeError, ValidationError
-from morphkit.groundtruth import hard_visibility, receiver_grid
+from morphkit.imaging.groundtruth import hard_visibility, receiver_grid
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import sample_mesh
-from morphkit.metrics import shadow_iou
 from morphkit.scene import DirectionalLight, PointLight, SceneObject
 from morphkit.shadow import (
     DirectShadow,
@@ -416,7 +416,7 @@ def test_load_refuses_bad_files(tmp_path, point_atlas):
     np.savez(tmp_path / "moved.npz", **arrays)
     with pytest.raises(FileFormatError, match="atlas array 'control': expected sha256"):
         ShadowAtlas.load(tmp_path / "moved.npz")
-    from morphkit.fileio import array_digest
+    from morphkit.files.fileio import array_digest
 
     meta["arrays"]["control"]["sha256"] = array_digest(arrays["control"])  # consistent checksum
     arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), np.uint8)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.groundtruth import hard_visibility, receiver_grid
+from morphkit.imaging.groundtruth import hard_visibility, receiver_grid
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import load_mesh, sample_mesh
-from morphkit.metrics import shadow_iou
 from morphkit.programs.fixtures import alpha_card, checker_alpha, demo_scene, leaf_texture, write_leaf_plant
 from morphkit.scene import DirectionalLight, Item, Scene, SceneObject, light_view, translation
 from morphkit.shadow import DirectShadow, MotionRange, bake_atlas, shadow_visibility

@@ -14,7 +14,7 @@ import pytest
 
 from morphkit import tol
 from morphkit.errors import RenderError, ValidationError
-from morphkit.groundtruth import hard_visibility
+from morphkit.imaging.groundtruth import hard_visibility
 from morphkit.meshes import load_mesh, sample_mesh
 from morphkit.programs.fixtures import (
     DEMO_MESHES,

@@ -11,7 +11,7 @@ import trimesh
 from morphkit import tol
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.errors import OutOfRangeError, ValidationError
-from morphkit.groundtruth import area_visibility, receiver_grid
+from morphkit.imaging.groundtruth import area_visibility, receiver_grid
 from morphkit.scene import AreaLight, SceneObject
 from morphkit.shadow import (
     DirectShadow,

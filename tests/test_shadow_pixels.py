@@ -8,8 +8,8 @@ import pytest
 
 from morphkit import settings, tol
 from morphkit.camera import look_at, orthographic, perspective
-from morphkit.composite import shade
 from morphkit.errors import ValidationError
+from morphkit.imaging.composite import shade
 from morphkit.scene import AreaLight, DirectionalLight, PointLight
 from morphkit.shadow import pixels as px
 from morphkit.warp import PARALLEL_MIN_PIXELS
@@ -135,7 +135,7 @@ def test_drawn_pixels_refuses_a_depth_of_another_shape():
 def test_the_shade_kernel_equals_the_numpy_blend(shape, rng, monkeypatch):
     """uint8 frames blended by visibility 0, 1 and in between: the kernel's bytes are numpy's
     (in one band, and in three bands of rows where the frame is large enough)."""
-    from morphkit import composite
+    from morphkit.imaging import composite
 
     monkeypatch.setattr(composite, "WARP_THREADS", 3)
     assert (shape[0] * shape[1] >= PARALLEL_MIN_PIXELS) == (shape[0] > 100)

@@ -8,7 +8,7 @@ import pytest
 import trimesh
 
 from morphkit.errors import OutOfRangeError, ValidationError
-from morphkit.groundtruth import hard_visibility, receiver_grid
+from morphkit.imaging.groundtruth import hard_visibility, receiver_grid
 from morphkit.scene import AreaLight, DirectionalLight, PointLight, SceneObject
 from morphkit.shadow import (
     DirectShadow,
@@ -150,7 +150,7 @@ def test_one_centre_sample_is_the_ray_cast_hard_shadow_of_the_centre(plate, plat
     exactly, except within the outline band of each sample's shadow where a shadow
     map may differ (nearest texel, bias, warp: 3 light texels at the ground, as
     derived in the pointwise test above)."""
-    from morphkit.groundtruth import sampled_visibility
+    from morphkit.imaging.groundtruth import sampled_visibility
 
     n_grid, half = 96, 0.9
     g = receiver_grid(half, (n_grid, n_grid)).reshape(-1, 3)

@@ -100,11 +100,11 @@ def test_only_the_bench_and_the_cli_import_the_bench(path):
 
 #: The modules that may use the demo/bench/test scenes of :mod:`morphkit.programs.fixtures`; the
 #: rest is the library, which must not depend on its own test scenes.
-FIXTURE_USERS = ("morphkit.programs.fixtures", "morphkit.fidelity", "morphkit.bench",
+FIXTURE_USERS = ("morphkit.programs.fixtures", "morphkit.imaging.fidelity", "morphkit.bench",
                  "morphkit.programs.demo", "morphkit.cli")
 
 #: The fixture modules: the demo/bench/test scenes and the renderer's fidelity scenes.
-FIXTURES = ("morphkit.programs.fixtures", "morphkit.fidelity")
+FIXTURES = ("morphkit.programs.fixtures", "morphkit.imaging.fidelity")
 
 
 def _imports_fixtures(path: Path) -> list[str]:

@@ -15,7 +15,7 @@ import trimesh
 from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
 from morphkit.errors import ValidationError
-from morphkit.metrics import shadow_iou
+from morphkit.imaging.metrics import shadow_iou
 from morphkit.sunlit.sunatlas import (
     SunAtlas,
     bake_sun_atlas,

@@ -83,7 +83,7 @@ def _parts(path):
 def _rehashed(path, meta, arrays):
     """``path`` rewritten with ``meta`` and ``arrays``, the checksums recomputed: a writer's bug, not
     a damaged disk (the checks past the checksums)."""
-    from morphkit.fileio import array_digest
+    from morphkit.files.fileio import array_digest
 
     meta["sha256"] = {k: array_digest(a) for k, a in arrays.items()}
     buf = io.BytesIO()

@@ -1,4 +1,4 @@
-"""Texture conversion (morphkit.texture) and a mesh's own look (morphkit.look), without GL."""
+"""Texture conversion (morphkit.meshes.texture) and a mesh's own look (morphkit.meshes.look), without GL."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ from PIL import Image
 from morphkit import tol
 from morphkit.conventions import ALPHA_CUTOFF, DEFAULT_COLOR
 from morphkit.errors import MeshError, ValidationError
-from morphkit.fidelity import gradient_quad, quad, textured_quad
-from morphkit.look import DIELECTRIC, MeshLookWarning, mesh_look
+from morphkit.imaging.fidelity import gradient_quad, quad, textured_quad
+from morphkit.meshes.look import DIELECTRIC, MeshLookWarning, mesh_look
 from morphkit.meshes.parts import srgb_to_linear
+from morphkit.meshes.texture import texture_rgba, texture_shape
 from morphkit.scene import Item
-from morphkit.texture import texture_rgba, texture_shape
 
 
 def test_texture_layouts_become_rgba_uint8(rng):

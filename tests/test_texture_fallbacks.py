@@ -25,8 +25,8 @@ from PIL import Image
 
 from morphkit.errors import AssetWarning
 from morphkit.meshes import face_base_colors, load_mesh
+from morphkit.meshes.texture import image_problem
 from morphkit.programs import fixtures as F
-from morphkit.texture import image_problem
 
 KD = r"drawn in its Kd colour \['0\.8', '0\.8', '0\.8'\]"
 FACTOR = "its materials are drawn in their baseColorFactor"

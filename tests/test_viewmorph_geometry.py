@@ -269,7 +269,7 @@ def test_points_file_roundtrip(tmp_path, rng):
         p = save_points(tmp_path / name, corr)
         back = load_points(p)
         assert np.array_equal(back.pts0, corr.pts0) and np.array_equal(back.pts1, corr.pts1)
-    # written through morphkit.fileio: a rewrite replaces the file whole, no temporary left behind
+    # written through morphkit.files.fileio: a rewrite replaces the file whole, no temporary left behind
     save_points(tmp_path / "pts.csv", corr.subset(np.arange(5)))
     assert len(load_points(tmp_path / "pts.csv")) == 5
     assert sorted(q.name for q in tmp_path.iterdir()) == ["pts.csv", "pts.json"]

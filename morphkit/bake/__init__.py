@@ -20,7 +20,7 @@
 
 from __future__ import annotations
 
-from ..fileio import check_writable
+from ..files.fileio import check_writable
 from .cluster import CONNECT_TIMEOUT_S, default_workers, open_client
 from .inputs import MESH_SUFFIXES, AssetInput, find_inputs
 from .kinds import (

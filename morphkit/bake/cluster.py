@@ -48,7 +48,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from ..errors import ClusterError, ValidationError, expected_got
-from ..fileio import quiet_stderr
+from ..files.fileio import quiet_stderr
 
 __all__ = ["CONNECT_TIMEOUT_S", "LOCAL_WORKER_CONFIG", "default_workers", "open_client", "check_scheduler",
            "scheduler_address"]

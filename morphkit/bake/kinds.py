@@ -63,7 +63,7 @@ WARP_LIGHT = (0.25, -0.2, 2.4)
 
 @runtime_checkable
 class SavableAsset(Protocol):
-    """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.fileio`).
+    """A baked asset that writes itself to one file, atomically (through :mod:`morphkit.files.fileio`).
 
     Parameters
     ----------

@@ -19,9 +19,9 @@ the file by :func:`morphkit.meshes.resolve_up`); ``run`` records the requested
 ``up`` (``"auto"``, ``"z"`` or ``"y"``).
 
 Nothing lost. The manifest file is only ever replaced atomically
-(:func:`morphkit.fileio.write_json`), and every finished asset's record is first
+(:func:`morphkit.files.fileio.write_json`), and every finished asset's record is first
 appended to a journal, ``<out>/manifest.journal`` (:data:`JOURNAL_NAME`, one
-JSON record per line, ``fsync``-ed: :func:`morphkit.fileio.append_lines`), the
+JSON record per line, ``fsync``-ed: :func:`morphkit.files.fileio.append_lines`), the
 moment its result arrives (results that arrive together share one disk sync).
 :meth:`Manifest.commit` folds the journal into the manifest and removes it;
 :meth:`Manifest.open` replays a journal a crash left behind (a truncated last
@@ -51,8 +51,8 @@ from typing import Any
 
 from .. import __version__
 from ..errors import FileFormatError, expected_got
-from ..fileio import append_lines, open_regular, write_json
-from ..outfolder import BAKE_MANIFEST_FORMAT, is_bake_manifest
+from ..files.fileio import append_lines, open_regular, write_json
+from ..files.outfolder import BAKE_MANIFEST_FORMAT, is_bake_manifest
 from .kinds import AssetKind, output_name
 
 __all__ = ["MANIFEST_NAME", "JOURNAL_NAME", "MANIFEST_FORMAT", "MANIFEST_VERSION", "LEGACY_UP_AXIS",
@@ -64,7 +64,7 @@ MANIFEST_NAME = "manifest.json"
 #: File name of the append-only journal of finished assets (replayed by the next run).
 JOURNAL_NAME = "manifest.journal"
 #: The format name stored in the manifest (the output folders' rule recognises a bake by it:
-#: :data:`morphkit.outfolder.BAKE_MANIFEST_FORMAT`).
+#: :data:`morphkit.files.outfolder.BAKE_MANIFEST_FORMAT`).
 MANIFEST_FORMAT = BAKE_MANIFEST_FORMAT
 #: The manifest format version this code reads and writes (``up_axis`` is optional in it).
 MANIFEST_VERSION = 1

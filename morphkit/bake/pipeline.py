@@ -37,8 +37,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import AssetWarning, OutputWriteError, ValidationError, expected_got
+from ..files.outfolder import BAKE_OUTPUT, claim_output
 from ..meshes import UP_AXES, resolve_up
-from ..outfolder import BAKE_OUTPUT, claim_output
 from ..validate import as_int
 from .cluster import check_scheduler, open_client
 from .inputs import AssetInput, find_inputs
@@ -152,7 +152,7 @@ def bake_library(inputs: Sequence[str | os.PathLike[str]] | str | os.PathLike[st
         both ``workers`` and ``scheduler`` are given, or ``scheduler`` is malformed (all
         before any work).
     OutputExistsError
-        ``out`` holds files and is not a bake's output folder (:mod:`morphkit.outfolder`).
+        ``out`` holds files and is not a bake's output folder (:mod:`morphkit.files.outfolder`).
     OutputBusyError
         Another bake is writing into ``out`` (it holds the folder's lock).
     ClusterError

@@ -7,7 +7,7 @@ re-hashes the file (a file changed since the driver read it is refused, so
 the manifest's hash is the one baked), loads it once with
 :func:`morphkit.meshes.load_mesh` turned ``+z`` up from that axis, bakes each
 kind from it (passing the axis as ``source_up``) and saves each output
-atomically (the kinds' ``save`` writes through :mod:`morphkit.fileio`), then
+atomically (the kinds' ``save`` writes through :mod:`morphkit.files.fileio`), then
 hashes what it wrote. A mesh that cannot be baked (a
 :class:`~morphkit.errors.MorphkitError`: unreadable, empty, degenerate) gives a
 result carrying the error message, which the driver records; so does an output

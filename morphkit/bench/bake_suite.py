@@ -84,7 +84,7 @@ import morphkit
 from .. import tol
 from ..bake import BakeOptions, ShadowAtlasKind, bake_library, find_inputs, open_client, worker_renderer
 from ..errors import ValidationError, expected_got
-from ..fileio import append_lines
+from ..files.fileio import append_lines
 from ..meshes import Y_UP_TO_Z_UP, chair, cow, load_mesh, resolve_up, teapot
 from ..settings import child_environment, numba
 from ..validate import as_int
@@ -198,8 +198,8 @@ def kernel_workload() -> dict[str, float]:
     import numpy as np
 
     from ..billboard.instances import Instances
-    from ..composite import shade
-    from ..groundtruth import receiver_grid
+    from ..imaging.composite import shade
+    from ..imaging.groundtruth import receiver_grid
     from ..scene import AreaLight, PointLight
     from ..shadow import (
         MotionRange,

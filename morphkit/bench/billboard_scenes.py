@@ -68,8 +68,8 @@ from ..billboard import (
 )
 from ..billboard.compare import box_errors
 from ..billboard.protocols import BillboardSource
-from ..composite import to_premultiplied
 from ..errors import ValidationError, expected_got
+from ..imaging.composite import to_premultiplied
 from ..protocols import SceneRenderer
 from ..scene import Item, Light
 from .harness import Timing, make_row, time_call, time_calls

@@ -16,9 +16,9 @@ at the true azimuth (``asset.cameras.camera``), while the asset shows the
 clamped reference.
 
 Metrics (per azimuth, then averaged): ``iou`` -- silhouette IoU (alpha > 0.5,
-:func:`morphkit.metrics.shadow_iou`), ``err_iou = 1 - iou``; ``psnr`` -- on the
+:func:`morphkit.imaging.metrics.shadow_iou`), ``err_iou = 1 - iou``; ``psnr`` -- on the
 premultiplied RGB (the billboard over black) over the whole box, data range 1
-(:func:`morphkit.metrics.psnr`; identical images are capped at 99 dB); ``*_min``
+(:func:`morphkit.imaging.metrics.psnr`; identical images are capped at 99 dB); ``*_min``
 -- the worst azimuth. ``ms_*``: one call of the method (medians over the azimuths).
 
 Sections (a list, :data:`SECTIONS`, of functions ``(cache, quick) -> rows``;
@@ -97,9 +97,9 @@ from ..billboard import (
 from ..billboard.bakelook import sideways_colour
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..camera import CameraModel
+from ..imaging.metrics import psnr, shadow_iou
 from ..memo import Memo
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
-from ..metrics import psnr, shadow_iou
 from ..programs.fixtures import textured_demo_asset, write_leaf_plant
 from ..protocols import SceneRenderer
 from ..scene import Item

@@ -26,9 +26,9 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   in the band with a seeded jitter, none within :data:`MIN_VIEW_SEP_DEG` of a dome view or
   an impostor frame: :func:`band_directions`). Ground truth: the mesh's passes
   (``Renderer.source_passes``, supersampled as the bake) by the dome asset's camera of the
-  direction, shaded by :func:`~morphkit.shading.shade_passes` under the bake lighting
+  direction, shaded by :func:`~morphkit.imaging.shading.shade_passes` under the bake lighting
   (:func:`~morphkit.billboard.bakelook.bake_lights`, ``BAKE_AMBIENT``); each method's surface
-  shaded by :func:`~morphkit.shading.shade` under the same lighting (object frame = world
+  shaded by :func:`~morphkit.imaging.shading.shade` under the same lighting (object frame = world
   frame). Metrics per direction, then the mean per band (``band = "all"``: over every
   direction): ``iou`` (alpha > 0.5) and ``psnr`` (premultiplied shaded RGB, whole image,
   data range 1, capped at 99 dB), ``*_min`` the worst direction; time: one ``surface()``
@@ -106,10 +106,10 @@ from ..billboard.facing import AxialFacing, ViewpointFacing
 from ..billboard.impostor import OctahedralImpostor, bake_impostor, impostor_frame_size
 from ..billboard.paths import FlyoverPath
 from ..errors import ValidationError, expected_got
+from ..imaging.metrics import psnr, shadow_iou
+from ..imaging.shading import Lighting, shade, shade_passes
 from ..memo import Memo
-from ..metrics import psnr, shadow_iou
 from ..protocols import SceneRenderer
-from ..shading import Lighting, shade, shade_passes
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface
 from ..sunlit.sun import sun_directions_8

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .. import fileio, tol
+from .. import tol
+from ..files import fileio
 from ..render import gl_info
 
 __all__ = [
@@ -404,7 +405,7 @@ def format_table(rows: list[Mapping[str, Any]], *, floor_method: str | None = "r
 
 
 def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
-    """Write the rows as a JSON list (parents created), atomically (:mod:`morphkit.fileio`).
+    """Write the rows as a JSON list (parents created), atomically (:mod:`morphkit.files.fileio`).
 
     Parameters
     ----------
@@ -424,7 +425,7 @@ def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
 
 
 def _save_figure(fig: Any, path: Path) -> Path:
-    """Render ``fig`` to PNG in memory and write it atomically (:mod:`morphkit.fileio`)."""
+    """Render ``fig`` to PNG in memory and write it atomically (:mod:`morphkit.files.fileio`)."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     return fileio.write_bytes(path, buf.getvalue())

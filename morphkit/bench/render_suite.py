@@ -15,7 +15,7 @@ Rows:
   orthographic, ``pyrender_raw_rel_err`` (pyrender's own perspective-formula
   value, the bug morphkit corrects).
 * ``what=fidelity`` (no timing): the renderer against derivable truths
-  (:mod:`morphkit.fidelity`, interior pixels only). ``quad``: a photo-textured
+  (:mod:`morphkit.imaging.fidelity`, interior pixels only). ``quad``: a photo-textured
   quad seen head-on, albedo pass against the texture sampled at each pixel
   centre's UV, ``psnr_db`` and ``max_err`` (8-bit levels), at ``px_per_texel``
   1.8 (magnified) and 0.9 (minified: mipmapped, so below the bilinear truth);
@@ -44,10 +44,10 @@ import cv2
 import numpy as np
 import trimesh
 
-from .. import fidelity
 from ..camera import look_at, orthographic, perspective
+from ..imaging import fidelity
+from ..imaging.metrics import psnr
 from ..meshes import sample_mesh
-from ..metrics import psnr
 from ..render import Renderer
 from ..scene import PointLight, light_view
 from .harness import Timing, make_row, pick_sections, section_name, time_call, time_calls

@@ -11,7 +11,8 @@ A field of ``n`` instances (:meth:`SceneKit.field`): :func:`~morphkit.billboard.
 of both assets with a seeded generator (random positions about one per 1.5 x 1.5 units, yaws in
 ``[0, 360)``, scales 0.8-1.25); the receiver is the ground square over the field plus
 :data:`RECEIVER_MARGIN` a side, sampled on a ``grid x grid`` lattice of pixel centres
-(:func:`morphkit.groundtruth.receiver_grid`). Truth: :func:`~morphkit.sunlit.fieldbaselines.ray_cast_field`
+(:func:`morphkit.imaging.groundtruth.receiver_grid`). Truth:
+:func:`~morphkit.sunlit.fieldbaselines.ray_cast_field`
 (Embree; each asset's instances posed into one mesh that keeps its cut-out) towards the exact sun.
 
 Methods (:data:`METHODS`; each a :class:`~morphkit.sunlit.fieldshadow.FieldMap` of the same light
@@ -47,11 +48,11 @@ import trimesh
 
 from ..billboard.impostor import OctahedralImpostor, bake_impostor
 from ..billboard.instances import Instances, place_random
-from ..cutout import mesh_cutout
 from ..errors import ValidationError, expected_got
-from ..groundtruth import receiver_grid
+from ..imaging.cutout import mesh_cutout
+from ..imaging.groundtruth import receiver_grid
+from ..imaging.metrics import shadow_iou
 from ..meshes import load_mesh, normalize
-from ..metrics import shadow_iou
 from ..programs.fixtures import textured_demo_asset, write_leaf_plant
 from ..protocols import PassRenderer
 from ..sunlit.cardbaselines import card_field_map
@@ -263,7 +264,7 @@ def score(fm: FieldMap, fld: Field, sun: np.ndarray) -> tuple[float, float, np.n
     Returns
     -------
     iou : float
-        :func:`morphkit.metrics.shadow_iou` of the shadow masks.
+        :func:`morphkit.imaging.metrics.shadow_iou` of the shadow masks.
     mae : float
         Mean absolute visibility error over the receiver points.
     shadow : (grid * grid,) bool
@@ -281,7 +282,7 @@ def surface_receivers(fld: Field, count: int, rng: np.random.Generator) -> tuple
 
     ``count`` points are drawn on each asset's posed mesh by area (:func:`trimesh.sample.sample_surface`,
     seeded from ``rng``); a point on a cut-out texel (no surface there,
-    :func:`morphkit.cutout.mesh_cutout`) is dropped.
+    :func:`morphkit.imaging.cutout.mesh_cutout`) is dropped.
 
     Parameters
     ----------

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from ..metrics import shadow_iou
+from ..imaging.metrics import shadow_iou
 from ..sunlit.fieldbaselines import ray_cast_field
 from ..sunlit.fieldshadow import FieldMap, FieldShadow
 from ..sunlit.fieldsplat import SplatDrawer

@@ -7,7 +7,7 @@ light ~2 object sizes above the range: the shadow changes shape with
 position), and in a second scene by a **directional light** travelling
 ``(-0.5, 0.35, -1)``. Light frusta follow the object (:mod:`morphkit.shadow.rig`).
 
-Ground truth: the ray-cast shadow (:mod:`morphkit.groundtruth`) at the centres of
+Ground truth: the ray-cast shadow (:mod:`morphkit.imaging.groundtruth`) at the centres of
 a ``256 x 256`` grid over the ground square ``[-1.7, 1.7]^2``. Metrics, averaged
 over seeded random positions in the range: ``iou`` (shadow-mask IoU, shadow =
 visibility < 0.5) and ``mae`` (mean absolute visibility error over the grid).
@@ -55,10 +55,10 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..groundtruth import hard_visibility, receiver_grid
+from ..imaging.groundtruth import hard_visibility, receiver_grid
+from ..imaging.metrics import shadow_iou
 from ..memo import Memo
 from ..meshes import load_mesh, sample_mesh
-from ..metrics import shadow_iou
 from ..programs.fixtures import write_leaf_plant
 from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import DirectionalLight, PointLight, SceneObject

@@ -51,7 +51,7 @@ import trimesh
 from scipy.spatial import cKDTree
 
 from .. import tol
-from ..groundtruth import area_visibility, receiver_grid, sampled_visibility
+from ..imaging.groundtruth import area_visibility, receiver_grid, sampled_visibility
 from ..memo import Memo
 from ..meshes import sample_mesh
 from ..protocols import SceneRenderer

@@ -83,7 +83,7 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..errors import MorphkitError
-from ..metrics import mean_abs_error, psnr, shadow_iou, ssim
+from ..imaging.metrics import mean_abs_error, psnr, shadow_iou, ssim
 from ..programs.fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 from ..protocols import SceneRenderer
 from .harness import Timing, make_row, time_call

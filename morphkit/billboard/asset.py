@@ -63,9 +63,9 @@ Appearance and lighting
 The bake (:mod:`morphkit.billboard.bake`) renders :func:`bake_items` in one of
 :data:`APPEARANCES`: ``"own"`` (the default) is the mesh's own look --
 textures, vertex and face colours, material factors, cut-outs
-(:func:`morphkit.look.mesh_look`; a mesh without visuals is
+(:func:`morphkit.meshes.look.mesh_look`; a mesh without visuals is
 :data:`~morphkit.conventions.DEFAULT_COLOR`); ``"checker"`` is morphkit's 3-D
-checker (:func:`morphkit.appearance.checker_items`), texture for matching and
+checker (:func:`morphkit.imaging.appearance.checker_items`), texture for matching and
 PSNR on meshes without a look of their own (the benches' choice). The
 references, the morphs' colours and the alpha from depth all come from the same
 renders, so a cut-out texel is a hole in colour, depth and coverage alike. The
@@ -97,7 +97,6 @@ import trimesh
 
 from .. import tol
 from ..camera import CameraModel
-from ..composite import from_premultiplied, to_premultiplied
 from ..errors import (
     DegenerateViewError,
     FileFormatError,
@@ -106,6 +105,7 @@ from ..errors import (
     ValidationError,
     expected_got,
 )
+from ..imaging.composite import from_premultiplied, to_premultiplied
 from ..memo import Memo
 from ..meshes import normalize
 from ..scene import Item

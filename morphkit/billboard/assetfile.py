@@ -1,7 +1,7 @@
 """The billboard asset file: one versioned ``.npz`` (images + a JSON metadata blob).
 
 Layout (format :data:`FORMAT`, version :data:`VERSION`), written atomically
-through :func:`morphkit.fileio.atomic_write` and read with
+through :func:`morphkit.files.fileio.atomic_write` and read with
 ``np.load(..., allow_pickle=False)``:
 
 ==============  =======================  ==================================================
@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, expected_got
-from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ..files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 
 __all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
 

@@ -15,9 +15,9 @@ camera stays (:meth:`Backdrop.draw` keeps the last one).
 **Shadows on the ground.** The ground's colours are its look in full sun. A
 shadowed frame passes :meth:`Backdrop.draw` a ``ground_factor`` per ground pixel
 (:meth:`Backdrop.ground_points` gives them in order): the share of the light the
-shading model leaves there (:func:`morphkit.shading.sun_shadow_factor`, linear
+shading model leaves there (:func:`morphkit.imaging.shading.sun_shadow_factor`, linear
 light), applied to the colour as ``c f ^ (1/2.2)`` (the model's output encoding,
-:data:`morphkit.shading.LIT_GAMMA`) before the fog.
+:data:`morphkit.imaging.shading.LIT_GAMMA`) before the fog.
 
 Colours are RGB in ``[0, 1]``; images are float32 ``(H, W, 3)``.
 """
@@ -30,10 +30,10 @@ import numpy as np
 
 from .. import tol
 from ..camera import CameraModel
-from ..composite import fade_towards
 from ..errors import ValidationError, expected_got
+from ..imaging.composite import fade_towards
+from ..imaging.shading import LIT_GAMMA
 from ..memo import Memo
-from ..shading import LIT_GAMMA
 from ..validate import as_finite_array
 
 __all__ = ["Fog", "Ground", "Sky", "Backdrop"]

@@ -1,8 +1,8 @@
 """The look and light of a billboard bake: its render items, lights and the hash of what it is baked from.
 
 :func:`bake_items` draws a mesh in one of :data:`~.assetfile.APPEARANCES`:
-``"own"`` (the mesh's own look, :func:`morphkit.look.mesh_look`) or
-``"checker"`` (the 3-D checker of :func:`morphkit.appearance.checker_items`),
+``"own"`` (the mesh's own look, :func:`morphkit.meshes.look.mesh_look`) or
+``"checker"`` (the 3-D checker of :func:`morphkit.imaging.appearance.checker_items`),
 under :func:`bake_lights` with ambient :data:`BAKE_AMBIENT`. :func:`mesh_hash`
 names the shape and the look an asset was baked from (:func:`look_hash`), so
 the same shape with another texture is another asset. (Notes on the shading
@@ -17,10 +17,10 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..appearance import CHECKER, PALETTE, checker_items
 from ..errors import MeshError, ValidationError, expected_got
-from ..look import mesh_look
+from ..imaging.appearance import CHECKER, PALETTE, checker_items
 from ..meshes import UP_AXES, normalize
+from ..meshes.look import mesh_look
 from ..scene import DirectionalLight, Item, Light
 from .assetfile import APPEARANCES
 
@@ -101,9 +101,9 @@ def bake_items(mesh: trimesh.Trimesh, appearance: str = "own") -> list[Item]:
         The (normalised) mesh, object frame.
     appearance : {"own", "checker"}, optional
         ``"own"`` (default): one item without a colour, drawn in the mesh's own look
-        (:func:`morphkit.look.mesh_look`; :data:`~morphkit.conventions.DEFAULT_COLOR`
+        (:func:`morphkit.meshes.look.mesh_look`; :data:`~morphkit.conventions.DEFAULT_COLOR`
         when it has none). ``"checker"``: the colour groups of
-        :func:`morphkit.appearance.checker_items`.
+        :func:`morphkit.imaging.appearance.checker_items`.
 
     Returns
     -------
@@ -136,7 +136,7 @@ def _update_array(h: Any, name: str, a: np.ndarray | None) -> None:
 
 def look_hash(mesh: trimesh.Trimesh, appearance: str = "own") -> str:
     """sha256 (hex) of the look ``mesh`` is baked in: for ``"own"``, every term of
-    :func:`morphkit.look.mesh_look` (base colour factor, texture bytes, UVs, vertex and
+    :func:`morphkit.meshes.look.mesh_look` (base colour factor, texture bytes, UVs, vertex and
     face colours, alpha cutoff, metallic and roughness); for ``"checker"``, the checker's
     palette and cell size.
 
@@ -155,7 +155,7 @@ def look_hash(mesh: trimesh.Trimesh, appearance: str = "own") -> str:
     Raises
     ------
     MeshError
-        Not a Trimesh, or malformed visuals (:func:`morphkit.look.mesh_look`).
+        Not a Trimesh, or malformed visuals (:func:`morphkit.meshes.look.mesh_look`).
     ValidationError
         An unknown ``appearance``.
     """

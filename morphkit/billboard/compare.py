@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..camera import CameraModel
-from ..metrics import psnr, shadow_iou
+from ..imaging.metrics import psnr, shadow_iou
 from .field import BillboardScene, FrameMode
 from .frame import Frame
 

@@ -2,7 +2,7 @@
 
 Each billboard's image (premultiplied RGBA float32 in ``[0, 1]``) is warped by
 its quad's homography with ``cv2.warpPerspective`` into its screen box only
-(:func:`morphkit.composite.over_warped`) and composited over what is already
+(:func:`morphkit.imaging.composite.over_warped`) and composited over what is already
 there, in the back-to-front order of the :class:`~.frame.FramePlan`; a quad cut
 by the near plane is masked by its clipped polygon; distance fog blends its
 colour towards the fog colour. The billboards accumulate in a transparent
@@ -37,7 +37,7 @@ import numpy as np
 
 from .. import tol
 from ..camera import CameraModel
-from ..composite import box_from, over_warped, warped_part
+from ..imaging.composite import box_from, over_warped, warped_part
 from .frame import Placement
 from .frustum import unit_from_image
 

@@ -4,7 +4,7 @@ A :class:`DomeAsset` holds, for one (normalised) mesh, the views of a
 :class:`~morphkit.views.dome.ViewDome` (rings at several elevations and a top view) rendered by
 the camera rule of :class:`~morphkit.views.domecameras.DomeCameras`, each as a
 :class:`~morphkit.views.gbuffer.ViewSurface`: albedo and coverage, object-frame normals and depth
-(no light: the scene's lights shade it, :mod:`morphkit.shading`). For a viewing
+(no light: the scene's lights shade it, :mod:`morphkit.imaging.shading`). For a viewing
 direction it returns the surface of that direction's camera
 (:meth:`DomeAsset.surface`): the three views around the direction
 (:meth:`ViewDome.weights`) morphed with their depth (:mod:`morphkit.views.depthmorph`). The

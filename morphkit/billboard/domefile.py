@@ -3,7 +3,7 @@
 Format ``"morphkit-billboard"`` (:data:`~.assetfile.FORMAT`), version
 :data:`DOME_VERSION` (3): version 2 and older are one-elevation ring assets
 (:mod:`.assetfile`), refused here with "re-bake". Written atomically
-(:func:`morphkit.fileio.write_bytes`), read with ``allow_pickle=False``:
+(:func:`morphkit.files.fileio.write_bytes`), read with ``allow_pickle=False``:
 
 ==============  =======================  ==================================================
 array           dtype, shape             content
@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ..files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from ..views.domecameras import DomeCameras
 from .assetfile import FORMAT
 

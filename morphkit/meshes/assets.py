@@ -36,8 +36,8 @@ from urllib.parse import unquote
 from trimesh.resolvers import FilePathResolver
 
 from ..errors import MeshError, expected_got
-from ..fileio import file_kind
-from ..texture import image_problem
+from ..files.fileio import file_kind
+from .texture import image_problem
 
 __all__ = ["AssetResolver", "asset_root", "locate", "read_regular"]
 
@@ -208,7 +208,7 @@ class AssetResolver(FilePathResolver):
 
     def check_image(self, path: Path, what: str) -> str | None:
         """Read the image file ``path`` (found by :func:`locate`) and decode it
-        (:func:`morphkit.texture.image_problem`); why it cannot be drawn, or None.
+        (:func:`morphkit.meshes.texture.image_problem`); why it cannot be drawn, or None.
 
         An image that cannot be read or decoded is withheld from the load (:meth:`get` answers
         as for a missing file: the mesh loads without it); one that decodes is served from the

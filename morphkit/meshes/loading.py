@@ -46,7 +46,7 @@ drops the missing image silently); so does a ``.gltf`` whose external image is m
 naming the file, the texture and why, holds for a texture that is there but cannot be drawn:
 unreadable, empty, not an image, or damaged (every image, a file or one a glTF holds in a
 data URI or a buffer view, is decoded whole before the load,
-:func:`morphkit.texture.image_problem`; trimesh drops one it cannot open without a word, and
+:func:`morphkit.meshes.texture.image_problem`; trimesh drops one it cannot open without a word, and
 a damaged one failed only when first drawn), and for a ``map_Kd`` image found but not taken
 by trimesh's OBJ reader (a line with options). Every file a mesh file refers to is read through
 :mod:`morphkit.meshes.assets`: from inside the asset root only (default the file's folder; one
@@ -68,10 +68,10 @@ import trimesh
 
 from .. import settings, tol
 from ..errors import AssetWarning, MeshError, expected_got
-from ..texture import image_problem
 from . import assets, gltf
 from .assets import AssetResolver, locate, read_regular
 from .parts import copy_with_look, merge_parts, scene_parts
+from .texture import image_problem
 
 __all__ = ["normalize", "check_mesh", "closed_volume", "load_mesh", "resolve_up", "UP_AXES",
            "UP_AXIS_BY_FORMAT", "Y_UP_TO_Z_UP"]

@@ -6,7 +6,7 @@ before anything is loaded, baked, rendered or written, and every count that
 allocates in proportion to its value has a cap (named in :mod:`morphkit.tol`,
 with its reason there). The library functions the commands call check the same
 values again (the API's own contract); this module only makes the command line
-refuse them first. Output folders are checked by :mod:`morphkit.outfolder`.
+refuse them first. Output folders are checked by :mod:`morphkit.files.outfolder`.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ directional light, this writes to the output folder:
 
 * ``<mesh>_scene.png``: the camera view with exact hard shadows (ray cast per
   camera pixel towards the light, self-shadowing included), composited by
-  :func:`morphkit.composite.shade`;
+  :func:`morphkit.imaging.composite.shade`;
 * ``<mesh>_noshadow.png``: the same frame without shadows;
 * ``<mesh>_visibility.png``: the ray-cast light visibility per camera pixel;
 * ``<mesh>_light_depth.png``: the light-view depth map (orthographic, fitted
@@ -28,8 +28,8 @@ the shadows of their assets' sun atlases | the real meshes with ray-cast shadows
 plus ``overview.png`` and ``index.json`` (every file with what it shows, the
 scene parameters and timings). Later features add their outputs here.
 
-Every file is written atomically (:mod:`morphkit.fileio`), ``index.json`` last. The
-output folder follows :mod:`morphkit.outfolder`'s rule: new or empty, or a folder that
+Every file is written atomically (:mod:`morphkit.files.fileio`), ``index.json`` last. The
+output folder follows :mod:`morphkit.files.outfolder`'s rule: new or empty, or a folder that
 already holds a demo (an ``index.json``, or the output marker of an unfinished one),
 which is replaced only when asked (``overwrite=True``, ``morphkit demo --overwrite``);
 the previous demo's files (PNGs) that the new one does not write again are then
@@ -46,10 +46,10 @@ import cv2
 import numpy as np
 import trimesh
 
-from ..fileio import write_image, write_json
-from ..groundtruth import area_visibility, hard_visibility, receiver_grid
+from ..files.fileio import write_image, write_json
+from ..files.outfolder import DEMO_OUTPUT, claim_output, previous_run
+from ..imaging.groundtruth import area_visibility, hard_visibility, receiver_grid
 from ..meshes import sample_mesh
-from ..outfolder import DEMO_OUTPUT, claim_output, previous_run
 from ..protocols import PassRenderer, SceneRenderer
 from ..render import Renderer
 from ..scene import (
@@ -134,7 +134,7 @@ def _warped_shadow_section(renderer: SceneRenderer, size: int, add: Any, rows: l
                            ) -> dict[str, Any]:
     """Per mesh: a 3 x 3 atlas, and the frame at a position between samples shadowed
     by the warped map, a re-rendered map and the ray cast, side by side."""
-    from ..metrics import shadow_iou
+    from ..imaging.metrics import shadow_iou
     from ..shadow import DirectShadow, MotionRange, bake_atlas
 
     light = PointLight(WARP_LIGHT)
@@ -256,7 +256,7 @@ def _viewmorph_section(renderer: SceneRenderer, size: int, add: Any, rows: list[
 
     The morph uses dense pairs from the two depth maps and ``layers="auto"``
     (two depth layers where one mesh cannot follow crossing parts: the chair)."""
-    from ..metrics import shadow_iou
+    from ..imaging.metrics import shadow_iou
     from ..viewmorph import ViewMorpher, from_depth, pair_depth
     from .fixtures import CENTRE_AZIMUTH, circle_camera, render_pair, textured_items
 
@@ -335,8 +335,8 @@ def _textured_billboard_section(renderer: SceneRenderer, add: Any, *, quick: boo
     definitions: alpha > 1/2, premultiplied colour)."""
     from ..billboard import bake_asset, bake_lights
     from ..billboard.asset import BAKE_AMBIENT
+    from ..imaging.metrics import psnr, shadow_iou
     from ..meshes import load_mesh, resolve_up
-    from ..metrics import psnr, shadow_iou
     from .fixtures import textured_demo_asset
 
     path = textured_demo_asset()
@@ -369,12 +369,12 @@ def _textured_billboard_section(renderer: SceneRenderer, add: Any, *, quick: boo
 def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
     """A tree seen from three heights under three suns (issue #25): the dome asset's view morph |
     the engines' octahedral impostor at equal bytes | the real mesh, each shaded by
-    :mod:`morphkit.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""
+    :mod:`morphkit.imaging.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""
     from ..billboard.bakelook import BAKE_AMBIENT
     from ..billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
     from ..billboard.impostor import bake_impostor, impostor_frame_size
-    from ..metrics import psnr, shadow_iou
-    from ..shading import Lighting, shade, shade_passes
+    from ..imaging.metrics import psnr, shadow_iou
+    from ..imaging.shading import Lighting, shade, shade_passes
     from ..sunlit.sun import sun
 
     mesh = sample_mesh("tree")
@@ -419,8 +419,8 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     from ..billboard.bakelook import BAKE_AMBIENT
     from ..billboard.facing import ViewpointFacing
     from ..camera import look_at, perspective
-    from ..metrics import shadow_iou
-    from ..shading import Lighting
+    from ..imaging.metrics import shadow_iou
+    from ..imaging.shading import Lighting
     from ..sunlit.litmesh import LitMeshMode
     from ..sunlit.litmodes import LitMode
     from ..sunlit.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
@@ -471,7 +471,7 @@ def previous_demo(out: str | Path) -> Path | None:
     -------
     pathlib.Path or None
         ``<out>/index.json`` when it is a file, else the output marker of an unfinished demo
-        (:func:`morphkit.outfolder.previous_run`), else None.
+        (:func:`morphkit.files.outfolder.previous_run`), else None.
     """
     return previous_run(out, DEMO_OUTPUT)
 

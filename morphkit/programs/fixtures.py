@@ -10,7 +10,7 @@ image and a test are about the same scene:
   (:data:`SOFT_LIGHT`);
 * the view-morphing scenes: cameras on a circle about the object
   (:func:`circle_camera`), the sample meshes with a 3-D colour checker
-  (:func:`textured_items`, the look of :func:`morphkit.appearance.checker_items`)
+  (:func:`textured_items`, the look of :func:`morphkit.imaging.appearance.checker_items`)
   and their reference views (:func:`render_pair`);
 * textured mesh files written on the fly, no downloads (issue #24): a photo
   (:func:`photo_texture`, scikit-image's public-domain/CC0 photographs) on a
@@ -44,11 +44,11 @@ import trimesh
 from PIL import Image
 from skimage import data as skdata
 
-from ..appearance import checker_items
 from ..bake.kinds import WARP_LIGHT, WARP_RANGE
 from ..billboard.domeasset import DomeAsset, bake_dome
 from ..camera import CameraModel, look_at, perspective
-from ..groundtruth import hard_visibility
+from ..imaging.appearance import checker_items
+from ..imaging.groundtruth import hard_visibility
 from ..meshes import normalize, sample_mesh
 from ..protocols import PassRenderer, SceneRenderer
 from ..scene import AreaLight, DirectionalLight, Item, Receiver, Scene, SceneObject
@@ -553,7 +553,7 @@ def checker_alpha(cells: int, texels: int) -> np.ndarray:
 
 def alpha_card(alpha: np.ndarray, side: float = 1.0, cutoff: float = 0.5) -> trimesh.Trimesh:
     """A square card in the ``z = 0`` plane, centred on the origin, textured green with
-    ``alpha`` as a glTF ``MASK`` material (the look of a leaf card, :mod:`morphkit.look`).
+    ``alpha`` as a glTF ``MASK`` material (the look of a leaf card, :mod:`morphkit.meshes.look`).
 
     Parameters
     ----------

@@ -14,7 +14,7 @@ light is *exposed* for the frame (:func:`exposed`: its intensity set so that the
 lit ground point reaches :data:`GROUND_PEAK`, not white); the warped shadow falls on the
 ground (the receiver), the object shaded by its own facing (a self-shadow from a map of a few
 hundred texels would be acne). Each frame's shadow is compared with the ray-cast truth on the
-ground pixels it shows (:mod:`morphkit.groundtruth`): hard shadows by IoU of the shadowed
+ground pixels it shows (:mod:`morphkit.imaging.groundtruth`): hard shadows by IoU of the shadowed
 pixels, soft ones by the mean absolute visibility error.
 
 The mesh. An atlas stores light-view maps, not the mesh the frames show. The bake's manifest
@@ -44,11 +44,11 @@ from .. import tol
 from ..bake.manifest import baked_from, file_digest
 from ..camera import look_at, perspective
 from ..errors import FileFormatError, MeshError, ValidationError, expected_got
-from ..fileio import file_kind, write_image
-from ..groundtruth import area_visibility, hard_visibility
+from ..files.fileio import file_kind, write_image
+from ..files.outfolder import FRAMES_FOLDER, frame_name
+from ..imaging.groundtruth import area_visibility, hard_visibility
+from ..imaging.metrics import shadow_iou
 from ..meshes import load_mesh, shape_hash
-from ..metrics import shadow_iou
-from ..outfolder import FRAMES_FOLDER, frame_name
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
 from ..shadow.atlas import ShadowAtlas
@@ -447,7 +447,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
         area light's extent when there is one).
     out : path-like
         Output folder (created): ``frames/frame_NNNN.png`` (RGB,
-        :func:`morphkit.outfolder.frame_name`) and :data:`VIDEO_NAME` (VP9).
+        :func:`morphkit.files.outfolder.frame_name`) and :data:`VIDEO_NAME` (VP9).
     renderer : SceneRenderer
         Renders the frames.
     size : int
@@ -469,7 +469,7 @@ def render_shadow_sequence(atlas: ShadowAtlas, mesh: trimesh.Trimesh, path: Obje
     dict
         ``frames`` (paths), ``video`` (path), ``positions`` (list of (x, y)), and ``errors``:
         per frame, the shadow on the ground pixels against the ray cast
-        (:mod:`morphkit.groundtruth`) -- ``{"iou": ...}`` (hard: the shadowed pixels, IoU 1
+        (:mod:`morphkit.imaging.groundtruth`) -- ``{"iou": ...}`` (hard: the shadowed pixels, IoU 1
         when neither has any) or ``{"mae": ...}`` (soft: mean absolute visibility error over
         the ground pixels).
 

@@ -11,7 +11,7 @@ writes, into an output folder:
 * ``billboards.json`` -- per-frame counts, cache hits and misses and times, and
   the per-billboard errors of each compared frame.
 
-Every file goes through :mod:`morphkit.fileio` (atomic).
+Every file goes through :mod:`morphkit.files.fileio` (atomic).
 """
 
 from __future__ import annotations
@@ -25,9 +25,9 @@ from ..billboard.field import BillboardScene, FrameMode
 from ..billboard.modes import ClassicMode, MorphMode
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..fileio import write_image, write_json
-from ..outfolder import FRAMES_FOLDER, frame_name
-from ..shading import Lighting
+from ..files.fileio import write_image, write_json
+from ..files.outfolder import FRAMES_FOLDER, frame_name
+from ..imaging.shading import Lighting
 from ..sunlit.litmodes import Relit
 from .video import VideoFile
 

@@ -4,7 +4,7 @@
 target (same folder, same extension, so OpenCV picks the container from it) and
 renames it over the target only when :meth:`VideoFile.close` is reached after
 every frame was written -- a crash or an error mid-sequence leaves the old file
-(or none), never half a video (as :mod:`morphkit.fileio` does for other files).
+(or none), never half a video (as :mod:`morphkit.files.fileio` does for other files).
 Use it as a context manager: leaving the ``with`` block by an exception removes
 the temporary file.
 
@@ -28,7 +28,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import RenderError, ValidationError, expected_got
-from ..fileio import open_video_writer
+from ..files.fileio import open_video_writer
 
 __all__ = ["VideoFile", "CODECS", "VIDEO_SUFFIX"]
 
@@ -56,7 +56,7 @@ class VideoFile:
         An unknown extension, a bad fps, or a frame side past
         :data:`morphkit.tol.MAX_VIDEO_SIDE`.
     RenderError
-        OpenCV cannot open a writer for it (:func:`morphkit.fileio.open_video_writer`).
+        OpenCV cannot open a writer for it (:func:`morphkit.files.fileio.open_video_writer`).
     """
 
     def __init__(self, path: str | os.PathLike[str], fps: float, shape: tuple[int, int]) -> None:
@@ -72,7 +72,7 @@ class VideoFile:
             raise ValidationError(expected_got("video frame shape", f"sides of 1 to {tol.MAX_VIDEO_SIDE} "
                                                "pixels (tol.MAX_VIDEO_SIDE)", self.shape))
         self._pad = (self.shape[0] % 2, self.shape[1] % 2)  # to even sides (module notes)
-        # named as morphkit.fileio.atomic_output's temporary files (.<stem>.<8 random>.part<suffix>): a
+        # named as morphkit.files.fileio.atomic_output's temporary files (.<stem>.<8 random>.part<suffix>): a
         # run killed mid-video leaves one that the next run into the folder knows as its own
         fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.", suffix=f".part{ext}", dir=self.path.parent)
         os.close(fd)

@@ -1,6 +1,6 @@
 """The shadow atlas file: one versioned ``.npz`` (maps, anchors, control points, light, rig).
 
-Written atomically through :mod:`morphkit.fileio`; read with ``allow_pickle=False``
+Written atomically through :mod:`morphkit.files.fileio`; read with ``allow_pickle=False``
 and checked before anything is built from it:
 
 * every array's dtype, shape and SHA-256 checksum are stored in the metadata
@@ -32,7 +32,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
-from ..fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
+from ..files.fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
 from ..scene import DirectionalLight, PointLight
 from ..validate import as_pose
 from .baked import BakedAtlas
@@ -55,7 +55,7 @@ _ANCHOR_KINDS = ("sample", "shared", "plane")
 
 def save_atlas(atlas: BakedAtlas, path: str | Path) -> Path:
     """Write ``atlas`` to one ``.npz`` file (maps, anchors, grid, light, range, rig, version,
-    and each array's dtype, shape and SHA-256), atomically (:mod:`morphkit.fileio`: an
+    and each array's dtype, shape and SHA-256), atomically (:mod:`morphkit.files.fileio`: an
     interrupted save leaves the file that was there).
 
     Parameters

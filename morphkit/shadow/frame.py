@@ -8,9 +8,9 @@ unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`) wit
 (:func:`~morphkit.shadow.lookup.normals_from_points`), in one compiled pass over the drawn
 pixels (:func:`~morphkit.shadow.pixels.drawn_pixels`), and each visible point gets a light
 visibility from a callable: a shadow-map lookup (:func:`~morphkit.shadow.lookup.shadow_visibility`)
-or the ray-cast ground truth. :func:`~morphkit.composite.shade` blends lit and unlit by it.
+or the ray-cast ground truth. :func:`~morphkit.imaging.composite.shade` blends lit and unlit by it.
 
-The object is drawn in its mesh's own look (:mod:`morphkit.look`: texture,
+The object is drawn in its mesh's own look (:mod:`morphkit.meshes.look`: texture,
 vertex or face colours, cut-outs, an ``Item`` without a colour) where the mesh
 has one, and in the scene object's colour (``SceneObject.color``) where it has
 none (every sample mesh: their frames are those of earlier versions). Receivers
@@ -45,10 +45,10 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import tol
-from ..composite import shade
-from ..cutout import cached_look
 from ..errors import ValidationError, expected_got
-from ..groundtruth import hard_visibility
+from ..imaging.composite import shade
+from ..imaging.cutout import cached_look
+from ..imaging.groundtruth import hard_visibility
 from ..protocols import FrameRenderer, SceneRenderer
 from ..scene import Item, Scene, scene_items
 from .lookup import shadow_visibility

@@ -13,7 +13,7 @@ point: each sample's map is looked up with its own light camera
 (:func:`~morphkit.shadow.lookup.shadow_visibility`) and the visibilities are
 averaged, so the result is the fraction of light samples a point sees -- the
 quantity the ray-cast ground truth
-(:func:`~morphkit.groundtruth.area_visibility`) computes with the same samples,
+(:func:`~morphkit.imaging.groundtruth.area_visibility`) computes with the same samples,
 and self-shadowing works as for hard shadows.
 
 Conditions (checked, with a specific error):
@@ -220,7 +220,7 @@ class SoftShadow:
 
     def point_lights(self) -> list[PointLight]:
         """The light samples as point lights (for the ray-cast truth with the same
-        samples: :func:`~morphkit.groundtruth.sampled_visibility`).
+        samples: :func:`~morphkit.imaging.groundtruth.sampled_visibility`).
 
         Returns
         -------

@@ -4,7 +4,7 @@
   into the same field light view (:meth:`~.fieldshadow.FieldShadow.plan`'s camera, the same
   instances): what a sun change costs without atlases.
 * **truth** (:func:`ray_cast_field`): a ray from each receiver point towards the exact sun
-  against all posed meshes (:func:`morphkit.groundtruth.hard_visibility`, Embree when
+  against all posed meshes (:func:`morphkit.imaging.groundtruth.hard_visibility`, Embree when
   installed): no clamp at the grazing cut-off. The instances of one asset are posed into one
   mesh that keeps the asset's look (:func:`posed_asset_meshes`), so a cut-out asset (alpha-masked
   leaves) casts through its holes as the renders do; a ray is lit when no asset's mesh blocks it.
@@ -22,7 +22,7 @@ import trimesh
 
 from ..billboard.instances import Instances
 from ..errors import ValidationError, expected_got
-from ..groundtruth import hard_visibility
+from ..imaging.groundtruth import hard_visibility
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, SceneObject
@@ -134,7 +134,7 @@ def posed_asset_meshes(meshes: Mapping[str, trimesh.Trimesh], instances: Instanc
     """The instances of each asset posed into one world-frame mesh that keeps the asset's look.
 
     A textured asset's copies share its material (UVs tiled), so its cut-out (alpha-masked
-    texels, :func:`morphkit.cutout.mesh_cutout`) holds for every instance.
+    texels, :func:`morphkit.imaging.cutout.mesh_cutout`) holds for every instance.
 
     Parameters
     ----------

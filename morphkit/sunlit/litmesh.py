@@ -6,8 +6,8 @@ passes (albedo, world normals, depth, coverage: in one draw where the renderer i
 :class:`~morphkit.protocols.GBufferRenderer`, :meth:`Renderer.gbuffer_pass
 <morphkit.render.Renderer.gbuffer_pass>`, else :meth:`Renderer.passes
 <morphkit.render.Renderer.passes>`; ``source_passes`` when supersampled) and
-shaded by :func:`morphkit.shading.shade_passes` under a world-frame
-:class:`~morphkit.shading.Lighting` -- the one model (:mod:`morphkit.shading`) that
+shaded by :func:`morphkit.imaging.shading.shade_passes` under a world-frame
+:class:`~morphkit.imaging.shading.Lighting` -- the one model (:mod:`morphkit.imaging.shading`) that
 also shades the relit billboards, so the two compare like with like under any sun.
 The layer is composited over the scene's backdrop as the billboards' is.
 :attr:`LitMeshMode.lighting` may be replaced between frames (a moving sun,
@@ -39,9 +39,9 @@ from ..billboard.frame import Frame, FrameStats
 from ..billboard.modes import MeshMode
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..imaging.shading import Lighting, shade_passes
 from ..protocols import GBufferRenderer, PassRenderer
 from ..scene import Item
-from ..shading import Lighting, shade_passes
 from ..validate import as_flag, as_int
 from .receivers import SceneShadow
 from .shadowing import frame_shadow, points_visibility, shadowed_backdrop
@@ -51,7 +51,7 @@ __all__ = ["LitMeshMode"]
 
 @dataclass
 class LitMeshMode:
-    """The real meshes at every instance's pose, shaded by :func:`~morphkit.shading.shade_passes`
+    """The real meshes at every instance's pose, shaded by :func:`~morphkit.imaging.shading.shade_passes`
     (module docstring).
 
     Parameters
@@ -119,10 +119,10 @@ class LitMeshMode:
         Raises
         ------
         ValidationError
-            :attr:`lighting` is not a :class:`~morphkit.shading.Lighting`.
+            :attr:`lighting` is not a :class:`~morphkit.imaging.shading.Lighting`.
         """
         if not isinstance(self.lighting, Lighting):
-            raise ValidationError(expected_got("lighting", "a morphkit.shading.Lighting",
+            raise ValidationError(expected_got("lighting", "a morphkit.imaging.shading.Lighting",
                                                type(self.lighting).__name__))
         t0 = time.perf_counter()
         plan = scene.plan(camera)

@@ -6,10 +6,10 @@ A :class:`LitMode` draws a scene of relightable assets
 (:class:`~.facing.ViewpointFacing`): per placement, the asset's unshaded surface for
 the instance's viewing direction (azimuth and elevation in its object frame) comes
 from a bounded LRU :class:`~.cache.MorphCache` keyed by the direction rounded to
-``quantum_deg``, and is shaded with the mode's :class:`~morphkit.shading.Lighting`
-turned into the instance's object frame (:meth:`~morphkit.shading.Lighting.in_frame`):
+``quantum_deg``, and is shaded with the mode's :class:`~morphkit.imaging.shading.Lighting`
+turned into the instance's object frame (:meth:`~morphkit.imaging.shading.Lighting.in_frame`):
 the lights can change every frame (a sun path) while the cached surfaces stay. Suns
-below the horizon give no light (:meth:`~morphkit.shading.Lighting.above_horizon`).
+below the horizon give no light (:meth:`~morphkit.imaging.shading.Lighting.above_horizon`).
 
 Which surface is a family of objects (:class:`SurfaceChoice`):
 
@@ -20,7 +20,7 @@ Which surface is a family of objects (:class:`SurfaceChoice`):
   front view everywhere).
 
 The ground truth under the same lights is :class:`~.litmesh.LitMeshMode` (the same
-shading of the meshes' own passes, :mod:`morphkit.shading`).
+shading of the meshes' own passes, :mod:`morphkit.imaging.shading`).
 
 **Depth.** Every surface carries its depth, so the billboards are composited pixel by
 pixel against each other (:mod:`.compositor`, "Depth"): overlapping instances hide each
@@ -50,14 +50,14 @@ from ..billboard.frame import Frame, FrameStats, Placement
 from ..billboard.protocols import SurfaceSource
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
-from ..scene import PointLight
-from ..shading import (
+from ..imaging.shading import (
     Lighting,
     encode_premultiplied,
     shade,
     shade_suns,
     sun_terms,
 )
+from ..scene import PointLight
 from ..views.gbuffer import ViewSurface
 from .receivers import SceneShadow
 from .shadowing import frame_shadow, shadowed_backdrop, surface_visibility
@@ -68,7 +68,7 @@ __all__ = ["Relit", "SurfaceChoice", "MorphSurface", "NearestSurface", "Crossfad
 
 @runtime_checkable
 class Relit(Protocol):
-    """A frame mode lit by a :class:`~morphkit.shading.Lighting` that can change between
+    """A frame mode lit by a :class:`~morphkit.imaging.shading.Lighting` that can change between
     frames (:class:`LitMode`, :class:`~.litmesh.LitMeshMode`).
 
     Parameters
@@ -331,7 +331,7 @@ class LitMode:
             raise ValidationError(expected_got("choice", "a SurfaceChoice", type(choice).__name__))
         self.lighting = Lighting(BAKE_AMBIENT, tuple(bake_lights())) if lighting is None else lighting
         if not isinstance(self.lighting, Lighting):
-            raise ValidationError(expected_got("lighting", "a morphkit.shading.Lighting",
+            raise ValidationError(expected_got("lighting", "a morphkit.imaging.shading.Lighting",
                                                type(lighting).__name__))
         self._cache = MorphCache() if cache is None else cache
         if not isinstance(self._cache, MorphCache):

@@ -2,7 +2,7 @@
 
 A relit billboard frame (:class:`~morphkit.sunlit.litmodes.LitMode`, its truth
 :class:`~morphkit.sunlit.litmesh.LitMeshMode`) multiplies each sun's term of every shaded
-pixel by the sun's **visibility** there (:mod:`morphkit.shading`, "Shadows"). A
+pixel by the sun's **visibility** there (:mod:`morphkit.imaging.shading`, "Shadows"). A
 :class:`SceneShadow` gives it, per frame, a :class:`FrameShadow`: the visibility of any world
 points under each sun of the frame. Two of them:
 

@@ -7,7 +7,7 @@ from the lighting's suns, the ground the camera sees and the instances it draws;
 :func:`surface_visibility` gives a billboard image's per-pixel visibility (its depth's world
 points, :mod:`morphkit.sunlit.receivers`, "Receivers"); :func:`points_visibility` that of a
 mesh pass's pixels; :func:`shadowed_backdrop` the backdrop with the ground's light share
-(:func:`morphkit.shading.sun_shadow_factor`, ground normal ``+z``) where the layer leaves the
+(:func:`morphkit.imaging.shading.sun_shadow_factor`, ground normal ``+z``) where the layer leaves the
 ground visible (covered pixels keep full sun: nobody sees them).
 """
 
@@ -19,8 +19,8 @@ from .. import tol
 from ..billboard.field import BillboardScene
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
+from ..imaging.shading import Lighting, sun_shadow_factor, sun_terms
 from ..scene import DirectionalLight
-from ..shading import Lighting, sun_shadow_factor, sun_terms
 from ..views.gbuffer import ViewSurface
 from .receivers import FrameShadow, SceneShadow
 

@@ -5,7 +5,7 @@ towards the light is ``d(a, e) = (cos e cos a, cos e sin a, sin e)`` -- the rule
 :func:`~morphkit.views.domecameras.direction`, with the sun's azimuth ``a``
 (degrees counter-clockwise from world ``+x``) and elevation ``e`` above the horizon --
 so the light travels along ``-d(a, e)``. A sun at or below the horizon (``e <= 0``)
-adds no light, by the shading model (:mod:`morphkit.shading`, "Horizon"): such
+adds no light, by the shading model (:mod:`morphkit.imaging.shading`, "Horizon"): such
 frames show ambient light only.
 
 * :class:`SunPath` -- a day: the azimuth sweeps evenly across ``azimuth_range``, the
@@ -173,7 +173,7 @@ class SunPath:
         Returns
         -------
         DirectionalLight
-            World frame (below the horizon it lights nothing, :mod:`morphkit.shading`).
+            World frame (below the horizon it lights nothing, :mod:`morphkit.imaging.shading`).
         """
         return sun(self.azimuth_at(t), self.elevation_at(t), self.intensity)
 

@@ -1,7 +1,7 @@
 """The sun atlas file: one versioned ``.npz`` holding a :class:`~.sunatlas.SunAtlas`.
 
 Format ``"morphkit-sun-atlas"``, version :data:`SUN_ATLAS_VERSION`. Written atomically
-(:func:`morphkit.fileio.write_bytes`), read with ``allow_pickle=False``:
+(:func:`morphkit.files.fileio.write_bytes`), read with ``allow_pickle=False``:
 
 ============  =====================  =====================================================
 array         dtype, shape           content
@@ -38,7 +38,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
+from ..files.fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
 from ..views.dome import MAX_RINGS, ViewDome
 from ..views.domecameras import DomeCameras
 from .sunatlas import SunAtlas

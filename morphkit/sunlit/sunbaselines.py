@@ -7,7 +7,7 @@
   (:func:`~.sunatlas.ground_visibility`): the best a light view of that many texels
   can do, the upper bound of an atlas at that size.
 * **truth** (:func:`ray_cast_ground_shadow`): a ray from each receiver point towards the
-  sun against the posed mesh (:func:`morphkit.groundtruth.hard_visibility`, Embree when
+  sun against the posed mesh (:func:`morphkit.imaging.groundtruth.hard_visibility`, Embree when
   installed), with the exact sun: no clamp at the grazing cut-off.
 
 Both follow the atlas's conventions (:mod:`.sunatlas`): the pose maps the *normalised*
@@ -21,7 +21,7 @@ import trimesh
 
 from .. import tol
 from ..camera import CameraModel
-from ..groundtruth import hard_visibility
+from ..imaging.groundtruth import hard_visibility
 from ..meshes import normalize
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, SceneObject

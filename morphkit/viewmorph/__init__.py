@@ -27,7 +27,7 @@ One concept per module:
   frozen :class:`MorphPlan` with a typed :class:`MorphReport`;
 * :mod:`~morphkit.viewmorph.morph` -- :class:`ViewMorpher`: applies a plan,
   rendering the view at each ``s`` (direct or rectified path, layers
-  composited with the premultiplied "over" of :mod:`morphkit.composite`);
+  composited with the premultiplied "over" of :mod:`morphkit.imaging.composite`);
 * :mod:`~morphkit.viewmorph.baselines` -- the image-only baselines
   :func:`crossfade` and :func:`nearest`.
 

@@ -10,8 +10,8 @@ from typing import Any
 import cv2
 import numpy as np
 
-from ..composite import from_premultiplied, to_premultiplied
 from ..errors import ValidationError, expected_got
+from ..imaging.composite import from_premultiplied, to_premultiplied
 from ..validate import as_unit_interval
 from .images import prepare_pair
 

@@ -39,7 +39,7 @@ import numpy as np
 from .. import tol
 from ..camera import CameraModel
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..fileio import open_regular, write_text
+from ..files.fileio import open_regular, write_text
 from ..validate import as_finite_array, as_image, as_int, as_points
 from ..warp.mesh import as_mesh_points
 
@@ -604,7 +604,7 @@ def save_points(path: str | Path, corr: Correspondences) -> Path:
     ----------
     path : str or Path
         A ``.json`` or ``.csv`` file name (parent folders are created); written
-        atomically (:func:`morphkit.fileio.write_text`).
+        atomically (:func:`morphkit.files.fileio.write_text`).
     corr : Correspondences
         The pairs (only ``pts0``/``pts1`` are written).
 

@@ -31,7 +31,7 @@ def prepare_pair(image0: Any, image1: Any) -> tuple[np.ndarray, np.ndarray, int,
         The images as validated arrays (not copied, not promoted).
     channels : int
         The richer layout of the two (1 grey < 3 RGB < 4 RGBA), for
-        :func:`morphkit.composite.to_premultiplied`.
+        :func:`morphkit.imaging.composite.to_premultiplied`.
     dtype : numpy.dtype
         Their common dtype.
 

@@ -61,7 +61,7 @@ class MorphLayer:
     ----------
     prem : (prem0, prem1)
         float32 ``(H_i, W_i, C + 1)`` premultiplied images of the layer
-        (:func:`morphkit.composite.to_premultiplied`; alpha 0 outside the slice).
+        (:func:`morphkit.imaging.composite.to_premultiplied`; alpha 0 outside the slice).
     canvas : (lo, hi)
         ``(2,)`` float64 integer-valued corners of the layer's canvas in the
         rectified frame.

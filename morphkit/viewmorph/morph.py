@@ -68,8 +68,8 @@ import numpy as np
 
 from .. import tol
 from ..camera import CameraModel
-from ..composite import from_premultiplied, over
 from ..errors import DegenerateViewError, FoldOverError, ValidationError, expected_got
+from ..imaging.composite import from_premultiplied, over
 from ..memo import Memo
 from ..validate import as_finite_array, as_int, as_points, as_shape, as_unit_interval
 from ..warp import MeshWarper
@@ -486,7 +486,7 @@ class ViewMorpher:
         -------
         rect0, rect1 : numpy.ndarray
             float32 ``(h, w, C + 1)`` premultiplied images (colour times alpha,
-            then alpha; :func:`morphkit.composite.to_premultiplied`), warped by
+            then alpha; :func:`morphkit.imaging.composite.to_premultiplied`), warped by
             ``H_rect_0`` / ``H_rect_1`` onto the canvas (cached; do not modify).
         origin : numpy.ndarray
             ``(2,)`` float64 rectified-frame position of canvas pixel ``(0, 0)``.

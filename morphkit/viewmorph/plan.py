@@ -57,8 +57,8 @@ from typing import Any
 import numpy as np
 
 from .. import tol
-from ..composite import to_premultiplied
 from ..errors import DegenerateViewError, GeometryError, ValidationError, expected_got
+from ..imaging.composite import to_premultiplied
 from ..validate import as_flag, as_int
 from .correspondences import Correspondences, spread_subset
 from .fundamental import (
@@ -184,7 +184,7 @@ class MorphPlan:
         The inputs' (and outputs') dtype.
     prem : (prem0, prem1)
         float32 ``(H_i, W_i, C + 1)`` premultiplied images
-        (:func:`morphkit.composite.to_premultiplied`).
+        (:func:`morphkit.imaging.composite.to_premultiplied`).
     mode : str
         One of :data:`MODES`.
     fit : FundamentalFit or None

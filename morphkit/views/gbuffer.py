@@ -3,9 +3,9 @@
 A :class:`ViewSurface` is one billboard image before shading (a small G-buffer):
 premultiplied **linear** albedo and coverage alpha, unit normals in the asset's
 object frame, and linear depth along the image's camera axis. Shading it with the
-scene's lights (:func:`morphkit.shading.shade`) gives the premultiplied colour the
+scene's lights (:func:`morphkit.imaging.shading.shade`) gives the premultiplied colour the
 compositor draws; the same shading of a mesh's passes is the ground truth
-(:mod:`morphkit.shading`), so billboards and meshes are lit by one model.
+(:mod:`morphkit.imaging.shading`), so billboards and meshes are lit by one model.
 
 Storage (:func:`encode_surface`, :func:`decode_surface`): straight albedo sRGB-encoded
 and alpha as uint8 RGBA (4 bytes), normals as int8 ``round(127 n)`` (3 bytes; at most

@@ -58,7 +58,7 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import FileFormatError, OutputBusyError, OutputExistsError, ValidationError, expected_got
+from ..errors import FileFormatError, OutputBusyError, OutputExistsError, ValidationError, expected_got
 from .fileio import open_regular, write_bytes, write_json
 
 __all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
@@ -78,9 +78,9 @@ LOCK_NAME = ".morphkit-output.lock"
 #: (and the temporary files a killed process could not remove, :data:`TEMPORARY`).
 HOUSEKEEPING = (MARKER_NAME, LOCK_NAME)
 
-#: A temporary file morphkit names: :func:`morphkit.fileio.atomic_output`'s and
+#: A temporary file morphkit names: :func:`morphkit.files.fileio.atomic_output`'s and
 #: :class:`morphkit.programs.video.VideoFile`'s (``.<stem>.<8 random>.part<suffix>``), a probe of
-#: :func:`morphkit.fileio.check_writable` or of the video writer (``.morphkit-probe-<8 random>``,
+#: :func:`morphkit.files.fileio.check_writable` or of the video writer (``.morphkit-probe-<8 random>``,
 #: with the video's suffix), and an older version's video (``.billboards.<8 random>.webm``, also
 #: ``shadows`` and ``.mp4``): left only by a process that was killed, removed by the next run into
 #: the folder. Nothing else is taken for one (``.notes.webm``, ``.billboards.webm`` stay).

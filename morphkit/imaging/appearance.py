@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .scene import Item
+from ..scene import Item
 
 __all__ = ["PALETTE", "CHECKER", "checker_items"]
 

@@ -40,7 +40,7 @@ from typing import IO, Any
 import cv2
 import numpy as np
 
-from .errors import FileFormatError, MorphkitError, RenderError, ValidationError, expected_got
+from ..errors import FileFormatError, MorphkitError, RenderError, ValidationError, expected_got
 
 __all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
            "open_video_writer", "quiet_stderr", "append_lines", "write_bytes", "write_text", "write_json",
@@ -97,7 +97,7 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], Any]
 
     >>> import json, tempfile
     >>> from pathlib import Path
-    >>> from morphkit.fileio import atomic_write, write_json
+    >>> from morphkit.files.fileio import atomic_write, write_json
     >>> tmp = tempfile.TemporaryDirectory()
     >>> path = write_json(Path(tmp.name) / "rows.json", {"iou": 0.97})
     >>> def fail(f):

@@ -1,9 +1,9 @@
 """Cut-out alpha at points on a mesh's surface, sampled as the renderer samples it.
 
-A mesh whose look (:func:`morphkit.look.mesh_look`) has an alpha cutoff (glTF
+A mesh whose look (:func:`morphkit.meshes.look.mesh_look`) has an alpha cutoff (glTF
 ``alphaMode`` ``MASK``, e.g. a leaf card) is a hole wherever its base-colour
 alpha is below the cutoff. The renderer discards those fragments (light-view
-depth maps have holes there); the ray-cast truth (:mod:`morphkit.groundtruth`)
+depth maps have holes there); the ray-cast truth (:mod:`morphkit.imaging.groundtruth`)
 asks this module, for each hit (triangle and barycentrics), whether the texel
 is opaque. The alpha is the renderer's:
 
@@ -15,7 +15,7 @@ shader tests the same inequality, see :mod:`morphkit.render`).
 Sampling, as OpenGL samples the uploaded texture (``pyrender.Sampler()``'s
 defaults): **bilinear on texel centres** (``GL_LINEAR``) with **repeat** wrapping,
 UV ``(u, v)`` with ``v = 1`` the image's top row (trimesh's convention, the one
-:class:`~morphkit.look.SurfaceLook` stores): image column ``x = u W - 1/2``, row
+:class:`~morphkit.meshes.look.SurfaceLook` stores): image column ``x = u W - 1/2``, row
 ``y = (1 - v) H - 1/2``, texel ``(row r, column c)`` centred at integer ``(c, r)``.
 UV and vertex alpha are interpolated with the hit's barycentrics (OpenGL's
 perspective-correct interpolation is the same interpolation on the 3-D triangle).
@@ -37,9 +37,9 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from .errors import ValidationError, expected_got
-from .look import SurfaceLook, mesh_look
-from .memo import Memo
+from ..errors import ValidationError, expected_got
+from ..memo import Memo
+from ..meshes.look import SurfaceLook, mesh_look
 
 __all__ = ["Cutout", "sample_texture", "mesh_cutout", "cached_look", "LOOK_CACHE_SIZE"]
 
@@ -70,7 +70,7 @@ def sample_texture(image: np.ndarray, uv: np.ndarray) -> np.ndarray:
     (repeat wrapping: left of column 0 lies column 1).
 
     >>> import numpy as np
-    >>> from morphkit.cutout import sample_texture
+    >>> from morphkit.imaging.cutout import sample_texture
     >>> img = np.array([[0.0, 1.0], [2.0, 3.0]])
     >>> sample_texture(img, np.array([[0.25, 0.75], [0.5, 0.5], [0.0, 0.75]]))
     array([0. , 1.5, 0.5])
@@ -210,7 +210,7 @@ def _entry(mesh: trimesh.Trimesh) -> tuple[trimesh.Trimesh, object, object, Surf
 
 
 def cached_look(mesh: trimesh.Trimesh) -> SurfaceLook:
-    """:func:`morphkit.look.mesh_look` of ``mesh``, read once for a textured mesh (module notes).
+    """:func:`morphkit.meshes.look.mesh_look` of ``mesh``, read once for a textured mesh (module notes).
 
     Parameters
     ----------
@@ -230,7 +230,7 @@ def cached_look(mesh: trimesh.Trimesh) -> SurfaceLook:
 def mesh_cutout(mesh: trimesh.Trimesh) -> Cutout | None:
     """The alpha test of ``mesh``'s own look; ``None`` when it has no cut-outs.
 
-    Only ``TextureVisuals`` can be cut out (:mod:`morphkit.look`: vertex and face colours
+    Only ``TextureVisuals`` can be cut out (:mod:`morphkit.meshes.look`: vertex and face colours
     of ``ColorVisuals`` are drawn opaque), so any other mesh is answered ``None`` without
     reading its look.
 
@@ -249,7 +249,7 @@ def mesh_cutout(mesh: trimesh.Trimesh) -> Cutout | None:
     ValidationError
         ``mesh`` is not a ``trimesh.Trimesh``; a texture over the size limits.
     MeshError
-        Visuals :func:`morphkit.look.mesh_look` refuses (the renderer refuses them too).
+        Visuals :func:`morphkit.meshes.look.mesh_look` refuses (the renderer refuses them too).
 
     Examples
     --------
@@ -257,7 +257,7 @@ def mesh_cutout(mesh: trimesh.Trimesh) -> Cutout | None:
 
     >>> import numpy as np, trimesh
     >>> from PIL import Image
-    >>> from morphkit.cutout import mesh_cutout
+    >>> from morphkit.imaging.cutout import mesh_cutout
     >>> rgba = np.full((2, 2, 4), 255, np.uint8); rgba[:, 1, 3] = 0
     >>> mat = trimesh.visual.material.PBRMaterial(baseColorTexture=Image.fromarray(rgba), alphaMode="MASK")
     >>> uv = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])

@@ -13,11 +13,11 @@ towards the light so points on the object itself (self-shadowing) do not hit
 their own triangle.
 
 Cut-outs. An occluder whose own look is cut out (glTF ``alphaMode`` ``MASK``: a
-leaf card, :func:`morphkit.cutout.mesh_cutout`) casts the shadow of its opaque
+leaf card, :func:`morphkit.imaging.cutout.mesh_cutout`) casts the shadow of its opaque
 texels only, as the renderer draws it into a light's depth map: at each hit, the
 triangle and barycentrics give the UV, the UV the texture's alpha (times the base
 colour factor's and the vertex colour's alpha; sampled bilinearly as OpenGL does,
-:mod:`morphkit.cutout`), and a hit below the cutoff is a hole: the ray is cast
+:mod:`morphkit.imaging.cutout`), and a hit below the cutoff is a hole: the ray is cast
 again from :data:`~morphkit.tol.RAY_OFFSET` past it, at most
 :data:`~morphkit.tol.CUTOUT_MAX_LAYERS` times (a ray still in holes then counts
 as shadowed, with a :class:`CutoutLayersWarning`). The look is that of the mesh's
@@ -34,11 +34,11 @@ from collections.abc import Sequence
 import numpy as np
 import trimesh
 
-from . import tol
+from .. import tol
+from ..errors import ValidationError, expected_got
+from ..scene import AreaLight, DirectionalLight, PointLight, SceneObject
+from ..validate import as_finite_array, as_positive, as_shape
 from .cutout import Cutout, mesh_cutout
-from .errors import ValidationError, expected_got
-from .scene import AreaLight, DirectionalLight, PointLight, SceneObject
-from .validate import as_finite_array, as_positive, as_shape
 
 __all__ = ["hard_visibility", "area_visibility", "sampled_visibility", "receiver_grid",
            "ground_pixels", "CutoutLayersWarning"]
@@ -133,7 +133,7 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
     ValidationError
         Bad ``points``, ``obj`` or ``light``.
     MeshError
-        The occluder's visuals cannot be read (:func:`morphkit.look.mesh_look`).
+        The occluder's visuals cannot be read (:func:`morphkit.meshes.look.mesh_look`).
 
     Warns
     -----
@@ -148,7 +148,7 @@ def hard_visibility(points: np.ndarray, light: DirectionalLight | PointLight,
 
     >>> import numpy as np
     >>> import trimesh
-    >>> from morphkit.groundtruth import hard_visibility, receiver_grid
+    >>> from morphkit.imaging.groundtruth import hard_visibility, receiver_grid
     >>> from morphkit.scene import DirectionalLight, SceneObject, translation
     >>> cube = SceneObject(trimesh.creation.box(extents=(1.0, 1.0, 1.0)), translation(0.0, 0.0, 1.5))
     >>> ground = receiver_grid(1.0, (4, 4)).reshape(-1, 3)
@@ -249,7 +249,7 @@ def receiver_grid(half_size: float, shape: tuple[int, int]) -> np.ndarray:
     Pixel ``(0, 0)`` of a 4 x 4 image of ``[-1, 1]^2`` is the top-left cell,
     centred at ``(-0.75, 0.75)``; :func:`ground_pixels` maps it back.
 
-    >>> from morphkit.groundtruth import ground_pixels, receiver_grid
+    >>> from morphkit.imaging.groundtruth import ground_pixels, receiver_grid
     >>> grid = receiver_grid(1.0, (4, 4))
     >>> grid.shape, grid[0, 0]
     ((4, 4, 3), array([-0.75,  0.75,  0.  ]))

@@ -9,7 +9,7 @@ light is ``unlit + v (lit - unlit)``: ``v = 1`` is fully lit, ``v = 0`` is in
 full shadow (only the ambient term is left), fractional ``v`` is a penumbra.
 This is exact for one light and a shading model linear in the light's
 intensity (pyrender's is). Visibility comes from a shadow map lookup or from
-:mod:`morphkit.groundtruth`.
+:mod:`morphkit.imaging.groundtruth`.
 
 Premultiplied alpha
 -------------------
@@ -28,11 +28,11 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from . import tol
-from .errors import ValidationError, expected_got
-from .settings import WARP_THREADS, compile_kernel, use_compiled
-from .validate import as_image
-from .warp import PARALLEL_MIN_PIXELS, band_pool
+from .. import tol
+from ..errors import ValidationError, expected_got
+from ..settings import WARP_THREADS, compile_kernel, use_compiled
+from ..validate import as_image
+from ..warp import PARALLEL_MIN_PIXELS, band_pool
 
 __all__ = ["shade", "to_premultiplied", "from_premultiplied", "over", "over_warped", "warped_part",
            "box_from", "fade_towards"]
@@ -239,7 +239,7 @@ def over(out: np.ndarray | None, part: np.ndarray, roi: tuple[int, int, int, int
     column 1: ``0.4 * 255 + 0.6 * 100 = 162`` in red, ``0.6 * 100 = 60`` in green and blue.
 
     >>> import numpy as np
-    >>> from morphkit.composite import from_premultiplied, over, to_premultiplied
+    >>> from morphkit.imaging.composite import from_premultiplied, over, to_premultiplied
     >>> back = to_premultiplied(np.full((2, 2, 3), 100, np.uint8), 3)  # (2, 2, 4), alpha 1
     >>> red = to_premultiplied(np.array([[[255, 0, 0, 102]]], np.uint8), 4)
     >>> out = over(back, red, (0, 1, 1, 2), (2, 2))
@@ -306,7 +306,7 @@ def fade_towards(rgb: np.ndarray, alpha: np.ndarray, fraction: np.ndarray | floa
     Examples
     --------
     >>> import numpy as np
-    >>> from morphkit.composite import fade_towards
+    >>> from morphkit.imaging.composite import fade_towards
     >>> rgb, alpha = np.array([[0.5, 0.5, 0.5]], np.float32), np.array([[0.5]], np.float32)
     >>> fade_towards(rgb, alpha, 0.5, (1.0, 0.0, 0.0))
     array([[0.5 , 0.25, 0.25]], dtype=float32)

@@ -25,10 +25,10 @@ import cv2
 import numpy as np
 import trimesh
 
-from . import tol
-from .camera import CameraModel, look_at, perspective
-from .errors import ValidationError, expected_got
-from .validate import as_positive
+from .. import tol
+from ..camera import CameraModel, look_at, perspective
+from ..errors import ValidationError, expected_got
+from ..validate import as_positive
 
 __all__ = ["quad", "textured_quad", "gradient_quad", "head_on_camera", "quad_uv", "sample_texture",
            "gradient_truth"]
@@ -64,7 +64,7 @@ def textured_quad(image: Any, half_size: float = 1.0, *, alpha_mode: str | None 
     Parameters
     ----------
     image : PIL.Image.Image or numpy.ndarray
-        The texture (any layout :func:`morphkit.texture.texture_rgba` reads).
+        The texture (any layout :func:`morphkit.meshes.texture.texture_rgba` reads).
     half_size : float, optional
         ``h``, scene units.
     alpha_mode : {None, "OPAQUE", "MASK", "BLEND"}, optional

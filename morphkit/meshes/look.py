@@ -57,10 +57,10 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from . import tol
-from .conventions import ALPHA_CUTOFF, DEFAULT_COLOR
-from .errors import MeshError, MeshLookWarning, ValidationError, expected_got
-from .meshes.parts import srgb_to_linear
+from .. import tol
+from ..conventions import ALPHA_CUTOFF, DEFAULT_COLOR
+from ..errors import MeshError, MeshLookWarning, ValidationError, expected_got
+from .parts import srgb_to_linear
 from .texture import texture_rgba
 
 __all__ = ["SurfaceLook", "MeshLookWarning", "mesh_look", "look_arrays", "DIELECTRIC"]
@@ -251,7 +251,7 @@ def mesh_look(mesh: trimesh.Trimesh) -> SurfaceLook:
         Malformed visuals (UVs or colours of the wrong length, NaN, an unknown material,
         several materials).
     ValidationError
-        A texture over the size limits (:func:`morphkit.texture.texture_rgba`).
+        A texture over the size limits (:func:`morphkit.meshes.texture.texture_rgba`).
     """
     if not isinstance(mesh, trimesh.Trimesh):
         raise ValidationError(expected_got("mesh", "a trimesh.Trimesh", type(mesh).__name__))

@@ -21,8 +21,8 @@ from typing import Any
 import cv2
 import numpy as np
 
-from .errors import ValidationError, expected_got
-from .validate import as_array, as_bool_array, as_positive
+from ..errors import ValidationError, expected_got
+from ..validate import as_array, as_bool_array, as_positive
 
 __all__ = [
     "shadow_iou",
@@ -116,7 +116,7 @@ def shadow_iou(pred: Any, truth: Any, mask: Any = None) -> float:
     Two shadows of 3 pixels overlapping in 2: ``IoU = 2 / 4``.
 
     >>> import numpy as np
-    >>> from morphkit.metrics import shadow_iou
+    >>> from morphkit.imaging.metrics import shadow_iou
     >>> pred = np.array([True, True, True, False, False])
     >>> truth = np.array([False, True, True, True, False])
     >>> shadow_iou(pred, truth)
@@ -222,7 +222,7 @@ def psnr(a: Any, b: Any, *, data_range: float, mask: Any = None) -> float:
     dB; a mask can leave the differing pixels out.
 
     >>> import numpy as np
-    >>> from morphkit.metrics import psnr
+    >>> from morphkit.imaging.metrics import psnr
     >>> a = np.zeros((4, 4))
     >>> round(psnr(a, a + 1, data_range=255), 4)
     48.1308

@@ -33,8 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from . import tol
-from .errors import ValidationError, expected_got
+from .. import tol
+from ..errors import ValidationError, expected_got
 
 __all__ = ["texture_rgba", "texture_shape", "image_problem"]
 

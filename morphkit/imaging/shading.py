@@ -55,15 +55,15 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
-from . import tol
-from .camera import CameraModel
-from .errors import ValidationError, expected_got
-from .passes import RenderPasses
-from .scene import DirectionalLight, PointLight
-from .validate import as_finite_array
+from .. import tol
+from ..camera import CameraModel
+from ..errors import ValidationError, expected_got
+from ..passes import RenderPasses
+from ..scene import DirectionalLight, PointLight
+from ..validate import as_finite_array
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .views.gbuffer import ViewSurface
+    from ..views.gbuffer import ViewSurface
 
 __all__ = ["Lighting", "shade", "shade_passes", "sun_terms", "shade_suns", "sun_shadow_factor",
            "encode_premultiplied", "decode_premultiplied", "LIT_GAMMA"]
@@ -116,7 +116,7 @@ class Lighting:
 
     >>> import numpy as np
     >>> from morphkit.scene import DirectionalLight
-    >>> from morphkit.shading import Lighting
+    >>> from morphkit.imaging.shading import Lighting
     >>> e = np.radians(30.0)
     >>> day = Lighting(0.2, (DirectionalLight([-np.cos(e), 0.0, -np.sin(e)]),
     ...                      DirectionalLight([1.0, 0.0, 0.1])))
@@ -248,7 +248,7 @@ def _irradiance(normal: np.ndarray, lighting: Lighting, points: np.ndarray | Non
 def shade(surface: ViewSurface, lighting: Lighting, points: np.ndarray | None = None,
           visibility: np.ndarray | None = None) -> np.ndarray:
     """A :class:`~morphkit.views.gbuffer.ViewSurface` lit by ``lighting`` (the model of
-    :mod:`morphkit.shading`).
+    :mod:`morphkit.imaging.shading`).
 
     Parameters
     ----------
@@ -486,7 +486,7 @@ def shade_passes(passes: RenderPasses, lighting: Lighting, camera: CameraModel,
     ValidationError
         Passes whose shape is not the camera's.
     """
-    from .views.gbuffer import ViewSurface, srgb_to_linear  # see shade
+    from ..views.gbuffer import ViewSurface, srgb_to_linear  # see shade
 
     h, w = camera.shape
     if passes.albedo.shape != (h, w, 3) or passes.alpha.shape != (h, w):
