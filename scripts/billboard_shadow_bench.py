@@ -40,8 +40,8 @@ import numpy as np
 
 from morphkit import tol
 from morphkit.billboard import Backdrop, BillboardScene, place_random
-from morphkit.billboard.bakelook import BAKE_AMBIENT
-from morphkit.billboard.facing import ViewpointFacing
+from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
+from morphkit.billboard.scene.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.imaging.shading import Lighting

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from morphkit.billboard.bakelook import bake_items
+from morphkit.billboard.baking.bakelook import bake_items
 from morphkit.billboard.impostor import bake_impostor
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.passes import RenderPasses

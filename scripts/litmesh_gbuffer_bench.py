@@ -20,8 +20,8 @@ import time
 import numpy as np
 
 from morphkit.billboard import Backdrop, BillboardScene, MeshMode, place_random
-from morphkit.billboard.bakelook import BAKE_AMBIENT
-from morphkit.billboard.facing import ViewpointFacing
+from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
+from morphkit.billboard.scene.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes

@@ -361,7 +361,7 @@ def test_dome_kind_bakes_a_relightable_asset_beside_the_atlas(tmp_path, schedule
     from morphkit.bake import DomeKind
     from morphkit.billboard.asset import mesh_hash
     from morphkit.billboard.domeasset import DomeAsset
-    from morphkit.billboard.domefile import DOME_VERSION
+    from morphkit.billboard.formats.domefile import DOME_VERSION
     from morphkit.meshes import load_mesh
 
     lib = make_library(tmp_path / "lib")

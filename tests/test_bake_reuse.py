@@ -20,7 +20,7 @@ from morphkit.bake.kinds import SunAtlasKind
 from morphkit.bake.manifest import AssetRecord, Manifest, OutputRecord
 from morphkit.bake.reuse import baked_sun_atlases
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
-from morphkit.billboard.bakelook import mesh_hash
+from morphkit.billboard.baking.bakelook import mesh_hash
 from morphkit.errors import FileFormatError
 from morphkit.sunlit.receivers import SCENE_ATLAS_DOME
 from morphkit.sunlit.sunatlas import SunAtlas

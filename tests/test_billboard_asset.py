@@ -30,7 +30,7 @@ from morphkit.billboard import (
     bake_lights,
     mesh_hash,
 )
-from morphkit.billboard.assetfile import AssetRecord
+from morphkit.billboard.formats.assetfile import AssetRecord
 from morphkit.errors import DegenerateViewError, FileFormatError, MeshError, ValidationError
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import normalize, sample_mesh
@@ -492,7 +492,7 @@ def test_a_pair_whose_layers_cannot_be_meshed_is_built_with_fewer(renderer, monk
 
 @pytest.mark.gl
 def test_bake_samples_every_pixel_when_the_spacing_gives_too_few_pairs(renderer, monkeypatch):
-    import morphkit.billboard.bake as bake_module
+    import morphkit.billboard.baking.ringviews as bake_module
 
     calls: list[tuple[int, int, int]] = []
     real = bake_module.from_depth

@@ -186,7 +186,7 @@ def _dome_like(path):
 
 
 def test_dome_asset_files_take_dome_views_and_one_kind_is_asked_for(capsys, tmp_path):
-    from morphkit.billboard.domefile import is_dome_file
+    from morphkit.billboard.formats.domefile import is_dome_file
 
     dome = _dome_like(tmp_path / "thing.npz")  # a dome file by its metadata, not by its name
     assert is_dome_file(dome) and not is_dome_file(tmp_path / "missing.npz") and not is_dome_file(tmp_path)

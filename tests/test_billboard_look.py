@@ -20,7 +20,7 @@ from morphkit.billboard import (
     look_hash,
     mesh_hash,
 )
-from morphkit.billboard.bakelook import sideways_colour
+from morphkit.billboard.baking.bakelook import sideways_colour
 from morphkit.errors import FileFormatError, ValidationError
 from morphkit.files.fileio import write_bytes
 from morphkit.imaging.appearance import checker_items

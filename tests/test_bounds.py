@@ -225,7 +225,7 @@ _DEPTH = (r"dome billboard asset file: depth: expected drawn depths \(depth \+ d
 def test_dome_file_of_depths_no_view_draws_is_refused(tmp_path, edit, match):
     from morphkit.billboard.analytic import sphere_dome_asset
     from morphkit.billboard.domeasset import DomeAsset
-    from morphkit.billboard.domefile import read_dome
+    from morphkit.billboard.formats.domefile import read_dome
     from morphkit.errors import FileFormatError
 
     p = sphere_dome_asset(None, 32).save(tmp_path / "ball.npz")

@@ -14,7 +14,7 @@ import pytest
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
 from morphkit.billboard.domeasset import DomeAsset
-from morphkit.billboard.domefile import DOME_VERSION, read_dome
+from morphkit.billboard.formats.domefile import DOME_VERSION, read_dome
 from morphkit.errors import FileFormatError, ValidationError
 from morphkit.views.dome import DEFAULT_RINGS, ViewDome
 from morphkit.views.domecameras import DomeCameras, direction, quad_axes
@@ -221,7 +221,7 @@ def test_corrupt_and_bad_files_are_refused(tmp_path):
 
 @pytest.mark.gl
 def test_bake_dome_of_a_mesh_matches_its_render_between_views():
-    from morphkit.billboard.bakelook import BAKE_AMBIENT, bake_lights
+    from morphkit.billboard.baking.bakelook import BAKE_AMBIENT, bake_lights
     from morphkit.billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
     from morphkit.meshes import sample_mesh
     from morphkit.render import Renderer

@@ -235,7 +235,7 @@ def test_bad_arguments(sphere9):
 
 @pytest.mark.gl
 def test_bake_the_cow_matches_a_direct_render(renderer):
-    from morphkit.billboard.bakelook import bake_items
+    from morphkit.billboard.baking.bakelook import bake_items
     from morphkit.billboard.impostor import bake_impostor
     from morphkit.meshes import normalize, sample_mesh
 
@@ -262,7 +262,7 @@ def test_orthographic_frame_depth_lands_on_the_mesh(renderer):
     onto the mesh: what the parallax offset reads is the surface's height."""
     import trimesh
 
-    from morphkit.billboard.bakelook import bake_items
+    from morphkit.billboard.baking.bakelook import bake_items
     from morphkit.meshes import normalize, sample_mesh
 
     norm = normalize(sample_mesh("cow"))

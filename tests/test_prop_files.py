@@ -35,9 +35,9 @@ from morphkit.bake.kinds import ShadowAtlasKind
 from morphkit.bake.manifest import AssetRecord as ManifestRecord
 from morphkit.bake.manifest import Manifest, OutputRecord
 from morphkit.billboard import BillboardAsset
-from morphkit.billboard.assetfile import read_record
 from morphkit.billboard.domeasset import DomeAsset
-from morphkit.billboard.domefile import read_dome
+from morphkit.billboard.formats.assetfile import read_record
+from morphkit.billboard.formats.domefile import read_dome
 from morphkit.files.fileio import array_digest, read_image, write_image
 from morphkit.meshes import load_mesh
 from morphkit.scene import PointLight

@@ -13,7 +13,7 @@ import trimesh
 
 from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.instances import Instances
+from morphkit.billboard.scene.instances import Instances
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import shade_suns, sun_shadow_factor
@@ -242,7 +242,7 @@ def test_an_asset_without_an_atlas_gets_one_baked_on_demand_and_kept(renderer):
 def box_scene(renderer):
     from morphkit.billboard import Backdrop, BillboardScene
     from morphkit.billboard.domeasset import bake_dome
-    from morphkit.billboard.facing import ViewpointFacing
+    from morphkit.billboard.scene.facing import ViewpointFacing
     from morphkit.meshes import normalize
 
     box = normalize(trimesh.creation.box((0.4, 0.4, 1.0)))
@@ -262,7 +262,7 @@ def _camera():
 @pytest.mark.gl
 @pytest.mark.parametrize("elevation", [35.0, -5.0])
 def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, elevation):
-    from morphkit.billboard.bakelook import BAKE_AMBIENT
+    from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
     from morphkit.imaging.shading import Lighting
     from morphkit.sunlit.litmesh import LitMeshMode
     from morphkit.sunlit.litmodes import LitMode

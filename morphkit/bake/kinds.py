@@ -36,10 +36,10 @@ import trimesh
 
 from .. import tol
 from ..billboard import bake_asset
-from ..billboard.assetfile import VERSION as BILLBOARD_VERSION
 from ..billboard.cameras import DISTANCE_FACTOR, check_distance_factor
 from ..billboard.domeasset import bake_dome
-from ..billboard.domefile import DOME_VERSION
+from ..billboard.formats.assetfile import VERSION as BILLBOARD_VERSION
+from ..billboard.formats.domefile import DOME_VERSION
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, PointLight

@@ -62,7 +62,7 @@ other sections -- frame time, temporal stability -- append theirs):
   (``ONE_COLOUR``) baked at elevation 0 (only its vertical faces, at right angles to
   the bake light): the largest channel error (``err_255``, 0..255) of the mean covered colour
   of the morph at ``s = 1/2`` (``err_255_ref``: of a reference) against the analytic
-  :func:`morphkit.billboard.bakelook.sideways_colour` (target within 2);
+  :func:`morphkit.billboard.baking.bakelook.sideways_colour` (target within 2);
 * ``scene-*`` -- scenes of many billboards against the real meshes, run by
   :func:`scene_rows`: accuracy, temporal stability, frame time and the morph cache's
   hit rate (:mod:`morphkit.bench.billboard_scenes`, where each kind of row is described).
@@ -94,7 +94,7 @@ from ..billboard import (
     bake_items,
     bake_lights,
 )
-from ..billboard.bakelook import sideways_colour
+from ..billboard.baking.bakelook import sideways_colour
 from ..billboard.cameras import DISTANCE_FACTOR
 from ..camera import CameraModel
 from ..imaging.metrics import psnr, shadow_iou

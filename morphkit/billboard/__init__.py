@@ -10,17 +10,18 @@ Asset side:
   +-30 degree pair; K >= 3: a full ring) and which pair and fraction serve a viewing azimuth;
 * :mod:`.cameras` -- :class:`QuadCameras`: the camera rule and the billboard quad every image
   maps onto;
-* :mod:`.asset`, :mod:`.assetfile` -- :class:`BillboardAsset`: references, the front view
+* :mod:`.asset`, :mod:`.formats.assetfile` -- :class:`BillboardAsset`: references, the front view
   (classic billboard), the pair morphs and their pyramid; one versioned file;
-* :mod:`.bake` -- :func:`bake_asset`: a mesh's reference views rendered and every pair prepared;
+* :mod:`.baking.ringviews` -- :func:`bake_asset`: a mesh's reference views rendered and every
+  pair prepared; :mod:`.baking.bakelook` -- the look and light a bake draws, and its hash;
 * :mod:`.coverage` -- :func:`splat_coverage`: where the object is in an in-between view, from
   the references' depth (the morph's alpha).
 
 Relightable assets seen from any height, built on the views with depth of :mod:`morphkit.views`
 (the dome of directions, its cameras, the surfaces and their per-pixel morph):
 
-* :mod:`.domeasset`, :mod:`.domefile` -- :class:`~.domeasset.DomeAsset`, :func:`~.domeasset.bake_dome`
-  and the versioned file; :mod:`.analytic` -- an exact sphere asset (no GL);
+* :mod:`.domeasset`, :mod:`.formats.domefile` -- :class:`~.domeasset.DomeAsset`,
+  :func:`~.domeasset.bake_dome` and the versioned file; :mod:`.analytic` -- an exact sphere asset (no GL);
 * :mod:`.impostor` -- the engines' hemi-octahedral impostor, the anchor baseline.
 
 Relit billboards under the sun, with the field's shadows, are :mod:`morphkit.sunlit` (above this
@@ -28,17 +29,17 @@ package and :mod:`morphkit.shadow`).
 
 Scene side:
 
-* :mod:`.instances` -- N instances (asset, position, yaw, scale);
-* :mod:`.paths` -- camera paths: the paper's pan, an orbit, a fly-through;
-* :mod:`.facing` -- axial (the paper's) or screen-aligned quads, viewing azimuths;
-* :mod:`.frustum` -- frustum culling, near-plane clipping, quad homographies;
-* :mod:`.lod` -- pyramid level from the on-screen size;
-* :mod:`.cache` -- the bounded LRU morph cache with hit/miss counts;
-* :mod:`.backdrop` -- ground, sky and distance fog;
-* :mod:`.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
-* :mod:`.frame` -- the value types of a frame: placements, plan, stats, frame;
-* :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
-* :mod:`.compositor` -- back-to-front premultiplied "over" of warped quads;
+* :mod:`.scene.instances` -- N instances (asset, position, yaw, scale);
+* :mod:`.scene.paths` -- camera paths: the paper's pan, an orbit, a fly-through;
+* :mod:`.scene.facing` -- axial (the paper's) or screen-aligned quads, viewing azimuths;
+* :mod:`.scene.frustum` -- frustum culling, near-plane clipping, quad homographies;
+* :mod:`.scene.lod` -- pyramid level from the on-screen size;
+* :mod:`.scene.cache` -- the bounded LRU morph cache with hit/miss counts;
+* :mod:`.scene.backdrop` -- ground, sky and distance fog;
+* :mod:`.scene.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
+* :mod:`.scene.frame` -- the value types of a frame: placements, plan, stats, frame;
+* :mod:`.scene.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
+* :mod:`.scene.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare` -- errors against the meshes and Fig. 5 strips.
 
@@ -76,16 +77,10 @@ References
 from __future__ import annotations
 
 from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, look_hash, mesh_hash
-from .assetfile import APPEARANCES, FORMAT, VERSION
-from .backdrop import Backdrop, Fog, Ground, Sky
-from .bake import bake_asset
-from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
+from .baking.ringviews import bake_asset
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
-from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
-from .field import BillboardScene, FrameMode
-from .frame import Frame, FramePlan, FrameStats, Placement
-from .instances import Instance, Instances, place_random
+from .formats.assetfile import APPEARANCES, FORMAT, VERSION
 from .modes import (
     BillboardMode,
     ClassicMode,
@@ -94,9 +89,15 @@ from .modes import (
     MorphMode,
     NearestMode,
 )
-from .paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
 from .protocols import BillboardSource, ViewPairing
 from .ring import ViewRing, wrap_deg
+from .scene.backdrop import Backdrop, Fog, Ground, Sky
+from .scene.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
+from .scene.facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .scene.field import BillboardScene, FrameMode
+from .scene.frame import Frame, FramePlan, FrameStats, Placement
+from .scene.instances import Instance, Instances, place_random
+from .scene.paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
 
 __all__ = [
     # interfaces

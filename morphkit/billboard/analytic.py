@@ -16,7 +16,7 @@ from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras
 from ..views.gbuffer import encode_surface
 from .domeasset import DomeAsset
-from .domefile import DomeRecord
+from .formats.domefile import DomeRecord
 
 __all__ = ["SPHERE_PIVOT", "SPHERE_RADIUS", "sphere_view", "sphere_dome_asset"]
 

@@ -60,7 +60,7 @@ area-averaged (:attr:`BillboardAsset.level_fallbacks`).
 
 Appearance and lighting
 -----------------------
-The bake (:mod:`morphkit.billboard.bake`) renders :func:`bake_items` in one of
+The bake (:mod:`morphkit.billboard.baking.ringviews`) renders :func:`bake_items` in one of
 :data:`APPEARANCES`: ``"own"`` (the default) is the mesh's own look --
 textures, vertex and face colours, material factors, cut-outs
 (:func:`morphkit.meshes.look.mesh_look`; a mesh without visuals is
@@ -111,8 +111,7 @@ from ..meshes import normalize
 from ..scene import Item
 from ..validate import as_flag, as_int
 from ..viewmorph import Correspondences, ViewMorpher, from_geometry, pair_depth
-from .assetfile import APPEARANCES, AssetRecord, read_record, write_record
-from .bakelook import (
+from .baking.bakelook import (
     BAKE_AMBIENT,
     bake_items,
     bake_lights,
@@ -123,6 +122,7 @@ from .bakelook import (
 )
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
+from .formats.assetfile import APPEARANCES, AssetRecord, read_record, write_record
 from .ring import ViewRing
 
 __all__ = ["BillboardAsset", "mesh_hash", "look_hash", "bake_items", "bake_lights", "BAKE_AMBIENT",
@@ -187,12 +187,12 @@ class BillboardAsset:
     """One mesh's reference views, front view and pair morphs (see the module docstring).
 
     Build one with :func:`~.bake.bake_asset` or :meth:`load`; the constructor takes the
-    stored data (an :class:`~morphkit.billboard.assetfile.AssetRecord`).
+    stored data (an :class:`~morphkit.billboard.formats.assetfile.AssetRecord`).
 
     Parameters
     ----------
     record : AssetRecord
-        The stored data, as read by :func:`~morphkit.billboard.assetfile.read_record`.
+        The stored data, as read by :func:`~morphkit.billboard.formats.assetfile.read_record`.
 
     Attributes
     ----------

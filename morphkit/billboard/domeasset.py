@@ -59,9 +59,16 @@ from ..views.gbuffer import (
     downsample_surface,
     encode_surface,
 )
-from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance, check_source_up, mesh_hash
+from .baking.bakelook import (
+    BAKE_AMBIENT,
+    bake_items,
+    bake_lights,
+    check_appearance,
+    check_source_up,
+    mesh_hash,
+)
 from .cameras import DISTANCE_FACTOR
-from .domefile import DomeRecord, read_dome, write_dome
+from .formats.domefile import DomeRecord, read_dome, write_dome
 
 __all__ = ["DomeAsset", "bake_dome", "DOME_SUPERSAMPLE"]
 

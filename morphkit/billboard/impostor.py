@@ -101,7 +101,7 @@ from ..views.gbuffer import (
     encode_surface,
     linear_to_srgb,
 )
-from .bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance
+from .baking.bakelook import BAKE_AMBIENT, bake_items, bake_lights, check_appearance
 from .cameras import DISTANCE_FACTOR
 
 __all__ = ["OctahedralImpostor", "bake_impostor", "impostor_frame_size", "hemi_oct_encode",
@@ -690,7 +690,7 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = 
     ----------
     mesh : trimesh.Trimesh
         Any mesh; normalised first (:func:`morphkit.meshes.normalize`), as
-        :func:`~morphkit.billboard.bake.bake_asset` does: the object frame is the normalised mesh's.
+        :func:`~.baking.ringviews.bake_asset` does: the object frame is the normalised mesh's.
     renderer : PassRenderer
         Draws the frames' passes (:class:`morphkit.protocols.PassRenderer`, e.g.
         :class:`morphkit.render.Renderer`).
@@ -705,7 +705,7 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = 
     out_size : int, optional
         Side of the level-0 output images (default ``frame_size``).
     appearance : {"own", "checker"}, optional
-        The look (:func:`~morphkit.billboard.bakelook.bake_items`).
+        The look (:func:`~morphkit.billboard.baking.bakelook.bake_items`).
     distance_factor : float, optional
         ``D / r`` of :meth:`DomeCameras.fit` (pivot, ``half_extent``, the depth origin ``D``).
     parallax_samples : int, optional
@@ -721,8 +721,8 @@ def bake_impostor(mesh: trimesh.Trimesh, renderer: PassRenderer, *, name: str = 
     -------
     OctahedralImpostor
         The impostor. Only albedo, normals, depth and coverage of the renders are kept
-        (lights :func:`~morphkit.billboard.bakelook.bake_lights`, ambient
-        :data:`~morphkit.billboard.bakelook.BAKE_AMBIENT` are passed, but the colour pass is dropped).
+        (lights :func:`~morphkit.billboard.baking.bakelook.bake_lights`, ambient
+        :data:`~morphkit.billboard.baking.bakelook.BAKE_AMBIENT` are passed, but the colour pass is dropped).
 
     Raises
     ------

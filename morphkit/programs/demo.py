@@ -370,7 +370,7 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
     """A tree seen from three heights under three suns (issue #25): the dome asset's view morph |
     the engines' octahedral impostor at equal bytes | the real mesh, each shaded by
     :mod:`morphkit.imaging.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""
-    from ..billboard.bakelook import BAKE_AMBIENT
+    from ..billboard.baking.bakelook import BAKE_AMBIENT
     from ..billboard.domeasset import DOME_SUPERSAMPLE, bake_dome
     from ..billboard.impostor import bake_impostor, impostor_frame_size
     from ..imaging.metrics import psnr, shadow_iou
@@ -416,8 +416,8 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     shadowed by the ray cast (the truth); shadow IoU of the darkened pixels on the ground and on
     the objects (:func:`~morphkit.sunlit.shadowing.darkened`)."""
     from ..billboard import Backdrop, BillboardScene, place_random
-    from ..billboard.bakelook import BAKE_AMBIENT
-    from ..billboard.facing import ViewpointFacing
+    from ..billboard.baking.bakelook import BAKE_AMBIENT
+    from ..billboard.scene.facing import ViewpointFacing
     from ..camera import look_at, perspective
     from ..imaging.metrics import shadow_iou
     from ..imaging.shading import Lighting

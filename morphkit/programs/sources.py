@@ -6,7 +6,7 @@ baked from (:meth:`~morphkit.billboard.asset.BillboardAsset.items`: the same loo
 
 * a name of :data:`morphkit.meshes.BILLBOARD_MESHES` (``tree``, ``person``,
   ``teapot``, ...): the sample mesh is normalised and baked
-  (:func:`~morphkit.billboard.bake.bake_asset`) in the 3-D checker
+  (:func:`~morphkit.billboard.baking.ringviews.bake_asset`) in the 3-D checker
   (``appearance="checker"``: the sample meshes have no look of their own);
 * a path to an existing mesh file (:data:`MESH_SUFFIXES`: OBJ, GLB/glTF, PLY, ...):
   loaded with :func:`morphkit.meshes.load_mesh` (its look kept, turned ``+z`` up by
@@ -34,7 +34,7 @@ from pathlib import Path
 import trimesh
 
 from ..billboard.asset import BillboardAsset, mesh_hash
-from ..billboard.bake import bake_asset
+from ..billboard.baking.ringviews import bake_asset
 from ..billboard.domeasset import DomeAsset, bake_dome
 from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
@@ -171,7 +171,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
     renderer : SceneRenderer
         For baking.
     views, size : int
-        Bake options (:func:`~morphkit.billboard.bake.bake_asset`): K, level-0 image side.
+        Bake options (:func:`~morphkit.billboard.baking.ringviews.bake_asset`): K, level-0 image side.
     levels : int, optional
         Pyramid levels; default: 3, fewer where the smallest level would be under 8 px
         (:func:`default_levels`).

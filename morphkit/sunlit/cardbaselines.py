@@ -37,7 +37,7 @@ import numpy as np
 
 from .. import tol
 from ..billboard.impostor import OctahedralImpostor
-from ..billboard.instances import Instances
+from ..billboard.scene.instances import Instances
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
 from ..views.domecameras import quad_axes

@@ -40,14 +40,14 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..billboard.bakelook import BAKE_AMBIENT, bake_lights
-from ..billboard.cache import MorphCache
-from ..billboard.compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
+from ..billboard.baking.bakelook import BAKE_AMBIENT, bake_lights
 from ..billboard.domeasset import DomeAsset
-from ..billboard.facing import ViewpointFacing
-from ..billboard.field import BillboardScene
-from ..billboard.frame import Frame, FrameStats, Placement
 from ..billboard.protocols import SurfaceSource
+from ..billboard.scene.cache import MorphCache
+from ..billboard.scene.compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
+from ..billboard.scene.facing import ViewpointFacing
+from ..billboard.scene.field import BillboardScene
+from ..billboard.scene.frame import Frame, FrameStats, Placement
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import (

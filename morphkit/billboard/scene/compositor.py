@@ -35,9 +35,9 @@ from collections.abc import Sequence
 import cv2
 import numpy as np
 
-from .. import tol
-from ..camera import CameraModel
-from ..imaging.composite import box_from, over_warped, warped_part
+from ... import tol
+from ...camera import CameraModel
+from ...imaging.composite import box_from, over_warped, warped_part
 from .frame import Placement
 from .frustum import unit_from_image
 
@@ -109,7 +109,7 @@ def surface_depth(view: CameraModel, depth: np.ndarray, object2world: np.ndarray
 
     >>> import numpy as np
     >>> from morphkit.camera import look_at, perspective
-    >>> from morphkit.billboard.compositor import surface_depth
+    >>> from morphkit.billboard.scene.compositor import surface_depth
     >>> cam = perspective(np.pi / 2, (5, 5), look_at(np.zeros(3), np.array([0.0, 0.0, -1.0]),
     ...                                              up=np.array([0.0, 1.0, 0.0])))
     >>> d = np.full((5, 5), np.inf)

@@ -30,8 +30,8 @@ from typing import Literal
 import cv2
 import numpy as np
 
-from .. import tol
-from ..camera import CameraModel
+from ... import tol
+from ...camera import CameraModel
 from .facing import Facing, ViewDirections, view_directions
 from .frame import Placement
 from .frustum import clip_near, quad_homographies, screen_box, sphere_in_frustum

@@ -16,10 +16,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 import trimesh
 
-from .. import tol
-from ..errors import ValidationError, expected_got
-from ..scene import Item
-from ..validate import as_finite_array, as_int, as_positive
+from ... import tol
+from ...errors import ValidationError, expected_got
+from ...scene import Item
+from ...validate import as_finite_array, as_int, as_positive
 
 __all__ = ["Instance", "Instances", "place_random", "field_half_size", "footprint_radius", "Separated",
            "separate"]
@@ -404,7 +404,7 @@ def separate(instances: Instances, radius: Mapping[str, float], rng: np.random.G
     Two unit discs 1 apart overlap: the second is moved at least 2 away from the first.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.instances import Instances, separate
+    >>> from morphkit.billboard.scene.instances import Instances, separate
     >>> inst = Instances.from_records([("tree", 0.0, 0.0), ("tree", 1.0, 0.0)])
     >>> out = separate(inst, {"tree": 1.0}, np.random.default_rng(0), half_size=5.0)
     >>> out.moved, out.crowded, bool(np.hypot(*out.instances.xy[1]) >= 2.0)

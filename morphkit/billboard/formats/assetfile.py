@@ -49,8 +49,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FileFormatError, expected_got
-from ..files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ...errors import FileFormatError, expected_got
+from ...files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 
 __all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
 

@@ -28,13 +28,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import tol
-from ..camera import CameraModel
-from ..errors import ValidationError, expected_got
-from ..imaging.composite import fade_towards
-from ..imaging.shading import LIT_GAMMA
-from ..memo import Memo
-from ..validate import as_finite_array
+from ... import tol
+from ...camera import CameraModel
+from ...errors import ValidationError, expected_got
+from ...imaging.composite import fade_towards
+from ...imaging.shading import LIT_GAMMA
+from ...memo import Memo
+from ...validate import as_finite_array
 
 __all__ = ["Fog", "Ground", "Sky", "Backdrop"]
 
@@ -65,7 +65,7 @@ class Fog:
     point's colour:
 
     >>> import numpy as np
-    >>> from morphkit.billboard.backdrop import Fog
+    >>> from morphkit.billboard.scene.backdrop import Fog
     >>> Fog(density=np.log(2.0)).factor(np.array([0.0, 1.0, 2.0]))
     array([0.  , 0.5 , 0.75])
     """

@@ -27,16 +27,16 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..camera import CameraModel
-from ..errors import ValidationError, expected_got
-from ..validate import as_positive
+from ...camera import CameraModel
+from ...errors import ValidationError, expected_got
+from ...validate import as_positive
+from ..protocols import Placeable
 from .backdrop import Backdrop
 from .facing import AxialFacing, Facing
 from .frame import Frame, FramePlan, Placement
 from .frustum import require_perspective
 from .instances import Instances
 from .planner import ScreenQuad, back_to_front, clip, cull, face, level_of_detail
-from .protocols import Placeable
 
 __all__ = ["FrameMode", "BillboardScene"]
 

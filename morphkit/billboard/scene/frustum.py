@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..camera import CameraModel
-from ..errors import ValidationError, expected_got
+from ...camera import CameraModel
+from ...errors import ValidationError, expected_got
 
 __all__ = ["require_perspective", "sphere_in_frustum", "clip_near", "quad_homographies", "unit_from_image",
            "screen_box"]
@@ -115,7 +115,7 @@ def clip_near(poly_cam: np.ndarray, znear: float) -> np.ndarray:
     ``Z = -1``, its upper at ``Z = 3``) is cut halfway up, at ``Y = 0``:
 
     >>> import numpy as np
-    >>> from morphkit.billboard.frustum import clip_near
+    >>> from morphkit.billboard.scene.frustum import clip_near
     >>> square = np.array([[-1.0, -1.0, -1.0], [1.0, -1.0, -1.0], [1.0, 1.0, 3.0], [-1.0, 1.0, 3.0]])
     >>> clip_near(square, 1.0)
     array([[ 1.,  0.,  1.],

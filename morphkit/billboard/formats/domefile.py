@@ -36,10 +36,10 @@ from typing import Any
 
 import numpy as np
 
-from .. import tol
-from ..errors import FileFormatError, ValidationError, expected_got
-from ..files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
-from ..views.domecameras import DomeCameras
+from ... import tol
+from ...errors import FileFormatError, ValidationError, expected_got
+from ...files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
+from ...views.domecameras import DomeCameras
 from .assetfile import FORMAT
 
 __all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]

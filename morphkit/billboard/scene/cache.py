@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import tol
-from ..validate import as_int, as_positive
+from ... import tol
+from ...validate import as_int, as_positive
 
 __all__ = ["CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s"]
 

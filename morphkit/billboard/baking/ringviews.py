@@ -2,9 +2,9 @@
 
 :func:`bake_asset` normalises the mesh (keeping its look), fits the camera rule
 (:meth:`~morphkit.billboard.cameras.QuadCameras.fit`), renders each reference
-view (premultiplied RGBA and linear depth) with :func:`~morphkit.billboard.bakelook.bake_items` (in the
+view (premultiplied RGBA and linear depth) with :func:`~morphkit.billboard.baking.bakelook.bake_items` (in the
 asset's appearance: the mesh's own look by default, or the 3-D checker) under
-:func:`~morphkit.billboard.bakelook.bake_lights`, renders the front view when no reference is at
+:func:`~morphkit.billboard.baking.bakelook.bake_lights`, renders the front view when no reference is at
 azimuth 0, and, for each pair of neighbouring references, the dense
 correspondences from their depth (:func:`~morphkit.viewmorph.from_depth`) plus
 each view's outline points (:data:`RIM_STEP`). The result is one
@@ -20,13 +20,13 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from .. import tol
-from ..camera import CameraModel
-from ..errors import DegenerateViewError, ValidationError, expected_got
-from ..meshes import normalize
-from ..protocols import SceneRenderer
-from ..viewmorph import from_depth
-from .asset import (
+from ... import tol
+from ...camera import CameraModel
+from ...errors import DegenerateViewError, ValidationError, expected_got
+from ...meshes import normalize
+from ...protocols import SceneRenderer
+from ...viewmorph import from_depth
+from ..asset import (
     BAKE_AMBIENT,
     DEFAULT_LAYERS,
     BillboardAsset,
@@ -37,9 +37,9 @@ from .asset import (
     check_source_up,
     mesh_hash,
 )
-from .assetfile import AssetRecord
-from .cameras import DISTANCE_FACTOR, QuadCameras
-from .ring import ViewRing
+from ..cameras import DISTANCE_FACTOR, QuadCameras
+from ..formats.assetfile import AssetRecord
+from ..ring import ViewRing
 
 __all__ = ["bake_asset", "RIM_STEP"]
 
@@ -99,11 +99,11 @@ def bake_asset(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, name: str = "a
     progress : bool
         Show a progress bar (tqdm; silent when not a terminal).
     appearance : {"own", "checker"}
-        The look of the references and morphs (:func:`~morphkit.billboard.bakelook.bake_items`): ``"own"``
+        The look of the references and morphs (:func:`~.bakelook.bake_items`): ``"own"``
         (default) the mesh's own look (textures, vertex/face colours, cut-outs;
         :data:`~morphkit.conventions.DEFAULT_COLOR` when it has none), ``"checker"``
         morphkit's 3-D checker (texture for matching and PSNR). Recorded in the asset
-        and covered by its :func:`~morphkit.billboard.bakelook.mesh_hash`.
+        and covered by its :func:`~morphkit.billboard.baking.bakelook.mesh_hash`.
     source_up : {"z", "y"} or None
         The up axis the mesh file was loaded with (:func:`morphkit.meshes.resolve_up`),
         recorded in the asset file; None (default) when not known.

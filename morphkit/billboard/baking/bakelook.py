@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..errors import MeshError, ValidationError, expected_got
-from ..imaging.appearance import CHECKER, PALETTE, checker_items
-from ..meshes import UP_AXES, normalize
-from ..meshes.look import mesh_look
-from ..scene import DirectionalLight, Item, Light
-from .assetfile import APPEARANCES
+from ...errors import MeshError, ValidationError, expected_got
+from ...imaging.appearance import CHECKER, PALETTE, checker_items
+from ...meshes import UP_AXES, normalize
+from ...meshes.look import mesh_look
+from ...scene import DirectionalLight, Item, Light
+from ..formats.assetfile import APPEARANCES
 
 __all__ = ["BAKE_AMBIENT", "bake_lights", "bake_items", "mesh_hash", "look_hash", "check_appearance",
            "check_source_up", "sideways_colour"]
