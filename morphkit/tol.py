@@ -252,7 +252,7 @@ MAX_SEED = 2**64 - 1
 #: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
 MAX_LIGHT_SAMPLES = 4096
 
-#: Filtered (penumbra) shadow lookups (:mod:`morphkit.shadow.filtered`): a kernel whose
+#: Filtered (penumbra) shadow lookups (:mod:`morphkit.shadow.filtering.filtered`): a kernel whose
 #: half-widths are both below this many texels is the hard lookup (nearest texel), and a
 #: wider one is at least this wide on each axis. Half a texel is where a box stops
 #: being narrower than the texel it stands on: below it, filtering only blurs the

@@ -41,7 +41,7 @@ from morphkit.bench import shadow_suite, soft_suite
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.shadow import ShadowAtlas, bake_atlas, bake_soft_atlas
-from morphkit.shadow.reprojected import ReprojectedMaps
+from morphkit.shadow.reprojection.method import ReprojectedMaps
 from morphkit.shadow.soft import light_offsets
 
 CACHE = Path(tempfile.gettempdir()) / "reproject_ab"
@@ -164,7 +164,7 @@ def main(argv: list[str]) -> None:
     print(f"new: {Path(morphkit.__file__).parent}; base: {rev} ({Path(base.__file__).parent})", flush=True)
     paths = atlases()
     if what in ("check", "both"):
-        rp_new = importlib.import_module("morphkit.shadow.reprojected")
+        rp_new = importlib.import_module("morphkit.shadow.reprojection.method")
         rp_old = importlib.import_module("morphkit_base.shadow.reprojected")
         keep = rp_new.PARALLEL_MIN_SOURCE_PIXELS, rp_old.PARALLEL_MIN_SOURCE_PIXELS
         rp_new.PARALLEL_MIN_SOURCE_PIXELS = rp_old.PARALLEL_MIN_SOURCE_PIXELS = 0  # bands even when small

@@ -6,7 +6,7 @@ teapot,chair,cow; 4), from the checkout to time (it prints which ``morphkit`` it
 
 The bench soft scene (``morphkit.bench.soft_suite``: 256^2 maps, N = 9, the 256^2 ground
 grid, 6 seeded positions). Per mesh, interleaved call by call: ``warp_9`` (the time
-target's baseline), PCSS on the reprojected maps with ``morphkit/shadow/filtered.py`` as
+target's baseline), PCSS on the reprojected maps with ``morphkit/shadow/filtering/filtered.py`` as
 of git revision ``REV`` (``before``), and the working tree's ``default_soft_shadow``
 (``after``); both filter the *same* reprojected maps, and their visibility must agree to
 1e-4. Prints wall and CPU (all threads) medians and their ratio to ``warp_9``: run it on
@@ -33,13 +33,13 @@ from morphkit.imaging.groundtruth import receiver_grid
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.shadow import SoftShadow, bake_soft_atlas
+from morphkit.shadow.filtering.penumbra import PcssSoftShadow
 from morphkit.shadow.lookup import ShadowBias
-from morphkit.shadow.penumbra import PcssSoftShadow
 
 
 def module_at(rev: str) -> ModuleType:
-    """``morphkit/shadow/filtered.py`` at ``rev``, imported as a stand-alone module."""
-    src = subprocess.run(["git", "show", f"{rev}:morphkit/shadow/filtered.py"], check=True,
+    """``morphkit/shadow/filtering/filtered.py`` at ``rev``, imported as a stand-alone module."""
+    src = subprocess.run(["git", "show", f"{rev}:morphkit/shadow/filtering/filtered.py"], check=True,
                          capture_output=True, text=True).stdout
     src = (src.replace("from .. import tol", "from morphkit import tol")
            .replace("from ..", "from morphkit.").replace("from .", "from morphkit.shadow."))

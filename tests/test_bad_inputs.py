@@ -144,7 +144,7 @@ def _atlas() -> Any:
 
 def _atlas_file(tmp: Path, change: Callable[[dict, dict], None] | None = None) -> Path:
     """Save the synthetic atlas and rewrite it with ``change(meta, arrays)`` applied."""
-    from morphkit.shadow.atlasfile import save_atlas
+    from morphkit.shadow.formats.atlasfile import save_atlas
 
     path = save_atlas(_atlas().baked, tmp / "a.npz")
     if change is None:

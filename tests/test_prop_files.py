@@ -42,7 +42,7 @@ from morphkit.files.fileio import array_digest, read_image, write_image
 from morphkit.meshes import load_mesh
 from morphkit.scene import PointLight
 from morphkit.shadow import BakedAtlas, LightRig, MotionRange, ShadowAtlas
-from morphkit.shadow.atlasfile import load_atlas, save_atlas
+from morphkit.shadow.formats.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
 from morphkit.sunlit.sunatlas import SunAtlas
 from morphkit.sunlit.sunatlasfile import read_sun_atlas, write_sun_atlas

@@ -22,7 +22,7 @@ import trimesh
 from morphkit.errors import FileFormatError
 from morphkit.scene import PointLight
 from morphkit.shadow import ATLAS_VERSION, BakedAtlas, LightRig, MotionRange
-from morphkit.shadow.atlasfile import load_atlas, save_atlas
+from morphkit.shadow.formats.atlasfile import load_atlas, save_atlas
 from morphkit.shadow.rig import sample_axis
 
 LIGHT = PointLight([0.2, -0.1, 2.6])

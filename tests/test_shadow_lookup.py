@@ -109,7 +109,7 @@ def test_compiled_fold_relaxation_matches_the_numpy_reference(rng):
     plane-anchor positions; the compiled loop takes the same rounds and gives the
     same points as the numpy reference, and the result never folds."""
     from morphkit import settings, tol
-    from morphkit.shadow import fold as F
+    from morphkit.shadow.baking import fold as F
     from morphkit.warp import grid_triangles
 
     if not settings.COMPILED:
@@ -141,7 +141,7 @@ def test_fold_kernels_go_through_the_one_gate(monkeypatch):
     """``MORPHKIT_WARP_NUMPY`` (settings.NUMPY_ONLY) switches the fold kernels to their
     numpy references at call time, as every compiled kernel (settings.use_compiled)."""
     from morphkit import settings, tol
-    from morphkit.shadow import fold as F
+    from morphkit.shadow.baking import fold as F
     from morphkit.warp import grid_triangles
 
     calls = []

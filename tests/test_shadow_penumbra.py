@@ -20,18 +20,18 @@ from morphkit.shadow import (
     SoftShadow,
     bake_atlas,
     bake_soft_atlas,
-    filtered,
     shadow_visibility,
 )
-from morphkit.shadow.depthtables import DepthTables
-from morphkit.shadow.filtered import cell_half_widths, filtered_visibility, point_chunks
-from morphkit.shadow.lookup import ShadowBias
-from morphkit.shadow.penumbra import (
+from morphkit.shadow.filtering import filtered
+from morphkit.shadow.filtering.depthtables import DepthTables
+from morphkit.shadow.filtering.filtered import cell_half_widths, filtered_visibility, point_chunks
+from morphkit.shadow.filtering.penumbra import (
     PcfSoftShadow,
     PcssSoftShadow,
     light_cell,
     soft_shadow_class,
 )
+from morphkit.shadow.lookup import ShadowBias
 from morphkit.shadow.soft import FIVE_SAMPLES
 
 MOTION = MotionRange([-0.4, -0.3], [0.4, 0.3])

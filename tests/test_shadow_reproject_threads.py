@@ -13,7 +13,7 @@ from morphkit import settings
 from morphkit.meshes import sample_mesh
 from morphkit.scene import PointLight
 from morphkit.shadow import MotionRange, bake_atlas
-from morphkit.shadow import reprojected as reprojected_module
+from morphkit.shadow.reprojection import method as reprojected_module
 
 pytestmark = pytest.mark.gl
 

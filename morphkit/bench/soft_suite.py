@@ -14,9 +14,9 @@ Methods (timed in the same run, interleaved), each with ``N`` light samples
 (:class:`~morphkit.shadow.soft.SoftShadow`): ``warp_N`` (one mesh warp of the
 atlas per sample), ``reproject_N`` (one reprojection of the atlas per sample),
 ``direct_N`` (one depth render per sample: Heckbert & Herf). Filtering each
-sample's lookup over its cell of the light (:mod:`morphkit.shadow.penumbra`):
+sample's lookup over its cell of the light (:mod:`morphkit.shadow.filtering.penumbra`):
 ``pcf_N`` and ``pcss_N`` on the mesh warps, ``pcss-reproject_N`` (the default,
-:func:`~morphkit.shadow.penumbra.default_soft_shadow`) on the reprojections;
+:func:`~morphkit.shadow.filtering.penumbra.default_soft_shadow`) on the reprojections;
 at 256^2 also ``pcss-direct_9`` and ``pcf-reproject_9`` (like with like) and
 ``direct_64`` (the banding reference). ``hard``: one warped map for the light's
 centre. ``ms_median`` is the time to produce the soft visibility of the
@@ -57,7 +57,7 @@ from ..meshes import sample_mesh
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, SceneObject
 from ..shadow import DirectShadow, MotionRange, SoftShadow, bake_soft_atlas
-from ..shadow.penumbra import PcfSoftShadow, PcssSoftShadow, PenumbraSoftShadow
+from ..shadow.filtering.penumbra import PcfSoftShadow, PcssSoftShadow, PenumbraSoftShadow
 from ..shadow.soft import FIVE_SAMPLES
 from .harness import Timing, make_row, time_cycling
 

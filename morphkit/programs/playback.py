@@ -52,9 +52,9 @@ from ..meshes import load_mesh, shape_hash
 from ..protocols import SceneRenderer
 from ..scene import AreaLight, DirectionalLight, PointLight, Receiver, Scene, SceneObject
 from ..shadow.atlas import ShadowAtlas
+from ..shadow.filtering.penumbra import default_soft_shadow
 from ..shadow.frame import render_frame
 from ..shadow.lookup import shadow_visibility
-from ..shadow.penumbra import default_soft_shadow
 from ..shadow.rig import MotionRange
 from ..validate import as_int
 from .video import VideoFile

@@ -1,30 +1,32 @@
 """Warped shadow maps (Kang & Ihm 2002) and their baselines.
 
+The method (paper 1):
+
 * :mod:`.method` -- :class:`ShadowMethod`, the interface every hard-shadow method implements;
 * :mod:`.rig` -- the object's range of motion and the light camera that follows it;
-* :mod:`.atlas` -- the k x k shadow atlas: :func:`bake_atlas` and :class:`ShadowAtlas` (data + run time);
+* :mod:`.atlas` -- the k x k shadow atlas: :func:`bake_atlas` and :class:`ShadowAtlas`;
 * :mod:`.baked` -- :class:`BakedAtlas`, the baked data (frozen);
-* :mod:`.runtime` -- :class:`AtlasRuntime`, the per-map building blocks (cached) and run-time counts;
-* :mod:`.methods` -- :func:`build_method`: an atlas's shadow method by option (cached per option set);
-* :mod:`.atlasfile` -- the atlas file (save/load of the baked data, checked);
-* :mod:`.controls` -- automatic control points (silhouette box, anchor depths, lifting);
-* :mod:`.planes` -- depth maps as coverage-depth planes (warped and blended without mixing background);
-* :mod:`.fold` -- fold-over relaxation of destination control points;
-* :mod:`.warped` -- the mesh-warp methods: :class:`ComposedWarp` (default), :class:`ThreeWarps` (the paper's);
-* :mod:`.reprojected` -- :class:`ReprojectedMaps`: per-pixel 3-D reprojection of the maps;
-* :mod:`.reprojection` -- the per-pixel reprojection kernels and hidden layers (a package);
-* :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
+* :mod:`.runtime` -- :class:`AtlasRuntime`, the per-map building blocks (cached);
+* :mod:`.methods` -- :func:`build_method`: an atlas's shadow method by option (cached);
+* :mod:`.planes` -- depth maps as coverage-depth planes (warped and blended without background);
+* :mod:`.warped` -- the mesh warps: :class:`ComposedWarp` (default), :class:`ThreeWarps` (the paper's);
 * :mod:`.lookup` -- the projective depth comparison (bias documented there);
 * :mod:`.soft` -- soft shadows of area lights: one warp per light sample, averaged;
-* :mod:`.filtered` -- the filtered lookup: the fraction of a light cell one map says a point sees;
-* :mod:`.depthtables` -- :class:`~.depthtables.DepthTables`: the filtered lookup's per-map
-  summed-area tables and max-depth pyramid;
-* :mod:`.penumbra` -- smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
-* :mod:`.frame` -- a whole frame: camera render + shadow map + composite.
+* :mod:`.pixels`, :mod:`.frame` -- a frame's drawn pixels; a whole frame: camera render,
+  shadow map, composite.
+
+Extensions, baselines, files and bake time, one folder each:
+
+* :mod:`.reprojection` -- :class:`ReprojectedMaps`: per-pixel 3-D reprojection of the maps;
+* :mod:`.filtering` -- the filtered lookup (the fraction of a light cell a point sees) and the
+  smooth penumbrae from few samples: :class:`PcfSoftShadow`, :class:`PcssSoftShadow`;
+* :mod:`.baselines` -- ``direct`` re-rendering and the image-based ``ibr_*`` methods;
+* :mod:`.formats` -- the atlas file (save/load of the baked data, checked);
+* :mod:`.baking` -- automatic control points and the fold-over relaxation of their destinations.
 
 The program ``morphkit shadows`` (a baked atlas's scene along an object path, to frames and a video)
-is :mod:`morphkit.programs.playback`, above this package and the bake pipeline. The shadows of a field of
-billboards under the sun (one atlas per asset over the sun's direction) are
+is :mod:`morphkit.programs.playback`, above this package and the bake pipeline. The shadows
+of a field of billboards under the sun (one atlas per asset over the sun's direction) are
 :mod:`morphkit.sunlit`, the junction of both papers, above this package and the billboards.
 
 Papers: the warped shadow maps of Kang & Ihm [1]_, built on shadow mapping [2]_ and projective
@@ -46,14 +48,14 @@ References
 from __future__ import annotations
 
 from .atlas import ShadowAtlas, bake_atlas
-from .atlasfile import ATLAS_VERSION, load_atlas, save_atlas
 from .baked import BakedAtlas
 from .baselines import DirectShadow, ImageBasedShadow
+from .filtering.penumbra import PcfSoftShadow, PcssSoftShadow, default_soft_shadow
+from .formats.atlasfile import ATLAS_VERSION, load_atlas, save_atlas
 from .lookup import ShadowBias, normals_from_points, shadow_visibility
 from .method import ShadowMethod, bilinear_weights
 from .methods import build_method
-from .penumbra import PcfSoftShadow, PcssSoftShadow, default_soft_shadow
-from .reprojected import ReprojectedMaps
+from .reprojection.method import ReprojectedMaps
 from .rig import LightRig, MotionRange, RangeClampWarning
 from .runtime import AtlasRuntime
 from .soft import SoftShadow, bake_soft_atlas, light_offsets, soft_motion_range

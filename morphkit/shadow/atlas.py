@@ -34,7 +34,7 @@ to the plane anchors for that map (documented fallback, counted in
 Data and run time
 -----------------
 What is baked is frozen data, :class:`~morphkit.shadow.baked.BakedAtlas`
-(saved and loaded by :mod:`morphkit.shadow.atlasfile`); what a frame builds
+(saved and loaded by :mod:`morphkit.shadow.formats.atlasfile`); what a frame builds
 from it and keeps -- per-map building blocks, counts -- is an
 :class:`~morphkit.shadow.runtime.AtlasRuntime`. A :class:`ShadowAtlas` holds
 one of each (:attr:`ShadowAtlas.baked`, :attr:`ShadowAtlas.runtime`) and its
@@ -47,7 +47,7 @@ The run-time algorithms are shadow methods of their own
 (:mod:`morphkit.shadow.methods`):
 :class:`~morphkit.shadow.warped.ComposedWarp` (default),
 :class:`~morphkit.shadow.warped.ThreeWarps` and
-:class:`~morphkit.shadow.reprojected.ReprojectedMaps`; the atlas's run time
+:class:`~morphkit.shadow.reprojection.method.ReprojectedMaps`; the atlas's run time
 (:class:`~morphkit.shadow.runtime.AtlasRuntime`) holds the per-map building
 blocks they share (sources, warpers, destination control points, hidden
 layers), each built once and cached.
@@ -110,9 +110,9 @@ from ..meshes import check_mesh, shape_hash
 from ..protocols import SceneRenderer
 from ..scene import DirectionalLight, Item, PointLight
 from ..validate import as_int, as_shape
-from .atlasfile import load_atlas, save_atlas
 from .baked import BakedAtlas
-from .controls import anchor_depths, lift, silhouette_box
+from .baking.controls import anchor_depths, lift, silhouette_box
+from .formats.atlasfile import load_atlas, save_atlas
 from .method import ShadowMethod
 from .methods import AtlasMethods
 from .rig import LightRig, MotionRange, RangeClampWarning, sample_axis
@@ -129,7 +129,8 @@ class ShadowAtlas:
     together; as a :class:`~morphkit.shadow.method.ShadowMethod` it is the
     default method (``"warp"``). Build with :func:`bake_atlas`; save with
     :meth:`save`, load with :meth:`load`
-    (:func:`morphkit.shadow.atlasfile.save_atlas`, :func:`~morphkit.shadow.atlasfile.load_atlas`).
+    (:func:`morphkit.shadow.formats.atlasfile.save_atlas`,
+    :func:`~morphkit.shadow.formats.atlasfile.load_atlas`).
 
     Parameters
     ----------
@@ -297,7 +298,7 @@ class ShadowAtlas:
         ``warps`` picks the algorithm: ``"composed"`` (default,
         :class:`~morphkit.shadow.warped.ComposedWarp`), ``"three"`` (the paper's,
         :class:`~morphkit.shadow.warped.ThreeWarps`) or ``"reproject"``
-        (:class:`~morphkit.shadow.reprojected.ReprojectedMaps`); ``dst="interpolate"``
+        (:class:`~morphkit.shadow.reprojection.method.ReprojectedMaps`); ``dst="interpolate"``
         interpolates the destination control points (the paper), ``blend="nearest"``
         uses only the nearest sample's map, ``layers`` (reproject only) reprojects
         the other maps' hidden layers instead of whole maps. Accuracy and speed of
@@ -367,7 +368,7 @@ class ShadowAtlas:
     # ------------------------------------------------------------ file I/O
     def save(self, path: str | Path) -> Path:
         """Write the baked data to one ``.npz`` file, atomically
-        (:func:`morphkit.shadow.atlasfile.save_atlas`).
+        (:func:`morphkit.shadow.formats.atlasfile.save_atlas`).
 
         Parameters
         ----------
@@ -384,7 +385,7 @@ class ShadowAtlas:
     @classmethod
     def load(cls, path: str | Path, *, light: DirectionalLight | PointLight | None = None
              ) -> ShadowAtlas:
-        """Read an atlas written by :meth:`save` (:func:`morphkit.shadow.atlasfile.load_atlas`).
+        """Read an atlas written by :meth:`save` (:func:`morphkit.shadow.formats.atlasfile.load_atlas`).
 
         Parameters
         ----------

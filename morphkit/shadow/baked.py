@@ -1,5 +1,5 @@
 """The baked shadow atlas as data: :class:`BakedAtlas`, what :func:`~morphkit.shadow.atlas.bake_atlas`
-renders and derives and :mod:`morphkit.shadow.atlasfile` saves, and nothing computed at run time.
+renders and derives and :mod:`morphkit.shadow.formats.atlasfile` saves, and nothing computed at run time.
 
 A :class:`BakedAtlas` is frozen: its maps, anchors, control points and rig are
 set when it is made (baked or loaded) and read by everything after. The
@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..warp import grid_triangles
-from .fold import signed_areas
+from .baking.fold import signed_areas
 from .rig import LightRig
 
 __all__ = ["BakedAtlas", "project_points", "anchor_depth_at"]

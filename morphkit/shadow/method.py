@@ -4,7 +4,7 @@ A shadow method turns an object position on the motion plane (and, for a point
 light, a light offset) into a light-view depth map and the light camera it
 belongs to. The warped atlas methods (:class:`~morphkit.shadow.warped.ComposedWarp`,
 :class:`~morphkit.shadow.warped.ThreeWarps`,
-:class:`~morphkit.shadow.reprojected.ReprojectedMaps`, built by
+:class:`~morphkit.shadow.reprojection.method.ReprojectedMaps`, built by
 :mod:`morphkit.shadow.methods`, and the atlas itself with its default), re-rendering
 (:class:`~morphkit.shadow.baselines.DirectShadow`)
 and the image-based baseline (:class:`~morphkit.shadow.baselines.ImageBasedShadow`)

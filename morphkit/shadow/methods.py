@@ -4,7 +4,7 @@ An atlas's run-time algorithms are shadow methods of their own
 (:class:`~morphkit.shadow.method.ShadowMethod`):
 :class:`~morphkit.shadow.warped.ComposedWarp` (default),
 :class:`~morphkit.shadow.warped.ThreeWarps` and
-:class:`~morphkit.shadow.reprojected.ReprojectedMaps`. This module maps the
+:class:`~morphkit.shadow.reprojection.method.ReprojectedMaps`. This module maps the
 options of :meth:`ShadowAtlas.method <morphkit.shadow.atlas.ShadowAtlas.method>`
 (``warps``, ``dst``, ``blend``, ``layers``) to one of them, built over the
 atlas's :class:`~morphkit.shadow.runtime.AtlasRuntime`, and keeps each built
@@ -19,7 +19,7 @@ from ..errors import ValidationError, expected_got
 from ..memo import Memo
 from ..validate import as_flag
 from .method import ShadowMethod
-from .reprojected import ReprojectedMaps
+from .reprojection.method import ReprojectedMaps
 from .runtime import AtlasRuntime
 from .warped import ComposedWarp, ThreeWarps
 

@@ -7,7 +7,7 @@ position, each map as coverage-depth planes (:func:`~morphkit.shadow.planes.dept
 its :class:`~morphkit.warp.MeshWarper` and the triangles that hold the object,
 each map as a reprojection :class:`~morphkit.shadow.reprojection.Source` and
 the hidden layers of neighbouring maps (:func:`~morphkit.shadow.reprojection.hidden_layer`).
-The shadow methods (:mod:`morphkit.shadow.warped`, :mod:`morphkit.shadow.reprojected`)
+The shadow methods (:mod:`morphkit.shadow.warped`, :mod:`morphkit.shadow.reprojection.method`)
 read the baked data through :attr:`AtlasRuntime.baked` and these building
 blocks, and report fallbacks here (:meth:`AtlasRuntime.count_fallback`); they
 never change the baked data.
@@ -29,7 +29,7 @@ from ..errors import FoldOverError
 from ..memo import Memo
 from ..warp import MeshWarper
 from .baked import BakedAtlas, anchor_depth_at, project_points
-from .fold import RELAX_ROUNDS, any_folded, relax_folds
+from .baking.fold import RELAX_ROUNDS, any_folded, relax_folds
 from .planes import depth_planes
 from .reprojection import Layer, Reprojection, Source, hidden_layer
 
@@ -59,7 +59,7 @@ class AtlasRuntime:
         counted since this runtime was made (not saved).
     relaxed : int
         Rounds of fold relaxation of destination control points so far
-        (:func:`~morphkit.shadow.fold.relax_folds`).
+        (:func:`~morphkit.shadow.baking.fold.relax_folds`).
     """
 
     def __init__(self, baked: BakedAtlas) -> None:

@@ -1,5 +1,5 @@
 """Per-pixel 3-D reprojection of light depth maps (forward, z-buffered): the kernels
-behind :class:`~morphkit.shadow.reprojected.ReprojectedMaps` (``warps="reproject"``).
+behind :class:`~morphkit.shadow.reprojection.method.ReprojectedMaps` (``warps="reproject"``).
 
 A piecewise-affine mesh warp (:mod:`morphkit.shadow.warped`, the paper's) moves
 every pixel of a triangle with one affine motion, so it cannot follow parallax

@@ -18,12 +18,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import settings
-from ..camera import CameraModel
-from ..validate import as_flag
-from .method import AtlasMethodBase, bilinear_weights
-from .reprojection import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
-from .runtime import AtlasRuntime
+from ... import settings
+from ...camera import CameraModel
+from ...validate import as_flag
+from ..method import AtlasMethodBase, bilinear_weights
+from ..runtime import AtlasRuntime
+from . import PARALLEL_MIN_SOURCE_PIXELS, reproject_maps
 
 __all__ = ["ReprojectedMaps"]
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
+from ...settings import NUMBA_AVAILABLE, compile_kernel, use_compiled
 
 __all__ = ["signed_areas", "RELAX_ROUNDS", "folded_numpy", "any_folded", "any_folded_numpy", "relax_folds",
            "relax_folds_numpy", "relax_folds_python"]

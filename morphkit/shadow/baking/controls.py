@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-from ..camera import CameraModel
+from ...camera import CameraModel
 
 __all__ = ["silhouette_box", "anchor_depths", "lift"]
 

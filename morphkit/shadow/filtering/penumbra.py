@@ -6,7 +6,7 @@ visibility is a multiple of ``1/N`` and the penumbra shows ``N + 1`` flat bands.
 The methods here take the *same* ``N`` maps, from any
 :class:`~morphkit.shadow.method.ShadowMethod` (warped, reprojected or
 re-rendered), and replace each hard lookup by a filtered one
-(:mod:`morphkit.shadow.filtered`): the fraction of the sample's *cell* of the
+(:mod:`morphkit.shadow.filtering.filtered`): the fraction of the sample's *cell* of the
 light (the ``1/N`` of the light around it) that the point sees, estimated from
 that one map with a box kernel as wide as the shadow moves while the light sweeps
 the cell. The average of the ``N`` cell fractions is then a continuous function
@@ -41,15 +41,15 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..errors import ValidationError, expected_got
-from ..scene import AreaLight
-from ..validate import as_finite_array
-from .atlas import ShadowAtlas
+from ...errors import ValidationError, expected_got
+from ...scene import AreaLight
+from ...validate import as_finite_array
+from ..atlas import ShadowAtlas
+from ..lookup import ShadowBias
+from ..method import ShadowMethod
+from ..soft import SoftShadow, light_offsets
 from .depthtables import DepthTables
 from .filtered import BlockerDepth, cell_half_widths, filter_into, point_chunks
-from .lookup import ShadowBias
-from .method import ShadowMethod
-from .soft import SoftShadow, light_offsets
 
 __all__ = ["PenumbraSoftShadow", "PcfSoftShadow", "PcssSoftShadow", "light_cell",
            "SOFT_SHADOW_METHODS", "soft_shadow_class", "default_soft_shadow"]
@@ -102,7 +102,7 @@ class PenumbraSoftShadow(SoftShadow):
         Depth-comparison bias of every lookup.
     """
 
-    #: Where the kernel's occluder depth comes from (:data:`~morphkit.shadow.filtered.BlockerDepth`).
+    #: Where the kernel's occluder depth comes from (:data:`~.filtered.BlockerDepth`).
     blocker: ClassVar[BlockerDepth] = "search"
 
     def __init__(self, method: ShadowMethod, light: AreaLight, samples: Any = (3, 3), *,

@@ -30,13 +30,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import tol
-from ..errors import FileFormatError, MorphkitError, ValidationError, expected_got
-from ..files.fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
-from ..scene import DirectionalLight, PointLight
-from ..validate import as_pose
-from .baked import BakedAtlas
-from .rig import LightRig, MotionRange
+from ... import tol
+from ...errors import FileFormatError, MorphkitError, ValidationError, expected_got
+from ...files.fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
+from ...scene import DirectionalLight, PointLight
+from ...validate import as_pose
+from ..baked import BakedAtlas
+from ..rig import LightRig, MotionRange
 
 __all__ = ["ATLAS_FORMAT", "ATLAS_VERSION", "ARRAYS", "save_atlas", "load_atlas",
            "light_to_dict", "light_from_dict"]

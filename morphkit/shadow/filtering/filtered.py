@@ -22,7 +22,7 @@ around its projection holds no occluder: the filtered lookup returns ``1 -``
 (the box's area covered by occluder texels closer than the point) ``/`` (the
 box's area). This is exact for an occluder at one depth ``z_b`` and an
 axis-aligned cell (otherwise the box is the cell's bounding box); the two
-:class:`~morphkit.shadow.penumbra.PenumbraSoftShadow` methods differ only in
+:class:`~morphkit.shadow.filtering.penumbra.PenumbraSoftShadow` methods differ only in
 where ``z_b`` comes from:
 
 * ``blocker="mean"`` (PCF sized by the light-sample spacing): one depth per map,
@@ -60,7 +60,7 @@ a light of zero extent gives the hard shadow exactly; wider boxes are at least
 one texel wide.
 
 Speed. Per map, summed-area tables of occluder coverage and depth (one pass,
-:class:`~morphkit.shadow.depthtables.DepthTables`) make a box's coverage and depth
+:class:`~morphkit.shadow.filtering.depthtables.DepthTables`) make a box's coverage and depth
 sum four bilinear reads each, whatever its size (a box without occluder texels is
 lit after the four reads of its count); a max-depth pyramid bounds the depths under
 the box (2 x 2 reads, then at most 25; none where the map's farthest occluder is
@@ -86,14 +86,14 @@ from typing import Literal
 
 import numpy as np
 
-from .. import tol
-from ..camera import CameraModel
-from ..errors import ValidationError, expected_got
-from ..settings import WARP_THREADS, compile_kernel, use_compiled
-from ..validate import as_finite_array
-from ..warp import band_pool
+from ... import tol
+from ...camera import CameraModel
+from ...errors import ValidationError, expected_got
+from ...settings import WARP_THREADS, compile_kernel, use_compiled
+from ...validate import as_finite_array
+from ...warp import band_pool
+from ..lookup import ShadowBias, check_depth_map
 from .depthtables import DepthTables
-from .lookup import ShadowBias, check_depth_map
 
 __all__ = ["filtered_visibility", "cell_half_widths", "BlockerDepth", "point_chunks"]
 

@@ -1,6 +1,6 @@
 """Per-map tables of the filtered shadow lookup: summed-area tables and a max-depth pyramid.
 
-:mod:`morphkit.shadow.filtered` answers "what fraction of this box of the depth map is
+:mod:`morphkit.shadow.filtering.filtered` answers "what fraction of this box of the depth map is
 occluder in front of the point" in a few reads whatever the box's size: the summed-area
 tables of occluder coverage and depth give a box's coverage and depth sum (four bilinear
 reads each), and the max-depth pyramid bounds the depths under a box (whether every
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..settings import compile_kernel, use_compiled
+from ...settings import compile_kernel, use_compiled
 
 __all__ = ["DepthTables"]
 

@@ -1,0 +1,1 @@
+"""The shadow atlas file: :mod:`.atlasfile` (one versioned ``.npz``, checked on load)."""
