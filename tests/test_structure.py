@@ -216,7 +216,8 @@ def _ties(graph: dict[str, set[str]]) -> set[tuple[str, str]]:
     return {tuple(sorted((a, b))) for a, b in edges if (b, a) in edges}
 
 
-#: The two-way ties between parts still standing, each with what holds it.
+#: The two-way ties between parts still standing, each with what holds it (none: a tie that
+#: comes back fails :func:`test_no_two_parts_import_each_other`).
 KNOWN_TIES: set[tuple[str, str]] = set()
 
 
@@ -231,3 +232,65 @@ def test_no_two_parts_import_each_other():
     ties = _ties(_graph())
     assert ties <= KNOWN_TIES, f"new two-way ties between parts: {sorted(ties - KNOWN_TIES)}"
     assert ties == KNOWN_TIES, f"ties gone, drop them from KNOWN_TIES: {sorted(KNOWN_TIES - ties)}"
+
+
+#: The floors of the package, lowest first: a part imports only parts of its own floor or below.
+#: The core's foundations (top-level modules) and its sub-packages share the lowest floor; the
+#: two papers' wings share the next one and do not import each other (paper 2's billboards use
+#: its view morph, the same paper); the junction of both papers is above them, the bake pipeline
+#: above that, then the programs, the benchmarks (which use the programs' scenes), and the
+#: command line over everything.
+FLOORS: tuple[frozenset[str], ...] = (
+    frozenset({"conventions", "tol", "errors", "validate", "settings", "protocols", "camera", "scene",
+               "render", "glplatform", "passes", "memo", "files", "imaging", "meshes", "warp", "views"}),
+    frozenset({"shadow", "billboard", "viewmorph"}),
+    frozenset({"sunlit"}),
+    frozenset({"bake"}),
+    frozenset({"programs"}),
+    frozenset({"bench"}),
+    frozenset({"cli", "__main__"}),
+)
+
+#: The papers' wings, which share a floor but must not import each other.
+WINGS = {"shadow": "paper 1", "billboard": "paper 2", "viewmorph": "paper 2"}
+
+
+def _floor(part: str) -> int:
+    return next(i for i, floor in enumerate(FLOORS) if part in floor)
+
+
+def test_every_part_has_a_floor():
+    parts = {_part(m) for m in _graph()} - {"morphkit"}
+    assert parts == set().union(*FLOORS), (
+        f"parts without a floor: {sorted(parts - set().union(*FLOORS))}; "
+        f"floors naming no part: {sorted(set().union(*FLOORS) - parts)}")
+
+
+def test_parts_import_only_their_floor_or_below():
+    """The layers drawn by the folder names: core -> wings -> junction -> bake -> programs -> bench."""
+    up = sorted({f"{m} -> {d}" for m, deps in _graph().items() for d in deps
+                 if "morphkit" not in (_part(m), _part(d)) and _floor(_part(d)) > _floor(_part(m))})
+    assert not up, f"imports of a higher floor: {up}"
+
+
+def test_the_wings_do_not_import_each_other():
+    across = sorted({f"{m} -> {d}" for m, deps in _graph().items() for d in deps
+                     if _part(m) in WINGS and _part(d) in WINGS and WINGS[_part(m)] != WINGS[_part(d)]})
+    assert not across, f"one paper's wing imports the other's: {across}"
+
+
+def test_the_floor_check_can_fail():
+    assert _floor("billboard") > _floor("imaging") and _floor("sunlit") > _floor("shadow")
+    assert _floor("bench") > _floor("programs")
+
+
+def _folders() -> list[Path]:
+    return sorted({p.parent for p in SOURCES})
+
+
+@pytest.mark.parametrize("folder", _folders(), ids=lambda p: str(p.relative_to(PACKAGE.parent)))
+def test_no_folder_holds_more_than_15_modules(folder):
+    """A folder that grows past 15 modules is split into sub-folders by role (method,
+    extensions, baselines and truths, file formats, bake time)."""
+    modules = sorted(p.name for p in folder.glob("*.py") if p.name != "__init__.py")
+    assert len(modules) <= 15, f"{folder.name}/ holds {len(modules)} modules: {modules}"
