@@ -309,11 +309,11 @@ def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: lis
     from . import tol
     from .bake.reuse import baked_sun_atlases
     from .errors import ValidationError
+    from .sunlit.raycast import RayCastShadow
     from .sunlit.receivers import (
         SCENE_ATLAS_SIZE,
         AtlasShadow,
         FilteredAtlasShadow,
-        RayCastShadow,
         bake_scene_atlases,
     )
 

@@ -767,7 +767,7 @@ MAX_SUN_DISC_DEG = 15.0
 
 #: How far (scene units; the assets are normalised to unit size) the ray-cast truth moves a
 #: real mesh's pixel point along its normal before casting towards the sun
-#: (:class:`morphkit.sunlit.receivers.RayCastShadow`): the point comes from the depth pass
+#: (:class:`morphkit.sunlit.raycast.RayCastShadow`): the point comes from the depth pass
 #: (24-bit window depth, linearised), up to about 1e-3 units off its surface at the frames'
 #: distances, so rays from it hit its own triangle and speckle a sunlit surface with
 #: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.

@@ -6,7 +6,7 @@ For each sun:
 
 * the billboard frame with the atlases' shadows (:class:`~morphkit.sunlit.receivers.AtlasShadow`)
   and without, and the real-mesh frame (:class:`~morphkit.sunlit.litmesh.LitMeshMode`) with
-  ray-cast shadows (:class:`~morphkit.sunlit.receivers.RayCastShadow`, the truth) and without;
+  ray-cast shadows (:class:`~morphkit.sunlit.raycast.RayCastShadow`, the truth) and without;
 * a frame's **shadowed pixels**: those its shadow darkens by at least ``--dark`` levels (of 255,
   in any channel) against the same frame without shadows (so a pixel turned away from the sun,
   which no shadow can darken, counts as neither);
@@ -49,7 +49,8 @@ from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.litmodes import LitMode
-from morphkit.sunlit.receivers import AtlasShadow, FilteredAtlasShadow, RayCastShadow, bake_scene_atlases
+from morphkit.sunlit.raycast import RayCastShadow
+from morphkit.sunlit.receivers import AtlasShadow, FilteredAtlasShadow, bake_scene_atlases
 from morphkit.sunlit.shadowing import DARK_LEVELS, darkened
 from morphkit.sunlit.sun import sun
 

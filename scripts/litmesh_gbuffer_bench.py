@@ -27,7 +27,7 @@ from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer, gl_info
 from morphkit.sunlit.litmesh import LitMeshMode
-from morphkit.sunlit.receivers import RayCastShadow
+from morphkit.sunlit.raycast import RayCastShadow
 from morphkit.sunlit.sun import sun
 
 

@@ -28,7 +28,7 @@ from morphkit.protocols import GBufferRenderer, PassRenderer
 from morphkit.scene import Item
 from morphkit.shadow.frame import frame_items
 from morphkit.sunlit.litmesh import LitMeshMode
-from morphkit.sunlit.receivers import RayCastShadow
+from morphkit.sunlit.raycast import RayCastShadow
 from morphkit.sunlit.sun import sun
 
 pytestmark = pytest.mark.gl

@@ -266,7 +266,7 @@ def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, e
     from morphkit.imaging.shading import Lighting
     from morphkit.sunlit.litmesh import LitMeshMode
     from morphkit.sunlit.litmodes import LitMode
-    from morphkit.sunlit.receivers import RayCastShadow
+    from morphkit.sunlit.raycast import RayCastShadow
     from morphkit.sunlit.sun import sun
 
     scene, meshes, items = box_scene

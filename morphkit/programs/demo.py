@@ -423,7 +423,8 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     from ..imaging.shading import Lighting
     from ..sunlit.litmesh import LitMeshMode
     from ..sunlit.litmodes import LitMode
-    from ..sunlit.receivers import AtlasShadow, RayCastShadow, bake_scene_atlases
+    from ..sunlit.raycast import RayCastShadow
+    from ..sunlit.receivers import AtlasShadow, bake_scene_atlases
     from ..sunlit.shadowing import darkened
     from ..sunlit.sun import sun
     from .fixtures import FIELD_MESHES, field_domes

@@ -25,8 +25,8 @@ The field's shadow, one light view along the sun:
 
 Relit billboard frames:
 
-* :mod:`.receivers` -- :class:`SceneShadow` and its kinds (:class:`AtlasShadow`, the ray-cast
-  truth :class:`RayCastShadow`): the sun's visibility at a frame's receivers;
+* :mod:`.receivers` -- :class:`SceneShadow`: the sun's visibility at a frame's receivers, from
+  the atlases (:class:`AtlasShadow`); :mod:`.raycast` -- :class:`RayCastShadow`, the truth;
 * :mod:`.shadowing` -- the ground's and the billboards' sun visibility per pixel of a frame;
 * :mod:`.litmodes` -- :class:`LitMode`: relit billboards (each billboard's surface for its
   viewing direction, shaded by the scene's lights);
@@ -39,7 +39,8 @@ from .fieldshadow import FieldMap, FieldShadow
 from .fieldsplat import SplatDrawer
 from .litmesh import LitMeshMode
 from .litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface, Relit
-from .receivers import AtlasShadow, FilteredAtlasShadow, FrameShadow, RayCastShadow, SceneShadow
+from .raycast import RayCastShadow
+from .receivers import AtlasShadow, FilteredAtlasShadow, FrameShadow, SceneShadow
 from .sun import SunPath, sun
 from .sunatlas import SunAtlas, bake_sun_atlas, ground_shadow
 from .sunatlasfile import read_sun_atlas, write_sun_atlas

@@ -17,7 +17,7 @@ The layer is composited over the scene's backdrop as the billboards' is.
 terms of every mesh pixel are multiplied by the sun's visibility at its world point (the
 depth pass unprojected through the frame's camera, the normal pass for the normal offset)
 and the ground gets its shadows as in the billboard frames (:mod:`.shadowing`): with
-:class:`~morphkit.sunlit.receivers.RayCastShadow` this is the truth of a shadowed billboard
+:class:`~morphkit.sunlit.raycast.RayCastShadow` this is the truth of a shadowed billboard
 frame.
 
 Fog, when the scene has it, is applied per pixel from the depth pass's distance,
