@@ -48,7 +48,7 @@ from .programs.cliargs import (
 from .programs.clistop import Stop, report_stop, stop_signals
 
 if TYPE_CHECKING:
-    from .billboard.scene.instances import Instances
+    from .billboard.frames.instances import Instances
     from .files.outfolder import OutputClaim, OutputRule
     from .programs.sources import ResolvedAssets
 
@@ -347,7 +347,7 @@ def _spread(inst: Instances, res: ResolvedAssets, args: argparse.Namespace) -> I
     bound); one line says how many moved, a warning how many the field could not hold apart."""
     import numpy as np
 
-    from .billboard.scene.instances import field_half_size, footprint_radius, separate
+    from .billboard.frames.instances import field_half_size, footprint_radius, separate
 
     radius = {nm: footprint_radius(res.items[nm]) if nm in res.items else float(res.assets[nm].half_extent[0])
               for nm in inst.names}
@@ -379,7 +379,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     import numpy as np
 
     from .billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode, place_random
-    from .billboard.scene.paths import make_path
+    from .billboard.frames.paths import make_path
 
     # the field and the path first (placeholder names, one per asset, renamed once they are
     # known): the representation the path needs is chosen before any asset is baked
@@ -399,7 +399,7 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
 
     from .bake.manifest import ManifestRecords
     from .billboard.asset import BAKE_AMBIENT, bake_lights
-    from .billboard.scene.facing import AxialFacing, ViewpointFacing
+    from .billboard.frames.facing import AxialFacing, ViewpointFacing
     from .imaging.shading import Lighting
     from .programs.sequence import write_sequence
     from .render import Renderer

@@ -473,7 +473,7 @@ IMP_MIN_COS = 1e-3
 #: fraction of the full distance: the direction then lies within 1e-6 rad (0.00006
 #: deg) of vertical, where a float64 atan2 still works but the quad would spin
 #: arbitrarily for a tiny camera move. The fallback is documented in
-#: :mod:`morphkit.billboard.scene.facing`.
+#: :mod:`morphkit.billboard.frames.facing`.
 BB_ABOVE_RATIO = 1e-6
 
 #: How far (degrees) above a ring asset's reference elevation (:class:`~morphkit.billboard.ring.ViewRing`)
@@ -495,7 +495,7 @@ BB_MIN_AREA_PX2 = 0.5
 #: (the horizon row at most) show the sky, so the hit distance ``-z / dz`` stays finite.
 BB_GROUND_RAY_DZ = 1e-12
 
-#: A billboard pixel goes under the frame's depth buffer (:mod:`morphkit.billboard.scene.compositor`)
+#: A billboard pixel goes under the frame's depth buffer (:mod:`morphkit.billboard.frames.compositor`)
 #: only when behind it by more than this fraction, so that surfaces that meet keep the plain
 #: back-to-front "over" instead of flipping with the last bits of their depths.
 BB_DEPTH_REL = 1e-5
@@ -503,7 +503,7 @@ BB_DEPTH_REL = 1e-5
 #: silhouette threshold, so that a faint anti-aliased rim hides nothing behind it.
 BB_DEPTH_OPAQUE_ALPHA = 0.5
 #: Draws of a new position for an instance whose footprint meets another's
-#: (:func:`morphkit.billboard.scene.instances.separate`) before it is counted as crowded: a free
+#: (:func:`morphkit.billboard.frames.instances.separate`) before it is counted as crowded: a free
 #: place is found in a few draws until the field is nearly full.
 BB_SCATTER_TRIES = 100
 

@@ -41,7 +41,7 @@ import numpy as np
 from morphkit import tol
 from morphkit.billboard import Backdrop, BillboardScene, place_random
 from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
-from morphkit.billboard.scene.facing import ViewpointFacing
+from morphkit.billboard.frames.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.imaging.shading import Lighting

@@ -1,7 +1,7 @@
 """A field of instances' ground shadow (issue 26): sun atlases placed into one light view.
 
 For fields of 10 and 100 instances (tree and cow sample meshes, random positions, yaws and
-scales from a seeded rng, :func:`morphkit.billboard.scene.instances.place_random`) under 4 suns
+scales from a seeded rng, :func:`morphkit.billboard.frames.instances.place_random`) under 4 suns
 (elevations 20..70 degrees): the field's light view built from the atlases (sparse dome,
 128 texels; :class:`morphkit.sunlit.fieldshadow.FieldShadow`) and rendered directly (all
 posed meshes, one depth draw into the same view), each looked up on a GRID x GRID ground
@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from morphkit.billboard.scene.instances import Instances, place_random
+from morphkit.billboard.frames.instances import Instances, place_random
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.meshes import normalize, sample_mesh
 from morphkit.render import Renderer

@@ -21,7 +21,7 @@ import numpy as np
 
 from morphkit.billboard import Backdrop, BillboardScene, MeshMode, place_random
 from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
-from morphkit.billboard.scene.facing import ViewpointFacing
+from morphkit.billboard.frames.facing import ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes

@@ -26,7 +26,7 @@ import numpy as np
 
 from morphkit import tol
 from morphkit.bench.soft_suite import banding
-from morphkit.billboard.scene.instances import Instances, place_random
+from morphkit.billboard.frames.instances import Instances, place_random
 from morphkit.meshes import sample_mesh
 from morphkit.render import Renderer
 from morphkit.sunlit.fieldbaselines import posed_asset_meshes, ray_cast_field

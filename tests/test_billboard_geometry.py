@@ -18,14 +18,14 @@ from morphkit.billboard import (
     place_random,
     view_directions,
 )
-from morphkit.billboard.scene.frustum import (
+from morphkit.billboard.frames.frustum import (
     clip_near,
     quad_homographies,
     require_perspective,
     sphere_in_frustum,
     unit_from_image,
 )
-from morphkit.billboard.scene.lod import screen_height_px, select_levels
+from morphkit.billboard.frames.lod import screen_height_px, select_levels
 from morphkit.camera import look_at, orthographic, perspective
 from morphkit.errors import ValidationError
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.scene.facing import AxialFacing, ViewpointFacing, view_directions
-from morphkit.billboard.scene.paths import (
+from morphkit.billboard.frames.facing import AxialFacing, ViewpointFacing, view_directions
+from morphkit.billboard.frames.paths import (
     PATHS,
     FlyoverPath,
     FlyPath,

@@ -23,10 +23,10 @@ from morphkit.billboard import (
     place_random,
     quantise_s,
 )
+from morphkit.billboard.frames.compositor import draw, finish, new_depth, new_layer
+from morphkit.billboard.frames.frametypes import Placement
+from morphkit.billboard.frames.frustum import unit_from_image
 from morphkit.billboard.protocols import BillboardSource, ViewPairing
-from morphkit.billboard.scene.compositor import draw, finish, new_depth, new_layer
-from morphkit.billboard.scene.frame import Placement
-from morphkit.billboard.scene.frustum import unit_from_image
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.composite import over_warped

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.sunlit.cardbaselines import card_field_map, nearest_frame

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.imaging.cutout import mesh_cutout
 from morphkit.imaging.groundtruth import hard_visibility

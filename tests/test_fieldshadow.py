@@ -13,7 +13,7 @@ import pytest
 import trimesh
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.imaging.metrics import shadow_iou
 from morphkit.sunlit.fieldshadow import FieldShadow, MorphDrawer

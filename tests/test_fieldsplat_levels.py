@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.sunlit.fieldshadow import FieldShadow
 from morphkit.sunlit.fieldsplat import SplatDrawer, splat_levels, splat_points

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.errors import ValidationError
 from morphkit.sunlit.fieldshadow import FieldShadow
 from morphkit.sunlit.fieldsplat import SplatDrawer, splat_points

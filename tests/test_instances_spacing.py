@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.billboard.scene.instances import (
+from morphkit.billboard.frames.instances import (
     Instances,
     field_half_size,
     footprint_radius,

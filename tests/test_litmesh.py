@@ -8,7 +8,7 @@ import trimesh
 from billboard_fakes import FakeAsset
 
 from morphkit.billboard import Backdrop, BillboardScene, Fog, Ground, Instances, MeshMode, Sky
-from morphkit.billboard.scene.compositor import finish
+from morphkit.billboard.frames.compositor import finish
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import Lighting, shade_passes

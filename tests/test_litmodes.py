@@ -10,7 +10,7 @@ import pytest
 
 from morphkit.billboard import Backdrop, BillboardScene, Instances
 from morphkit.billboard.analytic import sphere_dome_asset
-from morphkit.billboard.scene.facing import AxialFacing, ViewpointFacing
+from morphkit.billboard.frames.facing import AxialFacing, ViewpointFacing
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import Lighting

@@ -13,7 +13,7 @@ import trimesh
 
 from morphkit import tol
 from morphkit.billboard.analytic import SPHERE_PIVOT, SPHERE_RADIUS, sphere_view
-from morphkit.billboard.scene.instances import Instances
+from morphkit.billboard.frames.instances import Instances
 from morphkit.cli import main
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import shade_suns, sun_shadow_factor
@@ -242,7 +242,7 @@ def test_an_asset_without_an_atlas_gets_one_baked_on_demand_and_kept(renderer):
 def box_scene(renderer):
     from morphkit.billboard import Backdrop, BillboardScene
     from morphkit.billboard.domeasset import bake_dome
-    from morphkit.billboard.scene.facing import ViewpointFacing
+    from morphkit.billboard.frames.facing import ViewpointFacing
     from morphkit.meshes import normalize
 
     box = normalize(trimesh.creation.box((0.4, 0.4, 1.0)))

@@ -197,7 +197,7 @@ def kernel_workload() -> dict[str, float]:
     """
     import numpy as np
 
-    from ..billboard.scene.instances import Instances
+    from ..billboard.frames.instances import Instances
     from ..imaging.composite import shade
     from ..imaging.groundtruth import receiver_grid
     from ..scene import AreaLight, PointLight

@@ -40,9 +40,9 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   lighting and ``relit_delta = psnr_bake - psnr_relit`` (target <= 2 dB); ``iou`` the mean
   silhouette IoU. Methods: morph, impostor, nearest, crossfade.
 * ``dome-temporal`` -- a field of 100 trees (quick 20; random positions and yaws,
-  seeded, scale 1, :func:`~morphkit.billboard.scene.instances.place_random`) with
-  :class:`~morphkit.billboard.scene.facing.ViewpointFacing`, along
-  :meth:`FlyoverPath.around <morphkit.billboard.scene.paths.FlyoverPath.around>` (5 to 85 degrees
+  seeded, scale 1, :func:`~morphkit.billboard.frames.instances.place_random`) with
+  :class:`~morphkit.billboard.frames.facing.ViewpointFacing`, along
+  :meth:`FlyoverPath.around <morphkit.billboard.frames.paths.FlyoverPath.around>` (5 to 85 degrees
   elevation, a quarter circle) in 60 frames (quick 24) at 640 x 480 (quick 320 x 240):
   :class:`~morphkit.sunlit.litmodes.LitMode` with ``MorphSurface`` (dome scene),
   ``MorphSurface(name="impostor")`` (the same instances of the impostor), ``NearestSurface``,
@@ -102,9 +102,9 @@ from ..billboard import (
 )
 from ..billboard.compare import box_errors
 from ..billboard.domeasset import DOME_SUPERSAMPLE, DomeAsset, bake_dome
+from ..billboard.frames.facing import AxialFacing, ViewpointFacing
+from ..billboard.frames.paths import FlyoverPath
 from ..billboard.impostor import OctahedralImpostor, bake_impostor, impostor_frame_size
-from ..billboard.scene.facing import AxialFacing, ViewpointFacing
-from ..billboard.scene.paths import FlyoverPath
 from ..errors import ValidationError, expected_got
 from ..imaging.metrics import psnr, shadow_iou
 from ..imaging.shading import Lighting, shade, shade_passes

@@ -7,7 +7,7 @@ a stem and three leaf cards cut out by their texture's alpha), written into a te
 and loaded ``+z`` up by :func:`morphkit.meshes.load_mesh` (no network). For the timing
 sections each is subdivided to a face count (:func:`subdivided`: UVs and the cut-out kept).
 
-A field of ``n`` instances (:meth:`SceneKit.field`): :func:`~morphkit.billboard.scene.instances.place_random`
+A field of ``n`` instances (:meth:`SceneKit.field`): :func:`~morphkit.billboard.frames.instances.place_random`
 of both assets with a seeded generator (random positions about one per 1.5 x 1.5 units, yaws in
 ``[0, 360)``, scales 0.8-1.25); the receiver is the ground square over the field plus
 :data:`RECEIVER_MARGIN` a side, sampled on a ``grid x grid`` lattice of pixel centres
@@ -46,8 +46,8 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from ..billboard.frames.instances import Instances, place_random
 from ..billboard.impostor import OctahedralImpostor, bake_impostor
-from ..billboard.scene.instances import Instances, place_random
 from ..errors import ValidationError, expected_got
 from ..imaging.cutout import mesh_cutout
 from ..imaging.groundtruth import receiver_grid

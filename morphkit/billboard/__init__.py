@@ -29,17 +29,17 @@ package and :mod:`morphkit.shadow`).
 
 Scene side:
 
-* :mod:`.scene.instances` -- N instances (asset, position, yaw, scale);
-* :mod:`.scene.paths` -- camera paths: the paper's pan, an orbit, a fly-through;
-* :mod:`.scene.facing` -- axial (the paper's) or screen-aligned quads, viewing azimuths;
-* :mod:`.scene.frustum` -- frustum culling, near-plane clipping, quad homographies;
-* :mod:`.scene.lod` -- pyramid level from the on-screen size;
-* :mod:`.scene.cache` -- the bounded LRU morph cache with hit/miss counts;
-* :mod:`.scene.backdrop` -- ground, sky and distance fog;
-* :mod:`.scene.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
-* :mod:`.scene.frame` -- the value types of a frame: placements, plan, stats, frame;
-* :mod:`.scene.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
-* :mod:`.scene.compositor` -- back-to-front premultiplied "over" of warped quads;
+* :mod:`.frames.instances` -- N instances (asset, position, yaw, scale);
+* :mod:`.frames.paths` -- camera paths: the paper's pan, an orbit, a fly-through;
+* :mod:`.frames.facing` -- axial (the paper's) or screen-aligned quads, viewing azimuths;
+* :mod:`.frames.frustum` -- frustum culling, near-plane clipping, quad homographies;
+* :mod:`.frames.lod` -- pyramid level from the on-screen size;
+* :mod:`.frames.cache` -- the bounded LRU morph cache with hit/miss counts;
+* :mod:`.frames.backdrop` -- ground, sky and distance fog;
+* :mod:`.frames.field` -- the billboard scene (:class:`BillboardScene`) and its per-frame plan;
+* :mod:`.frames.frametypes` -- the value types of a frame: placements, plan, stats, frame;
+* :mod:`.frames.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
+* :mod:`.frames.compositor` -- back-to-front premultiplied "over" of warped quads;
 * :mod:`.modes` -- morph, classic, nearest, crossfade, and the real meshes;
 * :mod:`.compare` -- errors against the meshes and Fig. 5 strips.
 
@@ -81,6 +81,13 @@ from .baking.ringviews import bake_asset
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
 from .formats.assetfile import APPEARANCES, FORMAT, VERSION
+from .frames.backdrop import Backdrop, Fog, Ground, Sky
+from .frames.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
+from .frames.facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .frames.field import BillboardScene, FrameMode
+from .frames.frametypes import Frame, FramePlan, FrameStats, Placement
+from .frames.instances import Instance, Instances, place_random
+from .frames.paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
 from .modes import (
     BillboardMode,
     ClassicMode,
@@ -91,13 +98,6 @@ from .modes import (
 )
 from .protocols import BillboardSource, ViewPairing
 from .ring import ViewRing, wrap_deg
-from .scene.backdrop import Backdrop, Fog, Ground, Sky
-from .scene.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
-from .scene.facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
-from .scene.field import BillboardScene, FrameMode
-from .scene.frame import Frame, FramePlan, FrameStats, Placement
-from .scene.instances import Instance, Instances, place_random
-from .scene.paths import PATHS, CameraPath, FlyPath, OrbitPath, PanPath, make_path
 
 __all__ = [
     # interfaces

@@ -19,8 +19,8 @@ import numpy as np
 
 from ..camera import CameraModel
 from ..imaging.metrics import psnr, shadow_iou
-from .scene.field import BillboardScene, FrameMode
-from .scene.frame import Frame
+from .frames.field import BillboardScene, FrameMode
+from .frames.frametypes import Frame
 
 __all__ = ["box_errors", "mean_errors", "Comparison", "compare_modes", "PSNR_CAP_DB"]
 

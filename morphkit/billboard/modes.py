@@ -50,11 +50,11 @@ from ..memo import Memo
 from ..protocols import SceneRenderer
 from ..scene import Item, Light
 from ..validate import as_flag, as_int
+from .frames.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
+from .frames.compositor import draw, finish, new_layer
+from .frames.field import BillboardScene
+from .frames.frametypes import Frame, FramePlan, FrameStats, Placement
 from .protocols import BillboardSource
-from .scene.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
-from .scene.compositor import draw, finish, new_layer
-from .scene.field import BillboardScene
-from .scene.frame import Frame, FramePlan, FrameStats, Placement
 
 __all__ = ["BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
            "MeshMode", "pair_span_deg"]

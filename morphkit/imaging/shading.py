@@ -37,7 +37,7 @@ for the same light intensities). No specular term.
 * **Frames.** Normals, points and lights are in one frame: the world for mesh passes,
   an asset's object frame for billboard images (:meth:`Lighting.in_frame` with the
   instance's ``world2object``; exact for rotation, translation and uniform scale, the
-  instance poses of :mod:`morphkit.billboard.scene.instances`).
+  instance poses of :mod:`morphkit.billboard.frames.instances`).
 * **Output.** Premultiplied RGBA float32 ``(encode(L) alpha, alpha)``, where ``rho``
   is the premultiplied albedo over its alpha and ``encode(L) = min(L, 1) ^ (1/2.2)``
   (:data:`LIT_GAMMA`): the encoding of the renderer's lit colour

@@ -281,8 +281,8 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
         Dome asset files with ring files, or with ``--views K``.
     """
     from ..billboard.formats.domefile import is_dome_file  # lazy: checking arguments imports no wing
+    from ..billboard.frames.paths import look_down_deg
     from ..billboard.ring import ViewRing
-    from ..billboard.scene.paths import look_down_deg
 
     v = args.views
     files = [sp for sp in specs if sp.lower().endswith(".npz")]

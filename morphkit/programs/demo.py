@@ -417,7 +417,7 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     the objects (:func:`~morphkit.sunlit.shadowing.darkened`)."""
     from ..billboard import Backdrop, BillboardScene, place_random
     from ..billboard.baking.bakelook import BAKE_AMBIENT
-    from ..billboard.scene.facing import ViewpointFacing
+    from ..billboard.frames.facing import ViewpointFacing
     from ..camera import look_at, perspective
     from ..imaging.metrics import shadow_iou
     from ..imaging.shading import Lighting

@@ -21,8 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from ..billboard.compare import compare_modes
+from ..billboard.frames.field import BillboardScene, FrameMode
 from ..billboard.modes import ClassicMode, MorphMode
-from ..billboard.scene.field import BillboardScene, FrameMode
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..files.fileio import write_image, write_json

@@ -36,8 +36,8 @@ import cv2
 import numpy as np
 
 from .. import tol
+from ..billboard.frames.instances import Instances
 from ..billboard.impostor import OctahedralImpostor
-from ..billboard.scene.instances import Instances
 from ..errors import ValidationError, expected_got
 from ..validate import as_finite_array
 from ..views.domecameras import quad_axes

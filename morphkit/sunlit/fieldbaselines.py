@@ -20,7 +20,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import trimesh
 
-from ..billboard.scene.instances import Instances
+from ..billboard.frames.instances import Instances
 from ..errors import ValidationError, expected_got
 from ..imaging.groundtruth import hard_visibility
 from ..meshes import normalize

@@ -1,6 +1,6 @@
 """A field of instances' shadow on the ground from their assets' sun atlases: one light view.
 
-A scene of many instances (:class:`~morphkit.billboard.scene.instances.Instances`) of a few assets,
+A scene of many instances (:class:`~morphkit.billboard.frames.instances.Instances`) of a few assets,
 each with its :class:`~morphkit.sunlit.sunatlas.SunAtlas`, under a directional sun: the
 field's shadow map is **one orthographic light view along the sun** (world frame) that
 covers the instances' bounding spheres at ``texels_per_unit`` texels per scene unit
@@ -61,7 +61,7 @@ import cv2
 import numpy as np
 
 from .. import tol
-from ..billboard.scene.instances import Instances
+from ..billboard.frames.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..shadow.lookup import ShadowBias, check_depth_map, lookup_into

@@ -68,7 +68,7 @@ same, bit for bit, as one band's (the minimum does not depend on the order).
 
 **Convention.** The field camera's :meth:`~morphkit.camera.CameraModel.texture_matrix`
 ``T_pix_world``; the pose ``object2world = translation(x, y, 0) Rz(yaw) scale``
-(:meth:`~morphkit.billboard.scene.instances.Instances.object2world`); field texel ``(u, v)`` holds
+(:meth:`~morphkit.billboard.frames.instances.Instances.object2world`); field texel ``(u, v)`` holds
 the point when ``round(u) = column``, ``round(v) = row`` (pixel centres at integers,
 :mod:`morphkit.conventions`).
 
@@ -85,7 +85,7 @@ import cv2
 import numpy as np
 
 from .. import tol
-from ..billboard.scene.instances import Instances
+from ..billboard.frames.instances import Instances
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..settings import WARP_THREADS, compile_kernel, use_compiled

@@ -33,10 +33,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..billboard.frames.compositor import finish
+from ..billboard.frames.field import BillboardScene
+from ..billboard.frames.frametypes import Frame, FrameStats
 from ..billboard.modes import MeshMode
-from ..billboard.scene.compositor import finish
-from ..billboard.scene.field import BillboardScene
-from ..billboard.scene.frame import Frame, FrameStats
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import Lighting, shade_passes

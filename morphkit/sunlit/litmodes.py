@@ -42,12 +42,12 @@ import numpy as np
 
 from ..billboard.baking.bakelook import BAKE_AMBIENT, bake_lights
 from ..billboard.domeasset import DomeAsset
+from ..billboard.frames.cache import MorphCache
+from ..billboard.frames.compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
+from ..billboard.frames.facing import ViewpointFacing
+from ..billboard.frames.field import BillboardScene
+from ..billboard.frames.frametypes import Frame, FrameStats, Placement
 from ..billboard.protocols import SurfaceSource
-from ..billboard.scene.cache import MorphCache
-from ..billboard.scene.compositor import draw, entangled, finish, new_depth, new_layer, surface_depth
-from ..billboard.scene.facing import ViewpointFacing
-from ..billboard.scene.field import BillboardScene
-from ..billboard.scene.frame import Frame, FrameStats, Placement
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import (

@@ -15,7 +15,7 @@ import numpy as np
 import trimesh
 
 from .. import tol
-from ..billboard.scene.instances import Instances
+from ..billboard.frames.instances import Instances
 from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from .fieldbaselines import posed_asset_meshes, ray_cast_field

@@ -16,7 +16,7 @@ through the camera of the image shown (the asset's camera for the direction,
 :meth:`~morphkit.billboard.domeasset.DomeAsset.camera`, object frame) and posed by the
 instance's ``object2world``; a real mesh's pixel is its depth pass unprojected through the
 frame's camera; the ground's is the pixel's ray met with ``z = 0``
-(:meth:`~morphkit.billboard.scene.backdrop.Backdrop.ground_points`). Billboards and meshes are
+(:meth:`~morphkit.billboard.frames.backdrop.Backdrop.ground_points`). Billboards and meshes are
 themselves drawn into the field's map, so their points are moved along their own normal by
 :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels first (normal-offset
 bias, its reason there); ground points are looked up as they are (the map's constant bias,
@@ -68,7 +68,7 @@ import numpy as np
 import trimesh
 
 from .. import tol
-from ..billboard.scene.instances import Instances
+from ..billboard.frames.instances import Instances
 from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from ..protocols import SceneRenderer

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import tol
-from ..billboard.scene.field import BillboardScene
+from ..billboard.frames.field import BillboardScene
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import Lighting, sun_shadow_factor, sun_terms

@@ -21,7 +21,7 @@ between two parts that view sees overlapping (a cow's legs) is not blocked by it
 gap another view sees through stays open in the shadow.
 
 **The rule.** An instance's pose is ``x = s Rz(yaw) p + t`` (object point ``p``,
-:meth:`~morphkit.billboard.scene.instances.Instances.object2world`). A sun in world direction
+:meth:`~morphkit.billboard.frames.instances.Instances.object2world`). A sun in world direction
 ``l`` shines on it as a sun in direction ``Rz(-yaw) l`` shines on the unturned object:
 a yawed instance under a sun is the object under the sun turned by ``-yaw`` (same
 elevation, azimuth minus the yaw). So one atlas serves every instance of the asset,
@@ -112,7 +112,7 @@ def instance_frame(pose: np.ndarray) -> tuple[float, float, np.ndarray]:
     ----------
     pose : (4, 4) float
         ``translation(t) @ Rz(yaw) @ scale(s)``, as
-        :meth:`~morphkit.billboard.scene.instances.Instances.object2world` builds it.
+        :meth:`~morphkit.billboard.frames.instances.Instances.object2world` builds it.
 
     Returns
     -------

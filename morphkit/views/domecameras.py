@@ -16,7 +16,7 @@ with
 and half size ``half_extent`` on both axes. ``up`` is defined at every direction,
 straight above included, where it is ``-(cos a, sin a, 0)``: the azimuth then
 only turns the image about the vertical (the scene passes the azimuth that makes
-the quad's up the camera's, :class:`~morphkit.billboard.scene.facing.ViewpointFacing`). At
+the quad's up the camera's, :class:`~morphkit.billboard.frames.facing.ViewpointFacing`). At
 ``e = 0`` the quad is the ring's (:mod:`morphkit.billboard.cameras`): ``up = +z``,
 ``right = (-sin a, cos a, 0)``.
 

@@ -11,10 +11,10 @@ needs" -- in five stages (:mod:`~.planner`, one function each): frustum
 on-screen size, screen box and near-plane **clipping**, **back-to-front** order;
 it adds the fog factor at each pivot's distance.
 
-A :class:`~.frame.Placement` per drawn billboard comes out; a mode
+A :class:`~.frametypes.Placement` per drawn billboard comes out; a mode
 (:mod:`~.modes`) picks each one's image and the compositor
 (:mod:`~.compositor`) draws it. :meth:`BillboardScene.render` runs one frame
-in a mode and returns a :class:`~.frame.Frame` with its :class:`~.frame.FrameStats`.
+in a mode and returns a :class:`~.frametypes.Frame` with its :class:`~.frametypes.FrameStats`.
 What a mode is, :class:`FrameMode`, is declared here next to the scene it draws:
 the modes import the scene, the scene never imports the modes.
 """
@@ -33,7 +33,7 @@ from ...validate import as_positive
 from ..protocols import Placeable
 from .backdrop import Backdrop
 from .facing import AxialFacing, Facing
-from .frame import Frame, FramePlan, Placement
+from .frametypes import Frame, FramePlan, Placement
 from .frustum import require_perspective
 from .instances import Instances
 from .planner import ScreenQuad, back_to_front, clip, cull, face, level_of_detail

@@ -103,7 +103,7 @@ def view_directions(eye: np.ndarray, pivots: np.ndarray, yaw_deg: np.ndarray) ->
     (world heading -135, less its yaw 90, wrapped into ``[-180, 180)``).
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.facing import view_directions
+    >>> from morphkit.billboard.frames.facing import view_directions
     >>> views = view_directions(np.array([0.0, -10.0, 0.5]),
     ...                         np.array([[0.0, 0.0, 0.5], [5.0, -5.0, 0.5]]), np.array([0.0, 90.0]))
     >>> views.azimuth_deg, views.elevation_deg
@@ -234,7 +234,7 @@ class ViewpointFacing:
         its up pointing back along ``-x``.
 
         >>> import numpy as np
-        >>> from morphkit.billboard.scene.facing import ViewDirections, ViewpointFacing
+        >>> from morphkit.billboard.frames.facing import ViewDirections, ViewpointFacing
         >>> views = ViewDirections(np.zeros(1), np.array([90.0]), np.array([[1.0, 0.0]]),
         ...                        np.array([True]))
         >>> right, up = ViewpointFacing().axes(None, views)
@@ -278,7 +278,7 @@ def paper_angle(l_os: np.ndarray, b_n: np.ndarray) -> float:
     from the side it turns a quarter turn.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.facing import paper_angle
+    >>> from morphkit.billboard.frames.facing import paper_angle
     >>> paper_angle(np.array([0.0, 1.0, 0.0]), np.array([0.0, -1.0, 0.0]))
     0.0
     >>> round(paper_angle(np.array([1.0, 0.0, 0.0]), np.array([0.0, -1.0, 0.0])) / np.pi, 12)

@@ -51,7 +51,7 @@ def screen_height_px(fy: float, half_height: np.ndarray, depth: np.ndarray, znea
     and ``inf`` in front of the near plane.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.lod import screen_height_px
+    >>> from morphkit.billboard.frames.lod import screen_height_px
     >>> screen_height_px(500.0, np.array([0.5, 0.5, 0.5]), np.array([2.0, 10.0, 0.05]), 0.1)
     array([250.,  50.,  inf])
     """
@@ -85,7 +85,7 @@ def select_levels(height_px: np.ndarray, base_height: int | np.ndarray,
     smallest still >= 50), one 10 pixels high the last level, 3.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.lod import select_levels
+    >>> from morphkit.billboard.frames.lod import select_levels
     >>> select_levels(np.array([250.0, 50.0, 10.0, np.inf]), 256, 4)
     array([0, 2, 3, 0])
     """

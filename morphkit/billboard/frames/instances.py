@@ -404,7 +404,7 @@ def separate(instances: Instances, radius: Mapping[str, float], rng: np.random.G
     Two unit discs 1 apart overlap: the second is moved at least 2 away from the first.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.instances import Instances, separate
+    >>> from morphkit.billboard.frames.instances import Instances, separate
     >>> inst = Instances.from_records([("tree", 0.0, 0.0), ("tree", 1.0, 0.0)])
     >>> out = separate(inst, {"tree": 1.0}, np.random.default_rng(0), half_size=5.0)
     >>> out.moved, out.crowded, bool(np.hypot(*out.instances.xy[1]) >= 2.0)

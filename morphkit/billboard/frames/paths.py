@@ -405,7 +405,7 @@ class FlyoverPath(_SampledPath):
     The eye starts 5 degrees above the centre and ends 85 degrees above it.
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.paths import FlyoverPath
+    >>> from morphkit.billboard.frames.paths import FlyoverPath
     >>> cams = FlyoverPath(centre=(0.0, 0.0, 0.0)).cameras(2, shape=(48, 64))
     >>> [round(float(np.degrees(np.arcsin(c.position[2] / np.linalg.norm(c.position)))), 6)
     ...  for c in cams]
@@ -503,7 +503,7 @@ class TopDownPan(_SampledPath):
     --------
     Half way, the eye is above the middle and looks straight down.
 
-    >>> from morphkit.billboard.scene.paths import TopDownPan
+    >>> from morphkit.billboard.frames.paths import TopDownPan
     >>> cam = TopDownPan(start=(-4.0, 0.0), end=(4.0, 0.0), height=10.0).camera_at(0.5, (48, 64))
     >>> cam.position + 0.0, cam.axis.round(12) + 0.0
     (array([ 0.,  0., 10.]), array([ 0.,  0., -1.]))
@@ -612,7 +612,7 @@ def look_down_deg(cameras: Sequence[CameraModel]) -> np.ndarray:
 
     Examples
     --------
-    >>> from morphkit.billboard.scene.paths import look_down_deg, make_path
+    >>> from morphkit.billboard.frames.paths import look_down_deg, make_path
     >>> look_down_deg(make_path("topdown", 5.0).cameras(2)).round(6) + 0.0
     array([90., 90.])
     """

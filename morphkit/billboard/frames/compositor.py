@@ -3,7 +3,7 @@
 Each billboard's image (premultiplied RGBA float32 in ``[0, 1]``) is warped by
 its quad's homography with ``cv2.warpPerspective`` into its screen box only
 (:func:`morphkit.imaging.composite.over_warped`) and composited over what is already
-there, in the back-to-front order of the :class:`~.frame.FramePlan`; a quad cut
+there, in the back-to-front order of the :class:`~.frametypes.FramePlan`; a quad cut
 by the near plane is masked by its clipped polygon; distance fog blends its
 colour towards the fog colour. The billboards accumulate in a transparent
 *layer* (so its alpha is their coverage, used by the silhouette measures), and
@@ -38,7 +38,7 @@ import numpy as np
 from ... import tol
 from ...camera import CameraModel
 from ...imaging.composite import box_from, over_warped, warped_part
-from .frame import Placement
+from .frametypes import Placement
 from .frustum import unit_from_image
 
 __all__ = ["new_layer", "new_depth", "surface_depth", "entangled", "polygon_mask", "draw", "finish"]
@@ -109,7 +109,7 @@ def surface_depth(view: CameraModel, depth: np.ndarray, object2world: np.ndarray
 
     >>> import numpy as np
     >>> from morphkit.camera import look_at, perspective
-    >>> from morphkit.billboard.scene.compositor import surface_depth
+    >>> from morphkit.billboard.frames.compositor import surface_depth
     >>> cam = perspective(np.pi / 2, (5, 5), look_at(np.zeros(3), np.array([0.0, 0.0, -1.0]),
     ...                                              up=np.array([0.0, 1.0, 0.0])))
     >>> d = np.full((5, 5), np.inf)

@@ -115,7 +115,7 @@ def clip_near(poly_cam: np.ndarray, znear: float) -> np.ndarray:
     ``Z = -1``, its upper at ``Z = 3``) is cut halfway up, at ``Y = 0``:
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.frustum import clip_near
+    >>> from morphkit.billboard.frames.frustum import clip_near
     >>> square = np.array([[-1.0, -1.0, -1.0], [1.0, -1.0, -1.0], [1.0, 1.0, 3.0], [-1.0, 1.0, 3.0]])
     >>> clip_near(square, 1.0)
     array([[ 1.,  0.,  1.],

@@ -65,7 +65,7 @@ class Fog:
     point's colour:
 
     >>> import numpy as np
-    >>> from morphkit.billboard.scene.backdrop import Fog
+    >>> from morphkit.billboard.frames.backdrop import Fog
     >>> Fog(density=np.log(2.0)).factor(np.array([0.0, 1.0, 2.0]))
     array([0.  , 0.5 , 0.75])
     """

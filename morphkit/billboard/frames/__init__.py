@@ -2,7 +2,7 @@
 
 * :mod:`.instances` -- which asset stands where, turned how far, how large;
 * :mod:`.field` -- :class:`~.field.BillboardScene`: assets, instances and a backdrop;
-* :mod:`.frame` -- the value types of one frame (placements, plan, stats);
+* :mod:`.frametypes` -- the value types of one frame (placements, plan, stats);
 * :mod:`.planner` -- the stages of a frame's plan: cull, face, level of detail, clip, order;
 * :mod:`.frustum`, :mod:`.facing`, :mod:`.lod` -- culling and clipping, how a quad turns, which
   pyramid level;

@@ -17,9 +17,9 @@
    missing the image, or wholly behind the near plane goes, with its reason;
 5. :func:`back_to_front` -- the drawing order, by camera depth of the pivot.
 
-The scene puts the stages' results together into :class:`~.frame.Placement`\\ s
+The scene puts the stages' results together into :class:`~.frametypes.Placement`\\ s
 (with the fog factor at each pivot's distance) and counts what each stage left
-out (:class:`~.frame.FramePlan`).
+out (:class:`~.frametypes.FramePlan`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ import numpy as np
 from ... import tol
 from ...camera import CameraModel
 from .facing import Facing, ViewDirections, view_directions
-from .frame import Placement
+from .frametypes import Placement
 from .frustum import clip_near, quad_homographies, screen_box, sphere_in_frustum
 from .lod import screen_height_px, select_levels
 
