@@ -80,7 +80,16 @@ from .bake import bake_asset
 from .cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
-from .facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .domeasset import DomeAsset, bake_dome
+from .facing import (
+    AxialFacing,
+    Facing,
+    ScreenFacing,
+    ViewDirections,
+    ViewpointFacing,
+    paper_angle,
+    view_directions,
+)
 from .field import BillboardScene, FrameMode
 from .frame import Frame, FramePlan, FrameStats, Placement
 from .instances import Instance, Instances, place_random
@@ -102,11 +111,12 @@ __all__ = [
     # asset side
     "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "look_hash", "bake_items",
     "bake_lights", "BAKE_AMBIENT", "APPEARANCES", "FORMAT", "VERSION", "wrap_deg", "splat_coverage",
-    "object_points",
+    "object_points", "DomeAsset", "bake_dome",
     # scene side
     "Backdrop", "Fog", "Ground", "Sky",
     "CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s",
-    "Facing", "AxialFacing", "ScreenFacing", "ViewDirections", "view_directions", "paper_angle",
+    "Facing", "AxialFacing", "ScreenFacing", "ViewpointFacing", "ViewDirections", "view_directions",
+    "paper_angle",
     "Instance", "Instances", "place_random",
     "FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode", "MeshMode",
     "CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path",
