@@ -8,6 +8,10 @@ Fig. 6) writes OUT/strip_<k>.png -- classic billboards | view-morphed
 billboards | the real meshes rendered from the same camera -- and prints each
 mode's mean per-billboard silhouette IoU and PSNR against the meshes.
 
+The assets are baked here from morphkit's sample meshes in a 3-D colour checker
+(``appearance="checker"``); bake your own mesh in its own look with
+``morphkit.bake_asset(morphkit.load_mesh("model.glb"), renderer, name="model")``.
+
 Usage::
 
     python samples/billboards.py [OUT] [--n 40] [--views 8] [--size 640x480] [--frames 5]
@@ -20,21 +24,20 @@ from pathlib import Path
 
 import numpy as np
 
-from morphkit.billboard import (
-    Backdrop,
-    BillboardScene,
-    ClassicMode,
-    MeshMode,
-    MorphMode,
-    PanPath,
-    place_random,
-)
-from morphkit.billboard.asset import BAKE_AMBIENT, bake_lights
+import morphkit
+from morphkit.billboard import BAKE_AMBIENT, Backdrop, bake_lights
 from morphkit.billboard.compare import compare_modes
-from morphkit.cli import parse_size
-from morphkit.files.fileio import write_image
-from morphkit.programs.sources import resolve_assets
-from morphkit.render import Renderer
+
+ASSETS = ("tree", "person")
+
+
+def size_arg(text: str) -> tuple[int, int]:
+    """``"WxH"`` as an image shape ``(H, W)``."""
+    w, _, h = text.lower().partition("x")
+    try:
+        return int(h), int(w)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WxH (e.g. 640x480), got {text!r}") from None
 
 
 def main() -> None:
@@ -42,23 +45,25 @@ def main() -> None:
     ap.add_argument("out", nargs="?", default="billboard-samples")
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--views", type=int, default=8)
-    ap.add_argument("--size", default="640x480")
+    ap.add_argument("--size", type=size_arg, default=(480, 640), help="frame size WxH")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--frames", type=int, default=5, help="cameras along the pan")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    shape = parse_size(args.size)
-    with Renderer() as r:
-        res = resolve_assets(["tree", "person"], r, views=args.views, size=128, progress=True)
-        inst = place_random(list(res.assets), args.n, np.random.default_rng(args.seed))
-        scene = BillboardScene(res.assets, inst, backdrop=Backdrop())
-        truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT, supersample=2)
-        modes = {"classic": ClassicMode(), "morph": MorphMode()}
+    with morphkit.Renderer() as r:
+        meshes = {nm: morphkit.sample_mesh(nm) for nm in ASSETS}
+        assets = {nm: morphkit.bake_asset(mesh, r, name=nm, views=args.views, size=128, progress=True,
+                                          appearance="checker") for nm, mesh in meshes.items()}
+        items = {nm: assets[nm].items(mesh) for nm, mesh in meshes.items()}  # the real meshes, same look
+        inst = morphkit.place_random(list(assets), args.n, np.random.default_rng(args.seed))
+        scene = morphkit.BillboardScene(assets, inst, backdrop=Backdrop())
+        truth = morphkit.MeshMode(r, items, bake_lights(), BAKE_AMBIENT, supersample=2)
+        modes = {"classic": morphkit.ClassicMode(), "morph": morphkit.MorphMode()}
         half = float(np.abs(inst.xy).max())
-        for k, cam in enumerate(PanPath.over(half).cameras(args.frames, shape)):
+        for k, cam in enumerate(morphkit.PanPath.over(half).cameras(args.frames, args.size)):
             cmp = compare_modes(scene, cam, modes, truth)
-            path = write_image(out / f"strip_{k}.png", cmp.strip)
+            path = morphkit.write_image(out / f"strip_{k}.png", cmp.strip)
             figs = "; ".join(f"{m}: IoU {e['iou']:.3f}, PSNR {e['psnr']:.1f} dB"
                              for m, e in cmp.errors.items())
             print(f"{path}: {len(cmp.frames['morph'].placements)} billboards; vs meshes {figs}")

@@ -1,4 +1,5 @@
-"""The README's Python examples run, in order, as a reader would paste them."""
+"""The README's Python examples run, in order, as a reader would paste them (the quick start's
+blocks: tests/test_quickstart.py)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ README = Path(__file__).resolve().parent.parent / "README.md"
 
 
 def _blocks() -> list[str]:
-    text = README.read_text()
+    """The python blocks outside ``## Quick start`` (whose blocks run one by one, each on its own:
+    tests/test_quickstart.py)."""
+    text = re.sub(r"^## Quick start\n.*?(?=^## )", "", README.read_text(), count=1, flags=re.M | re.S)
     return [textwrap.dedent(m.group(2)) for m in re.finditer(r"^( *)```python\n(.*?)^\1```", text,
                                                               flags=re.M | re.S)]
 

@@ -244,7 +244,7 @@ FLOORS: tuple[frozenset[str], ...] = (
     frozenset({"conventions", "tol", "errors", "validate", "settings", "protocols", "camera", "scene",
                "render", "glplatform", "passes", "memo", "files", "imaging", "meshes", "warp", "views"}),
     frozenset({"shadow", "billboard", "viewmorph"}),
-    frozenset({"sunlit"}),
+    frozenset({"sunlit", "sunlitfield"}),
     frozenset({"bake"}),
     frozenset({"programs"}),
     frozenset({"bench"}),

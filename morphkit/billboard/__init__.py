@@ -80,10 +80,19 @@ from .asset import BAKE_AMBIENT, BillboardAsset, bake_items, bake_lights, look_h
 from .baking.ringviews import bake_asset
 from .cameras import QuadCameras
 from .coverage import object_points, splat_coverage
+from .domeasset import DomeAsset, bake_dome
 from .formats.assetfile import APPEARANCES, FORMAT, VERSION
 from .frames.backdrop import Backdrop, Fog, Ground, Sky
 from .frames.cache import CacheCounts, MorphCache, bracket_s, morph_key, quantise_s
-from .frames.facing import AxialFacing, Facing, ScreenFacing, ViewDirections, paper_angle, view_directions
+from .frames.facing import (
+    AxialFacing,
+    Facing,
+    ScreenFacing,
+    ViewDirections,
+    ViewpointFacing,
+    paper_angle,
+    view_directions,
+)
 from .frames.field import BillboardScene, FrameMode
 from .frames.frametypes import Frame, FramePlan, FrameStats, Placement
 from .frames.instances import Instance, Instances, place_random
@@ -105,11 +114,12 @@ __all__ = [
     # asset side
     "ViewRing", "QuadCameras", "BillboardAsset", "bake_asset", "mesh_hash", "look_hash", "bake_items",
     "bake_lights", "BAKE_AMBIENT", "APPEARANCES", "FORMAT", "VERSION", "wrap_deg", "splat_coverage",
-    "object_points",
+    "object_points", "DomeAsset", "bake_dome",
     # scene side
     "Backdrop", "Fog", "Ground", "Sky",
     "CacheCounts", "MorphCache", "morph_key", "quantise_s", "bracket_s",
-    "Facing", "AxialFacing", "ScreenFacing", "ViewDirections", "view_directions", "paper_angle",
+    "Facing", "AxialFacing", "ScreenFacing", "ViewpointFacing", "ViewDirections", "view_directions",
+    "paper_angle",
     "Instance", "Instances", "place_random",
     "FrameMode", "BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode", "MeshMode",
     "CameraPath", "PanPath", "OrbitPath", "FlyPath", "PATHS", "make_path",

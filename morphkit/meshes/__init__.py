@@ -13,7 +13,8 @@
 * :mod:`morphkit.meshes.identity` -- :func:`shape_hash` (what a baked file records of
   its mesh);
 * :mod:`morphkit.meshes.samples` -- the sample meshes (:func:`sample_mesh`:
-  teapot, chair, cow, tree, person).
+  teapot, chair, cow, tree, person) and the mesh files shipped with morphkit
+  (:func:`sample_file`: a photo-textured crate).
 
 The names are re-exported here: ``from morphkit.meshes import sample_mesh, load_mesh``.
 """
@@ -34,10 +35,12 @@ from .loading import (
 from .parts import copy_with_look, face_base_colors, merge_parts, scene_parts
 from .samples import (
     BILLBOARD_MESHES,
+    SAMPLE_FILES,
     SAMPLE_MESHES,
     chair,
     cow,
     person,
+    sample_file,
     sample_mesh,
     teapot,
     teapot_face_count,
@@ -67,4 +70,6 @@ __all__ = [
     "cow",
     "tree",
     "person",
+    "SAMPLE_FILES",
+    "sample_file",
 ]

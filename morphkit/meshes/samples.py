@@ -53,6 +53,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Hashable
 from importlib import resources
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -77,6 +78,8 @@ __all__ = [
     "teapot_face_count",
     "STORED_FACES",
     "clear_cache",
+    "SAMPLE_FILES",
+    "sample_file",
 ]
 
 #: The papers' test set (the shadow and view-morphing demos and benches iterate these).
@@ -486,3 +489,42 @@ def sample_mesh(name: str, **kw: Any) -> trimesh.Trimesh:
         raise ValidationError(
             expected_got(f"arguments of sample {name!r}", "keywords the builder accepts", str(exc))
         ) from exc
+
+
+#: The mesh files shipped in ``morphkit/data`` (licences in ``morphkit/data/LICENSES.md``):
+#: ``photo_crate.glb``, a crate textured with a public-domain photograph (NASA's astronaut),
+#: ``+y`` up as glTF is.
+SAMPLE_FILES: tuple[str, ...] = ("photo_crate.glb",)
+
+
+def sample_file(name: str) -> Path:
+    """The path of a mesh file shipped with morphkit (one of :data:`SAMPLE_FILES`), to load as
+    a user's own file is loaded (:func:`~morphkit.meshes.loading.load_mesh`).
+
+    Parameters
+    ----------
+    name : str
+        The file's name, e.g. ``"photo_crate.glb"``.
+
+    Returns
+    -------
+    pathlib.Path
+        The file in the installed package.
+
+    Raises
+    ------
+    ValidationError
+        ``name`` is not one of :data:`SAMPLE_FILES`.
+
+    Examples
+    --------
+    The photo-textured crate, loaded with its texture and turned ``+z`` up, normalised to size 1:
+
+    >>> from morphkit.meshes import load_mesh, sample_file
+    >>> crate = load_mesh(sample_file("photo_crate.glb"))
+    >>> crate.visual.kind, round(float(crate.extents.max()), 6)
+    ('texture', 1.0)
+    """
+    if name not in SAMPLE_FILES:
+        raise ValidationError(expected_got("sample file name", f"one of {list(SAMPLE_FILES)}", repr(name)))
+    return Path(str(resources.files("morphkit") / "data" / name))

@@ -75,6 +75,7 @@ from ..validate import as_finite_array, as_int, as_points, as_shape, as_unit_int
 from ..warp import MeshWarper
 from .fundamental import FundamentalFit
 from .layers import FAR_POSITION, MorphLayer, known_mix
+from .matching import from_images
 from .plan import FALLBACKS, PREWARPS, MorphPlan, MorphReport, plan_view_morph
 from .postwarp import (
     FRAMES,
@@ -184,15 +185,18 @@ class ViewMorpher:
         self._rectified: Memo[int, tuple[np.ndarray, np.ndarray]] = Memo()
 
     @classmethod
-    def from_estimate(cls, image0: Any, image1: Any, correspondences: Any, **options: Any) -> ViewMorpher:
+    def from_estimate(cls, image0: Any, image1: Any, correspondences: Any = None, **options: Any
+                      ) -> ViewMorpher:
         """Plan the pair (:func:`~morphkit.viewmorph.plan.plan_view_morph`) and apply the plan.
 
         Parameters
         ----------
         image0, image1 : numpy.ndarray
             The reference images (see :func:`~morphkit.viewmorph.plan.plan_view_morph`).
-        correspondences : Correspondences or (pts0, pts1)
-            Pixel pairs.
+        correspondences : Correspondences or (pts0, pts1), optional
+            Pixel pairs; default: matched in the images alone
+            (:func:`~morphkit.viewmorph.matching.from_images`, which refuses two images that do
+            not seem to show one scene).
         **options
             Keyword arguments of :func:`~morphkit.viewmorph.plan.plan_view_morph`
             (``prewarp``, ``fallback``, ``layers``, ...).
@@ -201,7 +205,15 @@ class ViewMorpher:
         -------
         ViewMorpher
             The morpher of the plan.
+
+        Raises
+        ------
+        ValidationError
+            Bad images or options; without ``correspondences``, images with too few distinctive
+            matches (:func:`~morphkit.viewmorph.matching.from_images`).
         """
+        if correspondences is None:
+            correspondences = from_images(image0, image1)
         return cls(plan_view_morph(image0, image1, correspondences, **options))
 
     # ---------------------------------------------------------------- geometry per s

@@ -7,5 +7,14 @@
 * :mod:`.depthmorph` -- the per-pixel morph of three views with their depth.
 
 The billboards (:mod:`morphkit.billboard`) and the field's shadows (:mod:`morphkit.shadow`) both
-build on these; this package imports neither.
+build on these; this package imports neither. The dome, its cameras and the view surface are
+re-exported here: ``from morphkit.views import DomeCameras``.
 """
+
+from __future__ import annotations
+
+from .dome import ViewDome
+from .domecameras import DomeCameras, direction
+from .gbuffer import ViewSurface
+
+__all__ = ["ViewDome", "DomeCameras", "direction", "ViewSurface"]
