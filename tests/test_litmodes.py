@@ -15,6 +15,7 @@ from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import Lighting
 from morphkit.scene import PointLight
+from morphkit.sun import sun
 from morphkit.sunlit.litmodes import (
     ClassicSurface,
     CrossfadeSurface,
@@ -24,7 +25,6 @@ from morphkit.sunlit.litmodes import (
     pack_surface,
     unpack_surface,
 )
-from morphkit.sunlit.sun import sun
 
 
 @pytest.fixture(scope="module")

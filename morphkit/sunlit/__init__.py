@@ -5,9 +5,9 @@ light views warped to the light actually used (:mod:`morphkit.shadow`), gives th
 one atlas per asset over the sun's direction in its own frame, reused by every instance, every
 yaw and every sun. This package sits above both wings and imports them; neither imports it.
 
-The sun and its shadow casters:
+The sun's shadow casters (the sun itself, a day's path across the sky, is
+:mod:`morphkit.sun`):
 
-* :mod:`.sun` -- :class:`SunPath`: a day's path across the sky, and the bench's fixed suns;
 * :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction
   (every yaw, every sun), morphed per pixel; one instance's ground shadow;
 * :mod:`.pointlevels` -- coarser levels of an atlas view's surface points;
@@ -30,7 +30,9 @@ Relit billboard frames:
 * :mod:`.shadowing` -- the ground's and the billboards' sun visibility per pixel of a frame;
 * :mod:`.litmodes` -- :class:`LitMode`: relit billboards (each billboard's surface for its
   viewing direction, shaded by the scene's lights);
-* :mod:`.litmesh` -- :class:`LitMeshMode`: the real meshes shaded the same way, the truth.
+* :mod:`.litmesh` -- :class:`LitMeshMode`: the real meshes shaded the same way, the truth;
+* :mod:`.sunlitfield` -- :class:`SunlitField`: all of it from a few meshes in a few lines (bake,
+  scatter, render, and compare with the truth).
 """
 
 from __future__ import annotations
@@ -41,15 +43,14 @@ from .litmesh import LitMeshMode
 from .litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface, Relit
 from .raycast import RayCastShadow
 from .receivers import AtlasShadow, FilteredAtlasShadow, FrameShadow, SceneShadow
-from .sun import SunPath, sun
 from .sunatlas import SunAtlas, bake_sun_atlas, ground_shadow
 from .sunatlasfile import read_sun_atlas, write_sun_atlas
+from .sunlitfield import FieldComparison, SunlitField
 
 __all__ = [
-    "SunPath", "sun",
     "SunAtlas", "bake_sun_atlas", "ground_shadow", "read_sun_atlas", "write_sun_atlas",
     "FieldShadow", "FieldMap", "SplatDrawer",
     "SceneShadow", "FrameShadow", "AtlasShadow", "FilteredAtlasShadow", "RayCastShadow",
     "Relit", "LitMode", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
-    "LitMeshMode",
+    "LitMeshMode", "SunlitField", "FieldComparison",
 ]

@@ -12,7 +12,7 @@ is then drawn two ways:
   sun atlases (:class:`~morphkit.sunlit.receivers.AtlasShadow`), :meth:`SunlitField.render`;
 * the truth: the real meshes shaded by the same model
   (:class:`~morphkit.sunlit.litmesh.LitMeshMode`) and shadowed by ray casting towards the
-  sun (:class:`~morphkit.sunlit.receivers.RayCastShadow`), :meth:`SunlitField.truth`.
+  sun (:class:`~morphkit.sunlit.raycast.RayCastShadow`), :meth:`SunlitField.truth`.
 
 :meth:`SunlitField.compare` measures the one against the other as ``morphkit demo`` does: the
 IoU of the pixels the shadows darken (:func:`~morphkit.sunlit.shadowing.darkened`), on the
@@ -30,27 +30,27 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from .billboard.baking.bakelook import BAKE_AMBIENT
-from .billboard.domeasset import DomeAsset, bake_dome
-from .billboard.frames.backdrop import Backdrop
-from .billboard.frames.facing import ViewpointFacing
-from .billboard.frames.field import BillboardScene
-from .billboard.frames.frametypes import Frame
-from .billboard.frames.instances import field_half_size, footprint_radius, place_random, separate
-from .camera import CameraModel, look_at, perspective
-from .errors import MeshError, ValidationError, expected_got
-from .imaging.metrics import shadow_iou
-from .imaging.shading import Lighting
-from .meshes import normalize
-from .protocols import PassRenderer
-from .scene import DirectionalLight
-from .sunlit.litmesh import LitMeshMode
-from .sunlit.litmodes import LitMode
-from .sunlit.raycast import RayCastShadow
-from .sunlit.receivers import SCENE_ATLAS_SIZE, AtlasShadow, bake_scene_atlases
-from .sunlit.shadowing import darkened
-from .sunlit.sunatlas import SunAtlas
-from .validate import as_int, as_shape
+from ..billboard.baking.bakelook import BAKE_AMBIENT
+from ..billboard.domeasset import DomeAsset, bake_dome
+from ..billboard.frames.backdrop import Backdrop
+from ..billboard.frames.facing import ViewpointFacing
+from ..billboard.frames.field import BillboardScene
+from ..billboard.frames.frametypes import Frame
+from ..billboard.frames.instances import field_half_size, footprint_radius, place_random, separate
+from ..camera import CameraModel, look_at, perspective
+from ..errors import MeshError, ValidationError, expected_got
+from ..imaging.metrics import shadow_iou
+from ..imaging.shading import Lighting
+from ..meshes import normalize
+from ..protocols import PassRenderer
+from ..scene import DirectionalLight
+from ..validate import as_int, as_shape
+from .litmesh import LitMeshMode
+from .litmodes import LitMode
+from .raycast import RayCastShadow
+from .receivers import SCENE_ATLAS_SIZE, AtlasShadow, bake_scene_atlases
+from .shadowing import darkened
+from .sunatlas import SunAtlas
 
 __all__ = ["SunlitField", "FieldComparison", "FIELD_CAMERA_FOV_DEG", "FIELD_CAMERA_EYE",
            "FIELD_CAMERA_TARGET"]
@@ -265,7 +265,7 @@ class SunlitField:
         camera : CameraModel
             The view, world frame.
         sun : DirectionalLight or sequence of DirectionalLight
-            The sun(s) (:func:`morphkit.sunlit.sun.sun`), world frame.
+            The sun(s) (:func:`morphkit.sun.sun`), world frame.
 
         Returns
         -------

@@ -26,10 +26,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ValidationError, expected_got
-from ..scene import DirectionalLight
-from ..validate import as_finite_array, as_int, as_positive
-from ..views.domecameras import direction
+from .errors import ValidationError, expected_got
+from .scene import DirectionalLight
+from .validate import as_finite_array, as_int, as_positive
+from .views.domecameras import direction
 
 __all__ = ["SunPath", "sun", "sun_directions_8", "SUN_INTENSITY", "TEST_SUNS", "DEFAULT_RISE_DEG"]
 
@@ -62,7 +62,7 @@ def sun(azimuth_deg: float, elevation_deg: float, intensity: float = SUN_INTENSI
     --------
     Straight above, the light travels straight down.
 
-    >>> from morphkit.sunlit.sun import sun
+    >>> from morphkit.sun import sun
     >>> sun(0.0, 90.0).direction.round(12) + 0.0
     array([ 0.,  0., -1.])
     """
@@ -92,7 +92,7 @@ class SunPath:
     The default day: 10 degrees up at both ends, 60 degrees at noon,
     ``10 + 50 sin(pi / 4)`` at ``t = 1/4``; a day from 5 degrees below the horizon:
 
-    >>> from morphkit.sunlit.sun import SunPath
+    >>> from morphkit.sun import SunPath
     >>> path = SunPath()
     >>> [round(path.elevation_at(t), 6) for t in (0.0, 0.25, 0.5, 1.0)]
     [10.0, 45.355339, 60.0, 10.0]
@@ -262,7 +262,7 @@ def sun_directions_8(view_azimuth_deg: float = 0.0, intensity: float = SUN_INTEN
 
     Examples
     --------
-    >>> from morphkit.sunlit.sun import sun_directions_8
+    >>> from morphkit.sun import sun_directions_8
     >>> suns = sun_directions_8()
     >>> list(suns)[:3], suns["behind"].direction.round(3) + 0.0
     (['front', 'front_left', 'side'], array([ 0.866,  0.   , -0.5  ]))
