@@ -51,7 +51,7 @@ class RenderPasses:
 @dataclass(frozen=True)
 class FramePass:
     """A view lit and unlit from one draw (:meth:`Renderer.frame_pass
-    <morphkit.render.Renderer.frame_pass>`): what a shadowed frame blends (issue #26).
+    <morphkit.render.Renderer.frame_pass>`): what a shadowed frame blends.
 
     Parameters
     ----------

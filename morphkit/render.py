@@ -11,7 +11,7 @@ background ``+inf`` (pyrender's is wrong for orthographic cameras:
 
 EGL. Two defects of pyrender's EGL path are corrected here (``_Offscreen``): its framebuffer path rendered
 into a 4x multisampled buffer and blitted one sample back (depth and silhouettes off the pixel centre by
-about (+0.125, -0.375) px, issue #29): morphkit's buffers are single-sampled, depth at pixel centres as
+about (+0.125, -0.375) px): morphkit's buffers are single-sampled, depth at pixel centres as
 OSMesa's (``tests/test_render_egl.py``); its ``delete_context`` terminated the EGL display every context
 shares (closing one broke the others): it is not terminated here.
 
@@ -42,7 +42,7 @@ is taken from a flat colour draw (no culling; same vertex transform, so the same
 ``DEPTH_ONLY``: seen from outside, their front faces hide every back face (depth bit-identical). Known
 limit: a camera inside a closed volume, or a near plane cutting one, sees back faces that this draw drops.
 
-One-pass frame and G-buffer (issue #26). :meth:`Renderer.frame_pass` draws a view once into two colour
+One-pass frame and G-buffer. :meth:`Renderer.frame_pass` draws a view once into two colour
 attachments: the lit colour (:meth:`Renderer.color_depth`'s) and, from the same fragments of morphkit's
 ``mesh.frag`` (define ``MORPHKIT_FRAME``), the colour with the lights off (ambient, occlusion and emission
 alone), an item mark (a uniform per primitive) in its alpha. Closed volumes are drawn single-sided there (as

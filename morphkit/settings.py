@@ -51,8 +51,8 @@ from . import tol
 from .errors import ValidationError, expected_got
 
 # numba's parallel bands run on OpenMP (libgomp) where available, whose idle
-# threads spin-wait by default: measured here, they halved the speed of the
-# cv2.remap that follows every fill (0.48 vs 0.25 ms at 512^2 on 2 cores).
+# threads spin-wait by default and take the cores from the cv2.remap that
+# follows every fill.
 # Passive waiting keeps the cores free for OpenCV; set before libgomp loads, and
 # a value the user set wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")

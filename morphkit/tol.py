@@ -396,13 +396,9 @@ VM_MIN_LAYER_PAIRS = 8
 VM_POST_FIT_PAIRS = 256
 
 #: ``ViewMorpher(layers="auto")`` layers the morph when the single mesh had to
-#: drop more than this fraction of its pairs to fold-overs. A heuristic, set
-#: from the bench scenes (dense ``from_depth`` pairs, 256^2): the drop fraction
-#: was 0.2% (teapot 10 deg) and 0.4% (cow 10 deg), where two layers cost
-#: 0.001-0.003 IoU and up to 1.8 dB at a 10-degree baseline; 1.1-1.4% for the
-#: chair at 10-20 deg and 3-23% for all three meshes at 20-60 deg, where two
-#: layers changed IoU by -0.012 to +0.17 (mean over s: -0.002 to +0.11): a
-#: small loss on the smooth meshes, a large gain where parts cross (chair).
+#: drop more than this fraction of its pairs to fold-overs: below it a second layer costs
+#: the smooth meshes a little, above it (parts crossing, wide baselines) it gains much
+#: (set from the bench scenes: docs/RESULTS.md, "View morphing").
 #: Any value between 0.4% and 1.1% splits the bench cases alike.
 VM_AUTO_LAYER_DROP = 0.005
 
@@ -438,7 +434,7 @@ BB_COVERAGE_SUPERSAMPLE = 2
 #: about one image pixel (two fine pixels) from its neighbour in an in-between
 #: view 30 degrees away, more on surfaces the reference sees at a grazing angle;
 #: 5 closed every gap on the five sample meshes at 256^2 while 3 left holes
-#: (IoU 0.74 against 0.98 on the cow, ``morphkit bench billboards``).
+#: (``morphkit bench billboards``).
 BB_COVERAGE_CLOSE_PX = 5
 
 #: A morph pixel with alpha at or below this carries no usable colour (its
@@ -536,7 +532,7 @@ VM_AFFINE_INLIER_RATIO = 0.6
 #: factor of 2 means F must halve the residual to count as determined.
 VM_AFFINE_RMS_RATIO = 2.0
 
-# --- shadow wing (#23: named instead of bare literals; values unchanged) ------
+# --- shadow wing ---------------------------------------------------------------
 #: A point projects through a light camera's texture matrix only when its
 #: homogeneous ``w`` exceeds this (:func:`morphkit.shadow.lookup.shadow_visibility`):
 #: ``w`` is the point's depth in front of a point light (scene units; 1 for a
@@ -557,9 +553,9 @@ SHADOW_GRAZING_COS = 1e-6
 #: surface, while the object and the ground under it are centimetres apart.
 DEPTH_SAME_SURFACE_REL = 1e-4
 
-#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`, issue #26) equals the
+#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`) equals the
 #: two-render frame within this mean absolute difference of ``shaded``, in levels of 255
-#: (the issue's bound). Why not exactly: the one pass draws into a framebuffer object,
+#: (one level: the frame's own rounding). Why not exactly: the one pass draws into a framebuffer object,
 #: whose depth rounds differently from OSMesa's buffer (~1e-5 relative), so a shadow-edge
 #: pixel's unprojected point, hence its visibility, can change; a textured fragment's
 #: colour may round one level apart (:mod:`morphkit.render`, "One-pass frame").
@@ -580,7 +576,7 @@ DRAWN_POINTS_ABS = 1e-12
 #: (~6e-8 relative), which moves a normal by that over the pixel's central difference.
 DRAWN_NORMALS_ABS = 1e-5
 
-#: The one-draw G-buffer (:meth:`morphkit.render.Renderer.gbuffer_pass`, issue #26) and the
+#: The one-draw G-buffer (:meth:`morphkit.render.Renderer.gbuffer_pass`) and the
 #: three-draw passes (:meth:`~morphkit.render.Renderer.passes`): albedo differs by at most this
 #: many levels anywhere (0 for untextured items; 1 seen on textured ones: a framebuffer object
 #: rounds differently from OSMesa's buffer, :mod:`morphkit.render`, "One-pass frame and G-buffer").
@@ -589,7 +585,7 @@ GBUFFER_ALBEDO_LEVELS = 1
 
 #: ... and a :class:`~morphkit.sunlit.litmesh.LitMeshMode` frame shaded from either equals
 #: the other within this mean absolute difference of ``rgb`` (all pixels and channels), in
-#: levels of 255 (the issue's bound, as :data:`FRAME_ONCE_MEAN_LEVELS`).
+#: levels of 255 (as :data:`FRAME_ONCE_MEAN_LEVELS`).
 GBUFFER_FRAME_MEAN_LEVELS = 1.0
 
 #: Depth (scene units) added on each side of the object's depth range for a light
@@ -704,7 +700,7 @@ SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 
 #: Largest side (texels) of a billboard frame's field light view when its resolution is
 #: chosen automatically (:class:`morphkit.sunlit.receivers.AtlasShadow`): a float32 map
-#: of 16 MiB, built (``np.full`` and one warp per caster) in a few ms; a wider field gets
+#: of 16 MiB, built (``np.full`` and one warp per caster) in a few milliseconds; a wider field gets
 #: coarser texels rather than a larger map.
 SUN_FIELD_MAX_SIDE = 2048
 

@@ -21,6 +21,9 @@ Attribute access to other objects' private members is ruff's ``SLF001``
 from __future__ import annotations
 
 import ast
+import io
+import re
+import tokenize
 from pathlib import Path
 
 import pytest
@@ -295,3 +298,34 @@ def test_no_folder_holds_more_than_15_modules(folder):
     extensions, baselines and truths, file formats, bake time)."""
     modules = sorted(p.name for p in folder.glob("*.py") if p.name != "__init__.py")
     assert len(modules) <= 15, f"{folder.name}/ holds {len(modules)} modules: {modules}"
+
+
+#: An issue reference in code text: ``#26``, ``issue 25``, ``issues #26 and #27``.
+ISSUE_REF = re.compile(r"(?<![\w&/#])#\d{1,4}(?![\w-])|\bissues? #?\d+", re.IGNORECASE)
+
+
+def _issue_refs(source: str) -> list[str]:
+    """Issue references in a module's comments and string literals (docstrings among them)."""
+    found = []
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.COMMENT:
+            text = tok.string[1:]
+        elif tok.type == tokenize.STRING:
+            text = tok.string
+        else:
+            continue
+        found += [f"line {tok.start[0]}: {m.group(0)}" for m in ISSUE_REF.finditer(text)]
+    return found
+
+
+def test_the_issue_scan_finds_references():
+    src = '"""Built for issue #26."""\nx = 1  # see #29\ny = "#ff0000"  # noqa: E501\nz = 2  # 1. then 2.\n'
+    assert _issue_refs(src) == ["line 1: issue #26", "line 2: #29"]
+    assert _issue_refs('z = "#123abc"  # colour\n') == []
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_code_text_names_no_issue_numbers(path):
+    """Code text teaches; the history of a change is in the commits and docs/CHANGELOG."""
+    refs = _issue_refs(path.read_text())
+    assert not refs, f"{path.name} names issues in its code text: {refs}"

@@ -98,7 +98,7 @@ FLOOR_METHOD = "serial"
 PLOT_OPTIONS = {"size_key": "assets", "panel_keys": ("what",)}
 #: Worker counts of the ``library`` phases by default (``morphkit bench bake --workers``).
 DEFAULT_WORKERS: tuple[int, ...] = (1, 2)
-#: The library size of the ``projection`` rows (issue #29's target: 256 assets).
+#: The library size of the ``projection`` rows (the target: 256 assets).
 PROJECTED_ASSETS = 256
 #: Worker counts of the ``projection`` rows.
 PROJECTED_WORKERS: tuple[int, ...] = (1, 4, 16)
@@ -417,7 +417,7 @@ def run(*, quick: bool = False, workers: Sequence[int] = DEFAULT_WORKERS, assets
         the speed-up curve divides by it).
     assets : int, optional
         The library's size (:func:`write_library`; ``morphkit bench bake --assets``): e.g. 256,
-        issue #29's measured target on a machine with the cores for it. None: the 16 meshes.
+        the measured target on a machine with the cores for it. None: the 16 meshes.
     repeats : int, optional
         Timed repeats of each phase (default 3, ``quick`` 1).
     serial_once : bool

@@ -1,4 +1,4 @@
-"""The ``dome-*`` sections of ``morphkit bench billboards`` (#25): billboards seen from any
+"""The ``dome-*`` sections of ``morphkit bench billboards``: billboards seen from any
 height and relit by the scene's lights, against octahedral impostors at equal bytes.
 
 Assets. The sample meshes ``cow`` and ``tree`` (``--quick``: the tree only;
@@ -55,7 +55,7 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   drawn billboard's viewing elevation (and ``all``): ``iou``, ``psnr`` of
   :func:`~morphkit.billboard.compare.box_errors` (per billboard screen box, final RGB, data
   range 255) against the truth frame, ``n`` the billboards. ``ring-morph``: the ring asset the
-  issue's baseline was measured with (``bake_asset`` K = 8 at 10 degrees elevation, ``S^2``, 3
+  ring baseline is measured with (``bake_asset`` K = 8 at 10 degrees elevation, ``S^2``, 3
   levels, ``AxialFacing``, ``MorphMode``) against ``MeshMode`` (bake lights and ambient,
   supersampled 2x) on the same flyover and instances; its ``n`` counts only the billboards
   it draws (edge-on quads from above are not drawn). ``dome-temporal-one``: the same modes

@@ -291,7 +291,7 @@ def make_row(suite: str, method: str, params: Mapping[str, Any], timing: Timing,
     return {
         "suite": suite,
         "method": method,
-        "gl": gl_info(open_context=False),  # GL platform and renderer of this process (#29)
+        "gl": gl_info(open_context=False),  # GL platform and renderer of this process
         "params": dict(params),
         "ms_median": float(timing.ms_median),
         "ms_min": float(timing.ms_min),

@@ -1,5 +1,5 @@
 """Section ``levels`` of ``morphkit bench scene``: the field's splat at per-instance point levels
-against every atlas texel splatted, on the suite's fields (issue #26: small or far casters get
+against every atlas texel splatted, on the suite's fields (small or far casters get
 coarser maps).
 
 For each of the plan's instance counts and three field resolutions -- ``suite`` (the suite's own,

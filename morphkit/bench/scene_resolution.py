@@ -1,5 +1,5 @@
 """Section ``receivers-resolution`` of ``morphkit bench scene``: the shadow on the instances' own
-surfaces against the field map's resolution (issue #26: why the ``receivers`` IoU stays under the
+surfaces against the field map's resolution (why the ``receivers`` IoU stays under the
 ground's).
 
 The ``receivers`` section scores the atlas and the direct render at the suite's one resolution (the

@@ -1,4 +1,4 @@
-"""Suite ``scene`` (issue #26): a field's ground shadow from the sun atlases against the direct light
+"""Suite ``scene``: a field's ground shadow from the sun atlases against the direct light
 render, the impostor way and the ray cast, over a day's sun path.
 
 Scene, methods and truth: :mod:`morphkit.bench.scene_fields` (two textured assets, the leaf plant
@@ -13,7 +13,7 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   (a morning, 15 to 60 degrees up): every method's IoU and error; ``ms`` one build a sun (the
   atlas cold: cache emptied; not interleaved, the next section times). The atlas row carries
   ``iou_gain_card_camera`` / ``iou_gain_card_light`` (its mean IoU minus the card's) and a note
-  on #26's targets (IoU >= 0.95; >= the impostor way + 0.15).
+  on the targets (IoU >= 0.95; >= the impostor way + 0.15).
 * ``per-asset`` -- ``accuracy`` on a field of one asset at a time (the plan's first count): where
   each method loses (the alpha-masked plant or the opaque crate).
 * ``receivers`` -- the shadow on the instances themselves (their own and their neighbours'), the
@@ -23,7 +23,7 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels (as the billboard frames'
   receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
-* ``sun-disc`` -- a soft sun (issues #26, #27): for the plan's radii and suns, ``avg-K`` (K field
+* ``sun-disc`` -- a soft sun: for the plan's radii and suns, ``avg-K`` (K field
   maps over the disc, :func:`~morphkit.sunlit.receivers.sun_disc`, averaged) and ``pcss`` (one
   map along the centre at :data:`~morphkit.tol.SUN_DISC_MAP_SCALE` times the field's texels, as
   :class:`~morphkit.sunlit.receivers.FilteredAtlasShadow` draws it, filtered:
@@ -36,12 +36,12 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   right after: every view cached), ``direct`` (all posed meshes drawn from the sun; context
   warm); interleaved over distinct suns (:func:`~morphkit.bench.harness.time_cycling`), medians.
   ``vs_direct`` the ratio to the direct render of the same faces; ``flat`` max/min of the method's
-  median over the face counts (#26: the atlas at <= 1/10 of direct at >= 50k faces, flat <= 1.3).
+  median over the face counts (target: the atlas at <= 1/10 of direct at >= 50k faces, flat <= 1.3).
 * ``atlas-grid`` -- atlases over the sparse, default and dense domes at 64 and 128 texels on
   100 instances: IoU, error and bytes (``kib``, both assets), ``bake_s``; a ``direct`` row per
   texel size (the same view resolution).
 * ``temporal`` -- the day's path in 24 suns (those above the horizon): per step, the fraction of
-  ground points whose shadow flips (``step_median``, ``step_max``, ``spike`` = max/median, #26's
+  ground points whose shadow flips (``step_median``, ``step_max``, ``spike`` = max/median, the
   target <= 2), and ``spike_vs_truth`` (max/median of the step over the ray cast's own step: the
   path's own unevenness taken out); ``spike_cutoff``: max/median over the steps between suns
   above the grazing cut-off (:data:`~morphkit.tol.SUN_MIN_ELEVATION_DEG`), where the atlas is not
@@ -102,7 +102,8 @@ FLOOR_METHOD = "direct"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
 PLOT_OPTIONS: dict[str, Any] = {"size_key": "instances", "error_key": "mae", "panel_keys": ("section",)}
 
-#: #26's targets.
+#: The targets the rows' notes say are met or not: IoU, gain over the impostor cards, time over
+#: the direct render, flatness over face counts, the temporal spike.
 TARGET_IOU, TARGET_GAIN, TARGET_SPEED, TARGET_FLAT, TARGET_SPIKE = 0.95, 0.15, 0.1, 1.3, 2.0
 
 
@@ -197,7 +198,7 @@ def _met(ok: bool) -> str:
 def _method_rows(got: dict[str, dict[str, list[float]]], params: dict[str, Any], note: str, *,
                  target_iou: bool, extra: dict[str, dict[str, float]] | None = None) -> list[dict[str, Any]]:
     """One row per method from its per-sun ``iou``, ``mae`` and ``s``; the atlas's row carries its
-    IoU gains over the cards and the note on #26's targets."""
+    IoU gains over the cards and the note on the targets."""
     mean_iou = {m: float(np.mean(got[m]["iou"])) for m in METHODS}
     rows = []
     for m in METHODS:

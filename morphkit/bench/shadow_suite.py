@@ -27,7 +27,7 @@ with the atlas). ``ms_median`` is the time to produce one shadow map; rows with
 ``what=frame`` time a whole frame (camera drawn once, lit and unlit, at 512^2, shadow
 map, lookup, composite). Memory (``mem_mb``) is the precomputed data.
 
-One-pass frames (rows with ``what=frame_once``, issue #26): the cow at ~6k and ~1M faces
+One-pass frames (rows with ``what=frame_once``): the cow at ~6k and ~1M faces
 (:func:`frame_once_rows`), camera 512^2, 512^2 maps, the point light: ``two_warp`` (the frame
 as before: the camera drawn lit, then unlit; the warped map), ``once_warp`` and
 ``once_reproject`` (the camera drawn once, :meth:`Renderer.frame_pass
@@ -36,7 +36,7 @@ light's map re-rendered every frame), ``camera_once`` / ``camera_two`` (the came
 alone). ``vs_direct`` is a row's median over ``once_direct``'s; ``mean_levels`` the mean
 absolute shaded difference of the one-pass frame against the two-render frame (levels of 255).
 
-Cut-outs (rows with ``what=cutout``, issue #24): the leaf plant of
+Cut-outs (rows with ``what=cutout``): the leaf plant of
 :func:`morphkit.programs.fixtures.write_leaf_plant` (a stem and three alpha-masked leaf
 cards, loaded by :func:`morphkit.meshes.load_mesh`) under the point light at
 ``256^2``: ``warp``, ``reproject`` and ``direct`` against the cut-out-aware ray

@@ -33,7 +33,7 @@ samples, the method's error without the sampling error), ``banding``
 (:func:`banding`) and ``mae_contact`` (the error within 2 map texels of the
 lines where the object touches the ground: :func:`contact_region`).
 
-Light-size sweep (issue #27: wide penumbrae are where banding shows most): the
+Light-size sweep (wide penumbrae are where banding shows most): the
 same scene and metrics with the square light's side set to each of
 ``LIGHT_SIZES`` (:func:`light_of_size`; the suite's own light is 0.6), its own
 atlas (baked over the range grown by that light) and its own 256-sample ray cast;

@@ -367,7 +367,7 @@ def _textured_billboard_section(renderer: SceneRenderer, add: Any, *, quick: boo
 
 
 def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
-    """A tree seen from three heights under three suns (issue #25): the dome asset's view morph |
+    """A tree seen from three heights under three suns: the dome asset's view morph |
     the engines' octahedral impostor at equal bytes | the real mesh, each shaded by
     :mod:`morphkit.imaging.shading` (one model), over grey; IoU / PSNR as the billboard tiles'."""
     from ..billboard.baking.bakelook import BAKE_AMBIENT
@@ -411,7 +411,7 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
 
 
 def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -> dict[str, Any]:
-    """A field of trees and cows under one sun (issue #26): relit billboards shadowed by their
+    """A field of trees and cows under one sun: relit billboards shadowed by their
     assets' sun atlases (:class:`~morphkit.sunlit.receivers.AtlasShadow`) | the real meshes
     shadowed by the ray cast (the truth); shadow IoU of the darkened pixels on the ground and on
     the objects (:func:`~morphkit.sunlit.shadowing.darkened`)."""

@@ -12,7 +12,7 @@ image and a test are about the same scene:
   (:func:`circle_camera`), the sample meshes with a 3-D colour checker
   (:func:`textured_items`, the look of :func:`morphkit.imaging.appearance.checker_items`)
   and their reference views (:func:`render_pair`);
-* textured mesh files written on the fly, no downloads (issue #24): a photo
+* textured mesh files written on the fly, no downloads: a photo
   (:func:`photo_texture`, scikit-image's public-domain/CC0 photographs) on a
   UV-mapped OBJ + MTL box (:func:`write_photo_obj`), a PLY with vertex colours
   (:func:`write_color_ply`), a two-part glTF (:func:`write_two_part_gltf`: a
@@ -226,7 +226,7 @@ def render_pair(renderer: SceneRenderer, items: list[Any], cams: list[CameraMode
 
 
 # --------------------------------------------------------------------------
-# Textured mesh files (issue #24), written on the fly from installed photographs
+# Textured mesh files, written on the fly from installed photographs
 # --------------------------------------------------------------------------
 
 #: Extents (x, up, depth) of the tall photo box: its up axis is the longest, so a

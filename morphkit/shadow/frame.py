@@ -2,7 +2,7 @@
 
 The camera view is rendered lit and unlit (:mod:`morphkit.render`): in one draw where the
 renderer is a :class:`~morphkit.protocols.FrameRenderer` (:meth:`Renderer.frame_pass
-<morphkit.render.Renderer.frame_pass>`, issue #26: the lit pixels and, from the same fragments,
+<morphkit.render.Renderer.frame_pass>`: the lit pixels and, from the same fragments,
 the unlit ones), else (or with ``one_pass=False``) in two draws, lit then unlit. Its depth is
 unprojected to world points (:meth:`~morphkit.camera.CameraModel.unproject`) with normals
 (:func:`~morphkit.shadow.lookup.normals_from_points`), in one compiled pass over the drawn
@@ -107,7 +107,7 @@ def render_frame(renderer: SceneRenderer, scene: Scene, visibility: VisibilityFn
         Background RGB in ``[0, 1]``.
     one_pass : bool
         Draw the camera once where ``renderer`` is a :class:`~morphkit.protocols.FrameRenderer`
-        (default); False: twice, lit then unlit, as before issue #26 (the reference the one pass
+        (default); False: twice, lit then unlit (the reference the one pass
         is tested against).
 
     Returns

@@ -441,7 +441,7 @@ class LightRig:
                                                    "(translating it changes nothing)", off.tolist()))
             xy = xy - off
         inside = self.motion.check(xy, clamp=True)
-        if not np.all(np.abs(inside - xy) <= tol.POSITION_EQUAL):  # np.allclose(rtol=0), 5x faster
+        if not np.all(np.abs(inside - xy) <= tol.POSITION_EQUAL):  # np.allclose(rtol=0), without its overhead
             if not clamp:
                 self.motion.check(xy)  # raises OutOfRangeError with the message
             warnings.warn(f"position {xy.tolist()} is outside the baked range; clamped to "

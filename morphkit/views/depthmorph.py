@@ -78,9 +78,8 @@ def steps_for(shape: tuple[int, int]) -> int:
     three pixels across it, between 16 and 96. Fewer steps are a thicker surface (a crossing
     lies within :data:`THICKNESS_STEPS` of them): one per three pixels kept thin parts' outlines
     better than one per two, with the last secant of the refinement keeping the depth as
-    close (cow and tree at 128 px, 12 directions a band: IoU 0-20 degrees 0.947 -> 0.948 and
-    0.968 -> 0.971, 20-40 0.958 -> 0.959 and 0.974 -> 0.978, albedo PSNR +0.2 to +0.5 dB in
-    every band; one per four lost more at 0-20), and costs a third less.
+    close, and costs a third less; one per four lost outlines seen from low (measured:
+    docs/RESULTS.md, "Billboards from any height").
 
     Parameters
     ----------
