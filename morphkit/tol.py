@@ -727,12 +727,9 @@ SUN_DISC_MAX_HALF_TEXELS = 16.0
 #: sun (0.267 degrees) the disc's own penumbra is mostly narrower than that. The kernel is
 #: the disc's square convolved with this box (a trapezoid a side), so the penumbra is never
 #: narrower than half a texel and never falls back to the hard lookup. The mean estimate of
-#: that edge would take 0.5 (the whole uncertainty), the error-minimising one in the mean
-#: absolute sense 0 (the disc's square alone, centred on the drawn edge); measured on both
-#: benches' fields (scripts/sun_disc_bench.py, morphkit bench scene --sections sun-disc;
-#: 0, 0.1, 0.15, 0.2, 0.25, 0.3, 0.5 tried), the mean error is flat (within 3e-4) from 0
-#: to 0.3 and 1e-3 to 3e-3 higher at 0.5, while the banding measure falls with the width:
-#: 0.25 is the widest on the flat part.
+#: that edge would take 0.5 (the whole uncertainty): the mean error is flat from 0 to about
+#: 0.3 while the banding falls with the width, and 0.25 is the widest on the flat part
+#: (``morphkit bench scene --sections sun-disc``).
 SUN_DISC_RASTER_HALF_TEXEL = 0.25
 
 #: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
@@ -741,20 +738,15 @@ SUN_DISC_RASTER_HALF_TEXEL = 0.25
 #: the real sun (0.267 degrees) stays above that of 4 maps averaged over the disc, however
 #: it is filtered: its edges lie on a texel grid that 4 slightly turned maps dither. The
 #: atlases' points carry their positions below a texel, so a finer field map draws the edges
-#: finer, for less than a second map's cost (the splat grows with its texels). Measured on
-#: both benches' fields at 1, 1.5 and 2 (scripts/sun_disc_bench.py, morphkit bench scene
-#: --sections sun-disc): 1.5 brings the real sun's error under 4 native maps' (and 16's) in
-#: all four cases in under two thirds of 4 maps' time; 2 lowers it a little further (1-14 %)
-#: for 1.3-1.9x the cost of the 1.5 map, and loses more at a 4-degree disc under a low sun,
-#: where 1.5 already loses some (the kernel's cap, :data:`SUN_DISC_MAX_HALF_TEXELS`, is in
-#: texels: a finer map clips wide penumbrae sooner; a cap scaled with the map was mixed).
+#: finer, for less than a second map's cost: 1.5 is the scale at which one filtered map beats
+#: 4 native maps averaged at the real sun (``morphkit bench scene --sections sun-disc``).
 SUN_DISC_MAP_SCALE = 1.5
 
 #: Directions over the disc of the ray-cast truth beside a filtered soft sun
 #: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
 #: several directions, and a frame's ray cast costs one pass per direction; 16 is within
-#: about 0.01 mean visibility of 64 over 1-4 degree discs (``scripts/sun_disc_bench.py``:
-#: 32 against 64 directions 0.009).
+#: about 0.01 mean visibility of 64 over 1-4 degree discs (docs/RESULTS.md, the field's
+#: shadows: the soft sun).
 SUN_DISC_TRUTH_SAMPLES = 16
 
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
