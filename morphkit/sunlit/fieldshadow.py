@@ -12,24 +12,7 @@ turned into its object frame by its yaw (:func:`~morphkit.sunlit.sunatlas.sun_in
 of the atlas views around each instance's object-frame sun point by point into the field
 view: one compiled pass, nothing per sun to make or keep; an instance whose atlas texel is
 smaller than the field's is drawn from a coarser level of its atlas's points (its module
-docstring, "Levels"). :class:`MorphDrawer` morphs each
-instance's light view from its atlas (:meth:`~morphkit.sunlit.sunatlas.SunAtlas.light_view`)
-and places it (below); it is the slower, earlier way, kept to compare with (figures:
-``docs/RESULTS.md``).
-
-**The placement** (:class:`MorphDrawer`). Both views look along the same direction (the
-instance's camera, turned by the pose ``s Rz(yaw)``, looks along the world sun), so a texel
-``(u, v)`` of the instance's view maps to the field view by a 2-D similarity (the yaw's turn
-in the light's image plane, the scale ``s``, a translation), its depth by
-``z' = s z + offset``. Both come from the product ``field world2cam @ object2world @
-instance cam2world``; the in-plane part is taken at the depth of the asset's pivot (exact
-when the directions agree; the object-frame sun is quantised to :data:`SUN_QUANTUM_DEG` for
-the cache, so they differ by under half a quantum and the depth offset keeps the small tilt
-as a plane over the texels). The instance's depth is resampled with ``cv2.warpAffine``
-(nearest, ``+inf`` outside) into the part of the field its view covers, and ``np.minimum``
-keeps the nearer caster. Its light views are kept per ``(asset, quantised object-frame
-sun)``: instances of one asset that share a yaw (to the quantum) share one, and a sun that
-comes back finds its views made (:attr:`MorphDrawer.cached`).
+docstring, "Levels"). A drawer is any :class:`FieldDrawer`.
 
 **The cache.** :meth:`FieldShadow.build` returns the last map it made when neither the
 instances, the sun, the resolution nor the receiver changed (:attr:`FieldShadow.reused`);
@@ -57,7 +40,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
-import cv2
 import numpy as np
 
 from .. import tol
@@ -68,13 +50,10 @@ from ..shadow.lookup import ShadowBias, check_depth_map, lookup_into
 from ..validate import as_finite_array, as_positive
 from ..views.domecameras import direction, quad_axes
 from .fieldsplat import SplatDrawer
-from .sunatlas import SunAtlas, sun_direction
+from .sunatlas import SunAtlas
 
-__all__ = ["FieldShadow", "FieldMap", "FieldDrawer", "MorphDrawer", "field_camera", "field_sun",
-           "receiver_footprint", "SUN_QUANTUM_DEG"]
-
-#: The cache's step of the object-frame sun's azimuth and elevation, degrees.
-SUN_QUANTUM_DEG = 0.5
+__all__ = ["FieldShadow", "FieldMap", "FieldDrawer", "field_camera", "field_sun",
+           "receiver_footprint"]
 
 
 def field_sun(sun_dir_world: np.ndarray) -> tuple[float, float] | None:
@@ -250,8 +229,8 @@ class FieldMap:
 class FieldDrawer(Protocol):
     """How a field's light-view depth is drawn from the instances' atlases.
 
-    :class:`~.fieldsplat.SplatDrawer` (the default: per-point reprojection, one pass) and
-    :class:`MorphDrawer` (a light view morphed per instance and placed).
+    :class:`~.fieldsplat.SplatDrawer` (the default: per-point reprojection, one pass) is one;
+    a test or a user may pass any other object with these members.
 
     Parameters
     ----------
@@ -288,88 +267,6 @@ class FieldDrawer(Protocol):
     def clear(self) -> None:
         """Drop whatever the drawer keeps between draws."""
         ...  # pragma: no cover - a protocol
-
-
-class MorphDrawer:
-    """Draws a field's light view from per-instance morphed light views (module docstring,
-    "The placement", "The cache").
-
-    Attributes
-    ----------
-    hits, misses : int
-        Light views found in / added to the cache.
-    """
-
-    name = "morph"
-
-    def __init__(self) -> None:
-        self._views: dict[tuple[str, int, int], tuple[CameraModel, np.ndarray]] = {}
-        self.hits = 0
-        self.misses = 0
-
-    @property
-    def cached(self) -> int:
-        """Light views held in the cache."""
-        return len(self._views)
-
-    def clear(self) -> None:
-        """Empty the light-view cache (and its hit and miss counts)."""
-        self._views.clear()
-        self.hits = self.misses = 0
-
-    def _light_view(self, name: str, atlas: SunAtlas, sun_obj: np.ndarray) -> tuple[CameraModel, np.ndarray]:
-        az = float(np.degrees(np.arctan2(sun_obj[1], sun_obj[0])))
-        el = float(np.degrees(np.arcsin(np.clip(sun_obj[2], -1.0, 1.0))))
-        q = SUN_QUANTUM_DEG
-        key = (name, round(az / q) % round(360.0 / q), round(el / q))
-        view = self._views.get(key)
-        if view is None:
-            self.misses += 1
-            got = atlas.light_view(sun_direction(key[1] * SUN_QUANTUM_DEG, key[2] * SUN_QUANTUM_DEG))
-            if got is None:  # pragma: no cover - the field's sun is above the horizon
-                raise ValidationError(expected_got("sun", "above the horizon", f"elevation {el:g}"))
-            view = self._views[key] = got
-        else:
-            self.hits += 1
-        return view
-
-    def draw(self, atlases: Mapping[str, SunAtlas], instances: Instances, kept: np.ndarray,
-             camera: CameraModel, sun: tuple[float, float]) -> np.ndarray:
-        """The field's light-view depth from the kept instances' placed light views.
-
-        Parameters
-        ----------
-        atlases : mapping of str to SunAtlas
-            Each asset name's atlas.
-        instances : Instances
-            The field.
-        kept : (K,) int64
-            The instances to draw.
-        camera : CameraModel
-            The field's light view.
-        sun : (azimuth_deg, elevation_deg)
-            The field's sun (clamped, above the horizon).
-
-        Returns
-        -------
-        (H, W) float32
-            Nearest caster's depth along the light (``+inf`` where none).
-        """
-        l_world = sun_direction(*sun)
-        depth = np.full(camera.shape, np.inf, np.float32)
-        w2c = camera.world2cam
-        s_dst = np.array([[camera.fx, 0.0, camera.cx], [0.0, camera.fy, camera.cy], [0.0, 0.0, 1.0]])
-        for k in kept:
-            name = instances.names[int(instances.asset[k])]
-            atlas = atlases[name]
-            yaw = np.radians(instances.yaw_deg[k])
-            c, s = np.cos(yaw), np.sin(yaw)
-            lx, ly, lz = l_world
-            sun_obj = np.array([c * lx + s * ly, -s * lx + c * ly, lz])  # Rz(-yaw) l
-            icam, idepth = self._light_view(name, atlas, sun_obj)
-            _place(depth, s_dst, w2c @ instances.object2world(int(k)) @ icam.cam2world, icam, idepth,
-                   atlas.cameras.distance)
-        return depth
 
 
 class FieldShadow:
@@ -532,30 +429,3 @@ class FieldShadow:
             out = FieldMap(plan.camera, depth, plan.kept, plan.skipped)
         self._last = (key, out)
         return out
-
-
-def _place(field: np.ndarray, s_dst: np.ndarray, M: np.ndarray, icam: CameraModel, idepth: np.ndarray,
-           zref: float) -> None:
-    """Min one instance's light view into the field's depth (module docstring, "The placement")."""
-    s_src = np.array([[1.0 / icam.fx, 0.0, -icam.cx / icam.fx], [0.0, 1.0 / icam.fy, -icam.cy / icam.fy],
-                      [0.0, 0.0, 1.0]])
-    plane = np.array([[M[0, 0], M[0, 1], M[0, 2] * zref + M[0, 3]],
-                      [M[1, 0], M[1, 1], M[1, 2] * zref + M[1, 3]], [0.0, 0.0, 1.0]])
-    A = s_dst @ plane @ s_src  # source pixel -> field pixel
-    h, w = idepth.shape
-    corners = A @ np.array([[-0.5, w - 0.5, -0.5, w - 0.5], [-0.5, -0.5, h - 0.5, h - 0.5], [1, 1, 1, 1]])
-    H, W = field.shape
-    x0, y0 = max(int(np.floor(corners[0].min())), 0), max(int(np.floor(corners[1].min())), 0)
-    x1, y1 = min(int(np.ceil(corners[0].max())) + 1, W), min(int(np.ceil(corners[1].max())) + 1, H)
-    if x1 <= x0 or y1 <= y0:
-        return
-    A_roi = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -y0], [0.0, 0.0, 1.0]]) @ A
-    warped = cv2.warpAffine(idepth, A_roi[:2], (x1 - x0, y1 - y0), flags=cv2.INTER_NEAREST,
-                            borderMode=cv2.BORDER_CONSTANT, borderValue=float("inf"))
-    # depth: z' = M22 z + (M20 X + M21 Y + M23), X and Y those of the source texel (affine in u', v')
-    g = np.array([M[2, 0], M[2, 1], M[2, 3]]) @ s_src @ np.linalg.inv(A_roi)
-    ramp = (g[0] * np.arange(x1 - x0, dtype=np.float32)[None, :]
-            + g[1] * np.arange(y1 - y0, dtype=np.float32)[:, None] + g[2]).astype(np.float32)
-    z = warped * np.float32(M[2, 2]) + ramp
-    roi = field[y0:y1, x0:x1]
-    np.minimum(roi, z, out=roi)
