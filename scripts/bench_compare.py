@@ -4,7 +4,8 @@
 Usage: ``python scripts/bench_compare.py BEFORE.json AFTER.json``
 
 Rows are matched by method and parameters. Quality figures are every numeric metric except
-timings, speed ratios and memory (names with ``ms``, ``x_*``, ``vs_*``, ``mem_mb``); two are equal within
+timings, speed ratios and memory (names with ``ms``, ``*_s``, ``x_*``, ``vs_*``,
+``flat``, ``mem_mb``); two are equal within
 1e-9 relative. The time ratio is the geometric mean over matched rows of ``ms_median`` after /
 before (rows above 0.05 ms): run both files back to back on one machine, interleaved, as the
 machines are shared.
@@ -34,8 +35,8 @@ def load(path: str) -> dict[tuple[str, str], dict[str, Any]]:
 
 def is_quality(name: str, value: Any) -> bool:
     """Whether a metric is a quality figure (not a timing or memory)."""
-    timing = ("ms" in name.split("_") or name.startswith(("ms", "x_", "vs_")) or name.endswith("_ms")
-              or name == "mem_mb")  # x_*, vs_*: a speed ratio to a baseline
+    timing = ("ms" in name.split("_") or name.startswith(("ms", "x_", "vs_")) or name.endswith(("_ms", "_s"))
+              or name in ("mem_mb", "flat"))  # x_*, vs_*: a speed ratio to a baseline; flat: time max/min
     return isinstance(value, int | float) and not isinstance(value, bool) and not timing
 
 
