@@ -67,7 +67,7 @@ _LAZY: dict[str, tuple[str, ...]] = {
     "morphkit.billboard": ("bake_asset", "bake_dome", "BillboardScene", "place_random", "MorphMode",
                            "ClassicMode", "MeshMode", "PanPath", "OrbitPath"),
     # the two together: billboards under the sun with their shadows
-    "morphkit.sun": ("sun", "SunPath"),
+    "morphkit.sunpath": ("sun", "SunPath"),
     "morphkit.sunlit.sunlitfield": ("SunlitField", "FieldComparison"),
 }
 _EXPORTS: dict[str, str] = {name: module for module, names in _LAZY.items() for name in names}

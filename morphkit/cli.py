@@ -403,9 +403,9 @@ def _cmd_billboards(args: argparse.Namespace) -> int:
     from .imaging.shading import Lighting
     from .programs.sequence import write_sequence
     from .render import Renderer
-    from .sun import SunPath
     from .sunlit.litmesh import LitMeshMode
     from .sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
+    from .sunpath import SunPath
     from .views.dome import ViewDome
 
     with claim.writing() as out, Renderer() as r:

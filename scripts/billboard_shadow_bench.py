@@ -47,12 +47,12 @@ from morphkit.imaging.metrics import shadow_iou
 from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer
-from morphkit.sun import sun
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.litmodes import LitMode
 from morphkit.sunlit.raycast import RayCastShadow
 from morphkit.sunlit.receivers import AtlasShadow, FilteredAtlasShadow, bake_scene_atlases
 from morphkit.sunlit.shadowing import DARK_LEVELS, darkened
+from morphkit.sunpath import sun
 
 SUNS = ((30.0, 35.0), (120.0, 60.0), (-60.0, 20.0))  # (azimuth, elevation), degrees
 

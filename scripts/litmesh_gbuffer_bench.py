@@ -26,9 +26,9 @@ from morphkit.camera import look_at, perspective
 from morphkit.imaging.shading import Lighting
 from morphkit.programs.fixtures import FIELD_MESHES, field_domes
 from morphkit.render import Renderer, gl_info
-from morphkit.sun import sun
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.raycast import RayCastShadow
+from morphkit.sunpath import sun
 
 
 def main() -> None:

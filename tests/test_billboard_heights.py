@@ -17,7 +17,7 @@ from morphkit.billboard.frames.paths import (
 )
 from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
-from morphkit.sun import TEST_SUNS, SunPath, sun, sun_directions_8
+from morphkit.sunpath import TEST_SUNS, SunPath, sun, sun_directions_8
 from morphkit.views.domecameras import direction, quad_axes
 
 CAM = perspective(np.radians(50), (48, 64), look_at([0, -10, 1], [0, 0, 1]))

@@ -51,6 +51,15 @@ def test_every_exported_name_resolves_to_its_modules_own_object():
             assert getattr(home, name) is obj, name
 
 
+def test_no_exported_name_is_also_a_submodule_name():
+    """Importing ``morphkit.x`` sets the package's attribute ``x`` to the module: an exported
+    function of that name (``morphkit.sun``) would turn into the module once anything imported it."""
+    package = Path(morphkit.__file__).parent
+    clashes = sorted(n for n in morphkit.__all__
+                     if (package / f"{n}.py").exists() or (package / n / "__init__.py").exists())
+    assert not clashes, f"exported names that are also submodules of morphkit: {clashes}"
+
+
 def test_dir_lists_every_exported_name():
     assert set(morphkit.__all__) <= set(dir(morphkit))
     assert len(morphkit.__all__) == len(set(morphkit.__all__))

@@ -27,9 +27,9 @@ from morphkit.programs.fixtures import demo_scene, write_color_ply, write_leaf_p
 from morphkit.protocols import GBufferRenderer, PassRenderer
 from morphkit.scene import Item
 from morphkit.shadow.frame import frame_items
-from morphkit.sun import sun
 from morphkit.sunlit.litmesh import LitMeshMode
 from morphkit.sunlit.raycast import RayCastShadow
+from morphkit.sunpath import sun
 
 pytestmark = pytest.mark.gl
 

@@ -13,8 +13,8 @@ from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import Lighting, shade_passes
 from morphkit.scene import Item, PointLight
-from morphkit.sun import sun
 from morphkit.sunlit.litmesh import LitMeshMode
+from morphkit.sunpath import sun
 
 pytestmark = pytest.mark.gl
 

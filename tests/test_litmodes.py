@@ -15,7 +15,6 @@ from morphkit.camera import look_at, perspective
 from morphkit.errors import ValidationError
 from morphkit.imaging.shading import Lighting
 from morphkit.scene import PointLight
-from morphkit.sun import sun
 from morphkit.sunlit.litmodes import (
     ClassicSurface,
     CrossfadeSurface,
@@ -25,6 +24,7 @@ from morphkit.sunlit.litmodes import (
     pack_surface,
     unpack_surface,
 )
+from morphkit.sunpath import sun
 
 
 @pytest.fixture(scope="module")

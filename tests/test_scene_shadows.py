@@ -264,10 +264,10 @@ def _camera():
 def test_billboard_and_mesh_frames_darken_the_same_ground(renderer, box_scene, elevation):
     from morphkit.billboard.baking.bakelook import BAKE_AMBIENT
     from morphkit.imaging.shading import Lighting
-    from morphkit.sun import sun
     from morphkit.sunlit.litmesh import LitMeshMode
     from morphkit.sunlit.litmodes import LitMode
     from morphkit.sunlit.raycast import RayCastShadow
+    from morphkit.sunpath import sun
 
     scene, meshes, items = box_scene
     atl = bake_scene_atlases(meshes, renderer, size=16)

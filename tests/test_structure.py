@@ -245,7 +245,7 @@ def test_no_two_parts_import_each_other():
 #: command line over everything.
 FLOORS: tuple[frozenset[str], ...] = (
     frozenset({"conventions", "tol", "errors", "validate", "settings", "protocols", "camera", "scene",
-               "render", "glplatform", "passes", "memo", "sun", "files", "imaging", "meshes", "warp",
+               "render", "glplatform", "passes", "memo", "sunpath", "files", "imaging", "meshes", "warp",
                "views"}),
     frozenset({"shadow", "billboard", "viewmorph"}),
     frozenset({"sunlit"}),

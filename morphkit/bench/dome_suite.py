@@ -34,7 +34,7 @@ Sections (each ``(cache, quick) -> rows``, appended to ``billboard_suite.SECTION
   data range 1, capped at 99 dB), ``*_min`` the worst direction; time: one ``surface()``
   call (median over the directions).
 * ``dome-relit`` -- 3 directions per band (quick 1) under each of the 8 suns of
-  :func:`~morphkit.sun.sun_directions_8` relative to the viewing azimuth, one at a
+  :func:`~morphkit.sunpath.sun_directions_8` relative to the viewing azimuth, one at a
   time (``Lighting(BAKE_AMBIENT, (sun,))``), truth and methods shaded as above; ``psnr_<sun>``
   per sun, ``psnr_relit`` their mean, ``psnr_bake`` the same directions under the bake
   lighting and ``relit_delta = psnr_bake - psnr_relit`` (target <= 2 dB); ``iou`` the mean
@@ -110,9 +110,9 @@ from ..imaging.metrics import psnr, shadow_iou
 from ..imaging.shading import Lighting, shade, shade_passes
 from ..memo import Memo
 from ..protocols import SceneRenderer
-from ..sun import sun_directions_8
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.litmodes import ClassicSurface, CrossfadeSurface, LitMode, MorphSurface, NearestSurface
+from ..sunpath import sun_directions_8
 from ..views.domecameras import direction
 from .billboard_scenes import SUITE, step_changes
 from .harness import Timing, make_row, time_calls

@@ -55,11 +55,11 @@ from ..imaging.metrics import shadow_iou
 from ..meshes import load_mesh, normalize
 from ..programs.fixtures import textured_demo_asset, write_leaf_plant
 from ..protocols import PassRenderer
-from ..sun import SunPath
 from ..sunlit.cardbaselines import card_field_map
 from ..sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
 from ..sunlit.fieldshadow import FieldMap, FieldShadow
 from ..sunlit.sunatlas import SunAtlas, bake_sun_atlas
+from ..sunpath import SunPath
 from ..views.dome import ViewDome
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
@@ -86,7 +86,7 @@ RECEIVER_MARGIN = 1.5
 CAMERA_AZIMUTH_DEG, CAMERA_ELEVATION_DEG = -120.0, 25.0
 #: Its distance: this times the field's half side, plus :data:`CAMERA_DISTANCE_PAD` units.
 CAMERA_DISTANCE_FACTOR, CAMERA_DISTANCE_PAD = 2.0, 6.0
-#: The day the suns are drawn from (:class:`~morphkit.sun.SunPath`: azimuth -90 to 90,
+#: The day the suns are drawn from (:class:`~morphkit.sunpath.SunPath`: azimuth -90 to 90,
 #: 60 degrees at noon, 5 below the horizon at both ends, so the path's suns cross the horizon).
 DAY = SunPath(rise_deg=-5.0)
 

@@ -375,7 +375,7 @@ def _relit_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool) -
     from ..billboard.impostor import bake_impostor, impostor_frame_size
     from ..imaging.metrics import psnr, shadow_iou
     from ..imaging.shading import Lighting, shade, shade_passes
-    from ..sun import sun
+    from ..sunpath import sun
 
     mesh = sample_mesh("tree")
     size = 64 if quick else 128
@@ -421,12 +421,12 @@ def _shadowed_billboard_section(renderer: PassRenderer, add: Any, *, quick: bool
     from ..camera import look_at, perspective
     from ..imaging.metrics import shadow_iou
     from ..imaging.shading import Lighting
-    from ..sun import sun
     from ..sunlit.litmesh import LitMeshMode
     from ..sunlit.litmodes import LitMode
     from ..sunlit.raycast import RayCastShadow
     from ..sunlit.receivers import AtlasShadow, bake_scene_atlases
     from ..sunlit.shadowing import darkened
+    from ..sunpath import sun
     from .fixtures import FIELD_MESHES, field_domes
 
     t0 = time.perf_counter()

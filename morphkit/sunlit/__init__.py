@@ -6,7 +6,7 @@ one atlas per asset over the sun's direction in its own frame, reused by every i
 yaw and every sun. This package sits above both wings and imports them; neither imports it.
 
 The sun's shadow casters (the sun itself, a day's path across the sky, is
-:mod:`morphkit.sun`):
+:mod:`morphkit.sunpath`):
 
 * :mod:`.sunatlas` -- :class:`SunAtlas`: an asset's light views over the sun's direction
   (every yaw, every sun), morphed per pixel; one instance's ground shadow;

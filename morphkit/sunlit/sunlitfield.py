@@ -265,7 +265,7 @@ class SunlitField:
         camera : CameraModel
             The view, world frame.
         sun : DirectionalLight or sequence of DirectionalLight
-            The sun(s) (:func:`morphkit.sun.sun`), world frame.
+            The sun(s) (:func:`morphkit.sunpath.sun`), world frame.
 
         Returns
         -------

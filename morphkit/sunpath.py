@@ -62,7 +62,7 @@ def sun(azimuth_deg: float, elevation_deg: float, intensity: float = SUN_INTENSI
     --------
     Straight above, the light travels straight down.
 
-    >>> from morphkit.sun import sun
+    >>> from morphkit.sunpath import sun
     >>> sun(0.0, 90.0).direction.round(12) + 0.0
     array([ 0.,  0., -1.])
     """
@@ -92,7 +92,7 @@ class SunPath:
     The default day: 10 degrees up at both ends, 60 degrees at noon,
     ``10 + 50 sin(pi / 4)`` at ``t = 1/4``; a day from 5 degrees below the horizon:
 
-    >>> from morphkit.sun import SunPath
+    >>> from morphkit.sunpath import SunPath
     >>> path = SunPath()
     >>> [round(path.elevation_at(t), 6) for t in (0.0, 0.25, 0.5, 1.0)]
     [10.0, 45.355339, 60.0, 10.0]
@@ -262,7 +262,7 @@ def sun_directions_8(view_azimuth_deg: float = 0.0, intensity: float = SUN_INTEN
 
     Examples
     --------
-    >>> from morphkit.sun import sun_directions_8
+    >>> from morphkit.sunpath import sun_directions_8
     >>> suns = sun_directions_8()
     >>> list(suns)[:3], suns["behind"].direction.round(3) + 0.0
     (['front', 'front_left', 'side'], array([ 0.866,  0.   , -0.5  ]))
