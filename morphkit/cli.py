@@ -657,16 +657,15 @@ def build_parser() -> argparse.ArgumentParser:
                     help="a soft sun for --shadows (implied). --soft alone (or --soft pcss): one map "
                     "along the disc's centre at 1.5 times the atlases' texels, filtered (percentage-closer "
                     "soft "
-                    "shadows: at the real sun less error than 4 to 16 maps averaged, in under two thirds "
-                    "of the time of 4; over 1-4 degree discs about the error of 8 to 16, smoother, in at "
-                    "most about the time of 8; docs/RESULTS.md); "
+                    "shadows: at the real sun less error than several maps averaged, in less time; over "
+                    "wider discs smoother penumbrae; docs/RESULTS.md, the soft sun); "
                     "--soft N: N directions over its disc, one shadow map each, averaged "
                     "(default: a hard shadow)")
     bb.add_argument("--sun-atlas-size", type=int, default=None, metavar="N",
                     help="for --shadows (implied): texels a side of each asset's sun atlas views "
                     "(default 128, 2 MB for two assets; 256: 8 MB, sharper shadows on the instances and "
-                    "meshes themselves "
-                    "for about 30-45 ms more a frame under a new sun; docs/RESULTS.md)")
+                    "meshes themselves, "
+                    "for more time a frame under a new sun; docs/RESULTS.md)")
     bb.add_argument("--sun-radius", type=float, default=SUN_DISC_RADIUS_DEG, metavar="DEG",
                     help="for --soft (implied): the sun disc's angular radius, degrees (default: the "
                     "real sun's %(default)s; larger discs give wider penumbrae, up to 15)")

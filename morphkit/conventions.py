@@ -18,8 +18,8 @@ Pixels and images
 * OpenCV's SIFT keypoints are not quite in this convention: SIFT detects on
   the image doubled (its first octave) and maps keypoints back by halving,
   where ``(x + 0.5) / 2 - 0.5`` would be right, so ``KeyPoint.pt`` lies
-  :data:`SIFT_KEYPOINT_OFFSET_PX` right of and below the feature (measured on
-  Gaussian blobs: +0.247, +0.246 px); :mod:`morphkit.viewmorph.matching` subtracts it.
+  :data:`SIFT_KEYPOINT_OFFSET_PX` right of and below the feature (as measured on
+  Gaussian blobs); :mod:`morphkit.viewmorph.matching` subtracts it.
 * Output sizes in morphkit's API are array shapes ``(H, W)`` and are named
   ``shape``/``out_shape``. The ``(w, h)`` order appears only at cv2 calls.
 

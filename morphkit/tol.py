@@ -120,9 +120,8 @@ ALPHA_FLOOR = 1e-6
 #: A visibility within this of 0 or 1 is umbra or lit, not penumbra, in the soft-shadow
 #: bench's banding measure (:func:`morphkit.bench.soft_suite.banding`): a filtered lookup that
 #: sums lit and shadowed terms leaves round-off of about 1e-16 in the umbra, which a strict
-#: ``0 < v < 1`` counted as penumbra (the measure then moved with the summation order, not
-#: with the image: 0.0063 vs 0.0100 on the teapot for the same visibility to 2e-13). The sun
-#: disc's filtered lookup (:mod:`morphkit.sunlit.sundisc`) returns such values as 0 or 1.
+#: ``0 < v < 1`` counts as penumbra, so the measure would move with the summation order. The
+#: sun disc's filtered lookup (:mod:`morphkit.sunlit.sundisc`) returns such values as 0 or 1.
 PENUMBRA_EPS = 1e-6
 
 #: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees):
@@ -149,25 +148,22 @@ LIGHT_FIT_DEPTH_PAD = 1e-6
 
 #: Bytes of memory per pixel that an offscreen GL context and its first draw take (checked
 #: before the context is created: :mod:`morphkit.render`, where Mesa would die of a failed
-#: allocation instead of reporting it). Measured on llvmpipe (OSMesa): 12 B/px at context
-#: creation and a 35 B/px peak after the first colour-and-depth draw (address space, at
-#: 2048^2, 4096^2 and 8192^2); 48 leaves a third on top for other drivers and draws.
+#: allocation instead of reporting it): the peak address space llvmpipe (OSMesa) takes for a
+#: context and its first colour-and-depth draw, and a third on top for other drivers and draws
+#: (measured: docs/RESULTS.md, "Reliability").
 GL_BYTES_PER_PIXEL = 48
 
 #: Bytes of memory per pixel a context's first one-pass frame draw adds (checked before each:
 #: :meth:`morphkit.render.Renderer.frame_pass` and ``gbuffer_pass``, which share it; its framebuffer
-#: object of two colour attachments and depth, on OSMesa beside OSMesa's own buffer). Measured on
-#: llvmpipe: a 27-30 B/px rise of the peak address space at 2048^2 and 4096^2 (none at later draws);
-#: 40 leaves a third on top.
+#: object of two colour attachments and depth, on OSMesa beside OSMesa's own buffer): the rise of
+#: llvmpipe's peak address space at that draw (none at later ones), and a third on top.
 GL_FRAME_PASS_BYTES_PER_PIXEL = 40
 
 #: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
 #: frame holds several per-pixel buffers at once (unprojected world points and
 #: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):
-#: about 60 bytes a pixel, i.e. ~4 GB at this size. Larger sizes were refused
-#: only by a raw ``MemoryError`` after seconds of work (20000^2) or not at all;
-#: they are now a ``ValidationError`` from :func:`morphkit.validate.as_shape`
-#: before any allocation. The benchmarks go up to 1024^2, 64x below.
+#: about 60 bytes a pixel, i.e. ~4 GB at this size; a larger size is a
+#: ``ValidationError`` from :func:`morphkit.validate.as_shape` before any allocation.
 MAX_IMAGE_PIXELS = 2**26
 
 #: Most bytes one array morphkit allocates for the caller's sizes may take
@@ -196,14 +192,12 @@ MAX_VIDEO_SIDE = 8190
 
 #: Most frames one command renders along a path (``shadows``, ``billboards``,
 #: ``viewmorph --frames``): 100000 frames is an hour of video at 25 fps; each frame is
-#: a file, and the frame list (cameras, positions) is built before the first frame,
-#: so a count without a cap allocated without bound (10^9 frames) before any error.
+#: a file, and the frame list (cameras, positions) is built before the first frame.
 MAX_FRAMES = 100_000
 
 #: Most billboard instances one scene places (``morphkit billboards --n``). Instances
 #: are drawn one by one each frame and placed up front (positions, sizes, rotations);
-#: the paper's forest scenes have a few thousand, so 100000 leaves room while 10^11
-#: would allocate terabytes before any error.
+#: the paper's forest scenes have a few thousand, so 100000 leaves room.
 MAX_INSTANCES = 100_000
 
 #: Most reference views of one billboard asset (as :class:`morphkit.bake.BillboardKind`
@@ -219,7 +213,7 @@ MAX_BILLBOARD_SIDE = 2048
 
 #: Most local worker processes of a bake (``morphkit bake --workers``): each is a
 #: Python process with its own GL context (~200 MB); 256 is beyond any single
-#: machine's useful count, while an uncapped count started processes until memory ran out.
+#: machine's useful count.
 MAX_LOCAL_WORKERS = 256
 
 #: Most threads of a banded pass (``MORPHKIT_WARP_THREADS``): each takes a band of rows
@@ -233,12 +227,12 @@ MAX_EGL_DEVICE = 1023
 #: Most instances of one ``bench scene`` field (``morphkit bench scene --instances``): its
 #: ``sun-change`` section poses every instance's copy of an asset of up to 50k faces into one mesh
 #: that is drawn and ray-cast, about 5e7 faces (gigabytes) at the suite's largest default of 1000,
-#: so twice that is the most a machine of tens of GB holds (10^9 grew past 23 GB until killed).
+#: so twice that is the most a machine of tens of GB holds.
 MAX_BENCH_INSTANCES = 2000
 
 #: Most assets of the ``bench bake`` library (``morphkit bench bake --assets``): each is a mesh file
-#: written to a temporary folder and baked once per phase, so a count without a cap wrote files
-#: until the disk was full; 16x the 256 assets the suite's projection targets.
+#: written to a temporary folder and baked once per phase; 16x the 256 assets the suite's
+#: projection targets.
 MAX_BENCH_ASSETS = 4096
 
 #: Largest seed a command takes (``billboards --seed``): numpy's generators take any
@@ -249,7 +243,7 @@ MAX_SEED = 2**64 - 1
 #: sample array). A soft shadow's visibility is a multiple of ``1 / N``: at
 #: 4096 (64 x 64) that step is already 16x finer than one 8-bit grey level, and
 #: every sample costs one shadow map per frame (a warp or a render), so more
-#: samples only cost time (10^4 x 10^4 samples took gigabytes before failing).
+#: samples only cost time.
 MAX_LIGHT_SAMPLES = 4096
 
 #: Filtered (penumbra) shadow lookups (:mod:`morphkit.shadow.filtering.filtered`): a kernel whose
@@ -263,9 +257,8 @@ PENUMBRA_MIN_HALF_TEXEL = 0.5
 #: Largest ``|x|`` or ``|y|`` (pixels) of a mesh warp's control points
 #: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
 #: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image
-#: fits; there float64 still resolves an edge crossing to ~2e-9 px and float32
-#: maps to 1 px, while at 1e20 px the crossings of an image's pixel centres
-#: cancel to nothing and the warp silently covered no pixel.
+#: fits, and float64 still resolves an edge crossing there (far beyond, the crossings
+#: of an image's pixel centres cancel to nothing and the warp would cover no pixel).
 MAX_COORD_PX = 1e7
 
 # --- view morphing (morphkit.viewmorph) -------------------------------------
@@ -371,18 +364,14 @@ VM_KMEANS_CONVERGED_REL = 1e-12
 #: Fewest distinctive (SIFT) matches two images must share for ``morphkit viewmorph`` to
 #: take them for views of one scene when it finds the correspondences itself: the 8
 #: pairs F needs (:func:`morphkit.viewmorph.plan_view_morph`'s minimum). Dense flow finds
-#: forward-backward consistent pairs between any two images (17 to 1339 on four unrelated
-#: synthetic pairs, which a robust F or a homography then explained: a double exposure),
-#: so only the distinctive matches can tell; SIFT found 0, 3, 5 and 11 on those pairs.
-#: Fewer than F's own minimum refuses what cannot be one scene's views; more does not prove
-#: that the views are of one scene.
+#: consistent pairs between any two images (a robust F then explains a double exposure), so
+#: only the distinctive matches can tell; fewer than F's own minimum cannot be one scene's views.
 VM_MIN_SCENE_MATCHES = 8
 
 #: Smallest side (pixels) of the images DIS optical flow runs on (``FlowMatcher`` pads
-#: smaller ones with zeros): OpenCV's DIS refuses a side under 12, and (OpenCV 5.1,
-#: measured) kills the process with a segfault on images under 16 rows high and 40 or
-#: more wide (preset medium), or under 32 rows and 80 or more wide (fast, ultrafast);
-#: from 32 rows and columns on, none did (up to 8000 wide, every preset).
+#: smaller ones with zeros): OpenCV's DIS refuses a side under 12 and kills the process with
+#: a segfault on some wide images fewer than 32 rows high; from 32 rows and columns on, no
+#: preset does.
 VM_FLOW_MIN_SIDE = 32
 
 #: Fewest pairs a depth layer may hold; with fewer, the layer count drops (the
@@ -399,30 +388,26 @@ VM_POST_FIT_PAIRS = 256
 #: drop more than this fraction of its pairs to fold-overs: below it a second layer costs
 #: the smooth meshes a little, above it (parts crossing, wide baselines) it gains much
 #: (set from the bench scenes: docs/RESULTS.md, "View morphing").
-#: Any value between 0.4% and 1.1% splits the bench cases alike.
 VM_AUTO_LAYER_DROP = 0.005
 
-#: How many layers ``layers="auto"`` uses when it layers: two took the chair at
-#: 20 deg from 0.885 to 0.965 IoU (s = 1/2); three gave 0.963 at 1.4x the time.
+#: How many layers ``layers="auto"`` uses when it layers: two take the crossing parts apart
+#: (docs/RESULTS.md, "View morphing"); a third added time, not accuracy.
 VM_AUTO_LAYERS = 2
 
 # --- billboard assets (morphkit.billboard) ----------------------------------
 
 #: Fewest correspondences (from the two depth maps, before cleaning) a pair of
 #: neighbouring reference views must share to be baked into an asset; fewer is
-#: refused at bake time. 4x the 8 pairs F needs, so the robust fit has a margin;
-#: a morph mesh with fewer points cannot follow an object's outline (the
-#: bake's sampling gives ~500-1000 pairs for the sample meshes at 256^2 and
-#: 45-60 degrees, and ~150-300 at 64^2).
+#: refused at bake time. 4x the 8 pairs F needs, so the robust fit has a margin,
+#: and a morph mesh with fewer points cannot follow an object's outline.
 BB_MIN_CORRESPONDENCES = 32
 
 #: Depth tolerance of the bake's visibility test (a sample of one reference is seen by
 #: the other when its depth there is within this of the other's depth map), in
 #: bounding radii of the mesh: ``from_depth(rtol=BB_VISIBILITY_RADII / distance_factor)``.
-#: A tolerance relative to the depth alone (:data:`VM_VISIBILITY_RTOL`) grows with the
-#: bake distance: at 12 radii it took points 0.12 radii behind a surface for visible
-#: (a chair's far legs), their pairs folded over, and a pair could not be morphed.
-#: 0.04 is what 1% of the depth was at the former 4 radii.
+#: A tolerance relative to the depth alone (:data:`VM_VISIBILITY_RTOL`) would grow with the
+#: bake distance until points behind a surface (a chair's far legs) counted as visible and
+#: their pairs folded over; 0.04 radii is 1% of the depth at 4 radii.
 BB_VISIBILITY_RADII = 0.04
 
 #: Splat grid of a morph's coverage from depth (:func:`morphkit.billboard.splat_coverage`),
@@ -506,30 +491,25 @@ BB_SCATTER_TRIES = 100
 #: Largest forward-backward disagreement (pixels) of a pair from dense optical
 #: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the
 #: forward flow and back by the backward flow must land within this of where it
-#: started. Where DIS flow is right it is sub-pixel (median error 0.1 px on a
-#: translated smooth texture, tests/test_viewmorph_images.py); at occlusions and
-#: silhouettes the two flows disagree by pixels. 1 px is the inlier threshold of
-#: F (:data:`VM_THRESHOLD_PX`): a kept pair is not already an outlier.
+#: started. Where DIS flow is right it is sub-pixel, at occlusions and silhouettes
+#: the two flows disagree by pixels; 1 px is the inlier threshold of F
+#: (:data:`VM_THRESHOLD_PX`), so a kept pair is not already an outlier.
 VM_FLOW_FB_PX = 1.0
 
 #: An estimated F whose pre-warps are refused (epipole in or near an image, or
 #: too distorting) is replaced by the affine F (epipoles at infinity) when the
 #: affine F keeps at least this fraction of the general F's inliers: the views
 #: are then nearly affine, and the general F's epipole is fitted to the
-#: matches' noise. Set from exact pairs (``from_depth``), not from the success
-#: rate: on the bench circle at 192^2 an affine F keeps, within 1 px, 97-100%
-#: of the pairs at a 10-degree baseline, 79-100% at 20 and 64-100% at 40; 0.6
-#: accepts views as far from affine as those and refuses pairs an affine F
-#: explains worse (they fall back as any refused pair does).
+#: matches' noise. Set from exact pairs (``from_depth``) on the bench circle: 0.6
+#: accepts its views up to 40-degree baselines and refuses pairs an affine F explains
+#: worse (they fall back as any refused pair does).
 VM_AFFINE_INLIER_RATIO = 0.6
 
 #: ... and when, over the pairs both explain, the affine F's RMS Sampson
 #: distance is at most this many times the general F's: the general F's extra
-#: freedom then fits noise, not perspective. Exact pairs (``from_depth``,
-#: ``from_geometry``) fit the general F to ~1e-9 px and an affine F to 0.1-0.5 px
-#: (ratios above 1e5: a real epipole in the image stays refused); SIFT and flow
-#: matches of the 72 bench pairs at 192^2 gave ratios 0.5-2.0 (1.1 median): a
-#: factor of 2 means F must halve the residual to count as determined.
+#: freedom then fits noise, not perspective: F must halve the residual to count as
+#: determined, while a real epipole in the image (exact pairs fit the general F orders of
+#: magnitude closer) stays refused.
 VM_AFFINE_RMS_RATIO = 2.0
 
 # --- shadow wing ---------------------------------------------------------------
@@ -639,11 +619,9 @@ SPLAT_MIN_COS = 0.1
 #: splatted at (:func:`morphkit.sunlit.fieldsplat.splat_levels`): an instance whose atlas texel
 #: covers ``f`` field texels is drawn from blocks of ``2**l`` atlas texels with
 #: ``2**l * f`` at most this. At 1 a level's point is never wider than the field's texel, so
-#: the shadow's outline moves by under a field texel (the map cannot hold a finer one); a
-#: field as fine as its atlases (``f`` near 1) keeps every point. Of 0.5, 0.71, 1 and 1.5 (the
-#: ``bench scene`` fields of 10, 100 and 1000 instances at a quarter of the suite's resolution,
-#: ground IoU against the ray cast), 1 kept level 0's IoU at 100 and 1000 instances with the
-#: fewest points, 1.5 lost some at 10 (its coarse blocks' outlines are a field texel and a half).
+#: the shadow's outline moves by under a field texel (the map cannot hold a finer one), while
+#: wider blocks lost accuracy on small fields (docs/RESULTS.md, "Small or far casters get
+#: coarser points").
 SPLAT_LEVEL_MAX_TEXELS = 1.0
 
 #: A block of a coarser atlas point level (:func:`morphkit.sunlit.pointlevels.block_points`)
@@ -674,34 +652,25 @@ SUN_YAW_ONLY_ATOL = 1e-6
 #: coverage (the weighted vote of the three views: hit 1, free 0, occluded abstains;
 #: :func:`morphkit.views.depthmorph.combine`) is at least this. The morph's own rule
 #: (covered where any view hit) is the union of three silhouettes, each off by up to
-#: half a texel either way, so it grows the shadow: on the tree (8 suns at 37 degrees'
-#: yaw, ground grid against the ray cast) it shadowed 4.2x as many ground points
-#: wrongly as it missed at 64 texels; a majority (0.5) brings that to 1.6x with the
-#: fewest wrong points of the cuts tried (0.02, 0.5, 0.65, 0.8). With continuous
-#: crossings only, 0.5 still has the fewest on the tree and the cow at
-#: 64 and 128 texels (0.65: about as many, fewer extra and more missing).
+#: half a texel either way, so it grows the shadow; a majority (0.5) had the fewest
+#: wrongly shadowed or missed ground points of the cuts tried (0.02, 0.5, 0.65, 0.8) on the
+#: tree and the cow against the ray cast.
 SUN_VIEW_MIN_COVERAGE = 0.5
 
 
 # --- a billboard scene's shadow receivers (morphkit.sunlit.receivers) ---------------
-#: How far (field light-view texels) a shadow receiver that is drawn into the field's map
-#: itself -- a billboard's pixel, a real mesh's pixel, from their depth -- is moved along
-#: its own normal before the lookup (normal-offset bias). The field's lookup has only a
-#: constant bias (:data:`SUN_GROUND_BIAS_TEXELS`, right for the ground, which is never in
-#: the map), but a caster's surface compared with its own map entry differs by up to
-#: ``tan(theta)`` texels across a texel at an angle ``theta`` to the light, plus the two
-#: morphs' depth errors (the billboard's view and the atlas's light view, each about half
-#: a texel): without an offset a billboard's sunlit side speckles with its own shadow
-#: (acne). Of the offsets tried (0, 1, 2, 3 texels), 1 gave the best billboard-pixel shadow
-#: IoU against the ray-cast mesh frame under each of three suns (20 trees and cows;
-#: scripts/billboard_shadow_bench.py --offsets 0,1,2,3): 0 leaves the acne, larger ones
-#: lose the shadows that fall across a billboard from a neighbour close by.
+#: How far (field light-view texels) a shadow receiver drawn into the field's map itself -- a
+#: billboard's pixel, a real mesh's pixel -- is moved along its own normal before the lookup
+#: (normal-offset bias): its surface differs from its own map entry by up to ``tan(theta)``
+#: texels at an angle ``theta`` to the light, plus the morphs' depth errors, so without an
+#: offset a sunlit side speckles with its own shadow (acne), and larger ones lose the shadows a
+#: close neighbour casts (offsets compared: ``scripts/billboard_shadow_bench.py --offsets``).
 SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 
 #: Largest side (texels) of a billboard frame's field light view when its resolution is
 #: chosen automatically (:class:`morphkit.sunlit.receivers.AtlasShadow`): a float32 map
-#: of 16 MiB, built (``np.full`` and one warp per caster) in a few milliseconds; a wider field gets
-#: coarser texels rather than a larger map.
+#: of 16 MiB, built by ``np.full`` and one warp per caster; a wider field gets coarser texels
+#: rather than a larger map.
 SUN_FIELD_MAX_SIDE = 2048
 
 #: ``billboards --sun-atlas-size``: the sun atlas views' side, texels. Under 16 an asset is a few
@@ -717,7 +686,7 @@ MAX_SUN_SAMPLES = 64
 #: lookup (:mod:`morphkit.sunlit.sundisc`): a wider penumbra is clipped to it (its edge then
 #: too sharp). At the field's usual 64-128 texels an asset, 16 texels is an eighth to a
 #: quarter of an instance, a 2-degree disc's penumbra 3 units behind its occluder; the cost
-#: per point grows with the square (a 33 x 33 box: about 1,100 reads).
+#: per point grows with the square of it.
 SUN_DISC_MAX_HALF_TEXELS = 16.0
 
 #: Half-width (field texels) of the box a sun disc's filtered lookup widens its kernel by
@@ -726,27 +695,23 @@ SUN_DISC_MAX_HALF_TEXELS = 16.0
 #: true edge lies anywhere within half a texel either way of the drawn one, and at the real
 #: sun (0.267 degrees) the disc's own penumbra is mostly narrower than that. The kernel is
 #: the disc's square convolved with this box (a trapezoid a side), so the penumbra is never
-#: narrower than half a texel and never falls back to the hard lookup. The mean estimate of
-#: that edge would take 0.5 (the whole uncertainty): the mean error is flat from 0 to about
-#: 0.3 while the banding falls with the width, and 0.25 is the widest on the flat part
-#: (``morphkit bench scene --sections sun-disc``).
+#: narrower than half a texel; 0.25 is the widest box before the mean error grows, and the
+#: banding falls with the width (``morphkit bench scene --sections sun-disc``).
 SUN_DISC_RASTER_HALF_TEXEL = 0.25
 
 #: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
 #: resolution, :class:`morphkit.sunlit.receivers.FilteredAtlasShadow`; still capped by
 #: :data:`SUN_FIELD_MAX_SIDE`). At the field's native resolution the filtered map's error at
-#: the real sun (0.267 degrees) stays above that of 4 maps averaged over the disc, however
-#: it is filtered: its edges lie on a texel grid that 4 slightly turned maps dither. The
-#: atlases' points carry their positions below a texel, so a finer field map draws the edges
-#: finer, for less than a second map's cost: 1.5 is the scale at which one filtered map beats
-#: 4 native maps averaged at the real sun (``morphkit bench scene --sections sun-disc``).
+#: the real sun stays above that of a few maps averaged over the disc (its edges lie on a
+#: texel grid that slightly turned maps dither), while the atlases' points carry their
+#: positions below a texel: 1.5 is the scale at which one filtered map beats 4 native maps
+#: averaged at the real sun (``morphkit bench scene --sections sun-disc``).
 SUN_DISC_MAP_SCALE = 1.5
 
 #: Directions over the disc of the ray-cast truth beside a filtered soft sun
 #: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
-#: several directions, and a frame's ray cast costs one pass per direction; 16 is within
-#: about 0.01 mean visibility of 64 over 1-4 degree discs (docs/RESULTS.md, the field's
-#: shadows: the soft sun).
+#: several directions, and a frame's ray cast costs one pass per direction; 16 come close to
+#: 64's truth for a quarter of the passes.
 SUN_DISC_TRUTH_SAMPLES = 16
 
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light

@@ -322,6 +322,32 @@ def test_the_issue_scan_finds_references():
     src = '"""Built for issue #26."""\nx = 1  # see #29\ny = "#ff0000"  # noqa: E501\nz = 2  # 1. then 2.\n'
     assert _issue_refs(src) == ["line 1: issue #26", "line 2: #29"]
     assert _issue_refs('z = "#123abc"  # colour\n') == []
+    src = '# named (#23: values unchanged)\n"""Issue 25 and issues #26 and #27."""\n'
+    assert _issue_refs(src) == ["line 1: #23", "line 2: Issue 25", "line 2: issues #26", "line 2: #27"]
+    legit = 'c = "#fff"  # type: ignore[attr-defined]\nu = "a.html#12x"  # 2. step; &#39;\nk = 1  # 3x3\n'
+    assert _issue_refs(legit) == []
+
+
+#: The GLSL shaders morphkit ships (their ``//`` comments are code text too).
+SHADERS = sorted(p for p in (PACKAGE / "data" / "shaders").glob("*") if p.suffix in {".frag", ".vert"})
+
+
+def _shader_issue_refs(text: str) -> list[str]:
+    """Issue references in a shader's ``//`` comments (``#version 330``, ``#ifdef`` are code)."""
+    return [f"line {i}: {m.group(0)}" for i, line in enumerate(text.splitlines(), 1)
+            if "//" in line for m in ISSUE_REF.finditer(line.split("//", 1)[1])]
+
+
+def test_the_shader_scan_finds_references():
+    src = "#version 330 core\n// the one-pass frame (issue #26)\n"
+    assert _shader_issue_refs(src) == ["line 2: issue #26"]
+    assert _shader_issue_refs("#define MAX_LIGHTS 8\nvec4 c; // 1. a colour, #ff8800\n") == []
+
+
+@pytest.mark.parametrize("path", SHADERS, ids=lambda p: p.name)
+def test_shader_comments_name_no_issue_numbers(path):
+    refs = _shader_issue_refs(path.read_text())
+    assert not refs, f"{path.name} names issues in its comments: {refs}"
 
 
 @pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(PACKAGE)))

@@ -179,7 +179,7 @@ class ScenePlan:
 
 #: The full run's cases.
 FULL = ScenePlan()
-#: ``--quick``'s cases (about 10 s).
+#: ``--quick``'s cases (a short run).
 QUICK = ScenePlan(counts=(10,), suns=2, grid=160, atlas_size=64, impostor_frames=8, impostor_supersample=1,
                   change_counts=(10,), change_repeats=2, grid_domes=("sparse", "default"), grid_sizes=(64,),
                   grid_count=10, grid_suns=1, path_suns=8, path_count=10, receiver_counts=(10,),

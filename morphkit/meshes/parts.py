@@ -54,13 +54,13 @@ part has colours, face colours if every part has face colours, else vertex colou
 (a face-coloured part's faces unshared, a part without colours in
 :data:`~morphkit.conventions.DEFAULT_COLOR`).
 
-Measured against drawing the parts as separate items (wt-render24's renderer,
-256^2 and 1024^2 views of :func:`morphkit.programs.fixtures.write_two_part_gltf` and
-:func:`morphkit.programs.fixtures.write_leaf_plant`): coverage identical, lit colour and
-albedo within 1 level everywhere (the albedo pass encodes a factor as it encodes
+Against drawing the parts as separate items (the views of
+:func:`morphkit.programs.fixtures.write_two_part_gltf` and
+:func:`morphkit.programs.fixtures.write_leaf_plant`) the coverage is identical and lit colour
+and albedo differ only by rounding (the albedo pass encodes a factor as it encodes
 the texel it is baked into: :mod:`morphkit.conventions`, "Colour").
-A compact atlas differs where textures are minified (a 64^2 photo on ~80 px:
-mean 4.6 levels, p99 32). The atlas is subject to the renderer's texture size limits.
+A compact atlas differs where textures are minified (its mipmaps average the packed
+neighbours' texels too). The atlas is subject to the renderer's texture size limits.
 """
 
 from __future__ import annotations

@@ -76,9 +76,9 @@ FREE, HIT, OCCLUDED = 0, 1, 2
 def steps_for(shape: tuple[int, int]) -> int:
     """March samples through the bounding sphere for an image of ``shape``: about one per
     three pixels across it, between 16 and 96. Fewer steps are a thicker surface (a crossing
-    lies within :data:`THICKNESS_STEPS` of them): one per three pixels kept thin parts' outlines
-    better than one per two, with the last secant of the refinement keeping the depth as
-    close, and costs a third less; one per four lost outlines seen from low (measured:
+    lies within :data:`THICKNESS_STEPS` of them): one per three pixels keeps thin parts'
+    outlines, the last secant of the refinement keeping the depth close, for fewer samples
+    than one per two; one per four loses outlines seen from low (measured:
     docs/RESULTS.md, "Billboards from any height").
 
     Parameters

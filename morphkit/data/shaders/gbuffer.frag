@@ -2,7 +2,7 @@
 // morphkit: a copy of pyrender's flat.frag (pyrender 0.1.45 / pyrender2 0.2.2,
 // MIT licence, Copyright (c) 2019 Matthew Matl; see LICENSE-pyrender.txt here)
 // changed where marked "morphkit:" (see morphkit/render.py, "Materials" and "One-pass frame and G-buffer").
-// morphkit: the G-buffer (issue #26): flat.frag's albedo and normals.frag's encoded normal
+// morphkit: the G-buffer: flat.frag's albedo and normals.frag's encoded normal
 // from one draw, into two colour attachments.
 ///////////////////////////////////////////////////////////////////////////////
 // Structs

@@ -141,7 +141,7 @@ in vec4 color_multiplier;
 ///////////////////////////////////////////////////////////////////////////////
 
 #ifdef MORPHKIT_FRAME
-// morphkit: the one-pass frame (issue #26) writes, in the same draw, the colour with the
+// morphkit: the one-pass frame writes, in the same draw, the colour with the
 // lights off (ambient, occlusion and emission only: the unlit frame) into a second colour
 // attachment, its alpha the drawn item's mark (uniform item_mark, 0 or 1)
 layout(location = 0) out vec4 frag_color;

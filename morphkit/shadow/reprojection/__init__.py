@@ -37,8 +37,8 @@ reconstruction of Mark, McMillan & Bishop 1997):
    does not explain (hidden from its position, or at its silhouette): a layered
    depth image (Shade, Gortler, He & Szeliski 1998). A frame then reprojects
    the primary whole and its neighbours' layers: the same shadow as the whole
-   maps (IoU within 0.0003 at 512^2) from about a third of their pixels, and a
-   layer costs only a list of runs of quads (:class:`Layer`).
+   maps from a fraction of their pixels (docs/RESULTS.md, "Warped shadow maps"),
+   and a layer costs only a list of runs of quads (:class:`Layer`).
 
 At a sample position the reprojection is the identity and reproduces the baked
 map exactly (every object pixel is a vertex of a drawn triangle or a point).

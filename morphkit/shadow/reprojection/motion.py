@@ -17,9 +17,9 @@ __all__ = ["EARLY_Z_TEXELS", "LAYER_TEXELS", "PARALLEL_MIN_SOURCE_PIXELS", "STRE
 #: A reprojected triangle whose bounding box is wider or taller than this
 #: (destination pixels) spans a depth jump and is not drawn. Source triangles
 #: are 1 px; a surface stretched by more than 4x by the motion is taken for a
-#: disocclusion. Measured (``morphkit bench shadows``, chair, 512^2, 50
-#: positions): 3, 4 and 5 px give IoU within 0.0005 of each other; no limit lets
-#: triangles bridge the slats' gaps (0.948).
+#: disocclusion: limits of 3 to 5 px give the same shadow, while no limit lets
+#: triangles bridge the chair's slat gaps (``morphkit bench shadows``; docs/RESULTS.md,
+#: "Warped shadow maps").
 STRETCH_PX = 4.0
 
 #: Maps after the first draw a quad at a centre only if it could make the depth
@@ -31,20 +31,17 @@ STRETCH_PX = 4.0
 EARLY_Z_TEXELS = 0.25
 
 #: Reproject in :data:`morphkit.warp.WARP_THREADS` bands when a frame's sources
-#: hold at least this many object pixels, else in one thread. Measured (cow and
-#: chair, point light, 128^2 and 256^2): the split pays from ~20k pixels (a
-#: thread hand-off costs ~0.1 ms; a pixel ~25 ns per map).
+#: hold at least this many object pixels, else in one thread: below it handing the
+#: bands to the threads costs more than the pixels do (``morphkit bench shadows``).
 PARALLEL_MIN_SOURCE_PIXELS = 1 << 14
 
 #: A neighbour's pixel is *explained* by the primary map (not part of its
 #: :func:`hidden_layer`) when its depth, moved to the primary's sample, is within
 #: this many texels' world size of the primary's surface interpolated there.
-#: Measured (512^2, point light, the 50 positions of ``morphkit bench shadows``,
-#: IoU vs ray cast, teapot / chair / cow): 0.9899 / 0.9898 / 0.9938 against the
-#: whole maps' 0.9900 / 0.9901 / 0.9938 (0.5 and 2 texels: within 0.0003 of
-#: that); a 3 x 3 min/max window instead of the interpolation explains away the
-#: neighbours' pixels just past the primary's silhouette, whose union draws the
-#: finer outline (0.9852 / 0.9825 / 0.9927).
+#: The layers then give the whole maps' shadow (0.5 and 2 texels alike); a 3 x 3
+#: min/max window instead of the interpolation would explain away the neighbours'
+#: pixels just past the primary's silhouette, whose union draws the finer outline
+#: (measured: docs/RESULTS.md, "Warped shadow maps").
 LAYER_TEXELS = 1.0
 
 
