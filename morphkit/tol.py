@@ -8,7 +8,7 @@ repeating numbers.
 from __future__ import annotations
 
 #: Smallest absolute signed area (pixels^2) of a warp triangle that still counts as a
-#: triangle. A 1e-6 px^2 triangle maps its whole source onto a point.
+#: triangle: a smaller one maps its whole source onto a point.
 TRIANGLE_AREA_PX2 = 1e-6
 
 #: Relative tolerance used when asking "is this matrix orthonormal / this
@@ -25,185 +25,139 @@ PYRENDER_BACKGROUND = 0.0
 #: object's bounding box before the camera is considered inside the object.
 CAMERA_CLEARANCE = 1e-3
 
-#: Ray origins for ray-cast shadows are pushed this far (scene units) towards the
-#: light, so a point lying on the occluder's surface does not hit itself. Embree
-#: intersects in float32: ~1e-7 relative, i.e. 1e-7 units on a unit-size
-#: object; 1e-4 is 1000x that and 1/10000 of the object size (sample meshes
-#: are normalised to size 1), far below a shadow-map texel.
+#: Distance (scene units) a ray-cast shadow's origin is pushed towards the light, so that a point on
+#: the occluder's surface does not hit itself: far above Embree's float32 rounding and far below a
+#: shadow-map texel on the unit-size sample meshes (derived: docs/results/tolerances.md).
 RAY_OFFSET = 1e-4
 
-#: A shadow ray that hits a cut-out hole (a masked texel of a leaf card) is cast
-#: again from :data:`RAY_OFFSET` past the hit, at most this many times in all
-#: (:func:`morphkit.imaging.groundtruth.hard_visibility`). A ray through a plant crosses
-#: one card per layer of leaves (a few to a few tens); a ray grazing a card can
-#: land on the same card again after a step of ``RAY_OFFSET`` (float32 hits), so
-#: the bound stops that walk. A ray still in holes after it counts as shadowed,
-#: with a :class:`~morphkit.imaging.groundtruth.CutoutLayersWarning`.
+#: Most casts of a shadow ray through cut-out holes (masked leaf-card texels), each from
+#: :data:`RAY_OFFSET` past the last hit (:func:`morphkit.imaging.groundtruth.hard_visibility`); a ray
+#: still in holes counts as shadowed, with a :class:`~morphkit.imaging.groundtruth.CutoutLayersWarning`.
+#: Far above a plant's few tens of leaf layers, it only stops a grazing ray re-hitting one card.
 CUTOUT_MAX_LAYERS = 64
 
-#: Outward margin (pixels) by which a warp's destination mesh boundary is pushed
-#: when deciding which output pixel centres it covers, so that centres lying on
-#: the boundary (the last row/column of an identity warp over the whole image)
-#: are covered, as a closed mesh should. Rounding in user coordinates is ~1e-12 px,
-#: far below it; samples at such centres move by < 1e-6 px (invisible).
+#: Outward margin (pixels) of a warp's destination mesh boundary when deciding which output pixel
+#: centres it covers, so that centres on the boundary (an identity warp's last row and column) are
+#: covered: far above coordinate rounding, far below a visible shift (derived: docs/results/tolerances.md).
 MESH_BOUNDARY_PX = 1e-6
 
-#: Largest vertex coordinate (scene units, absolute) of a mesh morphkit reads. trimesh's vertex
-#: merging hashes coordinates scaled by 1e8 into int64 (about 9.2e18), so it overflows past
-#: ~9e10; 1e9 is 90x below that and a million kilometres on a metre scale: no real model.
+#: Largest vertex coordinate (scene units, absolute) of a mesh morphkit reads: well below where
+#: trimesh's int64 vertex hashing overflows, and beyond any real model (derived: docs/results/tolerances.md).
 MESH_MAX_COORD = 1e9
 
 #: Most nodes of a glTF file morphkit reads (:mod:`morphkit.meshes.gltf`, checked on its JSON before
-#: trimesh reads it): trimesh poses and merges every node in Python, so the read's time grows with
-#: the count (docs/RESULTS.md); one asset of ten thousand parts is already a scene, not an object.
+#: trimesh reads it): trimesh's read time grows with the node count, and an asset of this many parts is
+#: already a scene, not an object (measured: docs/results/tolerances.md).
 MAX_GLTF_NODES = 10_000
 
-#: Relative length below which a mesh counts as flat in a direction
-#: (:func:`morphkit.meshes.check_mesh`): its vertices' second principal extent
-#: (or second bounding-box extent) over its first. Vertex coordinates round at
-#: ~1e-16 of the mesh size; 1e-9 is far above that and far below any real
-#: feature (a nanometre on a one-metre object).
+#: Relative length below which a mesh counts as flat in a direction (:func:`morphkit.meshes.check_mesh`:
+#: second principal or bounding-box extent over the first): far above coordinate rounding, far below
+#: any real feature (a nanometre on a one-metre object).
 MESH_ZERO_LENGTH_REL = 1e-9
 
-#: A mesh face whose area is below this times the squared largest extent of the
-#: mesh has zero area (:func:`morphkit.meshes.check_mesh`); a mesh whose faces
-#: all have zero area has no surface to draw and is refused. The cross product
-#: of collinear float64 edges of length ~L rounds to ~1e-16 L^2; 1e-12 L^2 is
-#: 10^4 times that and a face of 1e-6 x 1e-6 of the object.
+#: A mesh face whose area is below this times the mesh's squared largest extent has zero area
+#: (:func:`morphkit.meshes.check_mesh`; a mesh of only such faces is refused): far above the rounding
+#: of a float64 cross product (derived: docs/results/tolerances.md).
 MESH_ZERO_AREA_REL = 1e-12
 
-#: Slack (in UV units, i.e. texture widths) when counting how often a part's texture
-#: repeats to cover its UVs (:func:`morphkit.meshes.parts.merge_parts`): UVs within
-#: 1e-6 of an integer count as on it, so a UV of ``1.0000000001`` or ``-1e-9`` (float
-#: noise of exporters) does not add a whole repeat; 1e-6 of a texture is a 1/250
-#: texel at 4096 texels, which changes no sampled texel.
+#: Slack (UV units, texture widths) within which a UV counts as on an integer when counting a part's
+#: texture repeats (:func:`morphkit.meshes.parts.merge_parts`), so that exporters' float noise adds no
+#: whole repeat; it is a fraction of a texel at any supported texture size.
 UV_TILE_SLACK = 1e-6
 
-#: Central-difference step (metres, before normalisation) of the implicit sample
-#: shapes' field gradient, for the Newton projection of a polygonised mesh onto
-#: the surface (:func:`morphkit.meshes.implicit.project`): 1e-4 of shapes ~2 m
-#: tall, far below their smallest feature (~3 cm) and far above the float64
-#: rounding of the field (~1e-16), so the difference quotient is the gradient.
+#: Central-difference step (metres, before normalisation) of the implicit sample shapes' field gradient
+#: (:func:`morphkit.meshes.implicit.project`): far below the shapes' smallest feature and far above the
+#: field's float64 rounding, so the quotient is the gradient (derived: docs/results/tolerances.md).
 SDF_GRADIENT_STEP = 1e-4
 
-#: Floor of the squared field gradient in that projection: a point where the
-#: field is flat (its gradient vanishes, only at a shape's medial axis, far from
-#: the surface) is not thrown away by a division by ~0. The smooth signed fields
-#: have gradients of norm ~1 near their surface, 1e-12 never changes a real step.
+#: Floor of the squared field gradient in that projection, so a point where the gradient vanishes
+#: (the medial axis) is not divided by ~0: near the surface the gradient's norm is ~1, so it never
+#: changes a real step.
 SDF_GRADIENT_FLOOR = 1e-12
 
 # --- generic zeros and equalities (one name each, instead of bare epsilons) ---
 
-#: A float64 magnitude at or below this is zero: the floor of a norm, determinant or
-#: weight that a value is divided by. Normal float64 values go down to ~2.2e-308, so
-#: 1e-300 only catches exact (or underflowed) zeros and never changes a real quotient.
+#: A float64 magnitude at or below this is zero (the floor of a divisor: a norm, determinant or
+#: weight): it only catches exact or underflowed zeros, so it never changes a real quotient.
 ZERO = 1e-300
 
-#: Two float64 quantities of the same scale are equal when they differ by less than
-#: this times that scale (coordinates, depths, parameters on a grid). float64 rounds
-#: at ~1e-16 relative, and a few dozen operations stay below ~1e-14; 1e-9 is far above
-#: that and far below any difference a user could mean (a nanometre in a metre).
+#: Two float64 quantities of one scale are equal when they differ by less than this times that scale
+#: (coordinates, depths, grid parameters): far above accumulated float64 rounding, far below any
+#: difference a user could mean (a nanometre in a metre).
 REL_EQUAL = 1e-9
 
-#: Two pixel coordinates (or control points, in pixels) are the same point when they
-#: differ by at most this many pixels: a shift of 1e-6 px moves no sample visibly,
-#: while float32 image coordinates up to 8192 px round at ~5e-4 px only in float32
-#: storage, which morphkit does not compare (control points are float64).
+#: Two pixel coordinates (or control points, in pixels) are the same point when they differ by at
+#: most this many pixels: a shift this small moves no sample visibly.
 PX_EQUAL = 1e-6
 
-#: Floor of a float32 alpha or accumulated weight that colour is divided by (to leave
-#: premultiplied form, or to normalise a weighted sum): float32 resolves ~6e-8 near 1,
-#: and an alpha of 1e-6 is 1/3900 of one 8-bit step, i.e. invisible: below it a pixel
-#: is transparent and its colour is 0.
+#: Floor of a float32 alpha or accumulated weight that colour is divided by (to leave premultiplied
+#: form or normalise a weighted sum); below it a pixel is transparent, as it is far below one 8-bit step.
 ALPHA_FLOOR = 1e-6
 
-#: A visibility within this of 0 or 1 is umbra or lit, not penumbra, in the soft-shadow
-#: bench's banding measure (:func:`morphkit.bench.soft_suite.banding`): a filtered lookup that
-#: sums lit and shadowed terms leaves round-off of about 1e-16 in the umbra, which a strict
-#: ``0 < v < 1`` counts as penumbra, so the measure would move with the summation order. The
-#: sun disc's filtered lookup (:mod:`morphkit.sunlit.sundisc`) returns such values as 0 or 1.
+#: A visibility within this of 0 or 1 is umbra or lit, not penumbra, in the soft-shadow bench's banding
+#: measure (:func:`morphkit.bench.soft_suite.banding`; :mod:`morphkit.sunlit.sundisc` returns such values
+#: as 0 or 1): it absorbs the round-off of summed lookups, so the measure does not move with summation order.
 PENUMBRA_EPS = 1e-6
 
-#: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees):
-#: a look-at up vector, a light along an axis. Near that the cross product's direction
-#: is ill-conditioned (its length is ~sqrt(2e-6) = 1.4e-3).
+#: Two unit vectors are parallel when ``abs(dot) > 1 - PARALLEL_DOT`` (about 0.08 degrees): a look-at
+#: up vector, a light along an axis; nearer than that their cross product's direction is ill-conditioned.
 PARALLEL_DOT = 1e-6
 
 # --- light cameras fitted to points (morphkit.scene.light_view) --------------
 
-#: Nearest a fitted orthographic light camera's near plane may be (scene units): the
-#: plane sits a margin in front of the nearest point, and this keeps it positive
-#: (CameraModel refuses znear <= 0) when the points reach the camera. A thousandth
-#: of a sample mesh's size (they are normalised to size 1), far below any feature.
+#: Nearest a fitted orthographic light camera's near plane may be (scene units), so that it stays
+#: positive (CameraModel refuses znear <= 0) when the points reach the camera: far below any feature.
 LIGHT_FIT_MIN_ZNEAR = 1e-3
 
-#: Depth (scene units) added on both sides of the points' depth range when fitting a
-#: perspective light camera, so that points all at one depth (a flat, light-facing
-#: set) still get ``zfar > znear * (1 + REL_EQUAL)``; a millionth of a sample mesh
-#: changes no depth a 24-bit buffer can store.
+#: Depth (scene units) added on both sides of the points' depth range of a fitted perspective light
+#: camera, so that points all at one depth still get ``zfar > znear * (1 + REL_EQUAL)``: too small
+#: to change a depth a 24-bit buffer stores.
 LIGHT_FIT_DEPTH_PAD = 1e-6
 
 
 # --- size limits (checked before anything is allocated) ---------------------
 
-#: Bytes of memory per pixel that an offscreen GL context and its first draw take (checked
-#: before the context is created: :mod:`morphkit.render`, where Mesa would die of a failed
-#: allocation instead of reporting it): the peak address space llvmpipe (OSMesa) takes for a
-#: context and its first colour-and-depth draw, and a third on top for other drivers and draws
-#: (measured: docs/RESULTS.md, "Reliability").
+#: Bytes of memory per pixel that an offscreen GL context and its first draw take (checked before the
+#: context is created: :mod:`morphkit.render`), so that Mesa refuses rather than dies of a failed
+#: allocation: llvmpipe's peak plus a third (measured: docs/results/tolerances.md).
 GL_BYTES_PER_PIXEL = 48
 
 #: Bytes of memory per pixel a context's first one-pass frame draw adds (checked before each:
-#: :meth:`morphkit.render.Renderer.frame_pass` and ``gbuffer_pass``, which share it; its framebuffer
-#: object of two colour attachments and depth, on OSMesa beside OSMesa's own buffer): the rise of
-#: llvmpipe's peak address space at that draw (none at later ones), and a third on top.
+#: :meth:`morphkit.render.Renderer.frame_pass` and ``gbuffer_pass``): llvmpipe's rise at that draw
+#: plus a third (measured: docs/results/tolerances.md).
 GL_FRAME_PASS_BYTES_PER_PIXEL = 40
 
-#: Most pixels an image, depth map or render may have (8192 x 8192 = 2**26). A
-#: frame holds several per-pixel buffers at once (unprojected world points and
-#: normals, float64/float32 (H, W, 3); lit and unlit colour; depth; visibility):
-#: about 60 bytes a pixel, i.e. ~4 GB at this size; a larger size is a
-#: ``ValidationError`` from :func:`morphkit.validate.as_shape` before any allocation.
+#: Most pixels an image, depth map or render may have (8192 x 8192; more is a ``ValidationError``
+#: from :func:`morphkit.validate.as_shape` before any allocation): a frame's several per-pixel
+#: buffers then take a few GB (derived: docs/results/tolerances.md).
 MAX_IMAGE_PIXELS = 2**26
 
-#: Most bytes one array morphkit allocates for the caller's sizes may take
-#: (4 GiB): a shadow atlas's maps (``ky * kx * H * W`` float32) are the largest;
-#: a 3 x 3 atlas of 8192^2 maps (2.25 GiB) fits, a 9 x 9 one (20 GiB) does not.
+#: Most bytes one array morphkit allocates for the caller's sizes may take (4 GiB): enough for the
+#: largest one, a shadow atlas's maps, at a 3 x 3 atlas of 8192^2 maps.
 MAX_BUFFER_BYTES = 2**32
 
-#: Most texels one texture may have (4096 x 4096). The renderer keeps every texture
-#: as RGBA uint8 with its mipmaps in the GL context (4/3 x 64 MiB = 85 MiB at this
-#: size, in main memory under OSMesa) besides the numpy copy it converts from; a
-#: billboard bake keeps one context per image shape. Real-time assets rarely exceed
-#: 4096^2 per material; a larger one is refused (downscale it) rather than failing
-#: deep inside GL or exhausting memory.
+#: Most texels one texture may have (4096 x 4096; downscale a larger one): the renderer keeps it as
+#: RGBA mipmaps per GL context besides the numpy copy, and real-time assets rarely exceed it per material.
 MAX_TEXTURE_PIXELS = 4096 * 4096
 
-#: Most texels on one side of a texture. OpenGL 3.3 only promises 1024
-#: (``GL_MAX_TEXTURE_SIZE``); llvmpipe (OSMesa) and desktop GPUs of the last decade
-#: allow 16384; 8192 stays below every one of those, and a 8192 x 2048 strip still fits
-#: :data:`MAX_TEXTURE_PIXELS`.
+#: Most texels on one side of a texture: below the 16384 that llvmpipe (OSMesa) and recent desktop
+#: GPUs allow, while a 8192 x 2048 strip still fits :data:`MAX_TEXTURE_PIXELS`.
 MAX_TEXTURE_SIDE = 8192
 
-#: Largest side (pixels) of a video morphkit writes (``shadows.webm``, ``billboards.webm``, and
-#: ``.mp4`` files a caller names: ``mp4v`` stores width and height in 13 bits, and FFmpeg refuses
-#: 8192 there), checked before any frame is rendered so that a size no writer takes fails at once.
+#: Largest side (pixels) of a video morphkit writes (``shadows.webm``, ``billboards.webm``, ``.mp4``),
+#: checked before any frame is rendered: ``mp4v`` stores the side in 13 bits and FFmpeg refuses 8192.
 MAX_VIDEO_SIDE = 8190
 
-#: Most frames one command renders along a path (``shadows``, ``billboards``,
-#: ``viewmorph --frames``): 100000 frames is an hour of video at 25 fps; each frame is
-#: a file, and the frame list (cameras, positions) is built before the first frame.
+#: Most frames one command renders along a path (``shadows``, ``billboards``, ``viewmorph --frames``):
+#: an hour of video at 25 fps, as each frame is a file and the frame list is built up front.
 MAX_FRAMES = 100_000
 
-#: Most billboard instances one scene places (``morphkit billboards --n``). Instances
-#: are drawn one by one each frame and placed up front (positions, sizes, rotations);
-#: the paper's forest scenes have a few thousand, so 100000 leaves room.
+#: Most billboard instances one scene places (``morphkit billboards --n``): instances are placed up
+#: front and drawn one by one, and the paper's forest scenes have a few thousand.
 MAX_INSTANCES = 100_000
 
-#: Most reference views of one billboard asset (as :class:`morphkit.bake.BillboardKind`
-#: allows): each view is a rendered image kept in the asset (and a morph pair with its
-#: neighbour); beyond 64 the neighbouring views are under 6 degrees apart and a morph
-#: between them no longer differs visibly from either.
+#: Most reference views of one billboard asset (as :class:`morphkit.bake.BillboardKind` allows): beyond
+#: it neighbouring views are under 6 degrees apart and a morph between them looks like either.
 MAX_BILLBOARD_VIEWS = 64
 
 #: Largest reference view side of a billboard asset, pixels (as
@@ -225,9 +179,8 @@ MAX_WARP_THREADS = 256
 MAX_EGL_DEVICE = 1023
 
 #: Most instances of one ``bench scene`` field (``morphkit bench scene --instances``): its
-#: ``sun-change`` section poses every instance's copy of an asset of up to 50k faces into one mesh
-#: that is drawn and ray-cast, about 5e7 faces (gigabytes) at the suite's largest default of 1000,
-#: so twice that is the most a machine of tens of GB holds.
+#: ``sun-change`` section poses all instances into one mesh, which at twice the suite's largest
+#: default is what a machine of tens of GB holds (derived: docs/results/tolerances.md).
 MAX_BENCH_INSTANCES = 2000
 
 #: Most assets of the ``bench bake`` library (``morphkit bench bake --assets``): each is a mesh file
@@ -239,34 +192,25 @@ MAX_BENCH_ASSETS = 4096
 #: non-negative integer; one that fits 64 bits is what a user can write down and repeat.
 MAX_SEED = 2**64 - 1
 
-#: Most light samples of an area light (``n_u * n_v``, or rows of an explicit
-#: sample array). A soft shadow's visibility is a multiple of ``1 / N``: at
-#: 4096 (64 x 64) that step is already 16x finer than one 8-bit grey level, and
-#: every sample costs one shadow map per frame (a warp or a render), so more
-#: samples only cost time.
+#: Most light samples of an area light (``n_u * n_v``, or rows of an explicit sample array): the
+#: visibility step ``1 / N`` is then far finer than one 8-bit level, so more samples only cost maps.
 MAX_LIGHT_SAMPLES = 4096
 
-#: Filtered (penumbra) shadow lookups (:mod:`morphkit.shadow.filtering.filtered`): a kernel whose
-#: half-widths are both below this many texels is the hard lookup (nearest texel), and a
-#: wider one is at least this wide on each axis. Half a texel is where a box stops
-#: being narrower than the texel it stands on: below it, filtering only blurs the
-#: map's own texel edges; the hard lookup then gives a light of zero extent its hard
-#: shadow exactly.
+#: Half-width (texels) below which a filtered shadow lookup's kernel is the hard lookup, and the least
+#: half-width of a wider one (:mod:`morphkit.shadow.filtering.filtered`): a narrower box only blurs the
+#: map's own texel edges, and the hard lookup gives a light of zero extent its hard shadow exactly.
 PENUMBRA_MIN_HALF_TEXEL = 0.5
 
-#: Largest ``|x|`` or ``|y|`` (pixels) of a mesh warp's control points
-#: (:mod:`morphkit.warp`); beyond it a ValidationError. Ten million pixels is
-#: 1000x the side of a 10^4-pixel image, so any mesh reaching off an image
-#: fits, and float64 still resolves an edge crossing there (far beyond, the crossings
-#: of an image's pixel centres cancel to nothing and the warp would cover no pixel).
+#: Largest ``|x|`` or ``|y|`` (pixels) of a mesh warp's control points (:mod:`morphkit.warp`; beyond it
+#: a ValidationError): any mesh reaching off an image fits, and float64 still resolves an edge crossing
+#: there (derived: docs/results/tolerances.md).
 MAX_COORD_PX = 1e7
 
 # --- view morphing (morphkit.viewmorph) -------------------------------------
 
-#: Default inlier threshold (pixels) of the robust fundamental-matrix fit
-#: (Sampson distance) and of the homography-degeneracy test (transfer
-#: distance). SIFT keypoints are localised to ~0.3-0.5 px; 1 px keeps good
-#: matches and rejects gross outliers. Exact projected points are ~1e-9 px.
+#: Default inlier threshold (pixels) of the robust fundamental-matrix fit (Sampson distance) and of
+#: the homography-degeneracy test (transfer distance): above SIFT's sub-pixel keypoint error, so good
+#: matches stay while gross outliers go.
 VM_THRESHOLD_PX = 1.0
 
 #: Points whose centred scatter has singular values s2 / s1 below this ratio are
@@ -278,12 +222,9 @@ VM_COLLINEAR_RATIO = 1e-3
 #: one is dropped. Closer points only make sliver triangles in the morph mesh.
 VM_DUPLICATE_PX = 1e-3
 
-#: The pairs are "explained by a homography" (planar scene, pure rotation, zero
-#: baseline, identical images) when the homography's inliers reach this fraction
-#: of the fundamental matrix's inliers at the same threshold: every pair that
-#: fits F (almost) also fits the homography, so the data do not determine F
-#: (F = [e1]x H for any e1). 5% leaves room for the few off-plane points that
-#: a robust F fit would otherwise be built on.
+#: The pairs are "explained by a homography" (planar scene, pure rotation, zero baseline, identical
+#: images; F = [e1]x H is then undetermined) when its inliers reach this fraction of F's at the same
+#: threshold: 5% leaves room for the few off-plane points a robust F fit would otherwise be built on.
 VM_HOMOGRAPHY_INLIER_RATIO = 0.95
 
 #: An epipole whose homogeneous w is below this fraction of the norm of (x, y) is at
@@ -295,18 +236,14 @@ VM_EPIPOLE_INFINITY = 1e-9
 #: half a pixel a rectification would move points by less than its resampling blur.
 VM_PARALLEL_Y_PX = 0.5
 
-#: A component of a unit-norm vector or matrix of the view-morph geometry (an
-#: epipole's in-plane direction, an epipolar line's direction, a normalised
-#: pre-warp's Jacobian row) below this is zero: SVD null vectors of float64
-#: matrices are accurate to ~1e-15, so 1e-12 only catches true degeneracies
-#: (an epipole exactly on the optical axis, the line at infinity).
+#: A component of a unit-norm vector or matrix of the view-morph geometry (an epipole's in-plane
+#: direction, an epipolar line's direction, a pre-warp's Jacobian row) below this is zero: far above
+#: SVD's float64 accuracy, so only true degeneracies (an epipole on the optical axis) are caught.
 VM_UNIT_ZERO = 1e-12
 
-#: Seitz & Dyer's rotated (unit-norm) F must reach the form [[0,0,0],[0,0,a],[0,b,c]];
-#: its other entries may be at most this. The rotations are built from the
-#: epipoles in float64 (~1e-15); 1e-6 leaves room for F's conditioning (its
-#: second singular value over the first down to ~1e-9) and still refuses any F
-#: that the construction did not rectify.
+#: Seitz & Dyer's rotated (unit-norm) F must reach the form [[0,0,0],[0,0,a],[0,b,c]], its other
+#: entries at most this: room for F's conditioning over the rotations' float64 rounding, while any
+#: F the construction did not rectify is refused.
 VM_ROTATED_F_RESIDUAL = 1e-6
 
 #: Probability that the homography-degeneracy test's RANSAC misses a homography
@@ -333,45 +270,34 @@ VM_MAX_SCALE_RATIO = 16.0
 #: bigger canvas means the pre-warp sends part of the image towards infinity.
 VM_MAX_CANVAS_FACTOR = 4.0
 
-#: Relative depth tolerance of the visibility test of geometric
-#: correspondences: a point is visible if its depth is at most (1 + rtol) times
-#: the rendered depth around its projection. 1% of a 3-unit camera distance is
-#: 0.03 units: above the 24-bit depth quantisation (~1e-4 relative) and the
-#: depth change across one pixel on moderately slanted surfaces, below the gap
-#: between a surface and what it hides on the sample meshes (>= 0.05 units).
+#: Relative depth tolerance of the geometric correspondences' visibility test (a point is visible if its
+#: depth is at most (1 + rtol) times the rendered depth around its projection): above depth quantisation
+#: and one pixel's slope, below the gap between a surface and what it hides (derived:
+#: docs/results/tolerances.md).
 VM_VISIBILITY_RTOL = 0.01
 
-#: Smallest absolute signed area (pixels^2) a morph-mesh triangle may reach for any
-#: s in [0, 1]; smaller ones count as fold-overs and a vertex is dropped.
-#: 1000x the warp's own refusal limit (tol.TRIANGLE_AREA_PX2) so float32 maps
-#: never meet it.
+#: Smallest absolute signed area (pixels^2) a morph-mesh triangle may reach for any s in [0, 1]; smaller
+#: ones are fold-overs and a vertex is dropped: 1000x the warp's own refusal limit (tol.TRIANGLE_AREA_PX2),
+#: so float32 maps never meet it.
 VM_MIN_TRIANGLE_AREA_PX2 = 1e-3
 
-#: Depth layers of a layered morph (``ViewMorpher(layers=k)``) overlap by this
-#: fraction of the pairs' depth range, so that a surface cut by a layer edge is
-#: drawn by both layers near the cut (the two meshes approximate the cut
-#: differently; without overlap thin cracks open there). More overlap also
-#: drags a little of the far side into the near layer; 0.02 keeps most of both
-#: (docs/RESULTS.md, "View morphing": the overlap swept).
+#: Overlap of a layered morph's depth layers (``ViewMorpher(layers=k)``), as a fraction of the pairs'
+#: depth range, so that a surface cut by a layer edge is drawn by both and no cracks open at the cut;
+#: more overlap drags the far side into the near layer (measured: docs/results/tolerances.md).
 VM_LAYER_OVERLAP = 0.02
 
-#: The 1-D k-means of the depth layers stops when no centre moved by more than
-#: this times the largest depth magnitude (at least 1): float64 means of depths
-#: round at ~1e-16 relative, so 1e-12 is converged, and the layer cuts it gives
-#: are far finer than any pixel's depth difference.
+#: The depth layers' 1-D k-means stops when no centre moved by more than this times the largest depth
+#: magnitude (at least 1): that is converged to float64 rounding, far finer than any pixel's depth difference.
 VM_KMEANS_CONVERGED_REL = 1e-12
 
-#: Fewest distinctive (SIFT) matches two images must share for ``morphkit viewmorph`` to
-#: take them for views of one scene when it finds the correspondences itself: the 8
-#: pairs F needs (:func:`morphkit.viewmorph.plan_view_morph`'s minimum). Dense flow finds
-#: consistent pairs between any two images (a robust F then explains a double exposure), so
-#: only the distinctive matches can tell; fewer than F's own minimum cannot be one scene's views.
+#: Fewest distinctive (SIFT) matches two images must share for ``morphkit viewmorph`` to take them for
+#: views of one scene when it finds the correspondences itself: dense flow matches any two images, so only
+#: these can tell, and fewer than the 8 pairs F needs (:func:`morphkit.viewmorph.plan_view_morph`) cannot.
 VM_MIN_SCENE_MATCHES = 8
 
-#: Smallest side (pixels) of the images DIS optical flow runs on (``FlowMatcher`` pads
-#: smaller ones with zeros): OpenCV's DIS refuses a side under 12 and kills the process with
-#: a segfault on some wide images fewer than 32 rows high; from 32 rows and columns on, no
-#: preset does.
+#: Smallest side (pixels) of the images DIS optical flow runs on (``FlowMatcher`` pads smaller ones
+#: with zeros): the smallest size at which no OpenCV DIS preset refuses or crashes (measured:
+#: docs/results/tolerances.md).
 VM_FLOW_MIN_SIDE = 32
 
 #: Fewest pairs a depth layer may hold; with fewer, the layer count drops (the
@@ -379,35 +305,30 @@ VM_FLOW_MIN_SIDE = 32
 #: and a layer's mesh needs its own pairs to move differently from its neighbours.
 VM_MIN_LAYER_PAIRS = 8
 
-#: A post-warp to a target camera is the least-squares homography over at most
-#: this many pairs, spread over image 0: a fraction of the time of all the dense pairs for
-#: a residual within a percent (docs/RESULTS.md, "View morphing": the post-warp's pairs).
+#: Most pairs, spread over image 0, of the least-squares homography of a post-warp to a target camera:
+#: a fraction of the time of all the dense pairs for nearly the same residual (measured:
+#: docs/results/tolerances.md).
 VM_POST_FIT_PAIRS = 256
 
-#: ``ViewMorpher(layers="auto")`` layers the morph when the single mesh had to
-#: drop more than this fraction of its pairs to fold-overs: below it a second layer costs
-#: the smooth meshes a little, above it (parts crossing, wide baselines) it gains much
-#: (set from the bench scenes: docs/RESULTS.md, "View morphing").
+#: ``ViewMorpher(layers="auto")`` layers the morph when the single mesh dropped more than this fraction
+#: of its pairs to fold-overs: below it a second layer costs smooth meshes a little, above it it gains
+#: much (measured: docs/results/tolerances.md).
 VM_AUTO_LAYER_DROP = 0.005
 
-#: How many layers ``layers="auto"`` uses when it layers: two take the crossing parts apart
-#: (docs/RESULTS.md, "View morphing"); a third added time, not accuracy.
+#: How many layers ``layers="auto"`` uses when it layers: two take crossing parts apart and a third
+#: adds time, not accuracy (measured: docs/results/tolerances.md).
 VM_AUTO_LAYERS = 2
 
 # --- billboard assets (morphkit.billboard) ----------------------------------
 
-#: Fewest correspondences (from the two depth maps, before cleaning) a pair of
-#: neighbouring reference views must share to be baked into an asset; fewer is
-#: refused at bake time. 4x the 8 pairs F needs, so the robust fit has a margin,
-#: and a morph mesh with fewer points cannot follow an object's outline.
+#: Fewest correspondences (from the two depth maps, before cleaning) neighbouring reference views must
+#: share to be baked into an asset: 4x the 8 pairs F needs gives the robust fit a margin, and a morph
+#: mesh with fewer points cannot follow an object's outline.
 BB_MIN_CORRESPONDENCES = 32
 
-#: Depth tolerance of the bake's visibility test (a sample of one reference is seen by
-#: the other when its depth there is within this of the other's depth map), in
-#: bounding radii of the mesh: ``from_depth(rtol=BB_VISIBILITY_RADII / distance_factor)``.
-#: A tolerance relative to the depth alone (:data:`VM_VISIBILITY_RTOL`) would grow with the
-#: bake distance until points behind a surface (a chair's far legs) counted as visible and
-#: their pairs folded over; 0.04 radii is 1% of the depth at 4 radii.
+#: Depth tolerance of the bake's visibility test, in bounding radii of the mesh
+#: (``from_depth(rtol=BB_VISIBILITY_RADII / distance_factor)``): unlike :data:`VM_VISIBILITY_RTOL` it does
+#: not grow with the bake distance until hidden points (a chair's far legs) count as visible and fold over.
 BB_VISIBILITY_RADII = 0.04
 
 #: Splat grid of a morph's coverage from depth (:func:`morphkit.billboard.splat_coverage`),
@@ -415,60 +336,44 @@ BB_VISIBILITY_RADII = 0.04
 #: pixel) at a quarter of the cost of 4.
 BB_COVERAGE_SUPERSAMPLE = 2
 
-#: Closing (fine-grid pixels) of the coverage splats: a reference pixel lands
-#: about one image pixel (two fine pixels) from its neighbour in an in-between
-#: view 30 degrees away, more on surfaces the reference sees at a grazing angle;
-#: 5 closed every gap on the five sample meshes at 256^2 while 3 left holes
-#: (``morphkit bench billboards``).
+#: Closing (fine-grid pixels) of the coverage splats: the smallest that closes the gaps between
+#: neighbouring reference pixels in in-between views (measured: docs/results/tolerances.md).
 BB_COVERAGE_CLOSE_PX = 5
 
 #: A morph pixel with alpha at or below this carries no usable colour (its
 #: un-premultiplied colour is noise): the coverage from depth is not applied there.
 BB_COVERAGE_MIN_ALPHA = 0.02
 
-#: An asset file's stored reference cameras (``K`` in pixels, ``cam2world`` in scene
-#: units) must match the camera rule's, recomputed from the file's quad and ring, to
-#: within this (absolute): they were written from the same float64 numbers as JSON
-#: (exact round trip), so any larger difference means an edited or foreign file.
+#: Absolute tolerance within which an asset file's stored reference cameras (``K`` in pixels,
+#: ``cam2world`` in scene units) must match the camera rule's recomputed ones: both come from the same
+#: float64 numbers through exact JSON, so a larger difference means an edited or foreign file.
 BB_FILE_CAMERA_ATOL = 1e-9
 
-#: A viewing direction's octahedral grid coordinate within this of an integer is on
-#: that grid line (:meth:`~morphkit.billboard.impostor.OctahedralImpostor.weights`): the
-#: direction of a frame, rebuilt from its azimuth and elevation, lands ~1e-15 off its
-#: grid point, and must be served by that frame alone (weight exactly 1), not by it
-#: and two others at weights of 1e-15.
+#: A viewing direction's octahedral grid coordinate within this of an integer is on that grid line
+#: (:meth:`~morphkit.billboard.impostor.OctahedralImpostor.weights`), so that a frame's own direction,
+#: rebuilt ~1e-15 off its grid point, is served by that frame alone (weight exactly 1).
 IMP_GRID_SNAP = 1e-9
 
-#: Floor of the cosine between a viewing direction and a frame's direction when the
-#: viewing ray is intersected with the frame's plane (an octahedral impostor's
-#: runtime). The frames of positive weight around a direction are within about one
-#: grid cell of it (cosine >= 0.51 for 5 frames a side, >= 0.91 for 12); only on a
-#: 3 x 3 grid does the top frame reach 90 degrees from a view at the horizon, where its
-#: weight goes to 0: the floor keeps that frame from dividing by zero.
+#: Floor of the cosine between a viewing direction and a frame's direction when an octahedral impostor
+#: intersects the viewing ray with the frame's plane: only a 3 x 3 grid's top frame, at zero weight,
+#: reaches 90 degrees, and the floor keeps it from dividing by zero (derived: docs/results/tolerances.md).
 IMP_MIN_COS = 1e-3
 
 # --- billboard scenes (morphkit.billboard) ---------------------------------
 
-#: A camera is "directly above" a billboard (its facing about the up axis and its
-#: viewing azimuth are undefined) when the horizontal distance to it is below this
-#: fraction of the full distance: the direction then lies within 1e-6 rad (0.00006
-#: deg) of vertical, where a float64 atan2 still works but the quad would spin
-#: arbitrarily for a tiny camera move. The fallback is documented in
-#: :mod:`morphkit.billboard.frames.facing`.
+#: A camera is "directly above" a billboard (facing and viewing azimuth undefined; the fallback is in
+#: :mod:`morphkit.billboard.frames.facing`) when its horizontal distance is below this fraction of the
+#: full distance: there the quad would spin arbitrarily for a tiny camera move (derived:
+#: docs/results/tolerances.md).
 BB_ABOVE_RATIO = 1e-6
 
 #: How far (degrees) above a ring asset's reference elevation (:class:`~morphkit.billboard.ring.ViewRing`)
-#: its views still serve an eye (:meth:`ViewRing.band_deg`): its axial quads stand vertical, so
-#: seen from higher the object's top, which no reference view holds, is missing and its
-#: silhouette is the side view foreshortened by ``sin e``. Twenty degrees holds the pan, orbit and
-#: fly paths (their eyes look down by 5 to 17 degrees); the fly-over (rising to 85) and the
-#: top-down pan (90) leave it, and ``morphkit billboards`` takes dome views for them.
+#: its views still serve an eye (:meth:`ViewRing.band_deg`; higher, ``morphkit billboards`` takes dome views):
+#: the axial quads' missing top and foreshortened sides stay unseen on the pan, orbit and fly paths.
 BB_RING_BAND_DEG = 20.0
 
-#: A billboard quad whose screen projection covers less than this area (pixels^2)
-#: is skipped as too small, whatever its height: an axial quad seen (nearly)
-#: edge-on, e.g. from directly above, projects to a sliver whose homography is
-#: (nearly) singular; half a pixel of area holds at most one pixel centre.
+#: A billboard quad whose screen projection covers less than this area (pixels^2) is skipped (an axial
+#: quad seen edge-on, with a near-singular homography): half a pixel of area holds at most one pixel centre.
 BB_MIN_AREA_PX2 = 0.5
 
 #: A backdrop ray hits the ground plane ``z = 0`` only when its unit direction points
@@ -488,79 +393,61 @@ BB_DEPTH_OPAQUE_ALPHA = 0.5
 #: place is found in a few draws until the field is nearly full.
 BB_SCATTER_TRIES = 100
 
-#: Largest forward-backward disagreement (pixels) of a pair from dense optical
-#: flow (:class:`~morphkit.viewmorph.matching.FlowMatcher`): a pixel moved by the
-#: forward flow and back by the backward flow must land within this of where it
-#: started. Where DIS flow is right it is sub-pixel, at occlusions and silhouettes
-#: the two flows disagree by pixels; 1 px is the inlier threshold of F
-#: (:data:`VM_THRESHOLD_PX`), so a kept pair is not already an outlier.
+#: Largest forward-backward disagreement (pixels) of a dense optical-flow pair
+#: (:class:`~morphkit.viewmorph.matching.FlowMatcher`): DIS flow is sub-pixel where right and off by pixels
+#: at occlusions, and this is F's inlier threshold (:data:`VM_THRESHOLD_PX`), so no kept pair is an outlier.
 VM_FLOW_FB_PX = 1.0
 
-#: An estimated F whose pre-warps are refused (epipole in or near an image, or
-#: too distorting) is replaced by the affine F (epipoles at infinity) when the
-#: affine F keeps at least this fraction of the general F's inliers: the views
-#: are then nearly affine, and the general F's epipole is fitted to the
-#: matches' noise. Set from exact pairs (``from_depth``) on the bench circle: 0.6
-#: accepts its views up to 40-degree baselines and refuses pairs an affine F explains
-#: worse (they fall back as any refused pair does).
+#: An estimated F whose pre-warps are refused (epipole in or near an image, or too distorting) is
+#: replaced by the affine F when that keeps at least this fraction of the general F's inliers: the views
+#: are then nearly affine and the general F's epipole fits noise (measured: docs/results/tolerances.md).
 VM_AFFINE_INLIER_RATIO = 0.6
 
-#: ... and when, over the pairs both explain, the affine F's RMS Sampson
-#: distance is at most this many times the general F's: the general F's extra
-#: freedom then fits noise, not perspective: F must halve the residual to count as
-#: determined, while a real epipole in the image (exact pairs fit the general F orders of
-#: magnitude closer) stays refused.
+#: ... and when, over the pairs both explain, the affine F's RMS Sampson distance is at most this many
+#: times the general F's: F must halve the residual to count as determined, while a real epipole in the
+#: image (exact pairs fit the general F orders of magnitude closer) stays refused.
 VM_AFFINE_RMS_RATIO = 2.0
 
 # --- shadow wing ---------------------------------------------------------------
-#: A point projects through a light camera's texture matrix only when its
-#: homogeneous ``w`` exceeds this (:func:`morphkit.shadow.lookup.shadow_visibility`):
-#: ``w`` is the point's depth in front of a point light (scene units; 1 for a
-#: directional light), so 1e-12 only refuses points on or behind the light's
-#: plane, where ``x / w`` would blow up.
+#: A point projects through a light camera's texture matrix only when its homogeneous ``w`` (depth in
+#: front of a point light, scene units; 1 for a directional light) exceeds this
+#: (:func:`morphkit.shadow.lookup.shadow_visibility`): it only refuses points where ``x / w`` would blow up.
 SHADOW_LOOKUP_W_MIN = 1e-12
 
-#: Floor of the cosine between a receiver's normal and the light direction in the
-#: slope bias's ``tan = sin / cos`` (:class:`~morphkit.shadow.lookup.ShadowBias`):
-#: it only keeps a grazing surface (cos = 0) from dividing by zero; the tangent is
-#: clamped at ``ShadowBias.max_tan`` (far below 1e6) anyway.
+#: Floor of the cosine between a receiver's normal and the light direction in the slope bias's
+#: ``tan = sin / cos`` (:class:`~morphkit.shadow.lookup.ShadowBias`): it only keeps a grazing surface
+#: from dividing by zero, as the tangent is clamped at ``ShadowBias.max_tan`` anyway.
 SHADOW_GRAZING_COS = 1e-6
 
-#: Two rendered depths of one pixel belong to the same surface when they differ by
-#: at most this fraction of the depth (:func:`morphkit.shadow.frame.render_frame`,
-#: ``receiver_only``: pixels where the object alone gives the scene's depth are the
-#: object's): linearised float32 depth buffers agree to ~1e-6 relative on one
-#: surface, while the object and the ground under it are centimetres apart.
+#: Two rendered depths of one pixel belong to one surface when they differ by at most this fraction of the
+#: depth (:func:`morphkit.shadow.frame.render_frame`, ``receiver_only``): far above linearised depth
+#: buffers' disagreement on one surface, far below the object-to-ground gap (derived:
+#: docs/results/tolerances.md).
 DEPTH_SAME_SURFACE_REL = 1e-4
 
-#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`) equals the
-#: two-render frame within this mean absolute difference of ``shaded``, in levels of 255
-#: (one level: the frame's own rounding). Why not exactly: the one pass draws into a framebuffer object,
-#: whose depth rounds differently from OSMesa's buffer (~1e-5 relative), so a shadow-edge
-#: pixel's unprojected point, hence its visibility, can change; a textured fragment's
-#: colour may round one level apart (:mod:`morphkit.render`, "One-pass frame").
+#: The one-pass frame (:func:`morphkit.shadow.frame.render_frame`) equals the two-render frame within
+#: this mean absolute difference of ``shaded``, in levels of 255: the frame's own rounding, as a
+#: framebuffer object's depth rounds differently (:mod:`morphkit.render`, "One-pass frame").
 FRAME_ONCE_MEAN_LEVELS = 1.0
 
-#: ... and ``lit`` and ``unlit`` themselves differ by at most this many levels anywhere
-#: (0 for untextured items; 1 seen on textured ones).
+#: ... and ``lit`` and ``unlit`` themselves differ by at most this many levels anywhere: the rounding of
+#: a textured fragment (untextured items match exactly; measured: docs/results/tolerances.md).
 FRAME_ONCE_COLOR_LEVELS = 1
 
-#: The compiled drawn-pixel kernel (:mod:`morphkit.shadow.pixels`) against its numpy reference
-#: (:meth:`~morphkit.camera.CameraModel.unproject`): world points agree within this (scene units).
-#: Same formula, but numpy's matrix product sums in BLAS's order (with fused multiply-adds), so the
-#: last float64 bit or two differ: ~1e-15 on unit-size scenes a few units from the camera.
+#: World points of the compiled drawn-pixel kernel (:mod:`morphkit.shadow.pixels`) and of its numpy
+#: reference (:meth:`~morphkit.camera.CameraModel.unproject`) agree within this (scene units): the same
+#: formula, summed in a different order, differs in the last float64 bits (derived:
+#: docs/results/tolerances.md).
 DRAWN_POINTS_ABS = 1e-12
 
-#: ... and unit normals within this: both compute them in float32 from the float32 points, the same
-#: operations in the same order; a float64 point one bit apart can round to a neighbouring float32
-#: (~6e-8 relative), which moves a normal by that over the pixel's central difference.
+#: ... and unit normals within this: both compute them in float32 from the float32 points, so a float64
+#: point one bit apart rounds at most to a neighbouring float32 (derived: docs/results/tolerances.md).
 DRAWN_NORMALS_ABS = 1e-5
 
-#: The one-draw G-buffer (:meth:`morphkit.render.Renderer.gbuffer_pass`) and the
-#: three-draw passes (:meth:`~morphkit.render.Renderer.passes`): albedo differs by at most this
-#: many levels anywhere (0 for untextured items; 1 seen on textured ones: a framebuffer object
-#: rounds differently from OSMesa's buffer, :mod:`morphkit.render`, "One-pass frame and G-buffer").
-#: Coverage is identical; depth agrees within :data:`DEPTH_SAME_SURFACE_REL`.
+#: Albedo of the one-draw G-buffer (:meth:`morphkit.render.Renderer.gbuffer_pass`) and of the three-draw
+#: passes (:meth:`~morphkit.render.Renderer.passes`) differs by at most this many levels (coverage
+#: identical, depth within :data:`DEPTH_SAME_SURFACE_REL`): textured fragments round one level apart
+#: (measured: docs/results/tolerances.md).
 GBUFFER_ALBEDO_LEVELS = 1
 
 #: ... and a :class:`~morphkit.sunlit.litmesh.LitMeshMode` frame shaded from either equals
@@ -568,45 +455,33 @@ GBUFFER_ALBEDO_LEVELS = 1
 #: levels of 255 (as :data:`FRAME_ONCE_MEAN_LEVELS`).
 GBUFFER_FRAME_MEAN_LEVELS = 1.0
 
-#: Depth (scene units) added on each side of the object's depth range for a light
-#: camera's near and far planes (:class:`~morphkit.shadow.rig.LightRig`, on top of
-#: its relative ``margin``): keeps ``znear < zfar`` for an object of no depth
-#: extent (a flat plate facing the light); a millimetre on the unit-size sample
-#: meshes, far below a depth texel's worth of anything they show.
+#: Depth (scene units) added on each side of the object's depth range for a light camera's near and far
+#: planes (:class:`~morphkit.shadow.rig.LightRig`, on top of its ``margin``), so that a flat plate facing
+#: the light keeps ``znear < zfar``: a millimetre on the unit-size meshes, below a depth texel's worth.
 LIGHT_DEPTH_PAD = 1e-3
 
-#: An object position (world units) is unchanged by clamping it into the motion
-#: range when it moved by at most this (:meth:`morphkit.shadow.rig.LightRig.resolve`
-#: warns otherwise). Clipping an inside position returns it exactly, so this is
-#: only float64 noise; a position outside by more gets the
-#: :class:`~morphkit.shadow.rig.RangeClampWarning`.
+#: An object position (world units) is unchanged by clamping into the motion range when it moved by at
+#: most this (:meth:`morphkit.shadow.rig.LightRig.resolve`; more gets a
+#: :class:`~morphkit.shadow.rig.RangeClampWarning`): clipping an inside position returns it exactly, so
+#: this is only float64 noise.
 POSITION_EQUAL = 1e-12
 
-#: Slack, relative to the far plane, by which a dome asset or sun atlas file's drawn depths may lie
-#: outside its views' near and far planes (``read_dome``, ``read_sun_atlas``): they are stored in
-#: float16 relative to the camera distance, which rounds them to 2**-11 of their size (at most the
-#: far plane); 2**-10 is twice that, and far below a depth that draws something else.
+#: Slack, relative to the far plane, by which a dome asset or sun atlas file's drawn depths may lie outside
+#: its views' near and far planes (``read_dome``, ``read_sun_atlas``): twice the float16 storage's rounding
+#: of 2**-11, far below a depth that draws something else.
 DOME_DEPTH_SLACK_REL = 2.0**-10
 
 # --- sun atlases (morphkit.sunlit.sunatlas) ----------------------------------
 #: The grazing cut-off (degrees above the horizon) of a sun atlas's light views
-#: (:mod:`morphkit.sunlit.sunatlas`): a sun between the horizon and this elevation is
-#: served as if it stood at this elevation (clamped, not refused, so shadows do not
-#: pop out while the sun sets). Below 5 degrees a shadow is over 11 object heights
-#: long (``1 / tan 5``) and the ground it falls on gets ``sin 5 = 0.087`` of the
-#: sun's noon light, while the light view's depth of a ground point changes by
-#: ``cot e`` texels per texel, so the lookup grows as unreliable as the shadow grows
-#: invisible. At or below the horizon there is no light view at all (no shadow).
+#: (:mod:`morphkit.sunlit.sunatlas`): a lower sun is served as if at this elevation (at or below the
+#: horizon: no shadow), since a shadow there is as unreliable in the lookup as it is invisible on the dim
+#: ground (derived: docs/results/tolerances.md).
 SUN_MIN_ELEVATION_DEG = 5.0
 
-#: Depth bias (light-view texels, constant, no slope term) of a ground point looked
-#: up in a sun atlas's light view (:func:`morphkit.sunlit.sunatlas.ground_visibility`).
-#: The ground is not drawn into the map, so it cannot shadow itself (no acne, no
-#: slope term needed); what the bias absorbs is the morphed depth's own error, a
-#: crossing refined by a secant and two bisections of a march step of about two
-#: texels (:mod:`morphkit.views.depthmorph`), so about half a texel: one texel
-#: covers it and loses at most a texel of contact shadow where the caster meets the
-#: ground.
+#: Constant depth bias (light-view texels, no slope term: the ground is not drawn into the map) of a
+#: ground point looked up in a sun atlas's light view
+#: (:func:`morphkit.sunlit.sunatlas.ground_visibility`): it covers the morphed depth's own error
+#: (:mod:`morphkit.views.depthmorph`), about half a texel (derived: docs/results/tolerances.md).
 SUN_GROUND_BIAS_TEXELS = 1.0
 
 #: The least absolute cosine between a splatted point's normal and its atlas view's direction in
@@ -615,130 +490,95 @@ SUN_GROUND_BIAS_TEXELS = 1.0
 #: taken to stand for more surface than that.
 SPLAT_MIN_COS = 0.1
 
-#: The largest side, in field light-view texels, of the atlas point level an instance is
-#: splatted at (:func:`morphkit.sunlit.fieldsplat.splat_levels`): an instance whose atlas texel
-#: covers ``f`` field texels is drawn from blocks of ``2**l`` atlas texels with
-#: ``2**l * f`` at most this. At 1 a level's point is never wider than the field's texel, so
-#: the shadow's outline moves by under a field texel (the map cannot hold a finer one), while
-#: wider blocks lost accuracy on small fields (docs/RESULTS.md, "Small or far casters get
-#: coarser points").
+#: Largest side (field light-view texels) of the atlas point level an instance is splatted at
+#: (:func:`morphkit.sunlit.fieldsplat.splat_levels`: blocks of ``2**l`` atlas texels with ``2**l * f`` at
+#: most this): a point no wider than the field's texel, as wider blocks lost accuracy (measured:
+#: docs/results/tolerances.md).
 SPLAT_LEVEL_MAX_TEXELS = 1.0
 
-#: A block of a coarser atlas point level (:func:`morphkit.sunlit.pointlevels.block_points`)
-#: is split into its front and its back where its drawn texels' depths differ by more than this
-#: many block sides (object units: this times the block's side): a surface that steep across the
-#: block (over about 55 degrees to the view's image plane along a diagonal) or two surfaces
-#: apart. A split only adds a point (each part's centroid is on a flat surface); a gap too large
-#: would put a point between a leaf and what lies behind it.
+#: A coarser atlas point level's block (:func:`morphkit.sunlit.pointlevels.block_points`) is split into front
+#: and back where its drawn depths differ by more than this many block sides (a surface over about 55 degrees
+#: steep, or two surfaces): a split only adds a point, a larger gap would put one between a leaf and its back.
 SPLAT_LEVEL_DEPTH_GAP = 2.0
 
 #: A sun atlas view's quad (four drawn texels meeting at a corner,
-#: :func:`morphkit.sunlit.pointlevels.grid_quads`) is drawn as two triangles when its four depths
-#: lie within this many atlas texels of each other: a surface up to about 77 degrees from the
-#: view's image plane along a diagonal; steeper ones and depth edges keep their squares (the
-#: other views see them better). Of the gaps tried, 3 / 6 / 12, 6 gave the best surface IoU on
-#: the scene suite's fields at 128, 256 and 512 texels (RESULTS, "The instances' own surfaces by
-#: resolution"); 3 cuts curved surfaces the views see obliquely into squares again, 12 joins a
-#: leaf to what lies behind it.
+#: :func:`morphkit.sunlit.pointlevels.grid_quads`) is drawn as two triangles when its four depths lie
+#: within this many atlas texels (a surface up to about 77 degrees steep): the gap with the best surface
+#: IoU on the scene suite (measured: docs/results/tolerances.md).
 SPLAT_QUAD_DEPTH_GAP = 6.0
 
-#: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves)
-#: when its third column, divided by the pose's uniform scale, is ``+z`` to within
-#: this (absolute) and its columns are orthonormal to :data:`POSE_ORTHO`: poses
-#: built from a yaw in float64 are ~1e-16 off.
+#: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves) when its third
+#: column, divided by the pose's uniform scale, is ``+z`` to within this (absolute) and its columns are
+#: orthonormal to :data:`POSE_ORTHO`: poses built from a yaw in float64 are ~1e-16 off.
 SUN_YAW_ONLY_ATOL = 1e-6
 
-#: A texel of a sun atlas's morphed light view holds the caster where the morph's
-#: coverage (the weighted vote of the three views: hit 1, free 0, occluded abstains;
-#: :func:`morphkit.views.depthmorph.combine`) is at least this. The morph's own rule
-#: (covered where any view hit) is the union of three silhouettes, each off by up to
-#: half a texel either way, so it grows the shadow; a majority (0.5) had the fewest
-#: wrongly shadowed or missed ground points of the cuts tried (0.02, 0.5, 0.65, 0.8) on the
-#: tree and the cow against the ray cast.
+#: A texel of a sun atlas's morphed light view holds the caster where the morph's coverage (the three views'
+#: weighted vote, :func:`morphkit.views.depthmorph.combine`) is at least this: a majority, rather than the
+#: union that grows the shadow, had the fewest wrong ground points (measured: docs/results/tolerances.md).
 SUN_VIEW_MIN_COVERAGE = 0.5
 
 
 # --- a billboard scene's shadow receivers (morphkit.sunlit.receivers) ---------------
-#: How far (field light-view texels) a shadow receiver drawn into the field's map itself -- a
-#: billboard's pixel, a real mesh's pixel -- is moved along its own normal before the lookup
-#: (normal-offset bias): its surface differs from its own map entry by up to ``tan(theta)``
-#: texels at an angle ``theta`` to the light, plus the morphs' depth errors, so without an
-#: offset a sunlit side speckles with its own shadow (acne), and larger ones lose the shadows a
-#: close neighbour casts (offsets compared: ``scripts/billboard_shadow_bench.py --offsets``).
+#: Normal offset (field light-view texels) of a shadow receiver drawn into the field's map itself (a
+#: billboard's or a real mesh's pixel) before the lookup: less lets a sunlit side speckle with its own
+#: shadow, more loses a close neighbour's shadow (measured: docs/results/tolerances.md).
 SUN_RECEIVER_NORMAL_OFFSET_TEXELS = 1.0
 
-#: Largest side (texels) of a billboard frame's field light view when its resolution is
-#: chosen automatically (:class:`morphkit.sunlit.receivers.AtlasShadow`): a float32 map
-#: of 16 MiB, built by ``np.full`` and one warp per caster; a wider field gets coarser texels
-#: rather than a larger map.
+#: Largest side (texels) of a billboard frame's field light view when its resolution is chosen automatically
+#: (:class:`morphkit.sunlit.receivers.AtlasShadow`): a float32 map of 16 MiB, built by ``np.full`` and one
+#: warp per caster; a wider field gets coarser texels rather than a larger map.
 SUN_FIELD_MAX_SIDE = 2048
 
-#: ``billboards --sun-atlas-size``: the sun atlas views' side, texels. Under 16 an asset is a few
-#: texels across; over 1024 an atlas of 21 views takes 66 MB (3 bytes a texel) and a frame's
-#: field map (at most :data:`SUN_FIELD_MAX_SIDE` a side) no longer resolves it (docs/RESULTS.md).
+#: ``billboards --sun-atlas-size``: the sun atlas views' side, texels: below, an asset is a few texels
+#: across; above, an atlas takes tens of MB and a frame's field map (at most :data:`SUN_FIELD_MAX_SIDE`
+#: a side) no longer resolves it (measured: docs/results/tolerances.md).
 MIN_SUN_ATLAS_SIZE, MAX_SUN_ATLAS_SIZE = 16, 1024
 
 #: Most sun directions over a soft sun's disc (``--soft N``): one field map (or one ray
 #: cast) each, per frame.
 MAX_SUN_SAMPLES = 64
 
-#: Widest blocker search and kernel, half-width in field texels, of a sun disc's filtered
-#: lookup (:mod:`morphkit.sunlit.sundisc`): a wider penumbra is clipped to it (its edge then
-#: too sharp). At the field's usual 64-128 texels an asset, 16 texels is an eighth to a
-#: quarter of an instance, a 2-degree disc's penumbra 3 units behind its occluder; the cost
-#: per point grows with the square of it.
+#: Widest blocker search and kernel, half-width in field texels, of a sun disc's filtered lookup
+#: (:mod:`morphkit.sunlit.sundisc`; a wider penumbra is clipped): an eighth to a quarter of an instance at
+#: the field's usual resolution, as the cost per point grows with its square (derived:
+#: docs/results/tolerances.md).
 SUN_DISC_MAX_HALF_TEXELS = 16.0
 
-#: Half-width (field texels) of the box a sun disc's filtered lookup widens its kernel by
-#: (:mod:`morphkit.sunlit.sundisc`; a disc of nonzero radius only): the map holds an
-#: occluder's edge only to the texel (a texel is drawn when its centre is covered), so the
-#: true edge lies anywhere within half a texel either way of the drawn one, and at the real
-#: sun (0.267 degrees) the disc's own penumbra is mostly narrower than that. The kernel is
-#: the disc's square convolved with this box (a trapezoid a side), so the penumbra is never
-#: narrower than half a texel; 0.25 is the widest box before the mean error grows, and the
-#: banding falls with the width (``morphkit bench scene --sections sun-disc``).
+#: Half-width (field texels) of the box a sun disc's filtered lookup convolves its kernel with
+#: (:mod:`morphkit.sunlit.sundisc`; nonzero radius only), for the map's half-texel edge uncertainty: the
+#: widest box before the mean error grows (measured: docs/results/tolerances.md).
 SUN_DISC_RASTER_HALF_TEXEL = 0.25
 
-#: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default
-#: resolution, :class:`morphkit.sunlit.receivers.FilteredAtlasShadow`; still capped by
-#: :data:`SUN_FIELD_MAX_SIDE`). At the field's native resolution the filtered map's error at
-#: the real sun stays above that of a few maps averaged over the disc (its edges lie on a
-#: texel grid that slightly turned maps dither), while the atlases' points carry their
-#: positions below a texel: 1.5 is the scale at which one filtered map beats 4 native maps
-#: averaged at the real sun (``morphkit bench scene --sections sun-disc``).
+#: Texels per unit of a filtered sun disc's one field map over the atlases' own (its default resolution,
+#: :class:`morphkit.sunlit.receivers.FilteredAtlasShadow`; capped by :data:`SUN_FIELD_MAX_SIDE`): the
+#: scale at which one filtered map beats a few native maps averaged at the real sun (measured:
+#: docs/results/tolerances.md).
 SUN_DISC_MAP_SCALE = 1.5
 
-#: Directions over the disc of the ray-cast truth beside a filtered soft sun
-#: (``morphkit billboards --soft pcss``: its comparison strips): the truth of a disc needs
-#: several directions, and a frame's ray cast costs one pass per direction; 16 come close to
-#: 64's truth for a quarter of the passes.
+#: Directions over the disc of the ray-cast truth beside a filtered soft sun (``morphkit billboards --soft
+#: pcss``: its comparison strips): 16 come close to 64's truth for a quarter of the ray-cast passes
+#: (measured: docs/results/tolerances.md).
 SUN_DISC_TRUTH_SAMPLES = 16
 
 #: Largest angular radius (degrees) of a soft sun's disc: a larger one is an area light
 #: over a quarter of the sky, outside what a sun disc (a narrow cone) stands for.
 MAX_SUN_DISC_DEG = 15.0
 
-#: How far (scene units; the assets are normalised to unit size) the ray-cast truth moves a
-#: real mesh's pixel point along its normal before casting towards the sun
-#: (:class:`morphkit.sunlit.raycast.RayCastShadow`): the point comes from the depth pass
-#: (24-bit window depth, linearised), up to about 1e-3 units off its surface at the frames'
-#: distances, so rays from it hit its own triangle and speckle a sunlit surface with
-#: shadow; :data:`RAY_OFFSET` (along the ray) is too small for that. Twice the error.
+#: Normal offset (scene units, unit-size assets) of a real mesh's pixel point before the ray-cast truth
+#: (:class:`morphkit.sunlit.raycast.RayCastShadow`) casts towards the sun, where :data:`RAY_OFFSET` is too
+#: small: twice the depth pass's error, so rays do not hit their own triangle (measured:
+#: docs/results/tolerances.md).
 SUN_RAY_NORMAL_OFFSET = 2e-3
 
-#: The alpha test of an impostor card drawn into a shadow map
-#: (:mod:`morphkit.sunlit.cardbaselines`): a texel of the card casts where the frame's
-#: coverage, bilinearly sampled as a GPU samples the card's texture, is at least this --
-#: the engines' default clip value (glTF's ``alphaCutoff``, Unreal's masked 0.5), which
-#: keeps a silhouette whose coverage ramps over a texel at its middle.
+#: The alpha test of an impostor card drawn into a shadow map (:mod:`morphkit.sunlit.cardbaselines`: a card's
+#: texel casts where its bilinear coverage is at least this): the engines' default clip value (glTF's
+#: ``alphaCutoff``, Unreal's masked 0.5), which keeps a ramped silhouette at its middle.
 IMPOSTOR_CARD_ALPHA_TEST = 0.5
 
-#: Margin (pixels) around a stretched reprojected quad's drawn triangles within which the
-#: reprojection tests pixel centres (:mod:`morphkit.shadow.reprojection.kernels`), not its
-#: whole box: a centre the barycentric test takes lies within ``2 *`` :data:`MESH_BOUNDARY_PX`
-#: times a triangle's extent (at most the stretch limit, 4 px: 8e-6 px) of its vertices'
-#: box, plus the test's rounding (~1e-12 px for triangles of at least
-#: :data:`REPROJECT_SLIVER_AREA2_PX2`); 1e-3 is ~100x that, so no write changes.
+#: Margin (pixels) around a stretched reprojected quad's drawn triangles within which the reprojection
+#: tests pixel centres (:mod:`morphkit.shadow.reprojection.kernels`), not its whole box: ~100x the bound
+#: of :data:`MESH_BOUNDARY_PX` and rounding for triangles of at least :data:`REPROJECT_SLIVER_AREA2_PX2`,
+#: so no write changes.
 REPROJECT_DRAWN_BOX_PX = 1e-3
 
 #: A reprojected triangle with twice its area (pixels^2) under this is a sliver whose
