@@ -359,7 +359,7 @@ VM_MIN_TRIANGLE_AREA_PX2 = 1e-3
 #: drawn by both layers near the cut (the two meshes approximate the cut
 #: differently; without overlap thin cracks open there). More overlap also
 #: drags a little of the far side into the near layer; 0.02 keeps most of both
-#: (docs/RESULTS.md, "View morphing": the overlap swept).
+#: (docs/results/view_morphing.md: the layers' overlap swept).
 VM_LAYER_OVERLAP = 0.02
 
 #: The 1-D k-means of the depth layers stops when no centre moved by more than
@@ -392,7 +392,7 @@ VM_MIN_LAYER_PAIRS = 8
 
 #: A post-warp to a target camera is the least-squares homography over at most
 #: this many pairs, spread over image 0: a fraction of the time of all the dense pairs for
-#: a residual within a percent (docs/RESULTS.md, "View morphing": the post-warp's pairs).
+#: a residual within a percent (docs/results/view_morphing.md: the post-warp's pairs).
 VM_POST_FIT_PAIRS = 256
 
 #: ``ViewMorpher(layers="auto")`` layers the morph when the single mesh had to
@@ -663,9 +663,9 @@ SPLAT_LEVEL_DEPTH_GAP = 2.0
 #: lie within this many atlas texels of each other: a surface up to about 77 degrees from the
 #: view's image plane along a diagonal; steeper ones and depth edges keep their squares (the
 #: other views see them better). Of the gaps tried, 3 / 6 / 12, 6 gave the best surface IoU on
-#: the scene suite's fields at 128, 256 and 512 texels (RESULTS, "The instances' own surfaces by
-#: resolution"); 3 cuts curved surfaces the views see obliquely into squares again, 12 joins a
-#: leaf to what lies behind it.
+#: the scene suite's fields at 128, 256 and 512 texels (docs/results/field_shadows.md, "The
+#: instances' own surfaces by resolution"); 3 cuts curved surfaces the views see obliquely into
+#: squares again, 12 joins a leaf to what lies behind it.
 SPLAT_QUAD_DEPTH_GAP = 6.0
 
 #: An instance pose's rotation is a turn about ``+z`` (a yaw, what a sun atlas serves)

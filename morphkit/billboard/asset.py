@@ -15,7 +15,7 @@ The morph
 For a pair ``(i, j)`` and ``s`` in ``(0, 1)``: a
 :class:`~morphkit.viewmorph.ViewMorpher` of the two references with dense
 correspondences from their depth maps (:func:`~morphkit.viewmorph.from_depth`),
-plus each view's outline points the other does not see (:data:`~.bake.RIM_STEP`),
+plus each view's outline points the other does not see (:data:`~.baking.ringviews.RIM_STEP`),
 F estimated from them, the pre-warps, and depth layers where parts cross
 (:data:`DEFAULT_LAYERS`, keys from :func:`~morphkit.viewmorph.pair_depth`; a layer's
 pixels hidden by a nearer layer in one view are filled from the other view,
@@ -186,7 +186,7 @@ def _check_s(s: Any) -> float:
 class BillboardAsset:
     """One mesh's reference views, front view and pair morphs (see the module docstring).
 
-    Build one with :func:`~.bake.bake_asset` or :meth:`load`; the constructor takes the
+    Build one with :func:`~.baking.ringviews.bake_asset` or :meth:`load`; the constructor takes the
     stored data (an :class:`~morphkit.billboard.formats.assetfile.AssetRecord`).
 
     Parameters
