@@ -142,7 +142,7 @@ if pyrender is not None:
 
         pyrender keys each compiled program by ``OpenGL.contextdata.getContext()``, which under
         OSMesa is a new pointer object on every call: the key never matched, so every colour render
-        compiled its programs again and kept the old ones (figures in ``docs/RESULTS.md``). Each
+        compiled its programs again and kept the old ones (figures in ``docs/CHANGELOG.md``). Each
         :class:`_Context` has its own renderer and cache, so the context is implicit in the cache.
         """
 

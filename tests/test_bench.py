@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from morphkit import bench
+from morphkit.bench.fronts import error_figure, is_default, method_family, pareto_front
 from morphkit.bench.harness import (
     Timing,
     format_table,
@@ -68,9 +69,70 @@ def test_rows_table_json_and_plots(tmp_path):
     assert "x_remap" in table and "2.00" in table and "fast" in table
     path = write_json(rows, tmp_path / "sub" / "rows.json")
     assert json.loads(path.read_text()) == rows
-    written = write_plots(rows, tmp_path / "p.png", error_key="mean_abs_err", panel_keys=("dtype",))
+    written = write_plots(rows, tmp_path / "p.png", error_key="mean_abs_err", panel_keys=("dtype",),
+                          defaults=[{"method": "fast", "size": 16}])
     assert [p.name for p in written] == ["p_time_vs_size.png", "p_time_vs_error.png"]
     assert all(p.stat().st_size > 1000 for p in written)
+
+
+def test_pareto_front_by_hand():
+    nan = float("nan")
+    pts = [(0.10, 5.0),  # 0: on the front
+           (0.20, 1.0),  # 1: on
+           (0.30, 2.0),  # 2: worse than 1 in both: off
+           (0.05, 9.0),  # 3: the most accurate: on
+           (0.20, 1.0),  # 4: equal to 1: the first of equal points is kept, so off
+           (0.10, 6.0),  # 5: as accurate as 0 and slower: off
+           (nan, 0.1),   # 6: not finite: never on
+           (0.50, 0.5),  # 7: the fastest: on
+           (0.40, 1.0)]  # 8: as fast as 1 and less accurate: off
+    assert pareto_front(pts) == [3, 0, 1, 7]  # by increasing error
+    assert pareto_front([]) == [] and pareto_front([(1.0, 2.0)]) == [0]
+    assert pareto_front([(1.0, 1.0), (2.0, 2.0), (3.0, 3.0)]) == [0]  # one point beats all
+
+
+def test_method_family_and_default_rows():
+    assert method_family("warp_9", r"_\d+") == "warp"
+    assert method_family("pcss-reproject_16", r"_\d+") == "pcss-reproject"
+    assert method_family("warp_17x17", r"_\d+(?:x\d+)?") == "warp"
+    assert method_family("warp_nearest", r"_\d+") == "warp_nearest"  # only the end is cut
+    assert method_family("warp_9", None) == "warp_9"
+    row = {"method": "warp", "params": {"size": 512, "mesh": "cow"}}
+    assert is_default(row, [{"method": "warp", "size": 512}])
+    assert not is_default(row, [{"method": "warp", "size": 256}])
+    assert not is_default(row, [{"method": "reproject", "size": 512}])
+    assert is_default(row, [{"method": "warp", "texels": 128}])  # a key the row lacks: not compared
+    assert not is_default(row, [])
+
+
+def test_error_figure_draws_each_method_front_and_stars_the_default():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    def row(method, scene, err, ms):
+        return make_row("toy", method, {"scene": scene, "size": 8}, Timing(ms, ms, ms, 1),
+                        metrics={"err": err})
+
+    rows = [row("fast_1", "a", 0.3, 1.0), row("fast_2", "a", 0.2, 2.0), row("fast_3", "a", 0.25, 3.0),
+            row("slow", "a", 0.01, 50.0), row("slow", "b", 0.02, 40.0),
+            make_row("toy", "floor", {"scene": "a"}, Timing(1, 1, 1, 1))]  # no error: left out
+    fig = error_figure(rows, "err", scene_keys=("scene",), family=r"_\d+",
+                       defaults=[{"method": "fast_2"}])
+    try:
+        panels = [ax for ax in fig.axes if ax.get_visible()]
+        assert [ax.get_title() for ax in panels] == ["scene=a", "scene=b"]
+        fronts = {ln.get_color(): list(ln.get_xdata()) for ln in panels[0].get_lines()}
+        assert sorted(fronts.values()) == [[0.01], [0.2, 0.3]]  # fast_3 is dominated by fast_2
+        stars = [c.get_offsets().tolist() for c in panels[0].collections
+                 if len(c.get_offsets()) and c.get_sizes()[0] > 100]
+        assert stars == [[[0.2, 2.0]]]
+        assert [t.get_text() for t in panels[0].texts] == ["default"]
+        assert not panels[1].texts  # the default's method has no row in scene b
+    finally:
+        plt.close(fig)
+    assert error_figure(rows, "missing") is None
 
 
 def test_run_suite_with_registered_toy_suite(tmp_path, capsys, monkeypatch):

@@ -37,7 +37,7 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         assert f"{mesh}_scene.png" in names and f"{mesh}_light_depth.png" in names
         assert f"{mesh}_warped_direct_raycast.png" in names and f"{mesh}_viewmorph.png" in names
         # view morph at s = 0.5, 20 deg baseline, 128^2 (quick): measured 0.959 (teapot),
-        # 0.965 (chair), 0.976 (cow); 256^2 in docs/RESULTS.md: 0.965-0.985. 0.93 leaves
+        # 0.965 (chair), 0.976 (cow); 256^2 in docs/results/view_morphing.md: 0.965-0.985. 0.93 leaves
         # 0.029 for rasterisation at 128^2 and stays above the nearest reference view
         # (0.907 teapot, 0.562 chair, 0.776 cow at 256^2): a morph that fails falls below.
         assert index["view_morphing"][mesh]["silhouette_iou"] > 0.93

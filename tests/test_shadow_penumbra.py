@@ -362,7 +362,7 @@ def test_contact_stays_sharp_where_the_object_touches_the_ground(renderer):
     centre = np.abs(x) < 0.05  # under the cube, farther than a kernel from its edges
     assert np.all(pcss[centre] < 1e-6) and np.all(truth[centre] == 0)
     # the map holds the cube's top only, so the blocker depth at the base is the top's:
-    # the penumbra reaches under the base (measured in docs/RESULTS.md, contact error)
+    # the penumbra reaches under the base (measured in docs/results/soft_shadows.md, contact error)
     assert np.abs(pcss - truth)[near].mean() <= np.abs(pcf - truth)[near].mean() + 1e-6
     assert np.abs(pcss - truth)[near].mean() < 0.3
 

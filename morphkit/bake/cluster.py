@@ -22,7 +22,7 @@ Local workers are configured for bakes (:data:`LOCAL_WORKER_CONFIG`):
   early), which also switches off glibc's dynamic mmap threshold, so every large
   temporary numpy array of a bake costs fresh page faults; a worker then bakes
   markedly slower than the same loop in the parent process, and as fast without
-  it (figures: ``docs/RESULTS.md``, bake section);
+  it (figures: ``docs/results/bake.md``);
 * Dask's statistical profiler of the worker threads (for its dashboard, which a
   bake does not show) is off: it samples the task's thread every 10 ms, which
   costs the task CPU;

@@ -61,7 +61,7 @@ Rows (``what``):
   ``journal_append`` -- the driver's fsync-ed manifest journal line for one
   result (results that arrive together share one).
 
-The projection for a larger cluster from these figures is in ``docs/RESULTS.md``.
+The projection for a larger cluster from these figures is in ``docs/results/bake.md``.
 """
 
 from __future__ import annotations

@@ -114,7 +114,10 @@ __all__ = ["run", "AssetCache", "SECTIONS", "section_name", "selected_sections",
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "crossfade"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
-PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("section",)}
+PLOT_OPTIONS: dict[str, Any] = {
+    "error_key": "err_iou", "panel_keys": ("section",), "scene_keys": ("section", "mesh"),
+    "defaults": ({"method": "morph", "views": 2},),
+    "default_label": "default: morph, K = 2 (bake_asset)"}
 
 PAIR_INSIDE = (-25.0, -15.0, -5.0, 5.0, 15.0, 25.0)
 PAIR_OUTSIDE = (-60.0, -45.0, -35.0, 35.0, 45.0, 60.0)

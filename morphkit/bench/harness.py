@@ -28,6 +28,7 @@ from typing import Any
 from .. import tol
 from ..files import fileio
 from ..render import gl_info
+from .fronts import error_figure
 
 __all__ = [
     "section_name", "pick_sections",
@@ -424,20 +425,26 @@ def write_json(rows: list[Mapping[str, Any]], path: str | Path) -> Path:
     return fileio.write_json(p, list(rows), indent=1)
 
 
-def _save_figure(fig: Any, path: Path) -> Path:
-    """Render ``fig`` to PNG in memory and write it atomically (:mod:`morphkit.files.fileio`)."""
+def _save_figure(fig: Any, path: Path, *, tight: bool = False) -> Path:
+    """Render ``fig`` to PNG in memory and write it atomically (:mod:`morphkit.files.fileio`);
+    ``tight``: the canvas grown to what is drawn outside the axes (a legend beside them)."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
+    fig.savefig(buf, format="png", dpi=110, **({"bbox_inches": "tight"} if tight else {}))
     return fileio.write_bytes(path, buf.getvalue())
 
 
 def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_key: str = "size",
-                error_key: str | None = None, panel_keys: tuple[str, ...] = ()) -> list[Path]:
+                error_key: str | None = None, panel_keys: tuple[str, ...] = (),
+                scene_keys: tuple[str, ...] | None = None, defaults: Sequence[Mapping[str, Any]] = (),
+                family: str | None = None, default_label: str = "default") -> list[Path]:
     """Write ``<stem>_time_vs_size.png`` and, where rows carry ``error_key``, ``<stem>_time_vs_error.png``.
 
     Both go next to ``plot_path`` (its suffix is replaced). The time-vs-size
     figure has one panel per combination of ``panel_keys`` values and one line
-    per method (log-log). Returns the paths written.
+    per method (log-log). The time-vs-error figure has one panel per scene and, in
+    each, every method's front through its Pareto-optimal rows, its other rows
+    faint, and the default configuration starred (:func:`morphkit.bench.fronts.error_figure`).
+    Returns the paths written.
 
     Parameters
     ----------
@@ -451,6 +458,16 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
         The ``metrics`` key of the x axis of the time-vs-error figure; ``None``: no such figure.
     panel_keys : tuple of str
         ``params`` keys whose value combinations get a panel each.
+    scene_keys : tuple of str, optional
+        ``params`` keys whose value combinations are the scenes of the time-vs-error figure, a
+        panel each; ``None``: ``panel_keys``.
+    defaults : sequence of mapping
+        The default configurations, starred (:func:`morphkit.bench.fronts.is_default`).
+    family : str, optional
+        A regular expression: the end of a method's name that names its parameter, so that
+        ``warp_5``, ``warp_9``, ... are drawn as one method (:func:`morphkit.bench.fronts.method_family`).
+    default_label : str
+        The legend's and the star's label.
 
     Returns
     -------
@@ -508,24 +525,13 @@ def write_plots(rows: list[Mapping[str, Any]], plot_path: str | Path, *, size_ke
     written.append(out)
 
     if error_key is not None:
-        err_rows = [r for r in rows if error_key in r["metrics"]]
-        if err_rows:
-            fig, ax = plt.subplots(figsize=(6.4, 4.4))
-            for m in methods:
-                pts = [(r["metrics"][error_key], r["ms_median"]) for r in err_rows if r["method"] == m]
-                if pts:
-                    ex, ey = zip(*pts, strict=True)
-                    ax.scatter([max(e, PLOT_ERROR_FLOOR) for e in ex], ey, s=14, color=colors[m], label=m)
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xlabel(f"{error_key} (errors below {PLOT_ERROR_FLOOR:g} drawn at {PLOT_ERROR_FLOOR:g})")
-            ax.set_ylabel("ms (median)")
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=8)
-            fig.tight_layout()
+        fig = error_figure(rows, error_key, scene_keys=panel_keys if scene_keys is None else scene_keys,
+                           defaults=defaults, family=family, error_floor=PLOT_ERROR_FLOOR,
+                           default_label=default_label)
+        if fig is not None:
             out = Path(f"{stem}_time_vs_error.png")
             try:
-                _save_figure(fig, out)
+                _save_figure(fig, out, tight=True)
             finally:
                 plt.close(fig)
             written.append(out)

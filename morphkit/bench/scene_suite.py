@@ -100,7 +100,11 @@ SUITE = "scene"
 #: The method the table's ratio column divides by.
 FLOOR_METHOD = "direct"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite.
-PLOT_OPTIONS: dict[str, Any] = {"size_key": "instances", "error_key": "mae", "panel_keys": ("section",)}
+PLOT_OPTIONS: dict[str, Any] = {
+    "size_key": "instances", "error_key": "mae", "panel_keys": ("section",),
+    "scene_keys": ("section", "instances", "asset", "elevation_deg", "radius_deg"), "family": r"-\d+",
+    "defaults": ({"method": "atlas", "texels": 128, "dome": "sparse"}, {"method": "pcss"}),
+    "default_label": "default: atlas (21 views, 128 texels); pcss (the soft sun)"}
 
 #: The targets the rows' notes say are met or not: IoU, gain over the impostor cards, time over
 #: the direct render, flatness over face counts, the temporal spike.
@@ -592,7 +596,7 @@ def _iou(m: dict[str, float]) -> str:
 
 
 def summary_tables(rows: list[dict[str, Any]]) -> str:
-    """Markdown tables of the rows, one per section present (for ``docs/RESULTS.md``).
+    """Markdown tables of the rows, one per section present (for ``docs/results/field_shadows.md``).
 
     Parameters
     ----------

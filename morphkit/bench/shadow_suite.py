@@ -71,7 +71,11 @@ SUITE = "shadows"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "direct"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
-PLOT_OPTIONS = {"size_key": "size", "error_key": "iou_err", "panel_keys": ("mesh", "what", "light")}
+PLOT_OPTIONS: dict[str, Any] = {
+    "size_key": "size", "error_key": "iou_err", "panel_keys": ("mesh", "what", "light"),
+    "scene_keys": ("what", "light", "mesh"), "family": r"_\d+(?:x\d+)?",
+    "defaults": ({"method": "warp", "size": 512}, {"method": "warp_17x17"}),
+    "default_label": "default: warp (3x3 atlas, 17x17 grid, 512²)"}
 
 MOTION = MotionRange([-0.6, -0.6], [0.6, 0.6])
 POINT = PointLight([0.25, -0.2, 2.4])

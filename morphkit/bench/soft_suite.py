@@ -68,7 +68,10 @@ SUITE = "soft"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "warp_9"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
-PLOT_OPTIONS = {"size_key": "size", "error_key": "mae_shadow", "panel_keys": ("mesh", "what")}
+PLOT_OPTIONS: dict[str, Any] = {
+    "size_key": "size", "error_key": "mae_shadow", "panel_keys": ("mesh", "what"),
+    "scene_keys": ("what", "mesh"), "family": r"_\d+", "defaults": ({"method": "pcss-reproject_9"},),
+    "default_label": "default: pcss-reproject_9"}
 
 MOTION = MotionRange([-0.6, -0.6], [0.6, 0.6])
 AREA = AreaLight([0.25, -0.2, 2.4], [0.3, 0.0, 0.0], [0.0, 0.3, 0.0])
@@ -114,7 +117,7 @@ def banding(est: np.ndarray, truth: np.ndarray) -> float:
     terms is not penumbra): the mean of ``|(e1 - e0) - (t1 - t0)|``, in visibility per
     grid step. A banded penumbra is flat between jumps of ``1/N`` where the truth
     ramps, so every step adds about its height; a smooth penumbra of the right
-    width scores near zero (``docs/RESULTS.md`` gives the reason in full).
+    width scores near zero (``docs/results/soft_shadows.md`` gives the reason in full).
 
     Parameters
     ----------

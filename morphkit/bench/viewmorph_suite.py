@@ -94,7 +94,10 @@ SUITE = "viewmorph"
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "crossfade"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
-PLOT_OPTIONS: dict[str, Any] = {"error_key": "err_iou", "panel_keys": ("mesh",)}
+PLOT_OPTIONS: dict[str, Any] = {
+    "error_key": "err_iou", "panel_keys": ("mesh",), "scene_keys": ("mesh", "baseline"),
+    "defaults": ({"method": "viewmorph-auto", "s": 0.5, "size": 256},),
+    "default_label": "default: viewmorph-auto (s = 0.5, 256²)"}
 
 BASELINES = (10, 20, 40, 60)
 SS = (0.25, 0.5, 0.75)

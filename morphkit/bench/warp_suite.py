@@ -42,7 +42,10 @@ __all__ = ["run", "per_triangle_warp", "make_case", "FLOOR_METHOD", "PLOT_OPTION
 #: The method the table's ratio column divides by (see :mod:`morphkit.bench`).
 FLOOR_METHOD = "remap"
 #: Keyword arguments of :func:`morphkit.bench.harness.write_plots` for this suite's plots.
-PLOT_OPTIONS: dict[str, Any] = {"error_key": "mean_abs_err", "panel_keys": ("dtype", "grid")}
+PLOT_OPTIONS: dict[str, Any] = {
+    "error_key": "mean_abs_err", "panel_keys": ("dtype", "grid"),
+    "scene_keys": ("dtype", "channels", "size", "grid"), "defaults": ({"method": "morphkit"},),
+    "default_label": "default: morphkit (warp_mesh)"}
 
 SIZES_FULL = (64, 128, 256, 512, 1024)
 GRIDS_FULL = ((5, 15), (7, 15), (16, 16), (33, 33))

@@ -47,11 +47,11 @@ disc's centre (:mod:`.sundisc`, percentage-closer soft shadows).
 
 **Atlases on demand** (:func:`bake_scene_atlases`). A scene's assets get their sun atlases
 baked from their meshes when first needed, at :data:`SCENE_ATLAS_SIZE` texels over
-:data:`SCENE_ATLAS_DOME` (21 sun directions: the measured recommendation of ``docs/RESULTS.md``,
-"A shadow atlas per asset": more views hardly help, texels do), and kept in the mapping given
-(one bake per asset and run). An atlas already there is checked against its mesh
-(:meth:`~.sunatlas.SunAtlas.check_mesh`: an atlas of another mesh is refused, naming both
-hashes).
+:data:`SCENE_ATLAS_DOME` (21 sun directions: the measured recommendation of
+``docs/results/field_shadows.md``, "A shadow atlas per asset": more views hardly help, texels
+do), and kept in the mapping given (one bake per asset and run). An atlas already there is
+checked against its mesh (:meth:`~.sunatlas.SunAtlas.check_mesh`: an atlas of another mesh is
+refused, naming both hashes).
 
 A sun at or below the horizon shadows nothing (visibility 1, no map, no error); the shading
 model gives it no light anyway.

@@ -79,7 +79,7 @@ def steps_for(shape: tuple[int, int]) -> int:
     lies within :data:`THICKNESS_STEPS` of them): one per three pixels keeps thin parts'
     outlines, the last secant of the refinement keeping the depth close, for fewer samples
     than one per two; one per four loses outlines seen from low (measured:
-    docs/RESULTS.md, "Billboards from any height").
+    docs/results/billboards.md, "Billboards from any height").
 
     Parameters
     ----------
