@@ -11,7 +11,7 @@ shaded by :func:`morphkit.imaging.shading.shade_passes` under a world-frame
 also shades the relit billboards, so the two compare like with like under any sun.
 The layer is composited over the scene's backdrop as the billboards' is.
 :attr:`LitMeshMode.lighting` may be replaced between frames (a moving sun,
-:class:`~.sun.SunPath`).
+:class:`~morphkit.sunpath.SunPath`).
 
 **Shadows.** With a ``shadow`` (:class:`~morphkit.sunlit.receivers.SceneShadow`), the sun
 terms of every mesh pixel are multiplied by the sun's visibility at its world point (the
