@@ -248,7 +248,7 @@ FLOORS: tuple[frozenset[str], ...] = (
                "render", "glplatform", "passes", "memo", "sunpath", "files", "imaging", "meshes", "warp",
                "views"}),
     frozenset({"shadow", "billboard", "viewmorph"}),
-    frozenset({"sunlit"}),
+    frozenset({"sunlit", "scenes"}),
     frozenset({"bake"}),
     frozenset({"programs"}),
     frozenset({"bench"}),
