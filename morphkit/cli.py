@@ -39,18 +39,14 @@ from .conventions import SUN_DISC_RADIUS_DEG
 from .errors import MorphkitError, OutputExistsError, Terminated, UsageError, ValidationError, expected_got
 from .programs.cliargs import (
     SOFT_FILTER,
-    billboard_views,
     check_args,
     check_output_file,
-    parse_size,
     same_file,
 )
 from .programs.clistop import Stop, report_stop, stop_signals
 
 if TYPE_CHECKING:
-    from .billboard.frames.instances import Instances
     from .files.outfolder import OutputClaim, OutputRule
-    from .programs.sources import ResolvedAssets
 
 #: The bench suites that take ``--sections``.
 SECTIONED_SUITES = ("billboards", "scene", "shadows", "render")
@@ -299,160 +295,38 @@ def _cmd_shadows(args: argparse.Namespace) -> int:
     return 0
 
 
-def _scene_shadows(args: argparse.Namespace, res: Any, renderer: Any, names: list[str]) -> tuple[Any, Any]:
-    """``--shadows``: each asset's sun atlas, read from its bake when that holds one that serves
-    (:func:`morphkit.bake.reuse.baked_sun_atlases`) or else baked from its mesh (once, for this run),
-    and the frames' shadow from them; the comparisons' real meshes get the ray cast over the same sun
-    directions."""
-    import trimesh
-
-    from . import tol
-    from .bake.reuse import baked_sun_atlases
-    from .errors import ValidationError
-    from .sunlit.raycast import RayCastShadow
-    from .sunlit.receivers import (
-        SCENE_ATLAS_SIZE,
-        AtlasShadow,
-        FilteredAtlasShadow,
-        bake_scene_atlases,
-    )
-
-    missing = [nm for nm in names if nm not in res.items]
-    if missing:
-        raise ValidationError(expected_got(
-            "--shadows", "every asset's mesh (its sun atlas is baked from it)",
-            "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in missing)))
-    meshes = {}
-    for nm in names:
-        parts = [it.mesh for it in res.items[nm]]
-        meshes[nm] = parts[0] if len(parts) == 1 else trimesh.util.concatenate(parts)
-    size = SCENE_ATLAS_SIZE if args.sun_atlas_size is None else args.sun_atlas_size
-    atlases, said = baked_sun_atlases(args.asset or [], names, meshes, size)
-    bake = [nm for nm in names if nm not in atlases]
-    if bake:
-        said.append(f"baking those of {', '.join(bake)} ({size} texels)")
-    print("morphkit billboards: sun atlases: " + "; ".join(said), file=sys.stderr)
-    atlases = bake_scene_atlases(meshes, renderer, atlases, size=size)
-    if args.soft == SOFT_FILTER:
-        return (FilteredAtlasShadow(atlases, disc_deg=args.sun_radius),
-                RayCastShadow(meshes, samples=tol.SUN_DISC_TRUTH_SAMPLES, disc_deg=args.sun_radius))
-    samples = int(args.soft or 1)
-    return (AtlasShadow(atlases, samples=samples, disc_deg=args.sun_radius),
-            RayCastShadow(meshes, samples=samples, disc_deg=args.sun_radius))
-
-
-def _spread(inst: Instances, res: ResolvedAssets, args: argparse.Namespace) -> Instances:
-    """The instances moved apart so that no two footprints overlap (billboard.instances.separate):
-    each asset's footprint from its mesh where the run has it, else its quad's half width (a
-    bound); one line says how many moved, a warning how many the field could not hold apart."""
-    import numpy as np
-
-    from .billboard.frames.instances import field_half_size, footprint_radius, separate
-
-    radius = {nm: footprint_radius(res.items[nm]) if nm in res.items else float(res.assets[nm].half_extent[0])
-              for nm in inst.names}
-    out = separate(inst, radius, np.random.default_rng([args.seed, 1]), half_size=field_half_size(len(inst)))
-    if out.moved:
-        print(f"morphkit billboards: {out.moved} of {len(inst)} instances moved apart so that none "
-              "stands inside another", flush=True)
-    if out.crowded:
-        warnings.warn(f"{out.crowded} of {len(inst)} instances still overlap another: the field is too small "
-                      f"for {len(inst)} of these assets (give a smaller --n)", stacklevel=2)
-    return out.instances
-
-
 def _cmd_billboards(args: argparse.Namespace) -> int:
-    from .errors import ValidationError
+    from .errors import UsageError
+    from .programs.scenerender import render_scene, scene_from_flags
 
-    # every user error is refused before anything is baked or written
-    shape = parse_size(args.size)
-    for name, v, lo in (("--n", args.n, 0), ("--frames", args.frames, 1),
-                        ("--asset-size", args.asset_size, 16)):
-        if v < lo:
-            raise ValidationError(expected_got(name, f"an int >= {lo}", v))
-    from .programs.sources import check_specs, resolve_assets
+    scene = scene_from_flags(args)  # every user error is refused before anything is baked or written
+    if args.save_scene:
+        from .scenes.jsonfile import write_scene_file
 
-    specs = args.asset or ["tree", "person"]
-    check_specs(specs)
-    import dataclasses
-
-    import numpy as np
-
-    from .billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode, place_random
-    from .billboard.frames.paths import make_path
-
-    # the field and the path first (placeholder names, one per asset, renamed once they are
-    # known): the representation the path needs is chosen before any asset is baked
-    placed = place_random([f"asset{k}" for k in range(len(specs))], args.n, np.random.default_rng(args.seed))
-    half = float(np.abs(placed.xy).max()) if len(placed) else 1.0
-    cams = make_path(args.path, max(half, 1.0)).cameras(args.frames, shape)
-    views, chosen = billboard_views(args, cams, specs)
+        with _option_values():
+            path = write_scene_file(scene, args.save_scene, overwrite=args.overwrite)
+        print(f"morphkit billboards: wrote the scene of these options to {path} (nothing rendered; "
+              f"morphkit render {path} -o OUT draws it){'; -o not used' if args.out else ''}")
+        return 0
+    if args.out is None:
+        raise UsageError(expected_got("-o/--out", "the output folder (or --save-scene FILE: the scene, "
+                                      "nothing rendered)", "none"))
     from .files.outfolder import BILLBOARDS_OUTPUT
 
     claim = _output_folder(args.out, BILLBOARDS_OUTPUT, args.overwrite)
-    implied = getattr(args, "implied", None)  # morphkit.programs.cliargs.implied_sun_options
-    # what the run chose: on stdout with its other lines (stderr holds the one error line)
-    if implied:
-        print("morphkit billboards: " + "; ".join(implied), flush=True)
-    if chosen:
-        print(chosen, flush=True)
+    render_scene(scene, claim, command="billboards", stem="billboards", path_label=args.path,
+                 said=getattr(args, "implied", None) or (), smaller="--n")  # morphkit.programs.cliargs
+    return 0
 
-    from .bake.manifest import ManifestRecords
-    from .billboard.asset import BAKE_AMBIENT, bake_lights
-    from .billboard.frames.facing import AxialFacing, ViewpointFacing
-    from .imaging.shading import Lighting
-    from .programs.sequence import write_sequence
-    from .render import Renderer
-    from .sunlit.litmesh import LitMeshMode
-    from .sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
-    from .sunpath import SunPath
-    from .views.dome import ViewDome
 
-    with claim.writing() as out, Renderer() as r:
-        dome = ViewDome() if views is None else None
-        res = resolve_assets(specs, r, views=views or 8, size=args.asset_size, up=args.up_axis, progress=True,
-                             dome=dome, records=ManifestRecords())
-        names = list(res.assets)
-        inst = dataclasses.replace(placed, names=tuple(names))
-        inst = _spread(inst, res, args)
-        fog = None if args.no_fog else Fog()
-        facing = ViewpointFacing() if dome is not None else AxialFacing()
-        scene = BillboardScene(res.assets, inst, backdrop=Backdrop(fog=fog), facing=facing)
-        base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
-        lighting = None
-        if args.sun_path:
-            lighting = [Lighting(BAKE_AMBIENT, (s,)) for s in SunPath.day(args.frames)]
-        truth = None
-        known = all(nm in res.items for nm in names)
-        if not known:
-            why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
-            print(f"morphkit billboards: comparisons with the real meshes skipped: {why}", file=sys.stderr)
-        shadow = truth_shadow = None
-        if args.shadows:
-            shadow, truth_shadow = _scene_shadows(args, res, r, names)
-        if dome is not None:
-            mode = LitMode(MorphSurface(), base, shadow=shadow)
-            classic = LitMode(ClassicSurface(), base, shadow=shadow)
-            if known:
-                truth = LitMeshMode(r, res.items, base, shadow=truth_shadow)
-        else:
-            mode, classic = MorphMode(MorphCache()), None
-            if known:
-                truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
-        summary = write_sequence(scene, cams, out, mode=mode, truth=truth, classic=classic, lighting=lighting,
-                                 progress=args.frames >= 10)
-    kind = "relit dome assets" if dome is not None else "ring assets"
-    if args.shadows:
-        kind += (", shadows from sun atlases (the disc filtered from one map)" if args.soft == SOFT_FILTER
-                 else f", shadows from sun atlases ({args.soft or 1} sun direction(s))")
-    print(f"morphkit billboards: {len(inst)} billboards of {', '.join(names)}, {args.frames} frames "
-          f"({args.path}{', sun: ' + args.sun_path if args.sun_path else ''}; {kind}), "
-          f"cache hit rate {summary['hit_rate']:.1%}")
-    for c in summary["compared"]:
-        errs = "; ".join(f"{m} IoU {e['iou']:.3f} PSNR {e['psnr']:.1f} dB" for m, e in c["errors"].items()
-                         if e["n"])
-        print(f"  {c['file']}: classic | morph | mesh; per billboard vs mesh: {errs}")
-    print(f"wrote {len(summary['files'])} files to {out.resolve()}")
+def _cmd_render(args: argparse.Namespace) -> int:
+    from .files.outfolder import RENDER_OUTPUT
+    from .programs.scenerender import render_scene
+    from .scenes import load_scene
+
+    scene = load_scene(args.scene)  # refused before anything is baked or written
+    claim = _output_folder(args.out, RENDER_OUTPUT, args.overwrite)
+    render_scene(scene, claim, command="render", stem="render")
     return 0
 
 
@@ -677,9 +551,27 @@ def build_parser() -> argparse.ArgumentParser:
     bb.add_argument("--up-axis", default="auto", choices=["auto", "y", "z"],
                     help="up axis of --asset mesh files; auto: glTF/OBJ +y, others +z (default: %(default)s)")
     bb.add_argument("--no-fog", action="store_true", help="no distance fog")
-    bb.add_argument("-o", "--out", required=True, help="output folder")
-    bb.add_argument("--overwrite", action="store_true", help="replace a previous `billboards` run in OUT")
+    bb.add_argument("-o", "--out", default=None, help="output folder (required unless --save-scene)")
+    bb.add_argument("--save-scene", default=None, metavar="FILE",
+                    help="write the scene these options describe to FILE (a JSON scene file for "
+                    "`morphkit render`) and render nothing")
+    bb.add_argument("--overwrite", action="store_true",
+                    help="replace a previous `billboards` run in OUT (or the --save-scene FILE)")
     bb.set_defaults(func=_cmd_billboards)
+
+    rs = sub.add_parser(
+        "render",
+        help="a scene file's frames, video and comparisons against the truth",
+        description="Render a scene: a JSON scene file (morphkit's scene schema: assets, instances, "
+        "camera, sun, shadows, image) or a glTF scene (.glb/.gltf: each mesh an asset, its nodes the "
+        "instances, its directional light the sun, its camera the camera). Writes OUT/frames/*.png, "
+        "OUT/render.webm, OUT/compare_*.png (classic | view-morphed | real meshes, ray-cast shadows) "
+        "and OUT/render.json (the assets with their instance counts and scales, per-frame errors and times).",
+    )
+    rs.add_argument("scene", metavar="SCENE", help="a scene file (.json) or a glTF scene (.glb, .gltf)")
+    rs.add_argument("-o", "--out", required=True, help="output folder")
+    rs.add_argument("--overwrite", action="store_true", help="replace a previous `render` run in OUT")
+    rs.set_defaults(func=_cmd_render)
     return p
 
 

@@ -9,7 +9,8 @@ import cv2
 import numpy as np
 import pytest
 
-from morphkit.cli import main, parse_size
+from morphkit.cli import main
+from morphkit.programs.cliargs import parse_size
 from morphkit.errors import ValidationError
 
 

@@ -23,7 +23,7 @@ from ..errors import UsageError, ValidationError, expected_got
 from ..validate import as_int
 
 __all__ = ["check_args", "billboard_views", "implied_sun_options", "parse_size", "check_output_file",
-           "same_file", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
+           "same_file", "choose_views", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
 MIN_FRAME_SIDE = 16
@@ -252,12 +252,8 @@ def check_args(args: argparse.Namespace) -> None:
 
 def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
                      ) -> tuple[int | None, str]:
-    """``--views`` (checked by :mod:`morphkit.programs.cliargs`): K for a ring, None for relightable
-    views over the hemisphere (``dome``), and, when it was not given, the line saying which
-    representation the scene takes and why: dome views for ``--sun-path`` (relighting) or for a
-    path whose eye looks down from above the ring's band
-    (:attr:`morphkit.billboard.ring.ViewRing.band_deg`), else a ring of 8 (``.npz`` asset files
-    load as they were baked: dome files as a dome, ring files as a ring).
+    """``--views`` (checked by :mod:`morphkit.programs.cliargs`): :func:`choose_views` for the
+    ``billboards`` options (relit by ``--sun-path``).
 
     Parameters
     ----------
@@ -266,7 +262,7 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
     cameras : sequence of CameraModel
         The path's cameras (their look-down angle decides).
     specs : sequence of str
-        The ``--asset`` arguments (dome and ring asset files are told apart by their metadata).
+        The ``--asset`` arguments.
 
     Returns
     -------
@@ -280,11 +276,50 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
     UsageError
         Dome asset files with ring files, or with ``--views K``.
     """
+    return choose_views(args.views, "--sun-path" if args.sun_path else None, args.path, cameras, specs)
+
+
+def choose_views(views: int | str | None, relit_by: str | None, path: str, cameras: Sequence[Any],
+                 specs: Sequence[str], head: str = "morphkit billboards: ") -> tuple[int | None, str]:
+    """The views a scene's assets are baked with: K for a ring, None for relightable views over the
+    hemisphere (``dome``), and, when ``views`` is None, the line saying which representation the
+    scene takes and why: dome views for a sun that relights them or for a path whose eye looks
+    down from above the ring's band (:attr:`morphkit.billboard.ring.ViewRing.band_deg`), else a
+    ring of 8 (``.npz`` asset files load as they were baked: dome files as a dome, ring files as
+    a ring).
+
+    Parameters
+    ----------
+    views : int, "dome" or None
+        Asked for (None: what the scene needs).
+    relit_by : str or None
+        What relights the assets (``"--sun-path"``, ``"the scene's sun"``), None when nothing does.
+    path : str
+        The camera path's name, for the line.
+    cameras : sequence of CameraModel
+        The path's cameras (their look-down angle decides).
+    specs : sequence of str
+        The assets' sources (dome and ring asset files are told apart by their metadata).
+    head : str, optional
+        The line's start (the command).
+
+    Returns
+    -------
+    views : int or None
+        Ring views, or None for dome views.
+    said : str
+        The line saying what was chosen and why; empty when ``views`` was given.
+
+    Raises
+    ------
+    UsageError
+        Dome asset files with ring files, or with ``views`` K.
+    """
     from ..billboard.formats.domefile import is_dome_file  # lazy: checking arguments imports no wing
     from ..billboard.frames.paths import look_down_deg
     from ..billboard.ring import ViewRing
 
-    v = args.views
+    v = views
     files = [sp for sp in specs if sp.lower().endswith(".npz")]
     domes = [sp for sp in files if is_dome_file(sp)]
     if domes and (len(domes) < len(files) or (v is not None and v != "dome")):
@@ -295,23 +330,22 @@ def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Seq
                                       "ring files (--views K)", got))
     if v is not None:
         return (None if v == "dome" else int(v)), ""
-    head = "morphkit billboards: "
     if domes:
         return None, head + "dome views (the --asset files are dome assets)"
-    if args.sun_path:
-        return None, head + "dome views (--sun-path relights them: albedo, normals and depth)"
+    if relit_by:
+        return None, head + f"dome views ({relit_by} relights them: albedo, normals and depth)"
     ring = ViewRing(8)
     lo, hi = ring.band_deg
     top = float(look_down_deg(cameras).max()) if len(cameras) else 0.0
     if top <= hi:
-        return 8, (head + f"a ring of 8 views (the {args.path} path's eye looks down by at most "
+        return 8, (head + f"a ring of 8 views (the {path} path's eye looks down by at most "
                    f"{top:.0f} degrees, inside the ring's band of {lo:g}-{hi:g}; --views dome for views "
                    "from any height)")
     if files:
-        return 8, (head + f"a ring of 8 views: asset files load as they were baked (the {args.path} "
+        return 8, (head + f"a ring of 8 views: asset files load as they were baked (the {path} "
                    f"path's eye looks down by up to {top:.0f} degrees, above the ring's band of "
                    f"{lo:g}-{hi:g}: --views dome for dome asset files)")
-    return None, (head + f"dome views (the {args.path} path's eye looks down by up to {top:.0f} degrees, "
+    return None, (head + f"dome views (the {path} path's eye looks down by up to {top:.0f} degrees, "
                   f"above the ring's band of {lo:g}-{hi:g}, where a ring loses the shape from above; "
                   "--views K for a ring)")
 

@@ -59,8 +59,8 @@ def compare_indices(frames: int, count: int = 3) -> list[int]:
 def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: str | Path, *,
                    mode: FrameMode | None = None, truth: FrameMode | None = None, compare: int = 3,
                    fps: float = 24.0, video: bool = True, progress: bool = False,
-                   classic: FrameMode | None = None, lighting: Sequence[Lighting] | None = None
-                   ) -> dict[str, Any]:
+                   classic: FrameMode | None = None, lighting: Sequence[Lighting] | None = None,
+                   stem: str = "billboards", extra: dict[str, Any] | None = None) -> dict[str, Any]:
     """Render ``cameras`` and write the frames, the video, the comparison strips and a summary.
 
     Parameters
@@ -92,7 +92,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     Returns
     -------
     dict
-        The summary written to ``billboards.json`` (``files`` lists every file written,
+        The summary written to ``STEM.json`` (``files`` lists every file written,
         relative to ``out``).
     """
     out = Path(out)
@@ -114,7 +114,7 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     files: list[str] = []
     per_frame: list[dict[str, Any]] = []
     compared: list[dict[str, Any]] = []
-    sink = VideoFile(out / "billboards.webm", fps, cameras[0].shape) if video and cameras else None
+    sink = VideoFile(out / f"{stem}.webm", fps, cameras[0].shape) if video and cameras else None
     try:
         for k, frame in enumerate(scene.render_path(lit(cameras), mode, progress=progress,
                                                     total=len(cameras))):
@@ -140,13 +140,13 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
         raise
     if sink is not None:
         sink.close()
-        files.append("billboards.webm")
+        files.append(f"{stem}.webm")
     hits = sum(f["hits"] for f in per_frame)
     misses = sum(f["misses"] for f in per_frame)
-    summary = {"morphkit_billboards": 1, "mode": mode.name, "frames": len(cameras),
-               "instances": len(scene), "hit_rate": hits / max(hits + misses, 1), "per_frame": per_frame,
-               "compared": compared, "files": files + ["billboards.json"]}
-    write_json(out / "billboards.json", _finite(summary))
+    summary = {f"morphkit_{stem}": 1, "mode": mode.name, "frames": len(cameras),
+               "instances": len(scene), "hit_rate": hits / max(hits + misses, 1), **(extra or {}),
+               "per_frame": per_frame, "compared": compared, "files": files + [f"{stem}.json"]}
+    write_json(out / f"{stem}.json", _finite(summary))
     return summary
 
 

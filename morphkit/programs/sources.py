@@ -27,10 +27,12 @@ expected.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import json
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import trimesh
 
 from ..billboard.asset import BillboardAsset, mesh_hash
@@ -42,7 +44,7 @@ from ..protocols import InputRecords, SceneRenderer
 from ..scene import Item
 from ..views.dome import ViewDome
 
-__all__ = ["ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]
+__all__ = ["asset_name", "ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]
 
 #: Mesh file extensions ``--asset`` bakes on the fly (what :func:`morphkit.meshes.load_mesh` reads).
 MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".ply", ".stl", ".off")
@@ -93,6 +95,45 @@ def default_levels(size: int, most: int = 3) -> int:
     while n < most and round(size / 2**n) >= 8:
         n += 1
     return n
+
+
+def asset_name(spec: str) -> str:
+    """The name an asset of ``spec`` takes (as :func:`resolve_assets` names it): a sample's own, a
+    mesh file's stem, an asset file's recorded name (its file's, without ``.npz``, ``.billboard``
+    and ``.dome``, when it records none or the default ``"asset"``, or cannot be read here).
+
+    Parameters
+    ----------
+    spec : str
+        A sample mesh name, a mesh file or a ``.npz`` asset file.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from morphkit.programs.sources import asset_name
+    >>> asset_name("tree"), asset_name("models/oak.glb"), asset_name("bake/oak.dome.npz")
+    ('tree', 'oak', 'oak')
+    """
+    path = Path(spec)
+    if spec in BILLBOARD_MESHES:
+        return spec
+    if path.suffix.lower() in MESH_SUFFIXES:
+        return path.stem
+    recorded = ""
+    try:
+        if path.is_file():  # a FIFO or a folder is never opened here (its reader says why)
+            with np.load(path, allow_pickle=False) as z:
+                meta = json.loads(bytes(z["meta"]).decode("utf-8"))
+            recorded = meta.get("name", "") if isinstance(meta, dict) else ""
+    except Exception:  # noqa: BLE001 -- unreadable here: its reader reports it when the run loads it
+        recorded = ""
+    if isinstance(recorded, str) and recorded and recorded != "asset":
+        return recorded
+    return path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome") \
+        if path.name.lower().endswith(".npz") else path.name
 
 
 def check_specs(specs: Sequence[str]) -> None:
@@ -161,7 +202,8 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset, records: InputRecords
 
 def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int = 8, size: int = 128,
                    levels: int | None = None, up: str = "auto", progress: bool = False,
-                   dome: ViewDome | None = None, records: InputRecords | None = None) -> ResolvedAssets:
+                   dome: ViewDome | None = None, records: InputRecords | None = None,
+                   meshes: Mapping[str, trimesh.Trimesh] | None = None) -> ResolvedAssets:
     """Bake or load each of ``specs`` (see the module notes).
 
     Parameters
@@ -186,6 +228,9 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
     records : InputRecords, optional
         Where baked files' inputs are recorded (``morphkit.bake.manifest.ManifestRecords()``:
         the bake library's manifests), so that a loaded asset finds its mesh there too.
+    meshes : mapping of str to trimesh.Trimesh, optional
+        More assets, baked from these meshes (normalised, :func:`morphkit.meshes.normalize`; a
+        glTF scene's) under these names, in their own look, after ``specs``.
 
     Returns
     -------
@@ -232,11 +277,25 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
                 asset.name = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
             known, why = _beside(path, asset, records)
-        if asset.name in assets:
-            raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
-        assets[asset.name] = asset
-        if known is not None:
-            items[asset.name] = asset.items(known)
+        _add(assets, items, skipped, asset, known, why)
+    for name, mesh in (meshes or {}).items():
+        if dome is not None:
+            asset = bake_dome(mesh, renderer, name=name, dome=dome, size=size, levels=levels,
+                              appearance="own")
         else:
-            skipped[asset.name] = why
+            asset = bake_asset(mesh, renderer, name=name, views=views, size=size, levels=levels,
+                               progress=progress, appearance="own")
+        _add(assets, items, skipped, asset, mesh, "")
     return ResolvedAssets(assets, items, skipped)
+
+
+def _add(assets: dict[str, BillboardAsset | DomeAsset], items: dict[str, list[Item]], skipped: dict[str, str],
+         asset: BillboardAsset | DomeAsset, known: trimesh.Trimesh | None, why: str) -> None:
+    """One resolved asset into the run's tables (its name distinct)."""
+    if asset.name in assets:
+        raise ValidationError(expected_got("assets", "distinct names", f"{asset.name!r} twice"))
+    assets[asset.name] = asset
+    if known is not None:
+        items[asset.name] = asset.items(known)
+    else:
+        skipped[asset.name] = why

@@ -1,0 +1,405 @@
+"""A scene drawn into a folder: ``morphkit render SCENE`` and ``morphkit billboards``.
+
+:func:`render_scene` bakes (or reads) the scene's assets, places its instances, and draws its
+camera path with view-morphed billboards (:func:`morphkit.programs.sequence.write_sequence`):
+the frames, a video, comparison strips against the real meshes (with ray-cast shadows under
+a sun) and a summary JSON. The ``billboards`` command is the scene its flags describe
+(:func:`scene_from_flags`), drawn by the same function, so a scene it saves
+(``--save-scene``) renders as the command did.
+
+What is decided here, said in one line each on stdout: the views the assets need
+(:func:`morphkit.programs.cliargs.choose_views`), instances moved apart, a sun taken for
+shadows when the scene has none, the notes of a glTF scene.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import warnings
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from .. import tol
+from ..billboard import Backdrop, BillboardScene, Fog, MeshMode, MorphCache, MorphMode
+from ..billboard.asset import BAKE_AMBIENT, bake_lights
+from ..billboard.frames.facing import AxialFacing, ViewpointFacing
+from ..billboard.frames.instances import Instances, footprint_radius
+from ..errors import ValidationError, expected_got
+from ..files.outfolder import OutputClaim
+from ..imaging.shading import Lighting
+from ..render import Renderer
+from ..scenes.cameras import NamedPath
+from ..scenes.description import SOFT_PCSS, VIEWS_DOME, SceneAsset, SceneDescription, SceneShadows
+from ..scenes.placing import Scatter
+from ..scenes.suns import BakeLight, DaySun, FixedSun
+from ..sunlit.litmesh import LitMeshMode
+from ..sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
+from ..views.dome import ViewDome
+from .cliargs import choose_views, parse_size
+from .sequence import write_sequence
+from .sources import ResolvedAssets, asset_name, check_specs, resolve_assets
+
+__all__ = ["render_scene", "scene_cameras", "scene_specs", "scene_from_flags"]
+
+
+def scene_from_flags(args: argparse.Namespace) -> SceneDescription:
+    """The scene the ``billboards`` options describe (checked by :mod:`morphkit.programs.cliargs`,
+    sun options implied already): its assets, ``--n`` instances scattered from ``--seed`` and moved
+    apart, the ``--path`` camera, the sun, the shadows and the image.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``billboards`` options.
+
+    Returns
+    -------
+    SceneDescription
+
+    Raises
+    ------
+    ValidationError
+        A bad ``--size``, count or asset (refused before anything is baked or written).
+    """
+    shape = parse_size(args.size)
+    for name, v, lo in (
+        ("--n", args.n, 0),
+        ("--frames", args.frames, 1),
+        ("--asset-size", args.asset_size, 16),
+    ):
+        if v < lo:
+            raise ValidationError(expected_got(name, f"an int >= {lo}", v))
+    specs = args.asset or ["tree", "person"]
+    check_specs(specs)
+    assets = tuple(SceneAsset(asset_name(sp), sp, up=args.up_axis) for sp in specs)
+    shadows = None
+    if args.shadows:
+        shadows = SceneShadows(
+            args.soft if args.soft in (None, SOFT_PCSS) else int(args.soft),
+            args.sun_atlas_size,
+            args.sun_radius,
+        )
+    views = None if args.views is None else (VIEWS_DOME if args.views == VIEWS_DOME else int(args.views))
+    return SceneDescription(
+        assets,
+        Scatter(args.n, args.seed),
+        camera=NamedPath(args.path),
+        sun=DaySun() if args.sun_path else BakeLight(),
+        shape=shape,
+        frames=args.frames,
+        views=views,
+        asset_size=args.asset_size,
+        shadows=shadows,
+        fog=not args.no_fog,
+    )
+
+
+def scene_specs(scene: SceneDescription) -> list[str]:
+    """The sources of the scene's assets read from files or sample names (a glTF scene's meshes,
+    held in memory, are not among them).
+
+    Parameters
+    ----------
+    scene : SceneDescription
+
+    Returns
+    -------
+    list of str
+    """
+    return [a.source for a in scene.assets if a.mesh is None]
+
+
+def scene_cameras(scene: SceneDescription) -> list[Any]:
+    """The scene's cameras, fitted to where its instances first stand.
+
+    Parameters
+    ----------
+    scene : SceneDescription
+
+    Returns
+    -------
+    list of CameraModel
+    """
+    first = scene.instances.first(scene.names) if scene.assets else None
+    half = float(np.abs(first.xy).max()) if first is not None and len(first) else 1.0
+    return scene.camera.cameras(scene.frames, scene.shape, max(half, 1.0))
+
+
+def _resolve(
+    scene: SceneDescription, renderer: Renderer, views: int | None, dome: ViewDome | None
+) -> ResolvedAssets:
+    """Each asset baked or read (:func:`~morphkit.programs.sources.resolve_assets`), under the
+    scene's name for it; a glTF scene's meshes baked from memory."""
+    from ..bake.manifest import ManifestRecords
+
+    assets: dict[str, Any] = {}
+    items: dict[str, list[Any]] = {}
+    skipped: dict[str, str] = {}
+    for a in scene.assets:
+        if a.mesh is not None:
+            res = resolve_assets(
+                [],
+                renderer,
+                views=views or 8,
+                size=scene.asset_size,
+                dome=dome,
+                meshes={a.name: a.mesh},
+                progress=True,
+            )
+        else:
+            res = resolve_assets(
+                [a.source],
+                renderer,
+                views=views or 8,
+                size=scene.asset_size,
+                up=a.up,
+                progress=True,
+                dome=dome,
+                records=ManifestRecords(),
+            )
+        ((got, asset),) = res.assets.items()
+        asset.name = a.name
+        assets[a.name] = asset
+        if got in res.items:
+            items[a.name] = res.items[got]
+        else:
+            skipped[a.name] = res.skipped.get(got, "no mesh")
+    return ResolvedAssets(assets, items, skipped)
+
+
+def _placed(scene: SceneDescription, res: ResolvedAssets, head: str, smaller: str) -> Instances:
+    """The instances where the scene puts them, moved apart where it scatters them (each asset's
+    footprint from its mesh where the run has it, else its quad's half width: a bound), at their
+    asset's size; one line says how many moved, a warning how many overlap."""
+    names = list(scene.names)
+    size = {a.name: a.scale for a in scene.assets}
+    radius = {
+        nm: size[nm]
+        * (footprint_radius(res.items[nm]) if nm in res.items else float(res.assets[nm].half_extent[0]))
+        for nm in names
+    }
+    placed = scene.instances.place(names, radius)
+    inst = placed.instances
+    n = len(inst)
+    if placed.moved:
+        print(
+            f"{head}{placed.moved} of {n} instances moved apart so that none stands inside another",
+            flush=True,
+        )
+    if placed.overlapping:
+        why = (
+            f"the field is too small for {n} of these assets (give a smaller {smaller})"
+            if isinstance(scene.instances, Scatter) and scene.instances.apart
+            else "drawn where the scene puts them"
+        )
+        warnings.warn(f"{placed.overlapping} of {n} instances still overlap another: {why}", stacklevel=2)
+    if any(s != 1.0 for s in size.values()):
+        per = np.array([size[nm] for nm in inst.names], np.float64)
+        inst = dataclasses.replace(inst, scale=inst.scale * per[inst.asset] if n else inst.scale)
+    return inst
+
+
+def _shadows(
+    shadows: SceneShadows,
+    res: ResolvedAssets,
+    renderer: Renderer,
+    names: Sequence[str],
+    specs: Sequence[str],
+    head: str,
+    what: str,
+) -> tuple[Any, Any]:
+    """Each asset's sun atlas, read from its bake when that holds one that serves
+    (:func:`morphkit.bake.reuse.baked_sun_atlases`) or else baked from its mesh (once, for this
+    run), and the frames' shadow from them; the comparisons' real meshes get the ray cast over
+    the same sun directions."""
+    from ..bake.reuse import baked_sun_atlases
+    from ..sunlit.raycast import RayCastShadow
+    from ..sunlit.receivers import SCENE_ATLAS_SIZE, AtlasShadow, FilteredAtlasShadow, bake_scene_atlases
+
+    missing = [nm for nm in names if nm not in res.items]
+    if missing:
+        raise ValidationError(
+            expected_got(
+                what,
+                "every asset's mesh (its sun atlas is baked from it)",
+                "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in missing),
+            )
+        )
+    meshes = {}
+    for nm in names:
+        parts = [it.mesh for it in res.items[nm]]
+        meshes[nm] = parts[0] if len(parts) == 1 else trimesh.util.concatenate(parts)
+    size = SCENE_ATLAS_SIZE if shadows.sun_atlas_size is None else shadows.sun_atlas_size
+    atlases, said = baked_sun_atlases(list(specs), list(names), meshes, size)
+    bake = [nm for nm in names if nm not in atlases]
+    if bake:
+        said.append(f"baking those of {', '.join(bake)} ({size} texels)")
+    print(f"{head}sun atlases: " + "; ".join(said), file=sys.stderr)
+    atlases = bake_scene_atlases(meshes, renderer, atlases, size=size)
+    disc = shadows.sun_radius_deg
+    if shadows.soft == SOFT_PCSS:
+        return (
+            FilteredAtlasShadow(atlases, disc_deg=disc),
+            RayCastShadow(meshes, samples=tol.SUN_DISC_TRUTH_SAMPLES, disc_deg=disc),
+        )
+    samples = int(shadows.soft or 1)
+    return (
+        AtlasShadow(atlases, samples=samples, disc_deg=disc),
+        RayCastShadow(meshes, samples=samples, disc_deg=disc),
+    )
+
+
+def _asset_entry(a: SceneAsset, inst: Instances) -> dict[str, Any]:
+    k = inst.names.index(a.name) if a.name in inst.names else -1
+    return {
+        "name": a.name,
+        "source": a.source,
+        "instances": int(np.count_nonzero(inst.asset == k)),
+        "scale": a.scale,
+    }
+
+
+def render_scene(
+    scene: SceneDescription,
+    claim: OutputClaim,
+    *,
+    command: str = "render",
+    stem: str = "render",
+    path_label: str | None = None,
+    said: Sequence[str] = (),
+    smaller: str = "scatter count",
+) -> dict[str, Any]:
+    """Draw ``scene`` into the folder ``out`` (the module notes).
+
+    Parameters
+    ----------
+    scene : SceneDescription
+        With at least one asset.
+    claim : OutputClaim
+        The output folder, checked by the command (:func:`morphkit.files.outfolder.claim_output`):
+        written once the scene's choices are checked.
+    command : str, optional
+        The command's name, at the start of each line it prints.
+    stem : str, optional
+        The video's and the summary's name (:func:`~morphkit.programs.sequence.write_sequence`).
+    path_label : str, optional
+        The camera path's name in the lines printed (default: the scene camera's).
+    said : sequence of str, optional
+        Lines the command prints first (what its flags implied).
+    smaller : str, optional
+        What to make smaller when a scatter cannot hold its instances apart (the option's name).
+
+    Returns
+    -------
+    dict
+        The summary written to ``out/STEM.json``, with ``"assets"``: one entry per asset (its
+        name, source, instance count and scale) and ``"notes"``.
+
+    Raises
+    ------
+    ValidationError
+        A scene without assets, or shadows of an asset without a mesh.
+    """
+    head = f"morphkit {command}: "
+    if not scene.assets:
+        raise ValidationError(expected_got("scene", "at least one asset", "none"))
+    for note in scene.notes:
+        print(head + note, flush=True)
+    shadows = scene.shadows
+    sun = scene.sun
+    if shadows is not None and isinstance(sun, BakeLight):
+        sun = DaySun()
+        print(
+            head + "shadows take the default sun (a day's, as --sun-path day): the scene has none", flush=True
+        )
+    relit = not isinstance(sun, BakeLight)
+    cams = scene_cameras(scene)
+    label = path_label or scene.camera.to_json().get("path", "keyframes")
+    specs = scene_specs(scene)
+    views, chosen = choose_views(
+        scene.views,
+        ("--sun-path" if command == "billboards" else "the scene's sun") if relit else None,
+        label,
+        cams,
+        specs,
+        head,
+    )
+    if said:
+        print(head + "; ".join(said), flush=True)
+    if chosen:
+        print(chosen, flush=True)
+    sources = [a.source for a in scene.assets]
+    with claim.writing() as out, Renderer() as r:
+        dome = ViewDome() if views is None else None
+        res = _resolve(scene, r, views, dome)
+        names = list(scene.names)
+        inst = _placed(scene, res, head, smaller)
+        fog = Fog() if scene.fog else None
+        facing = ViewpointFacing() if dome is not None else AxialFacing()
+        bscene = BillboardScene(
+            res.assets, inst, backdrop=Backdrop(ground=scene.ground, fog=fog), facing=facing
+        )
+        base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
+        suns = sun.suns(scene.frames)
+        lighting = None if suns is None else [Lighting(BAKE_AMBIENT, (s,)) for s in suns]
+        truth = None
+        known = all(nm in res.items for nm in names)
+        if not known:
+            why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
+            print(f"{head}comparisons with the real meshes skipped: {why}", file=sys.stderr)
+        shadow = truth_shadow = None
+        if shadows is not None:
+            shadow, truth_shadow = _shadows(
+                shadows, res, r, names, sources, head, "--shadows" if command == "billboards" else "shadows"
+            )
+        if dome is not None:
+            mode = LitMode(MorphSurface(), base, shadow=shadow)
+            classic = LitMode(ClassicSurface(), base, shadow=shadow)
+            if known:
+                truth = LitMeshMode(r, res.items, base, shadow=truth_shadow)
+        else:
+            mode, classic = MorphMode(MorphCache()), None
+            if known:
+                truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
+        extra = (
+            None
+            if stem == "billboards"
+            else {"assets": [_asset_entry(a, inst) for a in scene.assets], "notes": list(scene.notes)}
+        )
+        summary = write_sequence(
+            bscene,
+            cams,
+            out,
+            mode=mode,
+            truth=truth,
+            classic=classic,
+            lighting=lighting,
+            progress=scene.frames >= 10,
+            stem=stem,
+            extra=extra,
+        )
+    kind = "relit dome assets" if dome is not None else "ring assets"
+    if shadows is not None:
+        kind += (
+            ", shadows from sun atlases (the disc filtered from one map)"
+            if shadows.soft == SOFT_PCSS
+            else f", shadows from sun atlases ({shadows.soft or 1} sun direction(s))"
+        )
+    sun_label = "day" if isinstance(sun, DaySun) else "fixed" if isinstance(sun, FixedSun) else ""
+    print(
+        f"{head}{len(inst)} billboards of {', '.join(names)}, {scene.frames} frames "
+        f"({label}{', sun: ' + sun_label if sun_label else ''}; {kind}), "
+        f"cache hit rate {summary['hit_rate']:.1%}"
+    )
+    for c in summary["compared"]:
+        errs = "; ".join(
+            f"{m} IoU {e['iou']:.3f} PSNR {e['psnr']:.1f} dB" for m, e in c["errors"].items() if e["n"]
+        )
+        print(f"  {c['file']}: classic | morph | mesh; per billboard vs mesh: {errs}")
+    print(f"wrote {len(summary['files'])} files to {out.resolve()}")
+    return summary
