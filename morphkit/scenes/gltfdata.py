@@ -17,7 +17,7 @@ import json
 import struct
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 import trimesh
@@ -27,7 +27,7 @@ from ..errors import MeshError, expected_got
 from ..meshes.assets import AssetResolver, read_regular
 from ..meshes.gltf import GLB_BIN_CHUNK, GLB_JSON_CHUNK, GLB_MAGIC
 
-__all__ = ["split_glb", "pack_glb", "document_problem", "trs_matrix", "node_matrix", "node_what",
+__all__ = ["split_glb", "pack_glb", "refuse_document", "trs_matrix", "node_matrix", "node_what",
            "world_nodes", "buffer_reader", "gltf_index", "read_accessor"]
 
 #: Accessor component types (glTF 2.0 section 3.6.2.2): numpy type, and the divisor of a normalised integer.
@@ -68,7 +68,7 @@ def split_glb(data: bytes, name: str) -> tuple[dict[str, Any], bytes | None]:
         not JSON, JSON that does not parse or is not an object.
     """
     if len(data) < 20 or data[:4] != GLB_MAGIC:
-        raise MeshError(expected_got(name, "a binary glTF (the magic b'glTF' and a 12-byte header)",
+        raise MeshError(expected_got(name, "a binary glTF 2.0 file (the magic b'glTF', a 12-byte header)",
                                      f"first bytes {data[:4]!r}"))
     version, total = struct.unpack("<II", data[4:12])
     if version != 2:
@@ -124,20 +124,33 @@ def pack_glb(doc: dict[str, Any], binary: bytes | None) -> bytes:
     return GLB_MAGIC + struct.pack("<II", 2, 12 + len(chunks)) + chunks
 
 
-def document_problem(path: Path, name: str) -> str:
-    """Why :func:`morphkit.meshes.gltf.gltf_document` found no document (for the error)."""
+def refuse_document(path: Path, name: str) -> NoReturn:
+    """Raise the error of a file :func:`morphkit.meshes.gltf.gltf_document` found no document in.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The ``.glb`` or ``.gltf`` file.
+    name : str
+        The file in error messages.
+
+    Raises
+    ------
+    MeshError
+        Always: a ``.glb``'s container error (:func:`split_glb`), or a ``.gltf``'s JSON that does
+        not parse or is not an object.
+    """
     data = read_regular(path, name)
     if path.suffix.lower() == ".glb":
+        split_glb(data, name)  # raises, saying what is wrong
+        got = "a document that is not a JSON object"
+    else:
         try:
-            split_glb(data, name)
-        except MeshError as exc:
-            return str(exc).partition(": expected ")[2].replace(", got ", ": got ", 1)
-        return "a document that is not a JSON object"
-    try:
-        json.loads(data.decode(errors="replace"))
-    except ValueError as exc:
-        return f"JSON that does not parse ({str(exc)[:100]})"
-    return "JSON that is not an object"
+            json.loads(data.decode(errors="replace"))
+            got = "JSON that is not an object"
+        except ValueError as exc:
+            got = f"JSON that does not parse ({str(exc)[:100]})"
+    raise MeshError(expected_got(name, "a glTF 2.0 file (.gltf: a JSON object)", got))
 
 
 # --------------------------------------------------------------------------

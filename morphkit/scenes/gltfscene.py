@@ -58,11 +58,11 @@ from ..scene import DirectionalLight
 from ..sunpath import SUN_INTENSITY
 from .gltfdata import (
     buffer_reader,
-    document_problem,
     gltf_index,
     node_what,
     pack_glb,
     read_accessor,
+    refuse_document,
     split_glb,
     trs_matrix,
     world_nodes,
@@ -342,8 +342,7 @@ def read_gltf_scene(path: str | Path, *, up: str = "auto",
         raise MeshError(expected_got(name, "a .glb or .gltf file", f"the extension {p.suffix!r}"))
     doc = gltf_document(p, name)
     if doc is None:
-        raise MeshError(expected_got(name, "a glTF 2.0 file (a .glb with a JSON chunk, or .gltf JSON)",
-                                     document_problem(p, name)))
+        refuse_document(p, name)
     check_node_graph(doc, name)  # bounded before anything walks it
     version = doc.get("asset", {}).get("version") if isinstance(doc.get("asset"), dict) else None
     if not isinstance(version, str) or not version.startswith("2."):
