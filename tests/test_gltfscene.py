@@ -17,6 +17,7 @@ import trimesh
 
 from morphkit import tol
 from morphkit.errors import MeshError
+from morphkit.meshes import load_mesh, sample_file
 from morphkit.programs import village
 from morphkit.scenes.gltfdata import pack_glb, split_glb
 from morphkit.scenes.gltfscene import EXT_INSTANCING, KHR_LIGHTS, read_gltf_scene
@@ -147,7 +148,7 @@ _BOX.apply_translation([0.0, 0.5, 0.0])
 
 
 def _write(path: Path, nodes: list[dict], *, roots: list[int] | None = None, extra: bytes = b"",
-           views: list[dict] = (), accessors: list[dict] = (), meshes: bool = True, **top) -> Path:
+           views: list[dict] = (), accessors: list[dict] = (), box_mesh: bool = True, **top) -> Path:
     """A .glb of the box mesh (accessors 0, 1), ``nodes``, and extra data after the mesh's bytes."""
     pos = np.asarray(_BOX.vertices, dtype=np.float32).tobytes()
     idx = np.asarray(_BOX.faces, dtype=np.uint32).tobytes()
@@ -162,9 +163,14 @@ def _write(path: Path, nodes: list[dict], *, roots: list[int] | None = None, ext
                          {"bufferView": 1, "componentType": 5125, "count": _BOX.faces.size, "type": "SCALAR"},
                          *accessors],
            **top}
-    if meshes:
+    if box_mesh and "meshes" not in doc:
         doc["meshes"] = [{"name": "box", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}]
-    path.write_bytes(pack_glb(doc, binary))
+    if path.suffix == ".gltf":  # the buffer in a file beside it
+        path.with_suffix(".bin").write_bytes(binary)
+        doc["buffers"][0]["uri"] = path.with_suffix(".bin").name
+        path.write_text(json.dumps(doc))
+    else:
+        path.write_bytes(pack_glb(doc, binary))
     return path
 
 
@@ -210,6 +216,54 @@ def test_gpu_instancing_gives_one_instance_per_entry(tmp_path):
         assert got.instances.xy[j] == pytest.approx(xy, abs=1e-5)
         assert _wrap(got.instances.yaw_deg[j] - yaw) == pytest.approx(0.0, abs=1e-4)
         assert got.instances.scale[j] == pytest.approx(scale, rel=1e-6)
+
+
+def test_gpu_instancing_reads_strided_and_offset_accessors(tmp_path):
+    # two translations interleaved with 4 bytes of padding, the accessor 4 bytes into its view
+    t = np.array([[3.0, 0.0, 1.0], [-2.0, 0.0, 4.0]], dtype=np.float32)
+    rows = b"".join(b"\xff" * 4 + row.tobytes() + b"\xff" * 4 for row in t)[:-4]
+    node = {"mesh": 0, "extensions": {EXT_INSTANCING: {"attributes": {"TRANSLATION": 2}}}}
+    path = _write(tmp_path / "strided.glb", [node], extra=rows,
+                  views=[{"buffer": 0, "byteOffset": len(_BOX.vertices) * 12 + _BOX.faces.size * 4,
+                          "byteLength": len(rows), "byteStride": 20}],
+                  accessors=[{"bufferView": 2, "byteOffset": 4, "componentType": 5126, "count": 2,
+                              "type": "VEC3"}])
+    got = read_gltf_scene(path)
+    assert got.instances.xy == pytest.approx((t @ T.T)[:, :2])
+
+
+def test_a_mesh_of_two_primitives_is_one_asset_keeping_both_looks(tmp_path):
+    prims = [{"attributes": {"POSITION": 0}, "indices": 1, "material": m} for m in (0, 1)]
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": c}} for c in ([1, 0, 0, 1], [0, 0, 1, 1])]
+    got = read_gltf_scene(_write(tmp_path / "two.glb", [{"mesh": 0}], meshes=[{"primitives": prims}],
+                                 materials=materials))
+    (asset,) = got.assets
+    assert asset.name == "mesh0" and len(asset.mesh.faces) == 2 * len(_BOX.faces)
+    texels = np.asarray(asset.mesh.visual.material.baseColorTexture.convert("RGB")).reshape(-1, 3)
+    assert {(255, 0, 0), (0, 0, 255)} <= set(map(tuple, texels.tolist()))  # an atlas of both colours
+
+
+def test_a_one_mesh_file_gives_the_mesh_load_mesh_gives():
+    path = sample_file("photo_crate.glb")
+    got, mesh = read_gltf_scene(path), load_mesh(path)
+    (asset,) = got.assets
+    assert np.sort(asset.mesh.vertices, axis=0) == pytest.approx(np.sort(mesh.vertices, axis=0))
+    assert np.array_equal(np.asarray(asset.mesh.visual.material.baseColorTexture),
+                          np.asarray(mesh.visual.material.baseColorTexture))  # the photo kept
+    assert len(got.instances) == 1
+
+
+def test_a_gltf_with_its_buffer_beside_it_reads_as_the_glb(tmp_path):
+    nodes = [{"name": "a", "mesh": 0, "translation": [1.0, 0.0, -2.0], "rotation": _yaw_q(25.0)},
+             {"name": "b", "mesh": 0, "translation": [-3.0, 0.0, 1.0], "scale": [2.0, 2.0, 2.0]}]
+    glb, gltf = (read_gltf_scene(_write(tmp_path / f"s.{ext}", nodes)) for ext in ("glb", "gltf"))
+    for name in ("xy", "yaw_deg", "scale"):
+        assert getattr(gltf.instances, name) == pytest.approx(getattr(glb.instances, name))
+    assert np.array_equal(gltf.assets[0].mesh.vertices, glb.assets[0].mesh.vertices)
+    for k, node in enumerate(nodes):
+        xy, yaw, scale = _expected(_node2file(node))
+        got = [*gltf.instances.xy[k], gltf.instances.yaw_deg[k], gltf.instances.scale[k]]
+        assert got == pytest.approx([*xy, yaw, scale])
 
 
 def test_gpu_instancing_accessor_out_of_range_is_refused(tmp_path):
@@ -294,7 +348,7 @@ def test_up_z_takes_the_file_as_it_is(tmp_path):
 
 
 def test_a_file_with_no_meshes_is_an_empty_scene(tmp_path):
-    got = read_gltf_scene(_write(tmp_path / "none.glb", [{"name": "empty"}], meshes=False))
+    got = read_gltf_scene(_write(tmp_path / "none.glb", [{"name": "empty"}], box_mesh=False))
     assert got.assets == () and len(got.instances) == 0
     assert any("no meshes" in n for n in got.notes)
 

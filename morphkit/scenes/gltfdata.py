@@ -180,7 +180,35 @@ def _quat_matrix(q: np.ndarray, what: str) -> np.ndarray:
 
 
 def trs_matrix(translation: Any, rotation: Any, scale: Any, what: str) -> np.ndarray:
-    """``T @ R @ S`` (glTF's order) as a 4x4 matrix."""
+    """``T @ R @ S`` (glTF's order) as a 4x4 matrix.
+
+    Parameters
+    ----------
+    translation : (3,) float
+        Translation.
+    rotation : (4,) float
+        Unit quaternion ``(x, y, z, w)`` (glTF's order; normalised here).
+    scale : (3,) float
+        Scale along each axis.
+    what : str
+        The node (or instance) in error messages.
+
+    Returns
+    -------
+    (4, 4) float64
+        The transform.
+
+    Raises
+    ------
+    MeshError
+        A value of the wrong length, non-finite, or a zero quaternion.
+
+    Examples
+    --------
+    >>> from morphkit.scenes.gltfdata import trs_matrix
+    >>> trs_matrix([1, 2, 3], [0, 0, 0, 1], [2, 2, 2], "node 0")[:3].tolist()
+    [[2.0, 0.0, 0.0, 1.0], [0.0, 2.0, 0.0, 2.0], [0.0, 0.0, 2.0, 3.0]]
+    """
     m = np.eye(4)
     m[:3, :3] = _quat_matrix(_numbers(rotation, 4, f"rotation of {what}"), f"rotation of {what}") \
         * _numbers(scale, 3, f"scale of {what}")
@@ -189,7 +217,27 @@ def trs_matrix(translation: Any, rotation: Any, scale: Any, what: str) -> np.nda
 
 
 def node_matrix(node: dict[str, Any], what: str) -> np.ndarray:
-    """A node's ``node2parent`` (file frame): its ``matrix`` (column-major) or its TRS."""
+    """A node's ``node2parent`` (file frame): its ``matrix`` (column-major) or its TRS.
+
+    Parameters
+    ----------
+    node : dict
+        The node's JSON.
+    what : str
+        The node in error messages.
+
+    Returns
+    -------
+    (4, 4) float64
+        The transform, affine and invertible.
+
+    Raises
+    ------
+    MeshError
+        Numbers missing, of the wrong count or non-finite; a matrix that is not affine; a
+        singular transform (smallest singular value within :data:`morphkit.tol.REL_EQUAL` of
+        zero, relative to the largest: a zero scale).
+    """
     if "matrix" in node:
         m = _numbers(node["matrix"], 16, f"matrix of {what}").reshape(4, 4).T
         if not np.allclose(m[3], [0.0, 0.0, 0.0, 1.0], rtol=0.0, atol=tol.POSE_ORTHO):
@@ -198,7 +246,7 @@ def node_matrix(node: dict[str, Any], what: str) -> np.ndarray:
         m[3] = [0.0, 0.0, 0.0, 1.0]
     else:
         m = trs_matrix(node.get("translation", [0, 0, 0]), node.get("rotation", [0, 0, 0, 1]),
-                 node.get("scale", [1, 1, 1]), what)
+                       node.get("scale", [1, 1, 1]), what)
     s = np.linalg.svd(m[:3, :3], compute_uv=False)
     if s[-1] <= tol.REL_EQUAL * s[0]:
         raise MeshError(expected_got(f"transform of {what}", "an invertible matrix (no zero scale)",
@@ -207,13 +255,50 @@ def node_matrix(node: dict[str, Any], what: str) -> np.ndarray:
 
 
 def node_what(node: dict[str, Any], i: int) -> str:
+    """How messages name node ``i``: ``"node 3 'tree_a'"``, or ``"node 3"`` when it has no name.
+
+    Parameters
+    ----------
+    node : dict
+        The node's JSON.
+    i : int
+        Its index.
+
+    Returns
+    -------
+    str
+        The phrase.
+    """
     nm = node.get("name")
     return f"node {i} {nm!r}" if isinstance(nm, str) and nm else f"node {i}"
 
 
 def world_nodes(doc: dict[str, Any], name: str) -> tuple[list[tuple[int, np.ndarray]], str | None]:
-    """Every node of the file's scene with its ``node2file`` (the file's world frame), parents first;
-    and a note when the file has no scene (then every root node is taken)."""
+    """Every node of the file's scene with its ``node2file`` (the file's world frame), parents first.
+
+    The scene is ``doc["scene"]`` (default the first); a file without scenes takes every node that
+    is no node's child as a root. The nodes must form trees
+    (:func:`morphkit.meshes.gltf.check_node_graph`, called first).
+
+    Parameters
+    ----------
+    doc : dict
+        The glTF JSON.
+    name : str
+        The file in error messages.
+
+    Returns
+    -------
+    nodes : list of (int, (4, 4) float64)
+        ``(node index, node2file)``, each node of the scene once.
+    note : str or None
+        A note when the file has no scene.
+
+    Raises
+    ------
+    MeshError
+        A scene index or a root out of range; a node's transform refused (:func:`node_matrix`).
+    """
     nodes = doc.get("nodes", [])
     scenes = doc.get("scenes")
     note = None
@@ -253,8 +338,29 @@ def world_nodes(doc: dict[str, Any], name: str) -> tuple[list[tuple[int, np.ndar
 
 
 def buffer_reader(doc: dict[str, Any], binary: bytes | None, resolver: AssetResolver,
-             name: str) -> Callable[[int], bytes]:
-    """A function giving buffer ``k``'s bytes (read once, through the resolver)."""
+                  name: str) -> Callable[[int], bytes]:
+    """A function giving buffer ``k``'s bytes, each read once.
+
+    Parameters
+    ----------
+    doc : dict
+        The glTF JSON.
+    binary : bytes or None
+        A ``.glb``'s ``BIN`` chunk (buffer 0 without a URI).
+    resolver : AssetResolver
+        Reads a buffer given by a file name (inside the asset root only:
+        :mod:`morphkit.meshes.assets`).
+    name : str
+        The file in error messages.
+
+    Returns
+    -------
+    callable
+        ``k -> bytes`` (the buffer's first ``byteLength`` bytes); it raises
+        :class:`~morphkit.errors.MeshError` for an index out of range, a buffer that cannot be had
+        (no URI and no ``BIN`` chunk, bad base64, a file refused or missing), or a ``byteLength``
+        past its data.
+    """
     cache: dict[int, bytes] = {}
     buffers = doc.get("buffers", [])
 
@@ -294,7 +400,29 @@ def buffer_reader(doc: dict[str, Any], binary: bytes | None, resolver: AssetReso
 
 
 def gltf_index(entry: dict[str, Any], key: str, n: int, what: str) -> int:
-    """``entry[key]`` as an index in ``[0, n)``."""
+    """``entry[key]`` as an index in ``[0, n)``.
+
+    Parameters
+    ----------
+    entry : dict
+        A JSON object (a node, an accessor, ...).
+    key : str
+        The key holding the index.
+    n : int
+        How many there are to index.
+    what : str
+        The entry in error messages.
+
+    Returns
+    -------
+    int
+        The index.
+
+    Raises
+    ------
+    MeshError
+        Missing, not an integer, or out of range.
+    """
     v = entry.get(key)
     if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < n:
         raise MeshError(expected_got(f"{key} of {what}", f"an integer in [0, {n})", repr(v)[:40]))
@@ -302,9 +430,36 @@ def gltf_index(entry: dict[str, Any], key: str, n: int, what: str) -> int:
 
 
 def read_accessor(doc: dict[str, Any], k: Any, types: tuple[str, ...], buffer: Callable[[int], bytes],
-                   name: str) -> np.ndarray:
-    """Accessor ``k`` as a float64 ``(count, width)`` array (normalised integers mapped to [-1, 1] or
-    [0, 1]); refused when out of range of its buffer view or buffer, sparse, or of another type."""
+                  name: str) -> np.ndarray:
+    """Accessor ``k``'s elements as float64 (glTF 2.0 section 3.6.2).
+
+    Parameters
+    ----------
+    doc : dict
+        The glTF JSON.
+    k : int
+        The accessor's index.
+    types : tuple of str
+        The accessor types taken (``"VEC3"``, ...).
+    buffer : callable
+        Buffer index -> bytes (:func:`buffer_reader`).
+    name : str
+        What refers to it, in error messages.
+
+    Returns
+    -------
+    (count, width) float64
+        The elements; normalised integers mapped to ``[-1, 1]`` (signed) or ``[0, 1]``; zeros
+        for an accessor without a buffer view.
+
+    Raises
+    ------
+    MeshError
+        An index out of range; a type not in ``types``, an unknown component type; a count below 1;
+        a sparse accessor (not read); offsets or a stride that are not integers or too small;
+        elements past the end of the buffer view, or a view past the end of its buffer; values
+        that are not finite.
+    """
     accessors = doc.get("accessors", [])
     what = f"accessor {k!r} of {name}"
     if isinstance(k, bool) or not isinstance(k, int) or not isinstance(accessors, list) \
@@ -341,7 +496,7 @@ def read_accessor(doc: dict[str, Any], k: Any, types: tuple[str, ...], buffer: C
         raise MeshError(expected_got(what, f"{count} elements within its buffer view ({vlen} bytes at "
                                      f"{vstart}, of a buffer of {len(data)})",
                                      f"elements reaching byte {end} of the view"))
-    raw = np.frombuffer(data, dtype=np.uint8, count=end, offset=vstart + astart)
+    raw = np.frombuffer(data, dtype=np.uint8, count=end - astart, offset=vstart + astart)
     rows = np.lib.stride_tricks.as_strided(raw, (count, item), (stride, 1))
     out = np.ascontiguousarray(rows).view(dtype).reshape(count, width).astype(np.float64)
     if acc.get("normalized") and divisor != 1.0:

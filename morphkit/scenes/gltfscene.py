@@ -4,8 +4,8 @@
 rendering): the meshes the nodes use, each normalised as :func:`morphkit.meshes.normalize` does
 (:class:`GltfAsset`, with the factor back to the file's units), one billboard instance per node
 that uses a mesh and per entry of its ``EXT_mesh_gpu_instancing``
-(:class:`morphkit.billboard.Instances`, in the file's own units: no asset is normalised inside
-the scene), the first directional ``KHR_lights_punctual`` light as the sun and the first
+(:class:`~morphkit.billboard.frames.instances.Instances`, in the file's own units: no asset is
+normalised inside the scene), the first directional ``KHR_lights_punctual`` light as the sun and the first
 perspective camera (:class:`GltfCamera`). What the file holds but morphkit does not draw
 (skins, animations, point and spot lights, tilts, non-uniform scales) is listed in
 :attr:`GltfScene.notes`, one line each.
@@ -19,7 +19,9 @@ normalised mesh where the node puts the file's mesh, but for what an instance ca
 * **tilt**: the node's rotation is reduced to its twist about world ``+z`` (the yaw,
   ``atan2(R10 - R01, R00 + R11)``, the swing-twist decomposition's angle); a swing beyond
   :data:`morphkit.tol.POSE_ORTHO` is dropped, with a note;
-* **non-uniform scale**: the mean of the node's world scales (singular values) is kept;
+* **non-uniform scale**: the mean of the node's world scales (its singular values) is kept, with a
+  note when they differ by more than :data:`morphkit.tol.POSE_ORTHO` of the largest; a mirroring
+  node's mirror is dropped, with a note;
 * **height**: the base (the centre of the bottom of the asset's box) is set on ``z = 0``; a base
   further off than :data:`morphkit.tol.GLTF_GROUND_REL` of the asset's size is noted.
 
@@ -359,9 +361,12 @@ def read_gltf_scene(path: str | Path, *, up: str = "auto",
         notes.append(note)
 
     # --- what the nodes use ---------------------------------------------------------------
-    meshes, cameras = doc.get("meshes", []), doc.get("cameras", [])
     ext = doc.get("extensions", {}) if isinstance(doc.get("extensions"), dict) else {}
     lights = ext.get(KHR_LIGHTS, {}).get("lights", []) if isinstance(ext.get(KHR_LIGHTS), dict) else []
+    meshes, cameras = doc.get("meshes", []), doc.get("cameras", [])
+    for key, entries in (("meshes", meshes), ("cameras", cameras), (f"{KHR_LIGHTS} lights", lights)):
+        if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+            raise MeshError(expected_got(f"{key} of {name}", "a list of objects", repr(entries)[:60]))
     placed: list[tuple[int, str, np.ndarray]] = []  # (mesh, instance name, instance2file)
     sun_dir, cam, skinned = None, None, []
     ignored_lights: dict[str, list[str]] = {}
