@@ -276,6 +276,17 @@ def test_gpu_instancing_accessor_out_of_range_is_refused(tmp_path):
         read_gltf_scene(path)
 
 
+def test_gpu_instancing_with_a_zero_scale_is_refused(tmp_path):
+    scales = np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]], dtype=np.float32).tobytes()
+    node = {"mesh": 0, "extensions": {EXT_INSTANCING: {"attributes": {"SCALE": 2}}}}
+    path = _write(tmp_path / "zero.glb", [node], extra=scales,
+                  views=[{"buffer": 0, "byteOffset": len(_BOX.vertices) * 12 + _BOX.faces.size * 4,
+                          "byteLength": len(scales)}],
+                  accessors=[{"bufferView": 2, "componentType": 5126, "count": 2, "type": "VEC3"}])
+    with pytest.raises(MeshError, match=r"transform of instance 1 of node 0 .*expected an invertible matrix"):
+        read_gltf_scene(path)
+
+
 def test_a_file_without_light_or_camera_says_so(tmp_path):
     got = read_gltf_scene(_write(tmp_path / "plain.glb", [{"mesh": 0}]))
     assert got.sun is None and got.camera is None
@@ -317,6 +328,16 @@ def test_tilt_non_uniform_scale_and_a_node_under_the_ground_are_noted(tmp_path):
     assert got.instances.yaw_deg[0] == pytest.approx(40.0)
     assert got.instances.scale[1] == pytest.approx(np.mean([1.0, 2.0, 1.0]) * 2.0)
     assert got.instances.xy[2] == pytest.approx([-5.0, 0.0])  # set on the ground where it stood
+
+
+def test_a_mirroring_node_keeps_its_asset_upright_unmirrored(tmp_path):
+    node = {"name": "m", "mesh": 0, "scale": [-1.0, 1.0, 1.0]}
+    got = read_gltf_scene(_write(tmp_path / "mirror.glb", [node]))
+    notes = "\n".join(got.notes)
+    assert "1 nodes mirror their asset: the mirror dropped ('m')" in notes and "tilt" not in notes
+    # x -> -x is the unmirrored box turned half a turn (the box is symmetric in its frame's y)
+    assert abs(got.instances.yaw_deg[0]) == pytest.approx(180.0)
+    assert got.instances.scale[0] == pytest.approx(2.0)
 
 
 def test_point_lights_orthographic_cameras_and_an_infinite_far_plane(tmp_path):

@@ -61,12 +61,12 @@ from ..sunpath import SUN_INTENSITY
 from .gltfdata import (
     buffer_reader,
     gltf_index,
+    node_matrix,
     node_what,
     pack_glb,
     read_accessor,
     refuse_document,
     split_glb,
-    trs_matrix,
     world_nodes,
 )
 
@@ -210,7 +210,8 @@ def _instancing(ext: Any, doc: dict[str, Any], buffer: Callable[[int], bytes], w
     t = got.get("TRANSLATION", np.zeros((n, 3)))
     r = got.get("ROTATION", np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)))
     s = got.get("SCALE", np.ones((n, 3)))
-    return [trs_matrix(t[j], r[j], s[j], f"instance {j} of {what}") for j in range(n)]
+    return [node_matrix({"translation": t[j], "rotation": r[j], "scale": s[j]}, f"instance {j} of {what}")
+            for j in range(n)]
 
 
 # --------------------------------------------------------------------------
@@ -274,10 +275,12 @@ def _said(what: str, names: list[str]) -> str:
 
 
 def _rotation(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The nearest rotation to the 3x3 ``a``, its singular values, and whether ``a`` mirrors."""
-    u, s, vt = np.linalg.svd(a)
-    d = float(np.sign(np.linalg.det(u @ vt)))
-    return u @ np.diag([1.0, 1.0, d]) @ vt, s, d < 0
+    """The rotation of the 3x3 ``a`` (its polar factor), its singular values, and whether ``a``
+    mirrors: then the rotation is that of ``a`` with the mirror across its frame's ``x``-``z`` plane
+    undone first (a mesh facing ``+x`` shown unmirrored, still upright)."""
+    mirror = bool(np.linalg.det(a) < 0)
+    u, s, vt = np.linalg.svd(a @ np.diag([1.0, -1.0, 1.0]) if mirror else a)
+    return u @ vt, s, mirror
 
 
 def read_gltf_scene(path: str | Path, *, up: str = "auto",
