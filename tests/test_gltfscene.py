@@ -138,6 +138,18 @@ def test_write_village_reproduces_the_committed_file(tmp_path):
     assert [a["count"] for a in new["accessors"]] == [a["count"] for a in old["accessors"]]
 
 
+def test_the_village_is_valid_gltf():
+    pytest.importorskip("jsonschema")
+    from trimesh.exchange.gltf import validate
+
+    doc = _doc(VILLAGE)
+    validate(doc)  # the glTF 2.0 JSON schema trimesh ships (raises when invalid)
+    assert doc["asset"]["version"] == "2.0" and KHR_LIGHTS in doc["extensionsUsed"]
+    data = VILLAGE.read_bytes()
+    json_length = struct.unpack("<I", data[12:16])[0]
+    assert json_length % 4 == 0 and data[20 + json_length - 1:20 + json_length] in (b" ", b"}")
+
+
 # --------------------------------------------------------------------------
 # Small files written here
 # --------------------------------------------------------------------------

@@ -179,9 +179,10 @@ class GltfScene:
         One per node that uses a mesh (per entry of its ``EXT_mesh_gpu_instancing``);
         ``instances.names`` are the assets' names, the scales in the file's units.
     sun : morphkit.scene.DirectionalLight or None
-        The first directional light a node uses, or None.
+        The first directional light a node uses (nodes taken depth first, in the scene's order),
+        or None.
     camera : GltfCamera or None
-        The first perspective camera a node uses, or None.
+        The first perspective camera a node uses (in the same order), or None.
     notes : tuple of str
         One line for each thing ignored or defaulted.
     """
