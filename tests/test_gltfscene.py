@@ -422,6 +422,14 @@ def test_bad_node_transforms_and_indices_are_refused(tmp_path, node, match):
         read_gltf_scene(_write(tmp_path / "bad.glb", [node]))
 
 
+@pytest.mark.parametrize(("scale", "match"), [(1e200, r"expected finite numbers, got an overflow"),
+                                              (1e-200, r"expected an invertible matrix")])
+def test_world_transforms_that_overflow_or_vanish_are_refused(tmp_path, scale, match):
+    nodes = [{"scale": [scale] * 3, "children": [1]}, {"name": "deep", "scale": [scale] * 3, "mesh": 0}]
+    with pytest.raises(MeshError, match=rf"world transform of .*'deep' .*{match}"):
+        read_gltf_scene(_write(tmp_path / "far.glb", nodes, roots=[0]))
+
+
 def test_glb_container_round_trip():
     doc = {"asset": {"version": "2.0"}, "nodes": [{"name": "a"}]}
     data = pack_glb(doc, b"12345")

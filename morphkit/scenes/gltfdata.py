@@ -297,7 +297,8 @@ def world_nodes(doc: dict[str, Any], name: str) -> tuple[list[tuple[int, np.ndar
     Raises
     ------
     MeshError
-        A scene index or a root out of range; a node's transform refused (:func:`node_matrix`).
+        A scene index or a root out of range; a node's transform refused (:func:`node_matrix`), or
+        one that overflows composed with its parents'.
     """
     nodes = doc.get("nodes", [])
     scenes = doc.get("scenes")
@@ -326,7 +327,13 @@ def world_nodes(doc: dict[str, Any], name: str) -> tuple[list[tuple[int, np.ndar
             raise MeshError(expected_got(f"nodes of scene of {name}", "each node once", f"node {i} twice"))
         seen.add(i)
         node = nodes[i] if isinstance(nodes[i], dict) else {}
-        node2file = parent2file @ node_matrix(node, f"{node_what(node, i)} of {name}")
+        what = f"{node_what(node, i)} of {name}"
+        local = node_matrix(node, what)
+        with np.errstate(over="ignore", invalid="ignore"):
+            node2file = parent2file @ local
+        if not np.all(np.isfinite(node2file)):
+            raise MeshError(expected_got(f"world transform of {what}", "finite numbers",
+                                         "an overflow of its parents' transforms"))
         out.append((i, node2file))
         stack.extend((c, node2file) for c in reversed(node.get("children", [])))
     return out, note

@@ -317,9 +317,10 @@ def read_gltf_scene(path: str | Path, *, up: str = "auto",
     MeshError
         ``up`` unknown; the file missing, not a ``.glb``/``.gltf``, not glTF 2.0, or of broken JSON;
         nodes too many or not trees (:func:`morphkit.meshes.gltf.check_node_graph`); a node's
-        matrix, TRS or instance transform non-finite or singular; a mesh, camera or light index
-        out of range; an accessor out of range of its buffer; a camera's ``yfov``, ``znear`` or
-        ``zfar`` out of range; what :func:`morphkit.meshes.load_mesh` refuses of its meshes.
+        matrix, TRS or instance transform non-finite or singular, alone or composed with its
+        parents'; a mesh, camera or light index out of range; an accessor out of range of its
+        buffer; a camera's ``yfov``, ``znear`` or ``zfar`` out of range; what
+        :func:`morphkit.meshes.load_mesh` refuses of its meshes.
 
     Warns
     -----
@@ -440,8 +441,15 @@ def read_gltf_scene(path: str | Path, *, up: str = "auto",
         if m not in base:
             continue
         k, centre, size = base[m]
-        inst2world = turn @ inst2file @ turn.T  # the mesh's own frame turned as the mesh was
+        with np.errstate(over="ignore", invalid="ignore"):
+            inst2world = turn @ inst2file @ turn.T  # the mesh's own frame turned as the mesh was
+        if not np.all(np.isfinite(inst2world)):
+            raise MeshError(expected_got(f"world transform of {label!r} in {name}", "finite numbers",
+                                         "an overflow of its node's and instance's transforms"))
         rot, s, mirror = _rotation(inst2world[:3, :3])
+        if not s[-1] > tol.REL_EQUAL * s[0] or not s[-1] * size > 0:
+            raise MeshError(expected_got(f"world transform of {label!r} in {name}", "an invertible matrix",
+                                         f"singular values {s.tolist()} (its parents' scales multiplied)"))
         scale = float(np.mean(s))
         if s[0] - s[-1] > tol.POSE_ORTHO * s[0]:
             stretched.append(repr(label))
