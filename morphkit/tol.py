@@ -50,6 +50,12 @@ MESH_MAX_COORD = 1e9
 #: already a scene, not an object (measured: docs/results/tolerances.md).
 MAX_GLTF_NODES = 10_000
 
+#: A glTF scene's instance stands on the ground (:func:`morphkit.scenes.gltfscene.read_gltf_scene`) when
+#: the base of its asset lies within this fraction of the asset's size of ``z = 0``: far above the float32
+#: rounding of an exporter's vertices and node translations, far below a visible float (a millimetre on a
+#: metre-tall asset); one further off is set on the ground, with a note.
+GLTF_GROUND_REL = 1e-3
+
 #: Relative length below which a mesh counts as flat in a direction (:func:`morphkit.meshes.check_mesh`:
 #: second principal or bounding-box extent over the first): far above coordinate rounding, far below
 #: any real feature (a nanometre on a one-metre object).

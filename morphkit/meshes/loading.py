@@ -61,7 +61,7 @@ from __future__ import annotations
 import os
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 import trimesh
@@ -73,7 +73,8 @@ from .assets import AssetResolver, locate, read_regular
 from .parts import copy_with_look, merge_parts, scene_parts
 from .texture import image_problem
 
-__all__ = ["normalize", "check_mesh", "closed_volume", "load_mesh", "resolve_up", "UP_AXES",
+__all__ = ["normalize", "check_mesh", "closed_volume", "load_mesh", "resolve_up", "gltf_warnings",
+           "trimesh_load", "loaded_looks", "check_parts", "UP_AXES",
            "UP_AXIS_BY_FORMAT", "Y_UP_TO_Z_UP"]
 
 #: The up axes :func:`load_mesh` accepts besides ``"auto"``.
@@ -334,7 +335,7 @@ def _mtl_warnings(obj: Path, root: Path, resolver: AssetResolver) -> dict[str, s
     return expected
 
 
-def _gltf_warnings(path: Path, root: Path, doc: dict[str, Any], resolver: AssetResolver) -> int:
+def gltf_warnings(path: Path, root: Path, doc: dict[str, Any], resolver: AssetResolver) -> int:
     """Check a ``.gltf``'s or ``.glb``'s external buffers and its images (its JSON: ``doc``) before
     trimesh reads them; the number of images warned about.
 
@@ -342,8 +343,34 @@ def _gltf_warnings(path: Path, root: Path, doc: dict[str, Any], resolver: AssetR
     or cannot be read or decoded (those in files are withheld from trimesh:
     :meth:`morphkit.meshes.assets.AssetResolver.check_image`; those the file holds itself,
     :func:`morphkit.meshes.gltf.embedded_images`, are dropped after the load when trimesh has
-    kept them); raises :class:`~morphkit.errors.MeshError` for a buffer or image that is not a
-    regular file (a FIFO), or a buffer outside ``root``.
+    kept them).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The glTF file.
+    root : pathlib.Path
+        The asset root (:func:`morphkit.meshes.assets.asset_root`).
+    doc : dict
+        Its JSON (:func:`morphkit.meshes.gltf.gltf_document`).
+    resolver : AssetResolver
+        The resolver the load will use (images checked here are served from it).
+
+    Returns
+    -------
+    int
+        The number of images warned about.
+
+    Raises
+    ------
+    MeshError
+        A buffer or image that is not a regular file (a FIFO), or a buffer outside ``root``.
+
+    Warns
+    -----
+    AssetWarning
+        An image missing, outside ``root``, unreadable or damaged (its materials keep their
+        ``baseColorFactor``).
     """
     name = f"mesh file {str(path)!r}"
     bad = 0
@@ -393,11 +420,76 @@ _IMAGE_ATTRIBUTES = ("image", "baseColorTexture", "metallicRoughnessTexture", "n
                      "emissiveTexture", "occlusionTexture")
 
 
-def _loaded_looks(loaded: Any, name: str, expected: dict[str, str], warned: bool) -> None:
+def trimesh_load(source: Path | IO[bytes], name: str, resolver: AssetResolver, *,
+                 file_type: str | None = None) -> Any:
+    """``trimesh.load`` of a mesh file through ``resolver``, its failures as morphkit's errors.
+
+    Parameters
+    ----------
+    source : pathlib.Path or binary file object
+        The file, or its bytes (then ``file_type`` says the format).
+    name : str
+        The file in error messages.
+    resolver : AssetResolver
+        Every file the mesh refers to is read through it (:mod:`morphkit.meshes.assets`).
+    file_type : str, optional
+        The format (``"glb"``, ``"gltf"``, ...) of a file object.
+
+    Returns
+    -------
+    trimesh.Trimesh or trimesh.Scene or Any
+        What trimesh read (``process=False``: trimesh's processing would silently drop
+        non-finite vertices).
+
+    Raises
+    ------
+    MeshError
+        trimesh cannot read the file; a file it refers to is not a regular file or lies
+        outside the asset root (recorded by the resolver, which trimesh partly swallows).
+    """
+    try:
+        if isinstance(source, Path):
+            loaded = trimesh.load(str(source), process=False, resolver=resolver)
+        else:
+            loaded = trimesh.load(source, file_type=file_type, process=False, resolver=resolver)
+    except Exception as exc:  # trimesh raises many types for bad files
+        if resolver.errors:
+            raise resolver.errors[0] from exc
+        if resolver.outside:
+            raise MeshError(expected_got(
+                f"file {resolver.outside[0]!r} referred to by {name}", f"a file inside the asset root "
+                f"{str(resolver.root)!r} (asset_root= / MORPHKIT_ASSET_ROOT widens it)",
+                "one outside it (not opened)")) from exc
+        raise MeshError(
+            expected_got(name, "a file trimesh can read", f"{type(exc).__name__}: {exc}"[:200])
+        ) from exc
+    if resolver.errors:  # trimesh swallows a material's or an image's read errors
+        raise resolver.errors[0]
+    return loaded
+
+
+def loaded_looks(loaded: Any, name: str, expected: dict[str, str], warned: bool) -> None:
     """After trimesh's load: an image that does not decode is dropped from its material (trimesh
     opens images lazily: a damaged one failed only when first read), with a warning unless
     the checks before the load gave one; an OBJ material whose image was found and decodes
-    (``expected``: its warning) but came back without it is said."""
+    (``expected``: its warning) but came back without it is said.
+
+    Parameters
+    ----------
+    loaded : trimesh.Trimesh or trimesh.Scene
+        What :func:`trimesh_load` read; its materials are changed in place.
+    name : str
+        The file in warnings.
+    expected : dict
+        OBJ material name -> the warning to give if it came back without its image.
+    warned : bool
+        Whether the checks before the load warned already (:func:`gltf_warnings`).
+
+    Warns
+    -----
+    AssetWarning
+        A damaged image dropped, or an OBJ image not loaded.
+    """
     geoms = loaded.geometry.values() if isinstance(loaded, trimesh.Scene) else [loaded]
     for g in geoms:
         material = getattr(getattr(g, "visual", None), "material", None)
@@ -426,6 +518,45 @@ def _has_vertex_colors(mesh: trimesh.Trimesh) -> bool:
     if isinstance(v, trimesh.visual.TextureVisuals):
         return "color" in v.vertex_attributes
     return v.kind == "vertex"
+
+
+def check_parts(parts: list[trimesh.Trimesh], name: str) -> None:
+    """Check the triangle meshes a file loaded as, and merge their split vertices, in place.
+
+    Face indices past the vertices and coordinates beyond :data:`morphkit.tol.MESH_MAX_COORD`
+    are refused before trimesh indexes or hashes them; vertices are merged where position and
+    UV agree (OBJ/STL split them), except on meshes with vertex colours (left as stored).
+
+    Parameters
+    ----------
+    parts : list of trimesh.Trimesh
+        The parts, changed in place (vertices merged).
+    name : str
+        The file in error messages.
+
+    Raises
+    ------
+    MeshError
+        A face index out of range, a coordinate too large, vertex attributes trimesh cannot merge.
+    """
+    for part in parts:
+        # a damaged file's faces may index past its vertices: refused before trimesh indexes them
+        faces = np.asarray(part.faces)
+        if faces.min() < 0 or faces.max() >= len(part.vertices):
+            raise MeshError(expected_got(name, f"face indices in [0, {len(part.vertices)})",
+                                         f"indices from {int(faces.min())} to {int(faces.max())}"))
+        v = np.asarray(part.vertices)
+        big = np.isfinite(v) & (np.abs(v) > tol.MESH_MAX_COORD)  # NaN/inf: check_mesh's message
+        if big.any():
+            raise MeshError(expected_got(name, f"vertex coordinates within +-{tol.MESH_MAX_COORD:g}",
+                                         f"{int(np.count_nonzero(big.any(axis=1)))} vertices beyond"))
+        if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
+            try:
+                part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
+            except (ArithmeticError, IndexError, ValueError, TypeError) as exc:
+                # damaged UVs or normals (huge values) overflow trimesh's hashing of them
+                raise MeshError(expected_got(name, "vertex attributes trimesh can merge",
+                                             f"{type(exc).__name__}: {exc}"[:200])) from exc
 
 
 def load_mesh(path: str | Path, *, up: str = "auto",
@@ -488,24 +619,9 @@ def load_mesh(path: str | Path, *, up: str = "auto",
         doc = gltf.gltf_document(p, name)  # None: not glTF JSON, trimesh's error follows
         if doc is not None:
             gltf.check_node_graph(doc, name)  # bounded before trimesh walks it (morphkit.meshes.gltf)
-            warned = _gltf_warnings(p, root, doc, resolver)
-    try:
-        # process=False: trimesh's processing would silently drop non-finite vertices.
-        loaded = trimesh.load(str(p), process=False, resolver=resolver)
-    except Exception as exc:  # trimesh raises many types for bad files
-        if resolver.errors:
-            raise resolver.errors[0] from exc
-        if resolver.outside:
-            raise MeshError(expected_got(
-                f"file {resolver.outside[0]!r} referred to by {name}", f"a file inside the asset root "
-                f"{str(root)!r} (asset_root= / MORPHKIT_ASSET_ROOT widens it)", "one outside it (not opened)"
-            )) from exc
-        raise MeshError(
-            expected_got(name, "a file trimesh can read", f"{type(exc).__name__}: {exc}"[:200])
-        ) from exc
-    if resolver.errors:  # trimesh swallows a material's or an image's read errors
-        raise resolver.errors[0]
-    _loaded_looks(loaded, name, expected, warned > 0)
+            warned = gltf_warnings(p, root, doc, resolver)
+    loaded = trimesh_load(p, name, resolver)
+    loaded_looks(loaded, name, expected, warned > 0)
     if isinstance(loaded, trimesh.Scene):
         parts = scene_parts(loaded)
         if not parts:
@@ -515,24 +631,7 @@ def load_mesh(path: str | Path, *, up: str = "auto",
         parts = [loaded]
     else:
         raise MeshError(expected_got(name, "a mesh with at least one face", "0 faces"))
-    for part in parts:
-        # a damaged file's faces may index past its vertices: refused before trimesh indexes them
-        faces = np.asarray(part.faces)
-        if faces.min() < 0 or faces.max() >= len(part.vertices):
-            raise MeshError(expected_got(name, f"face indices in [0, {len(part.vertices)})",
-                                         f"indices from {int(faces.min())} to {int(faces.max())}"))
-        v = np.asarray(part.vertices)
-        big = np.isfinite(v) & (np.abs(v) > tol.MESH_MAX_COORD)  # NaN/inf: check_mesh's message
-        if big.any():
-            raise MeshError(expected_got(name, f"vertex coordinates within +-{tol.MESH_MAX_COORD:g}",
-                                         f"{int(np.count_nonzero(big.any(axis=1)))} vertices beyond"))
-        if np.all(np.isfinite(part.vertices)) and not _has_vertex_colors(part):
-            try:
-                part.merge_vertices()  # formats like OBJ/STL split vertices per face or per normal
-            except (ArithmeticError, IndexError, ValueError, TypeError) as exc:
-                # damaged UVs or normals (huge values) overflow trimesh's hashing of them
-                raise MeshError(expected_got(name, "vertex attributes trimesh can merge",
-                                             f"{type(exc).__name__}: {exc}"[:200])) from exc
+    check_parts(parts, name)
     mesh = check_mesh(merge_parts(parts, name), name)
     if axis == "y":
         mesh.apply_transform(Y_UP_TO_Z_UP)
