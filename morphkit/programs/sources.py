@@ -246,7 +246,8 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
     MeshError
         A mesh file that cannot be loaded, or a bad ``up``.
     """
-    check_specs(specs)
+    if specs or not meshes:
+        check_specs(specs)
     levels = default_levels(size) if levels is None else levels
     assets: dict[str, BillboardAsset | DomeAsset] = {}
     items: dict[str, list[Item]] = {}

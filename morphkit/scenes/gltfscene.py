@@ -71,12 +71,18 @@ from .gltfdata import (
 )
 
 __all__ = ["GltfAsset", "GltfCamera", "GltfScene", "read_gltf_scene", "EXT_INSTANCING", "KHR_LIGHTS",
-           "ZFAR_BOUNDS_FACTOR", "ZFAR_MIN_RATIO"]
+           "ZFAR_BOUNDS_FACTOR", "ZFAR_MIN_RATIO", "NO_SUN", "NO_CAMERA"]
 
 #: The glTF extension of instanced meshes (per-instance TRANSLATION, ROTATION, SCALE accessors).
 EXT_INSTANCING = "EXT_mesh_gpu_instancing"
 #: The glTF extension of lights (directional, point, spot).
 KHR_LIGHTS = "KHR_lights_punctual"
+#: The note of a file without a directional light (:attr:`GltfScene.sun` None; the caller says
+#: its default).
+NO_SUN = f"no directional light ({KHR_LIGHTS})"
+#: The note of a file without a perspective camera (:attr:`GltfScene.camera` None; the caller
+#: says its default).
+NO_CAMERA = "no perspective camera"
 
 #: A camera without ``zfar`` (infinite in glTF) gets this many times the distance from the camera to
 #: the farthest corner of the scene's instance boxes ...
@@ -475,12 +481,12 @@ def read_gltf_scene(path: str | Path, *, up: str = "auto",
     # --- sun, camera, the rest ------------------------------------------------------------
     sun = DirectionalLight(sun_dir, SUN_INTENSITY) if sun_dir is not None else None
     if sun is None:
-        notes.append(f"no directional light ({KHR_LIGHTS}): sun is None, the default sun is used")
+        notes.append(NO_SUN)
     for kind, labels in ignored_lights.items():
         notes.append(_said(f"{kind} lights ignored (morphkit draws one sun)", labels))
     camera = _camera(cam, turn, instances, assets) if cam is not None else None
     if camera is None:
-        notes.append("no perspective camera: camera is None, a default camera is used")
+        notes.append(NO_CAMERA)
     for kind, labels in ignored_cams.items():
         notes.append(_said(f"{kind} cameras ignored", labels))
     if skinned or doc.get("skins"):

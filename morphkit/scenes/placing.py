@@ -302,7 +302,9 @@ class Scatter:
         dict
             ``{"scatter": {"count", "seed", "spacing", "apart"}}``.
         """
-        return {"scatter": {"count": self.count, "seed": self.seed, "spacing": self.spacing, "apart": self.apart}}
+        return {
+            "scatter": {"count": self.count, "seed": self.seed, "spacing": self.spacing, "apart": self.apart}
+        }
 
 
 def placement_from_json(obj: Mapping[str, Any]) -> Listed | Scatter:
