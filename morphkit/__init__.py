@@ -8,7 +8,9 @@ The names a user needs are importable from here (``README.md``, "Quick start"), 
 * two photos, and the view between them (paper 2): :class:`ViewMorpher`
   (:meth:`ViewMorpher.from_estimate`, points matched by :func:`from_images`);
 * a field of billboards with shadows under a sun: :class:`SunlitField`
-  (:meth:`SunlitField.from_meshes`, a sun from :func:`sun`), against the real meshes.
+  (:meth:`SunlitField.from_meshes`, a sun from :func:`sun`), against the real meshes; a whole
+  scene from a file (a JSON scene file or a glTF scene): :func:`load_scene`, drawn by
+  :func:`render_scene` into a folder.
 
 The scene, cameras, meshes, renderer, images and error measures they take are here too
 (:class:`Renderer`, :func:`load_mesh`, :func:`perspective`, :func:`shadow_iou`, ...), and the
@@ -69,6 +71,9 @@ _LAZY: dict[str, tuple[str, ...]] = {
     # the two together: billboards under the sun with their shadows
     "morphkit.sunpath": ("sun", "SunPath"),
     "morphkit.sunlit.sunlitfield": ("SunlitField", "FieldComparison"),
+    # a user's scene: scene files and glTF scenes, drawn into a folder
+    "morphkit.scenes": ("load_scene", "SceneDescription", "write_scene_file"),
+    "morphkit.programs.scenerender": ("render_scene",),
 }
 _EXPORTS: dict[str, str] = {name: module for module, names in _LAZY.items() for name in names}
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from morphkit.cli import main
-from morphkit.programs.cliargs import parse_size
 from morphkit.errors import ValidationError
+from morphkit.programs.cliargs import parse_size
 
 
 def _one_line_error(capsys, argv):

@@ -79,7 +79,7 @@ def test_asset_paths_inside_the_scene_folder_are_written_relative_to_it(tmp_path
                            SceneAsset("tree", "tree")))
     path = write_scene_file(scene, tmp_path / "scenes" / "s.json")
     written = json.loads(path.read_text())["assets"]
-    assert [a["source"] for a in written] == ["models/crate.glb", str(outside), "tree"]  # a sample stays a name
+    assert [a["source"] for a in written] == ["models/crate.glb", str(outside), "tree"]  # a sample: its name
     moved = tmp_path / "elsewhere"
     (tmp_path / "scenes").rename(moved)
     back = read_scene_file(moved / "s.json").assets

@@ -7,6 +7,9 @@ through its Python API; these modules turn it into commands that write files:
   stops (Ctrl-C, SIGTERM) leaving its folder as it was;
 * :mod:`.demo` -- ``morphkit demo``: the demo scenes into a folder;
 * :mod:`.playback` -- ``morphkit shadows``: a baked shadow atlas's scene along an object path;
+* :mod:`.scenerender` -- ``morphkit render SCENE`` and ``morphkit billboards``: a scene drawn into
+  a folder (``billboards`` is the scene its flags describe);
+* :mod:`.village` -- the example glTF village (``samples/scenes/village.glb``);
 * :mod:`.sequence` -- a billboard scene along a camera path: frames, a video, strips;
 * :mod:`.sources` -- where a command's billboard assets come from (names, mesh or asset files);
 * :mod:`.video` -- the video writer (a temporary renamed into place when finished);

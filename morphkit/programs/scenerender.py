@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 import warnings
 from collections.abc import Sequence
@@ -30,7 +31,7 @@ from ..billboard.asset import BAKE_AMBIENT, bake_lights
 from ..billboard.frames.facing import AxialFacing, ViewpointFacing
 from ..billboard.frames.instances import Instances, footprint_radius
 from ..errors import ValidationError, expected_got
-from ..files.outfolder import OutputClaim
+from ..files.outfolder import RENDER_OUTPUT, OutputClaim, claim_output
 from ..imaging.shading import Lighting
 from ..render import Renderer
 from ..scenes.cameras import NamedPath
@@ -266,8 +267,9 @@ def _asset_entry(a: SceneAsset, inst: Instances) -> dict[str, Any]:
 
 def render_scene(
     scene: SceneDescription,
-    claim: OutputClaim,
+    out: OutputClaim | str | os.PathLike[str],
     *,
+    overwrite: bool = False,
     command: str = "render",
     stem: str = "render",
     path_label: str | None = None,
@@ -280,9 +282,12 @@ def render_scene(
     ----------
     scene : SceneDescription
         With at least one asset.
-    claim : OutputClaim
-        The output folder, checked by the command (:func:`morphkit.files.outfolder.claim_output`):
-        written once the scene's choices are checked.
+    out : OutputClaim or path-like
+        The output folder: a path (checked here as ``morphkit render``'s, before any work), or one
+        checked by the command already (:func:`morphkit.files.outfolder.claim_output`); written
+        once the scene's choices are checked.
+    overwrite : bool, optional
+        Replace a previous ``render`` run in a folder given as a path.
     command : str, optional
         The command's name, at the start of each line it prints.
     stem : str, optional
@@ -304,7 +309,23 @@ def render_scene(
     ------
     ValidationError
         A scene without assets, or shadows of an asset without a mesh.
+    OutputExistsError
+        A folder given as a path holding another command's files, or a previous run without
+        ``overwrite``.
+
+    Examples
+    --------
+    The example fly-over, small and short (``morphkit render samples/scenes/flyover.json -o OUT``
+    draws it whole)::
+
+        import dataclasses
+        import morphkit
+
+        scene = morphkit.load_scene("samples/scenes/flyover.json")
+        summary = morphkit.render_scene(dataclasses.replace(scene, frames=2, shape=(120, 160)), "out")
+        print(summary["assets"], summary["compared"][0]["errors"])
     """
+    claim = out if isinstance(out, OutputClaim) else claim_output(out, RENDER_OUTPUT, overwrite=overwrite)
     head = f"morphkit {command}: "
     if not scene.assets:
         raise ValidationError(expected_got("scene", "at least one asset", "none"))

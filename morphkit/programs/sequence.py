@@ -88,6 +88,11 @@ def write_sequence(scene: BillboardScene, cameras: Sequence[CameraModel], out: s
     lighting : sequence of Lighting, optional
         One per camera (a sun path): set on every relit mode (:class:`~.litmodes.Relit`:
         the mode, the classic and the truth) before its frame is drawn.
+    stem : str, optional
+        The name of the video and the summary, ``STEM.webm`` and ``STEM.json`` (``billboards``;
+        ``render`` for ``morphkit render``), whose marker key is ``"morphkit_STEM"``.
+    extra : dict, optional
+        More entries of the summary (``render``: the scene's assets and notes).
 
     Returns
     -------
