@@ -34,7 +34,7 @@ from ..errors import ValidationError, expected_got
 from ..files.outfolder import RENDER_OUTPUT, OutputClaim, claim_output
 from ..imaging.shading import Lighting
 from ..render import Renderer
-from ..scenes.cameras import NamedPath
+from ..scenes.camerapaths import NamedPath
 from ..scenes.description import SOFT_PCSS, VIEWS_DOME, SceneAsset, SceneDescription, SceneShadows
 from ..scenes.placing import Scatter
 from ..scenes.suns import BakeLight, DaySun, FixedSun

@@ -18,7 +18,7 @@ import os
 from pathlib import Path
 
 from ..errors import FileFormatError, expected_got
-from .cameras import Keyframes, NamedPath, SceneCamera
+from .camerapaths import Keyframes, NamedPath, SceneCamera
 from .description import SceneAsset, SceneDescription, SceneShadows
 from .jsonfile import SCHEMA_PATH, read_scene_file, write_scene_file
 from .placing import Listed, Scatter, ScenePlacement

@@ -17,7 +17,7 @@ from ..billboard.frames.backdrop import Ground
 from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import ValidationError, expected_got
 from ..validate import as_int, as_positive, as_shape
-from .cameras import Keyframes, NamedPath
+from .camerapaths import Keyframes, NamedPath
 from .placing import Listed, Scatter
 from .suns import BakeLight, DaySun, FixedSun
 

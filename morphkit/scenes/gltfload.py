@@ -8,7 +8,7 @@ them, its sun and camera, in its own units); :func:`gltf_scene_description` make
 * its directional light a fixed sun, the instances casting hard shadows under it
   (:class:`~morphkit.scenes.description.SceneShadows`); without one, the light the assets are baked
   under, without shadows;
-* its camera a still camera (:class:`~morphkit.scenes.cameras.Keyframes` of one key, its field
+* its camera a still camera (:class:`~morphkit.scenes.camerapaths.Keyframes` of one key, its field
   of view and depth range; the image's up is world ``+z``, so a rolled camera is drawn level) for
   :data:`GLTF_STILL_FRAMES` frame, the image :data:`GLTF_IMAGE_HEIGHT` rows high at the camera's
   aspect; without one, morphkit's orbit around the instances over :data:`GLTF_ORBIT_FRAMES` frames.
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cameras import Keyframes, NamedPath
+from .camerapaths import Keyframes, NamedPath
 from .description import SceneAsset, SceneDescription, SceneShadows
 from .gltfscene import NO_CAMERA, NO_SUN, read_gltf_scene
 from .placing import Listed

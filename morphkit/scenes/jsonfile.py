@@ -36,7 +36,7 @@ from ..billboard.frames.backdrop import Ground
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import open_regular, write_json
 from ..meshes import BILLBOARD_MESHES, SAMPLE_FILES, sample_file
-from .cameras import camera_from_json
+from .camerapaths import camera_from_json
 from .description import SceneAsset, SceneDescription, SceneShadows
 from .placing import placement_from_json
 from .suns import sun_from_json

@@ -85,7 +85,7 @@ class NamedPath:
 
     Examples
     --------
-    >>> from morphkit.scenes.cameras import NamedPath
+    >>> from morphkit.scenes.camerapaths import NamedPath
     >>> cams = NamedPath("orbit").cameras(3, (48, 64), half_size=5.0)
     >>> len(cams), cams[0].shape
     (3, (48, 64))
@@ -151,7 +151,7 @@ class Keyframes:
     --------
     One key is a still camera: every frame the same.
 
-    >>> from morphkit.scenes.cameras import Keyframes
+    >>> from morphkit.scenes.camerapaths import Keyframes
     >>> cam = Keyframes([[0.0, -10.0, 2.0]], [[0.0, 0.0, 1.0]])
     >>> a, b = cam.cameras(2, (48, 64), half_size=5.0)
     >>> bool((a.cam2world == b.cam2world).all())
