@@ -326,7 +326,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
 
     scene = load_scene(args.scene)  # refused before anything is baked or written
     claim = _output_folder(args.out, RENDER_OUTPUT, args.overwrite)
-    render_scene(scene, claim, command="render", stem="render")
+    render_scene(scene, claim, command="render", stem="render", compare=args.compare)
     return 0
 
 
@@ -570,9 +570,26 @@ def build_parser() -> argparse.ArgumentParser:
     )
     rs.add_argument("scene", metavar="SCENE", help="a scene file (.json) or a glTF scene (.glb, .gltf)")
     rs.add_argument("-o", "--out", required=True, help="output folder")
+    rs.add_argument("--compare", default=3, type=_compare_count, metavar="N|all",
+                    help="frames also drawn with the real meshes (ray-cast shadows under a sun) and "
+                    "measured against them, spread over the path: their strips and per-billboard "
+                    "errors in render.json (default: %(default)s; all: every frame)")
     rs.add_argument("--overwrite", action="store_true", help="replace a previous `render` run in OUT")
     rs.set_defaults(func=_cmd_render)
     return p
+
+
+def _compare_count(text: str) -> int | None:
+    """``render --compare``: a count of frames >= 0, or ``all`` (None)."""
+    if text.strip().lower() == "all":
+        return None
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"expected a number of frames >= 0 or 'all', got {text!r}")
+    return n
 
 
 def _out_of_memory(exc: BaseException) -> bool:

@@ -234,3 +234,16 @@ def test_the_example_scenes_render(tmp_path, name):
     summary = render_scene(small, claim_output(tmp_path / "r", RENDER_OUTPUT))
     assert sum(a["instances"] for a in summary["assets"]) == len(scene.instances.first(scene.names))
     assert summary["compared"] and all(f["drawn"] > 0 for f in summary["per_frame"])
+
+
+def test_compare_says_how_many_frames_are_measured_against_the_truth(tmp_path, capsys):
+    path = _write(tmp_path, _scene_doc(frames=3, camera={"path": "orbit"}))
+    assert main(["render", str(path), "--compare", "all", "-o", str(tmp_path / "all")]) == 0
+    rs = json.loads((tmp_path / "all" / "render.json").read_text())
+    assert [c["frame"] for c in rs["compared"]] == [0, 1, 2]
+    assert main(["render", str(path), "--compare", "0", "-o", str(tmp_path / "none")]) == 0
+    assert not list((tmp_path / "none").glob("compare_*.png"))
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as e:
+        main(["render", str(path), "--compare", "-2", "-o", str(tmp_path / "bad")])
+    assert e.value.code == 2 and "a number of frames >= 0 or 'all'" in capsys.readouterr().err

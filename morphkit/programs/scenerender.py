@@ -275,6 +275,7 @@ def render_scene(
     path_label: str | None = None,
     said: Sequence[str] = (),
     smaller: str = "scatter count",
+    compare: int | None = 3,
 ) -> dict[str, Any]:
     """Draw ``scene`` into the folder ``out`` (the module notes).
 
@@ -298,6 +299,9 @@ def render_scene(
         Lines the command prints first (what its flags implied).
     smaller : str, optional
         What to make smaller when a scatter cannot hold its instances apart (the option's name).
+    compare : int or None, optional
+        How many frames (spread over the camera path) are also drawn with the real meshes and
+        measured against them (``compare_NNNN.png``, their errors in the summary); None: every frame.
 
     Returns
     -------
@@ -403,6 +407,7 @@ def render_scene(
             progress=scene.frames >= 10,
             stem=stem,
             extra=extra,
+            compare=scene.frames if compare is None else compare,
         )
     kind = "relit dome assets" if dome is not None else "ring assets"
     if shadows is not None:
