@@ -54,9 +54,10 @@ def test_the_schema_is_a_valid_json_schema():
     {"instances": Listed(Instances.from_records([("tree", 0, 0, 30, 1.2), ("person", 2.5, -1, 90)])),
      "camera": Keyframes([[0, -8, 1.7], [8, 0, 1.7]], [[0, 0, 1], [0, 0, 1]], yfov_deg=40.0),
      "sun": FixedSun(135.0, 35.0), "shadows": None, "views": "dome", "fog": False},
-    {"sun": BakeLight(), "shadows": SceneShadows(4), "views": 8},
+    {"sun": BakeLight(), "shadows": None, "views": 8},
+    {"sun": BakeLight(), "shadows": SceneShadows(4), "views": "dome"},
     {"sun": DaySun(SunPath(azimuth_range=(-60.0, 60.0), max_elevation=45.0, rise_deg=-5.0))},
-], ids=["scatter-day", "listed-keyframes-fixed", "ring-bake-light", "day-of-its-own"])
+], ids=["scatter-day", "listed-keyframes-fixed", "ring-bake-light", "shadows-no-sun", "day-of-its-own"])
 def test_a_scene_file_reads_back_as_written(tmp_path, kw):
     scene = _scene(**kw)
     path = write_scene_file(scene, tmp_path / "s.json")
@@ -130,8 +131,10 @@ def test_a_file_failing_the_schema_is_refused_naming_the_path(doc, match):
     (_doc(frames=tol.MAX_FRAMES + 1), r"scene frames"),
     (_doc(image={"width": 8192, "height": 8192}, frames=1), None),
     (_doc(camera={"keyframes": [{"eye": [0, 0, 1], "target": [0, 0, 1]}]}), r"eye"),
+    (_doc(views=8), r"scene views with a sun or shadows: expected \"dome\" or null"),
+    (_doc(views=8, sun=None), r"a ring of 8 views baked under the bake light"),
 ], ids=["two-assets-one-name", "instance-of-no-asset", "too-many-instances", "too-many-frames",
-        "largest-image", "eye-is-target"])
+        "largest-image", "eye-is-target", "ring-under-a-sun", "ring-with-shadows"])
 def test_values_the_scene_cannot_be_are_refused_before_any_work(doc, match):
     if match is None:
         assert scene_from_json(doc).shape == (8192, 8192)  # the limit itself is a scene

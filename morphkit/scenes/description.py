@@ -172,6 +172,11 @@ class SceneDescription:
                 self, "views", as_int(self.views, "scene views", lo=2, hi=tol.MAX_BILLBOARD_VIEWS)
             )
         object.__setattr__(self, "notes", tuple(str(n) for n in self.notes))
+        if isinstance(self.views, int) and (not isinstance(self.sun, BakeLight) or self.shadows is not None):
+            # a ring's views are lit by the bake light alone: a sun would be silently ignored
+            raise ValidationError(expected_got(
+                "scene views with a sun or shadows", '"dome" or null (relighting needs albedo, normals and '
+                "depth)", f"a ring of {self.views} views baked under the bake light"))
 
     @property
     def names(self) -> tuple[str, ...]:
