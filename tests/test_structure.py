@@ -24,6 +24,7 @@ import ast
 import io
 import re
 import tokenize
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -40,6 +41,7 @@ def _module(path: Path) -> str:
     return ".".join(parts)
 
 
+@cache  # the files do not change during a run: each parsed once for all the tests
 def _imports(path: Path) -> list[tuple[int, str, list[str]]]:
     """``(line, absolute module, imported names)`` of every import in ``path``."""
     mod = _module(path)
@@ -131,6 +133,7 @@ def test_the_fixture_scan_sees_the_demo_import_them():
     assert not (PACKAGE / "scenes.py").exists()  # one module of scenes: morphkit.programs.fixtures
 
 
+@cache
 def _graph() -> dict[str, set[str]]:
     """Module -> the morphkit modules it imports (at any depth of the file: a
     function-local import counts, so a cycle cannot be hidden inside a function)."""
