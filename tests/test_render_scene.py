@@ -247,3 +247,14 @@ def test_compare_says_how_many_frames_are_measured_against_the_truth(tmp_path, c
     with pytest.raises(SystemExit) as e:
         main(["render", str(path), "--compare", "-2", "-o", str(tmp_path / "bad")])
     assert e.value.code == 2 and "a number of frames >= 0 or 'all'" in capsys.readouterr().err
+
+
+def test_a_gltf_without_meshes_says_so_and_draws_nothing(tmp_path, capsys):
+    path = tmp_path / "empty.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
+                                "nodes": [{"name": "group"}]}))
+    assert main(["render", str(path), "-o", str(tmp_path / "r")]) == 1
+    out = capsys.readouterr()
+    assert "morphkit render: no meshes: the scene is empty" in out.out
+    assert out.err.strip() == "morphkit: error: scene: expected at least one asset, got none"
+    assert not (tmp_path / "r").exists()

@@ -331,10 +331,10 @@ def render_scene(
     """
     claim = out if isinstance(out, OutputClaim) else claim_output(out, RENDER_OUTPUT, overwrite=overwrite)
     head = f"morphkit {command}: "
+    for note in scene.notes:  # what reading the file ignored or chose (a glTF without meshes says so)
+        print(head + note, flush=True)
     if not scene.assets:
         raise ValidationError(expected_got("scene", "at least one asset", "none"))
-    for note in scene.notes:
-        print(head + note, flush=True)
     shadows = scene.shadows
     sun = scene.sun
     if shadows is not None and isinstance(sun, BakeLight):
