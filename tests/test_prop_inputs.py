@@ -161,11 +161,13 @@ SLOTS = {
     "billboards --asset npz": (["billboards", "--asset", "asset.npz", "--frames", "2"], "asset.npz"),
     "billboards --asset obj": (["billboards", "--asset", "box.obj", "--frames", "2"], "box.obj"),
     "billboards --asset glb": (["billboards", "--asset", "box.glb", "--frames", "2"], "box.glb"),
+    "render SCENE json": (["render", "scene.json"], "scene.json"),
+    "render SCENE glb": (["render", "scene.glb"], "scene.glb"),
     "bake MESH": (["bake", "box.ply", "--workers", "1", "-q"], "box.ply"),
     "bake FOLDER holding it": (["bake", "lib", "--workers", "1", "-q"], "lib/box.ply"),
 }
 INPUTS = ("l.png", "r.png", "p.csv", "p.json", "a.atlas.npz", "path.csv", "box.ply", "box.glb", "box.obj",
-          "asset.npz", "lib")
+          "asset.npz", "lib", "scene.json", "scene.glb")
 
 
 def _inputs(tmp: Path, atlas: bytes) -> None:
@@ -188,6 +190,10 @@ def _inputs(tmp: Path, atlas: bytes) -> None:
     (tmp / "asset.npz").write_bytes(b"")
     (tmp / "lib").mkdir()
     box.export(tmp / "lib" / "box.ply")
+    box.export(tmp / "scene.glb")
+    scene = {"morphkit_scene": 1, "assets": [{"name": "box", "source": "box.ply"}],
+             "instances": {"scatter": {"count": 2}}, "frames": 1}
+    (tmp / "scene.json").write_text(json.dumps(scene))
 
 
 @FEW
