@@ -250,6 +250,7 @@ FLOORS: tuple[frozenset[str], ...] = (
     frozenset({"shadow", "billboard", "viewmorph"}),
     frozenset({"sunlit", "scenes"}),
     frozenset({"bake"}),
+    frozenset({"plan"}),
     frozenset({"programs"}),
     frozenset({"bench"}),
     frozenset({"cli", "__main__"}),
