@@ -52,18 +52,20 @@ from ..imaging.shading import Lighting
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.litmodes import Relit
 
-__all__ = ["ErrorTable", "measure_error_table", "frame_shape", "table_camera", "DEFAULT_HEIGHTS_PX",
-           "DEFAULT_ELEVATIONS_DEG", "DEFAULT_AZIMUTHS_DEG", "DEFAULT_FOCAL_PX", "TABLE_FORMAT",
-           "TABLE_VERSION"]
+__all__ = ["ErrorTable", "measure_error_table", "default_elevations", "frame_shape", "table_camera",
+           "DEFAULT_HEIGHTS_PX", "DEFAULT_ELEVATIONS_DEG", "DEFAULT_AZIMUTHS_DEG", "DEFAULT_FOCAL_PX",
+           "TABLE_FORMAT", "TABLE_VERSION"]
 
 #: On-screen heights (pixels) of the default grid: doubling from a billboard barely drawn to one
 #: as large as a level-0 image.
 DEFAULT_HEIGHTS_PX: tuple[float, ...] = (16.0, 32.0, 64.0, 128.0, 256.0)
 #: Viewing elevations (degrees) of the default grid: from eye level to nearly overhead.
 DEFAULT_ELEVATIONS_DEG: tuple[float, ...] = (0.0, 20.0, 40.0, 60.0, 80.0)
-#: Azimuths (degrees, object frame) each cell averages: three, spread over the circle and between
-#: the references of the usual rings (none is a multiple of 15).
-DEFAULT_AZIMUTHS_DEG: tuple[float, ...] = (17.0, 137.0, 257.0)
+#: Azimuths (degrees, object frame) each cell averages: three, over 100 degrees apart, whose offsets
+#: from the references of rings of 12, 8, 6 and 4 views (30, 45, 60, 90 degrees apart) spread over the
+#: pair between (near a reference, a third and halfway): a ring's error depends on where between its
+#: references a billboard is seen, and a scene's instances are seen from anywhere.
+DEFAULT_AZIMUTHS_DEG: tuple[float, ...] = (18.0, 124.0, 276.0)
 #: The focal length (pixels) of the scene cameras' default: a 50-degree vertical field of view
 #: over 480 rows (:class:`morphkit.scenes.camerapaths.NamedPath`'s defaults).
 DEFAULT_FOCAL_PX: float = 240.0 / math.tan(math.radians(25.0))
@@ -71,6 +73,28 @@ DEFAULT_FOCAL_PX: float = 240.0 / math.tan(math.radians(25.0))
 TABLE_FORMAT = "morphkit-error-table"
 #: The table file's version: another is refused on load.
 TABLE_VERSION = 1
+
+def default_elevations(asset: Any) -> tuple[float, ...]:
+    """The elevation bins of ``asset``'s table: :data:`DEFAULT_ELEVATIONS_DEG`, with a ring asset's
+    bake elevation (``asset.cameras.elevation_deg``) added: there its views are exact in elevation,
+    so its error peaks there, and a bilinear lookup between the neighbouring bins would miss it.
+
+    Parameters
+    ----------
+    asset : Placeable
+        A billboard asset.
+
+    Returns
+    -------
+    tuple of float
+        Strictly increasing elevations, degrees.
+    """
+    out = set(DEFAULT_ELEVATIONS_DEG)
+    e = getattr(getattr(asset, "cameras", None), "elevation_deg", None)
+    if isinstance(asset, BillboardSource) and isinstance(e, int | float) and math.isfinite(e):
+        out.add(float(e))
+    return tuple(sorted(out))
+
 
 _ARRAYS = ("heights_px", "elevations_deg", "psnr_db", "iou")
 
@@ -360,7 +384,7 @@ def table_camera(pivot: np.ndarray, half_height: float, height_px: float, elevat
 
 def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, mode: FrameMode,
                         truth: FrameMode | None = None, *, heights_px: Sequence[float] = DEFAULT_HEIGHTS_PX,
-                        elevations_deg: Sequence[float] = DEFAULT_ELEVATIONS_DEG,
+                        elevations_deg: Sequence[float] | None = None,
                         azimuths_deg: Sequence[float] = DEFAULT_AZIMUTHS_DEG,
                         shape: tuple[int, int] | None = None, lighting: Lighting | None = None,
                         representation: str | None = None, params: Mapping[str, Any] | None = None,
@@ -388,7 +412,8 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
     heights_px : sequence of float, optional
         On-screen heights, pixels (strictly increasing).
     elevations_deg : sequence of float, optional
-        Viewing elevations, degrees, in ``(-90, 90)`` (strictly increasing).
+        Viewing elevations, degrees, in ``(-90, 90)`` (strictly increasing); default
+        :func:`default_elevations` of the asset.
     azimuths_deg : sequence of float, optional
         Azimuths averaged per cell (object frame: the instance stands unturned).
     shape : (H, W), optional
@@ -421,7 +446,8 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
         A bad grid, no mesh hash, a cell whose billboard is not drawn (a ``shape`` too small).
     """
     h_bins = _grid(heights_px, "heights_px", 0.0, math.inf)
-    e_bins = _grid(elevations_deg, "elevations_deg", -90.0, 90.0)
+    e_bins = _grid(default_elevations(asset) if elevations_deg is None else elevations_deg,
+                   "elevations_deg", -90.0, 90.0)
     az = np.asarray(azimuths_deg, dtype=np.float64).reshape(-1)
     if az.size < 1 or not np.all(np.isfinite(az)):
         raise ValidationError(expected_got("azimuths_deg", "at least one finite azimuth", az.tolist()))
