@@ -16,7 +16,7 @@ The perspective a billboard is seen with depends on its distance in asset sizes,
 measured for one focal length ``focal_px`` (pixels; default that of the scene cameras' default
 field of view over their default frame height, :data:`DEFAULT_FOCAL_PX`): a scene drawn with about
 that focal length sees its billboards from the distances the table did. Each frame is only as large
-as the billboard needs (:func:`frame_shape`), its principal point at the centre; the focal length,
+as the billboard's quad needs (:func:`fit_frame`), its principal point at the centre; the focal length,
 not the frame, fixes the distance.
 
 :class:`ErrorTable` holds the grid and its two ``(S, E)`` arrays; :meth:`ErrorTable.lookup` is
@@ -52,9 +52,9 @@ from ..imaging.shading import Lighting
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.litmodes import Relit
 
-__all__ = ["ErrorTable", "measure_error_table", "default_elevations", "frame_shape", "table_camera",
-           "DEFAULT_HEIGHTS_PX", "DEFAULT_ELEVATIONS_DEG", "DEFAULT_AZIMUTHS_DEG", "DEFAULT_FOCAL_PX",
-           "TABLE_FORMAT", "TABLE_VERSION"]
+__all__ = ["ErrorTable", "measure_error_table", "default_elevations", "frame_shape", "fit_frame",
+           "table_camera", "DEFAULT_HEIGHTS_PX", "DEFAULT_ELEVATIONS_DEG", "DEFAULT_AZIMUTHS_DEG",
+           "DEFAULT_FOCAL_PX", "TABLE_FORMAT", "TABLE_VERSION"]
 
 #: On-screen heights (pixels) of the default grid: doubling from a billboard barely drawn to one
 #: as large as a level-0 image.
@@ -348,6 +348,34 @@ def frame_shape(height_px: float, aspect: float) -> tuple[int, int]:
     return side, side
 
 
+def fit_frame(scene: BillboardScene, camera: Any) -> tuple[int, int]:
+    """The smallest square frame, centred where ``camera``'s is, holding the whole quad of the one
+    billboard ``scene`` places for ``camera`` (a quad seen from above through its own facing can
+    be wider than high: an upright quad close under a high eye flares at its top), one pixel
+    to spare, even sides; ``camera.shape`` when it places none.
+
+    Parameters
+    ----------
+    scene : BillboardScene
+        A scene of one instance.
+    camera : CameraModel
+        A perspective camera, principal point at the image centre.
+
+    Returns
+    -------
+    (H, W)
+        The frame's shape, pixels.
+    """
+    placed = scene.plan(camera).placements
+    if not placed:
+        return camera.shape
+    c = placed[0].H_screen_unit @ np.array([[0.0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]).T
+    xy = c[:2] / c[2]
+    reach = np.abs(xy - np.array([[camera.cx], [camera.cy]])).max()
+    side = 2 * int(math.ceil(reach)) + 4
+    return side, side
+
+
 def table_camera(pivot: np.ndarray, half_height: float, height_px: float, elevation_deg: float,
                  azimuth_deg: float, shape: tuple[int, int], focal_px: float) -> Any:
     """The camera of one cell: looking at ``pivot`` from azimuth ``azimuth_deg`` (world, degrees
@@ -417,7 +445,8 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
     azimuths_deg : sequence of float, optional
         Azimuths averaged per cell (object frame: the instance stands unturned).
     shape : (H, W), optional
-        One frame shape for every cell (the billboard must fit); default :func:`frame_shape` per height.
+        One frame shape for every cell (the billboard must fit); default the frame each cell's
+        quad needs (:func:`fit_frame` of a first camera of :func:`frame_shape`).
     lighting : Lighting, optional
         Set on ``mode`` and ``truth`` where they are relit (:class:`~morphkit.sunlit.litmodes.Relit`).
     representation : str, optional
@@ -484,6 +513,9 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
             errs: list[dict[str, Any]] = []
             for a in az:
                 cam = table_camera(pivot, hh, float(hp), float(el), float(a), frame, focal_px)
+                if shape is None:
+                    cam = table_camera(pivot, hh, float(hp), float(el), float(a), fit_frame(scene, cam),
+                                       focal_px)
                 got = box_errors(scene.render(cam, mode), scene.render(cam, truth))
                 if len(got) != 1:
                     raise ValidationError(expected_got(
