@@ -288,3 +288,27 @@ def test_prediction_against_measurement(tree_tables, renderer):
     morph, card = np.median(gaps["morph"], axis=0), np.median(gaps["classic"], axis=0)
     assert morph[0] <= tol.PLAN_GAP_DB and morph[1] <= tol.PLAN_GAP_IOU
     assert card[0] <= tol.PLAN_GAP_DB and card[1] <= tol.PLAN_CARD_GAP_IOU
+
+
+@pytest.mark.gl
+def test_the_relit_dome_morph_holds_over_elevation_where_the_card_falls(renderer):
+    from morphkit.billboard import BAKE_AMBIENT, bake_lights
+    from morphkit.billboard.domeasset import bake_dome
+    from morphkit.imaging.shading import Lighting
+    from morphkit.meshes import normalize, sample_mesh
+    from morphkit.sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
+
+    mesh = normalize(sample_mesh("tree"))
+    dome = bake_dome(mesh, renderer, name="tree", size=32, levels=2)
+    items = dome.items(mesh)
+    base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
+    tables = {nm: measure_error_table(dome, items, renderer, LitMode(choice, base), None, lighting=base,
+                                      heights_px=(16.0, 32.0, 64.0), representation=f"dome-{nm}-32")
+              for nm, choice in (("morph", MorphSurface()), ("card", ClassicSurface()))}
+    morph, card = tables["morph"], tables["card"]
+    assert morph.params["facing"] == "ViewpointFacing" and morph.elevations_deg.tolist() == [0, 20, 40, 60, 80]
+    # the card is one view (the front, at the horizon): it gets worse with every step up, colour and outline
+    assert np.all(np.diff(card.psnr_db, axis=1) < 0) and np.all(np.diff(card.iou, axis=1) < 0)
+    # the dome's morph has views over the hemisphere: well above the card from 20 degrees up
+    assert np.all(morph.psnr_db[:, 1:] > card.psnr_db[:, 1:] + 2.0)
+    assert np.all(morph.iou[:, 1:] > card.iou[:, 1:] + 0.05)
