@@ -306,7 +306,8 @@ def test_the_relit_dome_morph_holds_over_elevation_where_the_card_falls(renderer
                                       heights_px=(16.0, 32.0, 64.0), representation=f"dome-{nm}-32")
               for nm, choice in (("morph", MorphSurface()), ("card", ClassicSurface()))}
     morph, card = tables["morph"], tables["card"]
-    assert morph.params["facing"] == "ViewpointFacing" and morph.elevations_deg.tolist() == [0, 20, 40, 60, 80]
+    assert morph.params["facing"] == "ViewpointFacing"
+    assert morph.elevations_deg.tolist() == [0, 20, 40, 60, 80]
     # the card is one view (the front, at the horizon): it gets worse with every step up, colour and outline
     assert np.all(np.diff(card.psnr_db, axis=1) < 0) and np.all(np.diff(card.iou, axis=1) < 0)
     # the dome's morph has views over the hemisphere: well above the card from 20 degrees up

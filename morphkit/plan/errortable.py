@@ -45,7 +45,7 @@ from ..billboard.compare import box_errors, mean_errors
 from ..billboard.frames.facing import AxialFacing, Facing, ViewpointFacing
 from ..billboard.frames.field import FrameMode
 from ..billboard.protocols import BillboardSource
-from ..camera import look_at, perspective
+from ..camera import CameraModel, look_at, perspective
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import ARCHIVE_ERRORS, array_digest, open_regular, write_bytes
 from ..imaging.shading import Lighting
@@ -234,7 +234,7 @@ class ErrorTable:
             return ((1 - u) * (1 - v) * a[i0, j0] + u * (1 - v) * a[i1, j0]
                     + (1 - u) * v * a[i0, j1] + u * v * a[i1, j1])
 
-        return bil(self.psnr_db), bil(self.iou)
+        return np.asarray(bil(self.psnr_db)), np.asarray(bil(self.iou))
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the table to ``path`` (a ``.npz``: its four arrays and a JSON ``meta`` with the
@@ -348,11 +348,11 @@ def frame_shape(height_px: float, aspect: float) -> tuple[int, int]:
     return side, side
 
 
-def fit_frame(scene: BillboardScene, camera: Any) -> tuple[int, int]:
+def fit_frame(scene: BillboardScene, camera: CameraModel) -> tuple[int, int]:
     """The smallest square frame, centred where ``camera``'s is, holding the whole quad of the one
     billboard ``scene`` places for ``camera`` (a quad seen from above through its own facing can
     be wider than high: an upright quad close under a high eye flares at its top), one pixel
-    to spare, even sides; ``camera.shape`` when it places none.
+    to spare, even sides, at most about 8 times ``camera``'s; ``camera.shape`` when it places none.
 
     Parameters
     ----------
@@ -371,13 +371,13 @@ def fit_frame(scene: BillboardScene, camera: Any) -> tuple[int, int]:
         return camera.shape
     c = placed[0].H_screen_unit @ np.array([[0.0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]).T
     xy = c[:2] / c[2]
-    reach = np.abs(xy - np.array([[camera.cx], [camera.cy]])).max()
+    reach = min(float(np.abs(xy - np.array([[camera.cx], [camera.cy]])).max()), 4.0 * max(camera.shape))
     side = 2 * int(math.ceil(reach)) + 4
     return side, side
 
 
 def table_camera(pivot: np.ndarray, half_height: float, height_px: float, elevation_deg: float,
-                 azimuth_deg: float, shape: tuple[int, int], focal_px: float) -> Any:
+                 azimuth_deg: float, shape: tuple[int, int], focal_px: float) -> CameraModel:
     """The camera of one cell: looking at ``pivot`` from azimuth ``azimuth_deg`` (world, degrees
     counter-clockwise from ``+x``) and elevation ``elevation_deg``, at the distance
     ``d = 2 focal_px half_height / height_px`` that makes the quad ``height_px`` high on screen, with
