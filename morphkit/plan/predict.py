@@ -13,6 +13,11 @@ culling, the ``min_pixels`` floor, near-plane and off-screen quads), so exactly 
 (:meth:`~.errortable.ErrorTable.lookup`) and aggregates as :func:`~morphkit.billboard.compare.mean_errors`
 does: the plain mean over the drawn billboards (each one counts once, whatever its size), ``n`` their
 count, NaN means when none is drawn.
+
+What a table cannot know: each of its cells is one billboard, whole and alone in its frame. In a
+scene, a billboard cut by the frame's edge is measured over the part of its box the frame shows
+(down to background alone, at the PSNR cap), and one overlapped by others over a box they
+share; both are predicted as if whole and alone.
 """
 
 from __future__ import annotations
