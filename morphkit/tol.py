@@ -597,3 +597,14 @@ REPROJECT_SLIVER_AREA2_PX2 = 1e-2
 #: plane (scene units; the playback scene's object is normalised to size 1): above the depth
 #: buffer's error at the playback distances (~1e-4), below any part of an object standing on it.
 GROUND_PIXEL_DZ = 1e-3
+
+#: The planner's budget on a frame's predicted error (:func:`morphkit.plan.predict.predict_frame_error`):
+#: the median gap to the measured one, in dB of box PSNR and in silhouette IoU, under which a choice made
+#: from the error tables is one the frame keeps (a PSNR step of the morph over the card is several dB).
+PLAN_GAP_DB = 1.5
+PLAN_GAP_IOU = 0.02
+
+#: The classic card's IoU gap with tables of three azimuths: the card shows its front view from every
+#: side, so its IoU varies with the azimuth more than three samples average out (the ring morph's does
+#: not); three times the planner's IoU budget.
+PLAN_CARD_GAP_IOU = 0.06
