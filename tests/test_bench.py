@@ -213,3 +213,19 @@ def test_billboards_pair_section_tiny_run(renderer, monkeypatch):
     outside = {m: by[("pair-outside", "person", m)]["metrics"] for m in ("morph", "nearest")}
     assert outside["morph"] == outside["nearest"]  # clamped: the morph is the nearer reference
     assert by[("pair-inside", "all", "morph")]["metrics"] == inside["morph"]
+
+
+@pytest.mark.gl
+def test_plan_suite_rows_predict_beside_measure():
+    from morphkit.bench import plan_suite
+
+    rows = plan_suite.run(quick=True)
+    methods = [r["method"] for r in rows]
+    assert methods[:2] == ["table_classic", "table_morph"]
+    for nm in ("classic", "morph"):
+        pred = [r for r in rows if r["method"] == f"predict_{nm}"]
+        meas = [r for r in rows if r["method"] == f"measure_{nm}"]
+        assert len(pred) == len(meas) == 2
+        for p, m in zip(pred, meas, strict=True):  # the gap is the predicted against the measured
+            assert p["metrics"]["gap_db"] == pytest.approx(abs(p["metrics"]["psnr"] - m["metrics"]["psnr"]))
+            assert p["metrics"]["gap_iou"] == pytest.approx(abs(p["metrics"]["iou"] - m["metrics"]["iou"]))

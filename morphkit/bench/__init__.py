@@ -67,6 +67,7 @@ SUITES: dict[str, Suite] = {
     "bake": lazy_suite("morphkit.bench.bake_suite", "run"),
     "billboards": lazy_suite("morphkit.bench.billboard_suite", "run"),
     "scene": lazy_suite("morphkit.bench.scene_suite", "run"),
+    "plan": lazy_suite("morphkit.bench.plan_suite", "run"),
 }
 
 
