@@ -22,7 +22,7 @@ from ..conventions import SUN_DISC_RADIUS_DEG
 from ..errors import UsageError, ValidationError, expected_got
 from ..validate import as_int
 
-__all__ = ["check_args", "billboard_views", "implied_sun_options", "parse_size", "check_output_file",
+__all__ = ["check_args", "implied_sun_options", "parse_size", "check_output_file",
            "same_file", "choose_views", "MIN_FRAME_SIDE", "MAX_FRAME_SIDE", "SOFT_FILTER"]
 
 #: Smallest frame side a command renders (pixels): below it a frame shows nothing.
@@ -248,35 +248,6 @@ def check_args(args: argparse.Namespace) -> None:
     check = _CHECKS.get(getattr(args, "command", None) or "")
     if check is not None:
         check(args)
-
-
-def billboard_views(args: argparse.Namespace, cameras: Sequence[Any], specs: Sequence[str]
-                     ) -> tuple[int | None, str]:
-    """``--views`` (checked by :mod:`morphkit.programs.cliargs`): :func:`choose_views` for the
-    ``billboards`` options (relit by ``--sun-path``).
-
-    Parameters
-    ----------
-    args : argparse.Namespace
-        The parsed ``billboards`` options.
-    cameras : sequence of CameraModel
-        The path's cameras (their look-down angle decides).
-    specs : sequence of str
-        The ``--asset`` arguments.
-
-    Returns
-    -------
-    views : int or None
-        Ring views, or None for dome views.
-    said : str
-        The line saying what was chosen and why; empty when ``--views`` was given.
-
-    Raises
-    ------
-    UsageError
-        Dome asset files with ring files, or with ``--views K``.
-    """
-    return choose_views(args.views, "--sun-path" if args.sun_path else None, args.path, cameras, specs)
 
 
 def choose_views(views: int | str | None, relit_by: str | None, path: str, cameras: Sequence[Any],
