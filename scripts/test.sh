@@ -25,7 +25,8 @@ if [ "$#" -eq 0 ]; then
       $t/test_shadow_lookup.py $t/test_shadow_pixels.py $t/test_shadow_atlas.py $t/test_shadow_frame.py \
       $t/test_shadow_soft.py $t/test_shadow_penumbra.py $t/test_reproject.py $t/test_groundtruth.py \
       $t/test_fieldshadow.py $t/test_fieldsplat_quads.py $t/test_fieldsplat_levels.py \
-      $t/test_sunatlas.py $t/test_dome.py $t/test_impostor.py $t/test_litmodes.py
+      $t/test_sunatlas.py $t/test_dome.py $t/test_impostor.py $t/test_litmodes.py \
+      $t/test_gltfscene.py $t/test_errortable.py
   fi
   # the rendering tests again on Mesa's EGL (software; the platform a GPU uses): MORPHKIT_GL=egl
   MORPHKIT_GL=egl python -m pytest -q -p no:cacheprovider tests/test_render.py

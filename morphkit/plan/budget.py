@@ -2,16 +2,16 @@
 
 A budget is a few ``KEY=VALUE`` pairs (``morphkit plan SCENE --budget billboard-psnr=28 ...``):
 
-* ``billboard-psnr`` -- dB, the billboards' mean PSNR against the real meshes' frame (the
-  per-billboard box measure of :func:`morphkit.billboard.compare.compare_modes`), at least;
-* ``billboard-iou`` -- the billboards' mean silhouette IoU against the real meshes', at least;
+* ``billboard-psnr`` -- dB, the frame's PSNR against the real meshes' frame, at least;
+* ``billboard-iou`` -- the IoU of the billboards' silhouettes against the real meshes', at least;
 * ``shadow-iou`` -- the frame's shadow against the ray cast (the IoU of the pixels the shadows
   darken), at least;
 * ``frames`` -- the fraction of frames that must meet every key above (default
   :data:`DEFAULT_FRAMES`);
 * ``time-ms`` -- a frame's median time, at most: with it, the least error within that time.
 
-A frame with nothing to measure for a key (no billboard on screen, no shadow) meets that key.
+A frame with nothing to measure for a key (no billboard on screen, no shadow) meets that key. How
+a frame's figures are measured is the caller's: a budget only checks them.
 """
 
 from __future__ import annotations
