@@ -33,7 +33,7 @@ def test_instances_is_an_option_of_bench_scene_only(capsys):
 
 
 def test_the_suns_rise_from_the_morning_to_noon_and_the_path_crosses_the_horizon():
-    from morphkit.bench.scene_fields import day_suns, path_suns
+    from morphkit.bench.fieldshadows.fields import day_suns, path_suns
 
     el = [math.degrees(math.asin(s[2])) for s in day_suns(4)]
     assert el == sorted(el) and 14.0 < el[0] < 16.0 and abs(el[-1] - 60.0) < 1e-9
@@ -42,7 +42,7 @@ def test_the_suns_rise_from_the_morning_to_noon_and_the_path_crosses_the_horizon
 
 
 def test_subdivided_meshes_reach_the_face_count_and_keep_the_cutout(tmp_path):
-    from morphkit.bench.scene_fields import subdivided, textured_meshes
+    from morphkit.bench.fieldshadows.fields import subdivided, textured_meshes
     from morphkit.imaging.cutout import mesh_cutout
 
     meshes = textured_meshes(tmp_path)

@@ -1,7 +1,7 @@
 """Suite ``scene``: a field's ground shadow from the sun atlases against the direct light
 render, the impostor way and the ray cast, over a day's sun path.
 
-Scene, methods and truth: :mod:`morphkit.bench.scene_fields` (two textured assets, the leaf plant
+Scene, methods and truth: :mod:`morphkit.bench.fieldshadows.fields` (two textured assets, the leaf plant
 alpha-masked; random yaws; the receiver a ground grid over the field; truth the ray cast towards
 the exact sun with the leaves' cut-outs; methods ``atlas``, ``direct``, ``card-camera``,
 ``card-light``). Metrics: ``iou`` -- shadow IoU (visibility < 0.5) against the ray cast, mean over
@@ -9,7 +9,7 @@ the suns (``iou_min`` the worst sun); ``mae`` -- mean absolute visibility error 
 
 Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks some):
 
-* ``accuracy`` -- 10, 100, 1000 instances under :func:`~morphkit.bench.scene_fields.day_suns`
+* ``accuracy`` -- 10, 100, 1000 instances under :func:`~morphkit.bench.fieldshadows.fields.day_suns`
   (a morning, 15 to 60 degrees up): every method's IoU and error; ``ms`` one build a sun (the
   atlas cold: cache emptied; not interleaved, the next section times). The atlas row carries
   ``iou_gain_card_camera`` / ``iou_gain_card_light`` (its mean IoU minus the card's) and a note
@@ -18,8 +18,9 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
   each method loses (the alpha-masked plant or the opaque crate).
 * ``receivers`` -- the shadow on the instances themselves (their own and their neighbours'), the
   plan's ``receiver_counts``: points drawn on the posed meshes by area
-  (:func:`~morphkit.bench.scene_fields.surface_receivers`, cut-out texels dropped), those facing
-  the sun (:data:`~morphkit.bench.scene_resolution.SUN_FACING_COS`) looked up moved along their normal by
+  (:func:`~morphkit.bench.fieldshadows.fields.surface_receivers`, cut-out texels dropped), those
+  facing the sun (:data:`~morphkit.bench.fieldshadows.resolution.SUN_FACING_COS`) looked up moved
+  along their normal by
   :data:`~morphkit.tol.SUN_RECEIVER_NORMAL_OFFSET_TEXELS` field texels (as the billboard frames'
   receivers), the truth cast from them moved by :data:`~morphkit.tol.SUN_RAY_NORMAL_OFFSET`;
   IoU and error as ``accuracy``'s. A flat card's depth is where the impostor way loses here.
@@ -49,10 +50,10 @@ Sections (:data:`SECTIONS`, each ``(kit, plan) -> rows``; ``--sections`` picks s
 
 * ``levels`` -- the splat at level 0 against per-instance point levels (small or far casters
   drawn from coarser atlas points), IoU and interleaved time at three field resolutions:
-  :mod:`morphkit.bench.scene_levels`.
+  :mod:`morphkit.bench.fieldshadows.levels`.
 * ``receivers-resolution`` -- ``receivers`` at each of the plan's ``resolution_sizes`` (atlas
   texels a side), the atlas (with and without its quads) against the meshes drawn from the sun
-  at the same resolution: :mod:`morphkit.bench.scene_resolution`.
+  at the same resolution: :mod:`morphkit.bench.fieldshadows.resolution`.
 
 ``--quick``: 10 instances, 2 suns, a 160^2 grid, 64-texel atlases and 8 x 8-frame impostors
 (no supersampling), faces 6k and 50k at 10 instances, 2 domes, 8 suns on the path, atlases of
@@ -75,8 +76,7 @@ from ..sunlit.fieldshadow import FieldShadow
 from ..sunlit.receivers import sun_disc
 from ..sunlit.sundisc import disc_visibility
 from ..validate import as_int
-from .harness import Timing, make_row, markdown_table, pick_sections, section_name, time_cycling
-from .scene_fields import (
+from .fieldshadows.fields import (
     ASSETS,
     DOMES,
     METHODS,
@@ -88,8 +88,9 @@ from .scene_fields import (
     score,
     surface_receivers,
 )
-from .scene_levels import levels_rows, levels_table
-from .scene_resolution import receivers_resolution_rows, receivers_resolution_table, surface_scores
+from .fieldshadows.levels import levels_rows, levels_table
+from .fieldshadows.resolution import receivers_resolution_rows, receivers_resolution_table, surface_scores
+from .harness import Timing, make_row, markdown_table, pick_sections, section_name, time_cycling
 from .soft_suite import banding
 
 __all__ = ["run", "SECTIONS", "ScenePlan", "FULL", "QUICK", "section_name", "selected_sections",
@@ -120,7 +121,7 @@ class ScenePlan:
     counts : tuple of int
         Instance counts of ``accuracy``.
     suns : int
-        Suns of ``accuracy`` (:func:`~morphkit.bench.scene_fields.day_suns`).
+        Suns of ``accuracy`` (:func:`~morphkit.bench.fieldshadows.fields.day_suns`).
     grid : int
         Receiver points a side.
     atlas_size : int
@@ -132,7 +133,7 @@ class ScenePlan:
     change_repeats : int
         Its timed rounds (one warm-up round first).
     grid_domes : tuple of str
-        ``atlas-grid``'s domes (keys of :data:`~morphkit.bench.scene_fields.DOMES`).
+        ``atlas-grid``'s domes (keys of :data:`~morphkit.bench.fieldshadows.fields.DOMES`).
     grid_sizes : tuple of int
         Its texels.
     grid_count, grid_suns : int

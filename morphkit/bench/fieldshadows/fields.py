@@ -46,21 +46,21 @@ from typing import Any
 import numpy as np
 import trimesh
 
-from ..billboard.frames.instances import Instances, place_random
-from ..billboard.impostor import OctahedralImpostor, bake_impostor
-from ..errors import ValidationError, expected_got
-from ..imaging.cutout import mesh_cutout
-from ..imaging.groundtruth import receiver_grid
-from ..imaging.metrics import shadow_iou
-from ..meshes import load_mesh, normalize
-from ..programs.fixtures import textured_demo_asset, write_leaf_plant
-from ..protocols import PassRenderer
-from ..sunlit.cardbaselines import card_field_map
-from ..sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
-from ..sunlit.fieldshadow import FieldMap, FieldShadow
-from ..sunlit.sunatlas import SunAtlas, bake_sun_atlas
-from ..sunpath import SunPath
-from ..views.dome import ViewDome
+from ...billboard.frames.instances import Instances, place_random
+from ...billboard.impostor import OctahedralImpostor, bake_impostor
+from ...errors import ValidationError, expected_got
+from ...imaging.cutout import mesh_cutout
+from ...imaging.groundtruth import receiver_grid
+from ...imaging.metrics import shadow_iou
+from ...meshes import load_mesh, normalize
+from ...programs.fixtures import textured_demo_asset, write_leaf_plant
+from ...protocols import PassRenderer
+from ...sunlit.cardbaselines import card_field_map
+from ...sunlit.fieldbaselines import direct_field_map, posed_asset_meshes, ray_cast_field
+from ...sunlit.fieldshadow import FieldMap, FieldShadow
+from ...sunlit.sunatlas import SunAtlas, bake_sun_atlas
+from ...sunpath import SunPath
+from ...views.dome import ViewDome
 
 __all__ = ["ASSETS", "METHODS", "DOMES", "SceneKit", "Field", "textured_meshes", "subdivided",
            "day_suns", "path_suns", "field_tpu", "score", "MAX_FIELD_SIDE", "surface_receivers",

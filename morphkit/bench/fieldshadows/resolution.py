@@ -3,7 +3,7 @@ surfaces against the field map's resolution (why the ``receivers`` IoU stays und
 ground's).
 
 The ``receivers`` section scores the atlas and the direct render at the suite's one resolution (the
-atlases' texel, :func:`~morphkit.bench.scene_fields.field_tpu`). Here the same surface points, suns
+atlases' texel, :func:`~morphkit.bench.fieldshadows.fields.field_tpu`). Here the same surface points, suns
 and ray-cast truth (:func:`surface_scores`) are scored for each of the plan's
 ``resolution_sizes``: the atlases baked at that many texels a side (``atlas``), and the meshes
 rendered from the sun into a map of the same texels a unit (``direct``: the best any map of that
@@ -22,13 +22,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import tol
-from ..imaging.metrics import shadow_iou
-from ..sunlit.fieldbaselines import ray_cast_field
-from ..sunlit.fieldshadow import FieldMap, FieldShadow
-from ..sunlit.fieldsplat import SplatDrawer
-from .harness import Timing, make_row, markdown_table
-from .scene_fields import Field, SceneKit, day_suns, field_tpu, surface_receivers
+from ... import tol
+from ...imaging.metrics import shadow_iou
+from ...sunlit.fieldbaselines import ray_cast_field
+from ...sunlit.fieldshadow import FieldMap, FieldShadow
+from ...sunlit.fieldsplat import SplatDrawer
+from ..harness import Timing, make_row, markdown_table
+from .fields import Field, SceneKit, day_suns, field_tpu, surface_receivers
 
 __all__ = ["surface_scores", "receivers_resolution_rows", "receivers_resolution_table", "SUN_FACING_COS",
            "RESOLUTION_METHODS"]
@@ -58,7 +58,7 @@ def surface_scores(fld: Field, points: np.ndarray, normals: np.ndarray, suns: li
         The field (its meshes and instances cast the truth).
     points, normals : (M, 3) float
         Surface points and their unit normals, world frame
-        (:func:`~morphkit.bench.scene_fields.surface_receivers`).
+        (:func:`~morphkit.bench.fieldshadows.fields.surface_receivers`).
     suns : list of (3,) float
         Unit directions towards the sun.
     fns : dict of str to callable

@@ -3,7 +3,7 @@ against every atlas texel splatted, on the suite's fields (small or far casters 
 coarser maps).
 
 For each of the plan's instance counts and three field resolutions -- ``suite`` (the suite's own,
-:func:`~morphkit.bench.scene_fields.field_tpu`: the atlases' texel), ``frame`` (the rule of a
+:func:`~morphkit.bench.fieldshadows.fields.field_tpu`: the atlases' texel), ``frame`` (the rule of a
 billboard frame's map, :meth:`~morphkit.sunlit.receivers.AtlasShadow.resolution`: capped at
 :data:`~morphkit.tol.SUN_FIELD_MAX_SIDE` a side, the smallest over the suns) and ``suite/4`` (a
 field seen from four times as far) -- two builders of the same light view: ``splat-l0``
@@ -22,11 +22,11 @@ from typing import Any
 
 import numpy as np
 
-from ..sunlit.fieldshadow import FieldShadow
-from ..sunlit.fieldsplat import SplatDrawer
-from ..sunlit.receivers import AtlasShadow
-from .harness import make_row, markdown_table, time_cycling
-from .scene_fields import SceneKit, day_suns, field_tpu, score
+from ...sunlit.fieldshadow import FieldShadow
+from ...sunlit.fieldsplat import SplatDrawer
+from ...sunlit.receivers import AtlasShadow
+from ..harness import make_row, markdown_table, time_cycling
+from .fields import SceneKit, day_suns, field_tpu, score
 
 __all__ = ["levels_rows", "levels_table", "LEVEL_METHODS", "FAR_FACTOR"]
 
