@@ -27,24 +27,24 @@ expected.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import trimesh
 
 from ..billboard.asset import BillboardAsset, mesh_hash
 from ..billboard.baking.ringviews import bake_asset
 from ..billboard.domeasset import DomeAsset, bake_dome
+from ..billboard.formats.assetfile import peek_meta
 from ..errors import MeshError, ValidationError, expected_got
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, resolve_up, sample_mesh
 from ..protocols import InputRecords, SceneRenderer
 from ..scene import Item
 from ..views.dome import ViewDome
 
-__all__ = ["asset_name", "ResolvedAssets", "MESH_SUFFIXES", "check_specs", "resolve_assets", "default_levels"]
+__all__ = ["asset_name", "asset_file_stem", "ResolvedAssets", "MESH_SUFFIXES", "check_specs",
+           "resolve_assets", "default_levels"]
 
 #: Mesh file extensions ``--asset`` bakes on the fly (what :func:`morphkit.meshes.load_mesh` reads).
 MESH_SUFFIXES = (".obj", ".glb", ".gltf", ".ply", ".stl", ".off")
@@ -122,18 +122,33 @@ def asset_name(spec: str) -> str:
         return spec
     if path.suffix.lower() in MESH_SUFFIXES:
         return path.stem
-    recorded = ""
-    try:
-        if path.is_file():  # a FIFO or a folder is never opened here (its reader says why)
-            with np.load(path, allow_pickle=False) as z:
-                meta = json.loads(bytes(z["meta"]).decode("utf-8"))
-            recorded = meta.get("name", "") if isinstance(meta, dict) else ""
-    except Exception:  # noqa: BLE001 -- unreadable here: its reader reports it when the run loads it
-        recorded = ""
+    recorded = (peek_meta(path) or {}).get("name")
     if isinstance(recorded, str) and recorded and recorded != "asset":
         return recorded
-    return path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome") \
-        if path.name.lower().endswith(".npz") else path.name
+    return asset_file_stem(path)
+
+
+def asset_file_stem(path: str | Path) -> str:
+    """An asset file's name without ``.npz`` and the kind before it (``.billboard``, ``.dome``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from morphkit.programs.sources import asset_file_stem
+    >>> asset_file_stem("bake/oak.dome.npz"), asset_file_stem("oak.npz"), asset_file_stem("oak")
+    ('oak', 'oak', 'oak')
+    """
+    name = Path(path).name
+    if name.lower().endswith(".npz"):
+        name = name[: -len(".npz")]
+    return name.removesuffix(".billboard").removesuffix(".dome")
 
 
 def check_specs(specs: Sequence[str]) -> None:
@@ -170,7 +185,7 @@ def _beside(path: Path, asset: BillboardAsset | DomeAsset, records: InputRecords
         if mesh_hash(mesh, asset.appearance) == asset.mesh_hash:
             return mesh, ""
         return None, f"sample mesh {asset.name!r} does not match the asset's hash (baked from another mesh)"
-    stem = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
+    stem = asset_file_stem(path)
     stems = list(dict.fromkeys([asset.name, stem]))
     found = [path.with_name(st + suf) for st in stems for suf in MESH_SUFFIXES
              if path.with_name(st + suf).is_file()]
@@ -276,7 +291,7 @@ def resolve_assets(specs: Sequence[str], renderer: SceneRenderer, *, views: int 
         else:
             asset = BillboardAsset.load(path) if dome is None else DomeAsset.load(path)
             if asset.name == "asset":  # bake_asset's default name: the file's is more telling
-                asset.name = path.name[: -len(".npz")].removesuffix(".billboard").removesuffix(".dome")
+                asset.name = asset_file_stem(path)
             known, why = _beside(path, asset, records)
         _add(assets, items, skipped, asset, known, why)
     for name, mesh in (meshes or {}).items():

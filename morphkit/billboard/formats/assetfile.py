@@ -52,7 +52,7 @@ import numpy as np
 from ...errors import FileFormatError, expected_got
 from ...files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 
-__all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record"]
+__all__ = ["FORMAT", "VERSION", "APPEARANCES", "AssetRecord", "write_record", "read_record", "peek_meta"]
 
 #: The format name stored in every billboard asset file.
 FORMAT = "morphkit-billboard"
@@ -206,6 +206,31 @@ def read_record(path: str | os.PathLike[str]) -> AssetRecord:
         raise _bad(p.name, f"a complete {FORMAT} .npz file", f"an unreadable file "
                    f"({type(exc).__name__}: {str(exc)[:120]})") from exc
     return _record(meta, arrays)
+
+
+def peek_meta(path: str | os.PathLike[str]) -> dict[str, Any] | None:
+    """The JSON metadata of an ``.npz`` asset file (ring or dome, any version), read without its
+    arrays; None when ``path`` is not a regular file or its metadata cannot be read (its reader
+    then says why). For telling files apart before reading one, never for trusting it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An ``.npz`` asset file.
+
+    Returns
+    -------
+    dict or None
+    """
+    p = Path(path)
+    try:
+        if not p.is_file():  # a FIFO or a folder is no asset file: never opened here
+            return None
+        with np.load(p, allow_pickle=False) as z:
+            meta = json.loads(bytes(z["meta"]).decode("utf-8"))
+    except Exception:  # noqa: BLE001 -- any failure: not recognised (the reader reports it)
+        return None
+    return meta if isinstance(meta, dict) else None
 
 
 def _get(meta: dict[str, Any], key: str, kind: type | tuple[type, ...], where: str = "meta") -> Any:

@@ -40,7 +40,7 @@ from ... import tol
 from ...errors import FileFormatError, ValidationError, expected_got
 from ...files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from ...views.domecameras import DomeCameras
-from .assetfile import FORMAT
+from .assetfile import FORMAT, peek_meta
 
 __all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]
 
@@ -250,13 +250,6 @@ def is_dome_file(path: str | Path) -> bool:
     -------
     bool
     """
-    p = Path(path)
-    try:
-        if not p.is_file():  # a FIFO or a folder is no asset file: never opened here
-            return False
-        with np.load(p, allow_pickle=False) as z:
-            meta = json.loads(bytes(z["meta"]).decode("utf-8"))
-    except Exception:  # noqa: BLE001 -- any failure: not recognised (the reader reports it)
-        return False
-    return isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("kind") == "dome"
+    meta = peek_meta(path)
+    return meta is not None and meta.get("format") == FORMAT and meta.get("kind") == "dome"
 
