@@ -602,6 +602,7 @@ GROUND_PIXEL_DZ = 1e-3
 #: the median gap to the measured one, in dB of box PSNR and in silhouette IoU, under which a choice made
 #: from the error tables is one the frame keeps (a PSNR step of the morph over the card is several dB).
 PLAN_GAP_DB = 1.5
+#: The same budget in silhouette IoU (:data:`PLAN_GAP_DB`'s sentence holds for it).
 PLAN_GAP_IOU = 0.02
 
 #: The classic card's IoU gap with tables of three azimuths: the card shows its front view from every
