@@ -45,7 +45,15 @@ from .cliargs import choose_views, parse_size
 from .sequence import write_sequence
 from .sources import ResolvedAssets, asset_name, check_specs, resolve_assets
 
-__all__ = ["render_scene", "scene_cameras", "scene_specs", "scene_from_flags"]
+__all__ = [
+    "render_scene",
+    "scene_choices",
+    "prepare_scene",
+    "PreparedScene",
+    "scene_cameras",
+    "scene_specs",
+    "scene_from_flags",
+]
 
 
 def scene_from_flags(args: argparse.Namespace) -> SceneDescription:
@@ -255,6 +263,146 @@ def _shadows(
     )
 
 
+@dataclasses.dataclass(eq=False)
+class PreparedScene:
+    """A scene made ready to draw (:func:`prepare_scene`): its billboard scene, its lights and
+    shadows, and the modes that draw it and its truth.
+
+    Parameters
+    ----------
+    scene : BillboardScene
+        The assets baked or read, the instances placed.
+    resolved : ResolvedAssets
+        What each asset came from (its mesh items where the run has them).
+    relit : bool
+        Relit dome assets (a sun), else ring assets under the bake's light.
+    base : Lighting
+        The bake's light and ambient (the relit modes' lighting before a frame sets the sun's).
+    lighting : list of Lighting or None
+        One per frame under a sun, else None.
+    shadow, truth_shadow : SceneShadow or None
+        The frames' shadow and the ray cast the truth is drawn with (None without shadows).
+    truth : FrameMode or None
+        The real meshes (None when an asset has no mesh).
+    """
+
+    scene: BillboardScene
+    resolved: ResolvedAssets
+    relit: bool
+    base: Lighting
+    lighting: list[Lighting] | None
+    shadow: Any
+    truth_shadow: Any
+    truth: Any
+
+    def mode(self, choice: Any = None) -> Any:
+        """The mode drawing the scene: relit billboards of ``choice`` (default the dome's morph,
+        :class:`~morphkit.sunlit.litmodes.MorphSurface`) with the scene's shadow, or ring
+        billboards view-morphed (``choice`` must be None).
+
+        Parameters
+        ----------
+        choice : SurfaceChoice, optional
+            The relit billboards' surface.
+
+        Returns
+        -------
+        FrameMode
+        """
+        if self.relit:
+            return LitMode(MorphSurface() if choice is None else choice, self.base, shadow=self.shadow)
+        if choice is not None:
+            raise ValidationError(
+                expected_got(
+                    "choice", "None for ring assets (a SurfaceChoice is relit)", type(choice).__name__
+                )
+            )
+        return MorphMode(MorphCache())
+
+    def classic(self) -> Any:
+        """The classic billboards of the comparisons (None: the ring's own classic mode).
+
+        Returns
+        -------
+        FrameMode or None
+        """
+        return LitMode(ClassicSurface(), self.base, shadow=self.shadow) if self.relit else None
+
+
+def prepare_scene(
+    scene: SceneDescription,
+    renderer: Renderer,
+    views: int | None,
+    *,
+    head: str = "morphkit render: ",
+    command: str = "render",
+    smaller: str = "scatter count",
+    sun: Any = None,
+) -> PreparedScene:
+    """Bake (or read) ``scene``'s assets, place its instances, set up its lights, shadows and
+    truth (what :func:`render_scene` draws; :mod:`morphkit.programs.planrun` plans).
+
+    Parameters
+    ----------
+    scene : SceneDescription
+        With at least one asset.
+    renderer : Renderer
+        Bakes the assets and draws the truth.
+    views : int or None
+        Views per ring (None: dome assets, :func:`~morphkit.programs.cliargs.choose_views`).
+    head : str, optional
+        The start of each line printed.
+    command : str, optional
+        The command's name (``billboards`` names its flags in errors).
+    smaller : str, optional
+        What to make smaller when a scatter cannot hold its instances apart.
+    sun : SceneSun, optional
+        The sun drawn with (default the scene's).
+
+    Returns
+    -------
+    PreparedScene
+
+    Raises
+    ------
+    ValidationError
+        Shadows of an asset without a mesh.
+    """
+    sun = scene.sun if sun is None else sun
+    dome = ViewDome() if views is None else None
+    res = _resolve(scene, renderer, views, dome)
+    names = list(scene.names)
+    inst = _placed(scene, res, head, smaller)
+    fog = Fog() if scene.fog else None
+    facing = ViewpointFacing() if dome is not None else AxialFacing()
+    bscene = BillboardScene(res.assets, inst, backdrop=Backdrop(ground=scene.ground, fog=fog), facing=facing)
+    base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
+    suns = sun.suns(scene.frames)
+    lighting = None if suns is None else [Lighting(BAKE_AMBIENT, (s,)) for s in suns]
+    known = all(nm in res.items for nm in names)
+    if not known:
+        why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
+        print(f"{head}comparisons with the real meshes skipped: {why}", file=sys.stderr)
+    shadow = truth_shadow = truth = None
+    if scene.shadows is not None:
+        shadow, truth_shadow = _shadows(
+            scene.shadows,
+            res,
+            renderer,
+            names,
+            [a.source for a in scene.assets],
+            head,
+            "--shadows" if command == "billboards" else "shadows",
+        )
+    if known:
+        truth = (
+            LitMeshMode(renderer, res.items, base, shadow=truth_shadow)
+            if dome is not None
+            else MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT)
+        )
+    return PreparedScene(bscene, res, dome is not None, base, lighting, shadow, truth_shadow, truth)
+
+
 def _asset_entry(a: SceneAsset, inst: Instances) -> dict[str, Any]:
     k = inst.names.index(a.name) if a.name in inst.names else -1
     return {
@@ -263,6 +411,62 @@ def _asset_entry(a: SceneAsset, inst: Instances) -> dict[str, Any]:
         "instances": int(np.count_nonzero(inst.asset == k)),
         "scale": a.scale,
     }
+
+
+def scene_choices(
+    scene: SceneDescription, command: str = "render", path_label: str | None = None
+) -> tuple[Any, int | None, list[Any], str, str]:
+    """What drawing ``scene`` decides before any work, its notes printed and the lines of its
+    choices made: the sun (a day's when shadows have none), the views
+    (:func:`~morphkit.programs.cliargs.choose_views`), the cameras and the path's label.
+
+    Parameters
+    ----------
+    scene : SceneDescription
+        The scene.
+    command : str, optional
+        The command's name, at the start of each line printed.
+    path_label : str, optional
+        The camera path's name (default: the scene camera's).
+
+    Returns
+    -------
+    sun : SceneSun
+    views : int or None
+        Views per ring, None for dome assets.
+    cameras : list of CameraModel
+    label : str
+    chosen : str
+        The line saying how the views were chosen ("" when the scene said).
+
+    Raises
+    ------
+    ValidationError
+        A scene without assets.
+    """
+    head = f"morphkit {command}: "
+    for note in scene.notes:  # what reading the file ignored or chose (a glTF without meshes says so)
+        print(head + note, flush=True)
+    if not scene.assets:
+        raise ValidationError(expected_got("scene", "at least one asset", "none"))
+    sun = scene.sun
+    if scene.shadows is not None and isinstance(sun, BakeLight):
+        sun = DaySun()
+        print(
+            head + "shadows take the default sun (a day's, as --sun-path day): the scene has none", flush=True
+        )
+    relit = not isinstance(sun, BakeLight)
+    cams = scene_cameras(scene)
+    label = path_label or scene.camera.to_json().get("path", "keyframes")
+    views, chosen = choose_views(
+        scene.views,
+        ("--sun-path" if command == "billboards" else "the scene's sun") if relit else None,
+        label,
+        cams,
+        scene_specs(scene),
+        head,
+    )
+    return sun, views, cams, label, chosen
 
 
 def render_scene(
@@ -276,6 +480,8 @@ def render_scene(
     said: Sequence[str] = (),
     smaller: str = "scatter count",
     compare: int | None = 3,
+    mode: Any = None,
+    plan: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Draw ``scene`` into the folder ``out`` (the module notes).
 
@@ -302,6 +508,11 @@ def render_scene(
     compare : int or None, optional
         How many frames (spread over the camera path) are also drawn with the real meshes and
         measured against them (``compare_NNNN.png``, their errors in the summary); None: every frame.
+    mode : callable, optional
+        Makes the frames' mode from the :class:`PreparedScene` (``render --plan``: the plan's
+        mode); default :meth:`PreparedScene.mode`.
+    plan : dict, optional
+        What the summary says of the plan drawn (its ``"plan"`` entry).
 
     Returns
     -------
@@ -331,85 +542,35 @@ def render_scene(
     """
     claim = out if isinstance(out, OutputClaim) else claim_output(out, RENDER_OUTPUT, overwrite=overwrite)
     head = f"morphkit {command}: "
-    for note in scene.notes:  # what reading the file ignored or chose (a glTF without meshes says so)
-        print(head + note, flush=True)
-    if not scene.assets:
-        raise ValidationError(expected_got("scene", "at least one asset", "none"))
-    shadows = scene.shadows
-    sun = scene.sun
-    if shadows is not None and isinstance(sun, BakeLight):
-        sun = DaySun()
-        print(
-            head + "shadows take the default sun (a day's, as --sun-path day): the scene has none", flush=True
-        )
-    relit = not isinstance(sun, BakeLight)
-    cams = scene_cameras(scene)
-    label = path_label or scene.camera.to_json().get("path", "keyframes")
-    specs = scene_specs(scene)
-    views, chosen = choose_views(
-        scene.views,
-        ("--sun-path" if command == "billboards" else "the scene's sun") if relit else None,
-        label,
-        cams,
-        specs,
-        head,
-    )
+    sun, views, cams, label, chosen = scene_choices(scene, command, path_label)
     if said:
         print(head + "; ".join(said), flush=True)
     if chosen:
         print(chosen, flush=True)
-    sources = [a.source for a in scene.assets]
     with claim.writing() as out, Renderer() as r:
-        dome = ViewDome() if views is None else None
-        res = _resolve(scene, r, views, dome)
-        names = list(scene.names)
-        inst = _placed(scene, res, head, smaller)
-        fog = Fog() if scene.fog else None
-        facing = ViewpointFacing() if dome is not None else AxialFacing()
-        bscene = BillboardScene(
-            res.assets, inst, backdrop=Backdrop(ground=scene.ground, fog=fog), facing=facing
-        )
-        base = Lighting(BAKE_AMBIENT, tuple(bake_lights()))
-        suns = sun.suns(scene.frames)
-        lighting = None if suns is None else [Lighting(BAKE_AMBIENT, (s,)) for s in suns]
-        truth = None
-        known = all(nm in res.items for nm in names)
-        if not known:
-            why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
-            print(f"{head}comparisons with the real meshes skipped: {why}", file=sys.stderr)
-        shadow = truth_shadow = None
-        if shadows is not None:
-            shadow, truth_shadow = _shadows(
-                shadows, res, r, names, sources, head, "--shadows" if command == "billboards" else "shadows"
-            )
-        if dome is not None:
-            mode = LitMode(MorphSurface(), base, shadow=shadow)
-            classic = LitMode(ClassicSurface(), base, shadow=shadow)
-            if known:
-                truth = LitMeshMode(r, res.items, base, shadow=truth_shadow)
-        else:
-            mode, classic = MorphMode(MorphCache()), None
-            if known:
-                truth = MeshMode(r, res.items, bake_lights(), BAKE_AMBIENT)
+        prep = prepare_scene(scene, r, views, head=head, command=command, smaller=smaller, sun=sun)
+        inst = prep.scene.instances
         extra = (
             None
             if stem == "billboards"
             else {"assets": [_asset_entry(a, inst) for a in scene.assets], "notes": list(scene.notes)}
         )
         summary = write_sequence(
-            bscene,
+            prep.scene,
             cams,
             out,
-            mode=mode,
-            truth=truth,
-            classic=classic,
-            lighting=lighting,
+            mode=prep.mode() if mode is None else mode(prep),
+            truth=prep.truth,
+            classic=prep.classic(),
+            lighting=prep.lighting,
             progress=scene.frames >= 10,
             stem=stem,
-            extra=extra,
+            extra=extra if plan is None else {**(extra or {}), "plan": plan},
             compare=scene.frames if compare is None else compare,
         )
-    kind = "relit dome assets" if dome is not None else "ring assets"
+        names = list(scene.names)
+    shadows = scene.shadows
+    kind = "relit dome assets" if prep.relit else "ring assets"
     if shadows is not None:
         kind += (
             ", shadows from sun atlases (the disc filtered from one map)"
