@@ -16,6 +16,7 @@ Hierarchy::
     │   └── DegenerateViewError               camera inside object, epipole in image, ...
     ├── RenderError                           the GL boundary failed
     ├── FileFormatError                       a saved file is corrupt, truncated or foreign
+    ├── BudgetError                           no representation is predicted to meet an error budget
     ├── ClusterError                          the Dask scheduler is unreachable or has no workers
     ├── OutputBusyError                       another run is writing into the same output folder
     └── OutputWriteError                      the output's file system stopped taking writes mid-run
@@ -49,6 +50,7 @@ __all__ = [
     "DegenerateViewError",
     "RenderError",
     "FileFormatError",
+    "BudgetError",
     "ClusterError",
     "OutputExistsError",
     "UsageError",
@@ -95,6 +97,11 @@ class RenderError(MorphkitError):
 
 class FileFormatError(MorphkitError):
     """A morphkit file is truncated, corrupt, of another version or for another setup."""
+
+
+class BudgetError(MorphkitError):
+    """No choice of representations is predicted to meet an error budget (the message names the best
+    reachable figure and what bounds it)."""
 
 
 class ClusterError(MorphkitError):
