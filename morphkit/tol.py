@@ -609,3 +609,13 @@ PLAN_GAP_IOU = 0.02
 #: side, so its IoU varies with the azimuth more than three samples average out (the ring morph's does
 #: not); three times the planner's IoU budget.
 PLAN_CARD_GAP_IOU = 0.06
+
+#: The margin the planner keeps between a frame's predicted box PSNR and the budget
+#: (:func:`morphkit.plan.planner.choose`): a choice must be predicted to beat the budget by this
+#: much, so that a frame whose measure falls short of its prediction by the median gap still meets it.
+PLAN_MARGIN_DB = 0.5
+#: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
+PLAN_MARGIN_IOU = 0.01
+#: The tallest on-screen height (pixels) a plan's error tables measure: a billboard taller than
+#: this fills most of a frame of up to 1080 rows, and its cell's frame grows with its square.
+PLAN_MAX_TABLE_HEIGHT_PX = 1024.0

@@ -134,6 +134,16 @@ class Budget:
         out = {k: getattr(self, k.replace("-", "_")) for k in BUDGET_KEYS}
         return {k: v for k, v in out.items() if v is not None}
 
+    def error_keys(self) -> list[tuple[str, float]]:
+        """The error keys the budget holds, each with its value, in :data:`ERROR_KEYS`' order.
+
+        Returns
+        -------
+        list of (str, float)
+        """
+        keys = [(k, getattr(self, k.replace("-", "_"))) for k in ERROR_KEYS]
+        return [(k, float(v)) for k, v in keys if v is not None]
+
     def meets(self, errors: Mapping[str, float | None]) -> bool:
         """Whether one frame's errors meet every error key of the budget.
 

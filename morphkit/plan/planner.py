@@ -1,0 +1,384 @@
+"""Choosing each band's representation to an error budget, from the error tables.
+
+:func:`predict_frames` sees every frame of a camera path as its own plan draws it
+(:meth:`~morphkit.billboard.BillboardScene.plan`) and looks every drawn billboard up in the table of
+its asset under every representation (:meth:`~.errortable.ErrorTable.lookup`): a
+:class:`FramePredictions`, from which the frame's figures under any assignment of representations to
+bands follow as :func:`~morphkit.billboard.compare.frame_errors` measures them, over the pixels of the
+billboards' boxes: the frame's mean squared error is the mean of its billboards' (each
+``255^2 10^(-PSNR/10)`` of its table's box PSNR) weighted by the pixels of its box inside the frame,
+its IoU the mean of theirs weighted alike. What the tables cannot know (one billboard whole and
+alone per cell) stays unknown: overlapping boxes count twice, a cut one is predicted as whole.
+
+:func:`choose` starts from every band in the view morph (today's default), checks that the
+budget's fraction of frames is predicted to meet it by a margin (the prediction's gap,
+:data:`morphkit.tol.PLAN_MARGIN_DB` and :data:`~morphkit.tol.PLAN_MARGIN_IOU`), then visits the
+bands in order of how many billboards they draw over the path, most first, and gives each the
+cheapest representation that keeps the prediction within the budget: a greedy descent on the cost
+of :mod:`.representations`, each step checked against the frames' budget, not against a per-band
+guess. A budget the start does not meet is refused (:class:`~morphkit.errors.BudgetError`) with the
+figure the start reaches in the budget's fraction of frames and the band that bounds it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import tol
+from ..billboard import BillboardScene
+from ..billboard.compare import PSNR_CAP_DB
+from ..camera import CameraModel
+from ..errors import BudgetError, ValidationError, expected_got
+from .budget import Budget
+from .errortable import ErrorTable
+from .representations import REPRESENTATIONS, Band, BandChoice, band_label, elevation_band, representation
+
+__all__ = ["FramePredictions", "predict_frames", "calibration_offsets", "Choice", "choose", "reached"]
+
+
+@dataclass(frozen=True)
+class FramePredictions:
+    """Every drawn billboard of every frame, its band and its predicted error in each representation.
+
+    Parameters
+    ----------
+    representations : tuple of str
+        The representations predicted, in :data:`~.representations.REPRESENTATIONS`' order.
+    bands : list of Band
+        Every band a frame draws a billboard in.
+    band_index : list of (n_k,) int64
+        Per frame, each drawn billboard's index in ``bands``.
+    psnr_db, iou : list of (R, n_k) float64
+        Per frame, each representation's predicted error of each drawn billboard.
+    pixels : list of (n_k,) float64
+        Per frame, the pixels of each drawn billboard's screen box inside the frame.
+    base_height : dict of str to int
+        Each asset's image height at level 0 (:func:`~.representations.band_label`).
+    """
+
+    representations: tuple[str, ...]
+    bands: list[Band]
+    band_index: list[np.ndarray]
+    psnr_db: list[np.ndarray]
+    iou: list[np.ndarray]
+    pixels: list[np.ndarray]
+    base_height: dict[str, int]
+
+    def shifted(self, offsets: Mapping[str, tuple[float, float]]) -> FramePredictions:
+        """The predictions with each representation's billboards moved by its offset (the
+        calibration of :func:`calibration_offsets`): ``+dB`` to every PSNR, ``+IoU`` to every IoU
+        (clipped to ``[0, 1]``).
+
+        Parameters
+        ----------
+        offsets : mapping of str to (float, float)
+            Per representation, ``(dB, IoU)``; one not named keeps its predictions.
+
+        Returns
+        -------
+        FramePredictions
+        """
+        d = np.array([offsets.get(r, (0.0, 0.0))[0] for r in self.representations])[:, None]
+        q = np.array([offsets.get(r, (0.0, 0.0))[1] for r in self.representations])[:, None]
+        return dataclasses.replace(
+            self, psnr_db=[p + d for p in self.psnr_db], iou=[np.clip(i + q, 0.0, 1.0) for i in self.iou]
+        )
+
+    def counts(self) -> np.ndarray:
+        """How many billboards each band draws over all the frames, ``(B,)`` int64."""
+        out = np.zeros(len(self.bands), np.int64)
+        for b in self.band_index:
+            out += np.bincount(b, minlength=len(self.bands))
+        return out
+
+    def pick_of(self, choice: BandChoice) -> np.ndarray:
+        """Each band's representation index under ``choice``, ``(B,)`` int64.
+
+        Parameters
+        ----------
+        choice : BandChoice
+            The bands' representations.
+
+        Returns
+        -------
+        (B,) int64
+        """
+        names = [choice.choices.get(b, choice.default) for b in self.bands]
+        return np.array([self.representations.index(n) for n in names], np.int64)
+
+    def choice_of(self, pick: np.ndarray) -> BandChoice:
+        """The :class:`~.representations.BandChoice` of a pick (every band seen listed).
+
+        Parameters
+        ----------
+        pick : (B,) int
+            Representation index per band.
+
+        Returns
+        -------
+        BandChoice
+        """
+        return BandChoice({b: self.representations[int(r)] for b, r in zip(self.bands, pick, strict=True)})
+
+    def frame_errors(self, pick: np.ndarray) -> list[dict[str, float | None]]:
+        """Each frame's predicted figures under ``pick`` (the module notes),
+        ``{"billboard-psnr", "billboard-iou"}`` (None: nothing drawn).
+
+        Parameters
+        ----------
+        pick : (B,) int
+            Representation index per band.
+
+        Returns
+        -------
+        list of dict
+        """
+        out: list[dict[str, float | None]] = []
+        for b, p, q, w in zip(self.band_index, self.psnr_db, self.iou, self.pixels, strict=True):
+            if len(b) == 0:
+                out.append({"billboard-psnr": None, "billboard-iou": None})
+                continue
+            r = pick[b]
+            cols = np.arange(len(b))
+            w = w / w.sum()
+            mse = float(np.sum(w * 10.0 ** (-p[r, cols] / 10.0)))
+            db = PSNR_CAP_DB if mse <= 10.0 ** (-PSNR_CAP_DB / 10.0) else -10.0 * np.log10(mse)
+            out.append({"billboard-psnr": float(db), "billboard-iou": float(np.sum(w * q[r, cols]))})
+        return out
+
+
+def calibration_offsets(
+    predicted: Sequence[Mapping[str, float | None]], measured: Sequence[Mapping[str, float | None]]
+) -> tuple[float, float, int]:
+    """One representation's calibration: the median over frames drawn in it everywhere of measured
+    less predicted, ``(dB, IoU, frames used)``. Adding a constant to every billboard's PSNR moves the
+    frame's by that constant, and to every IoU the frame's too, so the median is the constant that
+    best closes the gap; frames at the PSNR cap (nothing wrong to measure) or without billboards are
+    left out.
+
+    Parameters
+    ----------
+    predicted, measured : sequence of mapping
+        The same frames' figures (:meth:`FramePredictions.frame_errors` and as measured).
+
+    Returns
+    -------
+    (float, float, int)
+        ``(0, 0, 0)`` when no frame serves.
+
+    Examples
+    --------
+    >>> from morphkit.plan.planner import calibration_offsets
+    >>> p = [{"billboard-psnr": 26.0, "billboard-iou": 0.90}, {"billboard-psnr": 30.0, "billboard-iou": 0.95}]
+    >>> m = [{"billboard-psnr": 24.0, "billboard-iou": 0.88}, {"billboard-psnr": 100.0, "billboard-iou": 1.0}]
+    >>> calibration_offsets(p, m)
+    (-2.0, -0.020000000000000018, 1)
+    """
+    db, iou = [], []
+    for p, m in zip(predicted, measured, strict=True):
+        mp, pp = m.get("billboard-psnr"), p.get("billboard-psnr")
+        if mp is None or pp is None or mp >= PSNR_CAP_DB or pp >= PSNR_CAP_DB:
+            continue
+        db.append(mp - pp)
+        iou.append(m["billboard-iou"] - p["billboard-iou"])  # type: ignore[operator]
+    if not db:
+        return 0.0, 0.0, 0
+    return float(np.median(db)), float(np.median(iou)), len(db)
+
+
+def predict_frames(
+    tables: Mapping[tuple[str, str], ErrorTable], scene: BillboardScene, cameras: Sequence[CameraModel]
+) -> FramePredictions:
+    """Every frame's drawn billboards and their predicted errors (the module notes).
+
+    Parameters
+    ----------
+    tables : mapping of (asset, representation) to ErrorTable
+        A table per asset drawn and per representation of :data:`~.representations.REPRESENTATIONS`.
+    scene : BillboardScene
+        The scene.
+    cameras : sequence of CameraModel
+        The frames.
+
+    Returns
+    -------
+    FramePredictions
+
+    Raises
+    ------
+    ValidationError
+        A drawn asset without a table of every representation.
+    """
+    reps = tuple(r.name for r in REPRESENTATIONS)
+    band_ids: dict[Band, int] = {}
+    band_index, psnr, iou, pixels = [], [], [], []
+    for cam in cameras:
+        placements = scene.plan(cam).placements
+        n = len(placements)
+        p = np.empty((len(reps), n))
+        q = np.empty((len(reps), n))
+        idx = np.empty(n, np.int64)
+        area = np.array(
+            [max(1, (pl.roi[1] - pl.roi[0]) * (pl.roi[3] - pl.roi[2])) for pl in placements], float
+        )
+        if n:
+            names = [pl.asset for pl in placements]
+            height = np.array([pl.height_px for pl in placements])
+            elev = np.array([pl.elevation_deg for pl in placements])
+            level = np.array([pl.level for pl in placements])
+            eband = elevation_band(elev)
+            for k, (nm, lv, e) in enumerate(zip(names, level, eband, strict=True)):
+                idx[k] = band_ids.setdefault((nm, int(lv), int(e)), len(band_ids))
+            arr = np.array(names)
+            for nm in set(names):
+                sel = arr == nm
+                for r, rep in enumerate(reps):
+                    t = tables.get((nm, rep))
+                    if t is None:
+                        raise ValidationError(
+                            expected_got(
+                                "tables", f"an ErrorTable of {nm!r} as {rep!r}", f"tables of {sorted(tables)}"
+                            )
+                        )
+                    p[r, sel], q[r, sel] = t.lookup(height[sel], elev[sel])
+        band_index.append(idx)
+        psnr.append(p)
+        iou.append(q)
+        pixels.append(area)
+    base = {nm: int(a.size[0]) for nm, a in scene.assets.items()}
+    return FramePredictions(reps, list(band_ids), band_index, psnr, iou, pixels, base)
+
+
+@dataclass(frozen=True)
+class Choice:
+    """What :func:`choose` chose.
+
+    Parameters
+    ----------
+    choice : BandChoice
+        Every band seen, with its representation.
+    predicted : list of dict
+        Each frame's predicted figures under it (:meth:`FramePredictions.frame_errors`).
+    default_predicted : list of dict
+        The same for every band in the view morph (today's default).
+    steps : int
+        How many bands were moved to a cheaper representation.
+    """
+
+    choice: BandChoice
+    predicted: list[dict[str, float | None]]
+    default_predicted: list[dict[str, float | None]]
+    steps: int
+
+
+def _shifted(frames: list[dict[str, float | None]]) -> list[dict[str, float | None]]:
+    """The figures less the prediction's margin."""
+    margin = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
+    return [{k: None if v is None else v - margin[k] for k, v in f.items()} for f in frames]
+
+
+def reached(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dict[str, float | None]:
+    """The figure of each budget key that ``budget.frames`` of the frames reach (the quantile: the
+    value at least that fraction of frames meets or beats); None where no frame has one.
+
+    Parameters
+    ----------
+    budget : Budget
+        The budget (its keys and fraction).
+    frames : sequence of mapping
+        Each frame's figures.
+
+    Returns
+    -------
+    dict of str to float or None
+        Per error key of the budget.
+    """
+    out: dict[str, float | None] = {}
+    for key, _want in budget.error_keys():
+        vals = np.sort([f[key] for f in frames if f.get(key) is not None])[::-1]
+        if len(vals) == 0:
+            out[key] = None
+            continue
+        k = min(len(vals) - 1, max(0, int(np.ceil(budget.frames * len(vals))) - 1))
+        out[key] = float(vals[k])
+    return out
+
+
+def _bound(pred: FramePredictions, pick: np.ndarray, key: str) -> str:
+    """The band that bounds ``key`` under ``pick``: the lowest mean predicted figure among the bands
+    drawn most (at least 5 % of the billboards)."""
+    counts = pred.counts()
+    sums = np.zeros(len(pred.bands))
+    for b, p, q in zip(pred.band_index, pred.psnr_db, pred.iou, strict=True):
+        vals = (p if key == "billboard-psnr" else q)[pick[b], np.arange(len(b))]
+        np.add.at(sums, b, vals)
+    mean = np.where(counts > 0, sums / np.maximum(counts, 1), np.inf)
+    mean[counts < 0.05 * counts.sum()] = np.inf
+    k = int(np.argmin(mean))
+    unit = " dB" if key == "billboard-psnr" else ""
+    return (
+        f"{band_label(pred.bands[k], pred.base_height[pred.bands[k][0]])} "
+        f"({pred.representations[int(pick[k])]}: {mean[k]:.3g}{unit} on average)"
+    )
+
+
+def choose(pred: FramePredictions, budget: Budget) -> Choice:
+    """The cheapest choice of representation per band predicted to meet ``budget`` (module notes).
+
+    Parameters
+    ----------
+    pred : FramePredictions
+        The frames' predictions.
+    budget : Budget
+        The error budget (its error keys ``billboard-psnr`` and ``billboard-iou``).
+
+    Returns
+    -------
+    Choice
+
+    Raises
+    ------
+    BudgetError
+        Even the default is not predicted to meet the budget by the margin.
+    """
+    morph = pred.representations.index("morph")
+    start = np.full(len(pred.bands), morph, np.int64)
+    default = pred.frame_errors(start)
+
+    def meets(pick: np.ndarray) -> bool:
+        return bool(budget.verdict(_shifted(pred.frame_errors(pick)))["met"])
+
+    if not meets(start):
+        got = reached(budget, _shifted(default))
+        parts = []
+        for key, want in budget.error_keys():
+            v = got.get(key)
+            if v is not None and v < want:
+                parts.append(
+                    f"{key} {v:.3g} (with the prediction's margin) in {budget.frames:.0%} of the frames, "
+                    f"against {want:g}; bounded by {_bound(pred, start, key)}"
+                )
+        raise BudgetError(
+            "no representation meets the budget: the best reachable is "
+            + ("; ".join(parts) or "below the budget")
+            + " (the view morph everywhere)"
+        )
+    pick = start.copy()
+    steps = 0
+    cost = [representation(n).cost for n in pred.representations]
+    order = sorted(range(len(pred.representations)), key=lambda r: cost[r])
+    for b in np.argsort(-pred.counts(), kind="stable"):
+        for r in order:
+            if cost[r] >= cost[pick[b]]:
+                break
+            old = pick[b]
+            pick[b] = r
+            if meets(pick):
+                steps += 1
+                break
+            pick[b] = old
+    return Choice(pred.choice_of(pick), pred.frame_errors(pick), default, steps)

@@ -1,0 +1,250 @@
+"""The planner (morphkit.plan.representations, .planner, .planfile): bands, the banded modes, the
+frame's prediction from the tables, the choice to a budget and the plan file. No GL: fake assets and
+hand-made tables; the command end to end is in test_plan_command.py."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from billboard_fakes import FakeAsset
+
+from morphkit import tol
+from morphkit.billboard import BillboardScene, ClassicMode, Instances, MorphCache, MorphMode, NearestMode
+from morphkit.billboard.compare import PSNR_CAP_DB
+from morphkit.camera import look_at, perspective
+from morphkit.errors import BudgetError, FileFormatError, ValidationError
+from morphkit.plan import Budget
+from morphkit.plan.errortable import ErrorTable
+from morphkit.plan.planfile import PLAN_VERSION, ScenePlan, read_plan
+from morphkit.plan.planner import FramePredictions, calibration_offsets, choose, predict_frames, reached
+from morphkit.plan.representations import (
+    REPRESENTATIONS,
+    BandChoice,
+    BandedRing,
+    elevation_band,
+    representation,
+)
+
+HASH = "cd" * 32
+SHAPE = (240, 320)
+
+
+def _camera(eye, target):
+    return perspective(math.radians(50.0), SHAPE, look_at(np.asarray(eye, float), np.asarray(target, float)))
+
+
+def _scene() -> BillboardScene:
+    asset = FakeAsset("tree", views=8, half_extent=(0.3, 0.4), levels=3)
+    inst = Instances.from_records([("tree", -1.0, 3.0), ("tree", 1.0, 9.0), ("tree", 0.5, 20.0)])
+    return BillboardScene({"tree": asset}, inst)
+
+
+# ---------------------------------------------------------------- representations and bands
+
+
+def test_representations_are_ordered_by_cost_and_found_by_name():
+    assert [r.name for r in REPRESENTATIONS] == ["classic", "nearest", "morph"]
+    assert [r.cost for r in REPRESENTATIONS] == sorted(r.cost for r in REPRESENTATIONS)
+    assert representation("nearest") is REPRESENTATIONS[1]
+    with pytest.raises(
+        ValidationError, match=r"representation: expected one of \['classic', 'nearest', 'morph'\]"
+    ):
+        representation("impostor")
+
+
+def test_elevation_bands_split_at_their_edges():
+    assert elevation_band([-5.0, 0.0, 29.99, 30.0, 59.0, 60.0, 90.0]).tolist() == [0, 0, 0, 1, 1, 2, 2]
+
+
+def test_a_band_choice_names_known_representations_and_defaults_the_rest():
+    c = BandChoice({("tree", 1, 0): "classic"})
+    assert c.of("tree", 1, 10.0) == "classic"
+    assert c.of("tree", 1, 45.0) == "morph"  # another elevation band
+    assert c.of("bush", 1, 10.0) == "morph"
+    with pytest.raises(ValidationError, match="representation: expected one of"):
+        BandChoice({("tree", 1, 0): "sprite"})
+    with pytest.raises(
+        ValidationError, match=r"band: expected \(asset name, level >= 0, elevation band >= 0\)"
+    ):
+        BandChoice({("tree", -1, 0): "classic"})
+
+
+def test_a_banded_ring_draws_every_band_as_its_representation():
+    scene = _scene()
+    cam = _camera([0.0, 0.0, 0.6], [0.0, 8.0, 0.4])
+    plain = {"classic": ClassicMode(), "nearest": NearestMode(), "morph": MorphMode(MorphCache())}
+    for name, mode in plain.items():
+        want = scene.render(cam, mode).rgb
+        got = scene.render(cam, BandedRing(BandChoice(default=name))).rgb
+        np.testing.assert_array_equal(got, want, err_msg=name)
+    # one band classic, the others morphed: each billboard's image is its band's
+    placements = scene.plan(cam).placements
+    near = max(placements, key=lambda p: p.height_px)
+    band = ("tree", near.level, int(elevation_band(near.elevation_deg)))
+    mode = BandedRing(BandChoice({band: "classic"}))
+    asset = scene.assets["tree"]
+    for pl in placements:
+        img, _ = mode.image(asset, pl)
+        ref = ClassicMode() if (pl.level, int(elevation_band(pl.elevation_deg))) == band[1:] else MorphMode()
+        np.testing.assert_array_equal(img, ref.image(asset, pl)[0])
+    assert len({(p.level, int(elevation_band(p.elevation_deg))) for p in placements}) > 1  # the test can fail
+
+
+# ---------------------------------------------------------------- predictions
+
+
+def _pred(psnr, iou, pixels, bands=(("tree", 0, 0),)) -> FramePredictions:
+    """One frame of billboards, each row a representation (classic, nearest, morph)."""
+    psnr = np.asarray(psnr, float)
+    n = psnr.shape[1]
+    return FramePredictions(
+        ("classic", "nearest", "morph"),
+        list(bands),
+        [np.zeros(n, np.int64)],
+        [psnr],
+        [np.asarray(iou, float)],
+        [np.asarray(pixels, float)],
+        {"tree": 64},
+    )
+
+
+def test_a_frames_prediction_weights_each_billboard_by_its_pixels():
+    # two billboards of 100 and 300 pixels at 20 and 30 dB: MSE 0.25 10^-2 + 0.75 10^-3 = 3.25e-3
+    pred = _pred([[20.0, 30.0]] * 3, [[0.6, 1.0]] * 3, [100.0, 300.0])
+    (got,) = pred.frame_errors(np.array([2]))
+    assert got["billboard-psnr"] == pytest.approx(-10.0 * math.log10(3.25e-3), abs=1e-12)
+    assert got["billboard-iou"] == pytest.approx(0.25 * 0.6 + 0.75 * 1.0, abs=1e-12)
+    # every billboard at the cap: the frame at the cap, not beyond it
+    (capped,) = _pred([[PSNR_CAP_DB] * 2] * 3, [[1.0, 1.0]] * 3, [5.0, 5.0]).frame_errors(np.array([0]))
+    assert capped["billboard-psnr"] == PSNR_CAP_DB
+
+
+def test_predicting_a_path_sees_what_its_frames_draw(rng):
+    scene = _scene()
+    tables = {}
+    for r, base in (("classic", 18.0), ("nearest", 22.0), ("morph", 26.0)):
+        h = np.array([4.0, 16.0, 64.0, 256.0])
+        e = np.array([0.0, 40.0, 80.0])
+        tables[("tree", r)] = ErrorTable(
+            "tree", HASH, r, h, e, base + rng.uniform(0, 1, (4, 3)), rng.uniform(0.6, 1.0, (4, 3))
+        )
+    cams = [_camera([0.0, 0.0, 0.6], [0.0, 8.0, 0.4]), _camera([0.0, 40.0, 0.6], [0.0, 80.0, 0.4])]
+    pred = predict_frames(tables, scene, cams)
+    drawn = scene.plan(cams[0]).placements
+    assert len(pred.band_index[0]) == len(drawn) and len(pred.band_index[1]) == 0
+    for r, rep in enumerate(pred.representations):
+        p, q = tables[("tree", rep)].lookup(
+            [pl.height_px for pl in drawn], [pl.elevation_deg for pl in drawn]
+        )
+        np.testing.assert_allclose(pred.psnr_db[0][r], p)
+        np.testing.assert_allclose(pred.iou[0][r], q)
+    assert pred.frame_errors(pred.pick_of(BandChoice()))[1] == {"billboard-psnr": None, "billboard-iou": None}
+    assert pred.counts().sum() == len(drawn)
+    with pytest.raises(ValidationError, match="an ErrorTable of 'tree' as 'classic'"):
+        predict_frames({k: v for k, v in tables.items() if k[1] != "classic"}, scene, cams)
+
+
+def test_calibration_moves_each_representations_predictions_by_its_offset():
+    pred = _pred([[20.0, 30.0], [21.0, 31.0], [25.0, 35.0]], [[0.5, 0.9]] * 3, [10.0, 10.0])
+    moved = pred.shifted({"classic": (-2.0, 0.2), "morph": (1.0, -0.95)})
+    np.testing.assert_allclose(moved.psnr_db[0], [[18.0, 28.0], [21.0, 31.0], [26.0, 36.0]])
+    np.testing.assert_allclose(moved.iou[0], [[0.7, 1.0], [0.5, 0.9], [0.0, 0.0]])  # clipped to [0, 1]
+    # a constant dB offset moves the frame's PSNR by exactly that constant
+    before = pred.frame_errors(np.array([0]))[0]["billboard-psnr"]
+    after = moved.frame_errors(np.array([0]))[0]["billboard-psnr"]
+    assert after - before == pytest.approx(-2.0, abs=1e-9)
+    db, iou, n = calibration_offsets(
+        [{"billboard-psnr": 25.0, "billboard-iou": 0.9}, {"billboard-psnr": None}],
+        [{"billboard-psnr": 23.5, "billboard-iou": 0.95}, {"billboard-psnr": 22.0}],
+    )
+    assert (db, n) == (-1.5, 1) and iou == pytest.approx(0.05)
+
+
+# ---------------------------------------------------------------- the choice
+
+
+def _two_bands() -> FramePredictions:
+    """Two frames; band 0 (eye level) draws 3 billboards, band 1 (from above) 1. The card holds at
+    eye level (29 dB) and fails from above (15 dB); the nearest view is between; the morph best."""
+    bands = [("tree", 0, 0), ("tree", 0, 2)]
+    idx = np.array([0, 0, 0, 1])
+    psnr = np.array([[29.0, 29.0, 29.0, 15.0], [29.5, 29.5, 29.5, 24.0], [31.0, 31.0, 31.0, 30.0]])
+    iou = np.array([[0.95] * 3 + [0.5], [0.96] * 3 + [0.8], [0.97] * 3 + [0.95]])
+    px = np.full(4, 100.0)
+    return FramePredictions(
+        ("classic", "nearest", "morph"), bands, [idx, idx], [psnr, psnr], [iou, iou], [px, px], {"tree": 64}
+    )
+
+
+def test_the_choice_is_the_cheapest_that_meets_the_budget():
+    pred = _two_bands()
+    got = choose(pred, Budget(billboard_psnr=25.0))
+    assert got.choice.choices == {("tree", 0, 0): "classic", ("tree", 0, 2): "nearest"}
+    for f in got.predicted:  # predicted within the budget by the margin
+        assert f["billboard-psnr"] >= 25.0 + tol.PLAN_MARGIN_DB
+    # a stricter budget keeps the morph from above
+    got = choose(pred, Budget(billboard_psnr=28.0))
+    assert got.choice.choices[("tree", 0, 2)] == "morph"
+    # an IoU budget the card misses from above: with 0.93 the card's frame (0.8375) fails
+    got = choose(pred, Budget(billboard_iou=0.93))
+    assert got.choice.choices[("tree", 0, 2)] != "classic"
+
+
+def test_a_budget_nothing_meets_names_the_best_reachable_figure_and_its_bound():
+    pred = _two_bands()
+    with pytest.raises(
+        BudgetError, match=r"billboard-psnr 30\.2 .* against 40; bounded by tree, >= 32 px, 60-90 deg"
+    ):
+        choose(pred, Budget(billboard_psnr=40.0))
+
+
+def test_reached_is_the_figure_of_the_budgets_fraction_of_frames():
+    frames = [{"billboard-psnr": float(v), "billboard-iou": None} for v in range(1, 21)]  # 1 .. 20 dB
+    assert reached(Budget(billboard_psnr=10.0, frames=0.95), frames) == {"billboard-psnr": 2.0}
+    assert reached(Budget(billboard_psnr=10.0, frames=0.5), frames) == {"billboard-psnr": 11.0}
+    assert reached(Budget(billboard_iou=0.9), frames) == {"billboard-iou": None}
+
+
+# ---------------------------------------------------------------- the plan file
+
+
+def test_a_plan_file_round_trips_and_refuses_what_is_not_one(tmp_path):
+    plan = ScenePlan(
+        Budget(billboard_psnr=24.0, frames=0.9),
+        BandChoice({("tree", 1, 0): "classic", ("tree", 0, 2): "nearest"}),
+        True,
+        ("tree",),
+        {("tree", 1, 0): 12},
+        {"tree": 128},
+        {"verified": {"frames": 3}},
+    )
+    path = plan.save(tmp_path / "plan.json")
+    obj = json.loads(path.read_text())
+    assert obj["morphkit_plan"] == PLAN_VERSION and obj["verified"] == {"frames": 3}
+    entry = next(c for c in obj["choices"] if c["level"] == 1)
+    assert entry["height_px"] == [32.0, 64.0] and entry["elevation_deg"] == [0.0, 30.0]
+    assert entry["billboards"] == 12 and entry["band"] == "tree, 32-64 px, 0-30 deg"
+    back = read_plan(tmp_path)  # the folder names its plan.json
+    assert (
+        back.choice == plan.choice and back.budget == plan.budget and back.relit and back.assets == ("tree",)
+    )
+    back.check_kind(True)
+    with pytest.raises(ValidationError, match=r"plan: expected a plan of ring assets \(no sun\)"):
+        back.check_kind(False)
+    with pytest.raises(ValidationError, match=r"plan: expected a plan of the scene's assets \['bush'\]"):
+        back.check_assets(["bush"])
+    obj["morphkit_plan"] = 2
+    (tmp_path / "v2.json").write_text(json.dumps(obj))
+    with pytest.raises(FileFormatError, match="expected morphkit_plan 1, got 2"):
+        read_plan(tmp_path / "v2.json")
+    obj["morphkit_plan"] = 1
+    obj["choices"][0]["representation"] = "sprite"
+    (tmp_path / "bad.json").write_text(json.dumps(obj))
+    with pytest.raises(FileFormatError, match="relit, assets and choices of a plan"):
+        read_plan(tmp_path / "bad.json")
+    (tmp_path / "text.json").write_text("not json")
+    with pytest.raises(FileFormatError, match="expected JSON"):
+        read_plan(tmp_path / "text.json")
