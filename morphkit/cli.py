@@ -325,8 +325,34 @@ def _cmd_render(args: argparse.Namespace) -> int:
     from .scenes import load_scene
 
     scene = load_scene(args.scene)  # refused before anything is baked or written
+    mode = entry = None
+    if args.plan is not None:
+        from .plan.planfile import read_plan
+        from .scenes.suns import BakeLight
+
+        plan = read_plan(args.plan)
+        plan.check_assets(scene.names)
+        plan.check_kind(not isinstance(scene.sun, BakeLight) or scene.shadows is not None)
+        entry = {"file": str(args.plan), "budget": plan.budget.to_json(), "bands": len(plan.choice.choices)}
+
+        def mode(prep: Any) -> Any:
+            return plan.mode(prep.relit, prep.base, prep.shadow)
+
     claim = _output_folder(args.out, RENDER_OUTPUT, args.overwrite)
-    render_scene(scene, claim, command="render", stem="render", compare=args.compare)
+    render_scene(scene, claim, command="render", stem="render", compare=args.compare, mode=mode, plan=entry)
+    return 0
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    from .files.outfolder import PLAN_OUTPUT
+    from .plan import Budget
+    from .programs.planrun import plan_scene
+    from .scenes import load_scene
+
+    budget = Budget.parse(args.budget or [])  # nonsense budgets: usage errors, before any work
+    scene = load_scene(args.scene)
+    claim = _output_folder(args.out, PLAN_OUTPUT, args.overwrite)
+    plan_scene(scene, budget, claim, sweep=args.sweep, verify=args.verify)
     return 0
 
 
@@ -574,8 +600,35 @@ def build_parser() -> argparse.ArgumentParser:
                     help="frames also drawn with the real meshes (ray-cast shadows under a sun) and "
                     "measured against them, spread over the path: their strips and per-billboard "
                     "errors in render.json (default: %(default)s; all: every frame)")
+    rs.add_argument("--plan", default=None, metavar="PLAN",
+                    help="draw each band of billboards as `morphkit plan` chose (its plan.json, or its "
+                    "output folder)")
     rs.add_argument("--overwrite", action="store_true", help="replace a previous `render` run in OUT")
     rs.set_defaults(func=_cmd_render)
+
+    pl = sub.add_parser(
+        "plan",
+        help="choose each band of a scene's billboards' representation to an error budget, verified",
+        description="Plan a scene (as `render` takes it) to an error budget: measure each asset's error "
+        "in every representation against its own mesh (tables over on-screen size and elevation), predict "
+        "every frame's error, choose per asset and band of on-screen size and elevation the cheapest "
+        "representation (classic card, nearest view, view morph) predicted to meet the budget, and verify "
+        "the plan on held-out frames against the real meshes, timed against the default. Writes "
+        "OUT/plan.json, OUT/plan.png and OUT/tables/. Exit 1 with the best reachable figure when no "
+        "choice meets the budget (nothing written); exit 2 for a nonsense budget.",
+    )
+    pl.add_argument("scene", metavar="SCENE", help="a scene file (.json) or a glTF scene (.glb, .gltf)")
+    pl.add_argument("--budget", action="append", metavar="KEY=VALUE",
+                    help="billboard-psnr=DB, billboard-iou=X, frames=FRACTION (default 0.95); once per key")
+    pl.add_argument("-o", "--out", required=True, help="output folder")
+    pl.add_argument("--sweep", action="store_true",
+                    help="also verify each representation everywhere (the cheapest meeting the budget in "
+                    "plan.json's time_ms.cheapest_sweep)")
+    pl.add_argument("--verify", type=int, default=6, metavar="N",
+                    help="held-out frames verified against the real meshes (default: %(default)s)")
+    pl.add_argument("--overwrite", action="store_true",
+                    help="replace a previous `plan` in OUT (its error tables are reused where they match)")
+    pl.set_defaults(func=_cmd_plan)
     return p
 
 

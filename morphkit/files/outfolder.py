@@ -63,7 +63,8 @@ from .fileio import open_regular, write_bytes, write_json
 
 __all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRule", "OutputClaim",
            "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
-           "BILLBOARDS_OUTPUT", "RENDER_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT", "BAKE_MANIFEST_FORMAT",
+           "BILLBOARDS_OUTPUT", "RENDER_OUTPUT", "PLAN_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT",
+           "BAKE_MANIFEST_FORMAT",
            "is_bake_manifest"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
@@ -225,6 +226,10 @@ BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.
 #: ``render.json`` (:mod:`morphkit.programs.scenerender`).
 RENDER_OUTPUT = OutputRule("render", ("frames/frame_#.png", "render.webm", "compare_#.png", "render.json"),
                            markers=("render.json",), recognise=_json_holding("morphkit_render"))
+#: ``morphkit plan SCENE``: ``plan.json``, ``plan.png`` and the error tables it measured,
+#: ``tables/ASSET.REPRESENTATION.npz`` (:mod:`morphkit.programs.planrun`).
+PLAN_OUTPUT = OutputRule("plan", ("plan.json", "plan.png", "tables/*.npz"), markers=("plan.json",),
+                         recognise=_json_holding("morphkit_plan"))
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).
 BAKE_OUTPUT = OutputRule("bake", ("manifest.json", "manifest.journal", "*.npz"),
                          markers=("manifest.json",), resume=True, recognise=_bake_manifest)
@@ -242,7 +247,8 @@ def subfolders() -> frozenset[str]:
     frozenset of str
         Folder names.
     """
-    rules = (DEMO_OUTPUT, SHADOWS_OUTPUT, BILLBOARDS_OUTPUT, RENDER_OUTPUT, BAKE_OUTPUT, VIEWMORPH_OUTPUT)
+    rules = (DEMO_OUTPUT, SHADOWS_OUTPUT, BILLBOARDS_OUTPUT, RENDER_OUTPUT, PLAN_OUTPUT, BAKE_OUTPUT,
+             VIEWMORPH_OUTPUT)
     return frozenset(pat.split("/", 1)[0] for rule in rules for pat in rule.owns if "/" in pat)
 
 

@@ -1,0 +1,164 @@
+"""``morphkit plan SCENE --budget ... -o OUT`` and ``render --plan``, end to end on small scenes
+(ring views of 32 px, frames of 96 x 72); the planner's parts without GL are in test_plan.py."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from morphkit.cli import main
+
+SMALL_SCENE = {
+    "morphkit_scene": 1,
+    "assets": [{"name": "tree", "source": "tree", "scale": 2.0}],
+    "instances": {
+        "listed": [{"asset": "tree", "x": x, "y": y} for x, y in ((0.0, 0.0), (2.5, 3.0), (-2.0, 6.0))]
+    },
+    "camera": {"path": "orbit"},
+    "image": {"width": 96, "height": 72},
+    "frames": 8,
+    "views": 4,
+    "asset_size": 32,
+    "fog": False,
+}
+
+
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("morphkit: error: "), err
+    return err[0]
+
+
+def _scene(tmp_path, **kw):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps({**SMALL_SCENE, **kw}))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("budget", "match"),
+    [
+        (["billboard-psnr=nan"], r"--budget billboard-psnr: expected dB > 0, got 'nan'"),
+        (["billboard-iou=1.5"], r"--budget billboard-iou: expected a number in \(0, 1\]"),
+        (["billboard-psnr=0"], r"--budget billboard-psnr: expected dB > 0"),
+        (["sharpness=3"], r"--budget key: expected one of billboard-psnr"),
+        ([], r"--budget: expected at least one of"),
+    ],
+)
+def test_a_nonsense_budget_is_a_usage_error(tmp_path, capsys, budget, match):
+    args = [a for b in budget for a in ("--budget", b)]
+    assert main(["plan", str(tmp_path / "none.json"), *args, "-o", str(tmp_path / "out")]) == 2
+    assert __import__("re").search(match, _one_error_line(capsys))
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_budget_key_not_planned_yet_is_refused_in_one_line(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    assert main(["plan", str(scene), "--budget", "shadow-iou=0.8", "-o", str(tmp_path / "out")]) == 1
+    assert "planning the shadows and to a frame time is not built yet" in _one_error_line(capsys)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.gl
+def test_a_budget_nothing_meets_is_one_line_with_the_best_reachable_and_nothing_written(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    out = tmp_path / "out"
+    assert main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out)]) == 1
+    line = _one_error_line(capsys)
+    assert "no representation meets the budget: the best reachable is billboard-psnr" in line
+    assert "against 90; bounded by tree, " in line
+    assert not out.exists()
+
+
+@pytest.mark.gl
+def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    out = tmp_path / "plan"
+    assert (
+        main(
+            [
+                "plan",
+                str(scene),
+                "--budget",
+                "billboard-iou=0.3",
+                "--budget",
+                "frames=0.5",
+                "-o",
+                str(out),
+                "--verify",
+                "3",
+                "--sweep",
+            ]
+        )
+        == 0
+    )
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["morphkit_plan"] == 1 and plan["budget"] == {"billboard-iou": 0.3, "frames": 0.5}
+    assert plan["relit"] is False and plan["assets"] == ["tree"]
+    assert plan["choices"] and {c["representation"] for c in plan["choices"]} <= {
+        "classic",
+        "nearest",
+        "morph",
+    }
+    # held out: the verified frames are not among those planned with
+    assert len(plan["held_out_frames"]) == 3 and not set(plan["held_out_frames"]) & set(
+        plan["planning_frames"]
+    )
+    v = plan["verified"]
+    assert v["frames"] == 3 and 0 <= v["within"] <= 3 and v["fraction"] == pytest.approx(v["within"] / 3)
+    assert set(plan["time_ms"]) >= {"plan", "default", "cheapest_sweep"} and plan["time_ms"]["plan"] > 0
+    assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
+    assert set(plan["configurations"]) == {"plan", "default", "classic", "nearest"}
+    assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in (out / "tables").iterdir()) == [
+        "tree.classic.npz",
+        "tree.morph.npz",
+        "tree.nearest.npz",
+    ]
+    capsys.readouterr()
+    # planned again into the same folder: its tables are read, not measured
+    assert (
+        main(
+            [
+                "plan",
+                str(scene),
+                "--budget",
+                "billboard-iou=0.3",
+                "-o",
+                str(out),
+                "--verify",
+                "2",
+                "--overwrite",
+            ]
+        )
+        == 0
+    )
+    assert "error tables: 0 measured, 3 read from" in capsys.readouterr().out
+    # the plan drawn: render --plan takes the folder
+    r = tmp_path / "r"
+    assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0
+    summary = json.loads((r / "render.json").read_text())
+    assert summary["plan"]["bands"] == len(json.loads((out / "plan.json").read_text())["choices"])
+    assert len(list((r / "frames").glob("frame_*.png"))) == 8
+
+
+@pytest.mark.gl
+def test_render_refuses_a_plan_of_other_assets(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    out = tmp_path / "plan"
+    assert main(["plan", str(scene), "--budget", "billboard-iou=0.3", "-o", str(out), "--verify", "1"]) == 0
+    capsys.readouterr()
+    other = tmp_path / "other.json"
+    other.write_text(
+        json.dumps(
+            {
+                **SMALL_SCENE,
+                "assets": [{"name": "bush", "source": "tree"}],
+                "instances": {"listed": [{"asset": "bush", "x": 0.0, "y": 0.0}]},
+            }
+        )
+    )
+    assert main(["render", str(other), "-o", str(tmp_path / "r"), "--plan", str(out)]) == 1
+    assert "expected a plan of the scene's assets ['bush']" in _one_error_line(capsys)
+    assert not (tmp_path / "r").exists()
