@@ -352,7 +352,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     budget = Budget.parse(args.budget or [])  # nonsense budgets: usage errors, before any work
     scene = load_scene(args.scene)
     claim = _output_folder(args.out, PLAN_OUTPUT, args.overwrite)
-    plan_scene(scene, budget, claim, sweep=args.sweep, verify=args.verify)
+    plan_scene(scene, budget, claim, sweep=args.sweep, verify=args.verify, tables_cache=args.tables)
     return 0
 
 
@@ -626,6 +626,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "plan.json's time_ms.cheapest_sweep)")
     pl.add_argument("--verify", type=int, default=6, metavar="N",
                     help="held-out frames verified against the real meshes (default: %(default)s)")
+    pl.add_argument("--tables", default=None, metavar="DIR",
+                    help="where the error tables are kept between runs (default: tables/ in $MORPHKIT_CACHE, "
+                    "~/.cache/morphkit)")
     pl.add_argument("--overwrite", action="store_true",
                     help="replace a previous `plan` in OUT (its error tables are reused where they match)")
     pl.set_defaults(func=_cmd_plan)

@@ -26,6 +26,9 @@ variable                   effect
                            textures, buffers) may lie in (:data:`ASSET_ROOT`;
                            default: each mesh file's own folder;
                            :mod:`morphkit.meshes.assets`).
+``MORPHKIT_CACHE``         where morphkit keeps what it measures once per asset and
+                           reuses (:data:`CACHE_DIR`: a plan's error tables; default
+                           ``$XDG_CACHE_HOME/morphkit``, else ``~/.cache/morphkit``).
 ``NUMBA_CACHE_DIR``        where numba caches compiled kernels on disk (numba
                            reads it; default ``__pycache__`` beside the module).
 =========================  ==================================================
@@ -64,7 +67,7 @@ except ImportError:  # pragma: no cover - numba is a dependency
 
 __all__ = ["numba", "NUMBA_AVAILABLE", "NUMPY_ONLY", "COMPILED", "WARP_THREADS", "compile_kernel",
            "use_compiled", "select_gl_platform", "check_environment", "GL_PLATFORMS", "GL_PLATFORM",
-           "EGL_DEVICE", "ASSET_ROOT", "child_environment"]
+           "EGL_DEVICE", "ASSET_ROOT", "CACHE_DIR", "child_environment"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -86,6 +89,11 @@ def _default_threads() -> int:
 #: ``MORPHKIT_ASSET_ROOT``: the folder a mesh's materials, textures and buffers may lie in
 #: (:mod:`morphkit.meshes.assets`); None (unset): each mesh file's own folder.
 ASSET_ROOT: str | None = os.environ.get("MORPHKIT_ASSET_ROOT") or None
+
+#: The folder of morphkit's per-asset measurements kept between runs (``MORPHKIT_CACHE``; default
+#: ``$XDG_CACHE_HOME/morphkit`` or ``~/.cache/morphkit``); created when first written.
+CACHE_DIR: str = os.environ.get("MORPHKIT_CACHE") or os.path.join(
+    os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "morphkit")
 
 
 def _env_int(names: tuple[str, ...], lo: int, hi: int, what: str) -> int | None:

@@ -616,6 +616,10 @@ PLAN_CARD_GAP_IOU = 0.06
 PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
+#: The most instances a plan predicts its frames from (:func:`morphkit.plan.planner.predict_frames`):
+#: a larger scene is predicted from a random sample of this many, whose frames' mean figures estimate
+#: the whole scene's (planning then takes the same time for 2 thousand instances as for 100 thousand).
+PLAN_MAX_INSTANCES = 2000
 #: The tallest on-screen height (pixels) a plan's error tables measure: a billboard taller than
 #: this fills most of a frame of up to 1080 rows, and its cell's frame grows with its square.
 PLAN_MAX_TABLE_HEIGHT_PX = 1024.0

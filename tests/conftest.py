@@ -34,3 +34,13 @@ def renderer():
     r = Renderer()
     yield r
     r.close()
+
+
+@pytest.fixture(autouse=True)
+def _cache_in_a_temporary_folder(tmp_path_factory, monkeypatch):
+    """What morphkit keeps between runs (a plan's error tables) goes to one folder of the session's
+    temporary tree, never to the user's cache."""
+    import morphkit.settings
+
+    cache = tmp_path_factory.getbasetemp() / "morphkit-cache"
+    monkeypatch.setattr(morphkit.settings, "CACHE_DIR", str(cache))

@@ -69,6 +69,19 @@ def test_a_budget_nothing_meets_is_one_line_with_the_best_reachable_and_nothing_
     assert "no representation meets the budget: the best reachable is billboard-psnr" in line
     assert "against 90; bounded by tree, " in line
     assert not out.exists()
+    # the tables it measured are kept in the cache: planning again measures none
+    tables = tmp_path / "tables"
+    assert (
+        main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out), "--tables", str(tables)])
+        == 1
+    )
+    assert "error tables: 3 measured, 0 read" in capsys.readouterr().out
+    assert (
+        main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out), "--tables", str(tables)])
+        == 1
+    )
+    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
+    assert len(list(tables.glob("tree.*.npz"))) == 3 and not out.exists()
 
 
 @pytest.mark.gl
@@ -134,7 +147,7 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
         )
         == 0
     )
-    assert "error tables: 0 measured, 3 read from" in capsys.readouterr().out
+    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
     # the plan drawn: render --plan takes the folder
     r = tmp_path / "r"
     assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tol
-from ..billboard import BillboardScene
+from ..billboard import BillboardScene, Instances
 from ..billboard.compare import PSNR_CAP_DB
 from ..camera import CameraModel
 from ..errors import BudgetError, ValidationError, expected_got
@@ -58,6 +58,9 @@ class FramePredictions:
         Per frame, the pixels of each drawn billboard's screen box inside the frame.
     base_height : dict of str to int
         Each asset's image height at level 0 (:func:`~.representations.band_label`).
+    instances, predicted_instances : int, optional
+        The scene's instances, and how many of them were predicted (a sample of a larger scene,
+        :func:`predict_frames`): the band counts are the sample's.
     """
 
     representations: tuple[str, ...]
@@ -67,6 +70,8 @@ class FramePredictions:
     iou: list[np.ndarray]
     pixels: list[np.ndarray]
     base_height: dict[str, int]
+    instances: int = 0
+    predicted_instances: int = 0
 
     def shifted(self, offsets: Mapping[str, tuple[float, float]]) -> FramePredictions:
         """The predictions with each representation's billboards moved by its offset (the
@@ -191,9 +196,18 @@ def calibration_offsets(
 
 
 def predict_frames(
-    tables: Mapping[tuple[str, str], ErrorTable], scene: BillboardScene, cameras: Sequence[CameraModel]
+    tables: Mapping[tuple[str, str], ErrorTable],
+    scene: BillboardScene,
+    cameras: Sequence[CameraModel],
+    *,
+    max_instances: int = tol.PLAN_MAX_INSTANCES,
+    rng: np.random.Generator | None = None,
 ) -> FramePredictions:
     """Every frame's drawn billboards and their predicted errors (the module notes).
+
+    A scene of more than ``max_instances`` instances is predicted from that many drawn at random
+    (``rng``): a frame's figures are means over its billboards, which a random sample estimates
+    without bias, so planning does not grow with the instances.
 
     Parameters
     ----------
@@ -203,6 +217,10 @@ def predict_frames(
         The scene.
     cameras : sequence of CameraModel
         The frames.
+    max_instances : int, optional
+        The most instances predicted (:data:`morphkit.tol.PLAN_MAX_INSTANCES`).
+    rng : numpy.random.Generator, optional
+        Draws the sample (default ``numpy.random.default_rng(0)``: the same plan on every run).
 
     Returns
     -------
@@ -213,7 +231,16 @@ def predict_frames(
     ValidationError
         A drawn asset without a table of every representation.
     """
+    n_all = len(scene)
+    if n_all > max_instances:
+        keep = np.sort((rng or np.random.default_rng(0)).choice(n_all, max_instances, replace=False))
+        inst = scene.instances
+        sub = Instances(inst.names, inst.asset[keep], inst.xy[keep], inst.yaw_deg[keep], inst.scale[keep])
+        scene = BillboardScene(
+            scene.assets, sub, backdrop=scene.backdrop, facing=scene.facing, min_pixels=scene.min_pixels
+        )
     reps = tuple(r.name for r in REPRESENTATIONS)
+    names = list(scene.instances.names)
     band_ids: dict[Band, int] = {}
     band_index, psnr, iou, pixels = [], [], [], []
     for cam in cameras:
@@ -226,22 +253,26 @@ def predict_frames(
             [max(1, (pl.roi[1] - pl.roi[0]) * (pl.roi[3] - pl.roi[2])) for pl in placements], float
         )
         if n:
-            names = [pl.asset for pl in placements]
+            kind = np.array([names.index(pl.asset) for pl in placements], np.int64)
             height = np.array([pl.height_px for pl in placements])
             elev = np.array([pl.elevation_deg for pl in placements])
-            level = np.array([pl.level for pl in placements])
+            level = np.array([pl.level for pl in placements], np.int64)
             eband = elevation_band(elev)
-            for k, (nm, lv, e) in enumerate(zip(names, level, eband, strict=True)):
-                idx[k] = band_ids.setdefault((nm, int(lv), int(e)), len(band_ids))
-            arr = np.array(names)
-            for nm in set(names):
-                sel = arr == nm
+            keys, inverse = np.unique(np.stack([kind, level, eband], axis=1), axis=0, return_inverse=True)
+            ids = np.array(
+                [band_ids.setdefault((names[a], int(lv), int(e)), len(band_ids)) for a, lv, e in keys]
+            )
+            idx[:] = ids[inverse.reshape(-1)]
+            for k in np.unique(kind):
+                sel = kind == k
                 for r, rep in enumerate(reps):
-                    t = tables.get((nm, rep))
+                    t = tables.get((names[k], rep))
                     if t is None:
                         raise ValidationError(
                             expected_got(
-                                "tables", f"an ErrorTable of {nm!r} as {rep!r}", f"tables of {sorted(tables)}"
+                                "tables",
+                                f"an ErrorTable of {names[k]!r} as {rep!r}",
+                                f"tables of {sorted(tables)}",
                             )
                         )
                     p[r, sel], q[r, sel] = t.lookup(height[sel], elev[sel])
@@ -250,7 +281,7 @@ def predict_frames(
         iou.append(q)
         pixels.append(area)
     base = {nm: int(a.size[0]) for nm, a in scene.assets.items()}
-    return FramePredictions(reps, list(band_ids), band_index, psnr, iou, pixels, base)
+    return FramePredictions(reps, list(band_ids), band_index, psnr, iou, pixels, base, n_all, len(scene))
 
 
 @dataclass(frozen=True)

@@ -22,12 +22,18 @@ the plan verified against the real meshes.
 4. writes ``OUT/plan.json`` (:mod:`morphkit.plan.planfile`), ``OUT/plan.png`` (the configurations'
    error against their median frame time, predicted beside measured) and ``OUT/tables/``.
 
+The tables are kept between runs in a cache (``--tables DIR``; default ``tables`` in
+:data:`morphkit.settings.CACHE_DIR`), named by what they were measured of and under, and written as
+soon as measured: a plan that fails its budget writes nothing to ``OUT`` but keeps its tables.
+
 Not planned yet (refused with one line): ``shadow-iou`` and ``time-ms`` budgets, the real mesh and
 the octahedral impostor as candidates, texel and sun-atlas sizes (the scene's own are kept).
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
 import time
 from collections.abc import Mapping, Sequence
@@ -36,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import tol
+from .. import settings, tol
 from ..billboard import MorphCache
 from ..billboard.compare import frame_errors
 from ..errors import FileFormatError, ValidationError, expected_got
@@ -121,15 +127,35 @@ def table_grids(prep: PreparedScene, cameras: Sequence[Any]) -> dict[str, tuple[
     return out
 
 
+def _table_key(
+    nm: str, asset: Any, want: Mapping[str, Any], heights: Sequence[float], elevations: Sequence[float]
+) -> str:
+    """The cache name of a table: what it is measured of and under, hashed."""
+    what = {
+        "asset": nm,
+        "mesh": asset.mesh_hash,
+        "kind": type(asset).__name__,
+        "size": list(asset.size),
+        "levels": int(asset.levels),
+        "heights": list(heights),
+        "elevations": list(elevations),
+        **want,
+    }
+    return hashlib.sha256(json.dumps(what, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
 def _tables(
     prep: PreparedScene,
     renderer: Renderer,
     focal_px: float,
     grids: Mapping[str, tuple[list[float], list[float]]],
     cache: Path,
+    previous: Path,
     head: str,
 ) -> tuple[dict[tuple[str, str], ErrorTable], list[str]]:
-    """Every used asset's table in every representation, read from ``cache`` when one there matches."""
+    """Every used asset's table in every representation: read from ``cache`` (or a previous plan's
+    ``previous`` folder) when one there was measured of the same asset under the same conditions,
+    else measured and written to ``cache`` at once (a plan that fails its budget keeps them)."""
     light = prep.lighting[len(prep.lighting) // 2] if prep.lighting else None
     want = _table_params(prep, focal_px, light)
     want["azimuths_deg"] = list(PLAN_AZIMUTHS_DEG)
@@ -138,24 +164,29 @@ def _tables(
     reused = 0
     for nm, (heights, elevations) in grids.items():
         asset = prep.scene.assets[nm]
+        key = _table_key(nm, asset, want, heights, elevations)
         for rep in REPRESENTATIONS:
-            path = cache / f"{nm}.{rep.name}.npz"
-            if path.is_file():
+            for path in (cache / f"{nm}.{rep.name}.{key}.npz", previous / f"{nm}.{rep.name}.npz"):
+                if not path.is_file():
+                    continue
                 try:
                     t = ErrorTable.load(path, mesh_hash=asset.mesh_hash)
-                    same = (
-                        t.heights_px.tolist() == heights
-                        and t.elevations_deg.tolist() == elevations
-                        and all(t.params.get(k) == v for k, v in want.items())
-                    )
-                    if same:
-                        tables[(nm, rep.name)] = t
-                        reused += 1
-                        continue
                 except FileFormatError:
-                    pass
+                    continue
+                same = (
+                    t.heights_px.tolist() == list(heights)
+                    and t.elevations_deg.tolist() == list(elevations)
+                    and t.representation == rep.name
+                    and all(t.params.get(k) == v for k, v in want.items())
+                )
+                if same:
+                    tables[(nm, rep.name)] = t
+                    reused += 1
+                    break
+            if (nm, rep.name) in tables:
+                continue
             mode = LitMode(rep.surface(), light) if prep.relit else rep.ring_mode(MorphCache())
-            tables[(nm, rep.name)] = measure_error_table(
+            t = measure_error_table(
                 asset,
                 prep.resolved.items[nm],
                 renderer,
@@ -170,8 +201,11 @@ def _tables(
                 facing=prep.scene.facing,
                 backdrop=prep.scene.backdrop,
             )
+            tables[(nm, rep.name)] = t
+            cache.mkdir(parents=True, exist_ok=True)
+            t.save(cache / f"{nm}.{rep.name}.{key}.npz")
             measured.append(f"{nm}.{rep.name}")
-    print(f"{head}error tables: {len(measured)} measured, {reused} read from {cache}", flush=True)
+    print(f"{head}error tables: {len(measured)} measured, {reused} read (cache {cache})", flush=True)
     return tables, measured
 
 
@@ -319,6 +353,7 @@ def plan_scene(
     overwrite: bool = False,
     sweep: bool = False,
     verify: int = DEFAULT_VERIFY,
+    tables_cache: str | os.PathLike[str] | None = None,
 ) -> dict[str, Any]:
     """Plan ``scene`` to ``budget`` and verify the plan on held-out frames (the module notes).
 
@@ -336,6 +371,9 @@ def plan_scene(
         Also draw the held-out frames with each representation everywhere (``time_ms.cheapest_sweep``).
     verify : int, optional
         Held-out frames verified (>= 1; at most the scene's frames).
+    tables_cache : path-like, optional
+        Where the error tables are kept between runs (default ``tables`` in
+        :data:`morphkit.settings.CACHE_DIR`).
 
     Returns
     -------
@@ -364,6 +402,7 @@ def plan_scene(
     """
     claim = out if isinstance(out, OutputClaim) else claim_output(out, PLAN_OUTPUT, overwrite=overwrite)
     head = "morphkit plan: "
+    tables_cache = Path(settings.CACHE_DIR) / TABLES_FOLDER if tables_cache is None else Path(tables_cache)
     for key, v in (("shadow-iou", budget.shadow_iou), ("time-ms", budget.time_ms)):
         if v is not None:
             raise ValidationError(
@@ -400,7 +439,9 @@ def plan_scene(
             )
         t0 = time.perf_counter()
         grids = table_grids(prep, cams)
-        tables, measured = _tables(prep, r, float(cams[0].fy), grids, claim.path / TABLES_FOLDER, head)
+        tables, measured = _tables(
+            prep, r, float(cams[0].fy), grids, Path(tables_cache), claim.path / TABLES_FOLDER, head
+        )
         t_tables = time.perf_counter() - t0
         t0 = time.perf_counter()
         offsets, calibration = _calibrate(prep, cams, planning, tables, head)
