@@ -10,7 +10,7 @@ The names a user needs are importable from here (``README.md``, "Quick start"), 
 * a field of billboards with shadows under a sun: :class:`SunlitField`
   (:meth:`SunlitField.from_meshes`, a sun from :func:`sun`), against the real meshes; a whole
   scene from a file (a JSON scene file or a glTF scene): :func:`load_scene`, drawn by
-  :func:`render_scene` into a folder.
+  :func:`render_scene` into a folder, planned to an error :class:`Budget` by :func:`plan_scene`.
 
 The scene, cameras, meshes, renderer, images and error measures they take are here too
 (:class:`Renderer`, :func:`load_mesh`, :func:`perspective`, :func:`shadow_iou`, ...), and the
@@ -29,6 +29,7 @@ import importlib
 from typing import Any
 
 from .errors import (
+    BudgetError,
     ClusterError,
     DegenerateViewError,
     FileFormatError,
@@ -74,6 +75,8 @@ _LAZY: dict[str, tuple[str, ...]] = {
     # a user's scene: scene files and glTF scenes, drawn into a folder
     "morphkit.scenes": ("load_scene", "SceneDescription", "write_scene_file"),
     "morphkit.programs.scenerender": ("render_scene",),
+    "morphkit.plan": ("Budget",),
+    "morphkit.programs.planrun": ("plan_scene",),
 }
 _EXPORTS: dict[str, str] = {name: module for module, names in _LAZY.items() for name in names}
 
@@ -88,6 +91,7 @@ __all__ = [
     "DegenerateViewError",
     "RenderError",
     "FileFormatError",
+    "BudgetError",
     "ClusterError",
     "OutputExistsError",
     "OutputBusyError",

@@ -229,3 +229,6 @@ def test_plan_suite_rows_predict_beside_measure():
         for p, m in zip(pred, meas, strict=True):  # the gap is the predicted against the measured
             assert p["metrics"]["gap_db"] == pytest.approx(abs(p["metrics"]["psnr"] - m["metrics"]["psnr"]))
             assert p["metrics"]["gap_iou"] == pytest.approx(abs(p["metrics"]["iou"] - m["metrics"]["iou"]))
+    (plan,) = [r for r in rows if r["params"].get("what") == "planning"]
+    # 10,000 instances over the sample size: predicted from tol.PLAN_MAX_INSTANCES of them
+    assert plan["method"] == "plan_10000" and plan["params"]["frames"] == 36 and plan["metrics"]["drawn"] > 0

@@ -13,6 +13,13 @@ For the classic card and the ring morph:
   ``measure_<mode>`` times the measurement itself (the mode's frame, the real meshes' frame and
   the per-billboard errors, as :func:`~morphkit.billboard.compare.compare_modes`) and carries the
   measured figures. The truth is the real meshes' frame (:class:`~morphkit.billboard.MeshMode`).
+* ``what=planning``, per instance count (1,000 and 100,000 trees scattered on the field their count
+  needs, :func:`~morphkit.billboard.place_random`; 10,000 with ``--quick``): ``plan_<n>`` times the
+  planner proper with warm tables, :func:`~morphkit.plan.planner.predict_frames` over the 36 frames of
+  the ``flyover`` path at 640 x 480 and :func:`~morphkit.plan.planner.choose` to a 22 dB budget. Its
+  tables are of constant figures (the planner's time does not depend on them): the row times the
+  planning, not its error. A scene over :data:`morphkit.tol.PLAN_MAX_INSTANCES` instances is
+  predicted from a sample of that many, which the row's ``drawn`` (billboards predicted) shows.
 """
 
 from __future__ import annotations
@@ -33,9 +40,12 @@ from ..billboard import (
     bake_lights,
 )
 from ..billboard.compare import box_errors, mean_errors
+from ..billboard.frames.instances import place_random
+from ..billboard.frames.paths import make_path
 from ..camera import look_at, perspective
 from ..meshes import normalize, sample_mesh
-from ..plan import measure_error_table, predict_frame_error
+from ..plan import Budget, ErrorTable, measure_error_table, predict_frame_error
+from ..plan.planner import choose, predict_frames
 from ..render import Renderer
 from .harness import make_row, time_call
 
@@ -114,4 +124,32 @@ def run(*, quick: bool = False) -> list[dict[str, Any]]:
                                      metrics={"psnr": pred["psnr"], "iou": pred["iou"], **gaps}))
                 rows.append(make_row(SUITE, f"measure_{nm}", params, time_call(measure, repeats=repeats),
                                      metrics={"psnr": got["psnr"], "iou": got["iou"]}))
+    rows += _planning(asset, (10_000,) if quick else (1_000, 100_000), repeats)
+    return rows
+
+
+def _planning(asset: Any, counts: tuple[int, ...], repeats: int) -> list[dict[str, Any]]:
+    """The ``what=planning`` rows (module notes)."""
+    h = np.array([16.0, 32.0, 64.0, 128.0, 256.0])
+    e = np.array([0.0, 40.0, 80.0])
+    flat = {"classic": 20.0, "nearest": 24.0, "morph": 28.0}
+    tables = {("tree", rep): ErrorTable("tree", asset.mesh_hash, rep, h, e, np.full((5, 3), db),
+                                        np.full((5, 3), 0.9))
+              for rep, db in flat.items()}
+    budget = Budget(billboard_psnr=22.0)
+    rows = []
+    for n in counts:
+        inst = place_random(["tree"], n, np.random.default_rng(n))
+        scene = BillboardScene({"tree": asset}, inst)
+        cams = make_path("flyover", float(np.abs(inst.xy).max())).cameras(36, (480, 640))
+        drawn: list[int] = []
+
+        def plan(scene: Any = scene, cams: Any = cams, drawn: list[int] = drawn) -> Any:
+            pred = predict_frames(tables, scene, cams)
+            drawn[:] = [sum(len(b) for b in pred.band_index)]
+            return choose(pred, budget)
+
+        timing = time_call(plan, repeats=repeats, warmup=0)
+        rows.append(make_row(SUITE, f"plan_{n}", {"what": "planning", "instances": n, "frames": len(cams)},
+                             timing, metrics={"drawn": float(drawn[0])}))
     return rows

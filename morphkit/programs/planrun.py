@@ -389,15 +389,15 @@ def plan_scene(
 
     Examples
     --------
-    The example forest, planned to 24 dB and an IoU of 0.9 in 95 % of its frames
-    (``morphkit plan samples/scenes/forest.json --budget billboard-psnr=24 --budget billboard-iou=0.9
+    The example forest, planned to 17 dB and an IoU of 0.75 in 95 % of its frames
+    (``morphkit plan samples/scenes/forest.json --budget billboard-psnr=17 --budget billboard-iou=0.75
     -o OUT``)::
 
         import morphkit
-        from morphkit.plan import Budget
 
         scene = morphkit.load_scene("samples/scenes/forest.json")
-        report = morphkit.plan_scene(scene, Budget(billboard_psnr=24, billboard_iou=0.9), "plan-out")
+        budget = morphkit.Budget(billboard_psnr=17, billboard_iou=0.75)
+        report = morphkit.plan_scene(scene, budget, "plan-out")
         print(report["verified"], report["time_ms"])
     """
     claim = out if isinstance(out, OutputClaim) else claim_output(out, PLAN_OUTPUT, overwrite=overwrite)
