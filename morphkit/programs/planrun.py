@@ -445,6 +445,8 @@ def plan_scene(
         t_tables = time.perf_counter() - t0
         t0 = time.perf_counter()
         offsets, calibration = _calibrate(prep, cams, planning, tables, head)
+        t_calibrate = time.perf_counter() - t0
+        t0 = time.perf_counter()
         pred = predict_frames(tables, prep.scene, [cams[k] for k in planning]).shifted(offsets)
         picked = choose(pred, budget)
         t_plan = time.perf_counter() - t0
@@ -501,6 +503,7 @@ def plan_scene(
         "scene_frames": len(cams),
         "planning_frames": planning,
         "held_out_frames": list(picks),
+        "held_out": planning != list(picks),
         "verified": {
             "frames": v["frames"],
             "within": v["within"],
@@ -513,6 +516,7 @@ def plan_scene(
             "cheapest_sweep": rows[cheapest]["time_ms"] if cheapest else None,
             "cheapest_sweep_name": cheapest,
             "planning": 1e3 * t_plan,
+            "calibration": 1e3 * t_calibrate,
             "tables": 1e3 * t_tables,
         },
         "error": {"plan": rows["plan"]["measured"], "default": rows["default"]["measured"]},
