@@ -288,7 +288,7 @@ def test_a_run_refused_after_making_a_subfolder_leaves_the_folder_as_it_was(tmp_
 def test_an_empty_subfolder_morphkit_makes_never_blocks_a_run(tmp_path):
     from morphkit.files.outfolder import BILLBOARDS_OUTPUT, subfolders
 
-    assert subfolders() == {"frames"}
+    assert subfolders() == {"frames", "tables"}  # tables: morphkit plan's error tables
     out = tmp_path / "o"
     (out / "frames").mkdir(parents=True)  # what an older version left of a run refused at its start
     (out / "frames" / ".frame_0000.ab12cd34.part.png").write_bytes(b"half")

@@ -248,3 +248,33 @@ def test_a_plan_file_round_trips_and_refuses_what_is_not_one(tmp_path):
     (tmp_path / "text.json").write_text("not json")
     with pytest.raises(FileFormatError, match="expected JSON"):
         read_plan(tmp_path / "text.json")
+
+
+def test_a_large_scene_is_predicted_from_a_sample_of_its_instances():
+    from morphkit.billboard import place_random
+    from morphkit.plan.planner import sample_scene
+
+    asset = FakeAsset("tree", views=8, half_extent=(0.3, 0.4), levels=3)
+    scene = BillboardScene({"tree": asset}, place_random(["tree"], 3000, np.random.default_rng(5)))
+    small = sample_scene(scene, 1000)
+    again = sample_scene(scene, 1000)
+    assert len(small) == 1000 and np.array_equal(small.instances.xy, again.instances.xy)  # the same sample
+    rows = {tuple(r) for r in scene.instances.xy.round(12)}
+    assert all(tuple(r) in rows for r in small.instances.xy.round(12))  # of the scene's own instances
+    assert sample_scene(scene, 5000) is scene
+    tables = {
+        ("tree", r): ErrorTable(
+            "tree",
+            HASH,
+            r,
+            np.array([4.0, 256.0]),
+            np.array([0.0, 80.0]),
+            np.full((2, 2), 20.0),
+            np.full((2, 2), 0.9),
+        )
+        for r in ("classic", "nearest", "morph")
+    }
+    cams = [_camera([0.0, -60.0, 8.0], [0.0, 0.0, 0.0])]
+    pred = predict_frames(tables, scene, cams, max_instances=1000)
+    assert (pred.instances, pred.predicted_instances) == (3000, 1000)
+    assert 0 < len(pred.band_index[0]) <= 1000

@@ -37,7 +37,15 @@ from .budget import Budget
 from .errortable import ErrorTable
 from .representations import REPRESENTATIONS, Band, BandChoice, band_label, elevation_band, representation
 
-__all__ = ["FramePredictions", "predict_frames", "calibration_offsets", "Choice", "choose", "reached"]
+__all__ = [
+    "FramePredictions",
+    "sample_scene",
+    "predict_frames",
+    "calibration_offsets",
+    "Choice",
+    "choose",
+    "reached",
+]
 
 
 @dataclass(frozen=True)
@@ -195,6 +203,36 @@ def calibration_offsets(
     return float(np.median(db)), float(np.median(iou)), len(db)
 
 
+def sample_scene(
+    scene: BillboardScene, max_instances: int = tol.PLAN_MAX_INSTANCES, rng: np.random.Generator | None = None
+) -> BillboardScene:
+    """``scene`` with at most ``max_instances`` of its instances, drawn at random (the scene itself
+    when it has no more): what a plan predicts and calibrates a large scene from.
+
+    Parameters
+    ----------
+    scene : BillboardScene
+        The scene.
+    max_instances : int, optional
+        The most instances kept (:data:`morphkit.tol.PLAN_MAX_INSTANCES`).
+    rng : numpy.random.Generator, optional
+        Draws them (default ``numpy.random.default_rng(0)``: the same sample on every run).
+
+    Returns
+    -------
+    BillboardScene
+    """
+    n = len(scene)
+    if n <= max_instances:
+        return scene
+    keep = np.sort((rng or np.random.default_rng(0)).choice(n, max_instances, replace=False))
+    inst = scene.instances
+    sub = Instances(inst.names, inst.asset[keep], inst.xy[keep], inst.yaw_deg[keep], inst.scale[keep])
+    return BillboardScene(
+        scene.assets, sub, backdrop=scene.backdrop, facing=scene.facing, min_pixels=scene.min_pixels
+    )
+
+
 def predict_frames(
     tables: Mapping[tuple[str, str], ErrorTable],
     scene: BillboardScene,
@@ -232,13 +270,7 @@ def predict_frames(
         A drawn asset without a table of every representation.
     """
     n_all = len(scene)
-    if n_all > max_instances:
-        keep = np.sort((rng or np.random.default_rng(0)).choice(n_all, max_instances, replace=False))
-        inst = scene.instances
-        sub = Instances(inst.names, inst.asset[keep], inst.xy[keep], inst.yaw_deg[keep], inst.scale[keep])
-        scene = BillboardScene(
-            scene.assets, sub, backdrop=scene.backdrop, facing=scene.facing, min_pixels=scene.min_pixels
-        )
+    scene = sample_scene(scene, max_instances, rng)
     reps = tuple(r.name for r in REPRESENTATIONS)
     names = list(scene.instances.names)
     band_ids: dict[Band, int] = {}

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from .. import settings, tol
-from ..billboard import MorphCache
+from ..billboard import BillboardScene, MorphCache
 from ..billboard.compare import frame_errors
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import write_bytes
@@ -51,7 +51,7 @@ from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ..plan import Budget
 from ..plan.errortable import DEFAULT_HEIGHTS_PX, ErrorTable, default_elevations, measure_error_table
 from ..plan.planfile import PLAN_NAME, ScenePlan
-from ..plan.planner import calibration_offsets, choose, predict_frames, reached
+from ..plan.planner import calibration_offsets, choose, predict_frames, reached, sample_scene
 from ..plan.representations import REPRESENTATIONS, BandChoice, Representation
 from ..render import Renderer
 from ..scenes.description import SceneDescription
@@ -230,8 +230,9 @@ def _calibrate(
     frames = [
         planning[i] for i in compare_indices(len(planning), min(PLAN_CALIBRATION_FRAMES, len(planning)))
     ]
-    got = _verify(prep, cameras, frames, {r.name: _uniform(prep, r) for r in REPRESENTATIONS})
-    pred = predict_frames(tables, prep.scene, [cameras[k] for k in frames])
+    sample = sample_scene(prep.scene)  # a large scene calibrated on the instances it is predicted from
+    got = _verify(prep, cameras, frames, {r.name: _uniform(prep, r) for r in REPRESENTATIONS}, sample)
+    pred = predict_frames(tables, sample, [cameras[k] for k in frames])
     offsets: dict[str, tuple[float, float]] = {}
     report: dict[str, Any] = {"frames": list(frames)}
     for r in REPRESENTATIONS:
@@ -256,10 +257,16 @@ def _frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
 
 
 def _verify(
-    prep: PreparedScene, cameras: Sequence[Any], picks: Sequence[int], modes: Mapping[str, Any]
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    picks: Sequence[int],
+    modes: Mapping[str, Any],
+    scene: BillboardScene | None = None,
 ) -> dict[str, dict[str, list[Any]]]:
     """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
-    to warm the caches) and in the truth; each mode's figures and times per frame."""
+    to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
+    instances drawn (default the prepared scene's)."""
+    scene = prep.scene if scene is None else scene
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": []} for nm in modes}
     order = list(modes)
     for n, k in enumerate(picks):
@@ -268,11 +275,11 @@ def _verify(
             for m in (*modes.values(), prep.truth):
                 if isinstance(m, Relit):
                     m.lighting = prep.lighting[k]
-        truth = prep.scene.render(cam, prep.truth)
+        truth = scene.render(cam, prep.truth)
         turn = order[n % len(order) :] + order[: n % len(order)]
         for nm in turn:
             t0 = time.perf_counter()
-            frame = prep.scene.render(cam, modes[nm])
+            frame = scene.render(cam, modes[nm])
             out[nm]["time_ms"].append(1e3 * (time.perf_counter() - t0))
             out[nm]["errors"].append(_frame_figures(frame, truth))
     return out
