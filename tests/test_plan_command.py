@@ -175,3 +175,19 @@ def test_render_refuses_a_plan_of_other_assets(tmp_path, capsys):
     assert main(["render", str(other), "-o", str(tmp_path / "r"), "--plan", str(out)]) == 1
     assert "expected a plan of the scene's assets ['bush']" in _one_error_line(capsys)
     assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.gl
+def test_a_scene_without_instances_is_refused_and_one_seeing_none_plans_nothing(tmp_path, capsys):
+    empty = _scene(tmp_path, instances={"listed": []})
+    assert main(["plan", str(empty), "--budget", "billboard-iou=0.5", "-o", str(tmp_path / "e")]) == 1
+    assert "expected instances of assets with meshes" in _one_error_line(capsys)
+    assert not (tmp_path / "e").exists()
+    away = _scene(
+        tmp_path, camera={"keyframes": [{"eye": [0.0, -6.0, 1.0], "target": [0.0, -20.0, 1.0]}]}, frames=3
+    )
+    out = tmp_path / "away"
+    assert main(["plan", str(away), "--budget", "billboard-iou=0.5", "-o", str(out), "--verify", "1"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    # nothing on screen: no band to choose, every frame within the budget (nothing to measure)
+    assert plan["choices"] == [] and plan["verified"]["fraction"] == 1.0
