@@ -44,7 +44,7 @@ from ..errors import FileFormatError, MorphkitError, RenderError, ValidationErro
 
 __all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
            "open_video_writer", "quiet_stderr", "append_lines", "write_bytes", "write_text", "write_json",
-           "encode_image", "write_image", "read_image", "file_kind", "open_regular"]
+           "encode_image", "write_image", "read_image", "file_kind", "open_regular", "read_json"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
 #: raise: every file loader catches these and raises a FileFormatError naming the file and what
@@ -517,6 +517,34 @@ def open_regular(path: str | os.PathLike[str], what: str,
         raise
     with f:
         yield f
+
+
+def read_json(path: str | os.PathLike[str], what: str) -> Any:
+    """The JSON document in the regular file ``path`` (:func:`open_regular`), UTF-8.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    what : str
+        What the file is, for the error message (``"scene file"``, ``"plan file"``).
+
+    Returns
+    -------
+    object
+        The decoded document.
+
+    Raises
+    ------
+    FileFormatError
+        No regular file there, or one that is not UTF-8 JSON (the decoder's message named).
+    """
+    with open_regular(path, what) as fh:
+        data = fh.read()
+    try:
+        return json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise FileFormatError(expected_got(f"{what} {path}", "JSON", f"{type(exc).__name__}: {exc}")) from exc
 
 
 def read_image(path: str | os.PathLike[str]) -> np.ndarray:

@@ -21,7 +21,6 @@ version is refused on reading):
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -30,7 +29,7 @@ from typing import Any
 
 from ..billboard import MorphCache
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..files.fileio import open_regular, write_json
+from ..files.fileio import read_json, write_json
 from ..imaging.shading import Lighting
 from ..sunlit import LitMode
 from .budget import Budget
@@ -215,12 +214,7 @@ def read_plan(path: str | os.PathLike[str]) -> ScenePlan:
     p = Path(path)
     if p.is_dir():
         p = p / PLAN_NAME
-    with open_regular(p, "plan file") as fh:
-        data = fh.read()
-    try:
-        obj = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise FileFormatError(expected_got(f"plan file {p}", "JSON", f"{type(exc).__name__}: {exc}")) from exc
+    obj = read_json(p, "plan file")
     if not isinstance(obj, dict) or "morphkit_plan" not in obj:
         raise FileFormatError(
             expected_got(

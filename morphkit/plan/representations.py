@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -109,96 +109,69 @@ class Representation(Protocol):
 
 
 @dataclass(frozen=True)
-class ClassicCard:
-    """The classic billboard: one image from every direction (the cheapest)."""
+class _ModePair:
+    """A representation drawn by one surface choice (relit) and one billboard mode (ring): its
+    subclasses name the two classes."""
+
+    name: str = ""
+    cost: int = 0
+    surface_type: ClassVar[type] = MorphSurface
+    ring_type: ClassVar[type] = MorphMode
+
+    def surface(self) -> SurfaceChoice:
+        """The surface a relit dome asset's billboard takes (:attr:`surface_type`).
+
+        Returns
+        -------
+        SurfaceChoice
+        """
+        return self.surface_type()
+
+    def ring_mode(self, cache: MorphCache) -> BillboardMode:
+        """The mode drawing a ring asset's billboards (:attr:`ring_type`; a morph keeps its images
+        in ``cache``).
+
+        Parameters
+        ----------
+        cache : MorphCache
+            The morphs' cache (a mode that makes none ignores it).
+
+        Returns
+        -------
+        BillboardMode
+        """
+        return self.ring_type(cache) if self.ring_type is MorphMode else self.ring_type()
+
+
+@dataclass(frozen=True)
+class ClassicCard(_ModePair):
+    """The classic billboard: one image from every direction (the cheapest;
+    :class:`~morphkit.sunlit.litmodes.ClassicSurface`, :class:`~morphkit.billboard.ClassicMode`)."""
 
     name: str = "classic"
     cost: int = 0
-
-    def surface(self) -> SurfaceChoice:
-        """:class:`~morphkit.sunlit.litmodes.ClassicSurface`.
-
-        Returns
-        -------
-        SurfaceChoice
-        """
-        return ClassicSurface()
-
-    def ring_mode(self, cache: MorphCache) -> BillboardMode:
-        """:class:`~morphkit.billboard.ClassicMode` (``cache`` unused).
-
-        Parameters
-        ----------
-        cache : MorphCache
-            Not used.
-
-        Returns
-        -------
-        BillboardMode
-        """
-        return ClassicMode()
+    surface_type: ClassVar[type] = ClassicSurface
+    ring_type: ClassVar[type] = ClassicMode
 
 
 @dataclass(frozen=True)
-class NearestView:
-    """The nearest reference view, switched as the direction changes."""
+class NearestView(_ModePair):
+    """The nearest reference view, switched as the direction changes
+    (:class:`~morphkit.sunlit.litmodes.NearestSurface`, :class:`~morphkit.billboard.NearestMode`)."""
 
     name: str = "nearest"
     cost: int = 1
-
-    def surface(self) -> SurfaceChoice:
-        """:class:`~morphkit.sunlit.litmodes.NearestSurface`.
-
-        Returns
-        -------
-        SurfaceChoice
-        """
-        return NearestSurface()
-
-    def ring_mode(self, cache: MorphCache) -> BillboardMode:
-        """:class:`~morphkit.billboard.NearestMode` (``cache`` unused).
-
-        Parameters
-        ----------
-        cache : MorphCache
-            Not used.
-
-        Returns
-        -------
-        BillboardMode
-        """
-        return NearestMode()
+    surface_type: ClassVar[type] = NearestSurface
+    ring_type: ClassVar[type] = NearestMode
 
 
 @dataclass(frozen=True)
-class ViewMorph:
-    """The view morph of the views around the direction (today's default)."""
+class ViewMorph(_ModePair):
+    """The view morph of the views around the direction, today's default
+    (:class:`~morphkit.sunlit.litmodes.MorphSurface`, :class:`~morphkit.billboard.MorphMode`)."""
 
     name: str = "morph"
     cost: int = 2
-
-    def surface(self) -> SurfaceChoice:
-        """:class:`~morphkit.sunlit.litmodes.MorphSurface`.
-
-        Returns
-        -------
-        SurfaceChoice
-        """
-        return MorphSurface()
-
-    def ring_mode(self, cache: MorphCache) -> BillboardMode:
-        """:class:`~morphkit.billboard.MorphMode` keeping its morphs in ``cache``.
-
-        Parameters
-        ----------
-        cache : MorphCache
-            The morphs' cache.
-
-        Returns
-        -------
-        BillboardMode
-        """
-        return MorphMode(cache)
 
 
 #: Every representation a plan chooses among, cheapest first.

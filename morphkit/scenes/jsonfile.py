@@ -34,7 +34,7 @@ from typing import Any
 
 from ..billboard.frames.backdrop import Ground
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..files.fileio import open_regular, write_json
+from ..files.fileio import read_json, write_json
 from ..meshes import BILLBOARD_MESHES, SAMPLE_FILES, sample_file
 from .camerapaths import camera_from_json
 from .description import SceneAsset, SceneDescription, SceneShadows
@@ -261,14 +261,7 @@ def read_scene_file(path: str | os.PathLike[str]) -> SceneDescription:
         Values the scene cannot be.
     """
     p = Path(path)
-    with open_regular(p, "scene file") as fh:
-        data = fh.read()
-    try:
-        obj = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise FileFormatError(
-            expected_got(f"scene file {p}", "JSON", f"{type(exc).__name__}: {exc}")
-        ) from exc
+    obj = read_json(p, "scene file")
     return scene_from_json(obj, folder=p.resolve().parent, where=str(p))
 
 
