@@ -620,6 +620,15 @@ PLAN_MARGIN_IOU = 0.01
 #: a larger scene is predicted from a random sample of this many, whose frames' mean figures estimate
 #: the whole scene's (planning then takes the same time for 2 thousand instances as for 100 thousand).
 PLAN_MAX_INSTANCES = 2000
+#: The shortest on-screen height (pixels) a plan's error tables measure: twice the scene's smallest
+#: drawn billboard (``min_pixels``, 2), so a far field of tiny billboards is looked up where it is
+#: measured, not at a larger one's row.
+PLAN_MIN_TABLE_HEIGHT_PX = 4.0
+#: The largest calibration offset a plan applies to the tables' predicted box PSNR (dB); a larger
+#: one is held to it, and said: the tables then describe the scene's billboards poorly.
+PLAN_MAX_OFFSET_DB = 6.0
+#: The same bound on the IoU offset (:data:`PLAN_MAX_OFFSET_DB`'s sentence holds for it).
+PLAN_MAX_OFFSET_IOU = 0.1
 #: The tallest on-screen height (pixels) a plan's error tables measure: a billboard taller than
 #: this fills most of a frame of up to 1080 rows, and its cell's frame grows with its square.
 PLAN_MAX_TABLE_HEIGHT_PX = 1024.0

@@ -49,7 +49,7 @@ from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import write_bytes
 from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ..plan import Budget
-from ..plan.errortable import DEFAULT_HEIGHTS_PX, ErrorTable, default_elevations, measure_error_table
+from ..plan.errortable import ErrorTable, default_elevations, measure_error_table
 from ..plan.planfile import PLAN_NAME, ScenePlan
 from ..plan.planner import calibration_offsets, choose, predict_frames, reached, sample_scene
 from ..plan.representations import REPRESENTATIONS, BandChoice, Representation
@@ -93,8 +93,8 @@ def _bracket(bins: Sequence[float], lo: float, hi: float) -> list[float]:
 
 def table_grids(prep: PreparedScene, cameras: Sequence[Any]) -> dict[str, tuple[list[float], list[float]]]:
     """Each drawn asset's table grid, only what the frames need: the on-screen heights (doubling from
-    :data:`~morphkit.plan.errortable.DEFAULT_HEIGHTS_PX`' first, up to
-    :data:`morphkit.tol.PLAN_MAX_TABLE_HEIGHT_PX`; taller billboards are looked up at the top row) and
+    :data:`morphkit.tol.PLAN_MIN_TABLE_HEIGHT_PX` up to :data:`morphkit.tol.PLAN_MAX_TABLE_HEIGHT_PX`;
+    taller billboards are looked up at the top row) and
     the elevations (:func:`~morphkit.plan.errortable.default_elevations`) that bracket the billboards
     the frames draw of it.
 
@@ -110,10 +110,11 @@ def table_grids(prep: PreparedScene, cameras: Sequence[Any]) -> dict[str, tuple[
     dict of str to (heights, elevations)
     """
     seen: dict[str, list[tuple[float, float]]] = {}
+    scene = sample_scene(prep.scene)
     for cam in cameras:
-        for pl in prep.scene.plan(cam).placements:
+        for pl in scene.plan(cam).placements:
             seen.setdefault(pl.asset, []).append((pl.height_px, pl.elevation_deg))
-    doubling = [DEFAULT_HEIGHTS_PX[0]]
+    doubling = [tol.PLAN_MIN_TABLE_HEIGHT_PX]
     while doubling[-1] < tol.PLAN_MAX_TABLE_HEIGHT_PX:
         doubling.append(2.0 * doubling[-1])
     out = {}
@@ -239,8 +240,22 @@ def _calibrate(
         db, iou, n = calibration_offsets(
             pred.frame_errors(pred.pick_of(BandChoice(default=r.name))), got[r.name]["errors"]
         )
-        offsets[r.name] = (db, iou)
-        report[r.name] = {"db": db, "iou": iou, "frames_used": n}
+        lim_db, lim_iou = tol.PLAN_MAX_OFFSET_DB, tol.PLAN_MAX_OFFSET_IOU
+        kept = (float(np.clip(db, -lim_db, lim_db)), float(np.clip(iou, -lim_iou, lim_iou)))
+        if kept != (db, iou):
+            print(
+                f"{head}{r.name}'s calibration {db:+.2f} dB, IoU {iou:+.3f} held to {kept[0]:+.2f} dB, IoU "
+                f"{kept[1]:+.3f}: the tables describe this scene's billboards poorly",
+                flush=True,
+            )
+        offsets[r.name] = kept
+        report[r.name] = {
+            "db": kept[0],
+            "iou": kept[1],
+            "measured_db": db,
+            "measured_iou": iou,
+            "frames_used": n,
+        }
     print(
         f"{head}calibrated on {len(frames)} planning frames (measured less predicted): "
         + "; ".join(f"{nm} {db:+.2f} dB, IoU {iou:+.3f}" for nm, (db, iou) in offsets.items()),
@@ -468,7 +483,8 @@ def plan_scene(
         moved = sum(v != "morph" for v in picked.choice.choices.values())
         print(
             f"{head}{len(pred.bands)} bands over {len(planning)} planning frames; {moved} moved from the "
-            f"view morph to a cheaper representation ({t_plan:.2f} s)",
+            f"view morph to a cheaper representation (tables {t_tables:.1f} s, calibration "
+            f"{t_calibrate:.1f} s, choice {t_plan:.2f} s)",
             flush=True,
         )
         modes: dict[str, Any] = {
