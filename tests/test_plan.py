@@ -278,3 +278,33 @@ def test_a_large_scene_is_predicted_from_a_sample_of_its_instances():
     pred = predict_frames(tables, scene, cams, max_instances=1000)
     assert (pred.instances, pred.predicted_instances) == (3000, 1000)
     assert 0 < len(pred.band_index[0]) <= 1000
+
+
+def test_a_table_of_a_scaled_instance_draws_its_billboard_the_cells_height():
+    from morphkit.plan.errortable import measure_error_table
+
+    asset = FakeAsset("fake", views=8, levels=1, solid=True)
+    seen = []
+
+    class Spy(ClassicMode):
+        def render(self, scene, camera):
+            frame = super().render(scene, camera)
+            seen.append((scene.instances.scale[0], frame.placements[0].height_px))
+            return frame
+
+    t = measure_error_table(
+        asset,
+        None,
+        None,
+        Spy(),
+        ClassicMode(),
+        heights_px=(16.0, 40.0),
+        elevations_deg=(0.0,),
+        azimuths_deg=(10.0,),
+        mesh_hash=HASH,
+        scale=2.5,
+    )
+    assert t.params["scale"] == 2.5 and [s for s, _ in seen] == [2.5, 2.5]
+    assert [h for _, h in seen] == [pytest.approx(16.0, rel=1e-9), pytest.approx(40.0, rel=1e-9)]
+    with pytest.raises(ValidationError, match="scale: expected a scale > 0, got 0"):
+        measure_error_table(asset, None, None, ClassicMode(), ClassicMode(), mesh_hash=HASH, scale=0.0)

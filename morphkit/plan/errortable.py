@@ -417,7 +417,8 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
                         shape: tuple[int, int] | None = None, lighting: Lighting | None = None,
                         representation: str | None = None, params: Mapping[str, Any] | None = None,
                         focal_px: float = DEFAULT_FOCAL_PX, facing: Facing | None = None,
-                        backdrop: Backdrop | None = None, mesh_hash: str | None = None) -> ErrorTable:
+                        backdrop: Backdrop | None = None, mesh_hash: str | None = None,
+                        scale: float = 1.0) -> ErrorTable:
     """Measure ``mode``'s error against ``truth`` for one asset over a grid of on-screen heights,
     elevations and azimuths (see the module notes).
 
@@ -463,6 +464,10 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
         Ground and sky both frames are composited over (default :class:`~morphkit.billboard.Backdrop`).
     mesh_hash : str, optional
         The mesh's hash (default the asset's ``mesh_hash``).
+    scale : float, optional
+        The instance's scale (a scene's instances of the asset): a billboard as tall on screen
+        stands ``scale`` times as far, which the perspective does not see but the backdrop's fog
+        does.
 
     Returns
     -------
@@ -501,10 +506,13 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
         for m in (mode, truth):
             if isinstance(m, Relit):
                 m.lighting = lighting
-    inst = Instances((asset.name,), np.zeros(1, np.int64), np.zeros((1, 2)), np.zeros(1), np.ones(1))
+    if not (math.isfinite(scale) and scale > 0):
+        raise ValidationError(expected_got("scale", "a scale > 0", scale))
+    inst = Instances((asset.name,), np.zeros(1, np.int64), np.zeros((1, 2)), np.zeros(1),
+                     np.full(1, float(scale)))
     scene = BillboardScene({asset.name: asset}, inst, backdrop=backdrop or Backdrop(), facing=facing)
     pivot = scene.pivots[0]
-    hw, hh = (float(x) for x in asset.half_extent)
+    hw, hh = (float(x) * scale for x in asset.half_extent)
     psnr_db = np.full((len(h_bins), len(e_bins)), np.nan)
     iou = np.full_like(psnr_db, np.nan)
     for i, hp in enumerate(h_bins):
@@ -526,5 +534,6 @@ def measure_error_table(asset: Any, items: Sequence[Any] | None, renderer: Any, 
             psnr_db[i, j], iou[i, j] = m["psnr"], m["iou"]
     record = dict(params or {})
     record.update({"azimuths_deg": az.tolist(), "focal_px": float(focal_px), "mode": mode.name,
-                   "facing": type(facing).__name__, "items": None if items is None else len(items)})
+                   "scale": float(scale), "facing": type(facing).__name__,
+                   "items": None if items is None else len(items)})
     return ErrorTable(asset.name, digest, representation or mode.name, h_bins, e_bins, psnr_db, iou, record)

@@ -165,7 +165,10 @@ def _tables(
     reused = 0
     for nm, (heights, elevations) in grids.items():
         asset = prep.scene.assets[nm]
-        key = _table_key(nm, asset, want, heights, elevations)
+        inst = prep.scene.instances
+        scale = float(np.median(inst.scale[inst.asset == inst.names.index(nm)]))
+        want_asset = {**want, "scale": scale}
+        key = _table_key(nm, asset, want_asset, heights, elevations)
         for rep in REPRESENTATIONS:
             for path in (cache / f"{nm}.{rep.name}.{key}.npz", previous / f"{nm}.{rep.name}.npz"):
                 if not path.is_file():
@@ -178,7 +181,7 @@ def _tables(
                     t.heights_px.tolist() == list(heights)
                     and t.elevations_deg.tolist() == list(elevations)
                     and t.representation == rep.name
-                    and all(t.params.get(k) == v for k, v in want.items())
+                    and all(t.params.get(k) == v for k, v in want_asset.items())
                 )
                 if same:
                     tables[(nm, rep.name)] = t
@@ -197,10 +200,11 @@ def _tables(
                 azimuths_deg=PLAN_AZIMUTHS_DEG,
                 lighting=light,
                 representation=rep.name,
-                params=want,
+                params=want_asset,
                 focal_px=focal_px,
                 facing=prep.scene.facing,
                 backdrop=prep.scene.backdrop,
+                scale=scale,
             )
             tables[(nm, rep.name)] = t
             cache.mkdir(parents=True, exist_ok=True)
