@@ -156,11 +156,20 @@ def test_calibration_moves_each_representations_predictions_by_its_offset():
     before = pred.frame_errors(np.array([0]))[0]["billboard-psnr"]
     after = moved.frame_errors(np.array([0]))[0]["billboard-psnr"]
     assert after - before == pytest.approx(-2.0, abs=1e-9)
-    db, iou, n = calibration_offsets(
-        [{"billboard-psnr": 25.0, "billboard-iou": 0.9}, {"billboard-psnr": None}],
-        [{"billboard-psnr": 23.5, "billboard-iou": 0.95}, {"billboard-psnr": 22.0}],
+    c = calibration_offsets(
+        [
+            {"billboard-psnr": 25.0, "billboard-iou": 0.9},
+            {"billboard-psnr": None},
+            {"billboard-psnr": 27.0, "billboard-iou": 0.8},
+        ],
+        [
+            {"billboard-psnr": 23.5, "billboard-iou": 0.95},
+            {"billboard-psnr": 22.0},
+            {"billboard-psnr": 26.5, "billboard-iou": 0.8},
+        ],
     )
-    assert (db, n) == (-1.5, 1) and iou == pytest.approx(0.05)
+    # gaps -1.5 and -0.5 dB (the frame without a prediction left out): median -1.0, each 0.5 from it
+    assert (c.db, c.frames, c.spread_db) == (-1.0, 2, 0.5) and c.iou == pytest.approx(0.025)
 
 
 # ---------------------------------------------------------------- the choice
@@ -191,6 +200,28 @@ def test_the_choice_is_the_cheapest_that_meets_the_budget():
     # an IoU budget the card misses from above: with 0.93 the card's frame (0.8375) fails
     got = choose(pred, Budget(billboard_iou=0.93))
     assert got.choice.choices[("tree", 0, 2)] != "classic"
+
+
+def test_measured_costs_steer_the_choice_and_it_is_never_dearer_than_one_representation_everywhere():
+    pred = _two_bands()
+    budget = Budget(billboard_psnr=25.0)
+    # the card measured dearer than the nearest view (a card's big image): the nearest view everywhere
+    got = choose(pred, budget, costs={"classic": 5.0, "nearest": 1.0, "morph": 10.0})
+    assert set(got.choice.choices.values()) == {"nearest"}
+    counts = pred.counts()
+    for costs in (
+        {"classic": 1.0, "nearest": 2.0, "morph": 9.0},
+        {"classic": 3.0, "nearest": 2.0, "morph": 2.5},
+    ):
+        got = choose(pred, budget, costs=costs)
+        cost = np.array([costs[r] for r in pred.representations])
+        total = float(np.sum(counts * cost[pred.pick_of(got.choice)]))
+        for r, name in enumerate(pred.representations):
+            uniform = np.full(len(pred.bands), r)
+            if all(f["billboard-psnr"] >= 25.0 + tol.PLAN_MARGIN_DB for f in pred.frame_errors(uniform)):
+                assert total <= float(np.sum(counts * cost[uniform])), name
+    # a wider margin keeps a dearer representation
+    assert choose(pred, budget, margin=(3.0, 0.0)).choice.choices[("tree", 0, 2)] == "morph"
 
 
 def test_a_budget_nothing_meets_names_the_best_reachable_figure_and_its_bound():

@@ -10,14 +10,16 @@ billboards' boxes: the frame's mean squared error is the mean of its billboards'
 its IoU the mean of theirs weighted alike. What the tables cannot know (one billboard whole and
 alone per cell) stays unknown: overlapping boxes count twice, a cut one is predicted as whole.
 
-:func:`choose` starts from every band in the view morph (today's default), checks that the
-budget's fraction of frames is predicted to meet it by a margin (the prediction's gap,
-:data:`morphkit.tol.PLAN_MARGIN_DB` and :data:`~morphkit.tol.PLAN_MARGIN_IOU`), then visits the
-bands in order of how many billboards they draw over the path, most first, and gives each the
-cheapest representation that keeps the prediction within the budget: a greedy descent on the cost
-of :mod:`.representations`, each step checked against the frames' budget, not against a per-band
-guess. A budget the start does not meet is refused (:class:`~morphkit.errors.BudgetError`) with the
-figure the start reaches in the budget's fraction of frames and the band that bounds it.
+:func:`choose` looks for the cheapest assignment whose predicted figures meet the budget's
+fraction of frames by a margin (the prediction's unexplained spread, at least
+:data:`morphkit.tol.PLAN_MARGIN_DB` and :data:`~morphkit.tol.PLAN_MARGIN_IOU`). It starts from each
+representation everywhere that meets the budget, then visits the bands, the costliest first (their
+billboards over the path times their representation's cost per billboard, as measured), and gives each
+the cheapest representation that keeps the frames within the budget, pass after pass until none
+changes: a greedy descent whose every step is checked against the frames' budget, not against a
+per-band guess; the cheapest of the descents wins. A budget no representation everywhere meets is
+refused (:class:`~morphkit.errors.BudgetError`) with the figure the view morph everywhere reaches in
+the budget's fraction of frames and the band that bounds it.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -41,6 +44,7 @@ __all__ = [
     "FramePredictions",
     "sample_scene",
     "predict_frames",
+    "Calibration",
     "calibration_offsets",
     "Choice",
     "choose",
@@ -164,14 +168,33 @@ class FramePredictions:
         return out
 
 
+class Calibration(NamedTuple):
+    """One representation's calibration to a scene (:func:`calibration_offsets`).
+
+    Parameters
+    ----------
+    db, iou : float
+        The offsets, measured less predicted: the medians over the frames.
+    frames : int
+        Frames used.
+    spread_db, spread_iou : float
+        The largest distance of a frame's gap from its median: what the offset leaves unexplained.
+    """
+
+    db: float
+    iou: float
+    frames: int
+    spread_db: float
+    spread_iou: float
+
+
 def calibration_offsets(
     predicted: Sequence[Mapping[str, float | None]], measured: Sequence[Mapping[str, float | None]]
-) -> tuple[float, float, int]:
+) -> Calibration:
     """One representation's calibration: the median over frames drawn in it everywhere of measured
-    less predicted, ``(dB, IoU, frames used)``. Adding a constant to every billboard's PSNR moves the
-    frame's by that constant, and to every IoU the frame's too, so the median is the constant that
-    best closes the gap; frames at the PSNR cap (nothing wrong to measure) or without billboards are
-    left out.
+    less predicted. Adding a constant to every billboard's PSNR moves the frame's by that constant,
+    and to every IoU the frame's too, so the median is the constant that best closes the gap; frames
+    at the PSNR cap (nothing wrong to measure) or without billboards are left out.
 
     Parameters
     ----------
@@ -180,16 +203,19 @@ def calibration_offsets(
 
     Returns
     -------
-    (float, float, int)
-        ``(0, 0, 0)`` when no frame serves.
+    Calibration
+        All zero when no frame serves.
 
     Examples
     --------
     >>> from morphkit.plan.planner import calibration_offsets
-    >>> p = [{"billboard-psnr": 26.0, "billboard-iou": 0.90}, {"billboard-psnr": 30.0, "billboard-iou": 0.95}]
-    >>> m = [{"billboard-psnr": 24.0, "billboard-iou": 0.88}, {"billboard-psnr": 100.0, "billboard-iou": 1.0}]
-    >>> calibration_offsets(p, m)
-    (-2.0, -0.020000000000000018, 1)
+    >>> p = [{"billboard-psnr": 26.0, "billboard-iou": 0.90}, {"billboard-psnr": 30.0, "billboard-iou": 0.95},
+    ...      {"billboard-psnr": 28.0, "billboard-iou": 0.90}]
+    >>> m = [{"billboard-psnr": 24.0, "billboard-iou": 0.88}, {"billboard-psnr": 100.0, "billboard-iou": 1.0},
+    ...      {"billboard-psnr": 27.0, "billboard-iou": 0.90}]
+    >>> c = calibration_offsets(p, m)
+    >>> c.db, c.frames, c.spread_db, round(c.iou, 3)
+    (-1.5, 2, 0.5, -0.01)
     """
     db, iou = [], []
     for p, m in zip(predicted, measured, strict=True):
@@ -199,8 +225,11 @@ def calibration_offsets(
         db.append(mp - pp)
         iou.append(m["billboard-iou"] - p["billboard-iou"])  # type: ignore[operator]
     if not db:
-        return 0.0, 0.0, 0
-    return float(np.median(db)), float(np.median(iou)), len(db)
+        return Calibration(0.0, 0.0, 0, 0.0, 0.0)
+    d, q = float(np.median(db)), float(np.median(iou))
+    return Calibration(
+        d, q, len(db), float(np.max(np.abs(np.array(db) - d))), float(np.max(np.abs(np.array(iou) - q)))
+    )
 
 
 def sample_scene(
@@ -338,10 +367,12 @@ class Choice:
     steps: int
 
 
-def _shifted(frames: list[dict[str, float | None]]) -> list[dict[str, float | None]]:
-    """The figures less the prediction's margin."""
-    margin = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
-    return [{k: None if v is None else v - margin[k] for k, v in f.items()} for f in frames]
+def _shifted(
+    frames: list[dict[str, float | None]], margin: tuple[float, float]
+) -> list[dict[str, float | None]]:
+    """The figures less the prediction's margin ``(dB, IoU)``."""
+    by = {"billboard-psnr": margin[0], "billboard-iou": margin[1]}
+    return [{k: None if v is None else v - by[k] for k, v in f.items()} for f in frames]
 
 
 def reached(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dict[str, float | None]:
@@ -389,7 +420,13 @@ def _bound(pred: FramePredictions, pick: np.ndarray, key: str) -> str:
     )
 
 
-def choose(pred: FramePredictions, budget: Budget) -> Choice:
+def choose(
+    pred: FramePredictions,
+    budget: Budget,
+    *,
+    costs: Mapping[str, float] | None = None,
+    margin: tuple[float, float] | None = None,
+) -> Choice:
     """The cheapest choice of representation per band predicted to meet ``budget`` (module notes).
 
     Parameters
@@ -398,6 +435,12 @@ def choose(pred: FramePredictions, budget: Budget) -> Choice:
         The frames' predictions.
     budget : Budget
         The error budget (its error keys ``billboard-psnr`` and ``billboard-iou``).
+    costs : mapping of str to float, optional
+        Each representation's cost per billboard drawn (e.g. milliseconds, as measured); default
+        the cost order of :data:`~.representations.REPRESENTATIONS`.
+    margin : (float, float), optional
+        How far, in dB and in IoU, a choice's predicted figures must beat the budget (default
+        :data:`morphkit.tol.PLAN_MARGIN_DB`, :data:`morphkit.tol.PLAN_MARGIN_IOU`).
 
     Returns
     -------
@@ -406,42 +449,63 @@ def choose(pred: FramePredictions, budget: Budget) -> Choice:
     Raises
     ------
     BudgetError
-        Even the default is not predicted to meet the budget by the margin.
+        No representation everywhere is predicted to meet the budget by the margin.
     """
-    morph = pred.representations.index("morph")
-    start = np.full(len(pred.bands), morph, np.int64)
-    default = pred.frame_errors(start)
+    margin = (tol.PLAN_MARGIN_DB, tol.PLAN_MARGIN_IOU) if margin is None else margin
+    reps = pred.representations
+    cost = np.array([float(costs[n]) if costs is not None else representation(n).cost + 1.0 for n in reps])
+    counts = pred.counts()
+    morph = reps.index("morph")
+    default = pred.frame_errors(np.full(len(pred.bands), morph, np.int64))
 
     def meets(pick: np.ndarray) -> bool:
-        return bool(budget.verdict(_shifted(pred.frame_errors(pick)))["met"])
+        return bool(budget.verdict(_shifted(pred.frame_errors(pick), margin))["met"])
 
-    if not meets(start):
-        got = reached(budget, _shifted(default))
+    def total(pick: np.ndarray) -> float:
+        return float(np.sum(counts * cost[pick]))
+
+    starts = [np.full(len(pred.bands), r, np.int64) for r in range(len(reps))]
+    starts = [p for p in starts if meets(p)]
+    if not starts:
+        got = reached(budget, _shifted(default, margin))
         parts = []
         for key, want in budget.error_keys():
             v = got.get(key)
             if v is not None and v < want:
                 parts.append(
                     f"{key} {v:.3g} (with the prediction's margin) in {budget.frames:.0%} of the frames, "
-                    f"against {want:g}; bounded by {_bound(pred, start, key)}"
+                    f"against {want:g}; bounded by {_bound(pred, _morph_pick(pred), key)}"
                 )
         raise BudgetError(
             "no representation meets the budget: the best reachable is "
             + ("; ".join(parts) or "below the budget")
             + " (the view morph everywhere)"
         )
-    pick = start.copy()
-    steps = 0
-    cost = [representation(n).cost for n in pred.representations]
-    order = sorted(range(len(pred.representations)), key=lambda r: cost[r])
-    for b in np.argsort(-pred.counts(), kind="stable"):
-        for r in order:
-            if cost[r] >= cost[pick[b]]:
+    order = np.argsort(cost, kind="stable")
+    best, best_steps = None, 0
+    for start in starts:  # each representation everywhere that meets it, then every band made cheaper
+        pick, steps = start.copy(), 0
+        for _ in range(len(reps)):
+            changed = False
+            for b in np.argsort(-counts * cost[pick], kind="stable"):
+                for r in order:
+                    if cost[r] >= cost[pick[b]]:
+                        break
+                    old = pick[b]
+                    pick[b] = r
+                    if meets(pick):
+                        steps += 1
+                        changed = True
+                        break
+                    pick[b] = old
+            if not changed:
                 break
-            old = pick[b]
-            pick[b] = r
-            if meets(pick):
-                steps += 1
-                break
-            pick[b] = old
-    return Choice(pred.choice_of(pick), pred.frame_errors(pick), default, steps)
+        if best is None or total(pick) < total(best):
+            best, best_steps = pick, steps
+    assert best is not None
+    return Choice(pred.choice_of(best), pred.frame_errors(best), default, best_steps)
+
+
+def _morph_pick(pred: FramePredictions) -> np.ndarray:
+    """Every band in the view morph (today's default), as a pick."""
+    return np.full(len(pred.bands), pred.representations.index("morph"), np.int64)

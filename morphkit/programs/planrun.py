@@ -9,17 +9,19 @@ the plan verified against the real meshes.
    (:func:`~morphkit.plan.errortable.measure_error_table`:
    the asset alone against its own mesh, under the scene's focal length, backdrop and middle frame's sun),
    or reads the tables a previous plan into the same folder measured for the same mesh and conditions;
-2. **predicts** the planning frames (every frame but the verification frames) and **chooses** each
+2. **calibrates** the tables on a few planning frames drawn in each representation everywhere (the
+   offsets, the margin and each representation's measured cost per billboard);
+3. **predicts** the planning frames (every frame but the verification frames) and **chooses** each
    band's cheapest representation predicted to meet the budget (:func:`~morphkit.plan.planner.choose`);
    a budget it cannot meet stops here with one line and nothing written;
-3. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
+4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
    run, and measured against the real meshes (relit, with the scene's ray-cast shadows): the PSNR
    and silhouette IoU over the pixels of the billboards' boxes
    (:func:`~morphkit.billboard.compare.frame_errors`) are the frame's ``billboard-psnr`` and
    ``billboard-iou``;
-4. writes ``OUT/plan.json`` (:mod:`morphkit.plan.planfile`), ``OUT/plan.png`` (the configurations'
+5. writes ``OUT/plan.json`` (:mod:`morphkit.plan.planfile`), ``OUT/plan.png`` (the configurations'
    error against their median frame time, predicted beside measured) and ``OUT/tables/``.
 
 The tables are kept between runs in a cache (``--tables DIR``; default ``tables`` in
@@ -227,11 +229,13 @@ def _calibrate(
     planning: Sequence[int],
     tables: Mapping[tuple[str, str], ErrorTable],
     head: str,
-) -> tuple[dict[str, tuple[float, float]], dict[str, Any]]:
+) -> tuple[dict[str, tuple[float, float]], dict[str, float], tuple[float, float], dict[str, Any]]:
     """Each representation's offset between the tables' prediction and the scene's measure, on a few
     planning frames drawn in it everywhere (:func:`~morphkit.plan.planner.calibration_offsets`): what
     a table of one billboard alone cannot know of the scene (the billboards behind a silhouette, the
-    frame's edges, overlaps)."""
+    frame's edges, overlaps); each representation's cost per billboard drawn (the median of its frames'
+    times over their billboards); and the margin a choice keeps, the calibration's largest
+    unexplained spread (at least the tolerance's)."""
     frames = [
         planning[i] for i in compare_indices(len(planning), min(PLAN_CALIBRATION_FRAMES, len(planning)))
     ]
@@ -239,33 +243,47 @@ def _calibrate(
     got = _verify(prep, cameras, frames, {r.name: _uniform(prep, r) for r in REPRESENTATIONS}, sample)
     pred = predict_frames(tables, sample, [cameras[k] for k in frames])
     offsets: dict[str, tuple[float, float]] = {}
+    costs: dict[str, float] = {}
+    spread = [tol.PLAN_MARGIN_DB, tol.PLAN_MARGIN_IOU]
     report: dict[str, Any] = {"frames": list(frames)}
     for r in REPRESENTATIONS:
-        db, iou, n = calibration_offsets(
+        c = calibration_offsets(
             pred.frame_errors(pred.pick_of(BandChoice(default=r.name))), got[r.name]["errors"]
         )
         lim_db, lim_iou = tol.PLAN_MAX_OFFSET_DB, tol.PLAN_MAX_OFFSET_IOU
-        kept = (float(np.clip(db, -lim_db, lim_db)), float(np.clip(iou, -lim_iou, lim_iou)))
-        if kept != (db, iou):
+        kept = (float(np.clip(c.db, -lim_db, lim_db)), float(np.clip(c.iou, -lim_iou, lim_iou)))
+        if kept != (c.db, c.iou):
             print(
-                f"{head}{r.name}'s calibration {db:+.2f} dB, IoU {iou:+.3f} held to {kept[0]:+.2f} dB, IoU "
-                f"{kept[1]:+.3f}: the tables describe this scene's billboards poorly",
+                f"{head}{r.name}'s calibration {c.db:+.2f} dB, IoU {c.iou:+.3f} held to {kept[0]:+.2f} dB, "
+                f"IoU {kept[1]:+.3f}: the tables describe this scene's billboards poorly",
                 flush=True,
             )
         offsets[r.name] = kept
+        spread = [max(spread[0], min(c.spread_db, lim_db)), max(spread[1], min(c.spread_iou, lim_iou))]
+        drawn = [len(b) for b in pred.band_index]
+        per = [t / n for t, n in zip(got[r.name]["time_ms"], drawn, strict=True) if n]
+        costs[r.name] = float(np.median(per)) if per else float(r.cost + 1)
         report[r.name] = {
             "db": kept[0],
             "iou": kept[1],
-            "measured_db": db,
-            "measured_iou": iou,
-            "frames_used": n,
+            "measured_db": c.db,
+            "measured_iou": c.iou,
+            "spread_db": c.spread_db,
+            "spread_iou": c.spread_iou,
+            "frames_used": c.frames,
+            "ms_per_billboard": costs[r.name],
         }
+    report["margin"] = {"db": spread[0], "iou": spread[1]}
     print(
         f"{head}calibrated on {len(frames)} planning frames (measured less predicted): "
-        + "; ".join(f"{nm} {db:+.2f} dB, IoU {iou:+.3f}" for nm, (db, iou) in offsets.items()),
+        + "; ".join(
+            f"{nm} {db:+.2f} dB, IoU {iou:+.3f}, {costs[nm]:.2f} ms a billboard"
+            for nm, (db, iou) in offsets.items()
+        )
+        + f"; margin {spread[0]:.2f} dB, IoU {spread[1]:.3f}",
         flush=True,
     )
-    return offsets, report
+    return offsets, costs, (spread[0], spread[1]), report
 
 
 def _frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
@@ -470,11 +488,11 @@ def plan_scene(
         )
         t_tables = time.perf_counter() - t0
         t0 = time.perf_counter()
-        offsets, calibration = _calibrate(prep, cams, planning, tables, head)
+        offsets, costs, margin, calibration = _calibrate(prep, cams, planning, tables, head)
         t_calibrate = time.perf_counter() - t0
         t0 = time.perf_counter()
         pred = predict_frames(tables, prep.scene, [cams[k] for k in planning]).shifted(offsets)
-        picked = choose(pred, budget)
+        picked = choose(pred, budget, costs=costs, margin=margin)
         t_plan = time.perf_counter() - t0
         plan = ScenePlan(
             budget,
