@@ -106,7 +106,13 @@ class FramePredictions:
         )
 
     def counts(self) -> np.ndarray:
-        """How many billboards each band draws over all the frames, ``(B,)`` int64."""
+        """How many billboards each band draws over all the frames.
+
+        Returns
+        -------
+        int64 array
+            ``(B,)``, in the order of :attr:`bands`.
+        """
         out = np.zeros(len(self.bands), np.int64)
         for b in self.band_index:
             out += np.bincount(b, minlength=len(self.bands))
@@ -321,7 +327,7 @@ def predict_frames(
             eband = elevation_band(elev)
             keys, inverse = np.unique(np.stack([kind, level, eband], axis=1), axis=0, return_inverse=True)
             ids = np.array(
-                [band_ids.setdefault((names[a], int(lv), int(e)), len(band_ids)) for a, lv, e in keys]
+                [band_ids.setdefault(Band(names[a], int(lv), int(e)), len(band_ids)) for a, lv, e in keys]
             )
             idx[:] = ids[inverse.reshape(-1)]
             for k in np.unique(kind):

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol, runtime_checkable
+from typing import ClassVar, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -67,8 +67,24 @@ __all__ = [
 #: from above (a classic card holds at eye level and fails from above; a ring fails above its band).
 ELEVATION_EDGES_DEG: tuple[float, ...] = (30.0, 60.0)
 
-#: ``(asset name, pyramid level, elevation band)``.
-Band = tuple[str, int, int]
+class Band(NamedTuple):
+    """One band of an asset's billboards: the asset, the pyramid level drawn (its on-screen size)
+    and the elevation band (:func:`elevation_band`). A plain ``(asset, level, eband)`` tuple
+    compares and hashes equal to it.
+
+    Parameters
+    ----------
+    asset : str
+        The asset's name.
+    level : int
+        The pyramid level (0 the base, each level half the height of the one before).
+    eband : int
+        The elevation band.
+    """
+
+    asset: str
+    level: int
+    eband: int
 
 
 @runtime_checkable
@@ -113,8 +129,8 @@ class _ModePair:
     """A representation drawn by one surface choice (relit) and one billboard mode (ring): its
     subclasses name the two classes."""
 
-    name: str = ""
-    cost: int = 0
+    name: ClassVar[str] = ""
+    cost: ClassVar[int] = 0
     surface_type: ClassVar[type] = MorphSurface
     ring_type: ClassVar[type] = MorphMode
 
@@ -148,8 +164,8 @@ class ClassicCard(_ModePair):
     """The classic billboard: one image from every direction (the cheapest;
     :class:`~morphkit.sunlit.litmodes.ClassicSurface`, :class:`~morphkit.billboard.ClassicMode`)."""
 
-    name: str = "classic"
-    cost: int = 0
+    name: ClassVar[str] = "classic"
+    cost: ClassVar[int] = 0
     surface_type: ClassVar[type] = ClassicSurface
     ring_type: ClassVar[type] = ClassicMode
 
@@ -159,8 +175,8 @@ class NearestView(_ModePair):
     """The nearest reference view, switched as the direction changes
     (:class:`~morphkit.sunlit.litmodes.NearestSurface`, :class:`~morphkit.billboard.NearestMode`)."""
 
-    name: str = "nearest"
-    cost: int = 1
+    name: ClassVar[str] = "nearest"
+    cost: ClassVar[int] = 1
     surface_type: ClassVar[type] = NearestSurface
     ring_type: ClassVar[type] = NearestMode
 
@@ -170,8 +186,8 @@ class ViewMorph(_ModePair):
     """The view morph of the views around the direction, today's default
     (:class:`~morphkit.sunlit.litmodes.MorphSurface`, :class:`~morphkit.billboard.MorphMode`)."""
 
-    name: str = "morph"
-    cost: int = 2
+    name: ClassVar[str] = "morph"
+    cost: ClassVar[int] = 2
 
 
 #: Every representation a plan chooses among, cheapest first.

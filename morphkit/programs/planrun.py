@@ -1,4 +1,4 @@
-"""``morphkit plan SCENE --budget KEY=VALUE ... -o OUT``: a scene planned to an error budget and
+"""``morphkit plan SCENE --budget KEY=VALUE -o OUT``: a scene planned to an error budget and
 the plan verified against the real meshes.
 
 :func:`plan_scene` prepares the scene as ``morphkit render`` does

@@ -6,7 +6,7 @@
 the :class:`~.backdrop.Backdrop`, the :class:`~.facing.Facing` rule and the
 smallest on-screen size worth drawing. :meth:`BillboardScene.plan` decides, for
 one camera, which billboards are drawn and how -- "model only what a scene
-needs" -- in five stages (:mod:`~.planner`, one function each): frustum
+needs" -- in five stages (:mod:`~morphkit.billboard.frames.planner`, one function each): frustum
 **culling**, **facing** and viewing azimuth, **level of detail** from the
 on-screen size, screen box and near-plane **clipping**, **back-to-front** order;
 it adds the fog factor at each pivot's distance.
