@@ -19,7 +19,14 @@ from morphkit.errors import BudgetError, FileFormatError, ValidationError
 from morphkit.plan import Budget
 from morphkit.plan.errortable import ErrorTable
 from morphkit.plan.planfile import PLAN_VERSION, ScenePlan, read_plan
-from morphkit.plan.planner import FramePredictions, calibration_offsets, choose, predict_frames, reached
+from morphkit.plan.planner import (
+    FramePredictions,
+    band_offsets,
+    calibration_offsets,
+    choose,
+    predict_frames,
+    reached,
+)
 from morphkit.plan.representations import (
     REPRESENTATIONS,
     BandChoice,
@@ -172,6 +179,26 @@ def test_calibration_moves_each_representations_predictions_by_its_offset():
     assert (c.db, c.frames, c.spread_db) == (-1.0, 2, 0.5) and c.iou == pytest.approx(0.025)
 
 
+def test_band_offsets_correct_each_band_apart_from_its_billboards_own_figures():
+    pred = _two_bands()  # band 0 (eye level): 3 billboards a frame; band 1 (from above): 1
+    # the card measured 2 dB under its table at eye level and 6 dB under from above; the IoU +0.01
+    boxes = [
+        [{"psnr": 27.0, "iou": 0.96}] * 3 + [{"psnr": 9.0, "iou": 0.51}],
+        [{"psnr": 27.0, "iou": 0.96}] * 3 + [{"psnr": 9.0, "iou": 0.51}],
+    ]
+    got = band_offsets(pred, "classic", boxes)
+    # band 1 has 2 billboards, fewer than PLAN_MIN_BAND_BILLBOARDS: only band 0 is calibrated apart
+    assert tol.PLAN_MIN_BAND_BILLBOARDS > 2
+    assert set(got) == {("classic", ("tree", 0, 0))}
+    assert got[("classic", ("tree", 0, 0))] == pytest.approx((-2.0, 0.01))
+    # a band's offset takes the place of the representation's, in that band only
+    moved = pred.shifted({"classic": (-6.0, 0.0), **got})
+    np.testing.assert_allclose(moved.psnr_db[0][0], [27.0, 27.0, 27.0, 9.0])
+    np.testing.assert_allclose(moved.psnr_db[0][1:], pred.psnr_db[0][1:])  # other representations kept
+    # a frame measured with another number of billboards than predicted is not used
+    assert band_offsets(pred, "classic", [boxes[0][:3], None]) == {}
+
+
 # ---------------------------------------------------------------- the choice
 
 
@@ -222,6 +249,30 @@ def test_measured_costs_steer_the_choice_and_it_is_never_dearer_than_one_represe
                 assert total <= float(np.sum(counts * cost[uniform])), name
     # a wider margin keeps a dearer representation
     assert choose(pred, budget, margin=(3.0, 0.0)).choice.choices[("tree", 0, 2)] == "morph"
+
+
+def test_each_representation_keeps_its_own_margin():
+    pred = _two_bands()
+    budget = Budget(billboard_psnr=25.0)
+    assert "classic" in choose(pred, budget).choice.choices.values()
+    # the card's calibration fell 6 dB short of its prediction: drawing 3 of 4 pixels of a frame (29 dB,
+    # margin 4.6 dB) it falls below 25 dB, so it is trusted nowhere
+    got = choose(pred, budget, margin={"classic": (6.0, 0.0), "nearest": (0.5, 0.0), "morph": (0.5, 0.0)})
+    assert "classic" not in got.choice.choices.values()
+
+
+def test_a_representation_measured_to_meet_the_budget_starts_a_descent_the_prediction_refuses():
+    pred = _two_bands()
+    budget = Budget(billboard_psnr=32.0)  # the morph everywhere is predicted 30.8 dB less the margin
+    with pytest.raises(BudgetError, match="no representation meets the budget"):
+        choose(pred, budget)
+    # the nearest view everywhere measured within it: chosen, and no band is moved below what that
+    # start is predicted (the card at eye level would lower the frames)
+    got = choose(pred, budget, proven=["nearest"])
+    assert set(got.choice.choices.values()) == {"nearest"}
+    # the card everywhere proven too, and cheaper: it wins
+    got = choose(pred, budget, proven=["nearest", "classic"])
+    assert set(got.choice.choices.values()) == {"classic"}
 
 
 def test_a_budget_nothing_meets_names_the_best_reachable_figure_and_its_bound():

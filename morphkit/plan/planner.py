@@ -11,20 +11,25 @@ its IoU the mean of theirs weighted alike. What the tables cannot know (one bill
 alone per cell) stays unknown: overlapping boxes count twice, a cut one is predicted as whole.
 
 :func:`choose` looks for the cheapest assignment whose predicted figures meet the budget's
-fraction of frames by a margin (the prediction's unexplained spread, at least
-:data:`morphkit.tol.PLAN_MARGIN_DB` and :data:`~morphkit.tol.PLAN_MARGIN_IOU`). It starts from each
-representation everywhere that meets the budget, then visits the bands, the costliest first (their
-billboards over the path times their representation's cost per billboard, as measured), and gives each
-the cheapest representation that keeps the frames within the budget, pass after pass until none
-changes: a greedy descent whose every step is checked against the frames' budget, not against a
-per-band guess; the cheapest of the descents wins. A budget no representation everywhere meets is
-refused (:class:`~morphkit.errors.BudgetError`) with the figure the view morph everywhere reaches in
-the budget's fraction of frames and the band that bounds it.
+fraction of frames by a margin (each representation's: how far its calibration frames fell short of
+their prediction, at least :data:`morphkit.tol.PLAN_MARGIN_DB` and
+:data:`~morphkit.tol.PLAN_MARGIN_IOU`; a frame's, the margins of the representations it draws weighted
+by their pixels). It starts from each representation everywhere that meets the budget so predicted, or
+that was *measured* to meet it on the calibration frames (then the descent keeps the frames'
+predicted figures at the budget or the start's own, the lower: no plan is dearer than a
+representation everywhere shown to meet the budget), then moves bands to cheaper representations
+one at a time, the move that saves the most cost (its billboards over the path times the difference of
+the representations' costs per billboard, as measured) per margin of slack it uses first, as long as
+the frames stay within the budget: a greedy descent whose every step is checked against the frames'
+budget, not against a per-band guess; the cheapest of the descents wins. A budget no representation
+everywhere meets is refused (:class:`~morphkit.errors.BudgetError`) with the figure the view morph
+everywhere reaches in the budget's fraction of frames and the band that bounds it.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import heapq
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -46,6 +51,7 @@ __all__ = [
     "predict_frames",
     "Calibration",
     "calibration_offsets",
+    "band_offsets",
     "Choice",
     "choose",
     "reached",
@@ -85,24 +91,31 @@ class FramePredictions:
     instances: int = 0
     predicted_instances: int = 0
 
-    def shifted(self, offsets: Mapping[str, tuple[float, float]]) -> FramePredictions:
+    def shifted(self, offsets: Mapping[str | tuple[str, Band], tuple[float, float]]) -> FramePredictions:
         """The predictions with each representation's billboards moved by its offset (the
-        calibration of :func:`calibration_offsets`): ``+dB`` to every PSNR, ``+IoU`` to every IoU
-        (clipped to ``[0, 1]``).
+        calibration of :func:`calibration_offsets` and :func:`band_offsets`): ``+dB`` to every
+        PSNR, ``+IoU`` to every IoU (clipped to ``[0, 1]``).
 
         Parameters
         ----------
-        offsets : mapping of str to (float, float)
-            Per representation, ``(dB, IoU)``; one not named keeps its predictions.
+        offsets : mapping of str or (str, Band) to (float, float)
+            ``(dB, IoU)`` per representation, or per representation and band (which then takes
+            that band's place of the representation's); a representation not named keeps its
+            predictions.
 
         Returns
         -------
         FramePredictions
         """
-        d = np.array([offsets.get(r, (0.0, 0.0))[0] for r in self.representations])[:, None]
-        q = np.array([offsets.get(r, (0.0, 0.0))[1] for r in self.representations])[:, None]
+        d = np.zeros((len(self.representations), len(self.bands), 2))
+        for r, name in enumerate(self.representations):
+            d[r] = offsets.get(name, (0.0, 0.0))
+            for k, band in enumerate(self.bands):
+                d[r, k] = offsets.get((name, band), d[r, k])
         return dataclasses.replace(
-            self, psnr_db=[p + d for p in self.psnr_db], iou=[np.clip(i + q, 0.0, 1.0) for i in self.iou]
+            self,
+            psnr_db=[p + d[:, b, 0] for p, b in zip(self.psnr_db, self.band_index, strict=True)],
+            iou=[np.clip(i + d[:, b, 1], 0.0, 1.0) for i, b in zip(self.iou, self.band_index, strict=True)],
         )
 
     def counts(self) -> np.ndarray:
@@ -184,7 +197,8 @@ class Calibration(NamedTuple):
     frames : int
         Frames used.
     spread_db, spread_iou : float
-        The largest distance of a frame's gap from its median: what the offset leaves unexplained.
+        How far the worst frame's measure fell short of its prediction moved by the offset (zero when
+        none did): what the offset leaves unexplained on the side that matters to a budget.
     """
 
     db: float
@@ -233,9 +247,51 @@ def calibration_offsets(
     if not db:
         return Calibration(0.0, 0.0, 0, 0.0, 0.0)
     d, q = float(np.median(db)), float(np.median(iou))
-    return Calibration(
-        d, q, len(db), float(np.max(np.abs(np.array(db) - d))), float(np.max(np.abs(np.array(iou) - q)))
-    )
+    return Calibration(d, q, len(db), max(0.0, d - float(np.min(db))), max(0.0, q - float(np.min(iou))))
+
+
+def band_offsets(
+    pred: FramePredictions, representation: str, measured: Sequence[Sequence[Mapping[str, float]] | None]
+) -> dict[tuple[str, Band], tuple[float, float]]:
+    """One representation's offsets per band: the median over the band's billboards, in frames drawn
+    in it everywhere, of each billboard's measured box figures less its table's (what the table of one
+    billboard alone does not know of the scene, band by band: a card that holds at eye level and
+    fails from above is corrected apart in each). A band of fewer than
+    :data:`morphkit.tol.PLAN_MIN_BAND_BILLBOARDS` measured billboards gets none (the representation's
+    offset over the frames serves it); capped PSNRs (nothing wrong to measure) are left out.
+
+    Parameters
+    ----------
+    pred : FramePredictions
+        The frames' predictions (unshifted).
+    representation : str
+        The representation the frames were drawn in.
+    measured : sequence of (sequence of mapping or None)
+        Per frame of ``pred``, each drawn billboard's ``psnr`` and ``iou``
+        (:func:`~morphkit.billboard.compare.box_errors`), in the frame's placement order; None for
+        a frame not measured.
+
+    Returns
+    -------
+    dict of (str, Band) to (float, float)
+    """
+    r = pred.representations.index(representation)
+    db: dict[int, list[float]] = {}
+    iou: dict[int, list[float]] = {}
+    for b, p, q, m in zip(pred.band_index, pred.psnr_db, pred.iou, measured, strict=True):
+        if m is None or len(m) != len(b):
+            continue
+        for i, e in enumerate(m):
+            k = int(b[i])
+            iou.setdefault(k, []).append(float(e["iou"]) - float(q[r, i]))
+            if e["psnr"] < PSNR_CAP_DB and p[r, i] < PSNR_CAP_DB:
+                db.setdefault(k, []).append(float(e["psnr"]) - float(p[r, i]))
+    out: dict[tuple[str, Band], tuple[float, float]] = {}
+    for k, qs in iou.items():
+        ds = db.get(k, [])
+        if min(len(qs), len(ds)) >= tol.PLAN_MIN_BAND_BILLBOARDS:
+            out[(representation, pred.bands[k])] = (float(np.median(ds)), float(np.median(qs)))
+    return out
 
 
 def sample_scene(
@@ -373,12 +429,22 @@ class Choice:
     steps: int
 
 
-def _shifted(
-    frames: list[dict[str, float | None]], margin: tuple[float, float]
-) -> list[dict[str, float | None]]:
-    """The figures less the prediction's margin ``(dB, IoU)``."""
-    by = {"billboard-psnr": margin[0], "billboard-iou": margin[1]}
-    return [{k: None if v is None else v - by[k] for k, v in f.items()} for f in frames]
+def _shifted(frames: list[dict[str, float | None]], margins: np.ndarray) -> list[dict[str, float | None]]:
+    """The figures less each frame's margin (``margins``: ``(F, 2)``, dB and IoU)."""
+    return [
+        {k: None if v is None else v - float(m[0 if k == "billboard-psnr" else 1]) for k, v in f.items()}
+        for f, m in zip(frames, margins, strict=True)
+    ]
+
+
+def _frame_margins(pred: FramePredictions, pick: np.ndarray, margin: np.ndarray) -> np.ndarray:
+    """Each frame's margin ``(F, 2)`` under ``pick``: the representations' margins (``margin``:
+    ``(R, 2)``) weighted by the pixels each draws in the frame."""
+    out = np.zeros((len(pred.band_index), 2))
+    for f, (b, w) in enumerate(zip(pred.band_index, pred.pixels, strict=True)):
+        if len(b):
+            out[f] = (w[:, None] * margin[pick[b]]).sum(axis=0) / w.sum()
+    return out
 
 
 def reached(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dict[str, float | None]:
@@ -431,7 +497,8 @@ def choose(
     budget: Budget,
     *,
     costs: Mapping[str, float] | None = None,
-    margin: tuple[float, float] | None = None,
+    margin: tuple[float, float] | Mapping[str, tuple[float, float]] | None = None,
+    proven: Sequence[str] = (),
 ) -> Choice:
     """The cheapest choice of representation per band predicted to meet ``budget`` (module notes).
 
@@ -444,9 +511,14 @@ def choose(
     costs : mapping of str to float, optional
         Each representation's cost per billboard drawn (e.g. milliseconds, as measured); default
         the cost order of :data:`~.representations.REPRESENTATIONS`.
-    margin : (float, float), optional
-        How far, in dB and in IoU, a choice's predicted figures must beat the budget (default
-        :data:`morphkit.tol.PLAN_MARGIN_DB`, :data:`morphkit.tol.PLAN_MARGIN_IOU`).
+    margin : (float, float) or mapping of str to (float, float), optional
+        How far, in dB and in IoU, a choice's predicted figures must beat the budget: one pair, or one
+        per representation (a frame's margin is then theirs weighted by the pixels each draws in it);
+        default :data:`morphkit.tol.PLAN_MARGIN_DB`, :data:`morphkit.tol.PLAN_MARGIN_IOU`.
+    proven : sequence of str, optional
+        Representations measured to meet the budget when drawn everywhere (on calibration frames):
+        each is a start even where its prediction less the margin falls short, and the descent from it
+        keeps the predicted figures at the budget or at the start's, the lower.
 
     Returns
     -------
@@ -455,25 +527,44 @@ def choose(
     Raises
     ------
     BudgetError
-        No representation everywhere is predicted to meet the budget by the margin.
+        No representation everywhere is predicted to meet the budget by the margin, and none is
+        proven to.
     """
-    margin = (tol.PLAN_MARGIN_DB, tol.PLAN_MARGIN_IOU) if margin is None else margin
     reps = pred.representations
+    if margin is None:
+        margin = (tol.PLAN_MARGIN_DB, tol.PLAN_MARGIN_IOU)
+    per_rep = np.array(
+        [margin[n] for n in reps] if isinstance(margin, Mapping) else [margin] * len(reps), np.float64
+    )
     cost = np.array([float(costs[n]) if costs is not None else representation(n).cost + 1.0 for n in reps])
     counts = pred.counts()
     morph = reps.index("morph")
     default = pred.frame_errors(np.full(len(pred.bands), morph, np.int64))
 
-    def meets(pick: np.ndarray) -> bool:
-        return bool(budget.verdict(_shifted(pred.frame_errors(pick), margin))["met"])
+    def shifted(pick: np.ndarray) -> list[dict[str, float | None]]:
+        return _shifted(pred.frame_errors(pick), _frame_margins(pred, pick, per_rep))
+
+    def meets(pick: np.ndarray, to: Budget = budget) -> bool:
+        return bool(to.verdict(shifted(pick))["met"])
 
     def total(pick: np.ndarray) -> float:
         return float(np.sum(counts * cost[pick]))
 
-    starts = [np.full(len(pred.bands), r, np.int64) for r in range(len(reps))]
-    starts = [p for p in starts if meets(p)]
+    starts: list[tuple[np.ndarray, Budget]] = []
+    for r, name in enumerate(reps):
+        start = np.full(len(pred.bands), r, np.int64)
+        if meets(start):
+            starts.append((start, budget))
+        elif name in proven:  # measured to meet it: the descent keeps what the start is predicted
+            got = reached(budget, shifted(start))
+            lowered = {
+                key.replace("-", "_"): min(want, got[key])  # type: ignore[type-var]
+                for key, want in budget.error_keys()
+                if got.get(key) is not None
+            }
+            starts.append((start, dataclasses.replace(budget, **lowered)))
     if not starts:
-        got = reached(budget, _shifted(default, margin))
+        got = reached(budget, shifted(_morph_pick(pred)))
         parts = []
         for key, want in budget.error_keys():
             v = got.get(key)
@@ -487,25 +578,57 @@ def choose(
             + ("; ".join(parts) or "below the budget")
             + " (the view morph everywhere)"
         )
-    order = np.argsort(cost, kind="stable")
-    best, best_steps = None, 0
-    for start in starts:  # each representation everywhere that meets it, then every band made cheaper
+    unit = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
+
+    def slack(pick: np.ndarray, to: Budget) -> float:
+        """How far, in margins, the pick's figures in the budget's fraction of frames clear it."""
+        got = reached(to, shifted(pick))
+        return min(
+            ((got[k] - want) / unit[k] for k, want in to.error_keys() if got.get(k) is not None),
+            default=0.0,
+        )
+
+    def descend(start: np.ndarray, to: Budget) -> tuple[np.ndarray, int]:
+        """Every band moved to a cheaper representation, the move saving most cost per margin of
+        slack it uses first, while the frames stay within ``to`` (a lazy greedy: a move's ratio is
+        computed again only when it comes to the top)."""
         pick, steps = start.copy(), 0
-        for _ in range(len(reps)):
-            changed = False
-            for b in np.argsort(-counts * cost[pick], kind="stable"):
-                for r in order:
-                    if cost[r] >= cost[pick[b]]:
-                        break
-                    old = pick[b]
-                    pick[b] = r
-                    if meets(pick):
-                        steps += 1
-                        changed = True
-                        break
-                    pick[b] = old
-            if not changed:
-                break
+        s0 = slack(pick, to)
+        heap = [
+            (-np.inf, b, r)
+            for b in range(len(pred.bands))
+            for r in range(len(reps))
+            if cost[r] < cost[pick[b]]
+        ]
+        heapq.heapify(heap)
+        fresh: set[tuple[int, int]] = set()
+        while heap:
+            _, b, r = heapq.heappop(heap)
+            if cost[r] >= cost[pick[b]]:
+                continue
+            old = pick[b]
+            pick[b] = r
+            ok = meets(pick, to)
+            s1 = slack(pick, to) if ok else -np.inf
+            pick[b] = old
+            if not ok:
+                continue  # dropped: the moves after it leave the frames less slack, not more
+            ratio = counts[b] * (cost[old] - cost[r]) / max(s0 - s1, 1e-3)
+            if (b, r) in fresh or not heap or -ratio <= heap[0][0]:
+                pick[b], s0, steps = r, s1, steps + 1
+                fresh.clear()
+                heap = [(p, bb, rr) for p, bb, rr in heap if bb != b] + [
+                    (-np.inf, b, rr) for rr in range(len(reps)) if cost[rr] < cost[r]
+                ]
+                heapq.heapify(heap)
+            else:
+                fresh.add((b, r))
+                heapq.heappush(heap, (-ratio, b, r))
+        return pick, steps
+
+    best, best_steps = None, 0
+    for start, to in starts:  # each representation everywhere that meets it, then every band made cheaper
+        pick, steps = descend(start, to)
         if best is None or total(pick) < total(best):
             best, best_steps = pick, steps
     assert best is not None
