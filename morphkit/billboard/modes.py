@@ -140,10 +140,43 @@ class BillboardMode(ABC):
         before = cache.counts if cache is not None else CacheCounts()
         plan = scene.plan(camera)
         layer = new_layer(camera.shape)
+        outside = self.draw_placements(scene, plan.placements, layer)
+        rgb = finish(layer, scene.backdrop.draw(camera))
+        counts = (cache.counts - before) if cache is not None else CacheCounts()
+        return Frame(rgb, layer, plan.placements, _stats(self.name, plan, counts, cache, outside, t0))
+
+
+    def draw_placements(self, scene: BillboardScene, placements: Sequence[Placement], layer: np.ndarray,
+                        zbuf: np.ndarray | None = None) -> float:
+        """Composite ``placements``' images (back to front) into ``layer``; with ``zbuf`` (what was
+        drawn before, e.g. real meshes: :mod:`morphkit.plan.mixed`), each billboard meeting a pixel
+        it holds is depth-tested there at its pivot's depth (a ring image has no depth of its own).
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        placements : sequence of Placement
+            Back to front (a frame plan's order).
+        layer : (H, W, 4) float32
+            Premultiplied layer, updated in place.
+        zbuf : (H, W) float32, optional
+            Depth buffer, ``+inf`` where nothing is drawn; updated in place.
+
+        Returns
+        -------
+        float
+            The most degrees any billboard lay outside a partial ring's arc.
+
+        Raises
+        ------
+        ValidationError
+            An asset that is not a ring asset.
+        """
         fog = scene.backdrop.fog
         fog_color = fog.color if fog is not None else (0.0, 0.0, 0.0)
         outside = 0.0
-        for pl in plan.placements:
+        for pl in placements:
             asset = scene.assets[pl.asset]
             if not isinstance(asset, BillboardSource):
                 raise ValidationError(expected_got(
@@ -151,10 +184,12 @@ class BillboardMode(ABC):
                     "relightable assets are drawn by litmodes.LitMode)", type(asset).__name__))
             img, out = self.image(asset, pl)
             outside = max(outside, out)
-            draw(layer, pl, img, fog_color)
-        rgb = finish(layer, scene.backdrop.draw(camera))
-        counts = (cache.counts - before) if cache is not None else CacheCounts()
-        return Frame(rgb, layer, plan.placements, _stats(self.name, plan, counts, cache, outside, t0))
+            r0, r1, c0, c1 = pl.roi
+            if zbuf is not None and bool(np.isfinite(zbuf[r0:r1, c0:c1]).any()):
+                draw(layer, pl, img, fog_color, zbuf=zbuf)
+            else:
+                draw(layer, pl, img, fog_color)
+        return outside
 
 
 def _check_quantum(q: float) -> float:
@@ -413,23 +448,49 @@ class MeshMode:
         t0 = time.perf_counter()
         plan = scene.plan(camera)
         idx = plan.visible if self.cull else np.arange(len(scene))
-        items = self.items(scene, idx)
-        fog = scene.backdrop.fog
         if self.supersample == 1:
-            color, depth = self.renderer.color_depth(camera, items, self.lights, ambient=self.ambient)
-            alpha = np.isfinite(depth).astype(np.float32)
-            layer = np.empty(camera.shape + (4,), np.float32)
-            layer[:, :, :3] = color.astype(np.float32) * (alpha[:, :, None] / 255.0)
-            layer[:, :, 3] = alpha
-            if fog is not None and alpha.any():
-                x, y = camera.pixel_grid()
-                ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
-                f = fog.factor(np.where(alpha > 0, depth, 0.0) * ray).astype(np.float32)[:, :, None]
-                fog.blend(layer[:, :, :3], alpha[:, :, None], f)
+            layer, _ = self.depth_layer(scene, camera, idx)
         else:
+            items = self.items(scene, idx)
             rgba = self.renderer.source_view(camera, items, self.lights, ambient=self.ambient,
                                              supersample=int(self.supersample))
             a = rgba[:, :, 3:].astype(np.float32) / 255.0
             layer = np.concatenate([rgba[:, :, :3].astype(np.float32) / 255.0 * a, a], axis=2)
         rgb = finish(layer, scene.backdrop.draw(camera))
         return Frame(rgb, layer, plan.placements, _stats(self.name, plan, CacheCounts(), None, 0.0, t0))
+
+    def depth_layer(self, scene: BillboardScene, camera: CameraModel,
+                    indices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The meshes of instances ``indices`` in one render of colour and depth (coverage from the
+        depth buffer, whatever :attr:`supersample` says), fogged: :meth:`render`'s layer at
+        ``supersample=1``, and its depth.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+        indices : (M,) int
+            The instances drawn.
+
+        Returns
+        -------
+        layer : (H, W, 4) float32
+            Premultiplied colour and coverage.
+        depth : (H, W) float32
+            Camera depth ``Z``, ``+inf`` where no mesh is drawn.
+        """
+        items = self.items(scene, np.asarray(indices, np.int64))
+        fog = scene.backdrop.fog
+        color, depth = self.renderer.color_depth(camera, items, self.lights, ambient=self.ambient)
+        alpha = np.isfinite(depth).astype(np.float32)
+        layer = np.empty(camera.shape + (4,), np.float32)
+        layer[:, :, :3] = color.astype(np.float32) * (alpha[:, :, None] / 255.0)
+        layer[:, :, 3] = alpha
+        if fog is not None and alpha.any():
+            x, y = camera.pixel_grid()
+            ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
+            f = fog.factor(np.where(alpha > 0, depth, 0.0) * ray).astype(np.float32)[:, :, None]
+            fog.blend(layer[:, :, :3], alpha[:, :, None], f)
+        return layer, np.asarray(depth, np.float32)

@@ -43,7 +43,7 @@ from ..imaging.shading import Lighting, shade_passes
 from ..protocols import GBufferRenderer, PassRenderer
 from ..scene import Item
 from ..validate import as_flag, as_int
-from .receivers import SceneShadow
+from .receivers import FrameShadow, SceneShadow
 from .shadowing import frame_shadow, points_visibility, shadowed_backdrop
 
 __all__ = ["LitMeshMode"]
@@ -127,21 +127,55 @@ class LitMeshMode:
         t0 = time.perf_counter()
         plan = scene.plan(camera)
         idx = plan.visible if self.cull else np.arange(len(scene))
-        items = self._posed.items(scene, idx)
+        ground = None
+        if self.shadow is not None:
+            ground = frame_shadow(self.shadow, scene, camera, self.lighting, np.asarray(idx, np.int64))
+        layer, _ = self.shaded_layer(scene, camera, idx, None if ground is None else ground.shadow)
+        back = (scene.backdrop.draw(camera) if ground is None
+                else shadowed_backdrop(scene, camera, self.lighting, ground, layer[:, :, 3]))
+        rgb = finish(layer, back)
+        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
+                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
+                           ms=1e3 * (time.perf_counter() - t0))
+        return Frame(rgb, layer, plan.placements, stats)
+
+    def shaded_layer(self, scene: BillboardScene, camera: CameraModel, indices: np.ndarray,
+                     sun_shadow: FrameShadow | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The meshes of instances ``indices`` drawn, shaded under :attr:`lighting` (the sun's
+        visibility from ``sun_shadow`` at each pixel's point) and fogged: the layer :meth:`render`
+        puts over the backdrop, and its depth.
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene.
+        camera : CameraModel
+            Perspective view, world frame.
+        indices : (M,) int
+            The instances drawn.
+        sun_shadow : FrameShadow, optional
+            The frame's shadow of the sun (the ``shadow`` of the ground
+            :func:`~.shadowing.frame_shadow` gives); None: unshadowed.
+
+        Returns
+        -------
+        layer : (H, W, 4) float32
+            Premultiplied, sRGB-encoded colour.
+        depth : (H, W) float32
+            Camera depth ``Z``, ``+inf`` where no mesh is drawn.
+        """
+        items = self._posed.items(scene, np.asarray(indices, np.int64))
         if self.supersample == 1 and self.gbuffer and isinstance(self.renderer, GBufferRenderer):
             passes = self.renderer.gbuffer_pass(camera, items)
         elif self.supersample == 1:
             passes = self.renderer.passes(camera, items, ())
         else:
             passes = self.renderer.source_passes(camera, items, (), supersample=self.supersample)
-        ground = None
         vis = None
-        if self.shadow is not None:
-            ground = frame_shadow(self.shadow, scene, camera, self.lighting, np.asarray(idx, np.int64))
-            if ground.shadow is not None:
-                points, valid = camera.unproject(passes.depth)
-                vis = points_visibility(ground.shadow, points, np.asarray(passes.normal, np.float64),
-                                        valid & (np.asarray(passes.alpha) > 0))
+        if sun_shadow is not None:
+            points, valid = camera.unproject(passes.depth)
+            vis = points_visibility(sun_shadow, points, np.asarray(passes.normal, np.float64),
+                                    valid & (np.asarray(passes.alpha) > 0))
         layer = shade_passes(passes, self.lighting, camera, vis)
         fog = scene.backdrop.fog
         alpha = layer[:, :, 3:]
@@ -151,10 +185,4 @@ class LitMeshMode:
             depth = np.where(np.isfinite(passes.depth), passes.depth, 0.0)
             f = fog.factor(depth * ray).astype(np.float32)[:, :, None]
             fog.blend(layer[:, :, :3], alpha, f)
-        back = (scene.backdrop.draw(camera) if ground is None
-                else shadowed_backdrop(scene, camera, self.lighting, ground, layer[:, :, 3]))
-        rgb = finish(layer, back)
-        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
-                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
-                           ms=1e3 * (time.perf_counter() - t0))
-        return Frame(rgb, layer, plan.placements, stats)
+        return layer, np.asarray(passes.depth, np.float32)

@@ -35,6 +35,7 @@ is darkened by the light its shadows take (:mod:`.shadowing`).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -59,7 +60,7 @@ from ..imaging.shading import (
 )
 from ..scene import PointLight
 from ..views.gbuffer import ViewSurface
-from .receivers import SceneShadow
+from .receivers import FrameShadow, SceneShadow
 from .shadowing import frame_shadow, shadowed_backdrop, surface_visibility
 
 __all__ = ["Relit", "SurfaceChoice", "MorphSurface", "NearestSurface", "CrossfadeSurface", "ClassicSurface",
@@ -407,22 +408,67 @@ class LitMode:
                                                type(scene.facing).__name__))
         before = self._cache.counts
         plan = scene.plan(camera)
+        layer, zbuf = new_layer(camera.shape), new_depth(camera.shape)
+        lit = self.lighting.above_horizon()
+        ground = None if self.shadow is None else frame_shadow(
+            self.shadow, scene, camera, lit, np.array([pl.index for pl in plan.placements], np.int64))
+        fs = None if ground is None else ground.shadow
+        self.draw_placements(scene, camera, plan.placements, layer, zbuf, fs)
+        back = (scene.backdrop.draw(camera) if ground is None
+                else shadowed_backdrop(scene, camera, lit, ground, layer[:, :, 3]))
+        rgb = finish(layer, back)
+        counts = self._cache.counts - before
+        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
+                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
+                           counts.hits, counts.misses, counts.evictions, len(self._cache), self._cache.nbytes,
+                           0.0, 1e3 * (time.perf_counter() - t0))
+        return Frame(rgb, layer, plan.placements, stats)
+
+    def draw_placements(self, scene: BillboardScene, camera: CameraModel, placements: Sequence[Placement],
+                        layer: np.ndarray, zbuf: np.ndarray, sun_shadow: FrameShadow | None = None) -> None:
+        """Shade and composite ``placements`` (back to front) into ``layer``, depth-tested against
+        ``zbuf`` where a billboard meets another or a pixel ``zbuf`` already holds (what was drawn
+        before: e.g. real meshes, :mod:`morphkit.plan.mixed`).
+
+        Parameters
+        ----------
+        scene : BillboardScene
+            The scene (facing checked by :meth:`render`).
+        camera : CameraModel
+            The frame's camera.
+        placements : sequence of Placement
+            Back to front (a frame plan's order).
+        layer : (H, W, 4) float32
+            Premultiplied layer, updated in place.
+        zbuf : (H, W) float32
+            The frame's depth buffer (:func:`~morphkit.billboard.frames.compositor.new_depth`),
+            updated in place.
+        sun_shadow : FrameShadow, optional
+            The frame's shadow of the sun (the ``shadow`` of the ground
+            :func:`~.shadowing.frame_shadow` gives), or None.
+
+        Raises
+        ------
+        ValidationError
+            An asset that is not a :class:`SurfaceSource`.
+        """
         # each image is shaded in linear light and encoded before it is fogged and composited:
         # the backdrop's one fog model (backdrop.Fog.blend), as for the ground and the meshes
-        layer, zbuf = new_layer(camera.shape), new_depth(camera.shape)
         fog = scene.backdrop.fog
         fog_color = (0.0, 0.0, 0.0) if fog is None else fog.color
         lit = self.lighting.above_horizon()
         points_lit = any(isinstance(lt, PointLight) for lt in lit.lights)
         ambient, terms = sun_terms(lit)
         inst = scene.instances
-        ground = None if self.shadow is None else frame_shadow(
-            self.shadow, scene, camera, lit, np.array([pl.index for pl in plan.placements], np.int64))
-        fs = None if ground is None else ground.shadow
+        fs = sun_shadow
         checked: set[str] = set()
-        radii = [scene.assets[pl.asset].half_extent[0] * inst.scale[pl.index] for pl in plan.placements]
-        by_depth = entangled(plan.placements, np.array(radii))
-        for pl, deep in zip(plan.placements, by_depth, strict=True):
+        radii = [scene.assets[pl.asset].half_extent[0] * inst.scale[pl.index] for pl in placements]
+        by_depth = entangled(placements, np.array(radii))
+        if np.isfinite(zbuf).any():  # something drawn before: every billboard meeting it is tested too
+            for n, pl in enumerate(placements):
+                r0, r1, c0, c1 = pl.roi
+                by_depth[n] |= bool(np.isfinite(zbuf[r0:r1, c0:c1]).any())
+        for pl, deep in zip(placements, by_depth, strict=True):
             asset = scene.assets[pl.asset]
             if pl.asset not in checked:
                 if not isinstance(asset, SurfaceSource):
@@ -448,13 +494,4 @@ class LitMode:
                 draw(layer, pl, image, fog_color, zbuf=zbuf, depth=z)
             else:
                 draw(layer, pl, image, fog_color)
-        back = (scene.backdrop.draw(camera) if ground is None
-                else shadowed_backdrop(scene, camera, lit, ground, layer[:, :, 3]))
-        rgb = finish(layer, back)
-        counts = self._cache.counts - before
-        stats = FrameStats(self.name, plan.n_instances, len(plan.placements), plan.n_frustum_culled,
-                           plan.n_behind, plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above,
-                           counts.hits, counts.misses, counts.evictions, len(self._cache), self._cache.nbytes,
-                           0.0, 1e3 * (time.perf_counter() - t0))
-        return Frame(rgb, layer, plan.placements, stats)
 
