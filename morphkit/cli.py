@@ -336,7 +336,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
         entry = {"file": str(args.plan), "budget": plan.budget.to_json(), "bands": len(plan.choice.choices)}
 
         def mode(prep: Any) -> Any:
-            return plan.mode(prep.relit, prep.base, prep.shadow)
+            return plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
 
     claim = _output_folder(args.out, RENDER_OUTPUT, args.overwrite)
     render_scene(scene, claim, command="render", stem="render", compare=args.compare, mode=mode, plan=entry)

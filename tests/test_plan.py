@@ -28,9 +28,11 @@ from morphkit.plan.planner import (
     reached,
 )
 from morphkit.plan.representations import (
+    BILLBOARD_REPRESENTATIONS,
     REPRESENTATIONS,
     BandChoice,
     BandedRing,
+    BillboardRepresentation,
     elevation_band,
     representation,
 )
@@ -53,11 +55,14 @@ def _scene() -> BillboardScene:
 
 
 def test_representations_are_ordered_by_cost_and_found_by_name():
-    assert [r.name for r in REPRESENTATIONS] == ["classic", "nearest", "morph"]
+    assert [r.name for r in REPRESENTATIONS] == ["classic", "nearest", "morph", "mesh"]
     assert [r.cost for r in REPRESENTATIONS] == sorted(r.cost for r in REPRESENTATIONS)
     assert representation("nearest") is REPRESENTATIONS[1]
+    # the real mesh is a representation but draws no billboard image
+    assert [r.name for r in BILLBOARD_REPRESENTATIONS] == ["classic", "nearest", "morph"]
+    assert not isinstance(representation("mesh"), BillboardRepresentation)
     with pytest.raises(
-        ValidationError, match=r"representation: expected one of \['classic', 'nearest', 'morph'\]"
+        ValidationError, match=r"representation: expected one of \['classic', 'nearest', 'morph', 'mesh'\]"
     ):
         representation("impostor")
 
@@ -132,7 +137,7 @@ def test_a_frames_prediction_weights_each_billboard_by_its_pixels():
 def test_predicting_a_path_sees_what_its_frames_draw(rng):
     scene = _scene()
     tables = {}
-    for r, base in (("classic", 18.0), ("nearest", 22.0), ("morph", 26.0)):
+    for r, base in (("classic", 18.0), ("nearest", 22.0), ("morph", 26.0), ("mesh", 60.0)):
         h = np.array([4.0, 16.0, 64.0, 256.0])
         e = np.array([0.0, 40.0, 80.0])
         tables[("tree", r)] = ErrorTable(
@@ -177,6 +182,20 @@ def test_calibration_moves_each_representations_predictions_by_its_offset():
     )
     # gaps -1.5 and -0.5 dB (the frame without a prediction left out): median -1.0, each 0.5 from it
     assert (c.db, c.frames, c.spread_db) == (-1.0, 2, 0.5) and c.iou == pytest.approx(0.025)
+
+
+def test_a_prediction_at_the_cap_measured_below_it_is_calibrated_a_measure_at_the_cap_is_not():
+    # the real mesh's table is the truth against itself (the cap); its frames, shadowed by the
+    # frame's own sun atlases, measure 40 and 42 dB: the offset is theirs, the frame at the cap left out
+    c = calibration_offsets(
+        [{"billboard-psnr": PSNR_CAP_DB, "billboard-iou": 1.0}] * 3,
+        [
+            {"billboard-psnr": 40.0, "billboard-iou": 1.0},
+            {"billboard-psnr": 42.0, "billboard-iou": 1.0},
+            {"billboard-psnr": PSNR_CAP_DB, "billboard-iou": 1.0},
+        ],
+    )
+    assert (c.db, c.frames, c.spread_db) == (41.0 - PSNR_CAP_DB, 2, 1.0) and c.iou == 0.0
 
 
 def test_band_offsets_correct_each_band_apart_from_its_billboards_own_figures():
@@ -283,6 +302,68 @@ def test_a_budget_nothing_meets_names_the_best_reachable_figure_and_its_bound():
         choose(pred, Budget(billboard_psnr=40.0))
 
 
+def _with_mesh() -> FramePredictions:
+    """:func:`_two_bands` with the real mesh as a fourth representation: 45 dB and IoU 1 everywhere
+    (as calibrated: its frames' own shadows)."""
+    two = _two_bands()
+    psnr = np.vstack([two.psnr_db[0], np.full(4, 45.0)])
+    iou = np.vstack([two.iou[0], np.ones(4)])
+    return FramePredictions(
+        (*two.representations, "mesh"),
+        two.bands,
+        two.band_index,
+        [psnr, psnr],
+        [iou, iou],
+        two.pixels,
+        {"tree": 64},
+    )
+
+
+def test_the_real_mesh_takes_only_the_bands_no_billboard_holds():
+    pred = _with_mesh()
+    costs = {"classic": 1.0, "nearest": 2.0, "morph": 9.0, "mesh": 12.0}
+    # 31.5 dB (frames of 4 billboards of 100 px, PSNR of their pooled squared error, less the 0.5 dB
+    # margin): the morph everywhere 30.2, the card or the nearest view at eye level with the mesh from
+    # above 29.7 and 30.2; the morph at eye level with the mesh from above 31.7, the cheaper of the
+    # two that meet it (costs 78 against the mesh everywhere's 96)
+    got = choose(pred, Budget(billboard_psnr=31.5), costs=costs)
+    assert got.choice.choices == {("tree", 0, 0): "morph", ("tree", 0, 2): "mesh"}
+    assert all(f["billboard-psnr"] >= 31.5 + tol.PLAN_MARGIN_DB for f in got.predicted)
+    # the mesh measured cheaper than the morph: it takes every band the card cannot
+    got = choose(pred, Budget(billboard_psnr=31.5), costs={**costs, "mesh": 5.0})
+    assert set(got.choice.choices.values()) == {"mesh"}
+    # beyond the mesh's figure nothing meets it: the best reachable is the mesh everywhere
+    with pytest.raises(BudgetError, match=r"billboard-psnr 44\.5 .* against 50; .*\(mesh everywhere\)$"):
+        choose(pred, Budget(billboard_psnr=50.0), costs=costs)
+
+
+def test_a_time_budget_takes_the_least_error_within_the_time():
+    pred = _with_mesh()  # 2 frames of 4 billboards: 3 at eye level, 1 from above
+    costs = {"classic": 1.0, "nearest": 2.0, "morph": 9.0, "mesh": 12.0}
+    cost = np.array([costs[r] for r in pred.representations])
+    np.testing.assert_allclose(pred.frame_times(np.zeros(2, np.int64), cost), [4.0, 4.0])
+    np.testing.assert_allclose(pred.frame_times(np.array([3, 2]), cost), [45.0, 45.0])
+    # 4 ms: only the card everywhere fits
+    got = choose(pred, Budget(time_ms=4.0), costs=costs)
+    assert set(got.choice.choices.values()) == {"classic"} and got.predicted_ms == 4.0
+    # 48 ms: the mesh everywhere fits, and is the least error
+    got = choose(pred, Budget(time_ms=48.0), costs=costs)
+    assert set(got.choice.choices.values()) == {"mesh"} and got.predicted_ms == 48.0
+    # between: within the time, and no worse than the card everywhere
+    card = pred.frame_errors(np.zeros(2, np.int64))[0]["billboard-psnr"]
+    for limit in (6.0, 13.0, 30.0):
+        got = choose(pred, Budget(time_ms=limit), costs=costs)
+        assert got.predicted_ms <= limit
+        assert got.predicted[0]["billboard-psnr"] >= card
+    # the error keys too: within 13 ms the frames cannot reach 40 dB; 3.9 ms not even the card
+    with pytest.raises(BudgetError, match=r"no choice within 13 ms meets the budget: .*against 40"):
+        choose(pred, Budget(billboard_psnr=40.0, time_ms=13.0), costs=costs)
+    with pytest.raises(
+        BudgetError, match=r"within 3\.9 ms: the cheapest, classic everywhere, is predicted 4 ms"
+    ):
+        choose(pred, Budget(time_ms=3.9), costs=costs)
+
+
 def test_reached_is_the_figure_of_the_budgets_fraction_of_frames():
     frames = [{"billboard-psnr": float(v), "billboard-iou": None} for v in range(1, 21)]  # 1 .. 20 dB
     assert reached(Budget(billboard_psnr=10.0, frames=0.95), frames) == {"billboard-psnr": 2.0}
@@ -354,7 +435,7 @@ def test_a_large_scene_is_predicted_from_a_sample_of_its_instances():
             np.full((2, 2), 20.0),
             np.full((2, 2), 0.9),
         )
-        for r in ("classic", "nearest", "morph")
+        for r in ("classic", "nearest", "morph", "mesh")
     }
     cams = [_camera([0.0, -60.0, 8.0], [0.0, 0.0, 0.0])]
     pred = predict_frames(tables, scene, cams, max_instances=1000)

@@ -7,6 +7,8 @@ import json
 
 import pytest
 
+from morphkit import tol
+from morphkit.billboard.compare import PSNR_CAP_DB
 from morphkit.cli import main
 
 SMALL_SCENE = {
@@ -56,7 +58,7 @@ def test_a_nonsense_budget_is_a_usage_error(tmp_path, capsys, budget, match):
 def test_a_budget_key_not_planned_yet_is_refused_in_one_line(tmp_path, capsys):
     scene = _scene(tmp_path)
     assert main(["plan", str(scene), "--budget", "shadow-iou=0.8", "-o", str(tmp_path / "out")]) == 1
-    assert "planning the shadows and to a frame time is not built yet" in _one_error_line(capsys)
+    assert "planning the shadows is not built yet" in _one_error_line(capsys)
     assert not (tmp_path / "out").exists()
 
 
@@ -64,24 +66,22 @@ def test_a_budget_key_not_planned_yet_is_refused_in_one_line(tmp_path, capsys):
 def test_a_budget_nothing_meets_is_one_line_with_the_best_reachable_and_nothing_written(tmp_path, capsys):
     scene = _scene(tmp_path)
     out = tmp_path / "out"
-    assert main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out)]) == 1
+    # the real mesh is the truth's own drawing here (no shadows): its frames reach the PSNR cap, so
+    # only a budget above the cap less the prediction's margin is out of reach of every representation
+    want = f"billboard-psnr={PSNR_CAP_DB - tol.PLAN_MARGIN_DB / 2:g}"
+    assert main(["plan", str(scene), "--budget", want, "-o", str(out)]) == 1
     line = _one_error_line(capsys)
     assert "no representation meets the budget: the best reachable is billboard-psnr" in line
-    assert "against 90; bounded by tree, " in line
+    assert f"against {PSNR_CAP_DB - tol.PLAN_MARGIN_DB / 2:g}; bounded by tree, " in line
+    assert line.endswith("(mesh everywhere)")
     assert not out.exists()
     # the tables it measured are kept in the cache: planning again measures none
     tables = tmp_path / "tables"
-    assert (
-        main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out), "--tables", str(tables)])
-        == 1
-    )
-    assert "error tables: 3 measured, 0 read" in capsys.readouterr().out
-    assert (
-        main(["plan", str(scene), "--budget", "billboard-psnr=90", "-o", str(out), "--tables", str(tables)])
-        == 1
-    )
-    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
-    assert len(list(tables.glob("tree.*.npz"))) == 3 and not out.exists()
+    assert main(["plan", str(scene), "--budget", want, "-o", str(out), "--tables", str(tables)]) == 1
+    assert "error tables: 4 measured, 0 read" in capsys.readouterr().out
+    assert main(["plan", str(scene), "--budget", want, "-o", str(out), "--tables", str(tables)]) == 1
+    assert "error tables: 0 measured, 4 read" in capsys.readouterr().out
+    assert len(list(tables.glob("tree.*.npz"))) == 4 and not out.exists()
 
 
 @pytest.mark.gl
@@ -113,6 +113,7 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
         "classic",
         "nearest",
         "morph",
+        "mesh",
     }
     # held out: the verified frames are not among those planned with
     assert len(plan["held_out_frames"]) == 3 and not set(plan["held_out_frames"]) & set(
@@ -122,10 +123,11 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert v["frames"] == 3 and 0 <= v["within"] <= 3 and v["fraction"] == pytest.approx(v["within"] / 3)
     assert set(plan["time_ms"]) >= {"plan", "default", "cheapest_sweep"} and plan["time_ms"]["plan"] > 0
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
-    assert set(plan["configurations"]) == {"plan", "default", "classic", "nearest"}
+    assert set(plan["configurations"]) == {"plan", "default", "classic", "nearest", "mesh"}
     assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (out / "tables").iterdir()) == [
         "tree.classic.npz",
+        "tree.mesh.npz",
         "tree.morph.npz",
         "tree.nearest.npz",
     ]
@@ -147,13 +149,48 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
         )
         == 0
     )
-    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
+    assert "error tables: 0 measured, 4 read" in capsys.readouterr().out
     # the plan drawn: render --plan takes the folder
     r = tmp_path / "r"
     assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0
     summary = json.loads((r / "render.json").read_text())
     assert summary["plan"]["bands"] == len(json.loads((out / "plan.json").read_text())["choices"])
     assert len(list((r / "frames").glob("frame_*.png"))) == 8
+
+
+@pytest.mark.gl
+def test_a_budget_only_the_real_mesh_meets_is_planned_as_meshes_verified_and_rendered(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    out = tmp_path / "plan"
+    # 60 dB: beyond what any billboard of 32 px views reaches, within the real mesh's cap
+    assert main(["plan", str(scene), "--budget", "billboard-psnr=60", "-o", str(out), "--verify", "2"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    assert {c["representation"] for c in plan["choices"]} == {"mesh"}
+    assert plan["verified"]["within"] == 2 and plan["verified"]["met"]
+    assert plan["error"]["plan"]["billboard-psnr"]["at_fraction"] >= 60
+    assert plan["error"]["default"]["billboard-psnr"]["at_fraction"] < 60
+    r = tmp_path / "r"
+    assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0
+    assert len(list((r / "frames").glob("frame_*.png"))) == 8
+
+
+@pytest.mark.gl
+def test_a_time_budget_plans_the_least_error_within_it_and_verifies_the_time(tmp_path, capsys):
+    scene = _scene(tmp_path)
+    out = tmp_path / "plan"
+    # generous: every representation fits; the least error is the real mesh (the truth's drawing)
+    assert main(["plan", str(scene), "--budget", "time-ms=10000", "-o", str(out), "--verify", "2"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["budget"] == {"time-ms": 10000.0, "frames": 0.95}
+    assert {c["representation"] for c in plan["choices"]} == {"mesh"}
+    assert plan["verified"]["time_met"] is True and plan["verified"]["met"] is True
+    assert 0 < plan["time_ms"]["plan_predicted"] <= 10000
+    assert set(plan["error"]["plan"]) == {"billboard-psnr", "billboard-iou"}  # both reported
+    # below what the cheapest representation everywhere is predicted: one line, nothing written
+    low = tmp_path / "low"
+    assert main(["plan", str(scene), "--budget", "time-ms=0.001", "-o", str(low)]) == 1
+    assert "no representation draws the frames within 0.001 ms: the cheapest" in _one_error_line(capsys)
+    assert not low.exists()
 
 
 @pytest.mark.gl

@@ -27,13 +27,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..billboard import MorphCache
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import read_json, write_json
 from ..imaging.shading import Lighting
-from ..sunlit import LitMode
 from .budget import Budget
-from .representations import ELEVATION_EDGES_DEG, BandChoice, BandedRing, BandedSurface, band_label
+from .mixed import banded_mode
+from .representations import ELEVATION_EDGES_DEG, BandChoice, band_label
 
 __all__ = ["ScenePlan", "PLAN_VERSION", "PLAN_NAME", "read_plan"]
 
@@ -92,8 +91,9 @@ class ScenePlan:
                 expected_got("plan", f"a plan of {kinds[relit]}", f"one of {kinds[self.relit]}")
             )
 
-    def mode(self, relit: bool, base: Lighting, shadow: Any = None) -> Any:
-        """The frames' mode: each billboard in its band's representation.
+    def mode(self, relit: bool, base: Lighting, shadow: Any = None, meshes: Any = None) -> Any:
+        """The frames' mode: each billboard in its band's representation, the bands of the real mesh
+        drawn as meshes (:mod:`~morphkit.plan.mixed`).
 
         Parameters
         ----------
@@ -103,6 +103,8 @@ class ScenePlan:
             The relit mode's lighting until a frame sets its sun.
         shadow : SceneShadow, optional
             The frames' shadow (relit).
+        meshes : LitMeshMode or MeshMode, optional
+            Draws the real meshes (needed when a band is the real mesh).
 
         Returns
         -------
@@ -111,12 +113,11 @@ class ScenePlan:
         Raises
         ------
         ValidationError
-            A plan of the other kind of asset (:meth:`check_kind`).
+            A plan of the other kind of asset (:meth:`check_kind`); a plan with bands of the real
+            mesh and no ``meshes``.
         """
         self.check_kind(relit)
-        if relit:
-            return LitMode(BandedSurface(self.choice), base, shadow=shadow)
-        return BandedRing(self.choice, MorphCache())
+        return banded_mode(self.choice, relit, base, shadow, meshes)
 
     def check_assets(self, names: Sequence[str]) -> None:
         """Refuse a scene whose assets are not the plan's.

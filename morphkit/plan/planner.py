@@ -22,15 +22,17 @@ one at a time, the move that saves the most cost (its billboards over the path t
 the representations' costs per billboard, as measured) per margin of slack it uses first, as long as
 the frames stay within the budget: a greedy descent whose every step is checked against the frames'
 budget, not against a per-band guess; the cheapest of the descents wins. A budget no representation
-everywhere meets is refused (:class:`~morphkit.errors.BudgetError`) with the figure the view morph
-everywhere reaches in the budget's fraction of frames and the band that bounds it.
+everywhere meets is refused (:class:`~morphkit.errors.BudgetError`) with the figure the best
+representation everywhere reaches in the budget's fraction of frames and the band that bounds it.
+A ``time-ms`` budget turns the search round (:func:`choose`, "Time"): the least error whose
+predicted median frame time is within it.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import heapq
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -160,6 +162,25 @@ class FramePredictions:
         """
         return BandChoice({b: self.representations[int(r)] for b, r in zip(self.bands, pick, strict=True)})
 
+    def frame_times(self, pick: np.ndarray, cost: np.ndarray) -> np.ndarray:
+        """Each frame's predicted time under ``pick``: its billboards' costs summed (scaled from a
+        sample to the scene's instances).
+
+        Parameters
+        ----------
+        pick : (B,) int
+            Representation index per band.
+        cost : (R,) float
+            Each representation's cost per billboard (milliseconds).
+
+        Returns
+        -------
+        (F,) float64
+        """
+        scale = self.instances / self.predicted_instances if self.predicted_instances else 1.0
+        c = np.asarray(cost, np.float64)[np.asarray(pick, np.int64)]
+        return np.array([float(c[b].sum()) * scale for b in self.band_index])
+
     def frame_errors(self, pick: np.ndarray) -> list[dict[str, float | None]]:
         """Each frame's predicted figures under ``pick`` (the module notes),
         ``{"billboard-psnr", "billboard-iou"}`` (None: nothing drawn).
@@ -214,7 +235,9 @@ def calibration_offsets(
     """One representation's calibration: the median over frames drawn in it everywhere of measured
     less predicted. Adding a constant to every billboard's PSNR moves the frame's by that constant,
     and to every IoU the frame's too, so the median is the constant that best closes the gap; frames
-    at the PSNR cap (nothing wrong to measure) or without billboards are left out.
+    measured at the PSNR cap (nothing wrong to measure) or without billboards are left out (a frame
+    predicted at the cap and measured below it is not: e.g. the real mesh's, whose table is exact and
+    whose frames are not, their shadows being the frame's own).
 
     Parameters
     ----------
@@ -240,7 +263,7 @@ def calibration_offsets(
     db, iou = [], []
     for p, m in zip(predicted, measured, strict=True):
         mp, pp = m.get("billboard-psnr"), p.get("billboard-psnr")
-        if mp is None or pp is None or mp >= PSNR_CAP_DB or pp >= PSNR_CAP_DB:
+        if mp is None or pp is None or mp >= PSNR_CAP_DB:
             continue
         db.append(mp - pp)
         iou.append(m["billboard-iou"] - p["billboard-iou"])  # type: ignore[operator]
@@ -258,7 +281,8 @@ def band_offsets(
     billboard alone does not know of the scene, band by band: a card that holds at eye level and
     fails from above is corrected apart in each). A band of fewer than
     :data:`morphkit.tol.PLAN_MIN_BAND_BILLBOARDS` measured billboards gets none (the representation's
-    offset over the frames serves it); capped PSNRs (nothing wrong to measure) are left out.
+    offset over the frames serves it); billboards measured at the PSNR cap (nothing wrong to measure)
+    are left out of the PSNR's.
 
     Parameters
     ----------
@@ -284,7 +308,7 @@ def band_offsets(
         for i, e in enumerate(m):
             k = int(b[i])
             iou.setdefault(k, []).append(float(e["iou"]) - float(q[r, i]))
-            if e["psnr"] < PSNR_CAP_DB and p[r, i] < PSNR_CAP_DB:
+            if e["psnr"] < PSNR_CAP_DB:
                 db.setdefault(k, []).append(float(e["psnr"]) - float(p[r, i]))
     out: dict[tuple[str, Band], tuple[float, float]] = {}
     for k, qs in iou.items():
@@ -420,13 +444,16 @@ class Choice:
     default_predicted : list of dict
         The same for every band in the view morph (today's default).
     steps : int
-        How many bands were moved to a cheaper representation.
+        How many bands were moved from the representation the search started from.
+    predicted_ms : float, optional
+        The median of the frames' predicted times (:meth:`FramePredictions.frame_times`).
     """
 
     choice: BandChoice
     predicted: list[dict[str, float | None]]
     default_predicted: list[dict[str, float | None]]
     steps: int
+    predicted_ms: float = 0.0
 
 
 def _shifted(frames: list[dict[str, float | None]], margins: np.ndarray) -> list[dict[str, float | None]]:
@@ -500,14 +527,15 @@ def choose(
     margin: tuple[float, float] | Mapping[str, tuple[float, float]] | None = None,
     proven: Sequence[str] = (),
 ) -> Choice:
-    """The cheapest choice of representation per band predicted to meet ``budget`` (module notes).
+    """The cheapest choice of representation per band predicted to meet ``budget`` (module notes);
+    with a ``time-ms`` budget, the least error within that time ("Time" below).
 
     Parameters
     ----------
     pred : FramePredictions
         The frames' predictions.
     budget : Budget
-        The error budget (its error keys ``billboard-psnr`` and ``billboard-iou``).
+        The error budget (its error keys ``billboard-psnr`` and ``billboard-iou``, and ``time-ms``).
     costs : mapping of str to float, optional
         Each representation's cost per billboard drawn (e.g. milliseconds, as measured); default
         the cost order of :data:`~.representations.REPRESENTATIONS`.
@@ -528,7 +556,20 @@ def choose(
     ------
     BudgetError
         No representation everywhere is predicted to meet the budget by the margin, and none is
-        proven to.
+        proven to; with ``time-ms``, the cheapest representation everywhere is predicted slower, or
+        no choice within the time is predicted to meet the error keys.
+
+    Notes
+    -----
+    **Time.** A frame's predicted time is the sum of its billboards' costs per billboard
+    (:meth:`FramePredictions.frame_times`; the calibration's, which hold each representation's share
+    of the frame's own work). With ``time-ms``, the search starts from the cheapest representation
+    everywhere (refused if its frames' median predicted time is over the budget) and moves one band
+    at a time to another representation, the move that raises the frames' figures (each error key's
+    reached by the budget's fraction of frames, less the margin, in margins above the budget; the
+    PSNR where the budget has no error key; the frames' mean breaking ties) most per millisecond it
+    adds first, a move that raises them and saves time first of all, while the median predicted time
+    stays within ``time-ms``. The error keys, when given, must then be met.
     """
     reps = pred.representations
     if margin is None:
@@ -550,6 +591,9 @@ def choose(
     def total(pick: np.ndarray) -> float:
         return float(np.sum(counts * cost[pick]))
 
+    if budget.time_ms is not None:
+        return _within_time(pred, budget, cost, shifted, default)
+
     starts: list[tuple[np.ndarray, Budget]] = []
     for r, name in enumerate(reps):
         start = np.full(len(pred.bands), r, np.int64)
@@ -563,22 +607,32 @@ def choose(
                 if got.get(key) is not None
             }
             starts.append((start, dataclasses.replace(budget, **lowered)))
+    unit = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
     if not starts:
-        got = reached(budget, shifted(_morph_pick(pred)))
+        # the best reachable: the representation everywhere that falls least short, in margins
+        def short(r: int) -> float:
+            got = reached(budget, shifted(np.full(len(pred.bands), r, np.int64)))
+            return min(
+                ((got[k] - want) / unit[k] for k, want in budget.error_keys() if got.get(k) is not None),
+                default=-np.inf,
+            )
+
+        best_r = max(range(len(reps)), key=short)
+        pick = np.full(len(pred.bands), best_r, np.int64)
+        got = reached(budget, shifted(pick))
         parts = []
         for key, want in budget.error_keys():
             v = got.get(key)
             if v is not None and v < want:
                 parts.append(
                     f"{key} {v:.3g} (with the prediction's margin) in {budget.frames:.0%} of the frames, "
-                    f"against {want:g}; bounded by {_bound(pred, _morph_pick(pred), key)}"
+                    f"against {want:g}; bounded by {_bound(pred, pick, key)}"
                 )
         raise BudgetError(
             "no representation meets the budget: the best reachable is "
             + ("; ".join(parts) or "below the budget")
-            + " (the view morph everywhere)"
+            + f" ({reps[best_r]} everywhere)"
         )
-    unit = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
 
     def slack(pick: np.ndarray, to: Budget) -> float:
         """How far, in margins, the pick's figures in the budget's fraction of frames clear it."""
@@ -632,9 +686,89 @@ def choose(
         if best is None or total(pick) < total(best):
             best, best_steps = pick, steps
     assert best is not None
-    return Choice(pred.choice_of(best), pred.frame_errors(best), default, best_steps)
+    ms = float(np.median(pred.frame_times(best, cost))) if pred.band_index else 0.0
+    return Choice(pred.choice_of(best), pred.frame_errors(best), default, best_steps, ms)
 
 
-def _morph_pick(pred: FramePredictions) -> np.ndarray:
-    """Every band in the view morph (today's default), as a pick."""
-    return np.full(len(pred.bands), pred.representations.index("morph"), np.int64)
+def _within_time(
+    pred: FramePredictions,
+    budget: Budget,
+    cost: np.ndarray,
+    shifted: Callable[[np.ndarray], list[dict[str, float | None]]],
+    default: list[dict[str, float | None]],
+) -> Choice:
+    """The least error within ``budget.time_ms`` (:func:`choose`, "Time"): from the cheapest
+    representation everywhere, the move (a band to another representation) that raises the frames'
+    figures most per millisecond it adds first (a move that saves time and raises them at once goes
+    first), as long as the frames' predicted median time stays within the budget."""
+    reps = pred.representations
+    # the figures raised: the budget's error keys, or the PSNR where it has none
+    target = budget if budget.error_keys() else Budget(billboard_psnr=1.0, frames=budget.frames)
+    unit = {"billboard-psnr": tol.PLAN_MARGIN_DB, "billboard-iou": tol.PLAN_MARGIN_IOU}
+    limit = float(budget.time_ms)  # type: ignore[arg-type]
+
+    def score(pick: np.ndarray) -> float:
+        """The figures reached by the budget's fraction of frames, in margins above the budget; the
+        frames' mean a thousandth of it, so a move that raises only frames above that quantile
+        still counts (least error in every frame the time allows)."""
+        frames = shifted(pick)
+        got = reached(target, frames)
+        keys = target.error_keys()
+        at = min(((got[k] - v) / unit[k] for k, v in keys if got.get(k) is not None), default=0.0)
+        each = [
+            min((f[k] - v) / unit[k] for k, v in keys if f.get(k) is not None)  # type: ignore[operator]
+            for f in frames
+            if any(f.get(k) is not None for k, _ in keys)
+        ]
+        return at + 1e-3 * (float(np.mean(each)) if each else 0.0)
+
+    def ms(pick: np.ndarray) -> float:
+        return float(np.median(pred.frame_times(pick, cost))) if pred.band_index else 0.0
+
+    cheapest = int(np.argmin(cost))
+    pick = np.full(len(pred.bands), cheapest, np.int64)
+    if ms(pick) > limit:
+        raise BudgetError(
+            f"no representation draws the frames within {limit:g} ms: the cheapest, {reps[cheapest]} "
+            f"everywhere, is predicted {ms(pick):.0f} ms a frame (the median of the planning frames)"
+        )
+    s0, t0, steps = score(pick), ms(pick), 0
+    heap = [(-np.inf, b, r) for b in range(len(pred.bands)) for r in range(len(reps)) if r != pick[b]]
+    heapq.heapify(heap)
+    fresh: set[tuple[int, int]] = set()
+    while heap:
+        _, b, r = heapq.heappop(heap)
+        if r == pick[b]:
+            continue
+        old = pick[b]
+        pick[b] = r
+        t1 = ms(pick)
+        s1 = score(pick) if t1 <= limit else -np.inf
+        pick[b] = old
+        if s1 <= s0:
+            continue  # dropped: no better (or over the time) now, and the moves after leave less time
+        ratio = (s1 - s0) / max(t1 - t0, 1e-6) if t1 > t0 else np.inf
+        if (b, r) in fresh or not heap or -ratio <= heap[0][0]:
+            pick[b], s0, t0, steps = r, s1, t1, steps + 1
+            fresh.clear()
+            heap = [(p, bb, rr) for p, bb, rr in heap if bb != b] + [
+                (-np.inf, b, rr) for rr in range(len(reps)) if rr != r
+            ]
+            heapq.heapify(heap)
+        else:
+            fresh.add((b, r))
+            heapq.heappush(heap, (-ratio, b, r))
+    if budget.error_keys() and not budget.verdict(shifted(pick))["met"]:
+        got = reached(budget, shifted(pick))
+        parts = [
+            f"{k} {got[k]:.3g} (with the prediction's margin) in {budget.frames:.0%} of the frames, "
+            f"against {v:g}"
+            for k, v in budget.error_keys()
+            if got.get(k) is not None and got[k] < v  # type: ignore[operator]
+        ]
+        raise BudgetError(
+            f"no choice within {limit:g} ms meets the budget: the best reachable is "
+            + ("; ".join(parts) or "below the budget")
+            + f" (predicted {t0:.0f} ms a frame)"
+        )
+    return Choice(pred.choice_of(pick), pred.frame_errors(pick), default, steps, t0)

@@ -18,11 +18,18 @@ per billboard, which the planner's verification then times):
   blended (:class:`~morphkit.sunlit.litmodes.NearestSurface`, :class:`~morphkit.billboard.NearestMode`);
 * :class:`ViewMorph` -- the view morph of the views around the direction: the dome's per-pixel
   depth morph for relit assets, the ring's pre-warp, morph and post-warp otherwise
-  (:class:`~morphkit.sunlit.litmodes.MorphSurface`, :class:`~morphkit.billboard.MorphMode`), cached.
+  (:class:`~morphkit.sunlit.litmodes.MorphSurface`, :class:`~morphkit.billboard.MorphMode`), cached;
+* :class:`RealMesh` -- the asset's own mesh, drawn with the frame's other meshes in one render
+  (:mod:`morphkit.plan.mixed`): the truth's drawing, so its error is what the frame's shadows and
+  the billboards around it add.
 
-:class:`BandChoice` maps bands to representations; :class:`BandedSurface` (relit dome assets, a
-:class:`~morphkit.sunlit.litmodes.SurfaceChoice`) and :class:`BandedRing` (ring assets, a
-:class:`~morphkit.billboard.BillboardMode`) draw each billboard in its band's representation.
+The first three are billboard representations (:class:`BillboardRepresentation`,
+:data:`BILLBOARD_REPRESENTATIONS`): each
+draws a billboard from an image. :class:`BandChoice` maps bands to representations;
+:class:`BandedSurface` (relit dome assets, a :class:`~morphkit.sunlit.litmodes.SurfaceChoice`) and
+:class:`BandedRing` (ring assets, a :class:`~morphkit.billboard.BillboardMode`) draw each billboard in
+its band's billboard representation, and :mod:`morphkit.plan.mixed` draws the bands of
+the real mesh as meshes with them.
 """
 
 from __future__ import annotations
@@ -52,7 +59,11 @@ __all__ = [
     "ClassicCard",
     "NearestView",
     "ViewMorph",
+    "RealMesh",
+    "BillboardRepresentation",
+    "BILLBOARD_REPRESENTATIONS",
     "REPRESENTATIONS",
+    "MESH",
     "representation",
     "ELEVATION_EDGES_DEG",
     "elevation_band",
@@ -89,7 +100,7 @@ class Band(NamedTuple):
 
 @runtime_checkable
 class Representation(Protocol):
-    """One way to draw an asset's billboards.
+    """One way to draw an asset's instances: its name and its place in the cost order.
 
     Parameters
     ----------
@@ -99,6 +110,17 @@ class Representation(Protocol):
 
     name: str
     cost: int
+
+
+@runtime_checkable
+class BillboardRepresentation(Representation, Protocol):
+    """A representation drawing each instance as a billboard from one image.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not used: a protocol is not instantiated, classes implement its members.
+    """
 
     def surface(self) -> SurfaceChoice:
         """The surface a relit dome asset's billboard takes.
@@ -190,8 +212,21 @@ class ViewMorph(_ModePair):
     cost: ClassVar[int] = 2
 
 
+@dataclass(frozen=True)
+class RealMesh:
+    """The asset's own mesh at the instance's pose, drawn as the truth draws it (the costliest;
+    :mod:`morphkit.plan.mixed`)."""
+
+    name: ClassVar[str] = "mesh"
+    cost: ClassVar[int] = 3
+
+
+#: The representations drawing billboards, cheapest first.
+BILLBOARD_REPRESENTATIONS: tuple[BillboardRepresentation, ...] = (ClassicCard(), NearestView(), ViewMorph())
 #: Every representation a plan chooses among, cheapest first.
-REPRESENTATIONS: tuple[Representation, ...] = (ClassicCard(), NearestView(), ViewMorph())
+REPRESENTATIONS: tuple[Representation, ...] = (*BILLBOARD_REPRESENTATIONS, RealMesh())
+#: The name of :class:`RealMesh`.
+MESH = RealMesh.name
 
 
 def representation(name: str) -> Representation:
@@ -321,6 +356,14 @@ class BandChoice:
         return self.choices.get((asset, int(level), int(elevation_band(elevation_deg))), self.default)
 
 
+def _as_mesh(asset: str, level: int, elevation_deg: float) -> str:
+    return expected_got(
+        f"the band of {asset!r} at level {level}, {elevation_deg:.0f} deg",
+        "a billboard representation (a band of the real mesh is drawn by morphkit.plan.mixed)",
+        MESH,
+    )
+
+
 class BandedSurface:
     """A :class:`~morphkit.sunlit.litmodes.SurfaceChoice` taking each billboard's surface from its
     band's representation (relit dome assets).
@@ -338,7 +381,7 @@ class BandedSurface:
             raise ValidationError(expected_got("choice", "a BandChoice", type(choice).__name__))
         self.choice = choice
         self.name = name
-        self._surfaces = {r.name: r.surface() for r in REPRESENTATIONS}
+        self._surfaces = {r.name: r.surface() for r in BILLBOARD_REPRESENTATIONS}
 
     def surface(self, asset: object, azimuth_deg: float, elevation_deg: float, level: int) -> ViewSurface:
         """See :class:`~morphkit.sunlit.litmodes.SurfaceChoice`.
@@ -358,6 +401,8 @@ class BandedSurface:
             Unshaded.
         """
         rep = self.choice.of(asset.name, level, elevation_deg)  # type: ignore[attr-defined]
+        if rep == MESH:
+            raise ValidationError(_as_mesh(asset.name, level, elevation_deg))  # type: ignore[attr-defined]
         return self._surfaces[rep].surface(asset, azimuth_deg, elevation_deg, level)  # type: ignore[arg-type]
 
 
@@ -380,7 +425,7 @@ class BandedRing(BillboardMode):
             raise ValidationError(expected_got("choice", "a BandChoice", type(choice).__name__))
         self.choice = choice
         self._cache = MorphCache() if cache is None else cache
-        self._modes = {r.name: r.ring_mode(self._cache) for r in REPRESENTATIONS}
+        self._modes = {r.name: r.ring_mode(self._cache) for r in BILLBOARD_REPRESENTATIONS}
 
     @property
     def cache(self) -> MorphCache:
@@ -405,4 +450,6 @@ class BandedRing(BillboardMode):
             Degrees outside a partial ring's arc.
         """
         rep = self.choice.of(placement.asset, placement.level, placement.elevation_deg)
+        if rep == MESH:
+            raise ValidationError(_as_mesh(placement.asset, placement.level, placement.elevation_deg))
         return self._modes[rep].image(asset, placement)

@@ -28,8 +28,10 @@ The tables are kept between runs in a cache (``--tables DIR``; default ``tables`
 :data:`morphkit.settings.CACHE_DIR`), named by what they were measured of and under, and written as
 soon as measured: a plan that fails its budget writes nothing to ``OUT`` but keeps its tables.
 
-Not planned yet (refused with one line): ``shadow-iou`` and ``time-ms`` budgets, the real mesh and
-the octahedral impostor as candidates, texel and sun-atlas sizes (the scene's own are kept).
+A ``time-ms`` budget plans the least error whose predicted median frame time is within it
+(:func:`~morphkit.plan.planner.choose`, "Time"), verified as the held-out frames' measured median.
+Not planned yet (refused with one line): a ``shadow-iou`` budget. Not chosen among yet: the
+octahedral impostor, texel and sun-atlas sizes (the scene's own are kept).
 """
 
 from __future__ import annotations
@@ -46,15 +48,22 @@ import numpy as np
 
 from .. import settings, tol
 from ..billboard import BillboardScene, MorphCache
-from ..billboard.compare import box_errors, frame_errors
+from ..billboard.compare import PSNR_CAP_DB, box_errors, frame_errors
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import write_bytes
 from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ..plan import Budget
 from ..plan.errortable import ErrorTable, default_elevations, measure_error_table
+from ..plan.mixed import banded_mode
 from ..plan.planfile import PLAN_NAME, ScenePlan
 from ..plan.planner import band_offsets, calibration_offsets, choose, predict_frames, reached, sample_scene
-from ..plan.representations import REPRESENTATIONS, BandChoice, Representation, band_label
+from ..plan.representations import (
+    REPRESENTATIONS,
+    BandChoice,
+    BillboardRepresentation,
+    Representation,
+    band_label,
+)
 from ..render import Renderer
 from ..scenes.description import SceneDescription
 from ..sunlit import LitMode
@@ -191,7 +200,7 @@ def _tables(
                     break
             if (nm, rep.name) in tables:
                 continue
-            mode = LitMode(rep.surface(), light) if prep.relit else rep.ring_mode(MorphCache())
+            mode = _uniform(prep, rep, light, tables=True)
             t = measure_error_table(
                 asset,
                 prep.resolved.items[nm],
@@ -216,11 +225,14 @@ def _tables(
     return tables, measured
 
 
-def _uniform(prep: PreparedScene, rep: Representation) -> Any:
-    """The mode drawing every billboard of the scene as ``rep``."""
-    return (
-        LitMode(rep.surface(), prep.base, shadow=prep.shadow) if prep.relit else rep.ring_mode(MorphCache())
-    )
+def _uniform(prep: PreparedScene, rep: Representation, light: Any = None, tables: bool = False) -> Any:
+    """The mode drawing every billboard of the scene as ``rep`` (``tables``: as an error table measures
+    it, under ``light`` and without the scene's shadow)."""
+    base = light if tables else prep.base
+    shadow = None if tables else prep.shadow
+    if isinstance(rep, BillboardRepresentation):
+        return LitMode(rep.surface(), base, shadow=shadow) if prep.relit else rep.ring_mode(MorphCache())
+    return banded_mode(BandChoice(default=rep.name), prep.relit, base, shadow, prep.meshes())
 
 
 def _calibrate(
@@ -259,8 +271,14 @@ def _calibrate(
     margins: dict[str, tuple[float, float]] = {}
     proven: list[str] = []
     report: dict[str, Any] = {"frames": list(frames)}
-    lim = np.array([tol.PLAN_MAX_OFFSET_DB, tol.PLAN_MAX_OFFSET_IOU])
     for r in REPRESENTATIONS:
+        # a billboard's table is held to what a scene can move it by; the real mesh's is exact (the
+        # truth against itself), so all its frames' error is the scene's (their shadows): not held
+        lim = (
+            np.array([tol.PLAN_MAX_OFFSET_DB, tol.PLAN_MAX_OFFSET_IOU])
+            if isinstance(r, BillboardRepresentation)
+            else np.array([PSNR_CAP_DB, 1.0])
+        )
         uniform = pred.pick_of(BandChoice(default=r.name))
         measured = got[r.name]["errors"]
         c0 = calibration_offsets(pred.frame_errors(uniform), measured)  # the frames' offset
@@ -395,9 +413,18 @@ def _figures(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> di
     return out
 
 
-def _plot(path: Path, budget: Budget, rows: Mapping[str, Mapping[str, Any]]) -> None:
-    """``plan.png``: per budget key, each configuration's figure (reached by the budget's fraction
-    of the held-out frames) against its median frame time; predicted beside measured."""
+def _shown(budget: Budget) -> Budget:
+    """The budget whose keys a plan's figures are reported for: ``budget``, or, for a budget of time
+    alone, both billboard keys (their values unused) at its fraction of frames."""
+    if budget.error_keys():
+        return budget
+    return Budget(billboard_psnr=1.0, billboard_iou=1.0, frames=budget.frames)
+
+
+def _plot(path: Path, budget: Budget, shown: Budget, rows: Mapping[str, Mapping[str, Any]]) -> None:
+    """``plan.png``: per key of ``shown``, each configuration's figure (reached by the budget's fraction
+    of the held-out frames) against its median frame time; predicted beside measured; ``budget``'s
+    values drawn as lines."""
     import io
 
     import matplotlib
@@ -405,7 +432,8 @@ def _plot(path: Path, budget: Budget, rows: Mapping[str, Mapping[str, Any]]) -> 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    keys = [k for k, _ in budget.error_keys()]
+    keys = [k for k, _ in shown.error_keys()]
+    limits = dict(budget.error_keys())
     fig, axes = plt.subplots(1, len(keys), figsize=(5.2 * len(keys), 4.0), squeeze=False)
     for ax, key in zip(axes[0], keys, strict=True):
         for nm, row in rows.items():
@@ -420,7 +448,10 @@ def _plot(path: Path, budget: Budget, rows: Mapping[str, Mapping[str, Any]]) -> 
                 ax.plot(
                     [t], [pred], style[0], mfc="none", color=style[1], ms=style[2], label=f"{nm} (predicted)"
                 )
-        ax.axhline(dict(budget.error_keys())[key], color="C2", ls="--", lw=1, label="budget")
+        if key in limits:
+            ax.axhline(limits[key], color="C2", ls="--", lw=1, label="budget")
+        if budget.time_ms is not None:
+            ax.axvline(budget.time_ms, color="C2", ls=":", lw=1, label="time budget")
         ax.set_xlabel("median frame time, ms (held-out frames)")
         ax.set_ylabel(f"{key} reached by {budget.frames:.0%} of frames")
         ax.grid(alpha=0.3)
@@ -454,7 +485,7 @@ def plan_scene(
     scene : SceneDescription
         With at least one asset, every asset with a mesh (the truth).
     budget : Budget
-        ``billboard-psnr`` and/or ``billboard-iou``, and ``frames``.
+        ``billboard-psnr`` and/or ``billboard-iou``, ``time-ms``, and ``frames``.
     out : OutputClaim or path-like
         The output folder (``plan.json``, ``plan.png``, ``tables/``).
     overwrite : bool, optional
@@ -495,18 +526,14 @@ def plan_scene(
     claim = out if isinstance(out, OutputClaim) else claim_output(out, PLAN_OUTPUT, overwrite=overwrite)
     head = "morphkit plan: "
     tables_cache = Path(settings.CACHE_DIR) / TABLES_FOLDER if tables_cache is None else Path(tables_cache)
-    for key, v in (("shadow-iou", budget.shadow_iou), ("time-ms", budget.time_ms)):
-        if v is not None:
-            raise ValidationError(
-                expected_got(
-                    f"--budget {key}",
-                    "billboard-psnr, billboard-iou and frames "
-                    "(planning the shadows and to a frame time is not built yet)",
-                    f"{key}={v:g}",
-                )
+    if budget.shadow_iou is not None:
+        raise ValidationError(
+            expected_got(
+                "--budget shadow-iou",
+                "billboard-psnr, billboard-iou, time-ms and frames (planning the shadows is not built yet)",
+                f"shadow-iou={budget.shadow_iou:g}",
             )
-    if not budget.error_keys():
-        raise ValidationError(expected_got("--budget", "billboard-psnr or billboard-iou", budget.to_json()))
+        )
     if verify < 1:
         raise ValidationError(expected_got("--verify", "an int >= 1", verify))
     sun, views, cams, _label, chosen = scene_choices(scene, "plan")
@@ -550,15 +577,15 @@ def plan_scene(
             {b: int(c) for b, c in zip(pred.bands, pred.counts(), strict=True)},
             pred.base_height,
         )
-        moved = sum(v != "morph" for v in picked.choice.choices.values())
+        taken = [sum(v == r.name for v in picked.choice.choices.values()) for r in REPRESENTATIONS]
         print(
-            f"{head}{len(pred.bands)} bands over {len(planning)} planning frames; {moved} moved from the "
-            f"view morph to a cheaper representation (tables {t_tables:.1f} s, calibration "
-            f"{t_calibrate:.1f} s, choice {t_plan:.2f} s)",
+            f"{head}{len(pred.bands)} bands over {len(planning)} planning frames: "
+            + (", ".join(f"{n} {r.name}" for r, n in zip(REPRESENTATIONS, taken, strict=True) if n) or "none")
+            + f" (tables {t_tables:.1f} s, calibration {t_calibrate:.1f} s, choice {t_plan:.2f} s)",
             flush=True,
         )
         modes: dict[str, Any] = {
-            "plan": plan.mode(prep.relit, prep.base, prep.shadow),
+            "plan": plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes()),
             "default": prep.mode(),
         }
         if sweep:
@@ -575,16 +602,28 @@ def plan_scene(
             "plan": held.frame_errors(held.pick_of(plan.choice)),
             "default": held.frame_errors(held.pick_of(BandChoice())),
         }
+        held_picks = {"plan": held.pick_of(plan.choice), "default": held.pick_of(BandChoice())}
         for nm in modes:
-            if nm not in predicted:
-                predicted[nm] = held.frame_errors(held.pick_of(BandChoice(default=nm)))
+            if nm not in held_picks:  # a sweep's: one representation everywhere
+                held_picks[nm] = held.pick_of(BandChoice(default=nm))
+                predicted[nm] = held.frame_errors(held_picks[nm])
+        cost = np.array([costs[n] for n in held.representations])
+        predicted_ms = {
+            nm: float(np.median(held.frame_times(pk, cost))) if held.band_index else 0.0
+            for nm, pk in held_picks.items()
+        }
+    shown = _shown(budget)
     rows: dict[str, dict[str, Any]] = {}
     for nm, g in got.items():
         v = budget.verdict(g["errors"])
+        t_med = float(np.median(g["time_ms"]))
+        if budget.time_ms is not None:  # the time is part of the budget: the median frame's
+            v = {**v, "time_met": t_med <= budget.time_ms, "met": v["met"] and t_med <= budget.time_ms}
         rows[nm] = {
-            "time_ms": float(np.median(g["time_ms"])),
-            "measured": _figures(budget, g["errors"]),
-            "predicted": _figures(budget, predicted[nm]),
+            "time_ms": t_med,
+            "predicted_ms": predicted_ms[nm],
+            "measured": _figures(shown, g["errors"]),
+            "predicted": _figures(shown, predicted[nm]),
             "verified": v,
             "gap": _gap(predicted[nm], g["errors"]),
             "per_frame": {"measured": g["errors"], "predicted": predicted[nm], "time_ms": g["time_ms"]},
@@ -602,9 +641,11 @@ def plan_scene(
             "within": v["within"],
             "fraction": v["fraction"],
             "met": v["met"],
+            **({"time_met": v["time_met"]} if "time_met" in v else {}),
         },
         "time_ms": {
             "plan": rows["plan"]["time_ms"],
+            "plan_predicted": rows["plan"]["predicted_ms"],
             "default": rows["default"]["time_ms"],
             "cheapest_sweep": rows[cheapest]["time_ms"] if cheapest else None,
             "cheapest_sweep_name": cheapest,
@@ -627,7 +668,7 @@ def plan_scene(
         (o / TABLES_FOLDER).mkdir(exist_ok=True)
         for (nm, rep), t in tables.items():
             t.save(o / TABLES_FOLDER / f"{nm}.{rep}.npz")
-        _plot(o / "plan.png", budget, rows)
+        _plot(o / "plan.png", budget, shown, rows)
         plan.save(o / PLAN_NAME)
     d = rows["default"]
     print(

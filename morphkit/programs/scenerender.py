@@ -319,6 +319,18 @@ class PreparedScene:
             )
         return MorphMode(MorphCache())
 
+    def meshes(self) -> Any:
+        """A mode drawing the real meshes as the truth does, without its ray-cast shadow (a plan's
+        bands of the real mesh take the frame's: :mod:`morphkit.plan.mixed`); None without meshes.
+
+        Returns
+        -------
+        LitMeshMode, MeshMode or None
+        """
+        if self.truth is None:
+            return None
+        return dataclasses.replace(self.truth, shadow=None) if self.relit else dataclasses.replace(self.truth)
+
     def classic(self) -> Any:
         """The classic billboards of the comparisons (None: the ring's own classic mode).
 

@@ -352,7 +352,19 @@ class LitMode:
         """The surface cache."""
         return self._cache
 
-    def _direction(self, pl: Placement) -> tuple[float, float]:
+    def direction(self, pl: Placement) -> tuple[float, float]:
+        """The direction ``pl`` is drawn from: its azimuth and elevation rounded to
+        :attr:`quantum_deg` (the cache's key), the elevation at most 90 degrees.
+
+        Parameters
+        ----------
+        pl : Placement
+            A placement.
+
+        Returns
+        -------
+        azimuth_deg, elevation_deg : float
+        """
         a, e = pl.azimuth_deg, pl.elevation_deg
         q = self.quantum_deg
         if q > 0:
@@ -375,7 +387,7 @@ class LitMode:
         ViewSurface
             Read-only views of the cached surface.
         """
-        a, e = self._direction(pl)
+        a, e = self.direction(pl)
         key = (self.name, asset.name, a, e, pl.level)
         packed = self._cache.get(key, lambda: pack_surface(self.choice.surface(asset, a, e, pl.level)))
         return unpack_surface(packed)
@@ -477,7 +489,7 @@ class LitMode:
                 checked.add(pl.asset)
             surf = self.surface(asset, pl)
             needs_view = deep or fs is not None or points_lit
-            view = asset.camera(*self._direction(pl), pl.level) if needs_view else None
+            view = asset.camera(*self.direction(pl), pl.level) if needs_view else None
             pose = inst.object2world(pl.index)
             vis = None if fs is None else surface_visibility(fs, surf, view, pose)
             if points_lit:  # point lights: the general model, at the surface's points
