@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..billboard import BAKE_AMBIENT, Backdrop, BillboardScene, Instances, MeshMode, bake_lights
-from ..billboard.compare import box_errors, mean_errors
+from ..billboard.compare import PSNR_CAP_DB, box_errors, mean_errors
 from ..billboard.frames.facing import AxialFacing, Facing, ViewpointFacing
 from ..billboard.frames.field import FrameMode
 from ..billboard.protocols import BillboardSource
@@ -193,6 +193,36 @@ class ErrorTable:
         if not isinstance(self.params, Mapping):
             raise ValidationError(expected_got("error table params", "a dict", type(self.params).__name__))
         object.__setattr__(self, "params", dict(self.params))
+
+    @classmethod
+    def exact(cls, asset: str, mesh_hash: str, representation: str, heights_px: Sequence[float],
+              elevations_deg: Sequence[float], params: Mapping[str, Any] | None = None) -> ErrorTable:
+        """The table of a representation that draws what the truth draws (the real mesh, drawn by the
+        truth's own code): every cell at the PSNR cap and an IoU of 1, by construction, not measured.
+
+        Parameters
+        ----------
+        asset, mesh_hash, representation : str
+            As the table's fields.
+        heights_px, elevations_deg : sequence of float
+            The grid.
+        params : mapping, optional
+            What it stands for (recorded with ``"exact": True``).
+
+        Returns
+        -------
+        ErrorTable
+
+        Examples
+        --------
+        >>> from morphkit.plan.errortable import ErrorTable
+        >>> ErrorTable.exact("tree", "ab" * 32, "mesh", [16.0, 32.0], [0.0, 40.0]).lookup(20.0, 10.0)
+        (array(100.), array(1.))
+        """
+        shape = (len(heights_px), len(elevations_deg))
+        return cls(asset, mesh_hash, representation, np.asarray(heights_px, np.float64),
+                   np.asarray(elevations_deg, np.float64), np.full(shape, PSNR_CAP_DB), np.ones(shape),
+                   {**dict(params or {}), "exact": True})
 
     def lookup(self, height_px: Any, elevation_deg: Any) -> tuple[np.ndarray, np.ndarray]:
         """The table's PSNR and IoU at on-screen heights and elevations (arrays broadcast together).

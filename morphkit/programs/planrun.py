@@ -167,13 +167,14 @@ def _tables(
 ) -> tuple[dict[tuple[str, str], ErrorTable], list[str]]:
     """Every used asset's table in every representation: read from ``cache`` (or a previous plan's
     ``previous`` folder) when one there was measured of the same asset under the same conditions,
-    else measured and written to ``cache`` at once (a plan that fails its budget keeps them)."""
+    else measured and written to ``cache`` at once (a plan that fails its budget keeps them); the real
+    mesh's is exact (:meth:`~morphkit.plan.errortable.ErrorTable.exact`)."""
     light = prep.lighting[len(prep.lighting) // 2] if prep.lighting else None
     want = _table_params(prep, focal_px, light)
     want["azimuths_deg"] = list(PLAN_AZIMUTHS_DEG)
     tables: dict[tuple[str, str], ErrorTable] = {}
     measured: list[str] = []
-    reused = 0
+    reused = exact = 0
     for nm, (heights, elevations) in grids.items():
         asset = prep.scene.assets[nm]
         inst = prep.scene.instances
@@ -181,6 +182,12 @@ def _tables(
         want_asset = {**want, "scale": scale}
         key = _table_key(nm, asset, want_asset, heights, elevations)
         for rep in REPRESENTATIONS:
+            if not isinstance(rep, BillboardRepresentation):  # the real mesh: the truth's own drawing
+                tables[(nm, rep.name)] = ErrorTable.exact(
+                    nm, asset.mesh_hash, rep.name, heights, elevations, want_asset
+                )
+                exact += 1
+                continue
             for path in (cache / f"{nm}.{rep.name}.{key}.npz", previous / f"{nm}.{rep.name}.npz"):
                 if not path.is_file():
                     continue
@@ -221,7 +228,11 @@ def _tables(
             cache.mkdir(parents=True, exist_ok=True)
             t.save(cache / f"{nm}.{rep.name}.{key}.npz")
             measured.append(f"{nm}.{rep.name}")
-    print(f"{head}error tables: {len(measured)} measured, {reused} read (cache {cache})", flush=True)
+    print(
+        f"{head}error tables: {len(measured)} measured, {reused} read (cache {cache}), {exact} exact "
+        "(the real mesh: the truth's own drawing)",
+        flush=True,
+    )
     return tables, measured
 
 
