@@ -125,6 +125,8 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert v["frames"] == 3 and 0 <= v["within"] <= 3 and v["fraction"] == pytest.approx(v["within"] / 3)
     assert set(plan["time_ms"]) >= {"plan", "default", "cheapest_sweep"} and plan["time_ms"]["plan"] > 0
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
+    # the plan drawn on the calibration frames too: its own offset moves its predictions
+    assert set(plan["calibration"]["plan"]) == {"db", "iou", "frames_used"}
     assert set(plan["configurations"]) == {"plan", "default", "classic", "nearest", "mesh"}
     assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (out / "tables").iterdir()) == [
