@@ -353,6 +353,22 @@ def test_fog_fades_far_billboards():
     assert near.fog == pytest.approx(1 - np.exp(-0.4)) and far.fog == pytest.approx(1 - np.exp(-2.4))
 
 
+def test_fog_blends_a_meshes_layer_by_each_pixels_distance_along_its_ray():
+    cam = _cam([0, -2, 0.4], [0, 0, 0.4])
+    fog = Fog((1.0, 1.0, 1.0), 0.2)
+    layer = np.zeros(cam.shape + (4,), np.float32)
+    layer[:, :, 3] = 1.0  # opaque black everywhere, at camera depth 3
+    layer[0, 0, 3] = 0.0  # nothing drawn here
+    depth = np.full(cam.shape, 3.0)
+    depth[0, 0] = np.inf
+    fog.blend_layer(layer, depth, cam)
+    # distance = Z times the ray's length per unit Z: sqrt(((u - cx)/fx)^2 + ((v - cy)/fy)^2 + 1)
+    v, u = 10, 50
+    d = 3.0 * np.sqrt(((u - cam.cx) / cam.fx) ** 2 + ((v - cam.cy) / cam.fy) ** 2 + 1.0)
+    np.testing.assert_allclose(layer[v, u, :3], 1.0 - np.exp(-0.2 * d), rtol=1e-6)
+    assert layer[0, 0, :3].tolist() == [0.0, 0.0, 0.0] and layer[v, u, 3] == 1.0
+
+
 def test_scene_validation():
     with pytest.raises(ValidationError, match="assets: expected one for every instance's asset"):
         BillboardScene({"fake": FakeAsset()}, Instances.from_records([("tree", 0, 0)]))

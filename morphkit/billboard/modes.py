@@ -488,9 +488,6 @@ class MeshMode:
         layer = np.empty(camera.shape + (4,), np.float32)
         layer[:, :, :3] = color.astype(np.float32) * (alpha[:, :, None] / 255.0)
         layer[:, :, 3] = alpha
-        if fog is not None and alpha.any():
-            x, y = camera.pixel_grid()
-            ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
-            f = fog.factor(np.where(alpha > 0, depth, 0.0) * ray).astype(np.float32)[:, :, None]
-            fog.blend(layer[:, :, :3], alpha[:, :, None], f)
+        if fog is not None:
+            fog.blend_layer(layer, depth, camera)
         return layer, np.asarray(depth, np.float32)

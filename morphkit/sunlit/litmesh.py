@@ -178,11 +178,6 @@ class LitMeshMode:
                                     valid & (np.asarray(passes.alpha) > 0))
         layer = shade_passes(passes, self.lighting, camera, vis)
         fog = scene.backdrop.fog
-        alpha = layer[:, :, 3:]
-        if fog is not None and alpha.any():
-            x, y = camera.pixel_grid()
-            ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
-            depth = np.where(np.isfinite(passes.depth), passes.depth, 0.0)
-            f = fog.factor(depth * ray).astype(np.float32)[:, :, None]
-            fog.blend(layer[:, :, :3], alpha, f)
+        if fog is not None:
+            fog.blend_layer(layer, passes.depth, camera)
         return layer, np.asarray(passes.depth, np.float32)

@@ -115,6 +115,27 @@ class Fog:
         """
         return fade_towards(rgb, np.asarray(alpha, np.float32), factor, self.color)
 
+    def blend_layer(self, layer: np.ndarray, depth: np.ndarray, camera: CameraModel) -> None:
+        """Fog a frame's premultiplied layer in place, each pixel by its distance along its ray
+        (camera depth ``Z`` times the ray's length per unit ``Z``): the meshes' layers.
+
+        Parameters
+        ----------
+        layer : (H, W, 4) float32
+            Premultiplied colour and alpha; its colour updated in place.
+        depth : (H, W) float
+            Camera depth ``Z`` of each pixel, ``+inf`` where nothing is drawn.
+        camera : CameraModel
+            The frame's camera.
+        """
+        alpha = layer[:, :, 3:]
+        if not alpha.any():
+            return
+        x, y = camera.pixel_grid()
+        ray = np.sqrt(((x - camera.cx) / camera.fx) ** 2 + ((y - camera.cy) / camera.fy) ** 2 + 1)
+        d = np.where(np.isfinite(depth), depth, 0.0)
+        self.blend(layer[:, :, :3], alpha, self.factor(d * ray).astype(np.float32)[:, :, None])
+
 
 @dataclass(frozen=True)
 class Ground:
