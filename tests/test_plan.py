@@ -337,6 +337,22 @@ def test_the_real_mesh_takes_only_the_bands_no_billboard_holds():
         choose(pred, Budget(billboard_psnr=50.0), costs=costs)
 
 
+def test_a_representations_cost_per_frame_counts_once_in_each_frame_that_draws_it():
+    pred = _with_mesh()
+    costs = {"classic": 1.0, "nearest": 2.0, "morph": 9.0, "mesh": 0.5}
+    # the mesh cheapest per billboard: everywhere, it is the choice
+    assert set(choose(pred, Budget(billboard_psnr=25.0), costs=costs).choice.choices.values()) == {"mesh"}
+    # but a frame drawing any mesh pays 50 ms for its render: the card and the nearest view win
+    got = choose(pred, Budget(billboard_psnr=25.0), costs=costs, fixed={"mesh": 50.0}, base_ms=3.0)
+    assert got.choice.choices == {("tree", 0, 0): "classic", ("tree", 0, 2): "nearest"}
+    assert got.predicted_ms == 3.0 + 3 * 1.0 + 2.0  # base, 3 cards and a nearest view a frame
+    cost = np.array([costs[r] for r in pred.representations])
+    fixed = np.array([0.0, 0.0, 0.0, 50.0])
+    # a frame with the mesh in one band pays its 50 ms once
+    np.testing.assert_allclose(pred.frame_times(np.array([0, 3]), cost, fixed), [53.5, 53.5])
+    np.testing.assert_allclose(pred.frame_times(np.array([3, 3]), cost, fixed, 1.0), [53.0, 53.0])
+
+
 def test_a_time_budget_takes_the_least_error_within_the_time():
     pred = _with_mesh()  # 2 frames of 4 billboards: 3 at eye level, 1 from above
     costs = {"classic": 1.0, "nearest": 2.0, "morph": 9.0, "mesh": 12.0}

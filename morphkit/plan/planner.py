@@ -54,6 +54,7 @@ __all__ = [
     "Calibration",
     "calibration_offsets",
     "band_offsets",
+    "frame_cost",
     "Choice",
     "choose",
     "reached",
@@ -162,9 +163,11 @@ class FramePredictions:
         """
         return BandChoice({b: self.representations[int(r)] for b, r in zip(self.bands, pick, strict=True)})
 
-    def frame_times(self, pick: np.ndarray, cost: np.ndarray) -> np.ndarray:
+    def frame_times(self, pick: np.ndarray, cost: np.ndarray, fixed: np.ndarray | None = None,
+                    base: float = 0.0) -> np.ndarray:
         """Each frame's predicted time under ``pick``: its billboards' costs summed (scaled from a
-        sample to the scene's instances).
+        sample to the scene's instances), and the fixed cost of each representation the frame draws
+        at all (the real mesh's render of the frame).
 
         Parameters
         ----------
@@ -172,14 +175,23 @@ class FramePredictions:
             Representation index per band.
         cost : (R,) float
             Each representation's cost per billboard (milliseconds).
+        fixed : (R,) float, optional
+            Each representation's cost per frame that draws it (milliseconds; default none).
+        base : float, optional
+            What every frame costs (milliseconds).
 
         Returns
         -------
         (F,) float64
         """
         scale = self.instances / self.predicted_instances if self.predicted_instances else 1.0
-        c = np.asarray(cost, np.float64)[np.asarray(pick, np.int64)]
-        return np.array([float(c[b].sum()) * scale for b in self.band_index])
+        pick = np.asarray(pick, np.int64)
+        c = np.asarray(cost, np.float64)[pick]
+        out = np.array([float(c[b].sum()) * scale + base for b in self.band_index])
+        if fixed is not None:
+            f = np.asarray(fixed, np.float64)
+            out += [float(f[np.unique(pick[b])].sum()) if len(b) else 0.0 for b in self.band_index]
+        return out
 
     def frame_errors(self, pick: np.ndarray) -> list[dict[str, float | None]]:
         """Each frame's predicted figures under ``pick`` (the module notes),
@@ -271,6 +283,48 @@ def calibration_offsets(
         return Calibration(0.0, 0.0, 0, 0.0, 0.0)
     d, q = float(np.median(db)), float(np.median(iou))
     return Calibration(d, q, len(db), max(0.0, d - float(np.min(db))), max(0.0, q - float(np.min(iou))))
+
+
+def frame_cost(billboards: Sequence[int], times_ms: Sequence[float], fallback: float) -> tuple[float, float]:
+    """A representation's cost from frames drawn in it everywhere: ``(per frame, per billboard)``,
+    milliseconds, the least-squares line of the frames' times over their billboards (each part at
+    least 0). Frames whose billboards hardly vary (a spread under a tenth of their mean) cannot
+    tell the two apart: all of it is then per billboard (the median of time over billboards).
+
+    Parameters
+    ----------
+    billboards : sequence of int
+        Each frame's billboards drawn.
+    times_ms : sequence of float
+        Each frame's time.
+    fallback : float
+        The cost per billboard when no frame drew one.
+
+    Returns
+    -------
+    per_frame, per_billboard : float
+
+    Examples
+    --------
+    >>> from morphkit.plan.planner import frame_cost
+    >>> frame_cost([10, 20, 40], [70.0, 120.0, 220.0], 1.0)  # 20 ms a frame, 5 a billboard
+    (20.0, 5.0)
+    >>> frame_cost([10, 10], [70.0, 72.0], 1.0)  # no spread: all of it per billboard
+    (0.0, 7.1)
+    """
+    n = np.asarray(billboards, np.float64)
+    t = np.asarray(times_ms, np.float64)
+    drawn = n > 0
+    if not drawn.any():
+        return 0.0, float(fallback)
+    if len(n) < 3 or n.std() < 0.1 * n.mean():
+        return 0.0, float(np.median(t[drawn] / n[drawn]))
+    slope, intercept = np.polyfit(n, t, 1)
+    if slope <= 0:  # no cost per billboard seen: all of it per frame
+        return float(t.mean()), 0.0
+    if intercept < 0:  # no cost per frame: all of it per billboard, through the origin
+        return 0.0, float(np.sum(n * t) / np.sum(n * n))
+    return round(float(intercept), 9), round(float(slope), 9)
 
 
 def band_offsets(
@@ -526,6 +580,8 @@ def choose(
     costs: Mapping[str, float] | None = None,
     margin: tuple[float, float] | Mapping[str, tuple[float, float]] | None = None,
     proven: Sequence[str] = (),
+    fixed: Mapping[str, float] | None = None,
+    base_ms: float = 0.0,
 ) -> Choice:
     """The cheapest choice of representation per band predicted to meet ``budget`` (module notes);
     with a ``time-ms`` budget, the least error within that time ("Time" below).
@@ -547,6 +603,11 @@ def choose(
         Representations measured to meet the budget when drawn everywhere (on calibration frames):
         each is a start even where its prediction less the margin falls short, and the descent from it
         keeps the predicted figures at the budget or at the start's, the lower.
+    fixed : mapping of str to float, optional
+        Each representation's cost per frame that draws it at all, above the cheapest's (e.g. the
+        real mesh's render of the frame; :meth:`FramePredictions.frame_times`); default none.
+    base_ms : float, optional
+        What every frame costs whatever it draws (milliseconds: the frames' predicted times hold it).
 
     Returns
     -------
@@ -561,9 +622,9 @@ def choose(
 
     Notes
     -----
-    **Time.** A frame's predicted time is the sum of its billboards' costs per billboard
-    (:meth:`FramePredictions.frame_times`; the calibration's, which hold each representation's share
-    of the frame's own work). With ``time-ms``, the search starts from the cheapest representation
+    **Time.** A frame's predicted time is the sum of its billboards' costs per billboard and of the
+    fixed costs of the representations it draws (:meth:`FramePredictions.frame_times`; the
+    calibration's). With ``time-ms``, the search starts from the cheapest representation
     everywhere (refused if its frames' median predicted time is over the budget) and moves one band
     at a time to another representation, the move that raises the frames' figures (each error key's
     reached by the budget's fraction of frames, less the margin, in margins above the budget; the
@@ -578,6 +639,7 @@ def choose(
         [margin[n] for n in reps] if isinstance(margin, Mapping) else [margin] * len(reps), np.float64
     )
     cost = np.array([float(costs[n]) if costs is not None else representation(n).cost + 1.0 for n in reps])
+    per_frame = np.array([float(fixed.get(n, 0.0)) if fixed is not None else 0.0 for n in reps])
     counts = pred.counts()
     morph = reps.index("morph")
     default = pred.frame_errors(np.full(len(pred.bands), morph, np.int64))
@@ -589,10 +651,12 @@ def choose(
         return bool(to.verdict(shifted(pick))["met"])
 
     def total(pick: np.ndarray) -> float:
-        return float(np.sum(counts * cost[pick]))
+        if not per_frame.any():
+            return float(np.sum(counts * cost[pick]))
+        return float(np.sum(pred.frame_times(pick, cost, per_frame)))
 
     if budget.time_ms is not None:
-        return _within_time(pred, budget, cost, shifted, default)
+        return _within_time(pred, budget, cost, shifted, default, per_frame, base_ms)
 
     starts: list[tuple[np.ndarray, Budget]] = []
     for r, name in enumerate(reps):
@@ -647,7 +711,7 @@ def choose(
         slack it uses first, while the frames stay within ``to`` (a lazy greedy: a move's ratio is
         computed again only when it comes to the top)."""
         pick, steps = start.copy(), 0
-        s0 = slack(pick, to)
+        s0, c0 = slack(pick, to), total(start)
         heap = [
             (-np.inf, b, r)
             for b in range(len(pred.bands))
@@ -664,12 +728,13 @@ def choose(
             pick[b] = r
             ok = meets(pick, to)
             s1 = slack(pick, to) if ok else -np.inf
+            c1 = total(pick)
             pick[b] = old
-            if not ok:
+            if not ok or c1 >= c0:
                 continue  # dropped: the moves after it leave the frames less slack, not more
-            ratio = counts[b] * (cost[old] - cost[r]) / max(s0 - s1, 1e-3)
+            ratio = (c0 - c1) / max(s0 - s1, 1e-3)
             if (b, r) in fresh or not heap or -ratio <= heap[0][0]:
-                pick[b], s0, steps = r, s1, steps + 1
+                pick[b], s0, c0, steps = r, s1, c1, steps + 1
                 fresh.clear()
                 heap = [(p, bb, rr) for p, bb, rr in heap if bb != b] + [
                     (-np.inf, b, rr) for rr in range(len(reps)) if cost[rr] < cost[r]
@@ -686,7 +751,7 @@ def choose(
         if best is None or total(pick) < total(best):
             best, best_steps = pick, steps
     assert best is not None
-    ms = float(np.median(pred.frame_times(best, cost))) if pred.band_index else 0.0
+    ms = float(np.median(pred.frame_times(best, cost, per_frame, base_ms))) if pred.band_index else 0.0
     return Choice(pred.choice_of(best), pred.frame_errors(best), default, best_steps, ms)
 
 
@@ -696,6 +761,8 @@ def _within_time(
     cost: np.ndarray,
     shifted: Callable[[np.ndarray], list[dict[str, float | None]]],
     default: list[dict[str, float | None]],
+    per_frame: np.ndarray,
+    base_ms: float,
 ) -> Choice:
     """The least error within ``budget.time_ms`` (:func:`choose`, "Time"): from the cheapest
     representation everywhere, the move (a band to another representation) that raises the frames'
@@ -723,9 +790,9 @@ def _within_time(
         return at + 1e-3 * (float(np.mean(each)) if each else 0.0)
 
     def ms(pick: np.ndarray) -> float:
-        return float(np.median(pred.frame_times(pick, cost))) if pred.band_index else 0.0
+        return float(np.median(pred.frame_times(pick, cost, per_frame, base_ms))) if pred.band_index else 0.0
 
-    cheapest = int(np.argmin(cost))
+    cheapest = int(np.argmin([ms(np.full(len(pred.bands), r, np.int64)) for r in range(len(reps))]))
     pick = np.full(len(pred.bands), cheapest, np.int64)
     if ms(pick) > limit:
         raise BudgetError(

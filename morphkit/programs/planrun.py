@@ -61,6 +61,7 @@ from ..plan.planner import (
     band_offsets,
     calibration_offsets,
     choose,
+    frame_cost,
     predict_frames,
     reached,
     sample_scene,
@@ -287,6 +288,7 @@ def _calibrate(
     pred = predict_frames(tables, sample, [cameras[k] for k in frames])
     offsets: dict[Any, tuple[float, float]] = {}
     costs: dict[str, float] = {}
+    whole: dict[str, float] = {}
     margins: dict[str, tuple[float, float]] = {}
     proven: list[str] = []
     report: dict[str, Any] = {"frames": list(frames)}
@@ -332,9 +334,9 @@ def _calibrate(
         ]
         if budget.verdict(less)["met"]:
             proven.append(r.name)
-        drawn = [len(b) for b in pred.band_index]
-        per = [t / n for t, n in zip(got[r.name]["time_ms"], drawn, strict=True) if n]
-        costs[r.name] = float(np.median(per)) if per else float(r.cost + 1)
+        whole[r.name], costs[r.name] = frame_cost(
+            [len(b) for b in pred.band_index], got[r.name]["time_ms"], float(r.cost + 1)
+        )
         report[r.name] = {
             "db": kept[r.name][0],
             "iou": kept[r.name][1],
@@ -349,6 +351,7 @@ def _calibrate(
             "spread_iou": c.spread_iou,
             "frames_used": c.frames,
             "ms_per_billboard": costs[r.name],
+            "ms_per_frame": whole[r.name],
             "margin_db": margins[r.name][0],
             "margin_iou": margins[r.name][1],
             "measured_meets": r.name in proven,
@@ -357,14 +360,20 @@ def _calibrate(
         f"{head}calibrated on {len(frames)} planning frames (measured less predicted): "
         + "; ".join(
             f"{nm} {db:+.2f} dB, IoU {iou:+.3f} (margin {margins[nm][0]:.2f} dB, {margins[nm][1]:.3f}), "
-            f"{costs[nm]:.2f} ms a billboard{', meets the budget' if nm in proven else ''}"
+            f"{costs[nm]:.2f} ms a billboard + {whole[nm]:.0f} ms a frame"
+            f"{', meets the budget' if nm in proven else ''}"
             for nm, (db, iou) in offsets.items()
             if isinstance(nm, str)
         )
         + f" ({sum(not isinstance(k, str) for k in offsets)} bands calibrated apart)",
         flush=True,
     )
-    return offsets, costs, margins, proven, report
+    # what a frame pays for drawing a representation at all, above what every frame pays (the
+    # cheapest's): the real mesh's render of the frame, which a frame mixing it with billboards pays
+    floor = min(whole.values())
+    fixed = {nm: w - floor for nm, w in whole.items()}
+    report["frame_ms"] = floor
+    return offsets, costs, fixed, floor, margins, proven, report
 
 
 def _plan_offset(
@@ -618,11 +627,13 @@ def plan_scene(
         )
         t_tables = time.perf_counter() - t0
         t0 = time.perf_counter()
-        offsets, costs, margins, proven, calibration = _calibrate(prep, cams, planning, tables, budget, head)
+        offsets, costs, fixed, floor, margins, proven, calibration = _calibrate(
+            prep, cams, planning, tables, budget, head
+        )
         t_calibrate = time.perf_counter() - t0
         t0 = time.perf_counter()
         pred = predict_frames(tables, prep.scene, [cams[k] for k in planning]).shifted(offsets)
-        picked = choose(pred, budget, costs=costs, margin=margins, proven=proven)
+        picked = choose(pred, budget, costs=costs, margin=margins, proven=proven, fixed=fixed, base_ms=floor)
         t_plan = time.perf_counter() - t0
         plan = ScenePlan(
             budget,
@@ -669,8 +680,9 @@ def plan_scene(
                 held_picks[nm] = held.pick_of(BandChoice(default=nm))
                 predicted[nm] = held.frame_errors(held_picks[nm])
         cost = np.array([costs[n] for n in held.representations])
+        per_frame = np.array([fixed[n] for n in held.representations])
         predicted_ms = {
-            nm: float(np.median(held.frame_times(pk, cost))) if held.band_index else 0.0
+            nm: float(np.median(held.frame_times(pk, cost, per_frame, floor))) if held.band_index else 0.0
             for nm, pk in held_picks.items()
         }
     shown = _shown(budget)
