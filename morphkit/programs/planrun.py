@@ -265,6 +265,7 @@ def _calibrate(
     tables: Mapping[tuple[str, str], ErrorTable],
     budget: Budget,
     head: str,
+    truths: dict[int, Any],
 ) -> tuple[
     dict[Any, tuple[float, float]],
     dict[str, float],
@@ -286,7 +287,13 @@ def _calibrate(
     ]
     sample = sample_scene(prep.scene)  # a large scene calibrated on the instances it is predicted from
     got = _verify(
-        prep, cameras, frames, {r.name: _uniform(prep, r) for r in REPRESENTATIONS}, sample, boxes=True
+        prep,
+        cameras,
+        frames,
+        {r.name: _uniform(prep, r) for r in REPRESENTATIONS},
+        sample,
+        boxes=True,
+        truths=truths,
     )
     pred = predict_frames(tables, sample, [cameras[k] for k in frames])
     offsets: dict[Any, tuple[float, float]] = {}
@@ -386,6 +393,7 @@ def _plan_offset(
     plan: ScenePlan,
     tables: Mapping[tuple[str, str], ErrorTable],
     offsets: Mapping[Any, tuple[float, float]],
+    truths: dict[int, Any],
 ) -> Calibration:
     """The chosen plan's own offset, measured less predicted, on the calibration ``frames`` drawn
     with it (:func:`~morphkit.plan.planner.calibration_offsets`): the representations were calibrated
@@ -393,7 +401,7 @@ def _plan_offset(
     holds fewer errors than among cards). It moves the plan's predictions of the held-out frames."""
     sample = sample_scene(prep.scene)
     mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
-    got = _verify(prep, cameras, frames, {"plan": mode}, sample)
+    got = _verify(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
     pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
     return calibration_offsets(pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"])
 
@@ -430,12 +438,14 @@ def _verify(
     scene: BillboardScene | None = None,
     boxes: bool = False,
     repeats: int = 1,
+    truths: dict[int, Any] | None = None,
 ) -> dict[str, dict[str, list[Any]]]:
     """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
     to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
     instances drawn (default the prepared scene's); ``boxes``: each frame's billboards' own figures too
     (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``repeats``: each frame drawn so many
-    times in every mode, interleaved, its time the median (its figures the first drawing's)."""
+    times in every mode, interleaved, its time the median (its figures the first drawing's);
+    ``truths``: the truth's frames by frame index, drawn once (read where there, kept where not)."""
     scene = prep.scene if scene is None else scene
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
     order = list(modes)
@@ -445,7 +455,11 @@ def _verify(
             for m in (*modes.values(), prep.truth):
                 if isinstance(m, Relit):
                     m.lighting = prep.lighting[k]
-        truth = scene.render(cam, prep.truth)
+        truth = truths.get(k) if truths is not None else None
+        if truth is None:
+            truth = scene.render(cam, prep.truth)
+            if truths is not None:
+                truths[k] = truth
         times: dict[str, list[float]] = {nm: [] for nm in modes}
         for rep in range(max(1, int(repeats))):
             turn = order[(n + rep) % len(order) :] + order[: (n + rep) % len(order)]
@@ -637,8 +651,9 @@ def plan_scene(
         )
         t_tables = time.perf_counter() - t0
         t0 = time.perf_counter()
+        truths: dict[int, Any] = {}  # the calibration frames' truth, drawn once
         offsets, costs, fixed, floor, margins, proven, calibration = _calibrate(
-            prep, cams, planning, tables, budget, head
+            prep, cams, planning, tables, budget, head, truths
         )
         t_calibrate = time.perf_counter() - t0
         t0 = time.perf_counter()
@@ -656,7 +671,8 @@ def plan_scene(
         # the plan itself on the calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards)
         t1 = time.perf_counter()
-        own = _plan_offset(prep, cams, calibration["frames"], plan, tables, offsets)
+        own = _plan_offset(prep, cams, calibration["frames"], plan, tables, offsets, truths)
+        truths.clear()
         calibration["plan"] = {"db": own.db, "iou": own.iou, "frames_used": own.frames}
         t_calibrate += time.perf_counter() - t1
         taken = [sum(v == r.name for v in picked.choice.choices.values()) for r in REPRESENTATIONS]
