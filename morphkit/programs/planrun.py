@@ -92,9 +92,6 @@ PLAN_AZIMUTHS_DEG: tuple[float, ...] = (18.0, 70.0, 124.0, 190.0, 276.0, 330.0)
 PLAN_CALIBRATION_FRAMES = 4
 #: Held-out frames verified by default.
 DEFAULT_VERIFY = 6
-#: The fewest timings a configuration's median frame time is taken over: a scene of fewer held-out
-#: frames draws each of them again (a median of one timing is the machine's noise).
-VERIFY_MIN_TIMINGS = 3
 
 
 def _table_params(prep: PreparedScene, focal_px: float, light: Any) -> dict[str, Any]:
@@ -437,15 +434,13 @@ def _verify(
     modes: Mapping[str, Any],
     scene: BillboardScene | None = None,
     boxes: bool = False,
-    repeats: int = 1,
     truths: dict[int, Any] | None = None,
 ) -> dict[str, dict[str, list[Any]]]:
     """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
     to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
     instances drawn (default the prepared scene's); ``boxes``: each frame's billboards' own figures too
-    (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``repeats``: each frame drawn so many
-    times in every mode, interleaved, its time the median (its figures the first drawing's);
-    ``truths``: the truth's frames by frame index, drawn once (read where there, kept where not)."""
+    (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``truths``: the truth's frames by
+    frame index, drawn once (read where there, kept where not)."""
     scene = prep.scene if scene is None else scene
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
     order = list(modes)
@@ -460,19 +455,14 @@ def _verify(
             truth = scene.render(cam, prep.truth)
             if truths is not None:
                 truths[k] = truth
-        times: dict[str, list[float]] = {nm: [] for nm in modes}
-        for rep in range(max(1, int(repeats))):
-            turn = order[(n + rep) % len(order) :] + order[: (n + rep) % len(order)]
-            for nm in turn:
-                t0 = time.perf_counter()
-                frame = scene.render(cam, modes[nm])
-                times[nm].append(1e3 * (time.perf_counter() - t0))
-                if rep == 0:
-                    out[nm]["errors"].append(_frame_figures(frame, truth))
-                    if boxes:
-                        out[nm]["boxes"].append(box_errors(frame, truth))
-        for nm in modes:
-            out[nm]["time_ms"].append(float(np.median(times[nm])))
+        turn = order[n % len(order) :] + order[: n % len(order)]
+        for nm in turn:
+            t0 = time.perf_counter()
+            frame = scene.render(cam, modes[nm])
+            out[nm]["time_ms"].append(1e3 * (time.perf_counter() - t0))
+            out[nm]["errors"].append(_frame_figures(frame, truth))
+            if boxes:
+                out[nm]["boxes"].append(box_errors(frame, truth))
     return out
 
 
@@ -694,8 +684,7 @@ def plan_scene(
             f"{head}verifying on {len(picks)} held-out frames: {', '.join(modes)} against the real meshes",
             flush=True,
         )
-        # fewer than VERIFY_MIN_TIMINGS held-out frames: each timed again, so a median is of as many
-        got = _verify(prep, cams, picks, modes, repeats=-(-VERIFY_MIN_TIMINGS // len(picks)))
+        got = _verify(prep, cams, picks, modes)
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
             "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own),
