@@ -617,7 +617,7 @@ PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
 #: The fewest billboards of a band measured in the calibration frames that give the band its own
-#: offset (:func:`morphkit.plan.planner.band_offsets`): the median of fewer is one billboard's luck.
+#: offset (:func:`morphkit.plan.calibration.band_offsets`): the median of fewer is one billboard's luck.
 PLAN_MIN_BAND_BILLBOARDS = 5
 #: The most instances a plan predicts its frames from (:func:`morphkit.plan.planner.predict_frames`):
 #: a larger scene is predicted from a random sample of this many, whose frames' mean figures estimate

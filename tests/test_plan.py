@@ -17,16 +17,10 @@ from morphkit.billboard.compare import PSNR_CAP_DB
 from morphkit.camera import look_at, perspective
 from morphkit.errors import BudgetError, FileFormatError, ValidationError
 from morphkit.plan import Budget
+from morphkit.plan.calibration import band_offsets, calibration_offsets
 from morphkit.plan.errortable import ErrorTable
 from morphkit.plan.planfile import PLAN_VERSION, ScenePlan, read_plan
-from morphkit.plan.planner import (
-    FramePredictions,
-    band_offsets,
-    calibration_offsets,
-    choose,
-    predict_frames,
-    reached,
-)
+from morphkit.plan.planner import FramePredictions, choose, predict_frames, reached
 from morphkit.plan.representations import (
     BILLBOARD_REPRESENTATIONS,
     REPRESENTATIONS,

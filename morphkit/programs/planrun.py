@@ -53,19 +53,11 @@ from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import write_bytes
 from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ..plan import Budget
+from ..plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost
 from ..plan.errortable import ErrorTable, default_elevations, measure_error_table
 from ..plan.mixed import banded_mode
 from ..plan.planfile import PLAN_NAME, ScenePlan
-from ..plan.planner import (
-    Calibration,
-    band_offsets,
-    calibration_offsets,
-    choose,
-    frame_cost,
-    predict_frames,
-    reached,
-    sample_scene,
-)
+from ..plan.planner import choose, predict_frames, reached, sample_scene
 from ..plan.representations import (
     REPRESENTATIONS,
     BandChoice,
@@ -272,8 +264,8 @@ def _calibrate(
 ]:
     """Each representation's offsets between the tables' prediction and the scene's measure, on a few
     planning frames drawn in it everywhere: each band's from its billboards' own figures
-    (:func:`~morphkit.plan.planner.band_offsets`), then the frames' for what is left and for the bands
-    too little seen (:func:`~morphkit.plan.planner.calibration_offsets`): what
+    (:func:`~morphkit.plan.calibration.band_offsets`), then the frames' for what is left and for the bands
+    too little seen (:func:`~morphkit.plan.calibration.calibration_offsets`): what
     a table of one billboard alone cannot know of the scene (the billboards behind a silhouette, the
     frame's edges, overlaps); each representation's cost per billboard drawn (the median of its frames'
     times over their billboards); each representation's margin, how far its worst calibration frame fell
@@ -393,7 +385,7 @@ def _plan_offset(
     truths: dict[int, Any],
 ) -> Calibration:
     """The chosen plan's own offset, measured less predicted, on the calibration ``frames`` drawn
-    with it (:func:`~morphkit.plan.planner.calibration_offsets`): the representations were calibrated
+    with it (:func:`~morphkit.plan.calibration.calibration_offsets`): the representations were calibrated
     each everywhere, and a frame mixing them is not the sum of those (a card's box among exact meshes
     holds fewer errors than among cards). It moves the plan's predictions of the held-out frames."""
     sample = sample_scene(prep.scene)
