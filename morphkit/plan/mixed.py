@@ -113,7 +113,7 @@ class LitMeshBands:
         The bands' representations.
     billboards : LitMode
         Draws the billboards (its choice a :class:`~morphkit.plan.representations.BandedSurface` of
-        ``choice``) with the frame's shadow (:attr:`LitMode.shadow`).
+        ``choice``) with the frame's shadow (its ``shadow``).
     meshes : LitMeshMode
         Draws the meshes (supersample 1: coverage and depth of one sample); its own shadow is not
         used (the frame's is).

@@ -354,7 +354,7 @@ class LitMode:
 
     def direction(self, pl: Placement) -> tuple[float, float]:
         """The direction ``pl`` is drawn from: its azimuth and elevation rounded to
-        :attr:`quantum_deg` (the cache's key), the elevation at most 90 degrees.
+        ``quantum_deg`` (the cache's key), the elevation at most 90 degrees.
 
         Parameters
         ----------
