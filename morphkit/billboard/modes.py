@@ -57,7 +57,7 @@ from .frames.frametypes import Frame, FramePlan, FrameStats, Placement
 from .protocols import BillboardSource
 
 __all__ = ["BillboardMode", "MorphMode", "ClassicMode", "NearestMode", "CrossfadeMode",
-           "MeshMode", "pair_span_deg"]
+           "MeshMode", "pair_span_deg", "frame_stats"]
 
 
 def pair_span_deg(asset: BillboardSource, i: int, j: int) -> float:
@@ -81,8 +81,29 @@ def pair_span_deg(asset: BillboardSource, i: int, j: int) -> float:
     return d if d > 0 else 360.0
 
 
-def _stats(name: str, plan: FramePlan, counts: CacheCounts, cache: MorphCache | None,
-           outside: float, t0: float) -> FrameStats:
+def frame_stats(name: str, plan: FramePlan, counts: CacheCounts, cache: MorphCache | None,
+                outside: float, t0: float) -> FrameStats:
+    """A frame's stats: its plan's counts, the cache's traffic during it, its time since ``t0``.
+
+    Parameters
+    ----------
+    name : str
+        The mode's name.
+    plan : FramePlan
+        The frame's plan.
+    counts : CacheCounts
+        The cache's hits, misses and evictions during the frame.
+    cache : MorphCache or None
+        The mode's cache (its size and bytes), None for a mode without one.
+    outside : float
+        The most degrees a billboard lay outside a partial ring's arc.
+    t0 : float
+        ``time.perf_counter()`` when the frame began.
+
+    Returns
+    -------
+    FrameStats
+    """
     return FrameStats(name, plan.n_instances, len(plan.placements), plan.n_frustum_culled, plan.n_behind,
                       plan.n_offscreen, plan.n_small, plan.n_near_clipped, plan.n_above, counts.hits,
                       counts.misses, counts.evictions, len(cache) if cache is not None else 0,
@@ -143,7 +164,7 @@ class BillboardMode(ABC):
         outside = self.draw_placements(scene, plan.placements, layer)
         rgb = finish(layer, scene.backdrop.draw(camera))
         counts = (cache.counts - before) if cache is not None else CacheCounts()
-        return Frame(rgb, layer, plan.placements, _stats(self.name, plan, counts, cache, outside, t0))
+        return Frame(rgb, layer, plan.placements, frame_stats(self.name, plan, counts, cache, outside, t0))
 
 
     def draw_placements(self, scene: BillboardScene, placements: Sequence[Placement], layer: np.ndarray,
@@ -457,7 +478,7 @@ class MeshMode:
             a = rgba[:, :, 3:].astype(np.float32) / 255.0
             layer = np.concatenate([rgba[:, :, :3].astype(np.float32) / 255.0 * a, a], axis=2)
         rgb = finish(layer, scene.backdrop.draw(camera))
-        return Frame(rgb, layer, plan.placements, _stats(self.name, plan, CacheCounts(), None, 0.0, t0))
+        return Frame(rgb, layer, plan.placements, frame_stats(self.name, plan, CacheCounts(), None, 0.0, t0))
 
     def depth_layer(self, scene: BillboardScene, camera: CameraModel,
                     indices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -32,7 +32,8 @@ from ..billboard import BillboardMode, BillboardScene, MeshMode
 from ..billboard.frames.cache import CacheCounts, MorphCache
 from ..billboard.frames.compositor import finish, new_depth, new_layer
 from ..billboard.frames.facing import ViewpointFacing
-from ..billboard.frames.frametypes import Frame, FramePlan, FrameStats, Placement
+from ..billboard.frames.frametypes import Frame, Placement
+from ..billboard.modes import frame_stats
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import Lighting
@@ -74,29 +75,6 @@ def split_placements(
         e = pl.elevation_deg if elevation is None else elevation(pl)
         (meshes if choice.of(pl.asset, pl.level, e) == MESH else billboards).append(pl)
     return meshes, billboards
-
-
-def _stats(
-    name: str, plan: FramePlan, counts: CacheCounts, cache: MorphCache | None, outside: float, t0: float
-) -> FrameStats:
-    return FrameStats(
-        name,
-        plan.n_instances,
-        len(plan.placements),
-        plan.n_frustum_culled,
-        plan.n_behind,
-        plan.n_offscreen,
-        plan.n_small,
-        plan.n_near_clipped,
-        plan.n_above,
-        counts.hits,
-        counts.misses,
-        counts.evictions,
-        len(cache) if cache is not None else 0,
-        cache.nbytes if cache is not None else 0,
-        outside,
-        1e3 * (time.perf_counter() - t0),
-    )
 
 
 def _indices(placements: Sequence[Placement]) -> np.ndarray:
@@ -201,7 +179,7 @@ class LitMeshBands:
         )
         rgb = finish(layer, back)
         return Frame(
-            rgb, layer, plan.placements, _stats(self.name, plan, cache.counts - before, cache, 0.0, t0)
+            rgb, layer, plan.placements, frame_stats(self.name, plan, cache.counts - before, cache, 0.0, t0)
         )
 
 
@@ -260,7 +238,7 @@ class RingMeshBands:
         outside = self.billboards.draw_placements(scene, billboards, layer, zbuf)
         rgb = finish(layer, scene.backdrop.draw(camera))
         counts = (cache.counts - before) if cache is not None else CacheCounts()
-        return Frame(rgb, layer, plan.placements, _stats(self.name, plan, counts, cache, outside, t0))
+        return Frame(rgb, layer, plan.placements, frame_stats(self.name, plan, counts, cache, outside, t0))
 
 
 def banded_mode(
