@@ -47,17 +47,16 @@ from typing import Any
 import numpy as np
 
 from .. import settings, tol
-from ..billboard import BillboardScene, MorphCache
-from ..billboard.compare import PSNR_CAP_DB, box_errors, frame_errors
+from ..billboard import MorphCache
+from ..billboard.compare import PSNR_CAP_DB
 from ..errors import FileFormatError, ValidationError, expected_got
-from ..files.fileio import write_bytes
 from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ..plan import Budget
 from ..plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost
 from ..plan.errortable import ErrorTable, default_elevations, measure_error_table
 from ..plan.mixed import banded_mode
 from ..plan.planfile import PLAN_NAME, ScenePlan
-from ..plan.planner import choose, predict_frames, reached, sample_scene
+from ..plan.planner import choose, predict_frames, sample_scene
 from ..plan.representations import (
     REPRESENTATIONS,
     BandChoice,
@@ -68,7 +67,8 @@ from ..plan.representations import (
 from ..render import Renderer
 from ..scenes.description import SceneDescription
 from ..sunlit import LitMode
-from ..sunlit.litmodes import Relit
+from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
+from .planverify import verify_frames
 from .scenerender import PreparedScene, prepare_scene, scene_choices
 from .sequence import compare_indices
 
@@ -275,7 +275,7 @@ def _calibrate(
         planning[i] for i in compare_indices(len(planning), min(PLAN_CALIBRATION_FRAMES, len(planning)))
     ]
     sample = sample_scene(prep.scene)  # a large scene calibrated on the instances it is predicted from
-    got = _verify(
+    got = verify_frames(
         prep,
         cameras,
         frames,
@@ -390,7 +390,7 @@ def _plan_offset(
     holds fewer errors than among cards). It moves the plan's predictions of the held-out frames."""
     sample = sample_scene(prep.scene)
     mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
-    got = _verify(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
+    got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
     pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
     return calibration_offsets(pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"])
 
@@ -410,132 +410,6 @@ def _moved(frames: Sequence[Mapping[str, float | None]], c: Calibration) -> list
             }
         )
     return out
-
-
-def _frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
-    m = frame_errors(frame, truth)
-    if not m["n"]:
-        return {"billboard-psnr": None, "billboard-iou": None}
-    return {"billboard-psnr": float(m["psnr"]), "billboard-iou": float(m["iou"])}
-
-
-def _verify(
-    prep: PreparedScene,
-    cameras: Sequence[Any],
-    picks: Sequence[int],
-    modes: Mapping[str, Any],
-    scene: BillboardScene | None = None,
-    boxes: bool = False,
-    truths: dict[int, Any] | None = None,
-) -> dict[str, dict[str, list[Any]]]:
-    """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
-    to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
-    instances drawn (default the prepared scene's); ``boxes``: each frame's billboards' own figures too
-    (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``truths``: the truth's frames by
-    frame index, drawn once (read where there, kept where not)."""
-    scene = prep.scene if scene is None else scene
-    out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
-    order = list(modes)
-    for n, k in enumerate(picks):
-        cam = cameras[k]
-        if prep.lighting is not None:
-            for m in (*modes.values(), prep.truth):
-                if isinstance(m, Relit):
-                    m.lighting = prep.lighting[k]
-        truth = truths.get(k) if truths is not None else None
-        if truth is None:
-            truth = scene.render(cam, prep.truth)
-            if truths is not None:
-                truths[k] = truth
-        turn = order[n % len(order) :] + order[: n % len(order)]
-        for nm in turn:
-            t0 = time.perf_counter()
-            frame = scene.render(cam, modes[nm])
-            out[nm]["time_ms"].append(1e3 * (time.perf_counter() - t0))
-            out[nm]["errors"].append(_frame_figures(frame, truth))
-            if boxes:
-                out[nm]["boxes"].append(box_errors(frame, truth))
-    return out
-
-
-def _gap(
-    predicted: Sequence[Mapping[str, float | None]], measured: Sequence[Mapping[str, float | None]]
-) -> dict[str, float | None]:
-    """The median absolute gap between predicted and measured figures, per key."""
-    out: dict[str, float | None] = {}
-    for key in ("billboard-psnr", "billboard-iou"):
-        g = [
-            abs(p[key] - m[key])
-            for p, m in zip(predicted, measured, strict=True)
-            if p[key] is not None and m[key] is not None
-        ]
-        out[key] = float(np.median(g)) if g else None
-    return out
-
-
-def _figures(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dict[str, Any]:
-    """Per budget key: the median over the frames and the figure the budget's fraction reaches."""
-    at = reached(budget, frames)
-    out: dict[str, Any] = {}
-    for key, _ in budget.error_keys():
-        vals = [f[key] for f in frames if f.get(key) is not None]
-        out[key] = {"median": float(np.median(vals)) if vals else None, "at_fraction": at[key]}
-    return out
-
-
-def _shown(budget: Budget) -> Budget:
-    """The budget whose keys a plan's figures are reported for: ``budget``, or, for a budget of time
-    alone, both billboard keys (their values unused) at its fraction of frames."""
-    if budget.error_keys():
-        return budget
-    return Budget(billboard_psnr=1.0, billboard_iou=1.0, frames=budget.frames)
-
-
-def _plot(path: Path, budget: Budget, shown: Budget, rows: Mapping[str, Mapping[str, Any]]) -> None:
-    """``plan.png``: per key of ``shown``, each configuration's figure (reached by the budget's fraction
-    of the held-out frames) against its median frame time; predicted beside measured; ``budget``'s
-    values drawn as lines."""
-    import io
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    keys = [k for k, _ in shown.error_keys()]
-    limits = dict(budget.error_keys())
-    fig, axes = plt.subplots(1, len(keys), figsize=(5.2 * len(keys), 4.0), squeeze=False)
-    for ax, key in zip(axes[0], keys, strict=True):
-        for nm, row in rows.items():
-            t = row["time_ms"]
-            got = row["measured"][key]["at_fraction"]
-            style = {"plan": ("*", "C3", 14), "default": ("s", "C0", 9)}.get(nm, ("o", "0.4", 7))
-            if got is not None:
-                ax.plot([t], [got], style[0], color=style[1], ms=style[2], label=f"{nm} (measured)")
-                ax.annotate(nm, (t, got), textcoords="offset points", xytext=(6, 4), fontsize=8)
-            pred = row.get("predicted", {}).get(key, {}).get("at_fraction")
-            if pred is not None:
-                ax.plot(
-                    [t], [pred], style[0], mfc="none", color=style[1], ms=style[2], label=f"{nm} (predicted)"
-                )
-        if key in limits:
-            ax.axhline(limits[key], color="C2", ls="--", lw=1, label="budget")
-        if budget.time_ms is not None:
-            ax.axvline(budget.time_ms, color="C2", ls=":", lw=1, label="time budget")
-        ax.set_xlabel("median frame time, ms (held-out frames)")
-        ax.set_ylabel(f"{key} reached by {budget.frames:.0%} of frames")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="lower right")
-    fig.suptitle(
-        "morphkit plan: error against time (filled: measured against the real meshes; "
-        "hollow: predicted from the tables)",
-        fontsize=9,
-    )
-    fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90)
-    plt.close(fig)
-    write_bytes(path, buf.getvalue())
 
 
 def plan_scene(
@@ -676,7 +550,7 @@ def plan_scene(
             f"{head}verifying on {len(picks)} held-out frames: {', '.join(modes)} against the real meshes",
             flush=True,
         )
-        got = _verify(prep, cams, picks, modes)
+        got = verify_frames(prep, cams, picks, modes)
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
             "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own),
@@ -693,7 +567,7 @@ def plan_scene(
             nm: float(np.median(held.frame_times(pk, cost, per_frame, floor))) if held.band_index else 0.0
             for nm, pk in held_picks.items()
         }
-    shown = _shown(budget)
+    shown = shown_budget(budget)
     rows: dict[str, dict[str, Any]] = {}
     for nm, g in got.items():
         v = budget.verdict(g["errors"])
@@ -703,10 +577,10 @@ def plan_scene(
         rows[nm] = {
             "time_ms": t_med,
             "predicted_ms": predicted_ms[nm],
-            "measured": _figures(shown, g["errors"]),
-            "predicted": _figures(shown, predicted[nm]),
+            "measured": budget_figures(shown, g["errors"]),
+            "predicted": budget_figures(shown, predicted[nm]),
             "verified": v,
-            "gap": _gap(predicted[nm], g["errors"]),
+            "gap": prediction_gap(predicted[nm], g["errors"]),
             "per_frame": {"measured": g["errors"], "predicted": predicted[nm], "time_ms": g["time_ms"]},
         }
     meeting = [nm for nm, row in rows.items() if nm != "plan" and row["verified"]["met"]]
@@ -749,7 +623,7 @@ def plan_scene(
         (o / TABLES_FOLDER).mkdir(exist_ok=True)
         for (nm, rep), t in tables.items():
             t.save(o / TABLES_FOLDER / f"{nm}.{rep}.npz")
-        _plot(o / "plan.png", budget, shown, rows)
+        plot_plan(o / "plan.png", budget, shown, rows)
         plan.save(o / PLAN_NAME)
     d = rows["default"]
     print(
