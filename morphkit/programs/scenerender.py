@@ -40,7 +40,7 @@ from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.litmodes import ClassicSurface, LitMode, MorphSurface
 from ..views.dome import ViewDome
 from .cliargs import choose_views, parse_size
-from .sceneshadows import scene_shadows
+from .sceneshadows import SceneCasters, scene_shadows
 from .sequence import write_sequence
 from .sources import ResolvedAssets, asset_name, check_specs, resolve_assets
 
@@ -233,6 +233,9 @@ class PreparedScene:
         The frames' shadow and the ray cast the truth is drawn with (None without shadows).
     truth : FrameMode or None
         The real meshes (None when an asset has no mesh).
+    casters : SceneCasters or None, optional
+        The shadows' casters (None without shadows): other shadows of the scene are made from them
+        (:meth:`~morphkit.programs.sceneshadows.SceneCasters.shadow`).
     """
 
     scene: BillboardScene
@@ -243,6 +246,7 @@ class PreparedScene:
     shadow: Any
     truth_shadow: Any
     truth: Any
+    casters: SceneCasters | None = None
 
     def mode(self, choice: Any = None) -> Any:
         """The mode drawing the scene: relit billboards of ``choice`` (default the dome's morph,
@@ -299,6 +303,7 @@ def prepare_scene(
     command: str = "render",
     smaller: str = "scatter count",
     sun: Any = None,
+    shadows: SceneShadows | None = None,
 ) -> PreparedScene:
     """Bake (or read) ``scene``'s assets, place its instances, set up its lights, shadows and
     truth (what :func:`render_scene` draws; :mod:`morphkit.programs.planrun` plans).
@@ -319,6 +324,10 @@ def prepare_scene(
         What to make smaller when a scatter cannot hold its instances apart.
     sun : SceneSun, optional
         The sun drawn with (default the scene's).
+    shadows : SceneShadows, optional
+        How the frames' shadow is drawn, when not as the scene says (a plan's choice,
+        :mod:`morphkit.plan.shadowchoice`): its atlases' size and softness; the truth keeps the
+        scene's (and the scene's sun disc is kept).
 
     Returns
     -------
@@ -344,9 +353,9 @@ def prepare_scene(
     if not known:
         why = "; ".join(f"{nm}: {res.skipped.get(nm, 'no mesh')}" for nm in names if nm not in res.items)
         print(f"{head}comparisons with the real meshes skipped: {why}", file=sys.stderr)
-    shadow = truth_shadow = truth = None
+    shadow = truth_shadow = truth = casters = None
     if scene.shadows is not None:
-        shadow, truth_shadow = scene_shadows(
+        shadow, truth_shadow, casters = scene_shadows(
             scene.shadows,
             res,
             renderer,
@@ -355,13 +364,16 @@ def prepare_scene(
             head,
             "--shadows" if command == "billboards" else "shadows",
         )
+        if shadows is not None and shadows != scene.shadows:
+            shadow = casters.shadow(dataclasses.replace(shadows, sun_radius_deg=scene.shadows.sun_radius_deg),
+                                    renderer)
     if known:
         truth = (
             LitMeshMode(renderer, res.items, base, shadow=truth_shadow)
             if dome is not None
             else MeshMode(renderer, res.items, bake_lights(), BAKE_AMBIENT)
         )
-    return PreparedScene(bscene, res, dome is not None, base, lighting, shadow, truth_shadow, truth)
+    return PreparedScene(bscene, res, dome is not None, base, lighting, shadow, truth_shadow, truth, casters)
 
 
 def _asset_entry(a: SceneAsset, inst: Instances) -> dict[str, Any]:
@@ -443,6 +455,7 @@ def render_scene(
     compare: int | None = 3,
     mode: Any = None,
     plan: dict[str, Any] | None = None,
+    shadows: SceneShadows | None = None,
 ) -> dict[str, Any]:
     """Draw ``scene`` into the folder ``out`` (the module notes).
 
@@ -474,6 +487,9 @@ def render_scene(
         mode); default :meth:`PreparedScene.mode`.
     plan : dict, optional
         What the summary says of the plan drawn (its ``"plan"`` entry).
+    shadows : SceneShadows, optional
+        How the frames' shadow is drawn when not as the scene says (a plan's shadow; the truth keeps
+        the scene's: :func:`prepare_scene`).
 
     Returns
     -------
@@ -509,7 +525,9 @@ def render_scene(
     if chosen:
         print(chosen, flush=True)
     with claim.writing() as out, Renderer() as r:
-        prep = prepare_scene(scene, r, views, head=head, command=command, smaller=smaller, sun=sun)
+        prep = prepare_scene(
+            scene, r, views, head=head, command=command, smaller=smaller, sun=sun, shadows=shadows
+        )
         inst = prep.scene.instances
         extra = (
             None
@@ -530,7 +548,7 @@ def render_scene(
             compare=scene.frames if compare is None else compare,
         )
         names = list(scene.names)
-    shadows = scene.shadows
+    shadows = scene.shadows if shadows is None or scene.shadows is None else shadows
     kind = "relit dome assets" if prep.relit else "ring assets"
     if shadows is not None:
         kind += (
