@@ -4,8 +4,9 @@ A budget is a few ``KEY=VALUE`` pairs (``morphkit plan SCENE --budget billboard-
 
 * ``billboard-psnr`` -- dB, the frame's PSNR against the real meshes' frame, at least;
 * ``billboard-iou`` -- the IoU of the billboards' silhouettes against the real meshes', at least;
-* ``shadow-iou`` -- the frame's shadow against the ray cast (the IoU of the pixels the shadows
-  darken), at least;
+* ``shadow-iou`` -- the frame's shadow against the ray cast: the IoU of the ground pixels the
+  shadows darken, where both frames show ground (the shadows the instances cast;
+  :func:`~morphkit.sunlit.shadowing.darkened_iou`), at least;
 * ``frames`` -- the fraction of frames that must meet every key above (default
   :data:`DEFAULT_FRAMES`);
 * ``time-ms`` -- a frame's median time, at most: with it, the least error within that time.

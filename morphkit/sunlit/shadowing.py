@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import tol
 from ..billboard.frames.field import BillboardScene
+from ..billboard.frames.frametypes import Frame
 from ..camera import CameraModel
 from ..errors import ValidationError, expected_got
 from ..imaging.shading import Lighting, sun_shadow_factor, sun_terms
@@ -25,7 +26,7 @@ from ..views.gbuffer import ViewSurface
 from .receivers import FrameShadow, SceneShadow
 
 __all__ = ["frame_shadow", "surface_visibility", "points_visibility", "shadowed_backdrop", "FrameGround",
-           "darkened", "DARK_LEVELS"]
+           "darkened", "darkened_iou", "DARK_LEVELS"]
 
 #: A pixel is in a frame's shadow (:func:`darkened`) when the shadow takes at least this many
 #: levels (of 255) off one of its channels: more than the frame's rounding (1 level), less
@@ -201,3 +202,48 @@ def darkened(plain: np.ndarray, shadowed: np.ndarray, levels: int = DARK_LEVELS)
         True where darkened.
     """
     return (plain.astype(np.int16) - shadowed.astype(np.int16)).max(axis=2) >= levels
+
+
+def darkened_iou(plain: Frame, shadowed: Frame, truth_plain: Frame, truth: Frame) -> float | None:
+    """A frame's shadow on the ground against the truth's: the IoU of the pixels each frame's shadows
+    darken (:func:`darkened`, each frame against itself drawn without shadows), over the pixels both
+    frames show as ground (layer alpha at most 0.5 in both). Where one draws an object and the other
+    ground the silhouettes differ, the billboards' error; and the shadows on the instances themselves
+    are part of what their billboards look like, measured with them: what is left is the shadows the
+    instances cast.
+
+    Parameters
+    ----------
+    plain, shadowed : Frame
+        The frame without and with its shadows (the same billboards or meshes).
+    truth_plain, truth : Frame
+        The truth's frame without and with its shadows.
+
+    Returns
+    -------
+    float or None
+        In ``[0, 1]``; None where neither frame darkens a pixel of that ground (nothing to measure).
+
+    Examples
+    --------
+    Two frames whose shadows darken 3 ground pixels each, 2 of them shared: ``IoU = 2 / 4``.
+
+    >>> import numpy as np
+    >>> from morphkit.billboard.frames.frametypes import Frame
+    >>> from morphkit.sunlit.shadowing import darkened_iou
+    >>> def frame(dark):
+    ...     rgb = np.full((1, 5, 3), 200, np.uint8)
+    ...     rgb[0, dark] = 100
+    ...     return Frame(rgb, np.zeros((1, 5, 4), np.float32), [], None)
+    >>> lit = frame([])
+    >>> darkened_iou(lit, frame([0, 1, 2]), lit, frame([1, 2, 3]))
+    0.5
+    >>> darkened_iou(lit, lit, lit, lit) is None
+    True
+    """
+    a, b = darkened(plain.rgb, shadowed.rgb), darkened(truth_plain.rgb, truth.rgb)
+    ground = (shadowed.layer[..., 3] <= 0.5) & (truth.layer[..., 3] <= 0.5)
+    union = int(np.count_nonzero((a | b) & ground))
+    if union == 0:
+        return None
+    return float(np.count_nonzero(a & b & ground)) / union
