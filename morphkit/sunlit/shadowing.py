@@ -8,7 +8,8 @@ from the lighting's suns, the ground the camera sees and the instances it draws;
 points, :mod:`morphkit.sunlit.receivers`, "Receivers"); :func:`points_visibility` that of a
 mesh pass's pixels; :func:`shadowed_backdrop` the backdrop with the ground's light share
 (:func:`morphkit.imaging.shading.sun_shadow_factor`, ground normal ``+z``) where the layer leaves the
-ground visible (covered pixels keep full sun: nobody sees them).
+ground visible (covered pixels keep full sun: nobody sees them). :func:`darkened` is the pixels a
+frame's shadows darken, :func:`darkened_iou` a frame's shadow on the ground against the truth's.
 """
 
 from __future__ import annotations
