@@ -325,7 +325,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
     from .scenes import load_scene
 
     scene = load_scene(args.scene)  # refused before anything is baked or written
-    mode = entry = None
+    mode = entry = shadows = None
     if args.plan is not None:
         from .plan.planfile import read_plan
         from .scenes.suns import BakeLight
@@ -334,12 +334,20 @@ def _cmd_render(args: argparse.Namespace) -> int:
         plan.check_assets(scene.names)
         plan.check_kind(not isinstance(scene.sun, BakeLight) or scene.shadows is not None)
         entry = {"file": str(args.plan), "budget": plan.budget.to_json(), "bands": len(plan.choice.choices)}
+        shadows = plan.shadows
+        if shadows is not None:
+            if scene.shadows is None:
+                raise ValidationError(
+                    expected_got("plan", "a plan without a shadow for a scene without shadows", "one with")
+                )
+            entry["shadow"] = {"soft": shadows.soft, "sun_atlas_size": shadows.sun_atlas_size}
 
         def mode(prep: Any) -> Any:
             return plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
 
     claim = _output_folder(args.out, RENDER_OUTPUT, args.overwrite)
-    render_scene(scene, claim, command="render", stem="render", compare=args.compare, mode=mode, plan=entry)
+    render_scene(scene, claim, command="render", stem="render", compare=args.compare, mode=mode, plan=entry,
+                 shadows=shadows)
     return 0
 
 

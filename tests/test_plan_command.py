@@ -55,11 +55,81 @@ def test_a_nonsense_budget_is_a_usage_error(tmp_path, capsys, budget, match):
     assert not (tmp_path / "out").exists()
 
 
-def test_a_budget_key_not_planned_yet_is_refused_in_one_line(tmp_path, capsys):
+def test_a_shadow_budget_for_a_scene_without_shadows_is_refused_in_one_line(tmp_path, capsys):
     scene = _scene(tmp_path)
     assert main(["plan", str(scene), "--budget", "shadow-iou=0.8", "-o", str(tmp_path / "out")]) == 1
-    assert "planning the shadows is not built yet" in _one_error_line(capsys)
+    line = _one_error_line(capsys)
+    assert "--budget shadow-iou: expected a scene with shadows (its 'shadows' entry), got none" in line
     assert not (tmp_path / "out").exists()
+
+
+# relit: the tree and a person under a fixed sun, hard shadows; the camera walks past them
+SHADOW_SCENE = {
+    **SMALL_SCENE,
+    "assets": [{"name": "tree", "source": "tree", "scale": 2.0}, {"name": "person", "source": "person"}],
+    "instances": {
+        "listed": [
+            {"asset": "tree", "x": 0.0, "y": 0.0},
+            {"asset": "person", "x": 1.5, "y": 1.0},
+            {"asset": "tree", "x": -2.0, "y": 3.0},
+        ]
+    },
+    "camera": {"keyframes": [{"eye": [-3.0, -6.0, 2.5], "target": [0.0, 1.0, 0.5]},
+                             {"eye": [3.0, -6.0, 2.5], "target": [0.0, 1.0, 0.5]}]},
+    "sun": {"azimuth_deg": 120.0, "elevation_deg": 40.0},
+    "shadows": {},
+    "views": "dome",
+    "frames": 6,
+}
+
+
+@pytest.mark.gl
+def test_a_shadow_budget_chooses_the_cheapest_shadow_measured_to_meet_it_and_render_draws_it(
+    tmp_path, capsys
+):
+    scene = _scene(tmp_path, **SHADOW_SCENE)
+    out, tables = tmp_path / "plan", tmp_path / "tables"
+    args = ["--budget", "shadow-iou=0.5", "--budget", "frames=0.5", "-o", str(out), "--verify", "2"]
+    assert main(["plan", str(scene), *args, "--tables", str(tables)]) == 0
+    said = capsys.readouterr()
+    plan = json.loads((out / "plan.json").read_text())
+    shadow = plan["shadow"]
+    # every candidate measured on the calibration frames, each figure an IoU, the choice among them
+    names = ["hard-128", "hard-64", "hard-256", "hard-512"]
+    assert list(shadow["candidates"]) == names and shadow["scene"] == "hard-128"
+    assert shadow["name"] in names and shadow["soft"] is None
+    assert shadow["sun_atlas_size"] == int(shadow["name"].split("-")[1])
+    # the least work meeting it: the fewest texels (every candidate is hard)
+    meeting = [n for n, c in shadow["candidates"].items() if c["meets"]]
+    assert shadow["name"] == min(meeting, key=lambda n: int(n.split("-")[1]))
+    for c in shadow["candidates"].values():
+        assert all(v is None or 0.0 <= v <= 1.0 for v in c["shadow-iou"]["per_frame"])
+    assert f"{shadow['name']} chosen" in said.out
+    # the held-out frames are measured on their shadows too, predicted beside measured
+    assert "shadow-iou" in plan["error"]["plan"] and "shadow-iou" in plan["error"]["default"]
+    measured = [f["shadow-iou"] for f in plan["configurations"]["plan"]["per_frame"]["measured"]]
+    assert len(measured) == 2 and all(v is None or 0.0 <= v <= 1.0 for v in measured)
+    assert "shadow-iou" in plan["predicted"]["gap"]["plan"]
+    # the candidates' atlases are kept: planning again bakes none
+    assert len(list((tables / "sun_atlases").glob("*.npz"))) == 2 * 3  # 2 assets, 3 sizes not the scene's
+    assert main(["plan", str(scene), *args, "--tables", str(tables), "--overwrite"]) == 0
+    assert "read from the cache" in capsys.readouterr().err
+    # the plan drawn with its shadow
+    r = tmp_path / "r"
+    assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0
+    summary = json.loads((r / "render.json").read_text())
+    assert summary["plan"]["shadow"] == {"soft": None, "sun_atlas_size": shadow["sun_atlas_size"]}
+    # a budget no shadow meets: one line naming the best reachable, nothing written
+    none = tmp_path / "none"
+    args = ["--budget", "shadow-iou=1", "-o", str(none), "--tables", str(tables)]
+    capsys.readouterr()
+    assert main(["plan", str(scene), *args]) == 1
+    err = capsys.readouterr().err.strip().splitlines()  # the sun atlases said, then the one error line
+    assert [e for e in err if e.startswith("morphkit: error: ")] == err[-1:]
+    line = err[-1]
+    assert "no shadow meets the budget: the best reachable is shadow-iou" in line
+    assert "against 1, with hard-" in line
+    assert not none.exists()
 
 
 @pytest.mark.gl

@@ -12,6 +12,9 @@ version is refused on reading):
   words (``band``), its on-screen height and elevation ranges (``height_px``: ``[lo, hi]``, ``hi``
   None for level 0; ``elevation_deg``), the ``representation`` and how many billboards it draws over
   the path (``billboards``);
+* ``"shadow"`` -- with a ``shadow-iou`` budget, the frames' shadow chosen (:mod:`.shadowchoice`):
+  its ``soft`` (null, ``"pcss"`` or N) and ``sun_atlas_size``, read back and drawn by
+  ``render --plan``, with what was measured of every candidate (kept as written);
 * what ``morphkit plan`` measured: ``"verified"``, ``"time_ms"``, ``"error"``, ``"predicted"``,
   ``"sweep"`` (:mod:`morphkit.programs.planrun`), kept as written and not read back.
 
@@ -30,6 +33,7 @@ from typing import Any
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import read_json, write_json
 from ..imaging.shading import Lighting
+from ..scenes.description import SceneShadows
 from .budget import Budget
 from .mixed import banded_mode
 from .representations import ELEVATION_EDGES_DEG, BandChoice, band_label
@@ -62,6 +66,8 @@ class ScenePlan:
         Each asset's image height at level 0 (the bands in words).
     report : dict, optional
         What was measured (written as the file's other entries).
+    shadows : SceneShadows, optional
+        The frames' shadow chosen (None: the scene's own); the scene's sun disc is kept.
     """
 
     budget: Budget
@@ -71,6 +77,7 @@ class ScenePlan:
     counts: dict[tuple[str, int, int], int] = field(default_factory=dict)
     base_height: dict[str, int] = field(default_factory=dict)
     report: dict[str, Any] = field(default_factory=dict)
+    shadows: SceneShadows | None = None
 
     def check_kind(self, relit: bool) -> None:
         """Refuse a plan of the other kind of asset.
@@ -169,6 +176,9 @@ class ScenePlan:
             "choices": choices,
         }
         out.update(self.report)
+        if self.shadows is not None:
+            chosen = {"soft": self.shadows.soft, "sun_atlas_size": self.shadows.sun_atlas_size}
+            out["shadow"] = {**out.get("shadow", {}), **chosen}
         return out
 
     def save(self, path: str | os.PathLike[str]) -> Path:
@@ -244,10 +254,16 @@ def read_plan(path: str | os.PathLike[str]) -> ScenePlan:
             bands[band] = c["representation"]
             counts[band] = int(c.get("billboards", 0))
         choice = BandChoice(bands, obj.get("default", "morph"))
+        shadow = obj.get("shadow")
+        shadows = None
+        if shadow is not None:
+            if not isinstance(shadow, dict):
+                raise TypeError("shadow must be an object of soft and sun_atlas_size")
+            shadows = SceneShadows(soft=shadow["soft"], sun_atlas_size=shadow["sun_atlas_size"])
     except (KeyError, TypeError, ValueError, ValidationError) as exc:
         raise FileFormatError(
             expected_got(
                 f"plan file {p}", "relit, assets and choices of a plan", f"{type(exc).__name__}: {exc}"
             )
         ) from exc
-    return ScenePlan(_budget(obj.get("budget")), choice, relit, tuple(assets), counts)
+    return ScenePlan(_budget(obj.get("budget")), choice, relit, tuple(assets), counts, shadows=shadows)

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..files.fileio import write_bytes
 from ..plan import Budget
+from ..plan.budget import ERROR_KEYS
 from ..plan.planner import reached
 
 __all__ = ["prediction_gap", "budget_figures", "shown_budget", "plot_plan"]
@@ -23,12 +24,14 @@ def prediction_gap(
 ) -> dict[str, float | None]:
     """The median absolute gap between predicted and measured figures, per key."""
     out: dict[str, float | None] = {}
-    for key in ("billboard-psnr", "billboard-iou"):
+    for key in ERROR_KEYS:
         g = [
-            abs(p[key] - m[key])
+            abs(p[key] - m[key])  # type: ignore[operator]
             for p, m in zip(predicted, measured, strict=True)
-            if p[key] is not None and m[key] is not None
+            if p.get(key) is not None and m.get(key) is not None
         ]
+        if key == "shadow-iou" and not any(key in m for m in measured):
+            continue  # not measured (a budget without shadows)
         out[key] = float(np.median(g)) if g else None
     return out
 

@@ -10,7 +10,12 @@ the plan verified against the real meshes.
    the asset alone against its own mesh, under the scene's focal length, backdrop and middle frame's sun),
    or reads the tables a previous plan into the same folder measured for the same mesh and conditions;
 2. **calibrates** the tables on a few planning frames drawn in each representation everywhere (each
-   one's offsets, margin and measured cost per billboard, and whether it met the budget there);
+   one's offsets, margin and measured cost per billboard, and whether it met the budget there).
+   With a ``shadow-iou`` budget, each shadow candidate (sun-atlas texels, hard, filtered or N
+   directions: :mod:`morphkit.plan.shadowchoice`) is measured on the same frames with the real
+   meshes and the least work meeting it chosen (:mod:`morphkit.programs.shadowplanrun`;
+   refused with one line when none does); its cost above the scene's own shadow is added to every
+   frame's predicted time;
 3. **predicts** the planning frames (every frame but the verification frames) and **chooses** each
    band's cheapest representation predicted to meet the budget (:func:`~morphkit.plan.planner.choose`);
    a budget it cannot meet stops here with one line and nothing written;
@@ -20,22 +25,27 @@ the plan verified against the real meshes.
    run, and measured against the real meshes (relit, with the scene's ray-cast shadows): the PSNR
    and silhouette IoU over the pixels of the billboards' boxes
    (:func:`~morphkit.billboard.compare.frame_errors`) are the frame's ``billboard-psnr`` and
-   ``billboard-iou``;
+   ``billboard-iou``; with a ``shadow-iou`` budget, the plan draws the chosen shadow (the default
+   the scene's own, a sweep's configurations the chosen), each frame is drawn again without its
+   shadows and its ``shadow-iou`` is the IoU of the pixels its shadows darken against the truth's
+   (:func:`~morphkit.sunlit.shadowing.darkened_iou`), its prediction the calibration frames' around it;
 5. writes ``OUT/plan.json`` (:mod:`morphkit.plan.planfile`), ``OUT/plan.png`` (the configurations'
    error against their median frame time, predicted beside measured) and ``OUT/tables/``.
 
 The tables are kept between runs in a cache (``--tables DIR``; default ``tables`` in
 :data:`morphkit.settings.CACHE_DIR`), named by what they were measured of and under, and written as
-soon as measured: a plan that fails its budget writes nothing to ``OUT`` but keeps its tables.
+soon as measured: a plan that fails its budget writes nothing to ``OUT`` but keeps its tables (and
+the shadow candidates' sun atlases, in its ``sun_atlases`` subfolder).
 
 A ``time-ms`` budget plans the least error whose predicted median frame time is within it
 (:func:`~morphkit.plan.planner.choose`, "Time"), verified as the held-out frames' measured median.
-Not planned yet (refused with one line): a ``shadow-iou`` budget. Not chosen among yet: the
-octahedral impostor, texel and sun-atlas sizes (the scene's own are kept).
+Not chosen among yet: the octahedral impostor, culling, the billboards' texels and views (the scene's
+own are kept).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -64,6 +74,7 @@ from ..plan.representations import (
     Representation,
     band_label,
 )
+from ..plan.shadowchoice import interpolate_frames
 from ..render import Renderer
 from ..scenes.description import SceneDescription
 from ..sunlit import LitMode
@@ -71,11 +82,14 @@ from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .planverify import verify_frames
 from .scenerender import PreparedScene, prepare_scene, scene_choices
 from .sequence import compare_indices
+from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = ["plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "TABLES_FOLDER", "DEFAULT_VERIFY"]
 
 #: The error tables' subfolder of a plan's output folder.
 TABLES_FOLDER = "tables"
+#: The subfolder of the tables' cache the shadow candidates' sun atlases are kept in.
+SUN_ATLASES_FOLDER = "sun_atlases"
 #: Azimuths (degrees, object frame) each cell of a plan's tables averages: six, whose offsets from the
 #: references of rings of 12, 8, 6 and 4 views spread over the pair between (a card's and a nearest
 #: view's error change with the azimuth more than the morph's: three azimuths missed them by 2 dB).
@@ -429,7 +443,7 @@ def plan_scene(
     scene : SceneDescription
         With at least one asset, every asset with a mesh (the truth).
     budget : Budget
-        ``billboard-psnr`` and/or ``billboard-iou``, ``time-ms``, and ``frames``.
+        ``billboard-psnr``, ``billboard-iou``, ``shadow-iou``, ``time-ms``, and ``frames``.
     out : OutputClaim or path-like
         The output folder (``plan.json``, ``plan.png``, ``tables/``).
     overwrite : bool, optional
@@ -452,7 +466,8 @@ def plan_scene(
     BudgetError
         No choice is predicted to meet the budget (nothing written).
     ValidationError
-        A budget key not planned yet, a scene without assets or meshes, ``verify < 1``.
+        A ``shadow-iou`` budget for a scene without shadows, a scene without assets or meshes,
+        ``verify < 1``.
 
     Examples
     --------
@@ -470,13 +485,9 @@ def plan_scene(
     claim = out if isinstance(out, OutputClaim) else claim_output(out, PLAN_OUTPUT, overwrite=overwrite)
     head = "morphkit plan: "
     tables_cache = Path(settings.CACHE_DIR) / TABLES_FOLDER if tables_cache is None else Path(tables_cache)
-    if budget.shadow_iou is not None:
+    if budget.shadow_iou is not None and scene.shadows is None:
         raise ValidationError(
-            expected_got(
-                "--budget shadow-iou",
-                "billboard-psnr, billboard-iou, time-ms and frames (planning the shadows is not built yet)",
-                f"shadow-iou={budget.shadow_iou:g}",
-            )
+            expected_got("--budget shadow-iou", "a scene with shadows (its 'shadows' entry)", "none")
         )
     if verify < 1:
         raise ValidationError(expected_got("--verify", "an int >= 1", verify))
@@ -511,10 +522,25 @@ def plan_scene(
         offsets, costs, fixed, floor, margins, proven, calibration = _calibrate(
             prep, cams, planning, tables, budget, head, truths
         )
+        shadows = extra_ms = plan_prep = None
+        if budget.shadow_iou is not None:  # the frames' shadow: measured on the calibration frames
+            kept = Path(tables_cache) / SUN_ATLASES_FOLDER
+            shadows = measure_shadows(prep, scene.shadows, r, cams, calibration["frames"], truths, kept)
+            chosen_shadow, extra_ms = plan_shadow(shadows, budget)
+            plan_prep = dataclasses.replace(prep, shadow=prep.casters.shadow(chosen_shadow.shadows, r))
+            print(
+                f"{head}shadows: {len(shadows)} candidates on {len(calibration['frames'])} calibration "
+                f"frames (drawn with the real meshes); {chosen_shadow.name} chosen, shadow-iou "
+                f"{chosen_shadow.reached(budget):.3f} in {budget.frames:.0%} of them, {extra_ms:+.0f} ms a "
+                f"frame against the scene's own ({shadows[0].name}: {shadows[0].reached(budget):.3f})",
+                flush=True,
+            )
+        plan_prep = prep if plan_prep is None else plan_prep
         t_calibrate = time.perf_counter() - t0
         t0 = time.perf_counter()
         pred = predict_frames(tables, prep.scene, [cams[k] for k in planning]).shifted(offsets)
-        picked = choose(pred, budget, costs=costs, margin=margins, proven=proven, fixed=fixed, base_ms=floor)
+        at = floor + (extra_ms or 0.0)  # every frame pays the plan's shadow
+        picked = choose(pred, budget, costs=costs, margin=margins, proven=proven, fixed=fixed, base_ms=at)
         t_plan = time.perf_counter() - t0
         plan = ScenePlan(
             budget,
@@ -523,11 +549,12 @@ def plan_scene(
             tuple(prep.scene.assets),
             {b: int(c) for b, c in zip(pred.bands, pred.counts(), strict=True)},
             pred.base_height,
+            shadows=None if shadows is None else chosen_shadow.shadows,
         )
         # the plan itself on the calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards)
         t1 = time.perf_counter()
-        own = _plan_offset(prep, cams, calibration["frames"], plan, tables, offsets, truths)
+        own = _plan_offset(plan_prep, cams, calibration["frames"], plan, tables, offsets, truths)
         truths.clear()
         calibration["plan"] = {"db": own.db, "iou": own.iou, "frames_used": own.frames}
         t_calibrate += time.perf_counter() - t1
@@ -539,18 +566,21 @@ def plan_scene(
             flush=True,
         )
         modes: dict[str, Any] = {
-            "plan": plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes()),
+            "plan": plan.mode(prep.relit, prep.base, plan_prep.shadow, prep.meshes()),
             "default": prep.mode(),
         }
-        if sweep:
+        unshadowed = dataclasses.replace(prep, shadow=None)
+        plain = {"plan": plan.mode(prep.relit, prep.base, None, prep.meshes()), "default": unshadowed.mode()}
+        if sweep:  # each representation everywhere, under the plan's shadow
             for rep in REPRESENTATIONS:
                 if rep.name != "morph":  # the view morph everywhere is the default
-                    modes[rep.name] = _uniform(prep, rep)
+                    modes[rep.name] = _uniform(plan_prep, rep)
+                    plain[rep.name] = _uniform(unshadowed, rep)
         print(
             f"{head}verifying on {len(picks)} held-out frames: {', '.join(modes)} against the real meshes",
             flush=True,
         )
-        got = verify_frames(prep, cams, picks, modes)
+        got = verify_frames(prep, cams, picks, modes, plain=plain if shadows is not None else None)
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
             "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own),
@@ -567,6 +597,13 @@ def plan_scene(
             nm: float(np.median(held.frame_times(pk, cost, per_frame, floor))) if held.band_index else 0.0
             for nm, pk in held_picks.items()
         }
+        if shadows is not None:  # the shadow's own prediction: its calibration frames around each frame
+            for nm in predicted:
+                m = shadows[0] if nm == "default" else chosen_shadow
+                for f, v in zip(predicted[nm], interpolate_frames(m.frames, m.iou, picks), strict=True):
+                    f["shadow-iou"] = v
+                if nm != "default":
+                    predicted_ms[nm] += extra_ms
     shown = shown_budget(budget)
     rows: dict[str, dict[str, Any]] = {}
     for nm, g in got.items():
@@ -618,7 +655,9 @@ def plan_scene(
         "tables_measured": measured,
         "calibration": calibration,
     }
-    plan = ScenePlan(plan.budget, plan.choice, plan.relit, plan.assets, plan.counts, plan.base_height, report)
+    if shadows is not None:
+        report["shadow"] = shadow_report(shadows, chosen_shadow, budget)
+    plan = dataclasses.replace(plan, report=report)
     with claim.writing() as o:
         (o / TABLES_FOLDER).mkdir(exist_ok=True)
         for (nm, rep), t in tables.items():

@@ -12,6 +12,7 @@ from typing import Any
 from ..billboard import BillboardScene
 from ..billboard.compare import box_errors, frame_errors
 from ..sunlit.litmodes import Relit
+from ..sunlit.shadowing import darkened_iou
 from .scenerender import PreparedScene
 
 __all__ = ["frame_figures", "verify_frames"]
@@ -33,33 +34,53 @@ def verify_frames(
     modes: Mapping[str, Any],
     scene: BillboardScene | None = None,
     boxes: bool = False,
-    truths: dict[int, Any] | None = None,
+    truths: dict[Any, Any] | None = None,
+    plain: Mapping[str, Any] | None = None,
 ) -> dict[str, dict[str, list[Any]]]:
     """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
     to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
     instances drawn (default the prepared scene's); ``boxes``: each frame's billboards' own figures too
     (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``truths``: the truth's frames by
-    frame index, drawn once (read where there, kept where not)."""
+    frame index, drawn once (read where there, kept where not); ``plain``: each mode's twin drawing
+    the same without shadows (one object for modes that share it: drawn once a frame, not timed),
+    and each frame's ``shadow-iou`` measured too (:func:`~morphkit.sunlit.shadowing.darkened_iou`
+    against the truth drawn without and with its ray cast; the truth's plain frame kept in ``truths``
+    under ``("plain", index)``)."""
     scene = prep.scene if scene is None else scene
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
     order = list(modes)
+    twins = [] if plain is None else list({id(m): m for m in plain.values()}.values())
+    truth_plain = prep.meshes() if plain is not None else None
     for n, k in enumerate(picks):
         cam = cameras[k]
         if prep.lighting is not None:
-            for m in (*modes.values(), prep.truth):
+            for m in (*modes.values(), *twins, prep.truth, truth_plain):
                 if isinstance(m, Relit):
                     m.lighting = prep.lighting[k]
-        truth = truths.get(k) if truths is not None else None
-        if truth is None:
-            truth = scene.render(cam, prep.truth)
-            if truths is not None:
-                truths[k] = truth
+        truth = _drawn(truths, k, scene, cam, prep.truth)
+        if plain is not None:
+            t_plain = _drawn(truths, ("plain", k), scene, cam, truth_plain)
+            drawn = {id(m): scene.render(cam, m) for m in twins}
         turn = order[n % len(order) :] + order[: n % len(order)]
         for nm in turn:
             t0 = time.perf_counter()
             frame = scene.render(cam, modes[nm])
             out[nm]["time_ms"].append(1e3 * (time.perf_counter() - t0))
-            out[nm]["errors"].append(frame_figures(frame, truth))
+            figures = frame_figures(frame, truth)
+            if plain is not None:
+                figures["shadow-iou"] = darkened_iou(drawn[id(plain[nm])], frame, t_plain, truth)
+            out[nm]["errors"].append(figures)
             if boxes:
                 out[nm]["boxes"].append(box_errors(frame, truth))
     return out
+
+
+def _drawn(kept: dict[Any, Any] | None, key: Any, scene: BillboardScene, cam: Any, mode: Any) -> Any:
+    """The frame kept under ``key``, else ``scene`` drawn by ``mode`` (and kept, where ``kept`` is a
+    dict)."""
+    got = kept.get(key) if kept is not None else None
+    if got is None:
+        got = scene.render(cam, mode)
+        if kept is not None:
+            kept[key] = got
+    return got
