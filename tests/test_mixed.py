@@ -9,10 +9,10 @@ import json
 import numpy as np
 import pytest
 
-from morphkit.billboard.frames.compositor import new_depth, new_layer
+from morphkit.billboard.frames.compositor import finish, new_depth, new_layer
 from morphkit.errors import ValidationError
 from morphkit.plan.mixed import LitMeshBands, RingMeshBands, banded_mode, split_placements
-from morphkit.plan.representations import MESH, BandChoice, BandedRing, BandedSurface, elevation_band
+from morphkit.plan.representations import CULL, MESH, BandChoice, BandedRing, BandedSurface, elevation_band
 from morphkit.programs.scenerender import prepare_scene, scene_choices
 from morphkit.scenes import load_scene
 from morphkit.sunlit import LitMode
@@ -152,3 +152,35 @@ def test_a_relit_billboards_band_is_decided_where_its_mode_decides_it(ring):
     # a mode rounding the elevation into the oblique band draws it there: so does the split
     meshes, billboards = split_placements(choice, placements, lambda pl: 45.0)
     assert meshes == [tree] and [pl.asset for pl in billboards] == ["person"]
+
+
+@pytest.mark.parametrize("kind", ["ring", "relit"])
+def test_a_culled_band_is_left_out_of_the_frame_and_its_placements_still_counted(kind, request):
+    prep, cams = request.getfixturevalue(kind)
+    cam = cams[0]
+    placements = prep.scene.plan(cam).placements
+    # every band culled: the backdrop alone (no shadows here), every placement still listed
+    culled = _draw(prep, cam, BandChoice(default=CULL))
+    np.testing.assert_array_equal(culled.rgb, finish(new_layer(cam.shape), prep.scene.backdrop.draw(cam)))
+    assert [pl.index for pl in culled.placements] == [pl.index for pl in placements]
+    assert not culled.layer[..., 3].any()
+    # the tree culled, the person (in front) a billboard: the person's billboard alone over the backdrop
+    person = BandChoice(default="morph", choices=_bands(prep, cam, "tree", CULL))
+    got = _draw(prep, cam, person)
+    (pl,) = [p for p in placements if p.asset == "person"]
+    own = new_layer(cam.shape)
+    if prep.relit:
+        LitMode(BandedSurface(BandChoice()), prep.base).draw_placements(
+            prep.scene, cam, [pl], own, new_depth(cam.shape)
+        )
+    else:
+        BandedRing(BandChoice()).draw_placements(prep.scene, [pl], own)
+    np.testing.assert_allclose(got.layer, own, atol=1e-6)
+    meshes, billboards = split_placements(person, placements)
+    assert meshes == [] and [p.asset for p in billboards] == ["person"]
+    # a culled band needs no meshes; a billboard mode refuses it
+    assert isinstance(banded_mode(BandChoice(default=CULL), prep.relit, prep.base, None, None),
+                      LitMeshBands if prep.relit else RingMeshBands)
+    with pytest.raises(ValidationError, match=r"expected a billboard representation .*got cull"):
+        prep.scene.render(cam, LitMode(BandedSurface(BandChoice(default=CULL)), prep.base)
+                          if prep.relit else BandedRing(BandChoice(default=CULL)))

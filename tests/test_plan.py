@@ -49,14 +49,16 @@ def _scene() -> BillboardScene:
 
 
 def test_representations_are_ordered_by_cost_and_found_by_name():
-    assert [r.name for r in REPRESENTATIONS] == ["classic", "nearest", "morph", "mesh"]
+    assert [r.name for r in REPRESENTATIONS] == ["cull", "classic", "nearest", "morph", "mesh"]
     assert [r.cost for r in REPRESENTATIONS] == sorted(r.cost for r in REPRESENTATIONS)
-    assert representation("nearest") is REPRESENTATIONS[1]
-    # the real mesh is a representation but draws no billboard image
+    assert representation("nearest") is REPRESENTATIONS[2]
+    # culling and the real mesh are representations but draw no billboard image
     assert [r.name for r in BILLBOARD_REPRESENTATIONS] == ["classic", "nearest", "morph"]
     assert not isinstance(representation("mesh"), BillboardRepresentation)
+    assert not isinstance(representation("cull"), BillboardRepresentation)
     with pytest.raises(
-        ValidationError, match=r"representation: expected one of \['classic', 'nearest', 'morph', 'mesh'\]"
+        ValidationError,
+        match=r"representation: expected one of \['cull', 'classic', 'nearest', 'morph', 'mesh'\]",
     ):
         representation("impostor")
 
@@ -131,7 +133,7 @@ def test_a_frames_prediction_weights_each_billboard_by_its_pixels():
 def test_predicting_a_path_sees_what_its_frames_draw(rng):
     scene = _scene()
     tables = {}
-    for r, base in (("classic", 18.0), ("nearest", 22.0), ("morph", 26.0), ("mesh", 60.0)):
+    for r, base in (("cull", 8.0), ("classic", 18.0), ("nearest", 22.0), ("morph", 26.0), ("mesh", 60.0)):
         h = np.array([4.0, 16.0, 64.0, 256.0])
         e = np.array([0.0, 40.0, 80.0])
         tables[("tree", r)] = ErrorTable(
@@ -445,7 +447,7 @@ def test_a_large_scene_is_predicted_from_a_sample_of_its_instances():
             np.full((2, 2), 20.0),
             np.full((2, 2), 0.9),
         )
-        for r in ("classic", "nearest", "morph", "mesh")
+        for r in ("cull", "classic", "nearest", "morph", "mesh")
     }
     cams = [_camera([0.0, -60.0, 8.0], [0.0, 0.0, 0.0])]
     pred = predict_frames(tables, scene, cams, max_instances=1000)

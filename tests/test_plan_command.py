@@ -149,11 +149,11 @@ def test_a_budget_nothing_meets_is_one_line_with_the_best_reachable_and_nothing_
     tables = tmp_path / "tables"
     assert main(["plan", str(scene), "--budget", want, "-o", str(out), "--tables", str(tables)]) == 1
     said = capsys.readouterr().out
-    assert "error tables: 3 measured, 0 read" in said and "1 exact (the real mesh" in said
+    assert "error tables: 4 measured, 0 read" in said and "1 exact (the real mesh" in said
     assert main(["plan", str(scene), "--budget", want, "-o", str(out), "--tables", str(tables)]) == 1
-    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
+    assert "error tables: 0 measured, 4 read" in capsys.readouterr().out
     # the real mesh's table is exact, not measured: not kept
-    assert len(list(tables.glob("tree.*.npz"))) == 3 and not out.exists()
+    assert len(list(tables.glob("tree.*.npz"))) == 4 and not out.exists()
 
 
 @pytest.mark.gl
@@ -182,6 +182,7 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert plan["morphkit_plan"] == 1 and plan["budget"] == {"billboard-iou": 0.3, "frames": 0.5}
     assert plan["relit"] is False and plan["assets"] == ["tree"]
     assert plan["choices"] and {c["representation"] for c in plan["choices"]} <= {
+        "cull",
         "classic",
         "nearest",
         "morph",
@@ -197,10 +198,11 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
     # the plan drawn on the calibration frames too: its own offset moves its predictions
     assert set(plan["calibration"]["plan"]) == {"db", "iou", "frames_used"}
-    assert set(plan["configurations"]) == {"plan", "default", "classic", "nearest", "mesh"}
+    assert set(plan["configurations"]) == {"plan", "default", "cull", "classic", "nearest", "mesh"}
     assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (out / "tables").iterdir()) == [
         "tree.classic.npz",
+        "tree.cull.npz",
         "tree.mesh.npz",
         "tree.morph.npz",
         "tree.nearest.npz",
@@ -223,7 +225,7 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
         )
         == 0
     )
-    assert "error tables: 0 measured, 3 read" in capsys.readouterr().out
+    assert "error tables: 0 measured, 4 read" in capsys.readouterr().out
     # the plan drawn: render --plan takes the folder
     r = tmp_path / "r"
     assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0

@@ -1,11 +1,13 @@
-"""Frames that draw some bands as the real meshes and the others as billboards.
+"""Frames that draw some bands as the real meshes, leave some out and draw the others as billboards.
 
 A plan may choose :class:`~morphkit.plan.representations.RealMesh` for a band: its instances are
-drawn as their meshes, every other billboard in its band's billboard representation. One frame
-holds both:
+drawn as their meshes, every other billboard in its band's billboard representation; or
+:class:`~morphkit.plan.representations.Culled`: its instances are not drawn (the frame still lists
+their placements, so the frame's figures count their boxes, and they still cast the frame's
+shadow). One frame holds all of them:
 
 1. the frame is planned once (:meth:`~morphkit.billboard.BillboardScene.plan`), and its placements
-   split by their band's representation;
+   split by their band's representation, the culled ones dropped;
 2. the meshes of the real-mesh placements are drawn in one render, as the truth draws them
    (:meth:`~morphkit.sunlit.litmesh.LitMeshMode.shaded_layer` for relit assets, the sun's visibility
    from the frame's shadow; :meth:`~morphkit.billboard.MeshMode.depth_layer` for ring assets): a
@@ -25,6 +27,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -41,7 +44,7 @@ from ..sunlit import LitMode
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.receivers import SceneShadow
 from ..sunlit.shadowing import frame_shadow, shadowed_backdrop
-from .representations import MESH, BandChoice, BandedRing, BandedSurface
+from .representations import CULL, MESH, BandChoice, BandedRing, BandedSurface
 
 __all__ = ["LitMeshBands", "RingMeshBands", "split_placements", "banded_mode"]
 
@@ -51,8 +54,8 @@ def split_placements(
     placements: Sequence[Placement],
     elevation: Callable[[Placement], float] | None = None,
 ) -> tuple[list[Placement], list[Placement]]:
-    """``placements`` split by their band's representation: the real mesh's, and the others (each
-    list in the plan's back-to-front order).
+    """``placements`` split by their band's representation: the real mesh's, and the billboards'
+    (each list in the plan's back-to-front order); the culled bands' in neither.
 
     Parameters
     ----------
@@ -73,12 +76,27 @@ def split_placements(
     billboards: list[Placement] = []
     for pl in placements:
         e = pl.elevation_deg if elevation is None else elevation(pl)
-        (meshes if choice.of(pl.asset, pl.level, e) == MESH else billboards).append(pl)
+        rep = choice.of(pl.asset, pl.level, e)
+        if rep != CULL:
+            (meshes if rep == MESH else billboards).append(pl)
     return meshes, billboards
 
 
 def _indices(placements: Sequence[Placement]) -> np.ndarray:
     return np.array([pl.index for pl in placements], np.int64)
+
+
+def _check(choice: Any, billboards: Any, billboard_type: type, meshes: Any, mesh_type: type) -> None:
+    """A mixed mode's parts checked: the meshes may be None only when no band is the real mesh."""
+    for what, v, cls in (("choice", choice, BandChoice), ("billboards", billboards, billboard_type)):
+        if not isinstance(v, cls):
+            raise ValidationError(expected_got(what, f"a {cls.__name__}", type(v).__name__))
+    if meshes is None and MESH in (choice.default, *choice.choices.values()):
+        raise ValidationError(
+            expected_got("meshes", "the scene's real meshes (some bands are drawn as the real mesh)", "none")
+        )
+    if meshes is not None and not isinstance(meshes, mesh_type):
+        raise ValidationError(expected_got("meshes", f"a {mesh_type.__name__}", type(meshes).__name__))
 
 
 class LitMeshBands:
@@ -92,25 +110,20 @@ class LitMeshBands:
     billboards : LitMode
         Draws the billboards (its choice a :class:`~morphkit.plan.representations.BandedSurface` of
         ``choice``) with the frame's shadow (its ``shadow``).
-    meshes : LitMeshMode
+    meshes : LitMeshMode or None
         Draws the meshes (supersample 1: coverage and depth of one sample); its own shadow is not
-        used (the frame's is).
+        used (the frame's is). None: no band is the real mesh.
     name : str, optional
         The mode's name.
     """
 
     def __init__(
-        self, choice: BandChoice, billboards: LitMode, meshes: LitMeshMode, name: str = "plan"
+        self, choice: BandChoice, billboards: LitMode, meshes: LitMeshMode | None, name: str = "plan"
     ) -> None:
-        for what, v, cls in (
-            ("choice", choice, BandChoice),
-            ("billboards", billboards, LitMode),
-            ("meshes", meshes, LitMeshMode),
-        ):
-            if not isinstance(v, cls):
-                raise ValidationError(expected_got(what, f"a {cls.__name__}", type(v).__name__))
+        _check(choice, billboards, LitMode, meshes, LitMeshMode)
         self.choice, self.billboards, self.meshes, self.name = choice, billboards, meshes, str(name)
-        self.meshes.lighting = self.billboards.lighting
+        if self.meshes is not None:
+            self.meshes.lighting = self.billboards.lighting
 
     @property
     def lighting(self) -> Lighting:
@@ -124,7 +137,8 @@ class LitMeshBands:
                 expected_got("lighting", "a morphkit.imaging.shading.Lighting", type(value).__name__)
             )
         self.billboards.lighting = value
-        self.meshes.lighting = value
+        if self.meshes is not None:
+            self.meshes.lighting = value
 
     def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
         """One frame (module docstring).
@@ -166,7 +180,7 @@ class LitMeshBands:
             None if shadow is None else frame_shadow(shadow, scene, camera, lit, _indices(plan.placements))
         )
         fs = None if ground is None else ground.shadow
-        if meshes:
+        if meshes and self.meshes is not None:
             layer, depth = self.meshes.shaded_layer(scene, camera, _indices(meshes), fs)
             zbuf = np.array(depth, np.float32)
         else:
@@ -193,22 +207,16 @@ class RingMeshBands:
         The bands' representations.
     billboards : BillboardMode
         Draws the billboards (a :class:`~morphkit.plan.representations.BandedRing` of ``choice``).
-    meshes : MeshMode
-        Draws the meshes (one render of colour and depth).
+    meshes : MeshMode or None
+        Draws the meshes (one render of colour and depth). None: no band is the real mesh.
     name : str, optional
         The mode's name.
     """
 
     def __init__(
-        self, choice: BandChoice, billboards: BillboardMode, meshes: MeshMode, name: str = "plan"
+        self, choice: BandChoice, billboards: BillboardMode, meshes: MeshMode | None, name: str = "plan"
     ) -> None:
-        for what, v, cls in (
-            ("choice", choice, BandChoice),
-            ("billboards", billboards, BillboardMode),
-            ("meshes", meshes, MeshMode),
-        ):
-            if not isinstance(v, cls):
-                raise ValidationError(expected_got(what, f"a {cls.__name__}", type(v).__name__))
+        _check(choice, billboards, BillboardMode, meshes, MeshMode)
         self.choice, self.billboards, self.meshes, self.name = choice, billboards, meshes, str(name)
 
     def render(self, scene: BillboardScene, camera: CameraModel) -> Frame:
@@ -230,7 +238,7 @@ class RingMeshBands:
         before = cache.counts if cache is not None else CacheCounts()
         plan = scene.plan(camera)
         meshes, billboards = split_placements(self.choice, plan.placements)
-        if meshes:
+        if meshes and self.meshes is not None:
             layer, depth = self.meshes.depth_layer(scene, camera, _indices(meshes))
             zbuf: np.ndarray | None = np.array(depth, np.float32)
         else:
@@ -251,7 +259,7 @@ def banded_mode(
     """The mode drawing each billboard in its band's representation: relit billboards
     (:class:`~morphkit.plan.representations.BandedSurface`) or ring ones
     (:class:`~morphkit.plan.representations.BandedRing`), inside a :class:`LitMeshBands` or
-    :class:`RingMeshBands` when a band is the real mesh.
+    :class:`RingMeshBands` when a band is the real mesh or culled.
 
     Parameters
     ----------
@@ -278,12 +286,11 @@ def banded_mode(
     billboards: LitMode | BillboardMode = (
         LitMode(BandedSurface(choice), base, shadow=shadow) if relit else BandedRing(choice, MorphCache())
     )
-    if MESH not in (choice.default, *choice.choices.values()):
+    reps = (choice.default, *choice.choices.values())
+    if MESH not in reps and CULL not in reps:
         return billboards
-    if meshes is None:
-        raise ValidationError(
-            expected_got("meshes", "the scene's real meshes (some bands are drawn as the real mesh)", "none")
-        )
+    if MESH not in reps:
+        meshes = None  # only culled bands: no mesh drawn
     if relit:
         return LitMeshBands(choice, billboards, meshes)  # type: ignore[arg-type]
     return RingMeshBands(choice, billboards, meshes)  # type: ignore[arg-type]

@@ -12,6 +12,9 @@ prediction and the frame drawn agree on it.
 The **representations**, cheapest first (:attr:`Representation.cost`; the cost model is the work
 per billboard, which the planner's verification then times):
 
+* :class:`Culled` -- not drawn: the band's instances are left out of the frame (their shadows are
+  still cast: the frame's shadow is the whole field's), so its error is the background against the
+  mesh (the game engines' distance and screen-size culling, chosen here by its measured error);
 * :class:`ClassicCard` -- the asset's one fixed image from every direction
   (:class:`~morphkit.sunlit.litmodes.ClassicSurface`, :class:`~morphkit.billboard.ClassicMode`);
 * :class:`NearestView` -- the reference view nearest the viewing direction, switched, not
@@ -23,13 +26,13 @@ per billboard, which the planner's verification then times):
   (:mod:`morphkit.plan.mixed`): the truth's drawing, so its error is what the frame's shadows and
   the billboards around it add.
 
-The first three are billboard representations (:class:`BillboardRepresentation`,
+The three between are billboard representations (:class:`BillboardRepresentation`,
 :data:`BILLBOARD_REPRESENTATIONS`): each
 draws a billboard from an image. :class:`BandChoice` maps bands to representations;
 :class:`BandedSurface` (relit dome assets, a :class:`~morphkit.sunlit.litmodes.SurfaceChoice`) and
 :class:`BandedRing` (ring assets, a :class:`~morphkit.billboard.BillboardMode`) draw each billboard in
 its band's billboard representation, and :mod:`morphkit.plan.mixed` draws the bands of
-the real mesh as meshes with them.
+the real mesh as meshes with them and leaves the culled bands out.
 """
 
 from __future__ import annotations
@@ -56,6 +59,7 @@ from ..views.gbuffer import ViewSurface
 
 __all__ = [
     "Representation",
+    "Culled",
     "ClassicCard",
     "NearestView",
     "ViewMorph",
@@ -64,6 +68,7 @@ __all__ = [
     "BILLBOARD_REPRESENTATIONS",
     "REPRESENTATIONS",
     "MESH",
+    "CULL",
     "representation",
     "ELEVATION_EDGES_DEG",
     "elevation_band",
@@ -187,7 +192,7 @@ class ClassicCard(_ModePair):
     :class:`~morphkit.sunlit.litmodes.ClassicSurface`, :class:`~morphkit.billboard.ClassicMode`)."""
 
     name: ClassVar[str] = "classic"
-    cost: ClassVar[int] = 0
+    cost: ClassVar[int] = 1
     surface_type: ClassVar[type] = ClassicSurface
     ring_type: ClassVar[type] = ClassicMode
 
@@ -198,7 +203,7 @@ class NearestView(_ModePair):
     (:class:`~morphkit.sunlit.litmodes.NearestSurface`, :class:`~morphkit.billboard.NearestMode`)."""
 
     name: ClassVar[str] = "nearest"
-    cost: ClassVar[int] = 1
+    cost: ClassVar[int] = 2
     surface_type: ClassVar[type] = NearestSurface
     ring_type: ClassVar[type] = NearestMode
 
@@ -209,7 +214,7 @@ class ViewMorph(_ModePair):
     (:class:`~morphkit.sunlit.litmodes.MorphSurface`, :class:`~morphkit.billboard.MorphMode`)."""
 
     name: ClassVar[str] = "morph"
-    cost: ClassVar[int] = 2
+    cost: ClassVar[int] = 3
 
 
 @dataclass(frozen=True)
@@ -218,15 +223,26 @@ class RealMesh:
     :mod:`morphkit.plan.mixed`)."""
 
     name: ClassVar[str] = "mesh"
-    cost: ClassVar[int] = 3
+    cost: ClassVar[int] = 4
+
+
+@dataclass(frozen=True)
+class Culled:
+    """Not drawn: the band's instances left out of the frame, their shadows still cast (the
+    cheapest; :mod:`morphkit.plan.mixed`)."""
+
+    name: ClassVar[str] = "cull"
+    cost: ClassVar[int] = 0
 
 
 #: The representations drawing billboards, cheapest first.
 BILLBOARD_REPRESENTATIONS: tuple[BillboardRepresentation, ...] = (ClassicCard(), NearestView(), ViewMorph())
 #: Every representation a plan chooses among, cheapest first.
-REPRESENTATIONS: tuple[Representation, ...] = (*BILLBOARD_REPRESENTATIONS, RealMesh())
+REPRESENTATIONS: tuple[Representation, ...] = (Culled(), *BILLBOARD_REPRESENTATIONS, RealMesh())
 #: The name of :class:`RealMesh`.
 MESH = RealMesh.name
+#: The name of :class:`Culled`.
+CULL = Culled.name
 
 
 def representation(name: str) -> Representation:
@@ -356,11 +372,11 @@ class BandChoice:
         return self.choices.get((asset, int(level), int(elevation_band(elevation_deg))), self.default)
 
 
-def _as_mesh(asset: str, level: int, elevation_deg: float) -> str:
+def _not_billboard(rep: str, asset: str, level: int, elevation_deg: float) -> str:
     return expected_got(
         f"the band of {asset!r} at level {level}, {elevation_deg:.0f} deg",
-        "a billboard representation (a band of the real mesh is drawn by morphkit.plan.mixed)",
-        MESH,
+        "a billboard representation (a band of the real mesh or culled is drawn by morphkit.plan.mixed)",
+        rep,
     )
 
 
@@ -401,8 +417,8 @@ class BandedSurface:
             Unshaded.
         """
         rep = self.choice.of(asset.name, level, elevation_deg)  # type: ignore[attr-defined]
-        if rep == MESH:
-            raise ValidationError(_as_mesh(asset.name, level, elevation_deg))  # type: ignore[attr-defined]
+        if rep not in self._surfaces:
+            raise ValidationError(_not_billboard(rep, asset.name, level, elevation_deg))  # type: ignore[attr-defined]
         return self._surfaces[rep].surface(asset, azimuth_deg, elevation_deg, level)  # type: ignore[arg-type]
 
 
@@ -449,7 +465,8 @@ class BandedRing(BillboardMode):
         outside_deg : float
             Degrees outside a partial ring's arc.
         """
-        rep = self.choice.of(placement.asset, placement.level, placement.elevation_deg)
-        if rep == MESH:
-            raise ValidationError(_as_mesh(placement.asset, placement.level, placement.elevation_deg))
+        pl = placement
+        rep = self.choice.of(pl.asset, pl.level, pl.elevation_deg)
+        if rep not in self._modes:
+            raise ValidationError(_not_billboard(rep, pl.asset, pl.level, pl.elevation_deg))
         return self._modes[rep].image(asset, placement)

@@ -71,6 +71,7 @@ from ..plan.representations import (
     REPRESENTATIONS,
     BandChoice,
     BillboardRepresentation,
+    RealMesh,
     Representation,
     band_label,
 )
@@ -197,7 +198,7 @@ def _tables(
         want_asset = {**want, "scale": scale}
         key = _table_key(nm, asset, want_asset, heights, elevations)
         for rep in REPRESENTATIONS:
-            if not isinstance(rep, BillboardRepresentation):  # the real mesh: the truth's own drawing
+            if isinstance(rep, RealMesh):  # the truth's own drawing
                 tables[(nm, rep.name)] = ErrorTable.exact(
                     nm, asset.mesh_hash, rep.name, heights, elevations, want_asset
                 )
@@ -306,11 +307,12 @@ def _calibrate(
     proven: list[str] = []
     report: dict[str, Any] = {"frames": list(frames)}
     for r in REPRESENTATIONS:
-        # a billboard's table is held to what a scene can move it by; the real mesh's is exact (the
-        # truth against itself), so all its frames' error is the scene's (their shadows): not held
+        # a billboard's (or a culled band's) table is held to what a scene can move it by; the real
+        # mesh's is exact (the truth against itself), so all its frames' error is the scene's (their
+        # shadows): not held
         lim = (
             np.array([tol.PLAN_MAX_OFFSET_DB, tol.PLAN_MAX_OFFSET_IOU])
-            if isinstance(r, BillboardRepresentation)
+            if not isinstance(r, RealMesh)
             else np.array([PSNR_CAP_DB, 1.0])
         )
         uniform = pred.pick_of(BandChoice(default=r.name))

@@ -121,8 +121,9 @@ class SceneCasters:
                         atlases[nm] = read_sun_atlas(path)
                     except FileFormatError:
                         continue  # a damaged copy: baked again
-            if kept and all(nm in atlases for nm in kept):
-                said.append(f"those of {', '.join(kept)} read from the cache {self.cache}")
+            read = [nm for nm in kept if nm in atlases]
+            if read:
+                said.append(f"those of {', '.join(read)} read from the cache {self.cache}")
             bake = [nm for nm in names if nm not in atlases]
             if bake:
                 said.append(f"baking those of {', '.join(bake)} ({size} texels)")
