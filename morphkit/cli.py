@@ -620,14 +620,17 @@ def build_parser() -> argparse.ArgumentParser:
         description="Plan a scene (as `render` takes it) to an error budget: measure each asset's error "
         "in every representation against its own mesh (tables over on-screen size and elevation), predict "
         "every frame's error, choose per asset and band of on-screen size and elevation the cheapest "
-        "representation (classic card, nearest view, view morph) predicted to meet the budget, and verify "
+        "representation (culled, classic card, nearest view, view morph, real mesh) predicted to meet the "
+        "budget (with shadow-iou, also the sun atlases' texels and the sun's softness measured to meet it), "
+        "and verify "
         "the plan on held-out frames against the real meshes, timed against the default. Writes "
         "OUT/plan.json, OUT/plan.png and OUT/tables/. Exit 1 with the best reachable figure when no "
         "choice meets the budget (nothing written); exit 2 for a nonsense budget.",
     )
     pl.add_argument("scene", metavar="SCENE", help="a scene file (.json) or a glTF scene (.glb, .gltf)")
     pl.add_argument("--budget", action="append", metavar="KEY=VALUE",
-                    help="billboard-psnr=DB, billboard-iou=X, frames=FRACTION (default 0.95); once per key")
+                    help="billboard-psnr=DB, billboard-iou=X, shadow-iou=X (a scene with shadows), "
+                    "time-ms=MS, frames=FRACTION (default 0.95); once per key")
     pl.add_argument("-o", "--out", required=True, help="output folder")
     pl.add_argument("--sweep", action="store_true",
                     help="also verify each representation everywhere (the cheapest meeting the budget in "

@@ -6,9 +6,11 @@ asset's own mesh, what a frame's error will be, and the cheapest choice that mee
 * :mod:`.errortable` -- per asset and representation, the error of its billboards against its
   mesh over on-screen size and elevation (measured once per asset, saved as a versioned file);
 * :mod:`.predict` -- a frame's mean per-billboard error predicted from those tables;
-* :mod:`.representations` -- what a plan chooses among (classic card, nearest view, view morph),
-  per band of on-screen size and elevation, and the modes that draw each band as chosen;
+* :mod:`.representations` -- what a plan chooses among (culling, classic card, nearest view, view
+  morph, real mesh), per band of on-screen size and elevation, and the modes that draw each band;
 * :mod:`.planner` -- every frame's billboards predicted in every representation, and the choice;
+* :mod:`.shadowchoice` -- the frame's shadow (sun-atlas texels, the sun's softness) chosen to a
+  ``shadow-iou`` budget from its candidates as measured;
 * :mod:`.planfile` -- the plan as a file (``plan.json``), read back by ``morphkit render --plan``.
 
 The command that measures, plans and verifies a scene is :mod:`morphkit.programs.planrun`.
