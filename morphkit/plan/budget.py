@@ -24,7 +24,7 @@ from typing import Any
 
 from ..errors import UsageError, expected_got
 
-__all__ = ["Budget", "BUDGET_KEYS", "DEFAULT_FRAMES", "ERROR_KEYS"]
+__all__ = ["Budget", "BUDGET_KEYS", "DEFAULT_FRAMES", "ERROR_KEYS", "reached_by"]
 
 #: The fraction of frames that must meet a budget when it does not say.
 DEFAULT_FRAMES = 0.95
@@ -49,6 +49,33 @@ def _value(key: str, text: str) -> float:
     if not math.isfinite(v) or not ok(v):
         raise UsageError(expected_got(f"--budget {key}", what, repr(text)))
     return v
+
+
+def reached_by(values: Iterable[float | None], fraction: float) -> float | None:
+    """The figure ``fraction`` of the values reach (higher is better): the quantile at least that
+    fraction of them meets or beats; None values (nothing measured) left out, None when all are.
+
+    Parameters
+    ----------
+    values : iterable of float or None
+        One frame's figure each.
+    fraction : float
+        In ``(0, 1]``.
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> from morphkit.plan.budget import reached_by
+    >>> reached_by([0.9, 0.5, None, 0.7], 0.6), reached_by([0.9, 0.5, 0.7], 1.0), reached_by([None], 0.5)
+    (0.7, 0.5, None)
+    """
+    vals = sorted((float(v) for v in values if v is not None), reverse=True)
+    if not vals:
+        return None
+    return vals[min(len(vals) - 1, max(0, math.ceil(fraction * len(vals)) - 1))]
 
 
 @dataclass(frozen=True)

@@ -42,7 +42,7 @@ from ..billboard import BillboardScene, Instances
 from ..billboard.compare import PSNR_CAP_DB
 from ..camera import CameraModel
 from ..errors import BudgetError, ValidationError, expected_got
-from .budget import Budget
+from .budget import Budget, reached_by
 from .errortable import ErrorTable
 from .representations import REPRESENTATIONS, Band, BandChoice, band_label, elevation_band, representation
 
@@ -388,15 +388,7 @@ def reached(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dic
     dict of str to float or None
         Per error key of the budget.
     """
-    out: dict[str, float | None] = {}
-    for key, _want in budget.error_keys():
-        vals = np.sort([f[key] for f in frames if f.get(key) is not None])[::-1]
-        if len(vals) == 0:
-            out[key] = None
-            continue
-        k = min(len(vals) - 1, max(0, int(np.ceil(budget.frames * len(vals))) - 1))
-        out[key] = float(vals[k])
-    return out
+    return {key: reached_by((f.get(key) for f in frames), budget.frames) for key, _ in budget.error_keys()}
 
 
 def _bound(pred: FramePredictions, pick: np.ndarray, key: str) -> str:

@@ -37,7 +37,8 @@ import numpy as np
 from .. import tol
 from ..errors import BudgetError, ValidationError, expected_got
 from ..scenes.description import SOFT_PCSS, SceneShadows
-from .budget import Budget
+from ..sunlit.receivers import SCENE_ATLAS_SIZE
+from .budget import Budget, reached_by
 
 __all__ = [
     "SHADOW_TEXELS",
@@ -73,8 +74,6 @@ def shadow_name(shadows: SceneShadows) -> str:
     >>> shadow_name(SceneShadows(soft=4, sun_atlas_size=256)), shadow_name(SceneShadows())
     ('disc4-256', 'hard-128')
     """
-    from ..sunlit.receivers import SCENE_ATLAS_SIZE
-
     size = SCENE_ATLAS_SIZE if shadows.sun_atlas_size is None else shadows.sun_atlas_size
     soft = shadows.soft
     kind = "pcss" if soft == SOFT_PCSS else "hard" if soft in (None, 1) else f"disc{soft}"
@@ -105,8 +104,6 @@ def shadow_candidates(scene: SceneShadows) -> list[SceneShadows]:
     """
     if not isinstance(scene, SceneShadows):
         raise ValidationError(expected_got("shadows", "a SceneShadows", type(scene).__name__))
-    from ..sunlit.receivers import SCENE_ATLAS_SIZE
-
     own = dataclasses.replace(
         scene, sun_atlas_size=SCENE_ATLAS_SIZE if scene.sun_atlas_size is None else scene.sun_atlas_size
     )
@@ -170,10 +167,7 @@ class ShadowMeasure:
         -------
         float or None
         """
-        vals = np.sort([v for v in self.iou if v is not None])[::-1]
-        if len(vals) == 0:
-            return None
-        return float(vals[min(len(vals) - 1, max(0, int(np.ceil(budget.frames * len(vals))) - 1))])
+        return reached_by(self.iou, budget.frames)
 
     def meets(self, budget: Budget, margin: float = tol.PLAN_MARGIN_IOU) -> bool:
         """Whether the candidate's frames, less ``margin``, meet ``budget.shadow_iou`` in its

@@ -27,8 +27,9 @@ the plan verified against the real meshes.
    (:func:`~morphkit.billboard.compare.frame_errors`) are the frame's ``billboard-psnr`` and
    ``billboard-iou``; with a ``shadow-iou`` budget, the plan draws the chosen shadow (the default
    the scene's own, a sweep's configurations the chosen), each frame is drawn again without its
-   shadows and its ``shadow-iou`` is the IoU of the pixels its shadows darken against the truth's
-   (:func:`~morphkit.sunlit.shadowing.darkened_iou`), its prediction the calibration frames' around it;
+   shadows and its ``shadow-iou`` is the IoU of the ground pixels its shadows darken against the
+   truth's (:func:`~morphkit.sunlit.shadowing.darkened_iou`), predicted from the calibration frames
+   around it;
 5. writes ``OUT/plan.json`` (:mod:`morphkit.plan.planfile`), ``OUT/plan.png`` (the configurations'
    error against their median frame time, predicted beside measured) and ``OUT/tables/``.
 
@@ -39,8 +40,9 @@ the shadow candidates' sun atlases, in its ``sun_atlases`` subfolder).
 
 A ``time-ms`` budget plans the least error whose predicted median frame time is within it
 (:func:`~morphkit.plan.planner.choose`, "Time"), verified as the held-out frames' measured median.
-Not chosen among yet: the octahedral impostor, culling, the billboards' texels and views (the scene's
-own are kept).
+Not chosen among yet: the octahedral impostor (at equal bytes the dome's morph costs as much and
+errs less: docs/RESULTS.md, "Billboards: ring, dome, impostor"), the billboards' texels and views
+(the scene's own are kept).
 """
 
 from __future__ import annotations
