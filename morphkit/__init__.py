@@ -76,7 +76,7 @@ _LAZY: dict[str, tuple[str, ...]] = {
     "morphkit.scenes": ("load_scene", "SceneDescription", "write_scene_file"),
     "morphkit.programs.scenerender": ("render_scene",),
     "morphkit.plan": ("Budget",),
-    "morphkit.programs.planrun": ("plan_scene",),
+    "morphkit.programs.planning.planrun": ("plan_scene",),
 }
 _EXPORTS: dict[str, str] = {name: module for module, names in _LAZY.items() for name in names}
 

@@ -354,7 +354,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
 def _cmd_plan(args: argparse.Namespace) -> int:
     from .files.outfolder import PLAN_OUTPUT
     from .plan import Budget
-    from .programs.planrun import plan_scene
+    from .programs.planning.planrun import plan_scene
     from .scenes import load_scene
 
     budget = Budget.parse(args.budget or [])  # nonsense budgets: usage errors, before any work

@@ -227,7 +227,7 @@ BILLBOARDS_OUTPUT = OutputRule("billboards", ("frames/frame_#.png", "billboards.
 RENDER_OUTPUT = OutputRule("render", ("frames/frame_#.png", "render.webm", "compare_#.png", "render.json"),
                            markers=("render.json",), recognise=_json_holding("morphkit_render"))
 #: ``morphkit plan SCENE``: ``plan.json``, ``plan.png`` and the error tables it measured,
-#: ``tables/ASSET.REPRESENTATION.npz`` (:mod:`morphkit.programs.planrun`).
+#: ``tables/ASSET.REPRESENTATION.npz`` (:mod:`morphkit.programs.planning.planrun`).
 PLAN_OUTPUT = OutputRule("plan", ("plan.json", "plan.png", "tables/*.npz"), markers=("plan.json",),
                          recognise=_json_holding("morphkit_plan"))
 #: ``morphkit bake``: resumed; ``manifest.json`` marks a bake (:mod:`morphkit.bake.manifest`).

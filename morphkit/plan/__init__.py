@@ -13,7 +13,7 @@ asset's own mesh, what a frame's error will be, and the cheapest choice that mee
   ``shadow-iou`` budget from its candidates as measured;
 * :mod:`.planfile` -- the plan as a file (``plan.json``), read back by ``morphkit render --plan``.
 
-The command that measures, plans and verifies a scene is :mod:`morphkit.programs.planrun`.
+The command that measures, plans and verifies a scene is :mod:`morphkit.programs.planning.planrun`.
 """
 
 from .budget import Budget

@@ -16,7 +16,7 @@ version is refused on reading):
   its ``soft`` (null, ``"pcss"`` or N) and ``sun_atlas_size``, read back and drawn by
   ``render --plan``, with what was measured of every candidate (kept as written);
 * what ``morphkit plan`` measured: ``"verified"``, ``"time_ms"``, ``"error"``, ``"predicted"``,
-  ``"sweep"`` (:mod:`morphkit.programs.planrun`), kept as written and not read back.
+  ``"sweep"`` (:mod:`morphkit.programs.planning.planrun`), kept as written and not read back.
 
 :class:`ScenePlan` holds what drawing needs (budget, bands, kind) and makes the frames' mode
 (:meth:`ScenePlan.mode`).

@@ -16,7 +16,7 @@ the same run. The figure is the shadow on the ground
 (:func:`~morphkit.sunlit.shadowing.darkened_iou`), which the instances cast and do not receive: it
 depends on how they are drawn only where they hide the ground, so the candidates' figures hold for
 whatever representation the billboards take (the held-out frames check it;
-:mod:`morphkit.programs.shadowplanrun`). :func:`choose_shadow` takes the cheapest candidate whose
+:mod:`morphkit.programs.planning.shadowplanrun`). :func:`choose_shadow` takes the cheapest candidate whose
 measured figure, less :data:`morphkit.tol.PLAN_MARGIN_IOU`, meets the budget in its fraction of
 those frames, cheapest by the work model (:attr:`ShadowMeasure.work`: the atlases' texels squared
 times the maps a sun takes), not by the times measured: the candidates' frames differ by less than a

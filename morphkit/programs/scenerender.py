@@ -306,7 +306,7 @@ def prepare_scene(
     shadows: SceneShadows | None = None,
 ) -> PreparedScene:
     """Bake (or read) ``scene``'s assets, place its instances, set up its lights, shadows and
-    truth (what :func:`render_scene` draws; :mod:`morphkit.programs.planrun` plans).
+    truth (what :func:`render_scene` draws; :mod:`morphkit.programs.planning.planrun` plans).
 
     Parameters
     ----------

@@ -13,7 +13,7 @@ the plan verified against the real meshes.
    one's offsets, margin and measured cost per billboard, and whether it met the budget there).
    With a ``shadow-iou`` budget, each shadow candidate (sun-atlas texels, hard, filtered or N
    directions: :mod:`morphkit.plan.shadowchoice`) is measured on the same frames with the real
-   meshes and the least work meeting it chosen (:mod:`morphkit.programs.shadowplanrun`;
+   meshes and the least work meeting it chosen (:mod:`morphkit.programs.planning.shadowplanrun`;
    refused with one line when none does); its cost above the scene's own shadow is added to every
    frame's predicted time;
 3. **predicts** the planning frames (every frame but the verification frames) and **chooses** each
@@ -58,18 +58,18 @@ from typing import Any
 
 import numpy as np
 
-from .. import settings, tol
-from ..billboard import MorphCache
-from ..billboard.compare import PSNR_CAP_DB
-from ..errors import FileFormatError, ValidationError, expected_got
-from ..files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
-from ..plan import Budget
-from ..plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost
-from ..plan.errortable import ErrorTable, default_elevations, measure_error_table
-from ..plan.mixed import banded_mode
-from ..plan.planfile import PLAN_NAME, ScenePlan
-from ..plan.planner import choose, predict_frames, sample_scene
-from ..plan.representations import (
+from ... import settings, tol
+from ...billboard import MorphCache
+from ...billboard.compare import PSNR_CAP_DB
+from ...errors import FileFormatError, ValidationError, expected_got
+from ...files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
+from ...plan import Budget
+from ...plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost
+from ...plan.errortable import ErrorTable, default_elevations, measure_error_table
+from ...plan.mixed import banded_mode
+from ...plan.planfile import PLAN_NAME, ScenePlan
+from ...plan.planner import choose, predict_frames, sample_scene
+from ...plan.representations import (
     REPRESENTATIONS,
     BandChoice,
     BillboardRepresentation,
@@ -77,14 +77,14 @@ from ..plan.representations import (
     Representation,
     band_label,
 )
-from ..plan.shadowchoice import interpolate_frames
-from ..render import Renderer
-from ..scenes.description import SceneDescription
-from ..sunlit import LitMode
+from ...plan.shadowchoice import interpolate_frames
+from ...render import Renderer
+from ...scenes.description import SceneDescription
+from ...sunlit import LitMode
+from ..scenerender import PreparedScene, prepare_scene, scene_choices
+from ..sequence import compare_indices
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .planverify import verify_frames
-from .scenerender import PreparedScene, prepare_scene, scene_choices
-from .sequence import compare_indices
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = ["plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "TABLES_FOLDER", "DEFAULT_VERIFY"]

@@ -5,7 +5,7 @@ on the plan's calibration frames with the real meshes
 (:meth:`~morphkit.programs.scenerender.PreparedScene.meshes` with the candidate's shadow: the
 frame's shadow on the ground is then the candidate's own error, the billboards' left to the
 billboard keys), interleaved with the others and timed in the same run, and measured against the
-truth, the meshes under the scene's ray cast (:func:`~morphkit.programs.planverify.verify_frames`,
+truth, the meshes under the scene's ray cast (:func:`~morphkit.programs.planning.planverify.verify_frames`,
 ``shadow-iou``); the candidates' atlases are read from the assets' bakes or baked once a size
 (:class:`~morphkit.programs.sceneshadows.SceneCasters`). The least work that meets the budget is the
 plan's (:func:`~morphkit.plan.shadowchoice.choose_shadow`), and what a frame pays for it above the
@@ -23,14 +23,14 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ValidationError, expected_got
-from ..plan import Budget
-from ..plan.planner import sample_scene
-from ..plan.shadowchoice import ShadowMeasure, choose_shadow, shadow_candidates, shadow_name
-from ..render import Renderer
-from ..scenes.description import SceneShadows
+from ...errors import ValidationError, expected_got
+from ...plan import Budget
+from ...plan.planner import sample_scene
+from ...plan.shadowchoice import ShadowMeasure, choose_shadow, shadow_candidates, shadow_name
+from ...render import Renderer
+from ...scenes.description import SceneShadows
+from ..scenerender import PreparedScene
 from .planverify import verify_frames
-from .scenerender import PreparedScene
 
 __all__ = ["measure_shadows", "plan_shadow", "shadow_report", "SHADOW_TIMING_ROUNDS"]
 
@@ -64,7 +64,8 @@ def measure_shadows(
     frames : sequence of int
         The frames measured on.
     truths : dict
-        The truth's frames by index, drawn once (:func:`~morphkit.programs.planverify.verify_frames`).
+        The truth's frames by index, drawn once
+        (:func:`~morphkit.programs.planning.planverify.verify_frames`).
     cache : path-like, optional
         Where the candidates' atlases are kept between runs
         (:attr:`~morphkit.programs.sceneshadows.SceneCasters.cache`).

@@ -1,6 +1,6 @@
 """What ``plan.json`` and ``plan.png`` report of a plan's configurations: per budget key the
 frames' median and the figure the budget's fraction reaches, the gap between predicted and measured
-figures, and the plot of error against time (:mod:`morphkit.programs.planrun`).
+figures, and the plot of error against time (:mod:`morphkit.programs.planning.planrun`).
 """
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ from typing import Any
 
 import numpy as np
 
-from ..files.fileio import write_bytes
-from ..plan import Budget
-from ..plan.budget import ERROR_KEYS
-from ..plan.planner import reached
+from ...files.fileio import write_bytes
+from ...plan import Budget
+from ...plan.budget import ERROR_KEYS
+from ...plan.planner import reached
 
 __all__ = ["prediction_gap", "budget_figures", "shown_budget", "plot_plan"]
 

@@ -1,6 +1,6 @@
 """A plan's frames drawn and measured: each frame in several modes and in the truth, the modes'
 order turned each frame (so none is always first to warm the caches), timed in the same run, and
-each frame's figures of a budget against the truth's frame (:mod:`morphkit.programs.planrun`).
+each frame's figures of a budget against the truth's frame (:mod:`morphkit.programs.planning.planrun`).
 """
 
 from __future__ import annotations
@@ -9,11 +9,11 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ..billboard import BillboardScene
-from ..billboard.compare import box_errors, frame_errors
-from ..sunlit.litmodes import Relit
-from ..sunlit.shadowing import darkened_iou
-from .scenerender import PreparedScene
+from ...billboard import BillboardScene
+from ...billboard.compare import box_errors, frame_errors
+from ...sunlit.litmodes import Relit
+from ...sunlit.shadowing import darkened_iou
+from ..scenerender import PreparedScene
 
 __all__ = ["frame_figures", "verify_frames"]
 
