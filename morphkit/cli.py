@@ -351,6 +351,19 @@ def _cmd_render(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_export(args: argparse.Namespace) -> int:
+    from .programs.export import export_asset
+
+    got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
+                       up=args.up_axis, overwrite=args.overwrite)
+    parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)"]
+    parts.append("its mesh" if got["mesh"] else "no mesh (an asset file's views alone)")
+    parts.append(f"its sun atlas of {got['sun_atlas']} texels" if got["sun_atlas"] else "no sun atlas")
+    head = f"morphkit export: wrote {got['path']} ({got['bytes']:,} bytes): {got['name']}, "
+    print(head + ", ".join(parts))
+    return 0
+
+
 def _cmd_plan(args: argparse.Namespace) -> int:
     from .files.outfolder import PLAN_OUTPUT
     from .plan import Budget
@@ -643,6 +656,25 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--overwrite", action="store_true",
                     help="replace a previous `plan` in OUT (its error tables are reused where they match)")
     pl.set_defaults(func=_cmd_plan)
+
+    ex = sub.add_parser(
+        "export",
+        help="write one asset as a GLB for engines: its mesh, its relightable views and its sun atlas",
+        description="Bake (or read) one asset and write it as a binary glTF: the mesh, the dome's views "
+        "tiled into albedo (sRGB), normal and depth (float16 bits) atlases, the sun atlas, and a "
+        "sidecar in extras.morphkit (layout, view directions, bounds, pivot, depth range, colour "
+        "spaces, normal convention). `morphkit.export.read_dome_glb` reads it back bit for bit.",
+    )
+    ex.add_argument("asset", metavar="ASSET",
+                    help="a sample mesh name, a mesh file or a dome asset file (.npz)")
+    ex.add_argument("-o", "--out", required=True, help="the .glb file")
+    ex.add_argument("--size", type=int, default=128,
+                    help="the dome views' side when baking (default: %(default)s)")
+    ex.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
+                    help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
+    ex.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
+    ex.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
+    ex.set_defaults(func=_cmd_export)
     return p
 
 

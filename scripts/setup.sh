@@ -10,7 +10,9 @@
 #   3. the morphkit package into it (editable), with extras given as $1 (e.g. "test");
 #   4. numba's kernels compiled once into numba's on-disk cache (``cache=True``), so that no
 #      later process (a test run, the demo, a bake worker) compiles them: about a minute the
-#      first time on 2 busy cores, about 5 s (imports, a small bake and playback) once cached.
+#      first time on 2 busy cores, about 5 s (imports, a small bake and playback) once cached;
+#   5. with the test extras: node and npm via apt when missing (as root), and the Khronos glTF
+#      validator (npm's gltf-validator, pinned) into .cache/node, which the export tests run.
 set -euo pipefail
 MORPHKIT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$MORPHKIT_ROOT"
@@ -24,6 +26,10 @@ have_lib 'libEGL_mesa\.so' || need_apt+=(libegl-mesa0)
 have_lib 'libgbm\.so\.1' || need_apt+=(libgbm1)
 have_lib 'libGL\.so\.1' || need_apt+=(libgl1)
 have_lib 'libOpenGL\.so\.0' || need_apt+=(libopengl0)
+if [ "$extras" = "test" ]; then
+  command -v node >/dev/null 2>&1 || need_apt+=(nodejs)
+  command -v npm >/dev/null 2>&1 || need_apt+=(npm)
+fi
 if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then need_apt+=(python3-venv); fi
 if [ "${#need_apt[@]}" -gt 0 ]; then
   if [ "$(id -u)" = "0" ]; then
@@ -50,3 +56,8 @@ echo "morphkit setup: installing morphkit${extras:+[$extras]} into .venv"
 export PATH="$MORPHKIT_ROOT/.venv/bin:$PATH"
 echo "morphkit setup: numba kernels into the on-disk cache (once)"
 .venv/bin/python -c 'from morphkit.bench.bake_suite import kernel_workload as w; r = w(); print("morphkit setup: %.1f s compiling %d kernels (0: all cached)" % (r["compile_s"], r["kernels"]))'
+if [ "$extras" = "test" ] && [ ! -f .cache/node/node_modules/gltf-validator/package.json ]; then
+  echo "morphkit setup: the glTF validator (npm gltf-validator@2.0.0-dev.3.10) into .cache/node"
+  mkdir -p .cache/node
+  npm install --prefix .cache/node --no-audit --no-fund --silent gltf-validator@2.0.0-dev.3.10 >/dev/null
+fi

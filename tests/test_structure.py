@@ -244,15 +244,15 @@ def test_no_two_parts_import_each_other():
 #: The core's foundations (top-level modules) and its sub-packages share the lowest floor; the
 #: two papers' wings share the next one and do not import each other (paper 2's billboards use
 #: its view morph, the same paper); the junction of both papers is above them, the bake pipeline
-#: above that, then the programs, the benchmarks (which use the programs' scenes), and the
-#: command line over everything.
+#: and the export to glTF (both read the junction's sun atlases) above that, then the programs,
+#: the benchmarks (which use the programs' scenes), and the command line over everything.
 FLOORS: tuple[frozenset[str], ...] = (
     frozenset({"conventions", "tol", "errors", "validate", "settings", "protocols", "camera", "scene",
                "render", "glplatform", "passes", "memo", "sunpath", "files", "imaging", "meshes", "warp",
                "views"}),
     frozenset({"shadow", "billboard", "viewmorph"}),
     frozenset({"sunlit", "scenes"}),
-    frozenset({"bake"}),
+    frozenset({"bake", "export"}),
     frozenset({"plan"}),
     frozenset({"programs"}),
     frozenset({"bench"}),

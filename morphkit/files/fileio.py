@@ -44,7 +44,8 @@ from ..errors import FileFormatError, MorphkitError, RenderError, ValidationErro
 
 __all__ = ["array_digest", "ARCHIVE_ERRORS", "check_writable", "atomic_write", "atomic_output",
            "open_video_writer", "quiet_stderr", "append_lines", "write_bytes", "write_text", "write_json",
-           "encode_image", "write_image", "read_image", "file_kind", "open_regular", "read_json"]
+           "encode_image", "decode_image", "write_image", "read_image", "file_kind", "open_regular",
+           "read_json"]
 
 #: What reading a damaged or foreign ``.npz`` (a zip of ``.npy`` arrays) with ``np.load`` can
 #: raise: every file loader catches these and raises a FileFormatError naming the file and what
@@ -575,19 +576,43 @@ def read_image(path: str | os.PathLike[str]) -> np.ndarray:
                                            "a folder" if p.is_dir() else "nothing there"))
     with open_regular(p, f"image {str(path)!r}") as f:
         try:
-            data = np.frombuffer(f.read(), dtype=np.uint8)
+            data = f.read()
         except OSError as exc:
             raise FileFormatError(expected_got(f"image {str(path)!r}", "a readable file",
                                                exc.strerror or exc)) from exc
+    return decode_image(data, f"image {str(path)!r}")
+
+
+def decode_image(data: bytes, what: str = "image") -> np.ndarray:
+    """Decode an image file's content (what :func:`encode_image` gives) into morphkit's channel order.
+
+    Parameters
+    ----------
+    data : bytes
+        The encoded image (PNG, JPEG, TIFF, BMP, ...).
+    what : str, optional
+        What it is, for the error.
+
+    Returns
+    -------
+    numpy.ndarray
+        As :func:`read_image`.
+
+    Raises
+    ------
+    FileFormatError
+        Content OpenCV cannot decode.
+    """
+    buf = np.frombuffer(data, dtype=np.uint8)
     try:
-        img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+        img = cv2.imdecode(buf, cv2.IMREAD_UNCHANGED) if buf.size else None
     except cv2.error as exc:  # e.g. a damaged header's size past OpenCV's limit
-        raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
-                                           f"{data.size} bytes it refuses: "
+        raise FileFormatError(expected_got(what, "an image file OpenCV can decode",
+                                           f"{buf.size} bytes it refuses: "
                                            f"{str(exc).strip().splitlines()[-1]}"[:300])) from exc
     if img is None:
-        raise FileFormatError(expected_got(f"image {str(path)!r}", "an image file OpenCV can decode",
-                                           f"{data.size} bytes it cannot"))
+        raise FileFormatError(expected_got(what, "an image file OpenCV can decode",
+                                           f"{buf.size} bytes it cannot"))
     return np.ascontiguousarray(_swap_red_blue(img))
 
 

@@ -42,7 +42,7 @@ from ...files.fileio import ARCHIVE_ERRORS, array_digest, write_bytes
 from ...views.domecameras import DomeCameras
 from .assetfile import FORMAT, peek_meta
 
-__all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "is_dome_file"]
+__all__ = ["DOME_VERSION", "DomeRecord", "write_dome", "read_dome", "dome_record", "is_dome_file"]
 
 #: Version of the dome asset file (3: views over the hemisphere with albedo, normals and
 #: depth; 2 and older: a ring at one elevation, lit by the bake light).
@@ -193,6 +193,32 @@ def read_dome(path: str | os.PathLike[str]) -> DomeRecord:
     for k, a in arrays.items():
         if sums.get(k) != array_digest(a):
             raise _bad(f"array {k!r}", "the checksum recorded in meta", "different bytes (corrupt file)")
+    return dome_record(meta, arrays)
+
+
+def dome_record(meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> DomeRecord:
+    """A :class:`DomeRecord` from a dome asset's metadata and arrays, checked as :func:`read_dome`
+    checks a file's (a dome carried in another container, e.g. a glTF export, is read through it).
+
+    Parameters
+    ----------
+    meta : dict
+        The metadata (the module notes: ``name``, ``mesh_hash``, ``rings``, ``pivot``, ...).
+    arrays : dict of str to numpy.ndarray
+        ``rgba``, ``normal`` and ``depth``.
+
+    Returns
+    -------
+    DomeRecord
+
+    Raises
+    ------
+    FileFormatError
+        Arrays or metadata of the wrong kind, or depths outside the views' near and far planes.
+    """
+    missing = [k for k in _ARRAYS if k not in arrays]
+    if missing:
+        raise _bad("arrays", f"all of {list(_ARRAYS)}", f"{missing} missing")
     rgba, normal, depth = arrays["rgba"], arrays["normal"], arrays["depth"]
     if rgba.dtype != np.uint8 or rgba.ndim != 4 or rgba.shape[3] != 4:
         raise _bad("rgba", "uint8 (V, n, n, 4)", f"{rgba.dtype} {rgba.shape}")

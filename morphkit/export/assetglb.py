@@ -1,0 +1,254 @@
+"""A relightable dome asset as one GLB: its mesh, its views, its sun atlas, and a sidecar.
+
+:func:`write_dome_glb` writes (atomically) a glTF 2.0 binary holding:
+
+* the asset's mesh in the asset's frame and look (:meth:`~morphkit.billboard.DomeAsset.items`: a
+  checker-textured sample's colour groups as linear vertex colours ``COLOR_0``, a mesh file's own
+  materials and textures as trimesh exports them), when given;
+* its dome views tiled into three atlases (:mod:`.tiles`, each view padded by its own edges):
+  ``albedo`` (RGBA 8-bit PNG: the views' straight sRGB albedo and coverage, as baked), ``normal``
+  (RGB 8-bit PNG, linear: ``round(127 n) + 128`` of the object-frame unit normal, ``+z`` up,
+  :mod:`morphkit.conventions`) and ``depth`` (16-bit grey PNG whose values are the bits of the
+  views' float16 depths: linear depth along the view's axis minus the camera distance ``D``,
+  ``+inf`` where nothing is drawn; a shader reads them with ``texelFetch`` and
+  ``unpackHalf2x16``, nearest, never filtered);
+* its sun atlas, when given, alike: ``sun-depth`` (float16 bits) and ``sun-coverage`` (8-bit grey);
+* the sidecar ``extras.morphkit`` (:data:`SIDECAR_VERSION`): ``morphkit_export``, ``kind``
+  (``"dome"``), ``name``, ``mesh_hash``, ``appearance``, ``source_up``, ``rings`` and ``top`` (the
+  view dome), ``views`` (each view's ``azimuth_deg``, ``elevation_deg`` and atlas ``origin``),
+  ``pivot``, ``distance``, ``radius``, ``size``, ``levels``, ``half_extent``, ``depth_range``
+  (the views' near and far planes), ``bounds`` (the mesh's, or null), ``layout``
+  (:meth:`~.tiles.TileLayout.to_json`), ``images`` (each atlas's image name), ``colour_spaces``,
+  ``normal_convention``, ``depth_encoding``, ``sun_atlas`` (its dome, camera rule, mesh hash,
+  layout and images, or null) and ``measured`` (the representations' measured errors, as the
+  caller gives them).
+
+:func:`read_dome_glb` reads one back: the :class:`~morphkit.billboard.DomeAsset` (its views
+bit for bit, checked as a dome asset file is, :func:`~morphkit.billboard.formats.domefile.dome_record`),
+the sun atlas and the sidecar.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from ..billboard.domeasset import DomeAsset
+from ..billboard.formats.domefile import dome_record
+from ..errors import FileFormatError, ValidationError, expected_got
+from ..files.fileio import encode_image, write_bytes
+from ..meshes import normalize
+from ..scene import Item
+from ..sunlit.sunatlas import SunAtlas
+from ..views.dome import ViewDome
+from ..views.domecameras import DomeCameras
+from .glb import GlbImage, glb_bytes, read_glb
+from .tiles import TileLayout, tile_views, untile_views
+
+__all__ = ["SIDECAR_VERSION", "DomeGlb", "write_dome_glb", "read_dome_glb"]
+
+#: The version of the sidecar :func:`write_dome_glb` writes and :func:`read_dome_glb` reads.
+SIDECAR_VERSION = 1
+
+_COLOUR_SPACES = {"albedo": "sRGB, straight alpha (coverage)", "normal": "linear",
+                  "depth": "linear (float16 bits)"}
+_NORMALS = "object frame, +z up; rgb = round(127 n) + 128"
+_DEPTH = ("float16 bits in a 16-bit PNG: linear depth along the view's axis minus the camera distance "
+          "(+inf: nothing drawn); read unfiltered")
+
+
+def _geometry(items: list[Item]) -> trimesh.Scene:
+    """The items as one scene: each item's mesh at its pose, in its colour (linear, as ``COLOR_0``)
+    where it has one, else in its own look."""
+    scene = trimesh.Scene()
+    for k, it in enumerate(items):
+        m = it.mesh.copy()
+        if it.color is not None:
+            rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
+            m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
+        scene.add_geometry(m, geom_name=f"part{k}", transform=np.asarray(it.pose, np.float64))
+    return scene
+
+
+def _half_bits(depth: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(depth, np.float16).view(np.uint16)
+
+
+def _png(array: np.ndarray) -> bytes:
+    return encode_image("atlas.png", array)
+
+
+@dataclass(frozen=True)
+class DomeGlb:
+    """A dome asset read back from a GLB (:func:`read_dome_glb`).
+
+    Parameters
+    ----------
+    asset : DomeAsset
+        The asset, its views as written.
+    sidecar : dict
+        ``extras.morphkit``.
+    sun_atlas : SunAtlas or None
+        Its sun atlas, when the file holds one.
+    """
+
+    asset: DomeAsset
+    sidecar: dict[str, Any]
+    sun_atlas: SunAtlas | None = None
+
+
+def _sun_entry(atlas: SunAtlas, images: list[GlbImage]) -> dict[str, Any]:
+    depth, layout = tile_views(_half_bits(atlas.depth))
+    coverage, _ = tile_views(atlas.coverage)
+    images += [GlbImage("sun-depth", _png(depth)), GlbImage("sun-coverage", _png(coverage))]
+    cams = atlas.cameras
+    return {"rings": [[float(e), int(k)] for e, k in atlas.dome.rings], "top": bool(atlas.dome.top),
+            "pivot": [float(x) for x in cams.pivot], "distance": float(cams.distance),
+            "radius": float(cams.radius), "size": int(atlas.size), "mesh_hash": atlas.mesh_hash,
+            "layout": layout.to_json(), "images": {"depth": "sun-depth", "coverage": "sun-coverage"}}
+
+
+def write_dome_glb(
+    path: str | os.PathLike[str],
+    asset: DomeAsset,
+    *,
+    mesh: trimesh.Trimesh | None = None,
+    sun_atlas: SunAtlas | None = None,
+    measured: dict[str, Any] | None = None,
+) -> Path:
+    """Write ``asset`` (with its ``mesh`` and ``sun_atlas``) as one GLB (the module notes).
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.glb`` file (written atomically; the folder must exist).
+    asset : DomeAsset
+        The relightable views.
+    mesh : trimesh.Trimesh, optional
+        The mesh they were baked from (as given to the bake: checked by its hash).
+    sun_atlas : SunAtlas, optional
+        Its sun atlas (of the same mesh).
+    measured : dict, optional
+        JSON values: what was measured of the asset's representations (the sidecar's ``measured``).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValidationError
+        Not a dome asset; a mesh or sun atlas of another mesh than the asset's.
+    """
+    if not isinstance(asset, DomeAsset):
+        raise ValidationError(
+            expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
+        )
+    shape = geometry = None
+    if mesh is not None:
+        items = asset.items(mesh)  # the mesh it was baked from, or refused naming both hashes
+        shape = normalize(mesh)  # the asset's frame: what its views were drawn of
+        geometry = _geometry(items)
+    if sun_atlas is not None:
+        if not isinstance(sun_atlas, SunAtlas):
+            raise ValidationError(expected_got("sun_atlas", "a SunAtlas", type(sun_atlas).__name__))
+        if shape is not None:
+            sun_atlas.check_mesh(shape)
+    rec = asset.record()
+    albedo, layout = tile_views(rec.rgba)
+    normal, _ = tile_views((rec.normal.astype(np.int16) + 128).astype(np.uint8))
+    depth, _ = tile_views(_half_bits(rec.depth))
+    images = [GlbImage("albedo", _png(albedo)), GlbImage("normal", _png(normal)),
+              GlbImage("depth", _png(depth))]
+    near, far = asset.cameras.depth_range()
+    az, el = asset.dome.azimuths_deg(), asset.dome.elevations_deg()
+    sidecar: dict[str, Any] = {
+        "morphkit_export": SIDECAR_VERSION, "kind": "dome", "name": rec.name, "mesh_hash": rec.mesh_hash,
+        "appearance": rec.appearance, "source_up": rec.source_up,
+        "rings": [[float(e), int(k)] for e, k in rec.rings], "top": bool(rec.top),
+        "views": [{"azimuth_deg": float(a), "elevation_deg": float(e), "origin": list(layout.origin(k))}
+                  for k, (a, e) in enumerate(zip(az, el, strict=True))],
+        "pivot": [float(x) for x in rec.pivot], "distance": float(rec.distance), "radius": float(rec.radius),
+        "size": int(rec.size), "levels": int(rec.levels),
+        "half_extent": [float(x) for x in asset.half_extent],
+        "depth_range": [float(near), float(far)],
+        "bounds": None if shape is None else np.asarray(shape.bounds, float).tolist(),
+        "layout": layout.to_json(), "images": {"albedo": "albedo", "normal": "normal", "depth": "depth"},
+        "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
+        "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images),
+        "measured": dict(measured or {}),
+    }
+    return write_bytes(path, glb_bytes(geometry, images, sidecar))
+
+
+def _bad(path: Path, what: str, expected: Any, got: Any) -> FileFormatError:
+    return FileFormatError(expected_got(f"morphkit GLB {str(path)!r}: {what}", expected, got))
+
+
+def read_dome_glb(path: str | os.PathLike[str]) -> DomeGlb:
+    """The dome asset (and sun atlas) a GLB of :func:`write_dome_glb` holds.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.glb`` file.
+
+    Returns
+    -------
+    DomeGlb
+
+    Raises
+    ------
+    FileFormatError
+        Not a GLB; no morphkit sidecar, or one of another version or kind; images missing or of the
+        wrong shape or dtype; views that a dome asset file would not pass.
+    """
+    p = Path(path)
+    glb = read_glb(p)
+    side = glb.sidecar
+    if side is None:
+        raise _bad(p, "extras", "a morphkit sidecar ('extras.morphkit': a file morphkit exported)", "none")
+    if side.get("morphkit_export") != SIDECAR_VERSION or side.get("kind") != "dome":
+        raise _bad(p, "sidecar", f"morphkit_export {SIDECAR_VERSION} of kind 'dome'",
+                   f"{side.get('morphkit_export')!r} of kind {side.get('kind')!r}")
+    layout = TileLayout.from_json(side.get("layout"))
+    names = side.get("images") if isinstance(side.get("images"), dict) else {}
+
+    def views(key: str, dtype: type, channels: int | None) -> np.ndarray:
+        img = glb.image(str(names.get(key, key)))
+        want = (*layout.shape, channels) if channels else layout.shape
+        if img.dtype != dtype or img.shape != want:
+            raise _bad(p, f"image {key!r}", f"{np.dtype(dtype)} {want}", f"{img.dtype} {img.shape}")
+        return untile_views(img, layout)
+
+    rgba = views("albedo", np.uint8, 4)
+    normal = (views("normal", np.uint8, 3).astype(np.int16) - 128).astype(np.int8)
+    depth = views("depth", np.uint16, None).view(np.float16)
+    record = dome_record(side, {"rgba": rgba, "normal": normal, "depth": depth})
+    try:
+        asset = DomeAsset(record)
+    except ValidationError as exc:
+        raise _bad(p, "views", "a dome asset's views", str(exc)) from exc
+    atlas = None
+    sun = side.get("sun_atlas")
+    if sun is not None:
+        try:
+            sl = TileLayout.from_json(sun["layout"])
+            dimg, cimg = glb.image(sun["images"]["depth"]), glb.image(sun["images"]["coverage"])
+            if dimg.dtype != np.uint16 or cimg.dtype != np.uint8:
+                raise _bad(p, "sun atlas images", "16-bit depth and 8-bit coverage",
+                           f"{dimg.dtype}, {cimg.dtype}")
+            pivot = np.asarray(sun["pivot"], np.float64)
+            cams = DomeCameras(pivot, float(sun["distance"]), float(sun["radius"]), int(sun["size"]))
+            dome = ViewDome(tuple((float(e), int(k)) for e, k in sun["rings"]), bool(sun["top"]))
+            depth_s = untile_views(dimg, sl).view(np.float16)
+            atlas = SunAtlas(dome, cams, depth_s, untile_views(cimg, sl), str(sun["mesh_hash"]))
+        except (KeyError, TypeError, ValueError, ValidationError) as exc:
+            raise _bad(p, "sun_atlas", "a sun atlas's dome, cameras, layout and images",
+                       f"{type(exc).__name__}: {exc}"[:200]) from exc
+    return DomeGlb(asset, side, atlas)

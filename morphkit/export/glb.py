@@ -1,0 +1,225 @@
+"""The binary glTF container (GLB): a mesh, images and a sidecar, written and read back.
+
+:func:`glb_bytes` has trimesh write the mesh (its geometry, materials and textures: trimesh's glTF
+exporter, ``trimesh.exchange.gltf.export_glb``) and adds, through the exporter's buffer hook, each
+image as a ``bufferView`` of the one binary buffer with an ``images`` entry (``name``,
+``mimeType``), and the sidecar as ``extras.morphkit`` of the glTF root. :func:`read_glb` reads
+a GLB's two chunks (glTF 2.0, section "GLB File Format Specification": a 12-byte header, a JSON
+chunk, a BIN chunk, each 4-byte aligned) and gives the images back by name.
+
+An image that no material uses is valid glTF (the Khronos validator lists it as unused, not as
+an error): the engines' importers keep them, and morphkit's own reader finds them by name.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import struct
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import trimesh
+from trimesh.exchange.gltf import export_glb
+
+from ..errors import FileFormatError, expected_got
+from ..files.fileio import decode_image, open_regular
+
+__all__ = ["GlbImage", "Glb", "glb_bytes", "read_glb", "SIDECAR_KEY"]
+
+#: The key of morphkit's sidecar in the glTF root's ``extras``.
+SIDECAR_KEY = "morphkit"
+_MAGIC, _JSON, _BIN = 0x46546C67, 0x4E4F534A, 0x004E4942
+
+
+@dataclass(frozen=True)
+class GlbImage:
+    """One image a GLB carries.
+
+    Parameters
+    ----------
+    name : str
+        Its name (unique in the file).
+    data : bytes
+        The encoded image (PNG).
+    mime_type : str, optional
+        Its media type.
+    """
+
+    name: str
+    data: bytes
+    mime_type: str = "image/png"
+
+
+def _pad4(data: bytes) -> bytes:
+    return data + b"\0" * (-len(data) % 4)
+
+
+def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence[GlbImage],
+              sidecar: dict[str, Any]) -> bytes:
+    """A GLB of ``geometry`` (none: a scene without meshes), ``images`` and ``sidecar``.
+
+    Parameters
+    ----------
+    geometry : trimesh.Trimesh, trimesh.Scene or None
+        The meshes.
+    images : sequence of GlbImage
+        Added after the geometry's own textures, in order.
+    sidecar : dict
+        JSON values, written as ``extras.morphkit``.
+
+    Returns
+    -------
+    bytes
+    """
+    scene = trimesh.Scene() if geometry is None else geometry
+    if isinstance(scene, trimesh.Trimesh):
+        scene = scene.scene()
+
+    def add_images(buffer_items: Any, tree: dict[str, Any]) -> None:
+        entries = tree.setdefault("images", [])
+        for img in images:
+            key = f"morphkit-image-{img.name}"
+            buffer_items[key] = _pad4(img.data)
+            index = list(buffer_items.keys()).index(key)
+            entries.append({"name": img.name, "mimeType": img.mime_type, "bufferView": index})
+
+    def add_sidecar(tree: dict[str, Any]) -> None:
+        tree["asset"]["generator"] = "morphkit"
+        tree.setdefault("extras", {})[SIDECAR_KEY] = sidecar
+        for img in tree.get("images", []):  # the exact image bytes: the padding is not the image's
+            name = img.get("name")
+            for mine in images:
+                if mine.name == name:
+                    tree["bufferViews"][img["bufferView"]]["byteLength"] = len(mine.data)
+
+    return export_glb(scene, buffer_postprocessor=add_images, tree_postprocessor=add_sidecar)
+
+
+@dataclass(frozen=True)
+class Glb:
+    """A GLB read back (:func:`read_glb`).
+
+    Parameters
+    ----------
+    tree : dict
+        The glTF JSON.
+    binary : bytes
+        The BIN chunk (the first buffer).
+    path : str
+        Where it was read from (named in errors).
+    """
+
+    tree: dict[str, Any]
+    binary: bytes
+    path: str = ""
+
+    @property
+    def sidecar(self) -> dict[str, Any] | None:
+        """``extras.morphkit`` of the root (None: a GLB morphkit did not write)."""
+        extras = self.tree.get("extras")
+        got = extras.get(SIDECAR_KEY) if isinstance(extras, dict) else None
+        return got if isinstance(got, dict) else None
+
+    def image_bytes(self, name: str) -> bytes:
+        """The encoded image called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The image's name.
+
+        Returns
+        -------
+        bytes
+
+        Raises
+        ------
+        FileFormatError
+            No such image, or one whose buffer view lies outside the binary chunk.
+        """
+        for img in self.tree.get("images", []):
+            if isinstance(img, dict) and img.get("name") == name and "bufferView" in img:
+                try:
+                    view = self.tree["bufferViews"][img["bufferView"]]
+                    start = int(view.get("byteOffset", 0))
+                    end = start + int(view["byteLength"])
+                except (KeyError, IndexError, TypeError, ValueError) as exc:
+                    raise FileFormatError(expected_got(f"{self.path}: image {name!r}", "a buffer view",
+                                                       f"{type(exc).__name__}: {exc}")) from exc
+                if int(view.get("buffer", 0)) != 0 or end > len(self.binary) or start < 0:
+                    raise FileFormatError(expected_got(f"{self.path}: image {name!r}",
+                                                       f"bytes within the binary chunk ({len(self.binary)})",
+                                                       f"{start}..{end}"))
+                return self.binary[start:end]
+        raise FileFormatError(expected_got(f"{self.path}: images", f"one named {name!r}",
+                                           [i.get("name") for i in self.tree.get("images", [])]))
+
+    def image(self, name: str) -> np.ndarray:
+        """The image called ``name``, decoded (morphkit's channel order, its stored dtype).
+
+        Parameters
+        ----------
+        name : str
+            The image's name.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        return decode_image(self.image_bytes(name), f"{self.path}: image {name!r}")
+
+
+def read_glb(path: str | os.PathLike[str]) -> Glb:
+    """Read a GLB's JSON and binary chunks.
+
+    Parameters
+    ----------
+    path : path-like
+        A ``.glb`` file.
+
+    Returns
+    -------
+    Glb
+
+    Raises
+    ------
+    FileFormatError
+        No such file, not a GLB (its magic, version or lengths), JSON that is not an object.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise FileFormatError(expected_got(f"GLB {str(p)!r}", "an existing file", "nothing there"))
+    with open_regular(p, f"GLB {str(p)!r}") as f:
+        data = f.read()
+    what = f"GLB {str(p)!r}"
+    if len(data) < 20:
+        raise FileFormatError(expected_got(what, "a binary glTF (12-byte header and a JSON chunk)",
+                                           f"{len(data)} bytes"))
+    magic, version, length = struct.unpack_from("<III", data, 0)
+    if magic != _MAGIC or version != 2 or length != len(data):
+        raise FileFormatError(expected_got(what, "a glTF 2.0 binary ('glTF', version 2, its length)",
+                                           f"magic {magic:#x}, version {version}, length {length} of "
+                                           f"{len(data)} bytes"))
+    tree: Any = None
+    binary = b""
+    at = 12
+    while at + 8 <= len(data):
+        n, kind = struct.unpack_from("<II", data, at)
+        chunk = data[at + 8 : at + 8 + n]
+        if len(chunk) != n:
+            raise FileFormatError(expected_got(what, f"a chunk of {n} bytes at {at}", f"{len(chunk)}"))
+        if kind == _JSON and tree is None:
+            try:
+                tree = json.loads(chunk.decode("utf-8"))
+            except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+                raise FileFormatError(expected_got(what, "a JSON chunk", f"{exc}"[:120])) from exc
+        elif kind == _BIN and not binary:
+            binary = chunk
+        at += 8 + n + (-n % 4)
+    if not isinstance(tree, dict):
+        raise FileFormatError(expected_got(what, "a JSON chunk holding an object", type(tree).__name__))
+    return Glb(tree, binary, str(p))

@@ -1,0 +1,110 @@
+"""``morphkit export ASSET -o OUT.glb``: one asset baked (or read) and written as a GLB for engines.
+
+ASSET is what ``morphkit render`` takes as an asset source (:mod:`morphkit.programs.sources`): a
+sample mesh name or a mesh file is baked into a relightable dome asset
+(:func:`~morphkit.billboard.bake_dome`, views of ``size`` pixels) and a sun atlas
+(:func:`~morphkit.sunlit.receivers.bake_scene_atlases`, ``sun_atlas_size`` texels; 0: none) and
+written with its mesh (:func:`~morphkit.export.assetglb.write_dome_glb`); a dome asset file
+(``.npz``) is written as it is, its views alone (no mesh, no sun atlas: said in the summary). The
+output follows the usual rule: an existing file is replaced only with ``overwrite``.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from ..errors import OutputExistsError, ValidationError, expected_got
+from ..export.assetglb import write_dome_glb
+from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
+from ..render import Renderer
+from ..sunlit.receivers import SCENE_ATLAS_SIZE, bake_scene_atlases
+from ..views.dome import ViewDome
+from .sources import MESH_SUFFIXES, check_specs, resolve_assets
+
+__all__ = ["export_asset", "DEFAULT_EXPORT_SIZE"]
+
+#: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
+DEFAULT_EXPORT_SIZE = 128
+
+
+def _output(out: str | os.PathLike[str], overwrite: bool) -> Path:
+    p = Path(out)
+    if p.suffix.lower() != ".glb":
+        raise ValidationError(expected_got("-o", "a .glb file path", repr(str(p))))
+    in_the_way = next((a for a in p.parents if a.exists() and not a.is_dir()), None)
+    if in_the_way is not None:
+        raise ValidationError(expected_got("-o", "a path whose parents are folders",
+                                           f"{str(p)!r}, where {str(in_the_way)!r} is a file"))
+    if p.is_dir():
+        raise ValidationError(expected_got("-o", "a .glb file path", f"the folder {str(p)!r}"))
+    if p.exists() and not overwrite:
+        raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
+                                             f"the existing file {str(p)!r}"))
+    return p
+
+
+def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_EXPORT_SIZE,
+                 sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto",
+                 overwrite: bool = False) -> dict[str, Any]:
+    """Export one asset as a GLB (the module notes).
+
+    Parameters
+    ----------
+    spec : str
+        A sample mesh name, a mesh file or a dome asset file.
+    out : path-like
+        The ``.glb`` file.
+    size : int, optional
+        The dome views' side when baking, pixels.
+    sun_atlas_size : int, optional
+        The sun atlas's side when baking, texels (0: no sun atlas).
+    up : {"auto", "y", "z"}, optional
+        A mesh file's up axis.
+    overwrite : bool, optional
+        Replace an existing ``out``.
+
+    Returns
+    -------
+    dict
+        What was written: ``path``, ``bytes``, ``name``, ``views``, ``size``, ``mesh`` (bool) and
+        ``sun_atlas`` (its side, or None).
+
+    Raises
+    ------
+    OutputExistsError
+        ``out`` exists and ``overwrite`` is not given.
+    ValidationError
+        An output path that is not a ``.glb`` file; an unknown asset.
+
+    Examples
+    --------
+    ``morphkit export tree -o tree.glb``::
+
+        from morphkit.programs.export import export_asset
+
+        print(export_asset("tree", "tree.glb"))
+    """
+    p = _output(out, overwrite)
+    check_specs([spec])
+    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
+        raise ValidationError(
+            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
+        )
+    baked = spec in BILLBOARD_MESHES or Path(spec).suffix.lower() in MESH_SUFFIXES
+    with Renderer() as r:
+        res = resolve_assets([spec], r, size=size, dome=ViewDome(), up=up)
+        (name,) = res.assets
+        asset = res.assets[name]
+        mesh = None
+        if baked:
+            mesh = normalize(sample_mesh(spec) if spec in BILLBOARD_MESHES else load_mesh(spec, up=up))
+        atlas = None
+        if baked and sun_atlas_size:
+            atlas = bake_scene_atlases({name: mesh}, r, size=sun_atlas_size)[name]
+    p.parent.mkdir(parents=True, exist_ok=True)
+    write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas)
+    return {"path": str(p), "bytes": p.stat().st_size, "name": name, "views": asset.dome.views,
+            "size": int(asset.cameras.shape[0]), "mesh": mesh is not None,
+            "sun_atlas": None if atlas is None else atlas.size}

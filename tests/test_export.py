@@ -1,0 +1,155 @@
+"""morphkit.export: an asset's views tiled into atlases, a dome asset with its mesh and sun atlas
+as one GLB and back, checked by the Khronos glTF validator; ``morphkit export`` end to end (GL)."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import struct
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
+from morphkit.cli import main
+from morphkit.errors import FileFormatError, ValidationError
+from morphkit.export import read_dome_glb, write_dome_glb
+from morphkit.export.glb import read_glb
+from morphkit.export.tiles import TILE_PAD, TileLayout, tile_views, untile_views
+from morphkit.sunlit.sunatlas import SunAtlas
+from morphkit.views.dome import ViewDome
+from morphkit.views.domecameras import DomeCameras
+
+ROOT = Path(__file__).resolve().parent.parent
+#: Where scripts/setup.sh installs the Khronos validator (npm's gltf-validator) for the tests.
+VALIDATOR = ROOT / ".cache" / "node" / "node_modules" / "gltf-validator"
+VALIDATE_JS = ROOT / "scripts" / "gltf_validate.js"
+
+
+def test_views_tile_with_their_edges_repeated_and_untile_bit_for_bit():
+    rng = np.random.default_rng(5)
+    for shape, dtype in (((27, 16, 16, 4), np.uint8), ((5, 9, 9), np.uint16), ((1, 8, 8, 3), np.uint8)):
+        views = rng.integers(0, 256, shape).astype(dtype)
+        atlas, layout = tile_views(views)
+        assert atlas.shape[:2] == layout.shape and atlas.dtype == dtype
+        assert np.array_equal(untile_views(atlas, layout), views)
+        # the padding repeats each view's edge: the pixel left of the first column is the first column's
+        x, y = layout.origin(0)
+        assert np.array_equal(atlas[y : y + shape[1], x - TILE_PAD], views[0][:, 0])
+        assert np.array_equal(atlas[y - TILE_PAD, x : x + shape[2]], views[0][0, :])
+    layout = TileLayout(27, 128)
+    assert TileLayout.from_json(layout.to_json()) == layout
+    with pytest.raises(FileFormatError, match="tile layout columns: expected 6, got 7"):
+        TileLayout.from_json({**layout.to_json(), "columns": 7})
+    with pytest.raises(FileFormatError, match="atlas: expected"):
+        untile_views(np.zeros((10, 10), np.uint8), layout)
+    with pytest.raises(ValidationError, match=r"views: expected \(V, n, n\) or \(V, n, n, C\) square"):
+        tile_views(np.zeros((2, 8, 9), np.uint8))
+
+
+def _sun_atlas(dome: ViewDome, n: int = 24) -> SunAtlas:
+    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (n, n))
+    depths = [sphere_view(cams.ortho_camera(a, e, (n, n)))[2]
+              for a, e in zip(dome.azimuths_deg(), dome.elevations_deg(), strict=True)]
+    return SunAtlas.from_depths(dome, cams, np.stack(depths))
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    asset = sphere_dome_asset(size=32, levels=2)
+    atlas = _sun_atlas(ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True))
+    path = tmp_path_factory.mktemp("glb") / "ball.glb"
+    write_dome_glb(path, asset, sun_atlas=atlas, measured={"morph": {"psnr_db": 28.9}})
+    return asset, atlas, path
+
+
+def test_a_dome_asset_round_trips_through_its_glb_bit_for_bit(exported):
+    asset, atlas, path = exported
+    back = read_dome_glb(path)
+    a, b = asset.record(), back.asset.record()
+    for k in ("rgba", "normal"):
+        assert getattr(b, k).dtype == getattr(a, k).dtype and np.array_equal(getattr(b, k), getattr(a, k))
+    assert np.array_equal(b.depth.view(np.uint16), a.depth.view(np.uint16))  # +inf and every bit kept
+    keys = ("name", "mesh_hash", "appearance", "rings", "top", "pivot", "distance", "radius", "size")
+    for k in (*keys, "levels"):
+        assert getattr(b, k) == getattr(a, k), k
+    assert np.array_equal(back.sun_atlas.depth.view(np.uint16), atlas.depth.view(np.uint16))
+    assert np.array_equal(back.sun_atlas.coverage, atlas.coverage)
+    side = back.sidecar
+    assert side["morphkit_export"] == 1 and side["kind"] == "dome"
+    assert side["measured"] == {"morph": {"psnr_db": 28.9}}
+    assert len(side["views"]) == asset.dome.views and side["bounds"] is None
+    assert side["depth_range"] == list(asset.cameras.depth_range())
+    # the views drawn from the file are the asset's
+    np.testing.assert_array_equal(back.asset.surface(20.0, 45.0).albedo, asset.surface(20.0, 45.0).albedo)
+    # the images are plain PNGs of the documented kinds
+    glb = read_glb(path)
+    assert glb.image("albedo").shape[2] == 4 and glb.image("depth").dtype == np.uint16
+    assert glb.tree["asset"]["version"] == "2.0"
+
+
+def test_a_glb_that_is_not_morphkits_or_is_damaged_is_refused_naming_what(exported, tmp_path):
+    _, _, path = exported
+    plain = tmp_path / "plain.glb"
+    plain.write_bytes(trimesh.creation.box().export(file_type="glb"))
+    with pytest.raises(FileFormatError, match="expected a morphkit sidecar"):
+        read_dome_glb(plain)
+    data = bytearray(path.read_bytes())
+    cut = tmp_path / "cut.glb"
+    cut.write_bytes(bytes(data[: len(data) // 2]))
+    with pytest.raises(FileFormatError, match="expected a glTF 2.0 binary"):
+        read_dome_glb(cut)
+    n = struct.unpack_from("<I", data, 12)[0]
+    tree = json.loads(bytes(data[20 : 20 + n]))
+    tree["extras"]["morphkit"]["morphkit_export"] = 99
+    other = tmp_path / "other.glb"
+    other.write_bytes(trimesh.exchange.gltf.export_glb(trimesh.Scene(), tree_postprocessor=lambda t: t.update(
+        {"extras": tree["extras"]})))
+    with pytest.raises(FileFormatError, match="sidecar: expected morphkit_export 1 of kind 'dome', got 99"):
+        read_dome_glb(other)
+    with pytest.raises(ValidationError, match="asset: expected a DomeAsset"):
+        write_dome_glb(tmp_path / "x.glb", "ball")
+
+
+def _validate(path: Path) -> dict:
+    node = shutil.which("node")
+    if node is None or not VALIDATOR.is_dir():
+        if os.environ.get("MORPHKIT_REQUIRE_GLTF_VALIDATOR"):
+            pytest.fail(f"the glTF validator is not installed ({VALIDATOR}: scripts/setup.sh test)")
+        pytest.skip("node and the glTF validator are not installed (scripts/setup.sh test installs them)")
+    out = subprocess.run([node, str(VALIDATE_JS), str(path)], capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "NODE_PATH": str(VALIDATOR.parent)}, check=False)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def test_the_khronos_validator_finds_no_error_in_an_exported_asset(exported):
+    _, _, path = exported
+    report = _validate(path)
+    assert report["errors"] == 0, report["messages"]
+    assert report["warnings"] == 0, report["messages"]
+
+
+@pytest.mark.gl
+def test_export_bakes_a_mesh_into_a_glb_engines_and_trimesh_read(tmp_path, capsys):
+    out = tmp_path / "tree.glb"
+    assert main(["export", "tree", "-o", str(out), "--size", "32", "--sun-atlas-size", "32"]) == 0
+    said = capsys.readouterr().out
+    assert "tree, 27 views of 32 px" in said and "its mesh, its sun atlas of 32 texels" in said
+    back = read_dome_glb(out)
+    assert back.sun_atlas is not None and back.sun_atlas.size == 32
+    scene = trimesh.load(out)  # the mesh, as trimesh reads the file
+    assert len(scene.geometry) >= 1
+    lo, hi = np.array(back.sidecar["bounds"])
+    got = scene.bounds
+    np.testing.assert_allclose(got, [lo, hi], atol=1e-6)
+    assert _validate(out)["errors"] == 0
+    # the usual rule: an existing file is replaced only with --overwrite
+    assert main(["export", "tree", "-o", str(out), "--size", "32"]) == 2
+    assert "expected a new file, or --overwrite to replace it" in capsys.readouterr().err
+    assert main(["export", "tree", "-o", str(tmp_path / "tree.png")]) == 1
+    assert "-o: expected a .glb file path" in capsys.readouterr().err
