@@ -635,3 +635,8 @@ PLAN_MAX_OFFSET_IOU = 0.1
 #: The tallest on-screen height (pixels) a plan's error tables measure: a billboard taller than
 #: this fills most of a frame of up to 1080 rows, and its cell's frame grows with its square.
 PLAN_MAX_TABLE_HEIGHT_PX = 1024.0
+
+#: Largest side (pixels) of an atlas :mod:`morphkit.export` writes into a glTF file: WebGL 2 promises
+#: only 2048 (``MAX_TEXTURE_SIZE``), and 4096 is what the devices in use give at least; a larger
+#: atlas is refused (bake smaller views) rather than written for engines that cannot load it.
+EXPORT_MAX_TEXTURE_SIDE = 4096

@@ -115,6 +115,18 @@ def test_a_glb_that_is_not_morphkits_or_is_damaged_is_refused_naming_what(export
         write_dome_glb(tmp_path / "x.glb", "ball")
 
 
+def test_an_atlas_wider_than_engines_load_is_refused_naming_the_limit(tmp_path):
+    from morphkit import tol
+
+    side = tol.EXPORT_MAX_TEXTURE_SIDE // 6 + 1  # 27 views: 6 columns of it and its padding, too wide
+    asset = sphere_dome_asset(size=side, levels=1)
+    limit = tol.EXPORT_MAX_TEXTURE_SIDE
+    want = rf"the views' atlases: expected at most {limit} px a side .*bake smaller views"
+    with pytest.raises(ValidationError, match=want):
+        write_dome_glb(tmp_path / "big.glb", asset)
+    assert not (tmp_path / "big.glb").exists()
+
+
 def _validate(path: Path) -> dict:
     node = shutil.which("node")
     if node is None or not VALIDATOR.is_dir():

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from .. import tol
 from ..billboard.domeasset import DomeAsset
 from ..billboard.formats.domefile import dome_record
 from ..errors import FileFormatError, ValidationError, expected_got
@@ -73,6 +74,15 @@ def _geometry(items: list[Item]) -> trimesh.Scene:
             m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
         scene.add_geometry(m, geom_name=f"part{k}", transform=np.asarray(it.pose, np.float64))
     return scene
+
+
+def _check_texture(layout: TileLayout, what: str) -> None:
+    """Refuse an atlas wider than engines load (:data:`morphkit.tol.EXPORT_MAX_TEXTURE_SIDE`)."""
+    if max(layout.shape) > tol.EXPORT_MAX_TEXTURE_SIDE:
+        raise ValidationError(expected_got(
+            what, f"at most {tol.EXPORT_MAX_TEXTURE_SIDE} px a side (the texture size WebGL 2 devices "
+            "load: bake smaller views)", f"{layout.shape[1]} x {layout.shape[0]} px for {layout.views} "
+            f"views of {layout.side} px"))
 
 
 def _half_bits(depth: np.ndarray) -> np.ndarray:
@@ -160,6 +170,9 @@ def write_dome_glb(
         if shape is not None:
             sun_atlas.check_mesh(shape)
     rec = asset.record()
+    _check_texture(TileLayout(asset.dome.views, rec.size), "the views' atlases")
+    if sun_atlas is not None:
+        _check_texture(TileLayout(sun_atlas.dome.views, sun_atlas.size), "the sun atlas's")
     albedo, layout = tile_views(rec.rgba)
     normal, _ = tile_views((rec.normal.astype(np.int16) + 128).astype(np.uint8))
     depth, _ = tile_views(_half_bits(rec.depth))
