@@ -20,6 +20,7 @@ from morphkit.errors import FileFormatError, ValidationError
 from morphkit.export import read_dome_glb, write_dome_glb
 from morphkit.export.glb import read_glb
 from morphkit.export.tiles import TILE_PAD, TileLayout, tile_views, untile_views
+from morphkit.meshes import load_mesh, normalize, sample_mesh
 from morphkit.sunlit.sunatlas import SunAtlas
 from morphkit.views.dome import ViewDome
 from morphkit.views.domecameras import DomeCameras
@@ -154,11 +155,19 @@ def test_export_bakes_a_mesh_into_a_glb_engines_and_trimesh_read(tmp_path, capsy
     assert "tree, 27 views of 32 px" in said and "its mesh, its sun atlas of 32 texels" in said
     back = read_dome_glb(out)
     assert back.sun_atlas is not None and back.sun_atlas.size == 32
-    scene = trimesh.load(out)  # the mesh, as trimesh reads the file
-    assert len(scene.geometry) >= 1
-    lo, hi = np.array(back.sidecar["bounds"])
-    got = scene.bounds
-    np.testing.assert_allclose(got, [lo, hi], atol=1e-6)
+    # the mesh as trimesh reads the file: +y up, glTF's frame, (x, y, z) of morphkit's at (x, z, -y)
+    scene = trimesh.load(out)
+    (lo_x, lo_y, lo_z), (hi_x, hi_y, hi_z) = back.sidecar["bounds"]
+    np.testing.assert_allclose(scene.bounds, [[lo_x, lo_z, -hi_y], [hi_x, hi_z, -lo_y]], atol=1e-6)
+    # and as morphkit reads it (turned +z up): the asset's own mesh, which the asset accepts
+    mesh = load_mesh(out)
+    want = normalize(sample_mesh("tree"))
+    np.testing.assert_allclose(mesh.bounds, want.bounds, atol=1e-6)
+    # the same points (the checker's colour groups split the vertices they share): float32 apart
+    from scipy.spatial import cKDTree
+
+    assert cKDTree(want.vertices).query(mesh.vertices)[0].max() < 1e-6
+    assert cKDTree(mesh.vertices).query(want.vertices)[0].max() < 1e-6
     assert _validate(out)["errors"] == 0
     # the usual rule: an existing file is replaced only with --overwrite
     assert main(["export", "tree", "-o", str(out), "--size", "32"]) == 2

@@ -4,7 +4,8 @@
 
 * the asset's mesh in the asset's frame and look (:meth:`~morphkit.billboard.DomeAsset.items`: a
   checker-textured sample's colour groups as linear vertex colours ``COLOR_0``, a mesh file's own
-  materials and textures as trimesh exports them), when given;
+  materials and textures as trimesh exports them), when given, turned ``+y`` up as glTF is (the
+  inverse of :data:`~morphkit.meshes.Y_UP_TO_Z_UP`, on its node: the vertices stay morphkit's);
 * its dome views tiled into three atlases (:mod:`.tiles`, each view padded by its own edges):
   ``albedo`` (RGBA 8-bit PNG: the views' straight sRGB albedo and coverage, as baked), ``normal``
   (RGB 8-bit PNG, linear: ``round(127 n) + 128`` of the object-frame unit normal, ``+z`` up,
@@ -21,7 +22,8 @@
   (:meth:`~.tiles.TileLayout.to_json`), ``images`` (each atlas's image name), ``colour_spaces``,
   ``normal_convention``, ``depth_encoding``, ``sun_atlas`` (its dome, camera rule, mesh hash,
   layout and images, or null) and ``measured`` (the representations' measured errors, as the
-  caller gives them).
+  caller gives them), and ``frame``: the pivot, bounds and view directions are in morphkit's object
+  frame (``+z`` up): its point ``(x, y, z)`` is ``(x, z, -y)`` in the file's ``+y``-up frame.
 
 :func:`read_dome_glb` reads one back: the :class:`~morphkit.billboard.DomeAsset` (its views
 bit for bit, checked as a dome asset file is, :func:`~morphkit.billboard.formats.domefile.dome_record`),
@@ -43,7 +45,7 @@ from ..billboard.domeasset import DomeAsset
 from ..billboard.formats.domefile import dome_record
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import encode_image, write_bytes
-from ..meshes import normalize
+from ..meshes import Y_UP_TO_Z_UP, normalize
 from ..scene import Item
 from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
@@ -59,6 +61,8 @@ SIDECAR_VERSION = 1
 _COLOUR_SPACES = {"albedo": "sRGB, straight alpha (coverage)", "normal": "linear",
                   "depth": "linear (float16 bits)"}
 _NORMALS = "object frame, +z up; rgb = round(127 n) + 128"
+_FRAME = ("pivot, bounds, view directions and normals in morphkit's object frame, +z up: its point "
+          "(x, y, z) is (x, z, -y) in the file's +y-up frame")
 _DEPTH = ("float16 bits in a 16-bit PNG: linear depth along the view's axis minus the camera distance "
           "(+inf: nothing drawn); read unfiltered")
 
@@ -67,12 +71,13 @@ def _geometry(items: list[Item]) -> trimesh.Scene:
     """The items as one scene: each item's mesh at its pose, in its colour (linear, as ``COLOR_0``)
     where it has one, else in its own look."""
     scene = trimesh.Scene()
+    to_file = np.linalg.inv(Y_UP_TO_Z_UP)  # glTF is +y up
     for k, it in enumerate(items):
         m = it.mesh.copy()
         if it.color is not None:
             rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
             m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
-        scene.add_geometry(m, geom_name=f"part{k}", transform=np.asarray(it.pose, np.float64))
+        scene.add_geometry(m, geom_name=f"part{k}", transform=to_file @ np.asarray(it.pose, np.float64))
     return scene
 
 
@@ -195,6 +200,7 @@ def write_dome_glb(
         "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
         "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images),
         "measured": dict(measured or {}),
+        "frame": _FRAME,
     }
     return write_bytes(path, glb_bytes(geometry, images, sidecar))
 
