@@ -352,8 +352,16 @@ def _cmd_render(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from .programs.export import export_asset
+    from .programs.export import export_asset, export_scene
 
+    if args.scene or Path(args.asset).suffix.lower() == ".json":
+        got = export_scene(args.asset, args.out, sun_atlas_size=args.sun_atlas_size, overwrite=args.overwrite)
+        each = "; ".join(f"{nm}: {a['instances']} instances, {a['views']} views of {a['size']} px"
+                         + ("" if a["mesh"] else ", no mesh") + ("" if a["sun_atlas"] else ", no sun atlas")
+                         for nm, a in got["assets"].items())
+        print(f"morphkit export: wrote {got['path']} ({got['bytes']:,} bytes; the instances drawn by "
+              f"EXT_mesh_gpu_instancing): {each}")
+        return 0
     got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
                        up=args.up_axis, overwrite=args.overwrite)
     parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)"]
@@ -659,14 +667,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     ex = sub.add_parser(
         "export",
-        help="write one asset as a GLB for engines: its mesh, its relightable views and its sun atlas",
+        help="write an asset or a scene as a GLB for engines: meshes, relightable views, sun atlases",
         description="Bake (or read) one asset and write it as a binary glTF: the mesh, the dome's views "
         "tiled into albedo (sRGB), normal and depth (float16 bits) atlases, the sun atlas, and a "
         "sidecar in extras.morphkit (layout, view directions, bounds, pivot, depth range, colour "
-        "spaces, normal convention). `morphkit.export.read_dome_glb` reads it back bit for bit.",
+        "spaces, normal convention). A scene's assets are each written once, drawn at their instances by "
+        "EXT_mesh_gpu_instancing. `morphkit.export.read_dome_glb` reads an asset back bit for bit.",
     )
-    ex.add_argument("asset", metavar="ASSET",
-                    help="a sample mesh name, a mesh file or a dome asset file (.npz)")
+    ex.add_argument("asset", metavar="ASSET_OR_SCENE",
+                    help="a sample mesh name, a mesh file or a dome asset file (.npz); or a scene file "
+                    "(.json), or with --scene a glTF scene: its assets and their instances in one GLB")
+    ex.add_argument("--scene", action="store_true",
+                    help="read a .glb/.gltf as a scene (its meshes, nodes, light), not as one mesh")
     ex.add_argument("-o", "--out", required=True, help="the .glb file")
     ex.add_argument("--size", type=int, default=128,
                     help="the dome views' side when baking (default: %(default)s)")

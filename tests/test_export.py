@@ -174,3 +174,71 @@ def test_export_bakes_a_mesh_into_a_glb_engines_and_trimesh_read(tmp_path, capsy
     assert "expected a new file, or --overwrite to replace it" in capsys.readouterr().err
     assert main(["export", "tree", "-o", str(tmp_path / "tree.png")]) == 1
     assert "-o: expected a .glb file path" in capsys.readouterr().err
+
+
+def _accessor(glb, index: int) -> np.ndarray:
+    acc = glb.tree["accessors"][index]
+    view = glb.tree["bufferViews"][acc["bufferView"]]
+    width = {"VEC3": 3, "VEC4": 4}[acc["type"]]
+    start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
+    return np.frombuffer(glb.binary, np.float32, acc["count"] * width, start).reshape(-1, width)
+
+
+def test_a_scene_is_one_glb_whose_instances_stand_where_the_scene_puts_them(tmp_path):
+    from morphkit.billboard import Instances
+    from morphkit.export.assetglb import ExportedAsset, write_scene_glb
+    from morphkit.export.glb import INSTANCING
+    from morphkit.meshes import Y_UP_TO_Z_UP
+    from morphkit.scene import Item
+
+    ball = sphere_dome_asset(size=16, levels=1)
+    box = sphere_dome_asset(size=16, levels=1, name="box")
+    shape = trimesh.creation.box((0.5, 0.4, 1.0))
+    inst = Instances(("ball", "box"), np.array([0, 1, 0, 0]), np.array([[0.0, 0.0], [2.0, 1.0], [-1.5, 3.0],
+                                                                          [4.0, -2.0]]),
+                     np.array([0.0, 30.0, 90.0, 200.0]), np.array([1.0, 2.0, 0.5, 1.5]))
+    path = tmp_path / "scene.glb"
+    write_scene_glb(path, {"ball": ExportedAsset(ball, [Item(trimesh.creation.icosphere())]),
+                           "box": ExportedAsset(box, [Item(shape, color=(0.2, 0.5, 0.1))])}, inst)
+    glb = read_glb(path)
+    side = glb.sidecar
+    assert side["kind"] == "scene" and side["assets"]["ball"]["instances"] == 3
+    assert side["assets"]["box"]["instances"] == 1 and glb.tree["extensionsUsed"] == [INSTANCING]
+    # every instance's vertex where the scene puts it: the node's turn +y up after the instance's
+    nodes = {n["name"]: n for n in glb.tree["nodes"] if "name" in n}
+    for a, name in enumerate(inst.names):
+        (node,) = [nodes[nm] for nm in side["assets"][name]["nodes"]]
+        attrs = node["extensions"][INSTANCING]["attributes"]
+        t, q, s = (_accessor(glb, attrs[k]).astype(float) for k in ("TRANSLATION", "ROTATION", "SCALE"))
+        matrix = np.array(node.get("matrix", np.eye(4).ravel()), float).reshape(4, 4).T  # column-major
+        np.testing.assert_allclose(matrix, np.linalg.inv(Y_UP_TO_Z_UP), atol=1e-12)
+        for j, k in enumerate(np.flatnonzero(inst.asset == a)):
+            trs = trimesh.transformations.quaternion_matrix([q[j, 3], *q[j, :3]])  # (w, x, y, z)
+            trs[:3, :3] *= s[j][None, :]
+            trs[:3, 3] = t[j]
+            np.testing.assert_allclose(trs, inst.object2world(k), atol=1e-6)
+    # each asset's views read back from the scene's file, by name
+    back = read_dome_glb(path, "box")
+    assert back.asset.name == "box" and np.array_equal(back.asset.record().rgba, box.record().rgba)
+    with pytest.raises(FileFormatError, match=r"expected one asset \(or a name\), got \['ball', 'box'\]"):
+        read_dome_glb(path)
+    assert _validate(path)["errors"] == 0
+    with pytest.raises(ValidationError, match="assets: expected one per asset of the instances"):
+        write_scene_glb(tmp_path / "x.glb", {"ball": ExportedAsset(ball)}, inst)
+
+
+@pytest.mark.gl
+def test_export_writes_a_scene_file_as_one_glb(tmp_path, capsys):
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps({
+        "morphkit_scene": 1, "assets": [{"name": "tree", "source": "tree", "scale": 2.0}],
+        "instances": {"listed": [{"asset": "tree", "x": 0.0, "y": 0.0},
+                                 {"asset": "tree", "x": 3.0, "y": 1.0}]},
+        "camera": {"path": "orbit"}, "image": {"width": 96, "height": 72}, "frames": 2, "asset_size": 32,
+    }))
+    out = tmp_path / "scene.glb"
+    assert main(["export", str(scene), "-o", str(out), "--sun-atlas-size", "16"]) == 0
+    assert "tree: 2 instances, 27 views of 32 px" in capsys.readouterr().out
+    back = read_dome_glb(out)  # its one asset
+    assert back.sun_atlas is not None and back.sidecar["instances"] == 2
+    assert _validate(out)["errors"] == 0

@@ -132,7 +132,7 @@ def _planning(asset: Any, counts: tuple[int, ...], repeats: int) -> list[dict[st
     """The ``what=planning`` rows (module notes)."""
     h = np.array([16.0, 32.0, 64.0, 128.0, 256.0])
     e = np.array([0.0, 40.0, 80.0])
-    flat = {"classic": 20.0, "nearest": 24.0, "morph": 28.0, "mesh": 60.0}
+    flat = {"cull": 10.0, "classic": 20.0, "nearest": 24.0, "morph": 28.0, "mesh": 60.0}
     tables = {("tree", rep): ErrorTable("tree", asset.mesh_hash, rep, h, e, np.full((5, 3), db),
                                         np.full((5, 3), 0.9))
               for rep, db in flat.items()}

@@ -33,6 +33,7 @@ the sun atlas and the sidecar.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -43,6 +44,7 @@ import trimesh
 from .. import tol
 from ..billboard.domeasset import DomeAsset
 from ..billboard.formats.domefile import dome_record
+from ..billboard.frames.instances import Instances
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import encode_image, write_bytes
 from ..meshes import Y_UP_TO_Z_UP, normalize
@@ -50,10 +52,11 @@ from ..scene import Item
 from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras
-from .glb import GlbImage, glb_bytes, read_glb
+from .glb import GlbImage, NodeInstances, glb_bytes, read_glb
 from .tiles import TileLayout, tile_views, untile_views
 
-__all__ = ["SIDECAR_VERSION", "DomeGlb", "write_dome_glb", "read_dome_glb"]
+__all__ = ["SIDECAR_VERSION", "DomeGlb", "ExportedAsset", "write_dome_glb", "write_scene_glb",
+           "read_dome_glb"]
 
 #: The version of the sidecar :func:`write_dome_glb` writes and :func:`read_dome_glb` reads.
 SIDECAR_VERSION = 1
@@ -65,20 +68,6 @@ _FRAME = ("pivot, bounds, view directions and normals in morphkit's object frame
           "(x, y, z) is (x, z, -y) in the file's +y-up frame")
 _DEPTH = ("float16 bits in a 16-bit PNG: linear depth along the view's axis minus the camera distance "
           "(+inf: nothing drawn); read unfiltered")
-
-
-def _geometry(items: list[Item]) -> trimesh.Scene:
-    """The items as one scene: each item's mesh at its pose, in its colour (linear, as ``COLOR_0``)
-    where it has one, else in its own look."""
-    scene = trimesh.Scene()
-    to_file = np.linalg.inv(Y_UP_TO_Z_UP)  # glTF is +y up
-    for k, it in enumerate(items):
-        m = it.mesh.copy()
-        if it.color is not None:
-            rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
-            m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
-        scene.add_geometry(m, geom_name=f"part{k}", transform=to_file @ np.asarray(it.pose, np.float64))
-    return scene
 
 
 def _check_texture(layout: TileLayout, what: str) -> None:
@@ -117,15 +106,81 @@ class DomeGlb:
     sun_atlas: SunAtlas | None = None
 
 
-def _sun_entry(atlas: SunAtlas, images: list[GlbImage]) -> dict[str, Any]:
+def _sun_entry(atlas: SunAtlas, images: list[GlbImage], prefix: str) -> dict[str, Any]:
     depth, layout = tile_views(_half_bits(atlas.depth))
     coverage, _ = tile_views(atlas.coverage)
-    images += [GlbImage("sun-depth", _png(depth)), GlbImage("sun-coverage", _png(coverage))]
+    names = {"depth": f"{prefix}sun-depth", "coverage": f"{prefix}sun-coverage"}
+    images += [GlbImage(names["depth"], _png(depth)), GlbImage(names["coverage"], _png(coverage))]
     cams = atlas.cameras
     return {"rings": [[float(e), int(k)] for e, k in atlas.dome.rings], "top": bool(atlas.dome.top),
             "pivot": [float(x) for x in cams.pivot], "distance": float(cams.distance),
             "radius": float(cams.radius), "size": int(atlas.size), "mesh_hash": atlas.mesh_hash,
-            "layout": layout.to_json(), "images": {"depth": "sun-depth", "coverage": "sun-coverage"}}
+            "layout": layout.to_json(), "images": names}
+
+
+@dataclass(frozen=True)
+class ExportedAsset:
+    """One asset as a scene's GLB holds it (:func:`write_scene_glb`).
+
+    Parameters
+    ----------
+    asset : DomeAsset
+        Its relightable views.
+    items : list of Item, optional
+        Its mesh in the asset's frame and look (:meth:`~morphkit.billboard.DomeAsset.items`).
+    sun_atlas : SunAtlas, optional
+        Its sun atlas.
+    measured : dict, optional
+        What was measured of its representations (JSON values).
+    """
+
+    asset: DomeAsset
+    items: list[Item] | None = None
+    sun_atlas: SunAtlas | None = None
+    measured: dict[str, Any] | None = None
+
+
+def _part(exp: ExportedAsset, prefix: str, images: list[GlbImage]) -> dict[str, Any]:
+    """One asset's images (appended to ``images``, named after ``prefix``) and sidecar entry."""
+    asset, sun_atlas = exp.asset, exp.sun_atlas
+    if not isinstance(asset, DomeAsset):
+        raise ValidationError(
+            expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
+        )
+    if sun_atlas is not None and not isinstance(sun_atlas, SunAtlas):
+        raise ValidationError(expected_got("sun_atlas", "a SunAtlas", type(sun_atlas).__name__))
+    rec = asset.record()
+    _check_texture(TileLayout(asset.dome.views, rec.size), "the views' atlases")
+    if sun_atlas is not None:
+        _check_texture(TileLayout(sun_atlas.dome.views, sun_atlas.size), "the sun atlas's")
+    albedo, layout = tile_views(rec.rgba)
+    normal, _ = tile_views((rec.normal.astype(np.int16) + 128).astype(np.uint8))
+    depth, _ = tile_views(_half_bits(rec.depth))
+    names = {k: f"{prefix}{k}" for k in ("albedo", "normal", "depth")}
+    images += [GlbImage(names["albedo"], _png(albedo)), GlbImage(names["normal"], _png(normal)),
+               GlbImage(names["depth"], _png(depth))]
+    near, far = asset.cameras.depth_range()
+    az, el = asset.dome.azimuths_deg(), asset.dome.elevations_deg()
+    bounds = None
+    if exp.items:
+        meshes = [it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64)) for it in exp.items]
+        bounds = np.asarray(trimesh.util.concatenate(meshes).bounds, float).tolist()
+    return {
+        "name": rec.name, "mesh_hash": rec.mesh_hash, "appearance": rec.appearance,
+        "source_up": rec.source_up,
+        "rings": [[float(e), int(k)] for e, k in rec.rings], "top": bool(rec.top),
+        "views": [{"azimuth_deg": float(a), "elevation_deg": float(e), "origin": list(layout.origin(k))}
+                  for k, (a, e) in enumerate(zip(az, el, strict=True))],
+        "pivot": [float(x) for x in rec.pivot], "distance": float(rec.distance), "radius": float(rec.radius),
+        "size": int(rec.size), "levels": int(rec.levels),
+        "half_extent": [float(x) for x in asset.half_extent],
+        "depth_range": [float(near), float(far)], "bounds": bounds,
+        "layout": layout.to_json(), "images": names,
+        "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
+        "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images, prefix),
+        "measured": dict(exp.measured or {}),
+        "frame": _FRAME,
+    }
 
 
 def write_dome_glb(
@@ -147,7 +202,7 @@ def write_dome_glb(
     mesh : trimesh.Trimesh, optional
         The mesh they were baked from (as given to the bake: checked by its hash).
     sun_atlas : SunAtlas, optional
-        Its sun atlas (of the same mesh).
+        Its sun atlas (of the same mesh: checked by its hash when ``mesh`` is given).
     measured : dict, optional
         JSON values: what was measured of the asset's representations (the sidecar's ``measured``).
 
@@ -158,83 +213,139 @@ def write_dome_glb(
     Raises
     ------
     ValidationError
-        Not a dome asset; a mesh or sun atlas of another mesh than the asset's.
+        Not a dome asset; a mesh or sun atlas of another mesh than the asset's; atlases wider than
+        :data:`morphkit.tol.EXPORT_MAX_TEXTURE_SIDE`.
     """
-    if not isinstance(asset, DomeAsset):
-        raise ValidationError(
-            expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
-        )
-    shape = geometry = None
+    items = None
     if mesh is not None:
+        if not isinstance(asset, DomeAsset):
+            raise ValidationError(
+                expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
+            )
         items = asset.items(mesh)  # the mesh it was baked from, or refused naming both hashes
-        shape = normalize(mesh)  # the asset's frame: what its views were drawn of
-        geometry = _geometry(items)
-    if sun_atlas is not None:
-        if not isinstance(sun_atlas, SunAtlas):
-            raise ValidationError(expected_got("sun_atlas", "a SunAtlas", type(sun_atlas).__name__))
-        if shape is not None:
-            sun_atlas.check_mesh(shape)
-    rec = asset.record()
-    _check_texture(TileLayout(asset.dome.views, rec.size), "the views' atlases")
-    if sun_atlas is not None:
-        _check_texture(TileLayout(sun_atlas.dome.views, sun_atlas.size), "the sun atlas's")
-    albedo, layout = tile_views(rec.rgba)
-    normal, _ = tile_views((rec.normal.astype(np.int16) + 128).astype(np.uint8))
-    depth, _ = tile_views(_half_bits(rec.depth))
-    images = [GlbImage("albedo", _png(albedo)), GlbImage("normal", _png(normal)),
-              GlbImage("depth", _png(depth))]
-    near, far = asset.cameras.depth_range()
-    az, el = asset.dome.azimuths_deg(), asset.dome.elevations_deg()
-    sidecar: dict[str, Any] = {
-        "morphkit_export": SIDECAR_VERSION, "kind": "dome", "name": rec.name, "mesh_hash": rec.mesh_hash,
-        "appearance": rec.appearance, "source_up": rec.source_up,
-        "rings": [[float(e), int(k)] for e, k in rec.rings], "top": bool(rec.top),
-        "views": [{"azimuth_deg": float(a), "elevation_deg": float(e), "origin": list(layout.origin(k))}
-                  for k, (a, e) in enumerate(zip(az, el, strict=True))],
-        "pivot": [float(x) for x in rec.pivot], "distance": float(rec.distance), "radius": float(rec.radius),
-        "size": int(rec.size), "levels": int(rec.levels),
-        "half_extent": [float(x) for x in asset.half_extent],
-        "depth_range": [float(near), float(far)],
-        "bounds": None if shape is None else np.asarray(shape.bounds, float).tolist(),
-        "layout": layout.to_json(), "images": {"albedo": "albedo", "normal": "normal", "depth": "depth"},
-        "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
-        "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images),
-        "measured": dict(measured or {}),
-        "frame": _FRAME,
-    }
+        if isinstance(sun_atlas, SunAtlas):
+            sun_atlas.check_mesh(normalize(mesh))
+    images: list[GlbImage] = []
+    entry = _part(ExportedAsset(asset, items, sun_atlas, measured), "", images)
+    sidecar = {"morphkit_export": SIDECAR_VERSION, "kind": "dome", **entry}
+    geometry = None if items is None else _geometry({"part": items})[0]
     return write_bytes(path, glb_bytes(geometry, images, sidecar))
+
+
+def _geometry(parts: Mapping[str, list[Item]]) -> tuple[trimesh.Scene, dict[str, list[str]]]:
+    """The items of each named part as one scene (each item's mesh posed, in its colour, linear, as
+    ``COLOR_0`` where it has one, else in its own look; every node turned ``+y`` up), and the node
+    names of each part."""
+    scene = trimesh.Scene()
+    to_file = np.linalg.inv(Y_UP_TO_Z_UP)  # glTF is +y up
+    nodes: dict[str, list[str]] = {}
+    for name, items in parts.items():
+        for k, it in enumerate(items):
+            m = it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64))
+            if it.color is not None:
+                rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
+                m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
+            node = f"{name}.{k}"
+            scene.add_geometry(m, geom_name=node, node_name=node, transform=to_file)
+            nodes.setdefault(name, []).append(node)
+    return scene, nodes
+
+
+def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedAsset],
+                    instances: Instances) -> Path:
+    """A scene as one GLB: each asset's mesh once, drawn at its instances' poses by
+    ``EXT_mesh_gpu_instancing`` (each instance's ``translation (x, y, 0)``, turn about ``+z`` by its
+    yaw and uniform scale, in morphkit's world frame, before the node's turn ``+y`` up), its views
+    and sun atlas as images named ``ASSET/albedo``, ..., and the sidecar ``extras.morphkit`` of
+    kind ``"scene"``: ``assets`` (each asset's entry, as :func:`write_dome_glb`'s sidecar, with its
+    ``nodes`` and ``instances`` count) and ``frame``.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.glb`` file (written atomically).
+    assets : mapping of str to ExportedAsset
+        Each asset the instances name.
+    instances : Instances
+        Where they stand.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValidationError
+        An asset the instances name and ``assets`` lacks; an asset that is not a dome asset.
+    """
+    missing = [nm for nm in instances.names if nm not in assets]
+    if missing:
+        want = f"one per asset of the instances {list(instances.names)}"
+        raise ValidationError(expected_got("assets", want,
+                                           f"{missing} missing"))
+    images: list[GlbImage] = []
+    entries = {nm: _part(exp, f"{nm}/", images) for nm, exp in assets.items()}
+    scene, nodes = _geometry({nm: exp.items for nm, exp in assets.items() if exp.items})
+    placed: dict[str, NodeInstances] = {}
+    for a, nm in enumerate(instances.names):
+        idx = np.flatnonzero(instances.asset == a)
+        entries[nm]["instances"] = len(idx)
+        entries[nm]["nodes"] = nodes.get(nm, [])
+        if len(idx) == 0 or nm not in nodes:
+            continue
+        half = np.radians(instances.yaw_deg[idx]) / 2.0  # about +z: (0, 0, sin, cos)
+        q = np.stack([np.zeros_like(half), np.zeros_like(half), np.sin(half), np.cos(half)], axis=1)
+        t = np.column_stack([instances.xy[idx], np.zeros(len(idx))])
+        sc = np.repeat(instances.scale[idx][:, None], 3, axis=1)
+        for node in nodes[nm]:
+            placed[node] = NodeInstances(t, q, sc)
+    sidecar = {"morphkit_export": SIDECAR_VERSION, "kind": "scene", "assets": entries, "frame": _FRAME}
+    return write_bytes(path, glb_bytes(scene, images, sidecar, placed))
 
 
 def _bad(path: Path, what: str, expected: Any, got: Any) -> FileFormatError:
     return FileFormatError(expected_got(f"morphkit GLB {str(path)!r}: {what}", expected, got))
 
 
-def read_dome_glb(path: str | os.PathLike[str]) -> DomeGlb:
-    """The dome asset (and sun atlas) a GLB of :func:`write_dome_glb` holds.
+def read_dome_glb(path: str | os.PathLike[str], name: str | None = None) -> DomeGlb:
+    """The dome asset (and sun atlas) a GLB of :func:`write_dome_glb` holds, or one asset of a
+    scene's (:func:`write_scene_glb`).
 
     Parameters
     ----------
     path : path-like
         The ``.glb`` file.
+    name : str, optional
+        The asset of a scene's file (default: its only one).
 
     Returns
     -------
     DomeGlb
+        Its ``sidecar`` the asset's entry.
 
     Raises
     ------
     FileFormatError
-        Not a GLB; no morphkit sidecar, or one of another version or kind; images missing or of the
-        wrong shape or dtype; views that a dome asset file would not pass.
+        Not a GLB; no morphkit sidecar, or one of another version or kind; no such asset (or, without
+        ``name``, a scene of several); images missing or of the wrong shape or dtype; views that a
+        dome asset file would not pass.
     """
     p = Path(path)
     glb = read_glb(p)
     side = glb.sidecar
     if side is None:
         raise _bad(p, "extras", "a morphkit sidecar ('extras.morphkit': a file morphkit exported)", "none")
-    if side.get("morphkit_export") != SIDECAR_VERSION or side.get("kind") != "dome":
+    if side.get("morphkit_export") != SIDECAR_VERSION or side.get("kind") not in ("dome", "scene"):
         raise _bad(p, "sidecar", f"morphkit_export {SIDECAR_VERSION} of kind 'dome'",
                    f"{side.get('morphkit_export')!r} of kind {side.get('kind')!r}")
+    if side["kind"] == "scene":
+        entries = side.get("assets") if isinstance(side.get("assets"), dict) else {}
+        if name is None and len(entries) == 1:
+            name = next(iter(entries))
+        if name not in entries:
+            raise _bad(p, "assets", f"an asset named {name!r}" if name else "one asset (or a name)",
+                       sorted(entries))
+        side = entries[name]
     layout = TileLayout.from_json(side.get("layout"))
     names = side.get("images") if isinstance(side.get("images"), dict) else {}
 

@@ -3,7 +3,10 @@
 :func:`glb_bytes` has trimesh write the mesh (its geometry, materials and textures: trimesh's glTF
 exporter, ``trimesh.exchange.gltf.export_glb``) and adds, through the exporter's buffer hook, each
 image as a ``bufferView`` of the one binary buffer with an ``images`` entry (``name``,
-``mimeType``), and the sidecar as ``extras.morphkit`` of the glTF root. :func:`read_glb` reads
+``mimeType``), the instances of a node, drawn many times, as ``EXT_mesh_gpu_instancing``
+(:class:`NodeInstances`: one ``TRANSLATION``, ``ROTATION`` and ``SCALE`` accessor each, float32;
+each instance's transform is applied before the node's own), and the sidecar as
+``extras.morphkit`` of the glTF root. :func:`read_glb` reads
 a GLB's two chunks (glTF 2.0, section "GLB File Format Specification": a 12-byte header, a JSON
 chunk, a BIN chunk, each 4-byte aligned) and gives the images back by name.
 
@@ -16,7 +19,7 @@ from __future__ import annotations
 import json
 import os
 import struct
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,13 +28,16 @@ import numpy as np
 import trimesh
 from trimesh.exchange.gltf import export_glb
 
-from ..errors import FileFormatError, expected_got
+from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import decode_image, open_regular
+from ..validate import as_finite_array
 
-__all__ = ["GlbImage", "Glb", "glb_bytes", "read_glb", "SIDECAR_KEY"]
+__all__ = ["GlbImage", "NodeInstances", "Glb", "glb_bytes", "read_glb", "SIDECAR_KEY", "INSTANCING"]
 
 #: The key of morphkit's sidecar in the glTF root's ``extras``.
 SIDECAR_KEY = "morphkit"
+#: The glTF extension that draws one node's mesh at many transforms.
+INSTANCING = "EXT_mesh_gpu_instancing"
 _MAGIC, _JSON, _BIN = 0x46546C67, 0x4E4F534A, 0x004E4942
 
 
@@ -54,12 +60,53 @@ class GlbImage:
     mime_type: str = "image/png"
 
 
+@dataclass(frozen=True)
+class NodeInstances:
+    """The instances of one node (``EXT_mesh_gpu_instancing``): a transform each, in the node's
+    parent frame before the node's own transform.
+
+    Parameters
+    ----------
+    translation : (N, 3) float
+        Each instance's translation.
+    rotation : (N, 4) float
+        Each one's unit quaternion, ``(x, y, z, w)`` (glTF's order).
+    scale : (N, 3) float
+        Each one's scale.
+    """
+
+    translation: np.ndarray
+    rotation: np.ndarray
+    scale: np.ndarray
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The accessors' data by attribute, float32, checked.
+
+        Returns
+        -------
+        dict of str to (N, k) float32
+
+        Raises
+        ------
+        ValidationError
+            Shapes that do not agree, non-finite values, no instance.
+        """
+        out = {"TRANSLATION": as_finite_array(self.translation, "instance translations", shape=(None, 3)),
+               "ROTATION": as_finite_array(self.rotation, "instance rotations", shape=(None, 4)),
+               "SCALE": as_finite_array(self.scale, "instance scales", shape=(None, 3))}
+        n = {len(a) for a in out.values()}
+        if len(n) != 1 or 0 in n:
+            raise ValidationError(expected_got("instances", "as many translations, rotations, scales",
+                                               {k: len(a) for k, a in out.items()}))
+        return {k: np.ascontiguousarray(a, np.float32) for k, a in out.items()}
+
+
 def _pad4(data: bytes) -> bytes:
     return data + b"\0" * (-len(data) % 4)
 
 
 def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence[GlbImage],
-              sidecar: dict[str, Any]) -> bytes:
+              sidecar: dict[str, Any], instances: Mapping[str, NodeInstances] | None = None) -> bytes:
     """A GLB of ``geometry`` (none: a scene without meshes), ``images`` and ``sidecar``.
 
     Parameters
@@ -70,14 +117,23 @@ def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence
         Added after the geometry's own textures, in order.
     sidecar : dict
         JSON values, written as ``extras.morphkit``.
+    instances : mapping of str to NodeInstances, optional
+        The nodes (by name in ``geometry``'s graph) drawn at many transforms.
 
     Returns
     -------
     bytes
+
+    Raises
+    ------
+    ValidationError
+        Instances of a node the geometry does not have.
     """
     scene = trimesh.Scene() if geometry is None else geometry
     if isinstance(scene, trimesh.Trimesh):
         scene = scene.scene()
+
+    wanted = {name: inst.arrays() for name, inst in (instances or {}).items()}
 
     def add_images(buffer_items: Any, tree: dict[str, Any]) -> None:
         entries = tree.setdefault("images", [])
@@ -86,6 +142,23 @@ def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence
             buffer_items[key] = _pad4(img.data)
             index = list(buffer_items.keys()).index(key)
             entries.append({"name": img.name, "mimeType": img.mime_type, "bufferView": index})
+        nodes = {n.get("name"): n for n in tree.get("nodes", [])}
+        for name, arrays in wanted.items():
+            if name not in nodes:
+                raise ValidationError(expected_got("instanced node", f"one of {sorted(nodes)}", repr(name)))
+            attributes = {}
+            for attr, a in arrays.items():
+                key = f"morphkit-instances-{name}-{attr}"
+                buffer_items[key] = _pad4(a.tobytes())
+                view = list(buffer_items.keys()).index(key)
+                tree["accessors"][key] = {"bufferView": view, "componentType": 5126, "count": len(a),
+                                          "type": "VEC3" if a.shape[1] == 3 else "VEC4"}
+                attributes[attr] = list(tree["accessors"].keys()).index(key)
+            nodes[name].setdefault("extensions", {})[INSTANCING] = {"attributes": attributes}
+        if wanted:
+            used = tree.setdefault("extensionsUsed", [])
+            if INSTANCING not in used:
+                used.append(INSTANCING)
 
     def add_sidecar(tree: dict[str, Any]) -> None:
         tree["asset"]["generator"] = "morphkit"

@@ -1,4 +1,5 @@
-"""``morphkit export ASSET -o OUT.glb``: one asset baked (or read) and written as a GLB for engines.
+"""``morphkit export ASSET_OR_SCENE -o OUT.glb``: an asset or a scene baked (or read) and written as
+a GLB for engines.
 
 ASSET is what ``morphkit render`` takes as an asset source (:mod:`morphkit.programs.sources`): a
 sample mesh name or a mesh file is baked into a relightable dome asset
@@ -7,6 +8,12 @@ sample mesh name or a mesh file is baked into a relightable dome asset
 written with its mesh (:func:`~morphkit.export.assetglb.write_dome_glb`); a dome asset file
 (``.npz``) is written as it is, its views alone (no mesh, no sun atlas: said in the summary). The
 output follows the usual rule: an existing file is replaced only with ``overwrite``.
+
+A scene (:func:`export_scene`: a JSON scene file, or a glTF scene with ``scene=True``) is placed
+as ``morphkit render`` places it (:func:`~morphkit.programs.scenerender.prepare_scene`, its assets
+baked as relightable dome assets whatever views the scene asks for) and written as one GLB
+(:func:`~morphkit.export.assetglb.write_scene_glb`): each asset's mesh once, drawn at its
+instances by ``EXT_mesh_gpu_instancing``, with its views and its sun atlas.
 """
 
 from __future__ import annotations
@@ -16,14 +23,15 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import OutputExistsError, ValidationError, expected_got
-from ..export.assetglb import write_dome_glb
+from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..render import Renderer
 from ..sunlit.receivers import SCENE_ATLAS_SIZE, bake_scene_atlases
 from ..views.dome import ViewDome
+from .sceneshadows import SceneCasters
 from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
-__all__ = ["export_asset", "DEFAULT_EXPORT_SIZE"]
+__all__ = ["export_asset", "export_scene", "DEFAULT_EXPORT_SIZE"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
 DEFAULT_EXPORT_SIZE = 128
@@ -108,3 +116,64 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
     return {"path": str(p), "bytes": p.stat().st_size, "name": name, "views": asset.dome.views,
             "size": int(asset.cameras.shape[0]), "mesh": mesh is not None,
             "sun_atlas": None if atlas is None else atlas.size}
+
+
+def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
+                 sun_atlas_size: int = SCENE_ATLAS_SIZE, overwrite: bool = False) -> dict[str, Any]:
+    """Export a scene as one GLB (the module notes).
+
+    Parameters
+    ----------
+    path : path-like
+        A scene file (``.json``) or a glTF scene (``.glb``, ``.gltf``).
+    out : path-like
+        The ``.glb`` file.
+    sun_atlas_size : int, optional
+        Each asset's sun atlas side, texels (0: none).
+    overwrite : bool, optional
+        Replace an existing ``out``.
+
+    Returns
+    -------
+    dict
+        ``path``, ``bytes``, ``assets`` (per asset: ``instances``, ``views``, ``size``, ``mesh``).
+
+    Raises
+    ------
+    OutputExistsError
+        ``out`` exists and ``overwrite`` is not given.
+    ValidationError
+        An output path that is not a ``.glb`` file; a scene morphkit refuses.
+    """
+    import dataclasses
+
+    from ..scenes import load_scene
+    from .scenerender import prepare_scene
+
+    p = _output(out, overwrite)
+    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
+        raise ValidationError(
+            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
+        )
+    scene = dataclasses.replace(load_scene(path), views="dome")
+    head = "morphkit export: "
+    with Renderer() as r:
+        prep = prepare_scene(scene, r, None, head=head, command="export")
+        names = list(scene.names)
+        known = [nm for nm in names if nm in prep.resolved.items]
+        atlases: dict[str, Any] = {}
+        if sun_atlas_size and known:
+            casters = prep.casters or SceneCasters.of(
+                prep.resolved, known, [a.source for a in scene.assets if a.name in known], head, "export"
+            )
+            atlases = casters.atlases(r, sun_atlas_size)
+    assets = {nm: ExportedAsset(prep.scene.assets[nm], prep.resolved.items.get(nm), atlases.get(nm))
+              for nm in names}
+    p.parent.mkdir(parents=True, exist_ok=True)
+    write_scene_glb(p, assets, prep.scene.instances)
+    inst = prep.scene.instances
+    return {"path": str(p), "bytes": p.stat().st_size,
+            "assets": {nm: {"instances": int((inst.asset == inst.names.index(nm)).sum()) if nm in inst.names
+                            else 0, "views": a.asset.dome.views, "size": int(a.asset.cameras.shape[0]),
+                            "mesh": a.items is not None, "sun_atlas": a.sun_atlas is not None}
+                       for nm, a in assets.items()}}
