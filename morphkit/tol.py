@@ -640,3 +640,10 @@ PLAN_MAX_TABLE_HEIGHT_PX = 1024.0
 #: only 2048 (``MAX_TEXTURE_SIZE``), and 4096 is what the devices in use give at least; a larger
 #: atlas is refused (bake smaller views) rather than written for engines that cannot load it.
 EXPORT_MAX_TEXTURE_SIDE = 4096
+
+#: The largest side (pixels) of a plan's error-table cell frame (:func:`morphkit.plan.errortable.fit_frame`):
+#: a quad flaring wider than it (an upright ring quad close under a high eye) is cut at the frame's
+#: edges, as any frame a scene draws cuts it; 4096 holds every quad of the grid's tallest row,
+#: :data:`PLAN_MAX_TABLE_HEIGHT_PX`, at eye level (its diagonal, for quads up to 3.9 times as wide
+#: as high), and keeps a cell's frame (and its truth's render) at 16.8 M pixels.
+PLAN_MAX_TABLE_FRAME_PX = 4096

@@ -315,3 +315,15 @@ def test_the_relit_dome_morph_holds_over_elevation_where_the_card_falls(renderer
     # the dome's morph has views over the hemisphere: well above the card from 20 degrees up
     assert np.all(morph.psnr_db[:, 1:] > card.psnr_db[:, 1:] + 2.0)
     assert np.all(morph.iou[:, 1:] > card.iou[:, 1:] + 0.05)
+
+
+def test_a_cells_frame_never_outgrows_the_largest_a_table_draws():
+    # an upright ring quad close under a high eye flares at its top: its frame is capped, the quad cut
+    asset = FakeAsset("fake", views=8, levels=1)
+    scene = BillboardScene({"fake": asset}, Instances.from_records([("fake", 0.0, 0.0)]))
+    hp, el, focal = tol.PLAN_MAX_TABLE_HEIGHT_PX, 80.0, 500.0  # 1024 px, the focal of a 640 x 480 frame
+    cam = table_camera(scene.pivots[0], 0.4, hp, el, 30.0, frame_shape(hp, 0.75), focal)
+    side = fit_frame(scene, cam)
+    assert side == (tol.PLAN_MAX_TABLE_FRAME_PX, tol.PLAN_MAX_TABLE_FRAME_PX)
+    (pl,) = scene.plan(table_camera(scene.pivots[0], 0.4, hp, el, 30.0, side, focal)).placements
+    assert pl.height_px == pytest.approx(hp, rel=1e-9)  # drawn at its cell's height, cut by the frame

@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import tol
 from ..billboard import BAKE_AMBIENT, Backdrop, BillboardScene, Instances, MeshMode, bake_lights
 from ..billboard.compare import PSNR_CAP_DB, box_errors, mean_errors
 from ..billboard.frames.facing import AxialFacing, Facing, ViewpointFacing
@@ -382,7 +383,9 @@ def fit_frame(scene: BillboardScene, camera: CameraModel) -> tuple[int, int]:
     """The smallest square frame, centred where ``camera``'s is, holding the whole quad of the one
     billboard ``scene`` places for ``camera`` (a quad seen from above through its own facing can
     be wider than high: an upright quad close under a high eye flares at its top), one pixel
-    to spare, even sides, at most about 8 times ``camera``'s; ``camera.shape`` when it places none.
+    to spare, even sides, at most about 8 times ``camera``'s and at most
+    :data:`morphkit.tol.PLAN_MAX_TABLE_FRAME_PX` a side (a quad wider than that is cut at the
+    frame's edges); ``camera.shape`` when it places none.
 
     Parameters
     ----------
@@ -402,7 +405,7 @@ def fit_frame(scene: BillboardScene, camera: CameraModel) -> tuple[int, int]:
     c = placed[0].H_screen_unit @ np.array([[0.0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]).T
     xy = c[:2] / c[2]
     reach = min(float(np.abs(xy - np.array([[camera.cx], [camera.cy]])).max()), 4.0 * max(camera.shape))
-    side = 2 * int(math.ceil(reach)) + 4
+    side = min(2 * int(math.ceil(reach)) + 4, tol.PLAN_MAX_TABLE_FRAME_PX)
     return side, side
 
 

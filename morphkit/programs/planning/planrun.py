@@ -109,7 +109,8 @@ def _table_params(prep: PreparedScene, focal_px: float, light: Any) -> dict[str,
         None if light is None else [np.asarray(lt.direction, float).round(6).tolist() for lt in light.lights]
     )
     fog = prep.scene.backdrop.fog
-    return {"focal_px": float(focal_px), "sun": sun, "fog": fog is not None, "relit": prep.relit}
+    return {"focal_px": float(focal_px), "sun": sun, "fog": fog is not None, "relit": prep.relit,
+            "frame_px": tol.PLAN_MAX_TABLE_FRAME_PX}
 
 
 def _bracket(bins: Sequence[float], lo: float, hi: float) -> list[float]:
