@@ -352,23 +352,14 @@ def _cmd_render(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from .programs.export import export_asset, export_scene
+    from .programs.export import export_asset, export_line, export_scene
 
     if args.scene or Path(args.asset).suffix.lower() == ".json":
         got = export_scene(args.asset, args.out, sun_atlas_size=args.sun_atlas_size, overwrite=args.overwrite)
-        each = "; ".join(f"{nm}: {a['instances']} instances, {a['views']} views of {a['size']} px"
-                         + ("" if a["mesh"] else ", no mesh") + ("" if a["sun_atlas"] else ", no sun atlas")
-                         for nm, a in got["assets"].items())
-        print(f"morphkit export: wrote {got['path']} ({got['bytes']:,} bytes; the instances drawn by "
-              f"EXT_mesh_gpu_instancing): {each}")
-        return 0
-    got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
-                       up=args.up_axis, overwrite=args.overwrite)
-    parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)"]
-    parts.append("its mesh" if got["mesh"] else "no mesh (an asset file's views alone)")
-    parts.append(f"its sun atlas of {got['sun_atlas']} texels" if got["sun_atlas"] else "no sun atlas")
-    head = f"morphkit export: wrote {got['path']} ({got['bytes']:,} bytes): {got['name']}, "
-    print(head + ", ".join(parts))
+    else:
+        got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
+                           up=args.up_axis, overwrite=args.overwrite)
+    print(export_line(got))
     return 0
 
 

@@ -31,7 +31,7 @@ from ..views.dome import ViewDome
 from .sceneshadows import SceneCasters
 from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
-__all__ = ["export_asset", "export_scene", "DEFAULT_EXPORT_SIZE"]
+__all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
 DEFAULT_EXPORT_SIZE = 128
@@ -177,3 +177,27 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
                             else 0, "views": a.asset.dome.views, "size": int(a.asset.cameras.shape[0]),
                             "mesh": a.items is not None, "sun_atlas": a.sun_atlas is not None}
                        for nm, a in assets.items()}}
+
+
+def export_line(got: dict[str, Any]) -> str:
+    """The line ``morphkit export`` prints of what :func:`export_asset` or :func:`export_scene` wrote.
+
+    Parameters
+    ----------
+    got : dict
+        Their summary.
+
+    Returns
+    -------
+    str
+    """
+    head = f"morphkit export: wrote {got['path']} ({got['bytes']:,} bytes"
+    if "assets" in got:
+        each = "; ".join(f"{nm}: {a['instances']} instances, {a['views']} views of {a['size']} px"
+                         + ("" if a["mesh"] else ", no mesh") + ("" if a["sun_atlas"] else ", no sun atlas")
+                         for nm, a in got["assets"].items())
+        return f"{head}; the instances drawn by EXT_mesh_gpu_instancing): {each}"
+    parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)",
+             "its mesh" if got["mesh"] else "no mesh (an asset file's views alone)",
+             f"its sun atlas of {got['sun_atlas']} texels" if got["sun_atlas"] else "no sun atlas"]
+    return f"{head}): {got['name']}, " + ", ".join(parts)
