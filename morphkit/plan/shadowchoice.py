@@ -16,9 +16,11 @@ the same run. The figure is the shadow on the ground
 (:func:`~morphkit.sunlit.shadowing.darkened_iou`), which the instances cast and do not receive: it
 depends on how they are drawn only where they hide the ground, so the candidates' figures hold for
 whatever representation the billboards take (the held-out frames check it;
-:mod:`morphkit.programs.planning.shadowplanrun`). :func:`choose_shadow` takes the cheapest candidate whose
-measured figure, less :data:`morphkit.tol.PLAN_MARGIN_IOU`, meets the budget in its fraction of
-those frames, cheapest by the work model (:attr:`ShadowMeasure.work`: the atlases' texels squared
+:mod:`morphkit.programs.planning.shadowplanrun`). :func:`choose_shadow` takes the cheapest candidate
+whose measured figure, less its margin (:meth:`ShadowMeasure.margin`: how far a calibration frame
+fell below what the others predict of it, at least :data:`morphkit.tol.PLAN_MARGIN_IOU`: a sun that
+moves over the path moves the shadows between the frames measured), meets the budget in its fraction
+of those frames, cheapest by the work model (:attr:`ShadowMeasure.work`: the atlases' texels squared
 times the maps a sun takes), not by the times measured: the candidates' frames differ by less than a
 shared machine's noise on a few drawings (their times are reported, and the choice's above the
 scene's own added to the plan's predicted time), and a choice that flipped with the noise would not
@@ -169,23 +171,49 @@ class ShadowMeasure:
         """
         return reached_by(self.iou, budget.frames)
 
+    def margin(self, floor: float = tol.PLAN_MARGIN_IOU) -> float:
+        """How far the prediction of a frame may fall short: the most a calibration frame fell below
+        its prediction from the other calibration frames (:func:`interpolate_frames`, each left out
+        in turn), at least ``floor``.
+
+        Parameters
+        ----------
+        floor : float, optional
+            The least margin (IoU).
+
+        Returns
+        -------
+        float
+        """
+        worst = floor
+        for k, got in enumerate(self.iou):
+            if got is None:
+                continue
+            rest = [j for j in range(len(self.frames)) if j != k]
+            (pred,) = interpolate_frames([self.frames[j] for j in rest], [self.iou[j] for j in rest],
+                                         [self.frames[k]])
+            if pred is not None:
+                worst = max(worst, pred - float(got))
+        return worst
+
     def meets(self, budget: Budget, margin: float = tol.PLAN_MARGIN_IOU) -> bool:
-        """Whether the candidate's frames, less ``margin``, meet ``budget.shadow_iou`` in its
-        fraction of them (a budget without ``shadow-iou``, or frames with nothing shadowed, meet it).
+        """Whether the candidate's frames, less its margin (:meth:`margin`, at least ``margin``),
+        meet ``budget.shadow_iou`` in its fraction of them (a budget without ``shadow-iou``, or
+        frames with nothing shadowed, meet it).
 
         Parameters
         ----------
         budget : Budget
             The budget.
         margin : float, optional
-            IoU taken off each frame's figure.
+            The least IoU taken off each frame's figure.
 
         Returns
         -------
         bool
         """
         got = self.reached(budget)
-        return budget.shadow_iou is None or got is None or got - margin >= budget.shadow_iou
+        return budget.shadow_iou is None or got is None or got - self.margin(margin) >= budget.shadow_iou
 
 
 def choose_shadow(
@@ -227,10 +255,10 @@ def choose_shadow(
         if best.shadows.sun_atlas_size == finest
         else "the sun's softness, not the atlases' texels (finer atlases reach less)"
     )
-    got = best.reached(budget)
+    got, m = best.reached(budget), best.margin(margin)
     raise BudgetError(
-        f"no shadow meets the budget: the best reachable is shadow-iou {got - margin:.3g} (with the "
-        f"margin of {margin:g}) in {budget.frames:.0%} of the {len(best.frames)} calibration frames, "
+        f"no shadow meets the budget: the best reachable is shadow-iou {got - m:.3g} (with its margin "
+        f"of {m:.3g}) in {budget.frames:.0%} of the {len(best.frames)} calibration frames, "
         f"against {budget.shadow_iou:g}, with {best.name}; bounded by {bound}"
     )
 

@@ -208,10 +208,11 @@ def darkened(plain: np.ndarray, shadowed: np.ndarray, levels: int = DARK_LEVELS)
 def darkened_iou(plain: Frame, shadowed: Frame, truth_plain: Frame, truth: Frame) -> float | None:
     """A frame's shadow on the ground against the truth's: the IoU of the pixels each frame's shadows
     darken (:func:`darkened`, each frame against itself drawn without shadows), over the pixels both
-    frames show as ground (layer alpha at most 0.5 in both). Where one draws an object and the other
-    ground the silhouettes differ, the billboards' error; and the shadows on the instances themselves
-    are part of what their billboards look like, measured with them: what is left is the shadows the
-    instances cast.
+    frames show as bare ground (layer alpha 0 in both: no object's coverage, not even a
+    silhouette's soft edge, whose colour changes with the object's own shading). Where one draws
+    an object and the other ground the silhouettes differ, the billboards' error; and the shadows
+    on the instances themselves are part of what their billboards look like, measured with them:
+    what is left is the shadows the instances cast.
 
     Parameters
     ----------
@@ -243,7 +244,7 @@ def darkened_iou(plain: Frame, shadowed: Frame, truth_plain: Frame, truth: Frame
     True
     """
     a, b = darkened(plain.rgb, shadowed.rgb), darkened(truth_plain.rgb, truth.rgb)
-    ground = (shadowed.layer[..., 3] <= 0.5) & (truth.layer[..., 3] <= 0.5)
+    ground = (shadowed.layer[..., 3] == 0.0) & (truth.layer[..., 3] == 0.0)
     union = int(np.count_nonzero((a | b) & ground))
     if union == 0:
         return None

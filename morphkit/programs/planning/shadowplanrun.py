@@ -155,7 +155,8 @@ def shadow_report(measures: Sequence[ShadowMeasure], chosen: ShadowMeasure, budg
     dict
         ``soft``, ``sun_atlas_size`` and ``name`` of the choice, ``scene`` (the scene's own shadow's
         name), ``frames`` (the calibration frames) and ``candidates``: per name the frames'
-        ``shadow-iou`` (``median``, ``at_fraction``, ``per_frame``), the median ``ms`` and whether it
+        ``shadow-iou`` (``median``, ``at_fraction``, ``per_frame``), its ``margin``
+        (:meth:`~morphkit.plan.shadowchoice.ShadowMeasure.margin`), the median ``ms`` and whether it
         ``meets`` the budget by the margin.
     """
     out: dict[str, Any] = {
@@ -175,6 +176,7 @@ def shadow_report(measures: Sequence[ShadowMeasure], chosen: ShadowMeasure, budg
                 "at_fraction": m.reached(budget),
                 "per_frame": list(m.iou),
             },
+            "margin": m.margin(),
             "ms": m.ms,
             "meets": m.meets(budget),
         }
