@@ -98,13 +98,7 @@ def test_a_mesh_in_front_hides_the_billboard_behind_and_a_billboard_in_front_cov
     got = _draw(prep, cam, choice)
     alone = prep.scene.render(cam, banded_mode(BandChoice(), prep.relit, prep.base, None, None))
     (pl,) = [p for p in prep.scene.plan(cam).placements if p.asset == "person"]
-    own = new_layer(cam.shape)
-    if prep.relit:
-        LitMode(BandedSurface(BandChoice()), prep.base).draw_placements(
-            prep.scene, cam, [pl], own, new_depth(cam.shape)
-        )
-    else:
-        BandedRing(BandChoice()).draw_placements(prep.scene, [pl], own)
+    own = _alone(prep, cam, pl)
     tree = layer(prep.scene, cam, idx_back)[0][:, :, 3] > 0
     over = (own[:, :, 3] > 0.999) & tree
     assert over.sum() > 0  # the person stands in front of the tree on screen
@@ -112,6 +106,18 @@ def test_a_mesh_in_front_hides_the_billboard_behind_and_a_billboard_in_front_cov
     np.testing.assert_allclose(got.rgb[over].astype(int), alone.rgb[over].astype(int), atol=1)
     # and the mesh is not drawn over it: the tree's mesh colour differs there
     assert not np.array_equal(got.rgb[over], only_mesh[over])
+
+
+def _alone(prep, cam, pl):
+    """The layer of one placement drawn alone by its billboard mode (the view morph)."""
+    own = new_layer(cam.shape)
+    if prep.relit:
+        LitMode(BandedSurface(BandChoice()), prep.base).draw_placements(
+            prep.scene, cam, [pl], own, new_depth(cam.shape)
+        )
+    else:
+        BandedRing(BandChoice()).draw_placements(prep.scene, [pl], own)
+    return own
 
 
 def _bands(prep, cam, asset, rep):
@@ -168,14 +174,7 @@ def test_a_culled_band_is_left_out_of_the_frame_and_its_placements_still_counted
     person = BandChoice(default="morph", choices=_bands(prep, cam, "tree", CULL))
     got = _draw(prep, cam, person)
     (pl,) = [p for p in placements if p.asset == "person"]
-    own = new_layer(cam.shape)
-    if prep.relit:
-        LitMode(BandedSurface(BandChoice()), prep.base).draw_placements(
-            prep.scene, cam, [pl], own, new_depth(cam.shape)
-        )
-    else:
-        BandedRing(BandChoice()).draw_placements(prep.scene, [pl], own)
-    np.testing.assert_allclose(got.layer, own, atol=1e-6)
+    np.testing.assert_allclose(got.layer, _alone(prep, cam, pl), atol=1e-6)
     meshes, billboards = split_placements(person, placements)
     assert meshes == [] and [p.asset for p in billboards] == ["person"]
     # a culled band needs no meshes; a billboard mode refuses it
