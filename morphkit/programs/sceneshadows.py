@@ -48,7 +48,7 @@ class SceneCasters:
     specs: list[str]
     head: str = ""
     cache: Path | None = None
-    _atlases: dict[int, dict[str, Any]] = field(default_factory=dict, repr=False)
+    _atlases: dict[int, dict[str, Any]] = field(default_factory=dict, repr=False, init=False)
 
     @classmethod
     def of(cls, res: ResolvedAssets, names: Sequence[str], specs: Sequence[str], head: str,

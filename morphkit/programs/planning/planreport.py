@@ -22,7 +22,18 @@ __all__ = ["prediction_gap", "budget_figures", "shown_budget", "plot_plan"]
 def prediction_gap(
     predicted: Sequence[Mapping[str, float | None]], measured: Sequence[Mapping[str, float | None]]
 ) -> dict[str, float | None]:
-    """The median absolute gap between predicted and measured figures, per key."""
+    """The median absolute gap between predicted and measured figures, per key.
+
+    Parameters
+    ----------
+    predicted, measured : sequence of mapping
+        Each frame's figures (keys of :data:`~morphkit.plan.budget.ERROR_KEYS`; None: nothing).
+
+    Returns
+    -------
+    dict of str to float or None
+        Per key measured (``shadow-iou`` only where the frames have it); None where no frame has both.
+    """
     out: dict[str, float | None] = {}
     for key in ERROR_KEYS:
         g = [
@@ -37,7 +48,20 @@ def prediction_gap(
 
 
 def budget_figures(budget: Budget, frames: Sequence[Mapping[str, float | None]]) -> dict[str, Any]:
-    """Per budget key: the median over the frames and the figure the budget's fraction reaches."""
+    """Per budget key: the median over the frames and the figure the budget's fraction reaches.
+
+    Parameters
+    ----------
+    budget : Budget
+        Its error keys and fraction.
+    frames : sequence of mapping
+        Each frame's figures.
+
+    Returns
+    -------
+    dict
+        Per key ``{"median", "at_fraction"}`` (None where no frame has one).
+    """
     at = reached(budget, frames)
     out: dict[str, Any] = {}
     for key, _ in budget.error_keys():
@@ -48,7 +72,17 @@ def budget_figures(budget: Budget, frames: Sequence[Mapping[str, float | None]])
 
 def shown_budget(budget: Budget) -> Budget:
     """The budget whose keys a plan's figures are reported for: ``budget``, or, for a budget of time
-    alone, both billboard keys (their values unused) at its fraction of frames."""
+    alone, both billboard keys (their values unused) at its fraction of frames.
+
+    Parameters
+    ----------
+    budget : Budget
+        The plan's budget.
+
+    Returns
+    -------
+    Budget
+    """
     if budget.error_keys():
         return budget
     return Budget(billboard_psnr=1.0, billboard_iou=1.0, frames=budget.frames)
@@ -57,7 +91,19 @@ def shown_budget(budget: Budget) -> Budget:
 def plot_plan(path: Path, budget: Budget, shown: Budget, rows: Mapping[str, Mapping[str, Any]]) -> None:
     """``plan.png``: per key of ``shown``, each configuration's figure (reached by the budget's fraction
     of the held-out frames) against its median frame time; predicted beside measured; ``budget``'s
-    values drawn as lines."""
+    values drawn as lines.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The PNG (written atomically).
+    budget : Budget
+        The plan's budget (its lines).
+    shown : Budget
+        The keys drawn (:func:`shown_budget`).
+    rows : mapping of str to mapping
+        Each configuration's ``time_ms``, ``measured`` and ``predicted`` figures.
+    """
     import io
 
     import matplotlib

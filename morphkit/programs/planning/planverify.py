@@ -20,7 +20,17 @@ __all__ = ["frame_figures", "verify_frames"]
 
 def frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
     """A frame's ``billboard-psnr`` and ``billboard-iou`` against the truth's frame (None: no
-    billboard drawn): :func:`~morphkit.billboard.compare.frame_errors` over the billboards' boxes."""
+    billboard drawn): :func:`~morphkit.billboard.compare.frame_errors` over the billboards' boxes.
+
+    Parameters
+    ----------
+    frame, truth : Frame
+        The frame and the truth's.
+
+    Returns
+    -------
+    dict of str to float or None
+    """
     m = frame_errors(frame, truth)
     if not m["n"]:
         return {"billboard-psnr": None, "billboard-iou": None}
@@ -45,7 +55,32 @@ def verify_frames(
     the same without shadows (one object for modes that share it: drawn once a frame, not timed),
     and each frame's ``shadow-iou`` measured too (:func:`~morphkit.sunlit.shadowing.darkened_iou`
     against the truth drawn without and with its ray cast; the truth's plain frame kept in ``truths``
-    under ``("plain", index)``)."""
+    under ``("plain", index)``).
+
+    Parameters
+    ----------
+    prep : PreparedScene
+        The scene, its truth and its lights.
+    cameras : sequence of CameraModel
+        The path's frames.
+    picks : sequence of int
+        The frames drawn.
+    modes : mapping of str to FrameMode
+        The configurations.
+    scene : BillboardScene, optional
+        The instances drawn.
+    boxes : bool, optional
+        Also each billboard's own figures.
+    truths : dict, optional
+        The truth's frames, drawn once.
+    plain : mapping of str to FrameMode, optional
+        Each mode's twin without shadows.
+
+    Returns
+    -------
+    dict of str to dict
+        Per mode ``{"errors", "time_ms", "boxes"}``, a list each, one entry a frame.
+    """
     scene = prep.scene if scene is None else scene
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
     order = list(modes)
