@@ -160,3 +160,22 @@ def test_a_plans_shadow_round_trips_through_the_plan_file_and_a_bad_one_is_refus
     (tmp_path / "bad.json").write_text(json.dumps(obj))
     with pytest.raises(FileFormatError, match="shadow must be an object of soft and sun_atlas_size"):
         read_plan(tmp_path / "bad.json")
+
+
+def test_render_refuses_a_plans_shadow_for_a_scene_without_shadows_before_any_work(tmp_path, capsys):
+    from morphkit.cli import main
+
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps({
+        "morphkit_scene": 1, "assets": [{"name": "tree", "source": "tree"}],
+        "instances": {"listed": [{"asset": "tree", "x": 0.0, "y": 0.0}]}, "camera": {"path": "orbit"},
+        "sun": {"azimuth_deg": 120.0, "elevation_deg": 40.0}, "views": "dome", "frames": 2,
+    }))
+    plan = ScenePlan(Budget(shadow_iou=0.8), BandChoice(), True, ("tree",),
+                     shadows=SceneShadows(sun_atlas_size=64)).save(tmp_path / "plan.json")
+    out = tmp_path / "out"
+    assert main(["render", str(scene), "--plan", str(plan), "-o", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    want = "plan: expected a plan without a shadow for a scene without shadows, got one with"
+    assert err == [f"morphkit: error: {want}"]
+    assert not out.exists()
