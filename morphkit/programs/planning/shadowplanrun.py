@@ -1,4 +1,4 @@
-"""A plan's shadow measured and chosen (``morphkit plan ... --budget shadow-iou=V``).
+"""A plan's shadow measured and chosen (``morphkit plan SCENE --budget shadow-iou=V``).
 
 Every shadow candidate of the scene (:func:`~morphkit.plan.shadowchoice.shadow_candidates`) is drawn
 on the plan's calibration frames with the real meshes
