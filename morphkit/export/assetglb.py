@@ -140,13 +140,18 @@ class ExportedAsset:
     measured: dict[str, Any] | None = None
 
 
-def _part(exp: ExportedAsset, prefix: str, images: list[GlbImage]) -> dict[str, Any]:
-    """One asset's images (appended to ``images``, named after ``prefix``) and sidecar entry."""
-    asset, sun_atlas = exp.asset, exp.sun_atlas
+def _dome(asset: Any) -> DomeAsset:
+    """``asset``, refused unless it is a dome asset."""
     if not isinstance(asset, DomeAsset):
         raise ValidationError(
             expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
         )
+    return asset
+
+
+def _part(exp: ExportedAsset, prefix: str, images: list[GlbImage]) -> dict[str, Any]:
+    """One asset's images (appended to ``images``, named after ``prefix``) and sidecar entry."""
+    asset, sun_atlas = _dome(exp.asset), exp.sun_atlas
     if sun_atlas is not None and not isinstance(sun_atlas, SunAtlas):
         raise ValidationError(expected_got("sun_atlas", "a SunAtlas", type(sun_atlas).__name__))
     rec = asset.record()
@@ -218,11 +223,7 @@ def write_dome_glb(
     """
     items = None
     if mesh is not None:
-        if not isinstance(asset, DomeAsset):
-            raise ValidationError(
-                expected_got("asset", "a DomeAsset (bake_dome, DomeAsset.load)", type(asset).__name__)
-            )
-        items = asset.items(mesh)  # the mesh it was baked from, or refused naming both hashes
+        items = _dome(asset).items(mesh)  # the mesh it was baked from, or refused naming both hashes
         if isinstance(sun_atlas, SunAtlas):
             sun_atlas.check_mesh(normalize(mesh))
     images: list[GlbImage] = []
