@@ -19,19 +19,27 @@ instances by ``EXT_mesh_gpu_instancing``, with its views and its sun atlas.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import trimesh
+
+from ..billboard.domeasset import DomeAsset
+from ..billboard.frames.instances import Instances
 from ..errors import OutputExistsError, ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..render import Renderer
 from ..sunlit.receivers import SCENE_ATLAS_SIZE, bake_scene_atlases
+from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
 from .sceneshadows import SceneCasters
 from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
-__all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE"]
+__all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE", "AssetParts",
+           "bake_asset_parts",
+           "scene_parts"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
 DEFAULT_EXPORT_SIZE = 128
@@ -51,6 +59,60 @@ def _output(out: str | os.PathLike[str], overwrite: bool) -> Path:
         raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
                                              f"the existing file {str(p)!r}"))
     return p
+
+
+@dataclass(frozen=True)
+class AssetParts:
+    """One asset as ``export`` and ``preview`` take it: its name, dome asset, normalised mesh
+    (None for an asset file) and sun atlas (None: not baked)."""
+
+    name: str
+    asset: DomeAsset
+    mesh: trimesh.Trimesh | None
+    sun_atlas: SunAtlas | None
+
+
+def bake_asset_parts(spec: str, *, size: int = DEFAULT_EXPORT_SIZE, sun_atlas_size: int = SCENE_ATLAS_SIZE,
+                     up: str = "auto") -> AssetParts:
+    """Bake (or read) one asset for export (the module notes).
+
+    Parameters
+    ----------
+    spec : str
+        A sample mesh name, a mesh file or a dome asset file.
+    size : int, optional
+        The dome views' side when baking, pixels.
+    sun_atlas_size : int, optional
+        The sun atlas's side when baking, texels (0: no sun atlas).
+    up : {"auto", "y", "z"}, optional
+        A mesh file's up axis.
+
+    Returns
+    -------
+    AssetParts
+
+    Raises
+    ------
+    ValidationError
+        An unknown asset; a bad ``sun_atlas_size``.
+    """
+    check_specs([spec])
+    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
+        raise ValidationError(
+            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
+        )
+    baked = spec in BILLBOARD_MESHES or Path(spec).suffix.lower() in MESH_SUFFIXES
+    with Renderer() as r:
+        res = resolve_assets([spec], r, size=size, dome=ViewDome(), up=up)
+        (name,) = res.assets
+        asset = res.assets[name]
+        mesh = None
+        if baked:
+            mesh = normalize(sample_mesh(spec) if spec in BILLBOARD_MESHES else load_mesh(spec, up=up))
+        atlas = None
+        if baked and sun_atlas_size and mesh is not None:
+            atlas = bake_scene_atlases({name: mesh}, r, size=sun_atlas_size)[name]
+    return AssetParts(name, asset, mesh, atlas)
 
 
 def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_EXPORT_SIZE,
@@ -95,22 +157,8 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
         print(export_asset("tree", "tree.glb"))
     """
     p = _output(out, overwrite)
-    check_specs([spec])
-    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
-        raise ValidationError(
-            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
-        )
-    baked = spec in BILLBOARD_MESHES or Path(spec).suffix.lower() in MESH_SUFFIXES
-    with Renderer() as r:
-        res = resolve_assets([spec], r, size=size, dome=ViewDome(), up=up)
-        (name,) = res.assets
-        asset = res.assets[name]
-        mesh = None
-        if baked:
-            mesh = normalize(sample_mesh(spec) if spec in BILLBOARD_MESHES else load_mesh(spec, up=up))
-        atlas = None
-        if baked and sun_atlas_size:
-            atlas = bake_scene_atlases({name: mesh}, r, size=sun_atlas_size)[name]
+    got = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
+    name, asset, mesh, atlas = got.name, got.asset, got.mesh, got.sun_atlas
     p.parent.mkdir(parents=True, exist_ok=True)
     write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas)
     return {"path": str(p), "bytes": p.stat().st_size, "name": name, "views": asset.dome.views,
@@ -145,38 +193,67 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
     ValidationError
         An output path that is not a ``.glb`` file; a scene morphkit refuses.
     """
-    import dataclasses
-
-    from ..scenes import load_scene
-    from .scenerender import prepare_scene
-
     p = _output(out, overwrite)
-    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
-        raise ValidationError(
-            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
-        )
-    scene = dataclasses.replace(load_scene(path), views="dome")
-    head = "morphkit export: "
-    with Renderer() as r:
-        prep = prepare_scene(scene, r, None, head=head, command="export")
-        names = list(scene.names)
-        known = [nm for nm in names if nm in prep.resolved.items]
-        atlases: dict[str, Any] = {}
-        if sun_atlas_size and known:
-            casters = prep.casters or SceneCasters.of(
-                prep.resolved, known, [a.source for a in scene.assets if a.name in known], head, "export"
-            )
-            atlases = casters.atlases(r, sun_atlas_size)
-    assets = {nm: ExportedAsset(prep.scene.assets[nm], prep.resolved.items.get(nm), atlases.get(nm))
-              for nm in names}
+    assets, inst = scene_parts(path, sun_atlas_size=sun_atlas_size, command="export")
     p.parent.mkdir(parents=True, exist_ok=True)
-    write_scene_glb(p, assets, prep.scene.instances)
-    inst = prep.scene.instances
+    write_scene_glb(p, assets, inst)
     return {"path": str(p), "bytes": p.stat().st_size,
             "assets": {nm: {"instances": int((inst.asset == inst.names.index(nm)).sum()) if nm in inst.names
                             else 0, "views": a.asset.dome.views, "size": int(a.asset.cameras.shape[0]),
                             "mesh": a.items is not None, "sun_atlas": a.sun_atlas is not None}
                        for nm, a in assets.items()}}
+
+
+def scene_parts(path: str | os.PathLike[str], *, sun_atlas_size: int = SCENE_ATLAS_SIZE,
+                command: str = "export") -> tuple[dict[str, ExportedAsset], Instances]:
+    """A scene's assets, baked as relightable dome assets with their sun atlases, and its
+    instances, placed as ``morphkit render`` places them (the module notes).
+
+    Parameters
+    ----------
+    path : path-like
+        A scene file (``.json``) or a glTF scene (``.glb``, ``.gltf``).
+    sun_atlas_size : int, optional
+        Each asset's sun atlas side, texels (0: none).
+    command : str, optional
+        The command named in the lines said on stdout.
+
+    Returns
+    -------
+    assets : dict of str to ExportedAsset
+        Per asset name.
+    instances : Instances
+        The scene's instances.
+
+    Raises
+    ------
+    ValidationError
+        A bad ``sun_atlas_size``; a scene morphkit refuses.
+    """
+    import dataclasses
+
+    from ..scenes import load_scene
+    from .scenerender import prepare_scene
+
+    if not isinstance(sun_atlas_size, int) or sun_atlas_size < 0:
+        raise ValidationError(
+            expected_got("--sun-atlas-size", "an int >= 0 (0: none)", repr(sun_atlas_size))
+        )
+    scene = dataclasses.replace(load_scene(path), views="dome")
+    head = f"morphkit {command}: "
+    with Renderer() as r:
+        prep = prepare_scene(scene, r, None, head=head, command=command)
+        names = list(scene.names)
+        known = [nm for nm in names if nm in prep.resolved.items]
+        atlases: dict[str, Any] = {}
+        if sun_atlas_size and known:
+            casters = prep.casters or SceneCasters.of(
+                prep.resolved, known, [a.source for a in scene.assets if a.name in known], head, command
+            )
+            atlases = casters.atlases(r, sun_atlas_size)
+    assets = {nm: ExportedAsset(prep.scene.assets[nm], prep.resolved.items.get(nm), atlases.get(nm))
+              for nm in names}
+    return assets, prep.scene.instances
 
 
 def export_line(got: dict[str, Any]) -> str:
