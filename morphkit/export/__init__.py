@@ -5,11 +5,18 @@
 * :mod:`.glb` -- the binary glTF container: a mesh (by trimesh), images and a sidecar in
   ``extras.morphkit``, written and read back;
 * :mod:`.assetglb` -- a relightable dome asset (its views' albedo, normals and depth) with its mesh
-  and its sun atlas as one GLB, and read back bit for bit.
+  and its sun atlas as one GLB, and read back bit for bit;
+* :mod:`.preview` -- what a preview page shows (its camera, sun and data); :mod:`.page` -- the page
+  itself, one HTML file with three.js inlined; :mod:`.previewref` -- the same view drawn by morphkit
+  (and of the real mesh), which the page is held to; :mod:`.browser` -- a page drawn in headless
+  Chromium.
 
-The command is ``morphkit export`` (:mod:`morphkit.programs.export`).
+The commands are ``morphkit export`` (:mod:`morphkit.programs.export`) and ``morphkit preview``
+(:mod:`morphkit.programs.preview`).
 """
 
 from .assetglb import DomeGlb, read_dome_glb, write_dome_glb
+from .preview import PreviewView, asset_entry, preview_data, write_preview
 
-__all__ = ["DomeGlb", "read_dome_glb", "write_dome_glb"]
+__all__ = ["DomeGlb", "read_dome_glb", "write_dome_glb", "PreviewView", "asset_entry", "preview_data",
+           "write_preview"]

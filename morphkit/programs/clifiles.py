@@ -1,7 +1,8 @@
-"""The commands that write one file for other programs: ``morphkit export`` (a GLB).
+"""The commands that write one file for other programs: ``morphkit export`` (a GLB) and ``morphkit preview``
+(a page).
 
 :func:`add_file_commands` adds their parsers to the command line's (:mod:`morphkit.cli`); each
-command's work is its program's (:mod:`.export`).
+command's work is its program's (:mod:`.export`, :mod:`.preview`).
 """
 
 from __future__ import annotations
@@ -26,8 +27,35 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 
+def _numbers(text: str | None, n: int, option: str) -> tuple[float, ...] | None:
+    from ..errors import ValidationError, expected_got
+
+    if text is None:
+        return None
+    try:
+        got = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        got = ()
+    if len(got) != n:
+        raise ValidationError(expected_got(option, f"{n} numbers separated by commas", repr(text)))
+    return got
+
+
+def _cmd_preview(args: argparse.Namespace) -> int:
+    from .cliargs import parse_size
+    from .preview import preview_line, preview_page
+
+    h, w = parse_size(args.size_px)
+    got = preview_page(args.asset, args.out, camera=_numbers(args.camera, 3, "--camera"),
+                       sun=_numbers(args.sun, 2, "--sun"), image=(w, h), size=args.size,
+                       sun_atlas_size=args.sun_atlas_size, up=args.up_axis, scene=args.scene,
+                       overwrite=args.overwrite)
+    print(preview_line(got))
+    return 0
+
+
 def add_file_commands(sub: Any) -> None:
-    """Add ``export`` to the command line's subparsers.
+    """Add ``export`` and ``preview`` to the command line's subparsers.
 
     Parameters
     ----------
@@ -56,3 +84,35 @@ def add_file_commands(sub: Any) -> None:
     ex.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
     ex.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
     ex.set_defaults(func=_cmd_export)
+
+    pv = sub.add_parser(
+        "preview",
+        help="write one self-contained HTML page that morphs the billboards in the browser (WebGL 2)",
+        description="Bake (or read) an asset or a scene and write one HTML file, three.js inlined and "
+        "nothing loaded from the network: an orbit camera (drag, wheel), each billboard drawn by a "
+        "GLSL shader doing morphkit's per-pixel depth morph of its three nearest views, a sun "
+        "slider moving the sun and the instances' shadows from their sun atlases, and on-screen "
+        "figures. The URL fragment sets the view: #camera=AZ,EL,DIST&fov=DEG&sun=AZ,EL&size=WxH. "
+        "A GLB from another tool is drawn as meshes.",
+    )
+    pv.add_argument("asset", metavar="ASSET_OR_SCENE",
+                    help="a sample mesh name, a mesh file, a dome asset file (.npz), a GLB morphkit "
+                    "exported or any other GLB (drawn as meshes); or a scene file (.json), or with --scene "
+                    "a glTF scene")
+    pv.add_argument("--scene", action="store_true",
+                    help="read a .glb/.gltf as a scene (its meshes, nodes, light), not as one asset")
+    pv.add_argument("-o", "--out", required=True, help="the .html file")
+    pv.add_argument("--camera", metavar="AZ,EL,DIST", default=None,
+                    help="the first camera: azimuth and elevation (degrees) and distance from the target "
+                    "(default: fitted to the scene)")
+    pv.add_argument("--sun", metavar="AZ,EL", default=None,
+                    help="the first sun: azimuth and elevation, degrees (default: 135,45)")
+    pv.add_argument("--size-px", default="640x480", metavar="WxH",
+                    help="the canvas when the URL does not set it (default: the window)")
+    pv.add_argument("--size", type=int, default=128,
+                    help="the dome views' side when baking (default: %(default)s)")
+    pv.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
+                    help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
+    pv.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
+    pv.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
+    pv.set_defaults(func=_cmd_preview)

@@ -1,0 +1,373 @@
+"""What a preview page shows: its camera and sun, and the data it draws them from.
+
+A :class:`PreviewView` is the page's camera and sun: an orbit camera about a target (azimuth,
+elevation, distance, vertical field of view) and a sun (azimuth, elevation), as the page's URL
+fragment says them (:meth:`PreviewView.fragment`, e.g.
+``#camera=30,25,3.5&fov=40&sun=120,45&size=480x360``). :meth:`PreviewView.camera` is the camera
+morphkit renders the same view with (:mod:`morphkit.export.previewref`).
+
+:func:`asset_entry` packs one dome asset, its sun atlas and its instances as the page reads them:
+the views as stored (straight sRGB albedo and coverage, ``round(127 n) + 128`` normals, float16
+depth offsets from the views' distance, ``+inf`` written as float16's largest value 65504), each
+view's camera (object frame), the dome's triangles with their barycentric inverses, and
+``(x, y, z, yaw_deg, scale)`` per instance. :func:`preview_data` is the page's whole data,
+:func:`write_preview` writes the page (:func:`morphkit.export.page.page_html`) atomically.
+
+Convention
+----------
+The world is ``+z`` up, cameras are OpenCV's (:mod:`morphkit.conventions`). Directions
+``d(a, e)`` are :func:`morphkit.views.domecameras.direction`'s: from the target towards the eye
+or the sun. The page draws the ground plane ``z = 0`` in :data:`GROUND_ALBEDO` (linear) under the
+lighting ``Lighting(BAKE_AMBIENT, (sun(a, e),))`` and the sky in :data:`SKY` (encoded).
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import tol
+from ..billboard.baking.bakelook import BAKE_AMBIENT
+from ..billboard.domeasset import DomeAsset
+from ..camera import CameraModel, look_at
+from ..errors import OutputExistsError, ValidationError, expected_got
+from ..files.fileio import write_text
+from ..sunlit.sunatlas import SunAtlas
+from ..sunpath import SUN_INTENSITY
+from ..views.depthmorph import DEPTH_AGREE_STEPS, REFINE_STEPS, THICKNESS_STEPS
+from ..views.dome import ViewDome
+from ..views.domecameras import direction
+from .page import page_html
+
+__all__ = ["PreviewView", "asset_entry", "preview_data", "write_preview", "GROUND_ALBEDO", "SKY",
+           "PREVIEW_VERSION", "SHADOW_MAX_TEXELS",
+           "check_preview_output"]
+
+#: The page data's version (``morphkit_preview``).
+PREVIEW_VERSION = 1
+#: The ground's linear albedo.
+GROUND_ALBEDO = (0.30, 0.30, 0.24)
+#: The sky's encoded colour (where a ray misses the ground).
+SKY = (0.62, 0.72, 0.84)
+#: The largest side of the page's sun shadow map, texels (WebGL's textures are at least 4096).
+SHADOW_MAX_TEXELS = 2048
+#: float16's largest finite value: the page's "empty" depth texel.
+_EMPTY_HALF = np.float16(65504.0)
+
+
+@dataclass(frozen=True)
+class PreviewView:
+    """The page's camera and sun (module docstring).
+
+    Parameters
+    ----------
+    azimuth_deg, elevation_deg : float
+        The camera's direction from the target, degrees (elevation in ``[-89, 89]``).
+    distance : float
+        From the target, scene units (> 0).
+    fov_deg : float
+        Vertical field of view, degrees in ``(0, 170)``.
+    sun_azimuth_deg, sun_elevation_deg : float
+        Towards the sun, degrees (elevation ``<= 0``: no sun, ambient light only).
+    width, height : int
+        The image, pixels.
+    """
+
+    azimuth_deg: float = 30.0
+    elevation_deg: float = 20.0
+    distance: float = 3.0
+    fov_deg: float = 40.0
+    sun_azimuth_deg: float = 135.0
+    sun_elevation_deg: float = 45.0
+    width: int = 640
+    height: int = 480
+
+    def __post_init__(self) -> None:
+        for name in ("azimuth_deg", "elevation_deg", "distance", "fov_deg", "sun_azimuth_deg",
+                     "sun_elevation_deg"):
+            v = getattr(self, name)
+            if not isinstance(v, int | float) or not math.isfinite(v):
+                raise ValidationError(expected_got(name, "a finite number", repr(v)))
+        if not -89.0 <= self.elevation_deg <= 89.0:
+            raise ValidationError(expected_got("elevation_deg", "degrees in [-89, 89]", self.elevation_deg))
+        if self.distance <= 0:
+            raise ValidationError(expected_got("distance", "> 0", self.distance))
+        if not 0.0 < self.fov_deg < 170.0:
+            raise ValidationError(expected_got("fov_deg", "degrees in (0, 170)", self.fov_deg))
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if not isinstance(v, int) or not 8 <= v <= tol.EXPORT_MAX_TEXTURE_SIDE:
+                raise ValidationError(expected_got(name, f"an int in [8, {tol.EXPORT_MAX_TEXTURE_SIDE}]",
+                                                   repr(v)))
+
+    def fragment(self) -> str:
+        """The page's URL fragment for this view (without ``#``).
+
+        Returns
+        -------
+        str
+        """
+        def r(v: float) -> str:
+            return f"{v:.3f}".rstrip("0").rstrip(".")
+        return (f"camera={r(self.azimuth_deg)},{r(self.elevation_deg)},{r(self.distance)}"
+                f"&fov={r(self.fov_deg)}"
+                f"&sun={r(self.sun_azimuth_deg)},{r(self.sun_elevation_deg)}&size={self.width}x{self.height}")
+
+    def eye(self, target: np.ndarray) -> np.ndarray:
+        """The camera's centre, world frame.
+
+        Parameters
+        ----------
+        target : (3,) float
+            The point orbited.
+
+        Returns
+        -------
+        (3,) float64
+        """
+        d = direction(self.azimuth_deg, self.elevation_deg)
+        return np.asarray(target, np.float64) + self.distance * d
+
+    def camera(self, target: np.ndarray) -> CameraModel:
+        """The perspective camera of this view, as the page makes it.
+
+        Parameters
+        ----------
+        target : (3,) float
+            The point orbited.
+
+        Returns
+        -------
+        CameraModel
+            World frame; principal point at the image centre, square pixels.
+        """
+        target = np.asarray(target, np.float64)
+        f = 0.5 * self.height / math.tan(math.radians(0.5 * self.fov_deg))
+        pose = look_at(self.eye(target), target)
+        return CameraModel("perspective", (self.height, self.width), f, f, (self.width - 1) / 2.0,
+                           (self.height - 1) / 2.0, max(1e-3, 0.01 * self.distance), self.distance + 100.0,
+                           pose)
+
+    def sun_direction(self) -> np.ndarray:
+        """Towards the sun, world frame (unit).
+
+        Returns
+        -------
+        (3,) float64
+        """
+        return direction(self.sun_azimuth_deg, self.sun_elevation_deg)
+
+
+def _b64(a: np.ndarray) -> str:
+    return base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")
+
+
+def _half_bits(depth: np.ndarray) -> np.ndarray:
+    d = np.asarray(depth, np.float16)
+    return np.where(np.isfinite(d), d, _EMPTY_HALF).astype(np.float16).view(np.uint16)
+
+
+def _dome_json(dome: ViewDome) -> dict[str, Any]:
+    tris = dome.triangles()
+    dirs = direction(dome.azimuths_deg(), dome.elevations_deg())
+    inv = np.linalg.inv(np.transpose(dirs[tris], (0, 2, 1))) if len(tris) else np.zeros((0, 3, 3))
+    return {"rings": [list(r) for r in dome.rings], "top": dome.top,
+            "azimuths": dome.azimuths_deg().tolist(), "triangles": tris.tolist(),
+            "inverse": inv.reshape(len(tris), 9).tolist()}
+
+
+def _camera_json(cam: CameraModel) -> dict[str, Any]:
+    return {"R": cam.cam2world[:3, :3].reshape(-1).tolist(), "C": cam.cam2world[:3, 3].tolist()}
+
+
+def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndarray,
+                name: str | None = None) -> dict[str, Any]:
+    """One asset as the page reads it (module docstring).
+
+    Parameters
+    ----------
+    asset : DomeAsset
+        Its views (level 0).
+    sun_atlas : SunAtlas or None
+        Its sun atlas (None: it casts no shadow on the page, which says so).
+    instances : (N, 5) float
+        ``(x, y, z, yaw_deg, scale)`` per instance, world frame.
+    name : str, optional
+        Shown on the page (default the asset's).
+
+    Returns
+    -------
+    dict
+        JSON values.
+
+    Raises
+    ------
+    ValidationError
+        Not a dome asset or a sun atlas; instances not ``(N, 5)`` finite with scales > 0; views
+        or a sun atlas past WebGL's texture side :data:`morphkit.tol.EXPORT_MAX_TEXTURE_SIDE`.
+    """
+    if not isinstance(asset, DomeAsset):
+        raise ValidationError(expected_got("asset", "a DomeAsset", type(asset).__name__))
+    if sun_atlas is not None and not isinstance(sun_atlas, SunAtlas):
+        raise ValidationError(expected_got("sun_atlas", "a SunAtlas or None", type(sun_atlas).__name__))
+    inst = np.asarray(instances, np.float64)
+    if inst.ndim != 2 or inst.shape[1] != 5 or not np.all(np.isfinite(inst)) or np.any(inst[:, 4] <= 0):
+        raise ValidationError(expected_got("instances", "(N, 5) finite (x, y, z, yaw_deg, scale), scales > 0",
+                                           f"shape {inst.shape}"))
+    n = int(asset.size[0])
+    limit = tol.EXPORT_MAX_TEXTURE_SIDE
+    if n > limit or (sun_atlas is not None and sun_atlas.size > limit):
+        side = max(n, 0 if sun_atlas is None else sun_atlas.size)
+        raise ValidationError(expected_got("views", f"sides of at most {limit} px (WebGL's texture limit "
+                                           "morphkit writes to)", f"{side} px"))
+    rec = asset.record()
+    normal = np.zeros((*rec.normal.shape[:3], 4), np.uint8)
+    normal[..., :3] = (rec.normal.astype(np.int16) + 128).astype(np.uint8)
+    cam0 = asset.reference_camera(0)
+    entry: dict[str, Any] = {
+        "name": name or asset.name, "size": n, "distance": float(asset.cameras.distance),
+        "radius": float(asset.cameras.radius), "pivot": asset.pivot.tolist(), "f": float(cam0.fx),
+        "c": float(cam0.cx), "dome": _dome_json(asset.dome),
+        "views": [_camera_json(asset.reference_camera(k)) for k in range(asset.dome.views)],
+        "rgba": _b64(rec.rgba), "normal": _b64(normal), "depth": _b64(_half_bits(rec.depth)),
+        "instances": _b64(inst.astype(np.float32)), "count": int(len(inst)),
+        "texture_bytes": int(rec.rgba.nbytes + normal.nbytes + rec.depth.size * 2),
+        "sun_atlas": None,
+    }
+    if sun_atlas is not None:
+        sc = sun_atlas.view_camera(0)
+        entry["sun_atlas"] = {
+            "size": sun_atlas.size, "distance": float(sun_atlas.cameras.distance),
+            "radius": float(sun_atlas.cameras.radius), "pivot": sun_atlas.cameras.pivot.tolist(),
+            "half_extent": float(sun_atlas.cameras.half_extent[0]), "fx": float(sc.fx), "fy": float(sc.fy),
+            "c": float(sc.cx), "dome": _dome_json(sun_atlas.dome),
+            "views": [_camera_json(sun_atlas.view_camera(k)) for k in range(sun_atlas.dome.views)],
+            "depth": _b64(_half_bits(sun_atlas.depth)), "coverage": _b64(sun_atlas.coverage),
+        }
+        entry["texture_bytes"] += int(sun_atlas.depth.size * 2 + sun_atlas.coverage.nbytes)
+    return entry
+
+
+def preview_data(entries: list[dict[str, Any]], view: PreviewView, target: np.ndarray, reach: float, *,
+                 title: str, measured: list[str] | None = None, notes: list[str] | None = None,
+                 gltf: bytes | None = None, ground: bool = True) -> dict[str, Any]:
+    """The page's data (module docstring).
+
+    Parameters
+    ----------
+    entries : list of dict
+        :func:`asset_entry` of each asset.
+    view : PreviewView
+        The page's first camera and sun (the URL fragment overrides them).
+    target : (3,) float
+        The point the camera orbits, world frame.
+    reach : float
+        The scene's radius about ``target`` (the camera's far plane).
+    title : str
+        The page's first line.
+    measured : list of str, optional
+        Lines of measured figures shown on the page.
+    notes : list of str, optional
+        Lines said on the page (e.g. an asset without a sun atlas).
+    gltf : bytes, optional
+        A GLB drawn as meshes (a file from another tool).
+    ground : bool, optional
+        Draw the ground plane.
+
+    Returns
+    -------
+    dict
+        JSON values.
+    """
+    notes = list(notes or [])
+    for e in entries:
+        if e["sun_atlas"] is None:
+            notes.append(f"{e['name']}: no sun atlas, so it casts no shadow here")
+    return {
+        "morphkit_preview": PREVIEW_VERSION, "title": title,
+        "camera": {"azimuth_deg": view.azimuth_deg, "elevation_deg": view.elevation_deg,
+                   "distance": view.distance, "fov_deg": view.fov_deg},
+        "sun": {"azimuth_deg": view.sun_azimuth_deg, "elevation_deg": view.sun_elevation_deg},
+        "target": [float(v) for v in np.asarray(target, np.float64)], "reach": float(reach),
+        "lighting": {"ambient": BAKE_AMBIENT, "sun_intensity": SUN_INTENSITY},
+        "ground": {"albedo": list(GROUND_ALBEDO), "sky": list(SKY), "show": bool(ground)},
+        "constants": {"thickness_steps": THICKNESS_STEPS, "depth_agree_steps": DEPTH_AGREE_STEPS,
+                      "refine_steps": REFINE_STEPS, "alpha_floor": tol.ALPHA_FLOOR,
+                      "sun_view_min_coverage": tol.SUN_VIEW_MIN_COVERAGE,
+                      "sun_ground_bias_texels": tol.SUN_GROUND_BIAS_TEXELS,
+                      "sun_min_elevation_deg": tol.SUN_MIN_ELEVATION_DEG,
+                      "shadow_max_texels": SHADOW_MAX_TEXELS},
+        "assets": entries, "texture_bytes": int(sum(e["texture_bytes"] for e in entries)),
+        "measured": list(measured or []), "notes": notes,
+        "gltf": None if gltf is None else base64.b64encode(gltf).decode("ascii"),
+    }
+
+
+def check_preview_output(path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+    """``path`` if a page may be written there (before any work is done), else the error.
+
+    Parameters
+    ----------
+    path : path-like
+        An ``.html`` file.
+    overwrite : bool, optional
+        An existing file may be replaced.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    OutputExistsError
+        ``path`` exists and ``overwrite`` is not given.
+    ValidationError
+        Not an ``.html`` path, or a folder, or under a file.
+    """
+    p = Path(path)
+    if p.suffix.lower() not in (".html", ".htm"):
+        raise ValidationError(expected_got("-o", "an .html file path", repr(str(p))))
+    if p.is_dir():
+        raise ValidationError(expected_got("-o", "an .html file path", f"the folder {str(p)!r}"))
+    if p.exists() and not overwrite:
+        raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
+                                             f"the existing file {str(p)!r}"))
+    in_the_way = next((a for a in p.parents if a.exists() and not a.is_dir()), None)
+    if in_the_way is not None:
+        raise ValidationError(expected_got("-o", "a path whose parents are folders",
+                                           f"{str(p)!r}, where {str(in_the_way)!r} is a file"))
+    return p
+
+
+def write_preview(path: str | os.PathLike[str], data: dict[str, Any], *, overwrite: bool = False) -> Path:
+    """Write the page of ``data`` to ``path``, atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        An ``.html`` file.
+    data : dict
+        :func:`preview_data`.
+    overwrite : bool, optional
+        Replace an existing file.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    OutputExistsError
+        ``path`` exists and ``overwrite`` is not given.
+    ValidationError
+        Not an ``.html`` path, or a folder.
+    """
+    p = check_preview_output(path, overwrite=overwrite)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    return write_text(p, page_html(data))

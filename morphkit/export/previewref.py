@@ -1,0 +1,172 @@
+"""What a preview page should draw, drawn by morphkit: the reference its screenshots are held to.
+
+:func:`reference_image` casts the page camera's rays (:meth:`~.preview.PreviewView.camera`) and
+draws, as the page does: the ground plane ``z = 0`` in :data:`~.preview.GROUND_ALBEDO` and the sky
+in :data:`~.preview.SKY`; each instance's billboard by morphkit's per-pixel depth morph of its
+three views around the direction towards the eye (:func:`morphkit.views.depthmorph.morph_views`,
+in the instance's object frame); the billboards shaded by :func:`morphkit.imaging.shading.shade`
+under ``Lighting(BAKE_AMBIENT, (sun(a, e),))`` and the ground alike; the ground shadowed by each
+instance's sun atlas (:func:`morphkit.sunlit.sunatlas.ground_shadow`); billboards composited over
+the ground in front of it. Billboards are not shadowed (neither here nor on the page).
+
+:func:`truth_image` is the same view of the real mesh (one instance at the origin): its G-buffer
+drawn by the renderer and shaded by :func:`morphkit.imaging.shading.shade_passes` (no shadow on the
+mesh either), the ground shadowed by ray casting against the mesh
+(:func:`morphkit.imaging.groundtruth.hard_visibility`).
+
+A scene of several instances is drawn with each instance's own light view; the page draws one
+light view for the whole scene (:data:`~.preview.SHADOW_MAX_TEXELS` at most), so its shadows are
+coarser where the scene is wide: the comparison holds exactly for one instance.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import trimesh
+
+from ..billboard.baking.bakelook import BAKE_AMBIENT
+from ..billboard.domeasset import DomeAsset
+from ..camera import CameraModel
+from ..imaging.groundtruth import hard_visibility
+from ..imaging.shading import Lighting, shade, shade_passes
+from ..protocols import PassRenderer
+from ..scene import Item, SceneObject
+from ..sunlit.sunatlas import SunAtlas, ground_shadow
+from ..sunpath import SUN_INTENSITY, sun
+from ..views.depthmorph import morph_views
+from .preview import GROUND_ALBEDO, SKY, PreviewView
+
+__all__ = ["reference_image", "truth_image"]
+
+
+def _yaw(deg: float) -> np.ndarray:
+    a = np.radians(deg)
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _encode(linear: np.ndarray) -> np.ndarray:
+    return np.power(np.clip(linear, 0.0, 1.0), 1.0 / 2.2)
+
+
+def reference_image(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndarray,
+                    view: PreviewView, target: np.ndarray) -> np.ndarray:
+    """The page's image of ``view``, drawn by morphkit (module docstring).
+
+    Parameters
+    ----------
+    asset : DomeAsset
+        The billboards' views.
+    sun_atlas : SunAtlas or None
+        Their sun atlas (None: no shadows).
+    instances : (N, 5) float
+        ``(x, y, z, yaw_deg, scale)`` per instance, world frame.
+    view : PreviewView
+        The camera and sun.
+    target : (3,) float
+        The point the camera orbits.
+
+    Returns
+    -------
+    (h, w, 3) float32
+        Encoded colour in ``[0, 1]``.
+    """
+    cam = view.camera(target)
+    h, w = cam.shape
+    sun_dir = view.sun_direction()
+    lighting = Lighting(BAKE_AMBIENT, (sun(view.sun_azimuth_deg, view.sun_elevation_deg),))
+    inst = np.asarray(instances, np.float64).reshape(-1, 5)
+
+    def shadow(pts: np.ndarray) -> np.ndarray:
+        vis = np.ones(len(pts), np.float32)
+        if sun_atlas is not None:
+            for x, y, z, yaw, s in inst:
+                pose = np.eye(4)
+                pose[:3, :3] = s * _yaw(yaw)
+                pose[:3, 3] = (x, y, z)
+                vis *= ground_shadow(sun_atlas, pose, sun_dir, pts)
+        return vis
+
+    image, depth = _ground(cam, view, shadow)
+    for x, y, z, yaw, s in inst:
+        R = _yaw(yaw)
+        pose = np.eye(4)
+        pose[:3, :3] = R.T @ cam.cam2world[:3, :3]
+        pose[:3, 3] = R.T @ (cam.position - np.array([x, y, z])) / s
+        local = cam.with_pose(pose)
+        rel = pose[:3, 3] - asset.pivot
+        az = float(np.degrees(np.arctan2(rel[1], rel[0])))
+        el = float(np.degrees(np.arcsin(np.clip(rel[2] / np.linalg.norm(rel), -1.0, 1.0))))
+        views, weights = asset.dome.weights(az, el)
+        used = [(asset.reference_camera(int(k)), asset.reference_surface(int(k)), float(wt))
+                for k, wt in zip(views, weights, strict=True) if wt > 0]
+        surf = morph_views(local, asset.pivot, asset.cameras.radius, used)
+        turn = np.eye(4)
+        turn[:3, :3] = R.T
+        rgba = shade(surf, lighting.in_frame(turn)).reshape(-1, 4)
+        zb = surf.depth.reshape(-1) * s
+        front = (rgba[:, 3] > 0) & (zb < depth)
+        a = rgba[front, 3:4]
+        image[front] = rgba[front, :3] + (1.0 - a) * image[front]
+        depth[front] = zb[front]
+    return image.reshape(h, w, 3)
+
+
+def _ground(cam: CameraModel, view: PreviewView, shadow: Callable[[np.ndarray], np.ndarray]
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The sky and the lit ground of ``cam`` (``(h w, 3)`` encoded, ``(h w,)`` depth along its
+    axis, inf on the sky), the ground's sun visibility by ``shadow(points)``."""
+    o, d = cam.rays()
+    o, d = o.reshape(-1, 3), d.reshape(-1, 3)
+    sun_dir = view.sun_direction()
+    image = np.empty((len(o), 3), np.float32)
+    image[:] = SKY
+    depth = np.full(len(o), np.inf)
+    on = (d[:, 2] < 0) & (o[:, 2] > 0)
+    tg = np.where(on, -o[:, 2] / np.where(on, d[:, 2], -1.0), np.inf)
+    pts = o[on] + tg[on, None] * d[on]
+    if sun_dir[2] > 0:
+        e = BAKE_AMBIENT + (SUN_INTENSITY / np.pi) * float(sun_dir[2]) * shadow(pts)
+    else:
+        e = np.full(len(pts), BAKE_AMBIENT)
+    image[on] = _encode(np.asarray(GROUND_ALBEDO)[None, :] * np.asarray(e)[:, None])
+    depth[on] = tg[on] * (d[on] @ cam.axis)
+    return image, depth
+
+
+def truth_image(mesh: trimesh.Trimesh, items: Sequence[Item], renderer: PassRenderer, view: PreviewView,
+                target: np.ndarray) -> np.ndarray:
+    """The page's view of the real mesh at the origin (module docstring).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        The normalised mesh (the asset's frame): the ground's occluder.
+    items : sequence of Item
+        Its render items in the asset's look (:meth:`~morphkit.billboard.DomeAsset.items`).
+    renderer : PassRenderer
+        E.g. :class:`morphkit.render.Renderer`.
+    view : PreviewView
+        The camera and sun.
+    target : (3,) float
+        The point the camera orbits.
+
+    Returns
+    -------
+    (h, w, 3) float32
+        Encoded colour in ``[0, 1]``.
+    """
+    cam = view.camera(target)
+    h, w = cam.shape
+    light = sun(view.sun_azimuth_deg, view.sun_elevation_deg)
+    occluder = SceneObject(mesh)
+    image, depth = _ground(cam, view, lambda pts: hard_visibility(pts, light, occluder))
+    passes = renderer.gbuffer_pass(cam, items)
+    rgba = shade_passes(passes, Lighting(BAKE_AMBIENT, (light,)), cam).reshape(-1, 4)
+    zb = passes.depth.reshape(-1)
+    front = (rgba[:, 3] > 0) & (zb < depth)
+    a = rgba[front, 3:4]
+    image[front] = rgba[front, :3] + (1.0 - a) * image[front]
+    return image.reshape(h, w, 3)

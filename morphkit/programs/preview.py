@@ -1,0 +1,213 @@
+"""``morphkit preview ASSET_OR_SCENE -o page.html``: one self-contained page that morphs in the browser.
+
+What the page is given, by what ASSET_OR_SCENE is:
+
+* a sample mesh name or a mesh file: baked as ``morphkit export`` bakes it
+  (:func:`~morphkit.programs.export.bake_asset_parts`: a relightable dome asset and a sun atlas),
+  one instance at the origin;
+* a dome asset file (``.npz``): its views, one instance, no shadow (it has no sun atlas: the page
+  says so);
+* a GLB ``morphkit export`` wrote of an asset (:func:`~morphkit.export.assetglb.read_dome_glb`): its
+  views, its sun atlas and the errors its sidecar's ``measured`` holds;
+* any other GLB or glTF file (a file from another tool, or a morphkit scene GLB): drawn as meshes by
+  three.js's glTF loader, the page says so;
+* a scene (``.json``, or a glTF scene with ``scene=True``): its assets baked as ``morphkit export``
+  bakes a scene (:func:`~morphkit.programs.export.scene_parts`), every instance drawn, the sun's
+  shadow of the whole scene in one light view.
+
+The page is :mod:`morphkit.export.page`'s, its data :func:`morphkit.export.preview.preview_data`;
+the first camera and sun are ``view``'s (default: the camera fitted to the scene) and the URL
+fragment sets them (:meth:`~morphkit.export.preview.PreviewView.fragment`).
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FileFormatError, ValidationError, expected_got
+from ..export.assetglb import read_dome_glb
+from ..export.preview import PreviewView, asset_entry, check_preview_output, preview_data, write_preview
+from ..sunlit.receivers import SCENE_ATLAS_SIZE
+from .export import DEFAULT_EXPORT_SIZE, bake_asset_parts, scene_parts
+
+__all__ = ["preview_page", "preview_line", "fitted_view"]
+
+_GLTF_SUFFIXES = (".glb", ".gltf")
+
+
+def fitted_view(target: np.ndarray, reach: float, base: PreviewView | None = None) -> PreviewView:
+    """``base`` (default :class:`PreviewView` ``()``) with its distance set to see a sphere of
+    radius ``reach`` about ``target`` whole.
+
+    Parameters
+    ----------
+    target : (3,) float
+        The sphere's centre (what the camera orbits).
+    reach : float
+        Its radius (> 0).
+    base : PreviewView, optional
+        The angles, sun and image kept.
+
+    Returns
+    -------
+    PreviewView
+    """
+    base = PreviewView() if base is None else base
+    half = math.radians(0.5 * base.fov_deg) * min(1.0, base.width / base.height)
+    return dataclasses.replace(base, distance=float(1.25 * reach / math.sin(half)))
+
+
+def _instances(inst: Any, name: str) -> np.ndarray:
+    k = inst.names.index(name) if name in inst.names else -1
+    pick = inst.asset == k
+    xy = np.asarray(inst.xy, np.float64)[pick]
+    return np.column_stack([xy[:, 0], xy[:, 1], np.zeros(len(xy)), np.asarray(inst.yaw_deg)[pick],
+                            np.asarray(inst.scale)[pick]])
+
+
+def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[float] | None = None,
+                 sun: Sequence[float] | None = None, image: tuple[int, int] = (640, 480),
+                 size: int = DEFAULT_EXPORT_SIZE, sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto",
+                 scene: bool = False, overwrite: bool = False) -> dict[str, Any]:
+    """Write the preview page of an asset or a scene (the module notes).
+
+    Parameters
+    ----------
+    spec : str
+        A sample mesh name, a mesh file, a dome asset file, a GLB, or a scene file.
+    out : path-like
+        The ``.html`` file.
+    camera : (azimuth_deg, elevation_deg, distance), optional
+        The first camera, about the scene's centre (default: :class:`PreviewView`'s angles, the
+        distance fitted to what is drawn).
+    sun : (azimuth_deg, elevation_deg), optional
+        The first sun (default: :class:`PreviewView`'s).
+    image : (width, height), optional
+        The first view's image (the page's canvas is the window unless the URL fragment sets it).
+    size : int, optional
+        The dome views' side when baking, pixels.
+    sun_atlas_size : int, optional
+        The sun atlas's side when baking, texels (0: none).
+    up : {"auto", "y", "z"}, optional
+        A mesh file's up axis.
+    scene : bool, optional
+        Read a glTF file as a scene (each mesh an asset, its nodes the instances).
+    overwrite : bool, optional
+        Replace an existing ``out``.
+
+    Returns
+    -------
+    dict
+        ``path``, ``bytes``, ``kind`` (``"asset"``, ``"scene"`` or ``"meshes"``), ``instances``,
+        ``texture_bytes``, ``notes`` and ``fragment`` (the first view's URL fragment).
+
+    Raises
+    ------
+    OutputExistsError
+        ``out`` exists and ``overwrite`` is not given.
+    ValidationError
+        An output that is not an ``.html`` path; an unknown asset; views past WebGL's texture side.
+    """
+    p = check_preview_output(out, overwrite=overwrite)
+    suffix = Path(spec).suffix.lower()
+    notes: list[str] = []
+    measured: list[str] = []
+    gltf: bytes | None = None
+    entries: list[dict[str, Any]] = []
+    if suffix == ".json" or (scene and suffix in _GLTF_SUFFIXES):
+        kind = "scene"
+        assets, inst = scene_parts(spec, sun_atlas_size=sun_atlas_size, command="preview")
+        for nm, a in assets.items():
+            entries.append(asset_entry(a.asset, a.sun_atlas, _instances(inst, nm), name=nm))
+        title = f"morphkit preview: the scene {Path(spec).name}"
+    elif suffix in _GLTF_SUFFIXES:
+        try:
+            got = read_dome_glb(spec)
+        except FileFormatError as exc:
+            kind = "meshes"
+            gltf = Path(spec).read_bytes() if suffix == ".glb" else None
+            if gltf is None:
+                raise ValidationError(expected_got(
+                    "ASSET_OR_SCENE", "a .glb file to draw as meshes (a .gltf with its files is not "
+                    "inlined)", repr(spec))) from exc
+            notes.append(f"not a morphkit asset GLB ({exc}): drawn as meshes")
+            title = f"morphkit preview: {Path(spec).name} (meshes)"
+        else:
+            kind = "asset"
+            entries.append(asset_entry(got.asset, got.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]])))
+            measured = [f"measured {k}: {v}" for k, v in sorted(got.sidecar.get("measured", {}).items())]
+            title = f"morphkit preview: {got.asset.name}"
+    else:
+        kind = "asset"
+        parts = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
+        entries.append(asset_entry(parts.asset, parts.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
+                                   name=parts.name))
+        title = f"morphkit preview: {parts.name}"
+    target, reach = _extent(entries)
+    w, h = image
+    base = PreviewView(width=w, height=h)
+    if sun is not None:
+        base = dataclasses.replace(base, sun_azimuth_deg=float(sun[0]), sun_elevation_deg=float(sun[1]))
+    if camera is None:
+        first = fitted_view(target, reach, base)
+    else:
+        first = dataclasses.replace(base, azimuth_deg=float(camera[0]), elevation_deg=float(camera[1]),
+                                    distance=float(camera[2]))
+    data = preview_data(entries, first, target, reach, title=title, measured=measured, notes=notes,
+                        gltf=gltf, ground=True)
+    if kind == "meshes":
+        data["fit_gltf"] = camera is None
+    write_preview(p, data, overwrite=overwrite)
+    return {"path": str(p), "bytes": p.stat().st_size, "kind": kind,
+            "instances": int(sum(e["count"] for e in entries)), "texture_bytes": data["texture_bytes"],
+            "notes": data["notes"], "fragment": first.fragment()}
+
+
+def _extent(entries: list[dict[str, Any]]) -> tuple[np.ndarray, float]:
+    """The centre and radius of every instance's bounding sphere (a unit sphere when none)."""
+    centres, radii = [], []
+    for e in entries:
+        inst = np.frombuffer(base64.b64decode(e["instances"]), np.float32).reshape(-1, 5)
+        piv = np.asarray(e["pivot"], np.float64)
+        for x, y, z, yaw, s in inst.astype(np.float64):
+            c, sn = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+            centres.append([x + s * (c * piv[0] - sn * piv[1]), y + s * (sn * piv[0] + c * piv[1]),
+                            z + s * piv[2]])
+            radii.append(s * e["radius"])
+    if not centres:
+        return np.array([0.0, 0.0, 0.5]), 1.0
+    pts = np.asarray(centres)
+    lo = (pts - np.asarray(radii)[:, None]).min(axis=0)
+    hi = (pts + np.asarray(radii)[:, None]).max(axis=0)
+    target = 0.5 * (lo + hi)
+    reach = float(max(np.linalg.norm(pts - target, axis=1) + np.asarray(radii)))
+    return target, reach
+
+
+def preview_line(got: dict[str, Any]) -> str:
+    """The line ``morphkit preview`` prints of what :func:`preview_page` wrote.
+
+    Parameters
+    ----------
+    got : dict
+        Its summary.
+
+    Returns
+    -------
+    str
+    """
+    what = {"asset": "an asset", "scene": "a scene",
+            "meshes": "meshes (a glTF file from another tool)"}[got["kind"]]
+    line = (f"morphkit preview: wrote {got['path']} ({got['bytes']:,} bytes, self-contained): {what}, "
+            f"{got['instances']:,} instances, {got['texture_bytes']:,} bytes of textures; open it in a "
+            "browser "
+            f"with WebGL 2 (first view: #{got['fragment']})")
+    return line + "".join(f"\nmorphkit preview: {n}" for n in got["notes"])
