@@ -12,7 +12,9 @@
 #      later process (a test run, the demo, a bake worker) compiles them: about a minute the
 #      first time on 2 busy cores, about 5 s (imports, a small bake and playback) once cached;
 #   5. with the test extras: node and npm via apt when missing (as root), and the Khronos glTF
-#      validator (npm's gltf-validator, pinned) into .cache/node, which the export tests run.
+#      validator (npm's gltf-validator, pinned) into .cache/node, which the export tests run;
+#      Debian's chromium and chromium-driver (the preview page's browser test, through selenium,
+#      a test extra).
 set -euo pipefail
 MORPHKIT_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$MORPHKIT_ROOT"
@@ -29,6 +31,8 @@ have_lib 'libOpenGL\.so\.0' || need_apt+=(libopengl0)
 if [ "$extras" = "test" ]; then
   command -v node >/dev/null 2>&1 || need_apt+=(nodejs)
   command -v npm >/dev/null 2>&1 || need_apt+=(npm)
+  command -v chromium >/dev/null 2>&1 || need_apt+=(chromium)
+  command -v chromedriver >/dev/null 2>&1 || need_apt+=(chromium-driver)
 fi
 if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then need_apt+=(python3-venv); fi
 if [ "${#need_apt[@]}" -gt 0 ]; then

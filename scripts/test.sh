@@ -9,6 +9,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh" test
 ruff check morphkit tests samples docs
 export MORPHKIT_REQUIRE_GLTF_VALIDATOR=1  # setup installed it: the export tests may not skip it
+export MORPHKIT_REQUIRE_BROWSER=1  # and chromium: the preview's browser tests may not skip it
 python -m pytest -q "$@"
 if [ "$#" -eq 0 ]; then
   # the numeric core again under another OpenBLAS kernel: a result that flips with the last

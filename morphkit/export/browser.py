@@ -196,7 +196,24 @@ class Browser:
         -------
         Shot
         """
-        self._d.execute_script("window.morphkitStats = null; location.hash = arguments[0];", fragment)
+        return self.trigger("location.hash = arguments[0];", fragment)
+
+    def trigger(self, script: str, *args: object) -> Shot:
+        """Run ``script`` in the open page (e.g. move a slider) and wait for the page to draw again.
+
+        Parameters
+        ----------
+        script : str
+            JavaScript that makes the page redraw.
+        *args
+            Its ``arguments``.
+
+        Returns
+        -------
+        Shot
+        """
+        self._d.execute_script("window.morphkitStats = null;")
+        self._d.execute_script(script, *args)
         t = self._wait(lambda: self._d.execute_script("return window.morphkitStats") is not None)
         return self._shot(t)
 

@@ -7,11 +7,12 @@ fragment says them (:meth:`PreviewView.fragment`, e.g.
 morphkit renders the same view with (:mod:`morphkit.export.previewref`).
 
 :func:`asset_entry` packs one dome asset, its sun atlas and its instances as the page reads them:
-the views as stored (straight sRGB albedo and coverage, ``round(127 n) + 128`` normals, float16
-depth offsets from the views' distance, ``+inf`` written as float16's largest value 65504), each
-view's camera (object frame), the dome's triangles with their barycentric inverses, and
-``(x, y, z, yaw_deg, scale)`` per instance. :func:`preview_data` is the page's whole data,
-:func:`write_preview` writes the page (:func:`morphkit.export.page.page_html`) atomically.
+the views as stored (zlib-compressed, in base64; straight sRGB albedo and coverage,
+``round(127 n) + 128`` normals, float16 depth offsets from the views' distance, ``+inf`` written
+as float16's largest value 65504), each view's camera (object frame), the dome's triangles with
+their barycentric inverses, and ``(x, y, z, yaw_deg, scale)`` per instance. :func:`preview_data`
+is the page's whole data, :func:`write_preview` writes the page
+(:func:`morphkit.export.page.page_html`) atomically.
 
 Convention
 ----------
@@ -26,6 +27,7 @@ from __future__ import annotations
 import base64
 import math
 import os
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -165,7 +167,9 @@ class PreviewView:
 
 
 def _b64(a: np.ndarray) -> str:
-    return base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")
+    """The array's bytes, zlib-compressed (the page inflates them with ``DecompressionStream``), in base64."""
+    raw = np.ascontiguousarray(a).tobytes()
+    return base64.b64encode(zlib.compress(raw, 6)).decode("ascii")
 
 
 def _half_bits(depth: np.ndarray) -> np.ndarray:

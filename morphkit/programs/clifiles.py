@@ -8,6 +8,7 @@ command's work is its program's (:mod:`.export`, :mod:`.preview`).
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +29,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 def _numbers(text: str | None, n: int, option: str) -> tuple[float, ...] | None:
-    from ..errors import ValidationError, expected_got
+    from ..errors import UsageError, expected_got
 
     if text is None:
         return None
@@ -36,8 +37,8 @@ def _numbers(text: str | None, n: int, option: str) -> tuple[float, ...] | None:
         got = tuple(float(v) for v in text.split(","))
     except ValueError:
         got = ()
-    if len(got) != n:
-        raise ValidationError(expected_got(option, f"{n} numbers separated by commas", repr(text)))
+    if len(got) != n or not all(math.isfinite(v) for v in got):
+        raise UsageError(expected_got(option, f"{n} finite numbers separated by commas", repr(text)))
     return got
 
 

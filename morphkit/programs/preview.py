@@ -26,6 +26,7 @@ import base64
 import dataclasses
 import math
 import os
+import zlib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -175,7 +176,7 @@ def _extent(entries: list[dict[str, Any]]) -> tuple[np.ndarray, float]:
     """The centre and radius of every instance's bounding sphere (a unit sphere when none)."""
     centres, radii = [], []
     for e in entries:
-        inst = np.frombuffer(base64.b64decode(e["instances"]), np.float32).reshape(-1, 5)
+        inst = np.frombuffer(zlib.decompress(base64.b64decode(e["instances"])), np.float32).reshape(-1, 5)
         piv = np.asarray(e["pivot"], np.float64)
         for x, y, z, yaw, s in inst.astype(np.float64):
             c, sn = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))

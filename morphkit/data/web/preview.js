@@ -28,6 +28,19 @@ function bytesOf(b64) {
   return out;
 }
 
+// the page's arrays: zlib-compressed (morphkit.export.preview), inflated by the browser
+async function inflate(b64) {
+  const stream = new Blob([bytesOf(b64)]).stream().pipeThrough(new DecompressionStream('deflate'));
+  return new Uint8Array(await new Response(stream).arrayBuffer());
+}
+
+async function inflateAll(assets) {
+  for (const a of assets) {
+    for (const k of ['rgba', 'normal', 'depth', 'instances']) a[k] = await inflate(a[k]);
+    if (a.sun_atlas) for (const k of ['depth', 'coverage']) a.sun_atlas[k] = await inflate(a.sun_atlas[k]);
+  }
+}
+
 // ------------------------------------------------------------------ vectors and cameras
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
@@ -514,7 +527,7 @@ function stepsFor(w, h) { return Math.min(96, Math.max(16, Math.floor(Math.max(w
 class Asset {
   constructor(a, scene, shadowScene) {
     this.a = a;
-    const inst = new Float32Array(bytesOf(a.instances).buffer);
+    const inst = new Float32Array(a.instances.buffer, a.instances.byteOffset, a.instances.length / 4);
     this.count = inst.length / 5;
     this.inst = inst;
     const n = a.size, V = a.views.length;
@@ -538,9 +551,9 @@ class Asset {
     });
     this.uniforms = {
       ...common(a.views, a.distance, a.f, a.f, a.c, false),
-      uDepth: { value: arrayTexture(bytesOf(a.depth), n, V, 'half') },
-      uRgba: { value: arrayTexture(bytesOf(a.rgba), n, V, 'rgba') },
-      uNormal: { value: arrayTexture(bytesOf(a.normal), n, V, 'rgba') },
+      uDepth: { value: arrayTexture(a.depth, n, V, 'half') },
+      uRgba: { value: arrayTexture(a.rgba, n, V, 'rgba') },
+      uNormal: { value: arrayTexture(a.normal, n, V, 'rgba') },
       uPivot: { value: new THREE.Vector3(...a.pivot) }, uRadius: { value: a.radius },
       uCamR: { value: new THREE.Matrix3() }, uEye: { value: new THREE.Vector3() },
       uFx: { value: 1 }, uFy: { value: 1 }, uCxs: { value: 0 }, uCys: { value: 0 }, uH: { value: 1 },
@@ -571,8 +584,8 @@ class Asset {
       this.sunUniforms = {
         ...common(s.views, s.distance, s.fx, s.fy, s.c, true),
         uN: { value: sn },
-        uDepth: { value: arrayTexture(bytesOf(s.depth), sn, sv, 'half') },
-        uCoverage: { value: arrayTexture(bytesOf(s.coverage), sn, sv, 'red') },
+        uDepth: { value: arrayTexture(s.depth, sn, sv, 'half') },
+        uCoverage: { value: arrayTexture(s.coverage, sn, sv, 'red') },
         uPivot: { value: new THREE.Vector3(...s.pivot) }, uRadius: { value: s.radius },
         uCamR: { value: new THREE.Matrix3() }, uCamC: { value: new THREE.Vector3() },
         uFx: { value: 1 }, uFy: { value: 1 }, uCxs: { value: 0 }, uCys: { value: 0 }, uH: { value: 1 },
@@ -664,7 +677,7 @@ function shadowCamera(assets, sunDir) {
     near: dist - 2 * reach, far: dist + 2 * reach, ortho: true }; // the proxy boxes reach 1.77 radii
 }
 
-function main() {
+async function main() {
   readFragment();
   const probe = document.createElement('canvas');
   if (!probe.getContext('webgl2')) {
@@ -711,6 +724,7 @@ function main() {
   }));
   ground.frustumCulled = false; ground.renderOrder = 0;
   if (DATA.ground.show) scene.add(ground);
+  await inflateAll(DATA.assets);
   const assets = DATA.assets.map((a) => new Asset(a, scene, shadowScene));
   let gltfRoot = null;
   const sunLight = new THREE.DirectionalLight(0xffffff, DATA.lighting.sun_intensity);
@@ -840,10 +854,8 @@ function main() {
   }
 }
 
-try {
-  main();
-} catch (err) {
+main().catch((err) => {
   say('morphkit preview failed: ' + err.message);
   document.title = 'morphkit: error';
   throw err;
-}
+});
