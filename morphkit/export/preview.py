@@ -49,7 +49,7 @@ from .page import page_html
 
 __all__ = ["PreviewView", "asset_entry", "preview_data", "write_preview", "GROUND_ALBEDO", "SKY",
            "PREVIEW_VERSION", "SHADOW_MAX_TEXELS",
-           "check_preview_output"]
+           "check_preview_output", "drawn_bounds"]
 
 #: The page data's version (``morphkit_preview``).
 PREVIEW_VERSION = 1
@@ -190,6 +190,36 @@ def _camera_json(cam: CameraModel) -> dict[str, Any]:
     return {"R": cam.cam2world[:3, :3].reshape(-1).tolist(), "C": cam.cam2world[:3, 3].tolist()}
 
 
+def drawn_bounds(cameras: list[CameraModel], depths: np.ndarray, pad: float) -> list[list[float]]:
+    """The box holding every point the views draw (their depth maps unprojected), grown by ``pad``:
+    where a ray misses it, no view can be hit, so the page draws no pixel there.
+
+    Parameters
+    ----------
+    cameras : list of CameraModel
+        The views' cameras (object frame).
+    depths : (V, n, n) float
+        Their linear depths, ``+inf`` where nothing is drawn.
+    pad : float
+        Added on every side (scene units).
+
+    Returns
+    -------
+    list
+        ``[[x0, y0, z0], [x1, y1, z1]]``; a box of side ``2 pad`` at the origin when nothing is drawn.
+    """
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for cam, d in zip(cameras, depths, strict=True):
+        pts, valid = cam.unproject(np.asarray(d, np.float32))
+        ok = valid & np.isfinite(np.asarray(d))
+        if ok.any():
+            lo = np.minimum(lo, pts[ok].min(axis=0))
+            hi = np.maximum(hi, pts[ok].max(axis=0))
+    if not np.all(np.isfinite(lo)):
+        lo, hi = np.zeros(3), np.zeros(3)
+    return [(lo - pad).tolist(), (hi + pad).tolist()]
+
+
 def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndarray,
                 name: str | None = None) -> dict[str, Any]:
     """One asset as the page reads it (module docstring).
@@ -234,11 +264,15 @@ def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndar
     normal = np.zeros((*rec.normal.shape[:3], 4), np.uint8)
     normal[..., :3] = (rec.normal.astype(np.int16) + 128).astype(np.uint8)
     cam0 = asset.reference_camera(0)
+    cams = [asset.reference_camera(k) for k in range(asset.dome.views)]
+    depths = rec.depth.astype(np.float32) + np.float32(asset.cameras.distance)
+    texel = 2.0 * asset.half_extent[0] / n  # one texel at the pivot
     entry: dict[str, Any] = {
         "name": name or asset.name, "size": n, "distance": float(asset.cameras.distance),
-        "radius": float(asset.cameras.radius), "pivot": asset.pivot.tolist(), "f": float(cam0.fx),
+        "radius": float(asset.cameras.radius), "half_extent": float(asset.half_extent[0]),
+        "pivot": asset.pivot.tolist(), "f": float(cam0.fx),
         "c": float(cam0.cx), "dome": _dome_json(asset.dome),
-        "views": [_camera_json(asset.reference_camera(k)) for k in range(asset.dome.views)],
+        "views": [_camera_json(c) for c in cams], "bounds": drawn_bounds(cams, depths, 2.0 * texel),
         "rgba": _b64(rec.rgba), "normal": _b64(normal), "depth": _b64(_half_bits(rec.depth)),
         "instances": _b64(inst.astype(np.float32)), "count": int(len(inst)),
         "texture_bytes": int(rec.rgba.nbytes + normal.nbytes + rec.depth.size * 2),
@@ -246,12 +280,15 @@ def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndar
     }
     if sun_atlas is not None:
         sc = sun_atlas.view_camera(0)
+        scams = [sun_atlas.view_camera(k) for k in range(sun_atlas.dome.views)]
+        sdepth = sun_atlas.depth.astype(np.float32) + np.float32(sun_atlas.cameras.distance)
         entry["sun_atlas"] = {
             "size": sun_atlas.size, "distance": float(sun_atlas.cameras.distance),
             "radius": float(sun_atlas.cameras.radius), "pivot": sun_atlas.cameras.pivot.tolist(),
             "half_extent": float(sun_atlas.cameras.half_extent[0]), "fx": float(sc.fx), "fy": float(sc.fy),
             "c": float(sc.cx), "dome": _dome_json(sun_atlas.dome),
-            "views": [_camera_json(sun_atlas.view_camera(k)) for k in range(sun_atlas.dome.views)],
+            "views": [_camera_json(c) for c in scams],
+            "bounds": drawn_bounds(scams, sdepth, 2.0 / sc.fx),
             "depth": _b64(_half_bits(sun_atlas.depth)), "coverage": _b64(sun_atlas.coverage),
         }
         entry["texture_bytes"] += int(sun_atlas.depth.size * 2 + sun_atlas.coverage.nbytes)

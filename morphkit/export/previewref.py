@@ -7,7 +7,9 @@ three views around the direction towards the eye (:func:`morphkit.views.depthmor
 in the instance's object frame); the billboards shaded by :func:`morphkit.imaging.shading.shade`
 under ``Lighting(BAKE_AMBIENT, (sun(a, e),))`` and the ground alike; the ground shadowed by each
 instance's sun atlas (:func:`morphkit.sunlit.sunatlas.ground_shadow`); billboards composited over
-the ground in front of it. Billboards are not shadowed (neither here nor on the page).
+the ground in front of it. Billboards are not shadowed (neither here nor on the page). A
+billboard's march takes :func:`~morphkit.views.depthmorph.steps_for` its image on screen (the side
+of its quad, in pixels), as morphkit's scenes do at the image's size, not the whole screen's.
 
 :func:`truth_image` is the same view of the real mesh (one instance at the origin): its G-buffer
 drawn by the renderer and shaded by :func:`morphkit.imaging.shading.shade_passes` (no shadow on the
@@ -35,7 +37,7 @@ from ..protocols import PassRenderer
 from ..scene import Item, SceneObject
 from ..sunlit.sunatlas import SunAtlas, ground_shadow
 from ..sunpath import SUN_INTENSITY, sun
-from ..views.depthmorph import morph_views
+from ..views.depthmorph import morph_views, steps_for
 from .preview import GROUND_ALBEDO, SKY, PreviewView
 
 __all__ = ["reference_image", "truth_image"]
@@ -102,7 +104,10 @@ def reference_image(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.
         views, weights = asset.dome.weights(az, el)
         used = [(asset.reference_camera(int(k)), asset.reference_surface(int(k)), float(wt))
                 for k, wt in zip(views, weights, strict=True) if wt > 0]
-        surf = morph_views(local, asset.pivot, asset.cameras.radius, used)
+        # the march's samples: those of the instance's image on screen (its quad's side, pixels)
+        side = 2.0 * asset.half_extent[0] * s * cam.fy / (np.linalg.norm(rel) * s)
+        steps = steps_for((int(min(side, 1e6)), 0))
+        surf = morph_views(local, asset.pivot, asset.cameras.radius, used, steps=steps)
         turn = np.eye(4)
         turn[:3, :3] = R.T
         rgba = shade(surf, lighting.in_frame(turn)).reshape(-1, 4)

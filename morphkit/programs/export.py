@@ -31,6 +31,7 @@ from ..errors import OutputExistsError, ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..render import Renderer
+from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE, bake_scene_atlases
 from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
@@ -39,7 +40,7 @@ from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
 __all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE", "AssetParts",
            "bake_asset_parts",
-           "scene_parts"]
+           "scene_parts", "SceneParts"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
 DEFAULT_EXPORT_SIZE = 128
@@ -194,7 +195,8 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
         An output path that is not a ``.glb`` file; a scene morphkit refuses.
     """
     p = _output(out, overwrite)
-    assets, inst = scene_parts(path, sun_atlas_size=sun_atlas_size, command="export")
+    got = scene_parts(path, sun_atlas_size=sun_atlas_size, command="export")
+    assets, inst = got.assets, got.instances
     p.parent.mkdir(parents=True, exist_ok=True)
     write_scene_glb(p, assets, inst)
     return {"path": str(p), "bytes": p.stat().st_size,
@@ -204,8 +206,18 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
                        for nm, a in assets.items()}}
 
 
+@dataclass(frozen=True)
+class SceneParts:
+    """A scene as ``export`` and ``preview`` take it: its assets (per name: the dome asset, its
+    render items and its sun atlas), its instances, and the scene as described (its camera, sun)."""
+
+    assets: dict[str, ExportedAsset]
+    instances: Instances
+    scene: SceneDescription
+
+
 def scene_parts(path: str | os.PathLike[str], *, sun_atlas_size: int = SCENE_ATLAS_SIZE,
-                command: str = "export") -> tuple[dict[str, ExportedAsset], Instances]:
+                command: str = "export") -> SceneParts:
     """A scene's assets, baked as relightable dome assets with their sun atlases, and its
     instances, placed as ``morphkit render`` places them (the module notes).
 
@@ -220,10 +232,7 @@ def scene_parts(path: str | os.PathLike[str], *, sun_atlas_size: int = SCENE_ATL
 
     Returns
     -------
-    assets : dict of str to ExportedAsset
-        Per asset name.
-    instances : Instances
-        The scene's instances.
+    SceneParts
 
     Raises
     ------
@@ -253,7 +262,7 @@ def scene_parts(path: str | os.PathLike[str], *, sun_atlas_size: int = SCENE_ATL
             atlases = casters.atlases(r, sun_atlas_size)
     assets = {nm: ExportedAsset(prep.scene.assets[nm], prep.resolved.items.get(nm), atlases.get(nm))
               for nm in names}
-    return assets, prep.scene.instances
+    return SceneParts(assets, prep.scene.instances, scene)
 
 
 def export_line(got: dict[str, Any]) -> str:

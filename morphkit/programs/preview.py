@@ -36,6 +36,8 @@ import numpy as np
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..export.assetglb import read_dome_glb
 from ..export.preview import PreviewView, asset_entry, check_preview_output, preview_data, write_preview
+from ..scenes.camerapaths import Keyframes
+from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE
 from .export import DEFAULT_EXPORT_SIZE, bake_asset_parts, scene_parts
 
@@ -122,13 +124,15 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     notes: list[str] = []
     measured: list[str] = []
     gltf: bytes | None = None
+    fov, scene_target = PreviewView().fov_deg, None
     entries: list[dict[str, Any]] = []
     if suffix == ".json" or (scene and suffix in _GLTF_SUFFIXES):
         kind = "scene"
-        assets, inst = scene_parts(spec, sun_atlas_size=sun_atlas_size, command="preview")
-        for nm, a in assets.items():
-            entries.append(asset_entry(a.asset, a.sun_atlas, _instances(inst, nm), name=nm))
+        got_scene = scene_parts(spec, sun_atlas_size=sun_atlas_size, command="preview")
+        for nm, a in got_scene.assets.items():
+            entries.append(asset_entry(a.asset, a.sun_atlas, _instances(got_scene.instances, nm), name=nm))
         title = f"morphkit preview: the scene {Path(spec).name}"
+        camera, sun, fov, scene_target = _scene_view(got_scene.scene, camera, sun)
     elif suffix in _GLTF_SUFFIXES:
         try:
             got = read_dome_glb(spec)
@@ -155,6 +159,9 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     target, reach = _extent(entries)
     w, h = image
     base = PreviewView(width=w, height=h)
+    if kind == "scene":
+        base = dataclasses.replace(base, fov_deg=fov)
+        target = scene_target if scene_target is not None else target
     if sun is not None:
         base = dataclasses.replace(base, sun_azimuth_deg=float(sun[0]), sun_elevation_deg=float(sun[1]))
     if camera is None:
@@ -170,6 +177,27 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     return {"path": str(p), "bytes": p.stat().st_size, "kind": kind,
             "instances": int(sum(e["count"] for e in entries)), "texture_bytes": data["texture_bytes"],
             "notes": data["notes"], "fragment": first.fragment()}
+
+
+def _scene_view(scene: SceneDescription, camera: Sequence[float] | None, sun: Sequence[float] | None
+                ) -> tuple[Sequence[float] | None, Sequence[float] | None, float, np.ndarray | None]:
+    """A scene's own first view, where the caller gave none: its first camera key (as azimuth,
+    elevation and distance about its target, and its field of view) and its first sun."""
+    fov, target = PreviewView().fov_deg, None
+    cam = scene.camera
+    if camera is None and isinstance(cam, Keyframes):
+        rel = np.asarray(cam.eyes[0], np.float64) - np.asarray(cam.targets[0], np.float64)
+        dist = float(np.linalg.norm(rel))
+        el = float(np.clip(np.degrees(np.arcsin(rel[2] / dist)), -89.0, 89.0))
+        camera = (float(np.degrees(np.arctan2(rel[1], rel[0]))), el, dist)
+        fov, target = min(float(cam.yfov_deg), 169.0), np.asarray(cam.targets[0], np.float64)
+    if sun is None:
+        lights = scene.sun.suns(max(1, scene.frames))
+        if lights:
+            d = -np.asarray(lights[0].direction, np.float64)
+            d /= np.linalg.norm(d)
+            sun = (float(np.degrees(np.arctan2(d[1], d[0]))), float(np.degrees(np.arcsin(d[2]))))
+    return camera, sun, fov, target
 
 
 def _extent(entries: list[dict[str, Any]]) -> tuple[np.ndarray, float]:

@@ -293,7 +293,8 @@ def combine(hits: Sequence[ViewHits], surfaces: Sequence[ViewSurface], weights: 
 
 
 def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
-                views: Sequence[tuple[CameraModel, ViewSurface, float]]) -> ViewSurface:
+                views: Sequence[tuple[CameraModel, ViewSurface, float]], *, steps: int | None = None
+                ) -> ViewSurface:
     """The surface ``target`` sees, morphed from the weighted references ``views``.
 
     Parameters
@@ -307,6 +308,9 @@ def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
     views : sequence of (CameraModel, ViewSurface, float)
         Each reference's camera (same image shape as its surface), surface and weight
         (weights > 0; they need not sum to 1).
+    steps : int, optional
+        March samples per ray (default :func:`steps_for` the target's shape; a target larger than
+        the object's image, e.g. a whole screen, passes the object's own on-screen size's).
 
     Returns
     -------
@@ -330,7 +334,7 @@ def morph_views(target: CameraModel, pivot: np.ndarray, radius: float,
         t0 = np.maximum(-b[inside] - sq, 0.0).astype(np.float32)
         t1 = (-b[inside] + sq).astype(np.float32)
         oi, di = o[inside].astype(np.float32), d[inside].astype(np.float32)
-        steps = steps_for(target.shape)
+        steps = steps_for(target.shape) if steps is None else int(max(2, steps))
         hits = [march_view(oi, di, t0, t1, cam, s.depth, steps) for cam, s, _ in views]
         dt = (t1 - t0) / np.float32(steps - 1)
         alb, nrm, t, covered = combine(hits, [s for _, s, _ in views], [wt for _, _, wt in views], dt)

@@ -248,19 +248,21 @@ in vec4 iPose;      // x, y, z, yaw (radians)
 in float iScale;
 in vec3 iViews;
 in vec3 iWeights;
+in float iSteps;
 uniform mat4 uViewProj;
-uniform vec3 uPivot;
-uniform float uRadius;
+uniform vec3 uLo, uHi;   // the box holding every drawn point of the views, object frame
 out vec4 vPose;
 out float vScale;
 flat out ivec3 vViews;
 out vec3 vWeights;
+flat out int vSteps;
 void main() {
   mat3 Rz = mat3(cos(iPose.w), sin(iPose.w), 0.0, -sin(iPose.w), cos(iPose.w), 0.0, 0.0, 0.0, 1.0);
-  vec3 centre = iPose.xyz + iScale * (Rz * uPivot);
-  vec3 p = centre + iScale * uRadius * 1.02 * position;
+  // the box's back faces: a pixel is drawn where its ray passes through the box (where none does, no
+  // view can hit anything), and once only
+  vec3 p = iPose.xyz + iScale * (Rz * mix(uLo, uHi, 0.5 * position + 0.5));
   vPose = iPose; vScale = iScale;
-  vViews = ivec3(iViews + 0.5); vWeights = iWeights;
+  vViews = ivec3(iViews + 0.5); vWeights = iWeights; vSteps = int(iSteps + 0.5);
   gl_Position = uViewProj * vec4(p, 1.0);
 }
 `;
@@ -273,10 +275,9 @@ uniform mat3 uCamR; uniform vec3 uEye;
 uniform float uFx, uFy, uCxs, uCys, uH;
 uniform mat4 uViewProjB;
 uniform vec3 uPivot; uniform float uRadius;
-uniform int uSteps;
 uniform vec3 uSunDir;   // towards the sun, world frame
 uniform float uAmbient, uSunTerm;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights;
+in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
 out vec4 fragColor;
 
 float s2l(float c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
@@ -313,11 +314,11 @@ void main() {
   vec3 d = Rt * dw;
   float t0, t1;
   if (!sphere(o, d, uPivot, uRadius, t0, t1)) discard;
-  float dt = (t1 - t0) / float(uSteps - 1);
+  float dt = (t1 - t0) / float(vSteps - 1);
   vec4 h[3];
   float tMin = FAR;
   for (int j = 0; j < 3; j++) {
-    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, uSteps) : vec4(-1.0, FAR, 0.0, 0.0);
+    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, vSteps) : vec4(-1.0, FAR, 0.0, 0.0);
     if (h[j].x == 1.0) tMin = min(tMin, h[j].y);
   }
   vec3 col = vec3(0.0), nrm = vec3(0.0);
@@ -359,8 +360,7 @@ uniform mat3 uCamR; uniform vec3 uCamC;
 uniform float uFx, uFy, uCxs, uCys, uH;
 uniform mat4 uViewProjB;
 uniform vec3 uPivot; uniform float uRadius;
-uniform int uSteps;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights;
+in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
 out vec4 fragColor;
 float cov(int k, ivec2 p) {
   if (p.x < 0 || p.y < 0 || p.x >= uN || p.y >= uN) return 0.0;
@@ -380,11 +380,11 @@ void main() {
   vec3 d = Rt * dw;
   float t0, t1;
   if (!sphere(o, d, uPivot, uRadius, t0, t1)) discard;
-  float dt = (t1 - t0) / float(uSteps - 1);
+  float dt = (t1 - t0) / float(vSteps - 1);
   vec4 h[3];
   float tMin = FAR;
   for (int j = 0; j < 3; j++) {
-    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, uSteps) : vec4(-1.0, FAR, 0.0, 0.0);
+    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, vSteps) : vec4(-1.0, FAR, 0.0, 0.0);
     if (h[j].x == 1.0) tMin = min(tMin, h[j].y);
   }
   float aNum = 0.0, aDen = 0.0, cDen = 0.0;
@@ -544,6 +544,9 @@ class Asset {
     this.views.setUsage(THREE.DynamicDrawUsage); this.weights.setUsage(THREE.DynamicDrawUsage);
     geo.setAttribute('iViews', this.views);
     geo.setAttribute('iWeights', this.weights);
+    this.steps = new THREE.InstancedBufferAttribute(new Float32Array(this.count), 1);
+    this.steps.setUsage(THREE.DynamicDrawUsage);
+    geo.setAttribute('iSteps', this.steps);
     geo.instanceCount = this.count;
     const common = (views, dist, f, fy, cx, ortho) => ({
       uDist: { value: dist }, uVF: { value: f }, uVFy: { value: fy }, uVCx: { value: cx },
@@ -555,10 +558,11 @@ class Asset {
       uRgba: { value: arrayTexture(a.rgba, n, V, 'rgba') },
       uNormal: { value: arrayTexture(a.normal, n, V, 'rgba') },
       uPivot: { value: new THREE.Vector3(...a.pivot) }, uRadius: { value: a.radius },
+      uLo: { value: new THREE.Vector3(...a.bounds[0]) }, uHi: { value: new THREE.Vector3(...a.bounds[1]) },
       uCamR: { value: new THREE.Matrix3() }, uEye: { value: new THREE.Vector3() },
       uFx: { value: 1 }, uFy: { value: 1 }, uCxs: { value: 0 }, uCys: { value: 0 }, uH: { value: 1 },
       uViewProj: { value: new THREE.Matrix4() }, uViewProjB: { value: new THREE.Matrix4() },
-      uSteps: { value: 16 }, uSunDir: { value: new THREE.Vector3() },
+      uSunDir: { value: new THREE.Vector3() },
       uAmbient: { value: DATA.lighting.ambient }, uSunTerm: { value: 0 },
     };
     const defs = `#define NVIEWS ${V}\n`;
@@ -580,6 +584,9 @@ class Asset {
       this.sunViews = new THREE.InstancedBufferAttribute(new Float32Array(this.count * 3), 3);
       this.sunWeights = new THREE.InstancedBufferAttribute(new Float32Array(this.count * 3), 3);
       sgeo.setAttribute('iViews', this.sunViews); sgeo.setAttribute('iWeights', this.sunWeights);
+      this.sunSteps = new THREE.InstancedBufferAttribute(new Float32Array(this.count), 1);
+      this.sunSteps.setUsage(THREE.DynamicDrawUsage);
+      sgeo.setAttribute('iSteps', this.sunSteps);
       sgeo.instanceCount = this.count;
       this.sunUniforms = {
         ...common(s.views, s.distance, s.fx, s.fy, s.c, true),
@@ -587,10 +594,10 @@ class Asset {
         uDepth: { value: arrayTexture(s.depth, sn, sv, 'half') },
         uCoverage: { value: arrayTexture(s.coverage, sn, sv, 'red') },
         uPivot: { value: new THREE.Vector3(...s.pivot) }, uRadius: { value: s.radius },
+        uLo: { value: new THREE.Vector3(...s.bounds[0]) }, uHi: { value: new THREE.Vector3(...s.bounds[1]) },
         uCamR: { value: new THREE.Matrix3() }, uCamC: { value: new THREE.Vector3() },
         uFx: { value: 1 }, uFy: { value: 1 }, uCxs: { value: 0 }, uCys: { value: 0 }, uH: { value: 1 },
         uViewProj: { value: new THREE.Matrix4() }, uViewProjB: { value: new THREE.Matrix4() },
-        uSteps: { value: stepsFor(sn, sn) },
       };
       const smat = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3, uniforms: this.sunUniforms,
@@ -604,8 +611,10 @@ class Asset {
   }
 
   // per instance: the views around its direction towards the eye (or the sun), object frame
-  update(eye, sunDir) {
-    const a = this.a, inst = this.inst, V = this.views.array, W = this.weights.array;
+  // and the march's samples: morphkit.views.depthmorph.steps_for the instance's image on screen (its
+  // quad's side in pixels) or in the light view (its atlas's side, scaled by the light view's texels)
+  update(eye, focal, sunDir, sunFocal) {
+    const a = this.a, inst = this.inst, V = this.views.array, W = this.weights.array, S = this.steps.array;
     for (let i = 0; i < this.count; i++) {
       const yaw = inst[5 * i + 3] * DEG, s = inst[5 * i + 4];
       const cy = Math.cos(yaw), sy = Math.sin(yaw);
@@ -615,8 +624,11 @@ class Asset {
       const az = Math.atan2(d[1], d[0]) / DEG, el = Math.asin(Math.max(-1, Math.min(1, d[2] / Math.hypot(...d)))) / DEG;
       const [k, w] = domeWeights(a.dome, az, el);
       V.set(k, 3 * i); W.set(w, 3 * i);
+      const far = Math.hypot(...d) * s;  // eye to pivot, world units
+      const side = 2 * a.half_extent * s * focal / Math.max(far, 1e-6);
+      S[i] = stepsFor(Math.floor(Math.min(side, 1e6)), 0);
     }
-    this.views.needsUpdate = true; this.weights.needsUpdate = true;
+    this.views.needsUpdate = true; this.weights.needsUpdate = true; this.steps.needsUpdate = true;
     if (this.sunMesh && sunDir) {
       const s = a.sun_atlas, SV = this.sunViews.array, SW = this.sunWeights.array;
       const az0 = Math.atan2(sunDir[1], sunDir[0]) / DEG;
@@ -624,8 +636,9 @@ class Asset {
       for (let i = 0; i < this.count; i++) {
         const [k, w] = domeWeights(s.dome, az0 - inst[5 * i + 3], el);
         SV.set(k, 3 * i); SW.set(w, 3 * i);
+        this.sunSteps.array[i] = stepsFor(Math.round(s.size * inst[5 * i + 4] * sunFocal / s.fx), 0);
       }
-      this.sunViews.needsUpdate = true; this.sunWeights.needsUpdate = true;
+      this.sunViews.needsUpdate = true; this.sunWeights.needsUpdate = true; this.sunSteps.needsUpdate = true;
     }
   }
 }
@@ -742,15 +755,14 @@ async function main() {
     const above = sunDir[2] > 0;
     const sunTerm = above ? DATA.lighting.sun_intensity / Math.PI : 0;
     const t0 = performance.now();
+    const scam = above ? shadowCamera(assets, sunDir) : null;
     for (const x of assets) {
-      x.update(cam.R.c, above ? sunDir : null);
+      x.update(cam.R.c, cam.fy, scam ? sunDir : null, scam ? scam.fx : 0);
       setCamUniforms(x.uniforms, cam, mats);
-      x.uniforms.uSteps.value = stepsFor(w, h);
       x.uniforms.uSunDir.value.set(...sunDir); x.uniforms.uSunTerm.value = sunTerm;
     }
     setCamUniforms(groundU, cam, mats);
     groundU.uSunDir.value.set(...sunDir); groundU.uSunTerm.value = sunTerm;
-    const scam = above ? shadowCamera(assets, sunDir) : null;
     groundU.uHasShadow.value = !!scam;
     if (scam) {
       if (!shadowTarget || shadowTarget.width !== scam.w) {
