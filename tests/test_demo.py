@@ -56,6 +56,10 @@ def test_demo_quick_writes_indexed_files(tmp_path, capsys):
         assert warped <= soft["mae_direct_vs_raycast_lightfacing_pixels"] + 0.03 and warped < 0.1
     assert {"billboards_compare.png", "billboards_error.png", "billboards_textured.png",
             "billboards_relit.png"} <= names
+    # the preview page: one self-contained file, within the 20 MB a page may take
+    page = tmp_path / "tree_preview.html"
+    assert "tree_preview.html" in names and page.stat().st_size == index["billboards"]["preview"]["bytes"]
+    assert page.read_text().startswith("<!DOCTYPE html>") and page.stat().st_size <= 20_000_000
     # the textured asset's billboard beside its real mesh, in its own look, turned +z up
     tex = index["billboards"]["textured"]
     assert (tex["asset"], tex["appearance"], tex["source_up"]) == ("photo_crate.glb", "own", "y")

@@ -211,8 +211,9 @@ def frame_name(index: int) -> str:
     return f"{FRAMES_FOLDER}/frame_{int(index):04d}.png"
 
 
-#: ``morphkit demo``: PNGs in the folder itself and ``index.json`` (:mod:`morphkit.programs.demo`).
-DEMO_OUTPUT = OutputRule("demo", ("*.png", "index.json"), markers=("index.json",),
+#: ``morphkit demo``: PNGs and the preview page in the folder itself and ``index.json``
+#: (:mod:`morphkit.programs.demo`).
+DEMO_OUTPUT = OutputRule("demo", ("*.png", "*.html", "index.json"), markers=("index.json",),
                          recognise=_json_holding("morphkit_demo"))
 #: ``morphkit shadows``: ``frames/frame_NNNN.png`` and ``shadows.webm`` (:mod:`morphkit.programs.playback`;
 #: ``frame_NNNN.png`` in the folder itself and ``shadows.mp4`` are what older versions wrote).

@@ -562,6 +562,13 @@ def _render_demo(out: Path, size: int, quick: bool) -> dict[str, Any]:
         billboards["textured"] = _textured_billboard_section(renderer, add, quick=quick)
         billboards["relit"] = _relit_billboard_section(renderer, add, quick=quick)
         billboards["shadowed"] = _shadowed_billboard_section(renderer, add, quick=quick)
+    from .preview import preview_page
+
+    desc = ("one self-contained page: the relit tree morphed in the browser (WebGL 2), its shadow from "
+            "its sun atlas; drag to orbit, sliders move the sun")
+    page = preview_page("tree", add("tree_preview.html", "preview", "tree", desc), overwrite=True)
+    billboards["preview"] = {"path": "tree_preview.html", "bytes": page["bytes"],
+                             "fragment": page["fragment"]}
     write_image(add("overview.png", "overview", "all", "morphkit's results beside their ground truth, "
                     "each with its error: warped hard shadow, soft shadow, view morph, billboards"),
                 _stack_rows(rows))
