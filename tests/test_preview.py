@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from morphkit import tol
-from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
+from morphkit.billboard.analytic import sphere_dome_asset
 from morphkit.cli import main
 from morphkit.errors import OutputExistsError, ValidationError
 from morphkit.export.browser import READY, Browser, browser_available
@@ -29,25 +29,16 @@ from morphkit.export.preview import (
 )
 from morphkit.export.previewref import reference_image
 from morphkit.imaging.metrics import psnr
-from morphkit.sunlit.sunatlas import SunAtlas
-from morphkit.views.dome import ViewDome
-from morphkit.views.domecameras import DomeCameras, direction
+from morphkit.sunlit.sunatlas import sphere_sun_atlas
+from morphkit.views.domecameras import direction
 
 ROOT = Path(__file__).resolve().parent.parent
 ONE = np.array([[0.0, 0.0, 0.0, 0.0, 1.0]])
 
 
-def _sun_atlas(n: int = 32) -> SunAtlas:
-    dome = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True)
-    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (n, n))
-    depths = [sphere_view(cams.ortho_camera(a, e, (n, n)))[2]
-              for a, e in zip(dome.azimuths_deg(), dome.elevations_deg(), strict=True)]
-    return SunAtlas.from_depths(dome, cams, np.stack(depths))
-
-
 @pytest.fixture(scope="module")
 def ball():
-    return sphere_dome_asset(size=48, levels=1), _sun_atlas()
+    return sphere_dome_asset(size=48, levels=1), sphere_sun_atlas()
 
 
 def _data(asset, atlas, view, instances=ONE, **kw):
@@ -336,3 +327,20 @@ def test_the_browser_plays_the_videos_morphkit_writes(browser, tmp_path):
         "return new Promise((ok) => { v.onended = () => ok([v.videoWidth, v.videoHeight, v.currentTime]);"
         "v.onerror = () => ok(['error', v.error && v.error.code]); v.play(); });")
     assert played[:2] == [96, 64] and played[2] > 1.5, played
+
+
+@pytest.mark.browser
+@pytest.mark.gl
+@pytest.mark.slow
+def test_the_forest_scene_s_page_starts_at_its_camera_and_sun_and_stays_small(browser, tmp_path, capsys):
+    out = tmp_path / "forest.html"
+    assert main(["preview", str(ROOT / "samples" / "scenes" / "forest.json"), "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    # the scene's first camera key (eye (-12, -16, 1.7) at the target (-4, -6, 1.5), 55 degrees) and sun
+    assert "a scene, 90 instances" in said and "&fov=55&sun=150,48&" in said
+    assert out.stat().st_size <= 20_000_000  # the bound for the demo scene's page
+    shot = browser.open(out, "size=320x240")
+    assert shot.title == READY and not shot.errors, shot.errors
+    assert shot.stats["instances"] == 90 and shot.stats["shadow_texels"] > 0
+    # trees, people and crates stand in front of the sky: the picture is not the empty ground
+    assert np.abs(shot.image - shot.image.mean(axis=(0, 1))).max() > 0.3

@@ -68,6 +68,7 @@ SUITES: dict[str, Suite] = {
     "billboards": lazy_suite("morphkit.bench.billboard_suite", "run"),
     "scene": lazy_suite("morphkit.bench.scene_suite", "run"),
     "plan": lazy_suite("morphkit.bench.plan_suite", "run"),
+    "preview": lazy_suite("morphkit.bench.preview_suite", "run"),
 }
 
 

@@ -71,7 +71,8 @@ from ..views.domecameras import DomeCameras, direction
 from ..views.gbuffer import ViewSurface
 from .pointlevels import block_points, grid_quads
 
-__all__ = ["SunAtlas", "AtlasPoints", "AtlasQuads", "segment_reach", "bake_sun_atlas", "sun_in_object",
+__all__ = ["SunAtlas", "sphere_sun_atlas", "AtlasPoints", "AtlasQuads",
+           "segment_reach", "bake_sun_atlas", "sun_in_object",
            "instance_frame", "ground_visibility", "ground_shadow", "sun_direction", "BYTES_PER_TEXEL",
            "MAX_POINT_LEVEL"]
 
@@ -622,6 +623,33 @@ def bake_sun_atlas(mesh: trimesh.Trimesh, renderer: SceneRenderer, *, dome: View
     depths = np.stack([renderer.depth(cams.ortho_camera(float(az[k]), float(el[k]), cams.shape), items)
                        for k in range(dome.views)])
     return SunAtlas.from_depths(dome, cams, depths, mesh_hash(norm))
+
+
+def sphere_sun_atlas(dome: ViewDome | None = None, size: int = 32) -> SunAtlas:
+    """The sun atlas of the analytic sphere (:mod:`morphkit.billboard.analytic`), its light views
+    ray-cast exactly: the shadow caster of tests and examples that need no renderer.
+
+    Parameters
+    ----------
+    dome : ViewDome, optional
+        The sun directions (default: rings at 10, 40 and 70 degrees of 8, 8 and 4 views and a top view).
+    size : int, optional
+        Each view's side, texels.
+
+    Returns
+    -------
+    SunAtlas
+        About the sphere asset's pivot, radius 1, distance 12 (as
+        :func:`~morphkit.billboard.analytic.sphere_dome_asset`).
+    """
+    from ..billboard.analytic import SPHERE_PIVOT, sphere_view
+
+    dome = ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True) if dome is None else dome
+    n = as_int(size, "size", lo=8, hi=tol.MAX_BILLBOARD_SIDE)
+    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (n, n))
+    depths = [sphere_view(cams.ortho_camera(a, e, (n, n)))[2]
+              for a, e in zip(dome.azimuths_deg(), dome.elevations_deg(), strict=True)]
+    return SunAtlas.from_depths(dome, cams, np.stack(depths))
 
 
 def ground_visibility(light_cam: CameraModel, depth: np.ndarray, pose: np.ndarray,
