@@ -213,7 +213,7 @@ def test_the_page_draws_what_morphkit_draws_at_three_cameras(browser, tree):
     OpenCV), so they differ by rounding at silhouettes and shadow edges, not by the method."""
     parts, page = tree
     for i, view in enumerate(VIEWS):
-        shot = browser.open(page, view.fragment()) if i == 0 else browser.redraw(view.fragment())
+        shot = browser.show(page, view.fragment()) if i == 0 else browser.redraw(view.fragment())
         assert shot.title == READY and not shot.errors, shot.errors
         assert shot.image.shape == (240, 320, 3)
         ref = reference_image(parts.asset, parts.sun_atlas, ONE, view, parts.asset.pivot)
@@ -236,7 +236,7 @@ def test_the_page_errs_against_the_real_mesh_as_morphkit_s_morph_does(browser, t
     items = parts.asset.items(parts.mesh)
     with Renderer() as r:
         for i, view in enumerate(VIEWS):
-            shot = browser.open(page, view.fragment()) if i == 0 else browser.redraw(view.fragment())
+            shot = browser.show(page, view.fragment()) if i == 0 else browser.redraw(view.fragment())
             truth = truth_image(parts.mesh, items, r, view, parts.asset.pivot)
             ref = reference_image(parts.asset, parts.sun_atlas, ONE, view, parts.asset.pivot)
             gap = psnr(ref, truth, data_range=1.0) - psnr(shot.image, truth, data_range=1.0)
@@ -247,7 +247,7 @@ def test_the_page_errs_against_the_real_mesh_as_morphkit_s_morph_does(browser, t
 def test_the_sun_slider_moves_the_shadow(browser, ball, tmp_path):
     asset, atlas = ball
     page = write_preview(tmp_path / "b.html", _data(asset, atlas, VIEWS[0]))
-    a = browser.open(page, VIEWS[0].fragment())
+    a = browser.show(page, VIEWS[0].fragment())
     b = browser.trigger("const s = document.getElementById('sun-az');"
                         "s.value = -45; s.dispatchEvent(new Event('input'));")
     assert a.title == b.title == READY
@@ -262,7 +262,7 @@ def test_a_browser_without_webgl_is_told_so_instead_of_a_blank_canvas(ball, tmp_
     asset, atlas = ball
     page = write_preview(tmp_path / "b.html", _data(asset, atlas, PreviewView()))
     with Browser(webgl=False, window=(400, 300)) as b:
-        shot = b.open(page)
+        shot = b.show(page)
     assert shot.title == "morphkit: no WebGL" and shot.image is None
     assert "This page needs WebGL 2" in shot.message
 
@@ -271,7 +271,7 @@ def test_a_browser_without_webgl_is_told_so_instead_of_a_blank_canvas(ball, tmp_
 def test_a_page_without_a_sun_atlas_draws_and_says_so_on_the_page(browser, ball, tmp_path):
     asset, _ = ball
     page = write_preview(tmp_path / "n.html", _data(asset, None, VIEWS[0]))
-    shot = browser.open(page, VIEWS[0].fragment())
+    shot = browser.show(page, VIEWS[0].fragment())
     assert shot.title == READY and shot.stats["shadow_texels"] == 0
     assert "no sun atlas, so it casts no shadow here" in browser.run_script(
         "return document.getElementById('figures').textContent")
@@ -282,7 +282,7 @@ def test_a_glb_from_another_tool_is_previewed_as_meshes(browser, tmp_path, capsy
     out = tmp_path / "crate.html"
     assert main(["preview", str(ROOT / "morphkit" / "data" / "photo_crate.glb"), "-o", str(out)]) == 0
     assert "meshes (a glTF file from another tool)" in capsys.readouterr().out
-    shot = browser.open(out, "size=320x240")
+    shot = browser.show(out, "size=320x240")
     assert shot.title == READY and not shot.errors, shot.errors
     # the crate stands in the middle of the picture: its pixels are neither sky nor ground
     centre = shot.image[90:150, 140:180].reshape(-1, 3)
@@ -304,7 +304,7 @@ def test_a_scene_of_100k_instances_is_instanced_and_its_page_stays_small(browser
     page = write_preview(tmp_path / "field.html", preview_data([asset_entry(asset, atlas, inst)], view,
                                                                np.zeros(3), 400.0, title="field"))
     assert page.stat().st_size <= 20_000_000  # the issue's page bound
-    shot = browser.open(page, view.fragment())
+    shot = browser.show(page, view.fragment())
     assert shot.title == READY and not shot.errors, shot.errors
     assert shot.stats["instances"] == len(inst)
     assert shot.stats["shadow_texels"] == 2048  # the scene's light view, capped
@@ -339,7 +339,7 @@ def test_the_forest_scene_s_page_starts_at_its_camera_and_sun_and_stays_small(br
     # the scene's first camera key (eye (-12, -16, 1.7) at the target (-4, -6, 1.5), 55 degrees) and sun
     assert "a scene, 90 instances" in said and "&fov=55&sun=150,48&" in said
     assert out.stat().st_size <= 20_000_000  # the issue's bound for the demo scene's page
-    shot = browser.open(out, "size=320x240")
+    shot = browser.show(out, "size=320x240")
     assert shot.title == READY and not shot.errors, shot.errors
     assert shot.stats["instances"] == 90 and shot.stats["shadow_texels"] > 0
     # trees, people and crates stand in front of the sky: the picture is not the empty ground

@@ -70,7 +70,7 @@ def _view_rows(browser: Browser, folder: Path, repeats: int) -> list[dict[str, A
     with Renderer() as r:
         for i, view in enumerate(VIEWS):
             frag = view.fragment()
-            shot = browser.open(page, frag) if i == 0 else browser.redraw(frag)
+            shot = browser.show(page, frag) if i == 0 else browser.redraw(frag)
             times: dict[str, list[float]] = {"page": [], "reference": [], "truth": []}
             for k in range(repeats + 1):  # one warm-up round
                 got = browser.redraw(frag.replace("fov=40", f"fov={40 + 1e-3 * (k + 1):.3f}"))
@@ -100,7 +100,7 @@ def _page_row(browser: Browser, page: Path, name: str, view: PreviewView, repeat
     """A page's size, first draw and frame time at ``view`` (redrawn at fields of view a thousandth
     of a degree apart, so that each redraw is a new frame)."""
     frag = view.fragment()
-    shot = browser.open(page, frag)
+    shot = browser.show(page, frag)
     fov = f"fov={view.fov_deg:.3f}".rstrip("0").rstrip(".")
     frames = [1e-3 * float(browser.redraw(frag.replace(fov, f"fov={view.fov_deg + 1e-3 * (k + 1):.3f}"))
                            .stats["frame_ms"]) for k in range(repeats)]

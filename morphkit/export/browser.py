@@ -3,7 +3,7 @@
 :class:`Browser` starts Debian's ``chromium`` through its ``chromedriver`` (selenium, from the
 ``test`` extras; ``scripts/setup.sh test`` installs all three), with WebGL 2 on SwiftShader, the
 software renderer Chromium ships (so the same page draws the same on any machine, GPU or none), or
-with WebGL turned off. :meth:`Browser.open` loads a page at a URL fragment and waits for the
+with WebGL turned off. :meth:`Browser.show` loads a page at a URL fragment and waits for the
 title the page sets when it has drawn (``morphkit: ready``) or given up (``morphkit: no WebGL``,
 ``morphkit: error``); :class:`Shot` holds what it drew. Selenium Manager is never asked to fetch
 a browser: the binaries are found on ``PATH`` or refused with the command that installs them.
@@ -62,7 +62,7 @@ def browser_available() -> str | None:
 class Shot:
     """What a page drew.
 
-    Attributes
+    Parameters
     ----------
     title : str
         The page's last title.
@@ -96,7 +96,7 @@ class Browser:
     window : (width, height), optional
         The window, pixels.
     timeout_s : float, optional
-        How long :meth:`open` waits for a page's title.
+        How long :meth:`show` waits for a page's title.
 
     Raises
     ------
@@ -157,7 +157,7 @@ class Browser:
         raise RenderError(expected_got("the page", f"drawn within {self.timeout_s:.0f} s",
                                        f"the title {self._d.title!r}"))
 
-    def open(self, page: str | os.PathLike[str], fragment: str = "") -> Shot:
+    def show(self, page: str | os.PathLike[str], fragment: str = "") -> Shot:
         """Load ``page`` at ``#fragment`` and wait for its title (module docstring).
 
         Parameters
@@ -233,7 +233,7 @@ class Browser:
         return Shot(d.title, image, dict(stats), float(seconds), str(message), errors)
 
     def requests(self) -> list[str]:
-        """The URLs the browser asked for since the last :meth:`open` (from its network log).
+        """The URLs the browser asked for since the last :meth:`show` (from its network log).
 
         Returns
         -------

@@ -2,7 +2,7 @@
 (a page).
 
 :func:`add_file_commands` adds their parsers to the command line's (:mod:`morphkit.cli`); each
-command's work is its program's (:mod:`.export`, :mod:`.preview`).
+command's work is its program's (:mod:`morphkit.programs.export`, :mod:`morphkit.programs.preview`).
 """
 
 from __future__ import annotations

@@ -64,8 +64,19 @@ def _output(out: str | os.PathLike[str], overwrite: bool) -> Path:
 
 @dataclass(frozen=True)
 class AssetParts:
-    """One asset as ``export`` and ``preview`` take it: its name, dome asset, normalised mesh
-    (None for an asset file) and sun atlas (None: not baked)."""
+    """One asset as ``export`` and ``preview`` take it.
+
+    Parameters
+    ----------
+    name : str
+        Its name.
+    asset : DomeAsset
+        Its relightable views.
+    mesh : trimesh.Trimesh or None
+        Its normalised mesh (None for an asset file).
+    sun_atlas : SunAtlas or None
+        Its sun atlas (None: not baked).
+    """
 
     name: str
     asset: DomeAsset
@@ -208,8 +219,17 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
 
 @dataclass(frozen=True)
 class SceneParts:
-    """A scene as ``export`` and ``preview`` take it: its assets (per name: the dome asset, its
-    render items and its sun atlas), its instances, and the scene as described (its camera, sun)."""
+    """A scene as ``export`` and ``preview`` take it.
+
+    Parameters
+    ----------
+    assets : dict of str to ExportedAsset
+        Per asset name: the dome asset, its render items and its sun atlas.
+    instances : Instances
+        The scene's instances, placed.
+    scene : SceneDescription
+        The scene as described (its camera, its sun).
+    """
 
     assets: dict[str, ExportedAsset]
     instances: Instances
