@@ -164,6 +164,7 @@ def test_the_preview_command_writes_a_page_of_a_dome_asset_file_and_keeps_an_exi
     assert main(["preview", str(npz), "-o", str(out), "--camera", "30,20,4", "--sun", "100,40"]) == 0
     said = capsys.readouterr().out
     assert "an asset, 1 instances" in said and "no sun atlas, so it casts no shadow here" in said
+    assert "no octahedral impostor beside it (an asset file has no mesh to bake it from)" in said
     assert "#camera=30,20,4&fov=40&sun=100,40&size=640x480" in said
     assert main(["preview", str(npz), "-o", str(out)]) == 2
     assert "expected a new file, or --overwrite" in capsys.readouterr().err
@@ -241,6 +242,62 @@ def test_the_page_errs_against_the_real_mesh_as_morphkit_s_morph_does(browser, t
             ref = reference_image(parts.asset, parts.sun_atlas, ONE, view, parts.asset.pivot)
             gap = psnr(ref, truth, data_range=1.0) - psnr(shot.image, truth, data_range=1.0)
             assert abs(gap) <= 1.0, (i, gap)
+
+
+def _ball_impostor(frames: int = 8, side: int = 32):
+    """The analytic ball's octahedral impostor, its frames ray-cast (no GL)."""
+    from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
+    from morphkit.billboard.impostor import OctahedralImpostor, frame_grid_uv, hemi_oct_decode
+    from morphkit.views.domecameras import DomeCameras
+    from morphkit.views.gbuffer import decode_surface, encode_surface
+
+    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (side, side))
+    d = hemi_oct_decode(frame_grid_uv(frames).reshape(-1, 2))
+    horiz = np.hypot(d[:, 0], d[:, 1])
+    az = np.where(horiz > 0, np.degrees(np.arctan2(d[:, 1], d[:, 0])), 0.0)
+    el = np.degrees(np.arctan2(d[:, 2], horiz))
+    surfaces = [decode_surface(encode_surface(*sphere_view(cams.ortho_camera(a, e, (side, side)))[:3]))
+                for a, e in zip(az, el, strict=True)]
+    return OctahedralImpostor.from_surfaces("ball", cams, frames, surfaces, levels=1)
+
+
+def test_an_impostor_is_packed_with_its_frames_as_stored_and_their_axes(ball):
+    from morphkit.export.preview import impostor_entry
+
+    _, atlas = ball
+    imp = _ball_impostor()
+    e = impostor_entry(imp, atlas, ONE)
+    assert e["kind"] == "impostor" and e["frames"] == 8 and e["size"] == 32
+    axes = np.asarray(e["frame_axes"]).reshape(3, 64, 4)[..., :3]
+    np.testing.assert_allclose(axes[0], imp.frame_dirs, atol=1e-7)
+    np.testing.assert_allclose(axes[2], imp.frame_up, atol=1e-7)
+    depth = np.frombuffer(zlib.decompress(base64.b64decode(e["depth"])), np.float16).reshape(64, 32, 32)
+    stored = imp.stored_frame(5).depth
+    assert np.array_equal(depth[5][np.isfinite(stored)], stored[np.isfinite(stored)])
+    assert e["view_bytes"] == 64 * 32 * 32 * 9
+    with pytest.raises(ValidationError, match="impostor: expected an OctahedralImpostor, got DomeAsset"):
+        impostor_entry(ball[0], atlas, ONE)
+
+
+@pytest.mark.browser
+def test_the_page_s_impostor_draws_what_morphkit_s_impostor_draws(browser, ball, tmp_path):
+    """The octahedral impostor's shader (one parallax step a frame, the engines') against
+    :func:`~morphkit.export.previewref.impostor_rays` along the same rays: PSNR >= 30 dB, as the
+    morph's (float rounding at silhouettes, not the method)."""
+    from morphkit.export.preview import impostor_entry
+
+    _, atlas = ball
+    imp = _ball_impostor()
+    view = PreviewView(40.0, 25.0, 4.0, 40.0, 120.0, 40.0, 320, 240)
+    page = write_preview(tmp_path / "imp.html", preview_data([impostor_entry(imp, atlas, ONE)], view,
+                                                             imp.pivot, 1.0, title="impostor"))
+    shot = browser.show(page, view.fragment())
+    assert shot.title == READY and not shot.errors, shot.errors
+    ref = reference_image(imp, atlas, ONE, view, imp.pivot)
+    assert psnr(shot.image, ref, data_range=1.0) >= 30.0
+    # and the ball is drawn: its pixels are neither ground nor sky
+    ground = reference_image(imp, None, np.zeros((0, 5)), view, imp.pivot)
+    assert np.abs(ref - ground).max(axis=2).mean() > 0.02
 
 
 @pytest.mark.browser

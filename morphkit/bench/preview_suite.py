@@ -13,9 +13,12 @@ Scenes and cases:
   - ``reference``: :func:`~morphkit.export.previewref.reference_image`, morphkit's own morph of the
     same camera and sun (numpy and OpenCV); ``psnr_db`` against ``truth``;
   - ``truth``: :func:`~morphkit.export.previewref.truth_image`, the real mesh rendered (OSMesa or
-    EGL) with its ground shadow ray cast: the baseline.
+    EGL) with its ground shadow ray cast: the baseline;
+  - ``page_impostor``: the page of the tree's octahedral impostor (12 x 12 frames, one level, of
+    as many bytes as the dome's views), ``psnr_ref_db`` against ``reference_impostor``:
+    :func:`~morphkit.export.previewref.reference_image` of the impostor along the same rays.
 
-* ``what=page``: pages written by ``morphkit preview`` -- the tree, the forest scene
+* ``what=page``: pages written by ``morphkit preview`` -- the tree (its impostor beside it), the forest scene
   (``samples/scenes/forest.json``: 90 instances of three assets, at its first camera key; present in
   a source checkout) and a grid of 100,489 instances of the analytic ball -- with their ``bytes``,
   ``draw_s`` (from loading the page to its ``morphkit: ready``) and ``frame_ms`` (the median of
@@ -34,12 +37,14 @@ from typing import Any
 import numpy as np
 
 from ..billboard.analytic import sphere_dome_asset
+from ..billboard.impostor import bake_impostor, impostor_frame_size
 from ..export.browser import Browser
-from ..export.preview import PreviewView, asset_entry, preview_data, write_preview
+from ..export.preview import PreviewView, asset_entry, impostor_entry, preview_data, write_preview
 from ..export.previewref import reference_image, truth_image
 from ..imaging.metrics import psnr
 from ..render import Renderer
 from ..sunlit.sunatlas import sphere_sun_atlas
+from ..views.gbuffer import BYTES_PER_PIXEL
 from .harness import Timing, make_row
 
 __all__ = ["run", "FLOOR_METHOD", "PLOT_OPTIONS", "VIEWS"]
@@ -61,13 +66,21 @@ _ROOT = Path(__file__).resolve().parents[2]
 
 def _view_rows(browser: Browser, folder: Path, repeats: int) -> list[dict[str, Any]]:
     from ..programs.export import bake_asset_parts
+    from ..programs.preview import IMPOSTOR_FRAMES
 
     parts = bake_asset_parts("tree")
+    a = parts.asset
     page = write_preview(folder / "tree.html", preview_data(
-        [asset_entry(parts.asset, parts.sun_atlas, _ONE)], VIEWS[0], parts.asset.pivot, 1.0, title="tree"))
-    items = parts.asset.items(parts.mesh)
+        [asset_entry(a, parts.sun_atlas, _ONE)], VIEWS[0], a.pivot, 1.0, title="tree"))
+    items = a.items(parts.mesh)
     rows: list[dict[str, Any]] = []
     with Renderer() as r:
+        m = impostor_frame_size(a.dome.views * a.size[0] * a.size[1] * BYTES_PER_PIXEL,
+                                frames=IMPOSTOR_FRAMES, levels=1)
+        imp = bake_impostor(parts.mesh, r, name="tree", frames=IMPOSTOR_FRAMES, frame_size=m, levels=1,
+                            appearance=a.appearance)
+        imp_page = write_preview(folder / "tree_impostor.html", preview_data(
+            [impostor_entry(imp, parts.sun_atlas, _ONE)], VIEWS[0], a.pivot, 1.0, title="impostor"))
         for i, view in enumerate(VIEWS):
             frag = view.fragment()
             shot = browser.show(page, frag) if i == 0 else browser.redraw(frag)
@@ -84,15 +97,32 @@ def _view_rows(browser: Browser, folder: Path, repeats: int) -> list[dict[str, A
                     times["reference"].append(t1 - t0)
                     times["truth"].append(t2 - t1)
             params = {"what": "view", "camera": i, "fragment": frag, "asset": "tree", "size": 128,
-                      "image": f"{view.width}x{view.height}"}
+                      "image": f"{view.width}x{view.height}", "impostor_frame": m}
             err = {"page": {"psnr_db": psnr(shot.image, truth, data_range=1.0),
                             "psnr_ref_db": psnr(shot.image, ref, data_range=1.0)},
                    "reference": {"psnr_db": psnr(ref, truth, data_range=1.0)}, "truth": {}}
             note = {"page": "headless Chromium, SwiftShader WebGL 2", "reference": "morphkit's morph (numpy)",
                     "truth": "mesh render + ray-cast ground shadow"}
-            for m, samples in times.items():
-                rows.append(make_row(SUITE, m, params, Timing.from_seconds(samples), metrics=err[m],
-                                     note=note[m]))
+            # the impostor at equal bytes, its page against morphkit's impostor along the same rays
+            browser.show(imp_page, frag)
+            times["page_impostor"], times["reference_impostor"] = [], []
+            for k in range(repeats + 1):
+                got_i = browser.redraw(frag.replace("fov=40", f"fov={40 + 1e-3 * (k + 1):.3f}"))
+                t0 = time.perf_counter()
+                ref_i = reference_image(imp, parts.sun_atlas, _ONE, view, a.pivot)
+                if k:
+                    times["page_impostor"].append(1e-3 * float(got_i.stats["frame_ms"]))
+                    times["reference_impostor"].append(time.perf_counter() - t0)
+            shot_i = browser.redraw(frag)
+            err["page_impostor"] = {"psnr_db": psnr(shot_i.image, truth, data_range=1.0),
+                                    "psnr_ref_db": psnr(shot_i.image, ref_i, data_range=1.0)}
+            err["reference_impostor"] = {"psnr_db": psnr(ref_i, truth, data_range=1.0)}
+            note["page_impostor"] = f"octahedral impostor {IMPOSTOR_FRAMES}^2 x {m} px, equal bytes; Chromium"
+            note["reference_impostor"] = "morphkit's impostor along the same rays (numpy)"
+            browser.show(page, frag)
+            for meth, samples in times.items():
+                rows.append(make_row(SUITE, meth, params, Timing.from_seconds(samples), metrics=err[meth],
+                                     note=note[meth]))
     return rows
 
 

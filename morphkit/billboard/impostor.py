@@ -489,6 +489,25 @@ class OctahedralImpostor:
         lv = as_int(level, "level", lo=0, hi=self.levels - 1)
         return decode_surface(self._stored[lv][k])
 
+    def stored_frame(self, k: int, level: int = 0) -> StoredSurface:
+        """Frame ``k`` (``= j N + i``) at mip ``level`` as stored (shared, do not modify).
+
+        Parameters
+        ----------
+        k : int
+            Frame index.
+        level : int, optional
+            Mip level.
+
+        Returns
+        -------
+        StoredSurface
+            Straight sRGB albedo and alpha, int8 normals, float16 depth.
+        """
+        k = as_int(k, "k", lo=0, hi=self.frames**2 - 1)
+        lv = as_int(level, "level", lo=0, hi=self.levels - 1)
+        return self._stored[lv][k]
+
     def weights(self, azimuth_deg: float, elevation_deg: float) -> list[tuple[int, float]]:
         """The frames of the grid triangle around a viewing direction and their weights.
 

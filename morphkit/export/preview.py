@@ -37,6 +37,7 @@ import numpy as np
 from .. import tol
 from ..billboard.baking.bakelook import BAKE_AMBIENT
 from ..billboard.domeasset import DomeAsset
+from ..billboard.impostor import OctahedralImpostor
 from ..camera import CameraModel, look_at
 from ..errors import OutputExistsError, ValidationError, expected_got
 from ..files.fileio import write_text
@@ -45,11 +46,12 @@ from ..sunpath import SUN_INTENSITY
 from ..views.depthmorph import DEPTH_AGREE_STEPS, REFINE_STEPS, THICKNESS_STEPS
 from ..views.dome import ViewDome
 from ..views.domecameras import direction
+from ..views.gbuffer import BYTES_PER_PIXEL
 from .page import page_html
 
 __all__ = ["PreviewView", "asset_entry", "preview_data", "write_preview", "GROUND_ALBEDO", "SKY",
            "PREVIEW_VERSION", "SHADOW_MAX_TEXELS",
-           "check_preview_output", "drawn_bounds"]
+           "check_preview_output", "drawn_bounds", "impostor_entry"]
 
 #: The page data's version (``morphkit_preview``).
 PREVIEW_VERSION = 1
@@ -220,6 +222,98 @@ def drawn_bounds(cameras: list[CameraModel], depths: np.ndarray, pad: float) -> 
     return [(lo - pad).tolist(), (hi + pad).tolist()]
 
 
+def _checked(sun_atlas: SunAtlas | None, instances: np.ndarray, side: int) -> np.ndarray:
+    """The instances as float64 ``(N, 5)``, once the sun atlas and the views' side are checked."""
+    if sun_atlas is not None and not isinstance(sun_atlas, SunAtlas):
+        raise ValidationError(expected_got("sun_atlas", "a SunAtlas or None", type(sun_atlas).__name__))
+    inst = np.asarray(instances, np.float64)
+    if inst.ndim != 2 or inst.shape[1] != 5 or not np.all(np.isfinite(inst)) or np.any(inst[:, 4] <= 0):
+        raise ValidationError(expected_got("instances", "(N, 5) finite (x, y, z, yaw_deg, scale), scales > 0",
+                                           f"shape {inst.shape}"))
+    limit = tol.EXPORT_MAX_TEXTURE_SIDE
+    if side > limit or (sun_atlas is not None and sun_atlas.size > limit):
+        big = max(side, 0 if sun_atlas is None else sun_atlas.size)
+        raise ValidationError(expected_got("views", f"sides of at most {limit} px (WebGL's texture limit "
+                                           "morphkit writes to)", f"{big} px"))
+    return inst
+
+
+def _add_sun_atlas(entry: dict[str, Any], sun_atlas: SunAtlas | None) -> None:
+    """``entry["sun_atlas"]``: the atlas as the page reads it (or None), its bytes counted."""
+    entry["sun_atlas"] = None
+    if sun_atlas is None:
+        return
+    sc = sun_atlas.view_camera(0)
+    scams = [sun_atlas.view_camera(k) for k in range(sun_atlas.dome.views)]
+    sdepth = sun_atlas.depth.astype(np.float32) + np.float32(sun_atlas.cameras.distance)
+    entry["sun_atlas"] = {
+        "size": sun_atlas.size, "distance": float(sun_atlas.cameras.distance),
+        "radius": float(sun_atlas.cameras.radius), "pivot": sun_atlas.cameras.pivot.tolist(),
+        "half_extent": float(sun_atlas.cameras.half_extent[0]), "fx": float(sc.fx), "fy": float(sc.fy),
+        "c": float(sc.cx), "dome": _dome_json(sun_atlas.dome),
+        "views": [_camera_json(c) for c in scams],
+        "bounds": drawn_bounds(scams, sdepth, 2.0 / sc.fx),
+        "depth": _b64(_half_bits(sun_atlas.depth)), "coverage": _b64(sun_atlas.coverage),
+    }
+    entry["texture_bytes"] += int(sun_atlas.depth.size * 2 + sun_atlas.coverage.nbytes)
+
+
+def impostor_entry(impostor: OctahedralImpostor, sun_atlas: SunAtlas | None, instances: np.ndarray,
+                   name: str | None = None) -> dict[str, Any]:
+    """An octahedral impostor as the page reads it: its level-0 frames as stored (their depths
+    along each frame's axis, not offsets), each frame's direction and axes, and what
+    :func:`asset_entry` gives of an asset.
+
+    Parameters
+    ----------
+    impostor : OctahedralImpostor
+        The frames (level 0).
+    sun_atlas : SunAtlas or None
+        Its asset's sun atlas (None: no shadow).
+    instances : (N, 5) float
+        ``(x, y, z, yaw_deg, scale)`` per instance, world frame.
+    name : str, optional
+        Shown on the page (default the impostor's).
+
+    Returns
+    -------
+    dict
+        JSON values (``kind``: ``"impostor"``).
+
+    Raises
+    ------
+    ValidationError
+        As :func:`asset_entry`.
+    """
+    if not isinstance(impostor, OctahedralImpostor):
+        raise ValidationError(expected_got("impostor", "an OctahedralImpostor", type(impostor).__name__))
+    m, nf = int(impostor.frame_side), impostor.frames**2
+    inst = _checked(sun_atlas, instances, m)
+    stored = [impostor.stored_frame(k) for k in range(nf)]
+    rgba = np.stack([f.rgba for f in stored])
+    normal = np.zeros((nf, m, m, 4), np.uint8)
+    normal[..., :3] = (np.stack([f.normal for f in stored]).astype(np.int16) + 128).astype(np.uint8)
+    depth = np.stack([f.depth for f in stored])
+    cams = [impostor.cameras.ortho_camera(float(az), float(el), (m, m)) for az, el in impostor.frame_angles]
+    half = float(impostor.half_extent[0])
+    axes = np.zeros((3, nf, 4), np.float32)
+    axes[0, :, :3], axes[1, :, :3] = impostor.frame_dirs, impostor.frame_right
+    axes[2, :, :3] = impostor.frame_up
+    entry: dict[str, Any] = {
+        "kind": "impostor", "name": name or impostor.name, "size": m, "frames": impostor.frames,
+        "distance": float(impostor.distance), "radius": float(impostor.cameras.radius), "half_extent": half,
+        "pivot": impostor.pivot.tolist(), "scale": m / (2.0 * half), "centre": (m - 1) / 2.0,
+        "frame_axes": axes.reshape(-1).tolist(),
+        "bounds": drawn_bounds(cams, depth.astype(np.float32), 4.0 * half / m),
+        "rgba": _b64(rgba), "normal": _b64(normal), "depth": _b64(_half_bits(depth)),
+        "instances": _b64(inst.astype(np.float32)), "count": int(len(inst)),
+        "texture_bytes": int(rgba.nbytes + normal.nbytes + depth.size * 2),
+        "view_bytes": int(nf * m * m * BYTES_PER_PIXEL),
+    }
+    _add_sun_atlas(entry, sun_atlas)
+    return entry
+
+
 def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndarray,
                 name: str | None = None) -> dict[str, Any]:
     """One asset as the page reads it (module docstring).
@@ -248,18 +342,8 @@ def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndar
     """
     if not isinstance(asset, DomeAsset):
         raise ValidationError(expected_got("asset", "a DomeAsset", type(asset).__name__))
-    if sun_atlas is not None and not isinstance(sun_atlas, SunAtlas):
-        raise ValidationError(expected_got("sun_atlas", "a SunAtlas or None", type(sun_atlas).__name__))
-    inst = np.asarray(instances, np.float64)
-    if inst.ndim != 2 or inst.shape[1] != 5 or not np.all(np.isfinite(inst)) or np.any(inst[:, 4] <= 0):
-        raise ValidationError(expected_got("instances", "(N, 5) finite (x, y, z, yaw_deg, scale), scales > 0",
-                                           f"shape {inst.shape}"))
     n = int(asset.size[0])
-    limit = tol.EXPORT_MAX_TEXTURE_SIDE
-    if n > limit or (sun_atlas is not None and sun_atlas.size > limit):
-        side = max(n, 0 if sun_atlas is None else sun_atlas.size)
-        raise ValidationError(expected_got("views", f"sides of at most {limit} px (WebGL's texture limit "
-                                           "morphkit writes to)", f"{side} px"))
+    inst = _checked(sun_atlas, instances, n)
     rec = asset.record()
     normal = np.zeros((*rec.normal.shape[:3], 4), np.uint8)
     normal[..., :3] = (rec.normal.astype(np.int16) + 128).astype(np.uint8)
@@ -268,7 +352,7 @@ def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndar
     depths = rec.depth.astype(np.float32) + np.float32(asset.cameras.distance)
     texel = 2.0 * asset.half_extent[0] / n  # one texel at the pivot
     entry: dict[str, Any] = {
-        "name": name or asset.name, "size": n, "distance": float(asset.cameras.distance),
+        "kind": "dome", "name": name or asset.name, "size": n, "distance": float(asset.cameras.distance),
         "radius": float(asset.cameras.radius), "half_extent": float(asset.half_extent[0]),
         "pivot": asset.pivot.tolist(), "f": float(cam0.fx),
         "c": float(cam0.cx), "dome": _dome_json(asset.dome),
@@ -276,22 +360,9 @@ def asset_entry(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndar
         "rgba": _b64(rec.rgba), "normal": _b64(normal), "depth": _b64(_half_bits(rec.depth)),
         "instances": _b64(inst.astype(np.float32)), "count": int(len(inst)),
         "texture_bytes": int(rec.rgba.nbytes + normal.nbytes + rec.depth.size * 2),
-        "sun_atlas": None,
+        "view_bytes": int(asset.dome.views * n * n * BYTES_PER_PIXEL),
     }
-    if sun_atlas is not None:
-        sc = sun_atlas.view_camera(0)
-        scams = [sun_atlas.view_camera(k) for k in range(sun_atlas.dome.views)]
-        sdepth = sun_atlas.depth.astype(np.float32) + np.float32(sun_atlas.cameras.distance)
-        entry["sun_atlas"] = {
-            "size": sun_atlas.size, "distance": float(sun_atlas.cameras.distance),
-            "radius": float(sun_atlas.cameras.radius), "pivot": sun_atlas.cameras.pivot.tolist(),
-            "half_extent": float(sun_atlas.cameras.half_extent[0]), "fx": float(sc.fx), "fy": float(sc.fy),
-            "c": float(sc.cx), "dome": _dome_json(sun_atlas.dome),
-            "views": [_camera_json(c) for c in scams],
-            "bounds": drawn_bounds(scams, sdepth, 2.0 / sc.fx),
-            "depth": _b64(_half_bits(sun_atlas.depth)), "coverage": _b64(sun_atlas.coverage),
-        }
-        entry["texture_bytes"] += int(sun_atlas.depth.size * 2 + sun_atlas.coverage.nbytes)
+    _add_sun_atlas(entry, sun_atlas)
     return entry
 
 
@@ -343,7 +414,7 @@ def preview_data(entries: list[dict[str, Any]], view: PreviewView, target: np.nd
                       "sun_view_min_coverage": tol.SUN_VIEW_MIN_COVERAGE,
                       "sun_ground_bias_texels": tol.SUN_GROUND_BIAS_TEXELS,
                       "sun_min_elevation_deg": tol.SUN_MIN_ELEVATION_DEG,
-                      "shadow_max_texels": SHADOW_MAX_TEXELS},
+                      "shadow_max_texels": SHADOW_MAX_TEXELS, "imp_min_cos": tol.IMP_MIN_COS},
         "assets": entries, "texture_bytes": int(sum(e["texture_bytes"] for e in entries)),
         "measured": list(measured or []), "notes": notes,
         "gltf": None if gltf is None else base64.b64encode(gltf).decode("ascii"),

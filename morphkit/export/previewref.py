@@ -25,11 +25,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+import cv2
 import numpy as np
 import trimesh
 
+from .. import tol
 from ..billboard.baking.bakelook import BAKE_AMBIENT
 from ..billboard.domeasset import DomeAsset
+from ..billboard.impostor import OctahedralImpostor
 from ..camera import CameraModel
 from ..imaging.groundtruth import hard_visibility
 from ..imaging.shading import Lighting, shade, shade_passes
@@ -37,10 +40,11 @@ from ..protocols import PassRenderer
 from ..scene import Item, SceneObject
 from ..sunlit.sunatlas import SunAtlas, ground_shadow
 from ..sunpath import SUN_INTENSITY, sun
-from ..views.depthmorph import morph_views, steps_for
+from ..views.depthmorph import morph_views, remap_points, steps_for
+from ..views.gbuffer import ViewSurface
 from .preview import GROUND_ALBEDO, SKY, PreviewView
 
-__all__ = ["reference_image", "truth_image"]
+__all__ = ["reference_image", "truth_image", "impostor_rays"]
 
 
 def _yaw(deg: float) -> np.ndarray:
@@ -53,14 +57,92 @@ def _encode(linear: np.ndarray) -> np.ndarray:
     return np.power(np.clip(linear, 0.0, 1.0), 1.0 / 2.2)
 
 
-def reference_image(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.ndarray,
+def impostor_rays(impostor: OctahedralImpostor, origins: np.ndarray, dirs: np.ndarray,
+                  frames: list[tuple[int, float]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The octahedral impostor along rays of any origin (module docstring of
+    :mod:`morphkit.billboard.impostor`: each frame read where the ray meets its plane, moved by
+    one parallax step, the frames blended by weight), as the engines' shaders do from the real eye.
+
+    Parameters
+    ----------
+    impostor : OctahedralImpostor
+        Its frames (level 0).
+    origins, dirs : (P, 3) float
+        Rays, object frame (unit directions).
+    frames : list of (int, float)
+        :meth:`~morphkit.billboard.impostor.OctahedralImpostor.weights` of the view's direction.
+
+    Returns
+    -------
+    albedo : (P, 4) float32
+        Premultiplied linear albedo and alpha (0 where empty).
+    normal : (P, 3) float32
+        Unit normals (0 where empty).
+    t : (P,) float32
+        The ray parameter of the surface shown (``inf`` where empty).
+    """
+    m = impostor.frame_side
+    scale, centre = m / (2.0 * float(impostor.half_extent[0])), (m - 1) / 2.0
+    op = np.asarray(origins, np.float64) - impostor.pivot
+    d = np.asarray(dirs, np.float64)
+    dist = np.float32(impostor.distance)
+    p = len(op)
+    albedo = np.zeros((p, 4), np.float32)
+    normal = np.zeros((p, 3), np.float32)
+    dsum = np.zeros(p, np.float32)
+    floor = np.float32(tol.ALPHA_FLOOR)
+    for k, w in frames:
+        s = impostor.frame_surface(k)
+        a = s.alpha
+        h = np.where(np.isfinite(s.depth), dist - s.depth, np.float32(0.0)) * a
+        tex_h = np.ascontiguousarray(np.stack([a, h], axis=-1), np.float32)
+        tex_n = np.ascontiguousarray(s.normal, np.float32)
+        dk, rk, uk = impostor.frame_dirs[k], impostor.frame_right[k], impostor.frame_up[k]
+        base = (op @ dk).astype(np.float32)
+        qk = np.minimum(d @ dk, -tol.IMP_MIN_COS).astype(np.float32)
+        fx0, fy0 = (op @ rk).astype(np.float32), (op @ uk).astype(np.float32)
+        qx, qy = (d @ rk).astype(np.float32), (d @ uk).astype(np.float32)
+
+        def at(t: np.ndarray, fx0: np.ndarray = fx0, fy0: np.ndarray = fy0, qx: np.ndarray = qx,
+               qy: np.ndarray = qy) -> tuple[np.ndarray, np.ndarray]:
+            return ((fx0 + t * qx) * np.float32(scale) + np.float32(centre)).astype(np.float32), \
+                (-(fy0 + t * qy) * np.float32(scale) + np.float32(centre)).astype(np.float32)
+
+        def height(t: np.ndarray, tex_h: np.ndarray = tex_h) -> tuple[np.ndarray, np.ndarray]:
+            ah = remap_points(tex_h, *at(t), cv2.INTER_LINEAR, 0.0)
+            hh = np.where(ah[:, 0] > floor, ah[:, 1] / np.maximum(ah[:, 0], floor), np.float32(0.0))
+            return ah[:, 0], hh
+
+        _, hk = height(-base / qk)
+        t = (hk - base) / qk
+        u, v = at(t)
+        fa = remap_points(np.ascontiguousarray(s.albedo, np.float32), u, v, cv2.INTER_LINEAR, 0.0)
+        fn = remap_points(tex_n, u, v, cv2.INTER_LINEAR, 0.0)
+        ah = remap_points(tex_h, u, v, cv2.INTER_LINEAR, 0.0)
+        hk = np.where(fa[:, 3] > floor, ah[:, 1] / np.maximum(fa[:, 3], floor), np.float32(0.0))
+        t = (hk - base) / qk
+        wk = np.float32(w)
+        albedo += wk * fa
+        normal += wk * fn
+        dsum += wk * fa[:, 3] * t
+    alpha = albedo[:, 3]
+    drawn = alpha > floor
+    norm = np.linalg.norm(normal, axis=1, keepdims=True)
+    normal = np.where(drawn[:, None] & (norm > 0), normal / np.maximum(norm, floor), np.float32(0.0))
+    albedo = np.where(drawn[:, None], np.clip(albedo, 0.0, 1.0), np.float32(0.0))
+    t = np.where(drawn, dsum / np.maximum(alpha, floor), np.float32(np.inf))
+    return albedo.astype(np.float32), normal.astype(np.float32), t.astype(np.float32)
+
+
+def reference_image(asset: DomeAsset | OctahedralImpostor, sun_atlas: SunAtlas | None, instances: np.ndarray,
                     view: PreviewView, target: np.ndarray) -> np.ndarray:
     """The page's image of ``view``, drawn by morphkit (module docstring).
 
     Parameters
     ----------
-    asset : DomeAsset
-        The billboards' views.
+    asset : DomeAsset or OctahedralImpostor
+        The billboards' views: morphed (a dome asset), or an impostor's frames
+        (:func:`impostor_rays`).
     sun_atlas : SunAtlas or None
         Their sun atlas (None: no shadows).
     instances : (N, 5) float
@@ -101,13 +183,20 @@ def reference_image(asset: DomeAsset, sun_atlas: SunAtlas | None, instances: np.
         rel = pose[:3, 3] - asset.pivot
         az = float(np.degrees(np.arctan2(rel[1], rel[0])))
         el = float(np.degrees(np.arcsin(np.clip(rel[2] / np.linalg.norm(rel), -1.0, 1.0))))
-        views, weights = asset.dome.weights(az, el)
-        used = [(asset.reference_camera(int(k)), asset.reference_surface(int(k)), float(wt))
-                for k, wt in zip(views, weights, strict=True) if wt > 0]
-        # the march's samples: those of the instance's image on screen (its quad's side, pixels)
-        side = 2.0 * asset.half_extent[0] * s * cam.fy / (np.linalg.norm(rel) * s)
-        steps = steps_for((int(min(side, 1e6)), 0))
-        surf = morph_views(local, asset.pivot, asset.cameras.radius, used, steps=steps)
+        if isinstance(asset, OctahedralImpostor):
+            o, d = local.rays()
+            alb, nrm, t = impostor_rays(asset, o.reshape(-1, 3), d.reshape(-1, 3), asset.weights(az, el))
+            zc = t * (d.reshape(-1, 3) @ local.axis)
+            surf = ViewSurface(alb.reshape(h, w, 4), nrm.reshape(h, w, 3),
+                               zc.reshape(h, w).astype(np.float32))
+        else:
+            views, weights = asset.dome.weights(az, el)
+            used = [(asset.reference_camera(int(k)), asset.reference_surface(int(k)), float(wt))
+                    for k, wt in zip(views, weights, strict=True) if wt > 0]
+            # the march's samples: those of the instance's image on screen (its quad's side, pixels)
+            side = 2.0 * asset.half_extent[0] * s * cam.fy / (np.linalg.norm(rel) * s)
+            steps = steps_for((int(min(side, 1e6)), 0))
+            surf = morph_views(local, asset.pivot, asset.cameras.radius, used, steps=steps)
         turn = np.eye(4)
         turn[:3, :3] = R.T
         rgba = shade(surf, lighting.in_frame(turn)).reshape(-1, 4)

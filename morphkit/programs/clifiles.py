@@ -50,7 +50,7 @@ def _cmd_preview(args: argparse.Namespace) -> int:
     got = preview_page(args.asset, args.out, camera=_numbers(args.camera, 3, "--camera"),
                        sun=_numbers(args.sun, 2, "--sun"), image=(w, h), size=args.size,
                        sun_atlas_size=args.sun_atlas_size, up=args.up_axis, scene=args.scene,
-                       overwrite=args.overwrite)
+                       impostor=not args.no_impostor, overwrite=args.overwrite)
     print(preview_line(got))
     return 0
 
@@ -93,7 +93,8 @@ def add_file_commands(sub: Any) -> None:
         "nothing loaded from the network: an orbit camera (drag, wheel), each billboard drawn by a "
         "GLSL shader doing morphkit's per-pixel depth morph of its three nearest views, a sun "
         "slider moving the sun and the instances' shadows from their sun atlases, and on-screen "
-        "figures. The URL fragment sets the view: #camera=AZ,EL,DIST&fov=DEG&sun=AZ,EL&size=WxH. "
+        "figures; beside a baked asset, its octahedral impostor at equal bytes. The URL fragment sets "
+        "the view: #camera=AZ,EL,DIST&fov=DEG&sun=AZ,EL&size=WxH. "
         "A GLB from another tool is drawn as meshes.",
     )
     pv.add_argument("asset", metavar="ASSET_OR_SCENE",
@@ -115,5 +116,8 @@ def add_file_commands(sub: Any) -> None:
     pv.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
                     help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
     pv.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
+    pv.add_argument("--no-impostor", action="store_true",
+                    help="no octahedral impostor beside a baked asset (by default one whose frames take as "
+                    "many bytes as the dome's views, to compare)")
     pv.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
     pv.set_defaults(func=_cmd_preview)

@@ -4,7 +4,8 @@ What the page is given, by what ASSET_OR_SCENE is:
 
 * a sample mesh name or a mesh file: baked as ``morphkit export`` bakes it
   (:func:`~morphkit.programs.export.bake_asset_parts`: a relightable dome asset and a sun atlas),
-  one instance at the origin;
+  one instance at the origin, and beside it (unless ``impostor=False``) its octahedral impostor
+  whose frames take as many bytes as the dome's views, to compare;
 * a dome asset file (``.npz``): its views, one instance, no shadow (it has no sun atlas: the page
   says so);
 * a GLB ``morphkit export`` wrote of an asset (:func:`~morphkit.export.assetglb.read_dome_glb`): its
@@ -33,15 +34,25 @@ from typing import Any
 
 import numpy as np
 
+from ..billboard.impostor import DEFAULT_FRAMES, bake_impostor, impostor_frame_size
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..export.assetglb import read_dome_glb
-from ..export.preview import PreviewView, asset_entry, check_preview_output, preview_data, write_preview
+from ..export.preview import (
+    PreviewView,
+    asset_entry,
+    check_preview_output,
+    impostor_entry,
+    preview_data,
+    write_preview,
+)
+from ..render import Renderer
 from ..scenes.camerapaths import Keyframes
 from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE
-from .export import DEFAULT_EXPORT_SIZE, bake_asset_parts, scene_parts
+from ..views.gbuffer import BYTES_PER_PIXEL
+from .export import DEFAULT_EXPORT_SIZE, AssetParts, bake_asset_parts, scene_parts
 
-__all__ = ["preview_page", "preview_line", "fitted_view"]
+__all__ = ["preview_page", "preview_line", "fitted_view", "IMPOSTOR_FRAMES"]
 
 _GLTF_SUFFIXES = (".glb", ".gltf")
 
@@ -79,7 +90,7 @@ def _instances(inst: Any, name: str) -> np.ndarray:
 def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[float] | None = None,
                  sun: Sequence[float] | None = None, image: tuple[int, int] = (640, 480),
                  size: int = DEFAULT_EXPORT_SIZE, sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto",
-                 scene: bool = False, overwrite: bool = False) -> dict[str, Any]:
+                 scene: bool = False, impostor: bool = True, overwrite: bool = False) -> dict[str, Any]:
     """Write the preview page of an asset or a scene (the module notes).
 
     Parameters
@@ -103,6 +114,8 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
         A mesh file's up axis.
     scene : bool, optional
         Read a glTF file as a scene (each mesh an asset, its nodes the instances).
+    impostor : bool, optional
+        Beside a baked asset, its octahedral impostor at equal bytes (:func:`impostor_beside`).
     overwrite : bool, optional
         Replace an existing ``out``.
 
@@ -154,8 +167,13 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
         kind = "asset"
         parts = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
         entries.append(asset_entry(parts.asset, parts.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
-                                   name=parts.name))
+                                   name=f"{parts.name} (view morph)"))
         title = f"morphkit preview: {parts.name}"
+        if impostor and parts.mesh is not None:
+            entries.append(_impostor_beside(parts, camera))
+        elif impostor:
+            notes.append(f"{parts.name}: no octahedral impostor beside it (an asset file has no mesh to "
+                         "bake it from)")
     target, reach = _extent(entries)
     w, h = image
     base = PreviewView(width=w, height=h)
@@ -177,6 +195,29 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     return {"path": str(p), "bytes": p.stat().st_size, "kind": kind,
             "instances": int(sum(e["count"] for e in entries)), "texture_bytes": data["texture_bytes"],
             "notes": data["notes"], "fragment": first.fragment()}
+
+
+#: The impostor's grid, frames a side (the engines' default,
+#: :data:`morphkit.billboard.impostor.DEFAULT_FRAMES`).
+IMPOSTOR_FRAMES = DEFAULT_FRAMES
+
+
+def _impostor_beside(parts: AssetParts, camera: Sequence[float] | None) -> dict[str, Any]:
+    """The asset's octahedral impostor (:data:`IMPOSTOR_FRAMES` a side, one mip level) with frames of
+    as many bytes as the dome's views (:func:`~morphkit.billboard.impostor.impostor_frame_size`),
+    one instance beside the morph's: 2.2 bounding radii along the first camera's right."""
+    a = parts.asset
+    budget = a.dome.views * a.size[0] * a.size[1] * BYTES_PER_PIXEL
+    m = impostor_frame_size(budget, frames=IMPOSTOR_FRAMES, levels=1)
+    with Renderer() as r:
+        imp = bake_impostor(parts.mesh, r, name=parts.name, frames=IMPOSTOR_FRAMES, frame_size=m, levels=1,
+                            appearance=a.appearance)
+    az = math.radians(PreviewView().azimuth_deg if camera is None else float(camera[0]))
+    off = 2.2 * a.cameras.radius
+    at = [-math.sin(az) * off, math.cos(az) * off, 0.0, 0.0, 1.0]
+    return impostor_entry(imp, parts.sun_atlas, np.array([at]),
+                          name=f"{parts.name} (octahedral impostor {IMPOSTOR_FRAMES}x{IMPOSTOR_FRAMES} "
+                          f"of {m} px)")
 
 
 def _scene_view(scene: SceneDescription, camera: Sequence[float] | None, sun: Sequence[float] | None

@@ -56,7 +56,8 @@ from .. import tol
 from ..camera import CameraModel
 from .gbuffer import ViewSurface
 
-__all__ = ["ViewHits", "march_view", "combine", "morph_views", "plane_warp", "THICKNESS_STEPS",
+__all__ = ["ViewHits", "march_view", "combine", "morph_views", "plane_warp", "remap_points",
+           "THICKNESS_STEPS",
            "DEPTH_AGREE_STEPS", "REFINE_STEPS", "steps_for"]
 
 #: A first sample behind a reference's surface by more than this many march steps
@@ -131,7 +132,26 @@ def _project(A: np.ndarray, B: np.ndarray, t: np.ndarray, cam: CameraModel
 _MAP_COLS = 4096
 
 
-def _remap_points(img: np.ndarray, u: np.ndarray, v: np.ndarray, flag: int, border: float) -> np.ndarray:
+def remap_points(img: np.ndarray, u: np.ndarray, v: np.ndarray, flag: int, border: float) -> np.ndarray:
+    """``img`` read at the points ``(u, v)`` by ``cv2.remap`` (the points laid out in rows of
+    4096, since its maps must stay under ``SHRT_MAX`` a side).
+
+    Parameters
+    ----------
+    img : (h, w) or (h, w, C) float32
+        The image.
+    u, v : (P,) float32
+        Column and row of each point (pixel centres at integers).
+    flag : int
+        ``cv2.INTER_NEAREST`` or ``cv2.INTER_LINEAR``.
+    border : float
+        The value outside the image (``cv2.BORDER_CONSTANT``).
+
+    Returns
+    -------
+    (P, C) float32
+        ``C = 1`` for a one-channel image.
+    """
     p = len(u)
     rows = max(1, -(-p // _MAP_COLS))
     cols = min(p, _MAP_COLS) if p else 1
@@ -144,7 +164,7 @@ def _remap_points(img: np.ndarray, u: np.ndarray, v: np.ndarray, flag: int, bord
 
 
 def _lookup(depth: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return _remap_points(depth, u, v, cv2.INTER_NEAREST, float(_FAR)).reshape(-1)
+    return remap_points(depth, u, v, cv2.INTER_NEAREST, float(_FAR)).reshape(-1)
 
 
 def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.ndarray,
@@ -226,7 +246,7 @@ def march_view(origins: np.ndarray, dirs: np.ndarray, t0: np.ndarray, t1: np.nda
 
 
 def _sample(img: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return _remap_points(img, u, v, cv2.INTER_LINEAR, 0.0)
+    return remap_points(img, u, v, cv2.INTER_LINEAR, 0.0)
 
 
 def combine(hits: Sequence[ViewHits], surfaces: Sequence[ViewSurface], weights: Sequence[float],

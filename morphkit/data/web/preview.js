@@ -133,6 +133,29 @@ function domeWeights(dome, azDeg, elDeg) {
   return [dome.triangles[best].slice(), w.map((v) => v / s)];
 }
 
+// morphkit.billboard.impostor.OctahedralImpostor.weights: the grid triangle's frames around a
+// direction (the elevation clamped at 0), on the hemi-octahedral map
+function impostorWeights(n, azDeg, elDeg) {
+  const d = direction(azDeg, Math.min(Math.max(elDeg, 0), 90));
+  const s = Math.abs(d[0]) + Math.abs(d[1]) + d[2];
+  const p = [d[0] / s, d[1] / s];
+  let g = [(p[0] + p[1] + 1) * 0.5 * (n - 1), (p[0] - p[1] + 1) * 0.5 * (n - 1)];
+  g = g.map((v) => (Math.abs(v - Math.round(v)) <= 1e-9 ? Math.round(v) : v));
+  const c = g.map((v) => Math.min(Math.max(Math.floor(v), 0), n - 2));
+  const fx = g[0] - c[0], fy = g[1] - c[1];
+  const mid = fx > fy ? [c[0] + 1, c[1]] : [c[0], c[1] + 1];
+  const out = new Map();
+  for (const [[i, j], w] of [[[c[0], c[1]], Math.min(1 - fx, 1 - fy)], [[c[0] + 1, c[1] + 1], Math.min(fx, fy)],
+    [mid, Math.abs(fx - fy)]]) {
+    if (w > 0) out.set(j * n + i, (out.get(j * n + i) || 0) + w);
+  }
+  let total = 0;
+  for (const w of out.values()) total += w;
+  const k = [...out.keys()], w = [...out.values()].map((v) => v / total);
+  while (k.length < 3) { k.push(k[0]); w.push(0); }
+  return [k, w];
+}
+
 // ------------------------------------------------------------------ shaders
 const HEAD = `precision highp float;
 precision highp int;
@@ -140,19 +163,39 @@ precision highp sampler2DArray;
 precision highp sampler2D;
 `;
 
-const MARCH = `
+const COMMON = `
 #define EMPTY_HALF ${EMPTY_HALF.toFixed(1)}
 #define FAR 3.0e38
 #define THICKNESS_STEPS ${DATA.constants.thickness_steps.toFixed(4)}
 #define DEPTH_AGREE_STEPS ${DATA.constants.depth_agree_steps.toFixed(4)}
 #define REFINE_STEPS ${DATA.constants.refine_steps}
 #define ALPHA_FLOOR ${DATA.constants.alpha_floor.toExponential(6)}
+#define IMP_MIN_COS ${DATA.constants.imp_min_cos.toExponential(6)}
+uniform int uN;        // the views' side, pixels
 uniform sampler2DArray uDepth;
+bool sphere(vec3 o, vec3 d, vec3 c, float r, out float t0, out float t1) {
+  vec3 oc = o - c;
+  float b = dot(d, oc);
+  float disc = b * b - (dot(oc, oc) - r * r);
+  if (disc <= 0.0) return false;
+  float sq = sqrt(disc);
+  t0 = max(-b - sq, 0.0);
+  t1 = -b + sq;
+  return true;
+}
+
+mat3 yawMat(float yaw) { // Rz(yaw), columns
+  float c = cos(yaw), s = sin(yaw);
+  return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
+}
 uniform float uDist;   // the views' camera distance (stored depths are offsets from it)
 uniform float uVF;      // the views' focal length (fx = fy), pixels (orthographic: fx)
 uniform float uVFy;     // orthographic views: fy
 uniform float uVCx;     // principal point (cx = cy), pixels
-uniform int uN;        // the views' side, pixels
+`;
+
+// The views' depth march (morphkit.views.depthmorph)
+const VIEWS = `
 uniform bool uOrtho;   // orthographic reference views (a sun atlas)
 uniform mat3 uViewR[NVIEWS];  // camera -> object rotation of each view
 uniform vec3 uViewC[NVIEWS];  // its centre, object frame
@@ -225,21 +268,6 @@ vec4 marchView(int k, vec3 o, vec3 d, float t0, float t1, int steps) {
   return vec4(status, tHit, q.xy);
 }
 
-bool sphere(vec3 o, vec3 d, vec3 c, float r, out float t0, out float t1) {
-  vec3 oc = o - c;
-  float b = dot(d, oc);
-  float disc = b * b - (dot(oc, oc) - r * r);
-  if (disc <= 0.0) return false;
-  float sq = sqrt(disc);
-  t0 = max(-b - sq, 0.0);
-  t1 = -b + sq;
-  return true;
-}
-
-mat3 yawMat(float yaw) { // Rz(yaw), columns
-  float c = cos(yaw), s = sin(yaw);
-  return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
-}
 `;
 
 const INSTANCE_VERT = `
@@ -268,18 +296,10 @@ void main() {
 `;
 
 // The billboards: per pixel, the morph of the instance's three views, lit.
-const BILLBOARD_FRAG = `
+// Reading the stored views: straight sRGB albedo and coverage, round(127 n) + 128 normals
+const SAMPLE = `
 uniform sampler2DArray uRgba;
 uniform sampler2DArray uNormal;
-uniform mat3 uCamR; uniform vec3 uEye;
-uniform float uFx, uFy, uCxs, uCys, uH;
-uniform mat4 uViewProjB;
-uniform vec3 uPivot; uniform float uRadius;
-uniform vec3 uSunDir;   // towards the sun, world frame
-uniform float uAmbient, uSunTerm;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
-out vec4 fragColor;
-
 float s2l(float c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
 
 vec4 texRgba(int k, ivec2 p) { // premultiplied linear albedo (morphkit.views.gbuffer.decode_surface)
@@ -304,6 +324,18 @@ vec3 bilinNormal(int k, vec2 uv) {
   return mix(mix(texNormal(k, p), texNormal(k, p + ivec2(1, 0)), fr.x),
              mix(texNormal(k, p + ivec2(0, 1)), texNormal(k, p + ivec2(1, 1)), fr.x), fr.y);
 }
+
+`;
+
+const BILLBOARD_FRAG = `
+uniform mat3 uCamR; uniform vec3 uEye;
+uniform float uFx, uFy, uCxs, uCys, uH;
+uniform mat4 uViewProjB;
+uniform vec3 uPivot; uniform float uRadius;
+uniform vec3 uSunDir;   // towards the sun, world frame
+uniform float uAmbient, uSunTerm;
+in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
+out vec4 fragColor;
 
 void main() {
   float px = gl_FragCoord.x - 0.5, py = uH - gl_FragCoord.y - 0.5;
@@ -346,6 +378,78 @@ void main() {
   vec3 lit = min(col * e, 1.0);
   vec3 enc = pow(lit, vec3(1.0 / 2.2));
   vec3 pw = uEye + dw * (tMin * vScale);
+  vec4 clip = uViewProjB * vec4(pw, 1.0);
+  gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+  fragColor = vec4(enc * alpha, alpha);
+}
+`;
+
+// The octahedral impostor beside (morphkit.billboard.impostor): per pixel, its three frames of the
+// grid triangle around the instance's direction, each read where the pixel's ray meets its plane
+// moved by one parallax step (the engines'), blended by weight; rays from the real eye.
+const IMPOSTOR_FRAG = `
+uniform sampler2D uFrames;  // per frame k (column): its direction, right and up (rows 0, 1, 2)
+uniform float uScale, uCentre;  // frame pixels per scene unit, the frame's centre pixel
+uniform mat3 uCamR; uniform vec3 uEye;
+uniform float uFx, uFy, uCxs, uCys, uH;
+uniform mat4 uViewProjB;
+uniform vec3 uPivot; uniform float uRadius;
+uniform vec3 uSunDir;
+uniform float uAmbient, uSunTerm;
+in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
+out vec4 fragColor;
+vec2 texHeight(int k, ivec2 p) { // (alpha, h alpha); h = D - depth, the height above the frame's plane
+  if (p.x < 0 || p.y < 0 || p.x >= uN || p.y >= uN) return vec2(0.0);
+  float a = texelFetch(uRgba, ivec3(p, k), 0).a;
+  float d = texelFetch(uDepth, ivec3(p, k), 0).r;
+  return vec2(a, d >= EMPTY_HALF ? 0.0 : (uDist - d) * a);  // the frames store depths, not offsets
+}
+vec2 bilinHeight(int k, vec2 uv) {
+  vec2 f0 = floor(uv); vec2 fr = uv - f0; ivec2 p = ivec2(f0);
+  return mix(mix(texHeight(k, p), texHeight(k, p + ivec2(1, 0)), fr.x),
+             mix(texHeight(k, p + ivec2(0, 1)), texHeight(k, p + ivec2(1, 1)), fr.x), fr.y);
+}
+void main() {
+  float px = gl_FragCoord.x - 0.5, py = uH - gl_FragCoord.y - 0.5;
+  vec3 dw = normalize(uCamR * vec3((px - uCxs) / uFx, (py - uCys) / uFy, 1.0));
+  mat3 Rt = transpose(yawMat(vPose.w));
+  vec3 o = Rt * (uEye - vPose.xyz) / vScale;
+  vec3 d = Rt * dw;
+  vec4 alb = vec4(0.0); vec3 nrm = vec3(0.0); float dsum = 0.0;
+  for (int j = 0; j < 3; j++) {
+    float w = vWeights[j];
+    if (w <= 0.0) continue;
+    int k = vViews[j];
+    vec3 dk = texelFetch(uFrames, ivec2(k, 0), 0).xyz;
+    vec3 rk = texelFetch(uFrames, ivec2(k, 1), 0).xyz;
+    vec3 uk = texelFetch(uFrames, ivec2(k, 2), 0).xyz;
+    vec3 op = o - uPivot;
+    float base = dot(op, dk), qk = min(dot(d, dk), -IMP_MIN_COS);
+    vec2 f0 = vec2(dot(op, rk), dot(op, uk)), q = vec2(dot(d, rk), dot(d, uk));
+    float t = -base / qk;                       // the frame's plane
+    vec2 uv = vec2((f0.x + t * q.x) * uScale + uCentre, -(f0.y + t * q.y) * uScale + uCentre);
+    vec2 ah = bilinHeight(k, uv);
+    float h = ah.x > ALPHA_FLOOR ? ah.y / max(ah.x, ALPHA_FLOOR) : 0.0;
+    t = (h - base) / qk;                        // one parallax step: the ray at that height
+    uv = vec2((f0.x + t * q.x) * uScale + uCentre, -(f0.y + t * q.y) * uScale + uCentre);
+    vec4 fa = bilinRgba(k, uv);
+    vec3 fn = bilinNormal(k, uv);
+    ah = bilinHeight(k, uv);
+    h = fa.a > ALPHA_FLOOR ? ah.y / max(fa.a, ALPHA_FLOOR) : 0.0;
+    t = (h - base) / qk;
+    alb += w * fa; nrm += w * fn; dsum += w * fa.a * t;
+  }
+  float alpha = alb.a;
+  if (alpha <= ALPHA_FLOOR) discard;
+  float nl = length(nrm);
+  nrm = nl > 0.0 ? nrm / max(nl, ALPHA_FLOOR) : vec3(0.0);
+  alb = clamp(alb, 0.0, 1.0);
+  alpha = alb.a;
+  vec3 col = alb.rgb / max(alpha, ALPHA_FLOOR);
+  vec3 l = Rt * uSunDir;
+  float e = uAmbient + uSunTerm * max(0.0, dot(nrm, l));
+  vec3 enc = pow(min(col * e, 1.0), vec3(1.0 / 2.2));
+  vec3 pw = uEye + dw * (dsum / max(alpha, ALPHA_FLOOR) * vScale);
   vec4 clip = uViewProjB * vec4(pw, 1.0);
   gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
   fragColor = vec4(enc * alpha, alpha);
@@ -530,7 +634,8 @@ class Asset {
     const inst = new Float32Array(a.instances.buffer, a.instances.byteOffset, a.instances.length / 4);
     this.count = inst.length / 5;
     this.inst = inst;
-    const n = a.size, V = a.views.length;
+    const impostor = a.kind === 'impostor';
+    const n = a.size, V = impostor ? a.frames * a.frames : a.views.length;
     const geo = boxGeometry();
     const pose = new Float32Array(this.count * 4), sc = new Float32Array(this.count);
     for (let i = 0; i < this.count; i++) {
@@ -553,7 +658,7 @@ class Asset {
       uN: { value: n }, uOrtho: { value: ortho }, ...viewUniforms(views),
     });
     this.uniforms = {
-      ...common(a.views, a.distance, a.f, a.f, a.c, false),
+      ...(impostor ? { uDist: { value: a.distance }, uN: { value: n } } : common(a.views, a.distance, a.f, a.f, a.c, false)),
       uDepth: { value: arrayTexture(a.depth, n, V, 'half') },
       uRgba: { value: arrayTexture(a.rgba, n, V, 'rgba') },
       uNormal: { value: arrayTexture(a.normal, n, V, 'rgba') },
@@ -565,10 +670,17 @@ class Asset {
       uSunDir: { value: new THREE.Vector3() },
       uAmbient: { value: DATA.lighting.ambient }, uSunTerm: { value: 0 },
     };
+    if (impostor) {
+      const frames = new THREE.DataTexture(new Float32Array(a.frame_axes), V, 3, THREE.RGBAFormat, THREE.FloatType);
+      frames.minFilter = frames.magFilter = THREE.NearestFilter; frames.needsUpdate = true;
+      Object.assign(this.uniforms, { uFrames: { value: frames }, uScale: { value: a.scale },
+        uCentre: { value: a.centre } });
+    }
     const defs = `#define NVIEWS ${V}\n`;
+    const frag = impostor ? COMMON + SAMPLE + IMPOSTOR_FRAG : COMMON + VIEWS + SAMPLE + BILLBOARD_FRAG;
     const mat = new THREE.RawShaderMaterial({
       glslVersion: THREE.GLSL3, uniforms: this.uniforms,
-      vertexShader: HEAD + INSTANCE_VERT, fragmentShader: HEAD + defs + MARCH + BILLBOARD_FRAG,
+      vertexShader: HEAD + INSTANCE_VERT, fragmentShader: HEAD + defs + frag,
       side: THREE.BackSide, transparent: true, depthTest: true, depthWrite: true,
       blending: THREE.CustomBlending, blendSrc: THREE.OneFactor, blendDst: THREE.OneMinusSrcAlphaFactor,
       blendSrcAlpha: THREE.OneFactor, blendDstAlpha: THREE.OneMinusSrcAlphaFactor,
@@ -601,7 +713,7 @@ class Asset {
       };
       const smat = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3, uniforms: this.sunUniforms,
-        vertexShader: HEAD + INSTANCE_VERT, fragmentShader: HEAD + `#define NVIEWS ${sv}\n` + MARCH + SHADOW_FRAG,
+        vertexShader: HEAD + INSTANCE_VERT, fragmentShader: HEAD + `#define NVIEWS ${sv}\n` + COMMON + VIEWS + SHADOW_FRAG,
         side: THREE.BackSide, depthTest: true, depthWrite: true, blending: THREE.NoBlending,
       });
       this.sunMesh = new THREE.Mesh(sgeo, smat);
@@ -622,7 +734,7 @@ class Asset {
       const local = [(cy * rel[0] + sy * rel[1]) / s, (-sy * rel[0] + cy * rel[1]) / s, rel[2] / s];
       const d = sub(local, a.pivot);
       const az = Math.atan2(d[1], d[0]) / DEG, el = Math.asin(Math.max(-1, Math.min(1, d[2] / Math.hypot(...d)))) / DEG;
-      const [k, w] = domeWeights(a.dome, az, el);
+      const [k, w] = a.kind === 'impostor' ? impostorWeights(a.frames, az, el) : domeWeights(a.dome, az, el);
       V.set(k, 3 * i); W.set(w, 3 * i);
       const far = Math.hypot(...d) * s;  // eye to pivot, world units
       const side = 2 * a.half_extent * s * focal / Math.max(far, 1e-6);
@@ -812,6 +924,10 @@ async function main() {
       `bytes: ${DATA.texture_bytes.toLocaleString()} in textures, ${Number(DATA.page_bytes).toLocaleString()} page`,
       `frame: ${lastMs === null ? '-' : lastMs.toFixed(1) + ' ms'} (${renderer.getContext().getParameter(renderer.getContext().RENDERER)})`,
     ];
+    for (const x of assets) {
+      lines.push(`${x.a.name}: ${x.count.toLocaleString()} instance${x.count === 1 ? '' : 's'}, `
+        + `${x.a.view_bytes.toLocaleString()} bytes of ${x.a.kind === 'impostor' ? 'frames' : 'views'}`);
+    }
     for (const m of DATA.measured) lines.push(m);
     for (const x of notes) lines.push(x);
     document.getElementById('figures').textContent = lines.join('\n');
