@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_view
+from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_dome_asset, sphere_impostor, sphere_view
 from morphkit.cli import main
 from morphkit.errors import FileFormatError, ValidationError
 from morphkit.export import read_dome_glb, write_dome_glb
@@ -64,7 +64,8 @@ def exported(tmp_path_factory):
     asset = sphere_dome_asset(size=32, levels=2)
     atlas = _sun_atlas(ViewDome(((10.0, 8), (40.0, 8), (70.0, 4)), top=True))
     path = tmp_path_factory.mktemp("glb") / "ball.glb"
-    write_dome_glb(path, asset, sun_atlas=atlas, measured={"morph": {"psnr_db": 28.9}})
+    write_dome_glb(path, asset, sun_atlas=atlas, measured={"morph": {"psnr_db": 28.9}},
+                   impostor=sphere_impostor(frames=6, size=24))
     return asset, atlas, path
 
 
@@ -80,6 +81,15 @@ def test_a_dome_asset_round_trips_through_its_glb_bit_for_bit(exported):
         assert getattr(b, k) == getattr(a, k), k
     assert np.array_equal(back.sun_atlas.depth.view(np.uint16), atlas.depth.view(np.uint16))
     assert np.array_equal(back.sun_atlas.coverage, atlas.coverage)
+    # the impostor's frames too, bit for bit, and it draws as the original does
+    imp = sphere_impostor(frames=6, size=24)
+    assert back.impostor is not None and back.impostor.frames == 6 and back.impostor.frame_side == 24
+    for k in (0, 17, 35):
+        a_f, b_f = imp.stored_frame(k), back.impostor.stored_frame(k)
+        assert np.array_equal(a_f.rgba, b_f.rgba) and np.array_equal(a_f.normal, b_f.normal)
+        assert np.array_equal(a_f.depth.view(np.uint16), b_f.depth.view(np.uint16))
+    np.testing.assert_array_equal(back.impostor.surface(20.0, 45.0).albedo, imp.surface(20.0, 45.0).albedo)
+    assert back.sidecar["impostor"]["grid"].startswith("hemi-octahedral")
     side = back.sidecar
     assert side["morphkit_export"] == 1 and side["kind"] == "dome"
     assert side["measured"] == {"morph": {"psnr_db": 28.9}}

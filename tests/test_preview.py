@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from morphkit import tol
-from morphkit.billboard.analytic import sphere_dome_asset
+from morphkit.billboard.analytic import sphere_dome_asset, sphere_impostor
 from morphkit.cli import main
 from morphkit.errors import OutputExistsError, ValidationError
 from morphkit.export.browser import READY, Browser, browser_available
@@ -244,28 +244,11 @@ def test_the_page_errs_against_the_real_mesh_as_morphkit_s_morph_does(browser, t
             assert abs(gap) <= 1.0, (i, gap)
 
 
-def _ball_impostor(frames: int = 8, side: int = 32):
-    """The analytic ball's octahedral impostor, its frames ray-cast (no GL)."""
-    from morphkit.billboard.analytic import SPHERE_PIVOT, sphere_view
-    from morphkit.billboard.impostor import OctahedralImpostor, frame_grid_uv, hemi_oct_decode
-    from morphkit.views.domecameras import DomeCameras
-    from morphkit.views.gbuffer import decode_surface, encode_surface
-
-    cams = DomeCameras(SPHERE_PIVOT, 12.0, 1.0, (side, side))
-    d = hemi_oct_decode(frame_grid_uv(frames).reshape(-1, 2))
-    horiz = np.hypot(d[:, 0], d[:, 1])
-    az = np.where(horiz > 0, np.degrees(np.arctan2(d[:, 1], d[:, 0])), 0.0)
-    el = np.degrees(np.arctan2(d[:, 2], horiz))
-    surfaces = [decode_surface(encode_surface(*sphere_view(cams.ortho_camera(a, e, (side, side)))[:3]))
-                for a, e in zip(az, el, strict=True)]
-    return OctahedralImpostor.from_surfaces("ball", cams, frames, surfaces, levels=1)
-
-
 def test_an_impostor_is_packed_with_its_frames_as_stored_and_their_axes(ball):
     from morphkit.export.preview import impostor_entry
 
     _, atlas = ball
-    imp = _ball_impostor()
+    imp = sphere_impostor()
     e = impostor_entry(imp, atlas, ONE)
     assert e["kind"] == "impostor" and e["frames"] == 8 and e["size"] == 32
     axes = np.asarray(e["frame_axes"]).reshape(3, 64, 4)[..., :3]
@@ -287,7 +270,7 @@ def test_the_page_s_impostor_draws_what_morphkit_s_impostor_draws(browser, ball,
     from morphkit.export.preview import impostor_entry
 
     _, atlas = ball
-    imp = _ball_impostor()
+    imp = sphere_impostor()
     view = PreviewView(40.0, 25.0, 4.0, 40.0, 120.0, 40.0, 320, 240)
     page = write_preview(tmp_path / "imp.html", preview_data([impostor_entry(imp, atlas, ONE)], view,
                                                              imp.pivot, 1.0, title="impostor"))

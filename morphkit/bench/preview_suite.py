@@ -65,8 +65,7 @@ _ROOT = Path(__file__).resolve().parents[2]
 
 
 def _view_rows(browser: Browser, folder: Path, repeats: int) -> list[dict[str, Any]]:
-    from ..programs.export import bake_asset_parts
-    from ..programs.preview import IMPOSTOR_FRAMES
+    from ..programs.export import IMPOSTOR_FRAMES, bake_asset_parts
 
     parts = bake_asset_parts("tree")
     a = parts.asset

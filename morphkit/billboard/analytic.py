@@ -4,7 +4,8 @@
 longitude, so a misplaced pixel shows) from any camera: albedo, coverage, normals and
 depth, exactly. :func:`sphere_dome_asset` builds a :class:`~.domeasset.DomeAsset` from
 such views, the same data a bake of a sphere mesh would store: the ground truth of the
-dome's tests, and a relightable asset for examples that need no renderer.
+dome's tests, and a relightable asset for examples that need no renderer;
+:func:`sphere_impostor` the octahedral impostor of its frames alike.
 """
 
 from __future__ import annotations
@@ -17,8 +18,9 @@ from ..views.domecameras import DomeCameras
 from ..views.gbuffer import encode_surface
 from .domeasset import DomeAsset
 from .formats.domefile import DomeRecord
+from .impostor import OctahedralImpostor, frame_grid_uv, hemi_oct_decode
 
-__all__ = ["SPHERE_PIVOT", "SPHERE_RADIUS", "sphere_view", "sphere_dome_asset"]
+__all__ = ["SPHERE_PIVOT", "SPHERE_RADIUS", "sphere_view", "sphere_dome_asset", "sphere_impostor"]
 
 #: Centre of the analytic sphere (object frame) and the pivot of its asset.
 SPHERE_PIVOT = np.array([0.0, 0.0, 1.0])
@@ -103,3 +105,38 @@ def sphere_dome_asset(dome: ViewDome | None = None, size: int = 48, levels: int 
                      depth=np.stack([s.depth.astype(np.float32) - _DISTANCE
                                      for s in stored]).astype(np.float16))
     return DomeAsset(rec)
+
+
+def sphere_impostor(frames: int = 8, size: int = 32, name: str = "ball") -> OctahedralImpostor:
+    """The octahedral impostor of the analytic sphere, its frames ray-cast (one mip level).
+
+    Parameters
+    ----------
+    frames : int
+        Frames a side of the hemi-octahedral grid.
+    size : int
+        Each frame's side, pixels.
+    name : str
+        Asset name.
+
+    Returns
+    -------
+    OctahedralImpostor
+        About :data:`SPHERE_PIVOT`, bounding radius 1, camera distance 12 (as
+        :func:`sphere_dome_asset`).
+
+    Examples
+    --------
+    >>> from morphkit.billboard.analytic import sphere_impostor
+    >>> imp = sphere_impostor(frames=4, size=16)
+    >>> imp.frames, imp.frame_side
+    (4, 16)
+    """
+    cams = DomeCameras(SPHERE_PIVOT, _DISTANCE, _BOUND, (size, size))
+    d = hemi_oct_decode(frame_grid_uv(frames).reshape(-1, 2))
+    horiz = np.hypot(d[:, 0], d[:, 1])
+    az = np.where(horiz > 0, np.degrees(np.arctan2(d[:, 1], d[:, 0])), 0.0)
+    el = np.degrees(np.arctan2(d[:, 2], horiz))
+    stored = [encode_surface(*sphere_view(cams.ortho_camera(a, e, (size, size)))[:3])
+              for a, e in zip(az, el, strict=True)]
+    return OctahedralImpostor.from_stored(name, cams, frames, stored, levels=1)

@@ -14,6 +14,10 @@
   ``+inf`` where nothing is drawn; a shader reads them with ``texelFetch`` and
   ``unpackHalf2x16``, nearest, never filtered);
 * its sun atlas, when given, alike: ``sun-depth`` (float16 bits) and ``sun-coverage`` (8-bit grey);
+* its octahedral impostor, when given (:mod:`morphkit.billboard.impostor`): its level-0 frames tiled
+  alike as ``impostor-albedo``, ``impostor-normal`` and ``impostor-depth`` (the frames' depths
+  from their eye planes, float16 bits), the sidecar's ``impostor`` naming the grid, the camera
+  rule and the layout;
 * the sidecar ``extras.morphkit`` (:data:`SIDECAR_VERSION`): ``morphkit_export``, ``kind``
   (``"dome"``), ``name``, ``mesh_hash``, ``appearance``, ``source_up``, ``rings`` and ``top`` (the
   view dome), ``views`` (each view's ``azimuth_deg``, ``elevation_deg`` and atlas ``origin``),
@@ -21,13 +25,14 @@
   (the views' near and far planes), ``bounds`` (the mesh's, or null), ``layout``
   (:meth:`~.tiles.TileLayout.to_json`), ``images`` (each atlas's image name), ``colour_spaces``,
   ``normal_convention``, ``depth_encoding``, ``sun_atlas`` (its dome, camera rule, mesh hash,
-  layout and images, or null) and ``measured`` (the representations' measured errors, as the
-  caller gives them), and ``frame``: the pivot, bounds and view directions are in morphkit's object
-  frame (``+z`` up): its point ``(x, y, z)`` is ``(x, z, -y)`` in the file's ``+y``-up frame.
+  layout and images, or null), ``impostor`` (or null) and ``measured`` (the representations'
+  measured errors, as the caller gives them), and ``frame``: the pivot, bounds and view directions
+  are in morphkit's object frame (``+z`` up): its point ``(x, y, z)`` is ``(x, z, -y)`` in the file's
+  ``+y``-up frame.
 
 :func:`read_dome_glb` reads one back: the :class:`~morphkit.billboard.DomeAsset` (its views
 bit for bit, checked as a dome asset file is, :func:`~morphkit.billboard.formats.domefile.dome_record`),
-the sun atlas and the sidecar.
+the sun atlas, the impostor (its frames bit for bit) and the sidecar.
 """
 
 from __future__ import annotations
@@ -45,6 +50,7 @@ from .. import tol
 from ..billboard.domeasset import DomeAsset
 from ..billboard.formats.domefile import dome_record
 from ..billboard.frames.instances import Instances
+from ..billboard.impostor import OctahedralImpostor
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import encode_image, write_bytes
 from ..meshes import Y_UP_TO_Z_UP, normalize
@@ -52,6 +58,7 @@ from ..scene import Item
 from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras
+from ..views.gbuffer import StoredSurface
 from .glb import GlbImage, NodeInstances, glb_bytes, read_glb
 from .tiles import TileLayout, tile_views, untile_views
 
@@ -68,6 +75,11 @@ _FRAME = ("pivot, bounds, view directions and normals in morphkit's object frame
           "(x, y, z) is (x, z, -y) in the file's +y-up frame")
 _DEPTH = ("float16 bits in a 16-bit PNG: linear depth along the view's axis minus the camera distance "
           "(+inf: nothing drawn); read unfiltered")
+_IMPOSTOR_GRID = ("hemi-octahedral, Unreal's HemiOctahedronToUnitVector: frame (i, j), index j N + i, looks "
+                  "along -d from grid point (2 i / (N - 1) - 1, 2 j / (N - 1) - 1), x = (u + v) / 2, "
+                  "y = (u - v) / 2, z = 1 - |x| - |y|, d normalised; orthographic, the quad of half_extent")
+_IMPOSTOR_DEPTH = ("float16 bits in a 16-bit PNG: linear depth along the frame's axis from its eye plane at "
+                   "distance D from the pivot (not an offset; +inf: nothing drawn); read unfiltered")
 
 
 def _check_texture(layout: TileLayout, what: str) -> None:
@@ -99,11 +111,14 @@ class DomeGlb:
         ``extras.morphkit``.
     sun_atlas : SunAtlas or None
         Its sun atlas, when the file holds one.
+    impostor : OctahedralImpostor or None
+        Its octahedral impostor, when the file holds one (level 0, its frames bit for bit).
     """
 
     asset: DomeAsset
     sidecar: dict[str, Any]
     sun_atlas: SunAtlas | None = None
+    impostor: OctahedralImpostor | None = None
 
 
 def _sun_entry(atlas: SunAtlas, images: list[GlbImage], prefix: str) -> dict[str, Any]:
@@ -116,6 +131,26 @@ def _sun_entry(atlas: SunAtlas, images: list[GlbImage], prefix: str) -> dict[str
             "pivot": [float(x) for x in cams.pivot], "distance": float(cams.distance),
             "radius": float(cams.radius), "size": int(atlas.size), "mesh_hash": atlas.mesh_hash,
             "layout": layout.to_json(), "images": names}
+
+
+def _impostor_entry(imp: OctahedralImpostor, images: list[GlbImage], prefix: str) -> dict[str, Any]:
+    """The impostor's level-0 frames tiled (index ``j N + i``) as three images, and its entry."""
+    if not isinstance(imp, OctahedralImpostor):
+        raise ValidationError(expected_got("impostor", "an OctahedralImpostor", type(imp).__name__))
+    nf, m = imp.frames**2, imp.frame_side
+    _check_texture(TileLayout(nf, m), "the impostor's atlases")
+    frames = [imp.stored_frame(k) for k in range(nf)]
+    albedo, layout = tile_views(np.stack([f.rgba for f in frames]))
+    normal, _ = tile_views((np.stack([f.normal for f in frames]).astype(np.int16) + 128).astype(np.uint8))
+    depth, _ = tile_views(_half_bits(np.stack([f.depth for f in frames])))
+    names = {k: f"{prefix}impostor-{k}" for k in ("albedo", "normal", "depth")}
+    images += [GlbImage(names["albedo"], _png(albedo)), GlbImage(names["normal"], _png(normal)),
+               GlbImage(names["depth"], _png(depth))]
+    cams = imp.cameras
+    return {"frames": int(imp.frames), "frame_side": int(m), "grid": _IMPOSTOR_GRID,
+            "pivot": [float(x) for x in cams.pivot], "distance": float(cams.distance),
+            "radius": float(cams.radius), "half_extent": [float(x) for x in imp.half_extent],
+            "depth_encoding": _IMPOSTOR_DEPTH, "layout": layout.to_json(), "images": names}
 
 
 @dataclass(frozen=True)
@@ -132,12 +167,15 @@ class ExportedAsset:
         Its sun atlas.
     measured : dict, optional
         What was measured of its representations (JSON values).
+    impostor : OctahedralImpostor, optional
+        Its octahedral impostor (level 0 is written).
     """
 
     asset: DomeAsset
     items: list[Item] | None = None
     sun_atlas: SunAtlas | None = None
     measured: dict[str, Any] | None = None
+    impostor: OctahedralImpostor | None = None
 
 
 def _dome(asset: Any) -> DomeAsset:
@@ -183,6 +221,7 @@ def _part(exp: ExportedAsset, prefix: str, images: list[GlbImage]) -> dict[str, 
         "layout": layout.to_json(), "images": names,
         "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
         "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images, prefix),
+        "impostor": None if exp.impostor is None else _impostor_entry(exp.impostor, images, prefix),
         "measured": dict(exp.measured or {}),
         "frame": _FRAME,
     }
@@ -195,6 +234,7 @@ def write_dome_glb(
     mesh: trimesh.Trimesh | None = None,
     sun_atlas: SunAtlas | None = None,
     measured: dict[str, Any] | None = None,
+    impostor: OctahedralImpostor | None = None,
 ) -> Path:
     """Write ``asset`` (with its ``mesh`` and ``sun_atlas``) as one GLB (the module notes).
 
@@ -210,6 +250,8 @@ def write_dome_glb(
         Its sun atlas (of the same mesh: checked by its hash when ``mesh`` is given).
     measured : dict, optional
         JSON values: what was measured of the asset's representations (the sidecar's ``measured``).
+    impostor : OctahedralImpostor, optional
+        Its octahedral impostor (the sidecar's ``impostor``; its level-0 frames as images).
 
     Returns
     -------
@@ -227,7 +269,7 @@ def write_dome_glb(
         if isinstance(sun_atlas, SunAtlas):
             sun_atlas.check_mesh(normalize(mesh))
     images: list[GlbImage] = []
-    entry = _part(ExportedAsset(asset, items, sun_atlas, measured), "", images)
+    entry = _part(ExportedAsset(asset, items, sun_atlas, measured, impostor), "", images)
     sidecar = {"morphkit_export": SIDECAR_VERSION, "kind": "dome", **entry}
     geometry = None if items is None else _geometry({"part": items})[0]
     return write_bytes(path, glb_bytes(geometry, images, sidecar))
@@ -382,4 +424,31 @@ def read_dome_glb(path: str | os.PathLike[str], name: str | None = None) -> Dome
         except (KeyError, TypeError, ValueError, ValidationError) as exc:
             raise _bad(p, "sun_atlas", "a sun atlas's dome, cameras, layout and images",
                        f"{type(exc).__name__}: {exc}"[:200]) from exc
-    return DomeGlb(asset, side, atlas)
+    return DomeGlb(asset, side, atlas, _read_impostor(p, glb, side, asset.name))
+
+
+def _read_impostor(p: Path, glb: Any, side: dict[str, Any], name: str) -> OctahedralImpostor | None:
+    """The impostor of an asset's sidecar entry, its frames read back bit for bit (or None)."""
+    imp = side.get("impostor")
+    if imp is None:
+        return None
+    try:
+        layout = TileLayout.from_json(imp["layout"])
+        imgs = {k: glb.image(imp["images"][k]) for k in ("albedo", "normal", "depth")}
+        kinds = {"albedo": (np.uint8, 4), "normal": (np.uint8, 3), "depth": (np.uint16, None)}
+        for k, (dtype, ch) in kinds.items():
+            want = (*layout.shape, ch) if ch else layout.shape
+            if imgs[k].dtype != dtype or imgs[k].shape != want:
+                raise _bad(p, f"impostor image {k!r}", f"{np.dtype(dtype)} {want}",
+                           f"{imgs[k].dtype} {imgs[k].shape}")
+        rgba = untile_views(imgs["albedo"], layout)
+        normal = (untile_views(imgs["normal"], layout).astype(np.int16) - 128).astype(np.int8)
+        depth = untile_views(imgs["depth"], layout).view(np.float16)
+        n, m = int(imp["frames"]), int(imp["frame_side"])
+        cams = DomeCameras(np.asarray(imp["pivot"], np.float64), float(imp["distance"]),
+                           float(imp["radius"]), m)
+        frames = [StoredSurface(rgba[k], normal[k], depth[k]) for k in range(n * n)]
+        return OctahedralImpostor.from_stored(name, cams, n, frames, levels=1)
+    except (KeyError, TypeError, ValueError, ValidationError) as exc:
+        raise _bad(p, "impostor", "an impostor's grid, cameras, layout and images",
+                   f"{type(exc).__name__}: {exc}"[:200]) from exc

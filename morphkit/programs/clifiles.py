@@ -22,7 +22,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
         got = export_scene(args.asset, args.out, sun_atlas_size=args.sun_atlas_size, overwrite=args.overwrite)
     else:
         got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
-                           up=args.up_axis, overwrite=args.overwrite)
+                           up=args.up_axis, impostor=not args.no_impostor, overwrite=args.overwrite)
     print(export_line(got))
     return 0
 
@@ -83,6 +83,9 @@ def add_file_commands(sub: Any) -> None:
     ex.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
                     help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
     ex.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
+    ex.add_argument("--no-impostor", action="store_true",
+                    help="without the octahedral impostor (by default one whose frames take as many bytes as "
+                    "the dome's views, baked from the mesh)")
     ex.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
     ex.set_defaults(func=_cmd_export)
 

@@ -27,6 +27,7 @@ import trimesh
 
 from ..billboard.domeasset import DomeAsset
 from ..billboard.frames.instances import Instances
+from ..billboard.impostor import DEFAULT_FRAMES, OctahedralImpostor, bake_impostor, impostor_frame_size
 from ..errors import OutputExistsError, ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
@@ -35,11 +36,12 @@ from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE, bake_scene_atlases
 from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
+from ..views.gbuffer import BYTES_PER_PIXEL
 from .sceneshadows import SceneCasters
 from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
 __all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE", "AssetParts",
-           "bake_asset_parts",
+           "bake_asset_parts", "equal_bytes_impostor", "IMPOSTOR_FRAMES",
            "scene_parts", "SceneParts"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
@@ -127,8 +129,43 @@ def bake_asset_parts(spec: str, *, size: int = DEFAULT_EXPORT_SIZE, sun_atlas_si
     return AssetParts(name, asset, mesh, atlas)
 
 
+#: The octahedral impostor's grid, frames a side (the engines' default,
+#: :data:`morphkit.billboard.impostor.DEFAULT_FRAMES`).
+IMPOSTOR_FRAMES = DEFAULT_FRAMES
+
+
+def equal_bytes_impostor(parts: AssetParts) -> OctahedralImpostor:
+    """The asset's octahedral impostor (:data:`IMPOSTOR_FRAMES` a side, one mip level) whose frames take
+    as many bytes as the dome's views (:func:`~morphkit.billboard.impostor.impostor_frame_size`):
+    the anchor an engine would use instead, to compare.
+
+    Parameters
+    ----------
+    parts : AssetParts
+        With its mesh (baked from it in the asset's look).
+
+    Returns
+    -------
+    OctahedralImpostor
+
+    Raises
+    ------
+    ValidationError
+        An asset without a mesh (an asset file).
+    """
+    if parts.mesh is None:
+        raise ValidationError(expected_got("the asset", "its mesh, to bake its impostor from",
+                                           "an asset file"))
+    a = parts.asset
+    budget = a.dome.views * a.size[0] * a.size[1] * BYTES_PER_PIXEL
+    m = impostor_frame_size(budget, frames=IMPOSTOR_FRAMES, levels=1)
+    with Renderer() as r:
+        return bake_impostor(parts.mesh, r, name=a.name, frames=IMPOSTOR_FRAMES, frame_size=m, levels=1,
+                             appearance=a.appearance)
+
+
 def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_EXPORT_SIZE,
-                 sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto",
+                 sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto", impostor: bool = True,
                  overwrite: bool = False) -> dict[str, Any]:
     """Export one asset as a GLB (the module notes).
 
@@ -144,14 +181,16 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
         The sun atlas's side when baking, texels (0: no sun atlas).
     up : {"auto", "y", "z"}, optional
         A mesh file's up axis.
+    impostor : bool, optional
+        With a mesh, add its octahedral impostor at equal bytes (:func:`equal_bytes_impostor`).
     overwrite : bool, optional
         Replace an existing ``out``.
 
     Returns
     -------
     dict
-        What was written: ``path``, ``bytes``, ``name``, ``views``, ``size``, ``mesh`` (bool) and
-        ``sun_atlas`` (its side, or None).
+        What was written: ``path``, ``bytes``, ``name``, ``views``, ``size``, ``mesh`` (bool),
+        ``sun_atlas`` (its side, or None) and ``impostor`` (its frames' side, or None).
 
     Raises
     ------
@@ -171,11 +210,13 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
     p = _output(out, overwrite)
     got = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
     name, asset, mesh, atlas = got.name, got.asset, got.mesh, got.sun_atlas
+    imp = equal_bytes_impostor(got) if impostor and mesh is not None else None
     p.parent.mkdir(parents=True, exist_ok=True)
-    write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas)
+    write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas, impostor=imp)
     return {"path": str(p), "bytes": p.stat().st_size, "name": name, "views": asset.dome.views,
             "size": int(asset.cameras.shape[0]), "mesh": mesh is not None,
-            "sun_atlas": None if atlas is None else atlas.size}
+            "sun_atlas": None if atlas is None else atlas.size,
+            "impostor": None if imp is None else imp.frame_side}
 
 
 def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
@@ -306,4 +347,7 @@ def export_line(got: dict[str, Any]) -> str:
     parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)",
              "its mesh" if got["mesh"] else "no mesh (an asset file's views alone)",
              f"its sun atlas of {got['sun_atlas']} texels" if got["sun_atlas"] else "no sun atlas"]
+    if got.get("impostor"):
+        parts.append(f"its octahedral impostor ({IMPOSTOR_FRAMES}x{IMPOSTOR_FRAMES} frames of "
+                     f"{got['impostor']} px, as many bytes as the views)")
     return f"{head}): {got['name']}, " + ", ".join(parts)

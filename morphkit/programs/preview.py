@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..billboard.impostor import DEFAULT_FRAMES, bake_impostor, impostor_frame_size
+from ..billboard.impostor import OctahedralImpostor
 from ..errors import FileFormatError, ValidationError, expected_got
 from ..export.assetglb import read_dome_glb
 from ..export.preview import (
@@ -45,14 +45,12 @@ from ..export.preview import (
     preview_data,
     write_preview,
 )
-from ..render import Renderer
 from ..scenes.camerapaths import Keyframes
 from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE
-from ..views.gbuffer import BYTES_PER_PIXEL
-from .export import DEFAULT_EXPORT_SIZE, AssetParts, bake_asset_parts, scene_parts
+from .export import DEFAULT_EXPORT_SIZE, bake_asset_parts, equal_bytes_impostor, scene_parts
 
-__all__ = ["preview_page", "preview_line", "fitted_view", "IMPOSTOR_FRAMES"]
+__all__ = ["preview_page", "preview_line", "fitted_view"]
 
 _GLTF_SUFFIXES = (".glb", ".gltf")
 
@@ -115,7 +113,8 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     scene : bool, optional
         Read a glTF file as a scene (each mesh an asset, its nodes the instances).
     impostor : bool, optional
-        Beside a baked asset, its octahedral impostor at equal bytes (:func:`impostor_beside`).
+        Beside a baked asset, its octahedral impostor at equal bytes
+        (:func:`~morphkit.programs.export.equal_bytes_impostor`), or a GLB's own.
     overwrite : bool, optional
         Replace an existing ``out``.
 
@@ -160,7 +159,11 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
             title = f"morphkit preview: {Path(spec).name} (meshes)"
         else:
             kind = "asset"
-            entries.append(asset_entry(got.asset, got.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]])))
+            entries.append(asset_entry(got.asset, got.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
+                                       name=f"{got.asset.name} (view morph)"))
+            if impostor and got.impostor is not None:
+                entries.append(_impostor_beside(got.impostor, got.asset, got.sun_atlas, camera,
+                                                got.asset.name))
             measured = [f"measured {k}: {v}" for k, v in sorted(got.sidecar.get("measured", {}).items())]
             title = f"morphkit preview: {got.asset.name}"
     else:
@@ -170,7 +173,8 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
                                    name=f"{parts.name} (view morph)"))
         title = f"morphkit preview: {parts.name}"
         if impostor and parts.mesh is not None:
-            entries.append(_impostor_beside(parts, camera))
+            entries.append(_impostor_beside(equal_bytes_impostor(parts), parts.asset, parts.sun_atlas, camera,
+                                            parts.name))
         elif impostor:
             notes.append(f"{parts.name}: no octahedral impostor beside it (an asset file has no mesh to "
                          "bake it from)")
@@ -197,27 +201,16 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
             "notes": data["notes"], "fragment": first.fragment()}
 
 
-#: The impostor's grid, frames a side (the engines' default,
-#: :data:`morphkit.billboard.impostor.DEFAULT_FRAMES`).
-IMPOSTOR_FRAMES = DEFAULT_FRAMES
-
-
-def _impostor_beside(parts: AssetParts, camera: Sequence[float] | None) -> dict[str, Any]:
-    """The asset's octahedral impostor (:data:`IMPOSTOR_FRAMES` a side, one mip level) with frames of
-    as many bytes as the dome's views (:func:`~morphkit.billboard.impostor.impostor_frame_size`),
-    one instance beside the morph's: 2.2 bounding radii along the first camera's right."""
-    a = parts.asset
-    budget = a.dome.views * a.size[0] * a.size[1] * BYTES_PER_PIXEL
-    m = impostor_frame_size(budget, frames=IMPOSTOR_FRAMES, levels=1)
-    with Renderer() as r:
-        imp = bake_impostor(parts.mesh, r, name=parts.name, frames=IMPOSTOR_FRAMES, frame_size=m, levels=1,
-                            appearance=a.appearance)
+def _impostor_beside(imp: OctahedralImpostor, asset: Any, sun_atlas: Any, camera: Sequence[float] | None,
+                     name: str) -> dict[str, Any]:
+    """The impostor's page entry: one instance beside the morph's, 2.2 bounding radii along the first
+    camera's right."""
     az = math.radians(PreviewView().azimuth_deg if camera is None else float(camera[0]))
-    off = 2.2 * a.cameras.radius
+    off = 2.2 * asset.cameras.radius
     at = [-math.sin(az) * off, math.cos(az) * off, 0.0, 0.0, 1.0]
-    return impostor_entry(imp, parts.sun_atlas, np.array([at]),
-                          name=f"{parts.name} (octahedral impostor {IMPOSTOR_FRAMES}x{IMPOSTOR_FRAMES} "
-                          f"of {m} px)")
+    n = imp.frames
+    return impostor_entry(imp, sun_atlas, np.array([at]),
+                          name=f"{name} (octahedral impostor {n}x{n} of {imp.frame_side} px)")
 
 
 def _scene_view(scene: SceneDescription, camera: Sequence[float] | None, sun: Sequence[float] | None
