@@ -25,6 +25,7 @@ lighting ``Lighting(BAKE_AMBIENT, (sun(a, e),))`` and the sky in :data:`SKY` (en
 from __future__ import annotations
 
 import base64
+import dataclasses
 import math
 import os
 import zlib
@@ -109,6 +110,22 @@ class PreviewView:
             if not isinstance(v, int) or not 8 <= v <= tol.EXPORT_MAX_TEXTURE_SIDE:
                 raise ValidationError(expected_got(name, f"an int in [8, {tol.EXPORT_MAX_TEXTURE_SIDE}]",
                                                    repr(v)))
+
+    def fitted(self, reach: float) -> PreviewView:
+        """This view with its distance set to see a sphere of radius ``reach`` about the target whole
+        (its angles, sun and image kept).
+
+        Parameters
+        ----------
+        reach : float
+            The sphere's radius (> 0).
+
+        Returns
+        -------
+        PreviewView
+        """
+        half = math.radians(0.5 * self.fov_deg) * min(1.0, self.width / self.height)
+        return dataclasses.replace(self, distance=float(1.25 * reach / math.sin(half)))
 
     def fragment(self) -> str:
         """The page's URL fragment for this view (without ``#``).

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import trimesh
 
 from ..billboard.domeasset import DomeAsset
@@ -30,6 +31,9 @@ from ..billboard.frames.instances import Instances
 from ..billboard.impostor import DEFAULT_FRAMES, OctahedralImpostor, bake_impostor, impostor_frame_size
 from ..errors import OutputExistsError, ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
+from ..export.preview import PreviewView
+from ..export.previewref import reference_image, truth_image
+from ..imaging.metrics import psnr
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..render import Renderer
 from ..scenes.description import SceneDescription
@@ -42,6 +46,7 @@ from .sources import MESH_SUFFIXES, check_specs, resolve_assets
 
 __all__ = ["export_asset", "export_scene", "export_line", "DEFAULT_EXPORT_SIZE", "AssetParts",
            "bake_asset_parts", "equal_bytes_impostor", "IMPOSTOR_FRAMES",
+           "measure_representations", "MEASURE_VIEW",
            "scene_parts", "SceneParts"]
 
 #: The dome views' side (pixels) an exported mesh is baked at: the scenes' default.
@@ -164,6 +169,56 @@ def equal_bytes_impostor(parts: AssetParts) -> OctahedralImpostor:
                              appearance=a.appearance)
 
 
+#: The view the representations' errors are measured at (:func:`measure_representations`): the
+#: preview's first view of one asset, fitted to its bounding sphere, 320 x 240.
+MEASURE_VIEW = PreviewView(width=320, height=240)
+
+
+def measure_representations(parts: AssetParts, impostor: OctahedralImpostor | None) -> dict[str, Any]:
+    """The error of each representation against the real mesh at :data:`MEASURE_VIEW`: the dome's
+    view morph and the impostor (when given) drawn by morphkit
+    (:func:`~morphkit.export.previewref.reference_image`) against the mesh rendered with its ground
+    shadow ray cast (``truth_image``), PSNR of the whole image; and the bytes of each one's views.
+
+    Parameters
+    ----------
+    parts : AssetParts
+        With its mesh.
+    impostor : OctahedralImpostor or None
+        Its impostor.
+
+    Returns
+    -------
+    dict
+        JSON values: ``view`` (the fragment), ``truth``, ``metric``, and per representation
+        (``morph``, ``impostor``) its ``psnr_db`` and ``bytes``.
+
+    Raises
+    ------
+    ValidationError
+        An asset without a mesh.
+    """
+    if parts.mesh is None:
+        raise ValidationError(expected_got("the asset", "its mesh, to measure against", "an asset file"))
+    a = parts.asset
+    view = MEASURE_VIEW.fitted(a.cameras.radius)
+    one = np.array([[0.0, 0.0, 0.0, 0.0, 1.0]])
+    with Renderer() as r:
+        truth = truth_image(parts.mesh, a.items(parts.mesh), r, view, a.pivot)
+    out: dict[str, Any] = {
+        "view": view.fragment(), "truth": "the mesh rendered, its ground shadow ray cast (no self-shadow)",
+        "metric": "PSNR of the whole image, dB (morphkit.export.previewref)",
+        "morph": {"psnr_db": round(psnr(reference_image(a, parts.sun_atlas, one, view, a.pivot), truth,
+                                        data_range=1.0), 2),
+                  "bytes": int(a.dome.views * a.size[0] * a.size[1] * BYTES_PER_PIXEL)},
+    }
+    if impostor is not None:
+        got = reference_image(impostor, parts.sun_atlas, one, view, a.pivot)
+        out["impostor"] = {"psnr_db": round(psnr(got, truth, data_range=1.0), 2),
+                           "bytes": int(impostor.frames**2 * impostor.frame_side**2 * BYTES_PER_PIXEL)}
+    return out
+
+
 def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_EXPORT_SIZE,
                  sun_atlas_size: int = SCENE_ATLAS_SIZE, up: str = "auto", impostor: bool = True,
                  overwrite: bool = False) -> dict[str, Any]:
@@ -190,7 +245,8 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
     -------
     dict
         What was written: ``path``, ``bytes``, ``name``, ``views``, ``size``, ``mesh`` (bool),
-        ``sun_atlas`` (its side, or None) and ``impostor`` (its frames' side, or None).
+        ``sun_atlas`` (its side, or None) and ``impostor`` (its frames' side, or None). With a mesh,
+        the sidecar's ``measured`` is :func:`measure_representations`'.
 
     Raises
     ------
@@ -211,8 +267,9 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
     got = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
     name, asset, mesh, atlas = got.name, got.asset, got.mesh, got.sun_atlas
     imp = equal_bytes_impostor(got) if impostor and mesh is not None else None
+    measured = measure_representations(got, imp) if mesh is not None else None
     p.parent.mkdir(parents=True, exist_ok=True)
-    write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas, impostor=imp)
+    write_dome_glb(p, asset, mesh=mesh, sun_atlas=atlas, impostor=imp, measured=measured)
     return {"path": str(p), "bytes": p.stat().st_size, "name": name, "views": asset.dome.views,
             "size": int(asset.cameras.shape[0]), "mesh": mesh is not None,
             "sun_atlas": None if atlas is None else atlas.size,

@@ -48,33 +48,17 @@ from ..export.preview import (
 from ..scenes.camerapaths import Keyframes
 from ..scenes.description import SceneDescription
 from ..sunlit.receivers import SCENE_ATLAS_SIZE
-from .export import DEFAULT_EXPORT_SIZE, bake_asset_parts, equal_bytes_impostor, scene_parts
+from .export import (
+    DEFAULT_EXPORT_SIZE,
+    bake_asset_parts,
+    equal_bytes_impostor,
+    measure_representations,
+    scene_parts,
+)
 
-__all__ = ["preview_page", "preview_line", "fitted_view"]
+__all__ = ["preview_page", "preview_line"]
 
 _GLTF_SUFFIXES = (".glb", ".gltf")
-
-
-def fitted_view(target: np.ndarray, reach: float, base: PreviewView | None = None) -> PreviewView:
-    """``base`` (default :class:`PreviewView` ``()``) with its distance set to see a sphere of
-    radius ``reach`` about ``target`` whole.
-
-    Parameters
-    ----------
-    target : (3,) float
-        The sphere's centre (what the camera orbits).
-    reach : float
-        Its radius (> 0).
-    base : PreviewView, optional
-        The angles, sun and image kept.
-
-    Returns
-    -------
-    PreviewView
-    """
-    base = PreviewView() if base is None else base
-    half = math.radians(0.5 * base.fov_deg) * min(1.0, base.width / base.height)
-    return dataclasses.replace(base, distance=float(1.25 * reach / math.sin(half)))
 
 
 def _instances(inst: Any, name: str) -> np.ndarray:
@@ -164,7 +148,7 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
             if impostor and got.impostor is not None:
                 entries.append(_impostor_beside(got.impostor, got.asset, got.sun_atlas, camera,
                                                 got.asset.name))
-            measured = [f"measured {k}: {v}" for k, v in sorted(got.sidecar.get("measured", {}).items())]
+            measured = _measured_lines(got.sidecar.get("measured") or {})
             title = f"morphkit preview: {got.asset.name}"
     else:
         kind = "asset"
@@ -172,9 +156,11 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
         entries.append(asset_entry(parts.asset, parts.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
                                    name=f"{parts.name} (view morph)"))
         title = f"morphkit preview: {parts.name}"
-        if impostor and parts.mesh is not None:
-            entries.append(_impostor_beside(equal_bytes_impostor(parts), parts.asset, parts.sun_atlas, camera,
-                                            parts.name))
+        imp = equal_bytes_impostor(parts) if impostor and parts.mesh is not None else None
+        if imp is not None:
+            entries.append(_impostor_beside(imp, parts.asset, parts.sun_atlas, camera, parts.name))
+        if parts.mesh is not None:
+            measured = _measured_lines(measure_representations(parts, imp))
         elif impostor:
             notes.append(f"{parts.name}: no octahedral impostor beside it (an asset file has no mesh to "
                          "bake it from)")
@@ -187,7 +173,7 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     if sun is not None:
         base = dataclasses.replace(base, sun_azimuth_deg=float(sun[0]), sun_elevation_deg=float(sun[1]))
     if camera is None:
-        first = fitted_view(target, reach, base)
+        first = base.fitted(reach)
     else:
         first = dataclasses.replace(base, azimuth_deg=float(camera[0]), elevation_deg=float(camera[1]),
                                     distance=float(camera[2]))
@@ -199,6 +185,18 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     return {"path": str(p), "bytes": p.stat().st_size, "kind": kind,
             "instances": int(sum(e["count"] for e in entries)), "texture_bytes": data["texture_bytes"],
             "notes": data["notes"], "fragment": first.fragment()}
+
+
+def _measured_lines(m: dict[str, Any]) -> list[str]:
+    """The page's lines of :func:`~morphkit.programs.export.measure_representations`' figures (or of
+    any other ``measured`` entry, said as it is)."""
+    if "morph" not in m:
+        return [f"measured {k}: {v}" for k, v in sorted(m.items())]
+    lines = [f"measured against the real mesh at #{m['view']} ({m['metric']}):"]
+    for k, label in (("morph", "view morph"), ("impostor", "octahedral impostor")):
+        if k in m:
+            lines.append(f"  {label}: {m[k]['psnr_db']} dB, {m[k]['bytes']:,} bytes of views")
+    return lines
 
 
 def _impostor_beside(imp: OctahedralImpostor, asset: Any, sun_atlas: Any, camera: Sequence[float] | None,

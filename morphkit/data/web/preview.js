@@ -916,13 +916,18 @@ async function main() {
       page_bytes: Number(DATA.page_bytes), shadow_texels: scam ? scam.w : 0, notes };
   }
 
+  function glName() { // the GL renderer (unmasked where the browser says it)
+    const gl = renderer.getContext(), dbg = gl.getExtension('WEBGL_debug_renderer_info');
+    return gl.getParameter(dbg ? dbg.UNMASKED_RENDERER_WEBGL : gl.RENDERER);
+  }
+
   function figures() {
     const n = assets.reduce((s, x) => s + x.count, 0);
     const lines = [
       `${DATA.title}`,
       `instances: ${n.toLocaleString()}` + (gltfRoot ? ' (a glTF file from another tool: drawn as meshes)' : ''),
       `bytes: ${DATA.texture_bytes.toLocaleString()} in textures, ${Number(DATA.page_bytes).toLocaleString()} page`,
-      `frame: ${lastMs === null ? '-' : lastMs.toFixed(1) + ' ms'} (${renderer.getContext().getParameter(renderer.getContext().RENDERER)})`,
+      `frame: ${lastMs === null ? '-' : lastMs.toFixed(1) + ' ms'} (${glName()})`,
     ];
     for (const x of assets) {
       lines.push(`${x.a.name}: ${x.count.toLocaleString()} instance${x.count === 1 ? '' : 's'}, `
