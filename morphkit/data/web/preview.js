@@ -173,6 +173,8 @@ const COMMON = `
 #define IMP_MIN_COS ${DATA.constants.imp_min_cos.toExponential(6)}
 uniform int uN;        // the views' side, pixels
 uniform sampler2DArray uDepth;
+uniform vec3 uPivot; uniform float uRadius;  // the bounding sphere, object frame
+in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;  // the instance's
 bool sphere(vec3 o, vec3 d, vec3 c, float r, out float t0, out float t1) {
   vec3 oc = o - c;
   float b = dot(d, oc);
@@ -268,6 +270,20 @@ vec4 marchView(int k, vec3 o, vec3 d, float t0, float t1, int steps) {
   return vec4(status, tHit, q.xy);
 }
 
+// the instance's three weighted views marched along one ray (object frame): each one's
+// (status, t, u, v), the nearest hit's t and the march's step; false where the ray misses the sphere
+bool marchThree(vec3 o, vec3 d, out vec4 h[3], out float tMin, out float dt) {
+  float t0, t1;
+  tMin = FAR; dt = 0.0;
+  if (!sphere(o, d, uPivot, uRadius, t0, t1)) return false;
+  dt = (t1 - t0) / float(vSteps - 1);
+  for (int j = 0; j < 3; j++) {
+    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, vSteps) : vec4(-1.0, FAR, 0.0, 0.0);
+    if (h[j].x == 1.0) tMin = min(tMin, h[j].y);
+  }
+  return true;
+}
+
 `;
 
 const INSTANCE_VERT = `
@@ -331,10 +347,8 @@ const BILLBOARD_FRAG = `
 uniform mat3 uCamR; uniform vec3 uEye;
 uniform float uFx, uFy, uCxs, uCys, uH;
 uniform mat4 uViewProjB;
-uniform vec3 uPivot; uniform float uRadius;
 uniform vec3 uSunDir;   // towards the sun, world frame
 uniform float uAmbient, uSunTerm;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
 out vec4 fragColor;
 
 void main() {
@@ -344,15 +358,9 @@ void main() {
   mat3 Rt = transpose(Rz);
   vec3 o = Rt * (uEye - vPose.xyz) / vScale;
   vec3 d = Rt * dw;
-  float t0, t1;
-  if (!sphere(o, d, uPivot, uRadius, t0, t1)) discard;
-  float dt = (t1 - t0) / float(vSteps - 1);
   vec4 h[3];
-  float tMin = FAR;
-  for (int j = 0; j < 3; j++) {
-    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, vSteps) : vec4(-1.0, FAR, 0.0, 0.0);
-    if (h[j].x == 1.0) tMin = min(tMin, h[j].y);
-  }
+  float tMin, dt;
+  if (!marchThree(o, d, h, tMin, dt)) discard;
   vec3 col = vec3(0.0), nrm = vec3(0.0);
   float aNum = 0.0, aDen = 0.0, cDen = 0.0;
   for (int j = 0; j < 3; j++) {
@@ -393,10 +401,8 @@ uniform float uScale, uCentre;  // frame pixels per scene unit, the frame's cent
 uniform mat3 uCamR; uniform vec3 uEye;
 uniform float uFx, uFy, uCxs, uCys, uH;
 uniform mat4 uViewProjB;
-uniform vec3 uPivot; uniform float uRadius;
 uniform vec3 uSunDir;
 uniform float uAmbient, uSunTerm;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
 out vec4 fragColor;
 vec2 texHeight(int k, ivec2 p) { // (alpha, h alpha); h = D - depth, the height above the frame's plane
   if (p.x < 0 || p.y < 0 || p.x >= uN || p.y >= uN) return vec2(0.0);
@@ -463,8 +469,6 @@ uniform sampler2DArray uCoverage;
 uniform mat3 uCamR; uniform vec3 uCamC;
 uniform float uFx, uFy, uCxs, uCys, uH;
 uniform mat4 uViewProjB;
-uniform vec3 uPivot; uniform float uRadius;
-in vec4 vPose; in float vScale; flat in ivec3 vViews; in vec3 vWeights; flat in int vSteps;
 out vec4 fragColor;
 float cov(int k, ivec2 p) {
   if (p.x < 0 || p.y < 0 || p.x >= uN || p.y >= uN) return 0.0;
@@ -482,15 +486,9 @@ void main() {
   mat3 Rt = transpose(yawMat(vPose.w));
   vec3 o = Rt * (ow - vPose.xyz) / vScale;
   vec3 d = Rt * dw;
-  float t0, t1;
-  if (!sphere(o, d, uPivot, uRadius, t0, t1)) discard;
-  float dt = (t1 - t0) / float(vSteps - 1);
   vec4 h[3];
-  float tMin = FAR;
-  for (int j = 0; j < 3; j++) {
-    h[j] = vWeights[j] > 0.0 ? marchView(vViews[j], o, d, t0, t1, vSteps) : vec4(-1.0, FAR, 0.0, 0.0);
-    if (h[j].x == 1.0) tMin = min(tMin, h[j].y);
-  }
+  float tMin, dt;
+  if (!marchThree(o, d, h, tMin, dt)) discard;
   float aNum = 0.0, aDen = 0.0, cDen = 0.0;
   for (int j = 0; j < 3; j++) {
     float w = vWeights[j];
