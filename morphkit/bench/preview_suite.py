@@ -7,8 +7,9 @@ Scenes and cases:
   ``morphkit export`` bakes it), one instance at the origin, seen at three cameras and suns
   (:data:`VIEWS`, 480 x 360). Per camera, timed round-robin over ``repeats`` rounds:
 
-  - ``page``: the page's frame (its own ``frame_ms``: the shadow pass, the ground and the
-    billboard, read back) in headless Chromium on SwiftShader, the software WebGL 2 Chromium ships;
+  - ``page``: the page's frame after a camera move (its own ``frame_ms``: the ground and the
+    billboard, read back; the light view is drawn again only when the sun moves, so not in these
+    frames) in headless Chromium on SwiftShader, the software WebGL 2 Chromium ships;
     ``psnr_ref_db`` is its PSNR against ``reference`` and ``psnr_db`` against ``truth``;
   - ``reference``: :func:`~morphkit.export.previewref.reference_image`, morphkit's own morph of the
     same camera and sun (numpy and OpenCV); ``psnr_db`` against ``truth``;
@@ -21,8 +22,8 @@ Scenes and cases:
 * ``what=page``: pages written by ``morphkit preview`` -- the tree (its impostor beside it), the forest scene
   (``samples/scenes/forest.json``: 90 instances of three assets, at its first camera key; present in
   a source checkout) and a grid of 100,489 instances of the analytic ball -- with their ``bytes``,
-  ``draw_s`` (from loading the page to its ``morphkit: ready``) and ``frame_ms`` (the median of
-  redraws) at 640 x 480.
+  ``draw_s`` (from loading the page to its ``morphkit: ready``; its first frame draws the light
+  view), ``first_frame_ms`` and ``frame_ms`` (the median of camera moves) at 640 x 480.
 
 Needs chromium, chromedriver and selenium (``scripts/setup.sh test``) and GL.
 """

@@ -23,11 +23,9 @@ fragment sets them (:meth:`~morphkit.export.preview.PreviewView.fragment`).
 
 from __future__ import annotations
 
-import base64
 import dataclasses
 import math
 import os
-import zlib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -122,11 +120,19 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
     gltf: bytes | None = None
     fov, scene_target = PreviewView().fov_deg, None
     entries: list[dict[str, Any]] = []
+    placed: list[tuple[np.ndarray, float, np.ndarray]] = []  # each entry's pivot, radius, instances
+    one = np.array([[0.0, 0.0, 0.0, 0.0, 1.0]])
+
+    def put(entry: dict[str, Any], inst: np.ndarray) -> None:
+        entries.append(entry)
+        placed.append((np.asarray(entry["pivot"], np.float64), float(entry["radius"]), inst))
+
     if suffix == ".json" or (scene and suffix in _GLTF_SUFFIXES):
         kind = "scene"
         got_scene = scene_parts(spec, sun_atlas_size=sun_atlas_size, command="preview")
         for nm, a in got_scene.assets.items():
-            entries.append(asset_entry(a.asset, a.sun_atlas, _instances(got_scene.instances, nm), name=nm))
+            inst = _instances(got_scene.instances, nm)
+            put(asset_entry(a.asset, a.sun_atlas, inst, name=nm), inst)
         title = f"morphkit preview: the scene {Path(spec).name}"
         camera, sun, fov, scene_target = _scene_view(got_scene.scene, camera, sun)
     elif suffix in _GLTF_SUFFIXES:
@@ -143,28 +149,27 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
             title = f"morphkit preview: {Path(spec).name} (meshes)"
         else:
             kind = "asset"
-            entries.append(asset_entry(got.asset, got.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
-                                       name=f"{got.asset.name} (view morph)"))
+            put(asset_entry(got.asset, got.sun_atlas, one, name=f"{got.asset.name} (view morph)"), one)
             if impostor and got.impostor is not None:
-                entries.append(_impostor_beside(got.impostor, got.asset, got.sun_atlas, camera,
-                                                got.asset.name))
+                at = _beside(got.asset.cameras.radius, camera)
+                put(_impostor_named(got.impostor, got.sun_atlas, at, got.asset.name), at)
             measured = _measured_lines(got.sidecar.get("measured") or {})
             title = f"morphkit preview: {got.asset.name}"
     else:
         kind = "asset"
         parts = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
-        entries.append(asset_entry(parts.asset, parts.sun_atlas, np.array([[0.0, 0.0, 0.0, 0.0, 1.0]]),
-                                   name=f"{parts.name} (view morph)"))
+        put(asset_entry(parts.asset, parts.sun_atlas, one, name=f"{parts.name} (view morph)"), one)
         title = f"morphkit preview: {parts.name}"
         imp = equal_bytes_impostor(parts) if impostor and parts.mesh is not None else None
         if imp is not None:
-            entries.append(_impostor_beside(imp, parts.asset, parts.sun_atlas, camera, parts.name))
+            at = _beside(parts.asset.cameras.radius, camera)
+            put(_impostor_named(imp, parts.sun_atlas, at, parts.name), at)
         if parts.mesh is not None:
             measured = _measured_lines(measure_representations(parts, imp))
         elif impostor:
             notes.append(f"{parts.name}: no octahedral impostor beside it (an asset file has no mesh to "
                          "bake it from)")
-    target, reach = _extent(entries)
+    target, reach = _extent(placed)
     w, h = image
     base = PreviewView(width=w, height=h)
     if kind == "scene":
@@ -199,15 +204,17 @@ def _measured_lines(m: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _impostor_beside(imp: OctahedralImpostor, asset: Any, sun_atlas: Any, camera: Sequence[float] | None,
-                     name: str) -> dict[str, Any]:
-    """The impostor's page entry: one instance beside the morph's, 2.2 bounding radii along the first
-    camera's right."""
+def _beside(radius: float, camera: Sequence[float] | None) -> np.ndarray:
+    """The instance beside the asset's at the origin: 2.2 bounding radii along the first camera's right."""
     az = math.radians(PreviewView().azimuth_deg if camera is None else float(camera[0]))
-    off = 2.2 * asset.cameras.radius
-    at = [-math.sin(az) * off, math.cos(az) * off, 0.0, 0.0, 1.0]
+    off = 2.2 * radius
+    return np.array([[-math.sin(az) * off, math.cos(az) * off, 0.0, 0.0, 1.0]])
+
+
+def _impostor_named(imp: OctahedralImpostor, sun_atlas: Any, at: np.ndarray, name: str) -> dict[str, Any]:
+    """The impostor's page entry, named with its grid and frame size."""
     n = imp.frames
-    return impostor_entry(imp, sun_atlas, np.array([at]),
+    return impostor_entry(imp, sun_atlas, at,
                           name=f"{name} (octahedral impostor {n}x{n} of {imp.frame_side} px)")
 
 
@@ -232,25 +239,21 @@ def _scene_view(scene: SceneDescription, camera: Sequence[float] | None, sun: Se
     return camera, sun, fov, target
 
 
-def _extent(entries: list[dict[str, Any]]) -> tuple[np.ndarray, float]:
+def _extent(placed: list[tuple[np.ndarray, float, np.ndarray]]) -> tuple[np.ndarray, float]:
     """The centre and radius of every instance's bounding sphere (a unit sphere when none)."""
     centres, radii = [], []
-    for e in entries:
-        inst = np.frombuffer(zlib.decompress(base64.b64decode(e["instances"])), np.float32).reshape(-1, 5)
-        piv = np.asarray(e["pivot"], np.float64)
-        for x, y, z, yaw, s in inst.astype(np.float64):
-            c, sn = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
-            centres.append([x + s * (c * piv[0] - sn * piv[1]), y + s * (sn * piv[0] + c * piv[1]),
-                            z + s * piv[2]])
-            radii.append(s * e["radius"])
-    if not centres:
+    for pivot, radius, inst in placed:
+        yaw, s = np.radians(inst[:, 3]), inst[:, 4]
+        c, sn = np.cos(yaw), np.sin(yaw)
+        centres.append(inst[:, :3] + s[:, None] * np.column_stack(
+            [c * pivot[0] - sn * pivot[1], sn * pivot[0] + c * pivot[1], np.full(len(inst), pivot[2])]))
+        radii.append(s * radius)
+    pts = np.concatenate(centres) if centres else np.zeros((0, 3))
+    if not len(pts):
         return np.array([0.0, 0.0, 0.5]), 1.0
-    pts = np.asarray(centres)
-    lo = (pts - np.asarray(radii)[:, None]).min(axis=0)
-    hi = (pts + np.asarray(radii)[:, None]).max(axis=0)
-    target = 0.5 * (lo + hi)
-    reach = float(max(np.linalg.norm(pts - target, axis=1) + np.asarray(radii)))
-    return target, reach
+    r = np.concatenate(radii)
+    target = 0.5 * ((pts - r[:, None]).min(axis=0) + (pts + r[:, None]).max(axis=0))
+    return target, float(max(np.linalg.norm(pts - target, axis=1) + r))
 
 
 def preview_line(got: dict[str, Any]) -> str:

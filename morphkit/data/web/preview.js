@@ -854,6 +854,7 @@ async function main() {
   const ambient = new THREE.AmbientLight(0xffffff, DATA.lighting.ambient * Math.PI);
   const notes = [...DATA.notes];
   let shadowTarget = null;
+  let shadow = { key: null, texels: 0 };  // the sun the light view was drawn for, and its side
   let lastMs = null, drawn = false;
 
   function draw() {
@@ -865,7 +866,9 @@ async function main() {
     const above = sunDir[2] > 0;
     const sunTerm = above ? DATA.lighting.sun_intensity / Math.PI : 0;
     const t0 = performance.now();
-    const scam = above ? shadowCamera(assets, sunDir) : null;
+    // the light view depends on the sun alone: drawn again only when the sun has moved
+    const sunKey = above ? `${state.sun.azimuth_deg},${state.sun.elevation_deg}` : null;
+    const scam = sunKey !== null && sunKey !== shadow.key ? shadowCamera(assets, sunDir) : null;
     for (const x of assets) {
       x.update(cam.R.c, cam.fy, scam ? sunDir : null, scam ? scam.fx : 0);
       setCamUniforms(x.uniforms, cam, mats);
@@ -873,7 +876,8 @@ async function main() {
     }
     setCamUniforms(groundU, cam, mats);
     groundU.uSunDir.value.set(...sunDir); groundU.uSunTerm.value = sunTerm;
-    groundU.uHasShadow.value = !!scam;
+    if (sunKey !== shadow.key) shadow = { key: sunKey, texels: scam ? scam.w : 0 };
+    groundU.uHasShadow.value = shadow.texels > 0;
     if (scam) {
       if (!shadowTarget || shadowTarget.width !== scam.w) {
         if (shadowTarget) shadowTarget.dispose();
@@ -911,7 +915,7 @@ async function main() {
     writeFragment();
     if (!drawn) { drawn = true; document.title = 'morphkit: ready'; }
     window.morphkitStats = { frame_ms: lastMs, width: w, height: h, instances: assets.reduce((s, x) => s + x.count, 0),
-      page_bytes: Number(DATA.page_bytes), shadow_texels: scam ? scam.w : 0, notes };
+      page_bytes: Number(DATA.page_bytes), shadow_texels: shadow.texels, notes };
   }
 
   function glName() { // the GL renderer (unmasked where the browser says it)
