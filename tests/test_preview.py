@@ -170,6 +170,9 @@ def test_the_preview_command_writes_a_page_of_a_dome_asset_file_and_keeps_an_exi
     assert "expected a new file, or --overwrite" in capsys.readouterr().err
     assert main(["preview", str(npz), "-o", str(out), "--camera", "30,20"]) == 2
     assert "--camera: expected 3 finite numbers separated by commas, got '30,20'" in capsys.readouterr().err
+    assert main(["preview", str(tmp_path / "nothere.glb"), "-o", str(tmp_path / "n.html")]) == 1
+    assert "ASSET_OR_SCENE: expected an existing .glb or .gltf file, got" in capsys.readouterr().err
+    assert not (tmp_path / "n.html").exists()
 
 
 # ------------------------------------------------------------------------------------------------ browser

@@ -136,6 +136,9 @@ def preview_page(spec: str, out: str | os.PathLike[str], *, camera: Sequence[flo
         title = f"morphkit preview: the scene {Path(spec).name}"
         camera, sun, fov, scene_target = _scene_view(got_scene.scene, camera, sun)
     elif suffix in _GLTF_SUFFIXES:
+        if not Path(spec).is_file():
+            raise ValidationError(expected_got("ASSET_OR_SCENE", "an existing .glb or .gltf file",
+                                               repr(spec)))
         try:
             got = read_dome_glb(spec)
         except FileFormatError as exc:
