@@ -387,3 +387,24 @@ def test_the_forest_scene_s_page_starts_at_its_camera_and_sun_and_stays_small(br
     assert shot.stats["instances"] == 90 and shot.stats["shadow_texels"] > 0
     # trees, people and crates stand in front of the sky: the picture is not the empty ground
     assert np.abs(shot.image - shot.image.mean(axis=(0, 1))).max() > 0.3
+
+
+@pytest.mark.browser
+def test_turned_scaled_and_moved_instances_draw_as_morphkit_draws_them(browser, ball, tmp_path):
+    """Three balls (the analytic sphere's checker turns with its yaw) at other places, yaws and
+    scales, against morphkit's render of the same instances: the instance frames of the shader
+    (object from world, the sun turned by the yaw) are morphkit's. The page's one light view of the
+    scene has the sun atlas's texel density, morphkit's one light view per instance: PSNR >= 30 dB."""
+    asset, atlas = ball
+    inst = np.array([[0.0, 0.0, 0.0, 0.0, 1.0], [2.5, 0.5, 0.0, 70.0, 0.7], [-1.0, 2.6, 0.0, -135.0, 1.3]])
+    view = PreviewView(20.0, 30.0, 8.0, 40.0, 150.0, 40.0, 320, 240)
+    target = np.array([0.5, 1.0, 0.8])
+    page = write_preview(tmp_path / "three.html", preview_data([asset_entry(asset, atlas, inst)], view,
+                                                               target, 3.0, title="three"))
+    shot = browser.show(page, view.fragment())
+    assert shot.title == READY and not shot.errors, shot.errors
+    ref = reference_image(asset, atlas, inst, view, target)
+    assert psnr(shot.image, ref, data_range=1.0) >= 30.0
+    # the yaws matter: the same balls unturned draw another picture
+    flat = reference_image(asset, atlas, inst * [1, 1, 1, 0, 1], view, target)
+    assert psnr(flat, ref, data_range=1.0) < psnr(shot.image, ref, data_range=1.0) - 3.0
