@@ -40,8 +40,9 @@ from ..billboard.baking.bakelook import BAKE_AMBIENT
 from ..billboard.domeasset import DomeAsset
 from ..billboard.impostor import OctahedralImpostor
 from ..camera import CameraModel, look_at
-from ..errors import OutputExistsError, ValidationError, expected_got
+from ..errors import ValidationError, expected_got
 from ..files.fileio import write_text
+from ..files.outfolder import check_output_file
 from ..sunlit.sunatlas import SunAtlas
 from ..sunpath import SUN_INTENSITY
 from ..views.depthmorph import DEPTH_AGREE_STEPS, REFINE_STEPS, THICKNESS_STEPS
@@ -459,19 +460,7 @@ def check_preview_output(path: str | os.PathLike[str], *, overwrite: bool = Fals
     ValidationError
         Not an ``.html`` path, or a folder, or under a file.
     """
-    p = Path(path)
-    if p.suffix.lower() not in (".html", ".htm"):
-        raise ValidationError(expected_got("-o", "an .html file path", repr(str(p))))
-    if p.is_dir():
-        raise ValidationError(expected_got("-o", "an .html file path", f"the folder {str(p)!r}"))
-    if p.exists() and not overwrite:
-        raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
-                                             f"the existing file {str(p)!r}"))
-    in_the_way = next((a for a in p.parents if a.exists() and not a.is_dir()), None)
-    if in_the_way is not None:
-        raise ValidationError(expected_got("-o", "a path whose parents are folders",
-                                           f"{str(p)!r}, where {str(in_the_way)!r} is a file"))
-    return p
+    return check_output_file(path, "an .html", (".html", ".htm"), overwrite=overwrite)
 
 
 def write_preview(path: str | os.PathLike[str], data: dict[str, Any], *, overwrite: bool = False) -> Path:

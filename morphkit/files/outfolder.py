@@ -65,7 +65,7 @@ __all__ = ["MARKER_NAME", "LOCK_NAME", "FRAMES_FOLDER", "frame_name", "OutputRul
            "claim_output", "previous_run", "owned", "subfolders", "DEMO_OUTPUT", "SHADOWS_OUTPUT",
            "BILLBOARDS_OUTPUT", "RENDER_OUTPUT", "PLAN_OUTPUT", "BAKE_OUTPUT", "VIEWMORPH_OUTPUT",
            "BAKE_MANIFEST_FORMAT",
-           "is_bake_manifest"]
+           "is_bake_manifest", "check_output_file"]
 
 #: The marker of a command's output folder: ``{"morphkit_output": 1, "command": ..., "status":
 #: "running" | "complete", "started": ...}``.
@@ -593,3 +593,45 @@ def claim_output(path: str | os.PathLike[str], rule: OutputRule, *, overwrite: b
             f"{what} folder", f"one without a previous {rule.command} (--overwrite / overwrite=True "
             "replaces it)", f"{p} holding {mark.name}"))
     return OutputClaim(p, rule, True)
+
+
+def check_output_file(path: str | os.PathLike[str], kind: str, suffixes: tuple[str, ...], *,
+                      overwrite: bool = False) -> Path:
+    """``path`` if one output file of ``kind`` may be written there (checked before any work): the
+    usual rule of a command writing one file (``-o OUT``), as :func:`claim_output` is of a folder.
+
+    Parameters
+    ----------
+    path : path-like
+        The output file.
+    kind : str
+        What it is, for the message, e.g. ``"a .glb"`` (the message says ``a .glb file path``).
+    suffixes : tuple of str
+        Its allowed extensions, lower case, with the dot.
+    overwrite : bool, optional
+        An existing file may be replaced.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ValidationError
+        Another extension, a folder, or a path under a file.
+    OutputExistsError
+        ``path`` exists and ``overwrite`` is not given.
+    """
+    p = Path(path)
+    if p.suffix.lower() not in suffixes:
+        raise ValidationError(expected_got("-o", f"{kind} file path", repr(str(p))))
+    in_the_way = next((a for a in p.parents if a.exists() and not a.is_dir()), None)
+    if in_the_way is not None:
+        raise ValidationError(expected_got("-o", "a path whose parents are folders",
+                                           f"{str(p)!r}, where {str(in_the_way)!r} is a file"))
+    if p.is_dir():
+        raise ValidationError(expected_got("-o", f"{kind} file path", f"the folder {str(p)!r}"))
+    if p.exists() and not overwrite:
+        raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
+                                             f"the existing file {str(p)!r}"))
+    return p

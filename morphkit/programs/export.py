@@ -29,10 +29,11 @@ import trimesh
 from ..billboard.domeasset import DomeAsset
 from ..billboard.frames.instances import Instances
 from ..billboard.impostor import DEFAULT_FRAMES, OctahedralImpostor, bake_impostor, impostor_frame_size
-from ..errors import OutputExistsError, ValidationError, expected_got
+from ..errors import ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
 from ..export.preview import PreviewView
 from ..export.previewref import reference_image, truth_image
+from ..files.outfolder import check_output_file
 from ..imaging.metrics import psnr
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
 from ..render import Renderer
@@ -54,19 +55,7 @@ DEFAULT_EXPORT_SIZE = 128
 
 
 def _output(out: str | os.PathLike[str], overwrite: bool) -> Path:
-    p = Path(out)
-    if p.suffix.lower() != ".glb":
-        raise ValidationError(expected_got("-o", "a .glb file path", repr(str(p))))
-    in_the_way = next((a for a in p.parents if a.exists() and not a.is_dir()), None)
-    if in_the_way is not None:
-        raise ValidationError(expected_got("-o", "a path whose parents are folders",
-                                           f"{str(p)!r}, where {str(in_the_way)!r} is a file"))
-    if p.is_dir():
-        raise ValidationError(expected_got("-o", "a .glb file path", f"the folder {str(p)!r}"))
-    if p.exists() and not overwrite:
-        raise OutputExistsError(expected_got("output", "a new file, or --overwrite to replace it",
-                                             f"the existing file {str(p)!r}"))
-    return p
+    return check_output_file(out, "a .glb", (".glb",), overwrite=overwrite)
 
 
 @dataclass(frozen=True)
