@@ -199,8 +199,7 @@ def _half_bits(depth: np.ndarray) -> np.ndarray:
 
 def _dome_json(dome: ViewDome) -> dict[str, Any]:
     tris = dome.triangles()
-    dirs = direction(dome.azimuths_deg(), dome.elevations_deg())
-    inv = np.linalg.inv(np.transpose(dirs[tris], (0, 2, 1))) if len(tris) else np.zeros((0, 3, 3))
+    inv = dome.barycentric_inverses()
     return {"rings": [list(r) for r in dome.rings], "top": dome.top,
             "azimuths": dome.azimuths_deg().tolist(), "triangles": tris.tolist(),
             "inverse": inv.reshape(len(tris), 9).tolist()}

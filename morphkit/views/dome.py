@@ -153,6 +153,17 @@ class ViewDome:
         """
         return self._tris.copy()
 
+    def barycentric_inverses(self) -> np.ndarray:
+        """``(T, 3, 3)``: per triangle, the inverse of the matrix whose columns are its three view
+        directions, so that ``inverse @ d`` is a direction's barycentric coordinates (:meth:`weights`).
+
+        Returns
+        -------
+        (T, 3, 3) float64
+            A copy (empty for one ring).
+        """
+        return self._inv.copy()
+
     def clamp(self, elevation_deg: float) -> float:
         """The elevation a direction is served at (module docstring: the clamps).
 
