@@ -55,6 +55,17 @@ def _cmd_preview(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bake_options(p: argparse.ArgumentParser, impostor_help: str) -> None:
+    """The options both commands take of what they bake, and ``--overwrite``."""
+    p.add_argument("--size", type=int, default=128,
+                   help="the dome views' side when baking (default: %(default)s)")
+    p.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
+                   help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
+    p.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
+    p.add_argument("--no-impostor", action="store_true", help=impostor_help)
+    p.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
+
+
 def add_file_commands(sub: Any) -> None:
     """Add ``export`` and ``preview`` to the command line's subparsers.
 
@@ -78,15 +89,8 @@ def add_file_commands(sub: Any) -> None:
     ex.add_argument("--scene", action="store_true",
                     help="read a .glb/.gltf as a scene (its meshes, nodes, light), not as one mesh")
     ex.add_argument("-o", "--out", required=True, help="the .glb file")
-    ex.add_argument("--size", type=int, default=128,
-                    help="the dome views' side when baking (default: %(default)s)")
-    ex.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
-                    help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
-    ex.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
-    ex.add_argument("--no-impostor", action="store_true",
-                    help="without the octahedral impostor (by default one whose frames take as many bytes as "
-                    "the dome's views, baked from the mesh)")
-    ex.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
+    _bake_options(ex, "without the octahedral impostor (by default one whose frames take as many bytes as "
+                  "the dome's views, baked from the mesh)")
     ex.set_defaults(func=_cmd_export)
 
     pv = sub.add_parser(
@@ -114,13 +118,6 @@ def add_file_commands(sub: Any) -> None:
                     help="the first sun: azimuth and elevation, degrees (default: 135,45)")
     pv.add_argument("--size-px", default="640x480", metavar="WxH",
                     help="the canvas when the URL does not set it (default: the window)")
-    pv.add_argument("--size", type=int, default=128,
-                    help="the dome views' side when baking (default: %(default)s)")
-    pv.add_argument("--sun-atlas-size", type=int, default=128, metavar="N",
-                    help="the sun atlas's side when baking, texels; 0: none (default: %(default)s)")
-    pv.add_argument("--up-axis", choices=("auto", "y", "z"), default="auto", help="a mesh file's up axis")
-    pv.add_argument("--no-impostor", action="store_true",
-                    help="no octahedral impostor beside a baked asset (by default one whose frames take as "
-                    "many bytes as the dome's views, to compare)")
-    pv.add_argument("--overwrite", action="store_true", help="replace an existing OUT")
+    _bake_options(pv, "no octahedral impostor beside a baked asset (by default one whose frames take as "
+                  "many bytes as the dome's views, to compare)")
     pv.set_defaults(func=_cmd_preview)
