@@ -12,6 +12,8 @@ version is refused on reading):
   words (``band``), its on-screen height and elevation ranges (``height_px``: ``[lo, hi]``, ``hi``
   None for level 0; ``elevation_deg``), the ``representation`` and how many billboards it draws over
   the path (``billboards``);
+* ``"image_size"`` -- ``[W, H]``, the frames' size the bands' heights are of (a plan written before
+  it was recorded has none);
 * ``"shadow"`` -- with a ``shadow-iou`` budget, the frames' shadow chosen (:mod:`.shadowchoice`):
   its ``soft`` (null, ``"pcss"`` or N) and ``sun_atlas_size``, read back and drawn by
   ``render --plan``, with what was measured of every candidate (kept as written);
@@ -68,6 +70,8 @@ class ScenePlan:
         What was measured (written as the file's other entries).
     shadows : SceneShadows, optional
         The frames' shadow chosen (None: the scene's own); the scene's sun disc is kept.
+    shape : (H, W), optional
+        The frames' size (None: not recorded).
     """
 
     budget: Budget
@@ -78,6 +82,7 @@ class ScenePlan:
     base_height: dict[str, int] = field(default_factory=dict)
     report: dict[str, Any] = field(default_factory=dict)
     shadows: SceneShadows | None = None
+    shape: tuple[int, int] | None = None
 
     def check_kind(self, relit: bool) -> None:
         """Refuse a plan of the other kind of asset.
@@ -175,6 +180,8 @@ class ScenePlan:
             "default": self.choice.default,
             "choices": choices,
         }
+        if self.shape is not None:
+            out["image_size"] = [int(self.shape[1]), int(self.shape[0])]
         out.update(self.report)
         if self.shadows is not None:
             chosen = {"soft": self.shadows.soft, "sun_atlas_size": self.shadows.sun_atlas_size}
@@ -249,10 +256,19 @@ def read_plan(path: str | os.PathLike[str]) -> ScenePlan:
             raise TypeError("relit must be true or false, assets a list of names")
         bands = {}
         counts = {}
+        base: dict[str, int] = {}
         for c in obj["choices"]:
             band = (c["asset"], c["level"], c["elevation_band"])
             bands[band] = c["representation"]
             counts[band] = int(c.get("billboards", 0))
+            if c.get("height_px") is not None:  # lo = h0 / 2^(level + 1)
+                base[c["asset"]] = int(round(float(c["height_px"][0]) * 2.0 ** (int(c["level"]) + 1)))
+        size = obj.get("image_size")
+        shape = None
+        if size is not None:
+            if not isinstance(size, list) or len(size) != 2:
+                raise TypeError("image_size must be [W, H]")
+            shape = (int(size[1]), int(size[0]))
         choice = BandChoice(bands, obj.get("default", "morph"))
         shadow = obj.get("shadow")
         shadows = None
@@ -266,4 +282,5 @@ def read_plan(path: str | os.PathLike[str]) -> ScenePlan:
                 f"plan file {p}", "relit, assets and choices of a plan", f"{type(exc).__name__}: {exc}"
             )
         ) from exc
-    return ScenePlan(_budget(obj.get("budget")), choice, relit, tuple(assets), counts, shadows=shadows)
+    return ScenePlan(_budget(obj.get("budget")), choice, relit, tuple(assets), counts, base, shadows=shadows,
+                     shape=shape)

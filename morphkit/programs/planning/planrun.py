@@ -555,6 +555,7 @@ def plan_scene(
             {b: int(c) for b, c in zip(pred.bands, pred.counts(), strict=True)},
             pred.base_height,
             shadows=None if shadows is None else chosen_shadow.shadows,
+            shape=tuple(cams[0].shape),
         )
         # the plan itself on the calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards)
