@@ -5,7 +5,9 @@ exporter, ``trimesh.exchange.gltf.export_glb``) and adds, through the exporter's
 image as a ``bufferView`` of the one binary buffer with an ``images`` entry (``name``,
 ``mimeType``), the instances of a node, drawn many times, as ``EXT_mesh_gpu_instancing``
 (:class:`NodeInstances`: one ``TRANSLATION``, ``ROTATION`` and ``SCALE`` accessor each, float32;
-each instance's transform is applied before the node's own), and the sidecar as
+each instance's transform is applied before the node's own), a node's lower levels of detail as
+``MSFT_lod`` (:class:`NodeLods`: the lower levels' nodes taken out of the scene and named in its
+``ids``, the thresholds as ``extras.MSFT_screencoverage``), and the sidecar as
 ``extras.morphkit`` of the glTF root. :func:`read_glb` reads
 a GLB's two chunks (glTF 2.0, section "GLB File Format Specification": a 12-byte header, a JSON
 chunk, a BIN chunk, each 4-byte aligned) and gives the images back by name.
@@ -32,12 +34,15 @@ from ..errors import FileFormatError, ValidationError, expected_got
 from ..files.fileio import decode_image, open_regular
 from ..validate import as_finite_array
 
-__all__ = ["GlbImage", "NodeInstances", "Glb", "glb_bytes", "read_glb", "SIDECAR_KEY", "INSTANCING"]
+__all__ = ["GlbImage", "NodeInstances", "NodeLods", "Glb", "glb_bytes", "read_glb", "SIDECAR_KEY",
+           "INSTANCING", "LOD"]
 
 #: The key of morphkit's sidecar in the glTF root's ``extras``.
 SIDECAR_KEY = "morphkit"
 #: The glTF extension that draws one node's mesh at many transforms.
 INSTANCING = "EXT_mesh_gpu_instancing"
+#: The glTF extension that names a node's lower levels of detail.
+LOD = "MSFT_lod"
 _MAGIC, _JSON, _BIN = 0x46546C67, 0x4E4F534A, 0x004E4942
 
 
@@ -101,12 +106,75 @@ class NodeInstances:
         return {k: np.ascontiguousarray(a, np.float32) for k, a in out.items()}
 
 
+@dataclass(frozen=True)
+class NodeLods:
+    """A node's lower levels of detail (``MSFT_lod``).
+
+    Parameters
+    ----------
+    lower : tuple of str or None
+        The nodes (by name) of the levels after the node's own, most exact first: each is taken out
+        of the scene's roots (it is drawn in the node's place) and given the node's transform; None
+        is a level that draws nothing (an empty node).
+    coverage : tuple of float
+        ``MSFT_screencoverage``: each level's least screen coverage, the node's first, decreasing;
+        one per level.
+    """
+
+    lower: tuple[str | None, ...]
+    coverage: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        cov = [float(c) for c in self.coverage]
+        if (not self.lower or len(cov) != len(self.lower) + 1 or not all(np.isfinite(cov))
+                or any(b > a for a, b in zip(cov, cov[1:], strict=False))):
+            raise ValidationError(expected_got("levels of detail", "at least one lower level and a "
+                                               "coverage per level, decreasing",
+                                               f"{len(self.lower)} lower levels, coverage {cov}"))
+
+
+def _add_lods(tree: dict[str, Any], lods: Mapping[str, NodeLods]) -> None:
+    """Write ``lods`` into ``tree`` (the module notes)."""
+    nodes = tree.get("nodes", [])
+    index = {n.get("name"): k for k, n in enumerate(nodes)}
+    roots = tree["scenes"][tree.get("scene", 0)]["nodes"]
+    for name, lod in lods.items():
+        if name not in index:
+            raise ValidationError(expected_got("node with levels of detail", f"one of {sorted(index)}",
+                                               repr(name)))
+        base = nodes[index[name]]
+        place = {k: base[k] for k in ("matrix", "translation", "rotation", "scale") if k in base}
+        ids = []
+        for low in lod.lower:
+            if low is None:
+                nodes.append({"name": f"{name}.none", **place})
+                ids.append(len(nodes) - 1)
+                continue
+            if low not in index:
+                raise ValidationError(expected_got("lower level of detail", f"one of {sorted(index)}",
+                                                   repr(low)))
+            k = index[low]
+            if k in roots:
+                roots.remove(k)
+            for key in ("matrix", "translation", "rotation", "scale"):
+                nodes[k].pop(key, None)
+            nodes[k].update(place)
+            ids.append(k)
+        base.setdefault("extensions", {})[LOD] = {"ids": ids}
+        base.setdefault("extras", {})["MSFT_screencoverage"] = [float(c) for c in lod.coverage]
+    if lods:
+        used = tree.setdefault("extensionsUsed", [])
+        if LOD not in used:
+            used.append(LOD)
+
+
 def _pad4(data: bytes) -> bytes:
     return data + b"\0" * (-len(data) % 4)
 
 
 def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence[GlbImage],
-              sidecar: dict[str, Any], instances: Mapping[str, NodeInstances] | None = None) -> bytes:
+              sidecar: dict[str, Any], instances: Mapping[str, NodeInstances] | None = None,
+              lods: Mapping[str, NodeLods] | None = None) -> bytes:
     """A GLB of ``geometry`` (none: a scene without meshes), ``images`` and ``sidecar``.
 
     Parameters
@@ -119,6 +187,8 @@ def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence
         JSON values, written as ``extras.morphkit``.
     instances : mapping of str to NodeInstances, optional
         The nodes (by name in ``geometry``'s graph) drawn at many transforms.
+    lods : mapping of str to NodeLods, optional
+        The nodes (by name) with lower levels of detail.
 
     Returns
     -------
@@ -127,7 +197,7 @@ def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence
     Raises
     ------
     ValidationError
-        Instances of a node the geometry does not have.
+        Instances or levels of detail of a node the geometry does not have.
     """
     scene = trimesh.Scene() if geometry is None else geometry
     if isinstance(scene, trimesh.Trimesh):
@@ -162,6 +232,7 @@ def glb_bytes(geometry: trimesh.Trimesh | trimesh.Scene | None, images: Sequence
 
     def add_sidecar(tree: dict[str, Any]) -> None:
         tree["asset"]["generator"] = "morphkit"
+        _add_lods(tree, lods or {})
         tree.setdefault("extras", {})[SIDECAR_KEY] = sidecar
         for img in tree.get("images", []):  # the exact image bytes: the padding is not the image's
             name = img.get("name")
