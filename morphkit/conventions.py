@@ -85,6 +85,19 @@ Colour
   one sample a pixel; area-averaged when supersampled). Cut-out texels
   (:data:`ALPHA_CUTOFF`) are holes in colour, depth and alpha alike. Colour
   with alpha is straight (not premultiplied).
+
+Level of detail
+---------------
+* A billboard's **on-screen height** is the height, in pixels, of its quad
+  (:func:`morphkit.billboard.frames.lod.screen_height_px`: ``2 fy h / Z`` for a quad of half
+  height ``h`` at depth ``Z``); a plan's bands are octaves of it
+  (:mod:`morphkit.plan.representations`).
+* glTF's **screen coverage** (``MSFT_screencoverage``, the hint of ``MSFT_lod``) is taken as
+  Babylon.js computes it, the one loader that says: the area of the node's bounding sphere's disc
+  on screen over the screen's area, ``pi (r fy / d)^2 / (W H)``, the sphere of radius ``r`` about
+  the centre of the node's bounding box (half its diagonal) at distance ``d``. A level is drawn
+  while the coverage is at least its value; below the last value nothing is drawn. Heights and
+  coverages convert with ``d = Z`` (:func:`morphkit.export.lod.screen_coverage`).
 """
 
 from __future__ import annotations

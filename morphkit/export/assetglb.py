@@ -25,10 +25,17 @@
   (the views' near and far planes), ``bounds`` (the mesh's, or null), ``layout``
   (:meth:`~.tiles.TileLayout.to_json`), ``images`` (each atlas's image name), ``colour_spaces``,
   ``normal_convention``, ``depth_encoding``, ``sun_atlas`` (its dome, camera rule, mesh hash,
-  layout and images, or null), ``impostor`` (or null) and ``measured`` (the representations'
-  measured errors, as the caller gives them), and ``frame``: the pivot, bounds and view directions
+  layout and images, or null), ``impostor`` (or null), ``lod`` (the levels of detail, or null)
+  and ``measured`` (the representations' measured errors, as the caller gives them), and
+  ``frame``: the pivot, bounds and view directions
   are in morphkit's object frame (``+z`` up): its point ``(x, y, z)`` is ``(x, z, -y)`` in the file's
   ``+y``-up frame.
+
+Given levels of detail (:class:`~.lod.LodChain`, from a plan: :func:`~.lod.lod_chain`), the mesh's
+items are the children of one node ``mesh`` (turned ``+y`` up) carrying ``MSFT_lod``: its lower levels
+are the stand-in :func:`~.lod.cross_card` (node ``card``) or nothing (an empty node), switched at
+the chain's screen coverages (``extras.MSFT_screencoverage``); a reader without ``MSFT_lod`` draws
+the mesh alone.
 
 :func:`read_dome_glb` reads one back: the :class:`~morphkit.billboard.DomeAsset` (its views
 bit for bit, checked as a dome asset file is, :func:`~morphkit.billboard.formats.domefile.dome_record`),
@@ -59,7 +66,8 @@ from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras
 from ..views.gbuffer import StoredSurface
-from .glb import GlbImage, NodeInstances, glb_bytes, read_glb
+from .glb import GlbImage, NodeInstances, NodeLods, glb_bytes, read_glb
+from .lod import LOD_CARD, LodChain, cross_card
 from .tiles import TileLayout, tile_views, untile_views
 
 __all__ = ["SIDECAR_VERSION", "DomeGlb", "ExportedAsset", "write_dome_glb", "write_scene_glb",
@@ -222,6 +230,7 @@ def _part(exp: ExportedAsset, prefix: str, images: list[GlbImage]) -> dict[str, 
         "colour_spaces": dict(_COLOUR_SPACES), "normal_convention": _NORMALS, "depth_encoding": _DEPTH,
         "sun_atlas": None if sun_atlas is None else _sun_entry(sun_atlas, images, prefix),
         "impostor": None if exp.impostor is None else _impostor_entry(exp.impostor, images, prefix),
+        "lod": None,
         "measured": dict(exp.measured or {}),
         "frame": _FRAME,
     }
@@ -235,6 +244,7 @@ def write_dome_glb(
     sun_atlas: SunAtlas | None = None,
     measured: dict[str, Any] | None = None,
     impostor: OctahedralImpostor | None = None,
+    lod: LodChain | None = None,
 ) -> Path:
     """Write ``asset`` (with its ``mesh`` and ``sun_atlas``) as one GLB (the module notes).
 
@@ -252,6 +262,8 @@ def write_dome_glb(
         JSON values: what was measured of the asset's representations (the sidecar's ``measured``).
     impostor : OctahedralImpostor, optional
         Its octahedral impostor (the sidecar's ``impostor``; its level-0 frames as images).
+    lod : LodChain, optional
+        Its levels of detail (the module notes; with ``mesh``).
 
     Returns
     -------
@@ -261,7 +273,7 @@ def write_dome_glb(
     ------
     ValidationError
         Not a dome asset; a mesh or sun atlas of another mesh than the asset's; atlases wider than
-        :data:`morphkit.tol.EXPORT_MAX_TEXTURE_SIDE`.
+        :data:`morphkit.tol.EXPORT_MAX_TEXTURE_SIDE`; levels of detail without a mesh.
     """
     items = None
     if mesh is not None:
@@ -271,16 +283,38 @@ def write_dome_glb(
     images: list[GlbImage] = []
     entry = _part(ExportedAsset(asset, items, sun_atlas, measured, impostor), "", images)
     sidecar = {"morphkit_export": SIDECAR_VERSION, "kind": "dome", **entry}
-    geometry = None if items is None else _geometry({"part": items})[0]
-    return write_bytes(path, glb_bytes(geometry, images, sidecar))
+    if lod is not None and not isinstance(lod, LodChain):
+        raise ValidationError(expected_got("lod", "a LodChain (lod_chain)", type(lod).__name__))
+    if lod is not None and items is None:
+        raise ValidationError(expected_got("levels of detail", "the asset's mesh to switch from", "no mesh"))
+    if items is None:
+        return write_bytes(path, glb_bytes(None, images, sidecar))
+    if lod is None or not lod.switches:
+        sidecar["lod"] = None if lod is None else lod.to_json()
+        return write_bytes(path, glb_bytes(_geometry({"part": items})[0], images, sidecar))
+    geometry, _ = _geometry({"part": items}, under="mesh")
+    lower: list[str | None] = []
+    for level in lod.levels[1:]:
+        if level.kind == LOD_CARD and "card" not in lower:
+            geometry.add_geometry(cross_card(asset), geom_name="card", node_name="card",
+                                  transform=np.linalg.inv(Y_UP_TO_Z_UP))
+            lower.append("card")
+    if len(lod.levels) == 1:
+        lower.append(None)
+    sidecar["lod"] = {**lod.to_json(), "nodes": ["mesh", *(n or "mesh.none" for n in lower)]}
+    lods = {"mesh": NodeLods(tuple(lower), tuple(lod.coverage()))}
+    return write_bytes(path, glb_bytes(geometry, images, sidecar, lods=lods))
 
 
-def _geometry(parts: Mapping[str, list[Item]]) -> tuple[trimesh.Scene, dict[str, list[str]]]:
+def _geometry(parts: Mapping[str, list[Item]], under: str | None = None
+              ) -> tuple[trimesh.Scene, dict[str, list[str]]]:
     """The items of each named part as one scene (each item's mesh posed, in its colour, linear, as
-    ``COLOR_0`` where it has one, else in its own look; every node turned ``+y`` up), and the node
-    names of each part."""
+    ``COLOR_0`` where it has one, else in its own look; every node turned ``+y`` up, or, ``under``
+    a name, the children of one node of that name turned so), and the node names of each part."""
     scene = trimesh.Scene()
     to_file = np.linalg.inv(Y_UP_TO_Z_UP)  # glTF is +y up
+    if under is not None:
+        scene.graph.update(frame_to=under, frame_from=scene.graph.base_frame, matrix=to_file)
     nodes: dict[str, list[str]] = {}
     for name, items in parts.items():
         for k, it in enumerate(items):
@@ -289,7 +323,10 @@ def _geometry(parts: Mapping[str, list[Item]]) -> tuple[trimesh.Scene, dict[str,
                 rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
                 m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
             node = f"{name}.{k}"
-            scene.add_geometry(m, geom_name=node, node_name=node, transform=to_file)
+            if under is None:
+                scene.add_geometry(m, geom_name=node, node_name=node, transform=to_file)
+            else:
+                scene.add_geometry(m, geom_name=node, node_name=node, parent_node_name=under)
             nodes.setdefault(name, []).append(node)
     return scene, nodes
 

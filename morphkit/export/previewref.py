@@ -14,7 +14,8 @@ of its quad, in pixels), as morphkit's scenes do at the image's size, not the wh
 :func:`truth_image` is the same view of the real mesh (one instance at the origin): its G-buffer
 drawn by the renderer and shaded by :func:`morphkit.imaging.shading.shade_passes` (no shadow on the
 mesh either), the ground shadowed by ray casting against the mesh
-(:func:`morphkit.imaging.groundtruth.hard_visibility`).
+(:func:`morphkit.imaging.groundtruth.hard_visibility`). :func:`stand_in_image` draws a stand-in
+mesh (an engine's level of detail) alike, its ground shadowed by the asset's sun atlas.
 
 A scene of several instances is drawn with each instance's own light view; the page draws one
 light view for the whole scene (:data:`~.preview.SHADOW_MAX_TEXELS` at most), so its shadows are
@@ -44,7 +45,7 @@ from ..views.depthmorph import morph_views, remap_points, steps_for
 from ..views.gbuffer import ViewSurface
 from .preview import GROUND_ALBEDO, SKY, PreviewView
 
-__all__ = ["reference_image", "truth_image", "impostor_rays"]
+__all__ = ["reference_image", "truth_image", "stand_in_image", "impostor_rays"]
 
 
 def _yaw(deg: float) -> np.ndarray:
@@ -252,11 +253,52 @@ def truth_image(mesh: trimesh.Trimesh, items: Sequence[Item], renderer: PassRend
     (h, w, 3) float32
         Encoded colour in ``[0, 1]``.
     """
+    light = sun(view.sun_azimuth_deg, view.sun_elevation_deg)
+    occluder = SceneObject(mesh)
+    return _drawn(items, renderer, view, target, lambda pts: hard_visibility(pts, light, occluder))
+
+
+def stand_in_image(items: Sequence[Item], sun_atlas: SunAtlas | None, renderer: PassRenderer,
+                   view: PreviewView, target: np.ndarray) -> np.ndarray:
+    """The page's view of a stand-in drawn as a mesh (e.g. :func:`~.lod.cross_card`, one instance at
+    the origin), shaded as :func:`truth_image` shades the mesh, its ground shadowed by the asset's
+    sun atlas as :func:`reference_image` shadows the billboards'.
+
+    Parameters
+    ----------
+    items : sequence of Item
+        The stand-in's render items, object frame.
+    sun_atlas : SunAtlas or None
+        The asset's sun atlas (None: no shadow).
+    renderer : PassRenderer
+        E.g. :class:`morphkit.render.Renderer`.
+    view : PreviewView
+        The camera and sun.
+    target : (3,) float
+        The point the camera orbits.
+
+    Returns
+    -------
+    (h, w, 3) float32
+        Encoded colour in ``[0, 1]``.
+    """
+    sun_dir = view.sun_direction()
+
+    def shadow(pts: np.ndarray) -> np.ndarray:
+        if sun_atlas is None:
+            return np.ones(len(pts), np.float32)
+        return ground_shadow(sun_atlas, np.eye(4), sun_dir, pts)
+
+    return _drawn(items, renderer, view, target, shadow)
+
+
+def _drawn(items: Sequence[Item], renderer: PassRenderer, view: PreviewView, target: np.ndarray,
+           shadow: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """``items`` drawn and shaded over the ground, its sun visibility by ``shadow(points)``."""
     cam = view.camera(target)
     h, w = cam.shape
     light = sun(view.sun_azimuth_deg, view.sun_elevation_deg)
-    occluder = SceneObject(mesh)
-    image, depth = _ground(cam, view, lambda pts: hard_visibility(pts, light, occluder))
+    image, depth = _ground(cam, view, shadow)
     passes = renderer.gbuffer_pass(cam, items)
     rgba = shade_passes(passes, Lighting(BAKE_AMBIENT, (light,)), cam).reshape(-1, 4)
     zb = passes.depth.reshape(-1)
