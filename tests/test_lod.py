@@ -1,0 +1,256 @@
+"""morphkit.export.lod: a plan's bands turned into an engine's levels of detail (the mesh, a crossed
+card, nothing), switched by ``MSFT_lod`` at screen coverages; ``morphkit export --plan`` end to end (GL)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from morphkit.cli import main
+from morphkit.errors import ValidationError
+from morphkit.export import read_dome_glb
+from morphkit.export.glb import LOD, NodeLods, read_glb
+from morphkit.export.lod import LOD_CARD, LOD_MESH, cross_card, lod_chain, screen_coverage
+from morphkit.plan import BandChoice, Budget, ScenePlan, read_plan
+
+ROOT = Path(__file__).resolve().parent.parent
+VALIDATOR = ROOT / ".cache" / "node" / "node_modules" / "gltf-validator"
+BUDGET = Budget.parse(["billboard-psnr=20"])
+
+
+def _plan(bands: dict, *, shape=(480, 640), h0: int = 128, assets=("tree",)) -> ScenePlan:
+    return ScenePlan(BUDGET, BandChoice(bands), True, assets, base_height={a: h0 for a in assets},
+                     shape=shape)
+
+
+def _levels(chain):
+    return [(lv.kind, lv.min_height_px) for lv in chain.levels]
+
+
+def test_screen_coverage_is_the_bounding_discs_share_of_the_screen():
+    # a sphere of radius 1 at depth 10 under fy = 500: its disc is 50 px in radius; its quad of half
+    # height 0.8 is 2 * 500 * 0.8 / 10 = 80 px high
+    shape = (480, 640)
+    assert screen_coverage(80.0, shape, 1.0, 0.8) == pytest.approx(math.pi * 50.0**2 / (480 * 640))
+    assert screen_coverage(0.0, shape, 1.0, 0.8) == 0.0
+    with pytest.raises(ValidationError, match="bounding radius: expected"):
+        screen_coverage(10.0, shape, 0.0, 1.0)
+
+
+def test_each_octave_takes_its_most_exact_elevation_and_the_chain_never_gets_more_exact_going_down():
+    # octave 0 (>= 64 px) is culled from above but the mesh at eye level; octave 1 culled; octave 2 (16-32
+    # px) a morph at one elevation: the chain is the mesh down to 64 px and a card below (octave 1 takes
+    # octave 2's morph), never culled
+    bands = {("tree", 0, 0): "mesh", ("tree", 0, 2): "cull", ("tree", 1, 0): "cull",
+             ("tree", 2, 0): "cull", ("tree", 2, 1): "morph"}
+    chain = lod_chain(_plan(bands), "tree", radius=1.0, half_height=1.0)
+    assert _levels(chain) == [(LOD_MESH, 64.0), (LOD_CARD, 0.0)]
+    assert chain.levels[1].stands_for == ("morph",)
+    # a plan that is not monotone (the mesh small, a card large) is made so by its most exact choice below
+    bands = {("tree", 0, 0): "classic", ("tree", 1, 0): "mesh", ("tree", 2, 0): "cull"}
+    assert _levels(lod_chain(_plan(bands), "tree", radius=1.0, half_height=1.0)) == [(LOD_MESH, 32.0)]
+
+
+def test_a_culled_chain_ends_where_the_plan_culls_and_octaves_it_never_saw_take_the_smallest_seen():
+    bands = {("tree", 0, 0): "mesh", ("tree", 1, 1): "nearest", ("tree", 2, 0): "classic",
+             ("tree", 3, 0): "cull"}
+    chain = lod_chain(_plan(bands), "tree", radius=1.0, half_height=1.0)
+    assert _levels(chain) == [(LOD_MESH, 64.0), (LOD_CARD, 16.0)]
+    assert chain.levels[1].stands_for == ("nearest", "classic")
+    cov = chain.coverage()
+    assert cov == [pytest.approx(screen_coverage(h, (480, 640), 1.0, 1.0)) for h in (64.0, 16.0)]
+    assert cov[0] > cov[1] > 0  # nothing below 16 px
+    # the plan saw the tree down to 16-32 px only, as a card: smaller ones stay cards (not culled)
+    chain = lod_chain(_plan({("tree", 0, 0): "mesh", ("tree", 2, 0): "classic"}), "tree", radius=1.0,
+                      half_height=1.0)
+    assert _levels(chain) == [(LOD_MESH, 64.0), (LOD_CARD, 0.0)] and chain.coverage()[-1] == 0.0
+    # the mesh then nothing: one level, and a coverage for the empty level after it
+    chain = lod_chain(_plan({("tree", 0, 0): "mesh", ("tree", 1, 0): "cull"}), "tree", radius=1.0,
+                      half_height=1.0)
+    assert _levels(chain) == [(LOD_MESH, 64.0)] and chain.switches
+    assert chain.coverage() == [pytest.approx(screen_coverage(64.0, (480, 640), 1.0, 1.0)), 0.0]
+
+
+def test_level_zero_is_always_the_mesh_and_a_plan_of_meshes_switches_nothing():
+    chain = lod_chain(_plan({("tree", 1, 0): "classic", ("tree", 2, 0): "cull"}), "tree", radius=0.5,
+                      half_height=0.6)
+    # the mesh from a coverage of 1 up: the height whose disc is the screen's area
+    assert chain.levels[0].kind == LOD_MESH and chain.levels[0].stands_for == ()
+    assert chain.coverage()[0] == pytest.approx(1.0)
+    assert _levels(chain)[1:] == [(LOD_CARD, 32.0)]
+    assert any("coverage of 1" in n for n in chain.notes)
+    chain = lod_chain(_plan({("tree", 0, 0): "mesh", ("tree", 1, 2): "mesh"}), "tree", radius=1.0,
+                      half_height=1.0)
+    assert _levels(chain) == [(LOD_MESH, 0.0)] and not chain.switches
+    # an asset the plan planned but never saw: the mesh, said
+    chain = lod_chain(_plan({("tree", 0, 0): "mesh"}, assets=("tree", "cow")), "cow", radius=1.0,
+                      half_height=1.0)
+    assert not chain.switches and "never saw" in chain.notes[0]
+
+
+def test_a_plan_of_other_assets_or_without_its_heights_or_size_is_refused_or_said():
+    bands = {("tree", 0, 0): "mesh", ("tree", 1, 0): "cull"}
+    with pytest.raises(ValidationError, match=r"the plan's asset: expected one of \['tree'\], got 'cow'"):
+        lod_chain(_plan(bands), "cow", radius=1.0, half_height=1.0)
+    bare = ScenePlan(BUDGET, BandChoice(bands), True, ("tree",))
+    with pytest.raises(ValidationError, match="its bands' heights"):
+        lod_chain(bare, "tree", radius=1.0, half_height=1.0)
+    sized = ScenePlan(BUDGET, BandChoice(bands), True, ("tree",), base_height={"tree": 128})
+    chain = lod_chain(sized, "tree", radius=1.0, half_height=1.0)
+    assert chain.shape == (480, 640) and "does not say its image size" in chain.notes[0]
+
+
+def test_a_plan_file_gives_back_its_bands_heights_and_image_size(tmp_path):
+    plan = _plan({("tree", 0, 0): "mesh", ("tree", 2, 1): "classic"}, shape=(360, 480), h0=96)
+    back = read_plan(plan.save(tmp_path / "plan.json"))
+    assert back.base_height == {"tree": 96} and back.shape == (360, 480)
+    assert json.loads((tmp_path / "plan.json").read_text())["image_size"] == [480, 360]
+
+
+def test_node_levels_must_have_a_decreasing_coverage_per_level():
+    NodeLods(("card",), (0.1, 0.0))
+    bad = (((), (0.1,)), (("card",), (0.1,)), (("card",), (0.01, 0.1)), (("card",), (0.1, math.nan)))
+    for lower, cov in bad:
+        with pytest.raises(ValidationError, match="levels of detail: expected at least one lower level"):
+            NodeLods(lower, cov)
+
+
+@pytest.fixture(scope="module")
+def plan_file(tmp_path_factory):
+    """A plan of the flyover's kind for the tree: the mesh from 64 px, the card from 16 to 64 px."""
+    path = tmp_path_factory.mktemp("plan") / "plan.json"
+    _plan({("tree", 0, 0): "mesh", ("tree", 1, 0): "classic", ("tree", 1, 2): "morph",
+           ("tree", 2, 1): "nearest", ("tree", 3, 0): "cull"}, h0=128).save(path)
+    return path
+
+
+@pytest.mark.gl
+def test_the_crossed_card_seen_from_a_views_own_camera_is_that_view():
+    from morphkit.billboard import bake_dome
+    from morphkit.meshes import normalize, sample_mesh
+    from morphkit.render import Renderer
+    from morphkit.scene import Item
+
+    mesh = normalize(sample_mesh("tree"))
+    with Renderer() as r:
+        asset = bake_dome(mesh, r, name="tree", size=48)
+        card = cross_card(asset)
+        k = 0  # the lowest ring's view at azimuth 0: the first quad's
+        cam = asset.reference_camera(k)
+        drawn = r.albedo(cam, [Item(card)])
+        depth = r.depth(cam, [Item(card)])
+    view = asset.record().rgba[k]
+    inside = view[..., 3] >= 192  # well inside the cut-out (bilinear texels at its edge straddle it)
+    # the quad is the view's image plane at the pivot: drawn at the pivot's depth wherever the other
+    # quad (crossing it at the pivot) is not in front of it
+    dist = float(np.linalg.norm(cam.position - asset.pivot))
+    on_plane = inside & (np.abs(depth - dist) < 1e-3 * dist)
+    assert on_plane.sum() > 0.5 * inside.sum()
+    # there its albedo is the view's within one 8-bit level (the texture sampled at its texels' centres;
+    # a texel beside a cut-out may blend one level with its neighbour's mip), nearly everywhere exact
+    diff = np.abs(drawn[on_plane].astype(int) - view[on_plane][:, :3].astype(int))
+    assert np.mean(diff == 0) > 0.9 and np.mean(diff <= 1) > 0.99
+    assert len(card.faces) == 4 and card.visual.material.alphaMode == "MASK"
+
+
+def _validate(path: Path) -> dict:
+    node = shutil.which("node")
+    if node is None or not VALIDATOR.is_dir():
+        if os.environ.get("MORPHKIT_REQUIRE_GLTF_VALIDATOR"):
+            pytest.fail(f"the glTF validator is not installed ({VALIDATOR}: scripts/setup.sh test)")
+        pytest.skip("node and the glTF validator are not installed (scripts/setup.sh test installs them)")
+    out = subprocess.run([node, str(ROOT / "scripts" / "gltf_validate.js"), str(path)], capture_output=True,
+                         text=True, timeout=120, env={**os.environ, "NODE_PATH": str(VALIDATOR.parent)},
+                         check=False)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+@pytest.mark.gl
+def test_export_with_a_plan_writes_its_levels_as_msft_lod(tmp_path, plan_file, capsys):
+    out = tmp_path / "tree.glb"
+    assert main(["export", "tree", "-o", str(out), "--size", "32", "--sun-atlas-size", "32", "--no-impostor",
+                 "--plan", str(plan_file)]) == 0
+    said = capsys.readouterr().out
+    assert "MSFT_lod from the plan: mesh from 64 px" in said
+    assert "card from 16 px" in said and "nothing below 16 px" in said
+    glb = read_glb(out)
+    nodes = glb.tree["nodes"]
+    (base,) = [n for n in nodes if LOD in n.get("extensions", {})]
+    assert base["name"] == "mesh" and LOD in glb.tree["extensionsUsed"]
+    (low,) = base["extensions"][LOD]["ids"]
+    card = nodes[low]
+    # the card is drawn in the mesh's place (its transform, out of the scene's roots)
+    assert card["name"] == "card" and card["matrix"] == base["matrix"]
+    roots = glb.tree["scenes"][0]["nodes"]
+    assert low not in roots and nodes.index(base) in roots
+    side = glb.sidecar["lod"]
+    assert [lv["kind"] for lv in side["levels"]] == ["mesh", "card"]
+    assert base["extras"]["MSFT_screencoverage"] == [lv["screen_coverage"] for lv in side["levels"]]
+    # what the card errs at the sizes it is drawn at, beside the morph of the same views
+    (lod,) = glb.sidecar["measured"]["lod"]["levels"]
+    assert lod["height_px"] == 32.0 and len(lod["views"]) == 3  # the top of the card's first octave
+    assert all(15.0 < v["card_psnr_db"] < 60.0 and 15.0 < v["morph_psnr_db"] < 60.0 for v in lod["views"])
+    assert "card" in glb.sidecar["measured"]
+    # the asset still reads back; trimesh (no MSFT_lod) draws the mesh alone
+    back = read_dome_glb(out)
+    assert back.asset.name == "tree"
+    scene = trimesh.load(out)
+    assert "card" not in {scene.graph[n][1] for n in scene.graph.nodes_geometry}
+    # the card as a glTF reader gets it (texture, UVs flipped to glTF's top-left origin, cut-out; its
+    # vertices morphkit's, +z up, its node turning them +y up) draws as the card morphkit measured: the
+    # same albedo from the first view's camera
+    from morphkit.render import Renderer
+    from morphkit.scene import Item
+
+    from_file = scene.geometry["card"]
+    assert from_file.visual.material.alphaMode == "MASK"
+    cam = back.asset.reference_camera(0)
+    with Renderer() as r:
+        want = r.albedo(cam, [Item(cross_card(back.asset))])
+        got = r.albedo(cam, [Item(from_file)])
+    assert np.abs(want.astype(int) - got.astype(int)).max() <= 1 and want.any()
+    report = _validate(out)
+    assert report["errors"] == 0 and report["warnings"] == 0, report["messages"]
+
+
+@pytest.mark.gl
+def test_a_chain_of_the_mesh_then_nothing_switches_to_an_empty_node(tmp_path, capsys):
+    plan = tmp_path / "plan.json"
+    _plan({("tree", 0, 0): "mesh", ("tree", 1, 0): "cull"}).save(plan)
+    out = tmp_path / "tree.glb"
+    assert main(["export", "tree", "-o", str(out), "--size", "32", "--sun-atlas-size", "0", "--no-impostor",
+                 "--plan", str(plan)]) == 0
+    assert "nothing below 64 px" in capsys.readouterr().out
+    glb = read_glb(out)
+    nodes = glb.tree["nodes"]
+    (base,) = [n for n in nodes if LOD in n.get("extensions", {})]
+    (low,) = base["extensions"][LOD]["ids"]
+    assert "mesh" not in nodes[low] and "children" not in nodes[low]
+    assert nodes[low]["matrix"] == base["matrix"]
+    assert base["extras"]["MSFT_screencoverage"][1] == 0.0
+    assert "card" not in glb.sidecar["measured"]
+    assert _validate(out)["errors"] == 0
+
+
+@pytest.mark.gl
+def test_a_plan_without_the_asset_or_with_a_scene_is_refused_in_one_line_before_any_work(tmp_path, plan_file,
+                                                                                          capsys):
+    out = tmp_path / "cow.glb"
+    assert main(["export", "cow", "-o", str(out), "--plan", str(plan_file)]) == 1
+    err = capsys.readouterr().err
+    assert "the plan's asset: expected one of ['tree'] (name it with --plan-asset), got 'cow'" in err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
+    assert main(["export", "tree", "-o", str(out), "--plan", str(tmp_path / "none.json")]) == 1
+    assert "plan file" in capsys.readouterr().err and not out.exists()
+    scene = ROOT / "samples" / "scenes" / "forest.json"
+    assert main(["export", str(scene), "-o", str(out), "--plan", str(plan_file)]) == 2
+    assert "export each asset with --plan" in capsys.readouterr().err and not out.exists()
