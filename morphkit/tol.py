@@ -647,3 +647,9 @@ EXPORT_MAX_TEXTURE_SIDE = 4096
 #: :data:`PLAN_MAX_TABLE_HEIGHT_PX`, at eye level (its diagonal, for quads up to 3.9 times as wide
 #: as high), and keeps a cell's frame (and its truth's render) at 16.8 M pixels.
 PLAN_MAX_TABLE_FRAME_PX = 4096
+
+#: The most instances of one asset a scene's GLB writes as nodes of their own, when the asset has
+#: levels of detail (:func:`morphkit.export.assetglb.write_scene_glb`): ``MSFT_lod`` switches per node,
+#: ``EXT_mesh_gpu_instancing`` draws all of a node's instances at one level, so each instance is a
+#: node (its meshes shared) and its JSON grows with the instances (about 0.5 kB each).
+EXPORT_MAX_LOD_INSTANCES = 10_000

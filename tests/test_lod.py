@@ -252,5 +252,81 @@ def test_a_plan_without_the_asset_or_with_a_scene_is_refused_in_one_line_before_
     assert main(["export", "tree", "-o", str(out), "--plan", str(tmp_path / "none.json")]) == 1
     assert "plan file" in capsys.readouterr().err and not out.exists()
     scene = ROOT / "samples" / "scenes" / "forest.json"
-    assert main(["export", str(scene), "-o", str(out), "--plan", str(plan_file)]) == 2
-    assert "export each asset with --plan" in capsys.readouterr().err and not out.exists()
+    assert main(["export", str(scene), "-o", str(out), "--plan", str(plan_file)]) == 1
+    err = capsys.readouterr().err
+    assert "expected a plan of the scene's assets ['crate', 'person', 'tree'], got one of ['tree']" in err
+    assert not out.exists()
+    assert main(["export", str(scene), "-o", str(out), "--plan", str(plan_file), "--plan-asset", "tree"]) == 2
+    assert "--plan-asset: expected an asset to export" in capsys.readouterr().err and not out.exists()
+
+
+@pytest.mark.gl
+def test_export_writes_a_planned_scene_each_instance_switching_its_own_level(tmp_path, plan_file, capsys):
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps({
+        "morphkit_scene": 1, "assets": [{"name": "tree", "source": "tree", "scale": 2.0}],
+        "instances": {"listed": [{"asset": "tree", "x": 0.0, "y": 0.0, "yaw_deg": 40.0},
+                                 {"asset": "tree", "x": 3.0, "y": 1.0}]},
+        "camera": {"path": "orbit"}, "image": {"width": 96, "height": 72}, "frames": 2, "asset_size": 32,
+    }))
+    out = tmp_path / "scene.glb"
+    args = ["export", str(scene), "-o", str(out), "--sun-atlas-size", "0", "--plan", str(plan_file)]
+    assert main(args) == 0
+    said = capsys.readouterr().out
+    assert "the instances of tree nodes of their own" in said and "MSFT_lod from the plan" in said
+    glb = read_glb(out)
+    names = [n.get("name") for n in glb.tree["nodes"] if LOD in n.get("extensions", {})]
+    assert names == ["tree#0", "tree#1"]
+    assert read_dome_glb(out).sidecar["instanced"] == "nodes"
+    assert _validate(out)["errors"] == 0
+
+
+def test_a_scenes_assets_with_levels_of_detail_have_each_instance_as_a_node_of_its_own(tmp_path, monkeypatch):
+    from morphkit import tol
+    from morphkit.billboard import Instances
+    from morphkit.billboard.analytic import sphere_dome_asset
+    from morphkit.export.assetglb import ExportedAsset, write_scene_glb
+    from morphkit.export.glb import INSTANCING
+    from morphkit.meshes import Y_UP_TO_Z_UP
+    from morphkit.scene import Item
+
+    ball = sphere_dome_asset(size=16, levels=1)
+    box = sphere_dome_asset(size=16, levels=1, name="box")
+    inst = Instances(("ball", "box"), np.array([0, 1, 1, 0, 1]),
+                     np.array([[0.0, 0.0], [2.0, 1.0], [-1.5, 3.0], [4.0, -2.0], [1.0, 5.0]]),
+                     np.array([0.0, 30.0, 90.0, 200.0, -45.0]), np.array([1.0, 2.0, 0.5, 1.5, 1.0]))
+    assets = {"ball": ExportedAsset(ball, [Item(trimesh.creation.icosphere())]),
+              "box": ExportedAsset(box, [Item(trimesh.creation.box((0.5, 0.4, 1.0)), color=(0.2, 0.5, 0.1)),
+                                         Item(trimesh.creation.box((0.1, 0.1, 2.0)))])}
+    chain = lod_chain(_plan({("box", 0, 0): "mesh", ("box", 1, 0): "morph", ("box", 2, 0): "cull"},
+                            assets=("ball", "box")), "box", radius=1.0, half_height=1.0)
+    path = tmp_path / "scene.glb"
+    write_scene_glb(path, assets, inst, {"box": chain})
+    glb = read_glb(path)
+    nodes = glb.tree["nodes"]
+    by_name = {n["name"]: k for k, n in enumerate(nodes)}
+    roots = glb.tree["scenes"][0]["nodes"]
+    side = glb.sidecar["assets"]
+    assert side["box"]["instanced"] == "nodes" and side["ball"]["instanced"] == INSTANCING
+    assert side["box"]["lod"]["levels"][1]["kind"] == LOD_CARD
+    to_file = np.linalg.inv(Y_UP_TO_Z_UP)
+    meshes = set()
+    for i, k in enumerate(np.flatnonzero(inst.asset == 1)):
+        node = nodes[by_name[f"box#{i}"]]
+        matrix = np.array(node["matrix"], float).reshape(4, 4).T  # column-major
+        np.testing.assert_allclose(matrix, to_file @ inst.object2world(int(k)), atol=1e-12)
+        assert by_name[f"box#{i}"] in roots and INSTANCING not in node.get("extensions", {})
+        # its items share one mesh each with every other instance's
+        meshes.add(tuple(nodes[c]["mesh"] for c in node["children"]))
+        (low,) = node["extensions"][LOD]["ids"]
+        assert nodes[low]["name"] == f"box#{i}.card" and nodes[low]["matrix"] == node["matrix"]
+        assert low not in roots
+        assert node["extras"]["MSFT_screencoverage"] == chain.coverage()
+    assert len(meshes) == 1 and len(next(iter(meshes))) == 2
+    assert len({nodes[by_name[f"box#{i}.card"]]["mesh"] for i in range(3)}) == 1
+    assert _validate(path)["errors"] == 0
+    monkeypatch.setattr(tol, "EXPORT_MAX_LOD_INSTANCES", 2)
+    want = r"instances of 'box' with levels of detail: expected at most 2"
+    with pytest.raises(ValidationError, match=want):
+        write_scene_glb(tmp_path / "big.glb", assets, inst, {"box": chain})
+    assert not (tmp_path / "big.glb").exists()

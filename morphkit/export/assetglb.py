@@ -66,7 +66,7 @@ from ..sunlit.sunatlas import SunAtlas
 from ..views.dome import ViewDome
 from ..views.domecameras import DomeCameras
 from ..views.gbuffer import StoredSurface
-from .glb import GlbImage, NodeInstances, NodeLods, glb_bytes, read_glb
+from .glb import INSTANCING, GlbImage, NodeInstances, NodeLods, glb_bytes, read_glb
 from .lod import LOD_CARD, LodChain, cross_card
 from .tiles import TileLayout, tile_views, untile_views
 
@@ -306,6 +306,15 @@ def write_dome_glb(
     return write_bytes(path, glb_bytes(geometry, images, sidecar, lods=lods))
 
 
+def _posed(it: Item) -> trimesh.Trimesh:
+    """An item's mesh posed, in its colour (linear, as face colours) where it has one."""
+    m = it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64))
+    if it.color is not None:
+        rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
+        m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
+    return m
+
+
 def _geometry(parts: Mapping[str, list[Item]], under: str | None = None
               ) -> tuple[trimesh.Scene, dict[str, list[str]]]:
     """The items of each named part as one scene (each item's mesh posed, in its colour, linear, as
@@ -318,10 +327,7 @@ def _geometry(parts: Mapping[str, list[Item]], under: str | None = None
     nodes: dict[str, list[str]] = {}
     for name, items in parts.items():
         for k, it in enumerate(items):
-            m = it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64))
-            if it.color is not None:
-                rgba = np.array([*np.rint(255.0 * np.asarray(it.color)), 255], np.uint8)
-                m.visual = trimesh.visual.ColorVisuals(m, face_colors=np.tile(rgba, (len(m.faces), 1)))
+            m = _posed(it)
             node = f"{name}.{k}"
             if under is None:
                 scene.add_geometry(m, geom_name=node, node_name=node, transform=to_file)
@@ -331,14 +337,53 @@ def _geometry(parts: Mapping[str, list[Item]], under: str | None = None
     return scene, nodes
 
 
+def _lod_instances(scene: trimesh.Scene, name: str, exp: ExportedAsset, chain: LodChain,
+                   matrices: np.ndarray) -> tuple[dict[str, NodeLods], list[str]]:
+    """The instances of an asset with levels of detail as nodes of their own (``NAME#i``, its
+    items ``NAME#i.k`` sharing one mesh each, its card ``NAME#i.card``), and their levels."""
+    if len(matrices) > tol.EXPORT_MAX_LOD_INSTANCES:
+        raise ValidationError(expected_got(
+            f"instances of {name!r} with levels of detail", f"at most {tol.EXPORT_MAX_LOD_INSTANCES} (each "
+            "one a node: MSFT_lod switches per node; export the scene without --plan to instance it)",
+            len(matrices)))
+    base = scene.graph.base_frame
+    carded = any(lv.kind == LOD_CARD for lv in chain.levels[1:])
+    card = cross_card(exp.asset) if carded else None
+    meshes = [(f"{name}.{k}", _posed(it)) for k, it in enumerate(exp.items or [])]
+    lods: dict[str, NodeLods] = {}
+    cover = tuple(chain.coverage())
+    for i, mat in enumerate(matrices):
+        node = f"{name}#{i}"
+        scene.graph.update(frame_to=node, frame_from=base, matrix=mat)
+        for k, (geom, m) in enumerate(meshes):
+            if i == 0:
+                scene.add_geometry(m, geom_name=geom, node_name=f"{node}.{k}", parent_node_name=node)
+            else:
+                scene.graph.update(frame_to=f"{node}.{k}", frame_from=node, geometry=geom)
+        if card is not None:
+            if i == 0:
+                scene.add_geometry(card, geom_name=f"{name}.card", node_name=f"{node}.card", transform=mat)
+            else:
+                scene.graph.update(frame_to=f"{node}.card", frame_from=base, matrix=mat,
+                                   geometry=f"{name}.card")
+        lods[node] = NodeLods((f"{node}.card",) if card is not None else (None,), cover)
+    return lods, [f"{name}#0.{k}" for k in range(len(meshes))]
+
+
 def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedAsset],
-                    instances: Instances) -> Path:
+                    instances: Instances, lods: Mapping[str, LodChain] | None = None) -> Path:
     """A scene as one GLB: each asset's mesh once, drawn at its instances' poses by
     ``EXT_mesh_gpu_instancing`` (each instance's ``translation (x, y, 0)``, turn about ``+z`` by its
     yaw and uniform scale, in morphkit's world frame, before the node's turn ``+y`` up), its views
     and sun atlas as images named ``ASSET/albedo``, ..., and the sidecar ``extras.morphkit`` of
     kind ``"scene"``: ``assets`` (each asset's entry, as :func:`write_dome_glb`'s sidecar, with its
-    ``nodes`` and ``instances`` count) and ``frame``.
+    ``nodes``, ``instances`` count and how they are drawn, ``instanced``) and ``frame``.
+
+    An asset with levels of detail that switch (``lods``) has each instance as a node of its own
+    instead, ``ASSET#i`` (its items its children, their meshes shared by every instance) with
+    ``MSFT_lod`` as :func:`write_dome_glb` writes it (its card ``ASSET#i.card``): engines switch
+    levels per node, and a node drawn by ``EXT_mesh_gpu_instancing`` has one level for all its
+    instances (at most :data:`morphkit.tol.EXPORT_MAX_LOD_INSTANCES` such instances an asset).
 
     Parameters
     ----------
@@ -348,6 +393,8 @@ def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedA
         Each asset the instances name.
     instances : Instances
         Where they stand.
+    lods : mapping of str to LodChain, optional
+        Levels of detail of assets (with their meshes).
 
     Returns
     -------
@@ -356,20 +403,39 @@ def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedA
     Raises
     ------
     ValidationError
-        An asset the instances name and ``assets`` lacks; an asset that is not a dome asset.
+        An asset the instances name and ``assets`` lacks; an asset that is not a dome asset; levels
+        of detail of an asset without its mesh, or of more instances than the limit.
     """
     missing = [nm for nm in instances.names if nm not in assets]
     if missing:
         want = f"one per asset of the instances {list(instances.names)}"
         raise ValidationError(expected_got("assets", want,
                                            f"{missing} missing"))
+    chains = {nm: c for nm, c in (lods or {}).items() if c.switches}
+    for nm in chains:
+        if nm not in assets or not assets[nm].items:
+            raise ValidationError(expected_got(f"levels of detail of {nm!r}", "an asset with its mesh",
+                                               "none" if nm not in assets else "no mesh"))
     images: list[GlbImage] = []
     entries = {nm: _part(exp, f"{nm}/", images) for nm, exp in assets.items()}
-    scene, nodes = _geometry({nm: exp.items for nm, exp in assets.items() if exp.items})
+    for nm, c in (lods or {}).items():
+        if nm in entries:
+            entries[nm]["lod"] = c.to_json()
+    scene, nodes = _geometry({nm: exp.items for nm, exp in assets.items() if exp.items and nm not in chains})
     placed: dict[str, NodeInstances] = {}
+    node_lods: dict[str, NodeLods] = {}
     for a, nm in enumerate(instances.names):
         idx = np.flatnonzero(instances.asset == a)
         entries[nm]["instances"] = len(idx)
+        entries[nm]["instanced"] = "nodes" if nm in chains else INSTANCING
+        if nm in chains:
+            entries[nm]["nodes"] = []
+            if len(idx):
+                to_file = np.linalg.inv(Y_UP_TO_Z_UP)
+                mats = np.stack([to_file @ instances.object2world(int(k)) for k in idx])
+                got, entries[nm]["nodes"] = _lod_instances(scene, nm, assets[nm], chains[nm], mats)
+                node_lods.update(got)
+            continue
         entries[nm]["nodes"] = nodes.get(nm, [])
         if len(idx) == 0 or nm not in nodes:
             continue
@@ -380,7 +446,7 @@ def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedA
         for node in nodes[nm]:
             placed[node] = NodeInstances(t, q, sc)
     sidecar = {"morphkit_export": SIDECAR_VERSION, "kind": "scene", "assets": entries, "frame": _FRAME}
-    return write_bytes(path, glb_bytes(scene, images, sidecar, placed))
+    return write_bytes(path, glb_bytes(scene, images, sidecar, placed, node_lods))
 
 
 def _bad(path: Path, what: str, expected: Any, got: Any) -> FileFormatError:

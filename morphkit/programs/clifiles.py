@@ -19,14 +19,13 @@ def _cmd_export(args: argparse.Namespace) -> int:
     from .export import export_asset, export_line, export_scene
 
     if args.scene or Path(args.asset).suffix.lower() == ".json":
-        if args.plan is not None:
+        if args.plan_asset is not None:
             from ..errors import UsageError, expected_got
 
-            raise UsageError(expected_got(
-                "--plan", "an asset to export with its levels of detail (a scene's instances are drawn by "
-                "EXT_mesh_gpu_instancing, which switches no level per instance: export each asset "
-                "with --plan)", f"the scene {args.asset!r}"))
-        got = export_scene(args.asset, args.out, sun_atlas_size=args.sun_atlas_size, overwrite=args.overwrite)
+            raise UsageError(expected_got("--plan-asset", "an asset to export (a scene's assets are named by "
+                                          "the scene)", f"the scene {args.asset!r}"))
+        got = export_scene(args.asset, args.out, sun_atlas_size=args.sun_atlas_size, plan=args.plan,
+                           overwrite=args.overwrite)
     else:
         got = export_asset(args.asset, args.out, size=args.size, sun_atlas_size=args.sun_atlas_size,
                            up=args.up_axis, impostor=not args.no_impostor, plan=args.plan,
@@ -98,9 +97,9 @@ def add_file_commands(sub: Any) -> None:
                     help="read a .glb/.gltf as a scene (its meshes, nodes, light), not as one mesh")
     ex.add_argument("-o", "--out", required=True, help="the .glb file")
     ex.add_argument("--plan", metavar="PLAN", default=None,
-                    help="`morphkit plan`'s plan.json (or its folder) of a scene holding the asset: its "
-                    "levels of detail as MSFT_lod (the mesh, a crossed card, nothing), switched at the "
-                    "screen coverages of the plan's bands")
+                    help="`morphkit plan`'s plan.json (or its folder) of a scene holding the asset, or of "
+                    "the scene exported: levels of detail as MSFT_lod (the mesh, a crossed card, nothing), "
+                    "switched at the screen coverages of the plan's bands")
     ex.add_argument("--plan-asset", metavar="NAME", default=None,
                     help="the plan's name for the asset (default: the asset's own, e.g. the file's stem)")
     _bake_options(ex, "without the octahedral impostor (by default one whose frames take as many bytes as "

@@ -284,18 +284,20 @@ def measure_lods(parts: AssetParts, chain: LodChain, card: trimesh.Trimesh) -> l
     return out
 
 
-def plan_lods(parts: AssetParts, plan: ScenePlan, name: str | None = None) -> LodChain:
-    """The asset's levels of detail from ``plan`` (:func:`~morphkit.export.lod.lod_chain`), its
-    bounding radius that of its mesh.
+def plan_lods(plan: ScenePlan, name: str, asset: DomeAsset, items: list[Item]) -> LodChain:
+    """An asset's levels of detail from ``plan`` (:func:`~morphkit.export.lod.lod_chain`), its
+    bounding radius that of its mesh and its quad's half height the views'.
 
     Parameters
     ----------
-    parts : AssetParts
-        With its mesh.
     plan : ScenePlan
         A plan of a scene holding the asset (:func:`~morphkit.plan.read_plan`).
-    name : str, optional
-        The plan's name for the asset (default: its own).
+    name : str
+        The plan's name for the asset.
+    asset : DomeAsset
+        Its views.
+    items : list of Item
+        Its mesh's render items (:meth:`~morphkit.billboard.DomeAsset.items`).
 
     Returns
     -------
@@ -304,15 +306,10 @@ def plan_lods(parts: AssetParts, plan: ScenePlan, name: str | None = None) -> Lo
     Raises
     ------
     ValidationError
-        An asset without a mesh; an asset the plan does not plan.
+        An asset the plan does not plan.
     """
-    if parts.mesh is None:
-        raise ValidationError(expected_got("the asset", "its mesh, to switch levels of detail from",
-                                           "an asset file"))
-    meshes = [it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64))
-              for it in parts.asset.items(parts.mesh)]
-    return lod_chain(plan, parts.name if name is None else name, radius=bounding_radius(meshes),
-                     half_height=float(parts.asset.half_extent[1]))
+    meshes = [it.mesh.copy().apply_transform(np.asarray(it.pose, np.float64)) for it in items]
+    return lod_chain(plan, name, radius=bounding_radius(meshes), half_height=float(asset.half_extent[1]))
 
 
 def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_EXPORT_SIZE,
@@ -380,7 +377,12 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
                 repr(plan_asset or asset_name(spec))))
     got = bake_asset_parts(spec, size=size, sun_atlas_size=sun_atlas_size, up=up)
     name, asset, mesh, atlas = got.name, got.asset, got.mesh, got.sun_atlas
-    chain = None if planned is None else plan_lods(got, planned, plan_asset)
+    chain = None
+    if planned is not None:
+        if mesh is None:
+            raise ValidationError(expected_got("the asset", "its mesh, to switch levels of detail from",
+                                               "an asset file"))
+        chain = plan_lods(planned, plan_asset or name, asset, asset.items(mesh))
     carded = chain is not None and chain.switches and any(lv.kind == LOD_CARD for lv in chain.levels)
     imp = equal_bytes_impostor(got) if impostor and mesh is not None else None
     card = cross_card(asset) if carded else None
@@ -400,7 +402,8 @@ def export_asset(spec: str, out: str | os.PathLike[str], *, size: int = DEFAULT_
 
 
 def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
-                 sun_atlas_size: int = SCENE_ATLAS_SIZE, overwrite: bool = False) -> dict[str, Any]:
+                 sun_atlas_size: int = SCENE_ATLAS_SIZE, plan: str | os.PathLike[str] | None = None,
+                 overwrite: bool = False) -> dict[str, Any]:
     """Export a scene as one GLB (the module notes).
 
     Parameters
@@ -411,30 +414,46 @@ def export_scene(path: str | os.PathLike[str], out: str | os.PathLike[str], *,
         The ``.glb`` file.
     sun_atlas_size : int, optional
         Each asset's sun atlas side, texels (0: none).
+    plan : path-like, optional
+        ``morphkit plan``'s ``plan.json`` (or its folder) of this scene: each asset's levels of
+        detail (:func:`plan_lods`; its instances then nodes of their own, as
+        :func:`~morphkit.export.assetglb.write_scene_glb` says), read before anything is baked.
     overwrite : bool, optional
         Replace an existing ``out``.
 
     Returns
     -------
     dict
-        ``path``, ``bytes``, ``assets`` (per asset: ``instances``, ``views``, ``size``, ``mesh``).
+        ``path``, ``bytes``, ``assets`` (per asset: ``instances``, ``views``, ``size``, ``mesh``,
+        ``sun_atlas``, ``lod``).
 
     Raises
     ------
     OutputExistsError
         ``out`` exists and ``overwrite`` is not given.
+    FileFormatError
+        A ``plan`` that is not a plan.
     ValidationError
-        An output path that is not a ``.glb`` file; a scene morphkit refuses.
+        An output path that is not a ``.glb`` file; a scene morphkit refuses; a plan of other assets.
     """
+    from ..scenes import load_scene
+
     p = _output(out, overwrite)
+    planned = None if plan is None else read_plan(plan)
+    if planned is not None:
+        planned.check_assets(list(load_scene(path).names))
     got = scene_parts(path, sun_atlas_size=sun_atlas_size, command="export")
     assets, inst = got.assets, got.instances
+    chains: dict[str, LodChain] = {}
+    if planned is not None:
+        chains = {nm: plan_lods(planned, nm, exp.asset, exp.items) for nm, exp in assets.items() if exp.items}
     p.parent.mkdir(parents=True, exist_ok=True)
-    write_scene_glb(p, assets, inst)
+    write_scene_glb(p, assets, inst, chains)
     return {"path": str(p), "bytes": p.stat().st_size,
             "assets": {nm: {"instances": int((inst.asset == inst.names.index(nm)).sum()) if nm in inst.names
                             else 0, "views": a.asset.dome.views, "size": int(a.asset.cameras.shape[0]),
-                            "mesh": a.items is not None, "sun_atlas": a.sun_atlas is not None}
+                            "mesh": a.items is not None, "sun_atlas": a.sun_atlas is not None,
+                            "lod": chains[nm].to_json() if nm in chains else None}
                        for nm, a in assets.items()}}
 
 
@@ -522,8 +541,15 @@ def export_line(got: dict[str, Any]) -> str:
     if "assets" in got:
         each = "; ".join(f"{nm}: {a['instances']} instances, {a['views']} views of {a['size']} px"
                          + ("" if a["mesh"] else ", no mesh") + ("" if a["sun_atlas"] else ", no sun atlas")
+                         + (f", {lod_words(a['lod'])}" if a.get("lod") else "")
                          for nm, a in got["assets"].items())
-        return f"{head}; the instances drawn by EXT_mesh_gpu_instancing): {each}"
+        own = [nm for nm, a in got["assets"].items()
+               if a.get("lod") and (len(a["lod"]["levels"]) > 1 or a["lod"]["culled_below_px"])]
+        how = "the instances drawn by EXT_mesh_gpu_instancing"
+        if own:
+            how = f"the instances of {', '.join(own)} nodes of their own (MSFT_lod switches per node), the " \
+                "others drawn by EXT_mesh_gpu_instancing"
+        return f"{head}; {how}): {each}"
     parts = [f"{got['views']} views of {got['size']} px (albedo, normals, depth)",
              "its mesh" if got["mesh"] else "no mesh (an asset file's views alone)",
              f"its sun atlas of {got['sun_atlas']} texels" if got["sun_atlas"] else "no sun atlas"]
