@@ -79,6 +79,22 @@ def test_a_culled_chain_ends_where_the_plan_culls_and_octaves_it_never_saw_take_
     assert chain.coverage() == [pytest.approx(screen_coverage(64.0, (480, 640), 1.0, 1.0)), 0.0]
 
 
+def test_on_random_plans_the_chain_is_monotone_and_nowhere_less_exact_than_the_plan():
+    rng = np.random.default_rng(40)
+    engine = {"cull": 0, "classic": 1, "nearest": 1, "morph": 1, "mesh": 2}
+    kind_rank = {LOD_CARD: 1, LOD_MESH: 2}
+    for _ in range(200):
+        bands = {("tree", int(lv), int(e)): str(rng.choice(list(engine)))
+                 for lv, e in zip(rng.integers(0, 5, 6), rng.integers(0, 3, 6), strict=True)}
+        chain = lod_chain(_plan(bands), "tree", radius=1.0, half_height=1.0)
+        heights = [lv.min_height_px for lv in chain.levels]
+        assert heights == sorted(heights, reverse=True) and chain.levels[0].kind == LOD_MESH
+        for (_, level, _), rep in bands.items():
+            low = 128 / 2 ** (level + 1)  # the band's least height: every height in it is drawn at least so
+            drawn = [kind_rank[lv.kind] for lv in chain.levels if low >= lv.min_height_px]
+            assert (drawn[0] if drawn else 0) >= engine[rep], (bands, chain.levels)
+
+
 def test_level_zero_is_always_the_mesh_and_a_plan_of_meshes_switches_nothing():
     chain = lod_chain(_plan({("tree", 1, 0): "classic", ("tree", 2, 0): "cull"}), "tree", radius=0.5,
                       half_height=0.6)
