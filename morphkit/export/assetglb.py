@@ -339,8 +339,8 @@ def _geometry(parts: Mapping[str, list[Item]], under: str | None = None
 
 def _lod_instances(scene: trimesh.Scene, name: str, exp: ExportedAsset, chain: LodChain,
                    matrices: np.ndarray) -> tuple[dict[str, NodeLods], list[str]]:
-    """The instances of an asset with levels of detail as nodes of their own (``NAME#i``, its
-    items ``NAME#i.k`` sharing one mesh each, its card ``NAME#i.card``), and their levels."""
+    """The instances of an asset with levels of detail as nodes of their own (``NAME@i``, its
+    items ``NAME@i.k`` sharing one mesh each, its card ``NAME@i.card``), and their levels."""
     if len(matrices) > tol.EXPORT_MAX_LOD_INSTANCES:
         raise ValidationError(expected_got(
             f"instances of {name!r} with levels of detail", f"at most {tol.EXPORT_MAX_LOD_INSTANCES} (each "
@@ -353,7 +353,7 @@ def _lod_instances(scene: trimesh.Scene, name: str, exp: ExportedAsset, chain: L
     lods: dict[str, NodeLods] = {}
     cover = tuple(chain.coverage())
     for i, mat in enumerate(matrices):
-        node = f"{name}#{i}"
+        node = f"{name}@{i}"
         scene.graph.update(frame_to=node, frame_from=base, matrix=mat)
         for k, (geom, m) in enumerate(meshes):
             if i == 0:
@@ -367,7 +367,7 @@ def _lod_instances(scene: trimesh.Scene, name: str, exp: ExportedAsset, chain: L
                 scene.graph.update(frame_to=f"{node}.card", frame_from=base, matrix=mat,
                                    geometry=f"{name}.card")
         lods[node] = NodeLods((f"{node}.card",) if card is not None else (None,), cover)
-    return lods, [f"{name}#0.{k}" for k in range(len(meshes))]
+    return lods, [f"{name}@0.{k}" for k in range(len(meshes))]
 
 
 def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedAsset],
@@ -380,8 +380,8 @@ def write_scene_glb(path: str | os.PathLike[str], assets: Mapping[str, ExportedA
     ``nodes``, ``instances`` count and how they are drawn, ``instanced``) and ``frame``.
 
     An asset with levels of detail that switch (``lods``) has each instance as a node of its own
-    instead, ``ASSET#i`` (its items its children, their meshes shared by every instance) with
-    ``MSFT_lod`` as :func:`write_dome_glb` writes it (its card ``ASSET#i.card``): engines switch
+    instead, ``ASSET@i`` (its items its children, their meshes shared by every instance) with
+    ``MSFT_lod`` as :func:`write_dome_glb` writes it (its card ``ASSET@i.card``): engines switch
     levels per node, and a node drawn by ``EXT_mesh_gpu_instancing`` has one level for all its
     instances (at most :data:`morphkit.tol.EXPORT_MAX_LOD_INSTANCES` such instances an asset).
 

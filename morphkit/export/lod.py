@@ -354,7 +354,7 @@ def cross_card(asset: DomeAsset) -> trimesh.Trimesh:
         uv.extend([((ox + x + 0.5) / aw, 1.0 - (oy + y + 0.5) / ah) for x, y in corners])
         faces.extend([[base, base + 1, base + 2], [base, base + 2, base + 3]])
     material = trimesh.visual.material.PBRMaterial(
-        name="card", baseColorTexture=PIL.Image.fromarray(atlas, "RGBA"), alphaMode="MASK",
+        name="card", baseColorTexture=PIL.Image.fromarray(atlas), alphaMode="MASK",
         alphaCutoff=ALPHA_CUTOFF, doubleSided=True, metallicFactor=DIELECTRIC[0],
         roughnessFactor=DIELECTRIC[1])
     mesh = trimesh.Trimesh(np.asarray(vertices), np.asarray(faces), process=False)
