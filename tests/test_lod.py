@@ -16,8 +16,9 @@ from morphkit.cli import main
 from morphkit.errors import ValidationError
 from morphkit.export import read_dome_glb
 from morphkit.export.glb import LOD, NodeLods, read_glb
-from morphkit.export.lod import LOD_CARD, LOD_MESH, cross_card, lod_chain, screen_coverage
+from morphkit.export.lod import LOD_CARD, LOD_MESH, cross_card, screen_coverage
 from morphkit.plan import BandChoice, Budget, ScenePlan, read_plan
+from morphkit.plan.lodchain import lod_chain
 
 ROOT = Path(__file__).resolve().parent.parent
 BUDGET = Budget.parse(["billboard-psnr=20"])

@@ -31,11 +31,12 @@
   are in morphkit's object frame (``+z`` up): its point ``(x, y, z)`` is ``(x, z, -y)`` in the file's
   ``+y``-up frame.
 
-Given levels of detail (:class:`~.lod.LodChain`, from a plan: :func:`~.lod.lod_chain`), the mesh's
-items are the children of one node ``mesh`` (turned ``+y`` up) carrying ``MSFT_lod``: its lower levels
-are the stand-in :func:`~.lod.cross_card` (node ``card``) or nothing (an empty node), switched at
-the chain's screen coverages (``extras.MSFT_screencoverage``); a reader without ``MSFT_lod`` draws
-the mesh alone.
+Given levels of detail (:class:`~.lod.LodChain`, from a plan:
+:func:`~morphkit.plan.lodchain.lod_chain`), the mesh's items are the children of one node ``mesh``
+(turned ``+y`` up) carrying ``MSFT_lod``: its lower levels are the stand-in
+:func:`~.lod.cross_card` (node ``card``) or nothing (an empty node), switched at the chain's
+screen coverages (``extras.MSFT_screencoverage``); a reader without ``MSFT_lod`` draws the mesh
+alone.
 
 :func:`read_dome_glb` reads one back: the :class:`~morphkit.billboard.DomeAsset` (its views
 bit for bit, checked as a dome asset file is, :func:`~morphkit.billboard.formats.domefile.dome_record`),

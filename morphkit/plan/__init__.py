@@ -11,7 +11,8 @@ asset's own mesh, what a frame's error will be, and the cheapest choice that mee
 * :mod:`.planner` -- every frame's billboards predicted in every representation, and the choice;
 * :mod:`.shadowchoice` -- the frame's shadow (sun-atlas texels, the sun's softness) chosen to a
   ``shadow-iou`` budget from its candidates as measured;
-* :mod:`.planfile` -- the plan as a file (``plan.json``), read back by ``morphkit render --plan``.
+* :mod:`.planfile` -- the plan as a file (``plan.json``), read back by ``morphkit render --plan``;
+* :mod:`.lodchain` -- the plan's bands as an engine's levels of detail (``morphkit export --plan``).
 
 The command that measures, plans and verifies a scene is :mod:`morphkit.programs.planning.planrun`.
 """

@@ -7,7 +7,7 @@ sample mesh name or a mesh file is baked into a relightable dome asset
 (:func:`~morphkit.sunlit.receivers.bake_scene_atlases`, ``sun_atlas_size`` texels; 0: none) and
 written with its mesh (:func:`~morphkit.export.assetglb.write_dome_glb`) and, given a plan of a
 scene holding the asset (``morphkit plan``'s ``plan.json``), its levels of detail from that plan
-(:func:`~morphkit.export.lod.lod_chain`: the mesh, the crossed card, nothing); a dome asset file
+(:func:`~morphkit.plan.lodchain.lod_chain`: the mesh, the crossed card, nothing); a dome asset file
 (``.npz``) is written as it is, its views alone (no mesh, no sun atlas: said in the summary). The
 output follows the usual rule: an existing file is replaced only with ``overwrite``.
 
@@ -33,12 +33,13 @@ from ..billboard.frames.instances import Instances
 from ..billboard.impostor import DEFAULT_FRAMES, OctahedralImpostor, bake_impostor, impostor_frame_size
 from ..errors import ValidationError, expected_got
 from ..export.assetglb import ExportedAsset, write_dome_glb, write_scene_glb
-from ..export.lod import LOD_CARD, LodChain, bounding_radius, cross_card, lod_chain
+from ..export.lod import LOD_CARD, LodChain, bounding_radius, cross_card
 from ..export.preview import PreviewView
 from ..export.previewref import reference_image, stand_in_image, truth_image
 from ..files.outfolder import check_output_file
 from ..imaging.metrics import psnr
 from ..meshes import BILLBOARD_MESHES, load_mesh, normalize, sample_mesh
+from ..plan.lodchain import lod_chain
 from ..plan.planfile import ScenePlan, read_plan
 from ..render import Renderer
 from ..scene import Item
@@ -285,7 +286,7 @@ def measure_lods(parts: AssetParts, chain: LodChain, card: trimesh.Trimesh) -> l
 
 
 def plan_lods(plan: ScenePlan, name: str, asset: DomeAsset, items: list[Item]) -> LodChain:
-    """An asset's levels of detail from ``plan`` (:func:`~morphkit.export.lod.lod_chain`), its
+    """An asset's levels of detail from ``plan`` (:func:`~morphkit.plan.lodchain.lod_chain`), its
     bounding radius that of its mesh and its quad's half height the views'.
 
     Parameters
