@@ -6,6 +6,8 @@
   ``extras.morphkit``, written and read back;
 * :mod:`.assetglb` -- a relightable dome asset (its views' albedo, normals and depth) with its mesh
   and its sun atlas as one GLB, and read back bit for bit;
+* :mod:`.lod` -- levels of detail for engines: a chain of levels, the crossed card engines draw in
+  place of the billboards, and glTF's screen coverage;
 * :mod:`.preview` -- what a preview page shows (its camera, sun and data); :mod:`.page` -- the page
   itself, one HTML file with three.js inlined; :mod:`.previewref` -- the same view drawn by morphkit
   (and of the real mesh), which the page is held to; :mod:`.browser` -- a page drawn in headless
