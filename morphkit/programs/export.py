@@ -252,8 +252,8 @@ def measure_lods(parts: AssetParts, chain: LodChain, card: trimesh.Trimesh) -> l
     Returns
     -------
     list of dict
-        Per card level: ``level``, ``height_px`` and per elevation ``card_psnr_db`` and
-        ``morph_psnr_db``.
+        Per card level: ``level``, ``height_px``, ``image_px`` and ``views``: per elevation
+        ``card_psnr_db`` and ``morph_psnr_db``.
     """
     if parts.mesh is None:
         raise ValidationError(expected_got("the asset", "its mesh, to measure against", "an asset file"))
@@ -585,7 +585,7 @@ def lod_words(lod: dict[str, Any]) -> str:
         text = "no levels of detail (the plan draws the mesh at every size)"
     else:
         each = [f"{lv['kind']} from {lv['min_height_px']:g} px (coverage {lv['screen_coverage']:.4g})"
-                for lv in levels]
+                if lv["min_height_px"] > 0 else f"{lv['kind']} below" for lv in levels]
         tail = f", nothing below {lod['culled_below_px']:g} px" if lod["culled_below_px"] else ""
         text = "MSFT_lod from the plan: " + ", ".join(each) + tail
     return text + "".join(f"; {n}" for n in lod.get("notes", []))

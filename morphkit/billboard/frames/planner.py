@@ -9,7 +9,7 @@
    axes by the scene's :class:`~.facing.Facing` rule (the directly-above
    fallback is documented in :mod:`~.facing`);
 3. :func:`level_of_detail` -- the on-screen height; billboards under the
-   scene's ``min_pixels`` go, the others get a pyramid **level** (:mod:`~.lod`);
+   scene's ``min_pixels`` go, the others get a pyramid **level** (:mod:`~morphkit.billboard.frames.lod`);
 4. :func:`clip` -- each quad's screen homography, screen box and **near-plane
    clipping**: a quad cut by the near plane is drawn only inside its clipped
    polygon (:mod:`~.frustum`); a quad covering under
