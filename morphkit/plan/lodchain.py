@@ -31,6 +31,7 @@ import math
 
 from ..errors import ValidationError, expected_got
 from ..export.lod import LOD_CARD, LOD_MESH, LodChain, LodLevel
+from ..scenes.description import DEFAULT_SHAPE
 from ..validate import as_shape
 from .planfile import ScenePlan
 from .representations import BILLBOARD_REPRESENTATIONS, CULL, MESH, REPRESENTATIONS
@@ -93,9 +94,7 @@ def lod_chain(plan: ScenePlan, asset: str, *, radius: float, half_height: float,
     if shape is None:
         shape = plan.shape
     if shape is None:
-        from ..scenes.description import SceneDescription
-
-        shape = SceneDescription.__dataclass_fields__["shape"].default
+        shape = DEFAULT_SHAPE
         notes.append(f"the plan does not say its image size: coverage is of {shape[1]}x{shape[0]}, "
                      "the scenes' default")
     shape = as_shape(shape, "screen shape")

@@ -21,7 +21,11 @@ from .camerapaths import Keyframes, NamedPath
 from .placing import Listed, Scatter
 from .suns import BakeLight, DaySun, FixedSun
 
-__all__ = ["SceneAsset", "SceneShadows", "SceneDescription", "UP_AXES", "VIEWS_DOME", "SOFT_PCSS"]
+__all__ = ["SceneAsset", "SceneShadows", "SceneDescription", "UP_AXES", "VIEWS_DOME", "SOFT_PCSS",
+           "DEFAULT_SHAPE"]
+
+#: A scene's image ``(H, W)`` when its file does not say.
+DEFAULT_SHAPE: tuple[int, int] = (480, 640)
 
 #: The up axes a mesh file may be read with (:func:`morphkit.meshes.load_mesh`).
 UP_AXES: tuple[str, ...] = ("auto", "y", "z")
@@ -141,7 +145,7 @@ class SceneDescription:
     instances: Listed | Scatter
     camera: NamedPath | Keyframes = field(default_factory=lambda: NamedPath("pan"))
     sun: BakeLight | FixedSun | DaySun = field(default_factory=BakeLight)
-    shape: tuple[int, int] = (480, 640)
+    shape: tuple[int, int] = DEFAULT_SHAPE
     frames: int = 48
     views: int | str | None = None
     asset_size: int = 128
