@@ -17,7 +17,7 @@ from morphkit.billboard.compare import PSNR_CAP_DB
 from morphkit.camera import look_at, perspective
 from morphkit.errors import BudgetError, FileFormatError, ValidationError
 from morphkit.plan import Budget
-from morphkit.plan.calibration import band_offsets, calibration_offsets
+from morphkit.plan.calibration import band_offsets, calibration_offsets, path_offsets
 from morphkit.plan.errortable import ErrorTable
 from morphkit.plan.planfile import PLAN_VERSION, ScenePlan, read_plan
 from morphkit.plan.planner import FramePredictions, choose, predict_frames, reached
@@ -192,6 +192,24 @@ def test_a_prediction_at_the_cap_measured_below_it_is_calibrated_a_measure_at_th
         ],
     )
     assert (c.db, c.frames, c.spread_db) == (41.0 - PSNR_CAP_DB, 2, 1.0) and c.iou == 0.0
+
+
+def test_path_offsets_follow_the_calibration_frames_around_each_frame():
+    # calibration frames 0, 10, 20 measured 2 dB under, 1 dB over, then at the cap (left out);
+    # frame 30 has no prediction (nothing drawn): left out too
+    p = [{"billboard-psnr": 30.0, "billboard-iou": 0.9}] * 3 + [{"billboard-psnr": None}]
+    m = [
+        {"billboard-psnr": 28.0, "billboard-iou": 0.8},
+        {"billboard-psnr": 31.0, "billboard-iou": 0.9},
+        {"billboard-psnr": PSNR_CAP_DB, "billboard-iou": 1.0},
+        {"billboard-psnr": 20.0},
+    ]
+    got = path_offsets([0, 10, 20, 30], p, m, [-5, 0, 4, 10, 25])
+    # linear in the frame's index between 0 and 10, the nearest's beyond them
+    want = [(-2.0, -0.1), (-2.0, -0.1), (-0.8, -0.06), (1.0, 0.0), (1.0, 0.0)]
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    # nothing serves: no offset
+    assert path_offsets([0], [p[0]], [m[2]], [3]) == [(0.0, 0.0)]
 
 
 def test_band_offsets_correct_each_band_apart_from_its_billboards_own_figures():

@@ -197,7 +197,10 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert set(plan["time_ms"]) >= {"plan", "default", "cheapest_sweep"} and plan["time_ms"]["plan"] > 0
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
     # the plan drawn on the calibration frames too: its own offset moves its predictions
-    assert set(plan["calibration"]["plan"]) == {"db", "iou", "frames_used"}
+    own = plan["calibration"]["plan"]
+    assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured"}
+    assert set(own["frames"]) <= set(plan["planning_frames"]) and own["frames_used"] <= len(own["frames"])
+    assert len(own["predicted"]) == len(own["measured"]) == len(own["frames"])
     assert set(plan["configurations"]) == {"plan", "default", "cull", "classic", "nearest", "mesh"}
     assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (out / "tables").iterdir()) == [

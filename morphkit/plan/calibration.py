@@ -1,6 +1,7 @@
 """Calibrating a plan's error tables to a scene: each representation's offsets between the tables'
 prediction and the scene's measure (:func:`calibration_offsets` over frames, :func:`band_offsets`
-band by band) and its cost (:func:`frame_cost`), from frames drawn in it everywhere.
+band by band) and its cost (:func:`frame_cost`), from frames drawn in it everywhere; and a plan's
+own offsets frame by frame along the path (:func:`path_offsets`).
 """
 
 from __future__ import annotations
@@ -14,8 +15,9 @@ from .. import tol
 from ..billboard.compare import PSNR_CAP_DB
 from .planner import FramePredictions
 from .representations import Band
+from .shadowchoice import interpolate_frames
 
-__all__ = ["Calibration", "calibration_offsets", "frame_cost", "band_offsets"]
+__all__ = ["Calibration", "calibration_offsets", "frame_cost", "band_offsets", "path_offsets"]
 
 
 class Calibration(NamedTuple):
@@ -81,6 +83,53 @@ def calibration_offsets(
         return Calibration(0.0, 0.0, 0, 0.0, 0.0)
     d, q = float(np.median(db)), float(np.median(iou))
     return Calibration(d, q, len(db), max(0.0, d - float(np.min(db))), max(0.0, q - float(np.min(iou))))
+
+
+def path_offsets(
+    frames: Sequence[int],
+    predicted: Sequence[Mapping[str, float | None]],
+    measured: Sequence[Mapping[str, float | None]],
+    at: Sequence[int],
+) -> list[tuple[float, float]]:
+    """Each frame of ``at``'s offset, measured less predicted, from the calibration ``frames`` around
+    it along the path (:func:`~.shadowchoice.interpolate_frames`: linear in the frame's index between
+    the two nearest, the nearest's beyond them). The frames of a path change slowly, and what one
+    offset for all of them leaves unexplained -- the shadows a frame's boxes hold, the billboards
+    that overlap -- changes with them. The frames serving are those :func:`calibration_offsets` takes
+    (below the PSNR cap, with billboards).
+
+    Parameters
+    ----------
+    frames : sequence of int
+        The calibration frames' indices on the path.
+    predicted, measured : sequence of mapping
+        Those frames' figures (as :func:`calibration_offsets`).
+    at : sequence of int
+        The frames whose offsets are wanted.
+
+    Returns
+    -------
+    list of (float, float)
+        ``(dB, IoU)`` per frame of ``at``; ``(0, 0)`` when no calibration frame serves.
+
+    Examples
+    --------
+    >>> from morphkit.plan.calibration import path_offsets
+    >>> p = [{"billboard-psnr": 26.0, "billboard-iou": 0.90}, {"billboard-psnr": 30.0, "billboard-iou": 0.90}]
+    >>> m = [{"billboard-psnr": 24.0, "billboard-iou": 0.88}, {"billboard-psnr": 29.0, "billboard-iou": 0.92}]
+    >>> [(round(d, 2), round(q, 3)) for d, q in path_offsets([0, 10], p, m, [0, 5, 20])]
+    [(-2.0, -0.02), (-1.5, 0.0), (-1.0, 0.02)]
+    """
+    db: list[float | None] = []
+    iou: list[float | None] = []
+    for p, m in zip(predicted, measured, strict=True):
+        mp, pp = m.get("billboard-psnr"), p.get("billboard-psnr")
+        serves = mp is not None and pp is not None and mp < PSNR_CAP_DB
+        db.append(float(mp) - float(pp) if serves else None)  # type: ignore[arg-type]
+        iou.append(float(m["billboard-iou"]) - float(p["billboard-iou"]) if serves else None)  # type: ignore[arg-type]
+    d = interpolate_frames(frames, db, at)
+    q = interpolate_frames(frames, iou, at)
+    return [(a or 0.0, b or 0.0) for a, b in zip(d, q, strict=True)]
 
 
 def frame_cost(billboards: Sequence[int], times_ms: Sequence[float], fallback: float) -> tuple[float, float]:

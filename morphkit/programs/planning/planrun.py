@@ -25,7 +25,9 @@ the plan verified against the real meshes.
    run, and measured against the real meshes (relit, with the scene's ray-cast shadows): the PSNR
    and silhouette IoU over the pixels of the billboards' boxes
    (:func:`~morphkit.billboard.compare.frame_errors`) are the frame's ``billboard-psnr`` and
-   ``billboard-iou``; with a ``shadow-iou`` budget, the plan draws the chosen shadow (the default
+   ``billboard-iou``, the plan's predicted from its tables moved by what the plan measured less
+   predicted on the calibration frames around it (:func:`~morphkit.plan.calibration.path_offsets`);
+   with a ``shadow-iou`` budget, the plan draws the chosen shadow (the default
    the scene's own, a sweep's configurations the chosen), each frame is drawn again without its
    shadows and its ``shadow-iou`` is the IoU of the ground pixels its shadows darken against the
    truth's (:func:`~morphkit.sunlit.shadowing.darkened_iou`), predicted from the calibration frames
@@ -54,7 +56,7 @@ import os
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -64,7 +66,7 @@ from ...billboard.compare import PSNR_CAP_DB
 from ...errors import FileFormatError, ValidationError, expected_got
 from ...files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ...plan import Budget
-from ...plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost
+from ...plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost, path_offsets
 from ...plan.errortable import ErrorTable, default_elevations, measure_error_table
 from ...plan.mixed import banded_mode
 from ...plan.planfile import PLAN_NAME, ScenePlan
@@ -394,6 +396,24 @@ def _calibrate(
     return offsets, costs, fixed, floor, margins, proven, report
 
 
+class PlanCalibration(NamedTuple):
+    """The chosen plan drawn on the calibration frames (:func:`_plan_offset`)."""
+
+    offset: Calibration
+    frames: list[int]
+    predicted: list[dict[str, float | None]]
+    measured: list[dict[str, float | None]]
+
+    def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
+        """The offsets of ``frames``, from the calibration frames around each along the path."""
+        return path_offsets(self.frames, self.predicted, self.measured, frames)
+
+    def to_json(self) -> dict[str, Any]:
+        o = self.offset
+        return {"db": o.db, "iou": o.iou, "frames_used": o.frames, "frames": self.frames,
+                "predicted": self.predicted, "measured": self.measured}
+
+
 def _plan_offset(
     prep: PreparedScene,
     cameras: Sequence[Any],
@@ -402,30 +422,35 @@ def _plan_offset(
     tables: Mapping[tuple[str, str], ErrorTable],
     offsets: Mapping[Any, tuple[float, float]],
     truths: dict[int, Any],
-) -> Calibration:
-    """The chosen plan's own offset, measured less predicted, on the calibration ``frames`` drawn
-    with it (:func:`~morphkit.plan.calibration.calibration_offsets`): the representations were calibrated
-    each everywhere, and a frame mixing them is not the sum of those (a card's box among exact meshes
-    holds fewer errors than among cards). It moves the plan's predictions of the held-out frames."""
+) -> PlanCalibration:
+    """The chosen plan's own offsets, measured less predicted, on the calibration ``frames`` drawn
+    with it: the representations were calibrated each everywhere, and a frame mixing them is not the
+    sum of those (a card's box among exact meshes holds fewer errors than among cards). Its median
+    (:func:`~morphkit.plan.calibration.calibration_offsets`) is reported; the held-out frames'
+    predictions are moved by the calibration frames' around each
+    (:func:`~morphkit.plan.calibration.path_offsets`)."""
     sample = sample_scene(prep.scene)
     mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
     got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
     pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
-    return calibration_offsets(pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"])
+    p, m = pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"]
+    return PlanCalibration(calibration_offsets(p, m), [int(k) for k in frames], p, list(m))
 
 
-def _moved(frames: Sequence[Mapping[str, float | None]], c: Calibration) -> list[dict[str, float | None]]:
-    """Predicted frame figures moved by an offset (frames predicted at the PSNR cap kept: nothing
-    wrong predicted, and the offset was taken without them)."""
+def _moved(
+    frames: Sequence[Mapping[str, float | None]], by: Sequence[tuple[float, float]]
+) -> list[dict[str, float | None]]:
+    """Predicted frame figures each moved by its offset ``(dB, IoU)`` (frames predicted at the PSNR
+    cap kept: nothing wrong predicted, and the offsets were taken without them)."""
     out: list[dict[str, float | None]] = []
-    for f in frames:
+    for f, (d, q) in zip(frames, by, strict=True):
         db, iou = f.get("billboard-psnr"), f.get("billboard-iou")
         out.append(
             {
                 "billboard-psnr": None
                 if db is None
-                else (db if db >= PSNR_CAP_DB else min(db + c.db, PSNR_CAP_DB)),
-                "billboard-iou": None if iou is None else float(np.clip(iou + c.iou, 0.0, 1.0)),
+                else (db if db >= PSNR_CAP_DB else min(db + d, PSNR_CAP_DB)),
+                "billboard-iou": None if iou is None else float(np.clip(iou + q, 0.0, 1.0)),
             }
         )
     return out
@@ -562,7 +587,7 @@ def plan_scene(
         t1 = time.perf_counter()
         own = _plan_offset(plan_prep, cams, calibration["frames"], plan, tables, offsets, truths)
         truths.clear()
-        calibration["plan"] = {"db": own.db, "iou": own.iou, "frames_used": own.frames}
+        calibration["plan"] = own.to_json()
         t_calibrate += time.perf_counter() - t1
         taken = [sum(v == r.name for v in picked.choice.choices.values()) for r in REPRESENTATIONS]
         print(
@@ -589,7 +614,7 @@ def plan_scene(
         got = verify_frames(prep, cams, picks, modes, plain=plain if shadows is not None else None)
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
-            "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own),
+            "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own.at(picks)),
             "default": held.frame_errors(held.pick_of(BandChoice())),
         }
         held_picks = {"plan": held.pick_of(plan.choice), "default": held.pick_of(BandChoice())}
