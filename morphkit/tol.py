@@ -616,6 +616,10 @@ PLAN_CARD_GAP_IOU = 0.06
 PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
+#: How many times the planner chooses again when its plan, drawn on the calibration frames, misses
+#: the budget there (each time with the representations' margins widened by the shortfall); then the
+#: cheapest representation everywhere measured to meet it there is taken.
+PLAN_RECHOICES = 2
 #: The fewest billboards of a band measured in the calibration frames that give the band its own
 #: offset (:func:`morphkit.plan.calibration.band_offsets`): the median of fewer is one billboard's luck.
 PLAN_MIN_BAND_BILLBOARDS = 5

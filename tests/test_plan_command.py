@@ -198,7 +198,7 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
     # the plan drawn on the calibration frames too: its own offset moves its predictions
     own = plan["calibration"]["plan"]
-    assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured"}
+    assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured", "chosen_again"}
     assert set(own["frames"]) <= set(plan["planning_frames"]) and own["frames_used"] <= len(own["frames"])
     assert len(own["predicted"]) == len(own["measured"]) == len(own["frames"])
     assert set(plan["configurations"]) == {"plan", "default", "cull", "classic", "nearest", "mesh"}
@@ -251,6 +251,39 @@ def test_a_budget_only_the_real_mesh_meets_is_planned_as_meshes_verified_and_ren
     r = tmp_path / "r"
     assert main(["render", str(scene), "-o", str(r), "--plan", str(out), "--compare", "1"]) == 0
     assert len(list((r / "frames").glob("frame_*.png"))) == 8
+
+
+@pytest.mark.parametrize("misses", [1, 99])
+def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again(
+    tmp_path, capsys, monkeypatch, misses
+):
+    from morphkit.programs.planning import planrun
+
+    real = planrun._plan_offset
+    calls = []
+
+    def measured_short(*args, **kw):  # the plan's first `misses` drawings measured at IoU 0.1
+        got = real(*args, **kw)
+        calls.append(got)
+        if len(calls) > misses:
+            return got
+        short = [m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1} for m in got.measured]
+        return got._replace(measured=short)
+
+    monkeypatch.setattr(planrun, "_plan_offset", measured_short)
+    out = tmp_path / "plan"
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
+    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    printed = capsys.readouterr().out
+    plan = json.loads((out / "plan.json").read_text())
+    again = plan["calibration"]["plan"]["chosen_again"]
+    if misses == 1:  # chosen again once, its margins widened by the shortfall, 0.3 - 0.1
+        assert len(calls) == 2 and again == ["chosen again, the margins widened by 0.00 dB, IoU 0.200"]
+    else:  # missing every time: chosen again PLAN_RECHOICES times, then one representation everywhere
+        assert len(calls) == tol.PLAN_RECHOICES + 2 and len(again) == tol.PLAN_RECHOICES + 1
+        assert again[-1].endswith("everywhere (measured to meet the budget there)")
+        assert len({c["representation"] for c in plan["choices"]}) == 1
+    assert printed.count("the plan missed the budget on its calibration frames") == len(again)
 
 
 @pytest.mark.gl
