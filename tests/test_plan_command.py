@@ -286,6 +286,38 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
     assert printed.count("the plan missed the budget on its calibration frames") == len(again)
 
 
+def test_a_plan_no_wider_choice_can_replace_is_kept_and_said(tmp_path, capsys, monkeypatch):
+    from morphkit.errors import BudgetError
+    from morphkit.programs.planning import planrun
+
+    real_offset, real_choose = planrun._plan_offset, planrun.choose
+    chosen = []
+
+    def measured_short(*args, **kw):
+        got = real_offset(*args, **kw)
+        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1}
+                                      for m in got.measured])
+
+    def once(*args, **kw):  # the first choice stands; none with wider margins is predicted to meet it
+        chosen.append(kw.get("margin"))
+        if len(chosen) > 1:
+            raise BudgetError("no choice")
+        return real_choose(*args, **kw)
+
+    monkeypatch.setattr(planrun, "_plan_offset", measured_short)
+    monkeypatch.setattr(planrun, "choose", once)
+    out = tmp_path / "plan"
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
+    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["calibration"]["plan"]["chosen_again"] == [
+        "kept: no choice is predicted to meet the budget by wider margins"
+    ]
+    # the second choice was asked for with every margin 0.2 wider in IoU
+    assert all(chosen[1][nm][1] == pytest.approx(chosen[0][nm][1] + 0.2) for nm in chosen[0])
+    assert capsys.readouterr().out.count("the plan missed the budget on its calibration frames") == 1
+
+
 @pytest.mark.gl
 def test_a_time_budget_plans_the_least_error_within_it_and_verifies_the_time(tmp_path, capsys):
     scene = _scene(tmp_path)

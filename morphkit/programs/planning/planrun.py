@@ -628,6 +628,7 @@ def plan_scene(
         checked = budget.time_ms is None and (budget.billboard_psnr, budget.billboard_iou) != (None, None)
         billboards_only = dataclasses.replace(budget, shadow_iou=None) if checked else budget
         rechosen: list[str] = []
+        missed = f"{head}the plan missed the budget on its calibration frames: "
         while checked and not billboards_only.verdict(own.measured)["met"]:
             if len(rechosen) < tol.PLAN_RECHOICES:
                 short = _shortfall(billboards_only, own.measured)
@@ -637,6 +638,7 @@ def plan_scene(
                                     base_ms=at)
                 except BudgetError:
                     rechosen.append("kept: no choice is predicted to meet the budget by wider margins")
+                    print(missed + rechosen[-1], flush=True)
                     break
                 margins = wider
                 rechosen.append(f"chosen again, the margins widened by {short[0]:.2f} dB, IoU {short[1]:.3f}")
@@ -648,8 +650,9 @@ def plan_scene(
             else:
                 if not proven:
                     rechosen.append("kept: no representation everywhere was measured to meet it there")
+                    print(missed + rechosen[-1], flush=True)
                 break
-            print(f"{head}the plan missed the budget on its calibration frames: {rechosen[-1]}", flush=True)
+            print(missed + rechosen[-1], flush=True)
             plan = as_plan(picked.choice)
             own = _plan_offset(plan_prep, cams, calibration["frames"], plan, tables, offsets, truths)
         truths.clear()
