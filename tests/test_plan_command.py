@@ -10,6 +10,7 @@ import pytest
 from morphkit import tol
 from morphkit.billboard.compare import PSNR_CAP_DB
 from morphkit.cli import main
+from morphkit.programs.planning.planrun import PLAN_OWN_FRAMES
 
 SMALL_SCENE = {
     "morphkit_scene": 1,
@@ -201,6 +202,9 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured", "chosen_again"}
     assert set(own["frames"]) <= set(plan["planning_frames"]) and own["frames_used"] <= len(own["frames"])
     assert len(own["predicted"]) == len(own["measured"]) == len(own["frames"])
+    # on the representations' calibration frames and those between them
+    assert set(plan["calibration"]["frames"]) <= set(own["frames"])
+    assert len(own["frames"]) == min(PLAN_OWN_FRAMES, len(plan["planning_frames"]))
     assert set(plan["configurations"]) == {"plan", "default", "cull", "classic", "nearest", "mesh"}
     assert (out / "plan.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in (out / "tables").iterdir()) == [

@@ -19,7 +19,8 @@ the plan verified against the real meshes.
 3. **predicts** the planning frames (every frame but the verification frames) and **chooses** each
    band's cheapest representation predicted to meet the budget (:func:`~morphkit.plan.planner.choose`);
    a budget it cannot meet stops here with one line and nothing written. The plan is then drawn on
-   the calibration frames: one that misses the budget there is chosen again with the margins widened
+   its own calibration frames (:data:`PLAN_OWN_FRAMES`: the calibration frames and the planning frames
+   midway between them): one that misses the budget there is chosen again with the margins widened
    by its shortfall (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for the
    cheapest representation everywhere measured to meet it there (``calibration.plan.chosen_again``
    in ``plan.json`` says what was done);
@@ -30,7 +31,7 @@ the plan verified against the real meshes.
    and silhouette IoU over the pixels of the billboards' boxes
    (:func:`~morphkit.billboard.compare.frame_errors`) are the frame's ``billboard-psnr`` and
    ``billboard-iou``, the plan's predicted from its tables moved by what the plan measured less
-   predicted on the calibration frames around it (:func:`~morphkit.plan.calibration.path_offsets`);
+   predicted on its calibration frames around it (:func:`~morphkit.plan.calibration.path_offsets`);
    with a ``shadow-iou`` budget, the plan draws the chosen shadow (the default
    the scene's own, a sweep's configurations the chosen), each frame is drawn again without its
    shadows and its ``shadow-iou`` is the IoU of the ground pixels its shadows darken against the
@@ -93,7 +94,9 @@ from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .planverify import verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
-__all__ = ["plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "TABLES_FOLDER", "DEFAULT_VERIFY"]
+__all__ = [
+    "plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "PLAN_OWN_FRAMES", "TABLES_FOLDER", "DEFAULT_VERIFY"
+]
 
 #: The error tables' subfolder of a plan's output folder.
 TABLES_FOLDER = "tables"
@@ -105,6 +108,11 @@ SUN_ATLASES_FOLDER = "sun_atlases"
 PLAN_AZIMUTHS_DEG: tuple[float, ...] = (18.0, 70.0, 124.0, 190.0, 276.0, 330.0)
 #: Planning frames drawn in every representation to calibrate the tables' predictions to the scene.
 PLAN_CALIBRATION_FRAMES = 4
+#: Planning frames the chosen plan is drawn on, for its own offsets along the path and its check against
+#: the budget: the calibration frames and those midway between them (``2 * 4 - 1`` frames spread over
+#: the planning frames hold the 4 spread so). A plan's error changes along a path faster than four
+#: frames follow (a day's sun moving its meshes' shadows, a few large cards coming and going).
+PLAN_OWN_FRAMES = 2 * PLAN_CALIBRATION_FRAMES - 1
 #: Held-out frames verified by default.
 DEFAULT_VERIFY = 6
 
@@ -427,7 +435,7 @@ def _plan_offset(
     offsets: Mapping[Any, tuple[float, float]],
     truths: dict[int, Any],
 ) -> PlanCalibration:
-    """The chosen plan's own offsets, measured less predicted, on the calibration ``frames`` drawn
+    """The chosen plan's own offsets, measured less predicted, on its calibration ``frames`` drawn
     with it: the representations were calibrated each everywhere, and a frame mixing them is not the
     sum of those (a card's box among exact meshes holds fewer errors than among cards). Its median
     (:func:`~morphkit.plan.calibration.calibration_offsets`) is reported; the held-out frames'
@@ -619,12 +627,13 @@ def plan_scene(
             )
 
         plan = as_plan(picked.choice)
-        # the plan itself on the calibration frames: what mixing its representations does to the
+        # the plan itself on its own calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards); a plan
         # that misses the budget there is chosen again with wider margins, then given up for the
         # cheapest representation everywhere measured to meet it
         t1 = time.perf_counter()
-        own = _plan_offset(plan_prep, cams, calibration["frames"], plan, tables, offsets, truths)
+        own_frames = [planning[i] for i in compare_indices(len(planning), PLAN_OWN_FRAMES)]
+        own = _plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         checked = budget.time_ms is None and (budget.billboard_psnr, budget.billboard_iou) != (None, None)
         billboards_only = dataclasses.replace(budget, shadow_iou=None) if checked else budget
         rechosen: list[str] = []
@@ -654,7 +663,7 @@ def plan_scene(
                 break
             print(missed + rechosen[-1], flush=True)
             plan = as_plan(picked.choice)
-            own = _plan_offset(plan_prep, cams, calibration["frames"], plan, tables, offsets, truths)
+            own = _plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         truths.clear()
         calibration["plan"] = {**own.to_json(), "chosen_again": rechosen}
         t_calibrate += time.perf_counter() - t1
