@@ -616,7 +616,7 @@ PLAN_CARD_GAP_IOU = 0.06
 PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
-#: How many times the planner chooses again when its plan, drawn on the calibration frames, misses
+#: How many times the planner chooses again when its plan, drawn on its own calibration frames, misses
 #: the budget there (each time with the representations' margins widened by the shortfall); then the
 #: cheapest representation everywhere measured to meet it there is taken.
 PLAN_RECHOICES = 2
