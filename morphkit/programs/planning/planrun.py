@@ -21,9 +21,10 @@ the plan verified against the real meshes.
    a budget it cannot meet stops here with one line and nothing written. The plan is then drawn on
    its own calibration frames (:data:`PLAN_OWN_FRAMES`: the calibration frames and the planning frames
    midway between them): one that misses the budget there is chosen again with the margins widened
-   by its shortfall (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for the
-   cheapest representation everywhere measured to meet it there (``calibration.plan.chosen_again``
-   in ``plan.json`` says what was done);
+   by its shortfall (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each
+   representation everywhere measured to meet it on the calibration frames, the cheapest first,
+   until one meets it there too (``calibration.plan.chosen_again`` in ``plan.json`` says what was
+   done);
 4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
@@ -629,14 +630,15 @@ def plan_scene(
         plan = as_plan(picked.choice)
         # the plan itself on its own calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards); a plan
-        # that misses the budget there is chosen again with wider margins, then given up for the
-        # cheapest representation everywhere measured to meet it
+        # that misses the budget there is chosen again with wider margins, then given up for each
+        # representation everywhere measured to meet it, the cheapest first
         t1 = time.perf_counter()
         own_frames = [planning[i] for i in compare_indices(len(planning), PLAN_OWN_FRAMES)]
         own = _plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         checked = budget.time_ms is None and (budget.billboard_psnr, budget.billboard_iou) != (None, None)
         billboards_only = dataclasses.replace(budget, shadow_iou=None) if checked else budget
         rechosen: list[str] = []
+        tried: list[str] = []  # the representations drawn everywhere as the plan
         missed = f"{head}the plan missed the budget on its calibration frames: "
         while checked and not billboards_only.verdict(own.measured)["met"]:
             if len(rechosen) < tol.PLAN_RECHOICES:
@@ -651,15 +653,21 @@ def plan_scene(
                     break
                 margins = wider
                 rechosen.append(f"chosen again, the margins widened by {short[0]:.2f} dB, IoU {short[1]:.3f}")
-            elif proven and len(rechosen) == tol.PLAN_RECHOICES:
-                best = _cheapest_everywhere(pred, proven, costs, fixed, at)
+            elif untried := [nm for nm in proven if nm not in tried]:
+                best = _cheapest_everywhere(pred, untried, costs, fixed, at)
+                tried.append(best)
                 everywhere = pred.choice_of(pred.pick_of(BandChoice(default=best)))
+                if everywhere == picked.choice:  # the plan drawn already, and missing: the next
+                    continue
                 picked = dataclasses.replace(picked, choice=everywhere)
-                rechosen.append(f"{best} everywhere (measured to meet the budget there)")
+                rechosen.append(f"{best} everywhere (measured to meet the budget on the representations' "
+                                "calibration frames)")
             else:
-                if not proven:
-                    rechosen.append("kept: no representation everywhere was measured to meet it there")
-                    print(missed + rechosen[-1], flush=True)
+                why = ("every representation everywhere measured to meet it on the representations' "
+                       "calibration frames misses it here" if proven
+                       else "no representation everywhere was measured to meet it")
+                rechosen.append(f"kept: {why}")
+                print(missed + rechosen[-1], flush=True)
                 break
             print(missed + rechosen[-1], flush=True)
             plan = as_plan(picked.choice)
