@@ -383,31 +383,3 @@ def test_a_scene_without_instances_is_refused_and_one_seeing_none_plans_nothing(
     plan = json.loads((out / "plan.json").read_text())
     # nothing on screen: no band to choose, every frame within the budget (nothing to measure)
     assert plan["choices"] == [] and plan["verified"]["fraction"] == 1.0
-
-
-def test_a_path_of_fewer_frames_than_the_timed_draws_is_drawn_again_and_timed_by_the_median(monkeypatch):
-    # a stub scene whose draws of mode "a" take 5, 1 and 3 ms on a fake clock, of "b" 2 ms each
-    from types import SimpleNamespace
-
-    from morphkit.programs.planning import planverify
-
-    clock = [0.0]
-    drawn: list[str] = []
-    cost = {"a": iter([5.0, 1.0, 3.0, 9.0, 9.0, 9.0]), "b": iter([2.0] * 6)}
-
-    def render(cam, mode):
-        if mode in cost:
-            drawn.append(mode)
-            clock[0] += next(cost[mode]) / 1e3
-        return SimpleNamespace(placements=[])
-
-    monkeypatch.setattr(planverify.time, "perf_counter", lambda: clock[0])
-    prep = SimpleNamespace(scene=SimpleNamespace(render=render), lighting=None, truth="truth")
-    got = planverify.verify_frames(prep, [None] * 4, [1], {"a": "a", "b": "b"})
-    assert planverify.MIN_TIMED_DRAWS == 3 and drawn == ["a", "b", "b", "a", "a", "b"]  # the order turned
-    assert got["a"]["time_ms"] == [pytest.approx(3.0)] and got["b"]["time_ms"] == [pytest.approx(2.0)]
-    assert got["a"]["errors"] == [{"billboard-psnr": None, "billboard-iou": None}]
-    # three frames or more: each drawn once
-    drawn.clear()
-    got = planverify.verify_frames(prep, [None] * 4, [0, 2, 3], {"a": "a", "b": "b"})
-    assert drawn == ["a", "b", "b", "a", "a", "b"] and len(got["a"]["time_ms"]) == 3

@@ -9,19 +9,13 @@ import time
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
-
 from ...billboard import BillboardScene
 from ...billboard.compare import box_errors, frame_errors
 from ...sunlit.litmodes import Relit
 from ...sunlit.shadowing import darkened_iou
 from ..scenerender import PreparedScene
 
-__all__ = ["frame_figures", "verify_frames", "MIN_TIMED_DRAWS"]
-
-#: The fewest draws each mode's median frame time is taken over: a path of fewer frames draws each
-#: frame again (a mode timed once, first, pays for warming what the others then find warm).
-MIN_TIMED_DRAWS = 3
+__all__ = ["frame_figures", "verify_frames"]
 
 
 def frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
@@ -54,9 +48,7 @@ def verify_frames(
     plain: Mapping[str, Any] | None = None,
 ) -> dict[str, dict[str, list[Any]]]:
     """Each held-out frame drawn in every mode (the order turned each frame, so none is always first
-    to warm the caches) and in the truth; each mode's figures and times per frame (fewer frames than
-    :data:`MIN_TIMED_DRAWS` are each drawn again, the order turned again, and timed by the median of
-    their draws). ``scene``: the
+    to warm the caches) and in the truth; each mode's figures and times per frame. ``scene``: the
     instances drawn (default the prepared scene's); ``boxes``: each frame's billboards' own figures too
     (``"boxes"``, :func:`~morphkit.billboard.compare.box_errors`); ``truths``: the truth's frames by
     frame index, drawn once (read where there, kept where not); ``plain``: each mode's twin drawing
@@ -90,7 +82,6 @@ def verify_frames(
         Per mode ``{"errors", "time_ms", "boxes"}``, a list each, one entry a frame.
     """
     scene = prep.scene if scene is None else scene
-    repeats = -(-MIN_TIMED_DRAWS // max(1, len(picks)))  # a frame's draws are the same: time them again
     out: dict[str, dict[str, list[Any]]] = {nm: {"errors": [], "time_ms": [], "boxes": []} for nm in modes}
     order = list(modes)
     twins = [] if plain is None else list({id(m): m for m in plain.values()}.values())
@@ -105,17 +96,11 @@ def verify_frames(
         if plain is not None:
             t_plain = _drawn(truths, ("plain", k), scene, cam, truth_plain)
             drawn = {id(m): scene.render(cam, m) for m in twins}
-        frames: dict[str, Any] = {}
-        times: dict[str, list[float]] = {nm: [] for nm in order}
-        for rep in range(repeats):
-            turn = (n * repeats + rep) % len(order)
-            for nm in order[turn:] + order[:turn]:
-                t0 = time.perf_counter()
-                frames[nm] = scene.render(cam, modes[nm])
-                times[nm].append(1e3 * (time.perf_counter() - t0))
-        for nm in order:
-            frame = frames[nm]
-            out[nm]["time_ms"].append(float(np.median(times[nm])))
+        turn = order[n % len(order) :] + order[: n % len(order)]
+        for nm in turn:
+            t0 = time.perf_counter()
+            frame = scene.render(cam, modes[nm])
+            out[nm]["time_ms"].append(1e3 * (time.perf_counter() - t0))
             figures = frame_figures(frame, truth)
             if plain is not None:
                 figures["shadow-iou"] = darkened_iou(drawn[id(plain[nm])], frame, t_plain, truth)
