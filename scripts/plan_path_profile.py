@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 
 import morphkit
+from morphkit.plan import Budget
 from morphkit.plan.mixed import banded_mode
 from morphkit.plan.representations import BandChoice
 from morphkit.programs.planning.planverify import verify_frames
@@ -27,7 +28,7 @@ def main() -> None:
     ap.add_argument("--every", type=int, default=1, help="every K-th frame")
     a = ap.parse_args()
     reps = a.rep or ["classic", "nearest"]
-    want = {k: float(v) for k, v in (b.split("=", 1) for b in a.budget)}
+    budget = Budget.parse(a.budget) if a.budget else None
     scene = morphkit.load_scene(a.scene)
     sun, views, cams, _label, _chosen = scene_choices(scene, "plan")
     frames = list(range(0, len(cams), max(1, a.every)))
@@ -46,8 +47,9 @@ def main() -> None:
         print(f"{k:5d} " + " ".join(cells))
     for nm in reps:
         drawn = [e for e in got[nm]["errors"] if e["billboard-psnr"] is not None]
-        held = [e for e in drawn if all(e[key] >= v for key, v in want.items())]
-        print(f"{nm}: {len(held)} of {len(drawn)} frames with billboards within {want or 'no budget'}"
+        held = [e for e in drawn if budget is None or budget.meets(e)]
+        print(f"{nm}: {len(held)} of {len(drawn)} frames with billboards within "
+              f"{budget.to_json() if budget else 'no budget'}"
               + (f" ({len(held) / len(drawn):.1%})" if drawn else ""))
 
 
