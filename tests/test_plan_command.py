@@ -297,7 +297,9 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
     assert printed.count("the plan missed the budget on its calibration frames") == len(again)
 
 
-def test_a_plan_no_wider_choice_can_replace_is_kept_and_said(tmp_path, capsys, monkeypatch):
+def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_everywhere(
+    tmp_path, capsys, monkeypatch
+):
     from morphkit.errors import BudgetError
     from morphkit.programs.planning import planrun
 
@@ -321,12 +323,50 @@ def test_a_plan_no_wider_choice_can_replace_is_kept_and_said(tmp_path, capsys, m
     budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
     assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
     plan = json.loads((out / "plan.json").read_text())
-    assert plan["calibration"]["plan"]["chosen_again"] == [
-        "kept: no choice is predicted to meet the budget by wider margins"
-    ]
+    again = plan["calibration"]["plan"]["chosen_again"]
+    # asked for once more, then each representation everywhere measured to meet it, each missing here
+    assert len(chosen) == 2 and again[0] == "no choice is predicted to meet the budget by wider margins"
+    assert again[-1] == ("kept: every representation everywhere measured to meet it on the "
+                         "representations' calibration frames misses it here")
+    assert len(again) >= 3 and all(a.endswith("calibration frames)") for a in again[1:-1])
     # the second choice was asked for with every margin 0.2 wider in IoU
     assert all(chosen[1][nm][1] == pytest.approx(chosen[0][nm][1] + 0.2) for nm in chosen[0])
-    assert capsys.readouterr().out.count("the plan missed the budget on its calibration frames") == 1
+    assert capsys.readouterr().out.count("the plan missed the budget on its calibration frames") == len(again)
+
+
+def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_start(tmp_path, monkeypatch):
+    import dataclasses
+
+    from morphkit.plan.representations import BandChoice
+    from morphkit.programs.planning import planrun
+
+    real_offset, real_choose = planrun._plan_offset, planrun.choose
+    starts, drawn = [], []
+
+    def measured_short_once(*args, **kw):  # the first plan drawn measured at IoU 0.1
+        got = real_offset(*args, **kw)
+        drawn.append(got)
+        if len(drawn) > 1:
+            return got
+        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1}
+                                      for m in got.measured])
+
+    def everywhere_first(pred, budget, **kw):  # the first choice: the first proven one everywhere
+        starts.append(list(kw["proven"]))
+        got = real_choose(pred, budget, **kw)
+        if len(starts) > 1:
+            return got
+        return dataclasses.replace(got, choice=pred.choice_of(pred.pick_of(BandChoice(default=starts[0][0]))))
+
+    monkeypatch.setattr(planrun, "_plan_offset", measured_short_once)
+    monkeypatch.setattr(planrun, "choose", everywhere_first)
+    out = tmp_path / "plan"
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
+    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    again = json.loads((out / "plan.json").read_text())["calibration"]["plan"]["chosen_again"]
+    assert again == ["chosen again, the margins widened by 0.00 dB, IoU 0.200"] and len(drawn) == 2
+    # measured to miss as the plan: the choice again starts from the other proven ones alone
+    assert len(starts) == 2 and starts[1] == [nm for nm in starts[0] if nm != starts[0][0]]
 
 
 @pytest.mark.gl

@@ -639,27 +639,34 @@ def plan_scene(
         billboards_only = dataclasses.replace(budget, shadow_iou=None) if checked else budget
         rechosen: list[str] = []
         tried: list[str] = []  # the representations drawn everywhere as the plan
+        exhausted = False  # no wider choice predicted to meet the budget
         missed = f"{head}the plan missed the budget on its calibration frames: "
+
+        def everywhere(name: str) -> BandChoice:
+            return pred.choice_of(pred.pick_of(BandChoice(default=name)))
+
         while checked and not billboards_only.verdict(own.measured)["met"]:
-            if len(rechosen) < tol.PLAN_RECHOICES:
+            # a representation everywhere drawn as the plan and missing is measured to miss: no more a start
+            tried += [nm for nm in proven if nm not in tried and everywhere(nm) == picked.choice]
+            again = None
+            if len(rechosen) < tol.PLAN_RECHOICES and not exhausted:
                 short = _shortfall(billboards_only, own.measured)
                 wider = {nm: (m[0] + short[0], m[1] + short[1]) for nm, m in margins.items()}
+                starts = [nm for nm in proven if nm not in tried]
                 try:
-                    picked = choose(pred, budget, costs=costs, margin=wider, proven=proven, fixed=fixed,
-                                    base_ms=at)
-                except BudgetError:
-                    rechosen.append("kept: no choice is predicted to meet the budget by wider margins")
+                    again = choose(pred, budget, costs=costs, margin=wider, proven=starts, fixed=fixed,
+                                   base_ms=at)
+                except BudgetError:  # none predicted to meet it by wider margins: on to the fallback
+                    exhausted = True
+                    rechosen.append("no choice is predicted to meet the budget by wider margins")
                     print(missed + rechosen[-1], flush=True)
-                    break
-                margins = wider
+            if again is not None:
+                picked, margins = again, wider
                 rechosen.append(f"chosen again, the margins widened by {short[0]:.2f} dB, IoU {short[1]:.3f}")
             elif untried := [nm for nm in proven if nm not in tried]:
                 best = _cheapest_everywhere(pred, untried, costs, fixed, at)
                 tried.append(best)
-                everywhere = pred.choice_of(pred.pick_of(BandChoice(default=best)))
-                if everywhere == picked.choice:  # the plan drawn already, and missing: the next
-                    continue
-                picked = dataclasses.replace(picked, choice=everywhere)
+                picked = dataclasses.replace(picked, choice=everywhere(best))
                 rechosen.append(f"{best} everywhere (measured to meet the budget on the representations' "
                                 "calibration frames)")
             else:
