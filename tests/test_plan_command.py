@@ -263,7 +263,7 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
 ):
     from morphkit.programs.planning import planrun
 
-    real = planrun._plan_offset
+    real = planrun.plan_offset
     calls = []
 
     def measured_short(*args, **kw):  # the plan's first `misses` drawings measured at IoU 0.1
@@ -274,7 +274,7 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
         short = [m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1} for m in got.measured]
         return got._replace(measured=short)
 
-    monkeypatch.setattr(planrun, "_plan_offset", measured_short)
+    monkeypatch.setattr(planrun, "plan_offset", measured_short)
     out = tmp_path / "plan"
     budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
     assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
@@ -303,7 +303,7 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
     from morphkit.errors import BudgetError
     from morphkit.programs.planning import planrun
 
-    real_offset, real_choose = planrun._plan_offset, planrun.choose
+    real_offset, real_choose = planrun.plan_offset, planrun.choose
     chosen = []
 
     def measured_short(*args, **kw):
@@ -317,7 +317,7 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
             raise BudgetError("no choice")
         return real_choose(*args, **kw)
 
-    monkeypatch.setattr(planrun, "_plan_offset", measured_short)
+    monkeypatch.setattr(planrun, "plan_offset", measured_short)
     monkeypatch.setattr(planrun, "choose", once)
     out = tmp_path / "plan"
     budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
@@ -340,7 +340,7 @@ def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_star
     from morphkit.plan.representations import BandChoice
     from morphkit.programs.planning import planrun
 
-    real_offset, real_choose = planrun._plan_offset, planrun.choose
+    real_offset, real_choose = planrun.plan_offset, planrun.choose
     starts, drawn = [], []
 
     def measured_short_once(*args, **kw):  # the first plan drawn measured at IoU 0.1
@@ -358,7 +358,7 @@ def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_star
             return got
         return dataclasses.replace(got, choice=pred.choice_of(pred.pick_of(BandChoice(default=starts[0][0]))))
 
-    monkeypatch.setattr(planrun, "_plan_offset", measured_short_once)
+    monkeypatch.setattr(planrun, "plan_offset", measured_short_once)
     monkeypatch.setattr(planrun, "choose", everywhere_first)
     out = tmp_path / "plan"
     budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]

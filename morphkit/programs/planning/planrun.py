@@ -62,7 +62,7 @@ import os
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
@@ -72,11 +72,11 @@ from ...billboard.compare import PSNR_CAP_DB
 from ...errors import BudgetError, FileFormatError, ValidationError, expected_got
 from ...files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ...plan import Budget
-from ...plan.calibration import Calibration, band_offsets, calibration_offsets, frame_cost, path_offsets
+from ...plan.calibration import band_offsets, calibration_offsets, frame_cost
 from ...plan.errortable import ErrorTable, default_elevations, measure_error_table
 from ...plan.mixed import banded_mode
 from ...plan.planfile import PLAN_NAME, ScenePlan
-from ...plan.planner import FramePredictions, choose, predict_frames, reached, sample_scene
+from ...plan.planner import FramePredictions, choose, predict_frames, sample_scene
 from ...plan.representations import (
     REPRESENTATIONS,
     BandChoice,
@@ -91,6 +91,7 @@ from ...scenes.description import SceneDescription
 from ...sunlit import LitMode
 from ..scenerender import PreparedScene, prepare_scene, scene_choices
 from ..sequence import compare_indices
+from .planown import plan_offset, shortfall
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .planverify import verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
@@ -409,60 +410,6 @@ def _calibrate(
     return offsets, costs, fixed, floor, margins, proven, report
 
 
-class PlanCalibration(NamedTuple):
-    """The chosen plan drawn on the calibration frames (:func:`_plan_offset`)."""
-
-    offset: Calibration
-    frames: list[int]
-    predicted: list[dict[str, float | None]]
-    measured: list[dict[str, float | None]]
-
-    def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
-        """The offsets of ``frames``, from the calibration frames around each along the path."""
-        return path_offsets(self.frames, self.predicted, self.measured, frames)
-
-    def to_json(self) -> dict[str, Any]:
-        o = self.offset
-        return {"db": o.db, "iou": o.iou, "frames_used": o.frames, "frames": self.frames,
-                "predicted": self.predicted, "measured": self.measured}
-
-
-def _plan_offset(
-    prep: PreparedScene,
-    cameras: Sequence[Any],
-    frames: Sequence[int],
-    plan: ScenePlan,
-    tables: Mapping[tuple[str, str], ErrorTable],
-    offsets: Mapping[Any, tuple[float, float]],
-    truths: dict[int, Any],
-) -> PlanCalibration:
-    """The chosen plan's own offsets, measured less predicted, on its calibration ``frames`` drawn
-    with it: the representations were calibrated each everywhere, and a frame mixing them is not the
-    sum of those (a card's box among exact meshes holds fewer errors than among cards). Its median
-    (:func:`~morphkit.plan.calibration.calibration_offsets`) is reported; the held-out frames'
-    predictions are moved by the calibration frames' around each
-    (:func:`~morphkit.plan.calibration.path_offsets`)."""
-    sample = sample_scene(prep.scene)
-    mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
-    got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
-    pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
-    p, m = pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"]
-    return PlanCalibration(calibration_offsets(p, m), [int(k) for k in frames], p, list(m))
-
-
-def _shortfall(budget: Budget, measured: Sequence[Mapping[str, float | None]]) -> tuple[float, float]:
-    """How far, in dB and in IoU, the figures ``budget.frames`` of the ``measured`` frames reach fall
-    short of the budget (zero where they meet it), at least the planner's margins where they do not."""
-    got = reached(budget, measured)
-    out = [0.0, 0.0]
-    keys = (("billboard-psnr", tol.PLAN_MARGIN_DB), ("billboard-iou", tol.PLAN_MARGIN_IOU))
-    for i, (key, unit) in enumerate(keys):
-        want, have = getattr(budget, key.replace("-", "_")), got.get(key)
-        if want is not None and have is not None and have < want:
-            out[i] = max(float(want - have), unit)
-    return out[0], out[1]
-
-
 def _cheapest_everywhere(
     pred: FramePredictions, names: Sequence[str], costs: Mapping[str, float], fixed: Mapping[str, float],
     base_ms: float,
@@ -634,7 +581,7 @@ def plan_scene(
         # representation everywhere measured to meet it, the cheapest first
         t1 = time.perf_counter()
         own_frames = [planning[i] for i in compare_indices(len(planning), PLAN_OWN_FRAMES)]
-        own = _plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
+        own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         checked = budget.time_ms is None and (budget.billboard_psnr, budget.billboard_iou) != (None, None)
         billboards_only = dataclasses.replace(budget, shadow_iou=None) if checked else budget
         rechosen: list[str] = []
@@ -650,7 +597,7 @@ def plan_scene(
             tried += [nm for nm in proven if nm not in tried and everywhere(nm) == picked.choice]
             again = None
             if len(rechosen) < tol.PLAN_RECHOICES and not exhausted:
-                short = _shortfall(billboards_only, own.measured)
+                short = shortfall(billboards_only, own.measured)
                 wider = {nm: (m[0] + short[0], m[1] + short[1]) for nm, m in margins.items()}
                 starts = [nm for nm in proven if nm not in tried]
                 try:
@@ -678,7 +625,7 @@ def plan_scene(
                 break
             print(missed + rechosen[-1], flush=True)
             plan = as_plan(picked.choice)
-            own = _plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
+            own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         truths.clear()
         calibration["plan"] = {**own.to_json(), "chosen_again": rechosen}
         t_calibrate += time.perf_counter() - t1

@@ -1,0 +1,74 @@
+"""The chosen plan drawn on frames of its own (:func:`plan_offset`): its offsets, measured less
+predicted, frame by frame along the path (:class:`PlanCalibration`), and how far those frames fall
+short of the budget (:func:`shortfall`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any, NamedTuple
+
+from ... import tol
+from ...plan import Budget
+from ...plan.calibration import Calibration, calibration_offsets, path_offsets
+from ...plan.errortable import ErrorTable
+from ...plan.planfile import ScenePlan
+from ...plan.planner import predict_frames, reached, sample_scene
+from ..scenerender import PreparedScene
+from .planverify import verify_frames
+
+__all__ = ["PlanCalibration", "plan_offset", "shortfall"]
+
+
+class PlanCalibration(NamedTuple):
+    """The chosen plan drawn on the calibration frames (:func:`plan_offset`)."""
+
+    offset: Calibration
+    frames: list[int]
+    predicted: list[dict[str, float | None]]
+    measured: list[dict[str, float | None]]
+
+    def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
+        """The offsets of ``frames``, from the calibration frames around each along the path."""
+        return path_offsets(self.frames, self.predicted, self.measured, frames)
+
+    def to_json(self) -> dict[str, Any]:
+        o = self.offset
+        return {"db": o.db, "iou": o.iou, "frames_used": o.frames, "frames": self.frames,
+                "predicted": self.predicted, "measured": self.measured}
+
+
+def plan_offset(
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    frames: Sequence[int],
+    plan: ScenePlan,
+    tables: Mapping[tuple[str, str], ErrorTable],
+    offsets: Mapping[Any, tuple[float, float]],
+    truths: dict[int, Any],
+) -> PlanCalibration:
+    """The chosen plan's own offsets, measured less predicted, on its calibration ``frames`` drawn
+    with it: the representations were calibrated each everywhere, and a frame mixing them is not the
+    sum of those (a card's box among exact meshes holds fewer errors than among cards). Its median
+    (:func:`~morphkit.plan.calibration.calibration_offsets`) is reported; the held-out frames'
+    predictions are moved by the calibration frames' around each
+    (:func:`~morphkit.plan.calibration.path_offsets`)."""
+    sample = sample_scene(prep.scene)
+    mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
+    got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
+    pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
+    p, m = pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"]
+    return PlanCalibration(calibration_offsets(p, m), [int(k) for k in frames], p, list(m))
+
+
+def shortfall(budget: Budget, measured: Sequence[Mapping[str, float | None]]) -> tuple[float, float]:
+    """How far, in dB and in IoU, the figures ``budget.frames`` of the ``measured`` frames reach fall
+    short of the budget (zero where they meet it), at least the planner's margins where they do not."""
+    got = reached(budget, measured)
+    out = [0.0, 0.0]
+    keys = (("billboard-psnr", tol.PLAN_MARGIN_DB), ("billboard-iou", tol.PLAN_MARGIN_IOU))
+    for i, (key, unit) in enumerate(keys):
+        want, have = getattr(budget, key.replace("-", "_")), got.get(key)
+        if want is not None and have is not None and have < want:
+            out[i] = max(float(want - have), unit)
+    return out[0], out[1]
