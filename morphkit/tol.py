@@ -617,8 +617,9 @@ PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
 #: How many times the planner chooses again when its plan, drawn on its own calibration frames, misses
-#: the budget there (each time with the representations' margins widened by the shortfall); then the
-#: representations everywhere measured to meet it on the calibration frames, the cheapest first.
+#: the budget along the path (each time with the margins of the representations it drew widened by the
+#: shortfall); then the representations everywhere measured to meet it on the calibration frames, the
+#: cheapest first.
 PLAN_RECHOICES = 2
 #: The fewest billboards of a band measured in the calibration frames that give the band its own
 #: offset (:func:`morphkit.plan.calibration.band_offsets`): the median of fewer is one billboard's luck.

@@ -8,7 +8,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
+import numpy as np
+
 from ... import tol
+from ...billboard.compare import PSNR_CAP_DB
 from ...plan import Budget
 from ...plan.calibration import Calibration, calibration_offsets, path_offsets
 from ...plan.errortable import ErrorTable
@@ -31,6 +34,23 @@ class PlanCalibration(NamedTuple):
     def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
         """The offsets of ``frames``, from the calibration frames around each along the path."""
         return path_offsets(self.frames, self.predicted, self.measured, frames)
+
+    def along(self, predicted: Sequence[Mapping[str, float | None]], frames: Sequence[int]
+              ) -> list[dict[str, float | None]]:
+        """The plan's figures on ``frames`` along the path: a frame it was drawn on, as measured; any
+        other, as ``predicted`` moved by its offset (:meth:`at`; a frame predicted at the PSNR cap
+        keeps its PSNR: nothing wrong predicted, and the offsets were taken without such frames)."""
+        drawn = dict(zip(self.frames, self.measured, strict=True))
+        out: list[dict[str, float | None]] = []
+        for k, f, (d, q) in zip(frames, predicted, self.at(frames), strict=True):
+            db, iou = f.get("billboard-psnr"), f.get("billboard-iou")
+            if k in drawn:
+                out.append(dict(drawn[k]))
+                continue
+            moved = db if db is None or db >= PSNR_CAP_DB else min(db + d, PSNR_CAP_DB)
+            out.append({"billboard-psnr": moved,
+                        "billboard-iou": None if iou is None else float(np.clip(iou + q, 0.0, 1.0))})
+        return out
 
     def to_json(self) -> dict[str, Any]:
         o = self.offset

@@ -20,11 +20,14 @@ the plan verified against the real meshes.
    band's cheapest representation predicted to meet the budget (:func:`~morphkit.plan.planner.choose`);
    a budget it cannot meet stops here with one line and nothing written. The plan is then drawn on
    its own calibration frames (:data:`PLAN_OWN_FRAMES`: the calibration frames and the planning frames
-   midway between them): one that misses the budget there is chosen again with the margins widened
-   by its shortfall (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each
-   representation everywhere measured to meet it on the calibration frames, the cheapest first,
-   until one meets it there too (``calibration.plan.chosen_again`` in ``plan.json`` says what was
-   done);
+   midway between them), and its figures along the path follow: those frames' as measured, every
+   other planning frame's predicted and moved by the offsets of the drawn frames around it
+   (:meth:`~.planown.PlanCalibration.along`). One that misses the budget's fraction of the planning
+   frames so is chosen again with the margins of the representations it drew widened by its
+   shortfall, a representation everywhere that so missed no longer a start
+   (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each representation
+   everywhere measured to meet it on the calibration frames, the cheapest first, until one meets it
+   along the path too (``calibration.plan.chosen_again`` in ``plan.json`` says what was done);
 4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
@@ -426,25 +429,6 @@ def _cheapest_everywhere(
     )
 
 
-def _moved(
-    frames: Sequence[Mapping[str, float | None]], by: Sequence[tuple[float, float]]
-) -> list[dict[str, float | None]]:
-    """Predicted frame figures each moved by its offset ``(dB, IoU)`` (frames predicted at the PSNR
-    cap kept: nothing wrong predicted, and the offsets were taken without them)."""
-    out: list[dict[str, float | None]] = []
-    for f, (d, q) in zip(frames, by, strict=True):
-        db, iou = f.get("billboard-psnr"), f.get("billboard-iou")
-        out.append(
-            {
-                "billboard-psnr": None
-                if db is None
-                else (db if db >= PSNR_CAP_DB else min(db + d, PSNR_CAP_DB)),
-                "billboard-iou": None if iou is None else float(np.clip(iou + q, 0.0, 1.0)),
-            }
-        )
-    return out
-
-
 def plan_scene(
     scene: SceneDescription,
     budget: Budget,
@@ -587,18 +571,24 @@ def plan_scene(
         rechosen: list[str] = []
         tried: list[str] = []  # the representations drawn everywhere as the plan
         exhausted = False  # no wider choice predicted to meet the budget
-        missed = f"{head}the plan missed the budget on its calibration frames: "
+        missed = f"{head}the plan missed the budget along the path: "
 
         def everywhere(name: str) -> BandChoice:
             return pred.choice_of(pred.pick_of(BandChoice(default=name)))
 
-        while checked and not billboards_only.verdict(own.measured)["met"]:
+        def along() -> list[dict[str, float | None]]:  # the plan's figures on the planning frames
+            return own.along(pred.frame_errors(pred.pick_of(picked.choice)), planning)
+
+        while checked and not billboards_only.verdict(along())["met"]:
             # a representation everywhere drawn as the plan and missing is measured to miss: no more a start
             tried += [nm for nm in proven if nm not in tried and everywhere(nm) == picked.choice]
             again = None
             if len(rechosen) < tol.PLAN_RECHOICES and not exhausted:
-                short = shortfall(billboards_only, own.measured)
-                wider = {nm: (m[0] + short[0], m[1] + short[1]) for nm, m in margins.items()}
+                short = shortfall(billboards_only, along())
+                # the margins of the representations the plan drew: its miss says nothing of the others
+                drawn = [nm for nm in pred.representations if nm in picked.choice.choices.values()]
+                wider = {nm: (m[0] + short[0], m[1] + short[1]) if nm in drawn else m
+                         for nm, m in margins.items()}
                 starts = [nm for nm in proven if nm not in tried]
                 try:
                     again = choose(pred, budget, costs=costs, margin=wider, proven=starts, fixed=fixed,
@@ -609,7 +599,8 @@ def plan_scene(
                     print(missed + rechosen[-1], flush=True)
             if again is not None:
                 picked, margins = again, wider
-                rechosen.append(f"chosen again, the margins widened by {short[0]:.2f} dB, IoU {short[1]:.3f}")
+                rechosen.append(f"chosen again, the margins of {', '.join(drawn)} widened by "
+                                f"{short[0]:.2f} dB, IoU {short[1]:.3f}")
             elif untried := [nm for nm in proven if nm not in tried]:
                 best = _cheapest_everywhere(pred, untried, costs, fixed, at)
                 tried.append(best)
@@ -654,7 +645,7 @@ def plan_scene(
         got = verify_frames(prep, cams, picks, modes, plain=plain if shadows is not None else None)
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
-            "plan": _moved(held.frame_errors(held.pick_of(plan.choice)), own.at(picks)),
+            "plan": own.along(held.frame_errors(held.pick_of(plan.choice)), picks),
             "default": held.frame_errors(held.pick_of(BandChoice())),
         }
         held_picks = {"plan": held.pick_of(plan.choice), "default": held.pick_of(BandChoice())}
