@@ -212,6 +212,31 @@ def test_path_offsets_follow_the_calibration_frames_around_each_frame():
     assert path_offsets([0], [p[0]], [m[2]], [3]) == [(0.0, 0.0)]
 
 
+def test_the_plan_along_the_path_takes_its_drawn_frames_as_measured_and_moves_the_others():
+    from morphkit.plan.calibration import Calibration
+    from morphkit.programs.planning.planown import PlanCalibration
+
+    # drawn on frames 0 and 10: 2 dB and 0.1 IoU under, then 1 dB over and 0.1 IoU over
+    own = PlanCalibration(
+        Calibration(0.0, 0.0, 2, 0.0, 0.0),
+        [0, 10],
+        [{"billboard-psnr": 30.0, "billboard-iou": 0.8}] * 2,
+        [{"billboard-psnr": 28.0, "billboard-iou": 0.7}, {"billboard-psnr": 31.0, "billboard-iou": 0.9}],
+    )
+    predicted = [
+        {"billboard-psnr": 99.0, "billboard-iou": 0.1},  # frame 0: drawn, its measure whatever predicted
+        {"billboard-psnr": 25.0, "billboard-iou": 0.95},  # frame 5: halfway, -0.5 dB, 0.0 IoU
+        {"billboard-psnr": PSNR_CAP_DB, "billboard-iou": 0.95},  # frame 12: at the cap, kept; IoU +0.1
+        {"billboard-psnr": None, "billboard-iou": None},  # frame 20: nothing drawn
+    ]
+    got = own.along(predicted, [0, 5, 12, 20])
+    assert got[0] == {"billboard-psnr": 28.0, "billboard-iou": 0.7}
+    assert got[1]["billboard-psnr"] == pytest.approx(24.5) and got[1]["billboard-iou"] == pytest.approx(0.95)
+    # frame 12: beyond frame 10, its offset; the IoU clipped at 1
+    assert got[2]["billboard-psnr"] == PSNR_CAP_DB and got[2]["billboard-iou"] == pytest.approx(1.0)
+    assert got[3] == {"billboard-psnr": None, "billboard-iou": None}
+
+
 def test_band_offsets_correct_each_band_apart_from_its_billboards_own_figures():
     pred = _two_bands()  # band 0 (eye level): 3 billboards a frame; band 1 (from above): 1
     # the card measured 2 dB under its table at eye level and 6 dB under from above; the IoU +0.01

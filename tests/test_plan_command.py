@@ -343,6 +343,33 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
     assert capsys.readouterr().out.count("the plan missed the budget along the path") == len(again)
 
 
+def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_path_stands(
+    tmp_path, monkeypatch
+):
+    from morphkit.programs.planning import planrun
+
+    real = planrun.plan_offset
+    drawn = []
+
+    def one_frame_short(*args, **kw):  # the middle one of the plan's own frames measured at IoU 0.1
+        got = real(*args, **kw)
+        drawn.append(got)
+        mid = len(got.measured) // 2
+        return got._replace(measured=[{**m, "billboard-iou": 0.1} if i == mid else m
+                                      for i, m in enumerate(got.measured)])
+
+    monkeypatch.setattr(planrun, "plan_offset", one_frame_short)
+    out = tmp_path / "plan"
+    # 16 frames, 2 held out: 14 planning frames, 7 of them the plan's own; 1 of 7 short is 86 %, under
+    # the budget's 90 %, but along the 14 frames it is 1 of 14 short (its neighbours, halfway to it,
+    # over 0.3): 93 %
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.9"]
+    assert main(["plan", str(_scene(tmp_path, frames=16)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    assert len(plan["planning_frames"]) == 14 and len(plan["calibration"]["plan"]["frames"]) == 7
+    assert plan["calibration"]["plan"]["chosen_again"] == [] and len(drawn) == 1
+
+
 def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_start(tmp_path, monkeypatch):
     import dataclasses
 
