@@ -561,8 +561,8 @@ def plan_scene(
         plan = as_plan(picked.choice)
         # the plan itself on its own calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards); a plan
-        # that misses the budget there is chosen again with wider margins, then given up for each
-        # representation everywhere measured to meet it, the cheapest first
+        # that misses the budget along the path is chosen again with wider margins, then given up for
+        # each representation everywhere measured to meet it, the cheapest first
         t1 = time.perf_counter()
         own_frames = [planning[i] for i in compare_indices(len(planning), PLAN_OWN_FRAMES)]
         own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
