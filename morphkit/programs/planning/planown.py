@@ -24,7 +24,8 @@ __all__ = ["PlanCalibration", "plan_offset", "shortfall"]
 
 
 class PlanCalibration(NamedTuple):
-    """The chosen plan drawn on the calibration frames (:func:`plan_offset`)."""
+    """The chosen plan drawn on frames of its own (:func:`plan_offset`): their indices on the path,
+    predicted and measured figures, and the median offset between them."""
 
     offset: Calibration
     frames: list[int]

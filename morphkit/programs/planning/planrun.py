@@ -579,12 +579,12 @@ def plan_scene(
         def along() -> list[dict[str, float | None]]:  # the plan's figures on the planning frames
             return own.along(pred.frame_errors(pred.pick_of(picked.choice)), planning)
 
-        while checked and not billboards_only.verdict(along())["met"]:
+        while checked and not billboards_only.verdict(figures := along())["met"]:
             # a representation everywhere drawn as the plan and missing is measured to miss: no more a start
             tried += [nm for nm in proven if nm not in tried and everywhere(nm) == picked.choice]
             again = None
             if len(rechosen) < tol.PLAN_RECHOICES and not exhausted:
-                short = shortfall(billboards_only, along())
+                short = shortfall(billboards_only, figures)
                 # the margins of the representations the plan drew: its miss says nothing of the others
                 drawn = [nm for nm in pred.representations if nm in picked.choice.choices.values()]
                 wider = {nm: (m[0] + short[0], m[1] + short[1]) if nm in drawn else m
