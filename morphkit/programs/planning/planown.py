@@ -24,8 +24,19 @@ __all__ = ["PlanCalibration", "plan_offset", "shortfall"]
 
 
 class PlanCalibration(NamedTuple):
-    """The chosen plan drawn on frames of its own (:func:`plan_offset`): their indices on the path,
-    predicted and measured figures, and the median offset between them."""
+    """The chosen plan drawn on frames of its own (:func:`plan_offset`).
+
+    Parameters
+    ----------
+    offset : Calibration
+        The median offset, measured less predicted, over the frames
+        (:func:`~morphkit.plan.calibration.calibration_offsets`).
+    frames : list of int
+        The frames' indices on the path.
+    predicted, measured : list of dict
+        Each frame's figures (``billboard-psnr``, ``billboard-iou``; None: nothing drawn), predicted
+        and as drawn with the plan.
+    """
 
     offset: Calibration
     frames: list[int]
@@ -33,14 +44,38 @@ class PlanCalibration(NamedTuple):
     measured: list[dict[str, float | None]]
 
     def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
-        """The offsets of ``frames``, from the calibration frames around each along the path."""
+        """The offsets of ``frames``, from the plan's frames around each along the path.
+
+        Parameters
+        ----------
+        frames : sequence of int
+            Indices on the path.
+
+        Returns
+        -------
+        list of (float, float)
+            ``(dB, IoU)`` per frame (:func:`~morphkit.plan.calibration.path_offsets`).
+        """
         return path_offsets(self.frames, self.predicted, self.measured, frames)
 
     def along(self, predicted: Sequence[Mapping[str, float | None]], frames: Sequence[int]
               ) -> list[dict[str, float | None]]:
         """The plan's figures on ``frames`` along the path: a frame it was drawn on, as measured; any
         other, as ``predicted`` moved by its offset (:meth:`at`; a frame predicted at the PSNR cap
-        keeps its PSNR: nothing wrong predicted, and the offsets were taken without such frames)."""
+        keeps its PSNR: nothing wrong predicted, and the offsets were taken without such frames).
+
+        Parameters
+        ----------
+        predicted : sequence of mapping
+            Each frame's predicted figures (``billboard-psnr``, ``billboard-iou``).
+        frames : sequence of int
+            Their indices on the path.
+
+        Returns
+        -------
+        list of dict
+            Each frame's figures, the IoU clipped to ``[0, 1]`` and the PSNR to the cap.
+        """
         drawn = dict(zip(self.frames, self.measured, strict=True))
         out: list[dict[str, float | None]] = []
         for k, f, (d, q) in zip(frames, predicted, self.at(frames), strict=True):
@@ -54,6 +89,12 @@ class PlanCalibration(NamedTuple):
         return out
 
     def to_json(self) -> dict[str, Any]:
+        """``plan.json``'s ``calibration.plan``: the median offset and the frames' figures.
+
+        Returns
+        -------
+        dict
+        """
         o = self.offset
         return {"db": o.db, "iou": o.iou, "frames_used": o.frames, "frames": self.frames,
                 "predicted": self.predicted, "measured": self.measured}
@@ -73,7 +114,29 @@ def plan_offset(
     sum of those (a card's box among exact meshes holds fewer errors than among cards). Its median
     (:func:`~morphkit.plan.calibration.calibration_offsets`) is reported; the held-out frames'
     predictions are moved by the calibration frames' around each
-    (:func:`~morphkit.plan.calibration.path_offsets`)."""
+    (:func:`~morphkit.plan.calibration.path_offsets`).
+
+    Parameters
+    ----------
+    prep : PreparedScene
+        The scene, its truth and its lights.
+    cameras : sequence of CameraModel
+        The path's frames.
+    frames : sequence of int
+        The frames the plan is drawn on.
+    plan : ScenePlan
+        The plan.
+    tables : mapping of (asset, representation) to ErrorTable
+        The error tables.
+    offsets : mapping
+        The representations' calibrated offsets (:meth:`~morphkit.plan.planner.FramePredictions.shifted`).
+    truths : dict
+        The truth's frames by index, drawn once (read where there, kept where not).
+
+    Returns
+    -------
+    PlanCalibration
+    """
     sample = sample_scene(prep.scene)
     mode = plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes())
     got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
@@ -84,7 +147,19 @@ def plan_offset(
 
 def shortfall(budget: Budget, measured: Sequence[Mapping[str, float | None]]) -> tuple[float, float]:
     """How far, in dB and in IoU, the figures ``budget.frames`` of the ``measured`` frames reach fall
-    short of the budget (zero where they meet it), at least the planner's margins where they do not."""
+    short of the budget (zero where they meet it), at least the planner's margins where they do not.
+
+    Parameters
+    ----------
+    budget : Budget
+        The budget.
+    measured : sequence of mapping
+        The frames' figures.
+
+    Returns
+    -------
+    db, iou : float
+    """
     got = reached(budget, measured)
     out = [0.0, 0.0]
     keys = (("billboard-psnr", tol.PLAN_MARGIN_DB), ("billboard-iou", tol.PLAN_MARGIN_IOU))
