@@ -526,3 +526,21 @@ def test_a_table_of_a_scaled_instance_draws_its_billboard_the_cells_height():
     assert [h for _, h in seen] == [pytest.approx(16.0, rel=1e-9), pytest.approx(40.0, rel=1e-9)]
     with pytest.raises(ValidationError, match="scale: expected a scale > 0, got 0"):
         measure_error_table(asset, None, None, ClassicMode(), ClassicMode(), mesh_hash=HASH, scale=0.0)
+
+
+def test_time_frames_draws_each_frame_in_every_mode_its_order_turned_and_times_each():
+    from types import SimpleNamespace
+
+    from morphkit.programs.planning.planverify import time_frames
+
+    drawn: list[tuple[int, str]] = []
+
+    class Scene:  # records what it is asked to draw
+        def render(self, cam: int, mode: str) -> None:
+            drawn.append((cam, mode))
+
+    modes = {"a": "A", "b": "B", "c": "C"}
+    got = time_frames(SimpleNamespace(lighting=None), [10, 11, 12], [0, 2], modes, Scene(), 1)
+    assert got.keys() == set("abc") and all(len(t) == 2 and min(t) >= 0.0 for t in got.values())
+    # the first frame's order turned one place on, the second's two
+    assert drawn == [(10, "B"), (10, "C"), (10, "A"), (12, "C"), (12, "A"), (12, "B")]

@@ -370,6 +370,38 @@ def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_p
     assert plan["calibration"]["plan"]["chosen_again"] == [] and len(drawn) == 1
 
 
+def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_by_drawing_fewer_instances(
+    tmp_path, monkeypatch
+):
+    from morphkit.programs.planning import planrun
+
+    # each representation timed at a known cost: 7 ms a frame (the mesh's 40: its render pass) and
+    # 2 ms a billboard drawn; one frame alone cannot tell them apart (the old rule put it all on the
+    # billboards: 0 ms a frame), its draws with all, half and a quarter of the instances can
+    cost = {r.name: (40.0 if r.name == "mesh" else 7.0, 2.0) for r in planrun.REPRESENTATIONS}
+    calls = []
+
+    def timed(prep, cameras, picks, modes, scene, turn=0):
+        calls.append(len(scene))
+        return {nm: [cost[nm][0] + cost[nm][1] * len(scene)] * len(picks) for nm in modes}
+
+    monkeypatch.setattr(planrun, "time_frames", timed)
+    out = tmp_path / "plan"
+    scene = _scene(tmp_path, frames=1)
+    assert main(["plan", str(scene), "--budget", "billboard-iou=0.3", "-o", str(out), "--verify", "1"]) == 0
+    cal = json.loads((out / "plan.json").read_text())["calibration"]
+    # 3 instances, all on screen: 3, round(1.5) = 2 and round(0.75) = 1 drawn
+    assert calls == [3, 2, 1] and cal["cost_billboards"] == [3, 2, 1]
+    for nm, (frame_ms, billboard_ms) in cost.items():
+        assert cal[nm]["ms_per_frame"] == pytest.approx(frame_ms)
+        assert cal[nm]["ms_per_billboard"] == pytest.approx(billboard_ms)
+    # a path of enough frames is not drawn again: its calibration frames tell the two apart
+    calls.clear()
+    assert main(["plan", str(_scene(tmp_path)), "--budget", "billboard-iou=0.3", "-o", str(out),
+                 "--verify", "2", "--overwrite"]) == 0
+    assert calls == []
+
+
 def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_start(tmp_path, monkeypatch):
     import dataclasses
 

@@ -10,7 +10,9 @@ the plan verified against the real meshes.
    the asset alone against its own mesh, under the scene's focal length, backdrop and middle frame's sun),
    or reads the tables a previous plan into the same folder measured for the same mesh and conditions;
 2. **calibrates** the tables on a few planning frames drawn in each representation everywhere (each
-   one's offsets, margin and measured cost per billboard, and whether it met the budget there).
+   one's offsets, margin and measured cost per frame and per billboard, and whether it met the budget
+   there; a path of fewer than :data:`PLAN_COST_FRAMES` calibration frames cannot tell the two costs
+   apart, so its frames are drawn again, timed only, with :data:`PLAN_COST_FRACTIONS` of their instances).
    With a ``shadow-iou`` budget, each shadow candidate (sun-atlas texels, hard, filtered or N
    directions: :mod:`morphkit.plan.shadowchoice`) is measured on the same frames with the real
    meshes and the least work meeting it chosen (:mod:`morphkit.programs.planning.shadowplanrun`;
@@ -96,7 +98,7 @@ from ..scenerender import PreparedScene, prepare_scene, scene_choices
 from ..sequence import compare_indices
 from .planown import plan_offset, shortfall
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
-from .planverify import verify_frames
+from .planverify import time_frames, verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = [
@@ -118,6 +120,13 @@ PLAN_CALIBRATION_FRAMES = 4
 #: the planning frames hold the 4 spread so). A plan's error changes along a path faster than four
 #: frames follow (a day's sun moving its meshes' shadows, a few large cards coming and going).
 PLAN_OWN_FRAMES = 2 * PLAN_CALIBRATION_FRAMES - 1
+#: Calibration frames a representation's cost per frame and per billboard are told apart on (the
+#: least-squares line of their times over their billboards needs three points).
+PLAN_COST_FRAMES = 3
+#: The fractions of a scene's instances its calibration frames are drawn again with, timed only, where
+#: they are fewer than :data:`PLAN_COST_FRAMES` (a one-frame scene: how else would its frame's cost, the
+#: real mesh's render pass, be told from its billboards'?).
+PLAN_COST_FRACTIONS: tuple[float, ...] = (1.0, 0.5, 0.25)
 #: Held-out frames verified by default.
 DEFAULT_VERIFY = 6
 
@@ -284,6 +293,29 @@ def _uniform(prep: PreparedScene, rep: Representation, light: Any = None, tables
     return banded_mode(BandChoice(default=rep.name), prep.relit, base, shadow, prep.meshes())
 
 
+def _cost_draws(
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    frames: Sequence[int],
+    sample: Any,
+    tables: Mapping[tuple[str, str], ErrorTable],
+) -> tuple[list[int], dict[str, list[float]]]:
+    """The calibration frames drawn again in every representation everywhere, timed only, with
+    :data:`PLAN_COST_FRACTIONS` of ``sample``'s instances (the same draw of them on every run), each
+    fraction by new modes (their caches cold, as a one-frame scene's frame is drawn): each draw's
+    billboards (predicted in bands, as the calibration counts them) and each representation's times."""
+    counts: list[int] = []
+    times: dict[str, list[float]] = {r.name: [] for r in REPRESENTATIONS}
+    rng = np.random.default_rng(0)
+    for n, f in enumerate(PLAN_COST_FRACTIONS):
+        sub = sample_scene(sample, max(1, round(f * len(sample))), rng)
+        counts += [len(b) for b in predict_frames(tables, sub, [cameras[k] for k in frames]).band_index]
+        got = time_frames(prep, cameras, frames, {r.name: _uniform(prep, r) for r in REPRESENTATIONS}, sub, n)
+        for nm, t in got.items():
+            times[nm] += t
+    return counts, times
+
+
 def _calibrate(
     prep: PreparedScene,
     cameras: Sequence[Any],
@@ -304,8 +336,9 @@ def _calibrate(
     (:func:`~morphkit.plan.calibration.band_offsets`), then the frames' for what is left and for the bands
     too little seen (:func:`~morphkit.plan.calibration.calibration_offsets`): what
     a table of one billboard alone cannot know of the scene (the billboards behind a silhouette, the
-    frame's edges, overlaps); each representation's cost per billboard drawn (the median of its frames'
-    times over their billboards); each representation's margin, how far its worst calibration frame fell
+    frame's edges, overlaps); each representation's cost per frame and per billboard drawn
+    (:func:`~morphkit.plan.calibration.frame_cost` of its frames' times, or of :func:`_cost_draws`'
+    where the frames are too few); each representation's margin, how far its worst calibration frame fell
     short of the calibrated prediction (at least the tolerance's); and the representations *proven*:
     measured on the calibration frames to meet the budget by the tolerance's margin."""
     frames = [
@@ -322,12 +355,16 @@ def _calibrate(
         truths=truths,
     )
     pred = predict_frames(tables, sample, [cameras[k] for k in frames])
+    counts = [len(b) for b in pred.band_index]
+    times = {r.name: got[r.name]["time_ms"] for r in REPRESENTATIONS}
+    if len(frames) < PLAN_COST_FRAMES:
+        counts, times = _cost_draws(prep, cameras, frames, sample, tables)
     offsets: dict[Any, tuple[float, float]] = {}
     costs: dict[str, float] = {}
     whole: dict[str, float] = {}
     margins: dict[str, tuple[float, float]] = {}
     proven: list[str] = []
-    report: dict[str, Any] = {"frames": list(frames)}
+    report: dict[str, Any] = {"frames": list(frames), "cost_billboards": counts}
     for r in REPRESENTATIONS:
         # a billboard's (or a culled band's) table is held to what a scene can move it by; the real
         # mesh's is exact (the truth against itself), so all its frames' error is the scene's (their
@@ -371,9 +408,7 @@ def _calibrate(
         ]
         if budget.error_keys() and budget.verdict(less)["met"]:  # a budget of time alone: none
             proven.append(r.name)
-        whole[r.name], costs[r.name] = frame_cost(
-            [len(b) for b in pred.band_index], got[r.name]["time_ms"], float(r.cost + 1)
-        )
+        whole[r.name], costs[r.name] = frame_cost(counts, times[r.name], float(r.cost + 1))
         report[r.name] = {
             "db": kept[r.name][0],
             "iou": kept[r.name][1],

@@ -15,7 +15,7 @@ from ...sunlit.litmodes import Relit
 from ...sunlit.shadowing import darkened_iou
 from ..scenerender import PreparedScene
 
-__all__ = ["frame_figures", "verify_frames"]
+__all__ = ["frame_figures", "time_frames", "verify_frames"]
 
 
 def frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
@@ -107,6 +107,53 @@ def verify_frames(
             out[nm]["errors"].append(figures)
             if boxes:
                 out[nm]["boxes"].append(box_errors(frame, truth))
+    return out
+
+
+def time_frames(
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    picks: Sequence[int],
+    modes: Mapping[str, Any],
+    scene: BillboardScene,
+    turn: int = 0,
+) -> dict[str, list[float]]:
+    """Each frame drawn in every mode and timed, nothing measured (no truth drawn): the modes' order
+    turned each frame, starting ``turn`` places on (so none is always first to warm the caches).
+
+    Parameters
+    ----------
+    prep : PreparedScene
+        The scene and its lights.
+    cameras : sequence of CameraModel
+        The path's frames.
+    picks : sequence of int
+        The frames drawn.
+    modes : mapping of str to FrameMode
+        The configurations.
+    scene : BillboardScene
+        The instances drawn.
+    turn : int, optional
+        The places the first frame's order is turned by.
+
+    Returns
+    -------
+    dict of str to list of float
+        Per mode, each frame's time (milliseconds).
+    """
+    out: dict[str, list[float]] = {nm: [] for nm in modes}
+    order = list(modes)
+    for n, k in enumerate(picks):
+        cam = cameras[k]
+        if prep.lighting is not None:
+            for m in modes.values():
+                if isinstance(m, Relit):
+                    m.lighting = prep.lighting[k]
+        at = (n + turn) % len(order)
+        for nm in order[at:] + order[:at]:
+            t0 = time.perf_counter()
+            scene.render(cam, modes[nm])
+            out[nm].append(1e3 * (time.perf_counter() - t0))
     return out
 
 
