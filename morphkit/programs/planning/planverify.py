@@ -126,11 +126,11 @@ def time_frames(
     prep : PreparedScene
         The scene and its lights.
     cameras : sequence of CameraModel
-        The path's frames.
+        Every frame's camera, by the frame's index.
     picks : sequence of int
-        The frames drawn.
+        The frames timed.
     modes : mapping of str to FrameMode
-        The configurations.
+        The configurations timed.
     scene : BillboardScene
         The instances drawn.
     turn : int, optional
