@@ -3,15 +3,23 @@ real meshes, as `morphkit plan` measures a frame (`planverify.verify_frames`: bi
 billboard-iou over the billboards' boxes): how a representation's error moves along the whole path,
 and the fraction of the frames a budget's figures hold on, where a plan sees only a few frames.
 
+With --phase (ring assets): each billboard's box IoU by its phase between its two ring views (0 at
+a view, 0.5 midway), and how the representations' frame IoU move together: whether a frame's error
+follows its billboards' phases or the frame itself.
+
 Usage: python scripts/plan_path_profile.py SCENE [--rep classic --rep nearest ...]
-       [--budget billboard-iou=0.7 ...] [--every K]
+       [--budget billboard-iou=0.7 ...] [--every K] [--phase]
 """
 
 from __future__ import annotations
 
 import argparse
+from typing import Any
+
+import numpy as np
 
 import morphkit
+from morphkit.billboard import BillboardScene
 from morphkit.plan import Budget
 from morphkit.plan.mixed import banded_mode
 from morphkit.plan.representations import BandChoice
@@ -26,6 +34,7 @@ def main() -> None:
     ap.add_argument("--rep", action="append", help="a representation (default: classic, nearest)")
     ap.add_argument("--budget", action="append", default=[], help="KEY=VALUE (billboard-psnr, billboard-iou)")
     ap.add_argument("--every", type=int, default=1, help="every K-th frame")
+    ap.add_argument("--phase", action="store_true", help="box IoU by phase between ring views")
     a = ap.parse_args()
     reps = a.rep or ["classic", "nearest"]
     budget = Budget.parse(a.budget) if a.budget else None
@@ -36,7 +45,7 @@ def main() -> None:
         prep = prepare_scene(scene, r, views, head="profile: ", command="plan", sun=sun)
         modes = {nm: banded_mode(BandChoice(default=nm), prep.relit, prep.base, prep.shadow, prep.meshes())
                  for nm in reps}
-        got = verify_frames(prep, cams, frames, modes)
+        got = verify_frames(prep, cams, frames, modes, boxes=a.phase)
     print("frame " + " ".join(f"{nm + ' dB/IoU':>18}" for nm in reps))
     for i, k in enumerate(frames):
         cells = []
@@ -51,6 +60,30 @@ def main() -> None:
         print(f"{nm}: {len(held)} of {len(drawn)} frames with billboards within "
               f"{budget.to_json() if budget else 'no budget'}"
               + (f" ({len(held) / len(drawn):.1%})" if drawn else ""))
+    if a.phase:
+        _phases(prep.scene, got, reps)
+
+
+def _phases(scene: BillboardScene, got: dict[str, dict[str, list[Any]]], reps: list[str]) -> None:
+    """Box IoU by phase between ring views, per representation; the frames' IoU correlated."""
+    inst = scene.instances
+    for nm in reps:
+        ph, iou = [], []
+        for boxes in got[nm]["boxes"]:
+            for b in boxes:
+                _i, _j, s, _out = scene.assets[inst.names[inst.asset[b["index"]]]].ring.pair(b["azimuth_deg"])
+                ph.append(min(s, 1.0 - s))
+                iou.append(b["iou"])
+        p, q = np.asarray(ph), np.asarray(iou)
+        quarters = [q[(p >= lo) & (p < lo + 0.125)].mean() for lo in (0.0, 0.125, 0.25, 0.375)]
+        print(f"{nm}: {len(q)} billboards, box IoU by phase quarter "
+              + " ".join(f"{v:.3f}" for v in quarters) + f", correlation {np.corrcoef(p, q)[0, 1]:+.3f}")
+    frame = {nm: [e["billboard-iou"] for e in got[nm]["errors"]] for nm in reps}
+    drawn = [i for i in range(len(frame[reps[0]])) if all(frame[nm][i] is not None for nm in reps)]
+    for k, x in enumerate(reps):
+        for y in reps[k + 1:]:
+            r = np.corrcoef([frame[x][i] for i in drawn], [frame[y][i] for i in drawn])[0, 1]
+            print(f"frame IoU of {x} and {y} over {len(drawn)} frames: correlation {r:+.3f}")
 
 
 if __name__ == "__main__":

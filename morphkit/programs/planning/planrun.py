@@ -102,7 +102,8 @@ from .planverify import time_frames, verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = [
-    "plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "PLAN_OWN_FRAMES", "TABLES_FOLDER", "DEFAULT_VERIFY"
+    "plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "PLAN_OWN_FRAMES", "PLAN_COST_FRAMES",
+    "PLAN_COST_FRACTIONS", "TABLES_FOLDER", "DEFAULT_VERIFY",
 ]
 
 #: The error tables' subfolder of a plan's output folder.
