@@ -6,7 +6,7 @@ each frame's figures of a budget against the truth's frame (:mod:`morphkit.progr
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from ...billboard import BillboardScene
@@ -88,10 +88,7 @@ def verify_frames(
     truth_plain = prep.meshes() if plain is not None else None
     for n, k in enumerate(picks):
         cam = cameras[k]
-        if prep.lighting is not None:
-            for m in (*modes.values(), *twins, prep.truth, truth_plain):
-                if isinstance(m, Relit):
-                    m.lighting = prep.lighting[k]
+        _relight(prep, k, (*modes.values(), *twins, prep.truth, truth_plain))
         truth = _drawn(truths, k, scene, cam, prep.truth)
         if plain is not None:
             t_plain = _drawn(truths, ("plain", k), scene, cam, truth_plain)
@@ -145,16 +142,21 @@ def time_frames(
     order = list(modes)
     for n, k in enumerate(picks):
         cam = cameras[k]
-        if prep.lighting is not None:
-            for m in modes.values():
-                if isinstance(m, Relit):
-                    m.lighting = prep.lighting[k]
+        _relight(prep, k, modes.values())
         at = (n + turn) % len(order)
         for nm in order[at:] + order[:at]:
             t0 = time.perf_counter()
             scene.render(cam, modes[nm])
             out[nm].append(1e3 * (time.perf_counter() - t0))
     return out
+
+
+def _relight(prep: PreparedScene, k: int, modes: Iterable[Any]) -> None:
+    """The relit ones of ``modes`` lit as frame ``k`` is (where the scene's lights change by frame)."""
+    if prep.lighting is not None:
+        for m in modes:
+            if isinstance(m, Relit):
+                m.lighting = prep.lighting[k]
 
 
 def _drawn(kept: dict[Any, Any] | None, key: Any, scene: BillboardScene, cam: Any, mode: Any) -> Any:
