@@ -34,6 +34,10 @@ def _one_error_line(capsys) -> str:
     return err[0]
 
 
+# what a plan whose every fallback missed along the path says it kept
+KEPT = "kept: every representation everywhere measured or predicted to meet it misses it here"
+
+
 def _scene(tmp_path, **kw):
     path = tmp_path / "scene.json"
     path.write_text(json.dumps({**SMALL_SCENE, **kw}))
@@ -282,20 +286,22 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
     printed = capsys.readouterr().out
     plan = json.loads((out / "plan.json").read_text())
     again = plan["calibration"]["plan"]["chosen_again"]
-    everywhere = "everywhere (measured to meet the budget on the representations' calibration frames)"
-    proven = [nm for nm, c in plan["calibration"].items() if isinstance(c, dict) and c.get("measured_meets")]
+    # a fallback names why its representation everywhere was tried: measured or predicted to meet it
+    everywhere = re.compile(r"[a-z]+ everywhere \((measured to meet the budget on the representations' "
+                            r"calibration frames|predicted to meet the budget along the path by its "
+                            r"margins)\)")
     if misses == 1:  # chosen again once, its margins widened by the shortfall, 0.3 - 0.1
         assert len(calls) == 2 and len(again) == 1
         assert re.fullmatch(r"chosen again, the margins of [a-z, ]+ widened by"
                             r" 0\.00 dB, IoU 0\.200", again[0])
     elif misses == tol.PLAN_RECHOICES + 2:  # then the cheapest representation everywhere misses: the next
-        assert len(proven) >= 2 and len(calls) == misses + 1 and len(again) == misses
-        assert all(a.endswith(everywhere) for a in again[-2:]) and again[-2] != again[-1]
+        assert len(calls) == misses + 1 and len(again) == misses
+        assert all(everywhere.fullmatch(a) for a in again[-2:]) and again[-2] != again[-1]
         assert len({c["representation"] for c in plan["choices"]}) == 1
     else:  # missing every time: chosen again PLAN_RECHOICES times, then each representation everywhere
-        assert sum(a.endswith(everywhere) for a in again) <= len(proven)
-        assert again[-1] == ("kept: every representation everywhere measured to meet it on the "
-                             "representations' calibration frames misses it here")
+        fallbacks = [a.split()[0] for a in again if everywhere.fullmatch(a)]
+        assert fallbacks and len(set(fallbacks)) == len(fallbacks) <= len(planrun.REPRESENTATIONS)
+        assert again[-1] == KEPT
         assert len(calls) == len(again) and len({c["representation"] for c in plan["choices"]}) == 1
     assert printed.count("the plan missed the budget along the path") == len(again)
 
@@ -332,15 +338,58 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
     again = plan["calibration"]["plan"]["chosen_again"]
     # asked for once more, then each representation everywhere measured to meet it, each missing here
     assert len(chosen) == 2 and again[0] == "no choice is predicted to meet the budget by wider margins"
-    assert again[-1] == ("kept: every representation everywhere measured to meet it on the "
-                         "representations' calibration frames misses it here")
-    assert len(again) >= 3 and all(a.endswith("calibration frames)") for a in again[1:-1])
+    assert again[-1] == KEPT
+    assert len(again) >= 3 and all(a.endswith("frames)") or a.endswith("margins)") for a in again[1:-1])
     # the second choice was asked for with the margins of the representations the plan drew 0.2 wider in
     # IoU, the others' as they were (the plan's miss says nothing of them)
     assert drawn and set(drawn) < set(chosen[0])
     for nm in chosen[0]:
         assert chosen[1][nm][1] == pytest.approx(chosen[0][nm][1] + (0.2 if nm in drawn else 0.0))
     assert capsys.readouterr().out.count("the plan missed the budget along the path") == len(again)
+
+
+def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_before_a_dearer_proven_one(
+    tmp_path, monkeypatch
+):
+    from morphkit.errors import BudgetError
+    from morphkit.programs.planning import planrun
+
+    real_calibrate, real_offset, real_choose = planrun._calibrate, planrun.plan_offset, planrun.choose
+    drawn, chosen = [], []
+
+    def mesh_alone_proven(*args, **kw):  # as where a cheap one misses a single calibration frame
+        offsets, costs, fixed, floor, margins, proven, report = real_calibrate(*args, **kw)
+        assert "mesh" in proven
+        return offsets, costs, fixed, floor, margins, ["mesh"], report
+
+    def measured_short_once(*args, **kw):  # the first plan drawn measured at IoU 0.1, the rest as they are
+        got = real_offset(*args, **kw)
+        drawn.append(got)
+        if len(drawn) > 1:
+            return got
+        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1}
+                                      for m in got.measured])
+
+    def once(*args, **kw):  # none with wider margins is predicted to meet it: on to the fallback
+        chosen.append(kw)
+        if len(chosen) > 1:
+            raise BudgetError("no choice")
+        return real_choose(*args, **kw)
+
+    monkeypatch.setattr(planrun, "_calibrate", mesh_alone_proven)
+    monkeypatch.setattr(planrun, "plan_offset", measured_short_once)
+    monkeypatch.setattr(planrun, "choose", once)
+    out = tmp_path / "plan"
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
+    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    plan = json.loads((out / "plan.json").read_text())
+    again = plan["calibration"]["plan"]["chosen_again"]
+    # the billboards meet an IoU of 0.3 by far: one is predicted to, and cheaper than the real mesh
+    assert again[0] == "no choice is predicted to meet the budget by wider margins" and len(again) == 2
+    best, tail = again[1].split(" ", 1)
+    assert best != "mesh"
+    assert tail == "everywhere (predicted to meet the budget along the path by its margins)"
+    assert {c["representation"] for c in plan["choices"]} == {best} and len(drawn) == 2
 
 
 def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_path_stands(

@@ -28,8 +28,9 @@ the plan verified against the real meshes.
    frames so is chosen again with the margins of the representations it drew widened by its
    shortfall, a representation everywhere that so missed no longer a start
    (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each representation
-   everywhere measured to meet it on the calibration frames, the cheapest first, until one meets it
-   along the path too (``calibration.plan.chosen_again`` in ``plan.json`` says what was done);
+   everywhere measured to meet it on the calibration frames or predicted to along the path by its
+   margins, the cheapest first, until one meets it along the path too
+   (``calibration.plan.chosen_again`` in ``plan.json`` says what was done);
 4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
@@ -598,7 +599,7 @@ def plan_scene(
         # the plan itself on its own calibration frames: what mixing its representations does to the
         # frames (a card among exact meshes shares its box with fewer errors than among cards); a plan
         # that misses the budget along the path is chosen again with wider margins, then given up for
-        # each representation everywhere measured to meet it, the cheapest first
+        # each representation everywhere measured or predicted to meet it, the cheapest first
         t1 = time.perf_counter()
         own_frames = [planning[i] for i in compare_indices(len(planning), PLAN_OWN_FRAMES)]
         own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
@@ -615,9 +616,17 @@ def plan_scene(
         def along() -> list[dict[str, float | None]]:  # the plan's figures on the planning frames
             return own.along(pred.frame_errors(pred.pick_of(picked.choice)), planning)
 
+        def viable(name: str) -> bool:  # measured to meet it, or predicted to by its margins along the path
+            m = margins[name]
+            less = [{k: None if v is None else v - (m[0] if k == "billboard-psnr" else m[1])
+                     for k, v in f.items()}
+                    for f in pred.frame_errors(pred.pick_of(BandChoice(default=name)))]
+            return name in proven or billboards_only.verdict(less)["met"]
+
         while checked and not billboards_only.verdict(figures := along())["met"]:
             # a representation everywhere drawn as the plan and missing is measured to miss: no more a start
-            tried += [nm for nm in proven if nm not in tried and everywhere(nm) == picked.choice]
+            tried += [nm for nm in pred.representations
+                      if nm not in tried and everywhere(nm) == picked.choice]
             again = None
             if len(rechosen) < tol.PLAN_RECHOICES and not exhausted:
                 short = shortfall(billboards_only, figures)
@@ -637,16 +646,17 @@ def plan_scene(
                 picked, margins = again, wider
                 rechosen.append(f"chosen again, the margins of {', '.join(drawn)} widened by "
                                 f"{short[0]:.2f} dB, IoU {short[1]:.3f}")
-            elif untried := [nm for nm in proven if nm not in tried]:
+            elif untried := [nm for nm in pred.representations if nm not in tried and viable(nm)]:
                 best = _cheapest_everywhere(pred, untried, costs, fixed, at)
                 tried.append(best)
                 picked = dataclasses.replace(picked, choice=everywhere(best))
-                rechosen.append(f"{best} everywhere (measured to meet the budget on the representations' "
-                                "calibration frames)")
+                rechosen.append(f"{best} everywhere (" + ("measured to meet the budget on the "
+                                "representations' calibration frames)" if best in proven else
+                                "predicted to meet the budget along the path by its margins)"))
             else:
-                why = ("every representation everywhere measured to meet it on the representations' "
-                       "calibration frames misses it here" if proven
-                       else "no representation everywhere was measured to meet it")
+                why = ("every representation everywhere measured or predicted to meet it misses it here"
+                       if any(map(viable, tried))
+                       else "no representation everywhere was measured or predicted to meet it")
                 rechosen.append(f"kept: {why}")
                 print(missed + rechosen[-1], flush=True)
                 break
