@@ -20,7 +20,7 @@ from ...plan.planner import predict_frames, reached, sample_scene
 from ..scenerender import PreparedScene
 from .planverify import verify_frames
 
-__all__ = ["PlanCalibration", "plan_offset", "shortfall"]
+__all__ = ["PlanCalibration", "less_margin", "plan_offset", "shortfall"]
 
 
 class PlanCalibration(NamedTuple):
@@ -168,3 +168,31 @@ def shortfall(budget: Budget, measured: Sequence[Mapping[str, float | None]]) ->
         if want is not None and have is not None and have < want:
             out[i] = max(float(want - have), unit)
     return out[0], out[1]
+
+
+def less_margin(
+    figures: Sequence[Mapping[str, float | None]],
+    margin: tuple[float, float] = (tol.PLAN_MARGIN_DB, tol.PLAN_MARGIN_IOU),
+) -> list[dict[str, float | None]]:
+    """``figures`` less ``margin``: what a budget is held to where its figures are measured on a few
+    frames or predicted between them (a frame next to one measured just within it is not).
+
+    Parameters
+    ----------
+    figures : sequence of mapping
+        Each frame's figures (``billboard-psnr``, ``billboard-iou``; None: nothing drawn).
+    margin : (float, float), optional
+        dB and IoU taken off (default: the tolerance's, :data:`morphkit.tol.PLAN_MARGIN_DB` and
+        :data:`morphkit.tol.PLAN_MARGIN_IOU`).
+
+    Returns
+    -------
+    list of dict
+
+    Examples
+    --------
+    >>> less_margin([{"billboard-psnr": 20.0, "billboard-iou": None}], (0.5, 0.01))
+    [{'billboard-psnr': 19.5, 'billboard-iou': None}]
+    """
+    off = {"billboard-psnr": margin[0], "billboard-iou": margin[1]}
+    return [{k: None if v is None else v - off.get(k, 0.0) for k, v in f.items()} for f in figures]

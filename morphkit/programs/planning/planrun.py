@@ -25,8 +25,9 @@ the plan verified against the real meshes.
    midway between them), and its figures along the path follow: those frames' as measured, every
    other planning frame's predicted and moved by the offsets of the drawn frames around it
    (:meth:`~.planown.PlanCalibration.along`). One that misses the budget's fraction of the planning
-   frames so is chosen again with the margins of the representations it drew widened by its
-   shortfall, a representation everywhere that so missed no longer a start
+   frames so, held by the tolerance's margin (:func:`~.planown.less_margin`), is chosen again with
+   the margins of the representations it drew widened by its shortfall, a representation everywhere
+   that so missed no longer a start
    (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each representation
    everywhere measured to meet it on the calibration frames or predicted to along the path by its
    margins, the cheapest first, until one meets it along the path too
@@ -97,7 +98,7 @@ from ...scenes.description import SceneDescription
 from ...sunlit import LitMode
 from ..scenerender import PreparedScene, prepare_scene, scene_choices
 from ..sequence import compare_indices
-from .planown import plan_offset, shortfall
+from .planown import less_margin, plan_offset, shortfall
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .planverify import time_frames, verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
@@ -399,16 +400,7 @@ def _calibrate(
             max(tol.PLAN_MARGIN_DB, min(c.spread_db, lim[0])),
             max(tol.PLAN_MARGIN_IOU, min(c.spread_iou, lim[1])),
         )
-        less = [
-            {
-                k: None
-                if v is None
-                else v - (tol.PLAN_MARGIN_DB if k == "billboard-psnr" else tol.PLAN_MARGIN_IOU)
-                for k, v in f.items()
-            }
-            for f in measured
-        ]
-        if budget.error_keys() and budget.verdict(less)["met"]:  # a budget of time alone: none
+        if budget.error_keys() and budget.verdict(less_margin(measured))["met"]:  # time alone: none
             proven.append(r.name)
         whole[r.name], costs[r.name] = frame_cost(counts, times[r.name], float(r.cost + 1))
         report[r.name] = {
@@ -617,13 +609,11 @@ def plan_scene(
             return own.along(pred.frame_errors(pred.pick_of(picked.choice)), planning)
 
         def viable(name: str) -> bool:  # measured to meet it, or predicted to by its margins along the path
-            m = margins[name]
-            less = [{k: None if v is None else v - (m[0] if k == "billboard-psnr" else m[1])
-                     for k, v in f.items()}
-                    for f in pred.frame_errors(pred.pick_of(BandChoice(default=name)))]
+            less = less_margin(pred.frame_errors(pred.pick_of(BandChoice(default=name))), margins[name])
             return name in proven or billboards_only.verdict(less)["met"]
 
-        while checked and not billboards_only.verdict(figures := along())["met"]:
+        # held by the tolerance's margin, as a representation proven on its calibration frames is
+        while checked and not billboards_only.verdict(figures := less_margin(along()))["met"]:
             # a representation everywhere drawn as the plan and missing is measured to miss: no more a start
             tried += [nm for nm in pred.representations
                       if nm not in tried and everywhere(nm) == picked.choice]
