@@ -612,14 +612,16 @@ PLAN_CARD_GAP_IOU = 0.06
 
 #: The margin the planner keeps between a frame's predicted box PSNR and the budget
 #: (:func:`morphkit.plan.planner.choose`): a choice must be predicted to beat the budget by this
-#: much, so that a frame whose measure falls short of its prediction by the median gap still meets it.
+#: much, so that a frame whose measure falls short of its prediction by the median gap still meets it;
+#: the plan's figures along the path and a representation's measured on its calibration frames are
+#: held by it too (:func:`morphkit.programs.planning.planown.less_margin`).
 PLAN_MARGIN_DB = 0.5
 #: The same margin in silhouette IoU (:data:`PLAN_MARGIN_DB`'s sentence holds for it).
 PLAN_MARGIN_IOU = 0.01
 #: How many times the planner chooses again when its plan, drawn on its own calibration frames, misses
 #: the budget along the path (each time with the margins of the representations it drew widened by the
-#: shortfall); then the representations everywhere measured to meet it on the calibration frames, the
-#: cheapest first.
+#: shortfall); then the representations everywhere measured to meet it on the calibration frames or
+#: predicted to along the path by their margins, the cheapest first.
 PLAN_RECHOICES = 2
 #: The fewest billboards of a band measured in the calibration frames that give the band its own
 #: offset (:func:`morphkit.plan.calibration.band_offsets`): the median of fewer is one billboard's luck.

@@ -449,7 +449,7 @@ def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_p
     assert plan["calibration"]["plan"]["chosen_again"] == [] and len(drawn) == 1
 
 
-def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_by_drawing_fewer_instances(
+def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_its_frame_again(
     tmp_path, monkeypatch
 ):
     from morphkit.programs.planning import planrun
@@ -461,24 +461,35 @@ def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_by_drawing_
     calls = []
 
     def timed(prep, cameras, picks, modes, scene, turn=0):
+        if "plan" in modes:  # the held-out frames timed again: 123 ms each
+            verified.append((list(picks), turn))
+            return {nm: [123.0] * len(picks) for nm in modes}
         calls.append(len(scene))
         return {nm: [cost[nm][0] + cost[nm][1] * len(scene)] * len(picks) for nm in modes}
 
+    verified: list = []
     monkeypatch.setattr(planrun, "time_frames", timed)
     out = tmp_path / "plan"
     scene = _scene(tmp_path, frames=1)
     assert main(["plan", str(scene), "--budget", "billboard-iou=0.3", "-o", str(out), "--verify", "1"]) == 0
-    cal = json.loads((out / "plan.json").read_text())["calibration"]
+    plan = json.loads((out / "plan.json").read_text())
+    cal = plan["calibration"]
     # 3 instances, all on screen: 3, round(1.5) = 2 and round(0.75) = 1 drawn
     assert calls == [3, 2, 1] and cal["cost_billboards"] == [3, 2, 1]
     for nm, (frame_ms, billboard_ms) in cost.items():
         assert cal[nm]["ms_per_frame"] == pytest.approx(frame_ms)
         assert cal[nm]["ms_per_billboard"] == pytest.approx(billboard_ms)
-    # a path of enough frames is not drawn again: its calibration frames tell the two apart
+    # its one verified frame drawn PLAN_TIME_DRAWS times, the order turned each time: the median of
+    # its one measured draw and the 4 timed again
+    assert verified == [([0], i) for i in range(1, planrun.PLAN_TIME_DRAWS)]
+    assert plan["time_ms"]["plan"] == plan["time_ms"]["default"] == 123.0
+    # a path of enough frames is not drawn again: its calibration frames tell the two apart; its 2
+    # verified frames are timed twice again, 3 draws each
     calls.clear()
+    verified.clear()
     assert main(["plan", str(_scene(tmp_path)), "--budget", "billboard-iou=0.3", "-o", str(out),
                  "--verify", "2", "--overwrite"]) == 0
-    assert calls == []
+    assert calls == [] and [t for _, t in verified] == [1, 2]
 
 
 def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_start(tmp_path, monkeypatch):
