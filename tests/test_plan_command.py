@@ -463,11 +463,13 @@ def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_i
     def timed(prep, cameras, picks, modes, scene, turn=0):
         if "plan" in modes:  # the held-out frames timed again: 123 ms each
             verified.append((list(picks), turn))
+            kept.append(modes["plan"])  # kept alive: a new mode is a new object
             return {nm: [123.0] * len(picks) for nm in modes}
         calls.append(len(scene))
         return {nm: [cost[nm][0] + cost[nm][1] * len(scene)] * len(picks) for nm in modes}
 
     verified: list = []
+    kept: list = []
     monkeypatch.setattr(planrun, "time_frames", timed)
     out = tmp_path / "plan"
     scene = _scene(tmp_path, frames=1)
@@ -479,9 +481,10 @@ def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_i
     for nm, (frame_ms, billboard_ms) in cost.items():
         assert cal[nm]["ms_per_frame"] == pytest.approx(frame_ms)
         assert cal[nm]["ms_per_billboard"] == pytest.approx(billboard_ms)
-    # its one verified frame drawn PLAN_TIME_DRAWS times, the order turned each time: the median of
-    # its one measured draw and the 4 timed again
+    # its one verified frame drawn PLAN_TIME_DRAWS times, the order turned each time and by new modes
+    # (their caches cold): the median of its one measured draw and the 4 timed again
     assert verified == [([0], i) for i in range(1, planrun.PLAN_TIME_DRAWS)]
+    assert len({id(m) for m in kept}) == len(kept) == planrun.PLAN_TIME_DRAWS - 1
     assert plan["time_ms"]["plan"] == plan["time_ms"]["default"] == 123.0
     # a path of enough frames is not drawn again: its calibration frames tell the two apart; its 2
     # verified frames are timed twice again, 3 draws each

@@ -134,8 +134,9 @@ PLAN_COST_FRACTIONS: tuple[float, ...] = (1.0, 0.5, 0.25)
 #: Held-out frames verified by default.
 DEFAULT_VERIFY = 6
 #: The fewest draws a configuration's verified frame time is the median of: held-out frames fewer than
-#: this are each drawn again, timed only, and a frame's time is the median of its draws (one draw of a
-#: one-frame scene is one sample of the machine's noise).
+#: this are each drawn again by new modes (their caches cold, as a frame seen once is drawn), timed
+#: only, and a frame's time is the median of its draws (one draw of a one-frame scene is one sample of
+#: the machine's noise).
 PLAN_TIME_DRAWS = 5
 
 
@@ -668,24 +669,23 @@ def plan_scene(
             + f" (tables {t_tables:.1f} s, calibration {t_calibrate:.1f} s, choice {t_plan:.2f} s)",
             flush=True,
         )
-        modes: dict[str, Any] = {
-            "plan": plan.mode(prep.relit, prep.base, plan_prep.shadow, prep.meshes()),
-            "default": prep.mode(),
-        }
+        swept = [rep for rep in REPRESENTATIONS if sweep and rep.name != "morph"]  # morph: the default
+
+        def configurations() -> dict[str, Any]:  # new modes, their caches cold; swept under the plan's shadow
+            return {"plan": plan.mode(prep.relit, prep.base, plan_prep.shadow, prep.meshes()),
+                    "default": prep.mode(), **{rep.name: _uniform(plan_prep, rep) for rep in swept}}
+
+        modes = configurations()
         unshadowed = dataclasses.replace(prep, shadow=None)
-        plain = {"plan": plan.mode(prep.relit, prep.base, None, prep.meshes()), "default": unshadowed.mode()}
-        if sweep:  # each representation everywhere, under the plan's shadow
-            for rep in REPRESENTATIONS:
-                if rep.name != "morph":  # the view morph everywhere is the default
-                    modes[rep.name] = _uniform(plan_prep, rep)
-                    plain[rep.name] = _uniform(unshadowed, rep)
+        plain = {"plan": plan.mode(prep.relit, prep.base, None, prep.meshes()), "default": unshadowed.mode(),
+                 **{rep.name: _uniform(unshadowed, rep) for rep in swept}}
         print(
             f"{head}verifying on {len(picks)} held-out frames: {', '.join(modes)} against the real meshes",
             flush=True,
         )
         got = verify_frames(prep, cams, picks, modes, plain=plain if shadows is not None else None)
-        if 0 < len(picks) < PLAN_TIME_DRAWS:  # too few frames for a median: each drawn again, timed only
-            again = [time_frames(prep, cams, picks, modes, prep.scene, turn=i + 1)
+        if 0 < len(picks) < PLAN_TIME_DRAWS:  # too few frames for a median: drawn again by new modes, timed
+            again = [time_frames(prep, cams, picks, configurations(), prep.scene, turn=i + 1)
                      for i in range(-(-PLAN_TIME_DRAWS // len(picks)) - 1)]
             for nm, g in got.items():
                 g["time_ms"] = [float(np.median([t, *(a[nm][j] for a in again)]))
