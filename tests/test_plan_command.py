@@ -44,6 +44,33 @@ def _scene(tmp_path, **kw):
     return path
 
 
+def _planned(tmp_path, **scene):
+    """The small scene planned to an IoU of 0.3 on half its frames, 2 of them held out: its plan.json."""
+    out = tmp_path / "plan"
+    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
+    assert main(["plan", str(_scene(tmp_path, **scene)), *budget, "-o", str(out), "--verify", "2"]) == 0
+    return json.loads((out / "plan.json").read_text())
+
+
+def _first_drawn_at(monkeypatch, iou):
+    """``plan_offset`` patched so that the plan's first drawing measures ``iou`` on every own frame that
+    draws billboards, the rest as drawn: the drawings, a list."""
+    from morphkit.programs.planning import planrun
+
+    real, drawn = planrun.plan_offset, []
+
+    def offset(*args, **kw):
+        got = real(*args, **kw)
+        drawn.append(got)
+        if len(drawn) > 1:
+            return got
+        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": iou}
+                                      for m in got.measured])
+
+    monkeypatch.setattr(planrun, "plan_offset", offset)
+    return drawn
+
+
 @pytest.mark.parametrize(
     ("budget", "match"),
     [
@@ -332,11 +359,7 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
 
     monkeypatch.setattr(planrun, "plan_offset", measured_short)
     monkeypatch.setattr(planrun, "choose", once)
-    out = tmp_path / "plan"
-    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
-    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
-    plan = json.loads((out / "plan.json").read_text())
-    again = plan["calibration"]["plan"]["chosen_again"]
+    again = _planned(tmp_path)["calibration"]["plan"]["chosen_again"]
     # asked for once more, then each representation everywhere measured to meet it, each missing here
     assert len(chosen) == 2 and again[0] == "no choice is predicted to meet the budget by wider margins"
     assert again[-1] == KEPT
@@ -356,21 +379,13 @@ def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_befo
     from morphkit.errors import BudgetError
     from morphkit.programs.planning import planrun
 
-    real_calibrate, real_offset, real_choose = planrun._calibrate, planrun.plan_offset, planrun.choose
-    drawn, chosen = [], []
+    real_calibrate, real_choose = planrun._calibrate, planrun.choose
+    chosen = []
 
     def mesh_alone_proven(*args, **kw):  # as where a cheap one misses a single calibration frame
         offsets, costs, fixed, floor, margins, proven, report = real_calibrate(*args, **kw)
         assert "mesh" in proven
         return offsets, costs, fixed, floor, margins, ["mesh"], report
-
-    def measured_short_once(*args, **kw):  # the first plan drawn measured at IoU 0.1, the rest as they are
-        got = real_offset(*args, **kw)
-        drawn.append(got)
-        if len(drawn) > 1:
-            return got
-        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1}
-                                      for m in got.measured])
 
     def once(*args, **kw):  # none with wider margins is predicted to meet it: on to the fallback
         chosen.append(kw)
@@ -379,12 +394,9 @@ def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_befo
         return real_choose(*args, **kw)
 
     monkeypatch.setattr(planrun, "_calibrate", mesh_alone_proven)
-    monkeypatch.setattr(planrun, "plan_offset", measured_short_once)
+    drawn = _first_drawn_at(monkeypatch, 0.1)  # the first plan drawn measured at IoU 0.1
     monkeypatch.setattr(planrun, "choose", once)
-    out = tmp_path / "plan"
-    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
-    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
-    plan = json.loads((out / "plan.json").read_text())
+    plan = _planned(tmp_path)
     again = plan["calibration"]["plan"]["chosen_again"]
     # the billboards meet an IoU of 0.3 by far: one is predicted to, and cheaper than the real mesh
     assert again[0] == "no choice is predicted to meet the budget by wider margins" and len(again) == 2
@@ -397,24 +409,8 @@ def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_befo
 def test_a_plan_measured_within_the_budget_by_less_than_the_tolerances_margin_is_chosen_again(
     tmp_path, monkeypatch
 ):
-    from morphkit.programs.planning import planrun
-
-    real = planrun.plan_offset
-    calls = []
-
-    def just_within(*args, **kw):  # the first plan drawn measured at IoU 0.305 on every own frame
-        got = real(*args, **kw)
-        calls.append(got)
-        if len(calls) > 1:
-            return got
-        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.305}
-                                      for m in got.measured])
-
-    monkeypatch.setattr(planrun, "plan_offset", just_within)
-    out = tmp_path / "plan"
-    budget = ["--budget", "billboard-iou=0.3", "--budget", "frames=0.5"]
-    assert main(["plan", str(_scene(tmp_path)), *budget, "-o", str(out), "--verify", "2"]) == 0
-    again = json.loads((out / "plan.json").read_text())["calibration"]["plan"]["chosen_again"]
+    calls = _first_drawn_at(monkeypatch, 0.305)  # the first plan drawn measured at IoU 0.305
+    again = _planned(tmp_path)["calibration"]["plan"]["chosen_again"]
     # within 0.3 by 0.005, under the tolerance's 0.01: the next frames may not be; held by the margin,
     # short by 0.005, widened by at least the margin itself
     assert tol.PLAN_MARGIN_IOU > 0.005 and len(calls) == 2
