@@ -671,14 +671,16 @@ def plan_scene(
         )
         swept = [rep for rep in REPRESENTATIONS if sweep and rep.name != "morph"]  # morph: the default
 
-        def configurations() -> dict[str, Any]:  # new modes, their caches cold; swept under the plan's shadow
-            return {"plan": plan.mode(prep.relit, prep.base, plan_prep.shadow, prep.meshes()),
-                    "default": prep.mode(), **{rep.name: _uniform(plan_prep, rep) for rep in swept}}
-
-        modes = configurations()
         unshadowed = dataclasses.replace(prep, shadow=None)
-        plain = {"plan": plan.mode(prep.relit, prep.base, None, prep.meshes()), "default": unshadowed.mode(),
-                 **{rep.name: _uniform(unshadowed, rep) for rep in swept}}
+
+        def configurations(shadowed: bool = True) -> dict[str, Any]:
+            """New modes (their caches cold): the default under the scene's shadow, the plan and the
+            swept under the plan's; or each without shadows."""
+            own, chosen = (prep, plan_prep) if shadowed else (unshadowed, unshadowed)
+            return {"plan": plan.mode(prep.relit, prep.base, chosen.shadow, prep.meshes()),
+                    "default": own.mode(), **{rep.name: _uniform(chosen, rep) for rep in swept}}
+
+        modes, plain = configurations(), configurations(shadowed=False)
         print(
             f"{head}verifying on {len(picks)} held-out frames: {', '.join(modes)} against the real meshes",
             flush=True,
