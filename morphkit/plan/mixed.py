@@ -44,9 +44,17 @@ from ..sunlit import LitMode
 from ..sunlit.litmesh import LitMeshMode
 from ..sunlit.receivers import SceneShadow
 from ..sunlit.shadowing import frame_shadow, shadowed_backdrop
-from .representations import CULL, MESH, BandChoice, BandedRing, BandedSurface
+from .representations import (
+    CULL,
+    MESH,
+    BandChoice,
+    BandedRing,
+    BandedSurface,
+    BillboardRepresentation,
+    Representation,
+)
 
-__all__ = ["LitMeshBands", "RingMeshBands", "split_placements", "banded_mode"]
+__all__ = ["LitMeshBands", "RingMeshBands", "split_placements", "banded_mode", "uniform_mode"]
 
 
 def split_placements(
@@ -294,3 +302,35 @@ def banded_mode(
     if relit:
         return LitMeshBands(choice, billboards, meshes)  # type: ignore[arg-type]
     return RingMeshBands(choice, billboards, meshes)  # type: ignore[arg-type]
+
+
+def uniform_mode(
+    rep: Representation,
+    relit: bool,
+    base: Lighting | None,
+    shadow: SceneShadow | None = None,
+    meshes: LitMeshMode | MeshMode | None = None,
+) -> LitMode | BillboardMode | LitMeshBands | RingMeshBands:
+    """The mode drawing every billboard as ``rep``: a billboard representation's own surface or ring
+    mode (no band looked up), else :func:`banded_mode` with every band ``rep``.
+
+    Parameters
+    ----------
+    rep : Representation
+        One of :data:`~morphkit.plan.representations.REPRESENTATIONS`.
+    relit : bool
+        Relit dome assets (else ring assets).
+    base : Lighting or None
+        The relit mode's lighting until a frame sets its sun.
+    shadow : SceneShadow, optional
+        The frames' shadow (relit).
+    meshes : LitMeshMode or MeshMode, optional
+        Draws the real meshes (needed where ``rep`` is the real mesh).
+
+    Returns
+    -------
+    FrameMode
+    """
+    if isinstance(rep, BillboardRepresentation):
+        return LitMode(rep.surface(), base, shadow=shadow) if relit else rep.ring_mode(MorphCache())
+    return banded_mode(BandChoice(default=rep.name), relit, base, shadow, meshes)  # type: ignore[arg-type]

@@ -8,7 +8,8 @@ the plan verified against the real meshes.
    :data:`~morphkit.plan.representations.REPRESENTATIONS`
    (:func:`~morphkit.plan.errortable.measure_error_table`:
    the asset alone against its own mesh, under the scene's focal length, backdrop and middle frame's sun),
-   or reads the tables a previous plan into the same folder measured for the same mesh and conditions;
+   or reads the tables a previous plan into the same folder measured for the same mesh and conditions
+   (:func:`~.plantables.scene_tables`);
 2. **calibrates** the tables on a few planning frames drawn in each representation everywhere (each
    one's offsets, margin and measured cost per frame and per billboard, and whether it met the budget
    there; a path of fewer than :data:`PLAN_COST_FRAMES` calibration frames cannot tell the two costs
@@ -64,8 +65,6 @@ errs less: docs/RESULTS.md, "Billboards: ring, dome, impostor"), the billboards'
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import json
 import os
 import time
 from collections.abc import Mapping, Sequence
@@ -75,20 +74,18 @@ from typing import Any
 import numpy as np
 
 from ... import settings, tol
-from ...billboard import MorphCache
 from ...billboard.compare import PSNR_CAP_DB
-from ...errors import BudgetError, FileFormatError, ValidationError, expected_got
+from ...errors import BudgetError, ValidationError, expected_got
 from ...files.outfolder import PLAN_OUTPUT, OutputClaim, claim_output
 from ...plan import Budget
 from ...plan.calibration import band_offsets, calibration_offsets, frame_cost
-from ...plan.errortable import ErrorTable, default_elevations, measure_error_table
-from ...plan.mixed import banded_mode
+from ...plan.errortable import ErrorTable
+from ...plan.mixed import uniform_mode
 from ...plan.planfile import PLAN_NAME, ScenePlan
 from ...plan.planner import FramePredictions, choose, predict_frames, sample_scene
 from ...plan.representations import (
     REPRESENTATIONS,
     BandChoice,
-    BillboardRepresentation,
     RealMesh,
     Representation,
     band_label,
@@ -96,16 +93,16 @@ from ...plan.representations import (
 from ...plan.shadowchoice import interpolate_frames
 from ...render import Renderer
 from ...scenes.description import SceneDescription
-from ...sunlit import LitMode
 from ..scenerender import PreparedScene, prepare_scene, scene_choices
 from ..sequence import compare_indices
 from .planown import less_margin, plan_offset, shortfall
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
+from .plantables import scene_tables, table_grids
 from .planverify import time_frames, verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = [
-    "plan_scene", "table_grids", "PLAN_AZIMUTHS_DEG", "PLAN_OWN_FRAMES", "PLAN_COST_FRAMES",
+    "plan_scene", "PLAN_OWN_FRAMES", "PLAN_COST_FRAMES",
     "PLAN_COST_FRACTIONS", "PLAN_TIME_DRAWS", "TABLES_FOLDER", "DEFAULT_VERIFY",
 ]
 
@@ -113,10 +110,6 @@ __all__ = [
 TABLES_FOLDER = "tables"
 #: The subfolder of the tables' cache the shadow candidates' sun atlases are kept in.
 SUN_ATLASES_FOLDER = "sun_atlases"
-#: Azimuths (degrees, object frame) each cell of a plan's tables averages: six, whose offsets from the
-#: references of rings of 12, 8, 6 and 4 views spread over the pair between (a card's and a nearest
-#: view's error change with the azimuth more than the morph's: three azimuths missed them by 2 dB).
-PLAN_AZIMUTHS_DEG: tuple[float, ...] = (18.0, 70.0, 124.0, 190.0, 276.0, 330.0)
 #: Planning frames drawn in every representation to calibrate the tables' predictions to the scene.
 PLAN_CALIBRATION_FRAMES = 4
 #: Planning frames the chosen plan is drawn on, for its own offsets along the path and its check against
@@ -140,166 +133,9 @@ DEFAULT_VERIFY = 6
 PLAN_TIME_DRAWS = 5
 
 
-def _table_params(prep: PreparedScene, focal_px: float, light: Any) -> dict[str, Any]:
-    """What a table is measured under (a cached table is reused only when they are equal)."""
-    sun = (
-        None if light is None else [np.asarray(lt.direction, float).round(6).tolist() for lt in light.lights]
-    )
-    fog = prep.scene.backdrop.fog
-    return {"focal_px": float(focal_px), "sun": sun, "fog": fog is not None, "relit": prep.relit,
-            "frame_px": tol.PLAN_MAX_TABLE_FRAME_PX}
-
-
-def _bracket(bins: Sequence[float], lo: float, hi: float) -> list[float]:
-    """The bins from the last at or below ``lo`` to the first at or above ``hi``."""
-    b = sorted(bins)
-    first = max([k for k, v in enumerate(b) if v <= lo], default=0)
-    last = min([k for k, v in enumerate(b) if v >= hi], default=len(b) - 1)
-    return b[first : max(last, first + 1) + 1] if len(b) > 1 else b
-
-
-def table_grids(prep: PreparedScene, cameras: Sequence[Any]) -> dict[str, tuple[list[float], list[float]]]:
-    """Each drawn asset's table grid, only what the frames need: the on-screen heights (doubling from
-    :data:`morphkit.tol.PLAN_MIN_TABLE_HEIGHT_PX` up to :data:`morphkit.tol.PLAN_MAX_TABLE_HEIGHT_PX`;
-    taller billboards are looked up at the top row) and
-    the elevations (:func:`~morphkit.plan.errortable.default_elevations`) that bracket the billboards
-    the frames draw of it.
-
-    Parameters
-    ----------
-    prep : PreparedScene
-        The scene.
-    cameras : sequence of CameraModel
-        Its frames.
-
-    Returns
-    -------
-    dict of str to (heights, elevations)
-    """
-    seen: dict[str, list[tuple[float, float]]] = {}
-    scene = sample_scene(prep.scene)
-    for cam in cameras:
-        for pl in scene.plan(cam).placements:
-            seen.setdefault(pl.asset, []).append((pl.height_px, pl.elevation_deg))
-    doubling = [tol.PLAN_MIN_TABLE_HEIGHT_PX]
-    while doubling[-1] < tol.PLAN_MAX_TABLE_HEIGHT_PX:
-        doubling.append(2.0 * doubling[-1])
-    out = {}
-    for nm, hv in seen.items():
-        h = np.array([x for x, _ in hv])
-        e = np.array([x for _, x in hv])
-        out[nm] = (
-            _bracket(doubling, float(h.min()), float(min(h.max(), doubling[-1]))),
-            _bracket(default_elevations(prep.scene.assets[nm]), float(e.min()), float(e.max())),
-        )
-    return out
-
-
-def _table_key(
-    nm: str, asset: Any, want: Mapping[str, Any], heights: Sequence[float], elevations: Sequence[float]
-) -> str:
-    """The cache name of a table: what it is measured of and under, hashed."""
-    what = {
-        "asset": nm,
-        "mesh": asset.mesh_hash,
-        "kind": type(asset).__name__,
-        "size": list(asset.size),
-        "levels": int(asset.levels),
-        "heights": list(heights),
-        "elevations": list(elevations),
-        **want,
-    }
-    return hashlib.sha256(json.dumps(what, sort_keys=True, default=str).encode()).hexdigest()[:16]
-
-
-def _tables(
-    prep: PreparedScene,
-    renderer: Renderer,
-    focal_px: float,
-    grids: Mapping[str, tuple[list[float], list[float]]],
-    cache: Path,
-    previous: Path,
-    head: str,
-) -> tuple[dict[tuple[str, str], ErrorTable], list[str]]:
-    """Every used asset's table in every representation: read from ``cache`` (or a previous plan's
-    ``previous`` folder) when one there was measured of the same asset under the same conditions,
-    else measured and written to ``cache`` at once (a plan that fails its budget keeps them); the real
-    mesh's is exact (:meth:`~morphkit.plan.errortable.ErrorTable.exact`)."""
-    light = prep.lighting[len(prep.lighting) // 2] if prep.lighting else None
-    want = _table_params(prep, focal_px, light)
-    want["azimuths_deg"] = list(PLAN_AZIMUTHS_DEG)
-    tables: dict[tuple[str, str], ErrorTable] = {}
-    measured: list[str] = []
-    reused = exact = 0
-    for nm, (heights, elevations) in grids.items():
-        asset = prep.scene.assets[nm]
-        inst = prep.scene.instances
-        scale = float(np.median(inst.scale[inst.asset == inst.names.index(nm)]))
-        want_asset = {**want, "scale": scale}
-        key = _table_key(nm, asset, want_asset, heights, elevations)
-        for rep in REPRESENTATIONS:
-            if isinstance(rep, RealMesh):  # the truth's own drawing
-                tables[(nm, rep.name)] = ErrorTable.exact(
-                    nm, asset.mesh_hash, rep.name, heights, elevations, want_asset
-                )
-                exact += 1
-                continue
-            for path in (cache / f"{nm}.{rep.name}.{key}.npz", previous / f"{nm}.{rep.name}.npz"):
-                if not path.is_file():
-                    continue
-                try:
-                    t = ErrorTable.load(path, mesh_hash=asset.mesh_hash)
-                except FileFormatError:
-                    continue
-                same = (
-                    t.heights_px.tolist() == list(heights)
-                    and t.elevations_deg.tolist() == list(elevations)
-                    and t.representation == rep.name
-                    and all(t.params.get(k) == v for k, v in want_asset.items())
-                )
-                if same:
-                    tables[(nm, rep.name)] = t
-                    reused += 1
-                    break
-            if (nm, rep.name) in tables:
-                continue
-            mode = _uniform(prep, rep, light, tables=True)
-            t = measure_error_table(
-                asset,
-                prep.resolved.items[nm],
-                renderer,
-                mode,
-                heights_px=heights,
-                elevations_deg=elevations,
-                azimuths_deg=PLAN_AZIMUTHS_DEG,
-                lighting=light,
-                representation=rep.name,
-                params=want_asset,
-                focal_px=focal_px,
-                facing=prep.scene.facing,
-                backdrop=prep.scene.backdrop,
-                scale=scale,
-            )
-            tables[(nm, rep.name)] = t
-            cache.mkdir(parents=True, exist_ok=True)
-            t.save(cache / f"{nm}.{rep.name}.{key}.npz")
-            measured.append(f"{nm}.{rep.name}")
-    print(
-        f"{head}error tables: {len(measured)} measured, {reused} read (cache {cache}), {exact} exact "
-        "(the real mesh: the truth's own drawing)",
-        flush=True,
-    )
-    return tables, measured
-
-
-def _uniform(prep: PreparedScene, rep: Representation, light: Any = None, tables: bool = False) -> Any:
-    """The mode drawing every billboard of the scene as ``rep`` (``tables``: as an error table measures
-    it, under ``light`` and without the scene's shadow)."""
-    base = light if tables else prep.base
-    shadow = None if tables else prep.shadow
-    if isinstance(rep, BillboardRepresentation):
-        return LitMode(rep.surface(), base, shadow=shadow) if prep.relit else rep.ring_mode(MorphCache())
-    return banded_mode(BandChoice(default=rep.name), prep.relit, base, shadow, prep.meshes())
+def _uniform(prep: PreparedScene, rep: Representation) -> Any:
+    """The mode drawing every billboard of the scene as ``rep``, under its shadow."""
+    return uniform_mode(rep, prep.relit, prep.base, prep.shadow, prep.meshes())
 
 
 def _cost_draws(
@@ -551,7 +387,7 @@ def plan_scene(
             )
         t0 = time.perf_counter()
         grids = table_grids(prep, cams)
-        tables, measured = _tables(
+        tables, measured = scene_tables(
             prep, r, float(cams[0].fy), grids, Path(tables_cache), claim.path / TABLES_FOLDER, head
         )
         t_tables = time.perf_counter() - t0
