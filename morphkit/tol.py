@@ -623,6 +623,13 @@ PLAN_MARGIN_IOU = 0.01
 #: shortfall); then the representations everywhere measured to meet it on the calibration frames or
 #: predicted to along the path by their margins, the cheapest first.
 PLAN_RECHOICES = 2
+#: How much faster than the plan a representation everywhere must be, both timed on the plan's own
+#: calibration frames (interleaved, the medians of their draws), to be drawn as the plan instead (taken
+#: where it meets the budget along the path too): a frame mixing representations pays each one's pass,
+#: which the representations' cost lines, each measured everywhere, do not predict; 5 % is over the
+#: noise between such medians on a shared machine, and a twentieth of the 1.10 a plan may cost over
+#: the cheapest sweep that meets its budget.
+PLAN_TIMED_FASTER = 1.05
 #: The fewest billboards of a band measured in the calibration frames that give the band its own
 #: offset (:func:`morphkit.plan.calibration.band_offsets`): the median of fewer is one billboard's luck.
 PLAN_MIN_BAND_BILLBOARDS = 5

@@ -544,3 +544,31 @@ def test_time_frames_draws_each_frame_in_every_mode_its_order_turned_and_times_e
     assert got.keys() == set("abc") and all(len(t) == 2 and min(t) >= 0.0 for t in got.values())
     # the first frame's order turned one place on, the second's two
     assert drawn == [(10, "B"), (10, "C"), (10, "A"), (12, "C"), (12, "A"), (12, "B")]
+
+
+@pytest.mark.parametrize(("frames", "again"), [(1, 4), (2, 2), (5, 0), (7, 0)])
+def test_timed_again_draws_the_frames_again_by_new_modes_until_the_draws_and_takes_each_frames_median(
+    monkeypatch, frames, again
+):
+    from morphkit.programs.planning import planverify
+
+    calls: list[tuple[object, int]] = []
+
+    def timed(prep, cameras, picks, modes, scene, turn=0):  # draw `turn` of each frame at `turn` ms
+        calls.append((modes, turn))
+        return {nm: [float(turn)] * len(picks) for nm in modes}
+
+    monkeypatch.setattr(planverify, "time_frames", timed)
+    made: list[dict[str, str]] = []
+
+    def modes() -> dict[str, str]:
+        made.append({"a": "A"})
+        return made[-1]
+
+    first = {"a": [10.0] * frames}  # each frame's first draw: 10 ms
+    got = planverify.timed_again(None, [], list(range(frames)), modes, None, first, 5)
+    # 5 draws in all at least: ceil(5 / frames) of each frame, each again by new modes, turned on
+    assert [t for _, t in calls] == list(range(1, again + 1)) and len(made) == again
+    assert all(m is made[i] for i, (m, _) in enumerate(calls))
+    want = float(np.median([10.0, *range(1, again + 1)]))  # 1 frame: median(10, 1, 2, 3, 4) = 3
+    assert got == {"a": [want] * frames}

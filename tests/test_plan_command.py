@@ -71,6 +71,31 @@ def _first_drawn_at(monkeypatch, iou):
     return drawn
 
 
+@pytest.fixture
+def same_times(monkeypatch):
+    """The plan and every representation everywhere timed alike on the plan's own frames (none faster:
+    no drawing of a faster one), for the tests that count the plan's drawings."""
+    from morphkit.programs.planning import planrun
+
+    monkeypatch.setattr(planrun, "_timed_everywhere",
+                        lambda prep, cams, frames, plan, names: dict.fromkeys(("plan", *names), 100.0))
+
+
+def _timed_as(monkeypatch, ms):
+    """``_timed_everywhere`` patched: the plan at 100 ms, each representation named by ``ms(names)`` at
+    its time there, the rest at 100; the names it was asked for, a list (one list per call)."""
+    from morphkit.programs.planning import planrun
+
+    asked = []
+
+    def timed(prep, cams, frames, plan, names):
+        asked.append(list(names))
+        return {"plan": 100.0, **dict.fromkeys(names, 100.0), **ms(names)}
+
+    monkeypatch.setattr(planrun, "_timed_everywhere", timed)
+    return asked
+
+
 @pytest.mark.parametrize(
     ("budget", "match"),
     [
@@ -231,7 +256,11 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     assert set(plan["error"]) == {"plan", "default"} and "billboard-iou" in plan["error"]["plan"]
     # the plan drawn on the calibration frames too: its own offset moves its predictions
     own = plan["calibration"]["plan"]
-    assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured", "chosen_again"}
+    assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured", "chosen_again",
+                        "timed_ms"}
+    # the plan timed on its own frames against each representation everywhere that may stand for it
+    assert not own["timed_ms"] or ("plan" in own["timed_ms"] and min(own["timed_ms"].values()) > 0)
+    assert set(own["timed_ms"]) <= {"plan", "cull", "classic", "nearest", "morph", "mesh"}
     assert set(own["frames"]) <= set(plan["planning_frames"]) and own["frames_used"] <= len(own["frames"])
     assert len(own["predicted"]) == len(own["measured"]) == len(own["frames"])
     # on the representations' calibration frames and those between them
@@ -290,6 +319,7 @@ def test_a_budget_only_the_real_mesh_meets_is_planned_as_meshes_verified_and_ren
 
 
 @pytest.mark.parametrize("misses", [1, tol.PLAN_RECHOICES + 2, 99])
+@pytest.mark.usefixtures("same_times")
 def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again(
     tmp_path, capsys, monkeypatch, misses
 ):
@@ -334,6 +364,7 @@ def test_a_plan_that_misses_the_budget_on_its_calibration_frames_is_chosen_again
     assert printed.count("the plan missed the budget along the path") == len(again)
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_everywhere(
     tmp_path, capsys, monkeypatch
 ):
@@ -373,6 +404,7 @@ def test_a_plan_no_wider_choice_can_replace_falls_back_to_the_representations_ev
     assert capsys.readouterr().out.count("the plan missed the budget along the path") == len(again)
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_before_a_dearer_proven_one(
     tmp_path, monkeypatch
 ):
@@ -406,6 +438,7 @@ def test_a_plan_falls_back_to_a_representation_predicted_to_meet_the_budget_befo
     assert {c["representation"] for c in plan["choices"]} == {best} and len(drawn) == 2
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_plan_measured_within_the_budget_by_less_than_the_tolerances_margin_is_chosen_again(
     tmp_path, monkeypatch
 ):
@@ -418,6 +451,7 @@ def test_a_plan_measured_within_the_budget_by_less_than_the_tolerances_margin_is
                                             + re.escape(f" 0.00 dB, IoU {tol.PLAN_MARGIN_IOU:.3f}"), again[0])
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_path_stands(
     tmp_path, monkeypatch
 ):
@@ -445,10 +479,11 @@ def test_a_plan_missing_on_one_own_frame_within_the_budgets_fraction_along_the_p
     assert plan["calibration"]["plan"]["chosen_again"] == [] and len(drawn) == 1
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_its_frame_again(
     tmp_path, monkeypatch
 ):
-    from morphkit.programs.planning import planrun
+    from morphkit.programs.planning import planrun, planverify
 
     # each representation timed at a known cost: 7 ms a frame (the mesh's 40: its render pass) and
     # 2 ms a billboard drawn; one frame alone cannot tell them apart (the old rule put it all on the
@@ -467,6 +502,7 @@ def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_i
     verified: list = []
     kept: list = []
     monkeypatch.setattr(planrun, "time_frames", timed)
+    monkeypatch.setattr(planverify, "time_frames", timed)  # the frames timed again
     out = tmp_path / "plan"
     scene = _scene(tmp_path, frames=1)
     assert main(["plan", str(scene), "--budget", "billboard-iou=0.3", "-o", str(out), "--verify", "1"]) == 0
@@ -491,6 +527,7 @@ def test_a_one_frame_scene_tells_its_frames_cost_from_its_billboards_and_times_i
     assert calls == [] and [t for _, t in verified] == [1, 2]
 
 
+@pytest.mark.usefixtures("same_times")
 def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_start(tmp_path, monkeypatch):
     import dataclasses
 
@@ -526,6 +563,69 @@ def test_a_representation_everywhere_that_misses_as_the_plan_is_no_longer_a_star
     assert len(drawn) == 2
     # measured to miss as the plan: the choice again starts from the other proven ones alone
     assert len(starts) == 2 and starts[1] == [nm for nm in starts[0] if nm != starts[0][0]]
+
+
+def _drawn_plans(monkeypatch, short_after=None):
+    """``plan_offset`` patched to record each plan it draws (a list); from drawing ``short_after`` on,
+    each measured at IoU 0.1 on every own frame that draws billboards."""
+    from morphkit.programs.planning import planrun
+
+    real, drawn = planrun.plan_offset, []
+
+    def offset(prep, cams, frames, plan, *args, **kw):
+        got = real(prep, cams, frames, plan, *args, **kw)
+        drawn.append(plan)
+        if short_after is None or len(drawn) <= short_after:
+            return got
+        return got._replace(measured=[m if m["billboard-iou"] is None else {**m, "billboard-iou": 0.1}
+                                      for m in got.measured])
+
+    monkeypatch.setattr(planrun, "plan_offset", offset)
+    return drawn
+
+
+def test_a_representation_everywhere_timed_faster_than_the_plan_on_its_own_frames_is_taken_where_it_meets(
+    tmp_path, capsys, monkeypatch
+):
+    drawn = _drawn_plans(monkeypatch)
+    asked = _timed_as(monkeypatch, lambda names: {names[-1]: 50.0})  # the last asked for: twice as fast
+    plan = _planned(tmp_path)
+    fast = asked[0][-1]
+    # timed once, against the representations everywhere other than the plan; the fast one drawn as the
+    # plan, meeting the budget along the path: taken
+    assert len(asked) == 1 and len(drawn) == 2
+    assert set(drawn[0].choice.choices.values()) != {fast} and set(drawn[1].choice.choices.values()) == {fast}
+    assert {c["representation"] for c in plan["choices"]} == {fast}
+    own = plan["calibration"]["plan"]
+    assert own["chosen_again"] == [f"{fast} everywhere (timed 50 ms a frame on the plan's own frames against "
+                                   "its 100 ms)"]
+    assert own["timed_ms"] == {"plan": 100.0, **dict.fromkeys(asked[0], 100.0), fast: 50.0}
+    assert f"{fast} everywhere timed 50 ms a frame" in capsys.readouterr().out
+
+
+def test_representations_everywhere_timed_faster_that_miss_the_budget_along_the_path_leave_the_plan(
+    tmp_path, capsys, monkeypatch
+):
+    drawn = _drawn_plans(monkeypatch, short_after=1)  # every drawing after the plan's first misses
+    asked = _timed_as(monkeypatch, lambda names: {nm: 50.0 + i for i, nm in enumerate(names)})
+    plan = _planned(tmp_path)
+    tries = min(tol.PLAN_RECHOICES, len(asked[0]))
+    # the fastest first, PLAN_RECHOICES at most, each missing: the plan as first chosen stands
+    assert len(asked) == 1 and tries >= 1 and len(drawn) == 1 + tries
+    assert [set(d.choice.choices.values()) for d in drawn[1:]] == [{nm} for nm in asked[0][:tries]]
+    assert plan["choices"] == drawn[0].to_json()["choices"]
+    assert plan["calibration"]["plan"]["chosen_again"] == []
+    assert capsys.readouterr().out.count("misses the budget along the path") == tries
+
+
+def test_a_representation_everywhere_timed_faster_than_the_plan_by_less_than_the_tolerance_is_not_drawn(
+    tmp_path, monkeypatch
+):
+    drawn = _drawn_plans(monkeypatch)
+    just = 100.0 / tol.PLAN_TIMED_FASTER + 0.01  # faster, but within the machine's noise
+    asked = _timed_as(monkeypatch, lambda names: dict.fromkeys(names, just))
+    plan = _planned(tmp_path)
+    assert asked[0] and len(drawn) == 1 and plan["calibration"]["plan"]["chosen_again"] == []
 
 
 @pytest.mark.gl

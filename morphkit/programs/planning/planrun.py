@@ -31,8 +31,13 @@ the plan verified against the real meshes.
    that so missed no longer a start
    (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each representation
    everywhere measured to meet it on the calibration frames or predicted to along the path by its
-   margins, the cheapest first, until one meets it along the path too
-   (``calibration.plan.chosen_again`` in ``plan.json`` says what was done);
+   margins, the cheapest first, until one meets it along the path too. A plan that meets it is
+   timed on its own frames against each representation everywhere measured or predicted to meet it
+   (interleaved, at least :data:`PLAN_TIME_DRAWS` draws each: ``calibration.plan.timed_ms``): a frame
+   mixing representations pays each one's pass, which their cost lines do not predict; one faster by
+   :data:`morphkit.tol.PLAN_TIMED_FASTER` is drawn as the plan and taken where it meets the budget
+   along the path too, the fastest first (``calibration.plan.chosen_again`` in ``plan.json`` says what
+   was done);
 4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
@@ -89,6 +94,7 @@ from ...plan.representations import (
     RealMesh,
     Representation,
     band_label,
+    representation,
 )
 from ...plan.shadowchoice import interpolate_frames
 from ...render import Renderer
@@ -98,7 +104,7 @@ from ..sequence import compare_indices
 from .planown import less_margin, plan_offset, shortfall
 from .planreport import budget_figures, plot_plan, prediction_gap, shown_budget
 from .plantables import scene_tables, table_grids
-from .planverify import time_frames, verify_frames
+from .planverify import time_frames, timed_again, verify_frames
 from .shadowplanrun import measure_shadows, plan_shadow, shadow_report
 
 __all__ = [
@@ -300,6 +306,23 @@ def _cheapest_everywhere(
     )
 
 
+def _timed_everywhere(
+    prep: PreparedScene, cameras: Sequence[Any], frames: Sequence[int], plan: ScenePlan, names: Sequence[str]
+) -> dict[str, float]:
+    """The plan and each representation of ``names`` everywhere drawn on ``frames`` (interleaved, the
+    order turned each frame, by new modes each draw; at least :data:`PLAN_TIME_DRAWS` draws each) and
+    timed only: each one's median frame time, the plan's as ``plan``."""
+    sample = sample_scene(prep.scene)  # as the plan's own frames are measured
+
+    def modes() -> dict[str, Any]:
+        return {"plan": plan.mode(prep.relit, prep.base, prep.shadow, prep.meshes()),
+                **{nm: _uniform(prep, representation(nm)) for nm in names}}
+
+    first = time_frames(prep, cameras, frames, modes(), sample)
+    got = timed_again(prep, cameras, frames, modes, sample, first, PLAN_TIME_DRAWS)
+    return {nm: float(np.median(t)) for nm, t in got.items()}
+
+
 def plan_scene(
     scene: SceneDescription,
     budget: Budget,
@@ -495,8 +518,30 @@ def plan_scene(
             print(missed + rechosen[-1], flush=True)
             plan = as_plan(picked.choice)
             own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
+        timed: dict[str, float] = {}
+        if checked and billboards_only.verdict(less_margin(along()))["met"]:
+            # the plan timed against each representation everywhere that may stand for it, on its own
+            # frames: a frame mixing representations pays each one's pass, which no cost line predicts
+            rivals = [nm for nm in pred.representations
+                      if nm not in tried and viable(nm) and everywhere(nm) != picked.choice]
+            timed = _timed_everywhere(plan_prep, cams, own_frames, plan, rivals) if rivals else {}
+            faster = [nm for nm in rivals if timed[nm] * tol.PLAN_TIMED_FASTER < timed["plan"]]
+            for nm in sorted(faster, key=timed.__getitem__)[: tol.PLAN_RECHOICES]:
+                kept_plan = picked, plan, own
+                picked = dataclasses.replace(picked, choice=everywhere(nm))
+                plan = as_plan(picked.choice)
+                own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
+                met = billboards_only.verdict(less_margin(along()))["met"]
+                print(f"{head}{nm} everywhere timed {timed[nm]:.0f} ms a frame on the plan's own frames "
+                      f"against its {timed['plan']:.0f} ms: {'meets' if met else 'misses'} the budget "
+                      f"along the path{', taken' if met else ''}", flush=True)
+                if met:
+                    rechosen.append(f"{nm} everywhere (timed {timed[nm]:.0f} ms a frame on the plan's "
+                                    f"own frames against its {timed['plan']:.0f} ms)")
+                    break
+                picked, plan, own = kept_plan
         truths.clear()
-        calibration["plan"] = {**own.to_json(), "chosen_again": rechosen}
+        calibration["plan"] = {**own.to_json(), "chosen_again": rechosen, "timed_ms": timed}
         t_calibrate += time.perf_counter() - t1
         taken = [sum(v == r.name for v in picked.choice.choices.values()) for r in REPRESENTATIONS]
         print(
@@ -522,12 +567,11 @@ def plan_scene(
             flush=True,
         )
         got = verify_frames(prep, cams, picks, modes, plain=plain if shadows is not None else None)
-        if 0 < len(picks) < PLAN_TIME_DRAWS:  # too few frames for a median: drawn again by new modes, timed
-            again = [time_frames(prep, cams, picks, configurations(), prep.scene, turn=i + 1)
-                     for i in range(-(-PLAN_TIME_DRAWS // len(picks)) - 1)]
-            for nm, g in got.items():
-                g["time_ms"] = [float(np.median([t, *(a[nm][j] for a in again)]))
-                                for j, t in enumerate(g["time_ms"])]
+        # too few frames for a median: drawn again by new modes, timed only
+        times = timed_again(prep, cams, picks, configurations, prep.scene,
+                            {nm: g["time_ms"] for nm, g in got.items()}, PLAN_TIME_DRAWS)
+        for nm, g in got.items():
+            g["time_ms"] = times[nm]
         held = predict_frames(tables, prep.scene, [cams[k] for k in picks]).shifted(offsets)
         predicted = {
             "plan": own.along(held.frame_errors(held.pick_of(plan.choice)), picks),

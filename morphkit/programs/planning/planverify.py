@@ -6,8 +6,10 @@ each frame's figures of a budget against the truth's frame (:mod:`morphkit.progr
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
+
+import numpy as np
 
 from ...billboard import BillboardScene
 from ...billboard.compare import box_errors, frame_errors
@@ -15,7 +17,7 @@ from ...sunlit.litmodes import Relit
 from ...sunlit.shadowing import darkened_iou
 from ..scenerender import PreparedScene
 
-__all__ = ["frame_figures", "time_frames", "verify_frames"]
+__all__ = ["frame_figures", "time_frames", "timed_again", "verify_frames"]
 
 
 def frame_figures(frame: Any, truth: Any) -> dict[str, float | None]:
@@ -149,6 +151,48 @@ def time_frames(
             scene.render(cam, modes[nm])
             out[nm].append(1e3 * (time.perf_counter() - t0))
     return out
+
+
+def timed_again(
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    picks: Sequence[int],
+    modes: Callable[[], Mapping[str, Any]],
+    scene: BillboardScene,
+    times: Mapping[str, Sequence[float]],
+    draws: int,
+) -> dict[str, list[float]]:
+    """Each mode's frame times ``times`` (one draw of each frame of ``picks``) with the frames drawn
+    again, timed only (:func:`time_frames`, the order turned on each time), until each mode has at
+    least ``draws`` draws in all, each time by new ``modes()`` (their caches cold, as a frame seen once
+    is drawn): each frame's median over its draws.
+
+    Parameters
+    ----------
+    prep : PreparedScene
+        The scene and its lights.
+    cameras : sequence of CameraModel
+        Every frame's camera, by the frame's index.
+    picks : sequence of int
+        The frames.
+    modes : callable
+        Returns new modes by name (the names of ``times``).
+    scene : BillboardScene
+        The instances drawn.
+    times : mapping of str to sequence of float
+        Each mode's first time of each frame (milliseconds).
+    draws : int
+        The fewest draws of each mode in all.
+
+    Returns
+    -------
+    dict of str to list of float
+        Per mode, each frame's median time (milliseconds).
+    """
+    again = [time_frames(prep, cameras, picks, modes(), scene, turn=i + 1)
+             for i in range(-(-draws // len(picks)) - 1)] if picks else []
+    return {nm: [float(np.median([t, *(a[nm][j] for a in again)])) for j, t in enumerate(ts)]
+            for nm, ts in times.items()}
 
 
 def _relight(prep: PreparedScene, k: int, modes: Iterable[Any]) -> None:
