@@ -572,3 +572,29 @@ def test_timed_again_draws_the_frames_again_by_new_modes_until_the_draws_and_tak
     assert all(m is made[i] for i, (m, _) in enumerate(calls))
     want = float(np.median([10.0, *range(1, again + 1)]))  # 1 frame: median(10, 1, 2, 3, 4) = 3
     assert got == {"a": [want] * frames}
+
+
+def test_the_plans_rivals_are_timed_again_only_where_their_first_draws_tell_them_faster(monkeypatch):
+    from types import SimpleNamespace
+
+    from morphkit.programs.planning import planrun, planverify
+
+    seen: list[list[str]] = []
+
+    def timed(prep, cameras, picks, modes, scene, turn=0):  # every draw 10 ms
+        seen.append(sorted(modes))
+        return {nm: [10.0] * len(picks) for nm in modes}
+
+    monkeypatch.setattr(planrun, "time_frames", timed)
+    monkeypatch.setattr(planverify, "time_frames", timed)
+    prep = SimpleNamespace(relit=False, base=None, shadow=None, meshes=lambda: None, scene=[1, 2, 3])
+    plan = SimpleNamespace(mode=lambda *args: "the plan's mode")
+    f = tol.PLAN_TIMED_FASTER
+    first = {"classic": 100.0 / f - 1.0, "nearest": 100.0 / f + 1.0, "morph": 50.0}
+    got = planrun._timed_rivals(prep, [0, 1], [0, 1], plan, 100.0, first)
+    # faster than the plan's 100 ms by the tolerance: the card and the morph, not the nearest view; on
+    # 2 frames, 3 draws each (PLAN_TIME_DRAWS = 5 in all at least), all three together each time
+    assert seen == [["classic", "morph", "plan"]] * -(-planrun.PLAN_TIME_DRAWS // 2)
+    assert got == {"plan": 10.0, "classic": 10.0, "morph": 10.0}
+    seen.clear()
+    assert planrun._timed_rivals(prep, [0], [0], plan, 100.0, {"nearest": 100.0 / f}) == {} and seen == []

@@ -73,26 +73,27 @@ def _first_drawn_at(monkeypatch, iou):
 
 @pytest.fixture
 def same_times(monkeypatch):
-    """The plan and every representation everywhere timed alike on the plan's own frames (none faster:
-    no drawing of a faster one), for the tests that count the plan's drawings."""
+    """No representation everywhere told faster than the plan by their first draws (none timed again,
+    none drawn as the plan), for the tests that count the plan's drawings."""
     from morphkit.programs.planning import planrun
 
-    monkeypatch.setattr(planrun, "_timed_everywhere",
-                        lambda prep, cams, frames, plan, names: dict.fromkeys(("plan", *names), 100.0))
+    monkeypatch.setattr(planrun, "_timed_rivals", lambda prep, cams, frames, plan, plan_ms, rivals_ms: {})
 
 
 def _timed_as(monkeypatch, ms):
-    """``_timed_everywhere`` patched: the plan at 100 ms, each representation named by ``ms(names)`` at
-    its time there, the rest at 100; the names it was asked for, a list (one list per call)."""
+    """``_timed_rivals`` patched: every representation it is asked about timed again, the plan at
+    100 ms, each named by ``ms(names)`` at its time there, the rest at 100; the names it was asked
+    about, a list (one list per call)."""
     from morphkit.programs.planning import planrun
 
     asked = []
 
-    def timed(prep, cams, frames, plan, names):
-        asked.append(list(names))
+    def timed(prep, cams, frames, plan, plan_ms, rivals_ms):
+        names = list(rivals_ms)
+        asked.append(names)
         return {"plan": 100.0, **dict.fromkeys(names, 100.0), **ms(names)}
 
-    monkeypatch.setattr(planrun, "_timed_everywhere", timed)
+    monkeypatch.setattr(planrun, "_timed_rivals", timed)
     return asked
 
 
@@ -257,10 +258,13 @@ def test_a_plan_is_written_verified_and_rendered(tmp_path, capsys):
     # the plan drawn on the calibration frames too: its own offset moves its predictions
     own = plan["calibration"]["plan"]
     assert set(own) == {"db", "iou", "frames_used", "frames", "predicted", "measured", "chosen_again",
-                        "timed_ms"}
-    # the plan timed on its own frames against each representation everywhere that may stand for it
+                        "first_ms", "timed_ms"}
+    # the plan weighed on its own frames against each representation everywhere that may stand for it:
+    # first by their draws so far, then those told faster timed again together
+    assert "plan" in own["first_ms"] and min(own["first_ms"].values()) > 0
+    assert set(own["timed_ms"]) <= set(own["first_ms"]) <= {"plan", "cull", "classic", "nearest", "morph",
+                                                            "mesh"}
     assert not own["timed_ms"] or ("plan" in own["timed_ms"] and min(own["timed_ms"].values()) > 0)
-    assert set(own["timed_ms"]) <= {"plan", "cull", "classic", "nearest", "morph", "mesh"}
     assert set(own["frames"]) <= set(plan["planning_frames"]) and own["frames_used"] <= len(own["frames"])
     assert len(own["predicted"]) == len(own["measured"]) == len(own["frames"])
     # on the representations' calibration frames and those between them
@@ -600,6 +604,7 @@ def test_a_representation_everywhere_timed_faster_than_the_plan_on_its_own_frame
     assert own["chosen_again"] == [f"{fast} everywhere (timed 50 ms a frame on the plan's own frames against "
                                    "its 100 ms)"]
     assert own["timed_ms"] == {"plan": 100.0, **dict.fromkeys(asked[0], 100.0), fast: 50.0}
+    assert set(own["first_ms"]) == {"plan", *asked[0]} and min(own["first_ms"].values()) > 0
     assert f"{fast} everywhere timed 50 ms a frame" in capsys.readouterr().out
 
 

@@ -36,12 +36,15 @@ class PlanCalibration(NamedTuple):
     predicted, measured : list of dict
         Each frame's figures (``billboard-psnr``, ``billboard-iou``; None: nothing drawn), predicted
         and as drawn with the plan.
+    time_ms : tuple of float, optional
+        Each frame's drawing time with the plan (milliseconds; the truth's not counted).
     """
 
     offset: Calibration
     frames: list[int]
     predicted: list[dict[str, float | None]]
     measured: list[dict[str, float | None]]
+    time_ms: tuple[float, ...] = ()
 
     def at(self, frames: Sequence[int]) -> list[tuple[float, float]]:
         """The offsets of ``frames``, from the plan's frames around each along the path.
@@ -142,7 +145,8 @@ def plan_offset(
     got = verify_frames(prep, cameras, frames, {"plan": mode}, sample, truths=truths)
     pred = predict_frames(tables, sample, [cameras[k] for k in frames]).shifted(offsets)
     p, m = pred.frame_errors(pred.pick_of(plan.choice)), got["plan"]["errors"]
-    return PlanCalibration(calibration_offsets(p, m), [int(k) for k in frames], p, list(m))
+    return PlanCalibration(calibration_offsets(p, m), [int(k) for k in frames], p, list(m),
+                           tuple(got["plan"]["time_ms"]))
 
 
 def shortfall(budget: Budget, measured: Sequence[Mapping[str, float | None]]) -> tuple[float, float]:

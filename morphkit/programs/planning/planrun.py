@@ -32,12 +32,13 @@ the plan verified against the real meshes.
    (:data:`morphkit.tol.PLAN_RECHOICES` times at most), then given up for each representation
    everywhere measured to meet it on the calibration frames or predicted to along the path by its
    margins, the cheapest first, until one meets it along the path too. A plan that meets it is
-   timed on its own frames against each representation everywhere measured or predicted to meet it
-   (interleaved, at least :data:`PLAN_TIME_DRAWS` draws each: ``calibration.plan.timed_ms``): a frame
-   mixing representations pays each one's pass, which their cost lines do not predict; one faster by
-   :data:`morphkit.tol.PLAN_TIMED_FASTER` is drawn as the plan and taken where it meets the budget
-   along the path too, the fastest first (``calibration.plan.chosen_again`` in ``plan.json`` says what
-   was done);
+   weighed against each representation everywhere measured or predicted to meet it (a frame mixing
+   representations pays each one's pass, which their cost lines do not predict): by their draws so
+   far on the calibration frames (``calibration.plan.first_ms``), then those so told faster by
+   :data:`morphkit.tol.PLAN_TIMED_FASTER` timed again with it on its own frames (interleaved, at
+   least :data:`PLAN_TIME_DRAWS` draws each: ``calibration.plan.timed_ms``); one faster so too is
+   drawn as the plan and taken where it meets the budget along the path, the fastest first
+   (``calibration.plan.chosen_again`` in ``plan.json`` says what was done);
 4. **verifies** on the held-out frames (``verify`` of them, spread over the path, never used to
    choose): each is drawn with the plan, with today's default (the view morph everywhere) and, with
    ``sweep``, with each representation everywhere, interleaved frame by frame and timed in the same
@@ -269,6 +270,7 @@ def _calibrate(
             "margin_db": margins[r.name][0],
             "margin_iou": margins[r.name][1],
             "measured_meets": r.name in proven,
+            "time_ms": got[r.name]["time_ms"],
         }
     print(
         f"{head}calibrated on {len(frames)} planning frames (measured less predicted): "
@@ -306,12 +308,22 @@ def _cheapest_everywhere(
     )
 
 
-def _timed_everywhere(
-    prep: PreparedScene, cameras: Sequence[Any], frames: Sequence[int], plan: ScenePlan, names: Sequence[str]
+def _timed_rivals(
+    prep: PreparedScene,
+    cameras: Sequence[Any],
+    frames: Sequence[int],
+    plan: ScenePlan,
+    plan_ms: float,
+    rivals_ms: Mapping[str, float],
 ) -> dict[str, float]:
-    """The plan and each representation of ``names`` everywhere drawn on ``frames`` (interleaved, the
-    order turned each frame, by new modes each draw; at least :data:`PLAN_TIME_DRAWS` draws each) and
-    timed only: each one's median frame time, the plan's as ``plan``."""
+    """The plan timed against each representation everywhere of ``rivals_ms`` that its first draws
+    tell faster by :data:`morphkit.tol.PLAN_TIMED_FASTER` (``rivals_ms`` against ``plan_ms``: their
+    median frame times, drawn apart), all drawn on ``frames`` interleaved, the order turned each frame,
+    by new modes each draw (at least :data:`PLAN_TIME_DRAWS` draws each), timed only: each one's median
+    frame time, the plan's as ``plan`` (none timed: empty)."""
+    names = [nm for nm, t in rivals_ms.items() if t * tol.PLAN_TIMED_FASTER < plan_ms]
+    if not names:
+        return {}
     sample = sample_scene(prep.scene)  # as the plan's own frames are measured
 
     def modes() -> dict[str, Any]:
@@ -519,13 +531,21 @@ def plan_scene(
             plan = as_plan(picked.choice)
             own = plan_offset(plan_prep, cams, own_frames, plan, tables, offsets, truths)
         timed: dict[str, float] = {}
+        first: dict[str, float] = {}
         if checked and billboards_only.verdict(less_margin(along()))["met"]:
-            # the plan timed against each representation everywhere that may stand for it, on its own
-            # frames: a frame mixing representations pays each one's pass, which no cost line predicts
-            rivals = [nm for nm in pred.representations
-                      if nm not in tried and viable(nm) and everywhere(nm) != picked.choice]
-            timed = _timed_everywhere(plan_prep, cams, own_frames, plan, rivals) if rivals else {}
-            faster = [nm for nm in rivals if timed[nm] * tol.PLAN_TIMED_FASTER < timed["plan"]]
+            # the plan against each representation everywhere that may stand for it, on its own frames
+            # (a frame mixing representations pays each one's pass, which no cost line predicts): first
+            # by their draws so far on the calibration frames (the representations' under the scene's
+            # shadow, moved by the plan's shadow's cost), then those told faster timed again together
+            at_cal = [t for f, t in zip(own.frames, own.time_ms, strict=True) if f in calibration["frames"]]
+            rivals = {nm: float(np.median(calibration[nm]["time_ms"])) + (extra_ms or 0.0)
+                      for nm in pred.representations
+                      if nm not in tried and viable(nm) and everywhere(nm) != picked.choice}
+            plan_ms = float(np.median(at_cal or own.time_ms))
+            timed = _timed_rivals(plan_prep, cams, own_frames, plan, plan_ms, rivals)
+            first = {"plan": plan_ms, **rivals}
+            faster = [nm for nm, t in timed.items()
+                      if nm != "plan" and t * tol.PLAN_TIMED_FASTER < timed["plan"]]
             for nm in sorted(faster, key=timed.__getitem__)[: tol.PLAN_RECHOICES]:
                 kept_plan = picked, plan, own
                 picked = dataclasses.replace(picked, choice=everywhere(nm))
@@ -541,7 +561,8 @@ def plan_scene(
                     break
                 picked, plan, own = kept_plan
         truths.clear()
-        calibration["plan"] = {**own.to_json(), "chosen_again": rechosen, "timed_ms": timed}
+        calibration["plan"] = {**own.to_json(), "chosen_again": rechosen, "first_ms": first,
+                               "timed_ms": timed}
         t_calibrate += time.perf_counter() - t1
         taken = [sum(v == r.name for v in picked.choice.choices.values()) for r in REPRESENTATIONS]
         print(
