@@ -593,7 +593,7 @@ def test_the_plans_rivals_are_timed_again_only_where_their_first_draws_tell_them
     first = {"classic": 100.0 / f - 1.0, "nearest": 100.0 / f + 1.0, "morph": 50.0}
     got = planrun._timed_rivals(prep, [0, 1], [0, 1], plan, 100.0, first)
     # faster than the plan's 100 ms by the tolerance: the card and the morph, not the nearest view; on
-    # 2 frames, 3 draws each (PLAN_TIME_DRAWS = 5 in all at least), all three together each time
+    # on 2 frames, PLAN_TIME_DRAWS in all at least (half of them each, rounded up), all three together
     assert seen == [["classic", "morph", "plan"]] * -(-planrun.PLAN_TIME_DRAWS // 2)
     assert got == {"plan": 10.0, "classic": 10.0, "morph": 10.0}
     seen.clear()
