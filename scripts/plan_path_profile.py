@@ -7,13 +7,22 @@ With --phase (ring assets): each billboard's box IoU by its phase between its tw
 a view, 0.5 midway), and how the representations' frame IoU move together: whether a frame's error
 follows its billboards' phases or the frame itself.
 
+With --offsets PLAN (a plan's output folder of the same scene, whose tables predict the frames):
+each representation's offsets, measured less predicted, frame by frame; their autocorrelation by
+lag (how far along the path one frame's offset tells another's); and the median gap on the plan's
+held-out frames were its own frames every K-th planning frame, their offsets interpolated along
+the path (`plan.calibration.path_offsets`) or their median taken for every frame.
+
 Usage: python scripts/plan_path_profile.py SCENE [--rep classic --rep nearest ...]
-       [--budget billboard-iou=0.7 ...] [--every K] [--phase]
+       [--budget billboard-iou=0.7 ...] [--every K] [--phase] [--offsets PLAN]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -21,8 +30,11 @@ import numpy as np
 import morphkit
 from morphkit.billboard import BillboardScene
 from morphkit.plan import Budget
+from morphkit.plan.calibration import path_offsets
+from morphkit.plan.errortable import ErrorTable
 from morphkit.plan.mixed import banded_mode
-from morphkit.plan.representations import BandChoice
+from morphkit.plan.planner import predict_frames
+from morphkit.plan.representations import REPRESENTATIONS, BandChoice
 from morphkit.programs.planning.planverify import verify_frames
 from morphkit.programs.scenerender import prepare_scene, scene_choices
 from morphkit.render import Renderer
@@ -35,6 +47,7 @@ def main() -> None:
     ap.add_argument("--budget", action="append", default=[], help="KEY=VALUE (billboard-psnr, billboard-iou)")
     ap.add_argument("--every", type=int, default=1, help="every K-th frame")
     ap.add_argument("--phase", action="store_true", help="box IoU by phase between ring views")
+    ap.add_argument("--offsets", metavar="PLAN", help="a plan's folder: offsets, their lags, the gap")
     a = ap.parse_args()
     reps = a.rep or ["classic", "nearest"]
     budget = Budget.parse(a.budget) if a.budget else None
@@ -46,6 +59,15 @@ def main() -> None:
         modes = {nm: banded_mode(BandChoice(default=nm), prep.relit, prep.base, prep.shadow, prep.meshes())
                  for nm in reps}
         got = verify_frames(prep, cams, frames, modes, boxes=a.phase)
+        if a.offsets:
+            folder = Path(a.offsets)
+            tables = {(nm, r.name): ErrorTable.load(folder / "tables" / f"{nm}.{r.name}.npz")
+                      for nm in prep.scene.assets for r in REPRESENTATIONS}
+            pred = predict_frames(tables, prep.scene, [cams[k] for k in frames])
+            held = json.loads((folder / "plan.json").read_text())["held_out_frames"]
+            for nm in reps:
+                _offsets(nm, frames, pred.frame_errors(pred.pick_of(BandChoice(default=nm))),
+                         got[nm]["errors"], held)
     print("frame " + " ".join(f"{nm + ' dB/IoU':>18}" for nm in reps))
     for i, k in enumerate(frames):
         cells = []
@@ -62,6 +84,41 @@ def main() -> None:
               + (f" ({len(held) / len(drawn):.1%})" if drawn else ""))
     if a.phase:
         _phases(prep.scene, got, reps)
+
+
+def _offsets(
+    rep: str, frames: Sequence[int], predicted: Sequence[dict[str, Any]], measured: Sequence[dict[str, Any]],
+    held: Sequence[int],
+) -> None:
+    """A representation's offsets along the path: autocorrelation by lag, and the held-out gap were the
+    plan's own frames every K-th planning frame, interpolated along the path or their median."""
+    at = {k: i for i, k in enumerate(frames)}
+    keys = ("billboard-psnr", "billboard-iou")
+    off = np.array([[np.nan if p[key] is None or m[key] is None else m[key] - p[key] for key in keys]
+                    for p, m in zip(predicted, measured, strict=True)])
+    for j, key in enumerate(keys):
+        o = off[:, j] - np.nanmean(off[:, j])
+        lags = []
+        for lag in range(1, 9):
+            x, y = o[:-lag], o[lag:]
+            ok = ~np.isnan(x) & ~np.isnan(y)
+            lags.append(f"{np.corrcoef(x[ok], y[ok])[0, 1]:+.2f}" if ok.sum() > 2 else "-")
+        print(f"{rep} {key} offsets: sd {np.nanstd(off[:, j]):.3f}, autocorrelation by lag 1..8 "
+              + " ".join(lags))
+    held = [k for k in held if k in at]
+    planning = [k for k in frames if k not in held]
+    for every in (8, 6, 4, 2, 1):
+        own = planning[::every]
+        path = path_offsets(own, [predicted[at[k]] for k in own], [measured[at[k]] for k in own], held)
+        med = np.nanmedian(off[[at[k] for k in own]], axis=0)
+        gaps = []
+        for j in range(2):
+            for moved in ([o[j] for o in path], [med[j]] * len(held)):
+                g = [abs(off[at[k], j] - v) for k, v in zip(held, moved, strict=True)
+                     if not np.isnan(off[at[k], j])]
+                gaps.append(float(np.median(g)) if g else float("nan"))
+        print(f"{rep}, own frames every {every} ({len(own)}): held-out median gap, along the path / "
+              f"their median: {gaps[0]:.2f} / {gaps[1]:.2f} dB, IoU {gaps[2]:.3f} / {gaps[3]:.3f}")
 
 
 def _phases(scene: BillboardScene, got: dict[str, dict[str, list[Any]]], reps: list[str]) -> None:
