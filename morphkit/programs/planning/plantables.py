@@ -115,7 +115,32 @@ def scene_tables(
     """Every used asset's table in every representation: read from ``cache`` (or a previous plan's
     ``previous`` folder) when one there was measured of the same asset under the same conditions,
     else measured and written to ``cache`` at once (a plan that fails its budget keeps them); the real
-    mesh's is exact (:meth:`~morphkit.plan.errortable.ErrorTable.exact`)."""
+    mesh's is exact (:meth:`~morphkit.plan.errortable.ErrorTable.exact`).
+
+    Parameters
+    ----------
+    prep : PreparedScene
+        The scene (its assets, instances, lights and backdrop).
+    renderer : Renderer
+        Draws the tables' frames.
+    focal_px : float
+        The scene's focal length (pixels): the tables are measured under it.
+    grids : mapping of str to (heights, elevations)
+        Each drawn asset's grid (:func:`table_grids`).
+    cache : Path
+        The folder tables are kept in between runs.
+    previous : Path
+        A previous plan's ``tables`` folder (read where its tables match).
+    head : str
+        What the printed line starts with.
+
+    Returns
+    -------
+    tables : dict of (asset, representation) to ErrorTable
+        Every table.
+    measured : list of str
+        The ``asset.representation`` names measured in this call.
+    """
     light = prep.lighting[len(prep.lighting) // 2] if prep.lighting else None
     want = _table_params(prep, focal_px, light)
     want["azimuths_deg"] = list(PLAN_AZIMUTHS_DEG)
