@@ -637,6 +637,10 @@ PLAN_MIN_BAND_BILLBOARDS = 5
 #: a larger scene is predicted from a random sample of this many, whose frames' mean figures estimate
 #: the whole scene's (planning then takes the same time for 2 thousand instances as for 100 thousand).
 PLAN_MAX_INSTANCES = 2000
+#: How far a box's coverage fractions (:func:`morphkit.plan.framecoverage.union_iou`: covered by the
+#: representation, the truth, both) may stray outside what silhouettes can cover: the rounding of
+#: means over pixels and azimuths.
+COVERAGE_FRACTION_ATOL = 1e-9
 #: The shortest on-screen height (pixels) a plan's error tables measure: twice the scene's smallest
 #: drawn billboard (``min_pixels``, 2), so a far field of tiny billboards is looked up where it is
 #: measured, not at a larger one's row.

@@ -12,11 +12,11 @@ figure a path of calibrated frames leaves as the gap):
 
 * `box mean`: the alone IoUs weighted by the pixels of their boxes (the plan's rule today), with
   each billboard's own fractions or its cell's means (below);
-* `coverage`: each pixel of the boxes' union covered by the representation with probability
-  1 - prod(1 - a_k) over the boxes on it, by the truth 1 - prod(1 - b_k), by neither
-  prod(1 - a_k - b_k + i_k) (each box's silhouettes spread evenly over it, independent of the
-  others'); the frame's IoU is the sum of the pixels' intersection probabilities over that of their
-  union's;
+* `coverage`: `morphkit.plan.framecoverage.union_iou`, each pixel of the boxes' union covered by
+  the representation with probability 1 - prod(1 - a_k) over the boxes on it, by the truth
+  1 - prod(1 - b_k), by neither prod(1 - a_k - b_k + i_k) (each box's silhouettes spread evenly over
+  it, independent of the others'); the frame's IoU is the sum of the pixels' intersection
+  probabilities over that of their union's;
 * `coverage, cell means`: the same with each billboard's fractions replaced by the mean over the
   uncut boxes of its asset, height (log2, rounded) and elevation (10-degree bins) -- a table's
   cell -- for every box, or only for the uncut ones (a cut box keeps its own: what a table of
@@ -36,6 +36,7 @@ import numpy as np
 
 import morphkit
 from morphkit.billboard import BillboardScene, Instances
+from morphkit.plan.framecoverage import union_iou
 from morphkit.plan.mixed import banded_mode
 from morphkit.plan.representations import BandChoice
 from morphkit.programs.scenerender import prepare_scene, scene_choices
@@ -140,19 +141,8 @@ def _box_mean(f: dict[str, Any], fractions: Callable[[dict[str, Any]], Fractions
 
 
 def _coverage(f: dict[str, Any], fractions: Callable[[dict[str, Any]], Fractions], step: int) -> float:
-    h, w = (-(-s // step) for s in f["shape"])
-    logs = np.zeros((3, h, w))
-    covered = np.zeros((h, w), bool)
-    for b in f["boxes"]:
-        a, bt, i = fractions(b)
-        r0, r1, c0, c1 = b["roi"]
-        r0, c0 = r0 // step, c0 // step
-        r1, c1 = max(-(-r1 // step), r0 + 1), max(-(-c1 // step), c0 + 1)
-        for k, v in enumerate((a, bt, a + bt - i)):
-            logs[k, r0:r1, c0:c1] += np.log(max(1e-9, 1.0 - v))
-        covered[r0:r1, c0:c1] = True
-    pa, pb, pu = (1.0 - np.exp(x[covered]) for x in logs)
-    return float((pa + pb - pu).sum() / pu.sum()) if pu.sum() > 0 else 1.0
+    rois = np.array([b["roi"] for b in f["boxes"]], np.int64)
+    return union_iou(rois, np.array([fractions(b) for b in f["boxes"]]), f["shape"], step=step)
 
 
 if __name__ == "__main__":
