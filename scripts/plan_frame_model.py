@@ -36,6 +36,7 @@ import numpy as np
 
 import morphkit
 from morphkit.billboard import BillboardScene, Instances
+from morphkit.billboard.compare import frame_errors
 from morphkit.plan.framecoverage import union_iou
 from morphkit.plan.mixed import banded_mode
 from morphkit.plan.representations import BandChoice
@@ -105,11 +106,6 @@ def _frame(prep: Any, cam: Any, mode: Any) -> dict[str, Any] | None:
     frame, truth = sc.render(cam, mode), sc.render(cam, prep.truth)
     if not frame.placements:
         return None
-    fa, fb = frame.layer[..., 3] > 0.5, truth.layer[..., 3] > 0.5
-    union = np.zeros(fa.shape, bool)
-    for pl in frame.placements:
-        r0, r1, c0, c1 = pl.roi
-        union[r0:r1, c0:c1] = True
     inst = sc.instances
     boxes = []
     for pl in frame.placements:
@@ -120,12 +116,11 @@ def _frame(prep: Any, cam: Any, mode: Any) -> dict[str, Any] | None:
         r0, r1, c0, c1 = pl.roi
         aa = one.render(cam, mode).layer[r0:r1, c0:c1, 3] > 0.5
         bb = one.render(cam, prep.truth).layer[r0:r1, c0:c1, 3] > 0.5
-        h, w = fa.shape
+        h, w = frame.rgb.shape[:2]
         boxes.append({"asset": pl.asset, "height_px": pl.height_px, "elevation_deg": pl.elevation_deg,
                       "roi": pl.roi, "cut": r0 == 0 or c0 == 0 or r1 == h or c1 == w,
                       "abi": (aa.mean(), bb.mean(), (aa & bb).mean())})
-    inter, uni = (fa & fb & union).sum(), ((fa | fb) & union).sum()
-    return {"iou": float(inter / uni) if uni else 1.0, "boxes": boxes, "shape": fa.shape}
+    return {"iou": frame_errors(frame, truth)["iou"], "boxes": boxes, "shape": frame.rgb.shape[:2]}
 
 
 def _cell(b: dict[str, Any]) -> tuple[str, int, int]:

@@ -61,5 +61,7 @@ def test_fractions_no_silhouettes_could_cover_and_bad_boxes_are_refused():
         union_iou(np.array([[0, 9, 0, 4]]), np.array([[0.5, 0.5, 0.5]]), (8, 8))
     with pytest.raises(ValidationError, match=r"rois: expected an \(N, 4\) integer array"):
         union_iou(np.array([[0.0, 4.0, 0.0, 4.0]]), np.array([[0.5, 0.5, 0.5]]), (8, 8))
+    with pytest.raises(ValidationError, match=r"shape: expected positive \(H, W\), got \(0, 8\)"):
+        union_iou(roi, np.array([[0.5, 0.5, 0.5]]), (0, 8))
     with pytest.raises(ValidationError, match=r"step: expected an integer >= 1"):
         union_iou(roi, np.array([[0.5, 0.5, 0.5]]), (8, 8), step=0)

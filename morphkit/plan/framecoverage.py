@@ -28,7 +28,7 @@ import numpy as np
 
 from .. import tol
 from ..errors import ValidationError, expected_got
-from ..validate import as_finite_array
+from ..validate import as_finite_array, as_shape
 
 __all__ = ["union_iou"]
 
@@ -56,8 +56,9 @@ def union_iou(rois: np.ndarray, fractions: np.ndarray, shape: tuple[int, int], s
     Raises
     ------
     ValidationError
-        Boxes or fractions of another shape, a box outside the frame or empty, fractions that no
-        silhouettes could cover (outside ``[0, 1]``, ``i`` above ``a`` or ``b``, a union above 1).
+        Boxes or fractions of another shape, a frame size that is not one, a box outside the frame
+        or empty, fractions that no silhouettes could cover (outside ``[0, 1]``, ``i`` above ``a``
+        or ``b``, a union above 1).
 
     Examples
     --------
@@ -72,7 +73,7 @@ def union_iou(rois: np.ndarray, fractions: np.ndarray, shape: tuple[int, int], s
     ...                 np.array([[0.5, 0.5, 0.5], [0.5, 0.5, 1 / 3]]), (8, 16)), 6)
     0.6
     """
-    h, w = (int(v) for v in shape)
+    h, w = as_shape(shape, "shape")
     boxes = np.asarray(rois)
     if boxes.ndim != 2 or boxes.shape[1] != 4 or not np.issubdtype(boxes.dtype, np.integer):
         raise ValidationError(expected_got("rois", "an (N, 4) integer array of (r0, r1, c0, c1)",
