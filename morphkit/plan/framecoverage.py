@@ -86,7 +86,7 @@ def union_iou(rois: np.ndarray, fractions: np.ndarray, shape: tuple[int, int], s
         k = int(np.flatnonzero(bad)[0])
         raise ValidationError(expected_got(f"fractions[{k}]", "0 <= i <= min(a, b) and a + b - i <= 1",
                                            f.tolist()[k]))
-    r0, r1, c0, c1 = boxes.T if len(boxes) else (np.zeros(0, int),) * 4
+    r0, r1, c0, c1 = boxes.T
     out = (r0 < 0) | (c0 < 0) | (r1 > h) | (c1 > w) | (r1 <= r0) | (c1 <= c0)
     if out.any():
         k = int(np.flatnonzero(out)[0])
